@@ -1,0 +1,54 @@
+"""Exception hierarchy of rvtol.
+
+Every problem with what a user gave us (a file, a key, a value) is an
+:class:`InputError`; the CLI prints it as one line ``rvtol: error: FILE: KEY:
+reason`` and exits with code 2.  Solver failures on individual Monte Carlo
+samples are *not* exceptions: models report them per sample through status
+codes (see :mod:`rvtol.model`).
+"""
+from __future__ import annotations
+
+
+class RvtolError(Exception):
+    """Base class of every error rvtol raises on purpose."""
+
+
+class InputError(RvtolError, ValueError):
+    """Bad user input: names the file and the key it came from, and why.
+
+    ``file`` and ``key`` may be filled in later by the code that knows them
+    (:meth:`located`), so low-level validators only need to know the reason.
+    """
+
+    def __init__(self, reason: str, *, file: str | None = None, key: str | None = None):
+        super().__init__(reason)
+        self.reason = reason
+        self.file = file
+        self.key = key
+
+    def located(self, *, file: str | None = None, key: str | None = None) -> "InputError":
+        """Fill in a missing file and/or prefix the key with an outer key."""
+        if file is not None and self.file is None:
+            self.file = file
+        if key is not None:
+            self.key = key if not self.key else f"{key}.{self.key}"
+        return self
+
+    def __str__(self) -> str:
+        return f"{self.file or '<input>'}: {self.key or '-'}: {self.reason}"
+
+
+class SpecError(InputError):
+    """A tolerance specification, design, requirement or study file is invalid."""
+
+
+class UnitError(InputError):
+    """An unknown unit, or a unit of the wrong dimension."""
+
+
+class ModelError(RvtolError):
+    """A model was used wrongly by code (wrong array shape, unknown output)."""
+
+
+class SolverError(RvtolError, RuntimeError):
+    """A numerical solver failed in a way that is not a per-sample status."""

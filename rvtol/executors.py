@@ -1,0 +1,182 @@
+"""Executors: where chunks of model evaluations run.
+
+``serial`` (in-process), ``process`` (a local process pool; the default,
+using every core) and ``dask`` (``dask.distributed``: a LocalCluster, or a
+running scheduler given by address).  Each maps a function over chunks and
+hands results back *by chunk index*, so the assembled result never depends
+on which worker finished first.
+"""
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Callable, Iterator, Sequence
+
+from .errors import InputError
+
+KINDS = ("serial", "process", "dask")
+
+
+def _single_thread_worker() -> None:
+    """Worker initializer: one BLAS/OpenMP thread per process (no oversubscription)."""
+    try:
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(1)
+    except Exception:  # threadpoolctl missing: nothing to limit
+        pass
+
+
+class Executor:
+    """Maps ``fn(*args)`` over task argument tuples; yields ``(index, result)`` as tasks finish."""
+
+    kind = "base"
+    workers = 1
+
+    def imap(self, fn: Callable, tasks: Sequence[tuple]) -> Iterator[tuple[int, object]]:
+        raise NotImplementedError  # pragma: no cover - abstract
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def describe(self) -> str:
+        return f"{self.kind} ({self.workers} worker{'s' if self.workers != 1 else ''})"
+
+
+class SerialExecutor(Executor):
+    kind = "serial"
+
+    def imap(self, fn, tasks):
+        for i, t in enumerate(tasks):
+            yield i, fn(*t)
+
+
+class ProcessExecutor(Executor):
+    """A local process pool (forkserver start: safe beside threads such as Dask's)."""
+
+    kind = "process"
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers or os.cpu_count() or 1
+        self._pool: ProcessPoolExecutor | None = None
+
+    @property
+    def pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+            ctx = multiprocessing.get_context(method)
+            if method == "forkserver":
+                ctx.set_forkserver_preload(["numpy", "scipy.stats", "rvtol.model"])
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx,
+                                             initializer=_single_thread_worker)
+        return self._pool
+
+    def imap(self, fn, tasks):
+        futs = {self.pool.submit(fn, *t): i for i, t in enumerate(tasks)}
+        try:
+            for f in as_completed(futs):
+                yield futs[f], f.result()
+        finally:
+            for f in futs:
+                f.cancel()
+
+    def close(self):
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+
+class DaskExecutor(Executor):
+    """``dask.distributed``: a LocalCluster of ``workers`` processes, or ``scheduler`` address."""
+
+    kind = "dask"
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None):
+        self.scheduler = scheduler
+        self._want = workers or os.cpu_count() or 1
+        self._client = None
+        self._cluster = None
+
+    @property
+    def client(self):
+        if self._client is None:
+            from dask.distributed import Client, LocalCluster
+
+            if self.scheduler:
+                try:
+                    self._client = Client(self.scheduler, timeout="10s")
+                except (OSError, TimeoutError) as exc:
+                    raise InputError(f"cannot reach Dask scheduler {self.scheduler!r} ({exc})",
+                                     key="--scheduler") from None
+            else:
+                self._cluster = LocalCluster(n_workers=self._want, threads_per_worker=1, processes=True,
+                                             dashboard_address=None, silence_logs=logging.ERROR)
+                self._client = Client(self._cluster)
+            self._client.run(_single_thread_worker)
+        return self._client
+
+    @property
+    def workers(self) -> int:  # type: ignore[override]
+        if self._client is None:
+            return self._want
+        return max(1, len(self._client.scheduler_info().get("workers", {})))
+
+    def imap(self, fn, tasks):
+        from dask.distributed import as_completed as dask_as_completed
+
+        c = self.client
+        # scatter each distinct large argument once (the model), broadcast to all workers
+        shared = {}
+        prepared = []
+        for t in tasks:
+            args = []
+            for a in t:
+                if _is_model(a):
+                    key = id(a)
+                    if key not in shared:
+                        shared[key] = c.scatter(a, broadcast=True, hash=False)
+                    args.append(shared[key])
+                else:
+                    args.append(a)
+            prepared.append(args)
+        futs = [c.submit(fn, *a, pure=False) for a in prepared]
+        index = {f.key: i for i, f in enumerate(futs)}
+        try:
+            for f in dask_as_completed(futs):
+                yield index[f.key], f.result()
+        finally:
+            c.cancel(futs)
+
+    def close(self):
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None
+
+
+def _is_model(a) -> bool:
+    from .model import Model
+
+    return isinstance(a, Model)
+
+
+def make_executor(kind: str = "process", workers: int | None = None, scheduler: str | None = None) -> Executor:
+    if kind not in KINDS:
+        raise InputError(f"unknown executor {kind!r} (expected one of: {', '.join(KINDS)})", key="executor")
+    if workers is not None and workers < 1:
+        raise InputError(f"workers must be >= 1, got {workers}", key="workers")
+    if kind == "serial":
+        return SerialExecutor()
+    if kind == "process":
+        return ProcessExecutor(workers)
+    return DaskExecutor(workers, scheduler)

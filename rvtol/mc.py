@@ -1,0 +1,245 @@
+"""The Monte Carlo engine: evaluate a Model over samples in chunks, then summarise.
+
+:func:`evaluate` is the one place model evaluations are farmed out (Monte
+Carlo, five-point and global sensitivity and allocation all call it), so
+every analysis gets the executors, the progress bar and the failure
+accounting for free.  :func:`run_monte_carlo` samples a spec, evaluates and
+returns a :class:`MonteCarloResult` with statistics, yields, Cpk, verdicts,
+convergence and failures.
+"""
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from . import stats as st
+from .executors import Executor, SerialExecutor
+from .model import STATUS_OK, Model, Quantity
+from .sampling import SampleSet, sample
+from .spec import Requirement, ToleranceSpec
+
+
+def _eval_chunk(model: Model, X: np.ndarray):
+    Y, status = model.evaluate_with_status(X)
+    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16)
+
+
+def auto_chunk_size(n: int, workers: int) -> int:
+    """Enough chunks to balance the workers and move the progress bar, not so many that overhead shows."""
+    return int(max(1, min(8192, math.ceil(n / (4 * max(1, workers))))))
+
+
+@dataclass
+class Evaluation:
+    """Outputs (base units) and per-sample status of one batch of evaluations."""
+
+    Y: np.ndarray
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        return self.status == STATUS_OK
+
+
+def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chunk_size: int | None = None,
+             progress: bool = True, desc: str = "evaluating") -> Evaluation:
+    """Evaluate ``model`` on ``X`` (base units) through ``executor`` in chunks.
+
+    The result is bit-identical whatever the executor, worker count and chunk
+    size (models are row-deterministic; chunks are reassembled by index).
+    """
+    X = model.check_input(X)
+    n = X.shape[0]
+    executor = executor or SerialExecutor()
+    cs = chunk_size or auto_chunk_size(n, executor.workers)
+    bounds = [(i, min(i + cs, n)) for i in range(0, n, cs)]
+    Y = np.empty((n, len(model.outputs)))
+    status = np.empty(n, dtype=np.int16)
+    bar = _progress(n, desc) if progress else None
+    try:
+        tasks = [(model, X[a:b]) for a, b in bounds]
+        for i, (y, s) in executor.imap(_eval_chunk, tasks):
+            a, b = bounds[i]
+            if y.shape != (b - a, len(model.outputs)):
+                raise ValueError(f"{type(model).__name__}.evaluate returned shape {y.shape}, "
+                                 f"expected {(b - a, len(model.outputs))}")
+            Y[a:b], status[a:b] = y, s
+            if bar is not None:
+                bar.update(b - a)
+    finally:
+        if bar is not None:
+            bar.close()
+    Y[status != STATUS_OK] = np.nan
+    return Evaluation(Y, status)
+
+
+def _progress(total: int, desc: str):
+    """A progress bar on stderr, shown only after ~1.5 s and only on a terminal."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc=desc, unit="sample", delay=1.5, leave=False, file=sys.stderr,
+                disable=None, dynamic_ncols=True)
+
+
+# --------------------------------------------------------------------------- results
+@dataclass
+class Verdict:
+    requirement: Requirement
+    yield_: st.YieldResult
+    capability: dict
+    cpk_percentile_ci: tuple[float | None, float | None]
+    passed: bool
+    reasons: list[str]
+
+    def to_dict(self) -> dict:
+        r = self.requirement
+        cap = self.capability
+        return {
+            "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
+            "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
+            "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
+            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]],
+            "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
+            "passed": self.passed, "reasons": self.reasons,
+        }
+
+
+@dataclass
+class MonteCarloResult:
+    """Samples, outputs (display units), status and everything derived from them."""
+
+    outputs: tuple[Quantity, ...]
+    samples: SampleSet
+    Y: np.ndarray  # display units, NaN where the model failed
+    status: np.ndarray
+    status_reasons: dict[int, str]
+    requirements: list[Requirement] = field(default_factory=list)  # limits in display units
+    confidence: float = 0.95
+    executor: str = "serial"
+
+    @property
+    def n(self) -> int:
+        return len(self.status)
+
+    @property
+    def ok(self) -> np.ndarray:
+        return self.status == STATUS_OK
+
+    def column(self, name: str) -> np.ndarray:
+        return self.Y[:, [q.name for q in self.outputs].index(name)]
+
+    def unit_of(self, name: str) -> str:
+        return next(q.shown_unit for q in self.outputs if q.name == name)
+
+    # -- tables ----------------------------------------------------------------
+    def to_frame(self) -> pd.DataFrame:
+        """One row per sample: factor values and outputs in display units, and status."""
+        df = self.samples.to_frame(display=True)
+        for j, q in enumerate(self.outputs):
+            df[f"{q.name} [{q.shown_unit}]"] = self.Y[:, j]
+        df["status"] = self.status
+        return df
+
+    def statistics(self) -> pd.DataFrame:
+        rows = []
+        for j, q in enumerate(self.outputs):
+            rows.append(self._describe(j, q))
+        return pd.DataFrame(rows).set_index("output")
+
+    def _describe(self, j: int, q: Quantity) -> dict:
+        y = self.Y[self.ok, j]
+        ys = np.sort(y)
+        c = self.confidence
+        row = {"output": q.name, "unit": q.shown_unit, "n": len(y), "failed": int(self.n - len(y))}
+        if len(y) == 0:
+            return row
+        m, mlo, mhi = st.mean_ci(y, c)
+        s, slo, shi = st.std_ci(y, c)
+        row.update(mean=m, mean_lo=mlo, mean_hi=mhi, std=s, std_lo=slo, std_hi=shi,
+                   min=float(ys[0]), max=float(ys[-1]))
+        for p in st.PERCENTILES:
+            est, lo, hi = st.percentile_ci(ys, p / 100, c)
+            row[f"P{p:g}"] = est
+            row[f"P{p:g}_lo"] = lo
+            row[f"P{p:g}_hi"] = hi
+        return row
+
+    def verdicts(self) -> list[Verdict]:
+        out = []
+        for r in self.requirements:
+            j = [q.name for q in self.outputs].index(r.output)
+            y = self.Y[:, j]
+            yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence)
+            good = y[self.ok]
+            cap = st.capability(good, r.lower, r.upper, r.confidence)
+            pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
+                   if len(good) >= 100 else (None, None))
+            reasons, passed = [], True
+            use_lb = r.basis == "lower_bound"
+            if r.min_yield is not None:
+                v = yr.lo if use_lb else yr.estimate
+                if not v >= r.min_yield:
+                    passed = False
+                    reasons.append(f"yield {'lower bound ' if use_lb else ''}{v:.5f} < required {r.min_yield:g}")
+            if r.min_cpk is not None:
+                v = cap["cpk_lo"] if use_lb else cap["cpk"]
+                if v is None or not v >= r.min_cpk:
+                    passed = False
+                    shown = "n/a" if v is None else f"{v:.3f}"
+                    reasons.append(f"Cpk {'lower bound ' if use_lb else ''}{shown} < required {r.min_cpk:g}")
+            n_fail = int(self.n - self.ok.sum())
+            if n_fail:
+                reasons.append(f"{n_fail} sample(s) could not be evaluated and count as non-conforming")
+            out.append(Verdict(r, yr, cap, pci, passed, reasons))
+        return out
+
+    @property
+    def passed(self) -> bool:
+        return all(v.passed for v in self.verdicts())
+
+    def convergence(self) -> pd.DataFrame:
+        frames = []
+        for j, q in enumerate(self.outputs):
+            lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name]
+            tr = st.convergence_trace(self.Y[:, j], self.ok, lims, confidence=self.confidence)
+            df = pd.DataFrame(tr)
+            df.insert(0, "output", q.name)
+            frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+    def failures(self) -> pd.DataFrame:
+        """One row per failure reason: code, reason, count and the first sample indices."""
+        bad = np.flatnonzero(~self.ok)
+        rows = []
+        for code in np.unique(self.status[bad]):
+            idx = bad[self.status[bad] == code]
+            rows.append({"status": int(code), "reason": self.status_reasons.get(int(code), "unknown"),
+                         "count": len(idx), "samples": ", ".join(map(str, idx[:20])) + (" …" if len(idx) > 20 else "")})
+        return pd.DataFrame(rows, columns=["status", "reason", "count", "samples"])
+
+    def plot(self, output: str | None = None, ax=None):
+        from .plotting.mc import histogram
+
+        name = output or self.outputs[0].name
+        return histogram(self, name, ax=ax)
+
+
+def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lhs", seed: int | None = None,
+                    requirements=(), executor: Executor | None = None, chunk_size: int | None = None,
+                    progress: bool = True, confidence: float = 0.95,
+                    samples: SampleSet | None = None) -> MonteCarloResult:
+    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result."""
+    model.check_spec(spec)
+    s = samples if samples is not None else sample(spec, n, method, seed)
+    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo")
+    Yd = np.empty_like(ev.Y)
+    for j, q in enumerate(model.outputs):
+        Yd[:, j] = q.to_display(ev.Y[:, j])
+    reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
+    return MonteCarloResult(tuple(model.outputs), s, Yd, ev.status, dict(model.status_reasons), reqs,
+                            confidence, executor.describe() if executor else "serial")

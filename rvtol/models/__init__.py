@@ -1,0 +1,1 @@
+"""The physics of rvtol, each a :class:`rvtol.model.Model`."""

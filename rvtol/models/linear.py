@@ -1,0 +1,48 @@
+"""A linear stack-up model read from a study file (the spine's first study).
+
+::
+
+    [model]
+    kind = "linear"
+
+    [[model.output]]
+    name = "gap"
+    unit = "mm"               # base unit of the output (its dimension fixes the base unit)
+    display_unit = "um"       # optional: unit to report in
+    constant = 0.10           # in `unit`
+    coefficients = { housing = 1.0, spacer = -1.0, bearing = -1.0 }  # base-unit ratios
+
+Coefficients multiply the factors in base units (mm, rad): a length chain
+uses ±1; an angle from a length at radius R uses 1/R (rad/mm).
+"""
+from __future__ import annotations
+
+from .. import units
+from ..model import LinearModel, Quantity
+
+
+def from_study(params, design, spec) -> LinearModel:
+    outs = params.tables("output")
+    if not outs:
+        raise params.error("output", "a linear model needs at least one [[model.output]]")
+    quantities, rows, consts = [], [], []
+    for t in outs:
+        name = t.str("name")
+        unit = t.unit("unit", "1")
+        disp = t.unit("display_unit", unit, dimension=units.dimension(unit))
+        base = units.base_unit(unit)
+        consts.append(float(units.to_base(t.float("constant", 0.0), unit)))
+        coefs = t.sub("coefficients")
+        row = []
+        for f in spec.names:
+            row.append(coefs.float(f, 0.0))
+        unknown = sorted(set(coefs.keys()) - set(spec.names))
+        if unknown:
+            raise coefs.error(unknown[0], f"unknown factor name {unknown[0]!r} (spec has: {', '.join(spec.names)})")
+        t.finish()
+        quantities.append(Quantity(name, base, disp))
+        rows.append(row)
+    if len({q.name for q in quantities}) != len(quantities):
+        raise params.error("output", "duplicate output name")
+    params.finish()
+    return LinearModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, rows, consts)

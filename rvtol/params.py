@@ -1,0 +1,241 @@
+"""Typed access to a TOML table with errors that name the file and the key.
+
+Every loader in rvtol reads its table through :class:`Params`, so a typo, a
+wrong type, a NaN or an out-of-range number always ends as one line
+``FILE: KEY: reason``, and keys nobody read are reported by :meth:`finish`
+(typos do not pass silently).
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Iterable
+
+from . import units
+from .errors import InputError, SpecError
+
+_MISSING = object()
+
+
+def read_toml(path: str | Path) -> tuple[dict, str]:
+    """Read a TOML file; return ``(table, sha256)``. Raises :class:`SpecError`."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise SpecError("file not found", file=str(path), key="-") from None
+    except IsADirectoryError:
+        raise SpecError("is a directory, expected a TOML file", file=str(path), key="-") from None
+    except OSError as exc:
+        raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SpecError("not UTF-8 text", file=str(path), key="-") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError(f"invalid TOML ({exc})", file=str(path), key="-") from None
+    return data, hashlib.sha256(raw).hexdigest()
+
+
+class Params:
+    """A read-tracking view of one TOML table.
+
+    >>> p = Params({"n": 3, "name": "x"}, file="f.toml", key="study")
+    >>> p.int("n", min=1)
+    3
+    >>> p.str("name")
+    'x'
+    >>> p.finish()
+    """
+
+    def __init__(self, data: dict | None, *, file: str | None = None, key: str = ""):
+        if data is None:
+            data = {}
+        if not isinstance(data, dict):
+            raise SpecError(f"expected a table, got {_typename(data)}", file=file, key=key or "-")
+        self.data = data
+        self.file = file
+        self.key = key
+        self._read: set[str] = set()
+
+    # -- helpers -----------------------------------------------------------
+    def path(self, name: str) -> str:
+        return f"{self.key}.{name}" if self.key else name
+
+    def error(self, name: str | None, reason: str) -> SpecError:
+        return SpecError(reason, file=self.file, key=self.path(name) if name else (self.key or "-"))
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.data
+
+    def keys(self):
+        return self.data.keys()
+
+    def raw(self, name: str, default: Any = _MISSING) -> Any:
+        self._read.add(name)
+        if name not in self.data:
+            if default is _MISSING:
+                raise self.error(name, "missing required key")
+            return default
+        return self.data[name]
+
+    def sub(self, name: str, default: Any = _MISSING) -> "Params":
+        """A nested table as Params (``{}`` if absent and a default is given)."""
+        v = self.raw(name, default)
+        if v is None:
+            v = {}
+        if not isinstance(v, dict):
+            raise self.error(name, f"expected a table, got {_typename(v)}")
+        return Params(v, file=self.file, key=self.path(name))
+
+    def tables(self, name: str) -> list["Params"]:
+        """An array of tables (``[[name]]``) as a list of Params."""
+        v = self.raw(name, [])
+        if isinstance(v, dict):
+            v = [v]
+        if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+            raise self.error(name, "expected an array of tables")
+        return [Params(t, file=self.file, key=f"{self.path(name)}[{i}]") for i, t in enumerate(v)]
+
+    def finish(self, allow: Iterable[str] = ()) -> None:
+        """Raise if the table holds keys nobody read (usually typos)."""
+        extra = sorted(set(self.data) - self._read - set(allow))
+        if extra:
+            raise self.error(extra[0], f"unknown key (known here: {', '.join(sorted(self._read)) or 'none'})")
+
+    # -- typed getters -----------------------------------------------------
+    def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None) -> str:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        if not isinstance(v, str):
+            raise self.error(name, f"expected a string, got {_typename(v)}")
+        if choices is not None:
+            ch = list(choices)
+            if v not in ch:
+                raise self.error(name, f"unknown value {v!r} (expected one of: {', '.join(ch)})")
+        return v
+
+    def bool(self, name: str, default: Any = _MISSING) -> bool:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        if not isinstance(v, bool):
+            raise self.error(name, f"expected true or false, got {_typename(v)}")
+        return v
+
+    def float(self, name: str, default: Any = _MISSING, *, min: float | None = None,
+              max: float | None = None, positive: bool = False, nonnegative: bool = False) -> float:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        return check_number(v, self.error, name, min=min, max=max, positive=positive,
+                            nonnegative=nonnegative)
+
+    def int(self, name: str, default: Any = _MISSING, *, min: int | None = None,
+            max: int | None = None) -> int:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise self.error(name, f"expected an integer, got {_typename(v)}")
+        if min is not None and v < min:
+            raise self.error(name, f"must be >= {min}, got {v}")
+        if max is not None and v > max:
+            raise self.error(name, f"must be <= {max}, got {v}")
+        return v
+
+    def floats(self, name: str, default: Any = _MISSING, *, length: int | None = None,
+               min_length: int = 0, **checks) -> list[float]:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        if not isinstance(v, list):
+            raise self.error(name, f"expected an array of numbers, got {_typename(v)}")
+        if length is not None and len(v) != length:
+            raise self.error(name, f"expected {length} numbers, got {len(v)}")
+        if len(v) < min_length:
+            raise self.error(name, f"expected at least {min_length} numbers, got {len(v)}")
+        return [check_number(x, self.error, f"{name}[{i}]", **checks) for i, x in enumerate(v)]
+
+    def strs(self, name: str, default: Any = _MISSING, *, min_length: int = 0) -> list[str]:
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+            raise self.error(name, "expected an array of strings")
+        if len(v) < min_length:
+            raise self.error(name, f"expected at least {min_length} strings, got {len(v)}")
+        return list(v)
+
+    def unit(self, name: str, default: Any = _MISSING, *, dimension: str | tuple[str, ...] | None = None) -> str:
+        v = self.str(name, default)
+        try:
+            u = units.canonical(v)
+            if dimension is not None:
+                units.require_dimension(u, dimension)
+        except InputError as exc:
+            raise self.error(name, exc.reason) from None
+        return u
+
+    def quantity(self, name: str, unit: str, default: Any = _MISSING, **checks) -> float:
+        """A number in base units, written as ``x`` (in ``unit``) or ``{value = x, unit = "..."}``.
+
+        ``unit`` is the unit assumed for a bare number; it also fixes the
+        dimension a ``{value, unit}`` table must have.  Checks (``positive``,
+        ``min``...) apply to the value as written.
+        """
+        v = self.raw(name, default)
+        if v is default and default is not _MISSING:
+            return v
+        u = unit
+        if isinstance(v, dict):
+            sub = Params(v, file=self.file, key=self.path(name))
+            u = sub.unit("unit", unit, dimension=units.dimension(unit))
+            v = sub.raw("value")
+            sub.finish()
+        x = check_number(v, self.error, name, **checks)
+        return float(units.to_base(x, u))
+
+    def path_value(self, name: str, base_dir: Path, default: Any = _MISSING) -> Path | None:
+        """A file path, relative to ``base_dir`` unless absolute."""
+        v = self.str(name, default)
+        if v is None:
+            return None
+        p = Path(v)
+        return p if p.is_absolute() else (base_dir / p)
+
+
+def check_number(v: Any, error, name: str, *, min: float | None = None, max: float | None = None,
+                 positive: bool = False, nonnegative: bool = False) -> float:
+    """Validate one number (int or float, finite, in range); return it as float."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise error(name, f"expected a number, got {_typename(v)}")
+    x = float(v)
+    if not math.isfinite(x):
+        raise error(name, f"must be a finite number, got {v}")
+    if positive and not x > 0:
+        raise error(name, f"must be > 0, got {v}")
+    if nonnegative and x < 0:
+        raise error(name, f"must be >= 0, got {v}")
+    if min is not None and x < min:
+        raise error(name, f"must be >= {min}, got {v}")
+    if max is not None and x > max:
+        raise error(name, f"must be <= {max}, got {v}")
+    return x
+
+
+def _typename(v: Any) -> str:
+    if isinstance(v, bool):
+        return "a boolean"
+    if isinstance(v, dict):
+        return "a table"
+    if isinstance(v, list):
+        return "an array"
+    if isinstance(v, str):
+        return f"the string {v!r}"
+    return type(v).__name__

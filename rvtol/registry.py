@@ -1,0 +1,41 @@
+"""Where study files find models and analyses by ``kind``.
+
+Entries are ``"module:attribute"`` strings, imported only when a study uses
+them (so a study does not pay for numba or cvxpy it does not need).
+
+* a **model factory** is ``factory(params, design, spec) -> Model`` where
+  ``params`` is the study's ``[model]`` table (:class:`rvtol.params.Params`,
+  minus ``kind``), ``design`` the study's Design (or None) and ``spec`` its
+  ToleranceSpec; it must call ``params.finish()`` so typos are reported;
+* an **analysis** is ``analysis(ctx, params) -> Section | list[Section]``
+  where ``ctx`` is the :class:`rvtol.study.StudyContext` (design, spec,
+  model, Monte Carlo result, executor, seed...) and ``params`` the
+  ``[[analysis]]`` table minus ``kind``.
+"""
+from __future__ import annotations
+
+import importlib
+
+from .errors import SpecError
+
+MODELS: dict[str, str] = {
+    "linear": "rvtol.models.linear:from_study",
+}
+
+ANALYSES: dict[str, str] = {
+}
+
+
+def _load(table: dict[str, str], kind: str, what: str, file: str | None, key: str):
+    if kind not in table:
+        raise SpecError(f"unknown {what} kind {kind!r} (known: {', '.join(sorted(table))})", file=file, key=key)
+    mod, attr = table[kind].split(":")
+    return getattr(importlib.import_module(mod), attr)
+
+
+def model_factory(kind: str, file: str | None = None):
+    return _load(MODELS, kind, "model", file, "model.kind")
+
+
+def analysis_function(kind: str, file: str | None = None, key: str = "analysis.kind"):
+    return _load(ANALYSES, kind, "analysis", file, key)

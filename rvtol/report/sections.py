@@ -1,0 +1,84 @@
+"""Report building blocks: a :class:`Section` holds tables, figures and text.
+
+Every analysis returns Sections; the HTML/PDF report renders them
+generically, and ``Section.summary`` (JSON-able) goes into ``summary.json``
+under ``analyses.<key>``.  Figures are rendered to PNG as soon as they are
+added (and the matplotlib figure closed), so Sections are cheap to keep.
+"""
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, field
+from typing import Any
+
+import pandas as pd
+
+
+@dataclass
+class Table:
+    frame: pd.DataFrame
+    caption: str = ""
+    float_format: str = "{:.4g}"
+    index: bool = False
+
+
+@dataclass
+class Figure:
+    png: bytes
+    caption: str = ""
+    width: str = "100%"
+
+
+@dataclass
+class Text:
+    text: str  # plain text; blank lines separate paragraphs; escaped when rendered
+
+
+@dataclass
+class Section:
+    key: str
+    title: str
+    blocks: list = field(default_factory=list)
+    summary: dict[str, Any] = field(default_factory=dict)
+
+    def add_text(self, text: str) -> "Section":
+        self.blocks.append(Text(text))
+        return self
+
+    def add_table(self, frame: pd.DataFrame, caption: str = "", float_format: str = "{:.4g}",
+                  index: bool = False) -> "Section":
+        self.blocks.append(Table(frame, caption, float_format, index))
+        return self
+
+    def add_figure(self, fig, caption: str = "", width: str = "100%") -> "Section":
+        """Add a matplotlib figure (rendered to PNG now, then closed) or PNG bytes."""
+        self.blocks.append(Figure(fig if isinstance(fig, bytes) else figure_png(fig), caption, width))
+        return self
+
+
+def figure_png(fig, dpi: int = 130) -> bytes:
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def frame_records(df: pd.DataFrame) -> list[dict]:
+    """A DataFrame as JSON-able records (NaN -> None), for ``Section.summary``."""
+    import numpy as np
+
+    out = []
+    for rec in df.reset_index(drop=df.index.name is None).to_dict(orient="records"):
+        clean = {}
+        for k, v in rec.items():
+            if isinstance(v, (np.floating, float)):
+                v = None if not np.isfinite(v) else float(v)
+            elif isinstance(v, np.integer):
+                v = int(v)
+            elif isinstance(v, np.bool_):
+                v = bool(v)
+            clean[str(k)] = v
+        out.append(clean)
+    return out

@@ -1,0 +1,127 @@
+"""Sampling: plain random, Latin hypercube and scrambled Sobol through inverse CDFs.
+
+All randomness in a study starts here: :func:`rng` is the one entry point
+that turns a seed into a ``numpy.random.Generator``; the uniform design is
+drawn once, up front, so evaluating it in any number of chunks, workers or
+executors gives bit-identical results.  Models are deterministic functions of
+their inputs: where a physics needs chance (a part floating in a clearance,
+measurement noise) that chance is a factor of the spec.
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+from scipy.stats import qmc
+
+from . import units
+from .errors import InputError
+from .spec import ToleranceSpec
+
+METHODS = ("random", "lhs", "sobol")
+
+# keep u strictly inside (0, 1) so inverse CDFs stay finite
+_U_EPS = 2.0**-53
+
+
+def rng(seed: int | None, *keys: int) -> np.random.Generator:
+    """The one way rvtol builds a Generator: from ``seed`` and optional sub-stream keys."""
+    ss = np.random.SeedSequence(seed) if not keys else np.random.SeedSequence([seed or 0, *keys])
+    return np.random.Generator(np.random.PCG64(ss))
+
+
+def child_seeds(seed: int | None, n: int) -> list[np.random.SeedSequence]:
+    """``n`` independent sub-streams of ``seed`` (``SeedSequence.spawn``)."""
+    return np.random.SeedSequence(seed).spawn(n)
+
+
+def uniform_design(n: int, k: int, method: str = "random", seed: int | None = None) -> np.ndarray:
+    """An ``n×k`` design of uniforms in (0, 1)."""
+    if method not in METHODS:
+        raise InputError(f"unknown sampling method {method!r} (expected one of: {', '.join(METHODS)})",
+                         key="sampling.method")
+    if n < 1 or k < 1:
+        raise InputError(f"need n >= 1 and k >= 1, got n={n}, k={k}", key="sampling.n")
+    g = rng(seed)
+    if method == "random":
+        u = g.random((n, k))
+    elif method == "lhs":
+        u = qmc.LatinHypercube(d=k, rng=g).random(n)
+    else:
+        eng = qmc.Sobol(d=k, scramble=True, rng=g)
+        m = int(np.log2(n))
+        if 2**m == n:
+            u = eng.random_base2(m)
+        else:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)  # balance warning: noted in SampleSet.note
+                u = eng.random(n)
+    return np.clip(u, _U_EPS, 1.0 - _U_EPS)
+
+
+def apply_copula(u: np.ndarray, corr: np.ndarray | None) -> np.ndarray:
+    """Gaussian copula: correlate uniforms through normal scores with ``corr``."""
+    if corr is None:
+        return u
+    z = stats.norm.ppf(u)
+    L = np.linalg.cholesky(corr)
+    return np.clip(stats.norm.cdf(z @ L.T), _U_EPS, 1.0 - _U_EPS)
+
+
+def to_factors(spec: ToleranceSpec, u: np.ndarray) -> np.ndarray:
+    """Map a uniform design (already correlated) to factor values in base units."""
+    x = np.empty_like(u, dtype=float)
+    for j, f in enumerate(spec.factors):
+        x[:, j] = f.ppf_base(u[:, j])
+    bad = ~np.isfinite(x)
+    if bad.any():
+        j = int(np.argwhere(bad)[0][1])
+        raise InputError("distribution produced non-finite values", file=spec.file,
+                         key=f"factor {spec.names[j]!r}")
+    return x
+
+
+@dataclass(frozen=True)
+class SampleSet:
+    """``n×k`` factor values (base units) with names, units, method and seed."""
+
+    values: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...]  # each factor's own (display) unit
+    method: str
+    seed: int | None
+    note: str = ""
+
+    def __len__(self) -> int:
+        return self.values.shape[0]
+
+    @property
+    def base_units(self) -> tuple[str, ...]:
+        return tuple(units.base_unit(u) for u in self.units)
+
+    def display_values(self) -> np.ndarray:
+        out = np.empty_like(self.values)
+        for j, u in enumerate(self.units):
+            out[:, j] = units.from_base(self.values[:, j], u)
+        return out
+
+    def to_frame(self, display: bool = True):
+        import pandas as pd
+
+        vals = self.display_values() if display else self.values
+        us = self.units if display else self.base_units
+        return pd.DataFrame(vals, columns=[f"{n} [{u}]" for n, u in zip(self.names, us)])
+
+
+def sample(spec: ToleranceSpec, n: int, method: str = "random", seed: int | None = None) -> SampleSet:
+    """Draw ``n`` samples of ``spec`` by ``method`` (random | lhs | sobol) from ``seed``."""
+    u = uniform_design(n, len(spec), method, seed)
+    u = apply_copula(u, spec.correlation)
+    note = ""
+    if method == "sobol" and n & (n - 1):
+        note = f"n={n} is not a power of 2: the Sobol sequence is used without its balance property"
+    if method == "lhs" and spec.correlation is not None:
+        note = "Latin hypercube stratification holds for the uncorrelated normal scores, not the margins"
+    return SampleSet(to_factors(spec, u), spec.names, spec.units, method, seed, note)

@@ -1,0 +1,328 @@
+"""Tolerance specification: factors, their distributions, correlation, requirements.
+
+File format (``data/specs/*.toml``)::
+
+    [spec]
+    name = "rv80e_lost_motion"
+    description = "..."
+
+    [[factor]]
+    name = "dr_p"              # any name; the model decides which names it knows
+    unit = "um"                # the unit every number of this factor is written in
+    dist = "normal"            # see rvtol.distributions
+    mean = 3.0
+    tolerance = 1.0            # band ±T/2 read at sigma_level (3 by default)
+    nominal = 3.0              # optional: nominal value for local sensitivity (default: the mean)
+    group = "pin gear"         # optional: component, for reports and allocation
+    source = "..."             # optional: where the number comes from
+
+    [[correlation]]            # optional Gaussian copula, a pair or a block
+    factors = ["a", "b"]
+    matrix = [[1.0, 0.6], [0.6, 1.0]]
+
+Requirements (in a study or ``data/requirements/*.toml``)::
+
+    [[requirement]]
+    output = "lost_motion"
+    upper = 1.0
+    unit = "arcmin"            # default: the output's display unit
+    min_yield = 0.9973         # and/or min_cpk = 1.33
+    confidence = 0.95          # of the interval the verdict uses
+    basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from . import units
+from .distributions import Distribution, from_params
+from .errors import InputError, SpecError
+from .params import Params, read_toml
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
+
+
+@dataclass(frozen=True)
+class Factor:
+    """One error source: name, unit, distribution (in ``unit``), nominal value."""
+
+    name: str
+    unit: str
+    dist: Distribution
+    nominal: float | None = None
+    description: str = ""
+    group: str = ""
+    source: str = ""
+
+    @property
+    def base_unit(self) -> str:
+        return units.base_unit(self.unit)
+
+    @property
+    def nominal_value(self) -> float:
+        """Nominal in the factor's unit (the distribution mean unless given)."""
+        return self.dist.mean if self.nominal is None else self.nominal
+
+    @property
+    def nominal_base(self) -> float:
+        return float(units.to_base(self.nominal_value, self.unit))
+
+    def ppf_base(self, u: np.ndarray) -> np.ndarray:
+        """Inverse CDF, returned in base units."""
+        return units.to_base(np.asarray(self.dist.ppf(u), dtype=float), self.unit)
+
+    def scaled(self, f: float) -> "Factor":
+        """This factor with its tolerance multiplied by ``f``."""
+        return replace(self, dist=self.dist.scaled(f))
+
+    def describe(self) -> str:
+        return self.dist.describe(self.unit)
+
+
+@dataclass(frozen=True)
+class ToleranceSpec:
+    """An ordered set of factors, optionally correlated through a Gaussian copula."""
+
+    name: str
+    factors: tuple[Factor, ...]
+    correlation: np.ndarray | None = None  # k×k normal-score correlation, or None
+    description: str = ""
+    file: str | None = None
+    sha256: str | None = None
+
+    def __post_init__(self):
+        names = [f.name for f in self.factors]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
+        if self.correlation is not None:
+            c = np.asarray(self.correlation, dtype=float)
+            if c.shape != (len(names), len(names)):
+                raise SpecError("correlation matrix has the wrong size", file=self.file, key="correlation")
+
+    def __len__(self) -> int:
+        return len(self.factors)
+
+    def __iter__(self):
+        return iter(self.factors)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f.name for f in self.factors)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        return tuple(f.unit for f in self.factors)
+
+    def index(self, name: str) -> int:
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise InputError(f"unknown factor name {name!r} (spec has: {', '.join(self.names)})",
+                             file=self.file, key="factor") from None
+
+    def factor(self, name: str) -> Factor:
+        return self.factors[self.index(name)]
+
+    def nominal_base(self) -> np.ndarray:
+        return np.array([f.nominal_base for f in self.factors], dtype=float)
+
+    def mean_base(self) -> np.ndarray:
+        return np.array([units.to_base(f.dist.mean, f.unit) for f in self.factors], dtype=float)
+
+    def std_base(self) -> np.ndarray:
+        return np.array([units.to_base(f.dist.std, f.unit) for f in self.factors], dtype=float)
+
+    def with_factors(self, factors) -> "ToleranceSpec":
+        return replace(self, factors=tuple(factors))
+
+    def scaled(self, scale: dict[str, float]) -> "ToleranceSpec":
+        """A copy with the tolerance of each named factor multiplied by its value."""
+        for n in scale:
+            self.index(n)
+        return self.with_factors(f.scaled(scale[f.name]) if f.name in scale else f for f in self.factors)
+
+    def to_frame(self):
+        import pandas as pd
+
+        return pd.DataFrame({
+            "factor": self.names,
+            "unit": self.units,
+            "distribution": [f.dist.describe() for f in self.factors],
+            "nominal": [f.nominal_value for f in self.factors],
+            "mean": [f.dist.mean for f in self.factors],
+            "std": [f.dist.std for f in self.factors],
+            "tolerance T": [f.dist.tolerance for f in self.factors],
+            "group": [f.group for f in self.factors],
+        })
+
+
+@dataclass(frozen=True)
+class Requirement:
+    """A limit on one output and the yield and/or Cpk it must reach."""
+
+    output: str
+    lower: float | None = None
+    upper: float | None = None
+    unit: str | None = None  # unit the limits are written in (None: the output's unit)
+    min_yield: float | None = None
+    min_cpk: float | None = None
+    confidence: float = 0.95
+    basis: str = "lower_bound"
+    name: str = ""
+    file: str | None = field(default=None, compare=False)
+    key: str | None = field(default=None, compare=False)
+
+    #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
+    DEFAULT_MIN_YIELD = 0.9973
+
+    def __post_init__(self):
+        if self.min_yield is None and self.min_cpk is None:
+            object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
+        if self.lower is None and self.upper is None:
+            raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
+
+    @property
+    def label(self) -> str:
+        if self.name:
+            return self.name
+        lim = []
+        if self.lower is not None:
+            lim.append(f"≥ {self.lower:g}")
+        if self.upper is not None:
+            lim.append(f"≤ {self.upper:g}")
+        return f"{self.output} {' and '.join(lim)} {self.unit or ''}".strip()
+
+    def in_unit(self, unit: str) -> "Requirement":
+        """The same requirement with its limits converted to ``unit``."""
+        if self.unit is None or self.unit == unit:
+            return replace(self, unit=unit)
+        try:
+            conv = lambda v: None if v is None else float(units.convert(v, self.unit, unit))  # noqa: E731
+            return replace(self, lower=conv(self.lower), upper=conv(self.upper), unit=unit)
+        except InputError as exc:
+            raise SpecError(f"limit unit does not fit the output ({exc.reason})", file=self.file,
+                            key=f"{self.key}.unit" if self.key else "unit") from None
+
+
+# --------------------------------------------------------------------------- loaders
+def load_spec(path: str | Path) -> ToleranceSpec:
+    data, sha = read_toml(path)
+    spec = spec_from_table(data, file=str(path))
+    return replace(spec, sha256=sha)
+
+
+def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
+    """Build a spec from a parsed TOML document (``[spec]``, ``[[factor]]``, ``[[correlation]]``)."""
+    root = Params(data, file=file)
+    head = root.sub("spec", {})
+    spec_name = head.str("name", name or (Path(file).stem if file else "spec"))
+    desc = head.str("description", "")
+    head.finish(allow=("source",))
+    head.raw("source", None)
+    tables = root.tables("factor")
+    if not tables:
+        raise root.error("factor", "a spec needs at least one [[factor]]")
+    factors = [factor_from_params(t) for t in tables]
+    names = [f.name for f in factors]
+    for i, n in enumerate(names):
+        if names.index(n) != i:
+            raise tables[i].error("name", f"duplicate factor name {n!r}")
+    corr = correlation_from_tables(root.tables("correlation"), names)
+    root.finish()
+    return ToleranceSpec(spec_name, tuple(factors), corr, desc, file)
+
+
+def factor_from_params(p: Params) -> Factor:
+    name = p.str("name")
+    if not name or not _NAME.match(name):
+        raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
+    unit = p.unit("unit")
+    dist = from_params(p)
+    nominal = p.float("nominal", None)
+    desc = p.str("description", "")
+    group = p.str("group", "")
+    source = p.str("source", "")
+    p.finish()
+    return Factor(name, unit, dist, nominal, desc, group, source)
+
+
+def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:
+    if not tables:
+        return None
+    k = len(names)
+    c = np.eye(k)
+    for t in tables:
+        if "pair" in t:
+            fs = t.strs("pair")
+            if len(fs) != 2:
+                raise t.error("pair", "a pair names exactly two factors")
+            rho = t.float("rho", min=-1.0, max=1.0)
+            m = np.array([[1.0, rho], [rho, 1.0]])
+        else:
+            fs = t.strs("factors", min_length=2)
+            rows = t.raw("matrix")
+            if not isinstance(rows, list) or len(rows) != len(fs):
+                raise t.error("matrix", f"expected a {len(fs)}×{len(fs)} matrix")
+            m = np.array([Params({"r": r}, file=t.file, key=t.path("matrix")).floats("r", length=len(fs))
+                          for r in rows])
+            if not np.allclose(m, m.T, atol=1e-12):
+                raise t.error("matrix", "correlation matrix is not symmetric")
+            if not np.allclose(np.diag(m), 1.0):
+                raise t.error("matrix", "correlation matrix needs ones on the diagonal")
+            if np.any(np.abs(m) > 1.0):
+                raise t.error("matrix", "correlations must lie in [-1, 1]")
+        idx = []
+        for f in fs:
+            if f not in names:
+                raise t.error("factors" if "factors" in t else "pair", f"unknown factor name {f!r}")
+            idx.append(names.index(f))
+        if len(set(idx)) != len(idx):
+            raise t.error("factors", "a factor is named twice")
+        t.finish()
+        for a, ia in enumerate(idx):
+            for b, ib in enumerate(idx):
+                if a != b:
+                    c[ia, ib] = m[a, b]
+    w = np.linalg.eigvalsh(c)
+    if w.min() <= 1e-10:
+        raise SpecError("correlation matrix is not positive definite", file=tables[0].file, key="correlation")
+    return c
+
+
+def load_requirements(path: str | Path) -> list[Requirement]:
+    data, _ = read_toml(path)
+    root = Params(data, file=str(path))
+    reqs = requirements_from_tables(root.tables("requirement"))
+    root.finish()
+    return reqs
+
+
+def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
+    out = []
+    for t in tables:
+        output = t.str("output")
+        lower = t.float("lower", None)
+        upper = t.float("upper", None)
+        if lower is None and upper is None:
+            raise t.error("upper", "a requirement needs 'lower' and/or 'upper'")
+        if lower is not None and upper is not None and not lower < upper:
+            raise t.error("upper", f"limits in the wrong order: lower {lower} >= upper {upper}")
+        unit = t.unit("unit", None)
+        min_yield = t.float("min_yield", None)
+        if min_yield is not None and not 0.0 < min_yield <= 1.0:
+            raise t.error("min_yield", f"must lie in (0, 1], got {min_yield}")
+        min_cpk = t.float("min_cpk", None, positive=True)
+        confidence = t.float("confidence", 0.95)
+        if not 0.5 <= confidence < 1.0:
+            raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
+        basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
+        name = t.str("name", "")
+        t.finish()
+        out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
+                               t.file, t.key))
+    return out

@@ -1,0 +1,309 @@
+"""Studies: a TOML file names a design, a spec, a model, analyses and requirements.
+
+::
+
+    [study]
+    name = "lost_motion_rv80e"            # output folder reports/<name>/
+    title = "..."
+    description = "..."
+    design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
+    spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
+    requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
+
+    [model]
+    kind = "lost_motion"                  # see rvtol.registry.MODELS
+    # ... model parameters
+
+    [sampling]
+    n = 10000
+    method = "lhs"                        # random | lhs | sobol
+    seed = 20261121
+
+    [execution]
+    executor = "process"                  # serial | process | dask
+    workers = 2                           # default: every core
+    chunk_size = 0                        # 0: automatic
+
+    [report]
+    pdf = true
+    confidence = 0.95
+
+    [[analysis]]
+    kind = "local_sensitivity"            # see rvtol.registry.ANALYSES
+    # ... analysis parameters
+
+Loading (:func:`load_study`) reads and checks *everything* — files, keys,
+units, names, the model and every analysis' parameters — before anything is
+computed; :func:`run_study` then runs Monte Carlo and the analyses and
+:func:`write_outputs` writes the report folder atomically.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass, field, replace
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .design import Design, load_design
+from .errors import InputError, SpecError
+from .executors import KINDS as EXECUTOR_KINDS
+from .executors import Executor, make_executor
+from .mc import Evaluation, MonteCarloResult, evaluate, run_monte_carlo
+from .model import Model
+from .params import Params, read_toml
+from .registry import analysis_function, model_factory
+from .report.sections import Section
+from .sampling import METHODS
+from .spec import Requirement, ToleranceSpec, load_requirements, load_spec, requirements_from_tables, spec_from_table
+
+SUMMARY_FORMAT = "rvtol-summary/1"
+
+
+@dataclass
+class RunOptions:
+    n: int = 10000
+    method: str = "lhs"
+    seed: int | None = 12345
+    executor: str = "process"
+    workers: int | None = None
+    scheduler: str | None = None
+    chunk_size: int | None = None
+    pdf: bool = True
+    confidence: float = 0.95
+    progress: bool = True
+
+
+@dataclass
+class Study:
+    name: str
+    title: str
+    description: str
+    file: str
+    base_dir: Path
+    design: Design | None
+    spec: ToleranceSpec
+    model: Model
+    requirements: list[Requirement]
+    options: RunOptions
+    analyses: list = field(default_factory=list)  # prepared analysis objects (have .run(ctx))
+    inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
+
+
+@dataclass
+class StudyContext:
+    """What an analysis sees when it runs."""
+
+    study: Study
+    executor: Executor
+    mc: MonteCarloResult
+
+    @property
+    def design(self):
+        return self.study.design
+
+    @property
+    def spec(self):
+        return self.study.spec
+
+    @property
+    def model(self):
+        return self.study.model
+
+    @property
+    def options(self):
+        return self.study.options
+
+    @property
+    def seed(self):
+        return self.study.options.seed
+
+    def evaluate(self, X: np.ndarray, desc: str = "evaluating", model: Model | None = None) -> Evaluation:
+        """Evaluate (base units) through the study's executor, chunking and progress bar."""
+        o = self.study.options
+        return evaluate(model or self.study.model, X, self.executor, o.chunk_size, o.progress, desc)
+
+
+# --------------------------------------------------------------------------- loading
+def load_study(path: str | Path, **overrides) -> Study:
+    """Read and validate a study file and everything it names. Raises :class:`InputError`."""
+    path = Path(path)
+    data, sha = read_toml(path)
+    file = str(path)
+    base = path.parent
+    root = Params(data, file=file)
+    head = root.sub("study")
+    name = head.str("name", path.stem)
+    if not name or any(c in name for c in "/\\") or name.startswith("."):
+        raise head.error("name", f"invalid study name {name!r} (used as a folder name)")
+    title = head.str("title", name)
+    desc = head.str("description", "")
+    inputs = {"study": {"path": file, "sha256": sha}}
+
+    design = None
+    dpath = head.path_value("design", base, None)
+    if dpath is not None:
+        design = load_design(dpath)
+        inputs["design"] = {"path": str(dpath), "sha256": design.sha256}
+
+    spath = head.path_value("spec", base, None)
+    if spath is not None:
+        if "factor" in root:
+            raise root.error("factor", "give the factors either in the spec file or here, not both")
+        spec = load_spec(spath)
+        inputs["spec"] = {"path": str(spath), "sha256": spec.sha256}
+    else:
+        if "factor" not in root:
+            raise head.error("spec", "missing required key (or give [[factor]] tables in the study file)")
+        spec = spec_from_table({k: data[k] for k in ("factor", "correlation") if k in data}, file=file, name=name)
+        root.raw("factor")
+        root.raw("correlation", None)
+
+    reqs: list[Requirement] = []
+    rpath = head.path_value("requirements", base, None)
+    if rpath is not None:
+        reqs += load_requirements(rpath)
+        inputs["requirements"] = {"path": str(rpath), "sha256": read_toml(rpath)[1]}
+    reqs += requirements_from_tables(root.tables("requirement"))
+    head.finish()
+
+    options = _options(root, overrides)
+
+    mp = root.sub("model")
+    kind = mp.str("kind")
+    factory = model_factory(kind, file)
+    try:
+        model = factory(mp, design, spec)
+    except InputError as exc:
+        raise exc.located(file=file) from None
+    mp.finish()
+    try:
+        model.check_spec(spec)
+    except InputError as exc:
+        raise exc.located(file=spec.file or file) from None
+    for r in reqs:
+        if r.output not in model.output_names:
+            raise SpecError(f"unknown output name {r.output!r} (model has: {', '.join(model.output_names)})",
+                            file=r.file, key=f"{r.key}.output" if r.key else "output")
+        r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
+
+    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs)
+    for t in root.tables("analysis"):
+        akind = t.str("kind")
+        cls = analysis_function(akind, file, t.path("kind"))
+        try:
+            study.analyses.append(cls(t, study))
+        except InputError as exc:
+            raise exc.located(file=file) from None
+        t.finish()
+    root.finish()
+    return study
+
+
+def _options(root: Params, ov: dict) -> RunOptions:
+    s = root.sub("sampling", {})
+    e = root.sub("execution", {})
+    r = root.sub("report", {})
+    o = RunOptions(
+        n=s.int("n", 10000, min=2),
+        method=s.str("method", "lhs", choices=METHODS),
+        seed=s.int("seed", 12345, min=0),
+        executor=e.str("executor", "process", choices=EXECUTOR_KINDS),
+        workers=e.int("workers", None, min=1),
+        scheduler=e.str("scheduler", None),
+        chunk_size=e.int("chunk_size", 0, min=0) or None,
+        pdf=r.bool("pdf", True),
+        confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
+    )
+    for p in (s, e, r):
+        p.finish()
+    for k, v in ov.items():
+        if v is None:
+            continue
+        if not hasattr(o, k):
+            raise InputError(f"unknown option {k!r}", key=k)
+        setattr(o, k, v)
+    if o.n < 2:
+        raise InputError(f"n must be >= 2, got {o.n}", file=root.file, key="sampling.n")
+    if o.method not in METHODS:
+        raise InputError(f"unknown sampling method {o.method!r}", file=root.file, key="sampling.method")
+    if o.scheduler and o.executor != "dask":
+        o.executor = "dask"
+    return o
+
+
+# --------------------------------------------------------------------------- running
+@dataclass
+class StudyResult:
+    study: Study
+    mc: MonteCarloResult
+    sections: list[Section]
+    elapsed: float
+    executor: str
+
+    @property
+    def passed(self) -> bool:
+        return self.mc.passed
+
+    def summary(self) -> dict:
+        from .report.summary import build_summary
+
+        return build_summary(self)
+
+
+def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
+    o = study.options
+    own = executor is None
+    ex = executor or make_executor(o.executor, o.workers, o.scheduler)
+    t0 = time.perf_counter()
+    try:
+        mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
+                             o.chunk_size, o.progress, o.confidence)
+        ctx = StudyContext(study, ex, mc)
+        sections: list[Section] = []
+        for a in study.analyses:
+            res = a.run(ctx)
+            sections.extend(res if isinstance(res, list) else [res])
+        desc = ex.describe()
+    finally:
+        if own:
+            ex.close()
+    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc)
+
+
+def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
+    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
+    from .report.render import render_html, render_pdf
+
+    out = Path(out_dir)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+    try:
+        summary = result.summary()
+        (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
+        result.mc.to_frame().to_parquet(tmp / "samples.parquet", index=False)
+        html = render_html(result)
+        (tmp / "report.html").write_text(html, encoding="utf-8")
+        if result.study.options.pdf:
+            render_pdf(html, tmp / "report.pdf")
+        old = None
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+            os.replace(out, old / "x")
+        os.replace(tmp, out)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out
+
+
+def now_iso() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="seconds")

@@ -1,0 +1,197 @@
+"""Units: conversion at the edges, base units inside.
+
+Inside rvtol every quantity is in base units: **mm, N, s, rad** and what
+follows from them (N·mm for torque, N/mm for stiffness, tonne for mass so
+that N = t·mm/s², t·mm² for inertia, MPa = N/mm² for stress).  Files and
+reports use whatever unit is written next to the number; :func:`to_base`
+and :func:`from_base` convert.
+
+>>> round(from_base(to_base(1.0, "um"), "mm"), 12)
+0.001
+>>> round(convert(1.0, "arcmin", "arcsec"), 9)
+60.0
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .errors import UnitError
+
+_ARCMIN = math.pi / 10800.0
+_ARCSEC = math.pi / 648000.0
+
+# name -> (dimension, factor to the base unit of that dimension)
+_TABLE: dict[str, tuple[str, float]] = {
+    # dimensionless
+    "1": ("dimensionless", 1.0),
+    "%": ("dimensionless", 0.01),
+    # length (base mm)
+    "mm": ("length", 1.0),
+    "um": ("length", 1e-3),
+    "nm": ("length", 1e-6),
+    "cm": ("length", 10.0),
+    "m": ("length", 1e3),
+    # angle (base rad)
+    "rad": ("angle", 1.0),
+    "mrad": ("angle", 1e-3),
+    "urad": ("angle", 1e-6),
+    "deg": ("angle", math.pi / 180.0),
+    "arcmin": ("angle", _ARCMIN),
+    "arcsec": ("angle", _ARCSEC),
+    # force (base N)
+    "N": ("force", 1.0),
+    "kN": ("force", 1e3),
+    # torque (base N·mm)
+    "N*mm": ("torque", 1.0),
+    "N*m": ("torque", 1e3),
+    "kN*m": ("torque", 1e6),
+    # linear stiffness (base N/mm)
+    "N/mm": ("stiffness", 1.0),
+    "N/um": ("stiffness", 1e3),
+    "N/m": ("stiffness", 1e-3),
+    # torsional stiffness (base N·mm/rad)
+    "N*mm/rad": ("torsional_stiffness", 1.0),
+    "N*m/rad": ("torsional_stiffness", 1e3),
+    "N*m/arcmin": ("torsional_stiffness", 1e3 / _ARCMIN),
+    "N*m/arcsec": ("torsional_stiffness", 1e3 / _ARCSEC),
+    # stress / modulus (base MPa = N/mm²)
+    "MPa": ("pressure", 1.0),
+    "GPa": ("pressure", 1e3),
+    "Pa": ("pressure", 1e-6),
+    # time (base s)
+    "s": ("time", 1.0),
+    "ms": ("time", 1e-3),
+    "min": ("time", 60.0),
+    # angular speed (base rad/s)
+    "rad/s": ("angular_speed", 1.0),
+    "rpm": ("angular_speed", 2.0 * math.pi / 60.0),
+    # mass (base tonne: N·s²/mm)
+    "t": ("mass", 1.0),
+    "kg": ("mass", 1e-3),
+    "g": ("mass", 1e-6),
+    # inertia (base t·mm²)
+    "t*mm^2": ("inertia", 1.0),
+    "kg*mm^2": ("inertia", 1e-3),
+    "kg*m^2": ("inertia", 1e3),
+    # density (base t/mm³)
+    "kg/m^3": ("density", 1e-12),
+    "t/mm^3": ("density", 1.0),
+    # damping (base N·s/mm)
+    "N*s/mm": ("damping", 1.0),
+    "N*s/m": ("damping", 1e-3),
+    # angle per length, e.g. sensitivities (base rad/mm)
+    "rad/mm": ("angle_per_length", 1.0),
+    "arcmin/mm": ("angle_per_length", _ARCMIN),
+    "arcsec/um": ("angle_per_length", _ARCSEC / 1e-3),
+    "arcmin/um": ("angle_per_length", _ARCMIN / 1e-3),
+    # money (cost models): one unit, whatever the currency
+    "cost": ("cost", 1.0),
+}
+
+_ALIASES = {
+    "": "1",
+    "-": "1",
+    "µm": "um",
+    "μm": "um",
+    "micron": "um",
+    "µrad": "urad",
+    "μrad": "urad",
+    "°": "deg",
+    "degree": "deg",
+    "degrees": "deg",
+    "′": "arcmin",
+    "″": "arcsec",
+    "N·mm": "N*mm",
+    "Nmm": "N*mm",
+    "N·m": "N*m",
+    "Nm": "N*m",
+    "kN·m": "kN*m",
+    "N/μm": "N/um",
+    "N/µm": "N/um",
+    "N·mm/rad": "N*mm/rad",
+    "N·m/rad": "N*m/rad",
+    "N·m/arcmin": "N*m/arcmin",
+    "Nm/arcmin": "N*m/arcmin",
+    "N·m/arcsec": "N*m/arcsec",
+    "kg·m²": "kg*m^2",
+    "kg·mm²": "kg*mm^2",
+    "kg m^2": "kg*m^2",
+    "N·s/mm": "N*s/mm",
+    "N·s/m": "N*s/m",
+    "arcsec/µm": "arcsec/um",
+    "arcsec/μm": "arcsec/um",
+    "arcmin/µm": "arcmin/um",
+    "arcmin/μm": "arcmin/um",
+    "′/mm": "arcmin/mm",
+    "r/min": "rpm",
+    "rev/min": "rpm",
+}
+
+#: the base unit of each dimension
+BASE_UNITS = {dim: name for name, (dim, f) in _TABLE.items() if f == 1.0 and name not in ("1",)}
+BASE_UNITS["dimensionless"] = "1"
+
+
+def canonical(unit: str) -> str:
+    """The canonical spelling of ``unit``; raises :class:`UnitError` if unknown."""
+    if not isinstance(unit, str):
+        raise UnitError(f"unit must be a string, got {type(unit).__name__}")
+    u = unit.strip()
+    u = _ALIASES.get(u, u)
+    if u not in _TABLE:
+        raise UnitError(f"unknown unit {unit!r} (known: {', '.join(sorted(_TABLE))})")
+    return u
+
+
+def dimension(unit: str) -> str:
+    """The physical dimension of ``unit`` (``'length'``, ``'angle'``, ...)."""
+    return _TABLE[canonical(unit)][0]
+
+
+def base_unit(unit: str) -> str:
+    """The base unit of the dimension of ``unit`` (``'um'`` → ``'mm'``)."""
+    return BASE_UNITS[dimension(unit)]
+
+
+def factor(unit: str) -> float:
+    """Multiply a value in ``unit`` by this to get base units."""
+    return _TABLE[canonical(unit)][1]
+
+
+def to_base(value, unit: str):
+    """Convert ``value`` (scalar or array) from ``unit`` to base units."""
+    f = factor(unit)
+    return value * f if f != 1.0 else value
+
+
+def from_base(value, unit: str):
+    """Convert ``value`` from base units to ``unit``."""
+    f = factor(unit)
+    return value / f if f != 1.0 else value
+
+
+def convert(value, src: str, dst: str):
+    """Convert ``value`` from unit ``src`` to unit ``dst`` (same dimension)."""
+    if dimension(src) != dimension(dst):
+        raise UnitError(f"cannot convert {src!r} ({dimension(src)}) to {dst!r} ({dimension(dst)})")
+    return from_base(to_base(value, src), dst)
+
+
+def require_dimension(unit: str, expected: str | tuple[str, ...]) -> str:
+    """Check that ``unit`` has the ``expected`` dimension; return its canonical name."""
+    u = canonical(unit)
+    exp = (expected,) if isinstance(expected, str) else tuple(expected)
+    if _TABLE[u][0] not in exp:
+        raise UnitError(f"unit {unit!r} is a {_TABLE[u][0]}, expected {' or '.join(exp)}")
+    return u
+
+
+def known_units() -> list[str]:
+    return sorted(_TABLE)
+
+
+def arcsec_per_um_at_radius(radius_mm: float) -> float:
+    """Angle in arcsec subtended by 1 µm of arc at ``radius_mm`` (206.2648 / R)."""
+    return float(np.degrees(1e-3 / radius_mm) * 3600.0)
