@@ -1,0 +1,134 @@
+"""The sections every study report has: verdict, inputs, results, convergence, failures."""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .sections import Section
+
+
+def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "—"
+    s = fmt.format(v)
+    if lo is None and hi is None:
+        return s
+    f = lambda x: "…" if x is None or not np.isfinite(x) else fmt.format(x)  # noqa: E731
+    return f"{s} [{f(lo)}, {f(hi)}]"
+
+
+def verdict_section(result) -> Section:
+    mc = result.mc
+    sec = Section("verdict", "Verdict")
+    verdicts = mc.verdicts()
+    if not verdicts:
+        sec.add_text("This study states no requirements: the verdict is PASS by definition. "
+                     "Add [[requirement]] tables to gate on yield or Cpk.")
+        return sec
+    rows = []
+    for v in verdicts:
+        r, y, c = v.requirement, v.yield_, v.capability
+        lims = " … ".join(x for x in (f"{r.lower:g}" if r.lower is not None else "−∞",
+                                      f"{r.upper:g}" if r.upper is not None else "+∞"))
+        need = []
+        if r.min_yield is not None:
+            need.append(f"yield ≥ {r.min_yield:g}")
+        if r.min_cpk is not None:
+            need.append(f"Cpk ≥ {r.min_cpk:g}")
+        rows.append({
+            "requirement": r.label,
+            "limits": f"[{lims}] {r.unit}",
+            "needs": " and ".join(need) + (" (CI lower bound)" if r.basis == "lower_bound" else " (estimate)"),
+            "yield [CI]": _fmt_ci(y.estimate, y.lo, y.hi, "{:.5f}"),
+            "ppm out [CI]": _fmt_ci(y.ppm, *y.ppm_ci, "{:.0f}"),
+            "Cpk [CI]": _fmt_ci(c["cpk"], c["cpk_lo"], c["cpk_hi"], "{:.3f}"),
+            "Cpk percentile [CI]": _fmt_ci(c["cpk_percentile"], *v.cpk_percentile_ci, "{:.3f}"),
+            "result": "PASS" if v.passed else "FAIL",
+            "why": "; ".join(v.reasons),
+        })
+    sec.add_table(pd.DataFrame(rows), caption=f"Requirements at {mc.confidence:.0%} confidence "
+                  f"(yield: Clopper–Pearson; Cpk: Bissell; percentile Cpk: ISO 22514-2 with bootstrap CI)")
+    return sec
+
+
+def inputs_section(result) -> Section:
+    st = result.study
+    sec = Section("inputs", "Inputs")
+    files = pd.DataFrame([{"role": k, "file": v["path"], "sha256": (v["sha256"] or "")[:16]}
+                          for k, v in st.inputs.items()])
+    sec.add_table(files, caption="Input files (first 16 hex digits of SHA-256)")
+    o = st.options
+    m = result.mc
+    run = pd.DataFrame([
+        {"item": "model", "value": f"{type(st.model).__name__} ({len(st.model.inputs)} inputs, "
+                                   f"{len(st.model.outputs)} outputs)"},
+        {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
+        {"item": "executor", "value": result.executor},
+        {"item": "wall time", "value": f"{result.elapsed:.1f} s"},
+    ])
+    if m.samples.note:
+        run.loc[len(run)] = {"item": "note", "value": m.samples.note}
+    sec.add_table(run, caption="Run")
+    fac = st.spec.to_frame()
+    fac["source"] = [f.source for f in st.spec.factors]
+    sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
+                               "T: tolerance band the distribution stands for)")
+    if st.spec.correlation is not None:
+        sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
+                      caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
+    if st.design is not None:
+        sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
+    from ..plotting.mc import factor_histograms
+
+    sec.add_figure(factor_histograms(m.samples), caption="Sampled factors")
+    return sec
+
+
+def results_section(result) -> Section:
+    from ..plotting.mc import convergence, histogram
+
+    mc = result.mc
+    sec = Section("results", "Monte Carlo results")
+    stt = mc.statistics()
+    rows = []
+    for name, r in stt.iterrows():
+        if r.get("n", 0) == 0:
+            rows.append({"output": name, "unit": r["unit"], "n": 0, "failed": r["failed"]})
+            continue
+        rows.append({
+            "output": name, "unit": r["unit"], "n": int(r["n"]), "failed": int(r["failed"]),
+            "mean [CI]": _fmt_ci(r["mean"], r["mean_lo"], r["mean_hi"]),
+            "std [CI]": _fmt_ci(r["std"], r["std_lo"], r["std_hi"]),
+            "min": f"{r['min']:.4g}", "max": f"{r['max']:.4g}",
+            "P0.135 [CI]": _fmt_ci(r["P0.135"], r["P0.135_lo"], r["P0.135_hi"]),
+            "median": f"{r['P50']:.4g}",
+            "P99.865 [CI]": _fmt_ci(r["P99.865"], r["P99.865_lo"], r["P99.865_hi"]),
+        })
+    sec.add_table(pd.DataFrame(rows), caption=f"Statistics per output with {mc.confidence:.0%} confidence "
+                  "intervals (mean: t; std: χ²; percentiles: order statistics, '…' = too few samples)")
+    req_outputs = [r.output for r in mc.requirements]
+    shown = list(dict.fromkeys(req_outputs + [q.name for q in mc.outputs]))[:8]
+    for name in shown:
+        sec.add_figure(histogram(mc, name), caption=f"{name}: distribution, spec limits, fitted normal")
+    for name in (list(dict.fromkeys(req_outputs)) or shown[:1])[:4]:
+        sec.add_figure(convergence(mc, name), caption=f"{name}: convergence of the mean and yield with n")
+    return sec
+
+
+def failures_section(result) -> Section | None:
+    f = result.mc.failures()
+    if f.empty:
+        return None
+    sec = Section("failures", "Samples the model could not evaluate")
+    sec.add_text(f"{int(f['count'].sum())} of {result.mc.n} samples failed. They are excluded from the "
+                 "statistics of the outputs and counted as non-conforming in every yield.")
+    sec.add_table(f, caption="Failures by reason (first sample indices, 0-based rows of samples.parquet)")
+    return sec
+
+
+def standard_sections(result) -> list[Section]:
+    out = [verdict_section(result), inputs_section(result), results_section(result)]
+    f = failures_section(result)
+    if f is not None:
+        out.append(f)
+    return out

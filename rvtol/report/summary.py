@@ -1,0 +1,80 @@
+"""summary.json: the machine-readable result of a study (versioned format)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import __version__
+
+
+def _num(v):
+    if v is None:
+        return None
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
+    if isinstance(v, (int, np.integer)):
+        return int(v)
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return v
+    return f if math.isfinite(f) else None
+
+
+def clean(obj):
+    """Recursively turn numpy scalars/arrays into JSON types; NaN/inf -> null."""
+    if isinstance(obj, dict):
+        return {str(k): clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [clean(v) for v in obj.tolist()]
+    if isinstance(obj, str) or obj is None:
+        return obj
+    return _num(obj)
+
+
+def build_summary(result) -> dict:
+    from ..stats import PERCENTILES
+    from ..study import SUMMARY_FORMAT, now_iso
+
+    st, mc = result.study, result.mc
+    stats_df = mc.statistics()
+    verdicts = mc.verdicts()
+    outputs = {}
+    for q in mc.outputs:
+        r = stats_df.loc[q.name]
+        entry = {"unit": q.shown_unit, "n": _num(r.get("n")), "failed": _num(r.get("failed"))}
+        if r.get("n", 0):
+            entry.update({
+                "mean": _num(r["mean"]), "mean_ci": [_num(r["mean_lo"]), _num(r["mean_hi"])],
+                "std": _num(r["std"]), "std_ci": [_num(r["std_lo"]), _num(r["std_hi"])],
+                "min": _num(r["min"]), "max": _num(r["max"]),
+                "percentiles": {f"P{p:g}": {"value": _num(r[f"P{p:g}"]),
+                                            "ci": [_num(r[f"P{p:g}_lo"]), _num(r[f"P{p:g}_hi"])]}
+                                for p in PERCENTILES},
+            })
+        entry["requirements"] = [clean(v.to_dict()) for v in verdicts if v.requirement.output == q.name]
+        outputs[q.name] = entry
+    failures = mc.failures()
+    return clean({
+        "format": SUMMARY_FORMAT,
+        "rvtol_version": __version__,
+        "study": st.name,
+        "title": st.title,
+        "created": now_iso(),
+        "seed": st.options.seed,
+        "n": mc.n,
+        "method": st.options.method,
+        "executor": result.executor,
+        "confidence": mc.confidence,
+        "inputs": st.inputs,
+        "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),
+                  "outputs": {q.name: q.shown_unit for q in st.model.outputs}},
+        "outputs": outputs,
+        "failures": failures.to_dict(orient="records"),
+        "verdict": "PASS" if all(v.passed for v in verdicts) else "FAIL",
+        "passed": all(v.passed for v in verdicts),
+        "analyses": {s.key: s.summary for s in result.sections if s.summary},
+    })

@@ -1,0 +1,114 @@
+"""The CLI end to end on the first study: files written, PDF valid, summary consistent, exit codes."""
+import hashlib
+import json
+import re
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+
+from rvtol import __version__
+from rvtol.cli import main
+
+
+@pytest.fixture(scope="module")
+def linear_run(tmp_path_factory):
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path_factory.mktemp("rep") / "linear"
+    rc = main(["run", str(root / "studies" / "linear_stackup.toml"), "--out", str(out), "--n", "4000",
+               "--executor", "process", "--workers", "2", "--quiet"])
+    return root, out, rc
+
+
+def test_linear_study_passes_and_writes_everything(linear_run):
+    root, out, rc = linear_run
+    assert rc == 0
+    for f in ("summary.json", "samples.parquet", "report.html", "report.pdf"):
+        assert (out / f).stat().st_size > 0, f
+    pdf = (out / "report.pdf").read_bytes()
+    assert pdf.startswith(b"%PDF-") and b"%%EOF" in pdf[-1024:]
+
+
+def test_summary_format_and_values(linear_run):
+    root, out, _ = linear_run
+    s = json.loads((out / "summary.json").read_text())
+    assert s["format"] == "rvtol-summary/1" and s["rvtol_version"] == __version__
+    assert s["study"] == "linear_stackup" and s["n"] == 4000 and s["seed"] == 20261121
+    # input hashes are the files' own SHA-256
+    for role in ("study", "spec", "requirements"):
+        p = s["inputs"][role]["path"]
+        assert s["inputs"][role]["sha256"] == hashlib.sha256(open(p, "rb").read()).hexdigest()
+    o = s["outputs"]["axial_clearance"]
+    assert o["unit"] == "um" and o["n"] == 4000 and o["failed"] == 0
+    # closed form: mean 94 µm, σ = sqrt(3.5² + 2·1.8333²·1.5) µm
+    assert o["mean"] == pytest.approx(94.0, abs=4 * 4.73 / 4000**0.5)
+    assert o["std"] == pytest.approx(4.726, rel=0.05)
+    assert o["percentiles"]["P0.135"]["ci"][0] < o["percentiles"]["P0.135"]["value"]
+    req = o["requirements"][0]
+    assert req["passed"] is True and req["yield"] == 1.0 and s["verdict"] == "PASS"
+    samples = pd.read_parquet(out / "samples.parquet")
+    assert len(samples) == 4000 and "axial_clearance [um]" in samples.columns and "status" in samples.columns
+    assert samples["axial_clearance [um]"].mean() == pytest.approx(o["mean"])
+
+
+def test_html_escapes_names_from_input_files(tmp_path, root):
+    spec = tmp_path / "spec.toml"
+    spec.write_text('[[factor]]\nname = "a"\nunit = "um"\ndist = "normal"\nsigma = 1.0\n'
+                    'group = "<script>alert(1)</script>"\n')
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nname = "esc"\ntitle = "<b>bold</b> & co"\nspec = "spec.toml"\n'
+                     '[model]\nkind = "linear"\n[[model.output]]\nname = "y"\nunit = "mm"\n'
+                     'coefficients = { a = 1.0 }\n[sampling]\nn = 200\n')
+    out = tmp_path / "out"
+    assert main(["run", str(study), "--out", str(out), "--no-pdf", "--executor", "serial", "--quiet"]) == 0
+    html = (out / "report.html").read_text()
+    assert "<script>alert(1)</script>" not in html and "&lt;script&gt;" in html
+    assert "<b>bold</b>" not in html
+
+
+def test_failing_requirement_exits_1(tmp_path, root):
+    req = tmp_path / "req.toml"
+    req.write_text('[[requirement]]\noutput = "axial_clearance"\nlower = 50\nupper = 100\nunit = "um"\n'
+                   'min_cpk = 1.33\n')
+    text = (root / "studies" / "linear_stackup.toml").read_text()
+    text = text.replace('"../data/requirements/rv80e_axial_stack.toml"', f'"{req}"')
+    text = text.replace('"../data/specs/', f'"{root}/data/specs/')
+    study = tmp_path / "s.toml"
+    study.write_text(text)
+    out = tmp_path / "out"
+    rc = main(["run", str(study), "--out", str(out), "--n", "2000", "--no-pdf", "--executor", "serial",
+               "--quiet"])
+    assert rc == 1
+    s = json.loads((out / "summary.json").read_text())
+    assert s["verdict"] == "FAIL"
+    assert "Cpk" in s["outputs"]["axial_clearance"]["requirements"][0]["reasons"][0]
+
+
+def test_version_and_kinds():
+    r = subprocess.run([sys.executable, "-m", "rvtol", "--version"], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stdout.strip() == f"rvtol {__version__}"
+    r = subprocess.run([sys.executable, "-m", "rvtol", "kinds"], capture_output=True, text=True)
+    assert r.returncode == 0 and "linear" in r.stdout
+
+
+def test_check_validates_without_running(root, capsys):
+    assert main(["check", str(root / "studies" / "linear_stackup.toml")]) == 0
+    assert "ok" in capsys.readouterr().out
+
+
+def test_readme_quick_start_and_ci_agree(root):
+    """README opens with exactly two commands; .ci/run runs the second one verbatim."""
+    readme = (root / "README.md").read_text()
+    blocks = re.findall(r"```(?:sh|bash)?\n(.*?)```", readme, flags=re.S)
+    first_two = [b.strip() for b in blocks[:2]]
+    assert len(first_two) == 2 and all("\n" not in b for b in first_two), first_two
+    study_cmd, test_cmd = first_two
+    assert re.search(r"rvtol run studies/\S+\.toml", study_cmd)
+    main_study = re.search(r"rvtol run (studies/\S+\.toml)", study_cmd).group(1)
+    assert (root / main_study).exists()
+    assert "pytest" in test_cmd
+    ci = (root / ".ci" / "run").read_text()
+    assert test_cmd in ci.splitlines(), "the README's test command must appear verbatim in .ci/run"

@@ -1,0 +1,103 @@
+"""Statistics against independent references: beta/binomial closed forms, hand formulas."""
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from rvtol import stats as st
+
+
+@pytest.mark.parametrize("k,n", [(0, 50), (7, 50), (50, 50), (9970, 10000), (123, 456)])
+def test_clopper_pearson_matches_beta_quantiles(k, n):
+    lo, hi = st.proportion_ci(k, n, 0.95, "exact")
+    ref_lo = 0.0 if k == 0 else stats.beta.ppf(0.025, k, n - k + 1)
+    ref_hi = 1.0 if k == n else stats.beta.ppf(0.975, k + 1, n - k)
+    assert lo == pytest.approx(ref_lo, abs=1e-10)
+    assert hi == pytest.approx(ref_hi, abs=1e-10)
+
+
+@pytest.mark.parametrize("k,n", [(7, 50), (9970, 10000)])
+def test_wilson_matches_hand_formula(k, n):
+    z = stats.norm.ppf(0.975)
+    p = k / n
+    c = (p + z * z / (2 * n)) / (1 + z * z / n)
+    h = z / (1 + z * z / n) * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    lo, hi = st.proportion_ci(k, n, 0.95, "wilson")
+    assert lo == pytest.approx(c - h, rel=1e-9)
+    assert hi == pytest.approx(c + h, rel=1e-9)
+
+
+def test_yield_counts_failures_as_nonconforming():
+    y = np.array([1.0, 2.0, np.nan, 4.0, 10.0])
+    ok = np.array([True, True, False, True, True])
+    r = st.yield_of(y, ok, lower=0.0, upper=5.0)
+    assert (r.conforming, r.n) == (3, 5)
+    assert r.estimate == pytest.approx(0.6)
+    assert r.ppm == pytest.approx(400_000)
+
+
+def test_mean_and_std_ci_hand_computed():
+    y = np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    m, lo, hi = st.mean_ci(y, 0.95)
+    h = stats.t.ppf(0.975, 4) * math.sqrt(2.5) / math.sqrt(5)
+    assert (m, lo, hi) == pytest.approx((3.0, 3 - h, 3 + h))
+    s, slo, shi = st.std_ci(y, 0.95)
+    assert s == pytest.approx(math.sqrt(2.5))
+    assert slo == pytest.approx(math.sqrt(4 * 2.5 / stats.chi2.ppf(0.975, 4)))
+    assert shi == pytest.approx(math.sqrt(4 * 2.5 / stats.chi2.ppf(0.025, 4)))
+
+
+def test_percentile_ci_ranks_and_missing_tail():
+    y = np.arange(1.0, 1001.0)
+    est, lo, hi = st.percentile_ci(y, 0.5, 0.95)
+    l_rank = int(stats.binom.ppf(0.025, 1000, 0.5))
+    u_rank = int(stats.binom.ppf(0.975, 1000, 0.5)) + 1
+    assert (lo, hi) == (float(l_rank), float(u_rank))
+    assert lo <= est <= hi
+    # 0.135 % from 1000 samples: no lower rank exists -> None, not a number
+    _, lo2, _ = st.percentile_ci(y, 0.00135, 0.95)
+    assert lo2 is None
+
+
+def test_percentile_ci_coverage_is_at_least_nominal():
+    # the order-statistic interval is distribution-free: check coverage by simulation
+    g = np.random.default_rng(0)
+    q, n, trials = 0.9, 200, 2000
+    true = stats.expon.ppf(q)
+    hits = 0
+    for _ in range(trials):
+        ys = np.sort(g.exponential(size=n))
+        _, lo, hi = st.percentile_ci(ys, q, 0.95)
+        hits += lo <= true <= hi
+    assert hits / trials >= 0.95 - 3 * math.sqrt(0.95 * 0.05 / trials)
+
+
+def test_cpk_hand_computed_and_bissell():
+    g = np.random.default_rng(1)
+    y = g.normal(10.0, 1.0, 5000)
+    c = st.capability(y, 4.0, 18.0)
+    mu, s = y.mean(), y.std(ddof=1)
+    assert c["cp"] == pytest.approx(14 / (6 * s))
+    assert c["cpk"] == pytest.approx(min(18 - mu, mu - 4) / (3 * s))
+    h = stats.norm.ppf(0.975) * math.sqrt(1 / (9 * 5000) + c["cpk"] ** 2 / (2 * 4999))
+    assert c["cpk_lo"] == pytest.approx(c["cpk"] - h)
+    # percentile Cpk of a normal sample approaches the normal Cpk
+    assert c["cpk_percentile"] == pytest.approx(c["cpk"], rel=0.08)
+
+
+def test_one_sided_cpk_and_no_cp():
+    y = np.random.default_rng(2).normal(0, 1, 1000)
+    c = st.capability(y, None, 3.0)
+    assert c["cp"] is None
+    assert c["cpk"] == pytest.approx((3 - y.mean()) / (3 * y.std(ddof=1)))
+
+
+def test_convergence_trace_ends_at_the_full_sample_mean_and_yield():
+    g = np.random.default_rng(3)
+    y = g.normal(size=3000)
+    ok = np.ones(3000, bool)
+    tr = st.convergence_trace(y, ok, [(None, 1.0)])
+    assert tr["n"][-1] == 3000
+    assert tr["mean"][-1] == pytest.approx(y.mean())
+    assert tr["yield_0"][-1] == pytest.approx(np.mean(y <= 1.0))
