@@ -188,6 +188,22 @@ def require_dimension(unit: str, expected: str | tuple[str, ...]) -> str:
     return u
 
 
+_LABELS = {"um": "µm", "urad": "µrad", "deg": "°", "N*mm": "N·mm", "N*m": "N·m", "kN*m": "kN·m",
+           "N/um": "N/µm", "N*mm/rad": "N·mm/rad", "N*m/rad": "N·m/rad", "N*m/arcmin": "N·m/arcmin",
+           "N*m/arcsec": "N·m/arcsec", "t*mm^2": "t·mm²", "kg*mm^2": "kg·mm²", "kg*m^2": "kg·m²",
+           "kg/m^3": "kg/m³", "t/mm^3": "t/mm³", "N*s/mm": "N·s/mm", "N*s/m": "N·s/m",
+           "arcsec/um": "arcsec/µm", "arcmin/um": "arcmin/µm", "1": "–"}
+
+
+def label(unit: str) -> str:
+    """How a unit is printed in reports and on axes (``'um'`` → ``'µm'``)."""
+    try:
+        u = canonical(unit)
+    except UnitError:
+        return str(unit)
+    return _LABELS.get(u, u)
+
+
 def known_units() -> list[str]:
     return sorted(_TABLE)
 

@@ -110,3 +110,26 @@ def test_requirement_units_are_converted():
     r = run_monte_carlo(m, spec, 500, "lhs", seed=1, requirements=[Requirement("gap", upper=0.5, unit="mm")],
                         progress=False)
     assert r.requirements[0].unit == "um" and r.requirements[0].upper == pytest.approx(500.0)
+
+
+def test_dask_scheduler_address_path(reference):
+    """`--scheduler ADDR`: connect to a running cluster (here a LocalCluster we start ourselves)."""
+    import logging
+
+    from dask.distributed import LocalCluster
+
+    spec, model, ref = reference
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster:
+        with make_executor("dask", scheduler=cluster.scheduler_address) as ex:
+            r = run_monte_carlo(model, spec, 3000, "lhs", seed=42, executor=ex, chunk_size=1000, progress=False)
+            assert ex.workers == 1
+    assert np.array_equal(r.Y, ref.Y)
+
+
+def test_unreachable_scheduler_is_an_input_error():
+    from rvtol.errors import InputError
+
+    with pytest.raises(InputError, match="cannot reach Dask scheduler"):
+        with make_executor("dask", scheduler="tcp://127.0.0.1:1") as ex:
+            ex.client

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
+from ..units import label
 from . import COLORS, new_axes
 
 
@@ -12,7 +13,7 @@ def histogram(result, output: str, ax=None, bins: int = 60):
     fig, ax = new_axes(ax)
     y = result.column(output)
     y = y[np.isfinite(y)]
-    unit = result.unit_of(output)
+    unit = label(result.unit_of(output))
     if len(y) == 0:
         ax.text(0.5, 0.5, "no successful samples", ha="center", transform=ax.transAxes)
         return fig
@@ -42,7 +43,7 @@ def convergence(result, output: str, ax=None):
     fig, ax = new_axes(ax, figsize=(6.4, 3.2))
     df = result.convergence()
     df = df[df["output"] == output]
-    unit = result.unit_of(output)
+    unit = label(result.unit_of(output))
     ax.fill_between(df["n"], df["mean_lo"], df["mean_hi"], color=COLORS["ci"], alpha=0.3,
                     label=f"{result.confidence:.0%} CI of the mean")
     ax.plot(df["n"], df["mean"], color=COLORS["data"], label="running mean")
@@ -67,6 +68,7 @@ def convergence(result, output: str, ax=None):
 def factor_histograms(samples, max_factors: int = 12):
     """Small-multiple histograms of the sampled factors (display units)."""
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     k = min(len(samples.names), max_factors)
     cols = 4
@@ -79,7 +81,9 @@ def factor_histograms(samples, max_factors: int = 12):
             ax.axis("off")
             continue
         ax.hist(vals[:, j], bins=40, color=COLORS["data"], alpha=0.75)
-        ax.set_title(f"{samples.names[j]} [{samples.units[j]}]", fontsize=7)
+        ax.set_title(f"{samples.names[j]} [{label(samples.units[j])}]", fontsize=7)
+        ax.ticklabel_format(axis="x", useOffset=False, style="plain")
+        ax.xaxis.set_major_locator(MaxNLocator(3))
         ax.tick_params(labelsize=6)
         ax.set_yticks([])
     fig.tight_layout()

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..units import label
 from .sections import Section
 
 
@@ -37,7 +38,7 @@ def verdict_section(result) -> Section:
             need.append(f"Cpk ≥ {r.min_cpk:g}")
         rows.append({
             "requirement": r.label,
-            "limits": f"[{lims}] {r.unit}",
+            "limits": f"[{lims}] {label(r.unit)}",
             "needs": " and ".join(need) + (" (CI lower bound)" if r.basis == "lower_bound" else " (estimate)"),
             "yield [CI]": _fmt_ci(y.estimate, y.lo, y.hi, "{:.5f}"),
             "ppm out [CI]": _fmt_ci(y.ppm, *y.ppm_ci, "{:.0f}"),
@@ -70,6 +71,7 @@ def inputs_section(result) -> Section:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
     sec.add_table(run, caption="Run")
     fac = st.spec.to_frame()
+    fac["unit"] = [label(u) for u in fac["unit"]]
     fac["source"] = [f.source for f in st.spec.factors]
     sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
                                "T: tolerance band the distribution stands for)")
@@ -93,10 +95,10 @@ def results_section(result) -> Section:
     rows = []
     for name, r in stt.iterrows():
         if r.get("n", 0) == 0:
-            rows.append({"output": name, "unit": r["unit"], "n": 0, "failed": r["failed"]})
+            rows.append({"output": name, "unit": label(r["unit"]), "n": 0, "failed": r["failed"]})
             continue
         rows.append({
-            "output": name, "unit": r["unit"], "n": int(r["n"]), "failed": int(r["failed"]),
+            "output": name, "unit": label(r["unit"]), "n": int(r["n"]), "failed": int(r["failed"]),
             "mean [CI]": _fmt_ci(r["mean"], r["mean_lo"], r["mean_hi"]),
             "std [CI]": _fmt_ci(r["std"], r["std_lo"], r["std_hi"]),
             "min": f"{r['min']:.4g}", "max": f"{r['max']:.4g}",
@@ -109,9 +111,11 @@ def results_section(result) -> Section:
     req_outputs = [r.output for r in mc.requirements]
     shown = list(dict.fromkeys(req_outputs + [q.name for q in mc.outputs]))[:8]
     for name in shown:
-        sec.add_figure(histogram(mc, name), caption=f"{name}: distribution, spec limits, fitted normal")
+        sec.add_figure(histogram(mc, name), caption=f"{name}: distribution, spec limits, fitted normal",
+                       width="80%")
     for name in (list(dict.fromkeys(req_outputs)) or shown[:1])[:4]:
-        sec.add_figure(convergence(mc, name), caption=f"{name}: convergence of the mean and yield with n")
+        sec.add_figure(convergence(mc, name), caption=f"{name}: convergence of the mean and yield with n",
+                       width="80%")
     return sec
 
 
