@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import sys
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import pandas as pd
@@ -111,7 +112,10 @@ class Verdict:
 
 @dataclass
 class MonteCarloResult:
-    """Samples, outputs (display units), status and everything derived from them."""
+    """Samples, outputs (display units), status and everything derived from them.
+
+    Derived tables are computed once and cached: treat the arrays as read-only.
+    """
 
     outputs: tuple[Quantity, ...]
     samples: SampleSet
@@ -146,9 +150,11 @@ class MonteCarloResult:
         return df
 
     def statistics(self) -> pd.DataFrame:
-        rows = []
-        for j, q in enumerate(self.outputs):
-            rows.append(self._describe(j, q))
+        return self._statistics.copy()
+
+    @cached_property
+    def _statistics(self) -> pd.DataFrame:
+        rows = [self._describe(j, q) for j, q in enumerate(self.outputs)]
         return pd.DataFrame(rows).set_index("output")
 
     def _describe(self, j: int, q: Quantity) -> dict:
@@ -170,6 +176,10 @@ class MonteCarloResult:
         return row
 
     def verdicts(self) -> list[Verdict]:
+        return list(self._verdicts)
+
+    @cached_property
+    def _verdicts(self) -> list[Verdict]:
         out = []
         for r in self.requirements:
             j = [q.name for q in self.outputs].index(r.output)
@@ -203,6 +213,10 @@ class MonteCarloResult:
         return all(v.passed for v in self.verdicts())
 
     def convergence(self) -> pd.DataFrame:
+        return self._convergence.copy()
+
+    @cached_property
+    def _convergence(self) -> pd.DataFrame:
         frames = []
         for j, q in enumerate(self.outputs):
             lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name]
