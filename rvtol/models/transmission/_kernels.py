@@ -1,0 +1,601 @@
+"""Numba kernels of the 20-DOF RV reducer model (doc 000, section 1).
+
+Pure array functions, ``@njit(cache=True, nogil=True)``, returning status codes
+(:mod:`.layout`).  Python wrappers (:mod:`.quasistatic`, :mod:`.newmark`)
+validate, convert and raise; :mod:`.reference` holds a NumPy implementation of
+the same equations for the tests and the benchmark ratio.
+
+Structure: every contact is one row of a *contact table*.  A contact's relative
+displacement is affine in the coordinates q, ``d = G q + h``; ``G`` (``coef``
+over the DOF indices ``idx``) and ``h`` (``off``: the error terms) depend on the
+nominal angles only and are rewritten at each position by
+:func:`update_table`.  The force law depends on the contact kind (linear,
+unilateral power law, radial bearing with a dead zone).  Internal generalised
+forces are ``F = Σ Gᵀ f(d)`` and the tangent stiffness ``K = Σ Gᵀ (∂f/∂d) G``;
+equilibrium is ``F(q) = Q``.  The same Newton solver serves the quasi-static
+sweep and every step of the Newmark-β integration, and the Newmark loop also
+runs on a static table (``rv=False``) — the 1-DOF oscillators of the tests.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C_CRANK, C_HOUSING, C_MESH,
+                     C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, N_CRANK, N_DISC, NH,
+                     NZ, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP, P_RRP, P_ZB, P_ZC, PIN_AP,
+                     PIN_GAP, PIN_R, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
+                     ST_SINGULAR, THCA, UNILATERAL)
+
+_JIT = dict(cache=True, nogil=True)
+TWO_PI = 2.0 * math.pi
+
+# per-position record columns
+R_PIN_MAX, R_NPIN0, R_NPIN1, R_CAM_MAX, R_CRANK_MAX, R_HOUSING, R_TORQUE_IN = 0, 1, 2, 3, 4, 5, 6
+NREC = 7
+
+#: force (N) used to linearise the Hertz laws for the cold-start guess
+P_LINEARISE = 100.0
+#: displacement bound (mm, arc length): beyond it the small-deviation model no longer applies
+Q_MAX = 1.0
+#: Jacobian regularisation, per DOF: REG * 1e5 N/mm * radius^2 (residuals are not modified)
+REG = 1e-9
+
+
+# --------------------------------------------------------------------------- contact table
+@njit(**_JIT)
+def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
+    """Fill ``coef``/``off`` of every contact for the nominal carrier angle ``theta_c``.
+
+    ``dth_s`` is the deviation of the input (sun) angle from its nominal
+    ``i·theta_c`` (0 for a prescribed input; the locked-input torsion test keeps
+    ``theta_c`` fixed and ``dth_s = 0``).
+    """
+    zb = int(prm[P_ZB])
+    zc = prm[P_ZC]
+    e = prm[P_ECC]
+    rp = prm[P_RP]
+    rr = prm[P_RRP]
+    rdc = prm[P_RDC]
+    rbs = prm[P_RBS]
+    rbp = prm[P_RBP]
+    k1 = zb * e / rp
+    th_s = prm[P_RATIO] * theta_c
+    th_p = (1.0 - zb) * theta_c
+
+    # 1. sun support
+    coef[C_SUN, 0, 0] = 1.0
+    off[C_SUN, 0] = -err[A_S] * math.cos(err[GAMMA_S])
+    coef[C_SUN + 1, 0, 0] = 1.0
+    off[C_SUN + 1, 0] = -err[A_S] * math.sin(err[GAMMA_S])
+
+    for i in range(N_CRANK):
+        phi = TWO_PI * i / N_CRANK
+        # 2. sun-planet mesh along the line of action at A_i = θ_c + φ_i + π/2 − α'
+        a = theta_c + phi + 0.5 * math.pi - prm[P_ALPHAW]
+        ca = math.cos(a)
+        sa = math.sin(a)
+        c = C_MESH + i
+        coef[c, 0, 0] = ca
+        coef[c, 0, 1] = sa
+        coef[c, 0, 2] = -ca
+        coef[c, 0, 3] = -sa
+        coef[c, 0, 4] = rbp
+        off[c, 0] = (rbs * dth_s + err[E_S] * math.cos(th_s + err[BETA_S] - a)
+                     - err[E_P + i] * math.cos(th_p + err[BETA_P + i] - a))
+        # 5. crank - carrier bearing
+        h = theta_c + phi
+        ch = math.cos(h)
+        sh = math.sin(h)
+        c = C_CRANK + i
+        coef[c, 0, 0] = 1.0
+        coef[c, 0, 1] = -1.0
+        coef[c, 0, 2] = rdc * sh
+        coef[c, 1, 0] = 1.0
+        coef[c, 1, 1] = -1.0
+        coef[c, 1, 2] = -rdc * ch
+        off[c, 0] = -err[E_CA + i] * math.cos(h + err[BETA_CA + i])
+        off[c, 1] = -err[E_CA + i] * math.sin(h + err[BETA_CA + i])
+
+    # 6. carrier - housing bearing
+    coef[C_HOUSING, 0, 0] = 1.0
+    coef[C_HOUSING, 1, 0] = 1.0
+    off[C_HOUSING, 0] = -err[A_C] * math.cos(err[GAMMA_C])
+    off[C_HOUSING, 1] = -err[A_C] * math.sin(err[GAMMA_C])
+
+    for j in range(N_DISC):
+        th_e = th_p + math.pi * j          # eccentric direction of disc j
+        ce = math.cos(th_e)
+        se = math.sin(th_e)
+        # 3. cycloid j - crank i bearing: d = u_cam − u_hole
+        for i in range(N_CRANK):
+            h = theta_c + TWO_PI * i / N_CRANK
+            ch = math.cos(h)
+            sh = math.sin(h)
+            c = C_CAM + 3 * j + i
+            coef[c, 0, 0] = 1.0
+            coef[c, 0, 1] = -e * se
+            coef[c, 0, 2] = -ce
+            coef[c, 0, 3] = e * se
+            coef[c, 0, 4] = rdc * sh
+            coef[c, 1, 0] = 1.0
+            coef[c, 1, 1] = e * ce
+            coef[c, 1, 2] = -se
+            coef[c, 1, 3] = -e * ce
+            coef[c, 1, 4] = -rdc * ch
+            ec = err[E_C + 3 * j + i]
+            bc = err[BETA_C + 3 * j + i]
+            eh = err[E_H + 3 * j + i]
+            bh = err[BETA_H + 3 * j + i]
+            off[c, 0] = ec * math.cos(th_e + bc) - eh * math.cos(h + bh)
+            off[c, 1] = ec * math.sin(th_e + bc) - eh * math.sin(h + bh)
+        # 4. cycloid j - pin k
+        has_disc_err = False
+        for f in range(2):
+            for n in range(NH):
+                if disc_h[j, f, n, 0] != 0.0 or disc_h[j, f, n, 1] != 0.0:
+                    has_disc_err = True
+        rot = th_e - theta_c               # disc-fixed angle = absolute angle − disc spin
+        cr = math.cos(rot)
+        sr = math.sin(rot)
+        for k in range(zb):
+            cphi = pin_cs[0, k] * ce + pin_cs[1, k] * se      # φ = θ_k − θ_e
+            sphi = pin_cs[1, k] * ce - pin_cs[0, k] * se
+            s = math.sqrt(1.0 - 2.0 * k1 * cphi + k1 * k1)
+            cal = (cphi - k1) / s
+            sal = sphi / s
+            c = C_PIN + j * zb + k
+            coef[c, 0, 0] = cal
+            coef[c, 0, 1] = e * sal
+            coef[c, 0, 2] = zc * e * sal
+            o = -(pin_err[PIN_R, j, k] * (cal * cphi + sal * sphi)
+                  + pin_err[PIN_AP, j, k] * (sal * cphi - cal * sphi)) - pin_err[PIN_GAP, j, k]
+            if has_disc_err:
+                # contact point C = pin centre − r_rp n, seen from the disc centre (eccentric frame)
+                cx = rp * cphi - rr * cal - e
+                cy = rp * sphi - rr * sal
+                cn = math.sqrt(cx * cx + cy * cy)
+                cc = cx / cn
+                sc = cy / cn
+                c1 = cc * cr - sc * sr     # cos, sin of the disc-fixed angle of C
+                s1 = sc * cr + cc * sr
+                fr = 0.0
+                ft = 0.0
+                cn_ = 1.0
+                sn_ = 0.0
+                for n in range(NH):
+                    fr += disc_h[j, 0, n, 0] * cn_ + disc_h[j, 0, n, 1] * sn_
+                    ft += disc_h[j, 1, n, 0] * cn_ + disc_h[j, 1, n, 1] * sn_
+                    t = cn_ * c1 - sn_ * s1
+                    sn_ = sn_ * c1 + cn_ * s1
+                    cn_ = t
+                o += fr * (cal * cc + sal * sc) + ft * (sal * cc - cal * sc)
+            off[c, 0] = o
+
+
+# --------------------------------------------------------------------------- forces
+@njit(**_JIT)
+def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
+    """Internal generalised forces ``F = Σ Gᵀ f`` and, per contact, force and tangent terms.
+
+    ``fc[c]``: signed force of a scalar contact, resultant of a bearing.
+    ``kt[c]``: scalar contacts ``(k, 0, 0)``; bearings the 2×2 tangent ``(Kxx, Kxy, Kyy)``.
+    """
+    F[:] = 0.0
+    nc = kind.size
+    for c in range(nc):
+        kd = kind[c]
+        if kd == RADIAL:
+            dx = off[c, 0]
+            dy = off[c, 1]
+            for m in range(NZ):
+                ix = idx[c, 0, m]
+                if ix >= 0:
+                    dx += coef[c, 0, m] * q[ix]
+                iy = idx[c, 1, m]
+                if iy >= 0:
+                    dy += coef[c, 1, m] * q[iy]
+            r = math.sqrt(dx * dx + dy * dy)
+            s = r - gap[c]
+            if s <= 0.0 or r == 0.0:
+                fc[c] = 0.0
+                lin = pw[c] == 1.0 and gap[c] == 0.0
+                kt[c, 0] = k0[c] if lin else 0.0
+                kt[c, 1] = 0.0
+                kt[c, 2] = k0[c] if lin else 0.0
+                continue
+            f = (k0[c] * s) ** pw[c]
+            nx = dx / r
+            ny = dy / r
+            ktan = pw[c] * f / s
+            ksec = f / r
+            kt[c, 0] = ktan * nx * nx + ksec * ny * ny
+            kt[c, 1] = (ktan - ksec) * nx * ny
+            kt[c, 2] = ktan * ny * ny + ksec * nx * nx
+            fc[c] = f
+            fx = f * nx
+            fy = f * ny
+            for m in range(NZ):
+                ix = idx[c, 0, m]
+                if ix >= 0:
+                    F[ix] += coef[c, 0, m] * fx
+                iy = idx[c, 1, m]
+                if iy >= 0:
+                    F[iy] += coef[c, 1, m] * fy
+        else:
+            d = off[c, 0]
+            for m in range(NZ):
+                ix = idx[c, 0, m]
+                if ix >= 0:
+                    d += coef[c, 0, m] * q[ix]
+            if kd == LINEAR:
+                f = k0[c] * d
+                kk = k0[c]
+            elif d > 0.0:
+                f = (k0[c] * d) ** pw[c]
+                kk = pw[c] * f / d
+            else:
+                f = 0.0
+                kk = 0.0
+            fc[c] = f
+            kt[c, 0] = kk
+            kt[c, 1] = 0.0
+            kt[c, 2] = 0.0
+            if f != 0.0:
+                for m in range(NZ):
+                    ix = idx[c, 0, m]
+                    if ix >= 0:
+                        F[ix] += coef[c, 0, m] * f
+
+
+@njit(**_JIT)
+def tangent_matrix(kind, idx, coef, kt, K):
+    """``K = Σ Gᵀ (∂f/∂d) G`` from the per-contact tangents of :func:`contact_forces`."""
+    K[:, :] = 0.0
+    nc = kind.size
+    for c in range(nc):
+        if kind[c] == RADIAL:
+            kxx = kt[c, 0]
+            kxy = kt[c, 1]
+            kyy = kt[c, 2]
+            if kxx == 0.0 and kyy == 0.0:
+                continue
+            for r in range(2):
+                for a in range(NZ):
+                    ia = idx[c, r, a]
+                    if ia < 0:
+                        continue
+                    ga = coef[c, r, a]
+                    for s in range(2):
+                        kc = (kxx if s == 0 else kxy) if r == 0 else (kxy if s == 0 else kyy)
+                        if kc == 0.0:
+                            continue
+                        for b in range(NZ):
+                            ib = idx[c, s, b]
+                            if ib >= 0:
+                                K[ia, ib] += ga * kc * coef[c, s, b]
+        else:
+            kk = kt[c, 0]
+            if kk == 0.0:
+                continue
+            for a in range(NZ):
+                ia = idx[c, 0, a]
+                if ia < 0:
+                    continue
+                ga = kk * coef[c, 0, a]
+                for b in range(NZ):
+                    ib = idx[c, 0, b]
+                    if ib >= 0:
+                        K[ia, ib] += ga * coef[c, 0, b]
+
+
+# --------------------------------------------------------------------------- linear algebra
+@njit(**_JIT)
+def cholesky_solve(A, b, x):
+    """Solve A x = b for symmetric positive definite A (A is overwritten). False if not PD."""
+    n = b.size
+    for j in range(n):
+        s = A[j, j]
+        for k in range(j):
+            s -= A[j, k] * A[j, k]
+        if not s > 0.0:
+            return False
+        d = math.sqrt(s)
+        A[j, j] = d
+        for i in range(j + 1, n):
+            t = A[i, j]
+            for k in range(j):
+                t -= A[i, k] * A[j, k]
+            A[i, j] = t / d
+    for i in range(n):
+        t = b[i]
+        for k in range(i):
+            t -= A[i, k] * x[k]
+        x[i] = t / A[i, i]
+    for i in range(n - 1, -1, -1):
+        t = x[i]
+        for k in range(i + 1, n):
+            t -= A[k, i] * x[k]
+        x[i] = t / A[i, i]
+    return True
+
+
+# --------------------------------------------------------------------------- Newton
+@njit(**_JIT)
+def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit, maxstep,
+           F, K, fc, kt, R, dq, qprev):
+    """Solve ``F(q) + [M a(q) + C v(q)] − Q = 0`` for q in place; returns (status, iterations).
+
+    Quasi-static when ``c0 == 0`` (M, C ignored); a Newmark step otherwise, with
+    ``a(q) = c0 (q − qpred)`` and ``v(q) = vpred + c1 (q − qpred)``.  Residuals are
+    scaled to forces (torques divided by the DOF's arc radius ``xs``), steps to
+    arc lengths; convergence when the largest scaled residual is below
+    ``tol_f`` (N).  Backtracking halves a step that increases the residual norm;
+    a step is at most ``maxstep`` (mm) long.
+    """
+    n = q.size
+    dyn = c0 != 0.0
+    lam = 1.0
+    merit_prev = 1e300
+    have_prev = False
+    for it in range(maxit + 1):
+        contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
+        for a in range(n):
+            R[a] = F[a] - Q[a]
+        if dyn:
+            for a in range(n):
+                acc = 0.0
+                for b in range(n):
+                    dqb = q[b] - qpred[b]
+                    acc += M[a, b] * c0 * dqb + C[a, b] * (vpred[b] + c1 * dqb)
+                R[a] += acc
+        rmax = 0.0
+        merit = 0.0
+        for a in range(n):
+            r = R[a] / xs[a]
+            merit += r * r
+            if abs(r) > rmax:
+                rmax = abs(r)
+        if not math.isfinite(merit):
+            return ST_NONFINITE, it
+        if rmax <= tol_f:
+            return ST_OK, it
+        if it == maxit:
+            break
+        if have_prev and merit > merit_prev and lam > 1.0 / 64.0:
+            lam *= 0.5
+            for a in range(n):
+                q[a] = qprev[a] + lam * dq[a]
+            continue
+        tangent_matrix(kind, idx, coef, kt, K)
+        for a in range(n):
+            K[a, a] += REG * 1e5 * xs[a] * xs[a]
+            if dyn:
+                for b in range(n):
+                    K[a, b] += c0 * M[a, b] + c1 * C[a, b]
+        for a in range(n):
+            R[a] = -R[a]
+        if not cholesky_solve(K, R, dq):
+            return ST_SINGULAR, it
+        smax = 0.0
+        for a in range(n):
+            s = abs(dq[a]) * xs[a]
+            if s > smax:
+                smax = s
+        if not math.isfinite(smax):
+            return ST_NONFINITE, it
+        if smax > maxstep:
+            for a in range(n):
+                dq[a] *= maxstep / smax
+        for a in range(n):
+            qprev[a] = q[a]
+            q[a] += dq[a]
+            if abs(q[a]) * xs[a] > Q_MAX:
+                return ST_DIVERGED, it
+        merit_prev = merit
+        lam = 1.0
+        have_prev = True
+    return ST_MAXITER, maxit
+
+
+@njit(**_JIT)
+def linearised_laws(kind, k0, pw, gap):
+    """Contact laws for the cold-start guess: every Hertz law linearised at ``P_LINEARISE``,
+    pins bilateral, bearings without clearance (one linear solve gives a guess near the answer)."""
+    kind_l = kind.copy()
+    k0_l = k0.copy()
+    pw_l = pw.copy()
+    gap_l = np.zeros_like(gap)
+    for c in range(kind.size):
+        if kind[c] != LINEAR:
+            k0_l[c] = k0[c] ** pw[c] * P_LINEARISE ** (1.0 - 1.0 / pw[c]) if pw[c] != 1.0 else k0[c]
+            pw_l[c] = 1.0
+            if kind[c] == UNILATERAL:
+                kind_l[c] = LINEAR
+    return kind_l, k0_l, pw_l, gap_l
+
+
+@njit(**_JIT)
+def solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit, maxstep,
+               F, K, fc, kt, R, dq, qprev):
+    """Equilibrium from no prior solution: a linearised solve, then Newton on the real laws."""
+    kind_l, k0_l, pw_l, gap_l = linearised_laws(kind, k0, pw, gap)
+    st, it0 = newton(q, kind_l, idx, coef, off, k0_l, pw_l, gap_l, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
+                     maxit, 1e300, F, K, fc, kt, R, dq, qprev)
+    if st != ST_OK:
+        q[:] = 0.0
+    st, it1 = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
+                     maxstep, F, K, fc, kt, R, dq, qprev)
+    return st, it0 + it1
+
+
+# --------------------------------------------------------------------------- records
+@njit(**_JIT)
+def record(kind, fc, prm, rec):
+    """Per-position outputs from the contact forces of a converged state."""
+    zb = int(prm[P_ZB])
+    pmax = 0.0
+    for j in range(N_DISC):
+        npin = 0
+        for k in range(zb):
+            f = fc[C_PIN + j * zb + k]
+            if f > 0.0:
+                npin += 1
+                if f > pmax:
+                    pmax = f
+        rec[R_NPIN0 + j] = npin
+    rec[R_PIN_MAX] = pmax
+    m = 0.0
+    for c in range(C_CAM, C_CAM + N_DISC * N_CRANK):
+        m = max(m, fc[c])
+    rec[R_CAM_MAX] = m
+    m = 0.0
+    for c in range(C_CRANK, C_CRANK + N_CRANK):
+        m = max(m, fc[c])
+    rec[R_CRANK_MAX] = m
+    rec[R_HOUSING] = fc[C_HOUSING]
+    t = 0.0
+    for i in range(N_CRANK):
+        t += prm[P_RBS] * fc[C_MESH + i]
+    rec[R_TORQUE_IN] = t
+
+
+# --------------------------------------------------------------------------- quasi-static sequence
+@njit(**_JIT)
+def qs_sequence(theta_c, dth_s, torque, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, xs, q_start,
+                cold, tol_f, maxit, maxstep, out_q, out_status, out_iter, out_rec):
+    """A sequence of static equilibria, each warm-started from the previous ones.
+
+    Position n has nominal carrier angle ``theta_c[n]``, input deviation
+    ``dth_s[n]`` and external carrier torque ``torque[n]`` (N·mm about +z; a
+    load resisting forward rotation is negative).  A rotation sweep varies
+    ``theta_c``; a locked-input torsion sweep keeps it and varies ``torque``.
+    The first position starts from ``q_start`` (or cold); later ones from a
+    linear extrapolation of the last two solutions, with a cold retry on
+    failure.  Stops at the first failure; returns its index or −1.
+    """
+    n = theta_c.size
+    nd = q_start.size
+    nc = kind.size
+    coef = np.zeros((nc, 2, idx.shape[2]))
+    off = np.zeros((nc, 2))
+    F = np.zeros(nd)
+    K = np.zeros((nd, nd))
+    fc = np.zeros(nc)
+    kt = np.zeros((nc, 3))
+    R = np.zeros(nd)
+    dq = np.zeros(nd)
+    qprev = np.zeros(nd)
+    Q = np.zeros(nd)
+    M = np.zeros((1, 1))
+    q = q_start.copy()
+    for p in range(n):
+        update_table(theta_c[p], dth_s[p], prm, err, pin_err, disc_h, pin_cs, coef, off)
+        Q[:] = 0.0
+        Q[THCA] = torque[p]
+        if p >= 2:
+            for a in range(nd):
+                q[a] = 2.0 * out_q[p - 1, a] - out_q[p - 2, a]
+        if p == 0 and cold:
+            st, it = solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f, maxit,
+                                maxstep, F, K, fc, kt, R, dq, qprev)
+        else:
+            st, it = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f, maxit,
+                            maxstep, F, K, fc, kt, R, dq, qprev)
+            if st != ST_OK:
+                q[:] = 0.0
+                st, it2 = solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
+                                     maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+                it += it2
+        out_iter[p] = it
+        if st == ST_OK:
+            record(kind, fc, prm, out_rec[p])
+            if torque[p] != 0.0 and out_rec[p, R_NPIN0] + out_rec[p, R_NPIN1] == 0:
+                st = ST_LOST_CONTACT
+        out_status[p] = st
+        out_q[p, :] = q
+        if st != ST_OK:
+            return p
+    return -1
+
+
+# --------------------------------------------------------------------------- Newmark-β
+@njit(**_JIT)
+def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc_h, pin_cs, kind, idx, coef, off,
+                k0, pw, gap, xs, M, C, Q0, Q1, omega_f, q0, v0, tol_f, maxit, maxstep,
+                out_q, out_v, out_status, out_iter, out_rec):
+    """Implicit Newmark-β (γ = 1/2, β = 1/4, average acceleration) with Newton at every step.
+
+    ``M q̈ + C q̇ + F(q, t) = Q0 + Q1 sin(omega_f t)``.  With ``rv`` the contact
+    table follows the nominal motion θ_c(t) = theta_c0 + omega_c t (constant
+    input speed); otherwise ``coef``/``off`` are used as given (test systems).
+    Steps ``nskip .. nsteps`` are recorded (index n − nskip).  Returns the
+    first failing step or −1.
+    """
+    gamma = 0.5
+    beta = 0.25
+    nd = q0.size
+    nc = kind.size
+    F = np.zeros(nd)
+    K = np.zeros((nd, nd))
+    fc = np.zeros(nc)
+    kt = np.zeros((nc, 3))
+    R = np.zeros(nd)
+    dq = np.zeros(nd)
+    qprev = np.zeros(nd)
+    Q = np.zeros(nd)
+    q = q0.copy()
+    v = v0.copy()
+    a = np.zeros(nd)
+    qpred = np.zeros(nd)
+    vpred = np.zeros(nd)
+    Mw = M.copy()
+    c0 = 1.0 / (beta * h * h)
+    c1 = gamma / (beta * h)
+    # initial acceleration from the equation of motion
+    if rv:
+        update_table(theta_c0, 0.0, prm, err, pin_err, disc_h, pin_cs, coef, off)
+    contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
+    for i in range(nd):
+        acc = Q0[i] - F[i]
+        for b in range(nd):
+            acc -= C[i, b] * v[b]
+        R[i] = acc
+    if not cholesky_solve(Mw, R, a):
+        out_status[0] = ST_SINGULAR
+        return 0
+    for n in range(1, nsteps + 1):
+        t = n * h
+        if rv:
+            update_table(theta_c0 + omega_c * t, 0.0, prm, err, pin_err, disc_h, pin_cs, coef, off)
+        sf = math.sin(omega_f * t)
+        for i in range(nd):
+            Q[i] = Q0[i] + Q1[i] * sf
+            qpred[i] = q[i] + h * v[i] + h * h * (0.5 - beta) * a[i]
+            vpred[i] = v[i] + h * (1.0 - gamma) * a[i]
+            q[i] = qpred[i] + beta * h * h * a[i]      # guess: unchanged acceleration
+        st, it = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
+                        maxstep, F, K, fc, kt, R, dq, qprev)
+        for i in range(nd):
+            a[i] = c0 * (q[i] - qpred[i])
+            v[i] = vpred[i] + c1 * (q[i] - qpred[i])
+        r = n - nskip
+        if st == ST_OK and rv and Q0[THCA] != 0.0:
+            fc_rec = np.zeros(NREC)
+            record(kind, fc, prm, fc_rec)
+            if fc_rec[R_NPIN0] + fc_rec[R_NPIN1] == 0:
+                st = ST_LOST_CONTACT
+        if r >= 0:
+            out_q[r, :] = q
+            out_v[r, :] = v
+            out_iter[r] = it
+            out_status[r] = st
+            if rv and st == ST_OK:
+                record(kind, fc, prm, out_rec[r])
+        if st != ST_OK:
+            if r < 0:
+                out_status[0] = st
+            return max(r, 0)
+    return -1

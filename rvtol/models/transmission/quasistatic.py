@@ -1,0 +1,152 @@
+"""Quasi-static equilibria of the 20-DOF model: rotation sweeps (TE) and locked-input torsion.
+
+Two ways to load the reducer, one solver (:func:`._kernels.qs_sequence`):
+
+* **prescribed input angle, output load torque** — the test-rig TE measurement:
+  ``solver.rotation(load_torque=T)`` steps the sun through one output
+  revolution (nominal carrier angle θ_c = θ_s / i) with a resisting torque T on
+  the carrier; ``q[:, THCA]`` is the transmission error Δθ_ca = θ_ca − θ_c;
+* **locked input, prescribed output torque** — the torsion/hysteresis test:
+  ``solver.torsion(torques, theta_c=θ0)`` keeps the input at its nominal angle
+  for θ0 and applies each carrier torque in turn (warm start from the previous
+  one, so a 0 → +T → −T → 0 list gives the hysteresis loop); ``q[:, THCA]`` is
+  the output torsion angle.
+
+Torques are about +z in N·mm (base units), positive in the direction of
+forward output rotation: a load that resists forward motion is negative.  At
+exactly zero torque a reducer with clearances has no unique equilibrium; the
+solver then returns some position inside the clearance (status OK only if it
+converged) — sweep through small non-zero torques to trace the lost motion.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ...errors import InputError
+from . import _kernels as K
+from . import layout as L
+from .contacts import pin_cos_sin, static_table
+from .factors import ErrorState
+from .geometry import RVGeometry
+
+
+@dataclass
+class SweepResult:
+    """Equilibria along a sequence (base units: rad, N, N·mm)."""
+
+    theta_c: np.ndarray      # nominal carrier angle per position
+    torque: np.ndarray       # external carrier torque per position
+    q: np.ndarray            # [n, 20] coordinates
+    status: np.ndarray       # [n] kernel status (−1: not reached)
+    iterations: np.ndarray   # [n] Newton iterations
+    rec: np.ndarray          # [n, NREC] per-position forces (see _kernels.R_*)
+    failed_at: int           # first failing position or −1
+
+    @property
+    def ok(self) -> bool:
+        return self.failed_at < 0
+
+    @property
+    def failure(self) -> int:
+        """Status code of the first failure (0 if none)."""
+        return 0 if self.ok else int(self.status[self.failed_at])
+
+    @property
+    def te(self) -> np.ndarray:
+        """Δθ_ca (rad): transmission error, or torsion angle in a locked-input sweep."""
+        return self.q[:, L.THCA]
+
+    @property
+    def input_torque(self) -> np.ndarray:
+        return self.rec[:, K.R_TORQUE_IN]
+
+    def to_frame(self) -> pd.DataFrame:
+        r = self.rec
+        return pd.DataFrame({
+            "theta_c [deg]": np.degrees(self.theta_c),
+            "carrier torque [N*m]": self.torque / 1e3,
+            "TE [arcsec]": np.degrees(self.te) * 3600.0,
+            "max pin force [N]": r[:, K.R_PIN_MAX],
+            "loaded pins disc 1": r[:, K.R_NPIN0].astype(int),
+            "loaded pins disc 2": r[:, K.R_NPIN1].astype(int),
+            "max cycloid-crank bearing force [N]": r[:, K.R_CAM_MAX],
+            "max crank-carrier bearing force [N]": r[:, K.R_CRANK_MAX],
+            "carrier-housing bearing force [N]": r[:, K.R_HOUSING],
+            "input torque [N*m]": r[:, K.R_TORQUE_IN] / 1e3,
+            "status": self.status,
+        })
+
+
+class QuasiStaticSolver:
+    """Static equilibria of one reducer (geometry + errors).
+
+    ``tol_f`` (N): largest residual force (torques divided by their arc
+    radius) at convergence; ``maxit``: Newton iterations per position;
+    ``maxstep`` (mm): longest Newton step (arc length).
+    """
+
+    def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *, tol_f: float = 1e-6,
+                 maxit: int = 60, maxstep: float = 0.02):
+        self.g = geometry
+        self.errors = errors if errors is not None else ErrorState.zero(geometry.z_b)
+        if self.errors.pin_err.shape != (3, L.N_DISC, geometry.z_b):
+            raise InputError(f"pin error array has shape {self.errors.pin_err.shape}, "
+                             f"expected {(3, L.N_DISC, geometry.z_b)}")
+        self.tol_f, self.maxit, self.maxstep = float(tol_f), int(maxit), float(maxstep)
+        self.prm = geometry.prm()
+        self.table = static_table(geometry, self.errors.err)
+        self.pin_cs = pin_cos_sin(geometry)
+        self.xs = geometry.arc_radii()
+
+    # -- the general entry point --------------------------------------------------------------
+    def sweep(self, theta_c, torque, dth_s=0.0, q_start=None) -> SweepResult:
+        """Equilibria at each ``theta_c[n]`` (rad) under carrier torque ``torque[n]`` (N·mm).
+
+        ``dth_s``: deviation of the input angle from nominal (rad), scalar or per position.
+        ``q_start``: warm start for the first position (else a cold start).
+        """
+        theta_c = np.ascontiguousarray(np.atleast_1d(np.asarray(theta_c, dtype=float)))
+        n = theta_c.size
+        torque = np.ascontiguousarray(np.broadcast_to(np.asarray(torque, dtype=float), (n,)))
+        dth = np.ascontiguousarray(np.broadcast_to(np.asarray(dth_s, dtype=float), (n,)))
+        if not (np.all(np.isfinite(theta_c)) and np.all(np.isfinite(torque)) and np.all(np.isfinite(dth))):
+            raise InputError("angles and torques must be finite")
+        cold = q_start is None
+        q0 = np.zeros(L.NDOF) if cold else np.array(q_start, dtype=float).reshape(L.NDOF)
+        out_q = np.zeros((n, L.NDOF))
+        out_status = np.full(n, -1, np.int64)
+        out_iter = np.zeros(n, np.int64)
+        out_rec = np.zeros((n, K.NREC))
+        e = self.errors
+        t = self.table
+        failed = K.qs_sequence(theta_c, dth, torque, self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs,
+                               t.kind, t.idx, t.k0, t.pw, t.gap, self.xs, q0, cold, self.tol_f, self.maxit,
+                               self.maxstep, out_q, out_status, out_iter, out_rec)
+        return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))
+
+    def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
+        return self.sweep([theta_c], [torque], dth_s, q_start)
+
+    # -- the two test-rig set-ups --------------------------------------------------------------
+    def positions(self, per_crank_rev: int = 36, revolutions: float = 1.0) -> np.ndarray:
+        """Nominal carrier angles of a sweep: ``per_crank_rev`` positions per crank revolution
+        (relative to the carrier; z_b crank revolutions per output revolution)."""
+        if per_crank_rev < 1:
+            raise InputError(f"positions per crank revolution must be >= 1, got {per_crank_rev}")
+        n = int(round(per_crank_rev * self.g.z_b * revolutions))
+        return 2.0 * np.pi * revolutions * np.arange(n) / n
+
+    def rotation(self, load_torque: float | None = None, per_crank_rev: int = 36,
+                 revolutions: float = 1.0) -> SweepResult:
+        """Prescribed input angle over ``revolutions`` output revolutions, resisting load torque
+        ``load_torque`` (N·mm, ≥ 0; default 3 % of rated)."""
+        T = 0.03 * self.g.rated_torque if load_torque is None else float(load_torque)
+        return self.sweep(self.positions(per_crank_rev, revolutions), -T)
+
+    def torsion(self, torques, theta_c: float = 0.0, q_start=None) -> SweepResult:
+        """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn."""
+        torques = np.asarray(torques, dtype=float).ravel()
+        return self.sweep(np.full(torques.size, float(theta_c)), torques, 0.0, q_start)
