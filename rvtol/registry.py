@@ -23,6 +23,13 @@ MODELS: dict[str, str] = {
 }
 
 ANALYSES: dict[str, str] = {
+    "local_sensitivity": "rvtol.sensitivity.analyses:LocalSensitivity",
+    "sensitivity_curve": "rvtol.sensitivity.analyses:SensitivityCurve",
+    "contributions": "rvtol.sensitivity.analyses:Contributions",
+    "sobol": "rvtol.sensitivity.analyses:Sobol",
+    "morris": "rvtol.sensitivity.analyses:Morris",
+    "fast": "rvtol.sensitivity.analyses:Fast",
+    "delta": "rvtol.sensitivity.analyses:Delta",
 }
 
 
