@@ -20,9 +20,13 @@ from .errors import SpecError
 
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear:from_study",
+    "adjusted_assembly": "rvtol.adjustment.model:from_study",
+    "stackup": "rvtol.stackup.model:from_study",
+    "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
 }
 
 ANALYSES: dict[str, str] = {
+    "allocation": "rvtol.allocation.analysis:AllocationAnalysis",
     "local_sensitivity": "rvtol.sensitivity.analyses:LocalSensitivity",
     "sensitivity_curve": "rvtol.sensitivity.analyses:SensitivityCurve",
     "contributions": "rvtol.sensitivity.analyses:Contributions",
@@ -30,6 +34,8 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
+    "adjustment": "rvtol.adjustment.analysis:AdjustmentAnalysis",
+    "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
 }
 
 

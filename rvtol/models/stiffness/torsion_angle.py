@@ -1,0 +1,277 @@
+"""Elastic torsion angle of the RV reducer at the output, input locked (doc 004).
+
+``θ_Σ = θ1 + θ2 + θ3 + θ4 + θ5``: involute stage, cycloid–pin stage,
+turning-arm (crank) bearings, crankshafts, planet carrier.
+
+**Statics** (doc 004's equilibrium and deformation-coordination conditions).
+An output torque ``T`` on the carrier is reacted by the pins and, through the
+involute stage, by the locked sun (``T/i``, ``i = 1 + z_p z2/z1``).  The
+pins' forces all pass through the pitch point, at ``r_p' = a z_p`` from the
+axis and ``r_c' = a z_c`` from the cycloid centre, so each of the two discs
+carries the torque ``T_c = T (1 - 1/i) z_c / (2 z_p)`` about its own centre
+(:mod:`.cycloid_contact` solves its pins).  The three planets share the sun
+equally (``δ_sp1 = δ_sp2 = δ_sp3``); the three turning-arm bearings of a disc
+take equal thirds of the pins' net force and equal tangential forces
+``T_c / (3 a_0)`` for the moment (a rigid disc on three equal isotropic
+bearings 120° apart: translation and rotation uncouple), ``a_0 = m (z1+z2)/2``
+the crank circle.  Each crank is a beam on its two support bearings loaded by
+its two turning-arm bearings and its planet gear; the carrier's input-side
+end plate passes its share of the crank reactions to the output flange
+through the pillars.
+
+**Torsion angles.**  Every component's contribution is its deformation
+times the kinematic ratio from that deformation to the output rotation.  For
+these statically determined load paths the ratio equals the element force
+per unit output torque (virtual work, unit-load method), so rvtol computes::
+
+    θ_c = Σ_e f_e · δ_e / T      over the elements e of component c
+
+(``f_e`` force, ``δ_e`` deformation of element e).  This reproduces the
+document's formulas with their ratios made explicit:
+
+* ``θ1 = 3 F_n (F_n / k_X) / T`` with ``F_n = T/(3 i r_b1)``, i.e. the sun's
+  rotation under ``T/i`` on ``3 K_X`` (``K_X = k_X r_b²``, :mod:`.involute`)
+  divided by ``i`` — doc 004's ``θ1 = F_t/(k_X r_1 i_z)`` with ``i_z = i``
+  (the document's form drops a ``cos² α``; rvtol uses the base radius as in
+  ``K_X = k_X r_s²``);
+* ``θ2 = i_b Δθ_b`` with ``Δθ_b = β`` the cycloid's elastic rotation and
+  ``i_b = 2 T_c / T = (1 - 1/i) z_c / z_p``;
+* ``θ3 = Σ |f_s| δ_s(|f_s|) / T`` over the six turning-arm bearings
+  (:mod:`.bearings`, Palmgren).  ``bearing_kinematics = "tangential"``
+  instead counts only the rotation of the disc relative to the carrier,
+  ``Σ (T_c/(3 a_0)) δ_s / T`` — doc 004's ``θ3 = z_c Δδ_s i_b / (z_p a_0)``
+  with the same ``i_b``; equal when the bearing forces are purely tangential;
+* ``θ4`` bending + shear (:mod:`.crankshaft`) and torsion of the three cranks;
+* ``θ5 = T_B² / (K_5 T)`` with ``T_B`` the torque the cranks deliver to the
+  input-side end plate and ``K_5`` the pillars' stiffness (:mod:`.carrier`).
+
+Negative torques load the other flanks: rvtol mirrors the pin phase and the
+crank angle and returns negative angles.  Not modelled (not in doc 004):
+crank support bearings, pin bending, housing and flange deformation.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pandas as pd
+
+from ... import units
+from . import bearings, carrier, crankshaft, involute
+from .cycloid_contact import ContactSolution, PinGear, angular_backlash, solve_contact
+
+COMPONENTS = ("involute", "cycloid_pin", "crank_bearings", "crankshafts", "carrier")
+LABELS = {
+    "involute": "Involute gear stage (θ1)",
+    "cycloid_pin": "Cycloid–pin stage (θ2)",
+    "crank_bearings": "Turning-arm bearings (θ3)",
+    "crankshafts": "Crankshafts (θ4)",
+    "carrier": "Planet carrier (θ5)",
+}
+BEARING_KINEMATICS = ("virtual_work", "tangential")
+
+
+@dataclass(frozen=True)
+class ReducerStiffness:
+    """Everything the torsion-angle model needs, in base units (mm, N, MPa, rad)."""
+
+    pins: PinGear
+    z1: int
+    z2: int
+    cranks: int
+    discs: int
+    module: float
+    pressure_angle: float
+    gear_width: float
+    shift_sun: float
+    shift_planet: float
+    crank_diameter: float
+    support_span: float
+    disc_pitch: float
+    gear_overhang: float
+    bearing_rollers: int
+    bearing_length: float
+    pillars: int
+    pillar_radius: float
+    pillar_width: float
+    pillar_thickness: float
+    pillar_length: float
+    bearing_kinematics: str = "virtual_work"
+
+    @classmethod
+    def from_design(cls, design, **override) -> "ReducerStiffness":
+        d = design
+        vals = dict(
+            pins=PinGear.from_design(d), z1=int(round(d["sun.teeth"])), z2=int(round(d["planet.teeth"])),
+            cranks=int(round(d["reducer.cranks"])), discs=int(round(d["reducer.discs"])),
+            module=d["first_stage.module"], pressure_angle=d["first_stage.pressure_angle"],
+            gear_width=d["first_stage.face_width"], shift_sun=d["first_stage.profile_shift_sun"],
+            shift_planet=d["first_stage.profile_shift_planet"], crank_diameter=d["crank.shaft_diameter"],
+            support_span=d["crank.support_span"], disc_pitch=d["crank.disc_pitch"],
+            gear_overhang=d["crank.gear_overhang"], bearing_rollers=int(round(d["crank_bearing.rollers"])),
+            bearing_length=d["crank_bearing.roller_length"], pillars=int(round(d["carrier.pillars"])),
+            pillar_radius=d["carrier.pillar_radius"], pillar_width=d["carrier.pillar_width"],
+            pillar_thickness=d["carrier.pillar_thickness"], pillar_length=d["carrier.pillar_length"])
+        vals.update(override)
+        return cls(**vals)
+
+    def with_pins(self, **kw) -> "ReducerStiffness":
+        """A copy with pin-gear parameters replaced (``R_p``, ``a``, ``b``, ...)."""
+        return replace(self, pins=replace(self.pins, **kw))
+
+    # -- derived geometry --------------------------------------------------
+    @property
+    def ratio(self) -> float:
+        """Total ratio, input locked, output on the carrier: ``1 + z_p z2 / z1``."""
+        return 1.0 + self.pins.z_p * self.z2 / self.z1
+
+    @property
+    def crank_radius(self) -> float:
+        """``a_0`` = sun–planet centre distance (unshifted): ``m (z1 + z2) / 2``."""
+        return self.module * (self.z1 + self.z2) / 2.0
+
+    @property
+    def i_b(self) -> float:
+        """Output rotation per elastic cycloid rotation, ``(1 - 1/i) z_c / z_p``."""
+        return (1.0 - 1.0 / self.ratio) * self.pins.z_c / self.pins.z_p
+
+    def disc_torque(self, T):
+        """``T_c`` per disc for output torque ``T`` (N·mm)."""
+        return np.asarray(T, float) * (1.0 - 1.0 / self.ratio) * self.pins.z_c / (self.discs * self.pins.z_p)
+
+    @property
+    def K_carrier(self) -> float:
+        p = self.pins
+        return carrier.torsional_stiffness(self.pillars, self.pillar_radius, self.pillar_width,
+                                           self.pillar_thickness, self.pillar_length, p.E, p.nu)
+
+    # -- evaluation ----------------------------------------------------------
+    def evaluate(self, torque, equidistance_mod=None, moved_distance_mod=None, pin_circle_error=0.0,
+                 pin_radius_error=0.0, pin_phase: float = 0.0, crank_angle: float = 0.0,
+                 nominal_mods: tuple[float, float] | None = None) -> "TorsionAngles":
+        """Torsion angles at output torque ``torque`` (N·mm, any sign), vectorised over samples.
+
+        Modifications default to ``nominal_mods`` (the design's ``(Δr_p, ΔR_p)``) when not given.
+        """
+        if self.discs != 2 or self.cranks != 3:
+            raise ValueError("the torsion-angle model is written for 2 discs and 3 cranks")
+        if nominal_mods is None and (equidistance_mod is None or moved_distance_mod is None):
+            raise ValueError("give the modifications or nominal_mods")
+        dr = nominal_mods[0] if equidistance_mod is None else equidistance_mod
+        dR = nominal_mods[1] if moved_distance_mod is None else moved_distance_mod
+        T, dr, dR, eR, er = np.broadcast_arrays(
+            *(np.atleast_1d(np.asarray(v, float)) for v in (torque, dr, dR, pin_circle_error, pin_radius_error)))
+        neg = T < 0
+        theta = np.zeros((len(T), len(COMPONENTS)))
+        extra = {k: np.zeros(len(T)) for k in ("max_pin_force", "contact_pairs", "K_B", "beta", "F_ref",
+                                               "beta_rigid", "interference")}
+        contacts: list[tuple[np.ndarray, ContactSolution]] = []
+        for rows, sign in ((~neg, 1.0), (neg, -1.0)):
+            if not rows.any():
+                continue
+            th, ex, cs = self._evaluate_positive(np.abs(T[rows]), dr[rows], dR[rows], eR[rows], er[rows],
+                                                 sign * pin_phase, sign * crank_angle)
+            theta[rows] = sign * th
+            for k in extra:
+                extra[k][rows] = ex[k]
+            contacts.append((np.flatnonzero(rows), cs))
+        # flank to flank: twice (rotation to close n0 at φ0 + the discrete-pin remainder to first contact)
+        backlash = self.i_b * (angular_backlash(self.pins, dr, dR, eR, er) + 2.0 * extra["beta_rigid"])
+        return TorsionAngles(T, theta, extra, backlash, contacts)
+
+    def _evaluate_positive(self, T, dr, dR, eR, er, phase, crank_angle):
+        p = self.pins
+        Tc = self.disc_torque(T)
+        cs = solve_contact(p, Tc, dr, dR, eR, er, phase)
+        Tsafe = np.where(T > 0, T, 1.0)
+
+        # θ1: involute stage (three equal meshes, sun torque T/i)
+        rb1 = self.module * self.z1 / 2.0 * np.cos(self.pressure_angle)
+        Fn = T / (self.ratio * self.cranks * rb1)
+        Ft = Fn * np.cos(self.pressure_angle)
+        kX = involute.mesh_stiffness(self.z1, self.z2, self.module, self.pressure_angle, self.gear_width, Ft,
+                                     self.shift_sun, self.shift_planet)
+        th1 = np.where(kX > 0, self.cranks * Fn ** 2 / np.where(kX > 0, kX, 1.0), 0.0) / Tsafe
+
+        # θ2: cycloid–pin stage
+        th2 = self.i_b * cs.beta
+
+        # turning-arm bearing forces on the cycloids, frame (e_r, e_t) of disc 1
+        gam = crank_angle + 2.0 * np.pi * np.arange(self.cranks) / self.cranks
+        rhat = np.stack([np.cos(gam), np.sin(gam)], axis=1)          # (3, 2) crank directions
+        that = np.stack([-np.sin(gam), np.cos(gam)], axis=1)         # (3, 2) tangential
+        FR = cs.resultant()                                          # (n, 2) pins on disc 1
+        c = Tc / (self.cranks * self.crank_radius)                   # (n,)
+        f1 = -FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # (n, 3, 2)
+        f2 = +FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # disc 2 (180°): F_R reversed
+        fmag = np.sqrt(np.concatenate([(f1 ** 2).sum(-1), (f2 ** 2).sum(-1)], axis=1))   # (n, 6)
+        delta = bearings.radial_deflection(fmag, self.bearing_rollers, self.bearing_length)
+        if self.bearing_kinematics == "tangential":
+            th3 = (c[:, None] * delta).sum(axis=1) / Tsafe
+        else:
+            th3 = (fmag * delta).sum(axis=1) / Tsafe
+
+        # θ4: crankshafts — loads on crank i: gear (z=-c), disc 1 (z1), disc 2 (z2)
+        L = self.support_span
+        z1, z2 = (L - self.disc_pitch) / 2.0, (L + self.disc_pitch) / 2.0
+        zs = np.array([-self.gear_overhang, z1, z2])
+        P1, P2 = -f1, -f2                                            # bearing forces on the crank
+        tau1 = p.a * P1[..., 1]                                      # e_1 = +e_r:  e × P = P_t
+        tau2 = -p.a * P2[..., 1]                                     # e_2 = -e_r
+        r2 = self.module * self.z2 / 2.0
+        Fg_t = (tau1 + tau2) / r2                                    # planet gear tangential force
+        Fg = (Fg_t[..., None] * that[None] + np.abs(Fg_t)[..., None] * np.tan(self.pressure_angle) * rhat[None])
+        loads = np.stack([Fg, P1, P2], axis=2)                       # (n, 3 cranks, 3 points, 2)
+        A = crankshaft.influence_matrix(zs, L, self.crank_diameter, p.E, p.nu)
+        defl = np.einsum("jk,nikd->nijd", A, loads)
+        bend = (loads * defl).sum(axis=(1, 2, 3))
+        cJ = crankshaft.torsional_compliance(self.crank_diameter, p.E, p.nu)
+        twist = (((tau1 + tau2) ** 2 * (z1 + self.gear_overhang) + tau2 ** 2 * (z2 - z1)) * cJ).sum(axis=1)
+        th4 = (bend + twist) / Tsafe
+
+        # θ5: carrier — torque delivered by the cranks to the input-side end plate (support at z = 0)
+        RB = np.einsum("k,nikd->nid", crankshaft.support_reactions(zs, L)[0], loads)   # (n, 3, 2)
+        TB = self.crank_radius * (rhat[None, :, 0] * RB[..., 1] - rhat[None, :, 1] * RB[..., 0]).sum(axis=1)
+        th5 = TB ** 2 / self.K_carrier / Tsafe
+
+        theta = np.stack([th1, th2, th3, th4, th5], axis=1) * (T > 0)[:, None]
+        extra = dict(max_pin_force=cs.max_force, contact_pairs=cs.contacts.astype(float), K_B=cs.K_B,
+                     beta=cs.beta, F_ref=cs.F_ref, beta_rigid=cs.beta_rigid, interference=cs.interference.astype(float))
+        return theta, extra, cs
+
+
+@dataclass
+class TorsionAngles:
+    """Result of :meth:`ReducerStiffness.evaluate` (angles in rad, torque in N·mm)."""
+
+    torque: np.ndarray            # (n,)
+    theta: np.ndarray             # (n, 5) per component, signed like the torque
+    extra: dict                   # max_pin_force, contact_pairs, K_B, beta, F_ref, interference (n,)
+    pin_backlash: np.ndarray      # (n,) output angle from flank to flank of the pin stage, rad (< 0: preload)
+    contacts: list                # [(rows, ContactSolution)]
+
+    @property
+    def total(self) -> np.ndarray:
+        return self.theta.sum(axis=1)
+
+    @property
+    def rigidity(self) -> np.ndarray:
+        """Secant torsional rigidity ``T / θ_Σ`` (N·mm/rad)."""
+        tot = self.total
+        return np.where(tot != 0, self.torque / np.where(tot != 0, tot, 1.0), np.nan)
+
+    def component(self, name: str) -> np.ndarray:
+        return self.theta[:, COMPONENTS.index(name)]
+
+    def to_frame(self, row: int = 0) -> pd.DataFrame:
+        arcsec = units.from_base(self.theta[row], "arcsec")
+        total = float(arcsec.sum())
+        df = pd.DataFrame({"component": [LABELS[c] for c in COMPONENTS], "θ (arcsec)": arcsec,
+                           "share (%)": 100.0 * arcsec / total if total else np.nan})
+        return pd.concat([df, pd.DataFrame({"component": ["Total θ_Σ"], "θ (arcsec)": [total],
+                                            "share (%)": [100.0]})], ignore_index=True)
+
+    def plot(self, row: int = 0, ax=None):
+        from ...plotting.stiffness import plot_breakdown
+
+        return plot_breakdown(self.to_frame(row), ax=ax)

@@ -1,0 +1,73 @@
+"""Plots of the torsional-stiffness model (doc 004) and of torsion (hysteresis) curves."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import COLORS, new_axes
+
+
+def plot_pin_forces(contact, row: int = 0, ax=None):
+    """Pin forces F_k (bars) and initial clearances Δ(φ_k) (line) against the pin angle."""
+    fig, ax = new_axes(ax)
+    deg = np.degrees(contact.phi)
+    side = contact.arm > 0
+    ax.bar(deg[side], contact.force[row][side], width=4.0, color=COLORS["data"], label="pin force F_k")
+    ax.set_xlabel("pin angle φ_k [deg]")
+    ax.set_ylabel("pin force [N]")
+    ax2 = ax.twinx()
+    ax2.plot(deg[side], contact.gap[row][side] * 1e3, "o-", color=COLORS["fit"], ms=3, label="clearance Δ(φ_k)")
+    ax2.set_ylabel("initial clearance [µm]")
+    ax2.grid(False)
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, loc="upper right")
+    return fig
+
+
+def plot_breakdown(frame, ax=None):
+    """Horizontal bars of the torsion-angle components (a ``TorsionAngles.to_frame()``)."""
+    fig, ax = new_axes(ax)
+    parts = frame[frame["component"] != "Total θ_Σ"]
+    ax.barh(parts["component"], parts["θ (arcsec)"], color=COLORS["data"])
+    for y, v in enumerate(parts["θ (arcsec)"]):
+        ax.text(v, y, f" {v:.2f}", va="center")
+    ax.invert_yaxis()
+    total = float(frame["θ (arcsec)"].iloc[-1])
+    ax.set_xlabel("torsion angle at the output [arcsec]")
+    ax.set_title(f"θ_Σ = {total:.2f} arcsec")
+    return fig
+
+
+def plot_sweep(df, x: str, ys, ax=None, ylabel: str = "", secondary=None, secondary_label: str = ""):
+    """Lines of columns ``ys`` against ``x``; optional ``secondary`` column on a right axis (markers)."""
+    fig, ax = new_axes(ax)
+    for i, y in enumerate(ys):
+        ax.plot(df[x], df[y], "o-", ms=3, label=y)
+    ax.set_xlabel(x.replace("um", "µm"))
+    ax.set_ylabel(ylabel)
+    if secondary is not None:
+        ax2 = ax.twinx()
+        ax2.step(df[x], df[secondary], where="mid", color=COLORS["ci"], label=secondary)
+        ax2.set_ylabel(secondary_label or secondary)
+        ax2.grid(False)
+        h1, l1 = ax.get_legend_handles_labels()
+        h2, l2 = ax2.get_legend_handles_labels()
+        ax.legend(h1 + h2, l1 + l2, loc="best")
+    else:
+        ax.legend(loc="best")
+    return fig
+
+
+def plot_torsion_curve(curve, ax=None, percent: float | None = None):
+    """Hysteresis (torsion) curve: output angle [arcmin] against output torque [N·m]."""
+    fig, ax = new_axes(ax)
+    ax.plot(curve.torque_Nm, curve.angle_arcmin, "-", color=COLORS["data"], lw=1.2, label="torsion curve")
+    if percent is not None and curve.rated_Nm:
+        lim = percent / 100.0 * curve.rated_Nm
+        ax.axvspan(-lim, lim, color=COLORS["ci"], alpha=0.2, label=f"±{percent:g} % rated")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_xlabel("output torque [N·m]")
+    ax.set_ylabel("output torsion angle [arcmin]")
+    ax.legend(loc="best")
+    return fig
