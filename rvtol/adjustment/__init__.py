@@ -1,0 +1,15 @@
+"""Assembly adjustment (doc 002): state-space assembly model and finite-horizon LQR adjustment.
+
+* :mod:`.description` — the declarative assembly description (KCs, datum flow chains, steps) and
+  the matrices A, B, F(k), C(k), R(k), C(N) built from it;
+* :mod:`.lqr` — backward Riccati recursion, its Q → ∞ limit, Kalman filter gains;
+* :mod:`.adjuster` — :class:`Adjuster` (``fit()`` computes the gains; ``simulate()`` runs assemblies);
+* :mod:`.model` — the adjusted assembly as a :class:`rvtol.model.Model` (``MODELS["adjusted_assembly"]``);
+* :mod:`.sweep`, :mod:`.analysis` — example runs, Q sweep, the ``adjustment`` study analysis.
+"""
+from .adjuster import Adjuster, AssemblyRun
+from .description import AssemblyDescription, assembly_from_table, load_assembly
+from .model import AdjustedAssemblyModel
+
+__all__ = ["Adjuster", "AssemblyRun", "AssemblyDescription", "assembly_from_table", "load_assembly",
+           "AdjustedAssemblyModel"]

@@ -1,0 +1,100 @@
+"""The adjusted assembly as a Model: part errors and measurement noise -> final KC errors, effort.
+
+Study usage::
+
+    [model]
+    kind = "adjusted_assembly"
+    assembly = "../data/assemblies/bx40e_2d.toml"   # relative to the study file
+    accuracy_weight = 10        # optional: overrides the file's Q ("inf": terminal constraint)
+    adjust = true               # optional: false = the unadjusted assembly (same outputs, u = 0)
+
+Inputs are the spec's factors; each must be a part-error factor
+(``dtheta_1`` or ``dtheta_1x`` in 3-D) or a measurement-noise factor
+(``v{step}_{KC}``) of the description — those the spec does not name stay
+at zero (nominal).  Outputs: the final observations ``delta_<name>`` (each
+KC relative to the datum by default), ``final_error`` (their root sum of
+squares) and ``effort`` (``sqrt(Σ_k |u(k)|²)``), all angles (rad, shown in
+mrad).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import Model, Quantity
+from .adjuster import Adjuster
+from .description import AssemblyDescription, load_assembly, weight_value
+
+
+class AdjustedAssemblyModel(Model):
+    """``X[n, k]`` (spec factors, rad) -> final KC errors, final error norm, adjustment effort."""
+
+    def __init__(self, desc: AssemblyDescription, inputs=None, accuracy: float | None = None,
+                 adjust: bool = True, display_unit: str = "mrad"):
+        self.description = desc
+        self.adjuster = Adjuster.from_assembly(desc, accuracy).fit()
+        self.adjust = adjust
+        self.w_names = tuple(desc.part_error_names())
+        self.v_names = tuple(desc.noise_names())
+        known = self.w_names + self.v_names
+        self.inputs = tuple(known if inputs is None else inputs)
+        for name in self.inputs:
+            if name not in known:
+                raise InputError(f"unknown factor name {name!r} for assembly {desc.name!r} "
+                                 f"(part errors: {', '.join(self.w_names)}; noise: {self.v_names[0]} ...)",
+                                 key="factor")
+        self.input_units = ("rad",) * len(self.inputs)
+        self._w_cols = [(j, self.w_names.index(n)) for j, n in enumerate(self.inputs) if n in self.w_names]
+        self._v_cols = [(j, self.v_names.index(n)) for j, n in enumerate(self.inputs) if n in self.v_names]
+        obs = [Quantity(f"delta_{n}", "rad", display_unit, f"final error of {n} relative to the datum")
+               for n in desc.observation_names()]
+        self.outputs = tuple(obs) + (
+            Quantity("final_error", "rad", display_unit, "root sum of squares of the final KC errors"),
+            Quantity("effort", "rad", display_unit, "adjustment effort sqrt(Σ|u(k)|²)"),
+        )
+
+    @property
+    def accuracy(self) -> float:
+        return self.adjuster.accuracy
+
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Part errors ``w[n, n_w]`` and noise ``v[n, n_v]`` (zeros where the spec names none)."""
+        X = self.check_input(X)
+        w = np.zeros((len(X), len(self.w_names)))
+        v = np.zeros((len(X), len(self.v_names)))
+        for j, i in self._w_cols:
+            w[:, i] = X[:, j]
+        for j, i in self._v_cols:
+            v[:, i] = X[:, j]
+        return w, v
+
+    def simulate(self, X: np.ndarray):
+        w, v = self.split(X)
+        return self.adjuster.simulate(w, v, adjust=self.adjust)
+
+    def evaluate(self, X):
+        run = self.simulate(X)
+        norm = np.sqrt((run.final * run.final).sum(axis=1))
+        return np.column_stack([run.final, norm, run.effort])
+
+    def with_accuracy(self, accuracy: float, adjust: bool = True) -> "AdjustedAssemblyModel":
+        """The same assembly with another accuracy weight Q (or unadjusted)."""
+        return AdjustedAssemblyModel(self.description, self.inputs, accuracy, adjust,
+                                     self.outputs[0].display_unit)
+
+
+def from_study(params, design, spec) -> AdjustedAssemblyModel:
+    base = Path(params.file).parent if params.file else Path(".")
+    path = params.path_value("assembly", base)
+    desc = load_assembly(path)
+    accuracy = weight_value(params, "accuracy_weight", None, allow_inf=True) if "accuracy_weight" in params else None
+    params.raw("accuracy_weight", None)
+    adjust = params.bool("adjust", True)
+    disp = params.unit("display_unit", "mrad", dimension="angle")
+    params.finish()
+    try:
+        return AdjustedAssemblyModel(desc, spec.names, accuracy, adjust, disp)
+    except InputError as exc:
+        raise exc.located(file=spec.file) from None

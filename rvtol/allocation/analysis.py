@@ -1,0 +1,288 @@
+"""Study analysis ``allocation``: cost-optimal tolerances that still meet the requirements.
+
+::
+
+    [[analysis]]
+    kind = "allocation"
+    title = "..."                          # optional
+    key = "allocation"                     # optional: section key (summary.json analyses.<key>)
+    costs = "../data/costs/bx40e_angular.toml"
+    assign = { "*" = "ground_axis" }       # factor name, or group, or "*" -> cost curve
+    groups = ["Crankshaft 1", "..."]       # optional: allocate these groups' factors
+    factors = ["..."]                      # optional: or these factors (default: every factor)
+    spec = "../data/specs/x.toml"          # optional: another spec than the study's
+    convex = "rss"                         # rss | worst_case | none: the linearised global optimum
+    [analysis.model]                       # optional: another model than the study's ([model] format)
+    kind = "adjusted_assembly"
+    [[analysis.requirement]]               # optional: else the study's requirements
+    output = "delta_*"                     # a pattern expands to every matching output
+    lower = -1.0
+    upper = 1.0
+    unit = "arcmin"
+    min_cpk = 1.0
+    [analysis.ga]                          # the general optimiser (pygad)
+    constraint = "monte_carlo"             # monte_carlo | linearised | none (no GA)
+    n = 2000                               # Monte Carlo samples per candidate (fixed design)
+    method = "lhs"
+    handling = "feasibility"               # feasibility | penalty
+    population = 40
+    generations = 150
+    [analysis.verify]
+    n = 20000                              # independent Monte Carlo check of each allocation
+    [analysis.pareto]
+    scales = [0.5, 0.75, 1.0, 1.5, 2.0]    # requirement limits × f about the nominal output
+    ga = false                             # also run the GA at each scale (expensive)
+
+Seeds come from the study seed through separate streams (GA design, GA
+operators, verification), so the analysis is reproducible and the check is
+independent of the optimisation.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..params import Params
+from ..registry import model_factory
+from ..report.sections import Section, frame_records
+from ..sampling import METHODS, rng
+from ..spec import load_spec, requirements_from_tables
+from .baseline import uniform_baseline, verify
+from .convex import solve_convex
+from .cost import CostTable, load_costs
+from .ga import HANDLING, GASettings, solve_ga
+from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, expand_requirements, linearise,
+                      requirements_frame)
+from .results import AllocationResult, ParetoCurve, component_axis_table
+
+STREAM_GA_DESIGN, STREAM_GA, STREAM_VERIFY = 71, 72, 73
+
+
+def stream_seed(seed: int | None, key: int) -> int:
+    return int(rng(seed, key).integers(1, 2**31 - 1))
+
+
+def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> list:
+    """The cost curve of each allocated factor: by factor name, then group, then ``"*"``."""
+    keys = list(assign.keys())
+    curves = []
+    for n in names:
+        g = spec.factor(n).group
+        k = n if n in keys else (g if g in keys else ("*" if "*" in keys else None))
+        if k is None:
+            raise assign.error(None, f"no cost curve for factor {n!r} (group {g!r}); add it or a \"*\" entry")
+        cname = assign.str(k)
+        if cname not in table.curves:
+            raise assign.error(k, f"unknown cost curve {cname!r} (known: {', '.join(table.curves)})")
+        curves.append(table.curves[cname])
+    for k in keys:
+        assign.raw(k)
+        if k != "*" and k not in spec.names and k not in {f.group for f in spec.factors}:
+            raise assign.error(k, f"{k!r} is neither a factor nor a group of the spec")
+    assign.finish()
+    return curves
+
+
+class AllocationAnalysis:
+    def __init__(self, params: Params, study):
+        base = Path(study.file).parent
+        self.title = params.str("title", "Cost-optimal tolerance allocation")
+        self.key = params.str("key", "allocation")
+        self.table = load_costs(params.path_value("costs", base))
+        spath = params.path_value("spec", base, None)
+        spec = load_spec(spath) if spath is not None else study.spec
+        if "model" in params:
+            mp = params.sub("model")
+            factory = model_factory(mp.str("kind"), params.file)
+            model = factory(mp, study.design, spec)
+            mp.finish()
+            model.check_spec(spec)
+        else:
+            if spath is not None:
+                raise params.error("spec", "a spec of its own needs a model of its own ([analysis.model])")
+            model = study.model
+        self.model_label = type(model).__name__
+        # allocated factors
+        if "factors" in params:
+            names = params.strs("factors", min_length=1)
+            for n in names:
+                if n not in spec.names:
+                    raise params.error("factors", f"unknown factor name {n!r}")
+        elif "groups" in params:
+            groups = params.strs("groups", min_length=1)
+            known = {f.group for f in spec.factors}
+            for g in groups:
+                if g not in known:
+                    raise params.error("groups", f"unknown group {g!r} (spec groups: {', '.join(sorted(known))})")
+            names = [f.name for f in spec.factors if f.group in groups]
+        else:
+            names = list(spec.names)
+        curves = assign_curves(spec, names, params.sub("assign"), self.table)
+        reqs = requirements_from_tables(params.tables("requirement")) or list(study.requirements)
+        if not reqs:
+            raise params.error("requirement", "no requirement: give [[analysis.requirement]] or study requirements")
+        try:
+            reqs = expand_requirements(reqs, model)
+            self.problem = AllocationProblem(model, spec, names, curves, reqs)
+        except InputError as exc:
+            raise exc.located(file=params.file, key=params.key) from None
+        self.convex = params.str("convex", "rss", choices=("rss", "worst_case", "none"))
+        g = params.sub("ga", {})
+        self.ga_constraint = g.str("constraint", "monte_carlo", choices=("monte_carlo", "linearised", "none"))
+        self.ga_n = g.int("n", 2000, min=50)
+        self.ga_method = g.str("method", "lhs", choices=METHODS)
+        try:
+            self.ga_settings = GASettings(
+                population=g.int("population", 40, min=4), generations=g.int("generations", 150, min=1),
+                parents=g.int("parents", 20, min=2), elitism=g.int("elitism", 2, min=0),
+                mutation_probability=g.float("mutation_probability", 0.15, min=0.0, max=1.0),
+                handling=g.str("handling", "feasibility", choices=HANDLING),
+                penalty=g.float("penalty", 10.0, positive=True), seed=0)
+        except InputError as exc:
+            raise g.error(exc.key, exc.reason) from None
+        g.finish()
+        v = params.sub("verify", {})
+        self.verify_n = v.int("n", 20000, min=100)
+        v.finish()
+        pp = params.sub("pareto", {})
+        self.pareto_scales = pp.floats("scales", [0.5, 0.75, 1.0, 1.5, 2.0], positive=True)
+        self.pareto_ga = pp.bool("ga", False)
+        pp.finish()
+        if self.convex == "none" and self.ga_constraint == "none":
+            raise params.error("convex", "both optimisers are switched off")
+        params.finish()
+        self.result: dict[str, AllocationResult] = {}
+
+    # -----------------------------------------------------------------------
+    def run(self, ctx) -> list[Section]:
+        p = self.problem
+        evaluate = lambda m, X: ctx.evaluate(X, desc="allocation", model=m).Y  # noqa: E731
+        lin = linearise(p, evaluate)
+        lin_con = LinearisedConstraint(p, lin, "rss" if self.convex == "none" else self.convex)
+        results: list[AllocationResult] = []
+        ga_con = None
+        if self.ga_constraint == "monte_carlo":
+            ga_con = MonteCarloConstraint(p, self.ga_n, self.ga_method, stream_seed(ctx.seed, STREAM_GA_DESIGN),
+                                          evaluate)
+        elif self.ga_constraint == "linearised":
+            ga_con = lin_con
+        base_con = ga_con or lin_con
+        baseline = uniform_baseline(p, base_con)
+        results.append(baseline)
+        if self.convex != "none":
+            results.append(solve_convex(p, lin_con))
+        if ga_con is not None:
+            settings = replace(self.ga_settings, seed=stream_seed(ctx.seed, STREAM_GA))
+            results.append(solve_ga(p, ga_con, settings))
+        self.result = {r.method: r for r in results}
+        vseed = stream_seed(ctx.seed, STREAM_VERIFY)
+        checks = {r.method: verify(r, self.verify_n, vseed, ctx.executor) for r in results if r.feasible}
+        pareto = self.pareto(p, lin, ga_con, ctx)
+        return [self.cost_section(), self.section(results, checks, pareto, lin_con, ga_con)]
+
+    def pareto(self, p, lin, ga_con, ctx) -> ParetoCurve:
+        rows = []
+        for f in self.pareto_scales:
+            lf = replace(lin, margin=lin.margin * f)
+            con = LinearisedConstraint(p.scaled_requirements(f), lf, lin_con_mode(self.convex))
+            pf = con.problem
+            row = {"requirement scale [1]": f}
+            row["uniform (linearised)"] = _cost(uniform_baseline(pf, con))
+            if self.convex != "none":
+                row[f"convex {con.mode}"] = _cost(solve_convex(pf, con))
+            if self.pareto_ga and ga_con is not None:
+                gc = (MonteCarloConstraint(pf, self.ga_n, self.ga_method, ga_con.seed, ga_con.evaluate)
+                      if isinstance(ga_con, MonteCarloConstraint) else con)
+                settings = replace(self.ga_settings, seed=stream_seed(ctx.seed, STREAM_GA))
+                row["GA"] = _cost(solve_ga(pf, gc, settings))
+            rows.append(row)
+        return ParetoCurve(pd.DataFrame(rows), self.table.cost_unit)
+
+    # -----------------------------------------------------------------------
+    def cost_section(self) -> Section:
+        from ..plotting.allocation import cost_curves
+
+        sec = Section(f"{self.key}_costs", f"{self.title}: cost–tolerance models")
+        used = {c.name: c for c in self.problem.curves}
+        rows = []
+        for c in used.values():
+            rows.append({"curve": c.name, "kind": c.kind, f"C(t) [{self.table.cost_unit}], t in {c.unit}": c.formula(),
+                         "points": len(c.fit.tolerance) if c.fit else 0,
+                         "fitted": "a, b" + ("" if c.fit and c.fit.fixed_c else ", c") if c.fit else "given",
+                         f"RMSE [{self.table.cost_unit}]": c.fit.rmse if c.fit else math.nan,
+                         "R²": c.fit.r2 if c.fit else math.nan, "t_min": c.t_min, "t_max": c.t_max,
+                         "source": c.source})
+        sec.add_text(f"Cost data: {self.table.file} — {self.table.description}. {self.table.source}.")
+        sec.add_table(pd.DataFrame(rows), "Cost–tolerance curves used (t: tolerance half-band ±t)", "{:.4g}")
+        sec.add_figure(cost_curves(list(used.values()), self.table.cost_unit), "Cost–tolerance curves and their data")
+        sec.summary = {"curves": frame_records(pd.DataFrame(rows))}
+        return sec
+
+    def section(self, results, checks, pareto, lin_con, ga_con) -> Section:
+        from ..plotting.allocation import ga_history, tolerance_bars
+
+        p = self.problem
+        sec = Section(self.key, self.title)
+        sec.add_text(
+            f"Minimise Σ C_i(t_i) over {len(p.factors)} tolerances ±t_i of model {self.model_label} "
+            f"subject to the requirements below and the cost curves' ranges t_min ≤ t ≤ t_max. "
+            f"Changing t_i rescales factor i's distribution about its centre. "
+            f"Uniform: the spec's tolerances times the largest common factor that meets "
+            f"the constraint ({(ga_con or lin_con).describe()}). "
+            + (f"Convex: cvxpy global optimum of the {lin_con.describe()} (five-point gradient at nominal). "
+               if self.convex != "none" else "")
+            + (f"GA: pygad, {self.ga_settings.population} × {self.ga_settings.generations} generations, "
+               f"{self.ga_settings.handling} rules, constraint {ga_con.describe()}. " if ga_con is not None else "")
+            + f"Every allocation is checked by an independent Monte Carlo run (n = {self.verify_n}, plain random "
+              f"sampling, its own seed).")
+        sec.add_table(requirements_frame(p.requirements), "Requirements on the model outputs", "{:.4g}")
+        frame = results[0].to_frame().drop(columns=["t uniform (±)"])
+        for r in results:
+            frame[f"t {r.method} (±)"] = r.display_t() if r.t is not None else np.nan
+        frame = frame.drop(columns=["cost"])
+        sec.add_table(frame, "Allocated tolerances ±t per factor (factor units)", "{:.4g}")
+        best = results[-1]
+        cax = component_axis_table(best) if best.t is not None else None
+        if cax is not None:
+            sec.add_table(cax, f"{best.method}: tolerance per component and axis", "{:.3g}")
+        base_cost = results[0].total_cost
+        summ = pd.DataFrame([{"method": r.method, "status": r.status, "constraint": r.constraint,
+                              f"total cost [{self.table.cost_unit}]": r.total_cost,
+                              "vs uniform [%]": 100.0 * (r.total_cost / base_cost - 1.0) if r.t is not None else np.nan,
+                              "independent MC": ("pass" if checks[r.method].passed else "FAIL")
+                              if r.method in checks else "n/a"} for r in results])
+        sec.add_table(summ, "Total cost against the uniform-tolerance baseline", "{:.4g}")
+        for r in results:
+            for note in r.notes:
+                sec.add_text(f"{r.method}: {note}")
+        for m, v in checks.items():
+            sec.add_table(v.to_frame(), f"Independent Monte Carlo check of '{m}' (n = {v.n}, seed {v.seed})", "{:.4g}")
+        ok = [r for r in results if r.t is not None]
+        sec.add_figure(tolerance_bars(ok), "Allocated tolerances against the uniform baseline")
+        ga = self.result.get("GA")
+        if ga is not None and ga.history:
+            sec.add_figure(ga_history(ga, self.result.get(f"convex {lin_con.mode}")), "GA convergence")
+        sec.add_table(pareto.to_frame(), f"Minimum total cost [{self.table.cost_unit}] against the requirement "
+                      "(limits × scale about the nominal output)", "{:.4g}")
+        sec.add_figure(pareto.plot(), "Cost against requirement (Pareto front)")
+        sec.summary = {
+            "factors": p.factors,
+            "methods": frame_records(summ),
+            "tolerances": frame_records(frame),
+            "verification": {m: frame_records(v.to_frame()) for m, v in checks.items()},
+            "pareto": frame_records(pareto.to_frame()),
+        }
+        return sec
+
+
+def lin_con_mode(convex: str) -> str:
+    return "rss" if convex == "none" else convex
+
+
+def _cost(r: AllocationResult) -> float:
+    return r.total_cost if r.t is not None and r.feasible else math.nan

@@ -1,0 +1,372 @@
+"""The tolerance allocation problem and its constraints.
+
+Minimise ``Σ_i C_i(t_i)`` over the allocated factors' tolerances ``t_i``
+(half-bands ±t: ``T/2`` of a two-sided factor, the coverage value of a
+one-sided magnitude) subject to the requirements on the model's outputs and
+``t_min,i ≤ t_i ≤ t_max,i`` (the cost curve's validity range).  Changing
+``t_i`` rescales factor i's distribution about its centre
+(:meth:`rvtol.spec.ToleranceSpec.scaled`), so its shape and σ/t ratio stay.
+
+Two constraint evaluations:
+
+* :class:`LinearisedConstraint` — the output's RSS σ from the model's
+  five-point gradient at nominal, ``Σ_i (S_ji σ_i)² ≤ (m_j / z_j)²``, or the
+  worst case ``Σ_i |S_ji| t_i ≤ m_j`` (m_j: distance of the nominal output
+  to its nearer limit; z_j: 3·Cpk_min or the normal quantile of the yield);
+  the convex problem of :mod:`rvtol.allocation.convex`;
+* :class:`MonteCarloConstraint` — yield and/or Cpk of **any** Model from a
+  Monte Carlo sample, evaluated through :func:`rvtol.mc.evaluate`, with a
+  fixed uniform design (common random numbers) so the constraint is a
+  deterministic function of the tolerances.
+
+Both return a *violation* ≥ 0 per candidate (0 = feasible).
+"""
+from __future__ import annotations
+
+import fnmatch
+import math
+from dataclasses import dataclass, replace
+from typing import Callable, Sequence
+
+import numpy as np
+import pandas as pd
+from scipy import stats as sps
+
+from .. import stats as st
+from .. import units
+from ..errors import InputError
+from ..mc import evaluate as mc_evaluate
+from ..model import Model
+from ..sampling import apply_copula, to_factors, uniform_design
+from ..spec import Requirement, ToleranceSpec
+from .cost import CostModel
+
+Evaluate = Callable[[Model, np.ndarray], np.ndarray]  # (model, X base) -> Y base (NaN where failed)
+
+
+def default_evaluate(model: Model, X: np.ndarray) -> np.ndarray:
+    return mc_evaluate(model, X, progress=False).Y
+
+
+def half_band(factor) -> float:
+    """The tolerance ±t of a factor in its own unit (T/2 two-sided, the coverage value one-sided)."""
+    d = factor.dist
+    return float(d.tolerance if d.one_sided else d.tolerance / 2.0)
+
+
+def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
+    """Expand output patterns (``delta_*``) into one requirement per matching output."""
+    out = []
+    for r in reqs:
+        if any(ch in r.output for ch in "*?["):
+            names = [n for n in model.output_names if fnmatch.fnmatchcase(n, r.output)]
+            if not names:
+                raise InputError(f"output pattern {r.output!r} matches no output of the model "
+                                 f"({', '.join(model.output_names)})", file=r.file, key=f"{r.key}.output")
+            out += [replace(r, output=n) for n in names]
+        else:
+            model.output(r.output)
+            out.append(r)
+    return [r.in_unit(model.output(r.output).shown_unit) for r in out]
+
+
+@dataclass
+class AllocationProblem:
+    """Model, spec, allocated factors with their cost curves, requirements (display-unit limits)."""
+
+    model: Model
+    spec: ToleranceSpec
+    factors: list[str]
+    curves: list[CostModel]
+    requirements: list[Requirement]
+
+    def __post_init__(self):
+        self.model.check_spec(self.spec)
+        self.idx = [self.spec.index(n) for n in self.factors]
+        if len(set(self.idx)) != len(self.idx) or not self.idx:
+            raise InputError("allocated factors must be distinct and at least one", key="factors")
+        if len(self.curves) != len(self.factors):
+            raise InputError("one cost curve per allocated factor", key="assign")
+        for n, c in zip(self.factors, self.curves):
+            f = self.spec.factor(n)
+            if units.dimension(f.unit) != units.dimension(c.unit):
+                raise InputError(f"cost curve {c.name!r} is in {c.unit} but factor {n!r} is in {f.unit}",
+                                 key="assign")
+        if not self.requirements:
+            raise InputError("an allocation needs at least one requirement", key="requirement")
+
+    # -- tolerances (base units) -------------------------------------------------
+    @property
+    def t0(self) -> np.ndarray:
+        """The spec's current tolerances ±t of the allocated factors (base units)."""
+        return np.array([units.to_base(half_band(self.spec.factors[i]), self.spec.factors[i].unit)
+                         for i in self.idx])
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.array([c.bounds_base[0] for c in self.curves])
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.array([c.bounds_base[1] for c in self.curves])
+
+    def cost(self, t) -> np.ndarray:
+        """Total cost of tolerance vectors ``t[..., m]`` (base units)."""
+        t = np.asarray(t, float)
+        return sum(c.cost_base(t[..., i]) for i, c in enumerate(self.curves))
+
+    def costs(self, t) -> np.ndarray:
+        return np.array([c.cost_base(t[i]) for i, c in enumerate(self.curves)])
+
+    def scales(self, t) -> dict[str, float]:
+        return {n: float(v / v0) for n, v, v0 in zip(self.factors, t, self.t0)}
+
+    def spec_at(self, t) -> ToleranceSpec:
+        """The spec with the allocated factors' tolerances set to ``t`` (base units)."""
+        return self.spec.scaled(self.scales(t))
+
+    def with_requirements(self, reqs: list[Requirement]) -> "AllocationProblem":
+        return AllocationProblem(self.model, self.spec, self.factors, self.curves, reqs)
+
+    def scaled_requirements(self, f: float) -> "AllocationProblem":
+        """The same problem with every limit's distance from the nominal output multiplied by ``f``."""
+        y0 = nominal_outputs(self.model, self.spec)
+        reqs = []
+        for r in self.requirements:
+            c = y0[r.output]
+            sc = lambda v: None if v is None else c + f * (v - c)  # noqa: E731
+            reqs.append(replace(r, lower=sc(r.lower), upper=sc(r.upper)))
+        return self.with_requirements(reqs)
+
+
+def nominal_outputs(model: Model, spec: ToleranceSpec, evaluate: Evaluate = default_evaluate) -> dict[str, float]:
+    """Outputs (display units) at the spec's nominal point."""
+    Y = evaluate(model, spec.nominal_base()[None, :])[0]
+    return {q.name: float(q.to_display(Y[j])) for j, q in enumerate(model.outputs)}
+
+
+def z_of(r: Requirement) -> float:
+    """How many output σ must fit between the nominal output and the nearer limit."""
+    z = 0.0
+    if r.min_cpk is not None:
+        z = max(z, 3.0 * r.min_cpk)
+    if r.min_yield is not None:
+        two = r.lower is not None and r.upper is not None
+        p = 1.0 - (1.0 - r.min_yield) / 2.0 if two else r.min_yield
+        z = max(z, float(sps.norm.ppf(p))) if p < 1.0 else math.inf
+    return z
+
+
+# --------------------------------------------------------------------------- linearised constraint
+@dataclass
+class Linearisation:
+    """Five-point gradient ``S[j, k]`` (base units) at nominal, for every requirement row j and spec factor k."""
+
+    S: np.ndarray
+    y0: np.ndarray  # base units, per requirement
+    margin: np.ndarray  # base units: distance from y0 to the nearer limit
+    z: np.ndarray
+    rho: np.ndarray  # σ_k / t_k per spec factor (shape constant)
+    t_spec: np.ndarray  # current ±t of every spec factor (base units)
+
+
+def linearise(problem: AllocationProblem, evaluate=None) -> Linearisation:
+    """Five-point derivatives (:func:`rvtol.sensitivity.local.five_point`) of the required outputs."""
+    from ..sensitivity.local import five_point
+
+    spec, model = problem.spec, problem.model
+    outs = list(dict.fromkeys(r.output for r in problem.requirements))
+    ev = None
+    if evaluate is not None:
+        ev = lambda X, desc="": _as_evaluation(evaluate(model, X))  # noqa: E731
+    loc = five_point(model, spec, outputs=outs, evaluate=ev)
+    S, y0, margin, z = [], [], [], []
+    for r in problem.requirements:
+        q = model.output(r.output)
+        S.append(loc.gradient(r.output, spec.names))
+        yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        dists = [v for v in ((r.upper - yd) if r.upper is not None else None,
+                             (yd - r.lower) if r.lower is not None else None) if v is not None]
+        m = min(dists)
+        y0.append(units.convert(yd, q.shown_unit, q.unit))
+        margin.append(float(units.convert(m, q.shown_unit, q.unit)))
+        z.append(z_of(r))
+    t_spec = np.array([units.to_base(half_band(f), f.unit) for f in spec.factors])
+    rho = spec.std_base() / t_spec
+    return Linearisation(np.nan_to_num(np.array(S)), np.array(y0), np.array(margin), np.array(z), rho, t_spec)
+
+
+def _as_evaluation(Y):
+    from ..mc import Evaluation
+
+    ok = np.all(np.isfinite(Y), axis=1)
+    return Evaluation(Y, np.where(ok, 0, 1).astype(np.int16))
+
+
+class LinearisedConstraint:
+    """RSS (``mode="rss"``) or worst-case (``"worst_case"``) constraint from a :class:`Linearisation`."""
+
+    def __init__(self, problem: AllocationProblem, lin: Linearisation, mode: str = "rss"):
+        if mode not in ("rss", "worst_case"):
+            raise InputError(f"unknown linearised constraint {mode!r} (rss | worst_case)", key="convex")
+        self.problem, self.lin, self.mode = problem, lin, mode
+        alloc = np.zeros(len(problem.spec), bool)
+        alloc[problem.idx] = True
+        S = lin.S
+        if mode == "rss":
+            self.coef = np.abs(S[:, problem.idx]) * lin.rho[problem.idx]  # per unit t: σ contribution
+            fixed = (S[:, ~alloc] * lin.rho[~alloc] * lin.t_spec[~alloc]) ** 2
+            self.budget = (lin.margin / lin.z) ** 2 - fixed.sum(axis=1)  # for Σ (coef t)²
+        else:
+            self.coef = np.abs(S[:, problem.idx])
+            self.budget = lin.margin - (np.abs(S[:, ~alloc]) * lin.t_spec[~alloc]).sum(axis=1)  # for Σ coef t
+
+    def load(self, T) -> np.ndarray:
+        """``[p, j]`` used fraction of each requirement's budget (≤ 1 is feasible)."""
+        T = np.atleast_2d(T)
+        if self.mode == "rss":
+            used = ((T[:, None, :] * self.coef[None]) ** 2).sum(-1)
+        else:
+            used = (T[:, None, :] * self.coef[None]).sum(-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(self.budget > 0, used / self.budget, np.inf)
+
+    def violation(self, T) -> np.ndarray:
+        L = self.load(T)
+        if self.mode == "rss":
+            L = np.sqrt(L)
+        return np.maximum(L - 1.0, 0.0).sum(axis=1)
+
+    def describe(self) -> str:
+        return ("linearised RSS: Σ (S_i σ_i)² ≤ (margin/z)²" if self.mode == "rss"
+                else "linearised worst case: Σ |S_i| t_i ≤ margin")
+
+
+# --------------------------------------------------------------------------- Monte Carlo constraint
+class MonteCarloConstraint:
+    """Yield / Cpk of the requirements from ``n`` samples with a fixed uniform design (CRN).
+
+    Scaling a factor's tolerance by f maps each sample value affinely about
+    the distribution's centre (mean, mode, or the shift of a one-sided
+    magnitude): ``x' = c + f (x − c)`` — that is what
+    :meth:`rvtol.distributions.Distribution.scaled` does.  The centres are
+    measured once through the spine's own ``scaled`` + ``to_factors`` path and
+    the affinity is checked there, so candidates are mapped without
+    re-freezing scipy distributions (a factor that does not scale affinely
+    falls back to the spine path).
+    """
+
+    def __init__(self, problem: AllocationProblem, n: int, method: str = "lhs", seed: int | None = None,
+                 evaluate: Evaluate = default_evaluate):
+        self.problem, self.n, self.method, self.seed = problem, int(n), method, seed
+        self.evaluate = evaluate
+        self.U = apply_copula(uniform_design(self.n, len(problem.spec), method, seed), problem.spec.correlation)
+        self.X0 = to_factors(problem.spec, self.U)
+        self.centre = affine_centres(problem)
+        self.evaluations = 0
+
+    def samples(self, t) -> np.ndarray:
+        """The design's factor values (base units) with the allocated tolerances set to ``t``."""
+        p = self.problem
+        X = self.X0.copy()
+        f = np.asarray(t, float) / p.t0
+        for c, i in enumerate(p.idx):
+            if np.isnan(self.centre[c]):
+                X[:, i] = to_factors(p.spec_at(t), self.U)[:, i]
+            else:
+                X[:, i] = self.centre[c] + f[c] * (self.X0[:, i] - self.centre[c])
+        return X
+
+    def outputs(self, T) -> list[np.ndarray]:
+        """Model outputs (base units) for each candidate of ``T[p, m]`` (one batch through the executor)."""
+        T = np.atleast_2d(T)
+        X = np.vstack([self.samples(t) for t in T])
+        Y = self.evaluate(self.problem.model, X)
+        self.evaluations += len(X)
+        return [Y[i * self.n:(i + 1) * self.n] for i in range(len(T))]
+
+    def measures(self, T) -> list[list[dict]]:
+        """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
+
+        Only what a requirement asks for is computed (the yield bound is the
+        Clopper–Pearson bound of :func:`rvtol.stats.proportion_ci`, in its
+        closed beta-quantile form for speed).
+        """
+        m = self.problem.model
+        out = []
+        for Y in self.outputs(T):
+            rows = []
+            for r in self.problem.requirements:
+                j = m.output_index(r.output)
+                y = m.outputs[j].to_display(Y[:, j])
+                ok = np.isfinite(y)
+                row = {}
+                if r.min_yield is not None:
+                    inside = ok.copy()
+                    if r.lower is not None:
+                        inside &= np.nan_to_num(y, nan=-np.inf) >= r.lower
+                    if r.upper is not None:
+                        inside &= np.nan_to_num(y, nan=np.inf) <= r.upper
+                    k, n = int(inside.sum()), len(y)
+                    row["yield"] = k / n
+                    row["yield_lo"] = clopper_pearson_lower(k, n, r.confidence)
+                if r.min_cpk is not None:
+                    cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
+                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
+                    if not ok.all():
+                        row["cpk"] = row["cpk_lo"] = None  # failed samples: no capability claim
+                rows.append(row)
+            out.append(rows)
+        return out
+
+    def violation(self, T) -> np.ndarray:
+        res = []
+        for rows in self.measures(T):
+            v = 0.0
+            for r, mrow in zip(self.problem.requirements, rows):
+                v += requirement_violation(r, mrow)
+            res.append(v)
+        return np.array(res)
+
+    def describe(self) -> str:
+        return f"Monte Carlo ({self.method}, n = {self.n}, fixed design: common random numbers)"
+
+
+def affine_centres(problem: AllocationProblem) -> np.ndarray:
+    """Per allocated factor, the centre c with ``scaled(f) values = c + f·(values − c)`` (NaN if not affine)."""
+    u = np.array([[0.05], [0.3], [0.5], [0.8], [0.97]])
+    out = []
+    for i in problem.idx:
+        f = problem.spec.factors[i]
+        x1 = f.ppf_base(u[:, 0])
+        x2 = f.scaled(2.0).ppf_base(u[:, 0])
+        x3 = f.scaled(0.5).ppf_base(u[:, 0])
+        c = 2.0 * x1 - x2
+        scale = max(float(np.max(np.abs(x1))), 1e-300)
+        ok = np.allclose(c, c[0], rtol=0, atol=1e-12 * scale) and np.allclose(c[0] + 0.5 * (x1 - c[0]), x3, rtol=1e-12,
+                                                                              atol=1e-12 * scale)
+        out.append(float(c[0]) if ok else np.nan)
+    return np.array(out)
+
+
+def clopper_pearson_lower(k: int, n: int, confidence: float) -> float:
+    """Lower end of the two-sided Clopper–Pearson interval of k/n (as :func:`rvtol.stats.proportion_ci`)."""
+    return 0.0 if k == 0 else float(sps.beta.ppf((1.0 - confidence) / 2.0, k, n - k + 1))
+
+
+def requirement_violation(r: Requirement, m: dict) -> float:
+    """Normalised shortfall of one requirement (0 when met) on the requirement's basis."""
+    lb = r.basis == "lower_bound"
+    v = 0.0
+    if r.min_yield is not None:
+        y = m["yield_lo"] if lb else m["yield"]
+        v += max(0.0, r.min_yield - y) / max(1.0 - r.min_yield, 1e-6)
+    if r.min_cpk is not None:
+        c = m["cpk_lo"] if lb else m["cpk"]
+        v += 10.0 if c is None else max(0.0, r.min_cpk - c) / r.min_cpk
+    return v
+
+
+def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:
+    return pd.DataFrame([{"output": r.output, "lower": r.lower, "upper": r.upper, "unit": r.unit,
+                          "min yield": r.min_yield, "min Cpk": r.min_cpk, "basis": r.basis} for r in reqs])
