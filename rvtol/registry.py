@@ -26,6 +26,11 @@ MODELS: dict[str, str] = {
 }
 
 ANALYSES: dict[str, str] = {
+    "stackup_linear": "rvtol.stackup.linearise:StackupLinear",
+    "stackup_graph": "rvtol.stackup.analyses:StackupGraph",
+    "stackup_sequences": "rvtol.stackup.analyses:StackupSequences",
+    "stackup_domains": "rvtol.stackup.analyses:StackupDomains",
+    "stackup_shaft_hole": "rvtol.stackup.analyses:StackupShaftHole",
     "allocation": "rvtol.allocation.analysis:AllocationAnalysis",
     "local_sensitivity": "rvtol.sensitivity.analyses:LocalSensitivity",
     "sensitivity_curve": "rvtol.sensitivity.analyses:SensitivityCurve",

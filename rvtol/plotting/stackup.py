@@ -1,0 +1,149 @@
+"""Plots of the deviation stack-up: contribution bars, the assembly graph, sequence and domain views."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..units import label
+from . import COLORS, new_axes
+
+SIGN_COLORS = {"+": "#C44E52", "−": "#4C72B0", "0": "#8C8C8C"}
+FLOW_STYLE = {  # colour, line style
+    "f1": ("#8C8C8C", "-"),
+    "f3": ("#4C72B0", "-"),
+    "f4": ("#DD8452", "-"),
+    "closes": ("#C44E52", "--"),
+}
+
+
+def contribution_bars(lin, top: int = 12, ax=None):
+    """Shares of variance (bars) and of worst case (dots) of the largest contributors, coloured by loop sign."""
+    d = lin.contributions.sort_values("variance share %", ascending=False).head(top).iloc[::-1]
+    fig, ax = new_axes(ax, (6.4, 0.9 + 0.28 * len(d)))
+    y = np.arange(len(d))
+    signs = [s if s in SIGN_COLORS else "0" for s in d["sign"]]
+    colors = [SIGN_COLORS[s] if lin.form == "dof" else COLORS["data"] for s in signs]
+    ax.barh(y, d["variance share %"], color=colors, alpha=0.85, label="share of variance (RSS)")
+    ax.plot(d["worst-case share %"], y, "k|", ms=10, mew=2, label="share of worst case")
+    ax.set_yticks(y, [f"{f} ({s})" if lin.form == "dof" else f for f, s in zip(d["factor"], d["sign"])],
+                  fontsize=7)
+    ax.set_xlabel("contribution [%]")
+    ax.set_xlim(0, max(5.0, float(max(d["variance share %"].max(), d["worst-case share %"].max())) * 1.1))
+    title = f"{lin.output} [{label(lin.unit)}]"
+    if lin.form == "dof":
+        title += ": red + positive / blue − negative accumulator"
+    ax.set_title(title, fontsize=9)
+    ax.legend(loc="lower right", fontsize=7)
+    return fig
+
+
+def assembly_graph(assembly, sequence=None, ax=None):
+    """The assembly graph: parts (boxes, in placing order), features, fits and deviation flows.
+
+    Within a part, grey arrows run from the datum to each deviating feature
+    (f1; ×n marks several deviation terms, f5; ◇ a form deviation, f2).  Fits
+    join features of two parts (f3, blue); clearance fits are orange (f4);
+    fits that close the loop instead of locating a part are dashed red.
+    """
+    seq = sequence or assembly.sequence(None)
+    order = [assembly.ground] + [p for p, _ in seq.steps]
+    feats = {p: [f for f in assembly.features.values() if f.part == p] for p in order}
+    rows = max(len(v) for v in feats.values())
+    fig, ax = new_axes(ax, (max(6.4, 2.3 * len(order)), 1.4 + 0.75 * rows))
+    pos = {}
+    for i, part in enumerate(order):
+        n = len(feats[part])
+        ax.add_patch(_box(i - 0.42, -0.6, 0.84, rows + 0.1))
+        ax.text(i, rows - 0.25, part, ha="center", va="bottom", fontsize=9, weight="bold")
+        for j, f in enumerate(feats[part]):
+            yy = rows - 1 - j * (rows - 1) / max(n - 1, 1) if n > 1 else (rows - 1) / 2
+            pos[f.id] = (i, yy - 0.35)
+            mark = "s" if f.datum else "o"
+            ax.plot(*pos[f.id], mark, color="k" if f.datum else COLORS["data"], ms=7, zorder=3)
+            tag = f.name + (f" ×{len(f.terms)}" if len(f.terms) > 1 else "") + (" ◇" if f.form else "")
+            ax.text(pos[f.id][0], pos[f.id][1] - 0.2, tag, ha="center", va="top", fontsize=7)
+    for f in assembly.features.values():
+        if f.terms and f.part in feats:
+            datum = next((g for g in feats[f.part] if g.datum), None)
+            if datum is not None:
+                _arrow(ax, pos[datum.id], pos[f.id], *FLOW_STYLE["f1"], rad=0.35, lw=0.8)
+    for fit in assembly.fits.values():
+        closes = fit.name not in seq.locating
+        key = "closes" if closes else ("f4" if fit.is_clearance else "f3")
+        color, ls = FLOW_STYLE[key]
+        a, b = pos[fit.base], pos[fit.mate]
+        _arrow(ax, a, b, color, ls, rad=0.12, lw=1.6)
+        mx, my = 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]) + 0.12
+        ax.text(mx, my, f"{fit.name} {fit.type}" + (" (clearance)" if fit.is_clearance else ""),
+                fontsize=6.5, ha="center", color=color,
+                bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+    ax.set_xlim(-0.6, len(order) - 0.4)
+    ax.set_ylim(-0.8, rows + 0.3)
+    ax.axis("off")
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=FLOW_STYLE["f1"][0], label="f1 datum → feature (×n: f5, ◇: f2 form)"),
+               Line2D([], [], color=FLOW_STYLE["f3"][0], lw=1.6, label="f3 fit, locates"),
+               Line2D([], [], color=FLOW_STYLE["f4"][0], lw=1.6, label="f3+f4 clearance fit, locates (float)"),
+               Line2D([], [], color=FLOW_STYLE["closes"][0], ls="--", lw=1.6, label="fit closing the loop (misfit KC)"),
+               Line2D([], [], marker="s", color="k", ls="", label="datum feature (D)"),
+               Line2D([], [], marker="o", color=COLORS["data"], ls="", label="deviation-prone feature (g)")]
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), ncol=3, fontsize=7, frameon=False)
+    ax.set_title(f"{assembly.name}: sequence {seq.name} ({' → '.join(order)})", fontsize=9)
+    return fig
+
+
+def _box(x, y, w, h):
+    from matplotlib.patches import FancyBboxPatch
+
+    return FancyBboxPatch((x, y), w, h, boxstyle="round,pad=0.02,rounding_size=0.08", fc="#F4F6FA", ec="#B0B8C8")
+
+
+def _arrow(ax, a, b, color, ls, rad=0.1, lw=1.0):
+    ax.annotate("", xy=b, xytext=a, arrowprops=dict(arrowstyle="-|>", color=color, ls=ls, lw=lw, shrinkA=5,
+                                                    shrinkB=5, connectionstyle=f"arc3,rad={rad}"), zorder=2)
+
+
+def sequence_histograms(comparison, outputs=None, bins: int = 50):
+    """Overlaid histograms of the outputs two or more assembly sequences share."""
+    import matplotlib.pyplot as plt
+
+    names = outputs or comparison.common_outputs()
+    ncol = 2
+    nrow = max(1, (len(names) + ncol - 1) // ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(7.0, 2.3 * nrow), squeeze=False)
+    palette = [COLORS["data"], COLORS["fit"], COLORS["ok"], COLORS["limit"]]
+    for ax, name in zip(axes.flat, names):
+        ys = {s: comparison.column(s, name) for s in comparison.sequences}
+        allv = np.concatenate([v[np.isfinite(v)] for v in ys.values()])
+        edges = np.histogram_bin_edges(allv, bins=bins) if len(allv) else bins
+        for c, (s, v) in zip(palette, ys.items()):
+            ax.hist(v[np.isfinite(v)], bins=edges, histtype="step", lw=1.4, color=c, density=True, label=s)
+        ax.set_xlabel(f"{name} [{label(comparison.unit(name))}]", fontsize=8)
+        ax.set_ylabel("density", fontsize=8)
+        ax.legend(fontsize=7)
+    for ax in axes.flat[len(names):]:
+        ax.axis("off")
+    fig.tight_layout()
+    return fig
+
+
+def planar_domain(zone, samples, ax=None):
+    """Samples of a parallel-plane zone on (Δw, Δα·W/2): the exact domain, its box and the document's box."""
+    fig, ax = new_axes(ax, (5.0, 3.6))
+    s = np.asarray(samples)[:3000]
+    h = 0.5 * zone.dt
+    ax.plot((s[:, 2] - zone.centre) * 1e3, s[:, 3] * zone.W / 2 * 1e3, ".", ms=2, alpha=0.4,
+            color=COLORS["data"], label="samples (all β)")
+    ax.plot(np.array([h, 0, -h, 0, h]) * 1e3, np.array([0, h, 0, -h, 0]) * 1e3, color=COLORS["fit"],
+            label="exact domain at Δβ = 0")
+    ax.plot(np.array([h, -h, -h, h, h]) * 1e3, np.array([h, h, -h, -h, h]) * 1e3, color=COLORS["ci"], ls=":",
+            label="bounding box")
+    db = zone.doc_box()
+    bw, ba = db[2], db[3] * zone.W / 2
+    ax.plot(np.array([bw, -bw, -bw, bw, bw]) * 1e3, np.array([ba, ba, -ba, -ba, ba]) * 1e3, color=COLORS["limit"],
+            ls="--", label="document's printed box")
+    ax.set_xlabel("Δw − zone centre [µm]")
+    ax.set_ylabel("Δα · W/2 [µm]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=7, loc="upper right")
+    return fig

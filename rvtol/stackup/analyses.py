@@ -1,0 +1,348 @@
+"""Study analyses of the stack-up (``[[analysis]] kind = ...``).
+
+==================  ===========================================================================
+kind                keys
+==================  ===========================================================================
+stackup_linear      see :class:`rvtol.stackup.linearise.StackupLinear`
+stackup_graph       (none): picture of the assembly graph, flows, fits, dimensions with sources
+stackup_sequences   ``sequences`` (default all of the assembly's), ``outputs`` (default those all
+                    share): the same samples through each assembly sequence, side by side
+stackup_domains     ``n`` (samples per check, 200000), ``[[analysis.domain]]`` tables with
+                    ``kind`` = "plane" (``t1``, ``t2``, ``length``, ``width``), "cylinder" (``t``,
+                    ``length``) or "clearance" (``clearance``, ``length``, ``hole`` and ``shaft``
+                    distribution tables in mm), ``k`` (3), ``name``: derived mean/σ beside sampled
+stackup_shaft_hole  ``fit``, ``kc``, ``[[analysis.printed]]`` (``figure``, ``value``, ``unit``,
+                    ``compare`` = max_clearance | e_norm | eps_norm | tilt, ``why``): doc 003's
+                    shaft–hole figures against rvtol's
+==================  ===========================================================================
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .. import units
+from ..distributions import from_params
+from ..report.sections import Section, frame_records
+from ..sensitivity.common import tolerance_limits
+from ..stats import percentile_ci
+from ..units import label
+from . import domains as dm
+from .model import StackupModel
+
+
+def _need_stackup(params, study) -> StackupModel:
+    if not isinstance(study.model, StackupModel):
+        raise params.error("kind", "this analysis needs a [model] of kind 'stackup'")
+    return study.model
+
+
+# --------------------------------------------------------------------------- graph
+class StackupGraph:
+    def __init__(self, params, study):
+        self.model = _need_stackup(params, study)
+
+    def run(self, ctx) -> Section:
+        from ..plotting.stackup import assembly_graph
+
+        m = self.model
+        asm, seq = m.assembly, m.sequence
+        sec = Section("stackup_graph", f"Stack-up: assembly graph of {asm.name}")
+        sec.add_text(f"{asm.description}\n\nModel: {m.describe()}. Transform T = Trans × Rot "
+                     f"({'exact rotation Rz(γ)·Ry(β)·Rx(α)' if m.rotation == 'exact' else 'small-angle I + [ω]×'}).")
+        sec.add_figure(assembly_graph(asm, seq), caption="Parts (in placing order), features, fits and deviation flows")
+        flows = asm.flows(seq)
+        sec.add_table(flows, caption="Deviation flows (doc 003 types f1–f5)")
+        fits = pd.DataFrame([{
+            "fit": f.name, "type": f.type, "base": f.base, "mate": f.mate,
+            "clearance [µm]": None if f.clearance is None else f.clearance * 1e3,
+            "length [mm]": f.length, "float": m.float_modes.get(f.name, "—") if f.is_clearance else "—",
+            "role": "locates" if f.name in seq.locating else "closes (misfit KC)", "description": f.description}
+            for f in asm.fits.values()])
+        sec.add_table(fits, caption="Fits: MDD/MgD/Mgg from the datum flags; clearance fits float (f4)")
+        dims = pd.DataFrame([{"dimension": d.name, "value": units.from_base(d.value, d.unit), "unit": label(d.unit),
+                              "source": d.source, "note": d.note} for d in asm.dimensions.values()])
+        if not dims.empty:
+            sec.add_table(dims, caption="Dimensions and where each number comes from")
+        seqs = pd.DataFrame([{"sequence": s.name, "order": " → ".join([asm.ground] + [p for p, _ in s.steps]),
+                              "locating fits": ", ".join(f for _, f in s.steps),
+                              "closing fits": ", ".join(f.name for f in asm.closing_fits(s)),
+                              "description": s.description} for s in asm.sequences.values()])
+        sec.add_table(seqs, caption="Assembly sequences")
+        sec.summary = {"assembly": asm.name, "sequence": seq.name, "flows": frame_records(flows),
+                       "fits": frame_records(fits), "dimensions": frame_records(dims)}
+        return sec
+
+
+# --------------------------------------------------------------------------- sequences
+@dataclass
+class SequenceComparison:
+    """The same factor samples through several assembly sequences (display units)."""
+
+    sequences: list[str]
+    outputs: dict[str, list]  # sequence -> Quantities
+    Y: dict[str, np.ndarray]  # sequence -> (n, m) display units
+
+    def names(self, seq: str) -> list[str]:
+        return [q.name for q in self.outputs[seq]]
+
+    def common_outputs(self) -> list[str]:
+        first = self.names(self.sequences[0])
+        return [n for n in first if all(n in self.names(s) for s in self.sequences)]
+
+    def column(self, seq: str, name: str) -> np.ndarray:
+        return self.Y[seq][:, self.names(seq).index(name)]
+
+    def unit(self, name: str) -> str:
+        for s in self.sequences:
+            if name in self.names(s):
+                return self.outputs[s][self.names(s).index(name)].shown_unit
+        raise KeyError(name)
+
+    def to_frame(self) -> pd.DataFrame:
+        allnames = list(dict.fromkeys(n for s in self.sequences for n in self.names(s)))
+        rows = []
+        for n in allnames:
+            for s in self.sequences:
+                if n not in self.names(s):
+                    continue
+                y = self.column(s, n)
+                y = np.sort(y[np.isfinite(y)])
+                rows.append({"output": n, "unit": label(self.unit(n)), "sequence": s, "mean": y.mean(),
+                             "std": y.std(ddof=1), "P99.73": percentile_ci(y, 0.9973)[0], "max": y[-1],
+                             "failed": int(len(self.column(s, n)) - len(y))})
+        return pd.DataFrame(rows)
+
+    def plot(self, outputs=None):
+        from ..plotting.stackup import sequence_histograms
+
+        return sequence_histograms(self, outputs)
+
+
+class StackupSequences:
+    def __init__(self, params, study):
+        m = _need_stackup(params, study)
+        asm = m.assembly
+        self.sequences = params.strs("sequences", list(asm.sequences), min_length=2)
+        for s in self.sequences:
+            if s not in asm.sequences:
+                raise params.error("sequences", f"unknown sequence {s!r} (assembly has: {', '.join(asm.sequences)})")
+        if len(set(self.sequences)) != len(self.sequences):
+            raise params.error("sequences", "a sequence is named twice")
+        self.models = {s: StackupModel(asm, s, m.inputs, m.input_units, m.rotation, m.backend,
+                                       {k: v for k, v in m.float_modes.items()}) for s in self.sequences}
+        common = [n for n in self.models[self.sequences[0]].output_names
+                  if all(n in mm.output_names for mm in self.models.values())]
+        self.outputs = params.strs("outputs", common, min_length=1)
+        for o in self.outputs:
+            if o not in common:
+                raise params.error("outputs", f"{o!r} is not an output of every sequence (common: {', '.join(common)})")
+
+    def compare(self, ctx) -> SequenceComparison:
+        X = ctx.mc.samples.values
+        Y, outs = {}, {}
+        for s, model in self.models.items():
+            ev = ctx.evaluate(X, desc=f"sequence {s}", model=model)
+            Y[s] = np.column_stack([q.to_display(ev.Y[:, j]) for j, q in enumerate(model.outputs)])
+            outs[s] = list(model.outputs)
+        return SequenceComparison(self.sequences, outs, Y)
+
+    def run(self, ctx) -> Section:
+        cmp = self.compare(ctx)
+        sec = Section("stackup_sequences", "Stack-up: assembly sequences compared on the same samples")
+        asm = self.models[self.sequences[0]].assembly
+        sec.add_text("Every sequence evaluates the Monte Carlo factor samples of this study (paired comparison). "
+                     "A sequence decides which fit locates each part; the fits left over close the loop and appear "
+                     "as '<fit>_misfit' outputs (radial and tilt misfit, and for clearance fits the assembly margin "
+                     "c⁺/2 − end-point offset: negative means the part cannot go in without force).\n\n" +
+                     "\n".join(f"{s}: {asm.sequences[s].description}" for s in self.sequences))
+        table = cmp.to_frame()
+        sec.add_table(table, caption="Output statistics per sequence (display units; P99.73 = 99.73 % quantile)")
+        sec.add_figure(cmp.plot(self.outputs), caption="Outputs both sequences share")
+        margins = [n for n in table["output"].unique() if n.endswith(".margin")]
+        if margins:
+            rows = []
+            for s in self.sequences:
+                for n in margins:
+                    if n in cmp.names(s):
+                        y = cmp.column(s, n)
+                        rows.append({"sequence": s, "closing fit": n.split("_misfit")[0],
+                                     "share assemblable (margin ≥ 0) %": 100.0 * np.mean(y[np.isfinite(y)] >= 0)})
+            sec.add_table(pd.DataFrame(rows), caption="Assemblability where a clearance fit closes the loop")
+        sec.summary = {"sequences": self.sequences, "statistics": frame_records(table)}
+        return sec
+
+
+# --------------------------------------------------------------------------- domains
+class StackupDomains:
+    def __init__(self, params, study):
+        self.n = params.int("n", 200_000, min=1000)
+        self.domains = []
+        tables = params.tables("domain")
+        if not tables:
+            raise params.error("domain", "give at least one [[analysis.domain]]")
+        for t in tables:
+            kind = t.str("kind", choices=("plane", "cylinder", "clearance"))
+            name = t.str("name", kind)
+            k = t.float("k", 3.0, positive=True)
+            if kind == "plane":
+                d = dm.ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
+                                         t.quantity("length", "mm", positive=True),
+                                         t.quantity("width", "mm", positive=True), k)
+            elif kind == "cylinder":
+                d = dm.CylindricalZone(t.quantity("t", "mm", positive=True), t.quantity("length", "mm", positive=True), k)
+            else:
+                d = dm.ClearanceFit(t.quantity("clearance", "mm"), _mm_dist(t.sub("hole")), _mm_dist(t.sub("shaft")),
+                                    t.quantity("length", "mm", positive=True), k)
+            t.finish()
+            self.domains.append((name, d))
+        self.seed = study.options.seed
+
+    def run(self, ctx) -> Section:
+        from ..plotting.stackup import planar_domain
+
+        sec = Section("stackup_domains", "Stack-up: deviation domains — derived moments against sampling")
+        sec.add_text("Mean vector and standard deviations derived in closed form (uniform in the domain; truncated "
+                     "normal: plane by quadrature, axis and clearance in closed form) beside the same moments of "
+                     f"{self.n} samples drawn inside the domain. 'z' is (sampled − derived)/standard error of the sampled "
+                     "mean or σ (σ's from the sample fourth moment, valid for any distribution); |z| > 4 would "
+                     "contradict the derivation.")
+        summary = {}
+        for i, (name, d) in enumerate(self.domains):
+            rows = []
+            for dist in dm.DISTRIBUTIONS:
+                E = d.sample(self.n, dist, seed=(self.seed or 0) + i)
+                mean, cov = d.mean(dist), d.cov(dist)
+                for j in d.dofs:
+                    f = 1e3 if j < 3 else 1e6
+                    m_s, s_s, se_m, se_s = _moments_with_errors(E[:, j])
+                    sd = np.sqrt(cov[j, j])
+                    rows.append({"distribution": dist, "dof": dm.DOF[j], "unit": "µm" if j < 3 else "µrad",
+                                 "mean derived": mean[j] * f, "mean sampled": m_s * f,
+                                 "z(mean)": (m_s - mean[j]) / se_m if se_m > 0 else np.nan,
+                                 "σ derived": sd * f, "σ sampled": s_s * f,
+                                 "z(σ)": (s_s - sd) / se_s if se_s > 0 else np.nan})
+            df = pd.DataFrame(rows)
+            sec.add_table(df, caption=f"{name}: {_describe_domain(d)}", float_format="{:.5g}")
+            summary[name] = {"domain": _describe_domain(d), "moments": frame_records(df)}
+            if isinstance(d, dm.ParallelPlaneZone):
+                rec = dm.planar_record(d)
+                sec.add_table(rec, caption=f"{name}: the document's printed planar-zone formulas against the "
+                                           "derivation (lengths mm, angles rad)", float_format="{:.4g}")
+                sec.add_figure(planar_domain(d, d.sample(3000, "uniform", seed=self.seed)),
+                               caption=f"{name}: uniform samples, exact domain, its box and the printed box")
+                summary[name]["record"] = frame_records(rec)
+            if isinstance(d, dm.ClearanceFit):
+                wc = d.worst_case()
+                sec.add_text(f"{name}: largest clearance {d.max_clearance() * 1e3:.4g} µm → worst radial offset "
+                             f"{wc['radial_offset'] * 1e3:.4g} µm, worst tilt {np.degrees(wc['tilt']):.4g}° "
+                             f"({wc['tilt'] * 1e3:.4g} mrad); E[c⁺²] = {d.clearance_mean_square() * 1e6:.4g} µm².")
+                summary[name]["worst_case"] = wc
+        sec.summary = summary
+        return sec
+
+
+def _moments_with_errors(x: np.ndarray) -> tuple[float, float, float, float]:
+    """Sample mean and σ with their standard errors (σ's from the sample 4th moment, any distribution)."""
+    n = len(x)
+    m = float(x.mean())
+    c = x - m
+    v = float(np.mean(c * c))
+    s = float(np.sqrt(v * n / (n - 1)))
+    se_v = float(np.sqrt(max(np.mean(c**4) - v * v, 0.0) / n))
+    return m, s, s / np.sqrt(n), se_v / (2 * s) if s > 0 else 0.0
+
+
+def _mm_dist(p):
+    d = from_params(p)
+    p.finish()
+    return d
+
+
+def _describe_domain(d) -> str:
+    if isinstance(d, dm.ParallelPlaneZone):
+        return (f"planar face {d.L:g} × {d.W:g} mm between w = {d.t1 * 1e3:g} and {d.t2 * 1e3:g} µm "
+                f"(exact domain |w−m| + |α|W/2 + |β|L/2 ≤ Δt/2)")
+    if isinstance(d, dm.CylindricalZone):
+        return f"axis of length {d.L:g} mm in a cylindrical zone ⌀{d.t * 1e3:g} µm"
+    return (f"shaft in hole, nominal clearance {d.c0 * 1e3:g} µm, hole {d.hole.describe('mm')}, "
+            f"shaft {d.shaft.describe('mm')}, engagement {d.L:g} mm")
+
+
+# --------------------------------------------------------------------------- doc 003 shaft–hole figures
+class StackupShaftHole:
+    COMPARE = ("max_clearance", "e_norm", "eps_norm", "tilt")
+
+    def __init__(self, params, study):
+        m = self.model = _need_stackup(params, study)
+        fits = [f for f in m.assembly.fits.values() if f.is_clearance]
+        self.fit = m.assembly.fits.get(params.str("fit", fits[0].name if fits else ""))
+        if self.fit is None or not self.fit.is_clearance:
+            raise params.error("fit", "name a clearance fit of the assembly")
+        self.kc = params.str("kc", m.kcs[0].name)
+        if self.kc not in {k.name for k in m.kcs}:
+            raise params.error("kc", f"unknown KC {self.kc!r}")
+        self.printed = []
+        for t in params.tables("printed"):
+            cmp = t.str("compare", choices=self.COMPARE)
+            if cmp != "max_clearance" and f"{self.kc}.{cmp}" not in m.output_names:
+                raise t.error("compare", f"the model has no output {self.kc}.{cmp}")
+            unit = t.unit("unit")
+            self.printed.append({"figure": t.str("figure"), "value": t.float("value"), "unit": unit,
+                                 "compare": cmp, "why": t.str("why")})
+            t.finish()
+        if not self.printed:
+            raise params.error("printed", "give the printed figures as [[analysis.printed]] tables")
+
+    def worst_case_inputs(self, spec) -> np.ndarray:
+        """Nominal factors with the fit's sizes at the band ends that give the largest clearance."""
+        x = spec.nominal_base()
+        asm = self.model.assembly
+        for side in ("base", "mate"):
+            feat = asm.features[getattr(self.fit, side)]
+            if feat.size and feat.size in spec.names:
+                lo, hi = tolerance_limits(spec.factor(feat.size))
+                v = hi if (side == self.fit.hole) else lo
+                x[spec.index(feat.size)] = units.to_base(v, spec.factor(feat.size).unit)
+        return x
+
+    def run(self, ctx) -> Section:
+        m, spec = self.model, ctx.spec
+        x = self.worst_case_inputs(spec)
+        cmax = float(m.clearance(self.fit, x[None])[0])
+        a1 = self.fit.float_factors[0]
+        if a1 in spec.names:
+            x[spec.index(a1)] = 1.0
+        wc = {}
+        for mode in ("worst_offset", "worst_tilt"):
+            mm = StackupModel(m.assembly, m.sequence.name, m.inputs, m.input_units, m.rotation, m.backend,
+                              {self.fit.name: mode})
+            y = mm.evaluate(x[None])[0]
+            for j, q in enumerate(mm.outputs):
+                wc[q.name] = max(wc.get(q.name, -np.inf), float(y[j]))
+        rows = []
+        for p in self.printed:
+            if p["compare"] == "max_clearance":
+                vals = {"WC": units.from_base(cmax, p["unit"])}
+            else:
+                name = f"{self.kc}.{p['compare']}"
+                q = m.output(name)
+                y = units.convert(ctx.mc.column(name), q.shown_unit, p["unit"])
+                y = np.sort(y[np.isfinite(y)])
+                vals = {"WC": units.from_base(wc[name], p["unit"]), "MC mean": float(y.mean()),
+                        "MC P99.73": percentile_ci(y, 0.9973)[0], "MC max": float(y[-1])}
+            close = {k: v for k, v in vals.items() if abs(v - p["value"]) <= 0.01 * abs(p["value"])}
+            rows.append({"figure": p["figure"], "printed": p["value"], "unit": label(p["unit"]),
+                         **{f"rvtol {k}": v for k, v in vals.items()},
+                         "reproduced": ("yes (" + ", ".join(close) + ")") if close else "no", "why": p["why"]})
+        df = pd.DataFrame(rows)
+        sec = Section("stackup_shaft_hole", "Stack-up: doc 003 shaft–hole example — printed figures against rvtol")
+        sec.add_text(f"Fit {self.fit.name!r}: largest clearance over the size bands {cmax:.4g} mm, engagement "
+                     f"{self.fit.length:g} mm. WC = the model at that clearance with the shaft pushed to the wall "
+                     "(both ends one side, or opposite sides; the larger output). 'reproduced' = within 1 % of the "
+                     "printed value.")
+        sec.add_table(df, caption="Printed figures and what rvtol computes", float_format="{:.4g}")
+        sec.summary = {"max_clearance_mm": cmax, "figures": frame_records(df)}
+        return sec

@@ -1,0 +1,341 @@
+"""Worst case and RSS of the linearised chain, loop-method signs, beside the Monte Carlo.
+
+The chain's Jacobian ``J = ∂E_kc/∂x`` comes from
+:meth:`rvtol.stackup.model.StackupModel.jacobian` (small-displacement
+torsor adjoints, analytic).  For each output:
+
+* **signed component** (u, v, w, α, β, γ of a KC): first-order mean, RSS σ
+  and worst case by :func:`rvtol.sensitivity.linearisation.linear_prediction`;
+  the **loop-method sign** of each contributor is the sign of its
+  derivative — doc 003's positive accumulator (pushes the KC up, "opposes the
+  closed-loop direction"), negative accumulator (compensates) or
+  uncorrelated (zero);
+* **magnitude of a pair** (radial = √(u²+v²), tilt = √(α²+β²)): the norm is
+  not differentiable at zero, so the pair ``z = M·(x − x0)`` is linearised
+  instead.  Worst case: the largest norm over the box of tolerance bands,
+  exactly (the image of a box is a zonotope; its farthest point is a vertex,
+  found by sweeping the support direction).  RSS: ``z ~ N(M(μ−x0), M Σ Mᵀ)``;
+  its norm's 99.73 % quantile and mean by one-dimensional quadrature;
+* **weighted magnitude** (‖e‖, ‖ε‖): worst-case *bound* √Σ w_i WC_i² and
+  RSS root-mean-square √Σ w_i (m_i² + C_ii);
+* the assembly **margin** of a closing fit is not linearisable (a max of
+  norms): Monte Carlo only.
+
+Factor bands are :func:`rvtol.sensitivity.common.tolerance_limits`; the
+covariance uses the spec's normal-score correlation as Pearson correlation
+(exact for normal factors).  The clearance float enters through its
+derivative at the nominal (centred) position, where it acts like a square
+[-1, 1]² scaled by c/2 — the disc's circumscribed square — so linear worst
+cases of floats are conservative by up to √2 and the float's size terms
+(c × position) vanish; the Monte Carlo shows both.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy import optimize
+from scipy.special import ndtr
+
+from .. import units
+from ..errors import InputError
+from ..report.sections import Section, Table, Text, frame_records
+from ..sensitivity.common import tolerance_limits
+from ..sensitivity.linearisation import linear_prediction
+from ..stats import percentile_ci
+from ..units import label
+from .model import StackupModel
+
+COVERAGE = 0.9973  # one-sided coverage of magnitudes (as ±3σ)
+
+
+# --------------------------------------------------------------------------- geometry of the linear map
+def zonotope_max_norm(centre, generators) -> float:
+    """``max ‖c + Σ t_j g_j‖`` over ``t ∈ [-1, 1]^k`` for 2-D ``c`` and generators ``g[2, k]``.
+
+    The maximum of a convex function over a zonotope sits at a vertex; the
+    vertex in direction ``d`` is ``c + Σ sign(d·g_j) g_j`` and the sign
+    pattern changes only where ``d ⟂ g_j``, so one direction inside each arc
+    between those critical angles visits every vertex.
+    """
+    c = np.asarray(centre, float)
+    G = np.asarray(generators, float)
+    G = G[:, np.hypot(G[0], G[1]) > 0]
+    if G.shape[1] == 0:
+        return float(np.hypot(*c))
+    crit = np.mod(np.arctan2(G[1], G[0]) + np.pi / 2, np.pi)
+    crit = np.sort(np.concatenate([crit, crit + np.pi]))
+    mids = 0.5 * (crit + np.roll(crit, -1))
+    mids[-1] = 0.5 * (crit[-1] + crit[0] + 2 * np.pi)
+    D = np.stack([np.cos(mids), np.sin(mids)], axis=1)
+    V = c + np.sign(D @ G) @ G.T
+    return float(np.hypot(V[:, 0], V[:, 1]).max())
+
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(256)
+
+
+def _principal(mean, cov):
+    w, V = np.linalg.eigh(np.asarray(cov, float))
+    return V.T @ np.asarray(mean, float), np.sqrt(np.clip(w, 0.0, None))
+
+
+def norm_cdf_2d(r, mean, cov) -> np.ndarray:
+    """``P(‖z‖ ≤ r)`` for ``z ~ N(mean, cov)`` in 2-D, vectorised over ``r``.
+
+    In the principal axes, ``P = ∫ φ(x; m₁, s₁)·[Φ((h−m₂)/s₂) − Φ((−h−m₂)/s₂)] dx`` with
+    ``h = √(r² − x²)``; substituting ``x = r·sin θ`` makes the integrand smooth, and 256-point
+    Gauss–Legendre over the part of θ within ±9 s₁ of m₁ gives ~1e-12 accuracy.
+    """
+    r = np.atleast_1d(np.asarray(r, float))
+    m, s = _principal(mean, cov)
+    out = np.zeros_like(r)
+    pos = r > 0
+    if s[1] == 0:  # deterministic
+        out[pos] = (np.hypot(*m) <= r[pos]).astype(float)
+        return out
+    rr = r[pos][:, None]
+    if s[0] == 0:  # all spread on the major axis
+        h = np.sqrt(np.clip(rr[:, 0] ** 2 - m[0] ** 2, 0.0, None))
+        val = ndtr((h - m[1]) / s[1]) - ndtr((-h - m[1]) / s[1])
+        out[pos] = np.where(np.abs(m[0]) <= rr[:, 0], val, 0.0)
+        return out
+    lo = np.arcsin(np.clip((m[0] - 9 * s[0]) / rr, -1.0, 1.0))
+    hi = np.arcsin(np.clip((m[0] + 9 * s[0]) / rr, -1.0, 1.0))
+    th = 0.5 * (hi + lo) + 0.5 * (hi - lo) * _GL_X
+    x, h = rr * np.sin(th), rr * np.cos(th)
+    f = (np.exp(-0.5 * ((x - m[0]) / s[0]) ** 2) / (s[0] * np.sqrt(2 * np.pi))
+         * (ndtr((h - m[1]) / s[1]) - ndtr((-h - m[1]) / s[1])) * h)
+    out[pos] = 0.5 * (hi - lo)[:, 0] * (f @ _GL_W)
+    return out
+
+
+def _top(mean, cov) -> float:
+    return float(np.hypot(*np.asarray(mean, float)) + 12 * np.sqrt(max(np.trace(np.asarray(cov, float)), 0.0)))
+
+
+def norm_quantile_2d(p: float, mean, cov) -> float:
+    top = _top(mean, cov)
+    if top == 0:
+        return 0.0
+    return float(optimize.brentq(lambda r: norm_cdf_2d(r, mean, cov)[0] - p, 0.0, top, xtol=1e-14 * top,
+                                 rtol=1e-12))
+
+
+def norm_mean_2d(mean, cov) -> float:
+    """``E‖z‖ = ∫₀^∞ (1 − F(r)) dr`` (Gauss–Legendre on [0, |m| + 12σ])."""
+    top = _top(mean, cov)
+    if top == 0:
+        return 0.0
+    r = 0.5 * top * (1.0 + _GL_X)
+    return float(0.5 * top * ((1.0 - norm_cdf_2d(r, mean, cov)) @ _GL_W))
+
+
+# --------------------------------------------------------------------------- the linearisation
+@dataclass
+class Factors:
+    """Per-factor bands and moments in base units."""
+
+    x0: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    mu: np.ndarray
+    cov: np.ndarray
+
+    @classmethod
+    def of(cls, spec) -> "Factors":
+        lims = np.array([[units.to_base(v, f.unit) for v in tolerance_limits(f)] for f in spec.factors])
+        sd = spec.std_base()
+        corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
+        return cls(spec.nominal_base(), lims[:, 0], lims[:, 1], spec.mean_base(), corr * np.outer(sd, sd))
+
+    @property
+    def centre(self):
+        return 0.5 * (self.lo + self.hi)
+
+    @property
+    def half(self):
+        return 0.5 * (self.hi - self.lo)
+
+
+def loop_sign(g, rel: float = 1e-9) -> list[str]:
+    """Doc 003's loop method: '+' positive accumulator, '−' negative accumulator, '0' uncorrelated."""
+    g = np.asarray(g, float)
+    tol = rel * (np.abs(g).max() if g.size else 0.0)
+    return ["+" if v > tol else "−" if v < -tol else "0" for v in g]
+
+
+@dataclass
+class OutputLinearisation:
+    output: str
+    unit: str  # display
+    form: str
+    figures: dict  # name -> value (display units)
+    contributions: pd.DataFrame
+    notes: list[str] = field(default_factory=list)
+
+
+def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors) -> OutputLinearisation:
+    q = model.output(name)
+    form, kc, sel = model.linear_form(name)
+    disp = lambda v: float(q.to_display(v))  # noqa: E731
+    Jk = J[kc].copy()
+    Jk[np.abs(Jk) < 1e-12 * max(np.abs(Jk).max(), 1e-300)] = 0.0  # cos(π/2)-sized noise of the transport
+    if form == "dof":
+        g = Jk[sel]
+        pred = linear_prediction(spec, g, 0.0, fx.x0, name, q.shown_unit, q.unit)
+        wc = np.abs(g) * fx.half
+        fr = pd.DataFrame({"factor": spec.names, "derivative": pred.frame["S"], "unit": pred.frame["S_unit"],
+                           "sign": loop_sign(g),
+                           "accumulator": [{"+": "positive", "−": "negative", "0": "uncorrelated"}[s]
+                                           for s in loop_sign(g)],
+                           "worst-case share %": _pct(wc), "variance share %": pred.frame["variance_pct"]})
+        figs = {"WC low": pred.worst_low, "WC high": pred.worst_high, "RSS mean": pred.mean, "RSS σ": pred.std,
+                "RSS low": pred.mean - 3 * pred.std, "RSS high": pred.mean + 3 * pred.std}
+        return OutputLinearisation(name, q.shown_unit, form, figs, fr, list(pred.notes))
+    if form == "norm":
+        M = Jk[list(sel)]
+        centre = M @ (fx.centre - fx.x0)
+        wc = zonotope_max_norm(centre, M * fx.half)
+        m, C = M @ (fx.mu - fx.x0), M @ fx.cov @ M.T
+        share_var = np.einsum("ij,ij->j", M, M) * np.diag(fx.cov)
+        fr = pd.DataFrame({"factor": spec.names,
+                           "derivative": [_pair(M[:, j], q, f.unit) for j, f in enumerate(spec.factors)],
+                           "unit": [f"{label(q.shown_unit)}/{label(f.unit)}" for f in spec.factors],
+                           "sign": [f"({a}, {b})" for a, b in zip(loop_sign(M[0]), loop_sign(M[1]))],
+                           "accumulator": "magnitude: signs of the two components",
+                           "worst-case share %": _pct(np.hypot(M[0], M[1]) * fx.half),
+                           "variance share %": _pct(share_var)})
+        figs = {"WC high": disp(wc), "RSS mean": disp(norm_mean_2d(m, C)),
+                "RSS high": disp(norm_quantile_2d(COVERAGE, m, C))}
+        return OutputLinearisation(name, q.shown_unit, form, figs, fr)
+    if form == "weighted":
+        w = sel
+        lin = Jk @ (fx.centre - fx.x0)
+        wc_dof = np.abs(lin) + np.abs(Jk) @ fx.half
+        m, C = Jk @ (fx.mu - fx.x0), Jk @ fx.cov @ Jk.T
+        contrib = (w[:, None] * Jk**2).sum(axis=0) * np.diag(fx.cov)
+        fr = pd.DataFrame({"factor": spec.names, "derivative": np.nan, "unit": "", "sign": "",
+                           "accumulator": "weighted magnitude",
+                           "worst-case share %": _pct((np.sqrt(w)[:, None] * np.abs(Jk)).sum(0) * fx.half),
+                           "variance share %": _pct(contrib)})
+        figs = {"WC high": disp(np.sqrt(np.sum(w * wc_dof**2))),
+                "RSS high": disp(np.sqrt(np.sum(w * (m**2 + np.diag(C)))))}
+        return OutputLinearisation(name, q.shown_unit, form, figs, fr,
+                                   ["worst case is an upper bound √Σ w_i WC_i² (each DOF at its own worst)"])
+    return OutputLinearisation(name, q.shown_unit, form, {}, pd.DataFrame(),
+                               ["not linearisable (larger of two end-point norms): Monte Carlo only"])
+
+
+def _pct(v) -> np.ndarray:
+    v = np.asarray(v, float)
+    s = v.sum()
+    return 100.0 * v / s if s > 0 else np.zeros_like(v)
+
+
+def _pair(col, q, funit) -> str:
+    f = units.factor(funit) / units.factor(q.shown_unit) * units.factor(q.unit)
+    return f"({col[0] * f:.4g}, {col[1] * f:.4g})"
+
+
+def mc_figures(mc, name: str, form: str) -> dict:
+    y = mc.column(name)
+    y = np.sort(y[np.isfinite(y)])
+    if len(y) == 0:
+        return {}
+    out = {"MC mean": float(y.mean()), "MC σ": float(y.std(ddof=1)) if len(y) > 1 else float("nan")}
+    if form == "dof":
+        out["MC low"] = percentile_ci(y, 0.00135)[0]
+        out["MC high"] = percentile_ci(y, 0.99865)[0]
+    elif form == "weighted":
+        out["MC high"] = float(np.sqrt(np.mean(y**2)))
+    else:
+        out["MC high"] = percentile_ci(y, COVERAGE)[0]
+    out["MC min"], out["MC max"] = float(y[0]), float(y[-1])
+    return out
+
+
+BASIS = {  # what the WC / RSS / MC columns hold, per kind of output
+    "dof": "signed: WC = arithmetic worst case; RSS = mean ± 3σ; MC = P0.135 / P99.865",
+    "norm": "magnitude: WC high = max over the tolerance box; RSS high = P99.73 of the linearised pair's norm; "
+            "MC high = P99.73",
+    "weighted": "‖e‖/‖ε‖: WC high = upper bound; RSS high = rms; MC high = rms",
+    "none": "margin: Monte Carlo only (MC high = P99.73)",
+}
+
+
+# --------------------------------------------------------------------------- the study analysis
+class StackupLinear:
+    """``[[analysis]] kind = "stackup_linear"``: worst case, RSS and loop signs beside the Monte Carlo.
+
+    Keys: ``outputs`` (default all), ``top`` (contributors shown per output, 12),
+    ``figures`` (outputs that get a contribution chart, default the first 4).
+    """
+
+    def __init__(self, params, study):
+        model = study.model
+        if not isinstance(model, StackupModel):
+            raise params.error("kind", "stackup_linear needs a [model] of kind 'stackup'")
+        self.outputs = params.strs("outputs", list(model.output_names), min_length=1)
+        for o in self.outputs:
+            if o not in model.output_names:
+                raise params.error("outputs", f"unknown output name {o!r} (model has: {', '.join(model.output_names)})")
+        self.top = params.int("top", 12, min=1)
+        self.figures = params.strs("figures", self.outputs[:4])
+        for o in self.figures:
+            if o not in self.outputs:
+                raise params.error("figures", f"{o!r} is not among the analysed outputs")
+        worst = model.nonlinear_floats()
+        if worst:
+            raise params.error("kind", f"fit {worst[0]!r} floats in a worst-case mode, which is not differentiable "
+                                       "in its direction; linearise a model with uniform (or centred) floats")
+        try:
+            model.jacobian(study.spec.nominal_base())
+        except InputError as exc:
+            raise params.error("kind", exc.reason) from None
+
+    def run(self, ctx) -> Section:
+        from ..plotting.stackup import contribution_bars
+
+        model, spec = ctx.model, ctx.spec
+        fx = Factors.of(spec)
+        J = model.jacobian(fx.x0)
+        sec = Section("stackup_linear", "Stack-up: worst case and RSS of the linearised chain beside Monte Carlo")
+        sec.add_text(
+            "The chain is linearised analytically at the nominal point (small-displacement torsors carried through "
+            "the assembly program). Signed KC components get the first-order mean, RSS σ (±3σ) and the "
+            "arithmetic worst case; radial offsets and tilts (norms of a pair) get the exact worst case of the "
+            "linearised pair over the tolerance box and the 99.73 % quantile of its normal RSS distribution; "
+            "‖e‖/‖ε‖ get a worst-case bound and the RSS rms. Loop-method sign of a contributor: '+' positive "
+            "accumulator (raises the KC), '−' negative accumulator (compensates), '0' uncorrelated. Clearance floats "
+            "enter through their derivative at the centred position, i.e. as the disc's circumscribed square: "
+            "linear worst cases of floats are conservative by up to √2, and clearance × position terms are absent "
+            "from the linearisation (see the Monte Carlo).")
+        rows, summary = [], {}
+        for name in self.outputs:
+            lin = linearise_output(model, spec, name, J, fx)
+            mc = mc_figures(ctx.mc, name, lin.form)
+            row = {"output": name, "unit": label(lin.unit), "kind": lin.form, **lin.figures, **mc}
+            rows.append(row)
+            summary[name] = {"form": lin.form, "linear": lin.figures, "monte_carlo": mc, "notes": lin.notes}
+            if lin.contributions.empty:
+                continue
+            top = lin.contributions.sort_values("variance share %", ascending=False).head(self.top)
+            summary[name]["contributions"] = frame_records(lin.contributions)
+            sec.add_table(top, caption=f"{name}: largest contributors (derivative in {label(lin.unit)} per factor "
+                                       f"unit; worst-case and variance shares in %)", float_format="{:.4g}")
+            if name in self.figures:
+                sec.add_figure(contribution_bars(lin, top=self.top), caption=f"{name}: contributions")
+        cols = ["output", "unit", "kind", "WC low", "WC high", "RSS mean", "RSS σ", "RSS low", "RSS high",
+                "MC mean", "MC σ", "MC low", "MC high", "MC max"]
+        table = pd.DataFrame(rows).reindex(columns=cols)
+        sec.blocks.insert(1, _table_block(table))
+        sec.blocks.insert(2, Text("Columns by kind — " + "; ".join(f"{k}: {v}" for k, v in BASIS.items()) + "."))
+        sec.summary = {"outputs": summary}
+        return sec
+
+
+def _table_block(table: pd.DataFrame):
+    return Table(table, "Linearised worst case / RSS beside Monte Carlo (display units of each output; "
+                        "blank where a figure does not apply)", "{:.4g}")
