@@ -182,8 +182,10 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
 
     ``fc[c]``: signed force of a scalar contact, resultant of a bearing.
     ``kt[c]``: scalar contacts ``(k, 0, 0)``; bearings the 2×2 tangent ``(Kxx, Kxy, Kyy)``.
+    Returns the elastic energy ``Σ ∫ f`` (``F`` is its gradient; the Newton line search uses it).
     """
     F[:] = 0.0
+    energy = 0.0
     nc = kind.size
     for c in range(nc):
         kd = kind[c]
@@ -207,6 +209,7 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
                 kt[c, 2] = k0[c] if lin else 0.0
                 continue
             f = (k0[c] * s) ** pw[c]
+            energy += f * s / (pw[c] + 1.0)
             nx = dx / r
             ny = dy / r
             ktan = pw[c] * f / s
@@ -233,9 +236,11 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
             if kd == LINEAR:
                 f = k0[c] * d
                 kk = k0[c]
+                energy += 0.5 * f * d
             elif d > 0.0:
                 f = (k0[c] * d) ** pw[c]
                 kk = pw[c] * f / d
+                energy += f * d / (pw[c] + 1.0)
             else:
                 f = 0.0
                 kk = 0.0
@@ -248,6 +253,7 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
                     ix = idx[c, 0, m]
                     if ix >= 0:
                         F[ix] += coef[c, 0, m] * f
+    return energy
 
 
 @njit(**_JIT)
@@ -324,6 +330,37 @@ def cholesky_solve(A, b, x):
 
 # --------------------------------------------------------------------------- Newton
 @njit(**_JIT)
+def _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R):
+    """Total potential Π(q) and its gradient R = ∂Π/∂q (the residual).
+
+    Quasi-static: Π = Σ contact energies − Q·q.  Newmark step (c0 > 0): plus
+    ½ c0 Δᵀ M Δ + vpredᵀ C Δ + ½ c1 Δᵀ C Δ with Δ = q − qpred, whose gradient
+    is M a(q) + C v(q).  Π is convex (monotone contact laws, affine
+    kinematics), so Newton with a line search on Π converges from anywhere.
+    """
+    n = q.size
+    e = contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
+    for a in range(n):
+        R[a] = F[a] - Q[a]
+        e -= Q[a] * q[a]
+    if c0 != 0.0:
+        for a in range(n):
+            acc = 0.0
+            da = q[a] - qpred[a]
+            for b in range(n):
+                db = q[b] - qpred[b]
+                acc += M[a, b] * c0 * db + C[a, b] * (vpred[b] + c1 * db)
+                e += da * (0.5 * c0 * M[a, b] + 0.5 * c1 * C[a, b]) * db
+            R[a] += acc
+        for a in range(n):
+            s = 0.0
+            for b in range(n):
+                s += vpred[b] * C[b, a]
+            e += s * (q[a] - qpred[a])
+    return e
+
+
+@njit(**_JIT)
 def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit, maxstep,
            F, K, fc, kt, R, dq, qprev):
     """Solve ``F(q) + [M a(q) + C v(q)] − Q = 0`` for q in place; returns (status, iterations).
@@ -332,43 +369,25 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
     ``a(q) = c0 (q − qpred)`` and ``v(q) = vpred + c1 (q − qpred)``.  Residuals are
     scaled to forces (torques divided by the DOF's arc radius ``xs``), steps to
     arc lengths; convergence when the largest scaled residual is below
-    ``tol_f`` (N).  Backtracking halves a step that increases the residual norm;
-    a step is at most ``maxstep`` (mm) long.
+    ``tol_f`` (N).  Each Newton step (at most ``maxstep`` mm long) is halved
+    until the potential Π decreases enough (Armijo; see :func:`_merit`).
     """
     n = q.size
     dyn = c0 != 0.0
-    lam = 1.0
-    merit_prev = 1e300
-    have_prev = False
+    Rt = np.empty(n)
+    e = _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
     for it in range(maxit + 1):
-        contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
-        for a in range(n):
-            R[a] = F[a] - Q[a]
-        if dyn:
-            for a in range(n):
-                acc = 0.0
-                for b in range(n):
-                    dqb = q[b] - qpred[b]
-                    acc += M[a, b] * c0 * dqb + C[a, b] * (vpred[b] + c1 * dqb)
-                R[a] += acc
         rmax = 0.0
-        merit = 0.0
         for a in range(n):
-            r = R[a] / xs[a]
-            merit += r * r
-            if abs(r) > rmax:
-                rmax = abs(r)
-        if not math.isfinite(merit):
+            r = abs(R[a]) / xs[a]
+            if r > rmax:
+                rmax = r
+        if not (math.isfinite(rmax) and math.isfinite(e)):
             return ST_NONFINITE, it
         if rmax <= tol_f:
             return ST_OK, it
         if it == maxit:
             break
-        if have_prev and merit > merit_prev and lam > 1.0 / 64.0:
-            lam *= 0.5
-            for a in range(n):
-                q[a] = qprev[a] + lam * dq[a]
-            continue
         tangent_matrix(kind, idx, coef, kt, K)
         for a in range(n):
             K[a, a] += REG * 1e5 * xs[a] * xs[a]
@@ -376,8 +395,8 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
                 for b in range(n):
                     K[a, b] += c0 * M[a, b] + c1 * C[a, b]
         for a in range(n):
-            R[a] = -R[a]
-        if not cholesky_solve(K, R, dq):
+            Rt[a] = -R[a]
+        if not cholesky_solve(K, Rt, dq):
             return ST_SINGULAR, it
         smax = 0.0
         for a in range(n):
@@ -389,14 +408,22 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
         if smax > maxstep:
             for a in range(n):
                 dq[a] *= maxstep / smax
+        slope = 0.0
         for a in range(n):
             qprev[a] = q[a]
-            q[a] += dq[a]
+            slope += R[a] * dq[a]
+        lam = 1.0
+        for ls in range(40):
+            for a in range(n):
+                q[a] = qprev[a] + lam * dq[a]
+            et = _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
+            if et <= e + 1e-4 * lam * slope + 1e-12 * (abs(e) + 1.0) or not math.isfinite(et):
+                break
+            lam *= 0.5
+        e = et
+        for a in range(n):
             if abs(q[a]) * xs[a] > Q_MAX:
                 return ST_DIVERGED, it
-        merit_prev = merit
-        lam = 1.0
-        have_prev = True
     return ST_MAXITER, maxit
 
 
@@ -464,13 +491,14 @@ def record(kind, fc, prm, rec):
 
 # --------------------------------------------------------------------------- quasi-static sequence
 @njit(**_JIT)
-def qs_sequence(theta_c, dth_s, torque, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, xs, q_start,
-                cold, tol_f, maxit, maxstep, out_q, out_status, out_iter, out_rec):
+def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, xs,
+                q_start, cold, tol_f, maxit, maxstep, out_q, out_status, out_iter, out_rec):
     """A sequence of static equilibria, each warm-started from the previous ones.
 
     Position n has nominal carrier angle ``theta_c[n]``, input deviation
     ``dth_s[n]`` and external carrier torque ``torque[n]`` (N·mm about +z; a
-    load resisting forward rotation is negative).  A rotation sweep varies
+    load resisting forward rotation is negative), plus the constant generalised
+    forces ``load`` (e.g. the discs' centrifugal force).  A rotation sweep varies
     ``theta_c``; a locked-input torsion sweep keeps it and varies ``torque``.
     The first position starts from ``q_start`` (or cold); later ones from a
     linear extrapolation of the last two solutions, with a cold retry on
@@ -493,8 +521,8 @@ def qs_sequence(theta_c, dth_s, torque, prm, err, pin_err, disc_h, pin_cs, kind,
     q = q_start.copy()
     for p in range(n):
         update_table(theta_c[p], dth_s[p], prm, err, pin_err, disc_h, pin_cs, coef, off)
-        Q[:] = 0.0
-        Q[THCA] = torque[p]
+        Q[:] = load
+        Q[THCA] += torque[p]
         if p >= 2:
             for a in range(nd):
                 q[a] = 2.0 * out_q[p - 1, a] - out_q[p - 2, a]
@@ -552,6 +580,7 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
     qpred = np.zeros(nd)
     vpred = np.zeros(nd)
     Mw = M.copy()
+    rec = np.zeros(NREC)
     c0 = 1.0 / (beta * h * h)
     c1 = gamma / (beta * h)
     # initial acceleration from the equation of motion
@@ -582,10 +611,9 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
             a[i] = c0 * (q[i] - qpred[i])
             v[i] = vpred[i] + c1 * (q[i] - qpred[i])
         r = n - nskip
-        if st == ST_OK and rv and Q0[THCA] != 0.0:
-            fc_rec = np.zeros(NREC)
-            record(kind, fc, prm, fc_rec)
-            if fc_rec[R_NPIN0] + fc_rec[R_NPIN1] == 0:
+        if st == ST_OK and rv:
+            record(kind, fc, prm, rec)
+            if Q0[THCA] != 0.0 and rec[R_NPIN0] + rec[R_NPIN1] == 0:
                 st = ST_LOST_CONTACT
         if r >= 0:
             out_q[r, :] = q
@@ -593,7 +621,7 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
             out_iter[r] = it
             out_status[r] = st
             if rv and st == ST_OK:
-                record(kind, fc, prm, out_rec[r])
+                out_rec[r, :] = rec
         if st != ST_OK:
             if r < 0:
                 out_status[0] = st

@@ -102,11 +102,12 @@ class QuasiStaticSolver:
         self.xs = geometry.arc_radii()
 
     # -- the general entry point --------------------------------------------------------------
-    def sweep(self, theta_c, torque, dth_s=0.0, q_start=None) -> SweepResult:
+    def sweep(self, theta_c, torque, dth_s=0.0, q_start=None, load=None) -> SweepResult:
         """Equilibria at each ``theta_c[n]`` (rad) under carrier torque ``torque[n]`` (N·mm).
 
         ``dth_s``: deviation of the input angle from nominal (rad), scalar or per position.
         ``q_start``: warm start for the first position (else a cold start).
+        ``load``: further constant generalised forces (20 values, base units), e.g. centrifugal.
         """
         theta_c = np.ascontiguousarray(np.atleast_1d(np.asarray(theta_c, dtype=float)))
         n = theta_c.size
@@ -122,7 +123,8 @@ class QuasiStaticSolver:
         out_rec = np.zeros((n, K.NREC))
         e = self.errors
         t = self.table
-        failed = K.qs_sequence(theta_c, dth, torque, self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs,
+        load = np.zeros(L.NDOF) if load is None else np.ascontiguousarray(load, dtype=float).reshape(L.NDOF)
+        failed = K.qs_sequence(theta_c, dth, torque, load, self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs,
                                t.kind, t.idx, t.k0, t.pw, t.gap, self.xs, q0, cold, self.tol_f, self.maxit,
                                self.maxstep, out_q, out_status, out_iter, out_rec)
         return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))

@@ -1,0 +1,243 @@
+"""Study analyses of the transmission-error model (``[[analysis]] kind = ...``).
+
+``transmission_error_curve`` — one reducer in full: TE curve over one output
+revolution, its order spectrum, forces.  Keys: ``configuration`` =
+"nominal" (the spec's nominal values; default), "median" or "worst" (the
+Monte Carlo sample with the median / largest Δθ_er) or "values" (with
+``[analysis.values]`` = {factor = value in the factor's unit}, others
+nominal); ``newmark`` (true: also run the Newmark-β solver and overlay it);
+``title``, ``key``.
+
+``transmission_error_sensitivity`` — doc 000 §3–4: five-point sensitivities of
+Δθ_er to each error factor of Table 3 (one at a time, magnitude e, the others
+zero) across e, the ranking against the document's classes and the printed
+sensitivities.  Keys: ``factors`` (default: the Table 3 groups),
+``magnitudes`` (µm; default 0.5 … 15), ``percent`` (± range of the stencil,
+10), ``title``, ``key``.  It builds its own model over those factors (same
+reducer and solver options as the study's model), so it does not depend on
+the study's spec.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ... import units
+from ...distributions import Distribution
+from ...report.sections import Section, frame_records
+from ...spec import Factor, ToleranceSpec
+from .factors import TABLE3_GROUPS
+from .model import TransmissionErrorModel
+
+#: the document's classes (section 4)
+DOC_CLASS = {"R_pin": "high", "AP_pin": "high", "R_cyc": "high", "AP_cyc": "high", "E_c": "high",
+             "delta_b": "high", "E_h": "low", "E_ca": "low", "A_c": "low", "delta_ca": "low",
+             "E_s": "negligible", "E_p": "negligible"}
+#: sensitivities the document prints (arcsec/µm)
+PRINTED = {"E_c": (2.866, 2.868), "delta_b": (2.46, 2.49)}
+#: rvtol's class thresholds, relative to the largest mean |S| of the study
+HIGH_FRACTION, NEGLIGIBLE_FRACTION = 0.25, 0.01
+DEFAULT_MAGNITUDES = (0.5, 1.0, 2.0, 3.0, 5.0, 7.5, 10.0, 12.5, 15.0)
+
+
+def _te_model(study, params) -> TransmissionErrorModel:
+    if not isinstance(study.model, TransmissionErrorModel):
+        raise params.error("kind", "this analysis needs [model] kind = \"transmission_error\"")
+    return study.model
+
+
+class TECurve:
+    """One reducer over one output revolution (see module docstring)."""
+
+    kind = "transmission_error_curve"
+
+    def __init__(self, params, study):
+        self.model = _te_model(study, params)
+        self.key = params.str("key", self.kind)
+        self.title = params.str("title", "Transmission error over one output revolution")
+        self.configuration = params.str("configuration", "nominal", choices=("nominal", "median", "worst", "values"))
+        vals = params.sub("values", {})
+        self.values = {}
+        for name in list(vals.keys()):
+            if name not in study.spec.names:
+                raise vals.error(name, f"unknown factor name {name!r} (spec has: {', '.join(study.spec.names)})")
+            self.values[name] = float(units.to_base(vals.float(name), study.spec.factor(name).unit))
+        vals.finish()
+        if self.values and self.configuration != "values":
+            raise params.error("values", 'values are used only with configuration = "values"')
+        self.newmark = params.bool("newmark", False)
+        params.finish()
+
+    def _row(self, ctx) -> tuple[np.ndarray, str]:
+        x = ctx.spec.nominal_base()
+        if self.configuration == "values":
+            for n, v in self.values.items():
+                x[ctx.spec.index(n)] = v
+            return x, "factor values given in the study"
+        if self.configuration == "nominal":
+            return x, "every factor at its nominal value"
+        y = ctx.mc.column("te_pp")
+        ok = np.flatnonzero(ctx.mc.ok & np.isfinite(y))
+        if ok.size == 0:
+            return x, "no successful Monte Carlo sample: nominal values instead"
+        if self.configuration == "worst":
+            i = ok[np.argmax(y[ok])]
+        else:
+            i = ok[np.argsort(y[ok])[ok.size // 2]]
+        return ctx.mc.samples.values[i].copy(), f"Monte Carlo sample {i} ({self.configuration} Δθ_er)"
+
+    def run(self, ctx) -> Section:
+        from ...plotting import transmission as tp
+
+        x, how = self._row(ctx)
+        res = {self.model.mode: self.model.run(x)}
+        if self.newmark and self.model.mode != "newmark":
+            res["newmark"] = self.model.variant(mode="newmark").run(x)
+        sec = Section(self.key, self.title)
+        g = self.model.geometry
+        sec.add_text(f"Configuration: {how}. Load torque {self.model.load_torque / 1e3:.4g} N·m resisting "
+                     f"({100 * self.model.load_torque / g.rated_torque:.3g} % of rated), "
+                     f"{self.model.per_crank_rev} positions per crank revolution ({self.model.per_crank_rev * g.z_b} "
+                     "per output revolution) for the quasi-static sweep.")
+        spec = ctx.spec
+        sec.add_table(pd.DataFrame({
+            "factor": spec.names,
+            "value": [float(units.from_base(v, f.unit)) for v, f in zip(x, spec.factors)],
+            "unit": [units.label(f.unit) for f in spec.factors]}), caption="Factor values of this reducer")
+        rows = []
+        for mode, r in res.items():
+            if not r.ok:
+                sec.add_text(f"{mode}: the solver failed ({r.reason}).")
+                continue
+            rec = r.to_frame()
+            rows.append({"solver": mode, "Δθ_er [arcsec]": r.te_pp, "mean Δθ_ca [arcsec]": float(r.te.mean()),
+                         "max pin force [N]": rec["max pin force [N]"].max(),
+                         "max cycloid-crank bearing force [N]": rec["max cycloid-crank bearing force [N]"].max(),
+                         "max crank-carrier bearing force [N]": rec["max crank-carrier bearing force [N]"].max(),
+                         "loaded pins per disc (min-max)":
+                             f"{int(rec[['loaded pins disc 1', 'loaded pins disc 2']].min().min())}–"
+                             f"{int(rec[['loaded pins disc 1', 'loaded pins disc 2']].max().max())}"})
+        good = {m: r for m, r in res.items() if r.ok}
+        if not good:
+            return sec
+        sec.add_table(pd.DataFrame(rows), caption="Transmission error and peak forces over one output revolution")
+        sec.add_figure(tp.te_curves(good) if len(good) > 1 else tp.te_curve(next(iter(good.values()))),
+                       caption="Transmission error Δθ_ca = θ_ca − θ_c over one output revolution")
+        first = next(iter(good.values()))
+        sec.add_figure(tp.spectrum(first), caption=f"Order spectrum of the {first.mode} TE (orders per output "
+                                                   "revolution; 40 = crank rotation relative to the carrier, "
+                                                   "39 = absolute crank/eccentric rotation, 1560 = pin mesh)")
+        top = first.top_orders(8)
+        sec.add_table(top, caption="Largest orders of the TE spectrum")
+        sec.summary = {"configuration": how, "values": dict(zip(spec.names, map(float, x))),
+                       "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
+                       "top_orders": frame_records(top)}
+        return sec
+
+
+class TESensitivity:
+    """Doc 000 §3–4: five-point sensitivity of Δθ_er to the Table 3 factors across e."""
+
+    kind = "transmission_error_sensitivity"
+
+    def __init__(self, params, study):
+        base = _te_model(study, params)
+        self.key = params.str("key", self.kind)
+        self.title = params.str("title", "Sensitivity of the transmission error to the error factors (doc 000 §3–4)")
+        self.factors = params.strs("factors", list(TABLE3_GROUPS), min_length=1)
+        self.magnitudes = params.floats("magnitudes", list(DEFAULT_MAGNITUDES), min_length=1, positive=True)
+        self.percent = params.float("percent", 10.0, positive=True, max=50.0)
+        params.finish()
+        try:
+            self.model = base.variant(inputs=self.factors)
+        except Exception as exc:  # unknown factor names: say where
+            raise params.error("factors", getattr(exc, "reason", str(exc))) from None
+        for u in self.model.input_units:
+            if u != "mm":
+                raise params.error("factors", "only magnitude factors (lengths) have an S-versus-e curve")
+        dist = Distribution.make("uniform", lower=0.0, upper=max(self.magnitudes))
+        self.spec = ToleranceSpec("table3", tuple(Factor(n, "um", dist, nominal=0.0, group="Table 3")
+                                                  for n in self.factors))
+
+    def run(self, ctx) -> list[Section]:
+        from ...plotting import transmission as tp
+        from ...sensitivity import sensitivity_curve
+
+        res = sensitivity_curve(self.model, self.spec, self.factors, self.magnitudes, "um", ["te_pp"],
+                                self.percent, False, lambda X, d: ctx.evaluate(X, desc=d, model=self.model))
+        fr = res.frame
+        unit = fr["S_unit"].iloc[0]
+        sec = Section(self.key, self.title)
+        sec.add_text(
+            "As in the document: each factor of Table 3 in turn has magnitude e (with the Table 3 phase "
+            "angles and patterns), every other error is zero; the five points span ±"
+            f"{self.percent:g} % of e and S is the five-point central derivative of Δθ_er (peak-to-peak TE over "
+            "one output revolution, quasi-static, light load) — in arcsec per µm. The band around each curve "
+            "spans the one-sided five-point derivatives at the ends of the interval.")
+        table = fr.pivot_table(index="magnitude", columns="factor", values="S", sort=False)[self.factors]
+        table = table.reset_index().rename(columns={"magnitude": "e [µm]"})
+        table.columns = [table.columns[0]] + [f"S {c} [{units.label(unit)}]" for c in table.columns[1:]]
+        sec.add_table(table, caption="Five-point sensitivity S of Δθ_er against the magnitude e", float_format="{:.4g}")
+        sec.add_figure(res.plot("te_pp"), caption="Sensitivity of Δθ_er against e (Table 3 factors)")
+        sec.add_figure(tp.te_vs_magnitude(fr), caption="Δθ_er at the centre of each stencil against e")
+        rank = self.ranking(fr)
+        sec.add_table(rank, caption=f"Ranking by mean |S| over e; rvtol class: high ≥ {HIGH_FRACTION:g} × the "
+                                    f"largest, negligible < {NEGLIGIBLE_FRACTION:g} × the largest, low between",
+                      float_format="{:.4g}")
+        sec.add_figure(tp.ranking(rank), caption="Sensitivity ranking (log scale), coloured by the document's class")
+        comp = self.printed(fr)
+        if len(comp):
+            sec.add_table(comp, caption="Printed sensitivities (doc 000 §4) against rvtol's over the same e range "
+                                        "(reasons in studies/transmission_error.md)", float_format="{:.4g}")
+        lin = self.linearity(fr)
+        if len(lin):
+            sec.add_table(lin, caption="Linearity: Δθ_er(2e) / Δθ_er(e) (2 for a linear, 1-homogeneous factor)",
+                          float_format="{:.4g}")
+        for n in res.notes:
+            sec.add_text("Note: " + n)
+        sec.summary = {"percent": self.percent, "magnitudes_um": list(self.magnitudes),
+                       "curve": frame_records(fr), "ranking": frame_records(rank),
+                       "printed": frame_records(comp), "linearity": frame_records(lin)}
+        return [sec]
+
+    @staticmethod
+    def ranking(fr: pd.DataFrame) -> pd.DataFrame:
+        rows = []
+        for name, g in fr.groupby("factor", sort=False):
+            s = np.abs(g["S"].to_numpy())
+            rows.append({"factor": name, "mean |S|": np.nanmean(s), "min |S|": np.nanmin(s), "max |S|": np.nanmax(s),
+                         "unit": units.label(g["S_unit"].iloc[0]), "document class": DOC_CLASS.get(name, "—")})
+        d = pd.DataFrame(rows).sort_values("mean |S|", ascending=False).reset_index(drop=True)
+        top = d["mean |S|"].max()
+        d["rvtol class"] = np.where(d["mean |S|"] >= HIGH_FRACTION * top, "high",
+                                    np.where(d["mean |S|"] < NEGLIGIBLE_FRACTION * top, "negligible", "low"))
+        d["agrees"] = np.where(d["document class"] == "—", "—",
+                               np.where(d["document class"] == d["rvtol class"], "yes", "no"))
+        d.insert(0, "rank", np.arange(1, len(d) + 1))
+        return d
+
+    @staticmethod
+    def printed(fr: pd.DataFrame) -> pd.DataFrame:
+        rows = []
+        for name, (lo, hi) in PRINTED.items():
+            g = fr[fr["factor"] == name]
+            if g.empty:
+                continue
+            s = g["S"].to_numpy()
+            rows.append({"factor": name, "printed S [arcsec/µm]": f"{lo:g} – {hi:g}",
+                         "rvtol S min [arcsec/µm]": np.nanmin(s), "rvtol S max [arcsec/µm]": np.nanmax(s),
+                         "rvtol S at e = 1 µm": float(np.interp(1.0, g["magnitude"], s)),
+                         "rvtol / printed (mean)": np.nanmean(s) / (0.5 * (lo + hi)),
+                         "reproduced": "yes" if lo * 0.95 <= np.nanmean(s) <= hi * 1.05 else "no"})
+        return pd.DataFrame(rows)
+
+    @staticmethod
+    def linearity(fr: pd.DataFrame) -> pd.DataFrame:
+        rows = []
+        for name, g in fr.groupby("factor", sort=False):
+            y = dict(zip(g["magnitude"], g["y"]))
+            for e in sorted(y):
+                if 2 * e in y and y[e] > 0:
+                    rows.append({"factor": name, "e [µm]": e, "Δθ_er(e) [arcsec]": y[e],
+                                 "Δθ_er(2e) [arcsec]": y[2 * e], "ratio": y[2 * e] / y[e]})
+        return pd.DataFrame(rows)

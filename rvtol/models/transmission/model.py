@@ -1,0 +1,246 @@
+"""``TransmissionErrorModel``: the 20-DOF model as a :class:`rvtol.model.Model` over error factors.
+
+Inputs are error factors (names and Table 3 patterns in :mod:`.factors`);
+each row is one reducer, run over one full output revolution, either
+quasi-static (prescribed input angle + light load torque: the test-rig TE
+measurement; default) or Newmark-β at constant input speed (doc 000's method).
+Outputs:
+
+=====================  ========================================================  =======
+``te_pp``              Δθ_er: peak-to-peak of Δθ_ca = θ_ca − θ_c over the rev.   arcsec
+``te_mean``            mean Δθ_ca (elastic wind-up under the load torque)         arcsec
+``pin_force_max``      largest cycloid–pin force over the revolution             N
+``bearing_force_max``  largest cycloid–crank (needle) bearing force              N
+``loaded_pins_min``    fewest pins carrying load on one disc                     1
+``loaded_pins_mean``   mean number of loaded pins per disc                       1
+=====================  ========================================================  =======
+
+Δθ_er is max − min of Δθ_ca; the document writes max|Δθ_ca| − min|Δθ_ca|,
+which is the same while Δθ_ca keeps its sign (it does under load: the
+wind-up dominates).  Failed rows (no convergence, lost contact, negative
+clearance) get a status code with its reason, never numbers.
+
+:meth:`TransmissionErrorModel.run` gives one reducer in full: the TE curve,
+its order spectrum (orders per output revolution) and the forces per position.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ... import units
+from ...design import Design
+from ...errors import InputError
+from ...model import STATUS_NONFINITE, Model, Quantity
+from . import _kernels as K
+from . import layout as L
+from .factors import ErrorFactors, ErrorState
+from .geometry import RVGeometry, geometry_from_design
+from .newmark import NewmarkSolver
+from .quasistatic import QuasiStaticSolver, SweepResult
+
+MODES = ("quasistatic", "newmark")
+ST_BAD_CLEARANCE = 7
+
+OUTPUTS = (
+    Quantity("te_pp", "rad", "arcsec", "transmission error peak-to-peak Δθ_er over one output revolution"),
+    Quantity("te_mean", "rad", "arcsec", "mean transmission error (elastic wind-up under the load torque)"),
+    Quantity("pin_force_max", "N", "N", "largest cycloid–pin contact force"),
+    Quantity("bearing_force_max", "N", "N", "largest cycloid–crank bearing force"),
+    Quantity("loaded_pins_min", "1", "1", "fewest loaded pins on one disc"),
+    Quantity("loaded_pins_mean", "1", "1", "mean number of loaded pins per disc"),
+)
+
+
+def order_spectrum(te: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(orders, amplitude)`` of a signal sampled uniformly over one output revolution.
+
+    Amplitude of order k ≥ 1 is 2|X_k|/N (a sinusoid of amplitude A gives A);
+    order 0 is the mean.
+    """
+    n = te.size
+    X = np.fft.rfft(te)
+    amp = np.abs(X) / n
+    amp[1:] *= 2.0
+    if n % 2 == 0:
+        amp[-1] /= 2.0
+    return np.arange(amp.size), amp
+
+
+@dataclass
+class TEResult:
+    """One reducer over one output revolution (TE in arcsec)."""
+
+    mode: str
+    theta_c: np.ndarray       # nominal carrier angle (rad)
+    te: np.ndarray            # Δθ_ca (arcsec)
+    sweep: SweepResult
+    status: int
+    reason: str
+    factors: dict
+
+    @property
+    def ok(self) -> bool:
+        return self.status == 0
+
+    @property
+    def te_pp(self) -> float:
+        return float(self.te.max() - self.te.min())
+
+    def spectrum(self) -> pd.DataFrame:
+        k, a = order_spectrum(self.te)
+        return pd.DataFrame({"order [1/rev]": k, "amplitude [arcsec]": a})
+
+    def top_orders(self, n: int = 8) -> pd.DataFrame:
+        s = self.spectrum().iloc[1:]
+        return s.sort_values("amplitude [arcsec]", ascending=False).head(n).reset_index(drop=True)
+
+    def to_frame(self) -> pd.DataFrame:
+        return self.sweep.to_frame()
+
+    def plot(self, ax=None):
+        from ...plotting.transmission import te_curve
+
+        return te_curve(self, ax=ax)
+
+
+class TransmissionErrorModel(Model):
+    """Transmission error of one RV reducer per row of error factors (see module docstring).
+
+    ``load_torque`` (N·mm, resisting) defaults to ``load_fraction`` (3 %) of the
+    rated torque; ``per_crank_rev`` positions per crank revolution
+    (quasi-static); ``output_speed`` (rad/s), ``steps_per_crank_rev`` and
+    ``settle_periods`` for Newmark; ``harmonic`` of the Table 3 tooth patterns.
+    """
+
+    status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
+                      ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+
+    def __init__(self, design: Design | RVGeometry, inputs=(), mode: str = "quasistatic", *,
+                 load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int = 36,
+                 harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
+                 steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
+                 tol_f: float = 1e-6, maxit: int = 60):
+        if mode not in MODES:
+            raise InputError(f"unknown mode {mode!r} (expected one of: {', '.join(MODES)})", key="mode")
+        self.geometry = design if isinstance(design, RVGeometry) else geometry_from_design(design)
+        self.mode = mode
+        self.factors = ErrorFactors(list(inputs), self.geometry.z_b, harmonic)
+        self.inputs = self.factors.names
+        self.input_units = self.factors.units
+        self.outputs = OUTPUTS
+        if load_torque is None:
+            if not 0.0 < load_fraction <= 2.0:
+                raise InputError(f"load_fraction must lie in (0, 2], got {load_fraction}", key="load_fraction")
+            load_torque = load_fraction * self.geometry.rated_torque
+        if not load_torque > 0:
+            raise InputError(f"load torque must be > 0, got {load_torque}", key="load_torque")
+        if per_crank_rev < 8:
+            raise InputError(f"per_crank_rev must be >= 8 to resolve the pin mesh, got {per_crank_rev}",
+                             key="per_crank_rev")
+        self.load_torque = float(load_torque)
+        self.per_crank_rev = int(per_crank_rev)
+        self.solver_options = dict(tol_f=float(tol_f), maxit=int(maxit))
+        self.dynamic_options = dict(output_speed=float(output_speed), steps_per_crank_rev=steps_per_crank_rev,
+                                    settle_periods=float(settle_periods), centrifugal=bool(centrifugal))
+        if mode == "newmark":
+            self.geometry.mass_matrix()  # raises early if the design has no inertia data
+
+    def variant(self, inputs=None, mode: str | None = None) -> "TransmissionErrorModel":
+        """The same reducer and options with other inputs and/or another solver."""
+        return TransmissionErrorModel(self.geometry, self.inputs if inputs is None else inputs, mode or self.mode,
+                                      load_torque=self.load_torque, per_crank_rev=self.per_crank_rev,
+                                      harmonic=self.factors.harmonic, **self.dynamic_options, **self.solver_options)
+
+    # -- one reducer ------------------------------------------------------------------------
+    def state(self, x) -> ErrorState:
+        return self.factors.state(x)
+
+    def _sweep(self, st: ErrorState) -> SweepResult:
+        if self.mode == "quasistatic":
+            return QuasiStaticSolver(self.geometry, st, **self.solver_options).rotation(
+                self.load_torque, self.per_crank_rev)
+        return NewmarkSolver(self.geometry, st, load_torque=self.load_torque, **self.dynamic_options,
+                             **self.solver_options).run()
+
+    def _row(self, x) -> tuple[np.ndarray, int, SweepResult | None]:
+        y = np.full(len(self.outputs), np.nan)
+        if not np.all(np.isfinite(x)):
+            return y, STATUS_NONFINITE, None
+        st = self.state(x)
+        clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
+                                st.err[L.DELTA_CA:L.DELTA_CA + 1]])
+        if np.any(clear < 0):
+            return y, ST_BAD_CLEARANCE, None
+        r = self._sweep(st)
+        if not r.ok:
+            return y, r.failure, r
+        te = r.te
+        rec = r.rec
+        npins = rec[:, [K.R_NPIN0, K.R_NPIN1]]
+        y[:] = (te.max() - te.min(), te.mean(), rec[:, K.R_PIN_MAX].max(), rec[:, K.R_CAM_MAX].max(),
+                npins.min(), npins.mean())
+        return y, 0, r
+
+    def evaluate_with_status(self, X):
+        X = self.check_input(X)
+        Y = np.full((X.shape[0], len(self.outputs)), np.nan)
+        status = np.zeros(X.shape[0], np.int16)
+        for n, x in enumerate(X):
+            Y[n], status[n], _ = self._row(x)
+        return Y, status
+
+    def evaluate(self, X):
+        return self.evaluate_with_status(X)[0]
+
+    def run(self, values: dict | np.ndarray | None = None) -> TEResult:
+        """One reducer in full. ``values``: ``{factor: value in base units}`` (missing: 0) or a row."""
+        if values is None:
+            x = np.zeros(len(self.inputs))
+        elif isinstance(values, dict):
+            unknown = sorted(set(values) - set(self.inputs))
+            if unknown:
+                raise InputError(f"unknown factor name {unknown[0]!r} (model inputs: {', '.join(self.inputs)})")
+            x = np.array([float(values.get(n, 0.0)) for n in self.inputs])
+        else:
+            x = np.asarray(values, dtype=float).reshape(len(self.inputs))
+        y, status, r = self._row(x)
+        reason = self.status_reasons.get(status, "") if status else ""
+        if r is None:
+            return TEResult(self.mode, np.zeros(0), np.zeros(0), None, status, reason, dict(zip(self.inputs, x)))
+        te = units.from_base(r.te, "arcsec")
+        return TEResult(self.mode, r.theta_c, te, r, status, reason, dict(zip(self.inputs, x)))
+
+
+def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
+    """``[model] kind = "transmission_error"``; keys: ``mode`` ("quasistatic" | "newmark"),
+    ``load_torque`` (N·m or {value, unit}; default ``load_fraction`` × rated, 0.03),
+    ``per_crank_rev`` (36), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
+    ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
+    ``tol_force`` (N, 1e-6), ``max_iterations`` (60)."""
+    if design is None:
+        raise params.error("kind", "the transmission-error model needs [study] design = ...")
+    mode = params.str("mode", "quasistatic", choices=MODES)
+    load = params.quantity("load_torque", "N*m", None, positive=True)
+    frac = params.float("load_fraction", 0.03, positive=True, max=2.0)
+    per = params.int("per_crank_rev", 36, min=8)
+    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
+    speed = params.quantity("output_speed", "rpm", 15 * 2 * math.pi / 60, positive=True)
+    steps = params.int("steps_per_crank_rev", None, min=4)
+    settle = params.float("settle_periods", 50.0, nonnegative=True)
+    centrifugal = params.bool("centrifugal", True)
+    tol = params.float("tol_force", 1e-6, positive=True)
+    maxit = params.int("max_iterations", 60, min=2)
+    params.finish()
+    try:
+        return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
+                                      per_crank_rev=per, harmonic=harmonic, output_speed=speed,
+                                      steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
+                                      tol_f=tol, maxit=maxit)
+    except InputError as exc:
+        if exc.key == "factor":
+            raise exc.located(file=spec.file) from None
+        raise exc.located(file=params.file, key=params.key) from None

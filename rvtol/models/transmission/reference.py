@@ -1,0 +1,221 @@
+"""NumPy implementation of the 20-DOF model: the same equations as :mod:`._kernels`, written apart.
+
+Used by the tests (the numba kernels must agree with it to 1e-9 relative) and
+by the benchmark (speed ratio).  It computes each kind of contact from its own
+formula, vectorised over pins and bearings, builds the Jacobian ``G`` of each
+relative displacement explicitly and assembles ``F = Σ Gᵀ f`` and
+``K = Σ Gᵀ (∂f/∂d) G`` with ``einsum`` — no contact table.
+
+Relative displacements (doc 000 §1.3; counter-clockwise angles; Δ = deviation
+from the nominal motion; signs derived so that the nominal motion leaves every
+contact undeformed — where the printed formulas differ, see the notes):
+
+1. sun support ``d = (X_s − A_s cos γ_s, Y_s − A_s sin γ_s)``;
+2. sun–planet mesh along ``n_i = (cos A_i, sin A_i)``, ``A_i = θ_c + φ_i + π/2 − α'``:
+   ``δ = (u_s − u_pi)·n_i + R_bs Δθ_s + R_bp Δθ_pi + E_s cos(θ_s + β_s − A_i)
+   − E_pi cos(θ_p + β_pi − A_i)`` (the document writes −R_bp Δθ_pi and
+   cos(β_pi − θ_p − A_i): it counts the planet rotation clockwise);
+3. cycloid–crank bearing ``d = u_cam − u_hole``:
+   ``u_cam = (X_pi, Y_pi) + e Δθ_pi t_e + E_cji u(θ_e + β_cji)``,
+   ``u_hole = η_j u_e + e Δθ_doj t_e + R_dc Δθ_dj t_h + E_hji u(θ_c + φ_i + β_hji)``
+   with ``u_e = u(θ_p + ψ_j)``, ``t = ∂u/∂angle``, ``t_h = t(θ_c + φ_i)``; the
+   document's x component is exactly this; its y component has the opposite
+   sign on the four motion terms (inconsistent with its x component);
+4. cycloid–pin ``δ = η cos α + e Δθ_do sin α + R_d Δθ_d sin α − R_jk cos(α − φ)
+   − AP_jk sin(α − φ) + R_djk cos(α − φ_d) + AP_djk sin(α − φ_d) − δ_jk − δ_thjk``
+   (the document prints −R_d Δθ_d sin α: with that sign the nominal motion would
+   compress the pins, so the sign is taken from the kinematics);
+5. crank–carrier ``d = (X_pi, Y_pi) − (X_ca, Y_ca) − R_dc Δθ_ca t_h − E_cai u(θ_c + φ_i + β_cai)``
+   (as printed);
+6. carrier–housing ``d = (X_ca − A_c cos γ_c, Y_ca − A_c sin γ_c)``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import layout as L
+from .factors import ErrorState
+from .geometry import RVGeometry
+
+
+def _u(a):
+    return np.stack([np.cos(a), np.sin(a)], axis=-1)
+
+
+def _t(a):
+    return np.stack([-np.sin(a), np.cos(a)], axis=-1)
+
+
+class ReferenceModel:
+    """Forces, tangent stiffness and equilibria of one reducer, in plain NumPy."""
+
+    def __init__(self, g: RVGeometry, errors: ErrorState | None = None):
+        self.g = g
+        self.e = errors if errors is not None else ErrorState.zero(g.z_b)
+        self.p = g.force_exponent
+        self.theta_k = 2.0 * np.pi * np.arange(g.z_b) / g.z_b
+        self.phi = 2.0 * np.pi * np.arange(L.N_CRANK) / L.N_CRANK
+        self.psi = np.pi * np.arange(L.N_DISC)
+
+    # -- geometry at one position: Jacobians G and offsets h of every relative displacement ----
+    def linear_parts(self, theta_c: float, dth_s: float = 0.0) -> dict:
+        g, err = self.g, self.e.err
+        n = L.NDOF
+        th_s = g.ratio * theta_c
+        th_p = (1 - g.z_b) * theta_c
+        out = {}
+        # 1. sun support
+        G = np.zeros((2, n))
+        G[0, L.XS] = G[1, L.YS] = 1.0
+        out["sun"] = (G, -err[L.A_S] * _u(err[L.GAMMA_S]))
+        # 2. sun-planet meshes
+        A = theta_c + self.phi + np.pi / 2 - g.alpha_w
+        G = np.zeros((3, n))
+        for i in range(3):
+            b = L.planet(i)
+            G[i, [L.XS, L.YS]] = _u(A[i])
+            G[i, [b, b + 1]] = -_u(A[i])
+            G[i, b + 2] = g.r_bp
+        h = (g.r_bs * dth_s + err[L.E_S] * np.cos(th_s + err[L.BETA_S] - A)
+             - err[L.E_P:L.E_P + 3] * np.cos(th_p + err[L.BETA_P:L.BETA_P + 3] - A))
+        out["mesh"] = (G, h)
+        # 3. cycloid-crank bearings [j, i, xy]
+        hole = theta_c + self.phi
+        G = np.zeros((2, 3, 2, n))
+        h = np.zeros((2, 3, 2))
+        for j in range(2):
+            te = th_p + self.psi[j]
+            d = L.disc(j)
+            for i in range(3):
+                b = L.planet(i)
+                G[j, i, :, b:b + 2] = np.eye(2)
+                G[j, i, :, b + 2] = g.ecc * _t(te)
+                G[j, i, :, d] = -_u(te)
+                G[j, i, :, d + 1] = -g.ecc * _t(te)
+                G[j, i, :, d + 2] = -g.a_w * _t(hole[i])
+                h[j, i] = (err[L.E_C + 3 * j + i] * _u(te + err[L.BETA_C + 3 * j + i])
+                           - err[L.E_H + 3 * j + i] * _u(hole[i] + err[L.BETA_H + 3 * j + i]))
+        out["cam"] = (G, h)
+        # 5. crank-carrier bearings [i, xy]
+        G = np.zeros((3, 2, n))
+        for i in range(3):
+            b = L.planet(i)
+            G[i, :, b:b + 2] = np.eye(2)
+            G[i, :, L.XCA:L.YCA + 1] = -np.eye(2)
+            G[i, :, L.THCA] = -g.a_w * _t(hole[i])
+        h = -err[L.E_CA:L.E_CA + 3, None] * _u(hole + err[L.BETA_CA:L.BETA_CA + 3])
+        out["crank"] = (G, h)
+        # 6. carrier-housing
+        G = np.zeros((2, n))
+        G[0, L.XCA] = G[1, L.YCA] = 1.0
+        out["housing"] = (G, -err[L.A_C] * _u(err[L.GAMMA_C]))
+        # 4. pins [j, k]
+        G = np.zeros((2, g.z_b, n))
+        h = np.zeros((2, g.z_b))
+        K1 = g.K1
+        for j in range(2):
+            te = th_p + self.psi[j]
+            phi = self.theta_k - te
+            alpha = np.arctan2(np.sin(phi), np.cos(phi) - K1)
+            d = L.disc(j)
+            G[j, :, d] = np.cos(alpha)
+            G[j, :, d + 1] = g.ecc * np.sin(alpha)
+            G[j, :, d + 2] = g.r_disc_pitch * np.sin(alpha)
+            pe = self.e.pin_err
+            hj = (-pe[L.PIN_R, j] * np.cos(alpha - phi) - pe[L.PIN_AP, j] * np.sin(alpha - phi)
+                  - pe[L.PIN_GAP, j])
+            # contact point seen from the disc centre, and its disc-fixed angle
+            c = g.r_pin_circle * _u(phi) - g.r_pin * _u(alpha) - np.array([g.ecc, 0.0])
+            phi_d = np.arctan2(c[:, 1], c[:, 0])
+            theta_d = phi_d + te - theta_c
+            orders = np.arange(L.NH)[:, None]
+            dh = self.e.disc_h[j]
+            field = (dh[:, :, 0] @ np.cos(orders * theta_d) + dh[:, :, 1] @ np.sin(orders * theta_d))
+            hj += field[L.DISC_R] * np.cos(alpha - phi_d) + field[L.DISC_AP] * np.sin(alpha - phi_d)
+            h[j] = hj
+        out["pin"] = (G, h)
+        return out
+
+    # -- laws -----------------------------------------------------------------------------
+    def _power(self, k0, s):
+        """Hertz law f = (k0 s)^p and its derivative, zero for s <= 0."""
+        sp = np.maximum(s, 0.0)
+        f = (k0 * sp) ** self.p
+        df = np.where(s > 0, self.p * f / np.where(s > 0, s, 1.0), 0.0)
+        return f, df
+
+    def _radial(self, k0, d, gap):
+        """Bearing with a radial dead zone: force vectors [..., 2] and tangents [..., 2, 2]."""
+        r = np.linalg.norm(d, axis=-1)
+        s = r - gap
+        f, df = self._power(k0, s)
+        rr = np.where(r > 0, r, 1.0)
+        nv = d / rr[..., None]
+        nn = nv[..., :, None] * nv[..., None, :]
+        Kc = df[..., None, None] * nn + (f / rr)[..., None, None] * (np.eye(2) - nn)
+        Kc = np.where((s > 0)[..., None, None], Kc, 0.0)
+        return f[..., None] * nv, Kc, f
+
+    def forces(self, theta_c: float, q, dth_s: float = 0.0):
+        """``(F, K, parts)``: internal generalised forces, tangent stiffness, per-contact forces."""
+        g, err = self.g, self.e.err
+        q = np.asarray(q, dtype=float)
+        P = self.linear_parts(theta_c, dth_s)
+        F = np.zeros(L.NDOF)
+        K = np.zeros((L.NDOF, L.NDOF))
+        parts = {}
+        # linear: sun support, meshes
+        for name, k in (("sun", g.k_s), ("mesh", g.k_sp)):
+            G, h = P[name]
+            f = k * (G @ q + h)
+            F += G.T @ f
+            K += k * G.T @ G
+            parts[name] = f
+        # bearings
+        gaps = {"cam": err[L.DELTA_B:L.DELTA_B + 6].reshape(2, 3), "crank": err[L.DELTA_OC:L.DELTA_OC + 3],
+                "housing": err[L.DELTA_CA]}
+        for name, k0 in (("cam", g.k0_dc), ("crank", g.k0_oc), ("housing", g.k0_ca)):
+            G, h = P[name]
+            d = G @ q + h
+            fv, Kc, fmag = self._radial(k0, d, gaps[name])
+            G2 = G.reshape(-1, 2, L.NDOF)
+            F += np.einsum("cxn,cx->n", G2, fv.reshape(-1, 2))
+            K += np.einsum("cxa,cxy,cyb->ab", G2, Kc.reshape(-1, 2, 2), G2)
+            parts[name] = fmag
+        # pins
+        G, h = P["pin"]
+        f, df = self._power(g.k0_pin, G @ q + h)
+        F += np.einsum("jkn,jk->n", G, f)
+        K += np.einsum("jka,jk,jkb->ab", G, df, G)
+        parts["pin"] = f
+        return F, K, parts
+
+    # -- equilibria -------------------------------------------------------------------------
+    def _newton(self, theta_c, torque, q, xs, tol_f, maxit):
+        Q = np.zeros(L.NDOF)
+        Q[L.THCA] = torque
+        reg = 1e-9 * 1e5 * np.diag(xs * xs)
+        for it in range(maxit + 1):
+            F, K, parts = self.forces(theta_c, q)
+            R = F - Q
+            if np.max(np.abs(R / xs)) <= tol_f:
+                return q, parts, True, it
+            if it == maxit:
+                break
+            q = q + np.linalg.solve(K + reg, -R)
+        return q, parts, False, maxit
+
+    def rotation(self, theta_c, torque, q_start, tol_f: float = 1e-6, maxit: int = 60):
+        """Equilibria along ``theta_c`` from a converged ``q_start`` (warm-started Newton, linear
+        extrapolation of the last two solutions, as the numba sweep) — for the benchmark."""
+        xs = self.g.arc_radii()
+        out = np.zeros((len(theta_c), L.NDOF))
+        q = np.array(q_start, dtype=float)
+        for n, th in enumerate(theta_c):
+            if n >= 2:
+                q = 2 * out[n - 1] - out[n - 2]
+            q, _, ok, _ = self._newton(th, torque, q, xs, tol_f, maxit)
+            if not ok:
+                raise RuntimeError(f"reference Newton failed at position {n}")
+            out[n] = q
+        return out

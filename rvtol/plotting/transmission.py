@@ -1,0 +1,84 @@
+"""Plots of the transmission-error model: TE curve, order spectrum, sensitivity ranking, S-versus-e."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import COLORS, new_axes
+
+_PALETTE = ["#4C72B0", "#DD8452", "#55A868", "#C44E52", "#8172B3", "#937860", "#DA8BC3", "#8C8C8C",
+            "#CCB974", "#64B5CD", "#1B1B1B", "#A0522D"]
+
+
+def te_curve(result, ax=None, label: str | None = None, color: str | None = None):
+    """Δθ_ca (arcsec) against the output angle over one revolution."""
+    fig, ax = new_axes(ax)
+    ax.plot(np.degrees(result.theta_c), result.te, lw=0.9, color=color or COLORS["data"],
+            label=label or f"{result.mode}: Δθ_er = {result.te_pp:.3g} arcsec")
+    ax.set_xlabel("output angle θ_c [deg]")
+    ax.set_ylabel("transmission error Δθ_ca [arcsec]")
+    ax.set_xlim(0, 360)
+    ax.legend(loc="best")
+    return fig
+
+
+def te_curves(results: dict, ax=None):
+    """Several TE curves (``{label: TEResult}``) on one axis, each shifted to zero mean."""
+    fig, ax = new_axes(ax)
+    for n, (lab, r) in enumerate(results.items()):
+        ax.plot(np.degrees(r.theta_c), r.te - r.te.mean(), lw=0.9, color=_PALETTE[n % len(_PALETTE)],
+                label=f"{lab}: Δθ_er = {r.te_pp:.3g} arcsec")
+    ax.set_xlabel("output angle θ_c [deg]")
+    ax.set_ylabel("Δθ_ca − mean [arcsec]")
+    ax.set_xlim(0, 360)
+    ax.legend(loc="best", fontsize=7)
+    return fig
+
+
+def spectrum(result, ax=None, max_order: int | None = None, label: str | None = None):
+    """Order spectrum of the TE (amplitude per order, orders per output revolution)."""
+    fig, ax = new_axes(ax)
+    s = result.spectrum()
+    k = s["order [1/rev]"].to_numpy()[1:]
+    a = s["amplitude [arcsec]"].to_numpy()[1:]
+    if max_order is None:
+        big = np.flatnonzero(a > 1e-3 * max(a.max(), 1e-300))
+        max_order = int(min(k[-1], max(50, 1.1 * k[big[-1]]))) if big.size else int(k[-1])
+    m = k <= max_order
+    ax.vlines(k[m], 0, a[m], color=COLORS["data"], lw=1.2, label=label)
+    ax.set_xlabel("order [1/output revolution]")
+    ax.set_ylabel("TE amplitude [arcsec]")
+    ax.set_xlim(0, max_order)
+    ax.set_ylim(bottom=0)
+    if label:
+        ax.legend(loc="best")
+    return fig
+
+
+def ranking(frame, ax=None):
+    """Mean sensitivity |S| over e per factor (arcsec/µm), log scale, coloured by the document's class."""
+    d = frame.sort_values("mean |S|", ascending=True)
+    fig, ax = new_axes(ax, (6.4, max(2.4, 0.3 * len(d) + 1.0)))
+    cls_color = {"high": COLORS["limit"], "low": COLORS["data"], "negligible": COLORS["ci"]}
+    y = np.arange(len(d))
+    ax.barh(y, d["mean |S|"], color=[cls_color.get(c, COLORS["fit"]) for c in d["document class"]])
+    ax.errorbar(d["mean |S|"], y, xerr=[d["mean |S|"] - d["min |S|"], d["max |S|"] - d["mean |S|"]],
+                fmt="none", ecolor="black", lw=0.8, capsize=2)
+    ax.set_yticks(y, list(d["factor"]))
+    ax.set_xscale("log")
+    ax.set_xlabel(f"sensitivity of Δθ_er [{d['unit'].iloc[0]}] (mean over e; bars: min–max)")
+    for c, col in cls_color.items():
+        ax.barh([np.nan], [np.nan], color=col, label=f"document: {c}")
+    ax.legend(loc="lower right", fontsize=7)
+    return fig
+
+
+def te_vs_magnitude(frame, ax=None):
+    """Δθ_er against the magnitude e of each factor (at the centre of each five-point stencil)."""
+    fig, ax = new_axes(ax)
+    for n, (name, g) in enumerate(frame.groupby("factor", sort=False)):
+        ax.plot(g["magnitude"], g["y"], "o-", ms=3, lw=1, color=_PALETTE[n % len(_PALETTE)], label=name)
+    ax.set_xlabel(f"magnitude e [{frame['magnitude_unit'].iloc[0]}]")
+    ax.set_ylabel(f"Δθ_er [{frame['output_unit'].iloc[0]}]")
+    ax.set_yscale("symlog", linthresh=0.01)
+    ax.legend(fontsize=7, ncol=2)
+    return fig
