@@ -23,9 +23,12 @@ MODELS: dict[str, str] = {
     "adjusted_assembly": "rvtol.adjustment.model:from_study",
     "stackup": "rvtol.stackup.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
+    "transmission_error": "rvtol.models.transmission.model:from_study",
 }
 
 ANALYSES: dict[str, str] = {
+    "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
+    "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
     "stackup_linear": "rvtol.stackup.linearise:StackupLinear",
     "stackup_graph": "rvtol.stackup.analyses:StackupGraph",
     "stackup_sequences": "rvtol.stackup.analyses:StackupSequences",
