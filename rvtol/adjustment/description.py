@@ -362,7 +362,8 @@ def _matrix(t: Params, key: str, d: int) -> np.ndarray:
     rows = t.raw(key)
     if not isinstance(rows, list) or len(rows) != d:
         raise t.error(key, f"expected a {d}×{d} matrix (list of {d} rows)")
-    W = np.array([Params({"r": r}, file=t.file, key=t.path(key)).floats("r", length=d) for r in rows])
+    W = np.array([Params({f"{key}[{i}]": r}, file=t.file, key=t.key).floats(f"{key}[{i}]", length=d)
+                  for i, r in enumerate(rows)])
     if abs(np.linalg.det(W)) < 1e-9:
         raise t.error(key, "W is singular (a part's error must reach its KC)")
     return W

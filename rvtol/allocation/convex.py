@@ -42,8 +42,13 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
             a = a / constraint.budget[j]
             cons.append(a @ t <= 1.0)
     prob = cp.Problem(cp.Minimize(cost), cons)
+    solver = solver or "CLARABEL"
+    # the optimum is flat (the cost's gradient vanishes along the constraint): t is accurate to about the
+    # square root of the duality-gap tolerance, so the gap is closed to 1e-9 (t to a few 1e-5; tighter
+    # settings make Clarabel report "inaccurate")
+    opts = dict(tol_gap_abs=1e-9, tol_gap_rel=1e-9, tol_feas=1e-9) if solver == "CLARABEL" else {}
     try:
-        prob.solve(solver=solver or "CLARABEL")
+        prob.solve(solver=solver, **opts)
     except cp.SolverError as exc:
         return AllocationResult(method, problem, None, f"solver error: {exc}", False, constraint.describe())
     if prob.status not in ("optimal", "optimal_inaccurate") or t.value is None:
