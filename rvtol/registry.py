@@ -24,6 +24,7 @@ MODELS: dict[str, str] = {
     "stackup": "rvtol.stackup.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
     "transmission_error": "rvtol.models.transmission.model:from_study",
+    "torsion_curve": "rvtol.models.torsion_curve:from_study",
 }
 
 ANALYSES: dict[str, str] = {
@@ -44,6 +45,7 @@ ANALYSES: dict[str, str] = {
     "delta": "rvtol.sensitivity.analyses:Delta",
     "adjustment": "rvtol.adjustment.analysis:AdjustmentAnalysis",
     "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
+    "torsion_curve": "rvtol.models.torsion_curve_analysis:TorsionCurveAnalysis",
 }
 
 

@@ -196,48 +196,74 @@ class ReducerStiffness:
         # θ2: cycloid–pin stage
         th2 = self.i_b * cs.beta
 
-        # turning-arm bearing forces on the cycloids, frame (e_r, e_t) of disc 1
-        gam = crank_angle + 2.0 * np.pi * np.arange(self.cranks) / self.cranks
-        rhat = np.stack([np.cos(gam), np.sin(gam)], axis=1)          # (3, 2) crank directions
-        that = np.stack([-np.sin(gam), np.cos(gam)], axis=1)         # (3, 2) tangential
-        FR = cs.resultant()                                          # (n, 2) pins on disc 1
-        c = Tc / (self.cranks * self.crank_radius)                   # (n,)
-        f1 = -FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # (n, 3, 2)
-        f2 = +FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # disc 2 (180°): F_R reversed
-        fmag = np.sqrt(np.concatenate([(f1 ** 2).sum(-1), (f2 ** 2).sum(-1)], axis=1))   # (n, 6)
-        delta = bearings.radial_deflection(fmag, self.bearing_rollers, self.bearing_length)
+        ld = self.crank_loads(cs, crank_angle)
+        delta = bearings.radial_deflection(ld.bearing_force, self.bearing_rollers, self.bearing_length)
         if self.bearing_kinematics == "tangential":
-            th3 = (c[:, None] * delta).sum(axis=1) / Tsafe
+            th3 = (ld.tangential[:, None] * delta).sum(axis=1) / Tsafe
         else:
-            th3 = (fmag * delta).sum(axis=1) / Tsafe
+            th3 = (ld.bearing_force * delta).sum(axis=1) / Tsafe
 
-        # θ4: crankshafts — loads on crank i: gear (z=-c), disc 1 (z1), disc 2 (z2)
-        L = self.support_span
-        z1, z2 = (L - self.disc_pitch) / 2.0, (L + self.disc_pitch) / 2.0
-        zs = np.array([-self.gear_overhang, z1, z2])
-        P1, P2 = -f1, -f2                                            # bearing forces on the crank
-        tau1 = p.a * P1[..., 1]                                      # e_1 = +e_r:  e × P = P_t
-        tau2 = -p.a * P2[..., 1]                                     # e_2 = -e_r
-        r2 = self.module * self.z2 / 2.0
-        Fg_t = (tau1 + tau2) / r2                                    # planet gear tangential force
-        Fg = (Fg_t[..., None] * that[None] + np.abs(Fg_t)[..., None] * np.tan(self.pressure_angle) * rhat[None])
-        loads = np.stack([Fg, P1, P2], axis=2)                       # (n, 3 cranks, 3 points, 2)
-        A = crankshaft.influence_matrix(zs, L, self.crank_diameter, p.E, p.nu)
-        defl = np.einsum("jk,nikd->nijd", A, loads)
-        bend = (loads * defl).sum(axis=(1, 2, 3))
+        # θ4: crankshafts, bending + shear of the beam, torsion of its two segments
+        A = crankshaft.influence_matrix(ld.z, self.support_span, self.crank_diameter, p.E, p.nu)
+        defl = np.einsum("jk,nikd->nijd", A, ld.loads)
+        bend = (ld.loads * defl).sum(axis=(1, 2, 3))
         cJ = crankshaft.torsional_compliance(self.crank_diameter, p.E, p.nu)
-        twist = (((tau1 + tau2) ** 2 * (z1 + self.gear_overhang) + tau2 ** 2 * (z2 - z1)) * cJ).sum(axis=1)
+        t1, t2 = ld.torque
+        twist = (((t1 + t2) ** 2 * (ld.z[1] - ld.z[0]) + t2 ** 2 * (ld.z[2] - ld.z[1])) * cJ).sum(axis=1)
         th4 = (bend + twist) / Tsafe
 
-        # θ5: carrier — torque delivered by the cranks to the input-side end plate (support at z = 0)
-        RB = np.einsum("k,nikd->nid", crankshaft.support_reactions(zs, L)[0], loads)   # (n, 3, 2)
-        TB = self.crank_radius * (rhat[None, :, 0] * RB[..., 1] - rhat[None, :, 1] * RB[..., 0]).sum(axis=1)
+        # θ5: carrier, torque the cranks deliver to the input-side end plate (support at z = 0)
+        TB = ld.support_torque(self.crank_radius, self.support_span)[0]
         th5 = TB ** 2 / self.K_carrier / Tsafe
 
         theta = np.stack([th1, th2, th3, th4, th5], axis=1) * (T > 0)[:, None]
         extra = dict(max_pin_force=cs.max_force, contact_pairs=cs.contacts.astype(float), K_B=cs.K_B,
                      beta=cs.beta, F_ref=cs.F_ref, beta_rigid=cs.beta_rigid, interference=cs.interference.astype(float))
         return theta, extra, cs
+
+
+    def crank_loads(self, cs: ContactSolution, crank_angle: float = 0.0) -> "CrankLoads":
+        """Turning-arm bearing and crank loads for a solved contact (frame ``e_r, e_t`` of disc 1).
+
+        Disc 2 is disc 1 turned by 180°: the pins' net force reverses, the
+        moment (and so the tangential bearing forces) does not.
+        """
+        p = self.pins
+        gam = crank_angle + 2.0 * np.pi * np.arange(self.cranks) / self.cranks
+        rhat = np.stack([np.cos(gam), np.sin(gam)], axis=1)          # (3, 2) crank directions from the axis
+        that = np.stack([-np.sin(gam), np.cos(gam)], axis=1)         # (3, 2) tangential
+        FR = cs.resultant()                                          # (n, 2) pins on disc 1
+        c = cs.torque / (self.cranks * self.crank_radius)           # (n,) tangential share for the moment
+        f1 = -FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # (n, 3, 2) on disc 1
+        f2 = +FR[:, None, :] / self.cranks + c[:, None, None] * that[None]   # on disc 2
+        P1, P2 = -f1, -f2                                            # the same forces on the cranks
+        tau1 = p.a * P1[..., 1]                                      # torque of P1 on the crank (e_1 = +e_r)
+        tau2 = -p.a * P2[..., 1]                                     # (e_2 = -e_r)
+        Fg_t = (tau1 + tau2) / (self.module * self.z2 / 2.0)         # planet gear tangential force
+        Fg = Fg_t[..., None] * that[None] + (np.abs(Fg_t) * np.tan(self.pressure_angle))[..., None] * rhat[None]
+        L = self.support_span
+        z = np.array([-self.gear_overhang, (L - self.disc_pitch) / 2.0, (L + self.disc_pitch) / 2.0])
+        return CrankLoads(np.stack([Fg, P1, P2], axis=2), z, rhat,
+                          np.sqrt(np.concatenate([(f1 ** 2).sum(-1), (f2 ** 2).sum(-1)], axis=1)), c,
+                          (tau1, tau2))
+
+
+@dataclass
+class CrankLoads:
+    """Loads on the three cranks (N, N·mm), frame of disc 1."""
+
+    loads: np.ndarray          # (n, 3 cranks, 3 points [gear, disc 1, disc 2], 2)
+    z: np.ndarray              # (3,) axial positions of the points, supports at 0 and L
+    rhat: np.ndarray           # (3, 2) crank directions from the axis
+    bearing_force: np.ndarray  # (n, 6) turning-arm bearing force magnitudes (disc 1 cranks, disc 2 cranks)
+    tangential: np.ndarray     # (n,) tangential bearing force T_c / (3 a_0)
+    torque: tuple              # crank torques from disc 1 and disc 2, each (n, 3)
+
+    def support_torque(self, crank_radius: float, span: float) -> np.ndarray:
+        """Torque about the axis (N·mm) the cranks put on the carrier at each support, ``(2, n)``."""
+        R = np.einsum("sk,nikd->snid", crankshaft.support_reactions(self.z, span), self.loads)
+        return crank_radius * (self.rhat[None, None, :, 0] * R[..., 1]
+                               - self.rhat[None, None, :, 1] * R[..., 0]).sum(axis=2)
 
 
 @dataclass
