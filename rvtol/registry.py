@@ -20,6 +20,7 @@ from .errors import SpecError
 
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear:from_study",
+    "lost_motion": "rvtol.models.lost_motion:from_study",
     "adjusted_assembly": "rvtol.adjustment.model:from_study",
     "stackup": "rvtol.stackup.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
@@ -43,6 +44,8 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
+    "lost_motion_breakdown": "rvtol.models.lost_motion_analyses:LostMotionBreakdown",
+    "lost_motion_reproduction": "rvtol.models.lost_motion_analyses:LostMotionReproduction",
     "adjustment": "rvtol.adjustment.analysis:AdjustmentAnalysis",
     "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
     "torsion_curve": "rvtol.models.torsion_curve_analysis:TorsionCurveAnalysis",

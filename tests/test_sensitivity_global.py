@@ -229,3 +229,15 @@ def test_failed_and_constant_outputs_are_reported_not_hidden():
     const = FunctionModel(lambda X: np.zeros((len(X), 1)), spec.names, ["z"], input_units=["mm", "mm"])
     res2 = morris(const, spec, trajectories=4, seed=1)
     assert (res2.frame["mu_star"] == 0).all() and any("does not vary" in n for n in res2.notes)
+
+
+def test_delta_is_the_same_on_any_executor():
+    from rvtol.executors import make_executor
+
+    model, spec, _ = _linear_case()
+    s = sample(spec, 1200, "random", 2)
+    Y = model.outputs[0].to_display(model.evaluate(s.values))
+    serial = delta(model, spec, samples=s, Y=Y, seed=9, num_resamples=10).frame
+    with make_executor("process", 2) as ex:
+        parallel = delta(model, spec, samples=s, Y=Y, seed=9, num_resamples=10, executor=ex).frame
+    assert serial.equals(parallel)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import label
 from . import COLORS, new_axes
 
 _PALETTE = ["#4C72B0", "#DD8452", "#55A868", "#8172B3", "#937860", "#DA8BC3", "#8C8C8C", "#CCB974"]
@@ -30,7 +31,7 @@ def tornado(local, output: str, ax=None):
     fig, ax = new_axes(ax, _tall(len(d)))
     unit = d["output_unit"].iloc[0]
     _tornado(ax, list(d["factor"]), d["dy_low"].to_numpy(), d["dy_high"].to_numpy(),
-             f"change of {output} [{unit}] (five-point S × tolerance half-band)",
+             f"change of {output} [{label(unit)}] (five-point S × tolerance half-band)",
              f"Local sensitivity of {output} (±{local.percent:g} % five-point)")
     return fig
 
@@ -42,7 +43,7 @@ def swing_tornado(highlow, output: str, ax=None):
     unit = d["output_unit"].iloc[0]
     y0 = d["y_nominal"].to_numpy()
     _tornado(ax, list(d["factor"]), d["y_low"].to_numpy() - y0, d["y_high"].to_numpy() - y0,
-             f"change of {output} from nominal [{unit}]", f"High/low swing of {output} (model evaluated)")
+             f"change of {output} from nominal [{label(unit)}]", f"High/low swing of {output} (model evaluated)")
     return fig
 
 
@@ -55,7 +56,7 @@ def contribution_bars(pred, ax=None):
     for y, v in enumerate(d["variance_pct"]):
         ax.text(v, y, f" {v:.1f} %", va="center", fontsize=7)
     ax.set_xlabel("contribution to variance [%]")
-    ax.set_title(f"{pred.output}: RSS σ = {pred.std:.3g} {pred.unit} (linearised)")
+    ax.set_title(f"{pred.output}: RSS σ = {pred.std:.3g} {label(pred.unit)} (linearised)")
     ax.set_xlim(0, max(100.0, float(d["variance_pct"].max()) * 1.15))
     return fig
 
@@ -84,10 +85,11 @@ def morris_scatter(result, output: str, ax=None):
     """Morris μ* against σ, with μ* confidence whiskers; labels name the factors."""
     d = result.for_output(output)
     fig, ax = new_axes(ax)
-    unit = d["unit"].iloc[0]
+    unit = label(d["unit"].iloc[0])
     ax.errorbar(d["mu_star"], d["sigma"], xerr=d["mu_star_conf"], fmt="o", color=COLORS["data"], capsize=3)
-    for _, r in d.iterrows():
-        ax.annotate(r["factor"], (r["mu_star"], r["sigma"]), textcoords="offset points", xytext=(4, 3), fontsize=7)
+    for k, (_, r) in enumerate(d.sort_values("mu_star").iterrows()):  # staggered labels: linear models sit on σ = 0
+        ax.annotate(r["factor"], (r["mu_star"], r["sigma"]), textcoords="offset points", xytext=(3, 4 + 9 * (k % 3)),
+                    fontsize=7)
     hi = float(np.nanmax(np.r_[d["mu_star"] + d["mu_star_conf"], d["sigma"], 0.0])) * 1.1 or 1.0
     ax.plot([0, hi], [0, hi], color=COLORS["ci"], ls=":", lw=0.8, label="σ = μ*")
     ax.set_xlim(0, hi)
@@ -109,7 +111,7 @@ def curves(curve, output: str, ax=None):
         lo = np.minimum(g["S_low_end"], g["S_high_end"])
         hi = np.maximum(g["S_low_end"], g["S_high_end"])
         ax.fill_between(g["magnitude"], lo, hi, color=c, alpha=0.15, lw=0)
-    ax.set_xlabel(f"magnitude e [{d['magnitude_unit'].iloc[0]}]")
+    ax.set_xlabel(f"magnitude e [{label(d['magnitude_unit'].iloc[0])}]")
     ax.set_ylabel(f"sensitivity S of {output}")
     ax.set_title(f"Five-point sensitivity of {output} against e (±{curve.percent:g} %; band: end stencils)")
     ax.legend(fontsize=7)

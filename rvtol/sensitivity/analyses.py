@@ -344,4 +344,5 @@ class Delta(_GlobalAnalysis):
         given = self.samples == "monte_carlo"
         return self.report(gs.delta(ctx.model, ctx.spec, self.n, self.factors, self.outputs, self.seed_of(ctx),
                                     ctx.mc.samples if given else None, ctx.mc.Y if given else None,
-                                    self.num_resamples, self.confidence_of(ctx), self.evaluator(ctx)))
+                                    self.num_resamples, self.confidence_of(ctx), self.evaluator(ctx),
+                                    ctx.executor))

@@ -39,6 +39,7 @@ import pandas as pd
 
 from ..distributions import coverage
 from ..errors import InputError
+from ..executors import Executor, SerialExecutor
 from ..model import Model
 from ..report.sections import frame_records
 from ..sampling import SampleSet, sample
@@ -348,34 +349,47 @@ def rbd_fast(model: Model, spec: ToleranceSpec, n: int = 2048, M: int = 10, fact
                                    None, n_failed, notes)
 
 
+def _delta_one(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
+               seed: int) -> dict:
+    """SALib delta (and S1) for one factor column; module level so an executor can run it."""
+    from SALib.analyze import delta as delta_analyze
+
+    fmt = warnings.formatwarning  # SALib's delta replaces the global warning formatter
+    try:
+        with warnings.catch_warnings(record=True):  # record: SALib resets the filters inside
+            si = delta_analyze.analyze({"num_vars": 1, "names": [name], "bounds": [[0.0, 1.0]]}, x[:, None], y,
+                                       num_resamples=num_resamples, conf_level=confidence, seed=seed)
+    finally:
+        warnings.formatwarning = fmt
+    # 'raw' is Plischke's bias-reduced estimator on the data as given (correlations kept)
+    return {"delta": si["delta_raw"][0], "delta_conf": si["delta_raw_conf"][0], "S1": si["S1"][0],
+            "S1_conf": si["S1_conf"][0]}
+
+
 def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[str] | None = None,
           outputs: Sequence[str] | None = None, seed: int | None = None, samples: SampleSet | None = None,
           Y: np.ndarray | None = None, num_resamples: int = 100, confidence: float = 0.95,
-          evaluate: Evaluator | None = None) -> GlobalSensitivityResult:
+          evaluate: Evaluator | None = None, executor: Executor | None = None) -> GlobalSensitivityResult:
     """Borgonovo's delta (moment-independent) and S1, valid with correlated inputs.
 
     On given ``samples`` + ``Y`` (display units; e.g. the study's Monte Carlo
     sample, correlation included) or on n fresh random samples of the spec.
+    The per-factor analyses (kernel density estimates: the costly part) run
+    on ``executor`` (serial by default), each with its own seed, so the
+    result does not depend on where they ran.
     """
-    from SALib.analyze import delta as delta_analyze
-
     idx, oidx, evaluate = _prepare(model, spec, factors, outputs, evaluate)
     X, Yd, n_eval, notes, n_failed = _given_or_fresh(model, spec, idx, oidx, evaluate, samples, Y, n, "random",
                                                      seed, "delta", "delta indices")
     problem = _problem(spec, idx)
-    aseed = int_seed(seed, "delta")
+    seeds = generator(seed, "delta").integers(1, 2**31 - 1, size=len(idx))
+    executor = executor or SerialExecutor()
 
     def analyse(y):
-        fmt = warnings.formatwarning  # SALib's delta replaces the global warning formatter
-        try:
-            with warnings.catch_warnings(record=True):  # record: SALib resets the filters inside
-                si = delta_analyze.analyze(problem, X, y, num_resamples=num_resamples, conf_level=confidence,
-                                           seed=aseed)
-        finally:
-            warnings.formatwarning = fmt
-        # 'raw' is Plischke's bias-reduced estimator on the data as given (correlations kept)
-        return {"delta": si["delta_raw"], "delta_conf": si["delta_raw_conf"], "S1": si["S1"],
-                "S1_conf": si["S1_conf"]}
+        tasks = [(name, X[:, c], y, num_resamples, confidence, int(seeds[c]))
+                 for c, name in enumerate(problem["names"])]
+        res = dict(executor.imap(_delta_one, tasks))
+        return {col: np.array([res[c][col] for c in range(len(tasks))]) for col in res[0]}
 
     frame = _analyse_each("delta", model, oidx, problem["names"], Yd, analyse, notes)
     return GlobalSensitivityResult("delta", frame, n_eval, confidence,

@@ -141,14 +141,14 @@ class LocalSensitivityResult(FrameResult):
         out_u = d["output_unit"].iloc[0]
         return pd.DataFrame({
             "factor": d["factor"],
-            "nominal": [f"{v:.4g} {u}" for v, u in zip(d["nominal"], d["factor_unit"])],
-            "± range": [f"{v:.3g} {u}" for v, u in zip(d["half_range"], d["factor_unit"])],
+            "nominal": [f"{v:.4g} {units.label(u)}" for v, u in zip(d["nominal"], d["factor_unit"])],
+            "± range": [f"{v:.3g} {units.label(u)}" for v, u in zip(d["half_range"], d["factor_unit"])],
             "S (centre)": d["S"],
             "S (low end)": d["S_low_end"],
             "S (high end)": d["S_high_end"],
             "unit of S": d["S_unit"],
             "sign": d["sign"],
-            f"S·σ [{out_u}]": d["S_sigma"],
+            f"S·σ [{units.label(out_u)}]": d["S_sigma"],
         })
 
     def plot(self, output: str | None = None, ax=None):
