@@ -150,3 +150,22 @@ class NewmarkSolver:
     def _failed(self, eq: SweepResult) -> DynamicResult:
         return DynamicResult(eq.theta_c, eq.torque, eq.q, eq.status, eq.iterations, eq.rec, 0,
                              t=np.zeros(1), v=np.zeros((1, L.NDOF)), frequencies=np.zeros(0), time_step=0.0)
+
+
+def integrate_small_system(M, C, kind, idx, coef, off, k0, pw, gap, Q0, Q1, omega_f, q0, v0, h, nsteps,
+                           tol_f: float = 1e-8, maxit: int = 60, maxstep: float = 1e300):
+    """The same Newmark-β loop on a small system given directly as a contact table (no reducer
+    geometry): ``M q̈ + C q̇ + Σ Gᵀ f(G q + off) = Q0 + Q1 sin(omega_f t)``.  For the tests (1-DOF
+    oscillators against closed forms and SciPy).  Returns ``(t, q, v, status)`` for steps 1..nsteps."""
+    nd = len(q0)
+    f = lambda a, dt=float: np.ascontiguousarray(a, dtype=dt)  # noqa: E731
+    out_q, out_v = np.zeros((nsteps, nd)), np.zeros((nsteps, nd))
+    out_status, out_iter, out_rec = np.full(nsteps, -1, np.int64), np.zeros(nsteps, np.int64), np.zeros((nsteps, K.NREC))
+    failed = K.newmark_run(0.0, 0.0, float(h), int(nsteps), 1, False, np.zeros(L.NPRM), np.zeros(L.NERR),
+                           np.zeros((3, L.N_DISC, 1)), np.zeros((L.N_DISC, 2, L.NH, 2)), np.zeros((2, 1)),
+                           f(kind, np.int64), f(idx, np.int64), f(coef), f(off), f(k0), f(pw), f(gap), np.ones(nd),
+                           f(M), f(C), f(Q0), f(Q1), float(omega_f), f(q0), f(v0), float(tol_f), int(maxit),
+                           float(maxstep), out_q, out_v, out_status, out_iter, out_rec)
+    if failed >= 0:
+        raise RuntimeError(f"Newmark failed at step {failed + 1}: status {out_status[failed]}")
+    return h * np.arange(1, nsteps + 1), out_q, out_v, out_status

@@ -1,0 +1,97 @@
+"""The transmission-error study: loading, bad input, the analyses on a small configuration."""
+from pathlib import Path
+
+import pytest
+
+from rvtol.errors import InputError
+from rvtol.study import load_study, run_study
+
+from conftest import write
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGN = (ROOT / "data/designs/rv80e_te.toml").as_posix()
+
+
+def study_text(model="", analyses="", factors=None):
+    factors = factors or """
+[[factor]]
+name = "E_c"
+unit = "um"
+dist = "uniform"
+lower = 0.5
+upper = 1.5
+
+[[factor]]
+name = "delta_b"
+unit = "um"
+dist = "uniform"
+lower = 1.0
+upper = 3.0
+"""
+    return f"""
+[study]
+name = "te_small"
+design = "{DESIGN}"
+
+[model]
+kind = "transmission_error"
+per_crank_rev = 12
+{model}
+
+[sampling]
+n = 4
+seed = 3
+
+[execution]
+executor = "serial"
+{factors}
+{analyses}
+"""
+
+
+def test_the_rv80e_study_loads():
+    st = load_study(ROOT / "studies/transmission_error_rv80e.toml")
+    assert st.model.inputs == st.spec.names and len(st.spec.names) == 34
+    kinds = [type(a).__name__ for a in st.analyses]
+    assert "TESensitivity" in kinds and "TECurve" in kinds
+
+
+@pytest.mark.parametrize("model, factors, key", [
+    ('mode = "explicit"', None, "model.mode"),
+    ("harmonic = 9", None, "model.harmonic"),
+    ("load_torque = -5", None, "model.load_torque"),
+    ("bogus = 1", None, "model.bogus"),
+    ("", '[[factor]]\nname = "E_q"\nunit = "um"\ndist = "uniform"\nlower = 0\nupper = 1\n', "factor"),
+    ("", '[[factor]]\nname = "E_c"\nunit = "deg"\ndist = "uniform"\nlower = 0\nupper = 1\n', "factor.unit"),
+])
+def test_bad_study_input_names_file_and_key(tmp_path, model, factors, key):
+    p = write(tmp_path / "s.toml", study_text(model, factors=factors))
+    with pytest.raises(InputError) as exc:
+        load_study(p)
+    assert exc.value.key == key and exc.value.file == str(p)
+
+
+def test_sensitivity_and_curve_analyses_small(tmp_path):
+    analyses = """
+[[analysis]]
+kind = "transmission_error_sensitivity"
+factors = ["E_c", "delta_b", "E_s"]
+magnitudes = [1.0, 2.0]
+
+[[analysis]]
+kind = "transmission_error_curve"
+configuration = "values"
+values = { E_c = 2.0 }
+"""
+    res = run_study(load_study(write(tmp_path / "s.toml", study_text(analyses=analyses)), progress=False))
+    assert res.mc.ok.all()
+    sens, curve = res.sections
+    rank = {r["factor"]: r for r in sens.summary["ranking"]}
+    assert rank["E_c"]["rvtol class"] == "high" and rank["E_s"]["rvtol class"] == "negligible"
+    assert rank["E_c"]["document class"] == "high"
+    printed = {r["factor"]: r for r in sens.summary["printed"]}
+    assert set(printed) == {"E_c", "delta_b"}
+    lin = {r["factor"]: r["ratio"] for r in sens.summary["linearity"]}
+    assert lin["E_c"] == pytest.approx(2.0, rel=0.06)
+    assert curve.summary["te_pp_arcsec"]["quasistatic"] > 1.0
+    assert curve.summary["top_orders"][0]["order [1/rev]"] == 40
