@@ -22,7 +22,12 @@ def histogram(result, output: str, ax=None, bins: int = 60):
     span_lo, span_hi = float(y.min()), float(y.max())
     if span_hi == span_lo:
         span_hi = span_lo + 1e-12
-    ax.hist(y, bins=bins, density=True, color=COLORS["data"], alpha=0.75, label=f"Monte Carlo (n={len(y)})")
+    hist_range = None
+    if span_hi - span_lo <= 1e-9 * max(1.0, abs(span_lo), abs(span_hi)):   # (numerically) constant output
+        pad = 1e-6 * max(1.0, abs(span_lo))
+        hist_range = (span_lo - pad, span_hi + pad)
+    ax.hist(y, bins=bins, range=hist_range, density=True, color=COLORS["data"], alpha=0.75,
+            label=f"Monte Carlo (n={len(y)})")
     mu, s = float(np.mean(y)), float(np.std(y, ddof=1)) if len(y) > 1 else 0.0
     if s > 0:
         xs = np.linspace(min([span_lo] + lo_lim), max([span_hi] + hi_lim), 400)
