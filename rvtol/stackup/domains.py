@@ -356,8 +356,24 @@ def positive_part_mean_square(c0: float, hole: Distribution, shaft: Distribution
         s = float(np.hypot(hole.std, shaft.std))
         z = mu / s
         return float((mu * mu + s * s) * stats.norm.cdf(z) + mu * s * stats.norm.pdf(z))
-    inner = lambda y: hole.frozen.expect(lambda x: max(c0 + x - y, 0.0) ** 2, epsrel=1e-10)  # noqa: E731
-    return float(shaft.frozen.expect(inner, epsrel=1e-10))
+    # general sizes: E_y[ ∫_{y−c0}^∞ (c0 + x − y)² f_D(x) dx ], in units of the clearance's σ; the outer
+    # integrand has kinks where y − c0 meets an end of the hole's support, given to quad as break points
+    s = float(np.hypot(hole.std, shaft.std))
+    hlo, hhi = (float(v) for v in hole.frozen.support())
+    ylo, yhi = (float(v) for v in shaft.frozen.support())
+
+    def inner(y):
+        lo = max(y - c0, hlo)
+        if lo >= hhi:
+            return 0.0
+        return integrate.quad(lambda x: ((c0 + x - y) / s) ** 2 * hole.pdf(x), lo, hhi, epsabs=1e-14, epsrel=1e-11)[0]
+
+    ylo = ylo if np.isfinite(ylo) else float(shaft.ppf(1e-15))
+    yhi = yhi if np.isfinite(yhi) else float(shaft.ppf(1 - 1e-15))
+    kinks = [v + c0 for v in (hlo, hhi) if np.isfinite(v) and ylo < v + c0 < yhi]
+    val = integrate.quad(lambda y: inner(y) * shaft.pdf(y), ylo, yhi, points=kinks or None, epsabs=1e-14,
+                         epsrel=1e-10, limit=200)[0]
+    return float(val) * s * s
 
 
 @dataclass(frozen=True)

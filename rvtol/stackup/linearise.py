@@ -2,7 +2,8 @@
 
 The chain's Jacobian ``J = ∂E_kc/∂x`` comes from
 :meth:`rvtol.stackup.model.StackupModel.jacobian` (small-displacement
-torsor adjoints, analytic).  For each output:
+torsor adjoints, analytic, about the zero-deviation nominal; central
+differences if the spec's nominal values deviate).  For each output:
 
 * **signed component** (u, v, w, α, β, γ of a KC): first-order mean, RSS σ
   and worst case by :func:`rvtol.sensitivity.linearisation.linear_prediction`;
@@ -39,7 +40,6 @@ from scipy import optimize
 from scipy.special import ndtr
 
 from .. import units
-from ..errors import InputError
 from ..report.sections import Section, Table, Text, frame_records
 from ..sensitivity.common import tolerance_limits
 from ..sensitivity.linearisation import linear_prediction
@@ -176,15 +176,18 @@ class OutputLinearisation:
     notes: list[str] = field(default_factory=list)
 
 
-def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors) -> OutputLinearisation:
+def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors,
+                     E0: dict | None = None) -> OutputLinearisation:
+    """Linear predictions of one output from the KC Jacobians ``J`` and KC deviations ``E0`` at ``fx.x0``."""
     q = model.output(name)
     form, kc, sel = model.linear_form(name)
     disp = lambda v: float(q.to_display(v))  # noqa: E731
+    e0 = (model.kc_deviations(fx.x0[None])[0] if E0 is None else E0)[kc].reshape(6)
     Jk = J[kc].copy()
     Jk[np.abs(Jk) < 1e-12 * max(np.abs(Jk).max(), 1e-300)] = 0.0  # cos(π/2)-sized noise of the transport
     if form == "dof":
         g = Jk[sel]
-        pred = linear_prediction(spec, g, 0.0, fx.x0, name, q.shown_unit, q.unit)
+        pred = linear_prediction(spec, g, float(e0[sel]), fx.x0, name, q.shown_unit, q.unit)
         wc = np.abs(g) * fx.half
         fr = pd.DataFrame({"factor": spec.names, "derivative": pred.frame["S"], "unit": pred.frame["S_unit"],
                            "sign": loop_sign(g),
@@ -196,9 +199,9 @@ def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors)
         return OutputLinearisation(name, q.shown_unit, form, figs, fr, list(pred.notes))
     if form == "norm":
         M = Jk[list(sel)]
-        centre = M @ (fx.centre - fx.x0)
+        centre = e0[list(sel)] + M @ (fx.centre - fx.x0)
         wc = zonotope_max_norm(centre, M * fx.half)
-        m, C = M @ (fx.mu - fx.x0), M @ fx.cov @ M.T
+        m, C = e0[list(sel)] + M @ (fx.mu - fx.x0), M @ fx.cov @ M.T
         share_var = np.einsum("ij,ij->j", M, M) * np.diag(fx.cov)
         fr = pd.DataFrame({"factor": spec.names,
                            "derivative": [_pair(M[:, j], q, f.unit) for j, f in enumerate(spec.factors)],
@@ -212,9 +215,9 @@ def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors)
         return OutputLinearisation(name, q.shown_unit, form, figs, fr)
     if form == "weighted":
         w = sel
-        lin = Jk @ (fx.centre - fx.x0)
+        lin = e0 + Jk @ (fx.centre - fx.x0)
         wc_dof = np.abs(lin) + np.abs(Jk) @ fx.half
-        m, C = Jk @ (fx.mu - fx.x0), Jk @ fx.cov @ Jk.T
+        m, C = e0 + Jk @ (fx.mu - fx.x0), Jk @ fx.cov @ Jk.T
         contrib = (w[:, None] * Jk**2).sum(axis=0) * np.diag(fx.cov)
         fr = pd.DataFrame({"factor": spec.names, "derivative": np.nan, "unit": "", "sign": "",
                            "accumulator": "weighted magnitude",
@@ -290,10 +293,6 @@ class StackupLinear:
         if worst:
             raise params.error("kind", f"fit {worst[0]!r} floats in a worst-case mode, which is not differentiable "
                                        "in its direction; linearise a model with uniform (or centred) floats")
-        try:
-            model.jacobian(study.spec.nominal_base())
-        except InputError as exc:
-            raise params.error("kind", exc.reason) from None
 
     def run(self, ctx) -> Section:
         from ..plotting.stackup import contribution_bars
@@ -301,6 +300,7 @@ class StackupLinear:
         model, spec = ctx.model, ctx.spec
         fx = Factors.of(spec)
         J = model.jacobian(fx.x0)
+        E0 = model.kc_deviations(fx.x0[None])[0]
         sec = Section("stackup_linear", "Stack-up: worst case and RSS of the linearised chain beside Monte Carlo")
         sec.add_text(
             "The chain is linearised analytically at the nominal point (small-displacement torsors carried through "
@@ -314,7 +314,7 @@ class StackupLinear:
             "from the linearisation (see the Monte Carlo).")
         rows, summary = [], {}
         for name in self.outputs:
-            lin = linearise_output(model, spec, name, J, fx)
+            lin = linearise_output(model, spec, name, J, fx, E0)
             mc = mc_figures(ctx.mc, name, lin.form)
             row = {"output": name, "unit": label(lin.unit), "kind": lin.form, **lin.figures, **mc}
             rows.append(row)

@@ -291,13 +291,16 @@ class StackupModel(Model):
         return [f for f, m in self.float_modes.items() if m.startswith("worst") and f in self._float_slot]
 
     def jacobian(self, x0=None, step: float = 1e-7) -> dict[str, np.ndarray]:
-        """``{kc: dE_kc/dx (6 × k)}`` at ``x0`` (base units), linearised about zero pose deviation."""
+        """``{kc: dE_kc/dx (6 × k)}`` at ``x0`` (base units; default all zero).
+
+        Analytic (small-displacement torsor transport) where ``x0`` gives zero pose
+        deviations — the drawing's nominal; otherwise central differences of the chain
+        (:meth:`jacobian_fd`).
+        """
         k = len(self.inputs)
         x0 = np.zeros(k) if x0 is None else np.asarray(x0, dtype=float)
-        E0 = self.deviations(x0[None, :])[0]
-        if np.abs(E0).max() > 0:
-            raise InputError("the chain is linearised about zero pose deviation, but the nominal factor values "
-                             "give non-zero deviations (use finite differences instead)", key="nominal")
+        if np.abs(self.deviations(x0[None, :])[0]).max() > 0:
+            return self.jacobian_fd(x0)
         S = self.program.n_slots
         Dx = np.zeros((6 * S, k))  # d(slot deviations)/dx
         for s, slot in enumerate(self.slots):
@@ -305,16 +308,23 @@ class StackupModel(Model):
                 for j, c in enumerate(slot.cols):
                     if c >= 0:
                         Dx[6 * s:6 * s + 6, c] += slot.A[:, j]
-            else:
+            else:  # the float map's own derivative: central difference of that explicit map
                 fit = self.assembly.fits[slot.owner]
-                for c in range(k):
-                    xp, xm = x0.copy(), x0.copy()
-                    xp[c] += step
-                    xm[c] -= step
-                    d = (self.float_deviation(fit, xp[None])[0] - self.float_deviation(fit, xm[None])[0]) / (2 * step)
-                    Dx[[6 * s + 0, 6 * s + 1, 6 * s + 3, 6 * s + 4], c] = d
+                Xp = np.repeat(x0[None], k, axis=0) + step * np.eye(k)
+                Xm = np.repeat(x0[None], k, axis=0) - step * np.eye(k)
+                d = (self.float_deviation(fit, Xp) - self.float_deviation(fit, Xm)) / (2 * step)
+                Dx[[6 * s + 0, 6 * s + 1, 6 * s + 3, 6 * s + 4], :] = d.T
         Jp = linearise_program(self.program)
         return {kc.name: Jp[self._kc_out[kc.name]] @ Dx for kc in self.kcs}
+
+    def jacobian_fd(self, x0, rel: float = 1e-6) -> dict[str, np.ndarray]:
+        """Central differences of the KC deviation vectors, step ``rel·max(1, |x0|)`` (base units)."""
+        x0 = np.asarray(x0, dtype=float)
+        k = len(x0)
+        h = rel * np.maximum(1.0, np.abs(x0))
+        X = np.concatenate([x0 + np.diag(h), x0 - np.diag(h)])
+        devs, _ = self.kc_deviations(X)
+        return {name: (D[:k] - D[k:]).T / (2 * h) for name, D in devs.items()}
 
     def describe(self) -> str:
         return (f"assembly {self.assembly.name!r}, sequence {self.sequence.name!r} "
