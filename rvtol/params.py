@@ -174,6 +174,8 @@ class Params:
 
     def unit(self, name: str, default: Any = _MISSING, *, dimension: str | tuple[str, ...] | None = None) -> str:
         v = self.str(name, default)
+        if v is None:
+            return None
         try:
             u = units.canonical(v)
             if dimension is not None:

@@ -59,3 +59,10 @@ def test_requirement_defaults():
 
 def test_unit_labels():
     assert units.label("um") == "µm" and units.label("N*m/arcmin") == "N·m/arcmin"
+
+
+def test_requirement_unit_is_optional(tmp_path):
+    p = tmp_path / "r.toml"
+    p.write_text('[[requirement]]\noutput = "y"\nupper = 1.0\n')
+    (r,) = load_requirements(p)
+    assert r.unit is None and r.in_unit("arcmin").unit == "arcmin" and r.upper == 1.0
