@@ -6,6 +6,13 @@ import numpy as np
 from . import COLORS, new_axes
 
 
+def _legend_both(ax, ax2, loc="best"):
+    """One legend for an axes and its twin."""
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, loc=loc)
+
+
 def plot_pin_forces(contact, row: int = 0, ax=None):
     """Pin forces F_k (bars) and initial clearances Δ(φ_k) (line) against the pin angle."""
     fig, ax = new_axes(ax)
@@ -18,9 +25,7 @@ def plot_pin_forces(contact, row: int = 0, ax=None):
     ax2.plot(deg[side], contact.gap[row][side] * 1e3, "o-", color=COLORS["fit"], ms=3, label="clearance Δ(φ_k)")
     ax2.set_ylabel("initial clearance [µm]")
     ax2.grid(False)
-    h1, l1 = ax.get_legend_handles_labels()
-    h2, l2 = ax2.get_legend_handles_labels()
-    ax.legend(h1 + h2, l1 + l2, loc="upper right")
+    _legend_both(ax, ax2, "upper right")
     return fig
 
 
@@ -47,12 +52,13 @@ def plot_sweep(df, x: str, ys, ax=None, ylabel: str = "", secondary=None, second
     ax.set_ylabel(ylabel)
     if secondary is not None:
         ax2 = ax.twinx()
-        ax2.step(df[x], df[secondary], where="mid", color=COLORS["ci"], label=secondary)
+        if "pairs" in secondary:      # counts: steps
+            ax2.step(df[x], df[secondary], where="mid", color=COLORS["ci"], label=secondary)
+        else:
+            ax2.plot(df[x], df[secondary], "s--", ms=3, color=COLORS["ci"], label=secondary)
         ax2.set_ylabel(secondary_label or secondary)
         ax2.grid(False)
-        h1, l1 = ax.get_legend_handles_labels()
-        h2, l2 = ax2.get_legend_handles_labels()
-        ax.legend(h1 + h2, l1 + l2, loc="best")
+        _legend_both(ax, ax2)
     else:
         ax.legend(loc="best")
     return fig
