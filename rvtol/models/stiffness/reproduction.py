@@ -111,7 +111,8 @@ def _sweep_frame(xname: str, x, r: TorsionAngles) -> pd.DataFrame:
     for c in COMPONENTS:
         df[f"{LABELS[c]} (arcsec)"] = units.from_base(r.component(c), "arcsec")
     for k, v in _summary_columns(r).items():
-        df[k] = v
+        if k != "θ2 (arcsec)":                   # already a component column
+            df[k] = v
     bad = r.extra["interference"] > 0
     df.loc[bad, [c for c in df.columns if c != xname]] = np.nan
     return df
