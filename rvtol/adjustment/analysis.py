@@ -85,7 +85,7 @@ class AdjustmentAnalysis:
         d = m.description
         sec = Section("adjustment", self.title)
         sec.add_text(describe(m))
-        sec.add_table(frame_of(d.F_full(), d.state_names(), [f"Δθ {n}" for n in d.part_error_names()]),
+        sec.add_table(frame_of(d.F_full(), d.state_names(), d.part_error_names()),
                       "F: part errors (columns, in installation order) to KC errors δ (rows) [rad/rad]",
                       float_format="{:.3g}", index=True)
         sec.add_table(d.to_frame(), f"Assembly steps; every other KC has effort weight R = {d.effort_locked:g}")
@@ -103,10 +103,13 @@ class AdjustmentAnalysis:
             st = step_statistics(m, X)
             sec.add_figure(st.plot(), f"Monte Carlo batch of the study's spec: RMS KC error after each step, "
                            f"Q = {q_label(m.accuracy)}")
+            sec.add_table(st.to_frame(), "Monte Carlo batch: RMS KC error after each step", "{:.3g}")
         evaluate = lambda mod, Xb: ctx.evaluate(Xb, desc="adjustment sweep", model=mod).Y  # noqa: E731
         sw = accuracy_sweep(m, self.w, self.sweep, X, evaluate)
         sec.add_figure(sw.plot(), "Final KC error (RSS of the final observations) and adjustment effort against "
-                       "the accuracy weight Q: the gain per unit of Q falls as Q grows (diminishing returns)")
+                       "the accuracy weight Q: the gain per unit of Q falls as Q grows (diminishing returns). The "
+                       "Monte Carlo batch includes the spec's measurement noise, which the adjustment cannot remove: "
+                       "it sets the floor of its RMS final error at large Q")
         marg = marginal_table(sw)
         sec.add_table(marg, "Diminishing returns: final error reduction per decade of Q", "{:.3g}")
 

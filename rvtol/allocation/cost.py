@@ -95,7 +95,8 @@ class CostModel:
         import cvxpy as cp
 
         if self.kind == "reciprocal_power":
-            g = cp.inv_pos(t) if self.c == 1.0 else cp.power(t, -self.c)
+            # exact power cone (no rational approximation of the exponent)
+            g = cp.inv_pos(t) if self.c == 1.0 else cp.power(t, -self.c, approx=False)
         else:
             g = cp.exp(-self.c * t)
         return self.a + self.b * g

@@ -368,5 +368,9 @@ def requirement_violation(r: Requirement, m: dict) -> float:
 
 
 def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:
-    return pd.DataFrame([{"output": r.output, "lower": r.lower, "upper": r.upper, "unit": r.unit,
-                          "min yield": r.min_yield, "min Cpk": r.min_cpk, "basis": r.basis} for r in reqs])
+    """One row per distinct limit set; outputs sharing the same limits are listed together."""
+    groups: dict[tuple, list[str]] = {}
+    for r in reqs:
+        groups.setdefault((r.lower, r.upper, r.unit, r.min_yield, r.min_cpk, r.basis), []).append(r.output)
+    return pd.DataFrame([{"outputs": ", ".join(names), "lower": k[0], "upper": k[1], "unit": k[2],
+                          "min yield": k[3], "min Cpk": k[4], "basis": k[5]} for k, names in groups.items()])

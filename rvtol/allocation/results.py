@@ -84,6 +84,15 @@ class Verification:
     def to_frame(self) -> pd.DataFrame:
         return self.frame
 
+    def summary_row(self) -> dict:
+        """The worst requirement (lowest Cpk, else lowest yield) and how many pass."""
+        f = self.frame
+        key = "Cpk" if f["Cpk"].notna().all() else "yield"
+        w = f.loc[f[key].astype(float).idxmin()]
+        return {"method": self.method, "passed": f"{int(f['passed'].sum())} of {len(f)}", "worst output": w["output"],
+                "yield": w["yield"], "yield 95% lo": w["yield_lo"], "Cpk": w["Cpk"], "Cpk 95% lo": w["Cpk_lo"],
+                "required": w["required"]}
+
 
 @dataclass
 class ParetoCurve:

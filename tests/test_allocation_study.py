@@ -1,0 +1,134 @@
+"""The adjustment / allocation / reproduction analyses inside a study, and their bad inputs."""
+import json
+import math
+import textwrap
+
+import numpy as np
+import pytest
+
+from rvtol.adjustment import AdjustedAssemblyModel, load_assembly
+from rvtol.adjustment.te_mapping import CRANK_ANGLES, te_inputs, te_values
+from rvtol.errors import InputError
+from rvtol.study import load_study, run_study
+
+from conftest import write
+
+STUDY = textwrap.dedent("""
+    [study]
+    name = "adj_small"
+    design = "{root}/data/designs/bx40e.toml"
+    spec = "{root}/data/specs/bx40e_assembly_2d.toml"
+    [model]
+    kind = "adjusted_assembly"
+    assembly = "{root}/data/assemblies/bx40e_2d.toml"
+    [sampling]
+    n = 200
+    seed = 3
+    [[analysis]]
+    kind = "adjustment"
+    part_errors = "example.part_errors"
+    sweep_points = 5
+    [[analysis]]
+    kind = "allocation"
+    key = "alloc3d"
+    costs = "{root}/data/costs/bx40e_angular.toml"
+    spec = "{root}/data/specs/bx40e_assembly_3d.toml"
+    groups = ["Crankshaft 1", "Cycloid Gear 1", "Crankshaft 2", "Cycloid Gear 2"]
+    assign = { "*" = "ground_axis" }
+    [analysis.model]
+    kind = "adjusted_assembly"
+    assembly = "{root}/data/assemblies/bx40e_3d.toml"
+    [[analysis.requirement]]
+    output = "delta_*"
+    lower = -1.0
+    upper = 1.0
+    unit = "arcmin"
+    min_cpk = 1.0
+    [analysis.ga]
+    n = 200
+    population = 8
+    parents = 4
+    generations = 3
+    [analysis.verify]
+    n = 300
+    [analysis.pareto]
+    scales = [1.0, 2.0]
+    [[analysis]]
+    kind = "adjustment_reproduction"
+    assembly_3d = "{root}/data/assemblies/bx40e_3d.toml"
+    allocation = "alloc3d"
+""")
+
+
+def _path(tmp_path, root, text):
+    return write(tmp_path / "s.toml", text.replace("{root}", str(root)))
+
+
+def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
+    study = load_study(_path(tmp_path, root, STUDY), executor="serial", progress=False)
+    res = run_study(study)
+    keys = [s.key for s in res.sections]
+    assert keys == ["adjustment", "alloc3d_costs", "alloc3d", "adjustment_reproduction"]
+    summ = {s.key: s.summary for s in res.sections}
+    json.dumps(summ, allow_nan=False)
+    methods = {m["method"]: m for m in summ["alloc3d"]["methods"]}
+    assert set(methods) == {"uniform", "convex rss", "GA"}
+    assert methods["convex rss"]["total cost [relative]"] <= methods["uniform"]["total cost [relative]"]
+    rows = {r["item"]: r for r in summ["adjustment_reproduction"]["rows"]}
+    assert rows["P1 coefficient of v1x"]["printed"] == 0.3069
+    assert rows["two tightest components"]["reproduced"] == "yes"
+
+
+@pytest.mark.parametrize("old,new,key,reason", [
+    ('assign = { "*" = "ground_axis" }', 'assign = { "*" = "diamond" }', "analysis[1].assign.*",
+     "unknown cost curve"),
+    ('assign = { "*" = "ground_axis" }', 'assign = { "Crankshaft 1" = "ground_axis" }', "analysis[1].assign",
+     "no cost curve for factor"),
+    ('assign = { "*" = "ground_axis" }', 'assign = { "*" = "ground_axis", "Gearbox" = "ground_axis" }',
+     "analysis[1].assign.Gearbox", "neither a factor nor a group"),
+    ('groups = ["Crankshaft 1",', 'groups = ["Crankshaft 9",', "analysis[1].groups", "unknown group"),
+    ('output = "delta_*"', 'output = "gamma_*"', "analysis[1].requirement[0].output", "matches no output"),
+    ('[analysis.ga]\n', '[analysis.ga]\nconstraint = "never"\n', "analysis[1].ga.constraint", "unknown value"),
+    ('[analysis.ga]\n', '[analysis.ga]\nhandling = "ignore"\n', "analysis[1].ga.handling", "unknown value"),
+    ('parents = 4', 'parents = 40', "analysis[1].ga.parents", "parents must lie"),
+    ('scales = [1.0, 2.0]', 'scales = [1.0, -2.0]', "analysis[1].pareto.scales[1]", "> 0"),
+    ('costs = "{root}/data/costs/bx40e_angular.toml"', 'costs = "{root}/data/costs/none.toml"', "-",
+     "file not found"),
+    ('allocation = "alloc3d"', 'allocation = "alloc9"', "analysis[2].allocation", "no allocation analysis"),
+])
+def test_bad_allocation_inputs(tmp_path, root, old, new, key, reason):
+    assert old in STUDY, old
+    with pytest.raises(InputError) as ei:
+        load_study(_path(tmp_path, root, STUDY.replace(old, new, 1)))
+    assert ei.value.key == key, (ei.value.key, ei.value.reason)
+    assert reason in ei.value.reason
+
+
+def test_te_mapping_by_hand():
+    """KC1 tilted by δ: crank 1 moves by (0, −δL); disc 1 moves relative to it by (0, +δL) (KC2 = 0)."""
+    d, L = 1e-3, 6.0
+    v = dict(zip(te_inputs(), te_values({"KC1": d, "KC2": 0.0, "KC3": 0.0, "KC4": 0.0}, L)))
+    assert v["E_ca[1]"] == pytest.approx(d * L) and v["beta_ca[1]"] == pytest.approx(-math.pi / 2)
+    for h in (1, 2, 3):  # the same carrier-frame vector seen from each hole's radial direction
+        assert v[f"E_h[1,{h}]"] == pytest.approx(d * L)
+        assert v[f"beta_h[1,{h}]"] == pytest.approx(math.pi / 2 - CRANK_ANGLES[h - 1])
+    assert v["E_ca[2]"] == 0.0 and v["E_h[2,1]"] == 0.0
+    # a gear tilted with its crank (δ_gear = δ_crank) sits exactly on it
+    v = dict(zip(te_inputs(), te_values({"KC1": 0.0, "KC2": 0.0, "KC3": d, "KC4": d}, L)))
+    assert v["E_h[2,1]"] == 0.0 and v["E_ca[2]"] == pytest.approx(d * L)
+
+
+def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
+    """Small offsets: TE is kinematic, proportional to L; at Q = ∞ the mapped reducer is error-free."""
+    from rvtol.design import load_design
+    from rvtol.models.transmission.model import TransmissionErrorModel
+    from rvtol.adjustment.te_mapping import te_against_q
+
+    te = TransmissionErrorModel(load_design(root / "data/designs/rv80e_te.toml"), inputs=te_inputs())
+    m = AdjustedAssemblyModel(load_assembly(root / "data/assemblies/bx40e_2d.toml"))
+    w = np.array([-1.6, 5.3, 5.8, 3.2]) * 1e-3
+    a = te_against_q(m, te, w, [5.0, math.inf], 3.0)
+    b = te_against_q(m, te, w, [5.0, math.inf], 6.0)
+    free = te.evaluate(np.zeros((1, len(te.inputs))))[0, te.output_index("te_pp")]
+    assert b["te_pp [arcsec]"][0] == pytest.approx(2 * a["te_pp [arcsec]"][0], rel=0.02)
+    assert a["te_pp [arcsec]"][1] == pytest.approx(free * 206264.806, rel=1e-6)
