@@ -47,6 +47,7 @@ ANALYSES: dict[str, str] = {
     "lost_motion_breakdown": "rvtol.models.lost_motion_analyses:LostMotionBreakdown",
     "lost_motion_reproduction": "rvtol.models.lost_motion_analyses:LostMotionReproduction",
     "adjustment": "rvtol.adjustment.analysis:AdjustmentAnalysis",
+    "adjustment_reproduction": "rvtol.adjustment.reproduction:AdjustmentReproduction",
     "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
     "torsion_curve": "rvtol.models.torsion_curve_analysis:TorsionCurveAnalysis",
 }
