@@ -149,10 +149,16 @@ def test_model_is_the_linear_map_and_chunk_invariant(root):
     m = AdjustedAssemblyModel(d)
     X = rng(8).normal(size=(301, len(m.inputs))) * 1e-3
     Y = evaluate(m, X, progress=False).Y
+    run = m.simulate(X)  # the step-by-step recursion, independent of the closed-loop map evaluate uses
+    np.testing.assert_allclose(Y[:, :12], run.final, rtol=1e-10, atol=1e-16)
+    np.testing.assert_allclose(Y[:, 12], np.linalg.norm(run.final, axis=1), rtol=1e-12)
+    np.testing.assert_allclose(Y[:, 13], run.effort, rtol=1e-10)
     M_w, M_v = m.adjuster.linear_map()
     w, v = m.split(X)
     np.testing.assert_allclose(Y[:, :12], w @ M_w.T + v @ M_v.T, rtol=1e-10, atol=1e-16)
-    np.testing.assert_allclose(Y[:, 12], np.linalg.norm(Y[:, :12], axis=1), rtol=1e-12)
+    free = m.with_accuracy(10.0, adjust=False)
+    np.testing.assert_allclose(free.evaluate(X)[:, :12], m.adjuster.simulate(w, v, adjust=False).final, rtol=1e-12)
+    assert np.all(free.evaluate(X)[:, 13] == 0.0)
     for cs in (1, 7, 64):
         assert np.array_equal(evaluate(m, X, chunk_size=cs, progress=False).Y, Y)
 

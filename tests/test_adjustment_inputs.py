@@ -91,7 +91,8 @@ def test_inf_accuracy_accepted(tmp_path):
         assert d.accuracy == float("inf")
 
 
-STUDY = textwrap.dedent("""
+#: a BX40E study head ({root}: the repository), shared with tests/test_allocation_study.py
+STUDY_HEAD = textwrap.dedent("""
     [study]
     name = "adj"
     design = "{root}/data/designs/bx40e.toml"
@@ -101,6 +102,9 @@ STUDY = textwrap.dedent("""
     assembly = "{root}/data/assemblies/bx40e_2d.toml"
     [sampling]
     n = 100
+    seed = 3
+""")
+STUDY = STUDY_HEAD + textwrap.dedent("""
     [[analysis]]
     kind = "adjustment"
     part_errors = "example.part_errors"

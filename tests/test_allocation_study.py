@@ -12,18 +12,9 @@ from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
 from conftest import write
+from test_adjustment_inputs import STUDY_HEAD
 
-STUDY = textwrap.dedent("""
-    [study]
-    name = "adj_small"
-    design = "{root}/data/designs/bx40e.toml"
-    spec = "{root}/data/specs/bx40e_assembly_2d.toml"
-    [model]
-    kind = "adjusted_assembly"
-    assembly = "{root}/data/assemblies/bx40e_2d.toml"
-    [sampling]
-    n = 200
-    seed = 3
+STUDY = STUDY_HEAD + textwrap.dedent("""
     [[analysis]]
     kind = "adjustment"
     part_errors = "example.part_errors"

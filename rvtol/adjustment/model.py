@@ -75,9 +75,30 @@ class AdjustedAssemblyModel(Model):
         return self.adjuster.simulate(w, v, adjust=self.adjust)
 
     def evaluate(self, X):
-        run = self.simulate(X)
-        norm = np.sqrt((run.final * run.final).sum(axis=1))
-        return np.column_stack([run.final, norm, run.effort])
+        """Final observations, their RSS and the effort, through the closed-loop linear map.
+
+        The adjusted assembly is linear in (w, v), so the final state and every
+        adjustment are fixed linear combinations of the inputs; the map is built
+        once from :meth:`Adjuster.simulate` on unit inputs (exact) and applied
+        row by row (einsum, no BLAS).  ``simulate`` gives the step-by-step
+        trajectories; tests hold the two together.
+        """
+        w, v = self.split(X)
+        Z = np.einsum("nk,rk->nr", np.hstack([w, v]), self._map)
+        m = self._n_final
+        final, u = Z[:, :m], Z[:, m:]
+        return np.column_stack([final, np.sqrt((final * final).sum(axis=1)), np.sqrt((u * u).sum(axis=1))])
+
+    @property
+    def _map(self) -> np.ndarray:
+        """``[final; u(0..N-1)]`` per unit ``[w, v]`` (rows), built on first use."""
+        if getattr(self, "_G", None) is None:
+            a = self.adjuster
+            I = np.eye(a.n_w + a.n_v)
+            run = a.simulate(I[:, :a.n_w], I[:, a.n_w:], adjust=self.adjust)
+            self._G = np.hstack([run.final, run.u.reshape(len(I), -1)]).T.copy()
+            self._n_final = run.final.shape[1]
+        return self._G
 
     def with_accuracy(self, accuracy: float, adjust: bool = True) -> "AdjustedAssemblyModel":
         """The same assembly with another accuracy weight Q (or unadjusted)."""

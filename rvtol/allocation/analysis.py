@@ -200,7 +200,8 @@ class AllocationAnalysis:
                 gc = (MonteCarloConstraint(pf, self.ga_n, self.ga_method, ga_con.seed, ga_con.evaluate)
                       if isinstance(ga_con, MonteCarloConstraint) else con)
                 settings = replace(self.ga_settings, seed=stream_seed(ctx.seed, STREAM_GA))
-                row["GA"] = _cost(solve_ga(pf, gc, settings))
+                row["GA (Monte Carlo)" if isinstance(gc, MonteCarloConstraint) else "GA (linearised)"] = _cost(
+                    solve_ga(pf, gc, settings))
             rows.append(row)
         return ParetoCurve(pd.DataFrame(rows), self.table.cost_unit)
 
@@ -216,9 +217,9 @@ class AllocationAnalysis:
                          "points": len(c.fit.tolerance) if c.fit else 0,
                          "fitted": "a, b" + ("" if c.fit and c.fit.fixed_c else ", c") if c.fit else "given",
                          f"RMSE [{self.table.cost_unit}]": c.fit.rmse if c.fit else math.nan,
-                         "R²": c.fit.r2 if c.fit else math.nan, "t_min": c.t_min, "t_max": c.t_max,
-                         "source": c.source})
-        sec.add_text(f"Cost data: {self.table.file} — {self.table.description}. {self.table.source}.")
+                         "R²": c.fit.r2 if c.fit else math.nan, "t_min": c.t_min, "t_max": c.t_max})
+        sec.add_text(f"Cost data: {self.table.file} — {self.table.description}. {self.table.source}. Sources: "
+                     + "; ".join(f"{c.name}: {c.source}" for c in used.values()) + ".")
         sec.add_table(pd.DataFrame(rows), "Cost–tolerance curves used (t: tolerance half-band ±t)", "{:.4g}")
         sec.add_figure(cost_curves(list(used.values()), self.table.cost_unit), "Cost–tolerance curves and their data")
         sec.summary = {"curves": frame_records(pd.DataFrame(rows))}
