@@ -141,7 +141,7 @@ class AdjustmentReproduction:
         te_printed = list(te_pr)
         for k, (q, t) in enumerate(zip(Qs, te_printed)):
             lab = "∞" if math.isinf(q) else f"{q:g}"
-            rows.append({"item": f"TE peak-to-peak, Q = {lab}", "doc 002": "Table 4", "printed": t,
+            rows.append({"item": f"TE peak-to-peak, Q = {lab}", "doc 002": "Table 4", "printed": round(float(t), 6),
                          "rvtol": "—" if te_ours is None else round(te_ours[k], 3), "unit": "arcsec",
                          "reproduced": "no",
                          "why": "doc 002 gives neither the BX40E dynamic model nor how final KC angles enter it"
@@ -173,7 +173,8 @@ class AdjustmentReproduction:
         f_ours = None if te is None else list(te["pin_force_max [N]"])
         for k, (q, f) in enumerate(zip(Qs, force)):
             lab = "∞" if math.isinf(q) else f"{q:g}"
-            rows.append({"item": f"max dynamic meshing force, Q = {lab}", "doc 002": "Table 4", "printed": f,
+            rows.append({"item": f"max dynamic meshing force, Q = {lab}", "doc 002": "Table 4",
+                         "printed": round(float(f), 6),
                          "rvtol": "—" if f_ours is None else round(f_ours[k], 1), "unit": "N", "reproduced": "no",
                          "why": "needs the BX40E dynamic model (masses, stiffnesses, speed, load), not given"
                                 + ("" if f_ours is None else "; rvtol: largest cycloid–pin force of the quasi-static "
@@ -239,7 +240,7 @@ class AdjustmentReproduction:
                 conv = float(units.from_base(cv.t[i], "mrad")) if cv is not None and cv.t is not None else math.nan
                 printed_all.append(v)
                 ours_all.append(ours)
-                rows.append({"item": f"t {comp}, {ax}", "doc 002": "Table 5", "printed": v,
+                rows.append({"item": f"t {comp}, {ax}", "doc 002": "Table 5", "printed": round(float(v), 6),
                              "rvtol": f"{ours:.3g} ({conv:.3g})", "unit": "mrad (±)", "reproduced": "no",
                              "why": f"rvtol: {best.method} (convex optimum in brackets). Not comparable in value: "
                                     "doc 002 gives no cost parameters a_i, b_i, no requirement and no tolerance "
