@@ -41,14 +41,15 @@ def assembly_graph(assembly, sequence=None, ax=None):
 
     Within a part, grey arrows run from the datum to each deviating feature
     (f1; ×n marks several deviation terms, f5; ◇ a form deviation, f2).  Fits
-    join features of two parts (f3, blue); clearance fits are orange (f4);
-    fits that close the loop instead of locating a part are dashed red.
+    join features of two parts (f3, blue, numbered as listed beside the
+    graph); clearance fits are orange (f4); fits that close the loop instead
+    of locating a part are dashed red.
     """
     seq = sequence or assembly.sequence(None)
     order = [assembly.ground] + [p for p, _ in seq.steps]
     feats = {p: [f for f in assembly.features.values() if f.part == p] for p in order}
     rows = max(len(v) for v in feats.values())
-    fig, ax = new_axes(ax, (max(6.4, 2.3 * len(order)), 1.4 + 0.75 * rows))
+    fig, ax = new_axes(ax, (max(6.4, 1.9 * len(order) + 2.2), 1.6 + 1.0 * rows))
     pos = {}
     for i, part in enumerate(order):
         n = len(feats[part])
@@ -60,24 +61,30 @@ def assembly_graph(assembly, sequence=None, ax=None):
             mark = "s" if f.datum else "o"
             ax.plot(*pos[f.id], mark, color="k" if f.datum else COLORS["data"], ms=7, zorder=3)
             tag = f.name + (f" ×{len(f.terms)}" if len(f.terms) > 1 else "") + (" ◇" if f.form else "")
-            ax.text(pos[f.id][0], pos[f.id][1] - 0.2, tag, ha="center", va="top", fontsize=7)
+            ax.text(pos[f.id][0], pos[f.id][1] - 0.16, tag, ha="center", va="top", fontsize=7, zorder=4,
+                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85))
     for f in assembly.features.values():
         if f.terms and f.part in feats:
             datum = next((g for g in feats[f.part] if g.datum), None)
             if datum is not None:
                 _arrow(ax, pos[datum.id], pos[f.id], *FLOW_STYLE["f1"], rad=0.35, lw=0.8)
-    for fit in assembly.fits.values():
+    ax.set_xlim(-0.6, len(order) - 0.4)
+    ax.set_ylim(-0.8, rows + 0.3)
+    fit_lines = []
+    for i, fit in enumerate(assembly.fits.values()):
         closes = fit.name not in seq.locating
         key = "closes" if closes else ("f4" if fit.is_clearance else "f3")
         color, ls = FLOW_STYLE[key]
         a, b = pos[fit.base], pos[fit.mate]
-        _arrow(ax, a, b, color, ls, rad=0.12, lw=1.6)
-        mx, my = 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]) + 0.12
-        ax.text(mx, my, f"{fit.name} {fit.type}" + (" (clearance)" if fit.is_clearance else ""),
-                fontsize=6.5, ha="center", color=color,
-                bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
-    ax.set_xlim(-0.6, len(order) - 0.4)
-    ax.set_ylim(-0.8, rows + 0.3)
+        rad = 0.0 if abs(b[0] - a[0]) <= 1.01 else 0.12  # long fits bow, to pass beside the parts between
+        _arrow(ax, a, b, color, ls, rad=rad, lw=1.6)
+        ax.text(*_arc_middle(ax, a, b, rad), str(i + 1), fontsize=7, ha="center", va="center",
+                color=color, zorder=5, weight="bold",
+                bbox=dict(boxstyle="circle,pad=0.2", fc="white", ec=color, lw=0.8))
+        fit_lines.append(f"{i + 1}  {fit.name} ({fit.type}{', clearance' if fit.is_clearance else ''}; "
+                         f"{'closes' if closes else 'locates'})")
+    ax.text(1.01, 0.98, "fits\n" + "\n".join(fit_lines), transform=ax.transAxes, fontsize=7, va="top",
+            ha="left", family="monospace")
     ax.axis("off")
     from matplotlib.lines import Line2D
 
@@ -90,6 +97,14 @@ def assembly_graph(assembly, sequence=None, ax=None):
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), ncol=3, fontsize=7, frameon=False)
     ax.set_title(f"{assembly.name}: sequence {seq.name} ({' → '.join(order)})", fontsize=9)
     return fig
+
+
+def _arc_middle(ax, a, b, rad):
+    """Middle of matplotlib's ``arc3`` curve from a to b (its control point is offset in display space)."""
+    (x1, y1), (x2, y2) = ax.transData.transform([a, b])
+    cx, cy = 0.5 * (x1 + x2) + rad * (y2 - y1), 0.5 * (y1 + y2) - rad * (x2 - x1)
+    mx, my = 0.25 * x1 + 0.5 * cx + 0.25 * x2, 0.25 * y1 + 0.5 * cy + 0.25 * y2
+    return ax.transData.inverted().transform((mx, my))
 
 
 def _box(x, y, w, h):

@@ -207,7 +207,7 @@ def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors,
                            "derivative": [_pair(M[:, j], q, f.unit) for j, f in enumerate(spec.factors)],
                            "unit": [f"{label(q.shown_unit)}/{label(f.unit)}" for f in spec.factors],
                            "sign": [f"({a}, {b})" for a, b in zip(loop_sign(M[0]), loop_sign(M[1]))],
-                           "accumulator": "magnitude: signs of the two components",
+                           "accumulator": "—",
                            "worst-case share %": _pct(np.hypot(M[0], M[1]) * fx.half),
                            "variance share %": _pct(share_var)})
         figs = {"WC high": disp(wc), "RSS mean": disp(norm_mean_2d(m, C)),
@@ -220,7 +220,7 @@ def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors,
         m, C = e0 + Jk @ (fx.mu - fx.x0), Jk @ fx.cov @ Jk.T
         contrib = (w[:, None] * Jk**2).sum(axis=0) * np.diag(fx.cov)
         fr = pd.DataFrame({"factor": spec.names, "derivative": np.nan, "unit": "", "sign": "",
-                           "accumulator": "weighted magnitude",
+                           "accumulator": "—",
                            "worst-case share %": _pct((np.sqrt(w)[:, None] * np.abs(Jk)).sum(0) * fx.half),
                            "variance share %": _pct(contrib)})
         figs = {"WC high": disp(np.sqrt(np.sum(w * wc_dof**2))),
@@ -254,6 +254,8 @@ def mc_figures(mc, name: str, form: str) -> dict:
     elif form == "weighted":
         out["MC high"] = float(np.sqrt(np.mean(y**2)))
     else:
+        if form == "none":
+            out["MC low"] = percentile_ci(y, 1 - COVERAGE)[0]
         out["MC high"] = percentile_ci(y, COVERAGE)[0]
     out["MC min"], out["MC max"] = float(y[0]), float(y[-1])
     return out
@@ -264,7 +266,7 @@ BASIS = {  # what the WC / RSS / MC columns hold, per kind of output
     "norm": "magnitude: WC high = max over the tolerance box; RSS high = P99.73 of the linearised pair's norm; "
             "MC high = P99.73",
     "weighted": "‖e‖/‖ε‖: WC high = upper bound; RSS high = rms; MC high = rms",
-    "none": "margin: Monte Carlo only (MC high = P99.73)",
+    "none": "margin: Monte Carlo only (MC low = P0.27, MC high = P99.73)",
 }
 
 
@@ -323,8 +325,11 @@ class StackupLinear:
                 continue
             top = lin.contributions.sort_values("variance share %", ascending=False).head(self.top)
             summary[name]["contributions"] = frame_records(lin.contributions)
-            sec.add_table(top, caption=f"{name}: largest contributors (derivative in {label(lin.unit)} per factor "
-                                       f"unit; worst-case and variance shares in %)", float_format="{:.4g}")
+            what = {"dof": "loop-method sign and accumulator from the derivative",
+                    "norm": "derivatives and signs of the pair's two components",
+                    "weighted": "shares of the weighted magnitude"}[lin.form]
+            sec.add_table(top, caption=f"{name}: largest contributors ({what}; derivative in {label(lin.unit)} per "
+                                       f"factor unit; worst-case and variance shares in %)", float_format="{:.4g}")
             if name in self.figures:
                 sec.add_figure(contribution_bars(lin, top=self.top), caption=f"{name}: contributions")
         cols = ["output", "unit", "kind", "WC low", "WC high", "RSS mean", "RSS σ", "RSS low", "RSS high",

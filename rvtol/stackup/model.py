@@ -420,14 +420,12 @@ def _check_zones(model: StackupModel, spec) -> None:
 
 
 def _band_inside(spec, name: str, limit: float, what: str) -> None:
+    from ..sensitivity.common import tolerance_limits
+
     f = spec.factor(name)
-    d = f.dist
-    if d.kind in ("uniform", "triangular", "truncnorm"):
-        lo, hi = d.p["lower"] + d.shift, d.p["upper"] + d.shift
-    else:
-        lo, hi = d.mean - 0.5 * d.tolerance, d.mean + 0.5 * d.tolerance
+    lo, hi = tolerance_limits(f)
     lo_b, hi_b = units.to_base(lo, f.unit), units.to_base(hi, f.unit)
     if max(abs(lo_b), abs(hi_b)) > limit * (1 + 1e-9):
         shown = units.from_base(limit, f.unit)
-        raise InputError(f"factor band [{lo:g}, {hi:g}] {f.unit} leaves {what} (|value| ≤ {shown:.6g} {f.unit})",
+        raise InputError(f"factor band [{lo:.6g}, {hi:.6g}] {f.unit} leaves {what} (|value| ≤ {shown:.6g} {f.unit})",
                          file=spec.file, key=f"factor {name!r}")

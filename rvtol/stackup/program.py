@@ -73,7 +73,7 @@ class Program:
 
     # -- arrays for the kernel -------------------------------------------------
     def arrays(self) -> tuple[np.ndarray, np.ndarray]:
-        C = np.array([c[:3, :] for c in self.consts]) if self.consts else np.zeros((1, 3, 4))
+        C = np.array([c[:3, :].ravel() for c in self.consts]) if self.consts else np.zeros((1, 12))
         ops = np.array(self.ops, dtype=np.int64).reshape(-1, 4)
         return np.ascontiguousarray(C), ops
 
