@@ -191,6 +191,16 @@ def test_ga_lands_within_two_percent_of_the_convex_optimum(bx40e_3d):
     np.testing.assert_array_equal(again.t, ga.t)  # seeded: reproducible to the bit
 
 
+def test_penalty_handling_also_reaches_the_convex_optimum():
+    """Penalty rules (fitness −(cost + μ·violation)); the result is the best candidate that meets the constraint."""
+    p = linear_problem(K, B, limit=1.0)
+    con = LinearisedConstraint(p, linearise(p), "rss")
+    cv = solve_convex(p, con)
+    ga = solve_ga(p, con, GASettings(population=30, generations=80, parents=15, handling="penalty", seed=1))
+    assert ga.feasible and con.violation(ga.t)[0] == 0.0
+    assert -1e-6 <= ga.total_cost / cv.total_cost - 1.0 <= 0.02
+
+
 def test_ga_allocation_on_monte_carlo_cpk_holds_in_an_independent_run(root):
     spec = load_spec(root / "data/specs/bx40e_assembly_2d.toml")
     model = AdjustedAssemblyModel(load_assembly(root / "data/assemblies/bx40e_2d.toml"), spec.names)
