@@ -169,7 +169,8 @@ class AdjustmentReproduction:
                                     + ("At Q = ∞ rvtol's reducer is error-free (TE floor ≈ 0), doc 002's keeps "
                                        "12.5 arcsec from sources it does not describe" if math.isinf(q) else
                                        "within 5 points" if abs(ro - rp) <= 5.0 else
-                                       "the TE of the mapped offsets falls faster/slower with Q than doc 002's")})
+                                       f"the TE of the mapped offsets falls {'less' if ro < rp else 'more'} "
+                                       "by this Q than doc 002's")})
         f_ours = None if te is None else list(te["pin_force_max [N]"])
         for k, (q, f) in enumerate(zip(Qs, force)):
             lab = "∞" if math.isinf(q) else f"{q:g}"
