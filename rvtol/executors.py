@@ -99,8 +99,9 @@ class DaskExecutor(Executor):
 
     kind = "dask"
 
-    def __init__(self, workers: int | None = None, scheduler: str | None = None):
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, connect_timeout: float = 10.0):
         self.scheduler = scheduler
+        self.connect_timeout = connect_timeout
         self._want = workers or os.cpu_count() or 1
         self._client = None
         self._cluster = None
@@ -112,7 +113,7 @@ class DaskExecutor(Executor):
 
             if self.scheduler:
                 try:
-                    self._client = Client(self.scheduler, timeout="10s")
+                    self._client = Client(self.scheduler, timeout=f"{self.connect_timeout}s")
                 except (OSError, TimeoutError) as exc:
                     raise InputError(f"cannot reach Dask scheduler {self.scheduler!r} ({exc})",
                                      key="--scheduler") from None

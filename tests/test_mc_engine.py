@@ -129,7 +129,8 @@ def test_dask_scheduler_address_path(reference):
 
 def test_unreachable_scheduler_is_an_input_error():
     from rvtol.errors import InputError
+    from rvtol.executors import DaskExecutor
 
     with pytest.raises(InputError, match="cannot reach Dask scheduler"):
-        with make_executor("dask", scheduler="tcp://127.0.0.1:1") as ex:
+        with DaskExecutor(scheduler="tcp://127.0.0.1:1", connect_timeout=1.0) as ex:
             ex.client
