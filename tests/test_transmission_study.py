@@ -51,7 +51,7 @@ executor = "serial"
 
 def test_the_rv80e_study_loads():
     st = load_study(ROOT / "studies/transmission_error_rv80e.toml")
-    assert st.model.inputs == st.spec.names and len(st.spec.names) == 34
+    assert st.model.inputs == st.spec.names and len(st.spec.names) == 35
     kinds = [type(a).__name__ for a in st.analyses]
     assert "TESensitivity" in kinds and "TECurve" in kinds
 

@@ -489,6 +489,13 @@ def record(kind, fc, prm, rec):
     rec[R_TORQUE_IN] = t
 
 
+@njit(**_JIT)
+def _workspace(nd, nc):
+    """Work arrays of the Newton solver: F, K, fc, kt, R, dq, qprev, Q."""
+    return (np.zeros(nd), np.zeros((nd, nd)), np.zeros(nc), np.zeros((nc, 3)), np.zeros(nd), np.zeros(nd),
+            np.zeros(nd), np.zeros(nd))
+
+
 # --------------------------------------------------------------------------- quasi-static sequence
 @njit(**_JIT)
 def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, xs,
@@ -509,14 +516,7 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
     nc = kind.size
     coef = np.zeros((nc, 2, idx.shape[2]))
     off = np.zeros((nc, 2))
-    F = np.zeros(nd)
-    K = np.zeros((nd, nd))
-    fc = np.zeros(nc)
-    kt = np.zeros((nc, 3))
-    R = np.zeros(nd)
-    dq = np.zeros(nd)
-    qprev = np.zeros(nd)
-    Q = np.zeros(nd)
+    F, K, fc, kt, R, dq, qprev, Q = _workspace(nd, nc)
     M = np.zeros((1, 1))
     q = q_start.copy()
     for p in range(n):
@@ -566,14 +566,7 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
     beta = 0.25
     nd = q0.size
     nc = kind.size
-    F = np.zeros(nd)
-    K = np.zeros((nd, nd))
-    fc = np.zeros(nc)
-    kt = np.zeros((nc, 3))
-    R = np.zeros(nd)
-    dq = np.zeros(nd)
-    qprev = np.zeros(nd)
-    Q = np.zeros(nd)
+    F, K, fc, kt, R, dq, qprev, Q = _workspace(nd, nc)
     q = q0.copy()
     v = v0.copy()
     a = np.zeros(nd)

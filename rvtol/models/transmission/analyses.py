@@ -35,8 +35,10 @@ DOC_CLASS = {"R_pin": "high", "AP_pin": "high", "R_cyc": "high", "AP_cyc": "high
              "E_s": "negligible", "E_p": "negligible"}
 #: sensitivities the document prints (arcsec/µm)
 PRINTED = {"E_c": (2.866, 2.868), "delta_b": (2.46, 2.49)}
-#: rvtol's class thresholds, relative to the largest mean |S| of the study
-HIGH_FRACTION, NEGLIGIBLE_FRACTION = 0.25, 0.01
+#: rvtol's class thresholds, as fractions of the direct sensitivity S_ref = 1 µm of arc at the disc pitch
+#: radius z_c·e (206.265 / 58.5 = 3.53 arcsec/µm for the RV-80E): what a tangential error acting directly
+#: on the disc rotation would give
+HIGH_FRACTION, NEGLIGIBLE_FRACTION = 0.15, 0.005
 DEFAULT_MAGNITUDES = (0.5, 1.0, 2.0, 3.0, 5.0, 7.5, 10.0, 12.5, 15.0)
 
 
@@ -174,15 +176,17 @@ class TESensitivity:
             f"{self.percent:g} % of e and S is the five-point central derivative of Δθ_er (peak-to-peak TE over "
             "one output revolution, quasi-static, light load) — in arcsec per µm. The band around each curve "
             "spans the one-sided five-point derivatives at the ends of the interval.")
-        table = fr.pivot_table(index="magnitude", columns="factor", values="S", sort=False)[self.factors]
-        table = table.reset_index().rename(columns={"magnitude": "e [µm]"})
-        table.columns = [table.columns[0]] + [f"S {c} [{units.label(unit)}]" for c in table.columns[1:]]
-        sec.add_table(table, caption="Five-point sensitivity S of Δθ_er against the magnitude e", float_format="{:.4g}")
+        table = fr.pivot_table(index="factor", columns="magnitude", values="S", sort=False).loc[self.factors]
+        table.columns = [f"e = {c:g} µm" for c in table.columns]
+        sec.add_table(table.reset_index(), caption=f"Five-point sensitivity S of Δθ_er [{units.label(unit)}] against "
+                                                   "the magnitude e", float_format="{:.3g}")
         sec.add_figure(res.plot("te_pp"), caption="Sensitivity of Δθ_er against e (Table 3 factors)")
         sec.add_figure(tp.te_vs_magnitude(fr), caption="Δθ_er at the centre of each stencil against e")
-        rank = self.ranking(fr)
-        sec.add_table(rank, caption=f"Ranking by mean |S| over e; rvtol class: high ≥ {HIGH_FRACTION:g} × the "
-                                    f"largest, negligible < {NEGLIGIBLE_FRACTION:g} × the largest, low between",
+        s_ref = units.from_base(1.0 / self.model.geometry.r_disc_pitch, "arcsec") * 1e-3
+        rank = self.ranking(fr, s_ref)
+        sec.add_table(rank, caption=f"Ranking by mean |S| over e; rvtol class: high ≥ {HIGH_FRACTION:g} S_ref, "
+                                    f"negligible < {NEGLIGIBLE_FRACTION:g} S_ref, low between, where S_ref = "
+                                    f"{s_ref:.3g} arcsec/µm is 1 µm of arc at the disc pitch radius z_c·e",
                       float_format="{:.4g}")
         sec.add_figure(tp.ranking(rank), caption="Sensitivity ranking (log scale), coloured by the document's class")
         comp = self.printed(fr)
@@ -191,8 +195,10 @@ class TESensitivity:
                                         "(reasons in studies/transmission_error.md)", float_format="{:.4g}")
         lin = self.linearity(fr)
         if len(lin):
-            sec.add_table(lin, caption="Linearity: Δθ_er(2e) / Δθ_er(e) (2 for a linear, 1-homogeneous factor)",
-                          float_format="{:.4g}")
+            wide = lin.pivot_table(index="factor", columns="e [µm]", values="ratio", sort=False)
+            wide.columns = [f"e = {c:g} µm" for c in wide.columns]
+            sec.add_table(wide.reset_index(), caption="Linearity: Δθ_er(2e) / Δθ_er(e) (2 for a factor whose "
+                                                      "effect is proportional to its magnitude)", float_format="{:.3g}")
         for n in res.notes:
             sec.add_text("Note: " + n)
         sec.summary = {"percent": self.percent, "magnitudes_um": list(self.magnitudes),
@@ -201,16 +207,15 @@ class TESensitivity:
         return [sec]
 
     @staticmethod
-    def ranking(fr: pd.DataFrame) -> pd.DataFrame:
+    def ranking(fr: pd.DataFrame, s_ref: float) -> pd.DataFrame:
         rows = []
         for name, g in fr.groupby("factor", sort=False):
             s = np.abs(g["S"].to_numpy())
             rows.append({"factor": name, "mean |S|": np.nanmean(s), "min |S|": np.nanmin(s), "max |S|": np.nanmax(s),
                          "unit": units.label(g["S_unit"].iloc[0]), "document class": DOC_CLASS.get(name, "—")})
         d = pd.DataFrame(rows).sort_values("mean |S|", ascending=False).reset_index(drop=True)
-        top = d["mean |S|"].max()
-        d["rvtol class"] = np.where(d["mean |S|"] >= HIGH_FRACTION * top, "high",
-                                    np.where(d["mean |S|"] < NEGLIGIBLE_FRACTION * top, "negligible", "low"))
+        d["rvtol class"] = np.where(d["mean |S|"] >= HIGH_FRACTION * s_ref, "high",
+                                    np.where(d["mean |S|"] < NEGLIGIBLE_FRACTION * s_ref, "negligible", "low"))
         d["agrees"] = np.where(d["document class"] == "—", "—",
                                np.where(d["document class"] == d["rvtol class"], "yes", "no"))
         d.insert(0, "rank", np.arange(1, len(d) + 1))

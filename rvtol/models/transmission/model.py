@@ -123,7 +123,7 @@ class TransmissionErrorModel(Model):
                  load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int = 36,
                  harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
-                 tol_f: float = 1e-6, maxit: int = 60):
+                 tol_f: float = 1e-5, maxit: int = 200):
         if mode not in MODES:
             raise InputError(f"unknown mode {mode!r} (expected one of: {', '.join(MODES)})", key="mode")
         self.geometry = design if isinstance(design, RVGeometry) else geometry_from_design(design)
@@ -220,7 +220,7 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     ``load_torque`` (N·m or {value, unit}; default ``load_fraction`` × rated, 0.03),
     ``per_crank_rev`` (36), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
     ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
-    ``tol_force`` (N, 1e-6), ``max_iterations`` (60)."""
+    ``tol_force`` (N, 1e-5), ``max_iterations`` (200)."""
     if design is None:
         raise params.error("kind", "the transmission-error model needs [study] design = ...")
     mode = params.str("mode", "quasistatic", choices=MODES)
@@ -232,8 +232,8 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     steps = params.int("steps_per_crank_rev", None, min=4)
     settle = params.float("settle_periods", 50.0, nonnegative=True)
     centrifugal = params.bool("centrifugal", True)
-    tol = params.float("tol_force", 1e-6, positive=True)
-    maxit = params.int("max_iterations", 60, min=2)
+    tol = params.float("tol_force", 1e-5, positive=True)
+    maxit = params.int("max_iterations", 200, min=2)
     params.finish()
     try:
         return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,

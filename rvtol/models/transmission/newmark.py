@@ -72,7 +72,7 @@ class NewmarkSolver:
     def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *,
                  output_speed: float = 15 * 2 * math.pi / 60, load_torque: float | None = None,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
-                 tol_f: float = 1e-6, maxit: int = 60, maxstep: float = 0.02):
+                 tol_f: float = 1e-5, maxit: int = 200, maxstep: float = 0.02):
         if not output_speed > 0:
             raise InputError(f"output speed must be > 0, got {output_speed}", key="output_speed")
         if steps_per_crank_rev is not None and steps_per_crank_rev < 4:

@@ -88,8 +88,8 @@ class QuasiStaticSolver:
     ``maxstep`` (mm): longest Newton step (arc length).
     """
 
-    def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *, tol_f: float = 1e-6,
-                 maxit: int = 60, maxstep: float = 0.02):
+    def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *, tol_f: float = 1e-5,
+                 maxit: int = 200, maxstep: float = 0.02):
         self.g = geometry
         self.errors = errors if errors is not None else ErrorState.zero(geometry.z_b)
         if self.errors.pin_err.shape != (3, L.N_DISC, geometry.z_b):

@@ -205,7 +205,7 @@ class ReferenceModel:
             q = q + np.linalg.solve(K + reg, -R)
         return q, parts, False, maxit
 
-    def rotation(self, theta_c, torque, q_start, tol_f: float = 1e-6, maxit: int = 60):
+    def rotation(self, theta_c, torque, q_start, tol_f: float = 1e-5, maxit: int = 60):
         """Equilibria along ``theta_c`` from a converged ``q_start`` (warm-started Newton, linear
         extrapolation of the last two solutions, as the numba sweep) — for the benchmark."""
         xs = self.g.arc_radii()
