@@ -25,8 +25,8 @@ def te_curves(results: dict, ax=None):
     """Several TE curves (``{label: TEResult}``) on one axis, each shifted to zero mean."""
     fig, ax = new_axes(ax)
     for n, (lab, r) in enumerate(results.items()):
-        ax.plot(np.degrees(r.theta_c), r.te - r.te.mean(), lw=0.9, color=_PALETTE[n % len(_PALETTE)],
-                label=f"{lab}: Δθ_er = {r.te_pp:.3g} arcsec")
+        ax.plot(np.degrees(r.theta_c), r.te - r.te.mean(), lw=1.2 if n == 0 else 0.8, ls="-" if n == 0 else "--",
+                color=_PALETTE[n % len(_PALETTE)], label=f"{lab}: Δθ_er = {r.te_pp:.3g} arcsec")
     ax.set_xlabel("output angle θ_c [deg]")
     ax.set_ylabel("Δθ_ca − mean [arcsec]")
     ax.set_xlim(0, 360)
@@ -65,6 +65,10 @@ def ranking(frame, ax=None):
                 fmt="none", ecolor="black", lw=0.8, capsize=2)
     ax.set_yticks(y, list(d["factor"]))
     ax.set_xscale("log")
+    low = d["mean |S|"][d["mean |S|"] > 0].min() if (d["mean |S|"] > 0).any() else 1.0
+    for yy, v in zip(y, d["mean |S|"]):
+        if v <= 0:
+            ax.text(low, yy, " 0 (no effect)", va="center", fontsize=7)
     ax.set_xlabel(f"sensitivity of Δθ_er [{d['unit'].iloc[0]}] (mean over e; bars: min–max)")
     for c, col in cls_color.items():
         ax.barh([np.nan], [np.nan], color=col, label=f"document: {c}")
@@ -80,5 +84,5 @@ def te_vs_magnitude(frame, ax=None):
     ax.set_xlabel(f"magnitude e [{frame['magnitude_unit'].iloc[0]}]")
     ax.set_ylabel(f"Δθ_er [{frame['output_unit'].iloc[0]}]")
     ax.set_yscale("symlog", linthresh=0.01)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return fig
