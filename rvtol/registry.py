@@ -24,8 +24,8 @@ MODELS: dict[str, str] = {
     "adjusted_assembly": "rvtol.adjustment.model:from_study",
     "stackup": "rvtol.stackup.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
-    "transmission_error": "rvtol.models.transmission.model:from_study",
     "torsion_curve": "rvtol.models.torsion_curve:from_study",
+    "transmission_error": "rvtol.models.transmission.model:from_study",
 }
 
 ANALYSES: dict[str, str] = {
