@@ -14,7 +14,6 @@ Measured side by side in one process (shared, noisy machines), reported as ratio
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -25,16 +24,11 @@ from rvtol.allocation.problem import AllocationProblem, MonteCarloConstraint, ex
 from rvtol.sampling import rng, to_factors
 from rvtol.spec import Requirement, load_spec
 
+from _timing import best_time, print_table
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def best_of(f, repeat=3):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts)
 
 
 def problem() -> AllocationProblem:
@@ -52,30 +46,28 @@ def main(quick: bool = False) -> None:
     mc = MonteCarloConstraint(p, n, "lhs", 1)
     T = p.t0 * rng(2).uniform(0.05, 0.5, size=(40, len(p.factors)))
     rows = []
-    t_fast = best_of(lambda: [mc.samples(t) for t in T])
-    t_spine = best_of(lambda: [to_factors(p.spec_at(t), mc.U) for t in T])
+    t_fast = best_time(lambda: [mc.samples(t) for t in T])
+    t_spine = best_time(lambda: [to_factors(p.spec_at(t), mc.U) for t in T])
     err = max(np.max(np.abs(mc.samples(t) - to_factors(p.spec_at(t), mc.U))) for t in T[:3])
     rows.append(("candidate samples, 40 × n (affine vs spec.scaled + to_factors)",
                  f"{t_fast * 1e3:.1f} ms vs {t_spine * 1e3:.1f} ms", f"{t_spine / t_fast:.1f}× faster, max diff {err:.1e}"))
 
     X = rng(3).normal(size=(40 * n, 12))
     M = rng(4).normal(size=(12, 12))
-    t_es = best_of(lambda: np.einsum("nc,rc->nr", X, M))
-    t_bc = best_of(lambda: (X[:, None, :] * M[None]).sum(-1))
+    t_es = best_time(lambda: np.einsum("nc,rc->nr", X, M))
+    t_bc = best_time(lambda: (X[:, None, :] * M[None]).sum(-1))
     rows.append((f"row-by-row products, {40 * n} rows × 12×12 (einsum vs broadcast-sum)",
                  f"{t_es * 1e3:.1f} ms vs {t_bc * 1e3:.1f} ms", f"{t_bc / t_es:.1f}× faster"))
 
     Xs = np.vstack([mc.samples(t) for t in T])
-    t_model = best_of(lambda: p.model.evaluate(Xs))
-    t_sim = best_of(lambda: p.model.simulate(Xs))
+    t_model = best_time(lambda: p.model.evaluate(Xs))
+    t_sim = best_time(lambda: p.model.simulate(Xs))
     rows.append((f"adjusted assembly, {len(Xs)} rows (closed-loop map vs step-by-step simulate)",
                  f"{t_model * 1e3:.0f} ms vs {t_sim * 1e3:.0f} ms", f"{t_sim / t_model:.1f}× faster"))
-    t_gen = best_of(lambda: mc.violation(T), repeat=2)
+    t_gen = best_time(lambda: mc.violation(T), repeat=2)
     rows.append((f"one GA generation (40 candidates × n = {n}): model share",
                  f"{t_model * 1e3:.0f} ms of {t_gen * 1e3:.0f} ms", f"{100 * t_model / t_gen:.0f} % in the model"))
-    w = max(len(r[0]) for r in rows)
-    for a, b, c in rows:
-        print(f"{a:<{w}}  {b:>24}  {c}")
+    print_table(rows)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,6 @@ reported as ratios against a reference: the model called directly, and the seria
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
@@ -16,14 +15,9 @@ from rvtol.executors import make_executor
 from rvtol.mc import evaluate
 from rvtol.testing import CpuBoundModel, TrivialModel
 
+from _timing import best_time, print_table
 
-def best_of(f, repeat=3):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts)
+
 
 
 def main(quick: bool = False) -> None:
@@ -32,21 +26,23 @@ def main(quick: bool = False) -> None:
     n = 200_000 if quick else 1_000_000
     m = TrivialModel(3)
     X = np.random.default_rng(0).random((n, 3))
-    t_direct = best_of(lambda: m.evaluate_with_status(X))
-    t_engine = best_of(lambda: evaluate(m, X, chunk_size=n, progress=False))
+    t_direct, t_engine = float("inf"), float("inf")
+    for _ in range(7):  # interleaved, best of 7: the difference is a few ns per sample
+        t_direct = min(t_direct, best_time(lambda: m.evaluate_with_status(X), repeat=1))
+        t_engine = min(t_engine, best_time(lambda: evaluate(m, X, chunk_size=n, progress=False), repeat=1))
     rows.append(("engine overhead per sample (serial, 1 chunk)", f"{(t_engine - t_direct) / n * 1e9:.1f} ns",
                  f"{t_engine / t_direct:.2f}× direct call"))
     # 2. overhead per chunk: many small chunks vs one chunk, serial and process pool
     n2 = 100_000
     X2 = X[:n2]
-    t_one = best_of(lambda: evaluate(m, X2, chunk_size=n2, progress=False))
-    t_many = best_of(lambda: evaluate(m, X2, chunk_size=100, progress=False))
+    t_one = best_time(lambda: evaluate(m, X2, chunk_size=n2, progress=False))
+    t_many = best_time(lambda: evaluate(m, X2, chunk_size=100, progress=False))
     rows.append(("overhead per chunk (serial)", f"{(t_many - t_one) / (n2 / 100 - 1) * 1e6:.1f} µs",
                  "1000 chunks of 100 vs 1 chunk"))
     with make_executor("process", 2) as ex:
         evaluate(m, X2[:1000], ex, chunk_size=500, progress=False)  # start the pool outside the timing
-        t_p_one = best_of(lambda: evaluate(m, X2, ex, chunk_size=n2 // 2, progress=False))
-        t_p_many = best_of(lambda: evaluate(m, X2, ex, chunk_size=1000, progress=False))
+        t_p_one = best_time(lambda: evaluate(m, X2, ex, chunk_size=n2 // 2, progress=False))
+        t_p_many = best_time(lambda: evaluate(m, X2, ex, chunk_size=1000, progress=False))
     rows.append(("overhead per chunk (process pool, 2 workers)",
                  f"{(t_p_many - t_p_one) / (n2 / 1000 - 2) * 1e6:.0f} µs", "100 chunks of 1000 vs 2 chunks"))
     # 3. parallel speed-up of a CPU-bound model: 2 workers vs 1 (same pool type, same chunking)
@@ -57,18 +53,14 @@ def main(quick: bool = False) -> None:
     for w in (1, 2):
         with make_executor("process", w) as ex:
             evaluate(cm, Xc[:8], ex, chunk_size=4, progress=False)  # warm the pool
-            times[w] = best_of(lambda: evaluate(cm, Xc, ex, chunk_size=nc // 16, progress=False), repeat=2)
-    t_serial = best_of(lambda: evaluate(cm, Xc, chunk_size=nc // 16, progress=False), repeat=2)
+            times[w] = best_time(lambda: evaluate(cm, Xc, ex, chunk_size=nc // 16, progress=False), repeat=2)
+    t_serial = best_time(lambda: evaluate(cm, Xc, chunk_size=nc // 16, progress=False), repeat=2)
     rows.append(("CPU-bound model, serial executor", f"{nc / t_serial:.0f} samples/s", "reference"))
     rows.append(("CPU-bound model, process pool 1 worker", f"{nc / times[1]:.0f} samples/s",
                  f"{t_serial / times[1]:.2f}× serial"))
     rows.append(("CPU-bound model, process pool 2 workers", f"{nc / times[2]:.0f} samples/s",
                  f"speed-up {times[1] / times[2]:.2f}× vs 1 worker (target ≥ 1.7×)"))
-    w0 = max(len(r[0]) for r in rows)
-    w1 = max(len(r[1]) for r in rows)
-    print(f"{'measurement':<{w0}}  {'value':>{w1}}  ratio")
-    for a, b, c in rows:
-        print(f"{a:<{w0}}  {b:>{w1}}  {c}")
+    print_table(rows)
 
 
 if __name__ == "__main__":

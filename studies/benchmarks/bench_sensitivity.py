@@ -14,7 +14,6 @@ Measured side by side in one process (the machines are shared and noisy) and rep
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
@@ -26,11 +25,9 @@ from rvtol.sensitivity import default_evaluator, delta, five_point, morris, sobo
 from rvtol.spec import spec_from_table
 from rvtol.testing import CpuBoundModel
 
+from _timing import best_of, print_table
 
-def timed(f):
-    t0 = time.perf_counter()
-    out = f()
-    return time.perf_counter() - t0, out
+
 
 
 def linear_case(k: int = 6):
@@ -55,9 +52,9 @@ def main(quick: bool = False) -> None:
     for name, run in (("Sobol (S1, ST, S2)", lambda: sobol(model, spec, n_base, seed=1, evaluate=counted)),
                       ("Morris (r = 50)", lambda: morris(model, spec, 50, seed=1, evaluate=counted))):
         counting["rows"] = 0
-        t_all, _ = timed(run)
+        t_all, _ = best_of(run, repeat=1)
         X = sample(spec, counting["rows"], "random", 3).values
-        t_eval, _ = timed(lambda: evaluate(model, X, progress=False))
+        t_eval, _ = best_of(lambda: evaluate(model, X, progress=False), repeat=1)
         rows.append((f"{name}: total / bare evaluations", f"{t_all / t_eval:.1f}×",
                      f"{counting['rows']} rows, {t_all * 1e3:.0f} ms"))
     # 2. five-point: distinct evaluated rows
@@ -70,10 +67,10 @@ def main(quick: bool = False) -> None:
     s = sample(spec, n, "random", 5)
     Y = model.outputs[0].to_display(model.evaluate(s.values))
     delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=2)  # imports and caches outside the timing
-    t_ser, a = timed(lambda: delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=20))
+    t_ser, a = best_of(lambda: delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=20), repeat=1)
     with make_executor("process", 2) as ex:
         delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=2, executor=ex)  # warm the pool
-        t_par, b = timed(lambda: delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=20, executor=ex))
+        t_par, b = best_of(lambda: delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=20, executor=ex), repeat=1)
     assert a.frame.equals(b.frame)
     rows.append(("delta (k = 6, n = %d): serial / process(2)" % n, f"{t_ser / t_par:.2f}×",
                  f"{t_ser:.1f} s vs {t_par:.1f} s, identical indices"))
@@ -82,18 +79,15 @@ def main(quick: bool = False) -> None:
     cspec = spec_from_table({"factor": [{"name": f"x{i}", "unit": "1", "dist": "uniform", "lower": 0, "upper": 1}
                                         for i in range(3)]})
     nb = 32 if quick else 128
-    t1, r1 = timed(lambda: sobol(cm, cspec, nb, second_order=False, seed=4))
+    t1, r1 = best_of(lambda: sobol(cm, cspec, nb, second_order=False, seed=4), repeat=1)
     with make_executor("process", 2) as ex:
         evaluate(cm, np.full((4, 3), 0.5), ex, progress=False)  # start the pool outside the timing
-        t2, r2 = timed(lambda: sobol(cm, cspec, nb, second_order=False, seed=4,
-                                     evaluate=lambda X, d: evaluate(cm, X, ex, progress=False)))
+        t2, r2 = best_of(lambda: sobol(cm, cspec, nb, second_order=False, seed=4,
+                                       evaluate=lambda X, d: evaluate(cm, X, ex, progress=False)), repeat=1)
     assert r1.frame.equals(r2.frame)
     rows.append((f"Sobol on a CPU-bound model ({nb * 5} rows): serial / process(2)", f"{t1 / t2:.2f}×",
                  f"{t1:.1f} s vs {t2:.1f} s, identical indices"))
-    w = max(len(r[0]) for r in rows)
-    print(f"{'measure':<{w}}  {'ratio':>8}  detail")
-    for a_, b_, c_ in rows:
-        print(f"{a_:<{w}}  {b_:>8}  {c_}")
+    print_table(rows, ("measure", "ratio", "detail"))
 
 
 if __name__ == "__main__":

@@ -14,7 +14,6 @@ One core, one process, side by side (the machines are shared and noisy: compare 
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -22,16 +21,11 @@ import numpy as np
 from rvtol.stackup import transforms as tr
 from rvtol.stackup.program import chain_program, run_numba, run_numpy
 
+from _timing import best_time, print_table
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def best_of(f, repeat=3):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts)
 
 
 def main(quick: bool = False) -> None:
@@ -42,19 +36,19 @@ def main(quick: bool = False) -> None:
     run_numba(p, E[:10])  # compile / load the cache outside the timing
     rows = []
     for mode in ("exact", "small"):
-        t_nb = best_of(lambda: run_numba(p, E, mode))
-        t_np = best_of(lambda: run_numpy(p, E, mode), repeat=2)
+        t_nb = best_time(lambda: run_numba(p, E, mode))
+        t_np = best_time(lambda: run_numpy(p, E, mode), repeat=2)
         rows.append((f"fused numba chain ({mode}), build + compose + extract", f"{n * m / t_nb / 1e6:.1f} M/s",
                      "target ≥ 20 M/s per core"))
         rows.append((f"NumPy matmul chain ({mode}), same program", f"{n * m / t_np / 1e6:.1f} M/s",
                      f"numba / NumPy = {t_np / t_nb:.1f}× (target ≥ 1.5×)"))
     Eb = E.copy()
     Eb[..., 3:] *= 50.0  # angles ~0.05 rad: past the short sine/cosine polynomial
-    t_big = best_of(lambda: run_numba(p, Eb, "exact"))
+    t_big = best_time(lambda: run_numba(p, Eb, "exact"))
     rows.append(("fused numba chain (exact), angles ~0.05 rad", f"{n * m / t_big / 1e6:.1f} M/s",
                  "longer sine/cosine polynomial"))
     Ts = tr.exact(E[: n // 4])
-    t_mm = best_of(lambda: tr.compose(Ts))
+    t_mm = best_time(lambda: tr.compose(Ts))
     rows.append(("NumPy matmul of pre-built 4×4 matrices (composition only)", f"{n // 4 * (m - 1) / t_mm / 1e6:.1f} M/s",
                  "reference: no building, no extraction"))
 
@@ -69,17 +63,13 @@ def main(quick: bool = False) -> None:
     X = sample(spec, 50_000 if quick else 200_000, "random", seed=1).values
     mods = {b: StackupModel(asm, "carrier_first", spec.names, backend=b) for b in ("numba", "numpy")}
     mods["numba"].evaluate(X[:10])
-    t = {b: best_of(lambda b=b: mods[b].evaluate(X), repeat=2) for b in mods}
+    t = {b: best_time(lambda b=b: mods[b].evaluate(X), repeat=2) for b in mods}
     k = len(mods["numba"].program.ops)
     rows.append(("RV crank-chain Model, numba backend", f"{len(X) / t['numba'] / 1e3:.0f} k samples/s",
                  f"{k} operations per sample"))
     rows.append(("RV crank-chain Model, NumPy backend", f"{len(X) / t['numpy'] / 1e3:.0f} k samples/s",
                  f"numba / NumPy = {t['numpy'] / t['numba']:.1f}×"))
-    w0 = max(len(r[0]) for r in rows)
-    w1 = max(len(r[1]) for r in rows)
-    print(f"{'measurement (1 core)':<{w0}}  {'value':>{w1}}  ratio / target")
-    for a, b, c in rows:
-        print(f"{a:<{w0}}  {b:>{w1}}  {c}")
+    print_table(rows, ("measurement (1 core)", "value", "ratio / target"))
 
 
 if __name__ == "__main__":

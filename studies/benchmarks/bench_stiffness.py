@@ -13,7 +13,6 @@ Measured side by side in one process (the machines are shared and noisy); ratios
 from __future__ import annotations
 
 import argparse
-import timeit
 from pathlib import Path
 
 import numpy as np
@@ -24,11 +23,11 @@ from rvtol.models.torsion_curve import TorsionCurveModel, torque_schedule
 from rvtol.models.torsion_curve_analysis import CAMS
 from rvtol.models.transmission.reference import ReferenceModel
 
+from _timing import best_time, print_table
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def best_of(f, repeat=3):
-    return min(timeit.repeat(f, number=1, repeat=repeat))
 
 
 def reference_curve(model: TorsionCurveModel, x) -> np.ndarray:
@@ -51,8 +50,8 @@ def main(quick: bool = False) -> None:
     n = 200 if quick else 1000
     rng = np.random.default_rng(0)
     errs = rng.normal(0.0, 0.0015, (n, 2))
-    t_one = best_of(lambda: rs.evaluate(784e3, *mods, pin_circle_error=errs[:1, 0], pin_radius_error=errs[:1, 1]))
-    t_batch = best_of(lambda: rs.evaluate(784e3, *mods, pin_circle_error=errs[:, 0], pin_radius_error=errs[:, 1]))
+    t_one = best_time(lambda: rs.evaluate(784e3, *mods, pin_circle_error=errs[:1, 0], pin_radius_error=errs[:1, 1]))
+    t_batch = best_time(lambda: rs.evaluate(784e3, *mods, pin_circle_error=errs[:, 0], pin_radius_error=errs[:, 1]))
     rows.append(("torsion angle θ1..θ5, one row", f"{t_one * 1e3:.2f} ms", "reference"))
     rows.append((f"torsion angle θ1..θ5, per row in a batch of {n}", f"{t_batch / n * 1e6:.0f} µs",
                  f"{t_one / (t_batch / n):.0f}× faster per row than one row alone"))
@@ -61,8 +60,8 @@ def main(quick: bool = False) -> None:
     m = TorsionCurveModel(te, CAMS + ("delta_pin",))
     for label, x in (("clearance-free", np.zeros(7)), ("2 µm clearances", np.full(7, 0.002))):
         m.curve(x)                                            # compile / warm the numba kernels
-        t_nb = best_of(lambda: m.curve(x), repeat=5)
-        t_np = best_of(lambda: reference_curve(m, x), repeat=1 if quick else 2)
+        t_nb = best_time(lambda: m.curve(x), repeat=5)
+        t_np = best_time(lambda: reference_curve(m, x), repeat=1 if quick else 2)
         c = m.curve(x)
         loaded = c.torque != 0.0          # at exactly zero torque the equilibrium inside the clearances is not unique
         diff = np.abs(reference_curve(m, x) - c.angle)[loaded].max() / np.abs(c.angle).max()
@@ -70,10 +69,7 @@ def main(quick: bool = False) -> None:
         rows.append((f"hysteresis curve, NumPy reference ({label})", f"{t_np * 1e3:.0f} ms",
                      f"{t_np / t_nb:.0f}× the numba time; curves agree to {diff:.1e} (relative, τ ≠ 0)"))
 
-    w = max(len(r[0]) for r in rows)
-    print(f"{'measurement'.ljust(w)}  {'time':>10}  ratio")
-    for name, t, ratio in rows:
-        print(f"{name.ljust(w)}  {t:>10}  {ratio}")
+    print_table(rows, ("measurement", "time", "ratio"))
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ implementation of the same equations; a 10 000-sample TE Monte Carlo < 5 min on 
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -30,16 +29,11 @@ from rvtol.models.transmission.reference import ReferenceModel
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 
+from _timing import best_of, print_table
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def best_of(f, repeat=3):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts), out
 
 
 def assembly_times(g, st, q, n=2000):
@@ -115,11 +109,7 @@ def main(quick: bool = False) -> None:
         extra = f"; speed-up {rate[2] / rate[1]:.2f}× vs 1 worker" if w == 2 else ""
         rows.append((f"Monte Carlo, process pool, {w} worker{'s' if w > 1 else ''}", f"{rate[w]:.1f} samples/s",
                      f"10 000 samples ≈ {1e4 / rate[w] / 60:.1f} min (target < 5 min on 2 cores){extra}"))
-    w0 = max(len(r[0]) for r in rows)
-    w1 = max(len(r[1]) for r in rows)
-    print(f"{'measurement':<{w0}}  {'value':>{w1}}  notes")
-    for a, b, c in rows:
-        print(f"{a:<{w0}}  {b:>{w1}}  {c}")
+    print_table(rows, ("measurement", "value", "notes"))
 
 
 if __name__ == "__main__":
