@@ -21,7 +21,7 @@ from . import stats as st
 from .executors import Executor, SerialExecutor
 from .model import STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
-from .spec import Requirement, ToleranceSpec
+from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -102,6 +102,7 @@ class Verdict:
         return {
             "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
             "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "yield_interval": r.interval,
             "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
             "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]],
@@ -184,7 +185,7 @@ class MonteCarloResult:
         for r in self.requirements:
             j = [q.name for q in self.outputs].index(r.output)
             y = self.Y[:, j]
-            yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence)
+            yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
             good = y[self.ok]
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)

@@ -29,6 +29,7 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     min_yield = 0.9973         # and/or min_cpk = 1.33
     confidence = 0.95          # of the interval the verdict uses
     basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
+    interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
 """
 from __future__ import annotations
 
@@ -42,6 +43,9 @@ from . import units
 from .distributions import Distribution, from_params
 from .errors import InputError, SpecError
 from .params import Params, read_toml
+
+#: yield interval methods a requirement can name -> scipy's binomtest method
+YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -174,6 +178,7 @@ class Requirement:
     confidence: float = 0.95
     basis: str = "lower_bound"
     name: str = ""
+    interval: str = "clopper-pearson"
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
 
@@ -322,7 +327,8 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
             raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
         name = t.str("name", "")
+        interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               t.file, t.key))
+                               interval=interval, file=t.file, key=t.key))
     return out

@@ -134,3 +134,18 @@ def test_unreachable_scheduler_is_an_input_error():
     with pytest.raises(InputError, match="cannot reach Dask scheduler"):
         with DaskExecutor(scheduler="tcp://127.0.0.1:1", connect_timeout=1.0) as ex:
             ex.client
+
+
+def test_requirement_chooses_the_yield_interval():
+    from rvtol import stats as st
+
+    spec = linear_spec()
+    m = linear_model(spec)
+    cp = Requirement("gap", upper=40.0, unit="um")
+    wi = Requirement("gap", upper=40.0, unit="um", interval="wilson")
+    r = run_monte_carlo(m, spec, 1500, "lhs", seed=2, requirements=[cp, wi], progress=False)
+    v_cp, v_wi = r.verdicts()
+    k, n = v_cp.yield_.conforming, v_cp.yield_.n
+    assert (v_cp.yield_.lo, v_cp.yield_.hi) == pytest.approx(st.proportion_ci(k, n, 0.95, "exact"))
+    assert (v_wi.yield_.lo, v_wi.yield_.hi) == pytest.approx(st.proportion_ci(k, n, 0.95, "wilson"))
+    assert v_wi.to_dict()["yield_interval"] == "wilson"

@@ -47,8 +47,10 @@ def verdict_section(result) -> Section:
             "result": "PASS" if v.passed else "FAIL",
             "why": "; ".join(v.reasons),
         })
+    methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
+                      for v in verdicts})
     sec.add_table(pd.DataFrame(rows), caption=f"Requirements at {mc.confidence:.0%} confidence "
-                  f"(yield: Clopper–Pearson; Cpk: Bissell; percentile Cpk: ISO 22514-2 with bootstrap CI)")
+                  f"(yield: {' / '.join(methods)}; Cpk: Bissell; percentile Cpk: ISO 22514-2 with bootstrap CI)")
     return sec
 
 
