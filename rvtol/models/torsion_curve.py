@@ -194,7 +194,7 @@ class TorsionCurveModel(Model):
     outputs = OUTPUTS
 
     def __init__(self, design_or_geometry, inputs=(), *, percent: float = 3.0, points: int = 20,
-                 torque: float | None = None, harmonic: int = 2, tol_f: float = 1e-6, maxit: int = 60):
+                 torque: float | None = None, harmonic: int = 2, tol_f: float = 1e-6, maxit: int = 200):
         g = design_or_geometry
         self.geometry = g if isinstance(g, RVGeometry) else geometry_from_design(g)
         if not 0.0 < percent < 100.0:
@@ -261,7 +261,7 @@ def from_study(params, design, spec) -> TorsionCurveModel:
     torque = params.quantity("torque", "N*m", None, positive=True)
     harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
     tol = params.float("tol_force", 1e-6, positive=True)
-    maxit = params.int("max_iterations", 60, min=2)
+    maxit = params.int("max_iterations", 200, min=2)
     params.finish()
     try:
         return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
