@@ -193,19 +193,24 @@ class Requirement:
 
     @property
     def label(self) -> str:
+        """The requirement as written: its ``name``, or e.g. ``lost_motion ≤ 1 arcmin``."""
         if self.name:
             return self.name
-        lim = []
-        if self.lower is not None:
-            lim.append(f"≥ {self.lower:g}")
+        from .units import label as unit_label
+
+        u = f" {unit_label(self.unit)}" if self.unit else ""
+        if self.lower is not None and self.upper is not None:
+            return f"{self.output} in [{self.lower:g}, {self.upper:g}]{u}"
         if self.upper is not None:
-            lim.append(f"≤ {self.upper:g}")
-        return f"{self.output} {' and '.join(lim)} {self.unit or ''}".strip()
+            return f"{self.output} ≤ {self.upper:g}{u}"
+        return f"{self.output} ≥ {self.lower:g}{u}"
 
     def in_unit(self, unit: str) -> "Requirement":
-        """The same requirement with its limits converted to ``unit``."""
+        """The same requirement with its limits converted to ``unit`` (the label keeps the written units)."""
         if self.unit is None or self.unit == unit:
             return replace(self, unit=unit)
+        if not self.name:
+            self = replace(self, name=self.label)
         try:
             conv = lambda v: None if v is None else float(units.convert(v, self.unit, unit))  # noqa: E731
             return replace(self, lower=conv(self.lower), upper=conv(self.upper), unit=unit)
