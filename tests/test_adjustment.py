@@ -67,6 +67,40 @@ def test_gain_is_the_open_loop_least_squares_optimum(bx2):
         np.testing.assert_allclose(-adj.K[k] @ x, u[:n], rtol=1e-10, atol=1e-14)
 
 
+@pytest.mark.parametrize("Q", [3.0, math.inf])
+def test_gains_are_optimal_for_the_simulated_timing_with_a_general_A(Q):
+    """Non-identity A: the closed-loop adjustments after one part error equal the open-loop optimum
+    (batch least squares over u(0..N−1)) of the dynamics ``simulate`` runs: install, measure, adjust,
+    then A(k) carries the state on; the final state is the one after the last adjustment."""
+    g0 = rng(11)
+    n, N = 3, 4
+    A = [np.eye(n) + 0.3 * g0.normal(size=(n, n)) for _ in range(N)]
+    B = [np.eye(n)[:, :2] + 0.1 * g0.normal(size=(n, 2)) for _ in range(N)]
+    F = [np.eye(n)[:, [k % n]] for k in range(N)]
+    R = [np.diag([2.0, 0.5]) * (k + 1) for k in range(N)]
+    Cf = np.eye(n)[:2]
+    adj = Adjuster(A, B, F, [np.eye(n)] * N, R, Cf, Q).fit()
+    run = adj.simulate(np.array([1.0, 0.0, 0.0, 0.0]))
+    # final = Cf (T(0) x0 + Σ_k T(k) B(k) u(k)), T(k) = A(N−2)···A(k) carries step k's adjusted state to the end
+    def T(k):
+        M = np.eye(n)
+        for j in range(k, N - 1):
+            M = A[j] @ M
+        return M
+
+    G = np.hstack([Cf @ T(k) @ B[k] for k in range(N)])
+    c0 = Cf @ T(0) @ F[0][:, 0]
+    Rh = linalg.block_diag(*[np.sqrt(r) for r in R])
+    if math.isinf(Q):  # min Σ uᵀRu subject to c0 + G u = 0
+        Ri = np.linalg.inv(Rh @ Rh)
+        u = -Ri @ G.T @ np.linalg.solve(G @ Ri @ G.T, c0)
+        assert np.max(np.abs(run.final)) < 1e-12
+    else:  # min Q|c0 + G u|² + Σ uᵀRu
+        M = np.vstack([math.sqrt(Q) * G, Rh])
+        u = np.linalg.lstsq(M, np.concatenate([-math.sqrt(Q) * c0, np.zeros(2 * N)]), rcond=None)[0]
+    np.testing.assert_allclose(run.u[0].ravel(), u, rtol=1e-9, atol=1e-12)
+
+
 def test_terminal_constraint_is_the_limit_of_large_Q(bx2):
     """The closed-form Q = ∞ gains (Gramian) are the limit of the Riccati gains; the gap shrinks like R/Q."""
     inf = Adjuster.from_assembly(bx2, math.inf).fit().K

@@ -136,13 +136,30 @@ class Adjuster:
 
     # -- gains -------------------------------------------------------------------
     def fit(self) -> "Adjuster":
+        A, B = self.control_system()
         if math.isinf(self.accuracy):
-            self.lqr = terminal_constraint_gains(self.A, self.B, self.R, self.C_final)
+            self.lqr = terminal_constraint_gains(A, B, self.R, self.C_final)
         else:
             Qf = self.accuracy * self.C_final.T @ self.C_final
-            self.lqr = riccati_gains(self.A, self.B, self.R, Qf)
+            self.lqr = riccati_gains(A, B, self.R, Qf)
         self.kalman = kalman_gains(self.A, self.F, self.C, self.W, self.V)
         return self
+
+    def control_system(self) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """``(A', B')`` of the state the adjustment acts on, in :meth:`simulate`'s timing.
+
+        The controlled state ``s(k)`` is the state after installing and
+        measuring part k; the adjustment acts before ``A(k)`` carries the state
+        on, and the final state is the one after the last adjustment, so
+        ``s(k+1) = A(k) s(k) + A(k) B(k) u(k) + F(k+1) w(k+1)`` for k < N−1 and
+        ``x(N) = s(N−1) + B(N−1) u(N−1)``: ``A'(k) = A(k)``, ``B'(k) = A(k) B(k)``,
+        ``A'(N−1) = I``, ``B'(N−1) = B(N−1)`` (``A(N−1)`` acts after the end).
+        For doc 002's rigid assembly (A = I) this is the document's recursion unchanged.
+        """
+        N = self.n_steps
+        A = [self.A[k] if k < N - 1 else np.eye(self.n_state) for k in range(N)]
+        B = [self.A[k] @ self.B[k] if k < N - 1 else self.B[k] for k in range(N)]
+        return A, B
 
     @property
     def K(self) -> tuple[np.ndarray, ...]:
