@@ -135,3 +135,23 @@ def test_missing_float_factors_when_a_clearance_fit_locates(tmp_path, capsys):
     setup(tmp_path, study=study)
     code, err = check(tmp_path / "study.toml", capsys)
     assert code == 2 and "analysis[0].kind" in err and "not differentiable" in err, err
+
+
+SHAFT_HOLE = (ROOT / "studies/stackup_shaft_hole.toml").read_text(encoding="utf-8").replace(
+    '"../data/', f'"{ROOT.as_posix()}/data/')
+
+
+@pytest.mark.parametrize("old,new,key,reason", [
+    ('value = 0.0573\nunit = "deg"', 'value = 0.0573\nunit = "mm"', r"analysis\[0\]\.printed\[3\]\.unit",
+     "is a length, expected angle"),
+    ('t1 = 0.0\nt2 = 0.020', 't1 = 0.030\nt2 = 0.020', r"analysis\[3\]\.domain\[2\]\.t2", "t1 < t2"),
+])
+def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason):
+    """Errors found by the analyses' own checks still name the study file and the full key."""
+    assert old in SHAFT_HOLE
+    path = tmp_path / "study.toml"
+    path.write_text(SHAFT_HOLE.replace(old, new, 1), encoding="utf-8")
+    code, err = check(path, capsys)
+    assert code == 2 and err.count("\n") == 0, err
+    m = re.match(r"rvtol: error: (.+?): (.+?): (.+)$", err)
+    assert m and m.group(1).endswith("study.toml") and re.fullmatch(key, m.group(2)) and reason in m.group(3), err

@@ -37,7 +37,7 @@ STATUS_SINGULAR = 2
 @njit(cache=True, nogil=True, inline="always")
 def _sincos(x):
     """(sin x, cos x) to double precision: Taylor polynomials for the small angles of deviations
-    (|x| < 2e-3: to x⁵/x⁶, next term < 3e-23 relative; |x| < 0.1: to x¹¹/x¹², < 1e-18), ``math`` beyond."""
+    (|x| < 2e-3: to x⁵/x⁶, next term < 2e-20 relative; |x| < 0.1: to x¹¹/x¹², < 2e-22), ``math`` beyond."""
     x2 = x * x
     if x2 < 4e-6:
         return x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0)), 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0))

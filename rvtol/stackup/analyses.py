@@ -25,6 +25,7 @@ import pandas as pd
 
 from .. import units
 from ..distributions import from_params
+from ..errors import InputError
 from ..report.sections import Section, frame_records
 from ..sensitivity.common import tolerance_limits
 from ..stats import percentile_ci
@@ -187,15 +188,19 @@ class StackupDomains:
             kind = t.str("kind", choices=("plane", "cylinder", "clearance"))
             name = t.str("name", kind)
             k = t.float("k", 3.0, positive=True)
-            if kind == "plane":
-                d = dm.ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
-                                         t.quantity("length", "mm", positive=True),
-                                         t.quantity("width", "mm", positive=True), k)
-            elif kind == "cylinder":
-                d = dm.CylindricalZone(t.quantity("t", "mm", positive=True), t.quantity("length", "mm", positive=True), k)
-            else:
-                d = dm.ClearanceFit(t.quantity("clearance", "mm"), _mm_dist(t.sub("hole")), _mm_dist(t.sub("shaft")),
-                                    t.quantity("length", "mm", positive=True), k)
+            try:
+                if kind == "plane":
+                    d = dm.ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
+                                             t.quantity("length", "mm", positive=True),
+                                             t.quantity("width", "mm", positive=True), k)
+                elif kind == "cylinder":
+                    d = dm.CylindricalZone(t.quantity("t", "mm", positive=True),
+                                           t.quantity("length", "mm", positive=True), k)
+                else:
+                    d = dm.ClearanceFit(t.quantity("clearance", "mm"), _mm_dist(t.sub("hole")),
+                                        _mm_dist(t.sub("shaft")), t.quantity("length", "mm", positive=True), k)
+            except InputError as exc:  # a domain's own check (e.g. t1 < t2): name the table it came from
+                raise exc.located(file=t.file, key=t.key) from None
             t.finish()
             self.domains.append((name, d))
         self.seed = study.options.seed
@@ -211,22 +216,32 @@ class StackupDomains:
                      "contradict the derivation.")
         summary = {}
         for i, (name, d) in enumerate(self.domains):
-            rows = []
+            rows, few = [], {}
             for dist in dm.DISTRIBUTIONS:
                 E = d.sample(self.n, dist, seed=(self.seed or 0) + i)
                 mean, cov = d.mean(dist), d.cov(dist)
+                moving = int(np.count_nonzero(np.any(E != 0.0, axis=1)))
+                testable = moving >= MIN_MOVING
+                if not testable:
+                    few[dist] = moving
                 for j in d.dofs:
                     f = 1e3 if j < 3 else 1e6
                     m_s, s_s, se_m, se_s = _moments_with_errors(E[:, j])
                     sd = np.sqrt(cov[j, j])
                     rows.append({"distribution": dist, "dof": dm.DOF[j], "unit": "µm" if j < 3 else "µrad",
                                  "mean derived": mean[j] * f, "mean sampled": m_s * f,
-                                 "z(mean)": (m_s - mean[j]) / se_m if se_m > 0 else np.nan,
+                                 "z(mean)": (m_s - mean[j]) / se_m if se_m > 0 and testable else np.nan,
                                  "σ derived": sd * f, "σ sampled": s_s * f,
-                                 "z(σ)": (s_s - sd) / se_s if se_s > 0 else np.nan})
+                                 "z(σ)": (s_s - sd) / se_s if se_s > 0 and testable else np.nan})
             df = pd.DataFrame(rows)
             sec.add_table(df, caption=f"{name}: {_describe_domain(d)}", float_format="{:.5g}")
             summary[name] = {"domain": _describe_domain(d), "moments": frame_records(df)}
+            if few:
+                sec.add_text(f"{name}: only " + " and ".join(f"{v} ({k})" for k, v in few.items()) +
+                             f" of the {self.n} samples deviate from zero (e.g. a fit whose clearance is almost "
+                             f"never positive). Moments resting on fewer than {MIN_MOVING} samples are ruled by "
+                             "a handful of rare values and their standard errors are unreliable, so no z is given.")
+                summary[name]["samples_deviating"] = few
             if isinstance(d, dm.ParallelPlaneZone):
                 rec = dm.planar_record(d)
                 sec.add_table(rec, caption=f"{name}: the document's printed planar-zone formulas against the "
@@ -242,6 +257,9 @@ class StackupDomains:
                 summary[name]["worst_case"] = wc
         sec.summary = summary
         return sec
+
+
+MIN_MOVING = 1000  # samples that must deviate from zero before a z test of the sampled moments means anything
 
 
 def _moments_with_errors(x: np.ndarray) -> tuple[float, float, float, float]:
@@ -274,6 +292,7 @@ def _describe_domain(d) -> str:
 # --------------------------------------------------------------------------- doc 003 shaft–hole figures
 class StackupShaftHole:
     COMPARE = ("max_clearance", "e_norm", "eps_norm", "tilt")
+    DIMENSION = {"max_clearance": "length", "e_norm": "length", "eps_norm": "angle", "tilt": "angle"}
 
     def __init__(self, params, study):
         m = self.model = _need_stackup(params, study)
@@ -289,7 +308,7 @@ class StackupShaftHole:
             cmp = t.str("compare", choices=self.COMPARE)
             if cmp != "max_clearance" and f"{self.kc}.{cmp}" not in m.output_names:
                 raise t.error("compare", f"the model has no output {self.kc}.{cmp}")
-            unit = t.unit("unit")
+            unit = t.unit("unit", dimension=self.DIMENSION[cmp])
             self.printed.append({"figure": t.str("figure"), "value": t.float("value"), "unit": unit,
                                  "compare": cmp, "why": t.str("why")})
             t.finish()
