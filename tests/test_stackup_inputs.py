@@ -130,6 +130,12 @@ def test_missing_float_factors_when_a_clearance_fit_locates(tmp_path, capsys):
     (tmp_path / "spec.toml").write_text(spec[:cut] + spec[end:], encoding="utf-8")
     code, err = check(path, capsys)
     assert code == 2 and "spec.toml" in err and "needs factor 'needle_1.a1'" in err, err
+    # the pin-ring float locates only in the other sequence, which stackup_sequences builds: still the spec's fault
+    setup(tmp_path)
+    (tmp_path / "spec.toml").write_text(spec[:spec.index('[[factor]]\nname = "pin_ring.a1"')], encoding="utf-8")
+    code, err = check(path, capsys)
+    assert code == 2 and err.startswith(f"rvtol: error: {tmp_path / 'spec.toml'}: factor: "), err
+    assert "sequence 'cycloid_first'" in err and "needs factor 'pin_ring.a1'" in err, err
     # a worst-case float needs only the direction factors, and a linearisation refuses it
     study = STUDY.replace('sequence = "carrier_first"', 'sequence = "carrier_first"\n[model.floats]\nneedle_1 = "worst_tilt"')
     setup(tmp_path, study=study)

@@ -132,8 +132,13 @@ class StackupSequences:
                 raise params.error("sequences", f"unknown sequence {s!r} (assembly has: {', '.join(asm.sequences)})")
         if len(set(self.sequences)) != len(self.sequences):
             raise params.error("sequences", "a sequence is named twice")
-        self.models = {s: StackupModel(asm, s, m.inputs, m.input_units, m.rotation, m.backend,
-                                       {k: v for k, v in m.float_modes.items()}) for s in self.sequences}
+        try:
+            self.models = {s: StackupModel(asm, s, m.inputs, m.input_units, m.rotation, m.backend,
+                                           {k: v for k, v in m.float_modes.items()}) for s in self.sequences}
+        except InputError as exc:  # e.g. a fit that locates only in another sequence needs float factors
+            if exc.key == "factor":
+                raise exc.located(file=study.spec.file) from None
+            raise exc.located(file=params.file, key=params.path("sequences")) from None
         common = [n for n in self.models[self.sequences[0]].output_names
                   if all(n in mm.output_names for mm in self.models.values())]
         self.outputs = params.strs("outputs", common, min_length=1)
