@@ -206,8 +206,10 @@ def test_delta_with_correlated_inputs_against_quadrature():
     model = LinearModel(spec.names, ["mm"] * 3, [Quantity("y", "mm")], [c])
     exact = np.array([_delta_exact(c, mu, sd, R, i) for i in range(3)])
     d = delta(model, spec, n=4000, seed=5, num_resamples=20).frame
-    # Plischke's kernel estimator carries a smoothing bias of about +0.02 at n = 4000 (measured over seeds,
-    # larger than its bootstrap interval, which sees sampling error only): tolerance 0.04 absolute.
+    # Plischke's kernel estimator at n = 4000, measured over 20 seeds (10-29): bias +0.015, +0.013, −0.019 and
+    # scatter σ 0.011, 0.011, 0.018 for p, q, r (max |error| 0.045), both larger than its bootstrap interval
+    # (~0.01, sampling error only). Tolerance 0.04 absolute at this fixed seed (errors 0.008, 0.023, 0.011):
+    # about bias + 1.5σ, so another seed may need a looser bound; the ranking check below is the robust one.
     assert np.allclose(d["delta"], exact, atol=0.04), (d, exact)
     assert list(d.sort_values("delta")["factor"])[-1] == "r"   # r drives the output; p, q cancel out
 

@@ -14,7 +14,8 @@ and one of its sequences into a deviation program (:mod:`.program`):
   ``P_b = P_a · N_a · D_a · G · D_b⁻¹ · N_b⁻¹`` (N nominal frames, D the
   features' deviation products, G the float);
 * a KC is the deviation of feature f relative to feature g,
-  ``extract((W_g⁰⁻¹ W_f⁰)⁻¹ · W_g⁻¹ · W_f)`` in the frame of g, and its
+  ``extract((W_g⁰⁻¹ W_f⁰)⁻¹ · W_g⁻¹ · W_f)`` — expressed at f, in f's nominal frame (a tilt of
+  g about its own origin shows as an offset of f by the lever arm between them) — and its
   components (signed DOFs, radial = √(u²+v²), tilt = √(α²+β²), ‖e‖, ‖ε‖,
   and the assembly margin of a closing clearance fit: c⁺/2 − the larger
   end-point offset).
