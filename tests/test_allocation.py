@@ -120,6 +120,18 @@ def test_bounds_are_respected_and_infeasible_is_reported():
     assert not uniform_baseline(tight, con).feasible
 
 
+@pytest.mark.parametrize("mode", ["rss", "worst_case"])
+def test_nominal_output_outside_the_limits_is_infeasible(mode):
+    """|y| ≤ L around y0 = 0 shifted to [0.5, 2]: the nominal output already fails, no tolerance can help."""
+    p = linear_problem(K, B, limit=1.0)
+    p = p.with_requirements([Requirement("y", 0.5, 2.0, "mm", min_cpk=1.0, basis="estimate")])
+    con = LinearisedConstraint(p, linearise(p), mode)
+    assert con.lin.margin[0] == pytest.approx(-0.5)
+    assert np.all(con.violation(np.array([p.lower, p.t0])) > 0)
+    assert not solve_convex(p, con).feasible
+    assert not uniform_baseline(p, con).feasible
+
+
 def test_uniform_baseline_is_the_largest_common_scale():
     p = linear_problem(K, B, limit=1.0)
     res = uniform_baseline(p, LinearisedConstraint(p, linearise(p), "rss"))

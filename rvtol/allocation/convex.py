@@ -32,7 +32,8 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
     method = f"convex {constraint.mode}"
     if np.any(constraint.budget <= 0):
         return AllocationResult(method, problem, None, "infeasible", False, constraint.describe(),
-                                notes=["a requirement is already used up by the factors that are not allocated"])
+                                notes=["a requirement is already used up by the factors that are not allocated, "
+                                       "or the nominal output lies outside its limits"])
     for j in range(constraint.coef.shape[0]):
         a = constraint.coef[j] * scale  # per curve unit
         if constraint.mode == "rss":

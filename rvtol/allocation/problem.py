@@ -216,7 +216,10 @@ class LinearisedConstraint:
         if mode == "rss":
             self.coef = np.abs(S[:, problem.idx]) * lin.rho[problem.idx]  # per unit t: σ contribution
             fixed = (S[:, ~alloc] * lin.rho[~alloc] * lin.t_spec[~alloc]) ** 2
-            self.budget = (lin.margin / lin.z) ** 2 - fixed.sum(axis=1)  # for Σ (coef t)²
+            # a nominal output on or outside its limits (margin ≤ 0) leaves no budget: squaring a
+            # negative margin would turn it into a positive one
+            room = np.where(lin.margin > 0, lin.margin / lin.z, 0.0)
+            self.budget = room ** 2 - fixed.sum(axis=1)  # for Σ (coef t)²
         else:
             self.coef = np.abs(S[:, problem.idx])
             self.budget = lin.margin - (np.abs(S[:, ~alloc]) * lin.t_spec[~alloc]).sum(axis=1)  # for Σ coef t
