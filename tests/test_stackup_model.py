@@ -157,6 +157,22 @@ def test_sensitivity_runs_on_the_chain_unchanged(gap):
     assert list(d.loc[list(spec.names), "sign"]) == ["+", "−", "−"]
 
 
+def test_loop_signs_of_the_disc_offset_along_the_eccentricity(rv):
+    """∂u/∂x by hand: an axis-end x moves the axis middle by ½ and tilts it by 1/L, seen at the disc centre
+    z = 6.5 mm above the main-seat and carrier-bore origins; the disc's own bore moves the disc the other way."""
+    asm, spec = rv
+    m = StackupModel(asm, "carrier_first", spec.names)
+    lin = linearise_output(m, spec, "cycloid_axis.u", m.jacobian(spec.nominal_base()), Factors.of(spec))
+    d = lin.contributions.set_index("factor")
+    hand = {"housing.main_seats.coaxiality.x1": 0.5 + 6.5 / 64, "housing.main_seats.bearing_runout.x2": 0.5 - 6.5 / 64,
+            "carrier.crank_hole_1.position.x1": 0.5 + 6.5 / 46, "crank_1.eccentric.position.x2": 0.5,
+            "cycloid.crank_hole_1.position.x1": -0.5, "cycloid.crank_hole_1.position.y1": 0.0}
+    for name, v in hand.items():
+        assert d.loc[name, "derivative"] == pytest.approx(v, abs=1e-9), name
+        assert d.loc[name, "accumulator"] == ("positive" if v > 0 else "negative" if v < 0 else "uncorrelated")
+    assert (d["accumulator"] == "negative").sum() == 2 and (d["accumulator"] == "positive").sum() == 12
+
+
 @pytest.mark.parametrize("rotation", ["exact", "small"])
 def test_jacobian_against_finite_differences(rv, rotation):
     asm, spec = rv
@@ -198,6 +214,7 @@ def test_rv_chain_poses_by_hand(rv):
         x[spec.index(f"crank_1.eccentric.position.{c_}")] = 0.003
     Y = dict(zip(m.output_names, m.evaluate(x[None])[0]))
     assert Y["cycloid_axis.radial"] == pytest.approx(0.003, abs=1e-15)
+    assert Y["cycloid_axis.u"] == pytest.approx(0.003, abs=1e-15)  # along the eccentricity (+x)
     assert Y["crank_axis.radial"] == pytest.approx(0.0, abs=1e-15)
     assert Y["needle_2_misfit.radial"] == pytest.approx(0.003, abs=1e-15)
     assert Y["needle_2_misfit.margin"] == pytest.approx(0.005 - 0.003, abs=1e-15)  # c0/2 − offset
