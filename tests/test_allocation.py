@@ -175,6 +175,28 @@ def test_pattern_requirements_expand_and_unknown_pattern_fails():
         expand_requirements([Requirement("q_*", -1.0, 1.0, "mm")], model)
 
 
+class FailsAwayFromZero(LinearModel):
+    """y = Σ x_i, but no value where x1 ≠ 0: the five-point stencil of x1 fails, the nominal does not."""
+
+    def evaluate(self, X):
+        Y = super().evaluate(X)
+        Y[X[:, 1] != 0.0] = np.nan
+        return Y
+
+
+@pytest.mark.parametrize("mode", ["rss", "worst_case"])
+def test_a_factor_without_gradient_makes_the_linearisation_unavailable(mode):
+    """A NaN derivative is not a zero one: the constraint must not treat the factor as harmless."""
+    p = linear_problem(K, B, limit=1.0)
+    p = AllocationProblem(FailsAwayFromZero(p.model.inputs, p.model.input_units, p.model.outputs, [K]),
+                          p.spec, p.factors, p.curves, p.requirements)
+    con = LinearisedConstraint(p, linearise(p), mode)
+    assert con.unavailable == ["x1"]
+    assert np.all(con.violation(np.array([p.lower, p.t0])) > 0)
+    res = solve_convex(p, con)
+    assert not res.feasible and "x1" in " ".join(res.notes)
+
+
 def abs_square(X):
     return np.abs(X[:, 0]) + X[:, 1] ** 2
 

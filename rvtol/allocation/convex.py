@@ -30,6 +30,10 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
     cost = sum(c.expr(t[i]) for i, c in enumerate(problem.curves))
     cons = [t >= lo, t <= hi]
     method = f"convex {constraint.mode}"
+    if getattr(constraint, "unavailable", None):
+        return AllocationResult(method, problem, None, "not available", False, constraint.describe(),
+                                notes=["the model could not be evaluated on the five points of "
+                                       f"{', '.join(constraint.unavailable)}: no linearisation"])
     if np.any(constraint.budget <= 0):
         return AllocationResult(method, problem, None, "infeasible", False, constraint.describe(),
                                 notes=["a requirement is already used up by the factors that are not allocated, "

@@ -193,7 +193,8 @@ def linearise(problem: AllocationProblem, evaluate=None) -> Linearisation:
         z.append(z_of(r))
     t_spec = np.array([units.to_base(half_band(f), f.unit) for f in spec.factors])
     rho = spec.std_base() / t_spec
-    return Linearisation(np.nan_to_num(np.array(S)), np.array(y0), np.array(margin), np.array(z), rho, t_spec)
+    # NaN stays NaN: a factor whose five points the model could not evaluate has no gradient (not a zero one)
+    return Linearisation(np.array(S), np.array(y0), np.array(margin), np.array(z), rho, t_spec)
 
 
 def _as_evaluation(Y):
@@ -212,7 +213,11 @@ class LinearisedConstraint:
         self.problem, self.lin, self.mode = problem, lin, mode
         alloc = np.zeros(len(problem.spec), bool)
         alloc[problem.idx] = True
-        S = lin.S
+        # factors without a gradient (the model failed on their five points): the requirements that
+        # depend on them cannot be linearised; those rows get no budget (infeasible), never S = 0
+        missing = np.isnan(lin.S)
+        self.unavailable = [problem.spec.names[k] for k in np.flatnonzero(missing.any(axis=0))]
+        S = np.where(missing, 0.0, lin.S)
         if mode == "rss":
             self.coef = np.abs(S[:, problem.idx]) * lin.rho[problem.idx]  # per unit t: σ contribution
             fixed = (S[:, ~alloc] * lin.rho[~alloc] * lin.t_spec[~alloc]) ** 2
@@ -223,6 +228,7 @@ class LinearisedConstraint:
         else:
             self.coef = np.abs(S[:, problem.idx])
             self.budget = lin.margin - (np.abs(S[:, ~alloc]) * lin.t_spec[~alloc]).sum(axis=1)  # for Σ coef t
+        self.budget = np.where(missing.any(axis=1) | np.isnan(self.budget), -np.inf, self.budget)
 
     def load(self, T) -> np.ndarray:
         """``[p, j]`` used fraction of each requirement's budget (≤ 1 is feasible)."""
