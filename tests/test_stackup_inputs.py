@@ -79,7 +79,7 @@ CASES = [
      '{ part = "cycloid", by = "needle_1" },', "assembly.toml", r"sequence\[0\]\.steps", "never placed"),
     ("assembly.toml", '{ part = "crank_1", by = "needle_1" },', '{ part = "crank_1", by = "crank_bearing_2" },',
      "assembly.toml", r"sequence\[1\]\.steps\[1\]\.by", "does not touch part 'crank_1'"),
-    ("assembly.toml", 'components = ["radial", "tilt"]', 'components = ["radial", "twist"]',
+    ("assembly.toml", 'components = ["radial", "tilt", "u"]', 'components = ["radial", "twist", "u"]',
      "assembly.toml", r"kc\[0\]\.components", "unknown component 'twist'"),
     ("assembly.toml", 'float = "uniform"', 'float = "random"', "assembly.toml", r"fit\[3\]\.float", "unknown value"),
     ("assembly.toml", 'name = "main_seats"\ndescription',
