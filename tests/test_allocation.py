@@ -175,6 +175,19 @@ def test_pattern_requirements_expand_and_unknown_pattern_fails():
         expand_requirements([Requirement("q_*", -1.0, 1.0, "mm")], model)
 
 
+@pytest.mark.parametrize("interval,method", [("clopper-pearson", "exact"), ("wilson", "wilson")])
+def test_monte_carlo_yield_bound_uses_the_requirements_interval(interval, method):
+    from rvtol.stats import proportion_ci
+
+    p = linear_problem(K, B, limit=1.0)
+    req = expand_requirements([Requirement("y", -1.0, 1.0, "mm", min_yield=0.99, interval=interval)], p.model)
+    mc = MonteCarloConstraint(p.with_requirements(req), 400, "random", 5)
+    m = mc.measures(p.t0[None, :] * 0.3)[0][0]
+    k = round(m["yield"] * 400)
+    assert 0 < k < 400
+    assert m["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.95, method)[0], rel=1e-10)
+
+
 class FailsAwayFromZero(LinearModel):
     """y = Σ x_i, but no value where x1 ≠ 0: the five-point stencil of x1 fails, the nominal does not."""
 

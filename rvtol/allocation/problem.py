@@ -38,7 +38,7 @@ from ..errors import InputError
 from ..mc import evaluate as mc_evaluate
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
-from ..spec import Requirement, ToleranceSpec
+from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
 from .cost import CostModel
 
 Evaluate = Callable[[Model, np.ndarray], np.ndarray]  # (model, X base) -> Y base (NaN where failed)
@@ -298,8 +298,8 @@ class MonteCarloConstraint:
         """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
 
         Only what a requirement asks for is computed (the yield bound is the
-        Clopper–Pearson bound of :func:`rvtol.stats.proportion_ci`, in its
-        closed beta-quantile form for speed).
+        requirement's interval: Clopper–Pearson in its closed beta-quantile
+        form for speed, or Wilson, as :func:`rvtol.stats.proportion_ci`).
         """
         m = self.problem.model
         out = []
@@ -318,7 +318,8 @@ class MonteCarloConstraint:
                         inside &= np.nan_to_num(y, nan=np.inf) <= r.upper
                     k, n = int(inside.sum()), len(y)
                     row["yield"] = k / n
-                    row["yield_lo"] = clopper_pearson_lower(k, n, r.confidence)
+                    row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
+                                       else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
                 if r.min_cpk is not None:
                     cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
                     row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
