@@ -71,6 +71,30 @@ def test_bad_study_input_names_file_and_key(tmp_path, model, factors, key):
     assert exc.value.key == key and exc.value.file == str(p)
 
 
+@pytest.mark.parametrize("kind, key, value, options", [
+    ("transmission_error", "mass.disc", -1e-3, {"mode": "newmark"}),            # t: base units
+    ("transmission_error", "damping.modal_ratio", -0.05, {"mode": "newmark"}),
+    ("transmission_error", "sun.pressure_angle", 1.7, {}),                       # rad: > 90°
+    ("torsion_curve", "reducer.rated_torque", -784e3, {}),
+])
+def test_bad_design_numbers_name_the_design_file_and_key(kind, key, value, options):
+    """A bad number in the design file is reported there (not as a key of the study's [model] table)."""
+    from rvtol.design import load_design
+    from rvtol.params import Params
+    from rvtol.registry import MODELS
+    from rvtol.spec import spec_from_table
+    import importlib
+
+    design = load_design(DESIGN).with_values(**{key: value})
+    spec = spec_from_table({"factor": [{"name": "delta_b", "unit": "um", "dist": "uniform", "lower": 0,
+                                        "upper": 3}]})
+    module, factory = MODELS[kind].split(":")
+    with pytest.raises(InputError) as exc:
+        getattr(importlib.import_module(module), factory)(Params(dict(options), file="study.toml", key="model"),
+                                                          design, spec)
+    assert exc.value.key == key and exc.value.file == DESIGN
+
+
 def test_sensitivity_and_curve_analyses_small(tmp_path):
     analyses = """
 [[analysis]]

@@ -42,6 +42,15 @@ HIGH_FRACTION, NEGLIGIBLE_FRACTION = 0.15, 0.005
 DEFAULT_MAGNITUDES = (0.5, 1.0, 2.0, 3.0, 5.0, 7.5, 10.0, 12.5, 15.0)
 
 
+def _mesh_order_note(mesh: int, n: int) -> str:
+    """Where the pin-mesh order shows in the spectrum of ``n`` positions per revolution (it aliases above n/2)."""
+    if mesh <= n // 2:
+        return f"{mesh} = pin mesh"
+    alias = abs(mesh - n * round(mesh / n))
+    return (f"the pin-mesh order {mesh} lies above the highest resolved order {n // 2} of {n} positions per "
+            f"revolution and shows aliased at order {alias}")
+
+
 def _te_model(study, params) -> TransmissionErrorModel:
     if not isinstance(study.model, TransmissionErrorModel):
         raise params.error("kind", "this analysis needs [model] kind = \"transmission_error\"")
@@ -127,8 +136,9 @@ class TECurve:
                        caption="Transmission error Δθ_ca = θ_ca − θ_c over one output revolution")
         first = next(iter(good.values()))
         sec.add_figure(tp.spectrum(first), caption=f"Order spectrum of the {first.mode} TE (orders per output "
-                                                   "revolution; 40 = crank rotation relative to the carrier, "
-                                                   "39 = absolute crank/eccentric rotation, 1560 = pin mesh)")
+                                                   f"revolution; {g.z_b} = crank rotation relative to the carrier, "
+                                                   f"{g.z_c} = absolute crank/eccentric rotation; "
+                                                   f"{_mesh_order_note(g.z_c * g.z_b, first.te.size)})")
         top = first.top_orders(8)
         sec.add_table(top, caption="Largest orders of the TE spectrum")
         sec.summary = {"configuration": how, "values": dict(zip(spec.names, map(float, x))),

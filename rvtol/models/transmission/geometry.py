@@ -186,6 +186,13 @@ class RVGeometry:
         return pd.DataFrame(rows, columns=["symbol", "meaning", "value", "unit", "how"])
 
 
+def _written(design: Design, name: str) -> str:
+    """A design number as the file writes it (value and unit), for error messages."""
+    p = design.param(name)
+    unit = "" if p.unit == "1" else f" {p.unit}"
+    return (f"{p.value:g}" if isinstance(p.value, float) else f"{p.value}") + unit
+
+
 def _int(design: Design, name: str) -> int:
     v = design[name]
     if abs(v - round(v)) > 1e-9 or v < 1:
@@ -198,7 +205,7 @@ def geometry_from_design(design: Design) -> RVGeometry:
     def pos(name):
         v = float(design[name])
         if not v > 0:
-            raise SpecError(f"must be > 0, got {v}", file=design.file, key=name)
+            raise SpecError(f"must be > 0, got {_written(design, name)}", file=design.file, key=name)
         return v
 
     z_s, z_p, z_c, z_b = (_int(design, n) for n in ("sun.teeth", "planet.teeth", "cycloid.teeth", "pin.count"))
@@ -209,6 +216,9 @@ def geometry_from_design(design: Design) -> RVGeometry:
     if "planet.module" in design and abs(design["planet.module"] - m) > 1e-12:
         raise SpecError("sun and planet modules differ", file=design.file, key="planet.module")
     alpha = pos("sun.pressure_angle")
+    if not alpha < 0.5 * math.pi:
+        raise SpecError(f"pressure angle must lie below 90°, got {math.degrees(alpha):g}°", file=design.file,
+                        key="sun.pressure_angle")
     x_s, x_p = float(design.get("sun.profile_shift", 0.0)), float(design.get("planet.profile_shift", 0.0))
     inv_w = involute(alpha) + 2.0 * math.tan(alpha) * (x_s + x_p) / (z_s + z_p)
     if inv_w <= 0:
@@ -228,7 +238,17 @@ def geometry_from_design(design: Design) -> RVGeometry:
     if not 0.0 <= hertz < 0.5:
         raise SpecError(f"Hertz exponent must lie in [0, 0.5), got {hertz}", file=design.file,
                         key="stiffness.hertz_exponent")
-    opt = lambda n: float(design[n]) if n in design else None  # noqa: E731
+
+    def opt(name, nonnegative=False):
+        """An optional inertia/damping number (Newmark only): > 0 (>= 0 for damping) when given."""
+        if name not in design:
+            return None
+        v = float(design[name])
+        if not (v >= 0 if nonnegative else v > 0) or not math.isfinite(v):
+            raise SpecError(f"must be {'>= 0' if nonnegative else '> 0'}, got {_written(design, name)}",
+                            file=design.file, key=name)
+        return v
+
     return RVGeometry(
         z_s=z_s, z_p=z_p, z_c=z_c, z_b=z_b, module=m, alpha=alpha, x_s=x_s, x_p=x_p,
         ecc=ecc, r_pin_circle=r_pc, r_pin=r_pin,
@@ -240,5 +260,5 @@ def geometry_from_design(design: Design) -> RVGeometry:
         ratio=ratio,
         m_sun=opt("mass.sun"), m_planet=opt("mass.planet_crank"), i_planet=opt("mass.planet_crank_inertia"),
         m_disc=opt("mass.disc"), i_disc=opt("mass.disc_inertia"), m_carrier=opt("mass.carrier"),
-        i_carrier=opt("mass.carrier_inertia"), zeta=opt("damping.modal_ratio"),
+        i_carrier=opt("mass.carrier_inertia"), zeta=opt("damping.modal_ratio", nonnegative=True),
     )

@@ -139,7 +139,7 @@ class TransmissionErrorModel(Model):
         if not load_torque > 0:
             raise InputError(f"load torque must be > 0, got {load_torque}", key="load_torque")
         if per_crank_rev < 8:
-            raise InputError(f"per_crank_rev must be >= 8 to resolve the pin mesh, got {per_crank_rev}",
+            raise InputError(f"per_crank_rev must be >= 8 (positions per crank revolution), got {per_crank_rev}",
                              key="per_crank_rev")
         self.load_torque = float(load_torque)
         self.per_crank_rev = int(per_crank_rev)
@@ -241,6 +241,8 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
                                       steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
                                       tol_f=tol, maxit=maxit)
     except InputError as exc:
+        if exc.file is not None:       # already located: a bad number in the design file
+            raise
         if exc.key == "factor":
             raise exc.located(file=spec.file) from None
         raise exc.located(file=params.file, key=params.key) from None

@@ -20,8 +20,10 @@ Modelling choices (the document gives none of these):
   against contact stiffnesses of 10⁵ N/mm);
 * **time step**: ``steps_per_crank_rev`` if given, else the finer of 36 steps
   per crank revolution and a tenth of the period of the lowest natural mode
-  (the modes are at 2–14 kHz, far above the pin-mesh frequency, so resolving
-  the lowest one is what makes the response dynamic rather than quasi-static);
+  (error-free RV-80E: 2–14 kHz; with the spec's bearing clearances the lowest
+  linearised mode drops to about 0.4–0.9 kHz, near the 390 Hz pin-mesh
+  frequency at 15 rpm; resolving the lowest one is what makes the response
+  dynamic rather than quasi-static);
 * **settling**: ``settle_periods`` periods of the lowest mode (transients decay
   as exp(−ζ ω t)) before the recorded revolution.
 """
