@@ -9,7 +9,7 @@ from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.models.stiffness import bearings, carrier, crankshaft, involute
-from rvtol.models.stiffness.model import STATUS_INTERFERENCE, from_study
+from rvtol.models.stiffness.model import STATUS_GEOMETRY, STATUS_INTERFERENCE, from_study
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
@@ -132,6 +132,31 @@ def test_model_rejects_unknown_factor_and_missing_design():
         from_study(Params({}), None, _spec("pin_radius_error"))
     with pytest.raises(InputError, match="bearing_kinematics"):
         from_study(Params({"bearing_kinematics": "exact"}), DESIGN, _spec("pin_radius_error"))
+
+
+@pytest.mark.parametrize("key, value, msg", [
+    ("cycloid.width", 0.0, "must be > 0"),
+    ("crank_bearing.rollers", -18.0, "whole number"),
+    ("crank.shaft_diameter", -22.0, "must be > 0"),
+    ("material.youngs_modulus", 0.0, "must be > 0"),
+    ("material.poisson_ratio", 0.6, "< 0.5"),
+    ("cycloid.eccentricity", 2.5, "K1"),
+    ("pin.count", 41.0, "z_p = z_c \\+ 1"),
+    ("reducer.cranks", 4.0, "3 cranks"),
+    ("crank.disc_pitch", 50.0, "< 38"),
+])
+def test_bad_design_numbers_name_the_design_key(key, value, msg):
+    """Bad design numbers fail before any computation, naming the design file and key (no NaN, no traceback)."""
+    bad = DESIGN.with_values(**{key: value})      # base units (mm, MPa)
+    with pytest.raises(InputError, match=msg) as exc:
+        from_study(Params({}), bad, _spec("pin_radius_error"))
+    assert exc.value.key == key and exc.value.file == DESIGN.file
+
+
+def test_moved_distance_beyond_the_pin_circle_is_a_geometry_failure():
+    m = from_study(Params({}), DESIGN, _spec("moved_distance_mod"))
+    Y, status = m.evaluate_with_status(np.array([[-0.03], [-20.0], [-80.0]]))   # mm; K1' >= 1, R_p + ΔR_p < 0
+    assert list(status) == [0, STATUS_GEOMETRY, STATUS_GEOMETRY] and np.isnan(Y[1:]).all()
 
 
 def test_study_runs_and_reproduces_table3_ordering(tmp_path):

@@ -36,7 +36,7 @@ model, :mod:`rvtol.models.transmission.factors`)::
     torque = 784           # N·m (default: the design's rated torque)
     harmonic = 2           # of the Table 3 tooth patterns
     tol_force = 1e-6       # N
-    max_iterations = 60
+    max_iterations = 200
 """
 from __future__ import annotations
 
@@ -267,6 +267,8 @@ def from_study(params, design, spec) -> TorsionCurveModel:
         return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
                                  harmonic=harmonic, tol_f=tol, maxit=maxit)
     except InputError as exc:
+        if exc.file is not None:       # already located: a bad number in the design file
+            raise
         if exc.key == "factor":
             raise exc.located(file=spec.file) from None
         raise exc.located(file=params.file, key=params.key) from None

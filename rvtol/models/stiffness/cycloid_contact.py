@@ -65,6 +65,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ...errors import SpecError
 from . import hertz
 
 #: a clearance below -1 nm somewhere is an interference (preloaded mesh), outside doc 004's model
@@ -103,11 +104,38 @@ class PinGear:
 
     @classmethod
     def from_design(cls, design, **override) -> "PinGear":
-        vals = dict(z_p=int(round(design["pin.count"])), z_c=int(round(design["cycloid.teeth"])),
-                    R_p=design["pin.circle_radius"], r_p=design["pin.radius"], a=design["cycloid.eccentricity"],
-                    b=design["cycloid.width"], E=design["material.youngs_modulus"], nu=design["material.poisson_ratio"])
+        """The design's pin gear; bad numbers raise :class:`SpecError` naming the design file and key."""
+        d = design
+        z_p, z_c = design_number(d, "pin.count", integer=True), design_number(d, "cycloid.teeth", integer=True)
+        if z_p != z_c + 1:
+            raise SpecError(f"the cycloid needs z_p = z_c + 1 pins, got {z_p} and {z_c}", file=d.file,
+                            key="pin.count")
+        vals = dict(z_p=z_p, z_c=z_c, R_p=design_number(d, "pin.circle_radius"), r_p=design_number(d, "pin.radius"),
+                    a=design_number(d, "cycloid.eccentricity"), b=design_number(d, "cycloid.width"),
+                    E=design_number(d, "material.youngs_modulus"),
+                    nu=design_number(d, "material.poisson_ratio", upper=0.5))
+        if not vals["a"] * z_p < vals["R_p"]:
+            raise SpecError("K1 = a z_p / R_p must be < 1 (no cycloid profile otherwise)", file=d.file,
+                            key="cycloid.eccentricity")
         vals.update(override)
         return cls(**vals)
+
+
+def design_number(design, name: str, *, integer: bool = False, upper: float | None = None,
+                  nonnegative: bool = False):
+    """``design[name]`` (base units), checked: > 0 (>= 0 with ``nonnegative``), below ``upper``, whole if
+    ``integer``; otherwise a :class:`SpecError` naming the design file and the key."""
+    v = float(design[name])
+    p = design.param(name)
+    ok = np.isfinite(v) and (v >= 0 if nonnegative else v > 0) and (upper is None or v < upper)
+    if integer:
+        ok = ok and abs(v - round(v)) < 1e-9
+    if not ok:
+        want = ("a whole number " if integer else "") + (">= 0" if nonnegative else "> 0") + (
+            f" and < {upper:g}" if upper is not None else "")
+        unit = "" if p.unit == "1" else f" {p.unit}"
+        raise SpecError(f"must be {want}, got {p.value:g}{unit}", file=design.file, key=name)
+    return int(round(v)) if integer else v
 
 
 def pin_angles(z_p: int, phase: float = 0.0) -> np.ndarray:

@@ -81,7 +81,7 @@ class TorsionalStiffnessModel(Model):
     def evaluate_with_status(self, X):
         vals = self.factor_values(X)
         p = self.stiffness.pins
-        geometry_ok = p.a * p.z_p / (p.R_p + vals["moved_distance_mod"]) < 1.0
+        geometry_ok = p.R_p + vals["moved_distance_mod"] > p.a * p.z_p      # K1' < 1 (and R_p + ΔR_p > 0)
         vals["moved_distance_mod"] = np.where(geometry_ok, vals["moved_distance_mod"], 0.0)
         res = self.stiffness.evaluate(self.torque, pin_phase=self.pin_phase, crank_angle=self.crank_angle, **vals)
         ex = res.extra

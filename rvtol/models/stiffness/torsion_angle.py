@@ -57,8 +57,9 @@ import numpy as np
 import pandas as pd
 
 from ... import units
+from ...errors import SpecError
 from . import bearings, carrier, crankshaft, involute
-from .cycloid_contact import ContactSolution, PinGear, angular_backlash, solve_contact
+from .cycloid_contact import ContactSolution, PinGear, angular_backlash, design_number, solve_contact
 
 COMPONENTS = ("involute", "cycloid_pin", "crank_bearings", "crankshafts", "carrier")
 LABELS = {
@@ -100,18 +101,31 @@ class ReducerStiffness:
 
     @classmethod
     def from_design(cls, design, **override) -> "ReducerStiffness":
+        """The design's reducer; bad numbers raise :class:`SpecError` naming the design file and key."""
         d = design
+
+        def num(name, **kw):
+            return design_number(d, name, **kw)
+
+        def whole(name):
+            return design_number(d, name, integer=True)
+
+        for name, want in (("reducer.cranks", 3), ("reducer.discs", 2)):
+            if whole(name) != want:
+                raise SpecError(f"the torsion-angle model is written for 3 cranks and 2 discs, got {d[name]:g}",
+                                file=d.file, key=name)
+        span = num("crank.support_span")
         vals = dict(
-            pins=PinGear.from_design(d), z1=int(round(d["sun.teeth"])), z2=int(round(d["planet.teeth"])),
-            cranks=int(round(d["reducer.cranks"])), discs=int(round(d["reducer.discs"])),
-            module=d["first_stage.module"], pressure_angle=d["first_stage.pressure_angle"],
-            gear_width=d["first_stage.face_width"], shift_sun=d["first_stage.profile_shift_sun"],
-            shift_planet=d["first_stage.profile_shift_planet"], crank_diameter=d["crank.shaft_diameter"],
-            support_span=d["crank.support_span"], disc_pitch=d["crank.disc_pitch"],
-            gear_overhang=d["crank.gear_overhang"], bearing_rollers=int(round(d["crank_bearing.rollers"])),
-            bearing_length=d["crank_bearing.roller_length"], pillars=int(round(d["carrier.pillars"])),
-            pillar_radius=d["carrier.pillar_radius"], pillar_width=d["carrier.pillar_width"],
-            pillar_thickness=d["carrier.pillar_thickness"], pillar_length=d["carrier.pillar_length"])
+            pins=PinGear.from_design(d), z1=whole("sun.teeth"), z2=whole("planet.teeth"),
+            cranks=3, discs=2, module=num("first_stage.module"),
+            pressure_angle=num("first_stage.pressure_angle", upper=0.5 * np.pi),
+            gear_width=num("first_stage.face_width"), shift_sun=float(d["first_stage.profile_shift_sun"]),
+            shift_planet=float(d["first_stage.profile_shift_planet"]), crank_diameter=num("crank.shaft_diameter"),
+            support_span=span, disc_pitch=num("crank.disc_pitch", nonnegative=True, upper=span),
+            gear_overhang=num("crank.gear_overhang", nonnegative=True), bearing_rollers=whole("crank_bearing.rollers"),
+            bearing_length=num("crank_bearing.roller_length"), pillars=whole("carrier.pillars"),
+            pillar_radius=num("carrier.pillar_radius"), pillar_width=num("carrier.pillar_width"),
+            pillar_thickness=num("carrier.pillar_thickness"), pillar_length=num("carrier.pillar_length"))
         vals.update(override)
         return cls(**vals)
 
