@@ -141,3 +141,31 @@ def test_from_study_checks_inputs():
         from_study(Params({"percent": 80.0}), DESIGN, spec)
     with pytest.raises(InputError, match="20-DOF design"):
         from_study(Params({}), None, spec)
+
+
+def test_a_bad_stiffness_design_fails_when_the_study_loads(tmp_path):
+    """The analysis checks its part-1 design up front (here a 20-DOF design without doc 004's keys)."""
+    from conftest import write
+    from rvtol.study import load_study
+
+    te = (ROOT / "data/designs/rv80e_te.toml").as_posix()
+    study = write(tmp_path / "s.toml", f"""
+[study]
+name = "tc"
+design = "{te}"
+[model]
+kind = "torsion_curve"
+[[factor]]
+name = "delta_b"
+unit = "um"
+dist = "uniform"
+lower = 0
+upper = 3
+[[analysis]]
+kind = "torsion_curve"
+stiffness_design = "{te}"
+""")
+    with pytest.raises(InputError) as exc:
+        load_study(study)
+    assert exc.value.file == te and exc.value.key
+

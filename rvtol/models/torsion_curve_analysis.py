@@ -80,6 +80,10 @@ class TorsionCurveAnalysis:
         path = params.path_value("stiffness_design", study.base_dir, None)
         self.stiffness_design = load_design(path) if path is not None else None
         params.finish()
+        if self.stiffness_design is not None:      # a bad stiffness design fails here, before any computation
+            d = self.stiffness_design
+            self.part1 = (ReducerStiffness.from_design(d),
+                          (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"]))
         self.te_design = study.design
         m = study.model
         if isinstance(m, TorsionCurveModel):
@@ -255,9 +259,7 @@ class TorsionCurveAnalysis:
         return s
 
     def _part1(self, T) -> pd.DataFrame:
-        d = self.stiffness_design
-        own = ReducerStiffness.from_design(d)
-        mods = (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"])
+        own, mods = self.part1
         g = self.model.geometry
         pins = PinGear(z_p=g.z_b, z_c=g.z_c, R_p=g.r_pin_circle, r_p=g.r_pin, a=g.ecc,
                        b=float(self.te_design.get("cycloid.face_width", own.pins.b)), E=own.pins.E, nu=own.pins.nu)
