@@ -437,7 +437,7 @@ def linearised_laws(kind, k0, pw, gap):
     gap_l = np.zeros_like(gap)
     for c in range(kind.size):
         if kind[c] != LINEAR:
-            k0_l[c] = k0[c] ** pw[c] * P_LINEARISE ** (1.0 - 1.0 / pw[c]) if pw[c] != 1.0 else k0[c]
+            k0_l[c] = k0[c] * P_LINEARISE ** (1.0 - 1.0 / pw[c])   # secant k0·P^h of f = (k0 d)^pw at P
             pw_l[c] = 1.0
             if kind[c] == UNILATERAL:
                 kind_l[c] = LINEAR
