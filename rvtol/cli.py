@@ -109,12 +109,10 @@ def _kinds() -> int:
 
 
 def _run(args) -> int:
-    from .study import load_study, run_study, write_outputs
+    from .study import check_out_dir, load_study, run_study, write_outputs
 
     study = load_study(args.study, **_overrides(args))
-    out = Path(args.out) if args.out else Path("reports") / study.name
-    if out.exists() and not out.is_dir():
-        raise InputError("exists and is not a folder", file=str(out), key="--out")
+    out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)  # before the run
     result = run_study(study)
     write_outputs(result, out)
     if not args.quiet:

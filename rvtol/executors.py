@@ -14,7 +14,7 @@ import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Callable, Iterator, Sequence
 
-from .errors import InputError
+from .errors import InputError, RvtolError
 
 KINDS = ("serial", "process", "dask")
 
@@ -80,10 +80,20 @@ class ProcessExecutor(Executor):
         return self._pool
 
     def imap(self, fn, tasks):
+        from concurrent.futures.process import BrokenProcessPool
+
         futs = {self.pool.submit(fn, *t): i for i, t in enumerate(tasks)}
         try:
             for f in as_completed(futs):
-                yield futs[f], f.result()
+                try:
+                    res = f.result()
+                except BrokenProcessPool:
+                    raise RvtolError(
+                        "the worker processes stopped before finishing. If you call rvtol from a script, "
+                        "put the calls under `if __name__ == \"__main__\":` (worker processes import the "
+                        "script), or use make_executor(\"serial\"); otherwise a worker ran out of memory "
+                        "or crashed") from None
+                yield futs[f], res
         finally:
             for f in futs:
                 f.cancel()

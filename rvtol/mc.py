@@ -19,7 +19,7 @@ import pandas as pd
 
 from . import stats as st
 from .executors import Executor, SerialExecutor
-from .model import STATUS_OK, Model, Quantity
+from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
 
@@ -74,6 +74,8 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     finally:
         if bar is not None:
             bar.close()
+    # a model that returns a non-finite value with status 0 has failed on that row, whatever it says
+    status[(status == STATUS_OK) & ~np.all(np.isfinite(Y), axis=1)] = STATUS_NONFINITE
     Y[status != STATUS_OK] = np.nan
     return Evaluation(Y, status)
 
@@ -206,6 +208,11 @@ class MonteCarloResult:
             n_fail = int(self.n - self.ok.sum())
             if n_fail:
                 reasons.append(f"{n_fail} sample(s) could not be evaluated and count as non-conforming")
+                if r.min_cpk is not None:
+                    # Cpk describes the evaluated samples only; with failures it demonstrates nothing
+                    passed = False
+                    reasons.append("Cpk is not demonstrated while samples fail (it only describes the "
+                                   "evaluated ones)")
             out.append(Verdict(r, yr, cap, pci, passed, reasons))
         return out
 
@@ -253,8 +260,13 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
     s = samples if samples is not None else sample(spec, n, method, seed)
     ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo")
     Yd = np.empty_like(ev.Y)
-    for j, q in enumerate(model.outputs):
-        Yd[:, j] = q.to_display(ev.Y[:, j])
+    with np.errstate(over="ignore", invalid="ignore"):
+        for j, q in enumerate(model.outputs):
+            Yd[:, j] = q.to_display(ev.Y[:, j])
+    overflow = (ev.status == STATUS_OK) & ~np.all(np.isfinite(Yd), axis=1)
+    if overflow.any():
+        ev.status[overflow] = STATUS_NONFINITE
+        Yd[overflow] = np.nan
     reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
     return MonteCarloResult(tuple(model.outputs), s, Yd, ev.status, dict(model.status_reasons), reqs,
                             confidence, executor.describe() if executor else "serial")

@@ -28,13 +28,10 @@ _U_EPS = 2.0**-53
 
 def rng(seed: int | None, *keys: int) -> np.random.Generator:
     """The one way rvtol builds a Generator: from ``seed`` and optional sub-stream keys."""
-    ss = np.random.SeedSequence(seed) if not keys else np.random.SeedSequence([seed or 0, *keys])
+    if seed is None:  # no seed: fresh entropy (never a silent fixed stream)
+        return np.random.Generator(np.random.PCG64(np.random.SeedSequence()))
+    ss = np.random.SeedSequence(seed) if not keys else np.random.SeedSequence([seed, *keys])
     return np.random.Generator(np.random.PCG64(ss))
-
-
-def child_seeds(seed: int | None, n: int) -> list[np.random.SeedSequence]:
-    """``n`` independent sub-streams of ``seed`` (``SeedSequence.spawn``)."""
-    return np.random.SeedSequence(seed).spawn(n)
 
 
 def uniform_design(n: int, k: int, method: str = "random", seed: int | None = None) -> np.ndarray:

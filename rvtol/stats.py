@@ -102,7 +102,9 @@ def percentile_cpk(y_sorted: np.ndarray, lower: float | None, upper: float | Non
 def bootstrap_ci(y: np.ndarray, statistic, confidence: float = 0.95, n_boot: int = 200,
                  seed: int = 0) -> tuple[float | None, float | None]:
     """Percentile bootstrap interval of ``statistic(sorted sample)`` (fixed seed: reproducible)."""
-    g = np.random.default_rng(seed)
+    from .sampling import rng
+
+    g = rng(seed)
     vals = []
     for _ in range(n_boot):
         v = statistic(np.sort(g.choice(y, size=len(y), replace=True)))

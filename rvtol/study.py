@@ -41,8 +41,8 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import shutil
-import tempfile
 import time
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
@@ -277,13 +277,43 @@ def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
     return StudyResult(study, mc, sections, time.perf_counter() - t0, desc)
 
 
+def check_out_dir(out_dir: str | Path) -> Path:
+    """Check that ``out_dir`` may receive a report; raise :class:`InputError` (key ``--out``) if not.
+
+    A report replaces only an absent or empty folder or an earlier rvtol report folder (one with an
+    rvtol ``summary.json``) — never other files, the current folder or one of its parents.
+    """
+    out = Path(out_dir)
+    where = str(out_dir)
+    full = out.resolve()
+    cwd = Path.cwd().resolve()
+    if full == cwd or full in cwd.parents:
+        raise InputError("refusing to replace the current folder or one of its parents; name a subfolder",
+                         file=where, key="--out")
+    if out.exists():
+        if not out.is_dir():
+            raise InputError("exists and is not a folder", file=where, key="--out")
+        if any(out.iterdir()) and not _is_report_folder(out):
+            raise InputError("exists and is not an rvtol report folder (no rvtol summary.json in it); "
+                             "choose another --out or empty it", file=where, key="--out")
+    return out
+
+
+def _is_report_folder(path: Path) -> bool:
+    try:
+        return json.loads((path / "summary.json").read_text()).get("format", "").startswith("rvtol-summary/")
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
 def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
     from .report.render import render_html, render_pdf
 
-    out = Path(out_dir)
+    out = check_out_dir(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+    tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(6)}"
+    tmp.mkdir()  # mode 0777 & ~umask, like any folder the user makes
     try:
         summary = result.summary()
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
@@ -294,8 +324,8 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
             render_pdf(html, tmp / "report.pdf")
         old = None
         if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-            os.replace(out, old / "x")
+            old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
+            os.replace(out, old)
         os.replace(tmp, out)
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)

@@ -45,7 +45,8 @@ def test_summary_format_and_values(linear_run):
     assert o["unit"] == "um" and o["n"] == 4000 and o["failed"] == 0
     # closed form: mean 94 µm, σ = sqrt(3.5² + 2·1.8333²·1.5) µm
     assert o["mean"] == pytest.approx(94.0, abs=4 * 4.73 / 4000**0.5)
-    assert o["std"] == pytest.approx(4.726, rel=0.05)
+    sigma = (3.5**2 + 2 * (0.011 / 6 * 1e3) ** 2 * 1.5) ** 0.5  # closed form, µm (normal: s.e. of s = σ/√(2n))
+    assert abs(o["std"] - sigma) < 4 * sigma / (2 * 4000) ** 0.5
     assert o["percentiles"]["P0.135"]["ci"][0] < o["percentiles"]["P0.135"]["value"]
     req = o["requirements"][0]
     assert req["passed"] is True and req["yield"] == 1.0 and s["verdict"] == "PASS"
@@ -112,3 +113,55 @@ def test_readme_quick_start_and_ci_agree(root):
     assert "pytest" in test_cmd
     ci = (root / ".ci" / "run").read_text()
     assert test_cmd in ci.splitlines(), "the README's test command must appear verbatim in .ci/run"
+
+
+def _linear_args(root, out):
+    return ["run", str(root / "studies" / "linear_stackup.toml"), "--out", str(out), "--n", "2000",
+            "--no-pdf", "--executor", "serial", "--quiet"]
+
+
+def test_out_never_replaces_a_folder_that_is_not_a_report(tmp_path, root, capsys):
+    out = tmp_path / "precious"
+    out.mkdir()
+    (out / "thesis.txt").write_text("years of work")
+    assert main(_linear_args(root, out)) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"rvtol: error: {out}: --out: exists and is not an rvtol report folder")
+    assert (out / "thesis.txt").read_text() == "years of work"
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".precious")]
+
+
+def test_out_replaces_an_earlier_report_and_keeps_normal_permissions(tmp_path, root):
+    import os
+    import stat
+
+    out = tmp_path / "rep"
+    assert main(_linear_args(root, out)) == 0
+    first = (out / "summary.json").read_text()
+    assert main(_linear_args(root, out) + ["--seed", "7"]) == 0
+    assert (out / "summary.json").read_text() != first
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~mask
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]  # no temporary or old folders left
+
+
+def test_out_refuses_the_current_folder(tmp_path, root, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "keep.txt").write_text("x")
+    assert main(_linear_args(root, ".")) == 2
+    assert "refusing to replace the current folder" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.txt"]
+
+
+def test_script_without_main_guard_gets_a_clear_message(tmp_path):
+    script = tmp_path / "study_script.py"
+    script.write_text(
+        "import numpy as np\n"
+        "from rvtol import make_executor, evaluate\n"
+        "from rvtol.testing import TrivialModel\n"
+        "with make_executor('process', 2) as ex:\n"
+        "    evaluate(TrivialModel(3), np.zeros((100, 3)), ex, chunk_size=10, progress=False)\n")
+    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert r.returncode != 0
+    assert 'if __name__ == "__main__":' in r.stderr
