@@ -305,11 +305,16 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
 
 
 def load_requirements(path: str | Path) -> list[Requirement]:
-    data, _ = read_toml(path)
+    return read_requirements_file(path)[0]
+
+
+def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
+    """The requirements of a ``[[requirement]]`` file and the file's SHA-256 (one read)."""
+    data, sha = read_toml(path)
     root = Params(data, file=str(path))
     reqs = requirements_from_tables(root.tables("requirement"))
     root.finish()
-    return reqs
+    return reqs, sha
 
 
 def requirements_from_tables(tables: list[Params]) -> list[Requirement]:

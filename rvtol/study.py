@@ -61,7 +61,8 @@ from .params import Params, read_toml
 from .registry import analysis_function, model_factory
 from .report.sections import Section
 from .sampling import METHODS
-from .spec import Requirement, ToleranceSpec, load_requirements, load_spec, requirements_from_tables, spec_from_table
+from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
+                   spec_from_table)
 
 SUMMARY_FORMAT = "rvtol-summary/1"
 
@@ -168,8 +169,9 @@ def load_study(path: str | Path, **overrides) -> Study:
     reqs: list[Requirement] = []
     rpath = head.path_value("requirements", base, None)
     if rpath is not None:
-        reqs += load_requirements(rpath)
-        inputs["requirements"] = {"path": str(rpath), "sha256": read_toml(rpath)[1]}
+        rfile, rsha = read_requirements_file(rpath)
+        reqs += rfile
+        inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
     head.finish()
 
