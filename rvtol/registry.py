@@ -19,24 +19,24 @@ import importlib
 from .errors import SpecError
 
 MODELS: dict[str, str] = {
-    "linear": "rvtol.models.linear:from_study",
-    "lost_motion": "rvtol.models.lost_motion:from_study",
-    "adjusted_assembly": "rvtol.adjustment.model:from_study",
-    "stackup": "rvtol.stackup.model:from_study",
+    "linear": "rvtol.models.linear.model:from_study",
+    "lost_motion": "rvtol.models.lost_motion.model:from_study",
+    "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
+    "stackup": "rvtol.models.stackup.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
-    "torsion_curve": "rvtol.models.torsion_curve:from_study",
+    "torsion_curve": "rvtol.models.torsion_curve.model:from_study",
     "transmission_error": "rvtol.models.transmission.model:from_study",
 }
 
 ANALYSES: dict[str, str] = {
     "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
-    "stackup_linear": "rvtol.stackup.linearise:StackupLinear",
-    "stackup_graph": "rvtol.stackup.analyses:StackupGraph",
-    "stackup_sequences": "rvtol.stackup.analyses:StackupSequences",
-    "stackup_domains": "rvtol.stackup.analyses:StackupDomains",
-    "stackup_shaft_hole": "rvtol.stackup.analyses:StackupShaftHole",
-    "allocation": "rvtol.allocation.analysis:AllocationAnalysis",
+    "stackup_linear": "rvtol.models.stackup.linearise:StackupLinear",
+    "stackup_graph": "rvtol.models.stackup.analyses:StackupGraph",
+    "stackup_sequences": "rvtol.models.stackup.analyses:StackupSequences",
+    "stackup_domains": "rvtol.models.stackup.analyses:StackupDomains",
+    "stackup_shaft_hole": "rvtol.models.stackup.analyses:StackupShaftHole",
+    "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "local_sensitivity": "rvtol.sensitivity.analyses:LocalSensitivity",
     "sensitivity_curve": "rvtol.sensitivity.analyses:SensitivityCurve",
     "contributions": "rvtol.sensitivity.analyses:Contributions",
@@ -44,12 +44,12 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
-    "lost_motion_breakdown": "rvtol.models.lost_motion_analyses:LostMotionBreakdown",
-    "lost_motion_reproduction": "rvtol.models.lost_motion_analyses:LostMotionReproduction",
-    "adjustment": "rvtol.adjustment.analysis:AdjustmentAnalysis",
-    "adjustment_reproduction": "rvtol.adjustment.reproduction:AdjustmentReproduction",
+    "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
+    "lost_motion_reproduction": "rvtol.models.lost_motion.analyses:LostMotionReproduction",
+    "adjustment": "rvtol.models.adjustment.analyses:AdjustmentAnalysis",
+    "adjustment_reproduction": "rvtol.reproduction.doc002_adjustment:AdjustmentReproduction",
     "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
-    "torsion_curve": "rvtol.models.torsion_curve_analysis:TorsionCurveAnalysis",
+    "torsion_curve": "rvtol.models.torsion_curve.analyses:TorsionCurveAnalysis",
 }
 
 

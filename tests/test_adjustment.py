@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy import linalg
 
-from rvtol.adjustment import AdjustedAssemblyModel, Adjuster, load_assembly
-from rvtol.adjustment.lqr import kalman_gains, riccati_gains, terminal_constraint_gains
+from rvtol.models.adjustment import AdjustedAssemblyModel, Adjuster, load_assembly
+from rvtol.models.adjustment.lqr import kalman_gains, riccati_gains, terminal_constraint_gains
 from rvtol.mc import evaluate
 from rvtol.sampling import rng
 
@@ -133,7 +133,7 @@ def test_full_authority_and_infinite_Q_remove_the_final_error(bx2):
 
 def test_one_step_scalar_closed_loop_by_hand():
     """One KC, one step: u = −Q/(R+Q)·δ, final δ·R/(R+Q) (doc 002's cost with one adjustment)."""
-    from rvtol.adjustment import assembly_from_table
+    from rvtol.models.adjustment import assembly_from_table
 
     d = assembly_from_table({
         "assembly": {"name": "one"}, "weights": {"accuracy": 8.0, "effort_adjustable": 2.0, "effort_locked": 1e3},

@@ -4,7 +4,7 @@ import textwrap
 
 import pytest
 
-from rvtol.adjustment import load_assembly
+from rvtol.models.adjustment import load_assembly
 from rvtol.errors import InputError
 from rvtol.study import load_study
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from rvtol.adjustment import AdjustedAssemblyModel, load_assembly
+from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
 from rvtol.allocation.baseline import uniform_baseline, verify
 from rvtol.allocation.convex import solve_convex
 from rvtol.allocation.cost import CostModel, fit_cost_model, load_costs

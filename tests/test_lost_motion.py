@@ -8,7 +8,7 @@ import pytest
 from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.lost_motion import LostMotionGeometry, LostMotionModel, analytic, factor_moments
+from rvtol.models.lost_motion.model import LostMotionGeometry, LostMotionModel, analytic, factor_moments
 from rvtol.sampling import sample
 from rvtol.sensitivity import five_point
 from rvtol.spec import load_spec

@@ -5,8 +5,8 @@ from scipy import integrate, stats
 
 from rvtol.distributions import Distribution
 from rvtol.errors import InputError
-from rvtol.stackup import domains as dm
-from rvtol.stackup.deviation import (DeviationNormal, linear_magnitude, mean_square_magnitude,
+from rvtol.models.stackup import domains as dm
+from rvtol.models.stackup.deviation import (DeviationNormal, linear_magnitude, mean_square_magnitude,
                                      rotational_magnitude)
 
 N = 1_000_000

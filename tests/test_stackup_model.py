@@ -12,10 +12,10 @@ from rvtol.mc import evaluate, run_monte_carlo
 from rvtol.sampling import sample
 from rvtol.sensitivity import five_point
 from rvtol.spec import load_spec, spec_from_table
-from rvtol.stackup import domains as dm
-from rvtol.stackup.graph import assembly_from_table, load_assembly
-from rvtol.stackup.linearise import Factors, linearise_output
-from rvtol.stackup.model import StackupModel
+from rvtol.models.stackup import domains as dm
+from rvtol.models.stackup.graph import assembly_from_table, load_assembly
+from rvtol.models.stackup.linearise import Factors, linearise_output
+from rvtol.models.stackup.model import StackupModel
 
 Z = 4.5
 

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from rvtol.stackup import transforms as tr
-from rvtol.stackup.program import Program, chain_program, run_numba, run_numpy
+from rvtol.models.stackup import transforms as tr
+from rvtol.models.stackup.program import Program, chain_program, run_numba, run_numpy
 
 RNG = np.random.default_rng(20261121)
 

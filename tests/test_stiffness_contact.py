@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from rvtol.models.stiffness import hertz
+from rvtol.elements import hertz
 from rvtol.models.stiffness.cycloid_contact import (PinGear, angular_backlash, arm, equidistance_term,
                                                     initial_clearance, moved_distance_term, pin_angles,
                                                     reference_approach, solve_contact)

@@ -8,7 +8,7 @@ import pytest
 from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.stiffness import bearings, carrier, crankshaft, involute
+from rvtol.elements import bearings, carrier, crankshaft, involute
 from rvtol.models.stiffness.model import STATUS_GEOMETRY, STATUS_INTERFERENCE, from_study
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 from rvtol.params import Params

@@ -6,14 +6,14 @@ import pytest
 
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.torsion_curve import (EPSILON, TorsionCurve, TorsionCurveModel, compliance_breakdown, from_study,
+from rvtol.models.torsion_curve.model import (EPSILON, TorsionCurve, TorsionCurveModel, compliance_breakdown, from_study,
                                         torque_schedule)
-from rvtol.models.torsion_curve_analysis import CAMS, analytic_lost_motion, output_ratio
+from rvtol.models.torsion_curve.analyses import CAMS, analytic_lost_motion, output_ratio
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import ST_BAD_CLEARANCE
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
-from rvtol.models.transmission.reference import ReferenceModel
+from rvtol.models.transmission.numpy_twin import ReferenceModel
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
 

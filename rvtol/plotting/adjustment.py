@@ -38,7 +38,7 @@ def kc_steps(run, row: int = 0, ax=None, unit: str = "mrad", unadjusted=None, ti
 
 def example_steps(example, fig=None):
     """One panel per accuracy weight Q: the example assembly's KC errors per step, with and without adjustment."""
-    from ..adjustment.sweep import q_label
+    from ..models.adjustment.sweep import q_label
 
     n = len(example.weights)
     cols = 2 if n > 1 else 1
@@ -92,7 +92,7 @@ def accuracy_sweep(sweep, fig=None):
 
 def step_statistics(stats, ax=None):
     """Monte Carlo batch: RMS of each KC's error after every step, adjusted (solid) and unadjusted (dashed)."""
-    from ..adjustment.sweep import q_label
+    from ..models.adjustment.sweep import q_label
 
     fig, ax = new_axes(ax)
     N, nx = stats.adjusted.shape

@@ -11,7 +11,7 @@ from .mc import histogram
 def total_histogram(mc, analytic, output: str = "lost_motion", ax=None):
     """Monte Carlo histogram of the total with its limit(s), the linear-model normal and the document's band.
 
-    ``analytic`` is the :func:`rvtol.models.lost_motion.analytic` frame (arcmin).
+    ``analytic`` is the :func:`rvtol.models.lost_motion.model.analytic` frame (arcmin).
     """
     fig = histogram(mc, output, ax=ax)
     ax = ax or fig.axes[0]

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvtol.adjustment import AdjustedAssemblyModel, load_assembly
+from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
 from rvtol.allocation.cost import load_costs
 from rvtol.allocation.problem import AllocationProblem, MonteCarloConstraint, expand_requirements
 from rvtol.sampling import rng, to_factors

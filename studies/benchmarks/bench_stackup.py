@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rvtol.stackup import transforms as tr
-from rvtol.stackup.program import chain_program, run_numba, run_numpy
+from rvtol.models.stackup import transforms as tr
+from rvtol.models.stackup.program import chain_program, run_numba, run_numpy
 
 from _timing import best_time, print_table
 
@@ -55,8 +55,8 @@ def main(quick: bool = False) -> None:
     from rvtol.design import load_design
     from rvtol.sampling import sample
     from rvtol.spec import load_spec
-    from rvtol.stackup.graph import load_assembly
-    from rvtol.stackup.model import StackupModel
+    from rvtol.models.stackup.graph import load_assembly
+    from rvtol.models.stackup.model import StackupModel
 
     asm = load_assembly(ROOT / "data/assemblies/rv_crank_chain.toml", load_design(ROOT / "data/designs/rv80e_te.toml"))
     spec = load_spec(ROOT / "data/specs/stackup_rv_crank_chain.toml")

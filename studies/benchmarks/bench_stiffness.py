@@ -19,9 +19,9 @@ import numpy as np
 
 from rvtol.design import load_design
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
-from rvtol.models.torsion_curve import TorsionCurveModel, torque_schedule
-from rvtol.models.torsion_curve_analysis import CAMS
-from rvtol.models.transmission.reference import ReferenceModel
+from rvtol.models.torsion_curve.model import TorsionCurveModel, torque_schedule
+from rvtol.models.torsion_curve.analyses import CAMS
+from rvtol.models.transmission.numpy_twin import ReferenceModel
 
 from _timing import best_time, print_table
 

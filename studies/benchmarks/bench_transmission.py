@@ -25,7 +25,7 @@ from rvtol.models.transmission.contacts import pin_cos_sin, static_table
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.models.transmission.newmark import NewmarkSolver
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
-from rvtol.models.transmission.reference import ReferenceModel
+from rvtol.models.transmission.numpy_twin import ReferenceModel
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 

@@ -24,7 +24,7 @@ import pandas as pd
 
 from ... import units
 from ...report.sections import Section, frame_records
-from . import reproduction as rp
+from ...reproduction import doc004_stiffness as rp
 from .model import TorsionalStiffnessModel
 from .torsion_angle import COMPONENTS, LABELS, ReducerStiffness
 

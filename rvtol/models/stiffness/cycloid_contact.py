@@ -66,7 +66,7 @@ import numpy as np
 import pandas as pd
 
 from ...errors import SpecError
-from . import hertz
+from ...elements import hertz
 
 #: a clearance below -1 nm somewhere is an interference (preloaded mesh), outside doc 004's model
 INTERFERENCE_TOL = 1e-6

@@ -58,7 +58,7 @@ import pandas as pd
 
 from ... import units
 from ...errors import SpecError
-from . import bearings, carrier, crankshaft, involute
+from ...elements import bearings, carrier, crankshaft, involute
 from .cycloid_contact import ContactSolution, PinGear, angular_backlash, design_number, solve_contact
 
 COMPONENTS = ("involute", "cycloid_pin", "crank_bearings", "crankshafts", "carrier")

@@ -3,7 +3,7 @@
 Modules: :mod:`.geometry` (derived geometry, undefined symbols filled),
 :mod:`.layout` (DOF/contact/array layout), :mod:`.contacts` (contact table),
 :mod:`.factors` (error factors and the Table 3 patterns), :mod:`._kernels`
-(numba: forces, Newton, sequences, Newmark-β), :mod:`.reference` (NumPy
+(numba: forces, Newton, sequences, Newmark-β), :mod:`.numpy_twin` (NumPy
 implementation of the same equations), :mod:`.quasistatic`, :mod:`.newmark`,
 :mod:`.model` (:class:`TransmissionErrorModel`).
 

@@ -2,7 +2,7 @@
 
 Pure array functions, ``@njit(cache=True, nogil=True)``, returning status codes
 (:mod:`.layout`).  Python wrappers (:mod:`.quasistatic`, :mod:`.newmark`)
-validate, convert and raise; :mod:`.reference` holds a NumPy implementation of
+validate, convert and raise; :mod:`.numpy_twin` holds a NumPy implementation of
 the same equations for the tests and the benchmark ratio.
 
 Structure: every contact is one row of a *contact table*.  A contact's relative

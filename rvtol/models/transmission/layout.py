@@ -1,4 +1,4 @@
-"""Index layout shared by the numba kernels, the NumPy reference and the Python wrappers.
+"""Index layout shared by the numba kernels, the NumPy twin and the Python wrappers.
 
 Plain integers only (numba reads them as compile-time constants).
 

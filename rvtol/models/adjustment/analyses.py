@@ -23,9 +23,9 @@ import math
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..errors import SpecError
-from ..report.sections import Section, frame_records
+from ... import units
+from ...errors import SpecError
+from ...report.sections import Section, frame_records
 from .description import weight_value
 from .model import AdjustedAssemblyModel
 from .sweep import accuracy_sweep, example_runs, q_label, step_statistics
@@ -61,7 +61,7 @@ def accuracy_weights(params, key: str = "accuracy_weights", default=(0, 5, 10, "
     raw = params.raw(key, list(default))
     if not isinstance(raw, list) or not raw:
         raise params.error(key, "expected a non-empty array of weights (numbers or \"inf\")")
-    from ..params import Params
+    from ...params import Params
 
     p = Params({str(i): v for i, v in enumerate(raw)}, file=params.file, key=params.path(key))
     return [weight_value(p, str(i), allow_inf=True) for i in range(len(raw))]

@@ -1,7 +1,7 @@
 """Worst case and RSS of the linearised chain, loop-method signs, beside the Monte Carlo.
 
 The chain's Jacobian ``J = ∂E_kc/∂x`` comes from
-:meth:`rvtol.stackup.model.StackupModel.jacobian` (small-displacement
+:meth:`rvtol.models.stackup.model.StackupModel.jacobian` (small-displacement
 torsor adjoints, analytic, about the zero-deviation nominal; central
 differences if the spec's nominal values deviate).  For each output:
 
@@ -39,12 +39,12 @@ import pandas as pd
 from scipy import optimize
 from scipy.special import ndtr
 
-from .. import units
-from ..report.sections import Section, Table, Text, frame_records
-from ..sensitivity.common import tolerance_limits
-from ..sensitivity.linearisation import linear_prediction
-from ..stats import percentile_ci
-from ..units import label
+from ... import units
+from ...report.sections import Section, Table, Text, frame_records
+from ...sensitivity.common import tolerance_limits
+from ...sensitivity.linearisation import linear_prediction
+from ...stats import percentile_ci
+from ...units import label
 from .model import StackupModel
 
 COVERAGE = 0.9973  # one-sided coverage of magnitudes (as ±3σ)
@@ -297,7 +297,7 @@ class StackupLinear:
                                        "in its direction; linearise a model with uniform (or centred) floats")
 
     def run(self, ctx) -> Section:
-        from ..plotting.stackup import contribution_bars
+        from ...plotting.stackup import contribution_bars
 
         model, spec = ctx.model, ctx.spec
         fx = Factors.of(spec)

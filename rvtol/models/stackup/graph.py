@@ -71,10 +71,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import units
-from ..design import Design
-from ..errors import InputError, SpecError
-from ..params import Params, read_toml
+from ... import units
+from ...design import Design
+from ...errors import InputError, SpecError
+from ...params import Params, read_toml
 from .transforms import DOF, homogeneous, inverse, rotation_exact
 
 COMPONENTS = ("u", "v", "w", "alpha", "beta", "gamma", "radial", "tilt", "e_norm", "eps_norm", "margin")
@@ -473,7 +473,7 @@ def _term(p: Params, fid: str, num: _Numbers) -> Term:
         L = num.get(p, "length", "mm", positive=True)
         coords = ("x1", "y1", "x2", "y2")
         A = np.zeros((6, 4))
-        # end 1 at z = +L/2, end 2 at z = -L/2 (see rvtol.stackup.domains.axis_from_ends)
+        # end 1 at z = +L/2, end 2 at z = -L/2 (see rvtol.models.stackup.domains.axis_from_ends)
         A[0, [0, 2]] = 0.5
         A[1, [1, 3]] = 0.5
         A[4, 0], A[4, 2] = 1.0 / L, -1.0 / L

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ... import units
-from .cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
-from .torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
+from .. import units
+from ..models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
+from ..models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
 
 #: doc 004's printed figures (Tables 2-5 and the text)
 PRINTED = {

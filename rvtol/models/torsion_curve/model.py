@@ -46,15 +46,15 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..errors import InputError
-from ..model import STATUS_NONFINITE, Model, Quantity
-from .transmission import layout as L
-from .transmission.factors import ErrorFactors, ErrorState
-from .transmission.geometry import RVGeometry, geometry_from_design
-from .transmission.model import ST_BAD_CLEARANCE
-from .transmission.quasistatic import QuasiStaticSolver
-from .transmission.reference import ReferenceModel
+from ... import units
+from ...errors import InputError
+from ...model import STATUS_NONFINITE, Model, Quantity
+from ..transmission import layout as L
+from ..transmission.factors import ErrorFactors, ErrorState
+from ..transmission.geometry import RVGeometry, geometry_from_design
+from ..transmission.model import ST_BAD_CLEARANCE
+from ..transmission.quasistatic import QuasiStaticSolver
+from ..transmission.numpy_twin import ReferenceModel
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
 BRANCHES = ("loading 0 → +T", "descending +T → −T", "ascending −T → 0")
@@ -161,7 +161,7 @@ class TorsionCurve:
                              "torsion angle (arcmin)": self.angle_arcmin})
 
     def plot(self, ax=None, percent: float | None = 3.0):
-        from ..plotting.stiffness import plot_torsion_curve
+        from ...plotting.stiffness import plot_torsion_curve
 
         return plot_torsion_curve(self, ax=ax, percent=percent)
 

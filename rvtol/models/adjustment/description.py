@@ -51,8 +51,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import units
-from ..params import Params, check_number, read_toml
+from ... import units
+from ...params import Params, check_number, read_toml
 
 COMPONENT_NAMES = ("x", "y", "z")
 

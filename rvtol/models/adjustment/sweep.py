@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .. import units
+from ... import units
 from .adjuster import AssemblyRun
 from .model import AdjustedAssemblyModel
 
@@ -50,7 +50,7 @@ class ExampleRuns:
         return 0.0 if abs(v) <= 1e-12 * scale else float(units.from_base(v, self.unit))
 
     def plot(self, fig=None):
-        from ..plotting.adjustment import example_steps
+        from ...plotting.adjustment import example_steps
 
         return example_steps(self, fig=fig)
 
@@ -81,7 +81,7 @@ class AccuracySweep:
         return df
 
     def plot(self, fig=None):
-        from ..plotting.adjustment import accuracy_sweep
+        from ...plotting.adjustment import accuracy_sweep
 
         return accuracy_sweep(self, fig=fig)
 
@@ -100,7 +100,7 @@ def accuracy_sweep(model: AdjustedAssemblyModel, w: np.ndarray, Q: np.ndarray, X
 
     ``evaluate(model, X) -> Y`` runs the batch (default: :func:`rvtol.mc.evaluate`, serial).
     """
-    from ..mc import evaluate as mc_evaluate
+    from ...mc import evaluate as mc_evaluate
 
     if evaluate is None:
         evaluate = lambda m, X: mc_evaluate(m, X, progress=False).Y  # noqa: E731
@@ -149,7 +149,7 @@ class StepStatistics:
         return pd.DataFrame(rows)
 
     def plot(self, ax=None):
-        from ..plotting.adjustment import step_statistics
+        from ...plotting.adjustment import step_statistics
 
         return step_statistics(self, ax=ax)
 

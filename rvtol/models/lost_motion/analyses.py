@@ -16,10 +16,10 @@ import math
 import numpy as np
 import pandas as pd
 
-from .. import stats as st
-from ..report.sections import Section, frame_records
-from ..units import convert
-from .lost_motion import ARCMIN_PER_RAD, LostMotionModel, analytic, factor_moments
+from ... import stats as st
+from ...report.sections import Section, frame_records
+from ...units import convert
+from .model import ARCMIN_PER_RAD, LostMotionModel, analytic, factor_moments
 
 
 def _check_model(params, study) -> None:
@@ -112,7 +112,7 @@ class LostMotionBreakdown:
                 "equals 6σ.")
         if ctx.spec.correlation is not None:
             sec.add_text("Note: the analytic columns ignore the spec's correlations; the Monte Carlo includes them.")
-        from ..plotting.lost_motion import stage_bars, total_histogram
+        from ...plotting.lost_motion import stage_bars, total_histogram
 
         sec.add_figure(total_histogram(ctx.mc, d), caption="Total geometric lost motion: Monte Carlo, analytic "
                                                            "normal, document band and limit")
@@ -138,7 +138,7 @@ class LostMotionReproduction:
         params.finish()
 
     def run(self, ctx):
-        from ..sensitivity.local import five_point
+        from ...sensitivity.local import five_point
 
         a = _analytic(ctx).set_index("stage")
         g, K = ctx.model.geometry, ARCMIN_PER_RAD

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ModelError
+from ...errors import ModelError
 from . import _kernels as K
 from .transforms import MODES, extract, homogeneous, inverse, transform
 

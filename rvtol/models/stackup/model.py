@@ -1,6 +1,6 @@
 """The assembly chain as a Model: factors in, named KC deviations out.
 
-:class:`StackupModel` compiles an :class:`~rvtol.stackup.graph.Assembly`
+:class:`StackupModel` compiles an :class:`~rvtol.models.stackup.graph.Assembly`
 and one of its sequences into a deviation program (:mod:`.program`):
 
 * every pose deviation term of a feature is a *slot* ``E = A·x`` (linear in
@@ -35,9 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import units
-from ..errors import InputError
-from ..model import Model, Quantity
+from ... import units
+from ...errors import InputError
+from ...model import Model, Quantity
 from . import _kernels as K
 from .deviation import linear_magnitude, rotational_magnitude
 from .domains import axis_from_ends, concentric_disk, ends_from_axis
@@ -421,7 +421,7 @@ def _check_zones(model: StackupModel, spec) -> None:
 
 
 def _band_inside(spec, name: str, limit: float, what: str) -> None:
-    from ..sensitivity.common import tolerance_limits
+    from ...sensitivity.common import tolerance_limits
 
     f = spec.factor(name)
     lo, hi = tolerance_limits(f)

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ModelError
+from ...errors import ModelError
 
 DOF = ("u", "v", "w", "alpha", "beta", "gamma")
 MODES = ("small", "exact")

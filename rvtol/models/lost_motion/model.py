@@ -63,9 +63,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..errors import InputError, SpecError
-from ..model import Model, Quantity
+from ... import units
+from ...errors import InputError, SpecError
+from ...model import Model, Quantity
 
 #: the document's 180·60/π: arcmin per radian
 ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ...errors import ModelError
 from .description import AssemblyDescription
 from .lqr import kalman_gains, riccati_gains, terminal_constraint_gains
 
@@ -57,7 +57,7 @@ class AssemblyRun:
         """One assembly as a table: per step and KC, error before/after adjustment and the adjustment."""
         import pandas as pd
 
-        from .. import units
+        from ... import units
 
         names = self.state_names or tuple(f"x{i}" for i in range(self.x_installed.shape[2]))
         recs = []
@@ -71,7 +71,7 @@ class AssemblyRun:
         return pd.DataFrame(recs)
 
     def plot(self, row: int = 0, ax=None, unit: str = "mrad"):
-        from ..plotting.adjustment import kc_steps
+        from ...plotting.adjustment import kc_steps
 
         return kc_steps(self, row=row, ax=ax, unit=unit)
 

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, ModelError
-from ..sampling import rng
+from ...errors import InputError, ModelError
+from ...sampling import rng
 from .transforms import DOF
 
 UNITS = ("mm", "mm", "mm", "rad", "rad", "rad")

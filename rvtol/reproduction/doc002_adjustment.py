@@ -26,9 +26,9 @@ from scipy import optimize
 
 from .. import units
 from ..report.sections import Section, frame_records
-from .adjuster import Adjuster
-from .analysis import require_adjusted_model
-from .description import load_assembly, weight_value
+from ..models.adjustment.adjuster import Adjuster
+from ..models.adjustment.analyses import require_adjusted_model
+from ..models.adjustment.description import load_assembly, weight_value
 
 TABLE5 = (("Crankshaft 1", "crankshaft_1"), ("Cycloid Gear 1", "cycloid_gear_1"),
           ("Crankshaft 2", "crankshaft_2"), ("Cycloid Gear 2", "cycloid_gear_2"))
@@ -55,7 +55,7 @@ class AdjustmentReproduction:
         if te_path is not None:
             from ..design import load_design
             from ..models.transmission.model import TransmissionErrorModel
-            from .te_mapping import te_inputs
+            from .doc002_te_mapping import te_inputs
 
             self.te_model = TransmissionErrorModel(load_design(te_path), inputs=te_inputs())
         params.finish()
@@ -89,7 +89,7 @@ class AdjustmentReproduction:
         sec.summary = {"rows": frame_records(df)}
         if te is not None:
             from ..plotting.adjustment import te_against_q as plot_te
-            from .te_mapping import MAPPING
+            from .doc002_te_mapping import MAPPING
 
             sec.add_text("TE of the example assembly — rvtol's mapping: " + MAPPING
                          + f" Lever arm L = {self.lever_arm:g} mm: the disc mid-planes lie ±6 mm from the point "
@@ -106,13 +106,13 @@ class AdjustmentReproduction:
         return sec
 
     def te_table(self) -> pd.DataFrame:
-        from .te_mapping import te_against_q
+        from .doc002_te_mapping import te_against_q
 
         w = np.asarray(self.design["example.part_errors"], float)
         return te_against_q(self.model, self.te_model, w, [0.0, 5.0, 10.0, math.inf], self.lever_arm)
 
     def te_sweep(self) -> pd.DataFrame:
-        from .te_mapping import te_against_q
+        from .doc002_te_mapping import te_against_q
 
         w = np.asarray(self.design["example.part_errors"], float)
         return te_against_q(self.model, self.te_model, w, list(np.geomspace(0.1, 1000, 17)), self.lever_arm)

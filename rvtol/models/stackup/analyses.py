@@ -3,7 +3,7 @@
 ==================  ===========================================================================
 kind                keys
 ==================  ===========================================================================
-stackup_linear      see :class:`rvtol.stackup.linearise.StackupLinear`
+stackup_linear      see :class:`rvtol.models.stackup.linearise.StackupLinear`
 stackup_graph       (none): picture of the assembly graph, flows, fits, dimensions with sources
 stackup_sequences   ``sequences`` (default all of the assembly's), ``outputs`` (default those all
                     share): the same samples through each assembly sequence, side by side
@@ -23,13 +23,13 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..distributions import from_params
-from ..errors import InputError
-from ..report.sections import Section, frame_records
-from ..sensitivity.common import tolerance_limits
-from ..stats import percentile_ci
-from ..units import label
+from ... import units
+from ...distributions import from_params
+from ...errors import InputError
+from ...report.sections import Section, frame_records
+from ...sensitivity.common import tolerance_limits
+from ...stats import percentile_ci
+from ...units import label
 from . import domains as dm
 from .model import StackupModel
 
@@ -46,7 +46,7 @@ class StackupGraph:
         self.model = _need_stackup(params, study)
 
     def run(self, ctx) -> Section:
-        from ..plotting.stackup import assembly_graph
+        from ...plotting.stackup import assembly_graph
 
         m = self.model
         asm, seq = m.assembly, m.sequence
@@ -117,7 +117,7 @@ class SequenceComparison:
         return pd.DataFrame(rows)
 
     def plot(self, outputs=None):
-        from ..plotting.stackup import sequence_histograms
+        from ...plotting.stackup import sequence_histograms
 
         return sequence_histograms(self, outputs)
 
@@ -211,7 +211,7 @@ class StackupDomains:
         self.seed = study.options.seed
 
     def run(self, ctx) -> Section:
-        from ..plotting.stackup import planar_domain
+        from ...plotting.stackup import planar_domain
 
         sec = Section("stackup_domains", "Stack-up: deviation domains — derived moments against sampling")
         sec.add_text("Mean vector and standard deviations derived in closed form (uniform in the domain; truncated "

@@ -39,9 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, stats
 
-from ..distributions import Distribution
-from ..errors import InputError
-from ..sampling import rng
+from ...distributions import Distribution
+from ...errors import InputError
+from ...sampling import rng
 from .transforms import DOF
 
 DISTRIBUTIONS = ("uniform", "truncnorm")

@@ -11,7 +11,7 @@
 
 Sections: the curves (clearance-free and at the spec's mean errors) with the
 maker's figures; lost motion against the crank-bearing and pin clearances
-beside the analytical lost-motion model (:mod:`rvtol.models.lost_motion`,
+beside the analytical lost-motion model (:mod:`rvtol.models.lost_motion.model`,
 doc 001); rigidity beside the elastic torsion-angle model (doc 004) with the
 20-DOF angle split by virtual work.
 
@@ -35,13 +35,13 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..design import load_design
-from ..report.sections import Section, frame_records
-from .lost_motion import LostMotionGeometry, LostMotionModel
-from .stiffness.cycloid_contact import PinGear
-from .stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness
-from .torsion_curve import TorsionCurveModel, compliance_breakdown
+from ... import units
+from ...design import load_design
+from ...report.sections import Section, frame_records
+from ..lost_motion.model import LostMotionGeometry, LostMotionModel
+from ..stiffness.cycloid_contact import PinGear
+from ..stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness
+from .model import TorsionCurveModel, compliance_breakdown
 
 BREAKDOWN_LABELS = {"sun": "sun support", "mesh": "sun–planet meshes (≈ θ1)", "pin": "cycloid–pin contacts (≈ θ2)",
                     "cam": "cycloid–crank bearings (≈ θ3)", "crank": "crank–carrier bearings",
@@ -108,7 +108,7 @@ class TorsionCurveAnalysis:
                 "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec")}
 
     def _curves(self) -> Section:
-        from ..plotting import new_axes
+        from ...plotting import new_axes
 
         m = self.model
         free = TorsionCurveModel(m.geometry, (), percent=m.percent, points=m.points, torque=m.torque).curve()
@@ -152,7 +152,7 @@ class TorsionCurveAnalysis:
         return s
 
     def _lost_motion(self) -> Section:
-        from ..plotting.stiffness import plot_sweep
+        from ...plotting.stiffness import plot_sweep
 
         g = self.model.geometry
         ib = output_ratio(g)

@@ -17,8 +17,8 @@ uses ±1; an angle from a length at radius R uses 1/R (rad/mm).
 """
 from __future__ import annotations
 
-from .. import units
-from ..model import LinearModel, Quantity
+from ... import units
+from ...model import LinearModel, Quantity
 
 
 def from_study(params, design, spec) -> LinearModel:

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
-from ..model import Model, Quantity
+from ...errors import InputError
+from ...model import Model, Quantity
 from .adjuster import Adjuster
 from .description import AssemblyDescription, load_assembly, weight_value
 
