@@ -125,6 +125,30 @@ class Distribution:
             return p["upper"] - p["lower"]
         return float(self.frozen.ppf(coverage(self.sigma_level)) - self.shift)
 
+    @property
+    def band(self) -> tuple[float, float]:
+        """The tolerance band ``(low, high)`` this distribution stands for (``high − low`` = :attr:`tolerance`).
+
+        Bounded kinds (uniform, triangular, truncnorm): the support.  One-sided
+        magnitudes (rayleigh, lognormal, weibull): from the lower end of the
+        support to the coverage quantile.  Normal: the quantiles at
+        ±``sigma_level``·σ, i.e. mean ± T/2.  This is the one definition of a
+        factor's band (five-point steps, high/low tables, worst case, allocation).
+        """
+        lo, hi = (float(v) for v in self.frozen.support())
+        c = coverage(self.sigma_level)
+        if self.one_sided:
+            return lo, float(self.ppf(c))
+        if np.isfinite(lo) and np.isfinite(hi):
+            return lo, hi
+        q = 0.5 * (1.0 - c)
+        return float(self.ppf(q)), float(self.ppf(1.0 - q))
+
+    @property
+    def half_band(self) -> float:
+        """The tolerance ±t: ``T/2`` of a two-sided kind, the coverage value ``T`` of a one-sided magnitude."""
+        return float(self.tolerance if self.one_sided else self.tolerance / 2.0)
+
     def scaled(self, f: float) -> "Distribution":
         """The same shape with its spread (tolerance) multiplied by ``f`` > 0.
 

@@ -22,6 +22,7 @@ from .executors import Executor, SerialExecutor
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
+from .verdict import judge
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -78,6 +79,26 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     status[(status == STATUS_OK) & ~np.all(np.isfinite(Y), axis=1)] = STATUS_NONFINITE
     Y[status != STATUS_OK] = np.nan
     return Evaluation(Y, status)
+
+
+class Evaluator:
+    """The one evaluator signature of rvtol: ``evaluator(model, X, desc) -> Evaluation``.
+
+    Monte Carlo, five-point and global sensitivity, allocation and the
+    analyses all evaluate models through an Evaluator, so every evaluation
+    runs on the same executor with the same chunking, progress bar and
+    failure accounting.  ``Evaluator()`` is serial without a progress bar; a
+    study's is ``ctx.evaluator`` (its executor and options).  ``X`` and the
+    returned ``Y`` are in base units; failed rows are NaN with a non-zero status.
+    """
+
+    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False):
+        self.executor = executor
+        self.chunk_size = chunk_size
+        self.progress = progress
+
+    def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
+        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc)
 
 
 def _progress(total: int, desc: str):
@@ -192,28 +213,9 @@ class MonteCarloResult:
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
                    if len(good) >= 100 else (None, None))
-            reasons, passed = [], True
-            use_lb = r.basis == "lower_bound"
-            if r.min_yield is not None:
-                v = yr.lo if use_lb else yr.estimate
-                if not v >= r.min_yield:
-                    passed = False
-                    reasons.append(f"yield {'lower bound ' if use_lb else ''}{v:.5f} < required {r.min_yield:g}")
-            if r.min_cpk is not None:
-                v = cap["cpk_lo"] if use_lb else cap["cpk"]
-                if v is None or not v >= r.min_cpk:
-                    passed = False
-                    shown = "n/a" if v is None else f"{v:.3f}"
-                    reasons.append(f"Cpk {'lower bound ' if use_lb else ''}{shown} < required {r.min_cpk:g}")
-            n_fail = int(self.n - self.ok.sum())
-            if n_fail:
-                reasons.append(f"{n_fail} sample(s) could not be evaluated and count as non-conforming")
-                if r.min_cpk is not None:
-                    # Cpk describes the evaluated samples only; with failures it demonstrates nothing
-                    passed = False
-                    reasons.append("Cpk is not demonstrated while samples fail (it only describes the "
-                                   "evaluated ones)")
-            out.append(Verdict(r, yr, cap, pci, passed, reasons))
+            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cap["cpk"], cpk_lo=cap["cpk_lo"],
+                      n_failed=int(self.n - self.ok.sum()))
+            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons))
         return out
 
     @property

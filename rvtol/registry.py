@@ -1,16 +1,23 @@
 """Where study files find models and analyses by ``kind``.
 
 Entries are ``"module:attribute"`` strings, imported only when a study uses
-them (so a study does not pay for numba or cvxpy it does not need).
+them (so a study does not pay for numba or cvxpy it does not need).  The
+contract (tested over every entry by ``tests/test_registry.py``):
 
-* a **model factory** is ``factory(params, design, spec) -> Model`` where
-  ``params`` is the study's ``[model]`` table (:class:`rvtol.params.Params`,
-  minus ``kind``), ``design`` the study's Design (or None) and ``spec`` its
-  ToleranceSpec; it must call ``params.finish()`` so typos are reported;
-* an **analysis** is ``analysis(ctx, params) -> Section | list[Section]``
-  where ``ctx`` is the :class:`rvtol.study.StudyContext` (design, spec,
-  model, Monte Carlo result, executor, seed...) and ``params`` the
-  ``[[analysis]]`` table minus ``kind``.
+* a **model factory** is ``factory(params, design, spec) -> Model``: ``params``
+  is the study's ``[model]`` table (:class:`rvtol.params.Params`, ``kind``
+  already read), ``design`` the study's Design (or None), ``spec`` its
+  ToleranceSpec.  It reads its keys from ``params`` (the study loader reports
+  keys nobody read) and may raise :class:`rvtol.errors.InputError`; the study
+  loader (:func:`rvtol.study.build_model`) locates an error without a file:
+  ``factor…`` keys in the spec file, anything else in the ``[model]`` table;
+* an **analysis** is a subclass of :class:`rvtol.analysis.Analysis`:
+  ``cls(params, study)`` validates the ``[[analysis]]`` table when the study
+  loads, ``run(ctx)`` returns report Sections after the Monte Carlo.
+
+The reproduction wing's analyses (:mod:`rvtol.reproduction`) are listed last:
+they compare a reference document's printed figures with rvtol and are named
+by the reproduction studies only.
 """
 from __future__ import annotations
 
@@ -21,22 +28,26 @@ from .errors import SpecError
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear.model:from_study",
     "lost_motion": "rvtol.models.lost_motion.model:from_study",
-    "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
-    "stackup": "rvtol.models.stackup.model:from_study",
+    "transmission_error": "rvtol.models.transmission.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
     "torsion_curve": "rvtol.models.torsion_curve.model:from_study",
-    "transmission_error": "rvtol.models.transmission.model:from_study",
+    "stackup": "rvtol.models.stackup.model:from_study",
+    "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
 }
 
 ANALYSES: dict[str, str] = {
+    # model-specific
+    "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
     "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
-    "stackup_linear": "rvtol.models.stackup.linearise:StackupLinear",
+    "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
+    "torsion_curve": "rvtol.models.torsion_curve.analyses:TorsionCurveAnalysis",
+    "stackup_linear": "rvtol.models.stackup.analyses:StackupLinear",
     "stackup_graph": "rvtol.models.stackup.analyses:StackupGraph",
     "stackup_sequences": "rvtol.models.stackup.analyses:StackupSequences",
     "stackup_domains": "rvtol.models.stackup.analyses:StackupDomains",
-    "stackup_shaft_hole": "rvtol.models.stackup.analyses:StackupShaftHole",
-    "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    "adjustment": "rvtol.models.adjustment.analyses:AdjustmentAnalysis",
+    # any model
     "local_sensitivity": "rvtol.sensitivity.analyses:LocalSensitivity",
     "sensitivity_curve": "rvtol.sensitivity.analyses:SensitivityCurve",
     "contributions": "rvtol.sensitivity.analyses:Contributions",
@@ -44,12 +55,13 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
-    "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
-    "lost_motion_reproduction": "rvtol.models.lost_motion.analyses:LostMotionReproduction",
-    "adjustment": "rvtol.models.adjustment.analyses:AdjustmentAnalysis",
+    "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    # the reproduction wing: one module per reference document
+    "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
+    "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",
     "adjustment_reproduction": "rvtol.reproduction.doc002_adjustment:AdjustmentReproduction",
-    "stiffness_reproduction": "rvtol.models.stiffness.analyses:StiffnessReproduction",
-    "torsion_curve": "rvtol.models.torsion_curve.analyses:TorsionCurveAnalysis",
+    "stackup_shaft_hole": "rvtol.reproduction.doc003_stackup:StackupShaftHole",
+    "stiffness_reproduction": "rvtol.reproduction.doc004_stiffness:StiffnessReproduction",
 }
 
 

@@ -34,6 +34,29 @@ def rng(seed: int | None, *keys: int) -> np.random.Generator:
     return np.random.Generator(np.random.PCG64(ss))
 
 
+#: Every named random sub-stream of a study seed: ``substream(seed, name, *keys)`` draws from
+#: ``SeedSequence([seed, STREAMS[name], *keys])``.  The Monte Carlo design itself is drawn from the
+#: seed alone (:func:`uniform_design`); every other random draw of a study has a name here, so two
+#: methods never share a stream and a result is reproducible from the study seed.
+STREAMS = {
+    "sobol": 1, "morris": 2, "fast": 3, "rbd_fast": 4, "delta": 5,   # global sensitivity designs (SALib)
+    "ga_population": 7,                                               # GA initial population (from the GA seed)
+    "stackup_domains": 11,                                            # domain sampling, one key per domain
+    "clearance_fit_sizes": 12, "clearance_fit_positions": 13,         # hole/shaft sizes, position in the fit
+    "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
+}
+
+
+def substream(seed: int | None, name: str, *keys: int) -> np.random.Generator:
+    """The Generator of the named sub-stream ``name`` (:data:`STREAMS`) of ``seed`` (fresh entropy if None)."""
+    return rng(seed, STREAMS[name], *keys)
+
+
+def substream_seed(seed: int | None, name: str, *keys: int) -> int:
+    """A positive int seed drawn from a named sub-stream (for libraries that take only int seeds)."""
+    return int(substream(seed, name, *keys).integers(1, 2**31 - 1))
+
+
 def uniform_design(n: int, k: int, method: str = "random", seed: int | None = None) -> np.ndarray:
     """An ``n×k`` design of uniforms in (0, 1)."""
     if method not in METHODS:

@@ -79,6 +79,16 @@ class Factor:
         """Inverse CDF, returned in base units."""
         return units.to_base(np.asarray(self.dist.ppf(u), dtype=float), self.unit)
 
+    @property
+    def band(self) -> tuple[float, float]:
+        """The tolerance band ``(low, high)`` in the factor's unit (:attr:`Distribution.band`)."""
+        return self.dist.band
+
+    @property
+    def half_band(self) -> float:
+        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`)."""
+        return self.dist.half_band
+
     def scaled(self, f: float) -> "Factor":
         """This factor with its tolerance multiplied by ``f``."""
         return replace(self, dist=self.dist.scaled(f))

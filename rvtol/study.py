@@ -44,18 +44,15 @@ import os
 import secrets
 import shutil
 import time
-from dataclasses import dataclass, field, replace
-from datetime import datetime, timezone
+from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 
-from . import __version__
 from .design import Design, load_design
 from .errors import InputError, SpecError
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import Evaluation, MonteCarloResult, evaluate, run_monte_carlo
+from .mc import Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
@@ -63,9 +60,6 @@ from .report.sections import Section
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
                    spec_from_table)
-
-SUMMARY_FORMAT = "rvtol-summary/1"
-
 
 @dataclass
 class RunOptions:
@@ -125,10 +119,11 @@ class StudyContext:
     def seed(self):
         return self.study.options.seed
 
-    def evaluate(self, X: np.ndarray, desc: str = "evaluating", model: Model | None = None) -> Evaluation:
-        """Evaluate (base units) through the study's executor, chunking and progress bar."""
+    @property
+    def evaluator(self) -> Evaluator:
+        """Evaluate any model through the study's executor, chunking and progress bar (base units)."""
         o = self.study.options
-        return evaluate(model or self.study.model, X, self.executor, o.chunk_size, o.progress, desc)
+        return Evaluator(self.executor, o.chunk_size, o.progress)
 
 
 # --------------------------------------------------------------------------- loading
@@ -178,12 +173,7 @@ def load_study(path: str | Path, **overrides) -> Study:
     options = _options(root, overrides)
 
     mp = root.sub("model")
-    kind = mp.str("kind")
-    factory = model_factory(kind, file)
-    try:
-        model = factory(mp, design, spec)
-    except InputError as exc:
-        raise exc.located(file=file) from None
+    model = build_model(mp, design, spec, file)
     mp.finish()
     try:
         model.check_spec(spec)
@@ -206,6 +196,26 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: str) -> Model:
+    """The study's ``[model]`` through its registered factory; the one place factory errors are located.
+
+    A factory (and the Model it builds) raises :class:`InputError` without a
+    file: an error about the spec's factors (key ``factor...``) belongs to the
+    spec file, any other to the ``[model]`` table of the study file; an error
+    that already names its file (a bad number in the design) keeps it.
+    """
+    factory = model_factory(mp.str("kind"), file)
+    try:
+        return factory(mp, design, spec)
+    except InputError as exc:
+        if exc.file is None:
+            if (exc.key or "").split(".")[0].split("[")[0] == "factor":
+                exc.located(file=spec.file or file)
+            else:
+                exc.located(file=file, key=None if (exc.key or "").startswith(mp.key) else mp.key)
+        raise exc from None
 
 
 def _options(root: Params, ov: dict) -> RunOptions:
@@ -335,7 +345,3 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out
-
-
-def now_iso() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="seconds")

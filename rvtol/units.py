@@ -195,6 +195,11 @@ _LABELS = {"um": "µm", "urad": "µrad", "deg": "°", "N*mm": "N·mm", "N*m": "N
            "arcsec/um": "arcsec/µm", "arcmin/um": "arcmin/µm", "1": "–"}
 
 
+def number_label(v: float) -> str:
+    """A number as written in a table or title: ``%g``, and ``∞`` for infinity."""
+    return "∞" if math.isinf(v) else f"{v:g}"
+
+
 def label(unit: str) -> str:
     """How a unit is printed in reports and on axes (``'um'`` → ``'µm'``)."""
     try:

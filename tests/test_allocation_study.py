@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
-from rvtol.reproduction.doc002_te_mapping import CRANK_ANGLES, te_inputs, te_values
+from rvtol.reproduction.doc002_adjustment import CRANK_ANGLES, te_inputs, te_values
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
@@ -46,6 +46,7 @@ STUDY = STUDY_HEAD + textwrap.dedent("""
     scales = [1.0, 2.0]
     [[analysis]]
     kind = "adjustment_reproduction"
+    printed = "{root}/data/reproduction/doc002_adjustment.toml"
     assembly_3d = "{root}/data/assemblies/bx40e_3d.toml"
     allocation = "alloc3d"
 """)
@@ -113,7 +114,7 @@ def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
     """Small offsets: TE is kinematic, proportional to L; at Q = ∞ the mapped reducer is error-free."""
     from rvtol.design import load_design
     from rvtol.models.transmission.model import TransmissionErrorModel
-    from rvtol.reproduction.doc002_te_mapping import te_against_q
+    from rvtol.reproduction.doc002_adjustment import te_against_q
 
     te = TransmissionErrorModel(load_design(root / "data/designs/rv80e_te.toml"), inputs=te_inputs())
     m = AdjustedAssemblyModel(load_assembly(root / "data/assemblies/bx40e_2d.toml"))

@@ -181,6 +181,7 @@ executor = "serial"
 kind = "lost_motion_breakdown"
 [[analysis]]
 kind = "lost_motion_reproduction"
+printed = "{ROOT / 'data/reproduction/doc001_lost_motion.toml'}"
 """
     res = run_study(load_study(write(tmp_path / "s.toml", text), progress=False))
     assert not res.passed   # the document's example, by its own formulas, exceeds 1 arcmin (mean 1.75′)

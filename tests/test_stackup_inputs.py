@@ -148,8 +148,6 @@ SHAFT_HOLE = (ROOT / "studies/stackup_shaft_hole.toml").read_text(encoding="utf-
 
 
 @pytest.mark.parametrize("old,new,key,reason", [
-    ('value = 0.0573\nunit = "deg"', 'value = 0.0573\nunit = "mm"', r"analysis\[0\]\.printed\[3\]\.unit",
-     "is a length, expected angle"),
     ('t1 = 0.0\nt2 = 0.020', 't1 = 0.030\nt2 = 0.020', r"analysis\[3\]\.domain\[2\]\.t2", "t1 < t2"),
 ])
 def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason):
@@ -161,3 +159,19 @@ def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason)
     assert code == 2 and err.count("\n") == 0, err
     m = re.match(r"rvtol: error: (.+?): (.+?): (.+)$", err)
     assert m and m.group(1).endswith("study.toml") and re.fullmatch(key, m.group(2)) and reason in m.group(3), err
+
+
+def test_bad_printed_figure_names_the_data_file(tmp_path, capsys):
+    """A printed figure whose unit does not fit its comparison: the data file and the figure's key."""
+    data = (ROOT / "data/reproduction/doc003_stackup.toml").read_text(encoding="utf-8")
+    old = 'printed = "0.0573"\nunit = "deg"'
+    assert old in data
+    bad = tmp_path / "printed.toml"
+    bad.write_text(data.replace(old, 'printed = "0.0573"\nunit = "mm"'), encoding="utf-8")
+    path = tmp_path / "study.toml"
+    path.write_text(SHAFT_HOLE.replace(f'"{ROOT.as_posix()}/data/reproduction/doc003_stackup.toml"',
+                                       f'"{bad.as_posix()}"'), encoding="utf-8")
+    code, err = check(path, capsys)
+    assert code == 2 and err.count("\n") == 0, err
+    m = re.match(r"rvtol: error: (.+?): (.+?): (.+)$", err)
+    assert m and m.group(1).endswith("printed.toml") and m.group(2) == "figure.tilt.unit" and "angle" in m.group(3), err

@@ -171,3 +171,21 @@ def test_study_runs_and_reproduces_table3_ordering(tmp_path):
     assert rows["Table 3: force ranking (lowest → highest)"]["reproduced"] == "yes"
     assert all(rows[k]["reproduced"] == "yes" for k in rows if k.startswith("Table 3: j_C1"))
     assert res.mc.statistics().loc["theta_total", "failed"] == 0
+
+
+def test_stiffness_breakdown_analysis_components_sum_to_the_total(tmp_path):
+    """The generic breakdown (kind = "stiffness_breakdown"): θ1…θ5 add up to θ_Σ, no document column."""
+    from conftest import write
+    from rvtol.study import load_study, run_study
+
+    text = (ROOT / "studies/stiffness_rv80e.toml").read_text(encoding="utf-8").replace('"../data/', f'"{ROOT.as_posix()}/data/')
+    head = text[:text.index("[[analysis]]")]
+    p = write(tmp_path / "s.toml", head + '[[analysis]]\nkind = "stiffness_breakdown"\ntorque_fractions = [0.5, 1.0]\n')
+    res = run_study(load_study(p, n=16, executor="serial", progress=False))
+    brk, contact = res.sections
+    comp = brk.summary["components"]
+    assert "doc 004 (arcsec)" not in comp[0]
+    total = comp[-1]["θ (arcsec)"]
+    assert sum(r["θ (arcsec)"] for r in comp[:-1]) == pytest.approx(total, rel=1e-12)
+    assert [r["torque (N·m)"] for r in brk.summary["versus_torque"]] == pytest.approx([392.0, 784.0])
+    assert contact.key == "stiffness_contact" and contact.summary["pins"]

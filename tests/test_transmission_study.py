@@ -53,7 +53,7 @@ def test_the_rv80e_study_loads():
     st = load_study(ROOT / "studies/transmission_error_rv80e.toml")
     assert st.model.inputs == st.spec.names and len(st.spec.names) == 35
     kinds = [type(a).__name__ for a in st.analyses]
-    assert "TESensitivity" in kinds and "TECurve" in kinds
+    assert "TEReproduction" in kinds and "TECurve" in kinds   # doc 000's §3–4 study (a TESensitivity)
 
 
 @pytest.mark.parametrize("model, factors, key", [
@@ -98,7 +98,8 @@ def test_bad_design_numbers_name_the_design_file_and_key(kind, key, value, optio
 def test_sensitivity_and_curve_analyses_small(tmp_path):
     analyses = """
 [[analysis]]
-kind = "transmission_error_sensitivity"
+kind = "transmission_error_reproduction"
+printed = "PRINTED"
 factors = ["E_c", "delta_b", "E_s"]
 magnitudes = [1.0, 2.0]
 
@@ -107,6 +108,7 @@ kind = "transmission_error_curve"
 configuration = "values"
 values = { E_c = 2.0 }
 """
+    analyses = analyses.replace("PRINTED", (ROOT / "data/reproduction/doc000_transmission_error.toml").as_posix())
     res = run_study(load_study(write(tmp_path / "s.toml", study_text(analyses=analyses)), progress=False))
     assert res.mc.ok.all()
     sens, curve = res.sections
@@ -119,3 +121,17 @@ values = { E_c = 2.0 }
     assert lin["E_c"] == pytest.approx(2.0, rel=0.06)
     assert curve.summary["te_pp_arcsec"]["quasistatic"] > 1.0
     assert curve.summary["top_orders"][0]["order [1/rev]"] == 40
+
+
+def test_generic_sensitivity_analysis_has_no_document_columns(tmp_path):
+    """kind = "transmission_error_sensitivity" ranks by rvtol's classes alone (the document is the reproduction's)."""
+    analyses = """
+[[analysis]]
+kind = "transmission_error_sensitivity"
+factors = ["E_c", "E_s"]
+magnitudes = [1.0]
+"""
+    res = run_study(load_study(write(tmp_path / "s.toml", study_text(analyses=analyses)), n=4, progress=False))
+    (sens,) = res.sections
+    rank = {r["factor"]: r for r in sens.summary["ranking"]}
+    assert rank["E_c"]["rvtol class"] == "high" and "document class" not in rank["E_c"] and not sens.summary["printed"]

@@ -12,7 +12,7 @@
 * :mod:`.ga` — :func:`solve_ga` (pygad; seeded, any constraint);
 * :mod:`.baseline` — uniform-tolerance baseline and the independent Monte
   Carlo :func:`verify`;
-* :mod:`.analysis` — the ``allocation`` study analysis (``ANALYSES["allocation"]``).
+* :mod:`.analyses` — the ``allocation`` study analysis (``ANALYSES["allocation"]``).
 """
 from .baseline import uniform_baseline, verify
 from .convex import solve_convex

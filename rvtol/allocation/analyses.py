@@ -46,11 +46,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..analysis import Analysis
 from ..errors import InputError
 from ..params import Params
 from ..registry import model_factory
 from ..report.sections import Section, frame_records
-from ..sampling import METHODS, rng
+from ..sampling import METHODS, substream_seed
 from ..spec import load_spec, requirements_from_tables
 from .baseline import uniform_baseline, verify
 from .convex import solve_convex
@@ -60,11 +61,6 @@ from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstra
                       requirements_frame)
 from .results import AllocationResult, ParetoCurve, component_axis_table
 
-STREAM_GA_DESIGN, STREAM_GA, STREAM_VERIFY = 71, 72, 73
-
-
-def stream_seed(seed: int | None, key: int) -> int:
-    return int(rng(seed, key).integers(1, 2**31 - 1))
 
 
 def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> list:
@@ -88,8 +84,8 @@ def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> l
     return curves
 
 
-class AllocationAnalysis:
-    def __init__(self, params: Params, study):
+class AllocationAnalysis(Analysis):
+    def setup(self, params: Params, study):
         base = Path(study.file).parent
         self.title = params.str("title", "Cost-optimal tolerance allocation")
         self.key = params.str("key", "allocation")
@@ -162,13 +158,14 @@ class AllocationAnalysis:
     # -----------------------------------------------------------------------
     def run(self, ctx) -> list[Section]:
         p = self.problem
-        evaluate = lambda m, X: ctx.evaluate(X, desc="allocation", model=m).Y  # noqa: E731
+        evaluate = ctx.evaluator
         lin = linearise(p, evaluate)
         lin_con = LinearisedConstraint(p, lin, "rss" if self.convex == "none" else self.convex)
         results: list[AllocationResult] = []
         ga_con = None
         if self.ga_constraint == "monte_carlo":
-            ga_con = MonteCarloConstraint(p, self.ga_n, self.ga_method, stream_seed(ctx.seed, STREAM_GA_DESIGN),
+            ga_con = MonteCarloConstraint(p, self.ga_n, self.ga_method,
+                                          substream_seed(ctx.seed, "allocation_ga_design"),
                                           evaluate)
         elif self.ga_constraint == "linearised":
             ga_con = lin_con
@@ -178,10 +175,10 @@ class AllocationAnalysis:
         if self.convex != "none":
             results.append(solve_convex(p, lin_con))
         if ga_con is not None:
-            settings = replace(self.ga_settings, seed=stream_seed(ctx.seed, STREAM_GA))
+            settings = replace(self.ga_settings, seed=substream_seed(ctx.seed, "allocation_ga"))
             results.append(solve_ga(p, ga_con, settings))
         self.result = {r.method: r for r in results}
-        vseed = stream_seed(ctx.seed, STREAM_VERIFY)
+        vseed = substream_seed(ctx.seed, "allocation_verify")
         checks = {r.method: verify(r, self.verify_n, vseed, ctx.executor) for r in results if r.feasible}
         pareto = self.pareto(p, lin, ga_con, ctx)
         return [self.cost_section(), self.section(results, checks, pareto, lin_con, ga_con)]
@@ -199,7 +196,7 @@ class AllocationAnalysis:
             if self.pareto_ga and ga_con is not None:
                 gc = (MonteCarloConstraint(pf, self.ga_n, self.ga_method, ga_con.seed, ga_con.evaluate)
                       if isinstance(ga_con, MonteCarloConstraint) else con)
-                settings = replace(self.ga_settings, seed=stream_seed(ctx.seed, STREAM_GA))
+                settings = replace(self.ga_settings, seed=substream_seed(ctx.seed, "allocation_ga"))
                 row["GA (Monte Carlo)" if isinstance(gc, MonteCarloConstraint) else "GA (linearised)"] = _cost(
                     solve_ga(pf, gc, settings))
             rows.append(row)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..sampling import rng
+from ..sampling import substream
 from .problem import AllocationProblem
 from .results import AllocationResult
 
@@ -98,7 +98,7 @@ def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASe
     def on_generation(ga):
         history.append(best["cost"])
 
-    pop0 = rng(s.seed, 7).random((s.population, m))
+    pop0 = substream(s.seed, "ga_population").random((s.population, m))
     if initial is not None:
         init = t_to_genes(problem, np.atleast_2d(initial))[: s.population]
         pop0[: len(init)] = init

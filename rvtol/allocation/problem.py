@@ -26,7 +26,7 @@ from __future__ import annotations
 import fnmatch
 import math
 from dataclasses import dataclass, replace
-from typing import Callable, Sequence
+from typing import Sequence
 
 import numpy as np
 import pandas as pd
@@ -35,24 +35,12 @@ from scipy import stats as sps
 from .. import stats as st
 from .. import units
 from ..errors import InputError
-from ..mc import evaluate as mc_evaluate
+from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
 from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
+from ..verdict import judge
 from .cost import CostModel
-
-Evaluate = Callable[[Model, np.ndarray], np.ndarray]  # (model, X base) -> Y base (NaN where failed)
-
-
-def default_evaluate(model: Model, X: np.ndarray) -> np.ndarray:
-    return mc_evaluate(model, X, progress=False).Y
-
-
-def half_band(factor) -> float:
-    """The tolerance ±t of a factor in its own unit (T/2 two-sided, the coverage value one-sided)."""
-    d = factor.dist
-    return float(d.tolerance if d.one_sided else d.tolerance / 2.0)
-
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
     """Expand output patterns (``delta_*``) into one requirement per matching output."""
@@ -99,7 +87,7 @@ class AllocationProblem:
     @property
     def t0(self) -> np.ndarray:
         """The spec's current tolerances ±t of the allocated factors (base units)."""
-        return np.array([units.to_base(half_band(self.spec.factors[i]), self.spec.factors[i].unit)
+        return np.array([units.to_base(self.spec.factors[i].half_band, self.spec.factors[i].unit)
                          for i in self.idx])
 
     @property
@@ -139,9 +127,9 @@ class AllocationProblem:
         return self.with_requirements(reqs)
 
 
-def nominal_outputs(model: Model, spec: ToleranceSpec, evaluate: Evaluate = default_evaluate) -> dict[str, float]:
+def nominal_outputs(model: Model, spec: ToleranceSpec, evaluate: Evaluator | None = None) -> dict[str, float]:
     """Outputs (display units) at the spec's nominal point."""
-    Y = evaluate(model, spec.nominal_base()[None, :])[0]
+    Y = (evaluate or Evaluator())(model, spec.nominal_base()[None, :], "nominal").Y[0]
     return {q.name: float(q.to_display(Y[j])) for j, q in enumerate(model.outputs)}
 
 
@@ -170,16 +158,13 @@ class Linearisation:
     t_spec: np.ndarray  # current ±t of every spec factor (base units)
 
 
-def linearise(problem: AllocationProblem, evaluate=None) -> Linearisation:
+def linearise(problem: AllocationProblem, evaluate: Evaluator | None = None) -> Linearisation:
     """Five-point derivatives (:func:`rvtol.sensitivity.local.five_point`) of the required outputs."""
     from ..sensitivity.local import five_point
 
     spec, model = problem.spec, problem.model
     outs = list(dict.fromkeys(r.output for r in problem.requirements))
-    ev = None
-    if evaluate is not None:
-        ev = lambda X, desc="": _as_evaluation(evaluate(model, X))  # noqa: E731
-    loc = five_point(model, spec, outputs=outs, evaluate=ev)
+    loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
     S, y0, margin, z = [], [], [], []
     for r in problem.requirements:
         q = model.output(r.output)
@@ -191,17 +176,10 @@ def linearise(problem: AllocationProblem, evaluate=None) -> Linearisation:
         y0.append(units.convert(yd, q.shown_unit, q.unit))
         margin.append(float(units.convert(m, q.shown_unit, q.unit)))
         z.append(z_of(r))
-    t_spec = np.array([units.to_base(half_band(f), f.unit) for f in spec.factors])
+    t_spec = np.array([units.to_base(f.half_band, f.unit) for f in spec.factors])
     rho = spec.std_base() / t_spec
     # NaN stays NaN: a factor whose five points the model could not evaluate has no gradient (not a zero one)
     return Linearisation(np.array(S), np.array(y0), np.array(margin), np.array(z), rho, t_spec)
-
-
-def _as_evaluation(Y):
-    from ..mc import Evaluation
-
-    ok = np.all(np.isfinite(Y), axis=1)
-    return Evaluation(Y, np.where(ok, 0, 1).astype(np.int16))
 
 
 class LinearisedConstraint:
@@ -266,9 +244,9 @@ class MonteCarloConstraint:
     """
 
     def __init__(self, problem: AllocationProblem, n: int, method: str = "lhs", seed: int | None = None,
-                 evaluate: Evaluate = default_evaluate):
+                 evaluate: Evaluator | None = None):
         self.problem, self.n, self.method, self.seed = problem, int(n), method, seed
-        self.evaluate = evaluate
+        self.evaluate = evaluate or Evaluator()
         self.U = apply_copula(uniform_design(self.n, len(problem.spec), method, seed), problem.spec.correlation)
         self.X0 = to_factors(problem.spec, self.U)
         self.centre = affine_centres(problem)
@@ -290,7 +268,7 @@ class MonteCarloConstraint:
         """Model outputs (base units) for each candidate of ``T[p, m]`` (one batch through the executor)."""
         T = np.atleast_2d(T)
         X = np.vstack([self.samples(t) for t in T])
-        Y = self.evaluate(self.problem.model, X)
+        Y = self.evaluate(self.problem.model, X, "allocation").Y
         self.evaluations += len(X)
         return [Y[i * self.n:(i + 1) * self.n] for i in range(len(T))]
 
@@ -323,8 +301,7 @@ class MonteCarloConstraint:
                 if r.min_cpk is not None:
                     cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
                     row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
-                    if not ok.all():
-                        row["cpk"] = row["cpk_lo"] = None  # failed samples: no capability claim
+                row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
         return out
@@ -334,7 +311,8 @@ class MonteCarloConstraint:
         for rows in self.measures(T):
             v = 0.0
             for r, mrow in zip(self.problem.requirements, rows):
-                v += requirement_violation(r, mrow)
+                v += judge(r, yield_=mrow.get("yield"), yield_lo=mrow.get("yield_lo"), cpk=mrow.get("cpk"),
+                           cpk_lo=mrow.get("cpk_lo"), n_failed=mrow["n_failed"]).violation
             res.append(v)
         return np.array(res)
 
@@ -362,19 +340,6 @@ def affine_centres(problem: AllocationProblem) -> np.ndarray:
 def clopper_pearson_lower(k: int, n: int, confidence: float) -> float:
     """Lower end of the two-sided Clopper–Pearson interval of k/n (as :func:`rvtol.stats.proportion_ci`)."""
     return 0.0 if k == 0 else float(sps.beta.ppf((1.0 - confidence) / 2.0, k, n - k + 1))
-
-
-def requirement_violation(r: Requirement, m: dict) -> float:
-    """Normalised shortfall of one requirement (0 when met) on the requirement's basis."""
-    lb = r.basis == "lower_bound"
-    v = 0.0
-    if r.min_yield is not None:
-        y = m["yield_lo"] if lb else m["yield"]
-        v += max(0.0, r.min_yield - y) / max(1.0 - r.min_yield, 1e-6)
-    if r.min_cpk is not None:
-        c = m["cpk_lo"] if lb else m["cpk"]
-        v += 10.0 if c is None else max(0.0, r.min_cpk - c) / r.min_cpk
-    return v
 
 
 def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:

@@ -1,1 +1,27 @@
-"""The physics of rvtol, each a :class:`rvtol.model.Model`."""
+"""The physics of rvtol: every :class:`rvtol.model.Model`, one package per capability.
+
+Each package has the same shape: its solvers (pure functions and small
+classes; numba only in ``_kernels.py`` with a NumPy twin), ``model.py`` (the
+Model and its study factory ``from_study(params, design, spec)``, registered
+in :data:`rvtol.registry.MODELS`) and ``analyses.py`` (its report sections,
+:class:`rvtol.analysis.Analysis` subclasses registered in
+:data:`rvtol.registry.ANALYSES`).
+
+=================  ============================================  =========================
+package            physics                                       ``[model] kind``
+=================  ============================================  =========================
+``linear``         ``Y = c + X·Aᵀ`` (the engine's reference)      ``linear``
+``lost_motion``    doc 001: per-stage geometric lost motion      ``lost_motion``
+``transmission``   doc 000: the 20-DOF reducer (quasi-static,     ``transmission_error``
+                   Newmark-β), transmission error
+``torsion_curve``  the hysteresis curve of the 20-DOF model       ``torsion_curve``
+``stiffness``      doc 004: elastic torsion angles θ1…θ5          ``torsional_stiffness``
+``stackup``        doc 003: 6-DOF deviations through the          ``stackup``
+                   assembly graph
+``adjustment``     doc 002: state-space assembly, finite-         ``adjusted_assembly``
+                   horizon LQR adjustment
+=================  ============================================  =========================
+
+Closed-form machine elements (Hertz contacts, bearings, shafts, carrier)
+shared by several models are in :mod:`rvtol.elements`.
+"""

@@ -38,8 +38,6 @@ def kc_steps(run, row: int = 0, ax=None, unit: str = "mrad", unadjusted=None, ti
 
 def example_steps(example, fig=None):
     """One panel per accuracy weight Q: the example assembly's KC errors per step, with and without adjustment."""
-    from ..models.adjustment.sweep import q_label
-
     n = len(example.weights)
     cols = 2 if n > 1 else 1
     rows = math.ceil(n / cols)
@@ -48,7 +46,7 @@ def example_steps(example, fig=None):
     else:
         axes = np.array(fig.subplots(rows, cols, sharey=True, squeeze=False))
     for ax, q, run in zip(axes.flat, example.weights, example.runs):
-        kc_steps(run, ax=ax, unit=example.unit, unadjusted=example.unadjusted, title=f"Q = {q_label(q)}")
+        kc_steps(run, ax=ax, unit=example.unit, unadjusted=example.unadjusted, title=f"Q = {units.number_label(q)}")
         ax.tick_params(axis="x", labelsize=7)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
@@ -92,8 +90,6 @@ def accuracy_sweep(sweep, fig=None):
 
 def step_statistics(stats, ax=None):
     """Monte Carlo batch: RMS of each KC's error after every step, adjusted (solid) and unadjusted (dashed)."""
-    from ..models.adjustment.sweep import q_label
-
     fig, ax = new_axes(ax)
     N, nx = stats.adjusted.shape
     cmap = plt.get_cmap("tab10")
@@ -106,7 +102,7 @@ def step_statistics(stats, ax=None):
                 color=c, alpha=0.6, lw=1, label=f"{nm} unadjusted")
     _steps_axis(ax, N)
     ax.set_ylabel(f"RMS KC error [{stats.unit}]")
-    ax.set_title(f"Monte Carlo batch (n={stats.n}), Q = {q_label(stats.accuracy)}")
+    ax.set_title(f"Monte Carlo batch (n={stats.n}), Q = {units.number_label(stats.accuracy)}")
     ax.legend(fontsize=7, ncol=2 if nx <= 6 else 3)
     return fig
 

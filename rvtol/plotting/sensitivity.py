@@ -63,10 +63,8 @@ def contribution_bars(pred, ax=None):
 
 def index_bars(result, output: str, ax=None):
     """Grouped bars of a method's indices for one output, with confidence-interval whiskers."""
-    from ..sensitivity.global_ import INDEX_COLUMNS, TITLES
-
     d = result.for_output(output)
-    pairs = INDEX_COLUMNS[result.method]
+    pairs = result.index_columns
     fig, ax = new_axes(ax, (6.4, 3.4) if len(d) <= 10 else (max(6.4, 0.45 * len(d)), 3.6))
     x = np.arange(len(d))
     w = 0.8 / len(pairs)
@@ -76,7 +74,7 @@ def index_bars(result, output: str, ax=None):
     ax.set_xticks(x, list(d["factor"]), rotation=30 if len(d) > 5 else 0, ha="right" if len(d) > 5 else "center")
     ax.axhline(0.0, color="black", lw=0.6)
     ax.set_ylabel("index [–]")
-    ax.set_title(f"{TITLES[result.method]} of {output} (whiskers: {result.confidence:.0%} CI)")
+    ax.set_title(f"{result.title} of {output} (whiskers: {result.confidence:.0%} CI)")
     ax.legend()
     return fig
 

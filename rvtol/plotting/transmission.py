@@ -55,12 +55,14 @@ def spectrum(result, ax=None, max_order: int | None = None, label: str | None = 
 
 
 def ranking(frame, ax=None):
-    """Mean sensitivity |S| over e per factor (arcsec/µm), log scale, coloured by the document's class."""
+    """Mean sensitivity |S| over e per factor (arcsec/µm), log scale, coloured by the document's class
+    (rvtol's class when no document is compared)."""
     d = frame.sort_values("mean |S|", ascending=True)
     fig, ax = new_axes(ax, (6.4, max(2.4, 0.3 * len(d) + 1.0)))
     cls_color = {"high": COLORS["limit"], "low": COLORS["data"], "negligible": COLORS["ci"]}
     y = np.arange(len(d))
-    ax.barh(y, d["mean |S|"], color=[cls_color.get(c, COLORS["fit"]) for c in d["document class"]])
+    by = "document class" if "document class" in d else "rvtol class"
+    ax.barh(y, d["mean |S|"], color=[cls_color.get(c, COLORS["fit"]) for c in d[by]])
     ax.errorbar(d["mean |S|"], y, xerr=[d["mean |S|"] - d["min |S|"], d["max |S|"] - d["mean |S|"]],
                 fmt="none", ecolor="black", lw=0.8, capsize=2)
     ax.set_yticks(y, list(d["factor"]))
@@ -71,7 +73,7 @@ def ranking(frame, ax=None):
             ax.text(low, yy, " 0 (no effect)", va="center", fontsize=7)
     ax.set_xlabel(f"sensitivity of Δθ_er [{d['unit'].iloc[0]}] (mean over e; bars: min–max)")
     for c, col in cls_color.items():
-        ax.barh([np.nan], [np.nan], color=col, label=f"document: {c}")
+        ax.barh([np.nan], [np.nan], color=col, label=f"{by.split()[0]}: {c}")
     ax.legend(loc="lower right", fontsize=7)
     return fig
 

@@ -6,13 +6,13 @@ import logging
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from .. import __version__
 from .sections import Figure, Section, Table, Text
 from .standard import standard_sections
+from .summary import now_iso
 
 _ENV = Environment(loader=PackageLoader("rvtol.report", "templates"), autoescape=select_autoescape(["html", "j2"]))
 
@@ -48,8 +48,6 @@ def _block_view(b) -> dict:
 
 def view_model(result) -> dict:
     """Everything the template shows, as plain data (the one view model for HTML and PDF)."""
-    from ..study import now_iso
-
     st = result.study
     sections: list[Section] = standard_sections(result) + list(result.sections)
     return {

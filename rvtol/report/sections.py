@@ -13,6 +13,8 @@ from typing import Any
 
 import pandas as pd
 
+from ..records import frame_records  # noqa: F401  (re-exported for the analyses)
+
 
 @dataclass
 class Table:
@@ -63,22 +65,3 @@ def figure_png(fig, dpi: int = 130) -> bytes:
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
     plt.close(fig)
     return buf.getvalue()
-
-
-def frame_records(df: pd.DataFrame) -> list[dict]:
-    """A DataFrame as JSON-able records (NaN -> None), for ``Section.summary``."""
-    import numpy as np
-
-    out = []
-    for rec in df.reset_index(drop=df.index.name is None).to_dict(orient="records"):
-        clean = {}
-        for k, v in rec.items():
-            if isinstance(v, (np.floating, float)):
-                v = None if not np.isfinite(v) else float(v)
-            elif isinstance(v, np.integer):
-                v = int(v)
-            elif isinstance(v, np.bool_):
-                v = bool(v)
-            clean[str(k)] = v
-        out.append(clean)
-    return out

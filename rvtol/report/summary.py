@@ -5,7 +5,17 @@ import math
 
 import numpy as np
 
+from datetime import datetime, timezone
+
 from .. import __version__
+
+#: the version tag of summary.json
+SUMMARY_FORMAT = "rvtol-summary/1"
+
+
+def now_iso() -> str:
+    """The current UTC time, to the second (ISO 8601)."""
+    return datetime.now(timezone.utc).isoformat(timespec="seconds")
 
 
 def _num(v):
@@ -37,7 +47,6 @@ def clean(obj):
 
 def build_summary(result) -> dict:
     from ..stats import PERCENTILES
-    from ..study import SUMMARY_FORMAT, now_iso
 
     st, mc = result.study, result.mc
     stats_df = mc.statistics()

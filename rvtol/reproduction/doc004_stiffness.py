@@ -1,42 +1,39 @@
-"""Doc 004's parameter studies, computed with rvtol's torsion-angle model.
+"""Doc 004 (torsional stiffness from elastic torsion angles): its parameter studies and printed figures.
 
-Each function returns a DataFrame (display units in the column names); the
-analyses in :mod:`.analyses` turn them into report sections and the
-reproduction table compares them with the document's printed figures
-(:data:`PRINTED`, transcribed from doc 004 — document facts, not rvtol results).
+::
+
+    [[analysis]]
+    kind = "stiffness_reproduction"
+    printed = "../data/reproduction/doc004_stiffness.toml"
+    torque = { value = 784, unit = "N*m" }        # default: the model's torque (rated)
+    pin_circle_radii = [65, 71.25, 77.5, 83.75, 90]   # mm (default: Table 2's, from the printed file)
+    eccentricities = [1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8]   # mm (Table 4)
+    widths = [10, 11, 12, 13, 14, 15]             # mm (Table 4)
+    sweep_points = 5                              # points of the modification / error sweeps
+    error_range = 10                              # µm: errors swept over ±error_range
+    torque_fractions = [0.25, 0.5, 0.75, 1.0]     # of the torque, for contact pairs vs load
+
+Sections: the torsion-angle breakdown (Table 5) and the cycloid–pin load
+distribution (:class:`rvtol.models.stiffness.analyses.StiffnessBreakdown`),
+geometry (Tables 2 and 4), modifications (Table 3 and the Δr_p / ΔR_p
+sweeps), pin errors (δR_p / δr_p sweeps and the 128.7 N / 82.5 N figures),
+and the reproduction table (each printed number against rvtol's, by the rule
+of :mod:`.printed`).  The parameter-study functions return DataFrames with the
+display units in the column names.
 """
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from .. import units
+from ..models.stiffness.analyses import StiffnessBreakdown
+from ..report.sections import Section, frame_records
 from ..models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
 from ..models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
-
-#: doc 004's printed figures (Tables 2-5 and the text)
-PRINTED = {
-    "table2": {"R_p (mm)": [65, 71.25, 77.5, 83.75, 90], "contact pairs": [5, 6, 8, 8, 8],
-               "max force": ["High", "Moderate", "Lower", "Low", "Lowest"]},
-    "table3": {
-        "combination": ["Positive equidistance", "Negative moved distance",
-                        "Positive equidistance + positive moved distance",
-                        "Positive equidistance + negative moved distance",
-                        "Negative equidistance + negative moved distance"],
-        "Δr_p (mm)": [0.02, 0.0, 0.03, 0.01, -0.01],
-        "ΔR_p (mm)": [0.0, -0.02, 0.01, -0.01, -0.03],
-        "j_C1 (mm)": [6.84e-4, 4.10e-4, 8.21e-4, 5.47e-4, 2.74e-4],
-        "force": ["Moderate", "Higher", "Lowest", "Moderate", "Highest"],
-        "contact pairs": [7, 6, 8, 7, 7],
-    },
-    "table4": {"R_p": "-2 % per mm", "a": "+5 % per 0.1 mm", "b": "+8 % per mm"},
-    "table5": {"involute": 0.2286, "cycloid_pin": 19.5609, "crankshafts": 10.6505, "crank_bearings": 51.4250,
-               "carrier": 22.3682, "total": 104.2332},
-    "sweep_equidistance": 7.48,      # θ_Σ rise (arcsec) for Δr_p 0 -> 20 µm
-    "sweep_moved_distance": -9.61,   # θ_Σ change (arcsec) for ΔR_p -20 -> 0 µm
-    "error_force_pin_circle": 128.7,  # average change of F_max (N), δR_p over -10..10 µm
-    "error_force_pin_radius": 82.5,   # same for δr_p
-}
+from .printed import RULE, PrintedFigures, load_printed, ordering_verdict
 
 _PIN_PARAM = {"R_p": "R_p", "a": "a", "b": "b"}
 _PIN_UNIT = {"R_p": "mm", "a": "mm", "b": "mm"}
@@ -129,15 +126,14 @@ def mean_abs_step(df: pd.DataFrame, column: str = "max pin force (N)") -> float:
 
 
 # --------------------------------------------------------------------------- reproduction table
-def _verdict_number(printed: float, ours: float, rel: float = 0.10) -> str:
-    if not np.isfinite(ours):
-        return "no"
-    if printed == 0:
-        return "yes" if ours == 0 else "no"
-    if abs(ours - printed) <= rel * abs(printed):
-        return "yes"
-    same_order = np.sign(ours) == np.sign(printed) and 0.5 <= ours / printed <= 2.0
-    return "partly" if same_order else "no"
+def _force_ranking(words) -> str:
+    """Combinations (1-based) from lowest to highest printed force; equal words grouped, e.g. ``3, {1, 4}, 2, 5``."""
+    order = ["Lowest", "Lower", "Low", "Moderate", "Higher", "High", "Highest"]
+    groups = {}
+    for i, w in enumerate(words):
+        groups.setdefault(order.index(w), []).append(i + 1)
+    return ", ".join(str(g[0]) if len(g) == 1 else "{" + ", ".join(map(str, g)) + "}"
+                     for _, g in sorted(groups.items()))
 
 
 def _fmt_list(vals) -> str:
@@ -160,7 +156,7 @@ def _near_minimum(ga: pd.DataFrame, a: float = 1.5) -> str:
     return f"; the force at a = {a:g} mm is {100 * (f[at][0] / f.min() - 1):.1f} % above that minimum"
 
 
-def reproduction_table(r: dict) -> pd.DataFrame:
+def reproduction_table(r: dict, P: PrintedFigures) -> pd.DataFrame:
     """Printed figure against rvtol's, with a verdict and a reason (``r``: frames from the analysis)."""
     rows = []
 
@@ -187,85 +183,238 @@ def reproduction_table(r: dict) -> pd.DataFrame:
         printed = float(t5["doc 004 (arcsec)"].iloc[i])
         ours = float(t5["θ (arcsec)"].iloc[i])
         add(f"Table 5: {LABELS.get(c, 'total θ_Σ')} (arcsec)", f"{printed:g}", f"{ours:.4g}",
-            _verdict_number(printed, ours), f"{torque_note}; {reasons5[c]}")
+            P[f"table5_{c}"].verdict(ours), f"{torque_note}; {reasons5[c]}")
 
     g = r["geometry_R_p"]
-    pr2 = PRINTED["table2"]
+    pr_R, pr_n = P["table2_R_p"].value, P["table2_contact_pairs"].value
     ours_pairs = g["contact pairs"].tolist()
-    add("Table 2: contact pairs at R_p = " + _fmt_list(pr2["R_p (mm)"]) + " mm", _fmt_list(pr2["contact pairs"]),
-        _fmt_list(ours_pairs), "yes" if ours_pairs == pr2["contact pairs"] else "partly" if
-        ours_pairs[-1] >= ours_pairs[0] else "no",
+    add("Table 2: contact pairs at R_p = " + _fmt_list(pr_R) + " mm", _fmt_list(pr_n),
+        _fmt_list(ours_pairs), ordering_verdict(ours_pairs == pr_n, ours_pairs[-1] >= ours_pairs[0]),
         "the pair count depends on the torque (not stated) and jumps by whole pins; rvtol's count rises less "
         "steeply with R_p (see the contact pairs against torque)")
     f = g["max pin force (N)"].to_numpy()
-    add("Table 2: largest meshing force falls as R_p grows", "High → Lowest", _fmt_list(np.round(f, 0)) + " N",
-        "yes" if np.all(np.diff(f) < 0) else "no", "monotonic in rvtol as printed (values at the stated torque)")
+    words = P["table2_max_force"].value
+    add("Table 2: largest meshing force falls as R_p grows", f"{words[0]} → {words[-1]}",
+        _fmt_list(np.round(f, 0)) + " N", ordering_verdict(bool(np.all(np.diff(f) < 0))), "monotonic in rvtol as printed (values at the stated torque)")
 
     t3 = r["table3"]
     for i, row in t3.iterrows():
         j = float(row["backlash angle 2n0/r_c (rad)"])
         add(f"Table 3: j_C1, {row['combination']}", f"{row['doc 004 j_C1 (mm)']:.3g} mm", f"{j:.4g} rad",
-            _verdict_number(row["doc 004 j_C1 (mm)"], j, 0.005),
+            P["table3_j_C1"].verdict_at(i, j),
             "the printed j_C1 equals the flank-to-flank backlash angle 2·n0/r_c' (rad, printed as mm) with "
             "n0 = Δr_p − √(1−K1²)·ΔR_p; the clearance formula Δ(φ_k) itself gives "
             f"{row['min pin clearance Δ(φ_k) (mm)'] * 1e6:.1f} nm at the first pin (it is measured from first "
             "contact); rvtol uses K1' = a z_p/(R_p+ΔR_p), the printed values K1 (4th digit)")
     order_ours = list(np.argsort(t3["max pin force (N)"].to_numpy()))
-    add("Table 3: force ranking (lowest → highest)", "3, {1, 4}, 2, 5",
+    add("Table 3: force ranking (lowest → highest)", _force_ranking(P["table3_force"].value),
         ", ".join(str(i + 1) for i in order_ours),
-        "yes" if order_ours[0] == 2 and order_ours[-1] == 4 and order_ours[-2] == 1 else "no",
+        ordering_verdict(order_ours[0] == 2 and order_ours[-1] == 4 and order_ours[-2] == 1),
         "combinations numbered as printed; 'Moderate' (1 and 4) are unordered in the document")
-    pr_pairs = PRINTED["table3"]["contact pairs"]
+    pr_pairs = P["table3_contact_pairs"].value
     our_pairs = t3["contact pairs"].tolist()
     add("Table 3: contact pairs", _fmt_list(pr_pairs), _fmt_list(our_pairs),
-        "yes" if our_pairs == pr_pairs else "partly" if np.argmax(our_pairs) == 2 else "no",
+        ordering_verdict(our_pairs == pr_pairs, np.argmax(our_pairs) == 2),
         "same ordering (combination 3 has the most pairs); counts depend on the unstated torque — see the pairs at "
         "fractions of the torque")
 
-    for param, x, per, printed, key in (("R_p", "R_p (mm)", 1.0, -2.0, "geometry_R_p"),
-                                        ("a", "a (mm)", 0.1, 5.0, "geometry_a"),
-                                        ("b", "b (mm)", 1.0, 8.0, "geometry_b")):
+    for param, x, per, key in (("R_p", "R_p (mm)", 1.0, "geometry_R_p"), ("a", "a (mm)", 0.1, "geometry_a"),
+                               ("b", "b (mm)", 1.0, "geometry_b")):
         ours = _slope_pct(r[key], x, per)
-        add(f"Table 4: K_B change per {per:g} mm of {param} (%)", f"{printed:+g}", f"{ours:+.3g}",
-            _verdict_number(printed, ours),
+        fig = P[f"table4_{param}"]
+        add(fig.label, f"{fig.value:+g}", f"{ours:+.3g}", fig.verdict(ours),
             "K_B ∝ b at a fixed contact set (100/b % per mm: 8 % at b ≈ 12.5 mm)" if param == "b" else
             "k_b depends on T' (undefined in doc 004; rvtol uses |T'| of the curvature formula) which passes "
             "through zero near φ0, and the loaded set changes pin by pin: K_B is not monotonic in " + param)
 
     sw_e = sweep_change(r["sweep_equidistance"])
     sw_m = sweep_change(r["sweep_moved"])
-    add("θ_Σ rise for Δr_p 0 → 20 µm (arcsec)", f"{PRINTED['sweep_equidistance']:g}", f"{sw_e:.3g}",
-        _verdict_number(PRINTED["sweep_equidistance"], sw_e),
+    fig = P["sweep_equidistance"]
+    add(fig.label, fig.text, f"{sw_e:.3g}", fig.verdict(sw_e),
         "ΔR_p held at 0 (doc 004 does not say; with ΔR_p = −30 µm of Table 1 the rise is smaller); the size "
         "depends on the unstated torque")
-    add("θ_Σ change for ΔR_p −20 → 0 µm (arcsec)", f"{PRINTED['sweep_moved_distance']:g}", f"{sw_m:.3g}",
-        _verdict_number(PRINTED["sweep_moved_distance"], sw_m),
+    fig = P["sweep_moved_distance"]
+    add(fig.label, fig.text, f"{sw_m:.3g}", fig.verdict(sw_m),
         "Δr_p held at 0 (with Table 1's Δr_p = −15 µm the profiles interfere beyond ΔR_p = −15 µm); moved "
         "distance has the larger effect, as printed")
     es = r["error_stats"]
     for i, (key, label) in enumerate((("error_force_pin_circle", "δR_p"), ("error_force_pin_radius", "δr_p"))):
         ours = float(es["mean |ΔF| between sweep points (N)"].iloc[i])
-        add(f"average change of the meshing force, {label} over ±10 µm (N)", f"{PRINTED[key]:g}", f"{ours:.4g}",
-            _verdict_number(PRINTED[key], ours),
+        fig = P[key]
+        add(fig.label, fig.text, f"{ours:.4g}", fig.verdict(ours),
             "read as the mean absolute change between neighbouring points of a 5-point sweep (the document does "
             "not define 'average change'); β > γ holds")
     dR = float(es["θ_Σ(+range) − θ_Σ(−range) (arcsec)"].iloc[0])
     dr = float(es["θ_Σ(+range) − θ_Σ(−range) (arcsec)"].iloc[1])
-    add("θ_Σ increases with δR_p and δr_p", "increases", f"{dR:+.3g}, {dr:+.3g} arcsec over ±10 µm",
-        "yes" if dR > 0 and dr > 0 else "no",
+    fig = P["theta_vs_pin_errors"]
+    add(fig.label, fig.text, f"{dR:+.3g}, {dr:+.3g} arcsec over ±10 µm", ordering_verdict(dR > 0 and dr > 0),
         "doc 004's own Δ2 subtracts positive errors from the clearance, which loads more pins and lowers θ; the "
         "printed trend contradicts the printed formula (|δR_p| effect > |δr_p| effect does hold)")
     ga = r["geometry_a"]
     amin = float(ga["a (mm)"].iloc[int(np.argmin(ga["max pin force (N)"].to_numpy()))])
-    add("eccentricity of least meshing force (mm)", "≈ 1.5", f"{amin:g}",
-        "yes" if abs(amin - 1.5) < 0.05 else "partly" if abs(amin - 1.5) <= 0.1 + 1e-9 else "no",
+    fig = P["least_force_eccentricity"]
+    a_doc = float(fig.text.strip("≈ "))
+    add(fig.label, fig.text, f"{amin:g}", ordering_verdict(abs(amin - a_doc) < 0.05, abs(amin - a_doc) <= 0.1 + 1e-9),
         "minimum of the largest pin force over the eccentricity sweep" + _near_minimum(ga))
     th = ga["θ_Σ (arcsec)"].to_numpy()
-    add("θ_Σ falls with a (1.2 → 1.8 mm)", "decreases, saturating above 1.6", _fmt_list(np.round(th, 1)),
-        "yes" if np.all(np.diff(th) < 0) else "partly", "larger a: larger arms r_c' = a z_c")
+    fig = P["theta_vs_a"]
+    add(fig.label, fig.text, _fmt_list(np.round(th, 1)), ordering_verdict(bool(np.all(np.diff(th) < 0)), True), "larger a: larger arms r_c' = a z_c")
     gb, gR = r["geometry_b"], r["geometry_R_p"]
     db = float(gb["θ_Σ (arcsec)"].iloc[-1] - gb["θ_Σ (arcsec)"].iloc[0])
     dRp = float(gR["θ_Σ (arcsec)"].iloc[-1] - gR["θ_Σ (arcsec)"].iloc[0])
-    add("b 10 → 15 mm lowers θ_Σ more than R_p", "yes", f"{db:+.3g} vs {dRp:+.3g} arcsec (R_p over its sweep)",
-        "yes" if db < dRp < 0 else "no", "θ2 scales roughly with 1/b")
+    fig = P["b_versus_R_p"]
+    add(fig.label, fig.text, f"{db:+.3g} vs {dRp:+.3g} arcsec (R_p over its sweep)", ordering_verdict(db < dRp < 0), "θ2 scales roughly with 1/b")
     return pd.DataFrame(rows)
+
+
+# --------------------------------------------------------------------------- the study analysis
+class StiffnessReproduction(StiffnessBreakdown):
+    """``stiffness_reproduction``: doc 004's studies and its printed figures against rvtol."""
+
+    def read(self, params, study) -> None:
+        self.printed = P = load_printed(params.path_value("printed", Path(study.file).parent))
+        P.require(["table2_R_p", "table3_combination", "table3_dr_p", "table3_dR_p", "table3_j_C1", "table3_force",
+                   "table3_contact_pairs", "error_force_pin_circle", "error_force_pin_radius"]
+                  + [f"table5_{c}" for c in list(COMPONENTS) + ["total"]])
+        mm = dict(positive=True, min_length=2)
+        self.radii = params.floats("pin_circle_radii", P["table2_R_p"].value, **mm)
+        self.eccentricities = params.floats("eccentricities", [1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8], **mm)
+        self.widths = params.floats("widths", [10.0, 11.0, 12.0, 13.0, 14.0, 15.0], **mm)
+        self.points = params.int("sweep_points", 5, min=3, max=101)
+        self.error_range = params.quantity("error_range", "um", 0.010, positive=True)
+        for name, vals in (("pin_circle_radii", self.radii), ("eccentricities", self.eccentricities)):
+            for v in vals:
+                K1 = (v if name == "eccentricities" else self.rs.pins.a) * self.rs.pins.z_p / (
+                    v if name == "pin_circle_radii" else self.rs.pins.R_p)
+                if K1 >= 1.0:
+                    raise params.error(name, f"value {v:g} mm gives K1 = a z_p / R_p = {K1:.3f} >= 1")
+
+    def annotate_breakdown(self, df: pd.DataFrame) -> None:
+        df["doc 004 (arcsec)"] = [self.printed[f"table5_{c}"].value for c in list(COMPONENTS) + ["total"]]
+
+    def run(self, ctx) -> list[Section]:
+        T = self.torque
+        head = self.header()
+        results = {}
+        sections = [self.breakdown(T, head, results), self.contact(T, results), self._geometry(T, head, results),
+                    self._modifications(T, head, results), self._errors(T, head, results)]
+        sections.append(self._reproduction(results))
+        return sections
+
+    def _geometry(self, T, head, out) -> Section:
+        from ..plotting.stiffness import plot_sweep
+
+        s = Section("stiffness_geometry", "Geometry: pin circle radius, eccentricity, width (Tables 2 and 4)")
+        s.add_text(head + " k_b uses |T'| (see the model notes); K_B is summed over the pins loaded at T.")
+        s.summary = {}
+        for param, vals, what in (("R_p", self.radii, "pin circle radius R_p (Table 2, Table 4)"),
+                                  ("a", self.eccentricities, "eccentricity a (Table 4)"),
+                                  ("b", self.widths, "cycloid width b (Table 4)")):
+            df = geometry_sweep(self.rs, T, self.mods, param, np.asarray(vals) * 1.0)
+            out[f"geometry_{param}"] = df
+            s.add_table(df, f"Against the {what}", "{:.4g}")
+            x = f"{param} (mm)"
+            s.add_figure(plot_sweep(df, x, ["max pin force (N)"], ylabel="force [N]", secondary="contact pairs"),
+                         f"Largest pin force and contact pairs against {param}")
+            s.add_figure(plot_sweep(df, x, ["θ_Σ (arcsec)", "θ2 (arcsec)"], ylabel="torsion angle [arcsec]",
+                                    secondary="K_B (N·m/arcmin)", secondary_label="K_B [N·m/arcmin]"),
+                         f"θ_Σ, θ2 and K_B against {param}")
+            s.summary[param] = frame_records(df)
+        return s
+
+    def _modifications(self, T, head, out) -> Section:
+        from ..plotting.stiffness import plot_sweep
+
+        P = self.printed
+        t3 = {"combination": P["table3_combination"].value}
+        combos = list(zip(t3["combination"], P["table3_dr_p"].value, P["table3_dR_p"].value))
+        df = modification_combinations(self.rs, T, combos)
+        df["doc 004 j_C1 (mm)"] = P["table3_j_C1"].value
+        df["doc 004 force"] = P["table3_force"].value
+        df["doc 004 contact pairs"] = [int(v) for v in P["table3_contact_pairs"].value]
+        pairs = {f"pairs at {f:g}·T": [int(self.rs.evaluate(f * T, dr, dR).extra["contact_pairs"][0])
+                                       for _, dr, dR in combos] for f in self.fractions}
+        pairs_df = pd.DataFrame({"combination": t3["combination"], **pairs})
+        n = self.points
+        sw_e = modification_sweep(self.rs, T, "equidistance", np.linspace(0.0, 0.020, n))
+        sw_m = modification_sweep(self.rs, T, "moved_distance", np.linspace(-0.020, 0.0, n))
+        out.update(table3=df, table3_pairs=pairs_df, sweep_equidistance=sw_e, sweep_moved=sw_m)
+        s = Section("stiffness_modifications", "Profile modifications (Table 3 and the Δr_p, ΔR_p sweeps)")
+        s.add_text(head + " Table 3 keeps the radial clearance Δr_p − ΔR_p = 0.02 mm. rvtol's 'angular backlash' "
+                   "2·n0/r_c' (rad) with n0 = Δr_p − √(1−K1²)·ΔR_p the normal clearance at φ0 = arccos K1 is the "
+                   "quantity that matches the document's j_C1 column (printed as mm); the clearance formula Δ(φ_k) "
+                   "itself is measured from first contact and is nanometres at the first pin. Each sweep holds the "
+                   "other modification at zero.")
+        short = ["1: +Δr", "2: −ΔR", "3: +Δr +ΔR", "4: +Δr −ΔR", "5: −Δr −ΔR"]
+        clear = pd.DataFrame({"combination": short, "Δr_p (µm)": df["Δr_p (mm)"] * 1e3,
+                              "ΔR_p (µm)": df["ΔR_p (mm)"] * 1e3,
+                              "radial Δr_p−ΔR_p (µm)": df["radial clearance Δr_p-ΔR_p (mm)"] * 1e3,
+                              "normal n0 (µm)": df["normal clearance n0 (mm)"] * 1e3,
+                              "2n0/r_c' (rad)": df["backlash angle 2n0/r_c (rad)"],
+                              "doc 004 j_C1 ('mm')": df["doc 004 j_C1 (mm)"],
+                              "min Δ(φ_k) (nm)": df["min pin clearance Δ(φ_k) (mm)"] * 1e6})
+        loads = pd.DataFrame({"combination": short, "max pin force (N)": df["max pin force (N)"],
+                              "doc 004 force": df["doc 004 force"], "contact pairs": df["contact pairs"],
+                              "doc 004 pairs": df["doc 004 contact pairs"], "K_B (N·m/arcmin)": df["K_B (N·m/arcmin)"],
+                              "θ2 (arcsec)": df["θ2 (arcsec)"], "θ_Σ (arcsec)": df["θ_Σ (arcsec)"]})
+        legend = "; ".join(f"{i + 1} {name.lower()}" for i, name in enumerate(t3["combination"]))
+        s.add_table(clear, f"Doc 004 Table 3, clearances ({legend})", "{:.4g}")
+        s.add_table(loads, "Doc 004 Table 3 — largest pin force and contact pairs", "{:.4g}")
+        pairs_df["combination"] = short
+        s.add_table(pairs_df, "Contact pairs of the five combinations at fractions of the torque "
+                    "(doc 004 does not state its torque)")
+        s.add_table(sw_e, "θ against the equidistance modification Δr_p (ΔR_p = 0)", "{:.4g}")
+        s.add_table(sw_m, "θ against the moved-distance modification ΔR_p (Δr_p = 0)", "{:.4g}")
+        for sw, x in ((sw_e, "Δr_p (µm)"), (sw_m, "ΔR_p (µm)")):
+            s.add_figure(plot_sweep(sw, x, ["θ_Σ (arcsec)", f"{LABELS['cycloid_pin']} (arcsec)"],
+                                    ylabel="torsion angle [arcsec]", secondary="contact pairs"),
+                         f"θ_Σ and θ2 against {x}")
+        s.summary = {"table3": frame_records(df), "pairs_vs_torque": frame_records(pairs_df),
+                     "sweep_equidistance": frame_records(sw_e), "sweep_moved_distance": frame_records(sw_m)}
+        return s
+
+    def _errors(self, T, head, out) -> Section:
+        from ..plotting.stiffness import plot_sweep
+
+        vals = np.linspace(-self.error_range, self.error_range, self.points)
+        e_R = error_sweep(self.rs, T, self.mods, "pin_circle", vals)
+        e_r = error_sweep(self.rs, T, self.mods, "pin_radius", vals)
+        out.update(error_pin_circle=e_R, error_pin_radius=e_r)
+        stats = pd.DataFrame({
+            "error": ["δR_p (pin circle radius)", "δr_p (pin radius)"],
+            "mean |ΔF| between sweep points (N)": [mean_abs_step(e_R), mean_abs_step(e_r)],
+            "F(+range) − F(−range) (N)": [sweep_change(e_R, "max pin force (N)"),
+                                          sweep_change(e_r, "max pin force (N)")],
+            "θ_Σ(+range) − θ_Σ(−range) (arcsec)": [sweep_change(e_R), sweep_change(e_r)],
+            "doc 004 average force change (N)": [self.printed["error_force_pin_circle"].value,
+                                                 self.printed["error_force_pin_radius"].value],
+        })
+        out["error_stats"] = stats
+        step = 2 * self.error_range / (self.points - 1) * 1e3
+        s = Section("stiffness_errors", "Pin circle radius and pin radius errors (δR_p, δr_p)")
+        s.add_text(head + f" Errors swept over ±{self.error_range * 1e3:g} µm in {step:g}-µm steps, the other error "
+                   "zero. Doc 004's Δ2 subtracts both errors from the clearance, so positive errors close it "
+                   "(more pins carry load, smaller θ).")
+        s.add_table(stats, "Sensitivity of the largest pin force and of θ_Σ to the pin errors", "{:.4g}")
+        s.add_table(e_R, "Against δR_p", "{:.4g}")
+        s.add_table(e_r, "Against δr_p", "{:.4g}")
+        merged = pd.DataFrame({"error (µm)": vals * 1e3, "δR_p: max pin force (N)": e_R["max pin force (N)"],
+                               "δr_p: max pin force (N)": e_r["max pin force (N)"],
+                               "δR_p: θ_Σ (arcsec)": e_R["θ_Σ (arcsec)"], "δr_p: θ_Σ (arcsec)": e_r["θ_Σ (arcsec)"]})
+        s.add_figure(plot_sweep(merged, "error (µm)", ["δR_p: max pin force (N)", "δr_p: max pin force (N)"],
+                                ylabel="largest pin force [N]"), "Largest pin force against the pin errors")
+        s.add_figure(plot_sweep(merged, "error (µm)", ["δR_p: θ_Σ (arcsec)", "δr_p: θ_Σ (arcsec)"],
+                                ylabel="θ_Σ [arcsec]"), "θ_Σ against the pin errors")
+        s.summary = {"stats": frame_records(stats), "pin_circle": frame_records(e_R),
+                     "pin_radius": frame_records(e_r)}
+        return s
+
+    def _reproduction(self, r) -> Section:
+        df = reproduction_table(r, self.printed)
+        s = Section("stiffness_reproduction", "Doc 004's printed figures against rvtol")
+        s.add_text(f"One row per printed figure (printed figures from {self.printed.path}); the reason column says "
+                   f"why. 'reproduced' — {RULE}")
+        s.add_table(df, "Reproduction table", "{:.4g}")
+        s.summary = {"rows": frame_records(df),
+                     "printed_file": {"path": self.printed.path, "sha256": self.printed.sha256}}
+        return s

@@ -14,7 +14,7 @@ Linearisation (RSS view) — :mod:`rvtol.sensitivity.linearisation`::
     pred.mean, pred.std, pred.worst_low, pred.worst_high; pred.frame["variance_pct"]
     linear_prediction(spec, gradient_base, y0_base, output=..., out_unit=...)   # any gradient
     high_low_table(model, spec)   # model evaluated at each factor's low / median / high limit
-    tolerance_limits(factor)      # the band (low, high) of a factor, in its unit
+    factor.band                   # the band (low, high) of a factor, in its unit (rvtol.spec.Factor)
 
 Global (SALib, each factor's own distribution) — :mod:`rvtol.sensitivity.global_`::
 
@@ -24,24 +24,22 @@ Global (SALib, each factor's own distribution) — :mod:`rvtol.sensitivity.globa
     rbd_fast(model, spec, samples=mc.samples, Y=mc.Y)              # RBD-FAST S1 on given samples
     delta(model, spec, samples=mc.samples, Y=mc.Y)                 # delta + S1, correlated inputs OK
 
-Every function takes ``evaluate`` — a callable ``(X, desc) -> Evaluation``
-(:func:`rvtol.mc.evaluate` semantics, base units); studies pass the study's
-executor (``lambda X, d: ctx.evaluate(X, desc=d)``), library users may omit
-it (serial).  Results are dataclasses with ``frame``/``to_frame()`` and
+Every function takes ``evaluate`` — an :class:`rvtol.mc.Evaluator`
+(``evaluate(model, X, desc) -> Evaluation``, base units); studies pass the
+study's (``ctx.evaluator``: its executor and progress bar), library users may
+omit it (serial).  Results are dataclasses with ``frame``/``to_frame()`` and
 ``plot(output, ax=None)``; global results have ``summary()`` for JSON.
 
 Study analyses (``[[analysis]] kind = ...``): ``local_sensitivity``,
 ``sensitivity_curve``, ``contributions``, ``sobol``, ``morris``, ``fast``,
 ``delta`` (see :mod:`rvtol.sensitivity.analyses`).
 """
-from .common import Evaluator, default_evaluator, tolerance_limits
 from .global_ import GlobalSensitivityResult, delta, design_to_factors, fast, morris, rbd_fast, sobol
 from .linearisation import HighLowResult, LinearPrediction, contributions, high_low_table, linear_prediction
 from .local import (LocalSensitivityResult, SensitivityCurveResult, five_point, sensitivity_curve, stencil_all,
                     stencil_backward, stencil_central, stencil_forward)
 
 __all__ = [
-    "Evaluator", "default_evaluator", "tolerance_limits",
     "five_point", "sensitivity_curve", "LocalSensitivityResult", "SensitivityCurveResult",
     "stencil_central", "stencil_forward", "stencil_backward", "stencil_all",
     "contributions", "linear_prediction", "high_low_table", "LinearPrediction", "HighLowResult",

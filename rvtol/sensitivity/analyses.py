@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from ..analysis import Analysis
 from ..report.sections import Section, frame_records
 from ..units import label
 from . import global_ as gs
@@ -34,13 +35,13 @@ from .linearisation import contributions, high_low_table
 from .local import five_point, sensitivity_curve
 
 
-class _Analysis:
+class _Analysis(Analysis):
     """Parses the keys every sensitivity analysis shares; subclasses add theirs and ``run``."""
 
     kind = ""
     title = ""
 
-    def __init__(self, params, study):
+    def setup(self, params, study):
         self.study = study
         model, spec = study.model, study.spec
         self.key = params.str("key", self.kind)
@@ -69,9 +70,6 @@ class _Analysis:
         """Read the analysis' own keys (subclasses)."""
 
     # -- helpers for run --------------------------------------------------------
-    def evaluator(self, ctx):
-        return lambda X, desc: ctx.evaluate(X, desc=desc)
-
     def seed_of(self, ctx):
         return ctx.seed if self.seed is None else self.seed
 
@@ -102,7 +100,7 @@ class LocalSensitivity(_Analysis):
 
     def run(self, ctx):
         res = five_point(ctx.model, ctx.spec, self.factors, self.outputs, self.percent, self.abs_step or None,
-                         self.evaluator(ctx))
+                         ctx.evaluator)
         sec = self.section()
         sec.add_text(
             f"Each factor in turn takes five equally spaced values spanning ±{self.percent:g} % of its nominal "
@@ -142,7 +140,7 @@ class SensitivityCurve(_Analysis):
 
     def run(self, ctx):
         res = sensitivity_curve(ctx.model, ctx.spec, self.factors, self.magnitudes, self.unit, self.outputs,
-                                self.percent, self.together, self.evaluator(ctx))
+                                self.percent, self.together, ctx.evaluator)
         sec = self.section()
         how = "every listed factor set to e at once" if self.together else "one factor at a time set to e"
         sec.add_text(f"Five-point central derivative at magnitude e ({how}, the others at nominal; the five "
@@ -169,7 +167,7 @@ class Contributions(_Analysis):
         self.percent = params.float("percent", 10.0, positive=True)
 
     def run(self, ctx):
-        ev = self.evaluator(ctx)
+        ev = ctx.evaluator
         local = five_point(ctx.model, ctx.spec, None, self.outputs, self.percent, None, ev)
         hl = high_low_table(ctx.model, ctx.spec, self.factors, self.outputs, ev)
         stats = ctx.mc.statistics()
@@ -279,7 +277,7 @@ class Sobol(_GlobalAnalysis):
     def run(self, ctx):
         return self.report(gs.sobol(ctx.model, ctx.spec, self.n, self.factors, self.outputs, self.second_order,
                                     self.seed_of(ctx), self.num_resamples, self.confidence_of(ctx),
-                                    self.evaluator(ctx)))
+                                    ctx.evaluator))
 
 
 class Morris(_GlobalAnalysis):
@@ -298,7 +296,7 @@ class Morris(_GlobalAnalysis):
     def run(self, ctx):
         return self.report(gs.morris(ctx.model, ctx.spec, self.trajectories, self.levels, self.factors,
                                      self.outputs, self.seed_of(ctx), self.num_resamples,
-                                     self.confidence_of(ctx), self.evaluator(ctx)))
+                                     self.confidence_of(ctx), ctx.evaluator))
 
 
 class Fast(_GlobalAnalysis):
@@ -318,7 +316,7 @@ class Fast(_GlobalAnalysis):
                         "reuses the Monte Carlo sample).")
 
     def run(self, ctx):
-        ev, seed, conf = self.evaluator(ctx), self.seed_of(ctx), self.confidence_of(ctx)
+        ev, seed, conf = ctx.evaluator, self.seed_of(ctx), self.confidence_of(ctx)
         if self.method == "efast":
             res = gs.fast(ctx.model, ctx.spec, self.n, self.M, self.factors, self.outputs, seed,
                           self.num_resamples, conf, ev)
@@ -344,5 +342,5 @@ class Delta(_GlobalAnalysis):
         given = self.samples == "monte_carlo"
         return self.report(gs.delta(ctx.model, ctx.spec, self.n, self.factors, self.outputs, self.seed_of(ctx),
                                     ctx.mc.samples if given else None, ctx.mc.Y if given else None,
-                                    self.num_resamples, self.confidence_of(ctx), self.evaluator(ctx),
+                                    self.num_resamples, self.confidence_of(ctx), ctx.evaluator,
                                     ctx.executor))

@@ -1,28 +1,23 @@
 """Helpers shared by local and global sensitivity: evaluation, name checks, units.
 
-An *evaluator* is any callable ``evaluate(X, desc) -> Evaluation`` (base
-units in and out, see :func:`rvtol.mc.evaluate`).  Analyses pass
-``lambda X, desc: ctx.evaluate(X, desc=desc)`` so every model evaluation runs
-on the study's executor; library users get :func:`default_evaluator`.
+Every function that evaluates a model takes ``evaluate``, an
+:class:`rvtol.mc.Evaluator` (``evaluate(model, X, desc) -> Evaluation``, base
+units in and out); analyses pass ``ctx.evaluator`` so every model evaluation
+runs on the study's executor; the default is a serial ``Evaluator()``.
 """
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from .. import units
 from ..errors import InputError
-from ..executors import Executor
-from ..mc import Evaluation, evaluate
 from ..model import Model
-from ..sampling import rng
 from ..spec import ToleranceSpec
 
-Evaluator = Callable[[np.ndarray, str], Evaluation]
-
-#: sub-stream keys: each method draws from its own stream of the study seed
-STREAMS = {"sobol": 1, "morris": 2, "fast": 3, "rbd_fast": 4, "delta": 5}
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 
 class FrameResult:
@@ -39,15 +34,6 @@ class FrameResult:
 
     def for_output(self, output: str):
         return self.frame[self.frame["output"] == output].reset_index(drop=True)
-
-
-def default_evaluator(model: Model, executor: Executor | None = None, progress: bool = False) -> Evaluator:
-    """Evaluate ``model`` through :func:`rvtol.mc.evaluate` (serial unless an executor is given)."""
-
-    def run(X: np.ndarray, desc: str = "evaluating") -> Evaluation:
-        return evaluate(model, X, executor, progress=progress, desc=desc)
-
-    return run
 
 
 def factor_indices(spec: ToleranceSpec, factors: Sequence[str] | None) -> list[int]:
@@ -89,16 +75,6 @@ def derivative_to_display(s_base, out_unit: str, in_unit: str):
     return np.asarray(s_base) * units.factor(in_unit) / units.factor(out_unit)
 
 
-def int_seed(seed: int | None, stream: str) -> int:
-    """A positive int seed for SALib functions that only take ints, drawn from the study seed."""
-    return int(rng(seed, STREAMS[stream]).integers(1, 2**31 - 1))
-
-
-def generator(seed: int | None, stream: str) -> np.random.Generator:
-    """The Generator of one method's sub-stream of the study seed."""
-    return rng(seed, STREAMS[stream])
-
-
 def correlation_note(spec: ToleranceSpec, method: str) -> str:
     """A note when ``method`` (which assumes independent inputs) meets a correlated spec."""
     if spec.correlation is None:
@@ -106,24 +82,3 @@ def correlation_note(spec: ToleranceSpec, method: str) -> str:
     return (f"The spec correlates some factors; {method} assumes independent inputs, so it was computed "
             "with each factor's own distribution but without the correlation. The delta index "
             "(moment-independent, computed on correlated samples) is the valid measure here.")
-
-
-def tolerance_limits(factor) -> tuple[float, float]:
-    """The tolerance band ``(low, high)`` of a factor, in the factor's own unit.
-
-    Bounded kinds (uniform, triangular, truncnorm): the support.  One-sided
-    magnitudes (rayleigh, lognormal, weibull): from the lower end of the
-    support to the coverage quantile (the factor's ``tolerance``).  Normal:
-    the quantiles at ±``sigma_level``·σ, i.e. mean ± T/2.
-    """
-    from ..distributions import coverage
-
-    d = factor.dist
-    lo, hi = (float(v) for v in d.frozen.support())
-    c = coverage(d.sigma_level)
-    if d.one_sided:
-        return lo, float(d.ppf(c))
-    if np.isfinite(lo) and np.isfinite(hi):
-        return lo, hi
-    q = 0.5 * (1.0 - c)
-    return float(d.ppf(q)), float(d.ppf(1.0 - q))

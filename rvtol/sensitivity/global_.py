@@ -24,7 +24,7 @@ each factor's range is its tolerance band in probability (P0.135…P99.865 for
 tolerance band", in the output's unit.
 
 Seeds: each method draws from its own sub-stream of the study seed
-(:data:`rvtol.sensitivity.common.STREAMS`), so results are reproducible and
+(:data:`rvtol.sampling.STREAMS`), so results are reproducible and
 the methods are independent of each other and of the Monte Carlo sample.
 Delta and RBD-FAST can reuse the Monte Carlo samples (no extra evaluations).
 """
@@ -41,11 +41,11 @@ from ..distributions import coverage
 from ..errors import InputError
 from ..executors import Executor, SerialExecutor
 from ..model import Model
-from ..report.sections import frame_records
-from ..sampling import SampleSet, sample
+from ..records import frame_records
+from ..sampling import SampleSet, sample, substream, substream_seed
 from ..spec import ToleranceSpec
-from .common import (Evaluator, FrameResult, correlation_note, default_evaluator, factor_indices, generator,
-                     int_seed, output_indices, to_display)
+from ..mc import Evaluator
+from .common import (FrameResult, correlation_note, factor_indices, output_indices, to_display)
 
 _U_EPS = 2.0**-53
 
@@ -87,6 +87,15 @@ class GlobalSensitivityResult(FrameResult):
         if self.second_order is not None:
             out["second_order"] = frame_records(self.second_order)
         return out
+
+    @property
+    def index_columns(self) -> list[tuple[str, str]]:
+        """(index, confidence) column pairs of this method, in display order."""
+        return INDEX_COLUMNS[self.method]
+
+    @property
+    def title(self) -> str:
+        return TITLES[self.method]
 
     def plot(self, output: str | None = None, ax=None):
         from ..plotting import sensitivity as ps
@@ -167,12 +176,12 @@ def _check_power_of_two(n: int, key: str = "n") -> None:
 def _prepare(model: Model, spec: ToleranceSpec, factors, outputs, evaluate):
     model.check_spec(spec)
     return (factor_indices(spec, factors), output_indices(model, outputs),
-            evaluate or default_evaluator(model))
+            evaluate or Evaluator())
 
 
 def _evaluate_design(model, spec, idx, oidx, U, evaluate, desc) -> tuple[np.ndarray, int]:
     X = design_to_factors(spec, idx, U)
-    ev = evaluate(X, desc)
+    ev = evaluate(model, X, desc)
     return to_display(model, ev.Y, oidx), int(np.sum(~ev.ok))
 
 
@@ -195,11 +204,11 @@ def sobol(model: Model, spec: ToleranceSpec, n: int = 1024, factors: Sequence[st
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         U = sobol_sample.sample(problem, n, calc_second_order=second_order, scramble=True,
-                                seed=generator(seed, "sobol"))
+                                seed=substream(seed, "sobol"))
     Yd, n_failed = _evaluate_design(model, spec, idx, oidx, U, evaluate, "Sobol indices")
     notes = [m for m in [correlation_note(spec, "Sobol")] if m]
     pairs = []
-    aseed = int_seed(seed, "sobol")
+    aseed = substream_seed(seed, "sobol")
 
     def analyse(y):
         si = sobol_analyze.analyze(problem, y, calc_second_order=second_order, num_resamples=num_resamples,
@@ -258,10 +267,10 @@ def morris(model: Model, spec: ToleranceSpec, trajectories: int = 20, levels: in
         q = 0.5 * (1.0 - coverage(spec.factors[i].dist.sigma_level))
         bounds.append([q, 1.0 - q])
     problem = _problem(spec, idx, bounds)
-    U = morris_sample.sample(problem, trajectories, num_levels=levels, seed=generator(seed, "morris"))
+    U = morris_sample.sample(problem, trajectories, num_levels=levels, seed=substream(seed, "morris"))
     Yd, n_failed = _evaluate_design(model, spec, idx, oidx, U, evaluate, "Morris screening")
     notes = [m for m in [correlation_note(spec, "Morris screening")] if m]
-    aseed = int_seed(seed, "morris")
+    aseed = substream_seed(seed, "morris")
 
     def analyse(y):
         return morris_analyze.analyze(problem, U, y, num_resamples=num_resamples, conf_level=confidence,
@@ -286,12 +295,12 @@ def fast(model: Model, spec: ToleranceSpec, n: int = 1024, M: int = 4, factors: 
         raise InputError(f"n must be > 4·M² = {4 * M * M}, got {n}", key="n")
     idx, oidx, evaluate = _prepare(model, spec, factors, outputs, evaluate)
     problem = _problem(spec, idx)
-    U = fast_sampler.sample(problem, n, M=M, seed=generator(seed, "fast"))
+    U = fast_sampler.sample(problem, n, M=M, seed=substream(seed, "fast"))
     Yd, n_failed = _evaluate_design(model, spec, idx, oidx, U, evaluate, "eFAST indices")
     notes = [m for m in [correlation_note(spec, "eFAST")] if m]
     notes.append("eFAST confidence intervals come from a bootstrap that SALib flags as unreliable for this "
                  "method (SALib issue 649): read them as indicative.")
-    aseed = int_seed(seed, "fast")
+    aseed = substream_seed(seed, "fast")
 
     def analyse(y):
         with warnings.catch_warnings():
@@ -309,8 +318,8 @@ def _given_or_fresh(model, spec, idx, oidx, evaluate, samples, Y, n, method, see
     """``(X, Yd, n_evaluations, notes)``: the given samples (failed rows dropped) or fresh ones."""
     notes = []
     if samples is None:
-        s = sample(spec, n, method, int_seed(seed, stream))
-        ev = evaluate(s.values, desc)
+        s = sample(spec, n, method, substream_seed(seed, stream))
+        ev = evaluate(model, s.values, desc)
         X, Yd, n_eval = s.values, to_display(model, ev.Y, oidx), n
     else:
         if Y is None:
@@ -337,7 +346,7 @@ def rbd_fast(model: Model, spec: ToleranceSpec, n: int = 2048, M: int = 10, fact
                                                      seed, "rbd_fast", "RBD-FAST indices")
     notes = [m for m in [correlation_note(spec, "RBD-FAST")] if m] + notes
     problem = _problem(spec, idx)
-    aseed = int_seed(seed, "rbd_fast")
+    aseed = substream_seed(seed, "rbd_fast")
 
     def analyse(y):
         return rbd_analyze.analyze(problem, X, y, M=M, num_resamples=num_resamples, conf_level=confidence,
@@ -382,7 +391,7 @@ def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[st
     X, Yd, n_eval, notes, n_failed = _given_or_fresh(model, spec, idx, oidx, evaluate, samples, Y, n, "random",
                                                      seed, "delta", "delta indices")
     problem = _problem(spec, idx)
-    seeds = generator(seed, "delta").integers(1, 2**31 - 1, size=len(idx))
+    seeds = substream(seed, "delta").integers(1, 2**31 - 1, size=len(idx))
     executor = executor or SerialExecutor()
 
     def analyse(y):

@@ -27,8 +27,9 @@ import pandas as pd
 from .. import units
 from ..model import Model
 from ..spec import ToleranceSpec
-from .common import (Evaluator, default_evaluator, derivative_to_display, factor_indices, output_indices,
-                     ratio_unit, tolerance_limits)
+from ..mc import Evaluator
+from .common import (derivative_to_display, factor_indices, output_indices,
+                     ratio_unit)
 from .local import LocalSensitivityResult, five_point
 
 
@@ -75,7 +76,7 @@ def linear_prediction(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     g = np.nan_to_num(np.asarray(gradient, dtype=float), nan=0.0)
     x0 = spec.nominal_base() if x0 is None else np.asarray(x0, dtype=float)
     mu, sd = spec.mean_base(), spec.std_base()
-    lims = np.array([[units.to_base(v, f.unit) for v in tolerance_limits(f)] for f in spec.factors])
+    lims = np.array([[units.to_base(v, f.unit) for v in f.band] for f in spec.factors])
     dlo, dhi = g * (lims[:, 0] - x0), g * (lims[:, 1] - x0)
     contrib = g * sd
     corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
@@ -140,10 +141,10 @@ def high_low_table(model: Model, spec: ToleranceSpec, factors: Sequence[str] | N
                    outputs: Sequence[str] | None = None, evaluate: Evaluator | None = None) -> HighLowResult:
     """Evaluate the model with each factor in turn at its low limit, median and high limit.
 
-    The other factors stay at nominal; limits are :func:`tolerance_limits`.
+    The other factors stay at nominal; limits are :attr:`rvtol.spec.Factor.band`.
     """
     model.check_spec(spec)
-    evaluate = evaluate or default_evaluator(model)
+    evaluate = evaluate or Evaluator()
     idx = factor_indices(spec, factors)
     oidx = output_indices(model, outputs)
     x0 = spec.nominal_base()
@@ -151,14 +152,14 @@ def high_low_table(model: Model, spec: ToleranceSpec, factors: Sequence[str] | N
     levels = []
     for i in idx:
         f = spec.factors[i]
-        lo, hi = tolerance_limits(f)
+        lo, hi = f.band
         med = float(f.dist.ppf(0.5))
         levels.append((lo, med, hi))
         for v in (lo, med, hi):
             x = x0.copy()
             x[i] = units.to_base(v, f.unit)
             X.append(x)
-    ev = evaluate(np.array(X), "high/low/median")
+    ev = evaluate(model, np.array(X), "high/low/median")
     rows = []
     for j in oidx:
         q = model.outputs[j]

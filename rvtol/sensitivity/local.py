@@ -38,8 +38,9 @@ from .. import units
 from ..errors import InputError
 from ..model import Model
 from ..spec import ToleranceSpec
-from .common import (Evaluator, FrameResult, default_evaluator, derivative_to_display, factor_indices,
-                     output_indices, ratio_unit, tolerance_limits)
+from ..mc import Evaluator
+from .common import (FrameResult, derivative_to_display, factor_indices,
+                     output_indices, ratio_unit)
 
 #: weights (÷ 12h) of the five-point first derivative at each of the five nodes
 WEIGHTS = np.array([
@@ -81,7 +82,7 @@ def stencil_all(f, h):
 
 
 # --------------------------------------------------------------------------- evaluation core
-def _evaluate_stencils(evaluate: Evaluator, centres: np.ndarray, cols: Sequence[int], hs: Sequence[float],
+def _evaluate_stencils(evaluate: Evaluator, model: Model, centres: np.ndarray, cols: Sequence[int], hs: Sequence[float],
                        desc: str) -> tuple[np.ndarray, np.ndarray]:
     """Evaluate five points per case (centre row, perturbed column, spacing h), each distinct row once.
 
@@ -94,7 +95,7 @@ def _evaluate_stencils(evaluate: Evaluator, centres: np.ndarray, cols: Sequence[
         rows.append(block)
     X = np.concatenate(rows)
     uniq, inverse = np.unique(X, axis=0, return_inverse=True)
-    ev = evaluate(uniq, desc)
+    ev = evaluate(model, uniq, desc)
     Y = ev.Y[inverse.ravel()]
     ok = ev.ok[inverse.ravel()]
     n = len(cols)
@@ -168,7 +169,7 @@ def _half_range(spec: ToleranceSpec, i: int, x0: float, percent: float,
         return float(units.to_base(given, f.unit))
     if x0 != 0.0:
         return abs(x0) * percent / 100.0
-    lo, hi = tolerance_limits(f)
+    lo, hi = f.band
     return float(units.to_base(0.5 * (hi - lo), f.unit)) * percent / 100.0
 
 
@@ -183,23 +184,23 @@ def five_point(model: Model, spec: ToleranceSpec, factors: Sequence[str] | None 
     own unit; a number or ``{name: value}``; a given value overrides the
     percentage for that factor) or, if not given, ±percent % of the factor's
     tolerance half-band.  ``x0`` (base units) replaces the spec's nominal
-    point.  ``evaluate`` defaults to a serial :func:`rvtol.mc.evaluate`.
+    point.  ``evaluate`` (an :class:`rvtol.mc.Evaluator`) defaults to a serial one.
     """
     if not percent > 0:
         raise InputError(f"percent must be > 0, got {percent}", key="percent")
     model.check_spec(spec)
-    evaluate = evaluate or default_evaluator(model)
+    evaluate = evaluate or Evaluator()
     idx = factor_indices(spec, factors)
     oidx = output_indices(model, outputs)
     centre = spec.nominal_base() if x0 is None else np.asarray(x0, dtype=float).copy()
     half = np.array([_half_range(spec, i, centre[i], percent, abs_step) for i in idx])
     hs = half / 2.0
-    F, ok = _evaluate_stencils(evaluate, np.repeat(centre[None, :], len(idx), axis=0), idx, hs,
+    F, ok = _evaluate_stencils(evaluate, model, np.repeat(centre[None, :], len(idx), axis=0), idx, hs,
                                "five-point sensitivity")
     rows, pts, notes = [], [], []
     for c, i in enumerate(idx):
         f = spec.factors[i]
-        lo, hi = (units.to_base(v, f.unit) for v in tolerance_limits(f))
+        lo, hi = (units.to_base(v, f.unit) for v in f.band)
         sigma = f.dist.std
         for j in oidx:
             q = model.outputs[j]
@@ -269,7 +270,7 @@ def sensitivity_curve(model: Model, spec: ToleranceSpec, factors: Sequence[str],
         raise InputError("magnitudes must be finite and non-zero (the points span ±percent % of e)",
                          key="magnitudes")
     model.check_spec(spec)
-    evaluate = evaluate or default_evaluator(model)
+    evaluate = evaluate or Evaluator()
     idx = factor_indices(spec, factors)
     oidx = output_indices(model, outputs)
     nominal = spec.nominal_base()
@@ -290,7 +291,7 @@ def sensitivity_curve(model: Model, spec: ToleranceSpec, factors: Sequence[str],
             cols.append(i)
             hs.append(abs(x0[i]) * percent / 100.0 / 2.0)
             cases.append((e, i))
-    F, ok = _evaluate_stencils(evaluate, np.array(centres), cols, hs, "sensitivity curve")
+    F, ok = _evaluate_stencils(evaluate, model, np.array(centres), cols, hs, "sensitivity curve")
     rows, failed = [], set()
     for c, (e, i) in enumerate(cases):
         f = spec.factors[i]

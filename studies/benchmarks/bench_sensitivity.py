@@ -18,10 +18,10 @@ import argparse
 import numpy as np
 
 from rvtol.executors import make_executor
-from rvtol.mc import evaluate
+from rvtol.mc import Evaluator, evaluate
 from rvtol.model import LinearModel, Quantity
 from rvtol.sampling import sample
-from rvtol.sensitivity import default_evaluator, delta, five_point, morris, sobol
+from rvtol.sensitivity import delta, five_point, morris, sobol
 from rvtol.spec import spec_from_table
 from rvtol.testing import CpuBoundModel
 
@@ -43,11 +43,11 @@ def main(quick: bool = False) -> None:
     # 1. method overhead vs the bare evaluations of the same number of rows
     n_base = 256 if quick else 1024
     counting = {"rows": 0}
-    ev = default_evaluator(model)
+    ev = Evaluator()
 
-    def counted(X, desc):
+    def counted(m, X, desc):
         counting["rows"] += len(X)
-        return ev(X, desc)
+        return ev(m, X, desc)
 
     for name, run in (("Sobol (S1, ST, S2)", lambda: sobol(model, spec, n_base, seed=1, evaluate=counted)),
                       ("Morris (r = 50)", lambda: morris(model, spec, 50, seed=1, evaluate=counted))):
@@ -83,7 +83,7 @@ def main(quick: bool = False) -> None:
     with make_executor("process", 2) as ex:
         evaluate(cm, np.full((4, 3), 0.5), ex, progress=False)  # start the pool outside the timing
         t2, r2 = best_of(lambda: sobol(cm, cspec, nb, second_order=False, seed=4,
-                                       evaluate=lambda X, d: evaluate(cm, X, ex, progress=False)), repeat=1)
+                                       evaluate=Evaluator(ex)), repeat=1)
     assert r1.frame.equals(r2.frame)
     rows.append((f"Sobol on a CPU-bound model ({nb * 5} rows): serial / process(2)", f"{t1 / t2:.2f}×",
                  f"{t1:.1f} s vs {t2:.1f} s, identical indices"))

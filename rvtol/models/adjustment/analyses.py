@@ -23,12 +23,12 @@ import math
 import numpy as np
 import pandas as pd
 
+from ...analysis import Analysis
 from ... import units
-from ...errors import SpecError
 from ...report.sections import Section, frame_records
 from .description import weight_value
 from .model import AdjustedAssemblyModel
-from .sweep import accuracy_sweep, example_runs, q_label, step_statistics
+from .sweep import accuracy_sweep, example_runs, step_statistics
 
 
 def require_adjusted_model(study, params) -> AdjustedAssemblyModel:
@@ -67,8 +67,8 @@ def accuracy_weights(params, key: str = "accuracy_weights", default=(0, 5, 10, "
     return [weight_value(p, str(i), allow_inf=True) for i in range(len(raw))]
 
 
-class AdjustmentAnalysis:
-    def __init__(self, params, study):
+class AdjustmentAnalysis(Analysis):
+    def setup(self, params, study):
         self.model = require_adjusted_model(study, params)
         self.w = part_errors(params, study, self.model)
         self.weights = accuracy_weights(params)
@@ -102,10 +102,9 @@ class AdjustmentAnalysis:
         if X is not None:
             st = step_statistics(m, X)
             sec.add_figure(st.plot(), f"Monte Carlo batch of the study's spec: RMS KC error after each step, "
-                           f"Q = {q_label(m.accuracy)}")
+                           f"Q = {units.number_label(m.accuracy)}")
             sec.add_table(st.to_frame(), "Monte Carlo batch: RMS KC error after each step", "{:.3g}")
-        evaluate = lambda mod, Xb: ctx.evaluate(Xb, desc="adjustment sweep", model=mod).Y  # noqa: E731
-        sw = accuracy_sweep(m, self.w, self.sweep, X, evaluate)
+        sw = accuracy_sweep(m, self.w, self.sweep, X, ctx.evaluator)
         sec.add_figure(sw.plot(), "Final KC error (RSS of the final observations) and adjustment effort against "
                        "the accuracy weight Q: the gain per unit of Q falls as Q grows (diminishing returns). The "
                        "Monte Carlo batch includes the spec's measurement noise, which the adjustment cannot remove: "
@@ -115,7 +114,7 @@ class AdjustmentAnalysis:
 
         M_w, _ = m.adjuster.linear_map()
         lm = frame_of(M_w, [f"delta_{n}" for n in d.observation_names()], list(m.w_names))
-        sec.add_table(lm, f"Linear map at Q = {q_label(m.accuracy)}: final KC error per unit part error [rad/rad]",
+        sec.add_table(lm, f"Linear map at Q = {units.number_label(m.accuracy)}: final KC error per unit part error [rad/rad]",
                       float_format="{:.4f}", index=True)
         sec.summary = {
             "accuracy_weight": None if math.isinf(m.accuracy) else m.accuracy,
@@ -135,7 +134,7 @@ def describe(m: AdjustedAssemblyModel) -> str:
             f"K(k) from the backward Riccati recursion with P(N) = Q(N) = Q·C(N)ᵀC(N), no stage cost; "
             f"R(k) = {d.effort_adjustable:g} on adjustable KCs and {d.effort_locked:g} elsewhere; "
             f"Q → ∞ is computed exactly as the terminal constraint C(N) x(N) = 0 with least effort. "
-            f"Study model: Q = {q_label(m.accuracy)}{'' if m.adjust else ', adjustment switched off'}.")
+            f"Study model: Q = {units.number_label(m.accuracy)}{'' if m.adjust else ', adjustment switched off'}.")
 
 
 def frame_of(M: np.ndarray, rows, cols) -> pd.DataFrame:

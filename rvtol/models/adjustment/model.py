@@ -115,7 +115,4 @@ def from_study(params, design, spec) -> AdjustedAssemblyModel:
     adjust = params.bool("adjust", True)
     disp = params.unit("display_unit", "mrad", dimension="angle")
     params.finish()
-    try:
-        return AdjustedAssemblyModel(desc, spec.names, accuracy, adjust, disp)
-    except InputError as exc:
-        raise exc.located(file=spec.file) from None
+    return AdjustedAssemblyModel(desc, spec.names, accuracy, adjust, disp)

@@ -15,12 +15,9 @@ import numpy as np
 import pandas as pd
 
 from ... import units
+from ...mc import Evaluator
 from .adjuster import AssemblyRun
 from .model import AdjustedAssemblyModel
-
-
-def q_label(q: float) -> str:
-    return "∞" if math.isinf(q) else f"{q:g}"
 
 
 @dataclass
@@ -36,7 +33,7 @@ class ExampleRuns:
     def to_frame(self) -> pd.DataFrame:
         rows = []
         for q, r in zip(self.weights, self.runs):
-            row = {"Q": q_label(q)}
+            row = {"Q": units.number_label(q)}
             for j, n in enumerate(self.output_names):
                 row[f"{n} [{self.unit}]"] = self._shown(r.final[0, j])
             row[f"final_error [{self.unit}]"] = self._shown(np.linalg.norm(r.final[0]))
@@ -98,12 +95,9 @@ def accuracy_sweep(model: AdjustedAssemblyModel, w: np.ndarray, Q: np.ndarray, X
                    evaluate=None) -> AccuracySweep:
     """Final error and effort vs ``Q`` for one assembly ``w`` and for a batch ``X_batch`` (spec columns, base).
 
-    ``evaluate(model, X) -> Y`` runs the batch (default: :func:`rvtol.mc.evaluate`, serial).
+    ``evaluate`` (an :class:`rvtol.mc.Evaluator`) runs the batch (default: serial).
     """
-    from ...mc import evaluate as mc_evaluate
-
-    if evaluate is None:
-        evaluate = lambda m, X: mc_evaluate(m, X, progress=False).Y  # noqa: E731
+    evaluate = evaluate or Evaluator()
     w = np.atleast_2d(np.asarray(w, float))
     i_err, i_eff = model.output_index("final_error"), model.output_index("effort")
     fe, ef, rms, me = [], [], [], []
@@ -113,7 +107,7 @@ def accuracy_sweep(model: AdjustedAssemblyModel, w: np.ndarray, Q: np.ndarray, X
         fe.append(float(np.linalg.norm(r.final[0])))
         ef.append(float(r.effort[0]))
         if X_batch is not None:
-            Y = evaluate(mq, X_batch)
+            Y = evaluate(mq, X_batch, "adjustment sweep").Y
             rms.append(float(np.sqrt(np.nanmean(Y[:, i_err] ** 2))))
             me.append(float(np.nanmean(Y[:, i_eff])))
     unadj = model.with_accuracy(0.0, adjust=False)
@@ -123,7 +117,7 @@ def accuracy_sweep(model: AdjustedAssemblyModel, w: np.ndarray, Q: np.ndarray, X
                         0 if X_batch is None else len(X_batch))
     res.unadjusted_final = float(np.linalg.norm(unadj.adjuster.simulate(w, adjust=False).final[0]))
     if X_batch is not None:
-        Y0 = evaluate(unadj, X_batch)
+        Y0 = evaluate(unadj, X_batch, "adjustment sweep").Y
         res.unadjusted_batch_rms = float(np.sqrt(np.nanmean(Y0[:, i_err] ** 2)))
     return res
 

@@ -324,7 +324,4 @@ def from_study(params, design, spec) -> LostMotionModel:
         nominal[k] = nom.quantity(k, "mm")
     nom.finish()
     params.finish()
-    try:
-        return LostMotionModel(geometry, spec.names, nominal, extra, sources)
-    except InputError as exc:
-        raise exc.located(file=spec.file) from None
+    return LostMotionModel(geometry, spec.names, nominal, extra, sources)

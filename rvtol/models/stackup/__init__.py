@@ -6,6 +6,7 @@
 * :mod:`.domains` — parallel-plane, cylindrical and clearance-fit domains with derived moments;
 * :mod:`.graph` — the assembly graph (features, fits, flows f1–f5, sequences, KCs);
 * :mod:`.model` — the chain as a :class:`~rvtol.model.Model` (``MODELS["stackup"]``);
-* :mod:`.linearise`, :mod:`.analyses` — worst case / RSS / loop signs beside the Monte Carlo,
-  graph, sequences, domains and the doc 003 shaft–hole record (``ANALYSES["stackup_*"]``).
+* :mod:`.linearise` — worst case / RSS / loop signs of the linearised chain;
+* :mod:`.analyses` — the linearised chain beside the Monte Carlo, graph, sequences and domains
+  (``ANALYSES["stackup_*"]``); doc 003's shaft–hole figures: :mod:`rvtol.reproduction.doc003_stackup`.
 """

@@ -3,7 +3,7 @@
 ==================  ===========================================================================
 kind                keys
 ==================  ===========================================================================
-stackup_linear      see :class:`rvtol.models.stackup.linearise.StackupLinear`
+stackup_linear      see :class:`StackupLinear` (worst case, RSS and loop signs beside the Monte Carlo)
 stackup_graph       (none): picture of the assembly graph, flows, fits, dimensions with sources
 stackup_sequences   ``sequences`` (default all of the assembly's), ``outputs`` (default those all
                     share): the same samples through each assembly sequence, side by side
@@ -11,10 +11,9 @@ stackup_domains     ``n`` (samples per check, 200000), ``[[analysis.domain]]`` t
                     ``kind`` = "plane" (``t1``, ``t2``, ``length``, ``width``), "cylinder" (``t``,
                     ``length``) or "clearance" (``clearance``, ``length``, ``hole`` and ``shaft``
                     distribution tables in mm), ``k`` (3), ``name``: derived mean/σ beside sampled
-stackup_shaft_hole  ``fit``, ``kc``, ``[[analysis.printed]]`` (``figure``, ``value``, ``unit``,
-                    ``compare`` = max_clearance | e_norm | eps_norm | tilt, ``why``): doc 003's
-                    shaft–hole figures against rvtol's
 ==================  ===========================================================================
+
+Doc 003's shaft–hole figures are compared in :mod:`rvtol.reproduction.doc003_stackup`.
 """
 from __future__ import annotations
 
@@ -26,24 +25,26 @@ import pandas as pd
 from ... import units
 from ...distributions import from_params
 from ...errors import InputError
-from ...report.sections import Section, frame_records
-from ...sensitivity.common import tolerance_limits
+from ...analysis import Analysis
+from ...report.sections import Section, Table, Text, frame_records
+from ...sampling import substream_seed
 from ...stats import percentile_ci
 from ...units import label
 from . import domains as dm
+from .linearise import COVERAGE, Factors, linearise_output
 from .model import StackupModel
 
 
-def _need_stackup(params, study) -> StackupModel:
+def need_stackup(params, study) -> StackupModel:
     if not isinstance(study.model, StackupModel):
         raise params.error("kind", "this analysis needs a [model] of kind 'stackup'")
     return study.model
 
 
 # --------------------------------------------------------------------------- graph
-class StackupGraph:
-    def __init__(self, params, study):
-        self.model = _need_stackup(params, study)
+class StackupGraph(Analysis):
+    def setup(self, params, study):
+        self.model = need_stackup(params, study)
 
     def run(self, ctx) -> Section:
         from ...plotting.stackup import assembly_graph
@@ -122,9 +123,9 @@ class SequenceComparison:
         return sequence_histograms(self, outputs)
 
 
-class StackupSequences:
-    def __init__(self, params, study):
-        m = _need_stackup(params, study)
+class StackupSequences(Analysis):
+    def setup(self, params, study):
+        m = need_stackup(params, study)
         asm = m.assembly
         self.sequences = params.strs("sequences", list(asm.sequences), min_length=2)
         for s in self.sequences:
@@ -150,7 +151,7 @@ class StackupSequences:
         X = ctx.mc.samples.values
         Y, outs = {}, {}
         for s, model in self.models.items():
-            ev = ctx.evaluate(X, desc=f"sequence {s}", model=model)
+            ev = ctx.evaluator(model, X, f"sequence {s}")
             Y[s] = np.column_stack([q.to_display(ev.Y[:, j]) for j, q in enumerate(model.outputs)])
             outs[s] = list(model.outputs)
         return SequenceComparison(self.sequences, outs, Y)
@@ -182,8 +183,8 @@ class StackupSequences:
 
 
 # --------------------------------------------------------------------------- domains
-class StackupDomains:
-    def __init__(self, params, study):
+class StackupDomains(Analysis):
+    def setup(self, params, study):
         self.n = params.int("n", 200_000, min=1000)
         self.domains = []
         tables = params.tables("domain")
@@ -208,7 +209,6 @@ class StackupDomains:
                 raise exc.located(file=t.file, key=t.key) from None
             t.finish()
             self.domains.append((name, d))
-        self.seed = study.options.seed
 
     def run(self, ctx) -> Section:
         from ...plotting.stackup import planar_domain
@@ -223,7 +223,7 @@ class StackupDomains:
         for i, (name, d) in enumerate(self.domains):
             rows, few = [], {}
             for dist in dm.DISTRIBUTIONS:
-                E = d.sample(self.n, dist, seed=(self.seed or 0) + i)
+                E = d.sample(self.n, dist, seed=substream_seed(ctx.seed, "stackup_domains", i))
                 mean, cov = d.mean(dist), d.cov(dist)
                 moving = int(np.count_nonzero(np.any(E != 0.0, axis=1)))
                 testable = moving >= MIN_MOVING
@@ -251,7 +251,7 @@ class StackupDomains:
                 rec = dm.planar_record(d)
                 sec.add_table(rec, caption=f"{name}: the document's printed planar-zone formulas against the "
                                            "derivation (lengths mm, angles rad)", float_format="{:.4g}")
-                sec.add_figure(planar_domain(d, d.sample(3000, "uniform", seed=self.seed)),
+                sec.add_figure(planar_domain(d, d.sample(3000, "uniform", seed=ctx.seed)),
                                caption=f"{name}: uniform samples, exact domain, its box and the printed box")
                 summary[name]["record"] = frame_records(rec)
             if isinstance(d, dm.ClearanceFit):
@@ -294,79 +294,105 @@ def _describe_domain(d) -> str:
             f"shaft {d.shaft.describe('mm')}, engagement {d.L:g} mm")
 
 
-# --------------------------------------------------------------------------- doc 003 shaft–hole figures
-class StackupShaftHole:
-    COMPARE = ("max_clearance", "e_norm", "eps_norm", "tilt")
-    DIMENSION = {"max_clearance": "length", "e_norm": "length", "eps_norm": "angle", "tilt": "angle"}
+# --------------------------------------------------------------------------- linearised chain vs Monte Carlo
+def mc_figures(mc, name: str, form: str) -> dict:
+    y = mc.column(name)
+    y = np.sort(y[np.isfinite(y)])
+    if len(y) == 0:
+        return {}
+    out = {"MC mean": float(y.mean()), "MC σ": float(y.std(ddof=1)) if len(y) > 1 else float("nan")}
+    if form == "dof":
+        out["MC low"] = percentile_ci(y, 0.00135)[0]
+        out["MC high"] = percentile_ci(y, 0.99865)[0]
+    elif form == "weighted":
+        out["MC high"] = float(np.sqrt(np.mean(y**2)))
+    else:
+        if form == "none":
+            out["MC low"] = percentile_ci(y, 1 - COVERAGE)[0]
+        out["MC high"] = percentile_ci(y, COVERAGE)[0]
+    out["MC min"], out["MC max"] = float(y[0]), float(y[-1])
+    return out
 
-    def __init__(self, params, study):
-        m = self.model = _need_stackup(params, study)
-        fits = [f for f in m.assembly.fits.values() if f.is_clearance]
-        self.fit = m.assembly.fits.get(params.str("fit", fits[0].name if fits else ""))
-        if self.fit is None or not self.fit.is_clearance:
-            raise params.error("fit", "name a clearance fit of the assembly")
-        self.kc = params.str("kc", m.kcs[0].name)
-        if self.kc not in {k.name for k in m.kcs}:
-            raise params.error("kc", f"unknown KC {self.kc!r}")
-        self.printed = []
-        for t in params.tables("printed"):
-            cmp = t.str("compare", choices=self.COMPARE)
-            if cmp != "max_clearance" and f"{self.kc}.{cmp}" not in m.output_names:
-                raise t.error("compare", f"the model has no output {self.kc}.{cmp}")
-            unit = t.unit("unit", dimension=self.DIMENSION[cmp])
-            self.printed.append({"figure": t.str("figure"), "value": t.float("value"), "unit": unit,
-                                 "compare": cmp, "why": t.str("why")})
-            t.finish()
-        if not self.printed:
-            raise params.error("printed", "give the printed figures as [[analysis.printed]] tables")
 
-    def worst_case_inputs(self, spec) -> np.ndarray:
-        """Nominal factors with the fit's sizes at the band ends that give the largest clearance."""
-        x = spec.nominal_base()
-        asm = self.model.assembly
-        for side in ("base", "mate"):
-            feat = asm.features[getattr(self.fit, side)]
-            if feat.size and feat.size in spec.names:
-                lo, hi = tolerance_limits(spec.factor(feat.size))
-                v = hi if (side == self.fit.hole) else lo
-                x[spec.index(feat.size)] = units.to_base(v, spec.factor(feat.size).unit)
-        return x
+BASIS = {  # what the WC / RSS / MC columns hold, per kind of output
+    "dof": "signed: WC = arithmetic worst case; RSS = mean ± 3σ; MC = P0.135 / P99.865",
+    "norm": "magnitude: WC high = max over the tolerance box; RSS high = P99.73 of the linearised pair's norm; "
+            "MC high = P99.73",
+    "weighted": "‖e‖/‖ε‖: WC high = upper bound; RSS high = rms; MC high = rms",
+    "none": "margin: Monte Carlo only (MC low = P0.27, MC high = P99.73)",
+}
+
+
+class StackupLinear(Analysis):
+    """``[[analysis]] kind = "stackup_linear"``: worst case, RSS and loop signs beside the Monte Carlo.
+
+    Keys: ``outputs`` (default all), ``top`` (contributors shown per output, 12),
+    ``figures`` (outputs that get a contribution chart, default the first 4).
+    """
+
+    def setup(self, params, study):
+        model = study.model
+        if not isinstance(model, StackupModel):
+            raise params.error("kind", "stackup_linear needs a [model] of kind 'stackup'")
+        self.outputs = params.strs("outputs", list(model.output_names), min_length=1)
+        for o in self.outputs:
+            if o not in model.output_names:
+                raise params.error("outputs", f"unknown output name {o!r} (model has: {', '.join(model.output_names)})")
+        self.top = params.int("top", 12, min=1)
+        self.figures = params.strs("figures", self.outputs[:4])
+        for o in self.figures:
+            if o not in self.outputs:
+                raise params.error("figures", f"{o!r} is not among the analysed outputs")
+        worst = model.nonlinear_floats()
+        if worst:
+            raise params.error("kind", f"fit {worst[0]!r} floats in a worst-case mode, which is not differentiable "
+                                       "in its direction; linearise a model with uniform (or centred) floats")
 
     def run(self, ctx) -> Section:
-        m, spec = self.model, ctx.spec
-        x = self.worst_case_inputs(spec)
-        cmax = float(m.clearance(self.fit, x[None])[0])
-        a1 = self.fit.float_factors[0]
-        if a1 in spec.names:
-            x[spec.index(a1)] = 1.0
-        wc = {}
-        for mode in ("worst_offset", "worst_tilt"):
-            mm = StackupModel(m.assembly, m.sequence.name, m.inputs, m.input_units, m.rotation, m.backend,
-                              {self.fit.name: mode})
-            y = mm.evaluate(x[None])[0]
-            for j, q in enumerate(mm.outputs):
-                wc[q.name] = max(wc.get(q.name, -np.inf), float(y[j]))
-        rows = []
-        for p in self.printed:
-            if p["compare"] == "max_clearance":
-                vals = {"WC": units.from_base(cmax, p["unit"])}
-            else:
-                name = f"{self.kc}.{p['compare']}"
-                q = m.output(name)
-                y = units.convert(ctx.mc.column(name), q.shown_unit, p["unit"])
-                y = np.sort(y[np.isfinite(y)])
-                vals = {"WC": units.from_base(wc[name], p["unit"]), "MC mean": float(y.mean()),
-                        "MC P99.73": percentile_ci(y, 0.9973)[0], "MC max": float(y[-1])}
-            close = {k: v for k, v in vals.items() if abs(v - p["value"]) <= 0.01 * abs(p["value"])}
-            rows.append({"figure": p["figure"], "printed": p["value"], "unit": label(p["unit"]),
-                         **{f"rvtol {k}": v for k, v in vals.items()},
-                         "reproduced": ("yes (" + ", ".join(close) + ")") if close else "no", "why": p["why"]})
-        df = pd.DataFrame(rows)
-        sec = Section("stackup_shaft_hole", "Stack-up: doc 003 shaft–hole example — printed figures against rvtol")
-        sec.add_text(f"Fit {self.fit.name!r}: largest clearance over the size bands {cmax:.4g} mm, engagement "
-                     f"{self.fit.length:g} mm. WC = the model at that clearance with the shaft pushed to the wall "
-                     "(both ends one side, or opposite sides; the larger output). 'reproduced' = within 1 % of the "
-                     "printed value.")
-        sec.add_table(df, caption="Printed figures and what rvtol computes", float_format="{:.4g}")
-        sec.summary = {"max_clearance_mm": cmax, "figures": frame_records(df)}
+        from ...plotting.stackup import contribution_bars
+
+        model, spec = ctx.model, ctx.spec
+        fx = Factors.of(spec)
+        J = model.jacobian(fx.x0)
+        E0 = model.kc_deviations(fx.x0[None])[0]
+        sec = Section("stackup_linear", "Stack-up: worst case and RSS of the linearised chain beside Monte Carlo")
+        sec.add_text(
+            "The chain is linearised analytically at the nominal point (small-displacement torsors carried through "
+            "the assembly program). Signed KC components get the first-order mean, RSS σ (±3σ) and the "
+            "arithmetic worst case; radial offsets and tilts (norms of a pair) get the exact worst case of the "
+            "linearised pair over the tolerance box and the 99.73 % quantile of its normal RSS distribution; "
+            "‖e‖/‖ε‖ get a worst-case bound and the RSS rms. Loop-method sign of a contributor: '+' positive "
+            "accumulator (raises the KC), '−' negative accumulator (compensates), '0' uncorrelated. Clearance floats "
+            "enter through their derivative at the centred position, i.e. as the disc's circumscribed square: "
+            "linear worst cases of floats are conservative by up to √2, and clearance × position terms are absent "
+            "from the linearisation (see the Monte Carlo).")
+        rows, summary = [], {}
+        for name in self.outputs:
+            lin = linearise_output(model, spec, name, J, fx, E0)
+            mc = mc_figures(ctx.mc, name, lin.form)
+            row = {"output": name, "unit": label(lin.unit), "kind": lin.form, **lin.figures, **mc}
+            rows.append(row)
+            summary[name] = {"form": lin.form, "linear": lin.figures, "monte_carlo": mc, "notes": lin.notes}
+            if lin.contributions.empty:
+                continue
+            top = lin.contributions.sort_values("variance share %", ascending=False).head(self.top)
+            summary[name]["contributions"] = frame_records(lin.contributions)
+            what = {"dof": "loop-method sign and accumulator from the derivative",
+                    "norm": "derivatives and signs of the pair's two components",
+                    "weighted": "shares of the weighted magnitude"}[lin.form]
+            sec.add_table(top, caption=f"{name}: largest contributors ({what}; derivative in {label(lin.unit)} per "
+                                       f"factor unit; worst-case and variance shares in %)", float_format="{:.4g}")
+            if name in self.figures:
+                sec.add_figure(contribution_bars(lin, top=self.top), caption=f"{name}: contributions")
+        cols = ["output", "unit", "kind", "WC low", "WC high", "RSS mean", "RSS σ", "RSS low", "RSS high",
+                "MC mean", "MC σ", "MC low", "MC high", "MC max"]
+        table = pd.DataFrame(rows).reindex(columns=cols)
+        sec.blocks.insert(1, _table_block(table))
+        sec.blocks.insert(2, Text("Columns by kind — " + "; ".join(f"{k}: {v}" for k, v in BASIS.items()) + "."))
+        sec.summary = {"outputs": summary}
         return sec
+
+
+def _table_block(table: pd.DataFrame):
+    return Table(table, "Linearised worst case / RSS beside Monte Carlo (display units of each output; "
+                        "blank where a figure does not apply)", "{:.4g}")

@@ -41,7 +41,7 @@ from scipy import integrate, stats
 
 from ...distributions import Distribution
 from ...errors import InputError
-from ...sampling import rng
+from ...sampling import rng, substream
 from .transforms import DOF
 
 DISTRIBUTIONS = ("uniform", "truncnorm")
@@ -431,14 +431,14 @@ class ClearanceFit:
         return _axis_cov(m2, self.L)
 
     def clearances(self, n: int, seed: int | None = None) -> np.ndarray:
-        g = rng(seed, 1)
+        g = substream(seed, "clearance_fit_sizes")
         c = self.c0 + self.hole.ppf(g.random(n)) - self.shaft.ppf(g.random(n))
         return np.maximum(c, 0.0)
 
     def sample(self, n: int, dist: str = "uniform", seed: int | None = None) -> np.ndarray:
         _dist(dist)
         R = 0.5 * self.clearances(n, seed)
-        g = rng(seed, 2)
+        g = substream(seed, "clearance_fit_positions")
         pp = _disc_points(g, n, R, dist, self.k)
         pm = _disc_points(g, n, R, dist, self.k)
         return _axis_E(axis_from_ends(pp, pm, self.L))

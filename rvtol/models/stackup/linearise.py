@@ -22,7 +22,7 @@ differences if the spec's nominal values deviate).  For each output:
 * the assembly **margin** of a closing fit is not linearisable (a max of
   norms): Monte Carlo only.
 
-Factor bands are :func:`rvtol.sensitivity.common.tolerance_limits`; the
+Factor bands are :attr:`rvtol.distributions.Distribution.band`; the
 covariance uses the spec's normal-score correlation as Pearson correlation
 (exact for normal factors).  The clearance float enters through its
 derivative at the nominal (centred) position, where it acts like a square
@@ -40,10 +40,7 @@ from scipy import optimize
 from scipy.special import ndtr
 
 from ... import units
-from ...report.sections import Section, Table, Text, frame_records
-from ...sensitivity.common import tolerance_limits
 from ...sensitivity.linearisation import linear_prediction
-from ...stats import percentile_ci
 from ...units import label
 from .model import StackupModel
 
@@ -145,7 +142,7 @@ class Factors:
 
     @classmethod
     def of(cls, spec) -> "Factors":
-        lims = np.array([[units.to_base(v, f.unit) for v in tolerance_limits(f)] for f in spec.factors])
+        lims = np.array([[units.to_base(v, f.unit) for v in f.band] for f in spec.factors])
         sd = spec.std_base()
         corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
         return cls(spec.nominal_base(), lims[:, 0], lims[:, 1], spec.mean_base(), corr * np.outer(sd, sd))
@@ -240,107 +237,3 @@ def _pct(v) -> np.ndarray:
 def _pair(col, q, funit) -> str:
     f = units.factor(funit) / units.factor(q.shown_unit) * units.factor(q.unit)
     return f"({col[0] * f:.4g}, {col[1] * f:.4g})"
-
-
-def mc_figures(mc, name: str, form: str) -> dict:
-    y = mc.column(name)
-    y = np.sort(y[np.isfinite(y)])
-    if len(y) == 0:
-        return {}
-    out = {"MC mean": float(y.mean()), "MC σ": float(y.std(ddof=1)) if len(y) > 1 else float("nan")}
-    if form == "dof":
-        out["MC low"] = percentile_ci(y, 0.00135)[0]
-        out["MC high"] = percentile_ci(y, 0.99865)[0]
-    elif form == "weighted":
-        out["MC high"] = float(np.sqrt(np.mean(y**2)))
-    else:
-        if form == "none":
-            out["MC low"] = percentile_ci(y, 1 - COVERAGE)[0]
-        out["MC high"] = percentile_ci(y, COVERAGE)[0]
-    out["MC min"], out["MC max"] = float(y[0]), float(y[-1])
-    return out
-
-
-BASIS = {  # what the WC / RSS / MC columns hold, per kind of output
-    "dof": "signed: WC = arithmetic worst case; RSS = mean ± 3σ; MC = P0.135 / P99.865",
-    "norm": "magnitude: WC high = max over the tolerance box; RSS high = P99.73 of the linearised pair's norm; "
-            "MC high = P99.73",
-    "weighted": "‖e‖/‖ε‖: WC high = upper bound; RSS high = rms; MC high = rms",
-    "none": "margin: Monte Carlo only (MC low = P0.27, MC high = P99.73)",
-}
-
-
-# --------------------------------------------------------------------------- the study analysis
-class StackupLinear:
-    """``[[analysis]] kind = "stackup_linear"``: worst case, RSS and loop signs beside the Monte Carlo.
-
-    Keys: ``outputs`` (default all), ``top`` (contributors shown per output, 12),
-    ``figures`` (outputs that get a contribution chart, default the first 4).
-    """
-
-    def __init__(self, params, study):
-        model = study.model
-        if not isinstance(model, StackupModel):
-            raise params.error("kind", "stackup_linear needs a [model] of kind 'stackup'")
-        self.outputs = params.strs("outputs", list(model.output_names), min_length=1)
-        for o in self.outputs:
-            if o not in model.output_names:
-                raise params.error("outputs", f"unknown output name {o!r} (model has: {', '.join(model.output_names)})")
-        self.top = params.int("top", 12, min=1)
-        self.figures = params.strs("figures", self.outputs[:4])
-        for o in self.figures:
-            if o not in self.outputs:
-                raise params.error("figures", f"{o!r} is not among the analysed outputs")
-        worst = model.nonlinear_floats()
-        if worst:
-            raise params.error("kind", f"fit {worst[0]!r} floats in a worst-case mode, which is not differentiable "
-                                       "in its direction; linearise a model with uniform (or centred) floats")
-
-    def run(self, ctx) -> Section:
-        from ...plotting.stackup import contribution_bars
-
-        model, spec = ctx.model, ctx.spec
-        fx = Factors.of(spec)
-        J = model.jacobian(fx.x0)
-        E0 = model.kc_deviations(fx.x0[None])[0]
-        sec = Section("stackup_linear", "Stack-up: worst case and RSS of the linearised chain beside Monte Carlo")
-        sec.add_text(
-            "The chain is linearised analytically at the nominal point (small-displacement torsors carried through "
-            "the assembly program). Signed KC components get the first-order mean, RSS σ (±3σ) and the "
-            "arithmetic worst case; radial offsets and tilts (norms of a pair) get the exact worst case of the "
-            "linearised pair over the tolerance box and the 99.73 % quantile of its normal RSS distribution; "
-            "‖e‖/‖ε‖ get a worst-case bound and the RSS rms. Loop-method sign of a contributor: '+' positive "
-            "accumulator (raises the KC), '−' negative accumulator (compensates), '0' uncorrelated. Clearance floats "
-            "enter through their derivative at the centred position, i.e. as the disc's circumscribed square: "
-            "linear worst cases of floats are conservative by up to √2, and clearance × position terms are absent "
-            "from the linearisation (see the Monte Carlo).")
-        rows, summary = [], {}
-        for name in self.outputs:
-            lin = linearise_output(model, spec, name, J, fx, E0)
-            mc = mc_figures(ctx.mc, name, lin.form)
-            row = {"output": name, "unit": label(lin.unit), "kind": lin.form, **lin.figures, **mc}
-            rows.append(row)
-            summary[name] = {"form": lin.form, "linear": lin.figures, "monte_carlo": mc, "notes": lin.notes}
-            if lin.contributions.empty:
-                continue
-            top = lin.contributions.sort_values("variance share %", ascending=False).head(self.top)
-            summary[name]["contributions"] = frame_records(lin.contributions)
-            what = {"dof": "loop-method sign and accumulator from the derivative",
-                    "norm": "derivatives and signs of the pair's two components",
-                    "weighted": "shares of the weighted magnitude"}[lin.form]
-            sec.add_table(top, caption=f"{name}: largest contributors ({what}; derivative in {label(lin.unit)} per "
-                                       f"factor unit; worst-case and variance shares in %)", float_format="{:.4g}")
-            if name in self.figures:
-                sec.add_figure(contribution_bars(lin, top=self.top), caption=f"{name}: contributions")
-        cols = ["output", "unit", "kind", "WC low", "WC high", "RSS mean", "RSS σ", "RSS low", "RSS high",
-                "MC mean", "MC σ", "MC low", "MC high", "MC max"]
-        table = pd.DataFrame(rows).reindex(columns=cols)
-        sec.blocks.insert(1, _table_block(table))
-        sec.blocks.insert(2, Text("Columns by kind — " + "; ".join(f"{k}: {v}" for k, v in BASIS.items()) + "."))
-        sec.summary = {"outputs": summary}
-        return sec
-
-
-def _table_block(table: pd.DataFrame):
-    return Table(table, "Linearised worst case / RSS beside Monte Carlo (display units of each output; "
-                        "blank where a figure does not apply)", "{:.4g}")

@@ -390,12 +390,7 @@ def from_study(params, design, spec) -> StackupModel:
     fl.finish()
     outs = params.strs("outputs", None)
     params.finish()
-    try:
-        model = StackupModel(asm, seq, spec.names, None, rotation, backend, floats, outs)
-    except InputError as exc:
-        if exc.key == "factor":
-            raise exc.located(file=spec.file) from None
-        raise exc.located(key=params.key or "model") from None
+    model = StackupModel(asm, seq, spec.names, None, rotation, backend, floats, outs)
     _check_zones(model, spec)
     return model
 
@@ -421,10 +416,9 @@ def _check_zones(model: StackupModel, spec) -> None:
 
 
 def _band_inside(spec, name: str, limit: float, what: str) -> None:
-    from ...sensitivity.common import tolerance_limits
 
     f = spec.factor(name)
-    lo, hi = tolerance_limits(f)
+    lo, hi = f.band
     lo_b, hi_b = units.to_base(lo, f.unit), units.to_base(hi, f.unit)
     if max(abs(lo_b), abs(hi_b)) > limit * (1 + 1e-9):
         shown = units.from_base(limit, f.unit)

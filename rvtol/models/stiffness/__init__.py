@@ -1,14 +1,14 @@
 """Torsional stiffness of the RV reducer from elastic torsion angles (doc 004).
 
-* :mod:`.hertz` — line-contact approach of two cylinders (doc 004's formula);
 * :mod:`.cycloid_contact` — initial clearance Δ(φ_k) from modifications and
   errors, the iterative loaded-contact solution (F_max, F_k), k_b and K_B;
-* :mod:`.involute` (ISO 6336-1), :mod:`.bearings` (Palmgren),
-  :mod:`.crankshaft` (Timoshenko beam), :mod:`.carrier` (pillars);
-* :mod:`.torsion_angle` — θ_Σ = θ1 + … + θ5 at the output, input locked;
+* :mod:`.torsion_angle` — θ_Σ = θ1 + … + θ5 at the output, input locked (the
+  elements: :mod:`rvtol.elements` — Hertz contact, ISO 6336-1 mesh, Palmgren
+  bearings, Timoshenko crankshaft, carrier pillars);
 * :mod:`.model` — ``MODELS["torsional_stiffness"]``;
-* :mod:`.reproduction`, :mod:`.analyses` — doc 004's studies
-  (``ANALYSES["stiffness_reproduction"]``).
+* :mod:`.analyses` — the torsion-angle breakdown and load distribution
+  (``ANALYSES["stiffness_breakdown"]``); doc 004's parameter studies and printed
+  figures are in :mod:`rvtol.reproduction.doc004_stiffness`.
 """
 from .cycloid_contact import ContactSolution, PinGear, solve_contact
 from .torsion_angle import COMPONENTS, ReducerStiffness, TorsionAngles

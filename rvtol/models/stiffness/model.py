@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import units
 from ...errors import InputError
 from ...model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .torsion_angle import BEARING_KINEMATICS, COMPONENTS, ReducerStiffness
@@ -112,7 +111,4 @@ def from_study(params, design, spec) -> TorsionalStiffnessModel:
     kin = params.str("bearing_kinematics", "virtual_work", choices=BEARING_KINEMATICS)
     params.finish()
     rs = ReducerStiffness.from_design(design, bearing_kinematics=kin)
-    try:
-        return TorsionalStiffnessModel(rs, spec.names, torque, nominal_factors(design), phase, crank)
-    except InputError as exc:
-        raise exc.located(file=spec.file) from None
+    return TorsionalStiffnessModel(rs, spec.names, torque, nominal_factors(design), phase, crank)

@@ -35,6 +35,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
+from ...analysis import Analysis
 from ... import units
 from ...design import load_design
 from ...report.sections import Section, frame_records
@@ -69,8 +70,8 @@ def analytic_lost_motion(g, K: float, Delta_b=0.0, Delta_r_c=0.0) -> np.ndarray:
     return m.evaluate(X)[:, 0]
 
 
-class TorsionCurveAnalysis:
-    def __init__(self, params, study):
+class TorsionCurveAnalysis(Analysis):
+    def setup(self, params, study):
         if study.design is None:
             raise params.error("kind", "torsion_curve needs a 20-DOF design ([study] design = ...)")
         um = dict(nonnegative=True, min_length=2)

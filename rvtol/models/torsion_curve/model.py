@@ -263,12 +263,5 @@ def from_study(params, design, spec) -> TorsionCurveModel:
     tol = params.float("tol_force", 1e-6, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
     params.finish()
-    try:
-        return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
-                                 harmonic=harmonic, tol_f=tol, maxit=maxit)
-    except InputError as exc:
-        if exc.file is not None:       # already located: a bad number in the design file
-            raise
-        if exc.key == "factor":
-            raise exc.located(file=spec.file) from None
-        raise exc.located(file=params.file, key=params.key) from None
+    return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
+                             harmonic=harmonic, tol_f=tol, maxit=maxit)

@@ -10,8 +10,8 @@ nominal); ``newmark`` (true: also run the Newmark-β solver and overlay it);
 
 ``transmission_error_sensitivity`` — doc 000 §3–4: five-point sensitivities of
 Δθ_er to each error factor of Table 3 (one at a time, magnitude e, the others
-zero) across e, the ranking against the document's classes and the printed
-sensitivities.  Keys: ``factors`` (default: the Table 3 groups),
+zero) across e, and their ranking (the document's classes and printed
+sensitivities beside it: :mod:`rvtol.reproduction.doc000_transmission_error`).  Keys: ``factors`` (default: the Table 3 groups),
 ``magnitudes`` (µm; default 0.5 … 15), ``percent`` (± range of the stencil,
 10), ``title``, ``key``.  It builds its own model over those factors (same
 reducer and solver options as the study's model), so it does not depend on
@@ -23,18 +23,13 @@ import numpy as np
 import pandas as pd
 
 from ... import units
+from ...analysis import Analysis
 from ...distributions import Distribution
 from ...report.sections import Section, frame_records
 from ...spec import Factor, ToleranceSpec
 from .factors import TABLE3_GROUPS
 from .model import TransmissionErrorModel
 
-#: the document's classes (section 4)
-DOC_CLASS = {"R_pin": "high", "AP_pin": "high", "R_cyc": "high", "AP_cyc": "high", "E_c": "high",
-             "delta_b": "high", "E_h": "low", "E_ca": "low", "A_c": "low", "delta_ca": "low",
-             "E_s": "negligible", "E_p": "negligible"}
-#: sensitivities the document prints (arcsec/µm)
-PRINTED = {"E_c": (2.866, 2.868), "delta_b": (2.46, 2.49)}
 #: rvtol's class thresholds, as fractions of the direct sensitivity S_ref = 1 µm of arc at the disc pitch
 #: radius z_c·e (206.265 / 58.5 = 3.53 arcsec/µm for the RV-80E): what a tangential error acting directly
 #: on the disc rotation would give
@@ -57,12 +52,12 @@ def _te_model(study, params) -> TransmissionErrorModel:
     return study.model
 
 
-class TECurve:
+class TECurve(Analysis):
     """One reducer over one output revolution (see module docstring)."""
 
     kind = "transmission_error_curve"
 
-    def __init__(self, params, study):
+    def setup(self, params, study):
         self.model = _te_model(study, params)
         self.key = params.str("key", self.kind)
         self.title = params.str("title", "Transmission error over one output revolution")
@@ -147,18 +142,19 @@ class TECurve:
         return sec
 
 
-class TESensitivity:
+class TESensitivity(Analysis):
     """Doc 000 §3–4: five-point sensitivity of Δθ_er to the Table 3 factors across e."""
 
     kind = "transmission_error_sensitivity"
 
-    def __init__(self, params, study):
+    def setup(self, params, study):
         base = _te_model(study, params)
         self.key = params.str("key", self.kind)
         self.title = params.str("title", "Sensitivity of the transmission error to the error factors (doc 000 §3–4)")
         self.factors = params.strs("factors", list(TABLE3_GROUPS), min_length=1)
         self.magnitudes = params.floats("magnitudes", list(DEFAULT_MAGNITUDES), min_length=1, positive=True)
         self.percent = params.float("percent", 10.0, positive=True, max=50.0)
+        self.read_printed(params, study)
         params.finish()
         try:
             self.model = base.variant(inputs=self.factors)
@@ -176,7 +172,7 @@ class TESensitivity:
         from ...sensitivity import sensitivity_curve
 
         res = sensitivity_curve(self.model, self.spec, self.factors, self.magnitudes, "um", ["te_pp"],
-                                self.percent, False, lambda X, d: ctx.evaluate(X, desc=d, model=self.model))
+                                self.percent, False, ctx.evaluator)
         fr = res.frame
         unit = fr["S_unit"].iloc[0]
         sec = Section(self.key, self.title)
@@ -199,7 +195,7 @@ class TESensitivity:
                                     f"{s_ref:.3g} arcsec/µm is 1 µm of arc at the disc pitch radius z_c·e",
                       float_format="{:.4g}")
         sec.add_figure(tp.ranking(rank), caption="Sensitivity ranking (log scale), coloured by the document's class")
-        comp = self.printed(fr)
+        comp = self.printed_table(fr)
         if len(comp):
             sec.add_table(comp, caption="Printed sensitivities (doc 000 §4) against rvtol's over the same e range "
                                         "(reasons in studies/transmission_error.md)", float_format="{:.4g}")
@@ -216,35 +212,37 @@ class TESensitivity:
                        "printed": frame_records(comp), "linearity": frame_records(lin)}
         return [sec]
 
-    @staticmethod
-    def ranking(fr: pd.DataFrame, s_ref: float) -> pd.DataFrame:
+    # -- hooks the reproduction of doc 000 fills in -----------------------------------
+    def read_printed(self, params, study) -> None:
+        """Read the document's printed figures (none here)."""
+
+    def document_class(self, factor: str) -> str | None:
+        """The document's class of a factor (None: no document to compare with)."""
+        return None
+
+    def printed_table(self, fr: pd.DataFrame) -> pd.DataFrame:
+        """Printed sensitivities beside rvtol's (none here)."""
+        return pd.DataFrame()
+
+    def ranking(self, fr: pd.DataFrame, s_ref: float) -> pd.DataFrame:
         rows = []
         for name, g in fr.groupby("factor", sort=False):
             s = np.abs(g["S"].to_numpy())
-            rows.append({"factor": name, "mean |S|": np.nanmean(s), "min |S|": np.nanmin(s), "max |S|": np.nanmax(s),
-                         "unit": units.label(g["S_unit"].iloc[0]), "document class": DOC_CLASS.get(name, "—")})
+            row = {"factor": name, "mean |S|": np.nanmean(s), "min |S|": np.nanmin(s), "max |S|": np.nanmax(s),
+                   "unit": units.label(g["S_unit"].iloc[0])}
+            doc = self.document_class(name)
+            if doc is not None:
+                row["document class"] = doc
+            rows.append(row)
         d = pd.DataFrame(rows).sort_values("mean |S|", ascending=False).reset_index(drop=True)
         d["rvtol class"] = np.where(d["mean |S|"] >= HIGH_FRACTION * s_ref, "high",
                                     np.where(d["mean |S|"] < NEGLIGIBLE_FRACTION * s_ref, "negligible", "low"))
-        d["agrees"] = np.where(d["document class"] == "—", "—",
-                               np.where(d["document class"] == d["rvtol class"], "yes", "no"))
+        if "document class" in d:
+            d["document class"] = d["document class"].fillna("—")
+            d["agrees"] = np.where(d["document class"] == "—", "—",
+                                   np.where(d["document class"] == d["rvtol class"], "yes", "no"))
         d.insert(0, "rank", np.arange(1, len(d) + 1))
         return d
-
-    @staticmethod
-    def printed(fr: pd.DataFrame) -> pd.DataFrame:
-        rows = []
-        for name, (lo, hi) in PRINTED.items():
-            g = fr[fr["factor"] == name]
-            if g.empty:
-                continue
-            s = g["S"].to_numpy()
-            rows.append({"factor": name, "printed S [arcsec/µm]": f"{lo:g} – {hi:g}",
-                         "rvtol S min [arcsec/µm]": np.nanmin(s), "rvtol S max [arcsec/µm]": np.nanmax(s),
-                         "rvtol S at e = 1 µm": float(np.interp(1.0, g["magnitude"], s)),
-                         "rvtol / printed (mean)": np.nanmean(s) / (0.5 * (lo + hi)),
-                         "reproduced": "yes" if lo * 0.95 <= np.nanmean(s) <= hi * 1.05 else "no"})
-        return pd.DataFrame(rows)
 
     @staticmethod
     def linearity(fr: pd.DataFrame) -> pd.DataFrame:

@@ -203,7 +203,8 @@ class TransmissionErrorModel(Model):
         elif isinstance(values, dict):
             unknown = sorted(set(values) - set(self.inputs))
             if unknown:
-                raise InputError(f"unknown factor name {unknown[0]!r} (model inputs: {', '.join(self.inputs)})")
+                raise InputError(f"unknown factor name {unknown[0]!r} (model inputs: {', '.join(self.inputs)})",
+                                 key="factor")
             x = np.array([float(values.get(n, 0.0)) for n in self.inputs])
         else:
             x = np.asarray(values, dtype=float).reshape(len(self.inputs))
@@ -235,14 +236,7 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     tol = params.float("tol_force", 1e-5, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
     params.finish()
-    try:
-        return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
-                                      per_crank_rev=per, harmonic=harmonic, output_speed=speed,
-                                      steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
-                                      tol_f=tol, maxit=maxit)
-    except InputError as exc:
-        if exc.file is not None:       # already located: a bad number in the design file
-            raise
-        if exc.key == "factor":
-            raise exc.located(file=spec.file) from None
-        raise exc.located(file=params.file, key=params.key) from None
+    return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
+                                  per_crank_rev=per, harmonic=harmonic, output_speed=speed,
+                                  steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
+                                  tol_f=tol, maxit=maxit)

@@ -1,0 +1,69 @@
+"""The one pass/fail policy: how a requirement is judged from the measured yield and Cpk.
+
+The Monte Carlo verdicts (:class:`rvtol.mc.MonteCarloResult`) and the
+allocation's Monte Carlo constraint
+(:class:`rvtol.allocation.problem.MonteCarloConstraint`) measure the yield
+and Cpk of a sample (:mod:`rvtol.stats`) and hand them to :func:`judge`, so a
+tolerance the optimiser calls feasible is one the sign-off passes:
+
+* a requirement names a minimum yield and/or a minimum Cpk (a requirement
+  with neither asks for the ±3σ yield, :attr:`rvtol.spec.Requirement.DEFAULT_MIN_YIELD`);
+* ``basis = "lower_bound"`` (default) judges the lower end of the
+  confidence interval — the figure is *demonstrated* at the stated
+  confidence; ``"estimate"`` judges the point estimate;
+* samples the model could not evaluate count as non-conforming in the
+  yield, and while any sample fails a Cpk demonstrates nothing (it only
+  describes the evaluated samples).
+
+:func:`judge` also returns a *violation* ≥ 0, zero exactly when the
+requirement passes, for optimisers (normalised shortfall of each figure).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .spec import Requirement
+
+#: violation charged for a Cpk that cannot be computed or demonstrated
+CPK_UNAVAILABLE = 10.0
+
+
+@dataclass
+class Judgement:
+    passed: bool
+    reasons: list[str] = field(default_factory=list)
+    violation: float = 0.0
+
+
+def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None = None,
+          cpk: float | None = None, cpk_lo: float | None = None, n_failed: int = 0) -> Judgement:
+    """Pass/fail, reasons and violation of requirement ``r`` from its measured figures."""
+    lb = r.basis == "lower_bound"
+    j = Judgement(True)
+    if r.min_yield is not None:
+        v = yield_lo if lb else yield_
+        if not (v is not None and v >= r.min_yield):
+            j.passed = False
+            j.reasons.append(f"yield {'lower bound ' if lb else ''}{_f(v, '.5f')} < required {r.min_yield:g}")
+            short = r.min_yield - v if v is not None and math.isfinite(v) else 1.0
+            j.violation += max(0.0, short) / max(1.0 - r.min_yield, 1e-6)
+    if r.min_cpk is not None:
+        c = cpk_lo if lb else cpk
+        if c is None or not c >= r.min_cpk:
+            j.passed = False
+            j.reasons.append(f"Cpk {'lower bound ' if lb else ''}{_f(c, '.3f')} < required {r.min_cpk:g}")
+        if c is None or not math.isfinite(c) or n_failed:
+            j.violation += CPK_UNAVAILABLE
+        else:
+            j.violation += max(0.0, r.min_cpk - c) / r.min_cpk
+    if n_failed:
+        j.reasons.append(f"{n_failed} sample(s) could not be evaluated and count as non-conforming")
+        if r.min_cpk is not None:
+            j.passed = False
+            j.reasons.append("Cpk is not demonstrated while samples fail (it only describes the evaluated ones)")
+    return j
+
+
+def _f(v, fmt: str) -> str:
+    return "n/a" if v is None else format(v, fmt)
