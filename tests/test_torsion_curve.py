@@ -13,6 +13,7 @@ from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import ST_BAD_CLEARANCE
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 from rvtol.models.transmission.numpy_twin import ReferenceModel
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
@@ -169,3 +170,30 @@ stiffness_design = "{te}"
         load_study(study)
     assert exc.value.file == te and exc.value.key
 
+
+
+def test_contact_work_of_the_kernels_equals_the_numpy_twin():
+    """The production breakdown (kernel contact table) against the NumPy twin's explicit Jacobians."""
+    m = TorsionCurveModel(G, CAMS + ("delta_pin",))
+    x = np.array([0.002, 0.001, 0.0, 0.003, 0.002, 0.001, 0.002])
+    c = m.curve(x)
+    k = int(np.argmax(c.torque))
+    st = m.state(x)
+    ref = ReferenceModel(G, st)
+    _, _, parts = ref.forces(0.0, c.q[k])
+    P = ref.linear_parts(0.0)
+    twin = {}
+    for name in ("sun", "mesh", "pin", "cam", "crank", "housing"):
+        Gm, h = P[name]
+        d_el = Gm @ c.q[k]
+        f = np.ravel(parts[name])
+        if name in ("cam", "crank", "housing"):
+            dv = (d_el + h).reshape(-1, 2)
+            r = np.linalg.norm(dv, axis=1)
+            twin[name] = float(((f / np.where(r > 0, r, 1.0))[:, None] * dv * d_el.reshape(-1, 2)).sum())
+        else:
+            twin[name] = float((f * np.ravel(d_el)).sum())
+    prod = QuasiStaticSolver(G, st).contact_work(0.0, c.q[k])
+    scale = max(abs(v) for v in twin.values())
+    for name, v in twin.items():
+        assert prod[name] == pytest.approx(v, abs=1e-9 * scale), name

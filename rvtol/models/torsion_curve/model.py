@@ -54,7 +54,6 @@ from ..transmission.factors import ErrorFactors, ErrorState
 from ..transmission.geometry import RVGeometry, geometry_from_design
 from ..transmission.model import ST_BAD_CLEARANCE
 from ..transmission.quasistatic import QuasiStaticSolver
-from ..transmission.numpy_twin import ReferenceModel
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
 BRANCHES = ("loading 0 → +T", "descending +T → −T", "ascending −T → 0")
@@ -168,24 +167,8 @@ class TorsionCurve:
 
 def compliance_breakdown(g: RVGeometry, errors: ErrorState | None, q, torque: float, theta_c: float = 0.0) -> dict:
     """Torsion angle (rad) per element group by virtual work, ``Σ_c f_c·(G_c q) / T`` (see module doc)."""
-    ref = ReferenceModel(g, errors)
-    _, _, parts = ref.forces(theta_c, q)
-    P = ref.linear_parts(theta_c)
-    out = {}
-    for name in ("sun", "mesh", "pin", "cam", "crank", "housing"):
-        G, h = P[name]
-        d_el = G @ np.asarray(q, float)              # the motion part of the relative displacement
-        d_all = d_el + h
-        f = parts[name]
-        if name in ("cam", "crank", "housing"):       # bearings: force along the total displacement
-            dv = d_all.reshape(-1, 2)
-            r = np.linalg.norm(dv, axis=1)
-            fv = (np.ravel(f)[:, None] * dv / np.where(r > 0, r, 1.0)[:, None])
-            work = float((fv * d_el.reshape(-1, 2)).sum())
-        else:
-            work = float((np.ravel(f) * np.ravel(d_el)).sum())
-        out[name] = work / torque
-    return out
+    work = QuasiStaticSolver(g, errors).contact_work(theta_c, q)
+    return {k: w / torque for k, w in work.items()}
 
 
 class TorsionCurveModel(Model):

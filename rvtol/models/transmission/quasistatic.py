@@ -132,6 +132,34 @@ class QuasiStaticSolver:
     def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
         return self.sweep([theta_c], [torque], dth_s, q_start)
 
+    def contact_work(self, theta_c: float, q, dth_s: float = 0.0) -> dict[str, float]:
+        """Work ``Σ_c f_c·(G_c q)`` of each contact group's forces over the motion part of its deflection.
+
+        The contact table of the production kernels at ``theta_c`` (:func:`._kernels.update_table`),
+        forces by :func:`._kernels.contact_forces` at the coordinates ``q``; a bearing's force acts
+        along its total relative displacement ``G q + h``.  Divided by the output torque, the groups
+        are the virtual-work breakdown of the output angle at an equilibrium (N·mm; groups ``sun``,
+        ``mesh``, ``cam``, ``crank``, ``housing``, ``pin``).
+        """
+        q = np.ascontiguousarray(q, dtype=float).reshape(L.NDOF)
+        t, e = self.table, self.errors
+        nc = t.kind.size
+        coef = np.zeros((nc, 2, t.idx.shape[2]))
+        off = np.zeros((nc, 2))
+        K.update_table(float(theta_c), float(dth_s), self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs, coef, off)
+        F, fc, kt = np.zeros(L.NDOF), np.zeros(nc), np.zeros((nc, 3))
+        K.contact_forces(q, t.kind, t.idx, coef, off, t.k0, t.pw, t.gap, F, fc, kt)
+        used = t.idx >= 0
+        motion = np.where(used, coef * q[np.where(used, t.idx, 0)], 0.0).sum(axis=2)   # [nc, 2]: G q
+        total = motion + off
+        radial = t.kind == L.RADIAL
+        r = np.hypot(total[:, 0], total[:, 1])
+        unit = np.where(r[:, None] > 0, total / np.where(r > 0, r, 1.0)[:, None], 0.0)
+        work = np.where(radial, fc * (unit * motion).sum(axis=1), fc * motion[:, 0])
+        groups = {"sun": (L.C_SUN, L.C_MESH), "mesh": (L.C_MESH, L.C_CAM), "cam": (L.C_CAM, L.C_CRANK),
+                  "crank": (L.C_CRANK, L.C_HOUSING), "housing": (L.C_HOUSING, L.C_PIN), "pin": (L.C_PIN, nc)}
+        return {k: float(work[a:b].sum()) for k, (a, b) in groups.items()}
+
     # -- the two test-rig set-ups --------------------------------------------------------------
     def positions(self, per_crank_rev: int = 36, revolutions: float = 1.0) -> np.ndarray:
         """Nominal carrier angles of a sweep: ``per_crank_rev`` positions per crank revolution
