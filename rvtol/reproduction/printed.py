@@ -23,6 +23,7 @@ The rule (:data:`RULE`, :func:`verdict`) is the same for every document.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -183,6 +184,7 @@ class PrintedFigures:
 
 def load_printed(path: str | Path) -> PrintedFigures:
     """Read ``data/reproduction/<doc>.toml``; every figure needs label, where, printed and source."""
+    path = os.path.normpath(path)
     data, sha = read_toml(path)
     file = str(path)
     root = Params(data, file=file)
