@@ -124,8 +124,8 @@ def load_integrals(eps, n: float = LOAD_EXPONENT):
     def q(psi):
         return max(1.0 - (1.0 - np.cos(psi)) / (2.0 * eps), 0.0) ** n
 
-    Jr = integrate.quad(lambda p: q(p) * np.cos(p), -lim, lim, epsabs=1e-15, epsrel=1e-12, limit=200)[0]
-    Ja = integrate.quad(q, -lim, lim, epsabs=1e-15, epsrel=1e-12, limit=200)[0]
+    Jr = integrate.quad(lambda p: q(p) * np.cos(p), -lim, lim, epsabs=1e-12, epsrel=1e-12, limit=200)[0]
+    Ja = integrate.quad(q, -lim, lim, epsabs=1e-12, epsrel=1e-12, limit=200)[0]
     return Jr / (2.0 * np.pi), Ja / (2.0 * np.pi)
 
 
