@@ -115,7 +115,7 @@ def main() -> list[tuple]:
         ang = contacts.groove_half_angle(Fk.max(), GROOVE_LENGTH, rs.pins.r_p, rs.pins.r_p + c, E, nu)
         add(f"pin–groove contact, clearance {c * 1e3:g} µm", 2 * float((Fk * w).sum()) / T,
             f"secant {Fk.max() / w.max() / 1e3:.0f} N/µm at {Fk.max():.0f} N; half-angle {math.degrees(ang):.0f}°",
-            "new" + ("" if ang < 0.3 else " (contact arc > 0.3 rad: indicative)"), nominal=c == 0.020)
+            "new" + ("" if ang < 0.3 else " (contact arc > 0.3 rad: indicative)"), nominal=c == 0.010)
 
     # 5. disc web
     ri = rs.crank_radius + HOLE_RADIUS

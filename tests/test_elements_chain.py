@@ -127,3 +127,53 @@ def test_series_force_inverts_nonlinear_series_and_small_load_compliance_adds():
 def test_virtual_work_rejects_zero_torque():
     with pytest.raises(SpecError, match="non-zero"):
         chain.virtual_work(0.0, 1.0, 1.0)
+
+
+def test_linearised_disc_to_carrier_chain_of_real_elements():
+    # One disc's torque path, linearised at a load: tooth ring --web--> disc hub --3 × [needle bearing,
+    # crank bending at the eccentric, support pair]--> carrier (ground).  Assembled as a stiffness matrix
+    # with the interface displacements as unknowns and solved directly; compared with the series/parallel
+    # closed form and with the virtual-work breakdown.
+    from rvtol.elements import disc_web, shafts
+    from rvtol.elements.rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
+
+    E, nu, a0 = 206000.0, 0.3, 39.375
+    G = E / (2 * (1 + nu))
+    K_web = float(disc_web.annular_web_stiffness(56.4, 70.0, 10.0, G))
+    k_needle = float(NeedleRollerBearing(rollers=18, length=8.0).solve(3000.0).stiffness[0, 0, 0])
+    C = shafts.SteppedShaft((0.0, 7.5, 30.5, 38.0), (20.0, 26.0, 20.0), (0.0, 0.0, 0.0), E, nu).flexibility(
+        [13.5], supports=(0.0, 38.0))[0, 0]
+    k_crank = 1.0 / C
+    trb = TaperedRollerBearing(rollers=16, alpha=math.radians(13.85), length=10.0, pitch_diameter=31.0)
+    k_pair = float(BearingPair(trb, trb, (0.0, 38.0), "X").with_preload_force(1000.0).radial_stiffness(
+        3000.0, 13.5)[0])
+    ks = [k_needle, k_crank, k_pair]
+    # DOFs: β_o, β_h, then per crank two interface displacements (needle|crank, crank|pair)
+    n = 2 + 3 * 2
+    S = np.zeros((n, n))
+
+    def spring(i, j, k, ci=1.0, cj=1.0):        # spring between generalized displacements ci·q_i and cj·q_j
+        idx, c = [i, j], np.array([ci, -cj])
+        keep = [m for m, ii in enumerate(idx) if ii is not None]
+        for a in keep:
+            for b in keep:
+                S[idx[a], idx[b]] += k * c[a] * c[b]
+
+    spring(0, 1, K_web)
+    for c in range(3):
+        u1, u2 = 2 + 2 * c, 3 + 2 * c
+        spring(1, u1, k_needle, ci=a0)          # hub rotation seen at the crank radius
+        spring(u1, u2, k_crank)
+        spring(u2, None, k_pair)
+    T = 3.775e5
+    F = np.zeros(n)
+    F[0] = T
+    q = np.linalg.solve(S, F)
+    K_chain = chain.series(K_web, chain.parallel(*[chain.torsional_from_translational(chain.series(*ks), a0)] * 3))
+    assert q[0] == pytest.approx(T / K_chain, rel=1e-12)
+    f_bearing = T / (3 * a0)                    # each path carries a third, tangentially
+    contrib = {"web": chain.linear_contribution(T, T, K_web)}
+    for name, k in zip(("needle", "crank", "pair"), ks):
+        contrib[name] = 3 * chain.linear_contribution(T, f_bearing, k)
+    bd = chain.Breakdown.from_contributions(T, contrib)
+    assert bd.total[0] == pytest.approx(q[0], rel=1e-12)
