@@ -157,7 +157,7 @@ def test_pair_axial_preload_closed_form_and_preload_loss():
         return Z * K * math.sin(a) * (A ** n - B ** n)
 
     for load in (300.0, 1200.0, 2 ** n * 800.0, 2500.0):
-        x = brentq(lambda x: Fa(x) + load, -D, 10 * D)       # bearing A pushes +z: load along -z
+        x = brentq(lambda x, load=load: Fa(x) + load, -D, 10 * D)   # bearing A pushes +z: load along -z
         sol = pair.solve(np.array([0.0, 0.0, -load, 0.0, 0.0]))
         assert sol.q[0, 2] == pytest.approx(-x, rel=1e-8, abs=1e-12)
     lost = pair.solve(np.array([0.0, 0.0, -2 ** n * 800.0, 0.0, 0.0]))

@@ -217,7 +217,7 @@ def series_force(deflection, laws: Sequence[Law], *, force_scale: float = 1.0, r
         if dj == 0.0:
             continue
 
-        def g(F):
+        def g(F, dj=dj):
             return float(series_deflection(F, laws)) - dj
 
         hi = float(force_scale)

@@ -349,7 +349,7 @@ class BearingPair:
         if f.shape[1] != 5:
             raise SpecError(f"must have 5 components (F_x, F_y, F_z, M_x, M_y), got shape {f.shape}", key="loads")
         L = self.positions[1] - self.positions[0]
-        scale = np.array([1.0, 1.0, 1.0, L, L])      # q/scale... residual components: N, N, N, N·mm/L
+        scale = np.array([1.0, 1.0, 1.0, L, L])      # residual / scale: N, N, N, N·mm / L
         parts = self._parts()
         q = np.zeros((len(f), 5))
         for i in range(len(f)):
