@@ -1,11 +1,23 @@
 """Machine elements: closed-form stiffness and contact laws shared by the models.
 
-Each module is a small set of pure functions (mm, N, rad inside), with the
-formula and its literature source in the docstring:
+Pure NumPy/SciPy functions in rvtol's base units (mm, N, rad, N·mm, MPa); each
+module states its formulas, symbols, units and literature sources:
 
 * :mod:`.hertz` — line-contact approach of two cylinders (doc 004's formula);
+* :mod:`.contacts` — pin in a housing groove (conforming line contact), in
+  series with the disc–pin contact;
 * :mod:`.involute` — involute mesh stiffness (ISO 6336-1);
-* :mod:`.bearings` — roller-bearing deflection (Palmgren);
-* :mod:`.crankshaft` — Timoshenko beam of the crankshaft between its supports;
-* :mod:`.carrier` — carrier pillars.
+* :mod:`.bearings` — roller-bearing deflection (Palmgren), as doc 004's model uses it;
+* :mod:`.rolling_bearings` — tapered roller bearing pair with preload and
+  needle roller bearing with clearance (Palmgren line contact, roller load
+  distribution solved for equilibrium);
+* :mod:`.crankshaft` — Timoshenko beam of the crankshaft between its supports (doc 004's model);
+* :mod:`.shafts` — Timoshenko beam (stepped, hollow) on elastic supports, shaft torsion;
+* :mod:`.carrier` — carrier pillars (doc 004's model);
+* :mod:`.carrier_structure` — carrier pillars (fixed–guided beams with elastic
+  end fixity), end-plate rotation at a pillar root (Kirchhoff plate), carrier
+  torsional stiffness;
+* :mod:`.disc_web` — in-plane torsion of the cycloid disc web;
+* :mod:`.chain` — series/parallel, ``K = k r²``, ratio transforms, arcsec,
+  virtual-work breakdown, nonlinear springs in series.
 """
