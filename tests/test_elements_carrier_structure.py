@@ -9,10 +9,7 @@ from scipy.integrate import solve_bvp
 from rvtol.elements import carrier_structure as cs
 from rvtol.errors import SpecError
 
-try:
-    from rvtol.elements import carrier as old_carrier
-except ImportError:  # pragma: no cover
-    from rvtol.models.stiffness import carrier as old_carrier
+from rvtol.elements import carrier as old_carrier
 
 E, NU = 206000.0, 0.3
 G = E / (2 * (1 + NU))
@@ -45,7 +42,7 @@ def test_pillar_rigid_flanges_roark_fixed_guided_and_existing_carrier_model():
     h = 24.0
     c = cs.pillar_compliance(sec, h, E, NU)
     assert c == pytest.approx(h ** 3 / (12 * E * sec.inertia) + h / (sec.kappa * G * sec.area), rel=1e-14)
-    # same as rvtol.models.stiffness.carrier with its κ = 5/6
+    # same as rvtol.elements.carrier with its κ = 5/6
     s56 = cs.Section(sec.area, sec.inertia, 5 / 6)
     assert cs.pillar_stiffness(s56, h, E, NU) == pytest.approx(old_carrier.pillar_stiffness(20.0, 14.0, h, E, NU),
                                                                rel=1e-14)

@@ -8,10 +8,7 @@ import pytest
 from rvtol.elements import chain, contacts
 from rvtol.errors import SpecError
 
-try:                                    # hertz.py is being moved into rvtol.elements
-    from rvtol.elements import hertz
-except ImportError:                     # pragma: no cover - depends on the branch
-    from rvtol.models.stiffness import hertz
+from rvtol.elements import hertz
 
 E, NU = 206000.0, 0.3
 

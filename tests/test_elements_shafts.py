@@ -162,10 +162,7 @@ def test_bad_input():
 
 
 def test_uniform_shaft_reproduces_the_existing_crankshaft_influence_matrix():
-    try:
-        from rvtol.elements import crankshaft as old
-    except ImportError:  # pragma: no cover - before the move into rvtol.elements
-        from rvtol.models.stiffness import crankshaft as old
+    from rvtol.elements import crankshaft as old
     z = np.array([-10.0, 13.5, 24.5])
     s = SteppedShaft.uniform(48.0, 22.0, E, NU, start=-10.0)
     np.testing.assert_allclose(s.flexibility(z, supports=(0.0, 38.0)), old.influence_matrix(z, 38.0, 22.0, E, NU),
