@@ -213,7 +213,7 @@ def run_st(si, m):
 
 
 def run_te_tc(v, d, rows):
-    from rvtol.models.torsion_curve import TorsionCurveModel
+    from rvtol.models.torsion_curve.model import TorsionCurveModel
     from rvtol.models.transmission.model import TransmissionErrorModel
     te, tc = TransmissionErrorModel(D), TorsionCurveModel(D)
     pp, lm, rg, bl, bad = [], [], [], [], 0
@@ -239,7 +239,7 @@ def run_te_tc(v, d, rows):
 # ----------------------------------------------------------------------------- stack-up check
 def adapted_assembly():
     """rv_crank_chain.toml with the product's dimensions and KC components u, v (in memory)."""
-    from rvtol.stackup.graph import assembly_from_table
+    from rvtol.models.stackup.graph import assembly_from_table
     text = (REPO / "data" / "assemblies" / "rv_crank_chain.toml").read_text()
     data = tomllib.loads(text)
     dims = data["dimensions"]
@@ -261,7 +261,7 @@ def adapted_assembly():
 
 
 def stackup_check(n=5, seed=3):
-    from rvtol.stackup.model import StackupModel
+    from rvtol.models.stackup.model import StackupModel
     spec = expanded_spec()
     v = product_values(sample(spec, n, "random", seed=seed))
     d = derived(v)
