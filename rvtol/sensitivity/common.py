@@ -22,7 +22,8 @@ from ..spec import ToleranceSpec
 Evaluator = Callable[[np.ndarray, str], Evaluation]
 
 #: sub-stream keys: each method draws from its own stream of the study seed
-STREAMS = {"sobol": 1, "morris": 2, "fast": 3, "rbd_fast": 4, "delta": 5}
+STREAMS = {"sobol": 1, "morris": 2, "fast": 3, "rbd_fast": 4, "delta": 5, "pce": 6, "given_data": 7,
+           "delta_subsample": 8}
 
 
 class FrameResult:
