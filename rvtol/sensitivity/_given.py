@@ -102,9 +102,9 @@ def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
     if U is not None and len(U) > 3 and k > 1:
         from scipy import stats
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # constant columns
-            rho = np.atleast_2d(stats.spearmanr(U).statistic)
+        with warnings.catch_warnings(), np.errstate(invalid="ignore", divide="ignore"):
+            warnings.simplefilter("ignore", RuntimeWarning)  # constant columns: NaN, skipped
+            rho = np.corrcoef(stats.rankdata(U, axis=0), rowvar=False)  # Spearman = Pearson of the ranks
         thr = spearman_threshold(len(U))
         for a in range(k):
             for b in range(a + 1, k):
