@@ -90,6 +90,43 @@ def test_hermite_germ_is_exact_for_a_normal_factor_where_legendre_is_not():
     assert fit_pce(U, y, "legendre", max_degree=1, method="ols").q2_loo == pytest.approx(3 / math.pi, abs=0.005)
 
 
+@pytest.mark.parametrize("method", ["ols", "omp"])
+def test_a_polynomial_is_recovered_exactly(method):
+    """y = 1 + 2·ξ1 + 3·ξ1·ξ2² (ξ = 2u − 1): its Legendre expansion is finite; the fit and the indices are exact.
+
+    In the orthonormal basis ψ1 = √3 ξ, ψ2 = √5 (3ξ² − 1)/2: ξ² = (1 + 2ψ2/√5)/3, so
+    3ξ1ξ2² = ψ1(x1)/√3 + 2ψ1(x1)ψ2(x2)/√15 and Y = 1 + √3·ψ1(x1) + (2/√15)·ψ1(x1)ψ2(x2):
+    D = 3 + 4/15, S1 = (45/49, 0, 0), ST = (1, 4/49, 0), S12 = 4/49."""
+    U = np.random.default_rng(4).random((200, 3))
+    xi = 2 * U - 1
+    y = 1 + 2 * xi[:, 0] + 3 * xi[:, 0] * xi[:, 1] ** 2
+    fit = fit_pce(U, y, "legendre", method=method, q=1.0, max_degree=4)
+    assert fit.q2_loo == pytest.approx(1.0, abs=1e-10)
+    Unew = np.random.default_rng(5).random((50, 3))
+    xn = 2 * Unew - 1
+    np.testing.assert_allclose(fit.predict(Unew), 1 + 2 * xn[:, 0] + 3 * xn[:, 0] * xn[:, 1] ** 2, atol=1e-9)
+    a1, a12 = math.sqrt(3), 2 / math.sqrt(15)
+    D = a1**2 + a12**2
+    idx = fit.sobol()
+    np.testing.assert_allclose(idx["S1"], [a1**2 / D, 0, 0], atol=1e-10)
+    np.testing.assert_allclose(idx["ST"], [1, a12**2 / D, 0], atol=1e-10)
+    assert idx["S2"][0, 1] == pytest.approx(a12**2 / D, abs=1e-10)
+    assert fit.mean == pytest.approx(1.0, abs=1e-10) and fit.variance == pytest.approx(D, rel=1e-10)
+
+
+def test_result_plots_and_serialises_like_the_saltelli_one():
+    import json
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    s = sample(ISH_SPEC, 300, "lhs", 1)
+    res = pce(ISH, ISH_SPEC, s, evaluate_display(ISH, s), seed=1)
+    json.dumps(res.summary())
+    assert res.summary()["validation"][0]["reliable"] in (True, False)
+    assert res.plot("y") is not None
+
+
 # --------------------------------------------------------------------------- analytic functions
 @pytest.mark.parametrize("method", ["omp", "ols"])
 def test_pce_ishigami_first_total_and_second_order_within_intervals(method):
