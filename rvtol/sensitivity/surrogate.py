@@ -89,7 +89,18 @@ Confidence intervals
     selected basis: it does **not** cover the surrogate's truncation bias (see ``bias_bound``)
     nor the variability of the term selection.  ``S1_conf`` etc. are half-widths
     :math:`z_{(1+c)/2}\,\mathrm{sd}_{boot}` as SALib reports them; ``S1_low``/``S1_high`` the
-    percentile interval.
+    percentile interval.  Measured: over 40 Ishigami designs of n = 600 the 95 % bootstrap
+    intervals held the closed-form S1 and ST every time (conservative: with P up to n/2 terms a
+    resample of ~63 % distinct rows overstates the spread; the HC3 intervals were ~12 % narrower
+    and also held); over 20 designs each of Ishigami, Sobol' G and the linear test model the
+    test rule (Bonferroni level + ``bias_bound``) never failed.
+
+When it fails
+    A peak-to-peak output with clearances is far from polynomial: on the TE study's 10 000
+    Monte Carlo runs (te_pp, 35 factors) the best sparse expansion reaches Q² ≈ 0.65 (LOO) /
+    0.60 (hold-out), ~0.8 even in the Cartesian components of the eccentricity vectors, so its
+    indices are withheld; the given-data first-order indices
+    (:mod:`rvtol.sensitivity.given_data`) are the ones to read there.
 
 Independence
     PCE Sobol indices assume independent factors.  A correlated spec (or a sample whose rank
@@ -654,8 +665,9 @@ def pce_indices(U: np.ndarray, y: np.ndarray, families: str | Sequence[str] = "l
     lo_q, hi_q = 100 * (1 - confidence) / 2, 100 * (1 + confidence) / 2
     q2_loo = 1.0 - fit.loo
     q2_min = q2_loo if not np.isfinite(q2_hold) else min(q2_loo, q2_hold)
+    n_cand = int(sel.selection.set_index("degree").loc[sel.degree, "candidates"])
     validation = {"n_samples": n, "n_holdout": n_hold, "degree": sel.degree, "q": sel.q, "method": sel.method,
-                  "n_terms": len(alpha), "n_candidates": int(sel.selection["candidates"].iloc[-1]),
+                  "n_terms": len(alpha), "n_candidates": n_cand,
                   "Q2_loo": q2_loo, "Q2_loo_corrected": 1.0 - fit.loo_corrected, "Q2_holdout": q2_hold,
                   "rel_rmse_holdout": rmse_hold, "bias_bound": max(0.0, 1.0 - q2_min),
                   "min_q2": min_q2, "reliable": bool(q2_min >= min_q2), "stop": sel.stop_reason}
