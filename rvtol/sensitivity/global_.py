@@ -56,9 +56,12 @@ INDEX_COLUMNS = {
     "rbd_fast": [("S1", "S1_conf")],
     "delta": [("delta", "delta_conf"), ("S1", "S1_conf")],
     "morris": [("mu_star", "mu_star_conf")],
+    "pce": [("S1", "S1_conf"), ("ST", "ST_conf")],       # rvtol.sensitivity.surrogate
+    "given_data": [("S1", "S1_conf")],                   # rvtol.sensitivity.given_data
 }
 TITLES = {"sobol": "Sobol indices", "fast": "eFAST indices", "rbd_fast": "RBD-FAST indices",
-          "delta": "Delta moment-independent indices", "morris": "Morris elementary effects"}
+          "delta": "Delta moment-independent indices", "morris": "Morris elementary effects",
+          "pce": "Sobol indices from a polynomial chaos surrogate", "given_data": "First-order indices from given data"}
 
 
 @dataclass
