@@ -156,8 +156,8 @@ class QuasiStaticSolver:
         r = np.hypot(total[:, 0], total[:, 1])
         unit = np.where(r[:, None] > 0, total / np.where(r > 0, r, 1.0)[:, None], 0.0)
         work = np.where(radial, fc * (unit * motion).sum(axis=1), fc * motion[:, 0])
-        groups = {"sun": (L.C_SUN, L.C_MESH), "mesh": (L.C_MESH, L.C_CAM), "cam": (L.C_CAM, L.C_CRANK),
-                  "crank": (L.C_CRANK, L.C_HOUSING), "housing": (L.C_HOUSING, L.C_PIN), "pin": (L.C_PIN, nc)}
+        groups = {"sun": (L.C_SUN, L.C_MESH), "mesh": (L.C_MESH, L.C_CAM), "pin": (L.C_PIN, nc),
+                  "cam": (L.C_CAM, L.C_CRANK), "crank": (L.C_CRANK, L.C_HOUSING), "housing": (L.C_HOUSING, L.C_PIN)}
         return {k: float(work[a:b].sum()) for k, (a, b) in groups.items()}
 
     # -- the two test-rig set-ups --------------------------------------------------------------
