@@ -14,6 +14,15 @@
     kind = "lost_motion"                  # see rvtol.registry.MODELS
     # ... model parameters
 
+    # or several models on the same samples (a composed study, rvtol.models.composite):
+    # [study] mapping = "mapping.toml"    # optional file of [[quantity]] tables (or give them here)
+    # [[model]]
+    # name = "torsion"                    # its outputs are named "torsion.<output>"
+    # kind = "torsion_curve"
+    # outputs = ["lost_motion"]           # optional: the outputs to keep
+    # [model.inputs]                      # the declared mapping: input = expression of factors,
+    # "delta_b[1,1]" = "needle_clearance" # quantities and earlier models' outputs (base units)
+
     [sampling]
     n = 10000
     method = "lhs"                        # random | lhs | sobol
@@ -168,13 +177,19 @@ def load_study(path: str | Path, **overrides) -> Study:
         reqs += rfile
         inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
+    mapping = head.path_value("mapping", base, None)
     head.finish()
 
     options = _options(root, overrides)
 
-    mp = root.sub("model")
-    model = build_model(mp, design, spec, file)
-    mp.finish()
+    if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
+        model = _composite(root, mapping, design, spec, file, inputs)
+    else:
+        if mapping is not None or "quantity" in root:
+            raise head.error("mapping", "a mapping ([[quantity]] tables) needs several [[model]] tables")
+        mp = root.sub("model")
+        model = build_model(mp, design, spec, file)
+        mp.finish()
     try:
         model.check_spec(spec)
     except InputError as exc:
@@ -216,6 +231,36 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
             else:
                 exc.located(file=file, key=None if (exc.key or "").startswith(mp.key) else mp.key)
         raise exc from None
+
+
+def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs: dict) -> Model:
+    """Several ``[[model]]`` tables on the same samples (:mod:`rvtol.models.composite`)."""
+    from .models.composite.model import from_study_tables, quantities_from_tables
+
+    tables = root.tables("quantity")
+    if mpath is not None:
+        mdata, msha = read_toml(mpath)
+        mroot = Params(mdata, file=str(mpath))
+        head_m = mroot.sub("mapping", {})
+        head_m.str("name", "")
+        head_m.str("description", "")
+        head_m.finish(allow=("source",))
+        head_m.raw("source", None)
+        tables = mroot.tables("quantity") + tables
+        mroot.finish()
+        inputs["mapping"] = {"path": str(mpath), "sha256": msha}
+    try:
+        quantities = quantities_from_tables(tables)
+    except InputError as exc:
+        raise exc.located(file=file) from None
+
+    def build(params: Params, design_, stage_inputs) -> Model:
+        return build_model(params, design_, stage_inputs, file)
+
+    try:
+        return from_study_tables(root.tables("model"), quantities, design, spec, build)
+    except InputError as exc:
+        raise exc.located(file=file) from None
 
 
 def _options(root: Params, ov: dict) -> RunOptions:

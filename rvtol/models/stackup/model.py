@@ -402,21 +402,25 @@ def _study_dir(params):
 
 
 def _check_zones(model: StackupModel, spec) -> None:
-    """Each factor's band (mean ± T/2) must lie inside its tolerance zone's box; float factors in [-1, 1]."""
+    """Each factor's band (mean ± T/2) must lie inside its tolerance zone's box; float factors in [-1, 1].
+
+    Only inputs with a distribution are checked (in a composed study an input computed by the mapping
+    has none: ``spec.factors`` lists the ones that do).
+    """
+    has_band = {f.name for f in spec.factors}
     for feat in model.assembly.features.values():
         for t in feat.terms:
             for name, lim in t.band_limits().items():
-                if name in spec.names:
+                if name in has_band:
                     _band_inside(spec, name, lim, f"the {t.kind} zone of {feat.id} ({t.name})")
     for fit in model.assembly.fits.values():
         if fit.is_clearance:
             for name in fit.float_factors:
-                if name in spec.names:
+                if name in has_band:
                     _band_inside(spec, name, 1.0, f"the normalised clearance disc of {fit.name}")
 
 
 def _band_inside(spec, name: str, limit: float, what: str) -> None:
-
     f = spec.factor(name)
     lo, hi = f.band
     lo_b, hi_b = units.to_base(lo, f.unit), units.to_base(hi, f.unit)

@@ -1,0 +1,195 @@
+"""Composed models: one drawing sample drives every stage; the composition equals its parts by hand."""
+import numpy as np
+import pytest
+
+from conftest import ROOT, write
+from rvtol.errors import InputError
+from rvtol.expressions import Expression
+from rvtol.mc import Evaluator
+from rvtol.model import FunctionModel, LinearModel, Quantity
+from rvtol.models.composite.model import CompositeModel, MappedQuantity, Stage
+from rvtol.sensitivity.local import five_point
+from rvtol.spec import spec_from_table
+from rvtol.study import load_study, run_study
+
+SPEC = spec_from_table({"factor": [
+    {"name": "a", "unit": "um", "dist": "normal", "mean": 2.0, "tolerance": 6.0},
+    {"name": "b", "unit": "um", "dist": "uniform", "lower": -4.0, "upper": 4.0},
+    {"name": "c", "unit": "deg", "dist": "normal", "mean": 10.0, "tolerance": 2.0},
+    {"name": "d", "unit": "um", "dist": "normal", "mean": 0.0, "tolerance": 1.0},
+]})
+
+
+def _composite():
+    """a, b, c, d -> q = hypot(a, b) -> stage 1 (linear in q and c) -> stage 2 (nonlinear in stage 1 and d)."""
+    q = MappedQuantity("q", Expression.parse("hypot(a, b)"), "mm", "um", True)
+    lin = LinearModel(["x1", "x2"], ["mm", "rad"], [Quantity("u", "mm", "um"), Quantity("w", "mm")],
+                      [[2.0, 0.5], [-1.0, 0.3]], [0.001, 0.0])
+    nonlin = FunctionModel(lambda X: np.column_stack([np.sqrt(X[:, 0] ** 2 + 1e-6) * (1 + X[:, 1]),
+                                                      np.sin(X[:, 0] * 100) + X[:, 1]]),
+                           ["s", "t"], [Quantity("r", "mm", "um"), Quantity("z")], ["mm", "mm"])
+    st1 = Stage("one", lin, (Expression.parse("q"), Expression.parse("c")), (0, 1))
+    st2 = Stage("two", nonlin, (Expression.parse("one.u - 0.5 * one.w"), Expression.parse("d * 1000")), (0, 1))
+    return CompositeModel(SPEC.names, ["mm", "mm", "rad", "mm"], [q], [st1, st2]), lin, nonlin
+
+
+def test_composition_equals_its_parts_by_hand_sample_by_sample():
+    m, lin, nonlin = _composite()
+    X = np.random.default_rng(3).normal(size=(200, 4)) * [0.003, 0.003, 0.05, 0.001]
+    Y, status = m.evaluate_with_status(X)
+    assert (status == 0).all()
+    q = np.hypot(X[:, 0], X[:, 1])
+    y1 = lin.evaluate(np.column_stack([q, X[:, 2]]))
+    y2 = nonlin.evaluate(np.column_stack([y1[:, 0] - 0.5 * y1[:, 1], X[:, 3] * 1000]))
+    assert m.output_names == ("q", "one.u", "one.w", "two.r", "two.z")
+    np.testing.assert_array_equal(Y, np.column_stack([q, y1, y2]))
+
+
+def test_one_factor_moves_every_dependent_output_and_no_other():
+    m, _, _ = _composite()
+    deps = m.depends_on()
+    assert deps["q"] == {"a", "b"} and deps["one.u"] == {"a", "b", "c"} and deps["two.r"] == {"a", "b", "c", "d"}
+    x0 = SPEC.nominal_base()
+    y0 = m.evaluate(x0[None])[0]
+    for k, name in enumerate(SPEC.names):
+        x = x0.copy()
+        x[k] += 1e-3 * (1 + abs(x[k]))
+        y = m.evaluate(x[None])[0]
+        moved = {o for o, a, b in zip(m.output_names, y0, y) if a != b}
+        assert moved == {o for o, d in deps.items() if name in d}, name
+
+
+def test_five_point_of_the_composition_is_the_chain_rule_of_its_parts():
+    m, lin, nonlin = _composite()
+    x0 = SPEC.nominal_base()
+    env = dict(zip(SPEC.names, x0))
+    comp = five_point(m, SPEC, outputs=["two.r"], percent=1.0)
+    S_comp = comp.gradient("two.r", SPEC.names)
+    # chain rule, each part by its own derivative: d(two.r)/d(s) by five-point on the stage model
+    q, dq = Expression.parse("hypot(a, b)").gradient(env)
+    x1 = np.array([q, x0[2]])
+    J1 = lin.A                                              # exact: linear stage
+    y1 = lin.evaluate(x1[None])[0]
+    s = y1[0] - 0.5 * y1[1]
+    stage_spec = spec_from_table({"factor": [{"name": "s", "unit": "mm", "dist": "normal", "mean": float(s),
+                                              "tolerance": 1e-3},
+                                             {"name": "t", "unit": "mm", "dist": "normal", "mean": 0.0,
+                                              "tolerance": 1.0}]})
+    S2 = five_point(nonlin, stage_spec, outputs=["r"], percent=1.0).gradient("r", ["s", "t"])
+    ds_dx1 = J1[0] - 0.5 * J1[1]                            # d s / d (q, c)
+    chain = np.array([S2[0] * ds_dx1[0] * dq["a"], S2[0] * ds_dx1[0] * dq["b"], S2[0] * ds_dx1[1], S2[1] * 1000])
+    np.testing.assert_allclose(S_comp, chain, rtol=1e-6, atol=1e-12)
+
+
+def test_a_failing_stage_fails_the_sample_with_its_reason():
+    class Flaky(FunctionModel):
+        status_reasons = {1: "non-finite", 7: "solver gave up"}
+
+        def evaluate_with_status(self, X):
+            Y = X.copy()
+            st = np.where(X[:, 0] > 0, 7, 0).astype(np.int16)
+            Y[st != 0] = np.nan
+            return Y, st
+
+    flaky = Flaky(lambda X: X, ["s"], [Quantity("y")], ["mm"])
+    m = CompositeModel(["a"], ["mm"], [], [Stage("f", flaky, (Expression.parse("a"),), (0,)),
+                                          Stage("g", LinearModel(["s"], ["1"], [Quantity("v")], [[2.0]]),
+                                                (Expression.parse("f.y"),), (0,))])
+    ev = Evaluator()(m, np.array([[-1.0], [1.0]]))
+    assert list(ev.status) == [0, 1007] and m.status_reasons[1007] == "f: solver gave up"
+    assert np.isnan(ev.Y[1]).all() and ev.Y[0].tolist() == [-1.0, -2.0]
+
+
+STUDY = """
+[study]
+name = "composed"
+spec = "SPEC"
+[[quantity]]
+name = "gap"
+value = "c1 - c2"
+unit = "mm"
+display_unit = "um"
+output = true
+[[model]]
+name = "stack"
+kind = "linear"
+[model.inputs]
+g = "gap"
+h = "c3"
+[[model.output]]
+name = "play"
+unit = "um"
+coefficients = { g = 1.0, h = -1.0 }
+[[model]]
+name = "lm"
+kind = "lost_motion"
+design = "x"
+[model.inputs]
+Delta_b = "max(stack.play, 0)"
+[sampling]
+n = 400
+seed = 5
+[execution]
+executor = "serial"
+[[requirement]]
+output = "stack.play"
+lower = 0
+unit = "um"
+[[requirement]]
+output = "lm.lost_motion"
+upper = 1
+unit = "arcmin"
+"""
+
+
+def test_a_study_with_several_models_runs_and_judges_outputs_of_each(tmp_path):
+    spec = write(tmp_path / "spec.toml", """
+[[factor]]
+name = "c1"
+unit = "um"
+dist = "normal"
+mean = 20
+tolerance = 6
+[[factor]]
+name = "c2"
+unit = "um"
+dist = "normal"
+mean = 5
+tolerance = 4
+[[factor]]
+name = "c3"
+unit = "um"
+dist = "uniform"
+lower = 0
+upper = 4
+""")
+    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
+    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+    st = load_study(write(tmp_path / "s.toml", text), progress=False)
+    assert st.model.output_names[:2] == ("gap", "stack.play")
+    res = run_study(st)
+    play = res.mc.column("stack.play")
+    gap = res.mc.column("gap")
+    c3 = res.mc.samples.values[:, 2] * 1e3
+    np.testing.assert_allclose(play, gap - c3, atol=1e-9)
+    assert len(res.mc.verdicts()) == 2
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ('g = "gap"', 'g = "gapp"', "model[0].inputs.g"),
+    ('g = "gap"', 'g = "gap +"', "model[0].inputs.g"),
+    ('Delta_b = "max(stack.play, 0)"', 'Delta_b = "lm.lost_motion"', "model[1].inputs.Delta_b"),
+    ('name = "lm"', 'name = "stack"', "model[1].name"),
+    ('value = "c1 - c2"', 'value = "c1 -- c2 ("', "quantity[0].value"),
+])
+def test_bad_composition_names_the_key(tmp_path, old, new, key):
+    spec = write(tmp_path / "spec.toml", '[[factor]]\nname = "c1"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
+                                         '[[factor]]\nname = "c2"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
+                                         '[[factor]]\nname = "c3"\nunit = "um"\ndist = "normal"\ntolerance = 1\n')
+    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
+    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+    assert old in text
+    p = write(tmp_path / "s.toml", text.replace(old, new, 1))
+    with pytest.raises(InputError) as exc:
+        load_study(p)
+    assert exc.value.file == str(p) and exc.value.key == key, (exc.value.file, exc.value.key, exc.value.reason)
