@@ -55,6 +55,7 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
+    "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",

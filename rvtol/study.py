@@ -54,6 +54,7 @@ import secrets
 import shutil
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 
@@ -307,6 +308,13 @@ class StudyResult:
     @property
     def passed(self) -> bool:
         return self.mc.passed
+
+    @cached_property
+    def signoff(self) -> list:
+        """Per requirement: verdict, drivers, what to change (:func:`rvtol.signoff.digest`)."""
+        from .signoff import digest
+
+        return digest(self.mc, self.study.model, self.study.spec, self.study.options.seed)
 
     def summary(self) -> dict:
         from .report.summary import build_summary

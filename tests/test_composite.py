@@ -193,3 +193,42 @@ def test_bad_composition_names_the_key(tmp_path, old, new, key):
     with pytest.raises(InputError) as exc:
         load_study(p)
     assert exc.value.file == str(p) and exc.value.key == key, (exc.value.file, exc.value.key, exc.value.reason)
+
+
+def test_sensitivity_matrix_of_a_composed_study(tmp_path):
+    """The matrix ranks by the linearised shares and gives Sobol total indices of the top tolerances."""
+    spec = write(tmp_path / "spec.toml", """
+[[factor]]
+name = "c1"
+unit = "um"
+dist = "normal"
+mean = 20
+tolerance = 6
+[[factor]]
+name = "c2"
+unit = "um"
+dist = "normal"
+mean = 5
+tolerance = 4
+[[factor]]
+name = "c3"
+unit = "um"
+dist = "uniform"
+lower = 0
+upper = 4
+""")
+    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
+    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+    text += '\n[[analysis]]\nkind = "sensitivity_matrix"\ntop = 2\nn = 256\n'
+    res = run_study(load_study(write(tmp_path / "s.toml", text), progress=False))
+    (sec,) = res.sections
+    sh = sec.summary["five_point_share"]
+    # stack.play = c1 - c2 - c3 (µm): variance shares σ² / Σσ² by hand
+    v = {"c1": 1.0, "c2": (4 / 6) ** 2, "c3": 4.0 ** 2 / 12 / 1.0}
+    tot = sum(v.values())
+    for k in v:
+        assert sh[k]["stack.play"] == pytest.approx(v[k] / tot, rel=1e-6)
+    st = sec.summary["sobol_total"]
+    assert set(st) == {"c1", "c3", "all other tolerances"}       # c1, c3 the top two; c2 lumped
+    for k, g in (("c1", "c1"), ("c3", "c3"), ("all other tolerances", "c2")):
+        assert abs(st[k]["stack.play"]["ST"] - v[g] / tot) < max(3 * st[k]["stack.play"]["conf"], 0.03)

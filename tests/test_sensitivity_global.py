@@ -249,3 +249,24 @@ def test_delta_is_the_same_on_any_executor():
     with make_executor("process", 2) as ex:
         parallel = delta(model, spec, samples=s, Y=Y, seed=9, num_resamples=10, executor=ex).frame
     assert serial.equals(parallel)
+
+
+def test_sobol_of_groups_matches_the_additive_closed_form():
+    """Y = a + b + 2c + d·e (uniform [0, 1]): groups {a, b}, {c}, {d, e} have total indices in closed form."""
+    from rvtol.model import FunctionModel, Quantity
+    from rvtol.sensitivity.global_ import sobol
+    from rvtol.spec import spec_from_table
+
+    spec = spec_from_table({"factor": [{"name": n, "unit": "1", "dist": "uniform", "lower": 0, "upper": 1}
+                                       for n in "abcde"]})
+    model = FunctionModel(lambda X: X[:, 0] + X[:, 1] + 2 * X[:, 2] + X[:, 3] * X[:, 4], list("abcde"),
+                          [Quantity("y")])
+    v_ab, v_c = 2 / 12, 4 / 12
+    v_de = (1 / 3) ** 2 - (1 / 4) ** 2          # Var(d·e) of independent uniforms
+    V = v_ab + v_c + v_de
+    res = sobol(model, spec, 2048, second_order=False, seed=3, groups=["ab", "ab", "c", "de", "de"])
+    fr = res.for_output("y").set_index("factor")
+    assert list(fr.index) == ["ab", "c", "de"] and res.n_evaluations == 2048 * 5
+    for g, v in (("ab", v_ab), ("c", v_c), ("de", v_de)):
+        assert abs(fr.loc[g, "ST"] - v / V) < max(3 * fr.loc[g, "ST_conf"], 0.02), g
+        assert abs(fr.loc[g, "S1"] - v / V) < max(3 * fr.loc[g, "S1_conf"], 0.02), g

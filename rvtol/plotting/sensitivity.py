@@ -114,3 +114,24 @@ def curves(curve, output: str, ax=None):
     ax.set_title(f"Five-point sensitivity of {output} against e (±{curve.percent:g} %; band: end stencils)")
     ax.legend(fontsize=7)
     return fig
+
+
+def heatmap(matrix, title: str, cbar: str, fmt: str = "{:.2f}", ax=None, vmax: float | None = None):
+    """A matrix (pandas DataFrame: rows = tolerances, columns = outputs) as an annotated heat map."""
+    data = matrix.to_numpy(dtype=float)
+    nr, nc = data.shape
+    fig, ax = new_axes(ax, (max(5.0, 1.1 * nc + 3.5), max(2.4, 0.32 * nr + 1.4)))
+    ax.grid(False)
+    top = vmax if vmax is not None else (np.nanmax(data) if np.isfinite(data).any() else 1.0)
+    im = ax.imshow(np.nan_to_num(data, nan=0.0), cmap="Reds", vmin=0.0, vmax=max(top, 1e-12), aspect="auto")
+    ax.set_xticks(np.arange(nc), [str(c) for c in matrix.columns], rotation=30, ha="right")
+    ax.set_yticks(np.arange(nr), [str(r) for r in matrix.index])
+    for i in range(nr):
+        for j in range(nc):
+            v = data[i, j]
+            if np.isfinite(v):
+                ax.text(j, i, fmt.format(v), ha="center", va="center", fontsize=7,
+                        color="white" if v > 0.6 * top else "black")
+    ax.set_title(title)
+    fig.colorbar(im, ax=ax, label=cbar, shrink=0.8)
+    return fig

@@ -133,7 +133,9 @@ def failures_section(result) -> Section | None:
 
 
 def standard_sections(result) -> list[Section]:
-    out = [verdict_section(result), inputs_section(result), results_section(result)]
+    from .signoff import signoff_section
+
+    out = [signoff_section(result), verdict_section(result), inputs_section(result), results_section(result)]
     f = failures_section(result)
     if f is not None:
         out.append(f)

@@ -84,6 +84,7 @@ def build_summary(result) -> dict:
         "outputs": outputs,
         "failures": failures.to_dict(orient="records"),
         "verdict": "PASS" if all(v.passed for v in verdicts) else "FAIL",
+        "requirements": [d.to_dict() for d in result.signoff],
         "passed": all(v.passed for v in verdicts),
         "analyses": {s.key: s.summary for s in result.sections if s.summary},
     })

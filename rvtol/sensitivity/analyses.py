@@ -21,6 +21,10 @@ fast                   ``method`` = "efast" (``n`` per factor, 1024; ``M`` 4) or
                        the Monte Carlo samples, or ``samples = "fresh"`` with ``n``; ``M`` 10)
 delta                  ``samples`` = "monte_carlo" (default: reuse the study's sample, correlation
                        included) or "fresh" (``n``); ``num_resamples`` (50)
+sensitivity_matrix     drawing tolerance × output (default outputs: every output a requirement names):
+                       five-point linearised variance shares of every tolerance, Sobol total indices
+                       of the ``top`` (10) tolerances (the others as one group; ``n`` = 64 base
+                       samples, power of 2), ``percent`` (10); two heat maps
 =====================  ==========================================================================
 """
 from __future__ import annotations
@@ -344,3 +348,100 @@ class Delta(_GlobalAnalysis):
                                     ctx.mc.samples if given else None, ctx.mc.Y if given else None,
                                     self.num_resamples, self.confidence_of(ctx), ctx.evaluator,
                                     ctx.executor))
+
+
+# --------------------------------------------------------------------------- cross-model matrix
+class SensitivityMatrix(_Analysis):
+    """Drawing tolerance × output: five-point variance shares of all, Sobol total indices of the top ones.
+
+    A drawing tolerance is a factor, or the factors that stand for one callout (the end-point
+    coordinates of a position zone, the copies of a per-pin family): :func:`rvtol.signoff.drawing_tolerance`.
+    Five-point: each factor's linearised variance contribution ``(S_i σ_i)²`` as a share of the
+    output's linearised variance (correlation ignored), summed per tolerance.  Sobol: the ``top``
+    tolerances by their largest share over the outputs are groups of their own, every other factor
+    is one group ("all other tolerances"), so n·(top + 3) model runs give a total index per
+    tolerance that includes its interactions — the two maps side by side show where the
+    linearisation misses.
+    """
+
+    kind, title = "sensitivity_matrix", "Sensitivity matrix: drawing tolerances × outputs"
+
+    def parse(self, params):
+        if "outputs" not in params.data:
+            req = [r.output for r in self.study.requirements]
+            self.outputs = list(dict.fromkeys(req)) or list(self.study.model.output_names)
+        self.percent = params.float("percent", 10.0, positive=True)
+        self.top = params.int("top", 10, min=1)
+        self.n = params.int("n", 64, min=2)
+        gs._check_power_of_two(self.n)
+        self.num_resamples = params.int("num_resamples", 100, min=10)
+
+    def run(self, ctx):
+        import numpy as np
+
+        from ..plotting.sensitivity import heatmap
+        from ..signoff import drawing_tolerance
+
+        spec, model = ctx.spec, ctx.model
+        idx = [spec.index(f) for f in self.factors] if self.factors else list(range(len(spec)))
+        names = [spec.names[i] for i in idx]
+        tol = {spec.names[i]: drawing_tolerance(spec.factors[i]) for i in idx}
+        order = list(dict.fromkeys(tol[n] for n in names))
+        fp = five_point(model, spec, names, self.outputs, self.percent, None, ctx.evaluator)
+        sd = spec.std_base()[idx]
+        share = pd.DataFrame(0.0, index=order, columns=self.outputs)
+        for o in self.outputs:
+            c = (np.asarray(fp.gradient(o, names), dtype=float) * sd) ** 2
+            total = np.nansum(c)
+            for n, v in zip(names, c):
+                share.loc[tol[n], o] += (v / total) if total > 0 and np.isfinite(v) else np.nan
+        rank = share.max(axis=1, skipna=True).sort_values(ascending=False)
+        top = list(rank.index[:self.top])
+        rest = "all other tolerances"
+        groups = [tol[n] if tol[n] in top else rest for n in names]
+        res = gs.sobol(model, spec, self.n, names, self.outputs, second_order=False, seed=self.seed_of(ctx),
+                       num_resamples=self.num_resamples, confidence=self.confidence_of(ctx), evaluate=ctx.evaluator,
+                       groups=groups)
+        rows = top + ([rest] if rest in groups else [])
+        st = pd.DataFrame(np.nan, index=rows, columns=self.outputs)
+        conf = st.copy()
+        for _, r in res.frame.iterrows():
+            st.loc[r["factor"], r["output"]] = r["ST"]
+            conf.loc[r["factor"], r["output"]] = r["ST_conf"]
+        shown = list(rank.index[:max(self.top, 20)])
+        sec = self.section()
+        sec.add_text(
+            f"Rows: drawing tolerances (the coordinates of one callout and the copies of a per-part family are one "
+            f"tolerance); columns: outputs. Left: the five-point (±{self.percent:g} %) linearised share of each "
+            "output's variance, (S_i σ_i)² / Σ (correlation ignored), for every tolerance — "
+            f"{4 * len(names) + 1} model runs. Right: Sobol "
+            f"total indices (Saltelli, n = {self.n}, {res.n_evaluations} model runs) of the {len(top)} tolerances with "
+            "the largest share, the others as one group: the total index includes interactions and the "
+            "non-linearity the linear share misses.")
+        sec.add_figure(heatmap(share.loc[shown], "Five-point linearised share of variance", "share", "{:.2f}", vmax=1.0),
+                       caption="Cross-model sensitivity: five-point linearised variance share (drawing tolerance × "
+                               "output)")
+        sec.add_figure(heatmap(st, f"Sobol total index (n = {self.n})", "ST", "{:.2f}", vmax=1.0),
+                       caption="Cross-model sensitivity: Sobol total index of the top tolerances (their interactions "
+                               "included)")
+        table = st.copy()
+        for o in self.outputs:
+            table[o] = [f"{v:.2f} ± {c:.2f}" if np.isfinite(v) else "—" for v, c in zip(st[o], conf[o])]
+        sec.add_table(table.reset_index(names="drawing tolerance"),
+                      caption=f"Sobol total indices with their {100 * self.confidence_of(ctx):.0f} % bootstrap half-widths")
+        sec.add_table(share.loc[shown].reset_index(names="drawing tolerance"), float_format="{:.3f}",
+                      caption="Five-point linearised variance shares (the largest tolerances)")
+        _notes(sec, fp.notes + res.notes)
+        sec.summary = {"outputs": self.outputs, "percent": self.percent, "n_sobol": self.n,
+                       "five_point_share": {t: {o: _num(share.loc[t, o]) for o in self.outputs} for t in order},
+                       "sobol_total": {t: {o: {"ST": _num(st.loc[t, o]), "conf": _num(conf.loc[t, o])}
+                                           for o in self.outputs} for t in rows},
+                       "model_runs": {"five_point": 4 * len(names) + 1, "sobol": res.n_evaluations}}
+        return sec
+
+
+def _num(v):
+    import math
+
+    v = float(v)
+    return v if math.isfinite(v) else None

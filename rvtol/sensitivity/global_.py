@@ -192,11 +192,13 @@ def _evaluate_design(model, spec, idx, oidx, U, evaluate, desc) -> tuple[np.ndar
 def sobol(model: Model, spec: ToleranceSpec, n: int = 1024, factors: Sequence[str] | None = None,
           outputs: Sequence[str] | None = None, second_order: bool = True, seed: int | None = None,
           num_resamples: int = 100, confidence: float = 0.95,
-          evaluate: Evaluator | None = None) -> GlobalSensitivityResult:
+          evaluate: Evaluator | None = None, groups: Sequence[str] | None = None) -> GlobalSensitivityResult:
     """First-, total- (and second-) order Sobol indices with bootstrap confidence intervals.
 
     ``n`` base samples (a power of 2) of a scrambled Sobol' sequence in the
     Saltelli scheme: n·(2k+2) evaluations with second order, n·(k+2) without.
+    ``groups`` (one name per selected factor): indices of groups of factors instead
+    (k = the number of groups; rows named by group, in order of first appearance).
     """
     from SALib.analyze import sobol as sobol_analyze
     from SALib.sample import sobol as sobol_sample
@@ -204,6 +206,13 @@ def sobol(model: Model, spec: ToleranceSpec, n: int = 1024, factors: Sequence[st
     _check_power_of_two(n)
     idx, oidx, evaluate = _prepare(model, spec, factors, outputs, evaluate)
     problem = _problem(spec, idx)
+    names = problem["names"]
+    if groups is not None:
+        groups = [str(g) for g in groups]
+        if len(groups) != len(idx):
+            raise InputError(f"one group name per factor: {len(groups)} for {len(idx)} factors", key="groups")
+        problem["groups"] = groups
+        names = list(dict.fromkeys(groups))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         U = sobol_sample.sample(problem, n, calc_second_order=second_order, scramble=True,
@@ -220,13 +229,14 @@ def sobol(model: Model, spec: ToleranceSpec, n: int = 1024, factors: Sequence[st
             pairs.append((si["S2"], si["S2_conf"]))  # in the order of the analysable outputs
         return si
 
-    frame = _analyse_each("sobol", model, oidx, problem["names"], Yd, analyse, notes)
+    frame = _analyse_each("sobol", model, oidx, names, Yd, analyse, notes)
     s2 = None
     if second_order:
-        s2 = _second_order_frame(model, oidx, problem["names"], Yd, pairs)
+        s2 = _second_order_frame(model, oidx, names, Yd, pairs)
     return GlobalSensitivityResult("sobol", frame, len(U), confidence,
                                    {"n_base": n, "second_order": second_order, "num_resamples": num_resamples,
-                                    "design": "Saltelli scheme on a scrambled Sobol' sequence"},
+                                    "design": "Saltelli scheme on a scrambled Sobol' sequence",
+                                    "groups": groups is not None},
                                    s2, n_failed, notes)
 
 
