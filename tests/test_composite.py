@@ -142,8 +142,7 @@ unit = "arcmin"
 """
 
 
-def test_a_study_with_several_models_runs_and_judges_outputs_of_each(tmp_path):
-    spec = write(tmp_path / "spec.toml", """
+STACK_SPEC = """
 [[factor]]
 name = "c1"
 unit = "um"
@@ -162,9 +161,19 @@ unit = "um"
 dist = "uniform"
 lower = 0
 upper = 4
-""")
-    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
-    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+"""
+
+
+def _study(spec) -> str:
+    """STUDY with the spec file and the doc 000 RV-80E design (the lost-motion stage reads its geometry)."""
+    design = (ROOT / "data/designs/rv80e_te.toml").as_posix()
+    return STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "").replace(
+        '[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{design}"\n')
+
+
+def test_a_study_with_several_models_runs_and_judges_outputs_of_each(tmp_path):
+    spec = write(tmp_path / "spec.toml", STACK_SPEC)
+    text = _study(spec)
     st = load_study(write(tmp_path / "s.toml", text), progress=False)
     assert st.model.output_names[:2] == ("gap", "stack.play")
     res = run_study(st)
@@ -186,8 +195,7 @@ def test_bad_composition_names_the_key(tmp_path, old, new, key):
     spec = write(tmp_path / "spec.toml", '[[factor]]\nname = "c1"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
                                          '[[factor]]\nname = "c2"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
                                          '[[factor]]\nname = "c3"\nunit = "um"\ndist = "normal"\ntolerance = 1\n')
-    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
-    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+    text = _study(spec)
     assert old in text
     p = write(tmp_path / "s.toml", text.replace(old, new, 1))
     with pytest.raises(InputError) as exc:
@@ -197,28 +205,8 @@ def test_bad_composition_names_the_key(tmp_path, old, new, key):
 
 def test_sensitivity_matrix_of_a_composed_study(tmp_path):
     """The matrix ranks by the linearised shares and gives Sobol total indices of the top tolerances."""
-    spec = write(tmp_path / "spec.toml", """
-[[factor]]
-name = "c1"
-unit = "um"
-dist = "normal"
-mean = 20
-tolerance = 6
-[[factor]]
-name = "c2"
-unit = "um"
-dist = "normal"
-mean = 5
-tolerance = 4
-[[factor]]
-name = "c3"
-unit = "um"
-dist = "uniform"
-lower = 0
-upper = 4
-""")
-    text = STUDY.replace("SPEC", spec.as_posix()).replace('design = "x"\n', "")
-    text = text.replace('[study]\nname = "composed"\n', f'[study]\nname = "composed"\ndesign = "{(ROOT / "data/designs/rv80e_te.toml").as_posix()}"\n')
+    spec = write(tmp_path / "spec.toml", STACK_SPEC)
+    text = _study(spec)
     text += '\n[[analysis]]\nkind = "sensitivity_matrix"\ntop = 2\nn = 256\n'
     res = run_study(load_study(write(tmp_path / "s.toml", text), progress=False))
     (sec,) = res.sections

@@ -22,39 +22,7 @@ from rvtol.sampling import sample
 from rvtol.sensitivity import delta, design_to_factors, fast, morris, rbd_fast, sobol
 from rvtol.spec import spec_from_table
 
-A_ISH, B_ISH = 7.0, 0.1
-
-
-def ishigami(X):
-    return (np.sin(X[:, 0]) + A_ISH * np.sin(X[:, 1]) ** 2 + B_ISH * X[:, 2] ** 4 * np.sin(X[:, 0]))[:, None]
-
-
-ISH_SPEC = spec_from_table({"factor": [{"name": f"x{i + 1}", "unit": "1", "dist": "uniform",
-                                        "lower": -math.pi, "upper": math.pi} for i in range(3)]})
-ISH = FunctionModel(ishigami, ISH_SPEC.names, ["y"])
-
-
-def ishigami_indices():
-    a, b, pi = A_ISH, B_ISH, math.pi
-    V = a**2 / 8 + b * pi**4 / 5 + b**2 * pi**8 / 18 + 0.5
-    V1 = 0.5 * (1 + b * pi**4 / 5) ** 2
-    V2 = a**2 / 8
-    V13 = b**2 * pi**8 * (1 / 18 - 1 / 50)
-    return np.array([V1, V2, 0.0]) / V, np.array([V1 + V13, V2, V13]) / V, V13 / V
-
-
-G_A = np.array([0.0, 1.0, 4.5, 9.0, 99.0, 99.0])
-
-
-def g_function(X):
-    return np.prod((np.abs(4 * X - 2) + G_A) / (1 + G_A), axis=1)[:, None]
-
-
-def g_indices():
-    Vi = 1 / (3 * (1 + G_A) ** 2)
-    V = np.prod(1 + Vi) - 1
-    ST = Vi * np.array([np.prod(np.delete(1 + Vi, i)) for i in range(len(G_A))]) / V
-    return Vi / V, ST
+from gsa_reference import G_A, ISH, ISH_SPEC, g_function, g_indices, ishigami_indices  # noqa: F401
 
 
 def _within(est, true, conf, scale=1.0):
