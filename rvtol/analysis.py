@@ -50,3 +50,58 @@ class Analysis(ABC):
     @abstractmethod
     def run(self, ctx: "StudyContext") -> "Section | list[Section]":
         """Compute and return the report section(s)."""
+
+
+class ModelTarget:
+    """The model an analysis works on, in a one-model study or as one stage of a composed study.
+
+    ``model``: the target model; ``stage``: its name in a composed study (None otherwise);
+    ``output(name)``: the name its output has in the study's Monte Carlo result;
+    ``inputs(X)``: the target's input rows (base units) for rows ``X`` of the study's samples.
+    """
+
+    def __init__(self, study_model, model, stage: str | None):
+        self.study_model, self.model, self.stage = study_model, model, stage
+
+    def output(self, name: str) -> str:
+        return f"{self.stage}.{name}" if self.stage else name
+
+    def inputs(self, X):
+        import numpy as np
+
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        return self.study_model.stage_inputs(self.stage, X) if self.stage else X
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return tuple(self.model.inputs)
+
+    @property
+    def input_units(self) -> tuple[str, ...]:
+        return tuple(self.model.input_units)
+
+
+def target_model(params: "Params", study: "Study", cls, what: str) -> ModelTarget:
+    """The study's model if it is a ``cls``; in a composed study the stage named by the analysis'
+    ``model`` key (default: the only stage that is a ``cls``).  ``what`` names the kind for errors."""
+    model = study.model
+    stages = getattr(model, "stages", None)
+    if stages is None:
+        if "model" in params:
+            raise params.error("model", "a one-model study has no stages to choose from")
+        if not isinstance(model, cls):
+            raise params.error("kind", f"this analysis needs a {what} model ([model] kind = \"{what}\")")
+        return ModelTarget(model, model, None)
+    fitting = [s for s in stages if isinstance(s.model, cls)]
+    name = params.str("model", None)
+    if name is None:
+        if len(fitting) != 1:
+            raise params.error("model", f"name the {what} model this analysis works on (the study's {what} models: "
+                                        f"{', '.join(s.name for s in fitting) or 'none'})")
+        return ModelTarget(model, fitting[0].model, fitting[0].name)
+    for s in stages:
+        if s.name == name:
+            if not isinstance(s.model, cls):
+                raise params.error("model", f"model {name!r} is not a {what} model")
+            return ModelTarget(model, s.model, s.name)
+    raise params.error("model", f"unknown model {name!r} (the study's models: {', '.join(s.name for s in stages)})")
