@@ -36,7 +36,7 @@ from .curves import CurveModel, defined
 from .design_file import CALIBRATION, calibrated_factors, write_design
 from .fit import FitResult, least_squares_fit
 from .measurements import TORSION, Measurement
-from .parameters import Parameter, check_parameters, family_of, make_parameter
+from .parameters import STIFFNESS, Parameter, check_parameters, make_parameter
 
 
 class _AllPoints(Model):
@@ -144,9 +144,9 @@ class Calibration:
         for j, p in enumerate(f.parameters):
             if p.kind == "compliance":
                 c = f.x[j]
-                for key in p.targets:
+                for key, acts in zip(p.targets, p.acts):
                     old = params[key]
-                    stiff = family_of(key).acts == "stiffness"
+                    stiff = acts == STIFFNESS
                     value = (tuple(v / c for v in old.value) if isinstance(old.value, tuple) else old.value / c) \
                         if stiff else (tuple(v * c for v in old.value) if isinstance(old.value, tuple)
                                        else old.value * c)

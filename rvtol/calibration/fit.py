@@ -276,8 +276,9 @@ def condition_indices(J: np.ndarray) -> np.ndarray:
 
 
 def collinear_groups(J: np.ndarray, names: list[str], max_index: float) -> list[tuple[float, list[str]]]:
-    """``(η_k, parameters)`` for each component with condition index ``η_k > max_index``: the parameters
-    with a variance-decomposition proportion above 0.5 on it (Belsley, Kuh & Welsch 1980, §3.2)."""
+    """``[(η_max, parameters)]`` when some condition index exceeds ``max_index``: the parameters whose
+    variance-decomposition proportions, summed over all components above ``max_index``, exceed 0.5
+    (Belsley, Kuh & Welsch 1980, §3.2; summing handles competing dependencies of similar η)."""
     norms = np.linalg.norm(J, axis=0)
     idx = np.flatnonzero(norms > 0)
     if idx.size < 2:
@@ -285,15 +286,12 @@ def collinear_groups(J: np.ndarray, names: list[str], max_index: float) -> list[
     _, s, Vt = np.linalg.svd(J[:, idx] / norms[idx], full_matrices=False)
     if not s[-1] > 0:
         return []
+    eta = s[0] / s
     phi = (Vt.T / s) ** 2                          # [param, component]
     prop = phi / phi.sum(axis=1, keepdims=True)    # variance-decomposition proportions
-    out = []
-    for k in range(s.size):
-        eta = s[0] / s[k]
-        group = [names[idx[j]] for j in np.flatnonzero(prop[:, k] > 0.5)]
-        if eta > max_index and len(group) > 1:
-            out.append((float(eta), group))
-    return out
+    high = eta > max_index
+    group = [names[idx[j]] for j in np.flatnonzero(prop[:, high].sum(axis=1) > 0.5)]
+    return [(float(eta.max()), group)] if high.any() and len(group) > 1 else []
 
 
 def identifiability(J: np.ndarray, corr: np.ndarray, null: list[np.ndarray], params: list[Parameter],

@@ -68,11 +68,6 @@ FAMILIES: dict[str, Family] = {
                                       "a radial/tilt stiffness test of the main bearing"),
 }
 
-def family_of(key: str) -> Family:
-    """The family whose design key is ``key``."""
-    return next(f for f in FAMILIES.values() if f.key == key)
-
-
 _CRANK_BEARINGS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 
@@ -120,6 +115,7 @@ class Parameter:
     targets: tuple[str, ...]
     label: str
     separated_by: str = ""
+    acts: tuple[str, ...] = ()     # compliance: STIFFNESS or COMPLIANCE per target key
 
     @property
     def typical(self) -> float:
@@ -131,7 +127,7 @@ class Parameter:
 
     def acts_on(self) -> str:
         if self.kind == "compliance":
-            return ", ".join(f"{k} {'÷' if family_of(k).acts == STIFFNESS else '×'} c" for k in self.targets)
+            return ", ".join(f"{k} {'÷' if a == STIFFNESS else '×'} c" for k, a in zip(self.targets, self.acts))
         if self.kind == "offset":
             return f"added to every point of {self.targets[0]}"
         return ", ".join(self.targets)
@@ -146,16 +142,18 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
                          f"factor.<factor> or offset.<measurement>", key="name")
     kind, _, what = name.partition(".")
     separated_by = ""
+    acts: tuple[str, ...] = ()
     if kind == "compliance":
         if what == "all":
-            targets = tuple(f.key for f in FAMILIES.values() if f.key in design)
+            fams = [f for f in FAMILIES.values() if f.key in design]
+            targets, acts = tuple(f.key for f in fams), tuple(f.acts for f in fams)
             label, separated_by = "every element family's compliance", "component tests of each family"
         elif what in FAMILIES:
             f = FAMILIES[what]
             if f.key not in design:
                 raise InputError(f"the design has no {f.key!r}, which compliance.{what} scales",
                                  file=design.file, key=f.key)
-            targets, label, separated_by = (f.key,), f.label, f.separated_by
+            targets, acts, label, separated_by = (f.key,), (f.acts,), f.label, f.separated_by
         else:
             raise InputError(f"unknown element family {what!r} (known: all, {', '.join(FAMILIES)})", key="name")
         if not targets:
@@ -210,7 +208,7 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
     if kind == "clearance" and lo < 0:
         raise InputError(f"a clearance must stay >= 0: lower bound {lo:g} {u}", key="bounds")
     b = lambda v: float(units.to_base(v, u))  # noqa: E731
-    return Parameter(name, kind, u, b(start), b(lo), b(hi), targets, label, separated_by)
+    return Parameter(name, kind, u, b(start), b(lo), b(hi), targets, label, separated_by, acts)
 
 
 def check_parameters(params: list[Parameter], z_b: int = 40) -> None:
@@ -238,8 +236,8 @@ def scaled_design_values(design: Design, params: list[Parameter], x) -> dict[str
     for p, v in zip(params, x):
         if p.kind != "compliance":
             continue
-        for k in p.targets:
-            out[k] = design[k] / v if family_of(k).acts == STIFFNESS else design[k] * v
+        for k, a in zip(p.targets, p.acts):
+            out[k] = design[k] / v if a == STIFFNESS else design[k] * v
     return out
 
 
