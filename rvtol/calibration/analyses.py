@@ -38,6 +38,7 @@ design.
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -82,6 +83,7 @@ class CalibrationAnalysis(Analysis):
             raise params.error("name", f"two calibration analyses with the key {self.key!r}: give each a name")
         out = params.path_value("output", study.base_dir, None)
         if out is not None:
+            out = Path(os.path.normpath(out))
             _check_output(out, study, params)
         self.output = out
         self.confidence = params.float("confidence", 0.95, min=0.5, max=0.9999)
@@ -207,12 +209,13 @@ class CalibrationAnalysis(Analysis):
                    f"θ ± t(ν)·√C_jj at {self.confidence:.0%}. Linearised: valid when the model is near-linear over "
                    "the interval and the residuals look like independent noise (plots below). Notes: "
                    "studies/calibration.md.")
-        s.add_text("\n".join(lines))
+        s.add_text("\n\n".join(lines))
         s.add_table(f.to_frame(), "Fitted parameters (display units)", "{:.5g}")
         stats = pd.DataFrame([{"points fitted n": f.n, "parameters p": len(f.parameters), "dof ν": f.dof,
                                "s (weighted residual SD)": np.sqrt(f.s2),
                                "reduced χ²": f.s2 if f.weighted else np.nan, f"t({f.dof})": f.t,
-                               "condition number (unit columns)": ident.condition, "model evaluations": f.nfev,
+                               "condition number (unit columns)": ident.condition, "optimiser steps": f.nfev,
+                               "model evaluations": f.evaluations,
                                "rejected trial points": len(f.rejected)}])
         s.add_table(stats, f"Fit statistics ({f.message})", "{:.4g}")
         corr = f.correlation_frame()

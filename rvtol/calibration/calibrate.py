@@ -182,6 +182,7 @@ class Calibration:
                 "correlation": {a: {b: num(f.corr[i, j]) for j, b in enumerate(f.names)}
                                 for i, a in enumerate(f.names)},
                 "n": f.n, "dof": f.dof, "s2": num(f.s2), "weighted": f.weighted, "t": num(f.t), "nfev": f.nfev,
+                "model_evaluations": f.evaluations,
                 "success": f.success, "message": f.message, "rejected_trial_points": len(f.rejected),
                 "identifiable": f.identifiability.ok, "identifiability": f.identifiability.messages,
                 "condition_number": num(f.identifiability.condition),

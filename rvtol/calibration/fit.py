@@ -98,7 +98,8 @@ class FitResult:
     y_model: np.ndarray          # model + offset at the estimate (base)
     jac: np.ndarray              # ∂r/∂θ at the estimate
     t: float                     # the t quantile used
-    nfev: int
+    nfev: int                    # residual evaluations of the optimiser
+    evaluations: int             # 20-DOF model evaluations (rows), finite differences included
     success: bool
     message: str
     rejected: list[str]          # trial points where the model failed (rejected by the trust region)
@@ -187,11 +188,20 @@ def least_squares_fit(model: Model, physical: list[Parameter], offsets: list[tup
     x0 = np.array([p.start for p in params])
     cache: dict[bytes, np.ndarray] = {}
     rejected: list[str] = []
+    rows = [0]                       # model evaluations (rows), the Jacobian's included
+
+    def count(ev_fn):
+        def wrapped(m, X, desc):
+            rows[0] += len(X)
+            return ev_fn(m, X, desc)
+        return wrapped
+
+    evaluate = count(evaluator)
 
     def model_at(xp: np.ndarray, desc: str):
         key = xp.tobytes()
         if key not in cache:
-            ev = evaluator(model, xp[None, :], desc)
+            ev = evaluate(model, xp[None, :], desc)
             if ev.status[0] != 0:
                 return None, int(ev.status[0])
             cache[key] = ev.Y[0]
@@ -211,7 +221,7 @@ def least_squares_fit(model: Model, physical: list[Parameter], offsets: list[tup
 
     def jacobian(xa):
         f, _ = model_at(xa[:k], "calibration: step")
-        Jm = _differences(evaluator, model, xa[:k], f, lower[:k], upper[:k], typical[:k]) if k else np.zeros((n, 0))
+        Jm = _differences(evaluate, model, xa[:k], f, lower[:k], upper[:k], typical[:k]) if k else np.zeros((n, 0))
         return weight[:, None] * np.hstack([Jm, O])
 
     res = optimize.least_squares(residuals, x0, jac=jacobian, bounds=(lower, upper), x_scale=typical,
@@ -235,7 +245,7 @@ def least_squares_fit(model: Model, physical: list[Parameter], offsets: list[tup
     at_bound = (x - lower <= 1e-6 * span) | (upper - x <= 1e-6 * span)
     ident = identifiability(J, corr, null, list(params), max_correlation, kinds, max_condition_index)
     return FitResult(params, x, se, ci, cov, corr, at_bound, confidence, n, dof, s2, weighted, y,
-                     f + O @ x[k:], J, t, int(res.nfev), bool(res.success), str(res.message), rejected, ident)
+                     f + O @ x[k:], J, t, int(res.nfev), rows[0], bool(res.success), str(res.message), rejected, ident)
 
 
 def _covariance(J: np.ndarray, typical: np.ndarray, s2: float) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -318,7 +328,7 @@ def identifiability(J: np.ndarray, corr: np.ndarray, null: list[np.ndarray], par
     ident.multiple = multiple_correlation(J, names)
     ident.condition_indices = condition_indices(J)
     for eta, group in collinear_groups(J, names, max_condition_index):
-        if not set(group) <= paired:
+        if len(set(group) - paired) > 1 or not set(group) & paired:   # not just a flagged pair plus one
             ident.collinear.append((group, eta))
     by_name = dict(zip(names, params))
     for n in ident.unused:

@@ -57,12 +57,14 @@ FAMILIES: dict[str, Family] = {
                               "a first-stage mesh stiffness test (sun and one planet on a fixture)"),
     "cycloid_crank_bearing": Family("stiffness.cycloid_crank_bearing_k0", STIFFNESS,
                                     "cycloid–crank needle bearings (k0_dc)",
-                                    "a load–deflection test of one needle bearing"),
+                                    "a load–deflection test of one needle bearing, or a TE curve under load "
+                                    "fitted with the part errors (studies/calibration.md)"),
     "crank_carrier_bearing": Family("stiffness.crank_carrier_bearing_k0", STIFFNESS,
                                     "crank–carrier bearings (k0_oc)",
                                     "a load–deflection test of the crank support bearings in the carrier"),
     "cycloid_pin_mesh": Family("stiffness.cycloid_pin_mesh_k0", STIFFNESS, "cycloid–pin contacts (k0_pin)",
-                               "a pin-contact load–deflection test"),
+                               "a pin-contact load–deflection test, or a TE curve under load fitted with the "
+                               "part errors (studies/calibration.md)"),
     "carrier_housing_bearing": Family("stiffness.carrier_housing_bearing_k0", STIFFNESS,
                                       "carrier–housing main bearing (k0_ca)",
                                       "a radial/tilt stiffness test of the main bearing"),
