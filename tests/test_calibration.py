@@ -288,6 +288,22 @@ def test_written_design_reloads_and_reproduces_the_fitted_curves(tmp_path):
             assert again.param(k) == DESIGN.param(k)
 
 
+def test_factors_held_fixed_are_recorded_so_the_design_reproduces_the_curve(tmp_path):
+    m = load_measurement(TORSION_CSV)
+    cal = calibrate(DESIGN, [m], ["compliance.all", "clearance.crank_bearing"], fixed_factors=KNOWN_ERRORS)
+    d = cal.write_design(tmp_path / "c.toml")
+    assert calibrated_factors(d) == pytest.approx({**KNOWN_ERRORS, **{b: cal.fit.value("clearance.crank_bearing")
+                                                                      for b in CAMS}}, rel=1e-12)
+    assert d.param("calibration.factor.E_c").source.startswith("held fixed in the calibration")
+    curve = reproduce(d, [m], offsets={m.name: cal.fit.value(f"offset.{m.name}")})[0]
+    np.testing.assert_allclose(units.from_base(curve, "arcsec"), cal.comparisons()[0].model, rtol=0, atol=1e-9)
+    # calibrating the calibrated design again starts from what it stores, and finds the same values
+    again = calibrate(d, [m], ["compliance.all", "clearance.crank_bearing"])
+    assert again.fit.value("compliance.all") == pytest.approx(1.0, abs=1e-4)    # the stiffnesses are scaled already
+    assert again.fit.value("clearance.crank_bearing") == pytest.approx(cal.fit.value("clearance.crank_bearing"),
+                                                                       rel=1e-4)
+
+
 # --------------------------------------------------------------------------- bad CSV files
 GOOD = "# a comment\ntorque [N*m], angle [arcsec]\n10, 1.0\n20, 2.0\n-10, -1.0\n-20, -2.0\n"
 

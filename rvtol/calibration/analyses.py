@@ -120,6 +120,12 @@ class CalibrationAnalysis(Analysis):
                              int(self.design.get("pin.count", 40)))
         except InputError as exc:
             raise params.error("parameter", exc.reason) from None
+        n_used = sum(int(m.used.sum()) for m in self.measurements)
+        n_par = len(self.parameters) + sum(1 for m in self.measurements if self.offsets[m.name] and not any(
+            p.name == f"offset.{m.name}" for p in self.parameters))
+        if n_used <= n_par:
+            raise params.error("parameter", f"{n_par} parameters (offsets included) for {n_used} measured points: "
+                                            "need more points than parameters")
         clash = sorted(set(self.fixed) & {f for p in self.parameters if p.kind in ("clearance", "factor")
                                           for f in p.targets})
         if clash:

@@ -158,6 +158,15 @@ class Calibration:
                 key = f"{CALIBRATION}.{p.kind}.{p.name.partition('.')[2]}"
                 params[key] = DesignParam(key, float(p.display(f.x[j])), p.unit, self.source,
                                           self._note(j) + f"; acts on {p.acts_on()}")
+        held = calibrated_factors(self.design)
+        for name, v in self.model.fixed.items():
+            key = f"{CALIBRATION}.factor.{name}"
+            if name in held and held[name] == v:
+                continue                    # stored by an earlier calibration: keep its provenance
+            unit = "deg" if dict(zip(self.model.factors.names, self.model.factors.units))[name] == "rad" else "um"
+            params[key] = DesignParam(key, float(units.from_base(v, unit)), unit,
+                                      f"held fixed in the calibration of {self.date} (given, not fitted)",
+                                      f"the fitted parameters ({', '.join(f.names)}) hold for this value of {name}")
         desc = (self.design.description + " " if self.design.description else "") + \
             f"Calibrated against {', '.join(Path(m.file).name for m in self.measurements)}."
         return Design(f"{self.design.name} (calibrated)", MappingProxyType(params), desc, None)
@@ -199,8 +208,8 @@ def calibrate(design: Design, measurements, parameters, *, fixed_factors: dict |
               max_condition_index: float = 30.0, evaluator: Evaluator | None = None, date: str | None = None, tol_f: float = 1e-6) -> Calibration:
     """Fit ``parameters`` (names, or :class:`Parameter`) of ``design`` to ``measurements`` (module docstring).
 
-    ``fixed_factors``: ``{factor: base value}`` held fixed (default: the clearances a previous
-    calibration stored in ``design``); ``offsets``: add ``offset.<name>`` per measurement (``True``), none
+    ``fixed_factors``: ``{factor: base value}`` held fixed (known part errors), on top of the clearances
+    and factors a previous calibration stored in ``design`` (those refitted here excepted); ``offsets``: add ``offset.<name>`` per measurement (``True``), none
     (``False``) or per measurement name (``{name: bool}``); ``evaluator``: where the model runs (a
     study's ``ctx.evaluator``; default serial).
     """
@@ -222,9 +231,9 @@ def calibrate(design: Design, measurements, parameters, *, fixed_factors: dict |
     check_parameters(params, int(design.get("pin.count", 40)))
     physical = [p for p in params if p.kind != "offset"]
     offs = [p for p in params if p.kind == "offset"]
-    fixed = calibrated_factors(design) if fixed_factors is None else dict(fixed_factors)
     fitted = {t for p in physical if p.kind in ("clearance", "factor") for t in p.targets}
-    fixed = {k: v for k, v in fixed.items() if k not in fitted or fixed_factors is not None}
+    stored = {k: v for k, v in calibrated_factors(design).items() if k not in fitted}
+    fixed = {**stored, **(fixed_factors or {})}
     model = CurveModel(design, measurements, physical, fixed, tol_f=tol_f)
     y = np.concatenate([m.y[m.used] for m in measurements])
     which = np.concatenate([np.full(int(m.used.sum()), i) for i, m in enumerate(measurements)])
