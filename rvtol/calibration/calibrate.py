@@ -35,7 +35,7 @@ from ..records import frame_records
 from .curves import CurveModel, defined
 from .design_file import CALIBRATION, calibrated_factors, write_design
 from .fit import FitResult, least_squares_fit
-from .measurements import TORSION, Measurement
+from .measurements import Measurement
 from .parameters import STIFFNESS, Parameter, check_parameters, make_parameter
 
 

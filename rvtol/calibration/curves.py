@@ -40,7 +40,7 @@ from ..models.transmission.geometry import geometry_from_design
 from ..models.transmission.model import ST_BAD_CLEARANCE
 from ..models.transmission.quasistatic import QuasiStaticSolver
 from .measurements import TORSION, Measurement
-from .parameters import Parameter, factor_values, scaled_design_values
+from .parameters import factor_values, scaled_design_values
 
 LOAD_FRACTION = 0.03     # default resisting torque of a TE measurement (× rated): as TransmissionErrorModel
 
