@@ -57,6 +57,7 @@ ANALYSES: dict[str, str] = {
     "delta": "rvtol.sensitivity.analyses:Delta",
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
     "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",
