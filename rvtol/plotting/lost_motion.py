@@ -22,8 +22,9 @@ def total_histogram(mc, analytic, output: str = "lost_motion", ax=None):
         ax.plot(xs, stats.norm.pdf(xs, row["mean"], row["sigma"]), color="black", lw=1, ls=":",
                 label=f"analytic μ={row['mean']:.3g}, σ={row['sigma']:.3g}")
     half = 0.5 * row["T_doc"]
-    ax.axvspan(row["mean"] - half, row["mean"] + half, color=COLORS["ci"], alpha=0.15,
-               label=f"document mean ± T/2 = {row['mean']:.3g} ± {half:.3g}")
+    if np.isfinite(half):     # the document's band (document mode only)
+        ax.axvspan(row["mean"] - half, row["mean"] + half, color=COLORS["ci"], alpha=0.15,
+                   label=f"document mean ± T/2 = {row['mean']:.3g} ± {half:.3g}")
     ax.legend(loc="best")
     return fig
 
@@ -36,8 +37,9 @@ def stage_bars(breakdown, ax=None):
     ax.bar(x, d["mean_out"], color=COLORS["data"], alpha=0.8, label="mean (at the output)")
     ax.errorbar(x - 0.12, d["mean_out"], yerr=3 * d["sigma_out"], fmt="none", ecolor="black", capsize=4,
                 label="± 3σ (linear model)")
-    ax.errorbar(x + 0.12, d["mean_out"], yerr=0.5 * d["T_doc_out"], fmt="none", ecolor=COLORS["fit"], capsize=4,
-                label="± T/2 (document formula)")
+    if np.all(np.isfinite(d["T_doc_out"])):     # document mode only
+        ax.errorbar(x + 0.12, d["mean_out"], yerr=0.5 * d["T_doc_out"], fmt="none", ecolor=COLORS["fit"],
+                    capsize=4, label="± T/2 (document formula)")
     if "mc_mean_out" in d:
         ax.plot(x, d["mc_mean_out"], "D", color=COLORS["ok"], ms=5, label="Monte Carlo mean")
     ax.set_xticks(x, list(d["stage"]))

@@ -66,12 +66,23 @@ class LostMotionBreakdown(Analysis):
         d = breakdown_frame(ctx)
         g = ctx.model.geometry
         sec = Section(self.key, self.title)
-        sec.add_text(
-            "Lost motion of each contribution by the document's formulas (doc 001): mean ± T/2 with T as "
-            "written (means added, tolerances combined by RSS, involute stage divided by the ratio i), and "
-            "mean ± 3σ of the same linear model with each factor's own distribution, beside the Monte Carlo "
-            f"of {ctx.mc.n} samples. The involute stage is measured at the input shaft (÷ i = {g.ratio:g} at "
-            "the output).")
+        if g.mode == "document":
+            sec.add_text(
+                "Lost motion of each contribution by the document's formulas as printed (doc 001, document "
+                "mode): mean ± T/2 with T as written (means added, tolerances combined by RSS, involute stage "
+                "divided by the ratio i), and mean ± 3σ of the same linear model with each factor's own "
+                f"distribution, beside the Monte Carlo of {ctx.mc.n} samples. The involute stage is measured at "
+                f"the input shaft (÷ i = {g.ratio:g} at the output).")
+        else:
+            sec.add_text(
+                "Screening estimate of the geometric (zero-load) lost motion: doc 001's three contributions with "
+                "every coefficient derived from the kinematics (consistent mode: flank-to-flank play, crank-"
+                f"bearing K = 1, √(1−K1²) at the first-contact pin, disc-to-output ratio i_b = "
+                f"{g.disc_to_output:.4f}; rvtol.models.lost_motion.model). Mean ± 3σ of the linear model with "
+                f"each factor's own distribution beside the Monte Carlo of {ctx.mc.n} samples. The involute stage "
+                f"is measured at the input shaft (÷ i = {g.ratio:g} at the output), the cycloid stage and the "
+                f"crank bearings at the disc (× i_b at the output). The maker's lost motion (hysteresis "
+                "mid-points within ±3 % of rated torque) adds the elastic deflection: see the torsion curve.")
         geo = g.to_frame()
         sec.add_table(geo, caption="Geometry (from the design, or derived as shown)")
         if ctx.model.extra:
@@ -85,7 +96,8 @@ class LostMotionBreakdown(Analysis):
             rows.append({
                 "contribution": r["stage"],
                 "× to output": f"{r['to_output']:.4g}",
-                "document: mean ± T/2 [′]": f"{r['mean']:.4g} ± {r['T_doc'] / 2:.4g}",
+                "document: mean ± T/2 [′]": f"{r['mean']:.4g} ± {r['T_doc'] / 2:.4g}" if np.isfinite(r["T_doc"])
+                else "—",
                 "linear: mean ± 3σ [′]": f"{r['mean']:.4g} ± {3 * r['sigma']:.4g}",
                 f"MC mean [{conf} CI] [′]": f"{r['mc_mean']:.4g} [{r['mc_mean_lo']:.4g}, {r['mc_mean_hi']:.4g}]",
                 f"MC σ [{conf} CI] [′]": f"{r['mc_std']:.4g} [{r['mc_std_lo']:.4g}, {r['mc_std_hi']:.4g}]",
@@ -99,7 +111,7 @@ class LostMotionBreakdown(Analysis):
                                                   "estimate; |value| < 2 is ordinary sampling scatter, beyond 3 "
                                                   "would point to a model or sampling error.")
         inv = d.set_index("stage").loc["involute_stage"]
-        if inv["sigma"] > 0:
+        if inv["sigma"] > 0 and g.mode == "document":
             sec.add_text(
                 f"The document's tolerance formula for the involute stage, T = √D(j)·K/d1, gives "
                 f"{inv['T_doc']:.3g}′, while the same factors give 6σ = {inv['T_6sigma']:.3g}′ "
@@ -112,9 +124,10 @@ class LostMotionBreakdown(Analysis):
         from ...plotting.lost_motion import stage_bars, total_histogram
 
         sec.add_figure(total_histogram(ctx.mc, d), caption="Total geometric lost motion: Monte Carlo, analytic "
-                                                           "normal, document band and limit")
+                                                           "normal" + (", document band" if g.mode == "document"
+                                                                       else "") + " and limit")
         sec.add_figure(stage_bars(d), caption="Contributions at the output")
-        sec.summary = {"geometry": frame_records(geo),
+        sec.summary = {"mode": g.mode, "geometry": frame_records(geo),
                        "stages": frame_records(d.drop(columns=["z_mean", "z_sigma"])),
                        "mc_minus_analytic_se": {r["stage"]: {"mean": float(r["z_mean"]), "sigma": float(r["z_sigma"])}
                                                 for _, r in d.iterrows()}}
