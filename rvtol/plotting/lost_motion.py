@@ -47,3 +47,21 @@ def stage_bars(breakdown, ax=None):
     ax.set_title("Geometric lost motion by contribution")
     ax.legend(fontsize=7)
     return fig
+
+
+def screening_scatter(screening, maker, limit=None, percent: float = 3.0, ax=None):
+    """Per reducer: doc 001's screening estimate (x) against the maker's lost motion on the torsion curve (y)."""
+    fig, ax = new_axes(ax, figsize=(5.6, 4.6))
+    ax.plot(screening, maker, ".", ms=3, alpha=0.5, color=COLORS["data"], label="reducer (Monte Carlo sample)")
+    lo = float(min(np.nanmin(screening), np.nanmin(maker), 0.0))
+    hi = float(max(np.nanmax(screening), np.nanmax(maker), limit or 0.0)) * 1.05
+    ax.plot([lo, hi], [lo, hi], color="black", lw=0.8, ls=":", label="y = x")
+    if limit is not None:
+        ax.axhline(limit, color=COLORS["limit"], lw=1, label=f"limit {limit:g}′")
+        ax.axvline(limit, color=COLORS["limit"], lw=1, ls="--")
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(lo, hi)
+    ax.set_xlabel("screening estimate, doc 001 consistent mode [arcmin]")
+    ax.set_ylabel(f"lost motion at ±{percent:g} % rated, torsion curve [arcmin]")
+    ax.legend(loc="upper left", fontsize=7)
+    return fig
