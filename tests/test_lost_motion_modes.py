@@ -280,3 +280,18 @@ def test_mode_and_reproduction_inputs_are_checked(tmp_path):
         load_study(_lm_study(tmp_path, extra=repro))
     assert "document" in e.value.reason and e.value.key.endswith(".kind")
     assert load_study(_lm_study(tmp_path, mode='mode = "document"', extra=repro)).model.mode == "document"
+
+
+def test_screening_analysis_inputs_are_checked(tmp_path):
+    doc = (f'[study]\nname = "x"\ndesign = "{ROOT / "data/designs/lost_motion_doc_example.toml"}"\n'
+           f'spec = "{ROOT / "data/specs/lost_motion_doc_example.toml"}"\n[model]\nkind = "lost_motion"\n'
+           '[[analysis]]\nkind = "lost_motion_screening"\n')
+    with pytest.raises(InputError) as e:          # doc 001's example is no 20-DOF design
+        load_study(write(tmp_path / "a.toml", doc))
+    assert e.value.file.endswith("lost_motion_doc_example.toml") and e.value.key == "sun.teeth"
+    with pytest.raises(InputError) as e:          # another reducer's torsion curve
+        load_study(write(tmp_path / "b.toml", doc + f'design = "{ROOT / "data/designs/rv80e_te.toml"}"\n'))
+    assert e.value.key == "analysis[0].design"
+    with pytest.raises(InputError) as e:
+        load_study(write(tmp_path / "c.toml", _lm_study(tmp_path).read_text().replace("samples = 40", "samples = 3")))
+    assert e.value.key == "analysis[0].samples"

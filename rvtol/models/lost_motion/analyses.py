@@ -195,6 +195,12 @@ class LostMotionScreening(Analysis):
                 self.lm_geometry = LostMotionGeometry.from_design(d, "document")
             except (InputError, KeyError):
                 self.lm_geometry = LostMotionGeometry.from_design(d, "consistent")
+        lg, g20 = self.lm_geometry, self.g20
+        same = (lg.cycloid_teeth == g20.z_c and math.isclose(lg.eccentricity, g20.ecc, rel_tol=1e-9)
+                and math.isclose(lg.ratio, g20.ratio, rel_tol=1e-9) and math.isclose(lg.K1, g20.K1, rel_tol=1e-9))
+        if not same:
+            raise params.error("design", "the torsion curve's design is not the reducer of the screening estimate "
+                                         "(cycloid teeth, eccentricity, ratio or K1 differ)")
         if self.source == "torsion_curve":
             self.percent = params.float("percent", m.percent, min=0.01, max=50.0)
             if self.percent != m.percent:
