@@ -38,6 +38,7 @@ MODELS: dict[str, str] = {
 ANALYSES: dict[str, str] = {
     # model-specific
     "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
+    "lost_motion_screening": "rvtol.models.lost_motion.analyses:LostMotionScreening",
     "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
     "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
