@@ -187,8 +187,7 @@ class TransmissionErrorModel(Model):
     def order_table(self, result: TEResult, top: int = 12, min_fraction: float = 0.01) -> pd.DataFrame:
         """The largest orders of ``result``'s TE, each with the error families expected there (:mod:`.orders`)."""
         x = [result.factors[n] for n in self.inputs]
-        return order_table(result.te, self.geometry, self.factors.bindings, x, self.factors.harmonic, top,
-                           min_fraction)
+        return order_table(result.te, self.geometry, self.factors.bindings, x, top, min_fraction)
 
     def run(self, values: dict | np.ndarray | None = None) -> TEResult:
         """One reducer in full. ``values``: ``{factor: value in base units}`` (missing: 0) or a row."""
