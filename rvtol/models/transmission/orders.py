@@ -194,15 +194,24 @@ def expected_orders(g: RVGeometry, key: str, n_positions: int) -> dict[int, str]
     return out
 
 
-def _bases(g: RVGeometry, side: str) -> tuple[int, ...]:
-    """Base orders whose sums and differences give the interactions of two families."""
-    if side == "housing":
-        return (g.z_c, L.N_CRANK)
-    if side == "carrier":
-        return (g.z_b,)
-    if side == "sun":
-        return tuple(t for t in (_sun_turns(g),) if t)
-    return ()
+def _side_bases(g: RVGeometry) -> dict[str, tuple[tuple[int, str], ...]]:
+    """Base orders of each side whose sums and differences give the interactions of two sides."""
+    sun = lattice_step(g, "sun")
+    return {"housing": ((g.z_c, "z_c"), (L.N_CRANK, str(L.N_CRANK))), "carrier": ((g.z_b, "z_b"),),
+            "sun": ((sun, str(sun)),)}
+
+
+def _interaction_side(g: RVGeometry, key: str) -> str | None:
+    side = FAMILIES[key].side
+    if side == "uniform":
+        return None
+    if side == "sun" and lattice_step(g, "sun") % g.z_b == 0:
+        return "carrier"           # its orders are multiples of z_b: it mixes like the carrier side
+    return side
+
+
+def _combination(p: int, a: str, sign: str, q: int, b: str) -> str:
+    return f"{'' if p == 1 else f'{p}·'}{a} {sign} {'' if q == 1 else f'{q}·'}{b}"
 
 
 def active_families(bindings, values) -> dict[str, list[str]]:
@@ -221,15 +230,21 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
 
     Rows: the ``top`` largest orders ≥ ``min_fraction`` × the largest.  ``expected from``: the active
     families (non-zero factors) whose orders (:func:`expected_orders`) contain it, with how (e.g.
-    "pin ring: 2·z_c"), or the nominal ripple where none does; ``interaction`` (for orders no family explains alone): base
-    orders b1 ≠ b2 of two active families with p·b1 ± q·b2 equal to it, p, q ≤ ``interactions`` —
-    e.g. order 1 = z_b − z_c from a housing-fixed and a disc-fixed error.
+    "pin ring: 2·z_c"), or the nominal ripple where none does; ``interaction`` (for orders no family
+    explains alone): active families of two sides (housing: base orders z_c, 3; carrier: z_b) and the
+    simplest p·b1 ± q·b2 (p, q ≤ ``interactions``) equal to it — e.g. order 1 = z_b − z_c from a
+    housing-fixed and a disc-fixed error.
     """
     k, a = order_spectrum(np.asarray(te, dtype=float))
     n_pos = np.asarray(te).size
     fams = active_families(bindings, values)
     expected = {f: expected_orders(g, f, n_pos) for f in fams}
-    bases = [(f, b) for f in fams for b in _bases(g, FAMILIES[f].side)]
+    sides: dict[str, list[str]] = {}
+    for f in fams:
+        side = _interaction_side(g, f)
+        if side and f != "nominal":
+            sides.setdefault(side, []).append(_short(f))
+    bases = _side_bases(g)
     amp = a[1:]
     biggest = amp.max() if amp.size else 0.0
     rows = []
@@ -239,16 +254,16 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
         hits = [f"{_label(f, fams[f])}: {expected[f][o]}" for f in fams if f != "nominal" and o in expected[f]]
         if not hits and o in expected["nominal"]:
             hits = [f"{_short('nominal')}: {expected['nominal'][o]}"]
-        pairs = {}
-        for x, (f1, b1) in enumerate(bases if not hits else []):
-            for f2, b2 in bases[x + 1:]:
-                if f1 == f2 or b1 == b2:
-                    continue
-                hit = next((f"{p}·{b1} {s} {q}·{b2}" for p in range(1, interactions + 1)
-                            for q in range(1, interactions + 1) for s in ("+", "−")
-                            if abs(p * b1 + (q if s == "+" else -q) * b2) == o), None)
-                if hit:
-                    pairs.setdefault(f"{_short(f1)} × {_short(f2)} ({hit})", None)
+        pairs = []
+        names = list(sides)
+        for x, s1 in enumerate(names if not hits else []):
+            for s2 in names[x + 1:]:
+                combos = sorted((p + q, _combination(p, n1, sgn, q, n2))
+                                for b1, n1 in bases[s1] for b2, n2 in bases[s2]
+                                for p in range(1, interactions + 1) for q in range(1, interactions + 1)
+                                for sgn in ("+", "−") if abs(p * b1 + (q if sgn == "+" else -q) * b2) == o)
+                if combos:
+                    pairs.append(f"{', '.join(sides[s1])} × {', '.join(sides[s2])}: {combos[0][1]}")
         rows.append({"order [1/rev]": int(o), "amplitude [arcsec]": float(a[o]),
                      "of largest [%]": 100.0 * float(a[o] / biggest),
                      "expected from": "; ".join(hits) if hits else "—",
