@@ -153,8 +153,8 @@ def test_profile_modification_matches_the_generated_profile(geom):
 
 # ----------------------------------------------------------------------------------------- two discs
 def _translation(j, d, phase=0.0):
-    """Disc j's profile moved rigidly by |d| (d > 0) in the direction phase + 90° (disc frame): an order-1 radial
-    field d·sin(θ + phase) and an order-1 pitch field d·sin(θ + phase + 90°)."""
+    """Disc j's profile moved rigidly by d in the direction 90° − phase (disc frame): an order-1 radial field
+    d·sin(θ + phase) and an order-1 pitch field d·sin(θ + phase + 90°)."""
     return {f"R_cyc_h[{j},1]": d, f"R_cyc_h_phase[{j},1]": phase, f"AP_cyc_h[{j},1]": d,
             f"AP_cyc_h_phase[{j},1]": phase + math.pi / 2}
 

@@ -90,6 +90,14 @@ Frames and signs (what a mapping from drawing tolerances needs):
   even-order error adds (``studies/transmission_error.md`` §7).  If disc 2 is
   disc 1's twin turned by 180° about the reducer axis, its field is disc 1's
   with phase + n·180°; if it is turned over, the field is mirrored.
+* A profile eccentricity — disc j's whole profile moved by a vector d against
+  its crank holes — is an order-1 radial field plus an order-1 pitch field a
+  quarter turn ahead: ``R_cyc_h[j,1] = AP_cyc_h[j,1] = |d|``,
+  ``AP_cyc_h_phase[j,1] = R_cyc_h_phase[j,1] + 90°``, d pointing at 90° −
+  ``R_cyc_h_phase[j,1]`` from the carrier's x axis.  It is the same as moving
+  the three crank holes by −d (``E_h[j,i] = |d|``, ``beta_h[j,i]`` = direction
+  of −d − φ_i; a test holds the two equal).  The radial field alone (what a
+  radial-runout reading of the profile gives) is not an eccentricity.
 * Two stack-ground discs: give each disc its own factors and correlate them in
   the spec (``[[correlation]]``).  The Fourier components ``R_cyc_c``/``_s`` are
   the natural variables for that: independent normal components give a
