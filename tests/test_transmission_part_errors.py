@@ -110,8 +110,9 @@ def _modified_profile_gaps(g, theta_c, dr, dR, j):
         th_k = 2 * math.pi * k / zb
 
         def track(t):
+            ecc = (1 - zb) * t + math.pi * j
             return rot(-t) @ ((g.r_pin_circle + dR) * np.array([math.cos(th_k), math.sin(th_k)])
-                              - e * np.array([math.cos((1 - zb) * t + math.pi * j), math.sin((1 - zb) * t + math.pi * j)]))
+                              - e * np.array([math.cos(ecc), math.sin(ecc)]))
 
         def profile(t, dt=1e-6):
             tan = (track(t + dt) - track(t - dt)) / (2 * dt)

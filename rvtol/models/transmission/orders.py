@@ -67,7 +67,8 @@ FAMILIES = {f.key: f for f in (
            "n·z_c for an even pattern order n, 2n·z_c for an odd one; a single pin: 2·z_c, 4·z_c, …"),
     Family("carrier_offset", "carrier offset", "carrier axis offset in the housing (A_c)", "housing",
            "2·z_c (an order-1 housing pattern, common to both discs), 3"),
-    Family("input_support", "sun support", "sun support offset (A_s, housing-fixed)", "housing", "i (the sun's rotation), 3"),
+    Family("input_support", "sun support", "sun support offset (A_s, housing-fixed)", "housing",
+           "i (the sun's rotation), 3"),
     Family("disc_profile", "disc profile", "disc profile and pitch (disc-fixed)", "carrier",
            "n·z_b on one disc; the same field on both discs: n·z_b for even n, 2n·z_b for odd n"),
     Family("disc_holes", "disc holes", "disc crank holes (disc-fixed)", "carrier", "z_b"),
@@ -76,8 +77,9 @@ FAMILIES = {f.key: f for f in (
     Family("carrier_bores", "carrier bores", "carrier crank bores (carrier-fixed)", "carrier",
            "2·z_b (a bore moves the crank under both discs alike)"),
     Family("sun", "sun", "sun eccentricity (sun-fixed)", "sun", "3(i − 1): three planets on a floating sun"),
-    Family("uniform", "uniform", "uniform (pin circle, uniform pin clearance, profile modification, carrier–housing clearance)",
-           "uniform", "Z = z_b·z_c; changes the mean and the nominal ripple"),
+    Family("uniform", "uniform",
+           "uniform (pin circle, uniform pin clearance, profile modification, carrier–housing clearance)", "uniform",
+           "Z = z_b·z_c; changes the mean and the nominal ripple"),
     Family("nominal", "nominal", "nominal reducer (no error)", "uniform", "Z (below 0.001 arcsec for the RV-80E)"),
 )}
 
