@@ -1,7 +1,8 @@
 """Study analyses of the transmission-error model (``[[analysis]] kind = ...``).
 
 ``transmission_error_curve`` — one reducer in full: TE curve over one output
-revolution, its order spectrum, forces.  Keys: ``configuration`` =
+revolution, its order spectrum with the error families expected at each large
+order (:mod:`.orders`), forces.  Keys: ``configuration`` =
 "nominal" (the spec's nominal values; default), "median" or "worst" (the
 Monte Carlo sample with the median / largest Δθ_er) or "values" (with
 ``[analysis.values]`` = {factor = value in the factor's unit}, others
@@ -29,6 +30,7 @@ from ...report.sections import Section, frame_records
 from ...spec import Factor, ToleranceSpec
 from .factors import TABLE3_GROUPS
 from .model import TransmissionErrorModel
+from .orders import families_frame
 
 #: rvtol's class thresholds, as fractions of the direct sensitivity S_ref = 1 µm of arc at the disc pitch
 #: radius z_c·e (206.265 / 58.5 = 3.53 arcsec/µm for the RV-80E): what a tangential error acting directly
@@ -135,10 +137,17 @@ class TECurve(Analysis):
                                                    f"{g.z_c} = absolute crank/eccentric rotation; "
                                                    f"{_mesh_order_note(g.z_c * g.z_b, first.te.size)})")
         top = first.top_orders(8)
-        sec.add_table(top, caption="Largest orders of the TE spectrum")
+        attributed = self.model.order_table(first, top=12, min_fraction=0.01)
+        sec.add_table(attributed, caption="Largest orders of the TE spectrum (≥ 1 % of the largest) and the error "
+                                          "families expected there: active families (non-zero factors) whose "
+                                          "orders contain it, or, where none does, products of two families' base "
+                                          f"orders (z_b = {g.z_b}, z_c = {g.z_c}, Z = z_b·z_c = {g.z_b * g.z_c}; "
+                                          "derivation in rvtol/models/transmission/orders.py)",
+                      float_format="{:.4g}")
+        sec.add_table(families_frame(g), caption="Error families and their base orders per output revolution")
         sec.summary = {"configuration": how, "values": dict(zip(spec.names, map(float, x))),
                        "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
-                       "top_orders": frame_records(top)}
+                       "top_orders": frame_records(top), "order_attribution": frame_records(attributed)}
         return sec
 
 
