@@ -32,7 +32,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from ...analysis import Analysis
+from ...analysis import Analysis, target_model
 from ... import units
 from ...design import load_design
 from ...report.sections import Section, frame_records
@@ -79,18 +79,20 @@ class TorsionCurveAnalysis(Analysis):
         self.K = params.float("clearance_coefficient", 1.5, positive=True)
         path = params.path_value("stiffness_design", study.base_dir, None)
         self.stiffness_design = load_design(path) if path is not None else None
+        self.te_design = study.design
+        m = study.model
+        self.target = None
+        if isinstance(m, TorsionCurveModel) or getattr(m, "stages", None):
+            self.target = target_model(params, study, TorsionCurveModel, "torsion_curve")
+            self.model = self.target.model
+        else:
+            self.model = TorsionCurveModel(study.design, ())
+        self.spec = study.spec if self.target is not None else None
         params.finish()
         if self.stiffness_design is not None:      # a bad stiffness design fails here, before any computation
             d = self.stiffness_design
             self.part1 = (ReducerStiffness.from_design(d),
                           (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"]))
-        self.te_design = study.design
-        m = study.model
-        if isinstance(m, TorsionCurveModel):
-            self.model = m
-        else:
-            self.model = TorsionCurveModel(study.design, ())
-        self.spec = study.spec if isinstance(m, TorsionCurveModel) else None
 
     def run(self, ctx) -> list[Section]:
         return [self._curves(), self._lost_motion(), self._rigidity()]
@@ -115,7 +117,7 @@ class TorsionCurveAnalysis(Analysis):
         rows = [self._metrics_row("clearance-free, error-free", free)]
         curves = [("clearance-free", free)]
         if self.spec is not None and len(self.model.inputs):
-            mean = self.spec.mean_base()
+            mean = self.target.inputs(self.spec.mean_base())[0]
             c = m.curve(mean)
             rows.append(self._metrics_row("all factors at the spec's mean", c))
             curves.append(("spec mean", c))
