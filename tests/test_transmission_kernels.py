@@ -38,7 +38,7 @@ def numba_forces(g, st, theta_c, q, dth_s=0.0):
     coef, off = np.zeros((tab.n, 2, L.NZ)), np.zeros((tab.n, 2))
     K.update_table(theta_c, dth_s, g.prm(), st.err, st.pin_err, st.disc_h, pin_cos_sin(g), coef, off)
     F, fc, kt, Km = np.zeros(L.NDOF), np.zeros(tab.n), np.zeros((tab.n, 3)), np.zeros((L.NDOF, L.NDOF))
-    energy = K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, F, fc, kt)
+    energy = K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, F, fc, kt)
     K.tangent_matrix(tab.kind, tab.idx, coef, kt, Km)
     return F, Km, energy
 

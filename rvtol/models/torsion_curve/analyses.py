@@ -38,15 +38,15 @@ import pandas as pd
 from ...analysis import Analysis
 from ... import units
 from ...design import load_design
+from ...elements.reducer_chain import FAMILIES
 from ...report.sections import Section, frame_records
 from ..lost_motion.model import LostMotionGeometry, LostMotionModel
 from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness
 from .model import TorsionCurveModel, compliance_breakdown
 
-BREAKDOWN_LABELS = {"sun": "sun support", "mesh": "sun–planet meshes (≈ θ1)", "pin": "cycloid–pin contacts (≈ θ2)",
-                    "cam": "cycloid–crank bearings (≈ θ3)", "crank": "crank–carrier bearings",
-                    "housing": "carrier–housing bearing"}
+BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)", "cycloid_pin": "cycloid–pin contacts (≈ θ2)",
+                    "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
 CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 

@@ -166,7 +166,8 @@ class TorsionCurve:
 
 
 def compliance_breakdown(g: RVGeometry, errors: ErrorState | None, q, torque: float, theta_c: float = 0.0) -> dict:
-    """Torsion angle (rad) per element group by virtual work, ``Σ_c f_c·(G_c q) / T`` (see module doc)."""
+    """Torsion angle (rad) per compliance family by virtual work, ``Σ_c f_c·(G_c q) / T`` (see module doc and
+    :meth:`QuasiStaticSolver.contact_work`)."""
     work = QuasiStaticSolver(g, errors).contact_work(theta_c, q)
     return {k: w / torque for k, w in work.items()}
 
