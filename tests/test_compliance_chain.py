@@ -309,3 +309,65 @@ def test_full_nonlinear_breakdown_sums_to_the_angle_at_every_torque():
 def test_chain_elements_from_a_design_without_material_is_empty():
     el = ChainElements.from_design(load_design(ROOT / "data/designs/rv80e_te.toml"), 42.0)
     assert el.present == () and el.scale("carrier") == 1.0
+
+
+# ---------------------------------------------------------------------------------------------- doc 004's model
+from rvtol.models.stiffness.torsion_angle import COMPONENTS, ReducerStiffness   # noqa: E402
+
+RS = ReducerStiffness.from_design(PRODUCT)
+MODS = (PRODUCT["cycloid.equidistance_modification"], PRODUCT["cycloid.moved_distance_modification"])
+
+
+def test_stiffness_model_reads_the_product_design_through_its_key_fallbacks():
+    assert RS.module == PRODUCT["sun.module"] and RS.pressure_angle == PRODUCT["sun.pressure_angle"]
+    assert RS.gear_width == PRODUCT["sun.face_width"] and RS.pins.b == PRODUCT["cycloid.face_width"]
+    assert (RS.shift_sun, RS.shift_planet) == (PRODUCT["sun.profile_shift"], PRODUCT["planet.profile_shift"])
+    assert RS.crank_radius == PRODUCT["crank_bearing.centre_radius"] == pytest.approx(G.a_w, rel=1e-4)
+    assert RS.components == COMPONENTS + ("crank_support_bearings", "pin_groove", "disc_web", "input_shaft")
+    doc = ReducerStiffness.from_design(load_design(ROOT / "data/designs/rv80e_stiffness.toml"))
+    assert doc.components == COMPONENTS and doc.crank_radius == doc.module * (doc.z1 + doc.z2) / 2
+
+
+def test_stiffness_model_extra_components_against_their_closed_forms():
+    res = RS.evaluate([0.25 * T, T], *MODS)
+    tau = res.torque
+    d = PRODUCT
+    K_in = SHEAR * math.pi * d["input_shaft.diameter"] ** 4 / 32 / d["input_shaft.length"]
+    np.testing.assert_allclose(res.component("input_shaft"), tau / (K_in * RS.ratio ** 2), rtol=1e-12)
+    ri = d["crank_bearing.centre_radius"] + d["cycloid.crank_hole_diameter"] / 2
+    ro = d["pin.circle_radius"] - d["pin.radius"] - d["cycloid.eccentricity"]
+    K_web = 4 * math.pi * SHEAR * d["cycloid.face_width"] / (ri ** -2 - ro ** -2)
+    Tc = tau * (1 - 1 / RS.ratio) * RS.pins.z_c / (2 * RS.pins.z_p)
+    np.testing.assert_allclose(res.component("disc_web"), 2 * Tc ** 2 / (K_web * tau), rtol=1e-12)
+    # grooves: θ2 + θ_groove = i_b w(F_max)/r_c', split in the ratio of the two approaches at F_max
+    cs = res.contacts[0][1]
+    gr = RS.pins.groove
+    w_g = contacts.groove_approach(cs.F_ref, gr.length, gr.r_pin, gr.r_groove, E, NU)
+    both = res.component("cycloid_pin") + res.component("pin_groove")
+    np.testing.assert_allclose(both, RS.i_b * cs.approach_ref / RS.pins.r_c, rtol=1e-12)
+    np.testing.assert_allclose(res.component("pin_groove"), both * w_g / cs.approach_ref, rtol=1e-12)
+    # support pair: each crank's loads on the pair, one by one
+    pair = RS.chain.pair
+    ld = RS.crank_loads(cs)
+    z = ld.z - RS.support_span / 2
+    for n in range(2):
+        work = 0.0
+        for i in range(3):
+            P = ld.loads[n, i]
+            f = [P[:, 0].sum(), P[:, 1].sum(), 0.0, -(z * P[:, 1]).sum(), (z * P[:, 0]).sum()]
+            q = pair.solve(np.array(f), tol=1e-10).q[0]
+            work += sum(P[k] @ np.array([q[0] + q[4] * z[k], q[1] - q[3] * z[k]]) for k in range(3))
+        assert res.component("crank_support_bearings")[n] == pytest.approx(work / tau[n], rel=1e-6)
+    # families: θ4 split into bending and torsion
+    fam = res.families()
+    np.testing.assert_allclose(fam["crank_bending"] + fam["crank_torsion"], res.component("crankshafts"), rtol=1e-12)
+    assert sum(v[1] for v in fam.values()) == pytest.approx(res.total[1], rel=1e-12)
+
+
+def test_a_groove_makes_more_pins_share_the_disc_torque():
+    """In series with a soft groove contact the pins' approach grows with the same law on every pin, so the
+    disc turns further and pins with a larger initial gap come into contact: more loaded pins, a lower peak."""
+    no = ReducerStiffness.from_design(PRODUCT.with_values()).with_pins(groove=None).evaluate(T, *MODS)
+    yes = RS.evaluate(T, *MODS)
+    assert yes.extra["contact_pairs"][0] >= no.extra["contact_pairs"][0]
+    assert yes.extra["max_pin_force"][0] < no.extra["max_pin_force"][0]

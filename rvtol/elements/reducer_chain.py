@@ -99,7 +99,7 @@ def _check_scales(design) -> None:
 def _num(design, key, *, nonnegative=False):
     v = design[key]
     if isinstance(v, str) or not np.isfinite(v) or not (v >= 0 if nonnegative else v > 0):
-        raise SpecError(f"must be a number {'>= 0' if nonnegative else '> 0'}, got {design.param(key).value!r}",
+        raise SpecError(f"must be {'>= 0' if nonnegative else '> 0'}, got {design.param(key).value!r}",
                         file=design.file, key=key)
     return float(v)
 
@@ -237,9 +237,8 @@ class ChainElements:
             return cls(None, None, float(crank_radius), scales=scales)
         E = _num(design, "material.youngs_modulus")
         nu = float(design["material.poisson_ratio"])
-        if not -1.0 < nu < 0.5:
-            raise SpecError(f"must be a Poisson ratio in (-1, 0.5), got {nu:g}", file=design.file,
-                            key="material.poisson_ratio")
+        if not 0.0 < nu < 0.5:
+            raise SpecError(f"must be > 0 and < 0.5, got {nu:g}", file=design.file, key="material.poisson_ratio")
         G = E / (2.0 * (1.0 + nu))
         kw: dict = {}
         src: dict = {}
