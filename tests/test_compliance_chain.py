@@ -371,3 +371,60 @@ def test_a_groove_makes_more_pins_share_the_disc_torque():
     yes = RS.evaluate(T, *MODS)
     assert yes.extra["contact_pairs"][0] >= no.extra["contact_pairs"][0]
     assert yes.extra["max_pin_force"][0] < no.extra["max_pin_force"][0]
+
+
+# ---------------------------------------------------------------------------------------------- the analysis
+def _study(tmp_path, analysis: str, design: str = "data/products/rv80e/design.toml"):
+    from conftest import write
+
+    return write(tmp_path / "s.toml", f"""
+[study]
+name = "cc"
+design = "{(ROOT / design).as_posix()}"
+[model]
+kind = "torsion_curve"
+points = 6
+[[factor]]
+name = "delta_pin"
+unit = "um"
+dist = "uniform"
+lower = 2
+upper = 4
+[[analysis]]
+{analysis}
+""")
+
+
+def test_compliance_breakdown_analysis_puts_the_models_side_by_side(tmp_path):
+    from rvtol.study import load_study, run_study
+
+    study = load_study(_study(tmp_path, 'kind = "compliance_breakdown"\ntorque = { value = 392, unit = "N*m" }'),
+                       n=4, executor="serial", progress=False)
+    res = run_study(study)
+    sec = res.sections[0]
+    rows = {r["family"]: r for r in sec.summary["breakdown"]}
+    chain, rigid, doc = ("20-DOF, compliance chain (arcsec)", "20-DOF, doc 000's rigid chain (arcsec)",
+                         "doc 004 model (arcsec)")
+    fams = [f for f in FAMILIES if f in rows]
+    assert fams == list(FAMILIES)
+    for col in (chain, rigid, doc):
+        parts = [rows[f][col] for f in fams if rows[f][col] is not None]
+        assert sum(parts) == pytest.approx(rows["total"][col], rel=1e-12)
+    # the 20-DOF total is the solver's angle at that torque; doc 004's is its θ_Σ
+    tau = 0.5 * T
+    r = solve(G, np.linspace(0, tau, 9)[1:], 1e-8)
+    assert rows["total"][chain] == pytest.approx(r.te[-1] * 648000 / math.pi, rel=1e-6)
+    assert rows["total"][doc] == pytest.approx(RS.evaluate(tau, *MODS).total[0] * 648000 / math.pi, rel=1e-12)
+    assert rows["input_shaft"][rigid] is None and rows["sun_support"][doc] is None
+    assert {r["family"] for r in sec.summary["reductions"]} == set(G.chain.families)
+
+
+def test_compliance_breakdown_checks_its_design_when_the_study_loads(tmp_path):
+    from rvtol.study import load_study
+
+    with pytest.raises(InputError) as e:      # doc 000's design has none of doc 004's keys
+        load_study(_study(tmp_path, 'kind = "compliance_breakdown"', "data/designs/rv80e_te.toml"))
+    assert e.value.key
+    study = load_study(_study(tmp_path, 'kind = "compliance_breakdown"\nstiffness_model = false',
+                              "data/designs/rv80e_te.toml"), n=2, executor="serial", progress=False)
+    assert study.analyses

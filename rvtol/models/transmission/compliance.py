@@ -255,6 +255,8 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
                             key="pin.groove_radius")
         notes["pin_groove"] = ("δ = f (a − b ln f): pin centre to housing (groove_approach), same force as the pin; "
                                f"linear beyond {groove_cap(a, b):.3g} N (never reached at equilibrium)")
+    if out.crank_table is not None:
+        _check_crank_law(out, TABLE_RANGE * R_rated)
     return out
 
 
@@ -278,15 +280,21 @@ def _pair_law(el: ChainElements, R_lin: float, R_max: float):
     share = 0.25 * (tilt[0] + tilt[1])
     d = u - share * f
     m = slope - share
-    if not (np.all(m > 0) and np.all(np.diff(d) > 0)):
-        raise SpecError("the crank support pair's law minus its tilt share is not increasing (tilt flexibility "
-                        "larger than the translational one)", key="crank_support_bearing.preload")
-    table = np.stack([f, d, m, hermite_integrals(f, d, m)])
+    return np.stack([f, d, m, hermite_integrals(f, d, m)]), tilt
+
+
+def _check_crank_law(out: ContactChain, R_max: float) -> None:
+    """The crank–carrier law (pair table + linear terms) must increase: the star's centre compliance
+    ``F_12`` is the pair's mutual flexibility plus the beam's and the torque-path springs'; a pair whose
+    tilt flexibility dwarfs its translation (no preload, X arrangement) can make the pair's own share
+    decrease, which the others must make up."""
+    lin = sum(out.crank.values())
     fine = np.linspace(0.0, R_max, 20 * TABLE_POINTS)
-    if not np.all(np.diff(table_law(table, fine)[0]) > 0):
-        raise SpecError("the tabulated crank support law is not monotone between its knots",
-                        key="crank_support_bearing.preload")
-    return table, tilt
+    d, m, _ = table_law(out.crank_table, fine)
+    if not (np.all(m + lin > 0) and np.all(np.diff(d + lin * fine) > 0)):
+        raise SpecError("the crank support law (pair translation less its tilt share, plus the crank's mutual "
+                        "flexibility) is not increasing: the pair's tilt flexibility is larger than the star "
+                        "reduction can carry", key="crank_support_bearing.preload")
 
 
 #: the contact groups of the 20-DOF model and the family of each group's own law
