@@ -34,7 +34,7 @@ T = D["reducer.rated_torque"]
 ARCSEC, ARCMIN = 648000 / math.pi, 10800 / math.pi
 NM_ARCMIN = math.pi / 10800 / 1e3
 CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
-MEAN_CLEARANCES = dict(zip(CAMS + ("delta_pin",), [0.002] * 6 + [0.0066]))   # mm: spec means (mapping.md §1)
+MEAN_CLEARANCES = dict(zip(CAMS + ("delta_pin",), [0.00136] * 6 + [0.0066]))   # mm: means (data/specs/rv80e_product_clearances.toml)
 
 
 def geometries(design=D):
@@ -54,7 +54,7 @@ def curve(g, values: dict | None = None):
 
 
 def nominal_table(gs):
-    print("\n### Nominal reducer (clearance-free; and at the spec's mean clearances δ_b = 2 µm, δ_pin = 6.6 µm)\n")
+    print("\n### Nominal reducer (clearance-free; and at the mean clearances δ_b = 1.36 µm, δ_pin = 6.6 µm)\n")
     print("| case | chain | rigidity b/a (N·m/arcmin) | lost motion ±3 % (arcmin) | backlash (arcmin) | "
           "angle at +rated (arcsec) |")
     print("|---|---|---|---|---|---|")
