@@ -428,3 +428,16 @@ def test_compliance_breakdown_checks_its_design_when_the_study_loads(tmp_path):
     study = load_study(_study(tmp_path, 'kind = "compliance_breakdown"\nstiffness_model = false',
                               "data/designs/rv80e_te.toml"), n=2, executor="serial", progress=False)
     assert study.analyses
+
+
+def test_models_switch_the_chain_off_from_the_study():
+    from rvtol.models.torsion_curve.model import from_study as tc_study
+    from rvtol.models.transmission.model import from_study as te_study
+    from rvtol.params import Params
+    from rvtol.spec import spec_from_table
+
+    spec = spec_from_table({"factor": [{"name": "delta_pin", "unit": "um", "dist": "uniform", "lower": 0,
+                                        "upper": 3}]})
+    assert tc_study(Params({}), PRODUCT, spec).geometry.chain is not None
+    assert tc_study(Params({"compliance_chain": False}), PRODUCT, spec).geometry.chain is None
+    assert te_study(Params({"compliance_chain": False}), PRODUCT, spec).geometry.chain is None
