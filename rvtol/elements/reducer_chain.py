@@ -8,25 +8,22 @@ from the closed-form elements of this package.  Both reducer models read it (the
 ``compliance_scale.<family>`` (dimensionless, default 1: as derived).  The first six are the contact
 laws doc 000's 20-DOF model always has; the others are present only when the design gives their data:
 
-==========================  =====================================================================  ==============
-family                      element (formula: module)                                              design keys
-==========================  =====================================================================  ==============
-``sun_support``             sun support spring (doc 000 k_s)                                       ``stiffness.*``
-``sun_planet_mesh``         involute meshes (doc 000 k_sp; doc 004: ISO 6336-1)                    ``stiffness.*``
-``cycloid_pin``             disc–pin contacts (doc 000 k0·P^0.1; doc 004: Hertz line contact)      ``stiffness.*``
-``turning_arm_bearings``    needle bearings eccentric/disc (doc 000 k0·P^0.1; doc 004: Palmgren)   ``stiffness.*``
-``crank_support_bearings``  crank support bearings: doc 000's one planar k0·P^0.1 law, or the      ``crank_support_bearing.*``
-                            preloaded tapered roller pair (:mod:`.rolling_bearings`)
-``carrier_housing_bearing`` main bearing carrier–housing (doc 000 k0·P^0.1)                        ``stiffness.*``
-``crank_bending``           crankshaft bending + shear between its supports, Timoshenko beam of   ``crank.*``
-                            ⌀ journals and eccentrics (:class:`.shafts.SteppedShaft`)
-``crank_torsion``           crankshaft twist between planet gear and eccentric (:func:`.shafts`)   ``crank.*``
-``carrier``                 carrier pillars with flexible end plates (:mod:`.carrier_structure`)   ``carrier.*``
-``pin_groove``              pin in its housing groove, in series with the disc–pin contact        ``pin.groove_*``
-                            (:func:`.contacts.groove_approach`)
-``disc_web``                in-plane torsion of the disc web (:mod:`.disc_web`)                    ``cycloid.crank_hole_diameter``
-``input_shaft``             input-shaft twist between the locked end and the sun (:func:`.shafts`) ``input_shaft.*``
-==========================  =====================================================================  ==============
+* ``sun_support``, ``sun_planet_mesh``, ``cycloid_pin``, ``turning_arm_bearings``,
+  ``carrier_housing_bearing``: doc 000's contact laws (Table 2, ``stiffness.*``); in doc 004's model the
+  involute mesh (ISO 6336-1), the disc–pin Hertz contact and the needle bearings (Palmgren);
+* ``crank_support_bearings``: doc 000's one planar k0·P^0.1 law per crank, or the preloaded tapered
+  roller pair (:mod:`.rolling_bearings`; ``crank_support_bearing.{rollers, roller_length,
+  pitch_diameter, cup_angle, cone_angle, preload, arrangement}``);
+* ``crank_bending``: bending + shear of the crank between its supports, Timoshenko beam of ⌀ journals
+  and eccentrics (:class:`.shafts.SteppedShaft`; ``crank.*``);
+* ``crank_torsion``: twist of the crank between the planet gear and an eccentric (:mod:`.shafts`);
+* ``carrier``: pillars with flexible end plates (:mod:`.carrier_structure`; ``carrier.*`` with
+  ``flange_thickness``, ``end_plate_thickness``, ``plate_clamp_radius``);
+* ``pin_groove``: pin in its housing groove, in series with the disc–pin contact
+  (:func:`.contacts.groove_approach`; ``pin.groove_radius``, ``pin.groove_contact_length``);
+* ``disc_web``: in-plane torsion of the disc web (:mod:`.disc_web`; ``cycloid.crank_hole_diameter``);
+* ``input_shaft``: twist of the input shaft between the locked end and the sun (:mod:`.shafts`;
+  ``input_shaft.diameter``, ``input_shaft.length``).
 
 **Crank frame.**  ``z`` along the crank, positive towards the output flange, ``z = 0`` midway between
 the two eccentrics (= midway between the support bearings: the discs sit symmetrically in the span):
@@ -300,8 +297,8 @@ class ChainElements:
             k = carrier_structure.pillar_stiffness(sec, h, E, nu, kphi)
             kw["carrier_stiffness"] = float(carrier_structure.carrier_torsional_stiffness(
                 n, R, k, section=sec, length=h, G=G))
-            src["carrier"] = (f"{int(round(n))} pillars {w:g} × {t:g} × {h:g} mm at R {R:g} (fixed–guided, Cowper κ, "
-                              f"twist), end plate {te:g} / flange {tf:g} mm as Kirchhoff plates clamped at "
+            src["carrier"] = (f"{int(round(n))} pillars {w:g} × {t:g} × {h:g} mm at R {R:g} (fixed–guided, "
+                              f"Cowper κ, twist), end plate {te:g} / flange {tf:g} mm as Kirchhoff plates clamped at "
                               f"{a:g} mm around a pillar root")
         if has("cycloid.crank_hole_diameter", "pin.circle_radius", "pin.radius", "cycloid.eccentricity") and (
                 "cycloid.face_width" in design or "cycloid.width" in design):

@@ -159,7 +159,8 @@ class ReducerStiffness:
                 raise SpecError(f"the torsion-angle model is written for 3 cranks and 2 discs, got {d[name]:g}",
                                 file=d.file, key=name)
         span = num("crank.support_span")
-        z1, z2, module = whole("sun.teeth"), whole("planet.teeth"), num(first_key(d, "first_stage.module", "sun.module"))
+        z1, z2 = whole("sun.teeth"), whole("planet.teeth")
+        module = num(first_key(d, "first_stage.module", "sun.module"))
         circle = num("crank_bearing.centre_radius") if "crank_bearing.centre_radius" in d else None
         chain = ChainElements.from_design(d, circle if circle is not None else module * (z1 + z2) / 2.0)
         if "pin.groove_radius" in d and chain.groove is not None:

@@ -51,8 +51,8 @@ from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import LABELS, ReducerStiffness
 from .model import TorsionCurveModel, compliance_breakdown
 
-BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)", "cycloid_pin": "cycloid–pin contacts (≈ θ2)",
-                    "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
+BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)",
+                    "cycloid_pin": "cycloid–pin contacts (≈ θ2)", "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
 CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 
@@ -251,8 +251,8 @@ class TorsionCurveAnalysis(Analysis):
                          f"arcsec with doc 000's pin-gear and first-stage geometry and no profile modification "
                          f"({units.from_base(T, 'N*m') / (same / 60):.1f} N·m/arcmin).")
         if g.chain is None:
-            lines.append("Why they differ: the 20-DOF model treats cranks and carrier as rigid bodies (no θ4, θ5) but "
-                         "has the crank–carrier and carrier–housing bearings, which doc 004 leaves out; its contact "
+            lines.append("Why they differ: the 20-DOF model treats cranks and carrier as rigid bodies (no θ4, θ5) "
+                         "but has the crank–carrier and carrier–housing bearings, which doc 004 leaves out; its contact "
                          "laws are doc 000's k = k0·P^0.1 (force ∝ deflection^1.11) for pins and bearings, against "
                          "doc 004's Hertz line contact with logarithmic terms and Palmgren's needle-bearing formula; "
                          "its involute mesh is doc 000's constant 1.58e5 N/mm against ISO 6336 at low load.")
