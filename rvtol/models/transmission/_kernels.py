@@ -341,12 +341,16 @@ def _series_deflection(f, k0, pw, ser, c, tab):
 
 
 @njit(**_JIT)
-def series_law(s, k0, pw, ser, c, tab):
+def series_law(s, k0, pw, ser, c, tab, f0=0.0):
     """Force ``f`` of contact ``c``'s series law at deflection ``s > 0`` (``δ(f) = s``), the tangent
     ``df/ds = 1/δ'(f)`` and the energy ``∫_0^s f = f s − ∫_0^f δ``.
 
-    Newton on ``δ(f) − s`` kept inside a bracket (bisection when a step leaves it), from the upper end:
-    every term of δ is increasing from δ(0) = 0, so the kind's power law alone bounds f from above.
+    Newton on ``δ(f) − s`` kept inside a bracket (bisection when a step leaves it), from ``f0`` when it
+    lies inside (the contact's force at the previous evaluation: Newton's iterates move little), else
+    from the upper end: every term of δ is increasing from δ(0) = 0, so the kind's power law alone
+    (or the linear term alone) bounds f from above.  Newton converges quadratically: once a step is
+    below 1e-9 of f, the point it gives is exact to rounding, and the tangent and energy of the
+    point before it differ by less than that (relative 1e-9 × the law's curvature).
     """
     lo = 0.0
     if k0 > 0.0:
@@ -356,13 +360,13 @@ def series_law(s, k0, pw, ser, c, tab):
     else:
         t = int(ser[c, S_TAB])
         hi = s / tab[t, T_M, 0] if t >= 0 else s / ser[c, S_LOGB]
-    for _ in range(200):
-        d, dd, ce = _series_deflection(hi, k0, pw, ser, c, tab)
-        if d >= s:
-            break
-        lo = hi
-        hi *= 2.0
-    f = hi
+        for _ in range(200):
+            d, dd, ce = _series_deflection(hi, k0, pw, ser, c, tab)
+            if d >= s:
+                break
+            lo = hi
+            hi *= 2.0
+    f = f0 if lo < f0 < hi else hi
     for _ in range(200):
         d, dd, ce = _series_deflection(f, k0, pw, ser, c, tab)
         g = d - s
@@ -371,11 +375,14 @@ def series_law(s, k0, pw, ser, c, tab):
         elif g < 0.0:
             lo = f
         else:
-            break
+            return f, 1.0 / dd, f * s - ce
         fn = f - g / dd
         if not (fn > lo and fn < hi):
             fn = 0.5 * (lo + hi)
-        if abs(fn - f) <= 4e-16 * fn or hi - lo <= 4e-16 * hi:
+        elif abs(fn - f) <= 1e-9 * fn:
+            f = fn
+            break
+        if hi - lo <= 4e-16 * hi:
             f = fn
             break
         f = fn
@@ -405,7 +412,8 @@ def _zero_load_stiffness(k0, pw, gap, ser, c, tab):
 def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
     """Internal generalised forces ``F = Σ Gᵀ f`` and, per contact, force and tangent terms.
 
-    ``fc[c]``: signed force of a scalar contact, resultant of a bearing.
+    ``fc[c]``: signed force of a scalar contact, resultant of a bearing (on entry: the previous evaluation's,
+    the starting guess of a series law's inversion).
     ``kt[c]``: scalar contacts ``(k, 0, 0)``; bearings the 2×2 tangent ``(Kxx, Kxy, Kyy)``.
     Returns the elastic energy ``Σ ∫ f`` (``F`` is its gradient; the Newton line search uses it).
     """
@@ -413,10 +421,11 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
 
 
 @njit(**_JIT)
-def _unilateral(d, k0, pw, ser, c, tab):
-    """Force, tangent and energy of a one-sided contact at deflection ``d > 0``."""
+def _unilateral(d, k0, pw, ser, c, tab, f0):
+    """Force, tangent and energy of a one-sided contact at deflection ``d > 0`` (``f0``: a guess of the force,
+    for a series law)."""
     if ser[c, S_ON] != 0.0:
-        return series_law(d, k0, pw, ser, c, tab)
+        return series_law(d, k0, pw, ser, c, tab, f0)
     f = (k0 * d) ** pw
     return f, pw * f / d, f * d / (pw + 1.0)
 
@@ -438,7 +447,7 @@ def _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin):
         kt[c, 1] = 0.0
         kt[c, 2] = 0.0
         if d > 0.0:
-            f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab)
+            f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab, fc[c])
             energy += e_c
             fc[c] = f
             kt[c, 0] = kk
@@ -473,7 +482,7 @@ def _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin):
                 kt[c, 2] = k_zero
                 continue
             if ser[c, S_ON] != 0.0:
-                f, ktan, e_c = series_law(s, k0[c], pw[c], ser, c, tab)
+                f, ktan, e_c = series_law(s, k0[c], pw[c], ser, c, tab, fc[c])
                 energy += e_c
             else:
                 f = (k0[c] * s) ** pw[c]
@@ -510,7 +519,7 @@ def _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin):
                 kk = k0[c]
                 energy += 0.5 * f * d
             elif d > 0.0:
-                f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab)
+                f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab, fc[c])
                 energy += e_c
             else:
                 f = 0.0

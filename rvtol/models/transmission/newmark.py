@@ -71,6 +71,9 @@ class NewmarkSolver:
     loads on/off.
     """
 
+    #: the kernel module the run uses (the benchmarks set an earlier commit's to compare)
+    kernels = K
+
     def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *,
                  output_speed: float = 15 * 2 * math.pi / 60, load_torque: float | None = None,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
@@ -140,11 +143,11 @@ class NewmarkSolver:
         out_rec = np.zeros((n_rec, K.NREC))
         coef = np.zeros((tab.n, 2, L.NZ))
         off = np.zeros((tab.n, 2))
-        failed = K.newmark_run(0.0, self.omega_c, h, nsteps, nskip, True, self.static.prm, e.err, e.pin_err,
-                               e.disc_h, self.static.pin_cs, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap,
-                               tab.ser, tab.tab, self.static.xs, self.M, C, Q0, np.zeros(L.NDOF), 0.0, q0,
-                               np.zeros(L.NDOF), self.tol_f, self.maxit, self.maxstep, out_q, out_v, out_status,
-                               out_iter, out_rec)
+        failed = self.kernels.newmark_run(0.0, self.omega_c, h, nsteps, nskip, True, self.static.prm, e.err,
+                                          e.pin_err, e.disc_h, self.static.pin_cs, tab.kind, tab.idx, coef, off,
+                                          tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, self.static.xs, self.M, C, Q0,
+                                          np.zeros(L.NDOF), 0.0, q0, np.zeros(L.NDOF), self.tol_f, self.maxit,
+                                          self.maxstep, out_q, out_v, out_status, out_iter, out_rec)
         t = (nskip + np.arange(n_rec)) * h
         theta_c = self.omega_c * t
         return DynamicResult(theta_c, np.full(n_rec, -self.load_torque), out_q, out_status, out_iter, out_rec,
