@@ -8,6 +8,7 @@ interrupted.
 from __future__ import annotations
 
 import argparse
+import time
 import sys
 from pathlib import Path
 
@@ -114,9 +115,13 @@ def _run(args) -> int:
     study = load_study(args.study, **_overrides(args))
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)  # before the run
     result = run_study(study)
+    t0 = time.perf_counter()
     write_outputs(result, out)
+    t_report = time.perf_counter() - t0
     if not args.quiet:
         _print_result(result)
+        phases = [*result.timings.items(), ("report", t_report)]
+        print("time by phase: " + " · ".join(f"{k} {v:.1f} s" for k, v in phases))
     verdict = "PASS" if result.passed else "FAIL"
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
           + (" (+ report.pdf, summary.json, samples.parquet)" if study.options.pdf

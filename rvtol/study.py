@@ -304,6 +304,7 @@ class StudyResult:
     sections: list[Section]
     elapsed: float
     executor: str
+    timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", then each analysis' key
 
     @property
     def passed(self) -> bool:
@@ -327,19 +328,23 @@ def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
+    timings = {}
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
                              o.chunk_size, o.progress, o.confidence)
+        timings["monte_carlo"] = time.perf_counter() - t0
         ctx = StudyContext(study, ex, mc)
         sections: list[Section] = []
-        for a in study.analyses:
+        for i, a in enumerate(study.analyses):
+            ta = time.perf_counter()
             res = a.run(ctx)
             sections.extend(res if isinstance(res, list) else [res])
+            timings[getattr(a, "key", None) or f"analysis[{i}]"] = time.perf_counter() - ta
         desc = ex.describe()
     finally:
         if own:
             ex.close()
-    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc)
+    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc, timings)
 
 
 def check_out_dir(out_dir: str | Path) -> Path:

@@ -67,7 +67,9 @@ def inputs_section(result) -> Section:
                                    f"{len(st.model.outputs)} outputs)"},
         {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
         {"item": "executor", "value": result.executor},
-        {"item": "wall time", "value": f"{result.elapsed:.1f} s"},
+        {"item": "wall time", "value": f"{result.elapsed:.1f} s"
+                                       + (" (" + ", ".join(f"{k} {v:.1f} s" for k, v in result.timings.items()) + ")"
+                                          if result.timings else "")},
     ])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}

@@ -87,4 +87,5 @@ def build_summary(result) -> dict:
         "requirements": [d.to_dict() for d in result.signoff],
         "passed": all(v.passed for v in verdicts),
         "analyses": {s.key: s.summary for s in result.sections if s.summary},
+        "timings_s": {k: round(v, 3) for k, v in result.timings.items()},
     })
