@@ -211,7 +211,7 @@ class MonteCarloResult:
             yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
             good = y[self.ok]
             cap = st.capability(good, r.lower, r.upper, r.confidence)
-            pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
+            pci = (st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, r.confidence)
                    if len(good) >= 100 else (None, None))
             j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cap["cpk"], cpk_lo=cap["cpk_lo"],
                       n_failed=int(self.n - self.ok.sum()))
