@@ -387,7 +387,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     try:
         summary = result.summary()
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
-        result.mc.to_frame().to_parquet(tmp / "samples.parquet", index=False)
+        result.mc.write_parquet(tmp / "samples.parquet")
         html = render_html(result)
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
