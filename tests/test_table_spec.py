@@ -2,6 +2,7 @@
 that name the sheet, row and column."""
 import datetime
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -210,3 +211,9 @@ def test_rows_are_plain_and_measured_distributions_are_refused():
     assert rows[4][4] == "24.0695..24.0905" and rows[4][5] == "normal(shift=0.003)"
     with pytest.raises(InputError, match="unknown factor"):
         spec_rows(spec, {"nope": 1.0})
+    from rvtol.inputs.measured import empirical
+
+    measured = replace(spec, factors=(replace(spec.factors[0], dist=empirical([24.08, 24.09, 24.07])),),
+                       correlation=None)
+    with pytest.raises(SpecError, match="'carrier_gap': a EmpiricalDistribution cannot be written"):
+        spec_rows(measured)

@@ -392,7 +392,7 @@ def _hole(letter: str, g: str, d: float) -> tuple[float, float]:
             if d > 500.0:
                 raise InputError(f"{letter}{g}: {letter} above IT8 is defined up to 500 mm only")
             if letter == "N" and d <= 1.0:
-                raise InputError(f"N above IT8 is not used for nominal sizes up to 1 mm (ISO 286-1)")
+                raise InputError("N above IT8 is not used for nominal sizes up to 1 mm (ISO 286-1)")
             es = {"K": 0.0, "M": -_table(_EI, "m", d, name), "N": -4.0 if d <= 3.0 else 0.0}[letter]
         return es, es - it
     # P … ZC: ES = −ei, plus Δ up to IT7

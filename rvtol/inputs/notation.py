@@ -195,7 +195,7 @@ class Tolerance:
 # --------------------------------------------------------------------------------- lexing
 _DASHES = dict.fromkeys(map(ord, "\u2212\u2012\u2013\u2014\ufe63\uff0d"), "-")
 _DIAMETER = "Ø⌀ø∅"
-_UNIT_ALIASES = {'"': "in", "''": "in", "in.": "in", "µ": "um", "μ": "um"}
+_UNIT_ALIASES = {'"': "in", "µ": "um", "μ": "um"}
 _TOKEN = re.compile(r"""
     (?P<ws>\s+)
   | (?P<range>\.\.)
