@@ -101,9 +101,12 @@ def _check(args) -> int:
 
 
 def _kinds() -> int:
-    from .registry import ANALYSES, MODELS
+    from .registry import ANALYSES, MODELS, plugin_models
 
     print("models:   " + ", ".join(sorted(MODELS)))
+    plugins = plugin_models()
+    if plugins:
+        print("models from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in sorted(plugins.items())))
     print("analyses: " + ", ".join(sorted(ANALYSES)))
     return EXIT_PASS
 

@@ -222,9 +222,14 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
     spec file, any other to the ``[model]`` table of the study file; an error
     that already names its file (a bad number in the design) keeps it.
     """
-    factory = model_factory(mp.str("kind"), file)
+    kind = mp.str("kind")
+    factory = model_factory(kind, file)
     try:
-        return factory(mp, design, spec)
+        model = factory(mp, design, spec)
+        if not isinstance(model, Model):   # a plug-in's factory (the built-in ones are tested)
+            raise InputError(f"the factory of model kind {kind!r} returned {type(model).__name__}, "
+                             "not an rvtol.model.Model", key="kind")
+        return model
     except InputError as exc:
         if exc.file is None:
             if (exc.key or "").split(".")[0].split("[")[0] == "factor":

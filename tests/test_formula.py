@@ -1,5 +1,6 @@
 """Formula models: equal to the same model written in Python, exact derivatives (hand and finite
-differences), units, malicious input refused, study factory errors located."""
+differences), units, study factory errors located (the language itself, malicious input included,
+is tested in test_expressions.py)."""
 import math
 import pickle
 
@@ -7,7 +8,8 @@ import numpy as np
 import pytest
 
 from rvtol.errors import InputError
-from rvtol.inputs.formula import FormulaError, FormulaModel, FormulaOutput, from_study, parse
+from rvtol.expressions import ExpressionError
+from rvtol.models.formula.model import FormulaModel, FormulaOutput, from_study
 from rvtol.model import FunctionModel, Quantity
 from rvtol.params import Params
 from rvtol.sampling import sample
@@ -146,78 +148,23 @@ def test_undefined_rows_become_failed_samples_not_exceptions():
     assert Y[0, 0] == pytest.approx(2 + math.log(4)) and list(status) == [0, 1, 1]
 
 
-def test_quoted_names():
-    f = parse("`E_c[1,2]` * 2 + `pin gap`", ["E_c[1,2]", "pin gap"])
-    assert f.names == ("E_c[1,2]", "pin gap")
-    assert f.evaluate({"E_c[1,2]": np.array([1.0]), "pin gap": np.array([0.5])})[0] == 2.5
-    # a factor named like the constant must be quoted: a bare pi would be ambiguous
-    m = FormulaModel({"y": "`pi` * 3.141592653589793"}, ["pi"])
+def test_a_factor_named_like_a_constant_is_braced():
+    m = FormulaModel({"y": "{pi} * 3.141592653589793"}, ["pi"])
     assert m.evaluate(np.array([[2.0]]))[0, 0] == pytest.approx(2 * math.pi)
-    with pytest.raises(FormulaError, match="both a factor and a constant"):
-        FormulaModel({"y": "`pi` * pi"}, ["pi"])
-
-
-MALICIOUS = [
-    ("__import__('os')", "calling __import__ is not allowed"),
-    ("__import__('os').system('echo hi')", "calling an expression is not allowed"),
-    ("().__class__.__bases__[0].__subclasses__()", "allowed"),
-    ("x.real", "attribute access"),
-    ("x.__class__", "attribute access"),
-    ("(lambda: 1)()", "calling an expression"),
-    ("lambda: 1", "lambda"),
-    ("[i for i in x]", "comprehensions"),
-    ("sum(i for i in x)", "calling sum"),
-    ("open('/etc/passwd')", "calling open"),
-    ("eval('1')", "calling eval"),
-    ("exec('1')", "calling exec"),
-    ("globals()", "calling globals"),
-    ("x if x else 1", "conditional"),
-    ("x > 1", "comparisons"),
-    ("x and 1", "and/or"),
-    ("(y := 2)", "assignment"),
-    ("x[0]", "indexing"),
-    ("'abc'", "str constants"),
-    ("f'{x}'", "strings"),
-    ("import os", "cannot read"),
-    ("x; y", "cannot read"),
-    ("sqrt(x=1)", "keyword"),
-    ("sqrt(*x)", "unpacking"),
-    ("sqrt(x, x)", "takes 1 argument"),
-    ("x ^ 2", "'^' is not a power"),
-    ("x // 2", "FloorDiv"),
-    ("~x", "Invert"),
-    ("1j * x", "complex constants"),
-    ("True + x", "bool constants"),
-    ("sqrt", "it is a function"),
-    ("undefined + 1", "unknown name 'undefined'"),
-    ("`nope` + 1", "unknown name `nope`"),
-    ("x" + " + x" * 300, "nested deeper"),
-    ("(" * 300 + "x" + ")" * 300, "nested"),
-    ("x" * 5000, "longer than"),
-    ("", "empty"),
-    ("1" + "0" * 400 + " * x", "not finite"),
-    ("1e400 * x", "not finite"),
-]
-
-
-@pytest.mark.parametrize("text,words", MALICIOUS, ids=[m[0][:30] for m in MALICIOUS])
-def test_malicious_and_bad_formulas_are_refused(text, words):
-    with pytest.raises(FormulaError) as e:
-        parse(text, ["x", "y"])
-    assert words in str(e.value), str(e.value)
-    assert isinstance(e.value, InputError) and "\n" not in str(e.value)
+    with pytest.raises(ExpressionError, match="both a name and a constant"):
+        FormulaModel({"y": "{pi} * pi"}, ["pi"])
 
 
 def test_model_construction_errors():
-    with pytest.raises(FormulaError, match="output 'y': unknown name 'z'"):
+    with pytest.raises(ExpressionError, match="output 'y': unknown name 'z'"):
         FormulaModel({"y": "x + z"}, ["x"])
-    with pytest.raises(FormulaError, match="duplicate output"):
+    with pytest.raises(ExpressionError, match="duplicate output"):
         FormulaModel([("y", "x"), ("y", "2*x")], ["x"])
-    with pytest.raises(FormulaError, match="unknown unit"):
+    with pytest.raises(ExpressionError, match="unknown unit"):
         FormulaModel([("y", "x", "furlong")], ["x"])
-    with pytest.raises(FormulaError, match="definition 'x' has the name of an input"):
+    with pytest.raises(ExpressionError, match="definition 'x' has the name of an input"):
         FormulaModel({"y": "x"}, ["x"], definitions={"x": "1"})
-    with pytest.raises(FormulaError, match="unit 'mm' is a length, expected angle"):
+    with pytest.raises(ExpressionError, match="unit 'mm' is a length, expected angle"):
         FormulaModel([FormulaOutput("y", "x", "rad", "mm")], ["x"])
 
 
@@ -232,7 +179,7 @@ def test_study_factory_locates_errors():
                  file="study.toml", key="model")
     with pytest.raises(InputError) as e:
         from_study(bad, None, spec)
-    assert str(e.value).startswith("study.toml: model.output[0].formula: output 'gap': attribute access")
+    assert str(e.value).startswith("study.toml: model.output[0].formula: output 'gap': unknown name 'carrier_gap.real'")
     bad = Params({"define": {"w": "nope"}, "output": [{"name": "gap", "formula": "w", "unit": "mm"}]},
                  file="study.toml", key="model")
     with pytest.raises(InputError, match="study.toml: model.define.w: definition 'w': unknown name 'nope'"):

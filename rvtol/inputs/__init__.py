@@ -1,4 +1,4 @@
-"""Engineers' inputs: drawing notation, ISO 286 limits and fits, table specs, measured data, formulas.
+"""Engineers' inputs: drawing notation, ISO 286 limits and fits, table specs, measured data.
 
 =============================  ===========================================================
 module                         what it gives
@@ -9,7 +9,8 @@ module                         what it gives
 :mod:`rvtol.inputs.table_spec` a spec as a CSV/XLSX table (one row per factor), both ways
 :mod:`rvtol.inputs.measured`   a factor distribution from measured values: empirical,
                                kernel density, fitted families ranked by AIC
-:mod:`rvtol.inputs.formula`    model outputs as formulas of the factors (safe parser,
-                               vectorised, exact derivatives): ``FormulaModel``
 =============================  ===========================================================
+
+Formulas of the factors (no Python) are a model kind: :mod:`rvtol.models.formula`, written in the
+one expression language :mod:`rvtol.expressions`.
 """
