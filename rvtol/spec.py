@@ -16,6 +16,31 @@ File format (``data/specs/*.toml``)::
     group = "pin gear"         # optional: component, for reports and allocation
     source = "..."             # optional: where the number comes from
 
+    [[factor]]                 # drawing notation (rvtol.inputs.notation) instead of numbers:
+    name = "bore"
+    nominal = 25               # optional when the text has it ("25 H7")
+    tolerance = "H7"           # "+0.10/-0.00", "±0.05", "5%", "24.95..25.05", "max 0.02", "H7/g6",
+                               # "±0.05 Cpk 1.33 k 0.25", "1.000\" ±0.002\"", ...
+    dist = "normal"            # optional (normal): the kind read over the drawing's band; any
+                               # distribution key (sigma, shift, shape, ...) refines it
+    unit = "mm"                # optional when the text has one ("25 H7" is in mm)
+    direction = -1             # optional: the factor's sign/coefficient in a 1-D stack
+
+    [[factor]]                 # measured values (rvtol.inputs.measured)
+    name = "bore_measured"
+    unit = "mm"
+    dist = "measured"
+    data = "cmm/bores.csv"     # relative to this file; column = "bore", sheet = "CMM"
+    method = "fit"             # fit (AIC-ranked families) | empirical | kde; measurement_sigma = 0.001
+    tolerance = "25 H7"        # optional: the drawing's worst-case limits
+
+A factor written in drawing notation keeps the drawing's worst-case limits (``Factor.limits``):
+its tolerance band (:attr:`Factor.band`: worst case, five-point steps, allocation) is the
+drawing's even when a process spec shifts the mean (``Cpk 1.33 k 0.25``).
+
+A spec may also be a table (``.csv``/``.tsv``/``.xlsx``, :mod:`rvtol.inputs.table_spec`): one row
+per factor, the same keys as columns; :func:`load_spec` reads either.
+
     [[correlation]]            # optional Gaussian copula, a pair or a block
     factors = ["a", "b"]
     matrix = [[1.0, 0.6], [0.6, 1.0]]
@@ -40,8 +65,11 @@ from pathlib import Path
 import numpy as np
 
 from . import units
-from .distributions import Distribution, from_params
+from .distributions import KINDS, Distribution, from_params
 from .errors import InputError, SpecError
+from .inputs.measured import measured_factor
+from .inputs.notation import NotationError, Tolerance, parse_tolerance
+from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
@@ -61,6 +89,9 @@ class Factor:
     description: str = ""
     group: str = ""
     source: str = ""
+    direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
+    limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
+    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
 
     @property
     def base_unit(self) -> str:
@@ -81,17 +112,28 @@ class Factor:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The tolerance band ``(low, high)`` in the factor's unit (:attr:`Distribution.band`)."""
-        return self.dist.band
+        """The tolerance band ``(low, high)`` in the factor's unit: the drawing's worst-case
+        :attr:`limits` when the factor was written in drawing notation, else :attr:`Distribution.band`."""
+        return self.limits if self.limits is not None else self.dist.band
 
     @property
     def half_band(self) -> float:
-        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`)."""
-        return self.dist.half_band
+        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`, or half the drawing's limits;
+        for a one-sided magnitude the whole band)."""
+        if self.limits is None:
+            return self.dist.half_band
+        lo, hi = self.limits
+        return float(hi - lo) if self.dist.one_sided else 0.5 * float(hi - lo)
 
     def scaled(self, f: float) -> "Factor":
-        """This factor with its tolerance multiplied by ``f``."""
-        return replace(self, dist=self.dist.scaled(f))
+        """This factor with its tolerance multiplied by ``f`` (the drawing's limits about their middle, or
+        above their lower end for a one-sided magnitude, as the distribution scales)."""
+        limits = self.limits
+        if limits is not None:
+            lo, hi = limits
+            m = lo if self.dist.one_sided else 0.5 * (lo + hi)
+            limits = (m + (lo - m) * f, m + (hi - m) * f)
+        return replace(self, dist=self.dist.scaled(f), limits=limits)
 
     def describe(self) -> str:
         return self.dist.describe(self.unit)
@@ -230,10 +272,26 @@ class Requirement:
 
 
 # --------------------------------------------------------------------------- loaders
-def load_spec(path: str | Path) -> ToleranceSpec:
+def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
+        return load_table_spec(path, sheet=sheet)
     data, sha = read_toml(path)
     spec = spec_from_table(data, file=str(path))
     return replace(spec, sha256=sha)
+
+
+def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec table (:mod:`rvtol.inputs.table_spec`): its rows read as ``[[factor]]`` tables, every error
+    at its sheet, row and column."""
+    from .inputs.table_spec import read_spec_table
+
+    table = read_spec_table(path, sheet=sheet)
+    try:
+        spec = spec_from_table(table.document, file=str(path))
+    except InputError as exc:
+        raise table.locate(exc) from None
+    return replace(spec, sha256=table.sha256)
 
 
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
@@ -261,14 +319,84 @@ def factor_from_params(p: Params) -> Factor:
     name = p.str("name")
     if not name or not _NAME.match(name):
         raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
-    unit = p.unit("unit")
-    dist = from_params(p)
-    nominal = p.float("nominal", None)
+    unit = p.unit("unit", None)
+    drawing = drawing_tolerance(p, unit)
+    if unit is None:
+        if drawing is None or drawing.unit is None:
+            raise p.error("unit", "missing unit (the unit of the nominal and the tolerance, e.g. mm, um, in)")
+        unit = drawing.unit
+    measured = None
+    if p.data.get("dist") == "measured":
+        dist, measured = measured_distribution(p)
+    elif drawing is not None:
+        dist = band_distribution(p, drawing)
+    else:
+        dist = from_params(p)
+    nominal = p.float("nominal", None) if drawing is None else drawing.nominal
     desc = p.str("description", "")
     group = p.str("group", "")
     source = p.str("source", "")
+    direction = stack_direction(p)
     p.finish()
-    return Factor(name, unit, dist, nominal, desc, group, source)
+    limits = drawing.limits if drawing is not None else None
+    return Factor(name, unit, dist, nominal, desc, group, source, direction, limits, measured)
+
+
+# ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
+#: distribution keys a factor written in drawing notation may add to refine its band's reading
+_REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scale", "shift")
+
+
+def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
+    """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
+    for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
+    text = p.data.get("tolerance")
+    if not isinstance(text, str):
+        return None
+    p.raw("tolerance")
+    nominal = p.float("nominal", None)
+    try:
+        return parse_tolerance(text, nominal=nominal, unit=unit)
+    except NotationError as exc:
+        raise p.error("tolerance", exc.reason) from None
+
+
+def band_distribution(p: Params, tol: Tolerance) -> Distribution:
+    """The distribution kind ``dist`` (default normal) read over a drawing tolerance's band
+    (:meth:`rvtol.inputs.notation.Tolerance.factor_table`); distribution keys given beside it refine or
+    override what the band gives (an explicit ``sigma`` replaces the band's σ)."""
+    kind = p.str("dist", "normal", choices=KINDS)
+    level = p.float("sigma_level", None, positive=True)
+    try:
+        table = tol.factor_table(kind, sigma_level=level)
+    except NotationError as exc:
+        raise p.error("sigma_level" if "sigma_level" in exc.reason else "dist", exc.reason) from None
+    table.pop("nominal", None)
+    given = {k: p.raw(k) for k in _REFINING if k in p}
+    if kind == "normal" and "sigma" in given:
+        table.pop("tolerance", None)
+    table.update(given)
+    try:
+        return from_params(Params(table, file=p.file, key=p.key))
+    except InputError as exc:
+        if (exc.key or "").rsplit(".", 1)[-1] not in given:   # a number the tolerance gave
+            exc.key = p.path("tolerance")
+        raise
+
+
+def measured_distribution(p: Params):
+    """``dist = "measured"``: the distribution of measured values (:func:`rvtol.inputs.measured.measured_factor`;
+    files relative to the spec file) and the record of the data behind it."""
+    p.str("dist")
+    return measured_factor(p, Path(p.file).parent if p.file else Path("."))
+
+
+def stack_direction(p: Params) -> float | None:
+    """``direction``: the factor's sign or coefficient in a one-dimensional stack (``+``, ``-`` or a number)."""
+    v = p.raw("direction", None)
+    if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
+        return 1.0 if v.strip() == "+" else -1.0
+    return None if v is None else p.float("direction")
 
 
 def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:

@@ -10,7 +10,8 @@ import pytest
 from scipy import stats
 
 from rvtol.errors import InputError, SpecError
-from rvtol.inputs.table_spec import read_table_spec, spec_rows, write_table_spec
+from rvtol.inputs.table_spec import spec_rows, write_table_spec
+from rvtol.models.linear.model import stack_model
 from rvtol.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -33,6 +34,7 @@ def assert_same_spec(a, b):
             assert same_number(f.dist.p[k], g.dist.p[k]), (f.name, k, f.dist.p[k], g.dist.p[k])
         assert same_number(f.dist.shift, g.dist.shift) and same_number(f.dist.sigma_level, g.dist.sigma_level)
         assert same_number(f.nominal, g.nominal), f.name
+        assert all(same_number(x, y) for x, y in zip(f.band, g.band)), (f.name, f.band, g.band)
     if a.correlation is None:
         assert b.correlation is None
     else:
@@ -44,16 +46,16 @@ def assert_same_spec(a, b):
 def test_round_trip_every_repository_spec(toml, ext, tmp_path):
     spec = load_spec(toml)
     path = write_table_spec(spec, tmp_path / f"{toml.stem}.{ext}")
-    assert_same_spec(spec, read_table_spec(path).spec)
+    assert_same_spec(spec, load_spec(path))
 
 
 def test_round_trip_keeps_coefficients(tmp_path):
     spec = load_spec(ROOT / "data/specs/rv80e_axial_stack.toml")
     coef = {"carrier_gap": 1.0, "disc1_width": -1.0, "disc2_width": -1.0}
     for ext in ("csv", "xlsx"):
-        t = read_table_spec(write_table_spec(spec, tmp_path / f"s.{ext}", coefficients=coef))
-        assert t.coefficients == coef
-        assert t.spec.correlation[1, 2] == 0.5
+        t = load_spec(write_table_spec(spec, tmp_path / f"s.{ext}", coefficients=coef))
+        assert {f.name: f.direction for f in t.factors} == coef
+        assert t.correlation[1, 2] == 0.5
 
 
 ISSUE_CSV = """\
@@ -68,18 +70,17 @@ bearing,bearing,width,29.9,0.01,-0.01,-,normal,mm,catalogue
 def test_issue_layout_and_linear_stack_against_closed_forms(tmp_path):
     p = tmp_path / "stack.csv"
     p.write_text(ISSUE_CSV, encoding="utf-8")
-    t = read_table_spec(p)
-    s = t.spec
+    s = load_spec(p)
     assert s.names == ("housing", "spacer", "bearing") and s.name == "stack"
-    assert t.coefficients == {"housing": 1.0, "spacer": -1.0, "bearing": -1.0}
+    assert {f.name: f.direction for f in s.factors} == {"housing": 1.0, "spacer": -1.0, "bearing": -1.0}
     h, sp, b = s.factors
     assert (h.dist.mean, h.dist.std) == (pytest.approx(50.0), pytest.approx(0.1 / 6))
     assert sp.dist.kind == "uniform" and sp.dist.frozen.support() == pytest.approx((19.98, 20.0))
     assert (b.dist.mean, b.dist.std) == (pytest.approx(29.9), pytest.approx(0.02 / 6))
     assert (h.group, h.description, h.nominal) == ("housing", "bore depth", 50.0)
-    assert t.tolerances["spacer"].limits == pytest.approx((19.98, 20.0))
+    assert sp.limits == pytest.approx((19.98, 20.0)) and sp.band == pytest.approx((19.98, 20.0))
     # the stack model: gap = housing − spacer − bearing; mean and RSS σ by hand
-    m = t.linear_model("gap", display_unit="um")
+    m = stack_model(s, "gap", display_unit="um")
     assert m.outputs[0].unit == "mm" and m.outputs[0].display_unit == "um"
     x = np.array([[50.0, 19.99, 29.9], [50.05, 19.98, 29.89]])
     np.testing.assert_allclose(m.evaluate(x)[:, 0], [0.11, 0.18], atol=1e-12)
@@ -106,9 +107,9 @@ def test_drawing_notation_and_distribution_cells(tmp_path):
         "inch;1;+0.002/-0.001;uniform;in;\n",
         encoding="utf-8")
     with pytest.raises(SpecError, match=r"row 5, column 'distribution': .* write decimals with a point"):
-        read_table_spec(p)
+        load_spec(p)
     p.write_text(p.read_text(encoding="utf-8").replace("shift=0,003", "shift=0.003"), encoding="utf-8")
-    s = read_table_spec(p).spec
+    s = load_spec(p)
     f = {x.name: x for x in s.factors}
     assert f["bore"].dist.mean == pytest.approx(25.0105) and f["bore"].dist.std == pytest.approx(0.021 / 6)
     assert f["shaft"].dist.frozen.support() == pytest.approx((24.980, 24.993)) and f["shaft"].dist.p["sigma"] == 0.002
@@ -145,7 +146,7 @@ HEAD = ["name", "part", "nominal", "unit", "tolerance", "distribution"]
     (["a", "p", 25, None, "±0.1", "normal"], "column 'unit' (D)", "missing unit"),
     (["a", "p", 25, "mm", "±0.1", "gauss"], "column 'distribution' (F)", "unknown distribution"),
     (["a", "p", 25, "mm", "±0.1", "normal(sigma=x)"], "column 'distribution' (F)", "needs a number"),
-    (["a", "p", 25, "mm", "±0.1", "normal(foo=1)"], "column 'distribution' (F)", "key=number"),
+    (["a", "p", 25, "mm", "±0.1", "normal(foo=1)"], "column 'distribution' (F)", "key=value"),
     (["a", "p", 25, "mm", "±0.1", "lognormal"], "column 'distribution' (F)", "cannot be read as 'lognormal'"),
     (["a b!", "p", 25, "mm", "±0.1", "normal"], "column 'name' (A)", "invalid factor name"),
     (["a", "p", 25, "deg", "H7", "normal"], "column 'tolerance' (E)", "length tolerance"),
@@ -155,7 +156,7 @@ HEAD = ["name", "part", "nominal", "unit", "tolerance", "distribution"]
 def test_xlsx_errors_name_sheet_row_and_column(tmp_path, row, where, words):
     p = _xlsx(tmp_path / "s.xlsx", [["#spec", "t"], HEAD, ["ok", "p", 1, "mm", "±0.1", "normal"], row])
     with pytest.raises(SpecError) as e:
-        read_table_spec(p)
+        load_spec(p)
     msg = str(e.value)
     assert msg.startswith(f"{p}: sheet 'Stack', row 4, column ") and where in msg and words in msg, msg
     assert "\n" not in msg
@@ -167,7 +168,7 @@ def test_xlsx_errors_name_sheet_row_and_column(tmp_path, row, where, words):
     ("unit,tolerance\nmm,±1\n", "row 1: the header has no 'name' column"),
     ("name,unit,tolerance,+tol,-tol\na,mm,±1,1,1\n", "not both"),
     ("name,unit,+tol,-tol\na,mm,0.1,\n", "row 2, column '-tol': +tol and -tol go together"),
-    ("name,unit,tolerance,direction\na,mm,±1,up\n", "row 2, column 'coefficient': expected a direction"),
+    ("name,unit,tolerance,direction\na,mm,±1,up\n", "row 2, column 'direction': expected a direction"),
     ("#correlation,a,b,2\nname,unit,tolerance\na,mm,±1\nb,mm,±1\n", "row 1: #correlation: must be <= 1.0"),
     ("#correlation,a,c,0.5\nname,unit,tolerance\na,mm,±1\nb,mm,±1\n", "unknown factor name 'c'"),
     ("#colour,red\nname,unit,tolerance\na,mm,±1\n", "row 1: unknown directive '#colour'"),
@@ -178,29 +179,29 @@ def test_csv_errors_name_row_and_column(tmp_path, text, words):
     p = tmp_path / "s.csv"
     p.write_text(text, encoding="utf-8")
     with pytest.raises(SpecError) as e:
-        read_table_spec(p)
+        load_spec(p)
     assert words in str(e.value) and str(e.value).startswith(str(p)), str(e.value)
 
 
 def test_file_level_errors(tmp_path):
     with pytest.raises(SpecError, match="file not found"):
-        read_table_spec(tmp_path / "missing.csv")
+        load_spec(tmp_path / "missing.csv")
     with pytest.raises(SpecError, match="unknown table format"):
-        read_table_spec(tmp_path / "x.ods")
+        load_spec(tmp_path / "x.ods")
     bad = tmp_path / "bad.xlsx"
     bad.write_bytes(b"not a zip")
     with pytest.raises(SpecError, match="not a readable .xlsx"):
-        read_table_spec(bad)
+        load_spec(bad)
     p = _xlsx(tmp_path / "s.xlsx", [HEAD, ["a", "p", 1, "mm", "±0.1", "normal"]])
     with pytest.raises(SpecError, match="no sheet 'Other' \\(sheets: Stack\\)"):
-        read_table_spec(p, sheet="Other")
-    assert read_table_spec(p, sheet="Stack").spec.names == ("a",)
+        load_spec(p, sheet="Other")
+    assert load_spec(p, sheet="Stack").names == ("a",)
 
 
 def test_uncomputed_formula_is_not_read_as_blank(tmp_path):
     p = _xlsx(tmp_path / "f.xlsx", [HEAD, ["a", "p", "=20+5", "mm", "±0.1", "normal"]])
     with pytest.raises(SpecError, match=r"sheet 'Stack', row 2, column C: the formula =20\+5 has no stored value"):
-        read_table_spec(p)
+        load_spec(p)
 
 
 def test_rows_are_plain_and_measured_distributions_are_refused():
@@ -208,7 +209,8 @@ def test_rows_are_plain_and_measured_distributions_are_refused():
     rows = spec_rows(spec)
     assert rows[0] == ["#spec", "rv80e_axial_stack"]
     assert rows[3][:6] == ["name", "part", "feature", "nominal", "tolerance", "distribution"]
-    assert rows[4][4] == "24.0695..24.0905" and rows[4][5] == "normal(shift=0.003)"
+    # the factor's band (shifted with its mean, as the TOML's numbers define it) and what gives the distribution
+    assert rows[4][4] == "24.0725..24.0935" and rows[4][5] == "normal(mean=24.08, shift=0.003)"
     with pytest.raises(InputError, match="unknown factor"):
         spec_rows(spec, {"nope": 1.0})
     from rvtol.inputs.measured import empirical

@@ -54,6 +54,7 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import InputError, SpecError
+from .sheets import read_rows
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -158,8 +159,18 @@ class _DataDistribution:
     @property
     def tolerance(self) -> float:
         """The central band holding the coverage of ±``sigma_level``·σ of a normal (99.73 %)."""
+        lo, hi = self.band
+        return hi - lo
+
+    @property
+    def band(self) -> tuple[float, float]:
+        """The central interval holding the coverage of ±``sigma_level``·σ of a normal (99.73 %)."""
         q = 0.5 * (1.0 - coverage(self.sigma_level))
-        return float(self.ppf(1.0 - q) - self.ppf(q))
+        return float(self.ppf(q)), float(self.ppf(1.0 - q))
+
+    @property
+    def half_band(self) -> float:
+        return 0.5 * self.tolerance
 
     def _scaled_data(self, f: float) -> np.ndarray:
         if not f > 0:
@@ -431,13 +442,23 @@ class FrozenDistribution:
         return float(self._frozen.std())
 
     @property
-    def tolerance(self) -> float:
+    def band(self) -> tuple[float, float]:
+        """As :attr:`rvtol.distributions.Distribution.band`: support start to the coverage quantile
+        (one-sided), else the central coverage interval."""
         c = coverage(self.sigma_level)
-        lo = float(self._frozen.support()[0])
         if self.one_sided:
-            return float(self._frozen.ppf(c)) - lo
+            return float(self._frozen.support()[0]), float(self._frozen.ppf(c))
         q = 0.5 * (1 - c)
-        return float(self._frozen.ppf(1 - q) - self._frozen.ppf(q))
+        return float(self._frozen.ppf(q)), float(self._frozen.ppf(1 - q))
+
+    @property
+    def tolerance(self) -> float:
+        lo, hi = self.band
+        return hi - lo
+
+    @property
+    def half_band(self) -> float:
+        return self.tolerance if self.one_sided else 0.5 * self.tolerance
 
     def scaled(self, f: float) -> "FrozenDistribution":
         if not f > 0:
@@ -688,10 +709,9 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     suffix = path.suffix.lower()
     where_sheet = ""
     if suffix in (".xlsx", ".xlsm"):
-        from .table_spec import _read_rows
-
-        rows, title, _ = _read_rows(path, sheet)
-        where_sheet = f"sheet {title!r}, "
+        sh = read_rows(path, sheet)
+        rows = sh.rows
+        where_sheet = f"sheet {sh.title!r}, "
         decimal_comma = False
     elif suffix in (".csv", ".tsv", ".txt", ".dat", ""):
         try:
@@ -777,8 +797,35 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     return np.asarray(vals, dtype=float)
 
 
-def measured_from_params(p, base_dir: Path | str = ".") -> object:
-    """The spec-loader hook: a ``[[factor]]`` table's measured-data keys → a distribution.
+#: the keys of a ``[[factor]]`` table with ``dist = "measured"`` (besides name, unit, …)
+MEASURED_KEYS = ("data", "column", "sheet", "method", "families", "family", "location", "interpolate", "bandwidth",
+                 "measurement_sigma")
+
+
+@dataclass(frozen=True, eq=False)
+class Measured:
+    """The data behind a measured factor's distribution, for the report (fit tables, Q-Q plot)."""
+
+    values: np.ndarray            # as read from the file (before any measurement-uncertainty correction)
+    data: str                     # the file as the spec names it
+    column: str | int | None
+    sheet: str | None
+    method: str                   # fit | empirical | kde
+    measurement_sigma: float | None = None
+    fit: FitReport | None = None  # the ranked candidates (method fit; without the GoF test, run by the report)
+    family: str | None = None     # the family used (fit)
+
+    @property
+    def n(self) -> int:
+        return int(self.values.size)
+
+    @property
+    def source(self) -> str:
+        return self.data + (f"[{self.column}]" if self.column is not None else "")
+
+
+def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
+    """The spec-loader hook: a ``[[factor]]`` table's measured-data keys → ``(distribution, Measured)``.
 
     Keys (read through :class:`rvtol.params.Params`, so typos are reported): ``data`` (file,
     relative to ``base_dir``), ``column``, ``sheet``, ``method`` (fit | empirical | kde, default
@@ -796,24 +843,33 @@ def measured_from_params(p, base_dir: Path | str = ".") -> object:
     try:
         values = read_measurements(path, col, sheet=sheet)
     except InputError as exc:
-        if exc.key in (None, "-"):
-            exc.key = p.path("data")
-        raise
+        if exc.key in (None, "-"):   # the file as a whole (missing, unreadable): the spec's key
+            raise p.error("data", f"{exc.reason}: {exc.file}") from None
+        raise                        # a cell of the data file: that file, row and column
     origin = f"{method} of {path.name}" + (f"[{col}]" if col is not None else "")
+    record = dict(values=values, data=str(p.data["data"]), column=col, sheet=sheet, method=method,
+                  measurement_sigma=u)
     try:
         if method == "empirical":
-            return empirical(values, interpolate=p.bool("interpolate", False), measurement_sigma=u, origin=origin)
+            d = empirical(values, interpolate=p.bool("interpolate", False), measurement_sigma=u, origin=origin)
+            return d, Measured(**record)
         if method == "kde":
             bw = p.raw("bandwidth", "scott")
             if not isinstance(bw, (str, int, float)) or isinstance(bw, bool):
                 raise p.error("bandwidth", "expected scott, silverman or a number")
-            return kde(values, bandwidth=bw, measurement_sigma=u, origin=origin)
+            return kde(values, bandwidth=bw, measurement_sigma=u, origin=origin), Measured(**record)
         fams = p.strs("families", list(FAMILIES))
         family = p.str("family", None)
         loc = p.float("location", 0.0)
         rep = fit(values, families=fams, location=loc, measurement_sigma=u, gof=None, origin=origin)
-        return rep.distribution(family)
+        d = rep.distribution(family)
+        return d, Measured(**record, fit=rep, family=rep.candidate(family).family)
     except SpecError:
         raise
     except InputError as exc:
-        raise p.error("data", exc.reason) from None
+        raise p.error("family" if "was not fitted" in exc.reason else "data", exc.reason) from None
+
+
+def measured_from_params(p, base_dir: Path | str = ".") -> object:
+    """The distribution of :func:`measured_factor` alone."""
+    return measured_factor(p, base_dir)[0]
