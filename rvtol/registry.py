@@ -49,6 +49,7 @@ ENTRY_POINT_GROUP = "rvtol.models"
 ANALYSES: dict[str, str] = {
     # model-specific
     "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
+    "lost_motion_screening": "rvtol.models.lost_motion.analyses:LostMotionScreening",
     "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
     "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
@@ -68,6 +69,7 @@ ANALYSES: dict[str, str] = {
     "delta": "rvtol.sensitivity.analyses:Delta",
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
     "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",

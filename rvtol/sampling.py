@@ -44,7 +44,9 @@ STREAMS = {
     "ga_population": 7,                                               # GA initial population (from the GA seed)
     "stackup_domains": 11,                                            # domain sampling, one key per domain
     "clearance_fit_sizes": 12, "clearance_fit_positions": 13,         # hole/shaft sizes, position in the fit
+    "screening_subsample": 14,                                        # reducers for the torsion curve beside doc 001
     "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
+    "calibration_noise": 81,                                          # noise of synthetic measured curves
 }
 
 

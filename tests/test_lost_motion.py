@@ -24,7 +24,7 @@ K = 180 * 60 / math.pi
 
 
 def _doc():
-    g = LostMotionGeometry.from_design(load_design(DOC_DESIGN))
+    g = LostMotionGeometry.from_design(load_design(DOC_DESIGN), "document")
     spec = load_spec(DOC_SPEC)
     return g, spec, LostMotionModel(g, spec.names)
 
@@ -101,12 +101,18 @@ def test_monte_carlo_mean_and_sigma_match_the_analytic_prediction(design, spec_p
 
 
 def test_rv80e_geometry_is_derived_from_the_design():
-    g = LostMotionGeometry.from_design(load_design(RV_DESIGN))
+    g = LostMotionGeometry.from_design(load_design(RV_DESIGN), "document")
     assert g.pitch_diameter == pytest.approx(1.75 * 16)           # m z_sun
     assert g.K1 == pytest.approx(1.5 * 40 / 76.5)                 # a z_p / r_p
-    assert g.bearing_radius == pytest.approx(1.75 * (16 + 32) / 2)
-    assert g.ratio == 81 and g.bearing_K == 1.5
+    # the crank circle is the operating centre distance a' (profile shifts x = 0.519, −0.555): the
+    # 20-DOF geometry's a' from the same design
+    from rvtol.models.transmission.geometry import geometry_from_design
+    a_w = geometry_from_design(load_design(RV_DESIGN)).a_w
+    assert g.bearing_radius == pytest.approx(a_w, rel=1e-12) and a_w == pytest.approx(41.9366, abs=1e-4)
+    assert g.ratio == 81 and g.bearing_K == 1.5 and g.z_p == 40
     assert "sun.module" in g.origins["d1"]
+    c = LostMotionGeometry.from_design(load_design(RV_DESIGN))           # consistent: K derived, not read
+    assert c.mode == "consistent" and c.bearing_K == 1.0 and c.bearing_radius == g.bearing_radius
 
 
 MODEL_STUDY = """
@@ -171,6 +177,7 @@ spec = "{DOC_SPEC}"
 requirements = "{ROOT / 'data/requirements/rv_lost_motion.toml'}"
 [model]
 kind = "lost_motion"
+mode = "document"
 [sampling]
 n = 4000
 method = "random"

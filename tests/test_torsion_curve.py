@@ -116,6 +116,9 @@ def test_lost_motion_grows_with_crank_bearing_clearance_at_the_analytical_rate()
     # doc 001 as written (K = 1.5) predicts a rate 1/(1.5 i_b) of the 20-DOF's
     doc = np.polyfit(d, analytic_lost_motion(G, 1.5, 2 * d), 1)[0]
     assert rate_bl / doc == pytest.approx(1.5 * ib, rel=2e-3)
+    # its consistent mode is the kinematic rate (K = 1, × i_b), whatever K the document mode is given
+    consistent = np.polyfit(d, analytic_lost_motion(G, 1.5, 2 * d, mode="consistent"), 1)[0]
+    assert consistent == pytest.approx(kinematic, rel=1e-12)
 
 
 def test_model_status_and_row_determinism():

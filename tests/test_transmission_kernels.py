@@ -15,7 +15,10 @@ from rvtol.models.transmission.geometry import geometry_from_design, inverse_inv
 from rvtol.models.transmission.numpy_twin import ReferenceModel
 
 ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "gamma_c", "R_pin", "R_pin_phase",
-       "AP_pin", "R_cyc", "R_cyc_phase", "AP_cyc", "delta_b", "delta_oc", "delta_ca", "delta_pin[3]", "delta_th[5]"]
+       "AP_pin", "R_cyc", "R_cyc_phase", "AP_cyc", "delta_b", "delta_oc", "delta_ca", "delta_pin[3]", "delta_th[5]",
+       # part errors of issue 12: pin circle, pin-ring and per-disc harmonics, per-disc profile modification
+       "R_pc", "R_pin[7]", "R_pin_h[3]", "R_pin_h_phase[3]", "AP_pin_c[1]", "R_cyc_h[1,1]", "R_cyc_h_phase[1,1]",
+       "AP_cyc_s[2,3]", "R_cyc_c[2,4]", "equidistance_mod[1]", "equidistance_mod[2]", "moved_distance_mod"]
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +31,7 @@ def geom(root=None):
 def random_errors(g, rng, scale=0.005):
     x = rng.uniform(0.0, scale, len(ALL))
     for i, n in enumerate(ALL):
-        if n.startswith(("beta", "gamma")) or n.endswith("phase"):
+        if n.startswith(("beta", "gamma")) or "phase" in n:
             x[i] = rng.uniform(0.0, 2 * np.pi)
     return ErrorFactors(ALL, g.z_b).state(x)
 

@@ -121,6 +121,8 @@ values = { E_c = 2.0 }
     assert lin["E_c"] == pytest.approx(2.0, rel=0.06)
     assert curve.summary["te_pp_arcsec"]["quasistatic"] > 1.0
     assert curve.summary["top_orders"][0]["order [1/rev]"] == 40
+    first = curve.summary["order_attribution"][0]     # E_c = 2 µm on all six cams: crank-fixed, order z_b
+    assert first["order [1/rev]"] == 40 and first["expected from"].startswith("cranks [E_c")
 
 
 def test_generic_sensitivity_analysis_has_no_document_columns(tmp_path):

@@ -12,9 +12,11 @@ package            physics                                       ``[model] kind`
 =================  ============================================  =========================
 ``linear``         ``Y = c + X·Aᵀ`` (the engine's reference)      ``linear``
 ``lost_motion``    doc 001: per-stage geometric lost motion      ``lost_motion``
+                   (screening estimate; document / consistent)
 ``transmission``   doc 000: the 20-DOF reducer (quasi-static,     ``transmission_error``
                    Newmark-β), transmission error
 ``torsion_curve``  the hysteresis curve of the 20-DOF model       ``torsion_curve``
+                   (maker's lost motion, backlash, rigidity)
 ``stiffness``      doc 004: elastic torsion angles θ1…θ5          ``torsional_stiffness``
 ``stackup``        doc 003: 6-DOF deviations through the          ``stackup``
                    assembly graph

@@ -6,8 +6,8 @@
     kind = "lost_motion_reproduction"
     printed = "../data/reproduction/doc001_lost_motion.toml"
 
-rvtol evaluates the document's formulas (:mod:`rvtol.models.lost_motion`) with
-the document's printed inputs (design and spec ``lost_motion_doc_example``);
+rvtol evaluates the document's formulas as printed (:mod:`rvtol.models.lost_motion`,
+``mode = "document"``) with the document's printed inputs (design and spec ``lost_motion_doc_example``);
 the printed figures come from the data file, the verdicts from the one rule of
 :mod:`.printed`.
 """
@@ -38,6 +38,9 @@ class LostMotionReproduction(Analysis):
 
     def setup(self, params, study):
         check_model(params, study)
+        if study.model.mode != "document":
+            raise params.error("kind", "the reproduction compares doc 001's formulas as printed: the study needs "
+                                       "[model] mode = \"document\"")
         self.key = params.str("key", "lost_motion_reproduction")
         self.title = params.str("title", "Reproduction of the document's printed figures (doc 001)")
         self.printed = load_printed(params.path_value("printed", Path(study.file).parent))

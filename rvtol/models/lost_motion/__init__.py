@@ -1,10 +1,12 @@
-"""Geometric lost motion per stage (doc 001).
+"""Geometric lost motion per stage (doc 001): rvtol's fast screening estimate.
 
-* :mod:`.model` — the formulas, :class:`LostMotionModel` (``MODELS["lost_motion"]``),
-  the document's analytic mean ± T/2 (:func:`analytic`);
+* :mod:`.model` — the formulas in two modes (``document``: as printed; ``consistent``, the
+  default: every coefficient from the kinematics), :class:`LostMotionModel`
+  (``MODELS["lost_motion"]``), the analytic mean ± T/2 (:func:`analytic`);
 * :mod:`.analyses` — the stage breakdown, analytic beside Monte Carlo
-  (``ANALYSES["lost_motion_breakdown"]``).
+  (``ANALYSES["lost_motion_breakdown"]``), and the screening estimate beside the maker's lost
+  motion on the 20-DOF torsion curve (``ANALYSES["lost_motion_screening"]``).
 """
-from .model import LostMotionGeometry, LostMotionModel, analytic, factor_moments
+from .model import MODES, LostMotionGeometry, LostMotionModel, analytic, factor_moments
 
-__all__ = ["LostMotionGeometry", "LostMotionModel", "analytic", "factor_moments"]
+__all__ = ["MODES", "LostMotionGeometry", "LostMotionModel", "analytic", "factor_moments"]

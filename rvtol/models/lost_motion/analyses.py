@@ -1,22 +1,29 @@
 """Study analysis of the lost-motion model: stage breakdown (analytic vs Monte Carlo).
 
 ``[[analysis]] kind = "lost_motion_breakdown"``: geometry, each stage's mean
-± T/2 by the document's formulas and mean ± 3σ of the linear model beside the
-Monte Carlo (mean and σ with CIs, 95 % and ±3σ-coverage intervals), the
-histogram of the total against its limit and the contributions chart.
+± T/2 by the document's formulas (document mode) and mean ± 3σ of the linear
+model beside the Monte Carlo (mean and σ with CIs, 95 % and ±3σ-coverage
+intervals), the histogram of the total against its limit and the
+contributions chart.
+
+``[[analysis]] kind = "lost_motion_screening"``: the screening estimate beside
+the maker's lost motion on the 20-DOF torsion curve (:class:`LostMotionScreening`).
 (Doc 001's printed figures are compared in :mod:`rvtol.reproduction.doc001_lost_motion`.)
 """
 from __future__ import annotations
 
+import math
 
 import numpy as np
 import pandas as pd
 
 from ...analysis import Analysis
 from ... import stats as st
+from ... import units
+from ...errors import InputError
 from ...report.sections import Section, frame_records
 from ...units import convert
-from .model import LostMotionModel, analytic, factor_moments
+from .model import FACTORS, LostMotionModel, analytic, factor_moments
 
 
 def check_model(params, study) -> None:
@@ -66,12 +73,23 @@ class LostMotionBreakdown(Analysis):
         d = breakdown_frame(ctx)
         g = ctx.model.geometry
         sec = Section(self.key, self.title)
-        sec.add_text(
-            "Lost motion of each contribution by the document's formulas (doc 001): mean ± T/2 with T as "
-            "written (means added, tolerances combined by RSS, involute stage divided by the ratio i), and "
-            "mean ± 3σ of the same linear model with each factor's own distribution, beside the Monte Carlo "
-            f"of {ctx.mc.n} samples. The involute stage is measured at the input shaft (÷ i = {g.ratio:g} at "
-            "the output).")
+        if g.mode == "document":
+            sec.add_text(
+                "Lost motion of each contribution by the document's formulas as printed (doc 001, document "
+                "mode): mean ± T/2 with T as written (means added, tolerances combined by RSS, involute stage "
+                "divided by the ratio i), and mean ± 3σ of the same linear model with each factor's own "
+                f"distribution, beside the Monte Carlo of {ctx.mc.n} samples. The involute stage is measured at "
+                f"the input shaft (÷ i = {g.ratio:g} at the output).")
+        else:
+            sec.add_text(
+                "Screening estimate of the geometric (zero-load) lost motion: doc 001's three contributions with "
+                "every coefficient derived from the kinematics (consistent mode: flank-to-flank play, crank-"
+                f"bearing K = 1, √(1−K1²) at the first-contact pin, disc-to-output ratio i_b = "
+                f"{g.disc_to_output:.4f}; rvtol.models.lost_motion.model). Mean ± 3σ of the linear model with "
+                f"each factor's own distribution beside the Monte Carlo of {ctx.mc.n} samples. The involute stage "
+                f"is measured at the input shaft (÷ i = {g.ratio:g} at the output), the cycloid stage and the "
+                f"crank bearings at the disc (× i_b at the output). The maker's lost motion (hysteresis "
+                "mid-points within ±3 % of rated torque) adds the elastic deflection: see the torsion curve.")
         geo = g.to_frame()
         sec.add_table(geo, caption="Geometry (from the design, or derived as shown)")
         if ctx.model.extra:
@@ -85,7 +103,8 @@ class LostMotionBreakdown(Analysis):
             rows.append({
                 "contribution": r["stage"],
                 "× to output": f"{r['to_output']:.4g}",
-                "document: mean ± T/2 [′]": f"{r['mean']:.4g} ± {r['T_doc'] / 2:.4g}",
+                "document: mean ± T/2 [′]": f"{r['mean']:.4g} ± {r['T_doc'] / 2:.4g}" if np.isfinite(r["T_doc"])
+                else "—",
                 "linear: mean ± 3σ [′]": f"{r['mean']:.4g} ± {3 * r['sigma']:.4g}",
                 f"MC mean [{conf} CI] [′]": f"{r['mc_mean']:.4g} [{r['mc_mean_lo']:.4g}, {r['mc_mean_hi']:.4g}]",
                 f"MC σ [{conf} CI] [′]": f"{r['mc_std']:.4g} [{r['mc_std_lo']:.4g}, {r['mc_std_hi']:.4g}]",
@@ -99,7 +118,7 @@ class LostMotionBreakdown(Analysis):
                                                   "estimate; |value| < 2 is ordinary sampling scatter, beyond 3 "
                                                   "would point to a model or sampling error.")
         inv = d.set_index("stage").loc["involute_stage"]
-        if inv["sigma"] > 0:
+        if inv["sigma"] > 0 and g.mode == "document":
             sec.add_text(
                 f"The document's tolerance formula for the involute stage, T = √D(j)·K/d1, gives "
                 f"{inv['T_doc']:.3g}′, while the same factors give 6σ = {inv['T_6sigma']:.3g}′ "
@@ -112,10 +131,223 @@ class LostMotionBreakdown(Analysis):
         from ...plotting.lost_motion import stage_bars, total_histogram
 
         sec.add_figure(total_histogram(ctx.mc, d), caption="Total geometric lost motion: Monte Carlo, analytic "
-                                                           "normal, document band and limit")
+                                                           "normal" + (", document band" if g.mode == "document"
+                                                                       else "") + " and limit")
         sec.add_figure(stage_bars(d), caption="Contributions at the output")
-        sec.summary = {"geometry": frame_records(geo),
+        sec.summary = {"mode": g.mode, "geometry": frame_records(geo),
                        "stages": frame_records(d.drop(columns=["z_mean", "z_sigma"])),
                        "mc_minus_analytic_se": {r["stage"]: {"mean": float(r["z_mean"]), "sigma": float(r["z_sigma"])}
                                                 for _, r in d.iterrows()}}
+        return sec
+
+
+# --------------------------------------------------------------------------- screening beside the torsion curve
+class LostMotionScreening(Analysis):
+    """``[[analysis]] kind = "lost_motion_screening"``: doc 001's screening estimate beside the maker's figures.
+
+    ::
+
+        [[analysis]]
+        kind = "lost_motion_screening"
+        samples = 1000      # torsion curves on a random subsample of the Monte Carlo (all if fewer)
+        percent = 3.0       # lost motion within ±percent % of rated torque (REFERENCE; others use 5)
+        design = "..."      # 20-DOF design of the torsion curve (default: the study's design)
+        limit = 1.0         # arcmin (default: the study's requirement on lost_motion, else the
+                            # design's reducer.lost_motion_limit)
+
+    Works on a study whose model is the lost-motion model (the torsion curve is evaluated on a
+    subsample, sub-stream ``screening_subsample``), the torsion-curve model (its Monte Carlo outputs
+    are the maker's figures; the screening estimate is computed for every sample) or any model with
+    ``screening_inputs(X)`` (:mod:`rvtol.models.torsion_curve.screening`, which also gives the factor
+    bridge between the two vocabularies).  Sections: per-factor rates (document, consistent, 20-DOF
+    finite differences), the two screening modes beside the torsion-curve lost motion, backlash and
+    elastic part on the same reducers, samples at quantiles of the screening estimate, a scatter plot.
+    """
+
+    def setup(self, params, study):
+        from ...design import load_design
+        from ..torsion_curve.model import TorsionCurveModel
+        from ..transmission.geometry import geometry_from_design
+        from .model import LostMotionGeometry
+
+        self.key = params.str("key", "lost_motion_screening")
+        self.title = params.str("title", "Screening estimate (doc 001) beside the maker's lost motion (torsion curve)")
+        m = study.model
+        if isinstance(m, LostMotionModel):
+            self.source = "lost_motion"
+        elif isinstance(m, TorsionCurveModel):
+            self.source = "torsion_curve"
+        elif hasattr(m, "screening_inputs"):
+            self.source = "own"
+        else:
+            raise params.error("kind", "this analysis needs the lost-motion or the torsion-curve model, or a model "
+                                       "with screening_inputs(X) (rvtol.models.torsion_curve.screening)")
+        path = params.path_value("design", study.base_dir, None)
+        design20 = load_design(path) if path is not None else study.design
+        if design20 is None:
+            raise params.error("design", "the torsion curve needs a 20-DOF design ([study] design or design = ...)")
+        self.g20 = geometry_from_design(design20)
+        if self.source == "lost_motion":
+            self.lm_geometry = m.geometry
+        else:
+            d = study.design if study.design is not None else design20
+            try:
+                self.lm_geometry = LostMotionGeometry.from_design(d, "document")
+            except (InputError, KeyError):
+                self.lm_geometry = LostMotionGeometry.from_design(d, "consistent")
+        lg, g20 = self.lm_geometry, self.g20
+        same = (lg.cycloid_teeth == g20.z_c and math.isclose(lg.eccentricity, g20.ecc, rel_tol=1e-9)
+                and math.isclose(lg.ratio, g20.ratio, rel_tol=1e-9) and math.isclose(lg.K1, g20.K1, rel_tol=1e-9))
+        if not same:
+            raise params.error("design", "the torsion curve's design is not the reducer of the screening estimate "
+                                         "(cycloid teeth, eccentricity, ratio or K1 differ)")
+        if self.source == "torsion_curve":
+            self.percent = params.float("percent", m.percent, min=0.01, max=50.0)
+            if self.percent != m.percent:
+                raise params.error("percent", f"the study's torsion-curve model reads lost motion at ±{m.percent:g} %"
+                                              " (its Monte Carlo outputs are used): give the same percent")
+        else:
+            self.percent = params.float("percent", 3.0, min=0.01, max=50.0)
+        self.samples = params.int("samples", 1000, min=10)
+        limit = params.quantity("limit", "arcmin", None, positive=True)
+        if limit is None:
+            req = [r for r in study.requirements if r.output == "lost_motion" and r.upper is not None]
+            if req:
+                q = next(q for q in m.outputs if q.name == "lost_motion")
+                limit = float(units.to_base(req[0].upper, req[0].unit or q.shown_unit))
+            elif "reducer.lost_motion_limit" in design20:
+                limit = float(design20["reducer.lost_motion_limit"])
+        self.limit = None if limit is None else float(units.from_base(limit, "arcmin"))
+        params.finish()
+
+    # ------------------------------------------------------------------
+    def _rows(self, ctx):
+        from ...sampling import substream
+
+        n = ctx.mc.n
+        if self.source == "torsion_curve" or self.samples >= n:
+            return np.arange(n)
+        return np.sort(substream(ctx.seed, "screening_subsample").choice(n, self.samples, replace=False))
+
+    def run(self, ctx):
+        from ...plotting.lost_motion import screening_scatter
+        from ...stats import proportion_ci
+        from ..torsion_curve.model import TorsionCurveModel
+        from ..torsion_curve.screening import backlash_rates, screening_inputs, screening_models
+
+        ev = ctx.evaluator
+        amin = lambda v: np.asarray(units.from_base(v, "arcmin"), dtype=float)  # noqa: E731
+        per_um = lambda v: float(convert(v, "rad/mm", "arcmin/um"))  # noqa: E731
+        rows = self._rows(ctx)
+        inputs = screening_inputs(ctx.model, ctx.mc.samples.values[rows], self.g20.z_b)
+        if self.source == "torsion_curve":
+            ok = ctx.mc.ok[rows]
+            tc_lm, tc_bl = ctx.mc.column("lost_motion")[rows], ctx.mc.column("backlash")[rows]   # arcmin
+        else:
+            tcm = TorsionCurveModel(self.g20, inputs.tc_names, percent=self.percent)
+            e = ev(tcm, inputs.X_tc, "torsion curves (screening)")
+            ok = e.ok
+            tc_lm, tc_bl = amin(e.Y[:, 0]), amin(e.Y[:, 2])
+        models = screening_models(self.lm_geometry, inputs)
+        doc = ev(models["document"], inputs.X_lm, "screening (document)")
+        con = ev(models["consistent"], inputs.X_lm, "screening (consistent)")
+        ok = ok & doc.ok & con.ok
+        g = models["consistent"].geometry
+        inv = amin(con.Y[:, 1]) / g.ratio                      # involute play at the output, in series
+        d = pd.DataFrame({"document": amin(doc.Y[:, 0]), "consistent": amin(con.Y[:, 0]), "involute": inv,
+                          "backlash": tc_bl + inv, "lost_motion": tc_lm + inv, "elastic": tc_lm - tc_bl})[ok]
+        d["gap"] = d["lost_motion"] - d["consistent"]
+        p = self.percent
+        labels = {
+            "document": "doc 001 as printed (document mode)",
+            "consistent": "screening estimate: doc 001, consistent mode",
+            "backlash": "torsion curve: backlash at zero torque",
+            "lost_motion": f"torsion curve: lost motion ±{p:g} % rated (maker's definition)",
+            "elastic": f"lost motion − backlash: elastic part within ±{p:g} % (and play taken up only under load)",
+            "involute": "involute-stage play at the output (Δφ12/i, in series)",
+            "gap": "torsion-curve lost motion − screening estimate",
+        }
+        stats_rows = []
+        for c, label in labels.items():
+            y = np.sort(d[c].to_numpy())
+            row = {"quantity": label, "mean [′]": y.mean(), "σ [′]": y.std(ddof=1) if len(y) > 1 else math.nan,
+                   "P50 [′]": np.quantile(y, 0.5), "P99 [′]": np.quantile(y, 0.99), "max [′]": y[-1]}
+            if self.limit is not None and c in ("document", "consistent", "backlash", "lost_motion"):
+                k = int((y > self.limit).sum())
+                lo, hi = proportion_ci(k, len(y), ctx.mc.confidence)
+                row[f"share > {self.limit:g}′ [{ctx.mc.confidence:.0%} CI]"] = f"{k / len(y):.4f} [{lo:.4f}, {hi:.4f}]"
+            stats_rows.append(row)
+        stats_frame = pd.DataFrame(stats_rows)
+
+        # per-factor rates at the output
+        rates = backlash_rates(self.g20, percent=p, evaluate=lambda mdl, X: (lambda r: (r.Y, r.status))(
+            ev(mdl, X, "20-DOF backlash rates")))
+        cd, cc = models["document"].geometry.output_coefficients(models["document"].extra), \
+            g.output_coefficients(models["consistent"].extra)
+        rate_rows = []
+        for f in [n for n in (*FACTORS, *inputs.extra) if n in cd]:
+            like = f if f in rates else inputs.extra_like.get(f)
+            r20 = rates.get(like) if like else None
+            rate_rows.append({
+                "factor": f, "document [′/µm]": per_um(cd[f]), "consistent [′/µm]": per_um(cc[f]),
+                "20-DOF backlash [′/µm]": per_um(r20["backlash"]) if r20 else math.nan,
+                f"20-DOF lost motion ±{p:g} % [′/µm]": per_um(r20["lost_motion"]) if r20 else math.nan,
+                "document / 20-DOF": cd[f] / r20["backlash"] if r20 else math.nan,
+                "consistent / 20-DOF": cc[f] / r20["backlash"] if r20 else math.nan,
+                "20-DOF factor": {"Delta_b": "δ_b = Δ/2, all six bearings", "Delta_r_c": "delta_pin (every pin)",
+                                  "Delta_r_p": "R_pin[k] (every pin)"}.get(like, "— (bilateral mesh: played in "
+                                                                                 "series, ÷ i)"
+                                                                           if f in ("E_w", "Delta_a", "Delta_F_r")
+                                                                           else "—"),
+            })
+        rate_frame = pd.DataFrame(rate_rows)
+
+        # reducers at quantiles of the screening estimate
+        q_rows = []
+        order = d.sort_values("consistent")
+        for q in (0.5, 0.9, 0.99, 1.0):
+            r = order.iloc[min(len(order) - 1, int(round(q * (len(order) - 1))))]
+            q_rows.append({"screening quantile": f"P{100 * q:g}" if q < 1 else "max",
+                           "document [′]": r["document"], "consistent [′]": r["consistent"],
+                           "torsion-curve backlash [′]": r["backlash"],
+                           f"torsion-curve lost motion ±{p:g} % [′]": r["lost_motion"],
+                           "elastic part [′]": r["elastic"]})
+        q_frame = pd.DataFrame(q_rows)
+
+        sec = Section(self.key, self.title)
+        m = d.mean()
+        where = ("every Monte Carlo sample (the study's torsion-curve outputs)" if self.source == "torsion_curve"
+                 else f"{len(rows)} reducers drawn from the Monte Carlo sample (sub-stream screening_subsample)")
+        sec.add_text(
+            "What a sign-off judges is the maker's lost motion: the angle between the mid-points of the hysteresis "
+            f"width at ±{p:g} % of rated torque, input locked, elastic deflection included (REFERENCE), here from "
+            "the 20-DOF torsion curve. Doc 001's formula is a screening estimate of the geometric (zero-load) part "
+            "only. Both on the same reducers — " + where + f": screening estimate (consistent mode) mean "
+            f"{m['consistent']:.3f}′, doc 001 as printed {m['document']:.3f}′; torsion curve backlash "
+            f"{m['backlash']:.3f}′ and lost motion {m['lost_motion']:.3f}′, of which {m['elastic']:.3f}′ is elastic "
+            f"deflection within ±{p:g} %. The 20-DOF sun–planet mesh has no backlash, so the involute-stage play "
+            f"(Δφ12/i, mean {m['involute']:.4f}′) is added to the torsion-curve figures in series (exact at zero "
+            "load: plays in series add).")
+        if inputs.unseen_by_tc:
+            sec.add_text("Not seen by the torsion curve (no 20-DOF counterpart): " + ", ".join(inputs.unseen_by_tc) + ".")
+        if inputs.unseen_by_lm:
+            sec.add_text("Not in doc 001's formula (the screening estimate ignores them; the torsion curve sees them): "
+                         + ", ".join(inputs.unseen_by_lm) + ".")
+        nbad = int((~ok).sum())
+        if nbad:
+            sec.add_text(f"{nbad} of {len(ok)} reducers could not be evaluated (e.g. a negative clearance) and are "
+                         "left out of the comparison.")
+        sec.add_table(stats_frame, f"Screening estimate and maker's figures on the same {len(d)} reducers (arcmin)")
+        sec.add_table(rate_frame, "Rates at the output per factor: doc 001 as printed, consistent mode, and the "
+                                  "20-DOF torsion curve (central differences of the backlash and of the lost motion "
+                                  "around 2 µm of clearance on the crank bearings and pins)")
+        sec.add_table(q_frame, "Reducers at quantiles of the screening estimate")
+        sec.add_figure(screening_scatter(d["consistent"].to_numpy(), d["lost_motion"].to_numpy(), self.limit, p),
+                       "Per reducer: screening estimate against the torsion-curve lost motion")
+        sec.summary = {"n": int(len(d)), "failed": nbad, "percent": p, "limit_arcmin": self.limit,
+                       "mean_arcmin": {c: float(m[c]) for c in labels},
+                       "statistics": frame_records(stats_frame), "rates": frame_records(rate_frame),
+                       "quantiles": frame_records(q_frame),
+                       "unseen_by_torsion_curve": list(inputs.unseen_by_tc),
+                       "unseen_by_screening": list(inputs.unseen_by_lm)}
         return sec

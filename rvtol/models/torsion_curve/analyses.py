@@ -15,18 +15,15 @@ beside the analytical lost-motion model (:mod:`rvtol.models.lost_motion.model`,
 doc 001); rigidity beside the elastic torsion-angle model (doc 004) with the
 20-DOF angle split by virtual work.
 
-**Analytical rates.**  Doc 001 writes ``Δφ_b = Δ/(K r)`` with ``Δ`` the
-bearing's radial clearance, ``r`` the crank circle and ``K ≈ 1.5``.  In the
+**Analytical rates.**  Doc 001's formula in its two modes
+(:mod:`rvtol.models.lost_motion.model`): as printed (``Δφ_b = Δ/(K r)`` with
+``K ≈ 1.5``, ``Δφ34 = Δr_c/(a z_c)``, no disc-to-output ratio) and
+consistent (``K = 1``: a disc on three bearings 120° apart turns ``Δ / r``
+flank to flank; ``2 Δr_c/(a z_c)`` for a normal gap Δr_c at every pin; the
+output turns ``i_b = (1 − 1/i) z_c / z_p`` times the disc's rotation).  In the
 20-DOF model ``δ_b`` is the radius of a bearing's free-play circle, so the
-bearing's radial internal clearance (extreme to extreme) is ``Δ = 2 δ_b``.
-Vector analysis of one disc on three bearings 120° apart: a translation ``u``
-and a rotation ``φ`` move bearing ``i`` by ``u + φ r t_i``; all three stay
-inside their circles of radius ``δ_b`` for ``|φ| ≤ δ_b / r`` at most
-(``u = 0``; any ``u`` adds to one of the three since ``Σ t_i = 0``), so the
-disc turns ``2 δ_b / r = Δ / r`` from flank to flank: ``K = 1``.  The output
-turns ``i_b = (1 − 1/i) z_c / z_p`` times the disc's rotation relative to the
-carrier (doc 004's ratio, :mod:`.stiffness.torsion_angle`).  Likewise a
-normal clearance ``δ`` at every pin lets the disc turn ``2 δ / (a z_c)``.
+radial internal clearance is ``Δ = 2 δ_b``; a pin clearance ``δ`` is a normal
+gap at every pin, doc 001's per-side ``Δr_c`` (an equidistant modification).
 """
 from __future__ import annotations
 
@@ -35,7 +32,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from ...analysis import Analysis
+from ...analysis import Analysis, target_model
 from ... import units
 from ...design import load_design
 from ...report.sections import Section, frame_records
@@ -43,11 +40,11 @@ from ..lost_motion.model import LostMotionGeometry, LostMotionModel
 from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness
 from .model import TorsionCurveModel, compliance_breakdown
+from .screening import CAMS
 
 BREAKDOWN_LABELS = {"sun": "sun support", "mesh": "sun–planet meshes (≈ θ1)", "pin": "cycloid–pin contacts (≈ θ2)",
                     "cam": "cycloid–crank bearings (≈ θ3)", "crank": "crank–carrier bearings",
                     "housing": "carrier–housing bearing"}
-CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 
 def output_ratio(g) -> float:
@@ -55,16 +52,18 @@ def output_ratio(g) -> float:
     return (1.0 - 1.0 / g.ratio) * g.z_c / g.z_b
 
 
-def analytic_geometry(g, K: float) -> LostMotionGeometry:
-    """Doc 001's lost-motion geometry for the 20-DOF reducer ``g`` with clearance coefficient ``K``."""
+def analytic_geometry(g, K: float = 1.5, mode: str = "document") -> LostMotionGeometry:
+    """Doc 001's lost-motion geometry for the 20-DOF reducer ``g`` (``K``: doc 001's clearance coefficient,
+    used in document mode)."""
     return LostMotionGeometry(pressure_angle=g.alpha, pitch_diameter=g.module * g.z_s, ratio=g.ratio,
                               eccentricity=g.ecc, cycloid_teeth=float(g.z_c), K1=g.K1, bearing_radius=g.a_w,
-                              bearing_K=K, origins={"r": "operating centre distance a' of the 20-DOF geometry"})
+                              bearing_K=K if mode == "document" else 1.0, mode=mode, working_pressure_angle=g.alpha_w,
+                              pins=float(g.z_b), origins={"r": "operating centre distance a' of the 20-DOF geometry"})
 
 
-def analytic_lost_motion(g, K: float, Delta_b=0.0, Delta_r_c=0.0) -> np.ndarray:
+def analytic_lost_motion(g, K: float, Delta_b=0.0, Delta_r_c=0.0, mode: str = "document") -> np.ndarray:
     """Doc 001's total lost motion (rad) for crank-bearing clearance ``Δ`` and cycloid clearance ``Δr_c``."""
-    m = LostMotionModel(analytic_geometry(g, K), ["Delta_b", "Delta_r_c"])
+    m = LostMotionModel(analytic_geometry(g, K, mode), ["Delta_b", "Delta_r_c"])
     X = np.column_stack(np.broadcast_arrays(np.atleast_1d(np.asarray(Delta_b, float)),
                                             np.atleast_1d(np.asarray(Delta_r_c, float))))
     return m.evaluate(X)[:, 0]
@@ -80,18 +79,20 @@ class TorsionCurveAnalysis(Analysis):
         self.K = params.float("clearance_coefficient", 1.5, positive=True)
         path = params.path_value("stiffness_design", study.base_dir, None)
         self.stiffness_design = load_design(path) if path is not None else None
+        self.te_design = study.design
+        m = study.model
+        self.target = None
+        if isinstance(m, TorsionCurveModel) or getattr(m, "stages", None):
+            self.target = target_model(params, study, TorsionCurveModel, "torsion_curve")
+            self.model = self.target.model
+        else:
+            self.model = TorsionCurveModel(study.design, ())
+        self.spec = study.spec if self.target is not None else None
         params.finish()
         if self.stiffness_design is not None:      # a bad stiffness design fails here, before any computation
             d = self.stiffness_design
             self.part1 = (ReducerStiffness.from_design(d),
                           (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"]))
-        self.te_design = study.design
-        m = study.model
-        if isinstance(m, TorsionCurveModel):
-            self.model = m
-        else:
-            self.model = TorsionCurveModel(study.design, ())
-        self.spec = study.spec if isinstance(m, TorsionCurveModel) else None
 
     def run(self, ctx) -> list[Section]:
         return [self._curves(), self._lost_motion(), self._rigidity()]
@@ -116,7 +117,7 @@ class TorsionCurveAnalysis(Analysis):
         rows = [self._metrics_row("clearance-free, error-free", free)]
         curves = [("clearance-free", free)]
         if self.spec is not None and len(self.model.inputs):
-            mean = self.spec.mean_base()
+            mean = self.target.inputs(self.spec.mean_base())[0]
             c = m.curve(mean)
             rows.append(self._metrics_row("all factors at the spec's mean", c))
             curves.append(("spec mean", c))
@@ -163,21 +164,21 @@ class TorsionCurveAnalysis(Analysis):
         amin = lambda v: units.from_base(v, "arcmin")  # noqa: E731
         lm, bl = Y[:, 0], Y[:, 2]
         Delta = 2.0 * self.clearances
+        doc_label, con_label = f"doc 001 as printed, K = {self.K:g} (arcmin)", "doc 001, consistent mode (arcmin)"
         cam = pd.DataFrame({
             "δ_b (µm)": self.clearances * 1e3, "Δ = 2δ_b (µm)": Delta * 1e3,
             "20-DOF lost motion (arcmin)": amin(lm), "20-DOF backlash (arcmin)": amin(bl),
-            f"doc 001, K = {self.K:g} (arcmin)": amin(lm[0] + analytic_lost_motion(g, self.K, Delta)),
-            "doc 001, K = 1 (kinematic) × i_b (arcmin)": amin(lm[0] + ib * analytic_lost_motion(g, 1.0, Delta)),
+            doc_label: amin(lm[0] + analytic_lost_motion(g, self.K, Delta)),
+            con_label: amin(lm[0] + analytic_lost_motion(g, self.K, Delta, mode="consistent")),
         })
         pin = TorsionCurveModel(g, ("delta_pin",), percent=self.model.percent, points=self.model.points,
                                 torque=self.model.torque)
         Yp = pin.evaluate(self.pin_clearances[:, None])
         pins = pd.DataFrame({
-            "pin clearance δ (µm)": self.pin_clearances * 1e3, "Δr_c = 2δ (µm)": 2e3 * self.pin_clearances,
+            "pin clearance δ = Δr_c (µm)": self.pin_clearances * 1e3,
             "20-DOF lost motion (arcmin)": amin(Yp[:, 0]), "20-DOF backlash (arcmin)": amin(Yp[:, 2]),
-            "doc 001 (arcmin)": amin(Yp[0, 0] + analytic_lost_motion(g, self.K, 0.0, 2 * self.pin_clearances)),
-            "doc 001 × i_b (arcmin)": amin(Yp[0, 0] + ib * analytic_lost_motion(g, self.K, 0.0,
-                                                                                2 * self.pin_clearances)),
+            doc_label: amin(Yp[0, 0] + analytic_lost_motion(g, self.K, 0.0, self.pin_clearances)),
+            con_label: amin(Yp[0, 0] + analytic_lost_motion(g, self.K, 0.0, self.pin_clearances, mode="consistent")),
         })
 
         def slope(x, y):
@@ -186,6 +187,9 @@ class TorsionCurveAnalysis(Analysis):
         sel = self.clearances >= 0.002 - 1e-12
         if sel.sum() < 2:
             sel = np.ones_like(self.clearances, bool)
+        doc = analytic_geometry(g, self.K).output_coefficients()
+        con = analytic_geometry(g, mode="consistent").output_coefficients()
+        per_um = lambda c: amin(c) * 1e-3  # noqa: E731
         rates = pd.DataFrame({
             "rate": ["d(lost motion)/dδ_b, crank bearings", "d(backlash)/dδ_b, crank bearings",
                      "d(lost motion)/dδ, pins", "d(backlash)/dδ, pins"],
@@ -193,23 +197,26 @@ class TorsionCurveAnalysis(Analysis):
                                    1e-3 * slope(self.clearances, amin(bl)),
                                    1e-3 * slope(self.pin_clearances, amin(Yp[:, 0])),
                                    1e-3 * slope(self.pin_clearances, amin(Yp[:, 2]))],
-            f"doc 001 as written, K = {self.K:g} (arcmin/µm)": [amin(2e-3 / (self.K * g.a_w))] * 2
-                                                                + [amin(2e-3 / (g.ecc * g.z_c))] * 2,
-            "kinematic × i_b (arcmin/µm)": [amin(ib * 2e-3 / g.a_w)] * 2 + [amin(ib * 2e-3 / (g.ecc * g.z_c))] * 2,
+            f"doc 001 as printed, K = {self.K:g} (arcmin/µm)": [per_um(2 * doc["Delta_b"])] * 2
+                                                                + [per_um(doc["Delta_r_c"])] * 2,
+            "doc 001 consistent: K = 1, × i_b (arcmin/µm)": [per_um(2 * con["Delta_b"])] * 2
+                                                            + [per_um(con["Delta_r_c"])] * 2,
         })
         s = Section("torsion_curve_lost_motion", "Lost motion against clearances: 20-DOF beside the analytical "
                     "model (doc 001)")
         s.add_text("Clearances set on all six cycloid–crank bearings (δ_b, the radius of each bearing's free-play "
                    "circle: radial internal clearance Δ = 2δ_b) and, separately, as a normal clearance δ at every "
-                   "pin (doc 001's profile clearance Δr_c = 2δ, flank to flank). The analytical columns add doc 001's "
-                   "Δφ_b = Δ/(K r) (r = crank circle) or Δφ34 = Δr_c/(a z_c) to the 20-DOF's clearance-free lost "
-                   f"motion (the elastic part, which doc 001 ignores). With doc 001's K = {self.K:g} the predicted "
-                   f"growth is {1 / (self.K * ib):.3f} of the 20-DOF's; vector analysis of three bearings 120° apart "
-                   f"gives K = 1 at the disc, and the output turns i_b = {ib:.4f} times the disc's rotation relative "
-                   "to the carrier — with these the backlash rates agree. The lost-motion rate is a little higher "
-                   "than the backlash rate: with clearance, the soft low-load range of the Hertz-type bearing laws "
-                   f"(doc 000: k = k0·P^0.1) is re-entered within ±{self.model.percent:g} % rated. The lost-motion "
-                   "rate is fitted from δ_b ≥ 2 µm (at zero clearance the bearings' zero-load stiffness vanishes).")
+                   "pin (doc 001's per-side profile clearance Δr_c, an equidistant modification). The analytical "
+                   "columns add doc 001's geometric lost motion to the 20-DOF's clearance-free lost motion (the "
+                   "elastic part, which doc 001 ignores). As printed (K = "
+                   f"{self.K:g}, Δr_c/(a z_c), no disc-to-output ratio) doc 001 predicts "
+                   f"{doc['Delta_b'] / con['Delta_b']:.3f} of the 20-DOF's growth with δ_b and "
+                   f"{doc['Delta_r_c'] / con['Delta_r_c']:.3f} with δ; its consistent mode (three bearings 120° apart"
+                   f" give K = 1; flank to flank 2δ/(a z_c); the output turns i_b = {ib:.4f} times the disc's rotation)"
+                   " gives the backlash rates. The lost-motion rate is a little higher than the backlash rate: with "
+                   "clearance, the soft low-load range of the Hertz-type bearing laws (doc 000: k = k0·P^0.1) is "
+                   f"re-entered within ±{self.model.percent:g} % rated. The lost-motion rate is fitted from δ_b ≥ 2 µm "
+                   "(at zero clearance the bearings' zero-load stiffness vanishes).")
         s.add_table(rates, "First-order rates", "{:.4g}")
         s.add_table(cam, "Crank-bearing clearance", "{:.4g}")
         s.add_figure(plot_sweep(cam, "δ_b (µm)", [c for c in cam.columns if "arcmin" in c],

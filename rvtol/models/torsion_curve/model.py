@@ -11,7 +11,8 @@ curve, by the maker's definitions (``../shared/REFERENCE.md``):
   angle span ``a`` between the rated-torque end points of the mid-line;
 * **lost motion**: angle between the mid-points of the hysteresis width at
   ``+p %`` and ``−p %`` of rated torque (``p = 3`` by default, a parameter);
-* **backlash**: the hysteresis width at zero torque, ``θ_desc(0) − θ_asc(0)``.
+* **backlash**: the hysteresis width at zero torque, ``θ_desc(0) − θ_asc(0)`` (REFERENCE's
+  "torsion angle at zero torque": the angle between the two branches' zero-torque points).
 
 Doc 000's model has no friction, so away from zero torque the branches
 coincide (``hysteresis_width`` reports the largest width, ~0) and at zero

@@ -24,8 +24,8 @@ import numpy as np
 from numba import njit
 
 from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C_CRANK, C_HOUSING, C_MESH,
-                     C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, N_CRANK, N_DISC, NH,
-                     NZ, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP, P_RRP, P_ZB, P_ZC, PIN_AP,
+                     C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, MOD_EQ, MOD_MOVED, N_CRANK,
+                     N_DISC, NH, NZ, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP, P_RRP, P_ZB, P_ZC, PIN_AP,
                      PIN_GAP, PIN_R, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
                      ST_SINGULAR, THCA, UNILATERAL)
 
@@ -137,6 +137,9 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
             for n in range(NH):
                 if disc_h[j, f, n, 0] != 0.0 or disc_h[j, f, n, 1] != 0.0:
                     has_disc_err = True
+        dr_mod = err[MOD_EQ + j]
+        dR_mod = err[MOD_MOVED + j]
+        has_mod = dr_mod != 0.0 or dR_mod != 0.0
         rot = th_e - theta_c               # disc-fixed angle = absolute angle − disc spin
         cr = math.cos(rot)
         sr = math.sin(rot)
@@ -152,6 +155,9 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
             coef[c, 0, 2] = zc * e * sal
             o = -(pin_err[PIN_R, j, k] * (cal * cphi + sal * sphi)
                   + pin_err[PIN_AP, j, k] * (sal * cphi - cal * sphi)) - pin_err[PIN_GAP, j, k]
+            if has_mod:
+                # profile modification: normal clearance n(φ) = Δr − ΔR (1 − K1 cos φ)/√S (doc 004)
+                o -= dr_mod - dR_mod * (1.0 - k1 * cphi) / s
             if has_disc_err:
                 # contact point C = pin centre − r_rp n, seen from the disc centre (eccentric frame)
                 cx = rp * cphi - rr * cal - e

@@ -60,7 +60,9 @@ E_C, BETA_C = 25, 31                  # [2, 3]
 DELTA_B = 37                          # [2, 3]
 E_CA, BETA_CA = 43, 46                # [3]
 DELTA_OC = 49                         # [3]
-NERR = 52
+MOD_EQ, MOD_MOVED = 52, 54            # [2]: cycloid profile modification per disc, equidistance Δr_j and
+                                      # moved distance ΔR_j (doc 004's normal clearance n(φ) at every pin)
+NERR = 56
 
 # pin_err[3, N_DISC, z_b]: radial position (R_jk), tangential position (AP_jk), normal clearance
 # (δ_jk + δ_thjk) of pin k as seen by disc j

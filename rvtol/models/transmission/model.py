@@ -21,7 +21,9 @@ wind-up dominates).  Failed rows (no convergence, lost contact, negative
 clearance) get a status code with its reason, never numbers.
 
 :meth:`TransmissionErrorModel.run` gives one reducer in full: the TE curve,
-its order spectrum (orders per output revolution) and the forces per position.
+its order spectrum (orders per output revolution) and the forces per position;
+:meth:`TransmissionErrorModel.order_table` names the error families expected
+at each large order (:mod:`.orders`).
 """
 from __future__ import annotations
 
@@ -40,6 +42,7 @@ from . import layout as L
 from .factors import ErrorFactors, ErrorState
 from .geometry import RVGeometry, geometry_from_design
 from .newmark import NewmarkSolver
+from .orders import order_spectrum, order_table
 from .quasistatic import QuasiStaticSolver, SweepResult
 
 MODES = ("quasistatic", "newmark")
@@ -53,21 +56,6 @@ OUTPUTS = (
     Quantity("loaded_pins_min", "1", "1", "fewest loaded pins on one disc"),
     Quantity("loaded_pins_mean", "1", "1", "mean number of loaded pins per disc"),
 )
-
-
-def order_spectrum(te: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(orders, amplitude)`` of a signal sampled uniformly over one output revolution.
-
-    Amplitude of order k ≥ 1 is 2|X_k|/N (a sinusoid of amplitude A gives A);
-    order 0 is the mean.
-    """
-    n = te.size
-    X = np.fft.rfft(te)
-    amp = np.abs(X) / n
-    amp[1:] *= 2.0
-    if n % 2 == 0:
-        amp[-1] /= 2.0
-    return np.arange(amp.size), amp
 
 
 @dataclass
@@ -195,6 +183,11 @@ class TransmissionErrorModel(Model):
 
     def evaluate(self, X):
         return self.evaluate_with_status(X)[0]
+
+    def order_table(self, result: TEResult, top: int = 12, min_fraction: float = 0.01) -> pd.DataFrame:
+        """The largest orders of ``result``'s TE, each with the error families expected there (:mod:`.orders`)."""
+        x = [result.factors[n] for n in self.inputs]
+        return order_table(result.te, self.geometry, self.factors.bindings, x, top, min_fraction)
 
     def run(self, values: dict | np.ndarray | None = None) -> TEResult:
         """One reducer in full. ``values``: ``{factor: value in base units}`` (missing: 0) or a row."""

@@ -22,7 +22,9 @@ contact undeformed — where the printed formulas differ, see the notes):
    document's x component is exactly this; its y component has the opposite
    sign on the four motion terms (inconsistent with its x component);
 4. cycloid–pin ``δ = η cos α + e Δθ_do sin α + R_d Δθ_d sin α − R_jk cos(α − φ)
-   − AP_jk sin(α − φ) + R_djk cos(α − φ_d) + AP_djk sin(α − φ_d) − δ_jk − δ_thjk``
+   − AP_jk sin(α − φ) + R_djk cos(α − φ_d) + AP_djk sin(α − φ_d) − δ_jk − δ_thjk − n_j(φ)``
+   with the profile modification's normal clearance ``n_j(φ) = Δr_j − ΔR_j (1 − K1 cos φ)/√S``
+   (doc 004; S = 1 − 2 K1 cos φ + K1², φ = θ_k − θ_p − ψ_j)
    (the document prints −R_d Δθ_d sin α: with that sign the nominal motion would
    compress the pins, so the sign is taken from the kinematics);
 5. crank–carrier ``d = (X_pi, Y_pi) − (X_ca, Y_ca) − R_dc Δθ_ca t_h − E_cai u(θ_c + φ_i + β_cai)``
@@ -124,6 +126,9 @@ class ReferenceModel:
             pe = self.e.pin_err
             hj = (-pe[L.PIN_R, j] * np.cos(alpha - phi) - pe[L.PIN_AP, j] * np.sin(alpha - phi)
                   - pe[L.PIN_GAP, j])
+            # profile modification of disc j: normal clearance n(φ) (doc 004)
+            S = 1.0 + K1 ** 2 - 2.0 * K1 * np.cos(phi)
+            hj -= err[L.MOD_EQ + j] - err[L.MOD_MOVED + j] * (1.0 - K1 * np.cos(phi)) / np.sqrt(S)
             # contact point seen from the disc centre, and its disc-fixed angle
             c = g.r_pin_circle * _u(phi) - g.r_pin * _u(alpha) - np.array([g.ecc, 0.0])
             phi_d = np.arctan2(c[:, 1], c[:, 0])

@@ -1,0 +1,143 @@
+"""Order attribution of the TE spectrum (rvtol.models.transmission.orders): each error family alone gives
+orders on its lattice only (exact symmetries of the model, to the solver's tolerance) and its strongest
+order where the kinematics says; two families together give their beats."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rvtol.design import load_design
+from rvtol.models.transmission.geometry import geometry_from_design
+from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.transmission.orders import (active_families, alias, expected_orders, families_frame,
+                                              lattice_step, order_spectrum)
+
+ROOT = Path(__file__).resolve().parents[1]
+UM = 1e-3
+#: positions per crank revolution: N = 81·40 = 3240 per output revolution, a multiple of 3, 40 and 120 (no
+#: alias leaves its lattice) with the mesh order z_b·z_c = 1560 below N/2
+PER = 81
+#: off-lattice share of the spectrum (RMS over orders ≥ 1) allowed: the lattices are exact symmetries, so only
+#: the solver's tolerance (residuals < 1e-5 N) is left — observed 1e-13 … 2e-8
+OFF_LATTICE = 1e-6
+
+
+@pytest.fixture(scope="module")
+def design():
+    return load_design(ROOT / "data/designs/rv80e_te.toml")
+
+
+@pytest.fixture(scope="module")
+def geom(design):
+    return geometry_from_design(design)
+
+
+def run(design, values):
+    m = TransmissionErrorModel(design, list(values), per_crank_rev=PER)
+    r = m.run(values)
+    assert r.ok
+    return m, r
+
+
+def off_lattice_share(m, r):
+    """RMS of the spectrum off the orders the active families are expected at, over the RMS of all orders ≥ 1."""
+    k, a = order_spectrum(r.te)
+    fams = active_families(m.factors.bindings, [r.factors[n] for n in m.inputs])
+    ok = set()
+    for f in fams:
+        ok |= set(expected_orders(m.geometry, f, r.te.size))
+    off = np.array([o not in ok for o in k])
+    off[0] = False
+    return np.sqrt(np.sum(a[off] ** 2) / np.sum(a[1:] ** 2)), a
+
+
+def test_lattices_of_the_rv80e(geom):
+    assert (geom.z_b, geom.z_c) == (40, 39)
+    assert [lattice_step(geom, s) for s in ("housing", "carrier", "sun", "uniform")] == [3, 40, 40, 120]
+    e = expected_orders(geom, "pin_ring", 1440)
+    assert e[78] == "2·z_c" and e[81] == "2·z_c + 3" and e[3] == "3"
+    assert 40 not in e and 1 not in e
+    assert alias(1560, 1440) == 120
+    assert "Z aliased from 1560" in expected_orders(geom, "uniform", 1440)[120]
+    assert expected_orders(geom, "disc_profile", 3240)[80] == "2·z_b"
+    assert len(families_frame(geom)) == 10
+
+
+# values, family, strongest order, derivation (module doc of rvtol.models.transmission.orders)
+SINGLE = [
+    ({"R_cyc_h[1,1]": 5 * UM}, "disc_profile", 40, "disc 1, order 1: n·z_b"),
+    ({"AP_cyc_h[2,2]": 3 * UM}, "disc_profile", 80, "disc 2 pitch, order 2"),
+    ({"R_cyc_h[1,3]": 3 * UM}, "disc_profile", 120, "order 3 (an order the Table 3 patterns cannot give)"),
+    ({"R_pin[4]": -3 * UM}, "pin_ring", 78, "one pin: both discs meet it half an eccentric turn apart: 2·z_c"),
+    ({"AP_pin[9]": 3 * UM}, "pin_ring", 78, "one pin's pitch"),
+    ({"delta_pin[4]": -3 * UM}, "pin_ring", 78, "one oversize pin"),
+    ({"R_pin_h[2]": 3 * UM}, "pin_ring", 78, "pin-ring order 2 (even): 2·z_c"),
+    ({"R_pin_h[3]": 3 * UM}, "pin_ring", 234, "pin-ring order 3 (odd: cancels between the discs at 3·z_c)"),
+    ({"A_c": 5 * UM}, "carrier_offset", 78, "order-1 housing offset, common to both discs: 2·z_c"),
+    ({"A_s": 5 * UM}, "input_support", 81, "housing-fixed sun offset: the sun's rotation i"),
+    ({"E_h[1,1]": 3 * UM}, "disc_holes", 40, "one crank hole of disc 1"),
+    ({"E_c[1,1]": 3 * UM}, "crank", 40, "one cam"),
+    ({"delta_b[1,1]": 3 * UM}, "crank", 40, "one needle-bearing clearance"),
+    ({"E_p[1]": 5 * UM}, "crank", 40, "one planet: turns its crank"),
+    ({"E_ca[1]": 3 * UM}, "carrier_bores", 80, "one carrier bore moves its crank under both discs: 2·z_b"),
+    ({"E_s": 5 * UM}, "sun", 240, "sun eccentricity through three planets: 3(i − 1)"),
+    ({"R_pc": 3 * UM}, "uniform", 1560, "pin-circle radius: only the mesh order Z"),
+    ({"equidistance_mod": -15 * UM, "moved_distance_mod": -30 * UM}, "uniform", 1560, "profile modification"),
+]
+
+
+@pytest.mark.parametrize("values, family, strongest, why", SINGLE, ids=[s[3] for s in SINGLE])
+def test_single_family_spectrum(design, values, family, strongest, why):
+    m, r = run(design, values)
+    assert set(active_families(m.factors.bindings, [r.factors[n] for n in m.inputs])) == {"nominal", family}
+    share, a = off_lattice_share(m, r)
+    assert share < OFF_LATTICE
+    assert int(np.argmax(a[1:])) + 1 == strongest
+    table = m.order_table(r, top=3)
+    assert table["order [1/rev]"].iloc[0] == strongest and table["expected from"].iloc[0] != "—"
+
+
+@pytest.mark.parametrize("values, odd, even", [
+    ({"R_pin[4]": -3 * UM}, 39, 78),
+    ({"R_pin_h[3]": 3 * UM}, 117, 234),
+    ({"A_c": 5 * UM}, 39, 78),
+    ({"E_ca[1]": 3 * UM}, 40, 80),
+])
+def test_errors_common_to_both_discs_cancel_at_odd_multiples(design, values, odd, even):
+    """Disc 2 meets the pins with its other side: a common error's odd multiple cancels to first order
+    (below 1 % of the even one; observed 2e-6 … 1.1e-3 of it)."""
+    _, r = run(design, values)
+    _, a = order_spectrum(r.te)
+    assert a[odd] < 0.01 * a[even]
+
+
+def test_two_families_beat_at_order_one(design):
+    """One pin (housing-fixed, lattice 3) and a disc profile error (disc-fixed, lattice 40): alone neither
+    has order 1 (their symmetries forbid it); together the nonlinear mesh mixes them at z_b − z_c = 1, and
+    the table names the interaction."""
+    pin, disc = {"R_pin[4]": -3 * UM}, {"R_cyc_h[1,1]": 3 * UM}
+    amp = {}
+    for name, v in (("pin", pin), ("disc", disc), ("both", {**pin, **disc})):
+        m, r = run(design, v)
+        amp[name] = order_spectrum(r.te)[1]
+    for alone in ("pin", "disc"):
+        assert amp[alone][1] < 1e-6 * amp[alone][1:].max()
+    assert amp["both"][1] > 0.05 * amp["both"][1:].max()
+    table = m.order_table(r, top=12)
+    row = table[table["order [1/rev]"] == 1].iloc[0]
+    assert row["expected from"] == "—" and row["interaction"] == "pin ring × disc profile: z_c − z_b"
+
+
+def test_uniform_errors_shift_the_mean_by_their_backlash(design, geom):
+    """A uniform opening of the pin stage has no order of its own; it moves the mean TE by the angle that
+    takes up the normal clearance at the largest arm φ0 = arccos K1 (doc 004: n0 = Δr − √(1 − K1²)·ΔR, and a
+    pin circle larger by δR acts as ΔR = −δR), n0/R_d — within 10 % (the rest: fewer pins carry the load, so
+    the elastic wind-up grows)."""
+    _, r0 = run(design, {"R_pc": 0.0})
+    c1 = np.sqrt(1 - geom.K1 ** 2)
+    for values, n0 in (({"R_pc": 3 * UM}, c1 * 3 * UM), ({"delta_pin": 3 * UM}, 3 * UM),
+                       ({"equidistance_mod": -15 * UM, "moved_distance_mod": -30 * UM}, (-15 + c1 * 30) * UM)):
+        _, r = run(design, values)
+        shift = (r0.te.mean() - r.te.mean()) / 3600 * np.pi / 180        # arcsec -> rad, more wind-up
+        assert shift == pytest.approx(n0 / geom.r_disc_pitch, rel=0.10)
+        assert r.te_pp < 0.03 * abs(r.te.mean() - r0.te.mean())
