@@ -167,3 +167,35 @@ def test_spec_export_errors(tmp_path, capsys):
     assert main(["spec", "export", str(tmp_path / "bad.csv"), "--out", str(tmp_path / "x.xlsx")]) == 2
     assert "bad.csv: row 2, column 'tolerance': cannot read tolerance" in capsys.readouterr().err
     assert not (tmp_path / "x.xlsx").exists()
+
+
+def test_a_study_on_measured_data_reports_the_fit_gof_and_qq_plot(tmp_path):
+    cmm(tmp_path)
+    write(tmp_path / "stack.csv", "name,nominal,tolerance,distribution,unit,direction\n"
+                                  "bore,25,H7,\"measured(data=cmm.csv, column=bore, families=normal|uniform)\",mm,+\n"
+                                  "shaft,25,g6,normal,mm,-\n")
+    study = write(tmp_path / "fit.toml", """
+[study]
+name = "fit"
+spec = "stack.csv"
+[model]
+kind = "linear"
+[[model.output]]
+name = "clearance"
+unit = "mm"
+display_unit = "um"
+coefficients = "spec"
+[[requirement]]
+output = "clearance"
+lower = 0
+upper = 60
+unit = "um"
+basis = "estimate"
+[sampling]
+n = 400
+""")
+    out = tmp_path / "rep"
+    assert main(["run", str(study), "--out", str(out), "--executor", "serial", "--no-pdf", "--quiet"]) == 0
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "Measured factor bore" in html and "ranked by AIC" in html
+    assert "Anderson-Darling, parametric bootstrap statistic" in html and "Q-Q plot against the fitted normal" in html

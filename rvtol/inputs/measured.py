@@ -510,6 +510,7 @@ class FitReport:
     gof: tuple[GoodnessOfFit, ...] = ()
     gauge_fraction: float = 0.0          # u²/s² of the measurement uncertainty
     origin: str = ""
+    location: float | None = 0.0         # the fixed location of the positive families (None: fitted)
 
     @property
     def best(self) -> Candidate:
@@ -647,7 +648,7 @@ def fit(values, *, families=tuple(FAMILIES), location: float | None = 0.0,
             raise InputError(f"gof must be 'best', 'all' or None, got {gof!r}")
         for c in cands[:1] if gof == "best" else cands:
             tests.append(_gof(x, c, location, n_mc, seed))
-    return FitReport(x, tuple(cands), skipped, tuple(tests), ratio, origin)
+    return FitReport(x, tuple(cands), skipped, tuple(tests), ratio, origin, location)
 
 
 def _gof(x: np.ndarray, c: Candidate, location, n_mc: int, seed: int) -> GoodnessOfFit:
@@ -868,6 +869,34 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
         raise
     except InputError as exc:
         raise p.error("family" if "was not fitted" in exc.reason else "data", exc.reason) from None
+
+
+def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> dict:
+    """What a report shows of a measured factor (``dist`` its distribution):
+
+    ``summary`` (one row: source, method, n, mean, s, the gauge share u²/s²), ``ranking`` (the AIC
+    table of the fitted families, method fit), ``gof`` (the Anderson–Darling test with parametric
+    bootstrap of the family used, ``n_mc`` samples from ``seed``; method fit) and ``qq`` (Q-Q data of
+    the values the distribution was built from against it; fit and kde — the empirical distribution
+    *is* its data).
+    """
+    import pandas as pd
+
+    x = m.values
+    gauge = (m.measurement_sigma ** 2 / float(np.var(x, ddof=1))) if m.measurement_sigma else 0.0
+    out: dict = {"summary": pd.DataFrame([{
+        "source": m.source, "method": m.method + (f" ({m.family})" if m.family else ""), "n": m.n,
+        "mean": float(np.mean(x)), "s": float(np.std(x, ddof=1)), "min": float(np.min(x)), "max": float(np.max(x)),
+        "gauge u²/s²": gauge, "distribution": dist.describe()}]),
+        "ranking": None, "gof": None, "qq": None}
+    if m.fit is not None:
+        c = m.fit.candidate(m.family)
+        out["ranking"] = m.fit.table()
+        out["gof"] = _gof(m.fit.data, c, m.fit.location, n_mc, seed)
+        out["qq"] = qq_data(m.fit.data, c.frozen)
+    elif m.method == "kde":
+        out["qq"] = qq_data(dist.data, dist)
+    return out
 
 
 def measured_from_params(p, base_dir: Path | str = ".") -> object:

@@ -80,12 +80,42 @@ def inputs_section(result) -> Section:
     if st.spec.correlation is not None:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
+    measured_factors(sec, st.spec, o.seed)
     if st.design is not None:
         sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
     from ..plotting.mc import factor_histograms
 
     sec.add_figure(factor_histograms(m.samples), caption="Sampled factors")
     return sec
+
+
+def measured_factors(sec: Section, spec, seed) -> None:
+    """Factors whose distribution comes from measured values: the data, the fitted families ranked
+    by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot."""
+    from ..inputs.measured import evidence
+    from ..plotting.inputs import qq_plot
+    from ..sampling import substream_seed
+
+    for i, f in enumerate(spec.factors):
+        if f.measured is None:
+            continue
+        ev = evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
+        sec.add_table(ev["summary"], caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
+                                              "distribution (s: sample standard deviation; gauge u²/s²: the share "
+                                              "of the measurement uncertainty removed)")
+        if ev["ranking"] is not None:
+            sec.add_table(ev["ranking"], caption=f"{f.name}: candidate families by maximum likelihood, ranked by "
+                                                 "AIC = 2k − 2 ln L (weight: Akaike weight; KS p is naive — the "
+                                                 "parameters come from the same data — and only ranks)")
+        if ev["gof"] is not None:
+            g = ev["gof"]
+            sec.add_text(f"{f.name}: goodness of fit of the {g.family} family used — {g.test} statistic "
+                         f"{g.statistic:.4g}, p = {g.pvalue:.3g} ({g.n_mc} bootstrap samples; a small p, e.g. "
+                         "< 0.05, says the family does not describe the data).")
+        if ev["qq"] is not None:
+            what = f"fitted {f.measured.family}" if f.measured.family else f.measured.method
+            sec.add_figure(qq_plot(ev["qq"], f.name, f.unit, what), caption=f"{f.name}: Q-Q plot against the "
+                           f"{what} distribution (Hazen positions)", width="55%")
 
 
 def results_section(result) -> Section:
