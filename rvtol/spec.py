@@ -55,6 +55,8 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     confidence = 0.95          # of the interval the verdict uses
     basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
+    cpk_method = "normal"      # the Cpk min_cpk judges: "normal" (normal theory, Bissell's bound) or
+                               # "percentile" (ISO 22514-2 from the 0.135/50/99.865 % points, bootstrap bound)
 """
 from __future__ import annotations
 
@@ -74,6 +76,9 @@ from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
 YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
+
+#: the Cpk a requirement's min_cpk judges (policy: :func:`rvtol.verdict.cpk_figures`)
+CPK_METHODS = ("normal", "percentile")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -233,6 +238,7 @@ class Requirement:
     interval: str = "clopper-pearson"
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
+    cpk_method: str = "normal"
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
@@ -242,6 +248,9 @@ class Requirement:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
+        if self.cpk_method not in CPK_METHODS:
+            raise SpecError(f"unknown cpk_method {self.cpk_method!r} (expected one of: {', '.join(CPK_METHODS)})",
+                            file=self.file, key=f"{self.key}.cpk_method" if self.key else "cpk_method")
 
     @property
     def label(self) -> str:
@@ -476,7 +485,8 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
         name = t.str("name", "")
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
+        cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key))
+                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method))
     return out

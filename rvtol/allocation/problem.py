@@ -39,7 +39,7 @@ from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
 from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import judge
+from ..verdict import cpk_figures, judge
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -299,8 +299,11 @@ class MonteCarloConstraint:
                     row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
                                        else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
                 if r.min_cpk is not None:
-                    cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
-                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
+                    good = y[ok]
+                    cap = st.capability(good, r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
+                    pci = (st.bootstrap_ci(good, lambda v: st.percentile_cpk(v, r.lower, r.upper), r.confidence)
+                           if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
+                    row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, pci)
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)

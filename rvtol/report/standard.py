@@ -35,7 +35,8 @@ def verdict_section(result) -> Section:
         if r.min_yield is not None:
             need.append(f"yield ≥ {r.min_yield:g}")
         if r.min_cpk is not None:
-            need.append(f"Cpk ≥ {r.min_cpk:g}")
+            need.append(f"Cpk ≥ {r.min_cpk:g}" + (" (percentile, ISO 22514-2)" if r.cpk_method == "percentile"
+                                                   else " (normal theory)"))
         rows.append({
             "requirement": r.label,
             "limits": f"[{lims}] {label(r.unit)}",
