@@ -26,6 +26,12 @@ File format (``data/specs/*.toml``)::
     unit = "mm"                # optional when the text has one ("25 H7" is in mm)
     direction = -1             # optional: the factor's sign/coefficient in a 1-D stack
 
+    [[factor]]                 # a circular position zone: two coordinates of one zone
+    name = "hole.x"            # (and a second factor "hole.y" with the same zone and tolerance)
+    unit = "mm"
+    tolerance = "⌀0.05"        # the zone's diameter: each coordinate normal, the radius Rayleigh
+    zone = "hole"              # with 99.73 % inside the zone (rvtol.inputs.notation)
+
     [[factor]]                 # measured values (rvtol.inputs.measured)
     name = "bore_measured"
     unit = "mm"
@@ -97,6 +103,7 @@ class Factor:
     direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
     limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
     measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
+    zone: str = ""                                 # the circular position zone this factor is a coordinate of
 
     @property
     def base_unit(self) -> str:
@@ -160,6 +167,7 @@ class ToleranceSpec:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
+        check_zones(self.factors, self.file)
         if self.correlation is not None:
             c = np.asarray(self.correlation, dtype=float)
             if c.shape != (len(names), len(names)):
@@ -346,9 +354,10 @@ def factor_from_params(p: Params) -> Factor:
     group = p.str("group", "")
     source = p.str("source", "")
     direction = stack_direction(p)
+    zone = position_zone(p, drawing)
     p.finish()
     limits = drawing.limits if drawing is not None else None
-    return Factor(name, unit, dist, nominal, desc, group, source, direction, limits, measured)
+    return Factor(name, unit, dist, nominal, desc, group, source, direction, limits, measured, zone)
 
 
 # ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
@@ -398,6 +407,34 @@ def measured_distribution(p: Params):
     files relative to the spec file) and the record of the data behind it."""
     p.str("dist")
     return measured_factor(p, Path(p.file).parent if p.file else Path("."))
+
+
+def position_zone(p: Params, tol: Tolerance | None) -> str:
+    """``zone``: the circular position zone (``tolerance = "⌀t"``) this factor is one coordinate of."""
+    zone = p.str("zone", "")
+    is_zone = tol is not None and tol.form == "zone"
+    if is_zone and not zone:
+        raise p.error("tolerance", f"a position zone {tol.text!r} has two coordinates: give zone = NAME on both "
+                                   "factors (x and y)")
+    if zone and not is_zone:
+        raise p.error("zone", "a zone coordinate needs tolerance = \"⌀t\" (the zone's diameter)")
+    return zone
+
+
+def check_zones(factors, file: str | None) -> None:
+    """Each position zone has exactly two coordinate factors with the same unit and diameter."""
+    zones: dict[str, list] = {}
+    for f in factors:
+        if f.zone:
+            zones.setdefault(f.zone, []).append(f)
+    for z, fs in zones.items():
+        if len(fs) != 2:
+            raise SpecError(f"position zone {z!r} has {len(fs)} coordinate factor(s) "
+                            f"({', '.join(f.name for f in fs)}); it needs two (x and y)", file=file, key="factor.zone")
+        a, b = fs
+        if a.unit != b.unit or a.limits != b.limits:
+            raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
+                            "and diameter", file=file, key="factor.zone")
 
 
 def stack_direction(p: Params) -> float | None:

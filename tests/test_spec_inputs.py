@@ -199,3 +199,43 @@ n = 400
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Measured factor bore" in html and "ranked by AIC" in html
     assert "Anderson-Darling, parametric bootstrap statistic" in html and "Q-Q plot against the fitted normal" in html
+
+
+def test_a_circular_position_zone_is_two_rayleigh_coordinates(tmp_path):
+    s = load_spec(spec_file(tmp_path, """
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+"""))
+    x, y = s.factors
+    assert x.limits == pytest.approx((-0.025, 0.025)) and x.zone == y.zone == "hole"
+    # σ of each coordinate: the radius sqrt(x² + y²) is Rayleigh(σ) with 99.73 % inside the zone (r ≤ 0.025)
+    sigma = x.dist.std
+    assert 1 - math.exp(-0.025 ** 2 / (2 * sigma ** 2)) == pytest.approx(stats.norm.cdf(3) - stats.norm.cdf(-3))
+    out = tmp_path / "zone.csv"
+    assert main(["spec", "export", str(tmp_path / "spec.toml"), "--out", str(out)]) == 0
+    back = load_spec(out)
+    assert [f.zone for f in back.factors] == ["hole", "hole"] and back.factors[0].dist.std == pytest.approx(sigma)
+
+
+@pytest.mark.parametrize("factors, key, words", [
+    ('[[factor]]\nname = "x"\nunit = "mm"\ntolerance = "⌀0.05"\n', "factor[0].tolerance", "give zone = NAME"),
+    ('[[factor]]\nname = "x"\nunit = "mm"\ntolerance = "±0.05"\nzone = "h"\n', "factor[0].zone", "needs tolerance"),
+    ('[[factor]]\nname = "x"\nunit = "mm"\ntolerance = "⌀0.05"\nzone = "h"\n', "factor.zone", "needs two"),
+    ('[[factor]]\nname = "x"\nunit = "mm"\ntolerance = "⌀0.05"\nzone = "h"\n'
+     '[[factor]]\nname = "y"\nunit = "mm"\ntolerance = "⌀0.06"\nzone = "h"\n', "factor.zone", "same unit and diameter"),
+    ('[[factor]]\nname = "x"\nunit = "mm"\ntolerance = "⌀0.05"\nzone = "h"\ndist = "uniform"\n', "factor[0].dist",
+     "coordinates are normal"),
+])
+def test_position_zone_errors(tmp_path, factors, key, words):
+    p = spec_file(tmp_path, factors)
+    with pytest.raises(SpecError) as e:
+        load_spec(p)
+    assert f": {key}: " in str(e.value) and words in str(e.value), str(e.value)

@@ -6,12 +6,14 @@
     5%               ±2 %               +5%/-2%                              (of the nominal)
     24.95..25.05     24.95 to 25.05     max 0.02           ≤ 0.02           (limits)
     25 H7            Ø7 h5              25 H7/g6                             (ISO 286 class, fit)
+    ⌀0.05            Ø0.1 mm                                                 (a circular position zone)
     25 ±0.05 Cp 1.33                    25 ±0.05 Cpk 1.33 k 0.25            (process)
     1.000" ±0.002"   1 in +0.002/-0.001   25 mm +10/-5 um                   (units)
 
 Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
 
     text      := [Ø] [nominal [unit]] body [unit] {process}
+               | Ø x [unit]                        a circular position zone of diameter x
     body      := "±" x ["%"]                      symmetric deviations
                | d ["%"] [unit] ["/"] d ["%"]      two signed deviations (either order; a
                                                    deviation without a sign must be 0)
@@ -34,6 +36,12 @@ k = 1 − Cpk/Cp, shifted upward).  **The drawing's limits stay the worst-case l
 process spec only says where the parts fall inside them.  The factor table it produces is a
 normal with ``tolerance`` = the drawing band, ``sigma_level`` = 3·Cp (so σ = T/(6·Cp) and the
 distribution's ``tolerance`` is still the drawing's T) and ``shift`` = k·T/2.
+
+Position zones.  ``⌀0.05`` (a diameter sign and one unsigned number) is a circular position zone of
+diameter t: the feature's axis lies within t/2 of its true position.  It describes one coordinate
+of the zone (a factor pair x, y shares it, :mod:`rvtol.spec`), with limits ∓t/2; read as a normal
+each coordinate has σ = (t/2)/√(−2 ln(1 − c)) so that the radial deviation √(x² + y²), a Rayleigh,
+stays inside the zone with the coverage c of ±``sigma_level``·σ (99.73 % at 3: σ = t/2/3.4393).
 
 Fits.  ``25 H7/g6`` gives the clearance (hole − shaft, negative = interference) between the
 fit's worst-case limits EI − es … ES − ei.  As a factor it is a normal whose σ is the
@@ -84,7 +92,7 @@ class Tolerance:
     """
 
     text: str
-    form: str                 # symmetric | deviations | percent | limits | max | iso | fit
+    form: str                 # symmetric | deviations | percent | limits | max | iso | fit | zone
     nominal: float | None     # None: written without (deviations about 0, absolute limits)
     lower: float
     upper: float
@@ -129,6 +137,8 @@ class Tolerance:
         return replace(self, nominal=c(self.nominal), lower=c(self.lower), upper=c(self.upper), unit=u)
 
     def describe(self) -> str:
+        if self.form == "zone":
+            return f"⌀{fmt(self.width)}" + (f" {units.label(self.unit)}" if self.unit else "")
         if self.nominal is None and self.form in ("limits", "max"):
             s = format_limits(self.lower_limit, self.upper_limit)
         else:
@@ -155,7 +165,12 @@ class Tolerance:
             raise NotationError(f"sigma_level must be > 0, got {sigma_level}")
         lo, hi, T, c = self.lower_limit, self.upper_limit, self.width, self.mid
         out: dict = {"dist": dist}
-        if self.process is not None:
+        if self.form == "zone":
+            if dist != "normal":
+                raise NotationError(f"a position zone's coordinates are normal (their radial deviation is then "
+                                    f"Rayleigh), not {dist!r}")
+            out.update(mean=c, tolerance=T, sigma_level=zone_level(level))
+        elif self.process is not None:
             if dist != "normal":
                 raise NotationError(f"a process specification (Cp/Cpk) describes a normal process, "
                                     f"not {dist!r}")
@@ -346,6 +361,16 @@ def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None
         nxt = t1
         if nxt is not None and nxt.kind == "word" and _unit(nxt.text) is not None:
             nxt = p.peek(2)
+        if nxt is None and diameter:   # ⌀0.05 [unit]: a circular position zone
+            x = p.take().value
+            zu = p.unit()
+            out = (units.canonical(_UNIT_ALIASES.get(unit, unit)) if unit else None) or zu
+            if not x > 0:
+                raise _err(text, "a position zone needs a positive diameter")
+            r = 0.5 * (float(units.convert(x, zu, out)) if zu and out and zu != out else x)
+            if nominal is not None:
+                raise _err(text, "a position zone is a deviation about the true position: give no nominal")
+            return Tolerance(text, "zone", None, -r, r, out, True)
         if nxt is None:
             if t1 is None:
                 raise _err(text, "a bare number is ambiguous: write ±x for a symmetric tolerance, "
@@ -507,6 +532,14 @@ def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None
 
     process = _process(proc, text, form) if proc else None
     return Tolerance(text, form, nom, lower, upper, out, diameter, iso_lim, fit, process)
+
+
+def zone_level(sigma_level: float = 3.0) -> float:
+    """The radius of a circular zone in σ of each coordinate, for the radial (Rayleigh) coverage of
+    ±``sigma_level``·σ of a normal: √(−2 ln(1 − c)), 3.4393 at 3."""
+    from ..distributions import coverage
+
+    return math.sqrt(-2.0 * math.log(1.0 - coverage(sigma_level)))
 
 
 def _process(proc: dict[str, float], text: str, form: str) -> Process:

@@ -30,6 +30,8 @@ The layout a quality engineer keeps in a spreadsheet::
 * **Nominal**: blank means the factor is itself a deviation (the band sits about 0) or the
   tolerance gives absolute limits; the factor's ``nominal`` (the base point of local
   sensitivities) is then its mean, as in a TOML spec.
+* **Position zones**: two rows with tolerance ``⌀t`` and the same name in an optional ``zone``
+  column are the x and y coordinates of one circular position zone (:mod:`rvtol.spec`).
 * **Metadata rows** start with ``#`` in the first cell: ``#spec`` (name), ``#description``,
   ``#correlation a b rho`` (a Gaussian-copula pair, as ``[[correlation]] pair``); ``# text``
   (hash, space) is a comment.  Blank rows are skipped.
@@ -57,7 +59,7 @@ from pathlib import Path
 from .. import units
 from ..distributions import KINDS
 from ..errors import InputError, SpecError
-from .notation import fmt, format_deviations, format_limits
+from .notation import fmt, format_deviations, format_limits, zone_level
 from .sheets import Location, blank, col_letter, read_rows, write_rows
 
 COLUMNS = ("name", "part", "feature", "nominal", "tolerance", "distribution", "unit", "direction", "source")
@@ -76,6 +78,7 @@ _ALIASES = {
     "direction": "direction", "coefficient": "direction", "coef": "direction", "dir": "direction",
     "sign": "direction",
     "source": "source", "reference": "source", "ref": "source",
+    "zone": "zone", "position zone": "zone",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
@@ -87,7 +90,7 @@ MEASURED_CELL_KEYS = ("data", "column", "sheet", "method", "families", "family",
 _DIRECTIVES = ("spec", "description", "correlation")
 _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
-_KEY_OF = {"part": "group", "feature": "description", "source": "source"}
+_KEY_OF = {"part": "group", "feature": "description", "source": "source", "zone": "zone"}
 
 
 @dataclass
@@ -411,6 +414,16 @@ def _band_cells(f) -> tuple[float | None, str, str]:
     if d.kind == "lognormal":   # no band
         return nominal, "", "lognormal(" + ", ".join(
             f"{k}={fmt(v)}" for k, v in (("median", p["median"]), ("shape", p["shape"]), ("shift", d.shift)) if v) + ")"
+    if getattr(f, "zone", "") and d.kind == "normal":   # a coordinate of a position zone: ⌀t reads it back
+        lo, hi = f.limits
+        if differs(p["mean"], 0.5 * (lo + hi)):
+            extra["mean"] = p["mean"]
+        if differs(p["sigma"], 0.5 * (hi - lo) / zone_level()):
+            extra["sigma"] = p["sigma"]
+        if d.shift:
+            extra["shift"] = d.shift
+        return nominal, f"⌀{fmt(hi - lo)}", "normal" + (
+            "(" + ", ".join(f"{k}={fmt(v)}" for k, v in extra.items()) + ")" if extra else "")
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
         tol = f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi)
@@ -477,11 +490,13 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
-    rows.append(list(COLUMNS))
+    zones = any(getattr(f, "zone", "") for f in spec.factors)
+    rows.append(list(COLUMNS) + (["zone"] if zones else []))
     for f in spec.factors:
         nominal, tol, cell = _band_cells(f)
         direction = coefficients.get(f.name, getattr(f, "direction", None))
-        rows.append([f.name, f.group, f.description, nominal, tol, cell, f.unit, direction, f.source])
+        rows.append([f.name, f.group, f.description, nominal, tol, cell, f.unit, direction, f.source]
+                    + ([f.zone or None] if zones else []))
     return rows
 
 
