@@ -69,6 +69,8 @@ ANALYSES: dict[str, str] = {
     "delta": "rvtol.sensitivity.analyses:Delta",
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
+    "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",

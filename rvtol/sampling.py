@@ -108,6 +108,15 @@ def to_factors(spec: ToleranceSpec, u: np.ndarray) -> np.ndarray:
     return x
 
 
+def from_normal_scores(spec: ToleranceSpec, Z: np.ndarray) -> np.ndarray:
+    """Factor values (base units) of independent standard-normal scores ``Z`` (n×k) through the study's own
+    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF."""
+    Z = np.atleast_2d(np.asarray(Z, dtype=float))
+    if spec.correlation is not None:
+        Z = Z @ np.linalg.cholesky(spec.correlation).T
+    return to_factors(spec, np.clip(stats.norm.cdf(Z), _U_EPS, 1.0 - _U_EPS))
+
+
 @dataclass(frozen=True)
 class SampleSet:
     """``n×k`` factor values (base units) with names, units, method and seed."""

@@ -56,7 +56,6 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import units
 from ..distributions import KINDS
 from ..errors import InputError, SpecError
 from .notation import fmt, format_deviations, format_limits, zone_level
