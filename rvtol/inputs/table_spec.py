@@ -494,6 +494,7 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
     for f in spec.factors:
         nominal, tol, cell = _band_cells(f)
         direction = coefficients.get(f.name, getattr(f, "direction", None))
+        direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
         rows.append([f.name, f.group, f.description, nominal, tol, cell, f.unit, direction, f.source]
                     + ([f.zone or None] if zones else []))
     return rows
