@@ -188,3 +188,17 @@ def test_study_factory_locates_errors():
                  file="study.toml", key="model")
     with pytest.raises(InputError, match="model.output\\[0\\].colour: unknown key"):
         from_study(bad, None, spec)
+
+
+def test_the_linearised_analyses_use_the_exact_gradient():
+    from rvtol.sensitivity.linearisation import contributions, linear_prediction
+
+    spec = load_spec("data/specs/rv80e_axial_stack.toml")
+    m = FormulaModel.from_spec(spec, {"ratio": ("carrier_gap * disc1_width / disc2_width**2", "1")})
+    pred = contributions(m, spec)
+    x0 = spec.nominal_base()
+    g, w1, w2 = x0
+    exact = np.array([w1 / w2 ** 2, g / w2 ** 2, -2 * g * w1 / w2 ** 3])   # by hand
+    ref = linear_prediction(spec, exact, g * w1 / w2 ** 2, output="ratio", out_unit="1")
+    assert pred.std == pytest.approx(ref.std, rel=1e-13) and pred.worst_high == pytest.approx(ref.worst_high, rel=1e-13)
+    assert any("exact" in n for n in pred.notes)

@@ -160,16 +160,26 @@ class Linearisation:
 
 def linearise(problem: AllocationProblem, evaluate: Evaluator | None = None) -> Linearisation:
     """Five-point derivatives (:func:`rvtol.sensitivity.local.five_point`) of the required outputs."""
+    from ..sensitivity.common import model_gradient
     from ..sensitivity.local import five_point
 
     spec, model = problem.spec, problem.model
     outs = list(dict.fromkeys(r.output for r in problem.requirements))
-    loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    x0 = spec.nominal_base()
+    G = model_gradient(model, x0)   # the model's exact derivatives when it has them
+    if G is None:
+        loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    else:
+        Y0 = (evaluate or Evaluator())(model, x0[None], "nominal point").Y[0]
     S, y0, margin, z = [], [], [], []
     for r in problem.requirements:
         q = model.output(r.output)
-        S.append(loc.gradient(r.output, spec.names))
-        yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        if G is None:
+            S.append(loc.gradient(r.output, spec.names))
+            yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        else:
+            S.append(G[model.output_index(r.output)])
+            yd = float(q.to_display(Y0[model.output_index(r.output)]))
         dists = [v for v in ((r.upper - yd) if r.upper is not None else None,
                              (yd - r.lower) if r.lower is not None else None) if v is not None]
         m = min(dists)

@@ -26,6 +26,7 @@ from .. import units
 from ..analysis import Analysis
 from ..distributions import coverage
 from ..report.sections import Section, frame_records
+from ..sensitivity.common import model_gradient
 from ..units import label
 from .conventions import SIX_SIGMA_CP, SIX_SIGMA_SHIFT, stack_conventions
 from .tail import form, importance_sampling
@@ -88,8 +89,8 @@ class StackConventionsAnalysis(Analysis):
         """Per output: (gradient in base units, y0 base, how)."""
         model, spec = ctx.model, ctx.spec
         x0 = spec.nominal_base()
-        if self.gradient == "auto" and hasattr(model, "gradient"):
-            G = np.asarray(model.gradient(x0[None]), float)[0]
+        G = model_gradient(model, x0) if self.gradient == "auto" else None
+        if G is not None:
             y0 = ctx.evaluator(model, x0[None], "nominal point").Y[0]
             return {o: (G[model.output_index(o)], float(y0[model.output_index(o)]), "analytic") for o in self.outputs}
         from ..sensitivity.local import five_point
