@@ -75,6 +75,9 @@ def inputs_section(result) -> Section:
     sec.add_table(run, caption="Run")
     fac = st.spec.to_frame()
     fac["unit"] = [label(u) for u in fac["unit"]]
+    fac.insert(list(fac.columns).index("tolerance T") + 1, "band (worst case)",
+               [f"{f.band[0]:.6g} … {f.band[1]:.6g}" + (" (drawing)" if f.limits is not None else "")
+                for f in st.spec.factors])
     fac["source"] = [f.source for f in st.spec.factors]
     sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
                                "T: tolerance band the distribution stands for)")
