@@ -67,6 +67,11 @@ class Model(ABC):
         status = np.where(bad, STATUS_NONFINITE, STATUS_OK).astype(np.int16)
         return Y, status
 
+    def dependencies(self) -> dict[str, frozenset[str]] | None:
+        """Output name -> the inputs it depends on, where the model knows its structure (a superset:
+        an input listed may still act only at second order); ``None``: every output on every input."""
+        return None
+
     # -- conveniences ---------------------------------------------------------
     @property
     def output_names(self) -> tuple[str, ...]:
