@@ -68,8 +68,9 @@ class Model(ABC):
         return Y, status
 
     def dependencies(self) -> dict[str, frozenset[str]] | None:
-        """Output name -> the inputs it depends on, where the model knows its structure (a superset:
-        an input listed may still act only at second order); ``None``: every output on every input."""
+        """Output name -> the inputs that move it, where the model knows its structure (each model says
+        how it decides; :meth:`rvtol.models.composite.model.CompositeModel.depends_on` uses it);
+        ``None``: every output depends on every input."""
         return None
 
     # -- conveniences ---------------------------------------------------------
