@@ -15,7 +15,7 @@ from rvtol.models.linear.model import stack_model
 from rvtol.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
-SPECS = sorted((ROOT / "data" / "specs").glob("*.toml"))
+SPECS = sorted((ROOT / "data" / "specs").glob("*.toml")) + sorted((ROOT / "data" / "products").glob("*/tolerances.toml"))
 
 
 def same_number(a, b):
@@ -28,7 +28,8 @@ def assert_same_spec(a, b):
     """Equal up to the 12 significant digits the table writes."""
     assert (a.name, a.description, a.names, a.units) == (b.name, b.description, b.names, b.units)
     for f, g in zip(a.factors, b.factors):
-        assert (f.group, f.description, f.source, f.dist.kind) == (g.group, g.description, g.source, g.dist.kind)
+        assert (f.part, f.feature, f.group, f.description, f.source, f.dist.kind) == \
+            (g.part, g.feature, g.group, g.description, g.source, g.dist.kind), f.name
         assert f.dist.p.keys() == g.dist.p.keys(), f.name
         for k in f.dist.p:
             assert same_number(f.dist.p[k], g.dist.p[k]), (f.name, k, f.dist.p[k], g.dist.p[k])
@@ -42,7 +43,7 @@ def assert_same_spec(a, b):
 
 
 @pytest.mark.parametrize("ext", ["csv", "xlsx"])
-@pytest.mark.parametrize("toml", SPECS, ids=[p.stem for p in SPECS])
+@pytest.mark.parametrize("toml", SPECS, ids=[p.parent.name if p.stem == "tolerances" else p.stem for p in SPECS])
 def test_round_trip_every_repository_spec(toml, ext, tmp_path):
     spec = load_spec(toml)
     path = write_table_spec(spec, tmp_path / f"{toml.stem}.{ext}")
@@ -77,7 +78,7 @@ def test_issue_layout_and_linear_stack_against_closed_forms(tmp_path):
     assert (h.dist.mean, h.dist.std) == (pytest.approx(50.0), pytest.approx(0.1 / 6))
     assert sp.dist.kind == "uniform" and sp.dist.frozen.support() == pytest.approx((19.98, 20.0))
     assert (b.dist.mean, b.dist.std) == (pytest.approx(29.9), pytest.approx(0.02 / 6))
-    assert (h.group, h.description, h.nominal) == ("housing", "bore depth", 50.0)
+    assert (h.part, h.group, h.feature, h.nominal) == ("housing", "housing", "bore depth", 50.0)
     assert sp.limits == pytest.approx((19.98, 20.0)) and sp.band == pytest.approx((19.98, 20.0))
     # the stack model: gap = housing − spacer − bearing; mean and RSS σ by hand
     m = stack_model(s, "gap", display_unit="um")

@@ -12,7 +12,7 @@ The layout a quality engineer keeps in a spreadsheet::
     bore_cmm     housing   bearing seat   62       H7            measured(data=cmm.csv, column=bore)  mm
 
 * **Columns** (any order, case-insensitive; aliases in brackets): ``name`` (factor), ``part``
-  (group, component), ``feature`` (description), ``nominal``, ``tolerance`` (tol) in drawing
+  (component), ``feature``, ``group`` (default: the part), ``description``, ``nominal``, ``tolerance`` (tol) in drawing
   notation (:mod:`rvtol.inputs.notation`: ``±0.05``, ``+0.10/-0.00``, ``h6``, ``25 H7/g6``,
   ``max 0.02``, ``Cpk 1.33 k 0.25``…) *or* the two columns ``+tol`` (upper) and ``-tol``
   (lower; its size is taken below the nominal, ``0.05`` and ``-0.05`` both mean −0.05),
@@ -20,6 +20,8 @@ The layout a quality engineer keeps in a spreadsheet::
   sign, dir: ``+``, ``-``, ``+1``, ``-0.5``… for a linear stack: ``[model] kind = "linear"`` with
   ``coefficients = "spec"``), ``source`` (reference); ``notes``/``comment`` columns are ignored.
   ``name`` is required, and ``unit`` unless the tolerance has one (``25 H7`` is in mm).
+  ``multiplicity`` (count, qty) makes a row with ``[k]`` in its name a family of N identical
+  factors (:mod:`rvtol.spec`).
 * **Distribution cell**: a kind of :mod:`rvtol.distributions` read over the tolerance band
   (``normal`` at ±3σ, ``uniform``, ``triangular``, ``truncnorm``, ``rayleigh``/``weibull``
   for magnitudes), optionally with parameters that refine or override what the band gives:
@@ -64,8 +66,8 @@ from .sheets import Location, blank, col_letter, read_rows, write_rows
 COLUMNS = ("name", "part", "feature", "nominal", "tolerance", "distribution", "unit", "direction", "source")
 _ALIASES = {
     "name": "name", "factor": "name",
-    "part": "part", "group": "part", "component": "part",
-    "feature": "feature", "description": "feature",
+    "part": "part", "component": "part", "group": "group",
+    "feature": "feature", "description": "description",
     "nominal": "nominal",
     "tolerance": "tolerance", "tol": "tolerance", "drawing tolerance": "tolerance",
     "+tol": "upper", "+ tol": "upper", "upper": "upper", "upper tol": "upper", "plus tol": "upper",
@@ -78,6 +80,7 @@ _ALIASES = {
     "sign": "direction",
     "source": "source", "reference": "source", "ref": "source",
     "zone": "zone", "position zone": "zone",
+    "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
@@ -89,7 +92,10 @@ MEASURED_CELL_KEYS = ("data", "column", "sheet", "method", "families", "family",
 _DIRECTIVES = ("spec", "description", "correlation")
 _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
-_KEY_OF = {"part": "group", "feature": "description", "source": "source", "zone": "zone"}
+_KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
+           "zone": "zone"}
+#: columns written only when some factor needs them
+_OPTIONAL = ("group", "description", "zone")
 
 
 @dataclass
@@ -376,6 +382,12 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         if not blank(cell.get(h)):
             table[key] = _text(cell[h])
             keycol[key] = col[h]
+    if not blank(cell.get("multiplicity")):
+        m = _number(cell["multiplicity"], where("multiplicity"))
+        if not float(m).is_integer():
+            raise where("multiplicity")(f"expected a whole number of copies, got {_text(cell['multiplicity'])}")
+        table["multiplicity"] = int(m)
+        keycol["multiplicity"] = col["multiplicity"]
     if "direction" in cell:
         d = _direction(cell["direction"], where("direction"))
         if d is not None:
@@ -489,14 +501,19 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
-    zones = any(getattr(f, "zone", "") for f in spec.factors)
-    rows.append(list(COLUMNS) + (["zone"] if zones else []))
+    value = {"group": lambda f: f.group, "description": lambda f: f.description,
+             "zone": lambda f: getattr(f, "zone", "")}
+    needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
+              "description": any(f.description for f in spec.factors),
+              "zone": any(getattr(f, "zone", "") for f in spec.factors)}
+    extra = [c for c in _OPTIONAL if needed[c]]
+    rows.append(list(COLUMNS) + extra)
     for f in spec.factors:
         nominal, tol, cell = _band_cells(f)
         direction = coefficients.get(f.name, getattr(f, "direction", None))
         direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
-        rows.append([f.name, f.group, f.description, nominal, tol, cell, f.unit, direction, f.source]
-                    + ([f.zone or None] if zones else []))
+        rows.append([f.name, getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction,
+                     f.source] + [value[c](f) or None for c in extra])
     return rows
 
 
@@ -510,4 +527,4 @@ def write_table_spec(spec, path: str | Path, *, coefficients: dict[str, float] |
     rows = spec_rows(spec, coefficients)
     header = next(i for i, r in enumerate(rows, start=1) if r and r[0] == COLUMNS[0])
     return write_rows(path, rows, sheet=sheet, header_row=header, text_columns=(COLUMNS.index("tolerance"),),
-                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40), number=fmt)
+                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40, 16, 30, 12), number=fmt)
