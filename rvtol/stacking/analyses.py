@@ -7,7 +7,8 @@ stack_conventions      ``outputs`` (default: the outputs the requirements name, 
                        ``sigma_levels`` ([3]: the ±zσ of the statistical rows), ``percentiles``
                        ([0.135, 99.865]: Monte Carlo percentiles with CIs), ``mrss_factor`` (a
                        given MRSS factor), ``six_sigma = {cp = 2.0, shift = 1.5}`` (or false),
-                       ``true_worst_case`` (true), ``starts`` (4), ``max_evaluations`` (20000),
+                       ``true_worst_case`` (true), ``starts`` (4), ``max_evaluations`` (5000: model
+                       evaluations of the search; an expensive model wants fewer),
                        ``gradient`` ("auto": the model's analytic one if it has it, else
                        "five_point"), ``percent`` (10, five-point)
 tail_probability       ``outputs`` (default: every output a requirement names), ``samples`` (4000
@@ -50,6 +51,21 @@ def _outputs(params, study, default_first: bool) -> list[str]:
     return names
 
 
+def search_evaluator(ctx):
+    """The evaluator for the many small sequential batches of a search (optimiser iterates, FORM steps):
+    in this process when the model is cheap (a batch of 64 rows under ~20 ms: the executor's round trip
+    would dominate), else the study's.  Models are row-deterministic, so the choice changes the time only."""
+    import time
+
+    from ..mc import Evaluator
+
+    x0 = ctx.spec.nominal_base()
+    serial = Evaluator()
+    t0 = time.perf_counter()
+    serial(ctx.model, np.repeat(x0[None], 64, axis=0), "timing")
+    return serial if time.perf_counter() - t0 < 0.02 else ctx.evaluator
+
+
 def _limits(mc, output: str) -> list[float]:
     return [v for r in mc.requirements if r.output == output for v in (r.lower, r.upper) if v is not None]
 
@@ -81,7 +97,7 @@ class StackConventionsAnalysis(Analysis):
             self.six_sigma = (cp, shift)
         self.true_wc = params.bool("true_worst_case", True)
         self.starts = params.int("starts", 4, min=2)
-        self.max_evaluations = params.int("max_evaluations", 20000, min=100)
+        self.max_evaluations = params.int("max_evaluations", 5000, min=100)
         self.gradient = params.str("gradient", "auto", choices=("auto", "five_point"))
         self.percent = params.float("percent", 10.0, positive=True)
 
@@ -123,7 +139,7 @@ class StackConventionsAnalysis(Analysis):
                                    six_sigma=self.six_sigma)
             wc = None
             if self.true_wc:
-                wc = true_worst_case(ctx.model, ctx.spec, o, ctx.evaluator, starts=self.starts,
+                wc = true_worst_case(ctx.model, ctx.spec, o, search_evaluator(ctx), starts=self.starts,
                                      max_evaluations=self.max_evaluations, gradient=g)
                 sc.add("worst case (true extreme)", wc.low, wc.high, note=wc.how + ("; " + "; ".join(wc.notes)
                                                                                     if wc.notes else ""),
@@ -216,6 +232,7 @@ class TailProbabilityAnalysis(Analysis):
             "which is the Monte Carlo's: where it sees no failure it only bounds the ppm.")
         rows, records = [], []
         key = 0
+        search = search_evaluator(ctx)
         for i, r in enumerate(ctx.mc.requirements):
             if r.output not in self.outputs:
                 continue
@@ -223,7 +240,7 @@ class TailProbabilityAnalysis(Analysis):
             for side, lim in (("lower", r.lower), ("upper", r.upper)):
                 if lim is None:
                     continue
-                est, z = form(ctx.model, ctx.spec, r.output, lim, side, ctx.evaluator,
+                est, z = form(ctx.model, ctx.spec, r.output, lim, side, search,
                               max_iterations=self.max_iterations)
                 if z is not None and self.samples:
                     importance_sampling(ctx.model, ctx.spec, est, z, self.samples, seed, key, ctx.evaluator)

@@ -89,7 +89,7 @@ class _Box:
 
 
 def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Evaluator | None = None, *,
-                    starts: int = 4, corner_limit: int = 12, max_evaluations: int = 20000,
+                    starts: int = 4, corner_limit: int = 10, max_evaluations: int = 5000,
                     gradient: np.ndarray | None = None) -> WorstCase:
     """The minimum and maximum of ``output`` over the factors' bands (module docstring).
 
@@ -162,9 +162,12 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
             if count[0] >= max_evaluations:
                 notes.append(f"stopped at the evaluation budget ({max_evaluations})")
                 break
+            per_call = 1 if analytic else 2 * box.dim + 1
             try:
                 res = optimize.minimize(lambda v: _finite(value_and_grad(v, sign)), v0, jac=True, method="L-BFGS-B",
-                                        bounds=box.bounds, options={"maxiter": 200, "ftol": 1e-13, "gtol": 1e-12})
+                                        bounds=box.bounds,
+                                        options={"maxiter": 200, "ftol": 1e-13, "gtol": 1e-12,
+                                                 "maxfun": max(2, (max_evaluations - count[0]) // per_call)})
             except _Failed:
                 notes.append("the model could not be evaluated at some points inside the bands; those starts "
                              "were abandoned")
