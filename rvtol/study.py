@@ -7,7 +7,7 @@
     title = "..."
     description = "..."
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
-    spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
+    spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
 
     [model]

@@ -9,7 +9,8 @@ NaN/inf and the engine counts it as a failed sample.
 
     model = FormulaModel.from_spec(spec, {"clearance": ("carrier_gap - disc1_width - disc2_width", "mm", "um")})
 
-Inside the formulas each factor is in its own unit (``units="factor"``, the unit written in
+Factor names are written as they are (``carrier_gap``, ``E_c[1,2]``, ``disc.width``), any other in
+braces (``{pin gap}``).  Inside the formulas each factor is in its own unit (``units="factor"``, the unit written in
 the spec) or in rvtol's base units (``units="base"``); each output declares the unit its
 formula yields.  ``evaluate`` and :meth:`FormulaModel.gradient` (exact ∂Y/∂X, used by the
 linearised analyses instead of five-point differences) work in base units like every Model.
