@@ -2,7 +2,6 @@
 factory named by module:function (imported from a folder next to the study, also in worker processes),
 and a kind registered by an installed package's entry point."""
 import json
-import textwrap
 
 import numpy as np
 import pytest
