@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import SpecError
+from .errors import SpecError, did_you_mean
 
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear.model:from_study",
@@ -67,7 +67,8 @@ ANALYSES: dict[str, str] = {
 
 def _load(table: dict[str, str], kind: str, what: str, file: str | None, key: str):
     if kind not in table:
-        raise SpecError(f"unknown {what} kind {kind!r} (known: {', '.join(sorted(table))})", file=file, key=key)
+        raise SpecError(f"unknown {what} kind {kind!r}{did_you_mean(kind, table)} (known: {', '.join(sorted(table))})",
+                        file=file, key=key)
     mod, attr = table[kind].split(":")
     return getattr(importlib.import_module(mod), attr)
 

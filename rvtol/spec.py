@@ -41,7 +41,7 @@ import numpy as np
 
 from . import units
 from .distributions import Distribution, from_params
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
@@ -136,7 +136,8 @@ class ToleranceSpec:
         try:
             return self.names.index(name)
         except ValueError:
-            raise InputError(f"unknown factor name {name!r} (spec has: {', '.join(self.names)})",
+            raise InputError(f"unknown factor name {name!r}{did_you_mean(name, self.names)} "
+                             f"(spec has: {', '.join(self.names)})",
                              file=self.file, key="factor") from None
 
     def factor(self, name: str) -> Factor:
@@ -299,7 +300,8 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         idx = []
         for f in fs:
             if f not in names:
-                raise t.error("factors" if "factors" in t else "pair", f"unknown factor name {f!r}")
+                raise t.error("factors" if "factors" in t else "pair",
+                              f"unknown factor name {f!r}{did_you_mean(f, names)}")
             idx.append(names.index(f))
         if len(set(idx)) != len(idx):
             raise t.error("factors", "a factor is named twice")
@@ -322,7 +324,10 @@ def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
     """The requirements of a ``[[requirement]]`` file and the file's SHA-256 (one read)."""
     data, sha = read_toml(path)
     root = Params(data, file=str(path))
-    reqs = requirements_from_tables(root.tables("requirement"))
+    tables = root.tables("requirement")
+    if not tables:  # a gate that checks nothing must not pass by accident
+        raise root.error("requirement", "a requirements file needs at least one [[requirement]] table")
+    reqs = requirements_from_tables(tables)
     root.finish()
     return reqs, sha
 

@@ -49,7 +49,7 @@ from pathlib import Path
 
 
 from .design import Design, load_design
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
 from .mc import Evaluator, MonteCarloResult, run_monte_carlo
@@ -181,7 +181,8 @@ def load_study(path: str | Path, **overrides) -> Study:
         raise exc.located(file=spec.file or file) from None
     for r in reqs:
         if r.output not in model.output_names:
-            raise SpecError(f"unknown output name {r.output!r} (model has: {', '.join(model.output_names)})",
+            raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
+                            f"(model has: {', '.join(model.output_names)})",
                             file=r.file, key=f"{r.key}.output" if r.key else "output")
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 

@@ -64,7 +64,7 @@ import numpy as np
 import pandas as pd
 
 from ... import units
-from ...errors import InputError, SpecError
+from ...errors import InputError, SpecError, did_you_mean
 from ...model import Model, Quantity
 
 #: the document's 180·60/π: arcmin per radian
@@ -206,7 +206,8 @@ class LostMotionModel(Model):
         known = set(FACTORS) | set(self.extra)
         for n in self.inputs:
             if n not in known:
-                raise InputError(f"unknown factor name {n!r} for the lost-motion model (known: "
+                raise InputError(f"unknown factor name {n!r}{did_you_mean(n, sorted(known))} for the lost-motion "
+                                 f"model (known: "
                                  f"{', '.join(sorted(known))})", key="factor")
         self.nominal = {n: 0.0 for n in known}
         self.nominal.update(nominal or {})
@@ -305,6 +306,10 @@ def from_study(params, design, spec) -> LostMotionModel:
         name = t.str("factor")
         if name in FACTORS or name in extra:
             raise t.error("factor", f"{name!r} is already a factor of the model")
+        if name not in spec.names:
+            unused = [n for n in spec.names if n not in FACTORS]
+            raise t.error("factor", f"the spec has no factor {name!r}{did_you_mean(name, unused)} "
+                                    f"(spec factors the model does not know yet: {', '.join(unused) or 'none'})")
         raw = t.raw("derivative")
         if isinstance(raw, str):
             like = t.str("derivative", choices=tuple(DERIVATIVE_LIKE))
@@ -318,7 +323,8 @@ def from_study(params, design, spec) -> LostMotionModel:
     for k in list(nom.keys()):
         if k not in FACTORS and k not in extra:
             known = ", ".join(sorted(set(FACTORS) | set(extra)))
-            raise nom.error(k, f"unknown factor name {k!r} (known: {known})")
+            raise nom.error(k, f"unknown factor name {k!r}{did_you_mean(k, set(FACTORS) | set(extra))} "
+                               f"(known: {known})")
         if k in spec.names:
             raise nom.error(k, f"{k!r} is a factor of the spec: its nominal comes from there")
         nominal[k] = nom.quantity(k, "mm")
