@@ -14,7 +14,10 @@ from pathlib import Path
 from . import __version__
 from .errors import InputError
 
-EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2, 3, 4
+
+#: exit code of each study verdict (rvtol.verdict.study_verdict)
+VERDICT_EXIT = {"PASS": EXIT_PASS, "FAIL": EXIT_FAIL, "NO REQUIREMENTS": EXIT_NO_REQUIREMENTS, "EXPLORATORY": EXIT_PASS}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -117,11 +120,11 @@ def _run(args) -> int:
     write_outputs(result, out)
     if not args.quiet:
         _print_result(result)
-    verdict = "PASS" if result.passed else "FAIL"
+    verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
           + (" (+ report.pdf, summary.json, samples.parquet)" if study.options.pdf
              else " (+ summary.json, samples.parquet)"))
-    return EXIT_PASS if result.passed else EXIT_FAIL
+    return VERDICT_EXIT[verdict]
 
 
 def _print_result(result) -> None:
@@ -136,14 +139,24 @@ def _print_result(result) -> None:
                   f"{int(r['failed']):>8}")
         else:
             print(f"{name:<28}{r['unit']:>8}{'—':>12}{'—':>12}{'—':>12}{int(r['failed']):>8}")
+    from .verdict import describe_bound
+
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]
-        print(f"  {'PASS' if v.passed else 'FAIL'}  {v.requirement.label}: yield {y.estimate:.5f} "
-              f"[{y.lo:.5f}, {y.hi:.5f}], {y.ppm:.0f} ppm, Cpk {cpk:.3f}" if cpk is not None else
-              f"  {'PASS' if v.passed else 'FAIL'}  {v.requirement.label}: yield {y.estimate:.5f}")
+        r = v.requirement
+        need = " and ".join([f"yield ≥ {r.min_yield:g}" + (" (default)" if r.yield_defaulted else "")] * (
+            r.min_yield is not None) + [f"Cpk ≥ {r.min_cpk:g}"] * (r.min_cpk is not None))
+        line = f"  {'PASS' if v.passed else 'FAIL'}  {r.label} (needs {need}, {describe_bound(r)}): " \
+               f"yield {y.estimate:.5f} [{y.lo:.5f}, {y.hi:.5f}] bound {v.yield_bound:.5f}, {y.ppm:.0f} ppm"
+        if cpk is not None:
+            line += f", Cpk {cpk:.3f}" + (f" bound {v.cpk_bound:.3f}" if v.cpk_bound is not None else "")
+        print(line)
         for why in v.reasons:
             print(f"        {why}")
+    if not mc.verdicts():
+        print("  no requirement checked" + (" (exploratory study)" if st.exploratory else
+                                            ": nothing is demonstrated (exit 4)"))
 
 
 def entry_point() -> None:

@@ -22,7 +22,7 @@ from .executors import Executor, SerialExecutor
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import judge
+from .verdict import bound_level, cpk_bound, judge, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -112,25 +112,32 @@ def _progress(total: int, desc: str):
 # --------------------------------------------------------------------------- results
 @dataclass
 class Verdict:
+    """One requirement judged: the two-sided intervals shown, the bounds judged (:mod:`rvtol.verdict`)."""
+
     requirement: Requirement
     yield_: st.YieldResult
     capability: dict
     cpk_percentile_ci: tuple[float | None, float | None]
     passed: bool
     reasons: list[str]
+    yield_bound: float | None = None
+    cpk_bound: float | None = None
+    n_to_demonstrate: int | None = None
 
     def to_dict(self) -> dict:
         r = self.requirement
         cap = self.capability
         return {
             "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
-            "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "min_yield": r.min_yield, "min_yield_default": r.yield_defaulted, "min_cpk": r.min_cpk,
+            "basis": r.basis, "confidence": r.confidence, "bound": r.bound, "bound_level": bound_level(r),
             "yield_interval": r.interval,
             "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
+            "yield_bound": self.yield_bound,
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
-            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]],
+            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons,
+            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
         }
 
 
@@ -213,9 +220,10 @@ class MonteCarloResult:
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
                    if len(good) >= 100 else (None, None))
-            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cap["cpk"], cpk_lo=cap["cpk_lo"],
-                      n_failed=int(self.n - self.ok.sum()))
-            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons))
+            yb, cb = yield_bound(r, yr.conforming, yr.n), cpk_bound(r, cap["cpk"], len(good))
+            j = judge(r, yield_=yr.estimate, yield_lo=yb, cpk=cap["cpk"], cpk_lo=cb,
+                      n_failed=int(self.n - self.ok.sum()), n=self.n)
+            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons, yb, cb, j.n_to_demonstrate))
         return out
 
     @property

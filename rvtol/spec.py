@@ -26,9 +26,11 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     output = "lost_motion"
     upper = 1.0
     unit = "arcmin"            # default: the output's display unit
-    min_yield = 0.9973         # and/or min_cpk = 1.33
-    confidence = 0.95          # of the interval the verdict uses
-    basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
+    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD)
+    confidence = 0.95          # of the bound the verdict uses
+    basis = "lower_bound"      # pass on the lower confidence bound (default) or the "estimate"
+    bound = "one-sided"        # the bound: one-sided at `confidence` (default), or "two-sided": the
+                               # lower end of the two-sided interval (a (1 + confidence)/2 one-sided bound)
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
 """
 from __future__ import annotations
@@ -46,6 +48,9 @@ from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
 YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
+
+#: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
+BOUNDS = ("one-sided", "two-sided")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -192,6 +197,9 @@ class Requirement:
     interval: str = "clopper-pearson"
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
+    bound: str = "one-sided"
+    #: True when min_yield is DEFAULT_MIN_YIELD because the requirement named neither yield nor Cpk
+    yield_defaulted: bool = field(default=False, compare=False)
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
@@ -199,6 +207,10 @@ class Requirement:
     def __post_init__(self):
         if self.min_yield is None and self.min_cpk is None:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
+            object.__setattr__(self, "yield_defaulted", True)
+        if self.bound not in BOUNDS:
+            raise SpecError(f"unknown bound {self.bound!r} (expected one of: {', '.join(BOUNDS)})", file=self.file,
+                            key=f"{self.key}.bound" if self.key else "bound")
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
 
@@ -353,7 +365,8 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
         name = t.str("name", "")
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
+        bound = t.str("bound", "one-sided", choices=BOUNDS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key))
+                               interval=interval, file=t.file, key=t.key, bound=bound))
     return out

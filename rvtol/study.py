@@ -9,6 +9,9 @@
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
     spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
+    exploratory = false                   # true: the study checks no requirement on purpose (verdict
+                                          # EXPLORATORY, exit 0); without requirements and without
+                                          # it the verdict is NO REQUIREMENTS (exit 4)
 
     [model]
     kind = "lost_motion"                  # see rvtol.registry.MODELS
@@ -89,6 +92,7 @@ class Study:
     options: RunOptions
     analyses: list = field(default_factory=list)  # prepared analysis objects (have .run(ctx))
     inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
+    exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
 
 
 @dataclass
@@ -168,6 +172,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         reqs += rfile
         inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
+    exploratory = head.bool("exploratory", False)
     head.finish()
 
     options = _options(root, overrides)
@@ -186,7 +191,7 @@ def load_study(path: str | Path, **overrides) -> Study:
                             file=r.file, key=f"{r.key}.output" if r.key else "output")
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
-    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs)
+    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
     for t in root.tables("analysis"):
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
@@ -263,6 +268,13 @@ class StudyResult:
     @property
     def passed(self) -> bool:
         return self.mc.passed
+
+    @property
+    def verdict(self) -> str:
+        """PASS, FAIL, NO REQUIREMENTS or EXPLORATORY (:func:`rvtol.verdict.study_verdict`)."""
+        from .verdict import study_verdict
+
+        return study_verdict([v.passed for v in self.mc.verdicts()], self.study.exploratory)
 
     def summary(self) -> dict:
         from .report.summary import build_summary

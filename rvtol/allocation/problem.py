@@ -38,8 +38,8 @@ from ..errors import InputError
 from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
-from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import judge
+from ..spec import Requirement, ToleranceSpec
+from ..verdict import cpk_bound, judge, yield_bound
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -275,9 +275,9 @@ class MonteCarloConstraint:
     def measures(self, T) -> list[list[dict]]:
         """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
 
-        Only what a requirement asks for is computed (the yield bound is the
-        requirement's interval: Clopper–Pearson in its closed beta-quantile
-        form for speed, or Wilson, as :func:`rvtol.stats.proportion_ci`).
+        Only what a requirement asks for is computed; the bounds are the sign-off's
+        (:func:`rvtol.verdict.yield_bound`, :func:`rvtol.verdict.cpk_bound`: the
+        requirement's interval, one- or two-sided).
         """
         m = self.problem.model
         out = []
@@ -296,11 +296,10 @@ class MonteCarloConstraint:
                         inside &= np.nan_to_num(y, nan=np.inf) <= r.upper
                     k, n = int(inside.sum()), len(y)
                     row["yield"] = k / n
-                    row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
-                                       else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
+                    row["yield_lo"] = yield_bound(r, k, n)
                 if r.min_cpk is not None:
                     cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
-                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
+                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cpk_bound(r, cap.get("cpk"), int(ok.sum()))
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
@@ -335,11 +334,6 @@ def affine_centres(problem: AllocationProblem) -> np.ndarray:
                                                                               atol=1e-12 * scale)
         out.append(float(c[0]) if ok else np.nan)
     return np.array(out)
-
-
-def clopper_pearson_lower(k: int, n: int, confidence: float) -> float:
-    """Lower end of the two-sided Clopper–Pearson interval of k/n (as :func:`rvtol.stats.proportion_ci`)."""
-    return 0.0 if k == 0 else float(sps.beta.ppf((1.0 - confidence) / 2.0, k, n - k + 1))
 
 
 def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:

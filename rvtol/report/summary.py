@@ -83,7 +83,9 @@ def build_summary(result) -> dict:
                   "outputs": {q.name: q.shown_unit for q in st.model.outputs}},
         "outputs": outputs,
         "failures": failures.to_dict(orient="records"),
-        "verdict": "PASS" if all(v.passed for v in verdicts) else "FAIL",
-        "passed": all(v.passed for v in verdicts),
+        "verdict": result.verdict,
+        "passed": result.verdict == "PASS",
+        "requirements_checked": len(verdicts),
+        "exploratory": st.exploratory,
         "analyses": {s.key: s.summary for s in result.sections if s.summary},
     })
