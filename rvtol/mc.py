@@ -48,11 +48,14 @@ class Evaluation:
 
 
 def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chunk_size: int | None = None,
-             progress: bool = True, desc: str = "evaluating") -> Evaluation:
+             progress: bool = True, desc: str = "evaluating", store=None) -> Evaluation:
     """Evaluate ``model`` on ``X`` (base units) through ``executor`` in chunks.
 
     The result is bit-identical whatever the executor, worker count and chunk
     size (models are row-deterministic; chunks are reassembled by index).
+    With a ``store`` (:class:`rvtol.checkpoint.ChunkStore`) each finished chunk
+    is persisted as it completes and chunks it already holds are not evaluated
+    again (resume of an interrupted run).
     """
     X = model.check_input(X)
     n = X.shape[0]
@@ -61,15 +64,27 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     bounds = [(i, min(i + cs, n)) for i in range(0, n, cs)]
     Y = np.empty((n, len(model.outputs)))
     status = np.empty(n, dtype=np.int16)
+    call = store.begin() if store is not None else None
+    todo = []
+    for i, (a, b) in enumerate(bounds):
+        hit = call.get(a, b, X[a:b]) if call is not None else None
+        if hit is None:
+            todo.append(i)
+        else:
+            Y[a:b], status[a:b] = hit
     bar = _progress(n, desc) if progress else None
     try:
-        tasks = [(model, X[a:b]) for a, b in bounds]
-        for i, (y, s) in executor.imap(_eval_chunk, tasks):
-            a, b = bounds[i]
+        if bar is not None and len(todo) < len(bounds):
+            bar.update(n - sum(bounds[i][1] - bounds[i][0] for i in todo))
+        tasks = [(model, X[bounds[i][0]:bounds[i][1]]) for i in todo]
+        for t, (y, s) in executor.imap(_eval_chunk, tasks):
+            a, b = bounds[todo[t]]
             if y.shape != (b - a, len(model.outputs)):
                 raise ValueError(f"{type(model).__name__}.evaluate returned shape {y.shape}, "
                                  f"expected {(b - a, len(model.outputs))}")
             Y[a:b], status[a:b] = y, s
+            if call is not None:
+                call.put(a, b, X[a:b], y, s)
             if bar is not None:
                 bar.update(b - a)
     finally:
@@ -92,13 +107,15 @@ class Evaluator:
     returned ``Y`` are in base units; failed rows are NaN with a non-zero status.
     """
 
-    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False):
+    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False,
+                 store=None):
         self.executor = executor
         self.chunk_size = chunk_size
         self.progress = progress
+        self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
 
     def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
-        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc)
+        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc, self.store)
 
 
 def _progress(total: int, desc: str):
@@ -264,11 +281,11 @@ class MonteCarloResult:
 def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lhs", seed: int | None = None,
                     requirements=(), executor: Executor | None = None, chunk_size: int | None = None,
                     progress: bool = True, confidence: float = 0.95,
-                    samples: SampleSet | None = None) -> MonteCarloResult:
-    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result."""
+                    samples: SampleSet | None = None, store=None) -> MonteCarloResult:
+    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result (``store``: :func:`evaluate`)."""
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
-    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo")
+    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store)
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):

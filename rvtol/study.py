@@ -102,6 +102,7 @@ class StudyContext:
     study: Study
     executor: Executor
     mc: MonteCarloResult
+    store: object = None  # rvtol.checkpoint.ChunkStore of the run (checkpoint / resume), or None
 
     @property
     def design(self):
@@ -127,7 +128,7 @@ class StudyContext:
     def evaluator(self) -> Evaluator:
         """Evaluate any model through the study's executor, chunking and progress bar (base units)."""
         o = self.study.options
-        return Evaluator(self.executor, o.chunk_size, o.progress)
+        return Evaluator(self.executor, o.chunk_size, o.progress, self.store)
 
 
 # --------------------------------------------------------------------------- loading
@@ -282,15 +283,16 @@ class StudyResult:
         return build_summary(self)
 
 
-def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
+def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
+    """Monte Carlo, then the analyses; ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     o = study.options
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
-                             o.chunk_size, o.progress, o.confidence)
-        ctx = StudyContext(study, ex, mc)
+                             o.chunk_size, o.progress, o.confidence, store=store)
+        ctx = StudyContext(study, ex, mc, store)
         sections: list[Section] = []
         for a in study.analyses:
             res = a.run(ctx)
@@ -331,8 +333,11 @@ def _is_report_folder(path: Path) -> bool:
         return False
 
 
-def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
-    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
+def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[str, str] | None = None) -> Path:
+    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``.
+
+    ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
+    """
     from .report.render import render_html, render_pdf
 
     out = check_out_dir(out_dir)
@@ -347,6 +352,8 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(html, tmp / "report.pdf")
+        for fname, text in (extra_files or {}).items():
+            (tmp / fname).write_text(text, encoding="utf-8")
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
