@@ -45,6 +45,7 @@ STREAMS = {
     "stackup_domains": 11,                                            # domain sampling, one key per domain
     "clearance_fit_sizes": 12, "clearance_fit_positions": 13,         # hole/shaft sizes, position in the fit
     "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
+    "compare_bootstrap": 81,                                          # baseline comparison: percentile bootstrap
 }
 
 

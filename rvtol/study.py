@@ -35,6 +35,9 @@
     kind = "local_sensitivity"            # see rvtol.registry.ANALYSES
     # ... analysis parameters
 
+    [[gate]]                              # what a change may do against the accepted baseline
+    kind = "requirements"                 # (rvtol run --baseline, rvtol compare): see rvtol.ci.gates
+
 Loading (:func:`load_study`) reads and checks *everything* — files, keys,
 units, names, the model and every analysis' parameters — before anything is
 computed; :func:`run_study` then runs Monte Carlo and the analyses and
@@ -51,6 +54,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 
+from .ci.gates import read_gates
 from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
@@ -93,6 +97,7 @@ class Study:
     analyses: list = field(default_factory=list)  # prepared analysis objects (have .run(ctx))
     inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
     exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
+    gates: list = field(default_factory=list)  # rvtol.ci.gates.Gate: [[gate]] tables, for --baseline
 
 
 @dataclass
@@ -193,6 +198,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
     study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
+    study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     for t in root.tables("analysis"):
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
