@@ -155,7 +155,12 @@ def _check(args) -> int:
 
     st = load_study(args.study)
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
-          f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.analyses)} analyses")
+          f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
+          f"{len(st.analyses)} analyses")
+    if not st.requirements:
+        print("rvtol: note: " + ("an exploratory study: it checks no requirement (verdict EXPLORATORY, exit 0)"
+                                 if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "
+                                 "(exit 4); add [[requirement]] tables or declare [study] exploratory = true"))
     return EXIT_PASS
 
 

@@ -40,6 +40,11 @@ def _single_thread_worker() -> None:
         pass
 
 
+def _ignore_sigint() -> None:
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 #: how often a pool worker checks that its parent is still alive (s)
 ORPHAN_POLL = 0.5
 
@@ -219,6 +224,10 @@ class DaskExecutor(Executor):
                 self._cluster = LocalCluster(n_workers=self._want, threads_per_worker=1, processes=True,
                                              dashboard_address=None, silence_logs=logging.ERROR)
                 self._client = Client(self._cluster)
+                # our own cluster's processes leave Ctrl-C (sent to the whole process group) to us:
+                # closing the cluster stops them, without a traceback from each
+                self._client.run(_ignore_sigint, nanny=True)
+                self._client.run(_ignore_sigint)
             self._client.run(_single_thread_worker)
         return self._client
 

@@ -22,6 +22,7 @@ import contextlib
 import fcntl
 import glob
 import json
+import logging
 import math
 import os
 import shutil
@@ -71,6 +72,8 @@ def stopping_on_signals(signals=(signal.SIGTERM, signal.SIGINT)):
         if state["stopping"]:  # asked twice: do not wait for the clean-up
             os._exit(128 + signum)
         state["stopping"] = True
+        for name in ("distributed", "tornado", "asyncio"):  # a cluster torn down mid-task logs its closed comms
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
         raise Interrupted(signum)
 
     old = {s: signal.signal(s, handler) for s in signals}
