@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -26,8 +27,9 @@ from .verdict import bound_level, cpk_bound, judge, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
+    t0 = time.perf_counter()
     Y, status = model.evaluate_with_status(X)
-    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16)
+    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16), time.perf_counter() - t0
 
 
 def auto_chunk_size(n: int, workers: int) -> int:
@@ -48,14 +50,15 @@ class Evaluation:
 
 
 def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chunk_size: int | None = None,
-             progress: bool = True, desc: str = "evaluating", store=None) -> Evaluation:
+             progress: bool = True, desc: str = "evaluating", store=None, persist: str = "costly") -> Evaluation:
     """Evaluate ``model`` on ``X`` (base units) through ``executor`` in chunks.
 
     The result is bit-identical whatever the executor, worker count and chunk
     size (models are row-deterministic; chunks are reassembled by index).
-    With a ``store`` (:class:`rvtol.checkpoint.ChunkStore`) each finished chunk
-    is persisted as it completes and chunks it already holds are not evaluated
-    again (resume of an interrupted run).
+    With a ``store`` (:class:`rvtol.checkpoint.ChunkStore`) finished chunks are
+    persisted as they complete — ``persist="all"`` of them (the Monte Carlo),
+    or only the ``"costly"`` ones, cheaper to keep than to recompute — and
+    chunks the store already holds are not evaluated again (resume).
     """
     X = model.check_input(X)
     n = X.shape[0]
@@ -64,7 +67,7 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     bounds = [(i, min(i + cs, n)) for i in range(0, n, cs)]
     Y = np.empty((n, len(model.outputs)))
     status = np.empty(n, dtype=np.int16)
-    call = store.begin() if store is not None else None
+    call = store.begin(persist) if store is not None else None
     todo = []
     for i, (a, b) in enumerate(bounds):
         hit = call.get(a, b, X[a:b]) if call is not None else None
@@ -77,14 +80,14 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
         if bar is not None and len(todo) < len(bounds):
             bar.update(n - sum(bounds[i][1] - bounds[i][0] for i in todo))
         tasks = [(model, X[bounds[i][0]:bounds[i][1]]) for i in todo]
-        for t, (y, s) in executor.imap(_eval_chunk, tasks):
+        for t, (y, s, seconds) in executor.imap(_eval_chunk, tasks):
             a, b = bounds[todo[t]]
             if y.shape != (b - a, len(model.outputs)):
                 raise ValueError(f"{type(model).__name__}.evaluate returned shape {y.shape}, "
                                  f"expected {(b - a, len(model.outputs))}")
             Y[a:b], status[a:b] = y, s
             if call is not None:
-                call.put(a, b, X[a:b], y, s)
+                call.put(a, b, X[a:b], y, s, seconds)
             if bar is not None:
                 bar.update(b - a)
     finally:
@@ -285,7 +288,7 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
     """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result (``store``: :func:`evaluate`)."""
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
-    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store)
+    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):

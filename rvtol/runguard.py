@@ -170,9 +170,13 @@ class RunFolder:
             store = ChunkStore(chunks)
             note = f"resuming: {store.count()} finished chunks of the interrupted run are reused"
         else:
+            kept = ChunkStore(chunks).count() if chunks.is_dir() else 0
             if resume:
                 note = ("nothing to resume: no interrupted run of this output folder" if old is None else
                         "nothing to resume: the inputs, n, seed or method changed since the interrupted run")
+            elif kept:
+                note = f"starting afresh: the {kept} finished chunks of an interrupted run are discarded " \
+                       "(--resume continues a run)"
             shutil.rmtree(chunks, ignore_errors=True)
             store = ChunkStore(chunks)
         meta.write_text(json.dumps({"key": key, "pid": os.getpid(), "started": time.time()}))

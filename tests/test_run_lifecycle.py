@@ -188,3 +188,35 @@ def test_the_estimate_is_printed_before_the_run(study, tmp_path, capsys):
                  "--n", "300"]) in (0, 1)
     err = capsys.readouterr().err
     assert "rvtol: estimate: 300 samples × " in err and "ms/sample at the nominal point" in err
+
+
+def test_the_checkpoint_keeps_every_monte_carlo_chunk_and_only_costly_analysis_chunks(tmp_path, monkeypatch):
+    import numpy as np
+
+    import rvtol.checkpoint as cp
+    from rvtol.mc import evaluate
+    from rvtol.testing import FlakyModel
+
+    model = FlakyModel(threshold=0.5)
+    X = np.random.default_rng(0).random((1000, 2))
+    ref = evaluate(model, X, chunk_size=100, progress=False)
+    store = cp.ChunkStore(tmp_path / "chunks")
+    evaluate(model, X, chunk_size=100, progress=False, store=store, persist="all")   # the Monte Carlo
+    evaluate(model, X, chunk_size=100, progress=False, store=store)                  # an analysis: cheap chunks
+    assert store.saved == 10 and store.count() == 10
+    monkeypatch.setattr(cp, "COSTLY_SECONDS", 0.0)
+    evaluate(model, X[:300], chunk_size=100, progress=False, store=store)            # costly ones are kept
+    assert store.count() == 13
+    monkeypatch.undo()
+    # a resumed run numbers its evaluations the same way and reuses them, bit for bit
+    again = cp.ChunkStore(tmp_path / "chunks")
+    a = evaluate(model, X, chunk_size=100, progress=False, store=again, persist="all")
+    evaluate(model, X, chunk_size=100, progress=False, store=again)
+    b = evaluate(model, X[:300], chunk_size=100, progress=False, store=again)
+    assert again.reused == 13 and again.saved == 0
+    assert a.Y.tobytes() == ref.Y.tobytes() and a.status.tobytes() == ref.status.tobytes()
+    assert b.Y.tobytes() == ref.Y[:300].tobytes()
+    # other rows under the same call number are not mistaken for the kept ones
+    other = cp.ChunkStore(tmp_path / "chunks")
+    c = evaluate(model, X[::-1].copy(), chunk_size=100, progress=False, store=other, persist="all")
+    assert other.reused == 0 and c.Y.tobytes() == ref.Y[::-1].tobytes()
