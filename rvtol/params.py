@@ -3,7 +3,11 @@
 Every loader in rvtol reads its table through :class:`Params`, so a typo, a
 wrong type, a NaN or an out-of-range number always ends as one line
 ``FILE: KEY: reason``, and keys nobody read are reported by :meth:`finish`
-(typos do not pass silently).
+(typos do not pass silently).  A misspelt key is blamed itself, with the key
+it resembles: when a loader finds a key missing (``tolerance`` of a normal
+factor) while the table holds an unread key close to one the loader read or
+looked for (``tolerence``), the error names ``tolerence`` and suggests
+``tolerance`` — not the missing ``sigma`` a loader might ask for next.
 """
 from __future__ import annotations
 
@@ -14,9 +18,12 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from . import units
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 
 _MISSING = object()
+
+#: how close (difflib ratio) an unknown key must be to a known one to be called its misspelling
+KEY_CUTOFF = 0.75
 
 
 def read_toml(path: str | Path) -> tuple[dict, str]:
@@ -31,9 +38,10 @@ def read_toml(path: str | Path) -> tuple[dict, str]:
     except OSError as exc:
         raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
     try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SpecError("not UTF-8 text", file=str(path), key="-") from None
+        text = raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (some Windows editors write one) is accepted
+    except UnicodeDecodeError as exc:
+        raise SpecError(f"not UTF-8 text (byte {exc.start}: {raw[exc.start:exc.start + 1]!r}); save the file "
+                        "as UTF-8", file=str(path), key="-") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -61,15 +69,37 @@ class Params:
         self.file = file
         self.key = key
         self._read: set[str] = set()
+        self._probed: set[str] = set()  # names looked for with ``name in params`` (optional alternatives)
 
     # -- helpers -----------------------------------------------------------
     def path(self, name: str) -> str:
         return f"{self.key}.{name}" if self.key else name
 
     def error(self, name: str | None, reason: str) -> SpecError:
+        """An error on key ``name`` of this table; an absent ``name`` next to a misspelt key blames the typo."""
+        if name and name.isidentifier() and name not in self.data:
+            typo = self._typo(extra=(name,))
+            if typo is not None:
+                return typo
         return SpecError(reason, file=self.file, key=self.path(name) if name else (self.key or "-"))
 
+    def _vocabulary(self, allow: Iterable[str] = ()) -> list[str]:
+        """Keys this table is known to take: read, looked for, or allowed."""
+        return sorted(self._read | self._probed | set(allow))
+
+    def _typo(self, extra: Iterable[str] = (), allow: Iterable[str] = ()) -> SpecError | None:
+        """The error for an unread key that looks like a known key missing from the table, if any."""
+        vocab = [k for k in [*self._vocabulary(allow), *extra] if k not in self.data]
+        for k in self.data:
+            if k in self._read or k in self._probed or k in set(allow):
+                continue
+            hint = did_you_mean(k, vocab, cutoff=KEY_CUTOFF)
+            if hint:
+                return SpecError(f"unknown key{hint}", file=self.file, key=self.path(k))
+        return None
+
     def __contains__(self, name: str) -> bool:
+        self._probed.add(name)
         return name in self.data
 
     def keys(self):
@@ -105,7 +135,12 @@ class Params:
         """Raise if the table holds keys nobody read (usually typos)."""
         extra = sorted(set(self.data) - self._read - set(allow))
         if extra:
-            raise self.error(extra[0], f"unknown key (known here: {', '.join(sorted(self._read)) or 'none'})")
+            typo = self._typo(allow=allow)
+            if typo is not None:
+                raise typo
+            known = [k for k in self._vocabulary(allow) if k not in extra]
+            raise SpecError(f"unknown key (known here: {', '.join(known) or 'none'})", file=self.file,
+                            key=self.path(extra[0]))
 
     # -- typed getters -----------------------------------------------------
     def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None) -> str:
@@ -117,7 +152,9 @@ class Params:
         if choices is not None:
             ch = list(choices)
             if v not in ch:
-                raise self.error(name, f"unknown value {v!r} (expected one of: {', '.join(ch)})")
+                hint = did_you_mean(v, ch).strip(" ()")
+                raise self.error(name, f"unknown value {v!r} ({hint + '; ' if hint else ''}"
+                                       f"expected one of: {', '.join(ch)})")
         return v
 
     def bool(self, name: str, default: Any = _MISSING) -> bool:
