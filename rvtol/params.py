@@ -26,27 +26,38 @@ _MISSING = object()
 KEY_CUTOFF = 0.75
 
 
-def read_toml(path: str | Path) -> tuple[dict, str]:
-    """Read a TOML file; return ``(table, sha256)``. Raises :class:`SpecError`."""
+def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
+    """The bytes of an input file; one-line errors (:class:`SpecError`, key ``-``) naming the file."""
     p = Path(path)
     try:
-        raw = p.read_bytes()
+        return p.read_bytes()
     except FileNotFoundError:
         raise SpecError("file not found", file=str(path), key="-") from None
     except IsADirectoryError:
-        raise SpecError("is a directory, expected a TOML file", file=str(path), key="-") from None
+        raise SpecError(f"is a directory, expected {expected}", file=str(path), key="-") from None
     except OSError as exc:
         raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
+
+
+def read_text(path: str | Path, expected: str = "a text file") -> tuple[str, str]:
+    """``(text, sha256)`` of a UTF-8 input file (a byte-order mark, as some Windows editors write, is accepted)."""
+    raw = read_bytes(path, expected)
     try:
-        text = raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (some Windows editors write one) is accepted
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise SpecError(f"not UTF-8 text (byte {exc.start}: {raw[exc.start:exc.start + 1]!r}); save the file "
                         "as UTF-8", file=str(path), key="-") from None
+    return text, hashlib.sha256(raw).hexdigest()
+
+
+def read_toml(path: str | Path) -> tuple[dict, str]:
+    """Read a TOML file; return ``(table, sha256)``. Raises :class:`SpecError`."""
+    text, sha = read_text(path, "a TOML file")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"invalid TOML ({exc})", file=str(path), key="-") from None
-    return data, hashlib.sha256(raw).hexdigest()
+    return data, sha
 
 
 class Params:
