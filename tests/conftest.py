@@ -11,6 +11,25 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
+# The gap study several tests share: gap = a − b (µm), a normal with tolerance T, b uniform ±5 µm.
+def gap_factors(tolerance: float, mean: float | None = None) -> str:
+    """The two ``[[factor]]`` tables (a spec file, or part of a study)."""
+    m = "" if mean is None else f"mean = {mean}\n"
+    return (f'[[factor]]\nname = "a"\nunit = "um"\ndist = "normal"\n{m}tolerance = {tolerance}\n'
+            '[[factor]]\nname = "b"\nunit = "um"\ndist = "uniform"\nlower = -5.0\nupper = 5.0\n')
+
+
+#: the ``[model]`` table of the gap study
+GAP_MODEL = """[model]
+kind = "linear"
+[[model.output]]
+name = "gap"
+unit = "mm"
+display_unit = "um"
+coefficients = { a = 1.0, b = -1.0 }
+"""
+
+
 @pytest.fixture
 def root() -> Path:
     return ROOT
