@@ -125,6 +125,11 @@ class LinearModel(Model):
         # row by row (no BLAS): the result of a row never depends on the chunk it is in
         return self.c + np.stack([(X * a).sum(axis=1) for a in self.A], axis=1)
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each output depends on the inputs with a non-zero coefficient."""
+        return {q.name: frozenset(n for n, a in zip(self.inputs, row) if a != 0.0)
+                for q, row in zip(self.outputs, self.A)}
+
 
 class FunctionModel(Model):
     """Wrap a vectorised function ``f(X) -> Y`` (both base units) as a Model."""

@@ -47,7 +47,7 @@ def test_the_study_composes_four_models_on_the_drawing_spec(study):
     assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening"]
     torsion, te = m.stage("torsion"), m.stage("te")
     assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
-    assert len(torsion.model.inputs) == 170 and len(m.stage("screening").model.inputs) == 7
+    assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
     assert {r.output for r in study.requirements} <= set(m.output_names)
 
 
@@ -135,7 +135,10 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
     (both signs: a min() over discs moves one way only): no output moves that ``depends_on`` does not
     name, and every output it names moves — except torsion-curve outputs of single pins: with the input
     locked, pins whose contact normal points (nearly) at the disc centre carry nothing near zero torque,
-    so their own errors cannot move the hysteresis there (the TE sweep, a full revolution, sees them)."""
+    and each disc's modification opens its pins from n0 = 3.6 µm at φ0 to 15 µm at φ = 0°, 180° (n_j(φ)),
+    so only the pins around φ0 carry load at low torque and the backlash, a minimum over the pins, moves
+    only with the pins that close first: the other pins' errors cannot move those figures (the TE sweep,
+    a full revolution, sees every pin)."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -156,7 +159,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         assert all(o.startswith("torsion.") for o in missing) and (not missing or f.family), (f.name, missing)
         inactive |= {f.name} if missing else set()
         unused += [] if moved else [f.name]
-    assert len(inactive) < 20                     # a handful of the 120 per-pin factors
+    assert len(inactive) < 40                     # a minority of the 120 per-pin factors (26 at the nominal)
     # mapping.md §8: the drawing tolerances no model uses (axial widths and gap, sizes absorbed by the
     # selective fitting of the needle sets)
     assert sorted(unused) == sorted(["disc_1.width", "disc_2.width", "carrier.disc_gap"]

@@ -7,9 +7,11 @@
     title = "..."                          # optional
     key = "allocation"                     # optional: section key (summary.json analyses.<key>)
     costs = "../data/costs/bx40e_angular.toml"
-    assign = { "*" = "ground_axis" }       # factor name, or group, or "*" -> cost curve
+    assign = { "*" = "ground_axis" }       # factor name, family, pattern, or group, or "*" -> cost curve
     groups = ["Crankshaft 1", "..."]       # optional: allocate these groups' factors
-    factors = ["..."]                      # optional: or these factors (default: every factor)
+    factors = ["..."]                      # optional: or these factors (default: every factor): names,
+                                           # family templates ("pins[k].diameter_in_lot") or shell
+                                           # patterns ("crank_*.cam_*.position.*")
     spec = "../data/specs/x.toml"          # optional: another spec than the study's
     convex = "rss"                         # rss | worst_case | none: the linearised global optimum
     [analysis.model]                       # optional: another model than the study's ([model] format)
@@ -39,6 +41,7 @@ independent of the optimisation.
 """
 from __future__ import annotations
 
+import fnmatch
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -57,19 +60,34 @@ from .baseline import uniform_baseline, verify
 from .convex import solve_convex
 from .cost import CostTable, load_costs
 from .ga import HANDLING, GASettings, solve_ga
-from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, expand_requirements, linearise,
-                      requirements_frame)
+from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, design_levers,
+                      expand_requirements, linearise, requirements_frame)
 from .results import AllocationResult, ParetoCurve, component_axis_table
 
 
 
+def matching_factors(spec, key: str) -> list[str]:
+    """The spec's factors a ``factors`` entry or an ``assign`` key names: a factor name, a family template
+    (``pins[k].diameter_in_lot``: all its copies) or a shell pattern (``crank_*.cam_*.position.*``; ``[``
+    opens a character class, so a pattern over per-pin names writes ``[[]`` for a literal bracket)."""
+    if key in spec.names:
+        return [key]
+    fam = [f.name for f in spec.factors if f.family == key]
+    if fam:
+        return fam
+    return [n for n in spec.names if fnmatch.fnmatchcase(n, key)]
+
+
 def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> list:
-    """The cost curve of each allocated factor: by factor name, then group, then ``"*"``."""
+    """The cost curve of each allocated factor: by factor name, family or pattern (the first key in the
+    table's order that matches), then group, then ``"*"``."""
     keys = list(assign.keys())
+    groups = {f.group for f in spec.factors}
+    matched = {k: set(matching_factors(spec, k)) for k in keys if k != "*" and k not in groups}
     curves = []
     for n in names:
         g = spec.factor(n).group
-        k = n if n in keys else (g if g in keys else ("*" if "*" in keys else None))
+        k = next((k for k in matched if n in matched[k]), None) or (g if g in keys else ("*" if "*" in keys else None))
         if k is None:
             raise assign.error(None, f"no cost curve for factor {n!r} (group {g!r}); add it or a \"*\" entry")
         cname = assign.str(k)
@@ -78,8 +96,9 @@ def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> l
         curves.append(table.curves[cname])
     for k in keys:
         assign.raw(k)
-        if k != "*" and k not in spec.names and k not in {f.group for f in spec.factors}:
-            raise assign.error(k, f"{k!r} is neither a factor nor a group of the spec")
+        if k != "*" and k not in groups and not matched[k]:
+            raise assign.error(k, f"{k!r} is neither a factor, a family, a pattern of factor names nor a group of "
+                                  "the spec")
     assign.finish()
     return curves
 
@@ -105,10 +124,13 @@ class AllocationAnalysis(Analysis):
         self.model_label = type(model).__name__
         # allocated factors
         if "factors" in params:
-            names = params.strs("factors", min_length=1)
-            for n in names:
-                if n not in spec.names:
-                    raise params.error("factors", f"unknown factor name {n!r}")
+            names = []
+            for key in params.strs("factors", min_length=1):
+                found = matching_factors(spec, key)
+                if not found:
+                    raise params.error("factors", f"{key!r} names no factor of the spec (a name, a family "
+                                                  "template with [k] or a shell pattern)")
+                names += [n for n in found if n not in names]
         elif "groups" in params:
             groups = params.strs("groups", min_length=1)
             known = {f.group for f in spec.factors}
@@ -181,7 +203,24 @@ class AllocationAnalysis(Analysis):
         vseed = substream_seed(ctx.seed, "allocation_verify")
         checks = {r.method: verify(r, self.verify_n, vseed, ctx.executor) for r in results if r.feasible}
         pareto = self.pareto(p, lin, ga_con, ctx)
-        return [self.cost_section(), self.section(results, checks, pareto, lin_con, ga_con)]
+        sec = self.section(results, checks, pareto, lin_con, ga_con)
+        self.levers_tables(sec, design_levers(p, lin), lin_con)
+        return [self.cost_section(), sec]
+
+    def levers_tables(self, sec: Section, levers: dict, lin_con) -> None:
+        """What the nominal design must change where no tolerance can meet a requirement."""
+        if not levers:
+            return
+        sec.add_text("Where the NOMINAL design already lies on or outside a requirement's limit, scaling tolerances "
+                     "cannot help: as every tolerance shrinks, every reducer approaches the nominal one. The tables "
+                     "below give the design levers to first order: the shift of one drawing nominal (a family's "
+                     "copies alike) that alone moves the nominal output to the limit minus the z·σ the present "
+                     f"tolerances need ({lin_con.describe()}), ranked by the output change of a shift by one "
+                     "tolerance half-band t. Linear at the nominal point: a direction and a size for a design change, "
+                     "to be confirmed by a study of the changed design, not a result.")
+        for label, frame in levers.items():
+            sec.add_table(frame, f"Design levers for: {label}", "{:.4g}")
+        sec.summary["design_levers"] = {label: frame_records(f) for label, f in levers.items()}
 
     def pareto(self, p, lin, ga_con, ctx) -> ParetoCurve:
         rows = []
