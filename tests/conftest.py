@@ -20,3 +20,17 @@ def write(path: Path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding="utf-8")
     return path
+
+
+@pytest.fixture(scope="session")
+def te_design():
+    """The RV-80E design of the 20-DOF transmission-error model (data/designs/rv80e_te.toml)."""
+    from rvtol.design import load_design
+    return load_design(ROOT / "data/designs/rv80e_te.toml")
+
+
+@pytest.fixture(scope="session")
+def te_geom(te_design):
+    """Its solver geometry."""
+    from rvtol.models.transmission.geometry import geometry_from_design
+    return geometry_from_design(te_design)
