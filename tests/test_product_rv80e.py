@@ -41,10 +41,10 @@ def _stackup_matrix(model: CompositeModel, X):
     return st.model, CompositeModel.stage_matrix(st, env, len(X))
 
 
-def test_the_study_composes_four_models_on_the_drawing_spec(study):
+def test_the_study_composes_five_models_on_the_drawing_spec(study):
     m = study.model
     assert len(study.spec) == 276 and m.inputs == study.spec.names
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening"]
+    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
     torsion, te = m.stage("torsion"), m.stage("te")
     assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
     assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
@@ -116,6 +116,12 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
             assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5, abs=tol), name
         r = te._sweep(state)
         assert Y[row, m.output_index("te.te_pp")] == pytest.approx(r.te.max() - r.te.min(), rel=1e-5, abs=1e-7)
+        # stage 5: the first stage's free play in series with the torsion curve (plays add; rigidity unchanged)
+        play = Y[row, m.output_index("screening.involute_stage")] / study.design["reducer.ratio"]
+        assert play > 0
+        for name in ("lost_motion", "backlash"):
+            assert Y[row, m.output_index(f"reducer.{name}")] == pytest.approx(
+                Y[row, m.output_index(f"torsion.{name}")] + play, rel=1e-12), name
 
 
 def _cheap(m: CompositeModel) -> CompositeModel:

@@ -267,7 +267,8 @@ def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) 
     moves the nominal output to ``limit ∓ z·σ`` — z as the allocation's, σ the linearised RSS spread of
     the spec's present tolerances — ranked by the output change one tolerance half-band of shift gives.
     Linear at the nominal point: a direction and a size for the designer, to be confirmed by a study of
-    the changed design.  Angles (phases) are not levers."""
+    the changed design.  Angles (phases) are not levers, nor error magnitudes (one-sided distributions:
+    a form or position error's size is what the process achieves, not a nominal the designer sets)."""
     spec, out = problem.spec, {}
     sd = spec.std_base()
     for j, r in enumerate(problem.requirements):
@@ -275,13 +276,16 @@ def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) 
             continue
         q = problem.model.output(r.output)
         sigma = float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))
-        lim = units.convert(r.upper if r.upper is not None else r.lower, q.shown_unit, q.unit)
-        target = lim - lin.z[j] * sigma if r.upper is not None else lim + lin.z[j] * sigma
+        lower = units.convert(r.lower, q.shown_unit, q.unit) if r.lower is not None else None
+        if lower is not None and (r.upper is None or lin.y0[j] <= lower):     # the limit the nominal misses
+            target = lower + lin.z[j] * sigma
+        else:
+            target = units.convert(r.upper, q.shown_unit, q.unit) - lin.z[j] * sigma
         need = target - lin.y0[j]                                  # base units of the output
         levers: dict[str, list] = {}
         for k, f in enumerate(spec.factors):
-            if units.dimension(f.unit) == "angle" or lin.S[j, k] == 0.0:
-                continue
+            if units.dimension(f.unit) == "angle" or f.dist.one_sided or lin.S[j, k] == 0.0:
+                continue              # phases, and error magnitudes (Rayleigh, ...: set by the process, not a nominal)
             key = f.family or f.name
             entry = levers.setdefault(key, [0.0, f, 0])
             entry[0] += lin.S[j, k]
