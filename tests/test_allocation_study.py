@@ -77,7 +77,7 @@ def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
     ('assign = { "*" = "ground_axis" }', 'assign = { "Crankshaft 1" = "ground_axis" }', "analysis[1].assign",
      "no cost curve for factor"),
     ('assign = { "*" = "ground_axis" }', 'assign = { "*" = "ground_axis", "Gearbox" = "ground_axis" }',
-     "analysis[1].assign.Gearbox", "neither a factor nor a group"),
+     "analysis[1].assign.Gearbox", "neither a factor, a family, a pattern"),
     ('groups = ["Crankshaft 1",', 'groups = ["Crankshaft 9",', "analysis[1].groups", "unknown group"),
     ('output = "delta_*"', 'output = "gamma_*"', "analysis[1].requirement[0].output", "matches no output"),
     ('[analysis.ga]\n', '[analysis.ga]\nconstraint = "never"\n', "analysis[1].ga.constraint", "unknown value"),
@@ -124,3 +124,99 @@ def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
     free = te.evaluate(np.zeros((1, len(te.inputs))))[0, te.output_index("te_pp")]
     assert b["te_pp [arcsec]"][0] == pytest.approx(2 * a["te_pp [arcsec]"][0], rel=0.02)
     assert a["te_pp [arcsec]"][1] == pytest.approx(free * 206264.806, rel=1e-6)
+
+
+SET_ASIDE = """
+[study]
+name = "set_aside"
+
+[model]
+kind = "linear"
+
+[[model.output]]
+name = "y"
+unit = "mm"
+display_unit = "um"
+coefficients = { b = 1.0 }
+
+[[model.output]]
+name = "z"
+unit = "mm"
+display_unit = "um"
+coefficients = { a = 1.0 }
+
+[[factor]]
+name = "a"
+unit = "um"
+dist = "normal"
+mean = 10.0
+tolerance = 6.0
+
+[[factor]]
+name = "b"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[requirement]]
+name = "y within ±3 um"
+output = "y"
+lower = -3.0
+upper = 3.0
+unit = "um"
+min_cpk = 1.0
+basis = "estimate"
+
+[[requirement]]
+name = "z at most 5 um"
+output = "z"
+upper = 5.0
+unit = "um"
+min_cpk = 1.0
+basis = "estimate"
+
+[[analysis]]
+kind = "allocation"
+costs = "costs.toml"
+assign = { "*" = "turning" }
+[analysis.ga]
+constraint = "none"
+[analysis.verify]
+n = 2000
+[analysis.pareto]
+scales = [1.0]
+
+[sampling]
+n = 200
+seed = 3
+"""
+
+COSTS = """
+[costs]
+name = "test"
+cost_unit = "relative"
+[[curve]]
+name = "turning"
+kind = "reciprocal_power"
+unit = "um"
+data = { tolerance = [0.5, 1, 2, 4, 10], cost = [9.0, 5.0, 3.0, 2.0, 1.4] }
+bounds = [0.5, 10]
+"""
+
+
+def test_a_requirement_the_nominal_misses_is_set_aside_with_its_levers(tmp_path):
+    """z = a with a's mean 10 µm > 5: no tolerance meets it; it is set aside and its lever (by hand: shift a by
+    5 − 3σ_a − 10 = −8 µm; tolerance 6 µm is the full band ±3σ, σ_a = 1) reported; y = b is allocated alone: |y| ≤ 3 µm at Cpk 1 gives ±t_b = 3σ_b = 3 µm
+    (the constraint's closed form), and a, which y does not see, goes to the curve's loosest 10 µm."""
+    write(tmp_path / "costs.toml", COSTS)
+    study = load_study(write(tmp_path / "s.toml", SET_ASIDE), executor="serial", progress=False)
+    res = run_study(study)
+    summ = {s.key: s.summary for s in res.sections}["allocation"]
+    assert summ["set_aside"] == [r.label for r in study.requirements if r.output == "z"]
+    methods = {m["method"]: m for m in summ["methods"]}
+    assert methods["convex rss"]["status"].startswith("optimal")
+    t = {row["factor"]: row["t convex rss (±)"] for row in summ["tolerances"]}
+    assert t["b"] == pytest.approx(3.0, rel=1e-4) and t["a"] == pytest.approx(10.0, rel=1e-6)
+    (lever,) = next(iter(summ["design_levers"].values()))
+    assert lever["lever (mean shift of)"] == "a" and lever["shift needed alone"] == pytest.approx(-8.0, rel=1e-9)

@@ -162,7 +162,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         want = {o for o, d in deps.items() if f.name in d}
         assert moved <= want, f.name
         missing = want - moved
-        assert all(o.startswith("torsion.") for o in missing) and (not missing or f.family), (f.name, missing)
+        assert all(o.startswith(("torsion.", "reducer.")) for o in missing) and (not missing or f.family), (f.name, missing)
         inactive |= {f.name} if missing else set()
         unused += [] if moved else [f.name]
     assert len(inactive) < 40                     # a minority of the 120 per-pin factors (26 at the nominal)
@@ -173,17 +173,20 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                                     + [f"crank_{i}.cam_{j}.diameter" for j in (1, 2) for i in (1, 2, 3)])
 
 
-TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp"}
+TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp",
+              "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
+FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backlash", "reducer.first_stage_play"}
 
 
 @pytest.mark.parametrize("factor, outputs", [
-    # by hand from mapping.md: tooth thickness reaches only doc 001's involute stage (E_w)
-    ("sun.tooth_thickness", {"screening.lost_motion", "screening.involute_stage"}),
+    # by hand from mapping.md: tooth thickness reaches only doc 001's involute stage (E_w) and, through it, the
+    # first stage's play in the reducer stage
+    ("sun.tooth_thickness", {"screening.lost_motion"} | FIRST_STAGE),
     ("disc_1.width", set()),                                      # axial: no model
     # a carrier bore: crank 2's axis (stack-up KC), E_ca[2] of the 20-DOF, Δa of doc 001 — not the discs,
     # which crank 1 locates
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
-                                          "screening.lost_motion", "screening.involute_stage"} | TWENTY_DOF),
+                                          "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
     # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play)
     ("housing.pin_groove.diameter", {"pin_clearance_mean", "stackup.pin_ring_1_misfit.margin",
                                      "stackup.pin_ring_2_misfit.margin", "screening.lost_motion",

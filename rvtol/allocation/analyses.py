@@ -179,9 +179,15 @@ class AllocationAnalysis(Analysis):
 
     # -----------------------------------------------------------------------
     def run(self, ctx) -> list[Section]:
-        p = self.problem
         evaluate = ctx.evaluator
-        lin = linearise(p, evaluate)
+        full = self.problem
+        lin_full = linearise(full, evaluate)
+        # a requirement the NOMINAL design misses cannot be met by any tolerance: it is set aside (with its
+        # design levers below) and the tolerances are allocated against the requirements that can be met
+        missed = [r for j, r in enumerate(full.requirements) if lin_full.margin[j] <= 0]
+        kept = [r for r in full.requirements if r not in missed]
+        p = full.with_requirements(kept) if missed and kept else full
+        lin = linearise(p, evaluate) if p is not full else lin_full     # the same rows: the study's cache answers
         lin_con = LinearisedConstraint(p, lin, "rss" if self.convex == "none" else self.convex)
         results: list[AllocationResult] = []
         ga_con = None
@@ -203,8 +209,13 @@ class AllocationAnalysis(Analysis):
         vseed = substream_seed(ctx.seed, "allocation_verify")
         checks = {r.method: verify(r, self.verify_n, vseed, ctx.executor) for r in results if r.feasible}
         pareto = self.pareto(p, lin, ga_con, ctx)
-        sec = self.section(results, checks, pareto, lin_con, ga_con)
-        self.levers_tables(sec, design_levers(p, lin), lin_con)
+        sec = self.section(p, results, checks, pareto, lin_con, ga_con)
+        if p is not full:
+            sec.add_text("Set aside (the NOMINAL design misses them, so no tolerance can meet them; their design "
+                         "levers follow): " + "; ".join(f"{r.label} ({r.output})" for r in missed)
+                         + ". The tolerances above are allocated against the other requirements.")
+            sec.summary["set_aside"] = [r.label for r in missed]
+        self.levers_tables(sec, design_levers(full, lin_full), LinearisedConstraint(full, lin_full, lin_con.mode))
         return [self.cost_section(), sec]
 
     def levers_tables(self, sec: Section, levers: dict, lin_con) -> None:
@@ -261,10 +272,9 @@ class AllocationAnalysis(Analysis):
         sec.summary = {"curves": frame_records(pd.DataFrame(rows))}
         return sec
 
-    def section(self, results, checks, pareto, lin_con, ga_con) -> Section:
+    def section(self, p, results, checks, pareto, lin_con, ga_con) -> Section:
         from ..plotting.allocation import ga_history, tolerance_bars
 
-        p = self.problem
         sec = Section(self.key, self.title)
         sec.add_text(
             f"Minimise Σ C_i(t_i) over {len(p.factors)} tolerances ±t_i of model {self.model_label} "
