@@ -150,3 +150,12 @@ class FunctionModel(Model):
     def evaluate(self, X):
         Y = np.asarray(self.f(self.check_input(X)), dtype=float)
         return Y.reshape(len(Y), -1)
+
+
+def dependencies(model: "Model") -> dict[str, set[str]] | None:
+    """Output -> the model inputs it can depend on, where the model knows (a composed model through its
+    declared mapping, a model through :meth:`Model.dependencies`); None: every output on every input."""
+    if hasattr(model, "depends_on"):
+        return {k: set(v) for k, v in model.depends_on().items()}
+    own = model.dependencies()
+    return None if own is None else {k: set(v) for k, v in own.items()}

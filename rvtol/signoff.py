@@ -11,7 +11,7 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   tolerance explains on its own (first order; interactions are in a study's Sobol section).  The
   estimates are summed unclipped (each is unbiased; clipped at 0 the 40 copies of a family would
   add 40 positive halves of their noise) and only over the factors the output can depend on where
-  the model knows its structure (:func:`dependencies`);
+  the model knows its structure (:func:`rvtol.model.dependencies`);
 * **what to change** — for a requirement that is not demonstrated: the spread the output must
   reach and the tightening of its largest driver that would give it, to first order
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from scipy import stats
 
 from .mc import MonteCarloResult
-from .model import Model
+from .model import Model, dependencies
 from .spec import ToleranceSpec
 
 #: factors whose last name component is one of these are coordinates of one drawing tolerance
@@ -123,15 +123,6 @@ def _first_order(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
         ranked = sorted(sums.items(), key=lambda kv: -kv[1][0])
         out[o] = [Driver(t, max(v[0], 0.0), v[1]) for t, v in ranked]
     return out
-
-
-def dependencies(model: Model) -> dict[str, set[str]] | None:
-    """Output -> the model inputs it can depend on, where the model knows (a composed model through its
-    declared mapping, a model through :meth:`Model.dependencies`); None: every output on every input."""
-    if hasattr(model, "depends_on"):
-        return {k: set(v) for k, v in model.depends_on().items()}
-    own = model.dependencies()
-    return None if own is None else {k: set(v) for k, v in own.items()}
 
 
 def required_sigma(r, mean: float, sigma: float) -> float | None:

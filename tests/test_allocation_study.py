@@ -220,3 +220,75 @@ def test_a_requirement_the_nominal_misses_is_set_aside_with_its_levers(tmp_path)
     assert t["b"] == pytest.approx(3.0, rel=1e-4) and t["a"] == pytest.approx(10.0, rel=1e-6)
     (lever,) = next(iter(summ["design_levers"].values()))
     assert lever["lever (mean shift of)"] == "a" and lever["shift needed alone"] == pytest.approx(-8.0, rel=1e-9)
+
+
+MAGNITUDE = """
+[study]
+name = "magnitude"
+
+[model]
+kind = "formula"
+[[model.output]]
+name = "r"
+formula = "hypot(u, v)"
+unit = "um"
+
+[[factor]]
+name = "u"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[factor]]
+name = "v"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[requirement]]
+name = "radial offset at most 3 um"
+output = "r"
+upper = 3.0
+unit = "um"
+min_yield = 0.99
+basis = "estimate"
+
+[[analysis]]
+kind = "allocation"
+costs = "costs.toml"
+assign = { "*" = "turning" }
+[analysis.ga]
+constraint = "monte_carlo"
+n = 4000
+population = 8
+parents = 4
+generations = 4
+[analysis.verify]
+n = 2000
+all_requirements = true
+
+[sampling]
+n = 400
+seed = 3
+"""
+
+
+def test_a_magnitude_output_is_not_linearised_and_the_monte_carlo_constraint_remains(tmp_path):
+    """r = hypot(u, v) at the nominal (0, 0): five-point derivatives 0, first-order σ 0 against the Monte Carlo's
+    σ_r = σ √(2 − π/2) (Rayleigh, σ = 1 µm): the linearised methods are unavailable; the uniform scale on the
+    Monte Carlo constraint is the closed form: P(r ≤ 3) = 1 − exp(−9 / 2σ²) ≥ 0.99  ⇔  σ ≤ 3/√(2 ln 100) = 0.9885,
+    ±t = 3σ = 2.966 µm (within the constraint's sampling error at n = 4000)."""
+    write(tmp_path / "costs.toml", COSTS)
+    res = run_study(load_study(write(tmp_path / "s.toml", MAGNITUDE), executor="serial", progress=False))
+    sec = next(s for s in res.sections if s.key == "allocation")
+    methods = {m["method"]: m for m in sec.summary["methods"]}
+    assert methods["convex rss"]["status"] == "not linearisable"
+    t = {row["factor"]: row["t uniform (±)"] for row in sec.summary["tolerances"]}
+    sigma = 3.0 / math.sqrt(2 * math.log(100))
+    # the yield's standard error at n = 4000 is sqrt(0.99·0.01/4000) = 0.0016 (random sampling; LHS is no worse);
+    # dP/dσ at the solution = exp(−9/2σ²)·9/σ³ = 0.093 per µm, so σ is good to ± 3 × 0.0016/0.093 ≈ 0.05 µm and
+    # ±t = 3σ to ± 0.15 µm
+    assert t["u"] == pytest.approx(3 * sigma, abs=0.15) and t["v"] == t["u"]
+    assert sec.summary["all_requirements"]["rows"][0]["output"] == "r"

@@ -7,7 +7,8 @@ import pytest
 from rvtol.executors import make_executor
 from rvtol.mc import run_monte_carlo
 from rvtol.model import LinearModel, Quantity
-from rvtol.signoff import dependencies, digest
+from rvtol.model import dependencies
+from rvtol.signoff import digest
 from rvtol.spec import Factor, Requirement, ToleranceSpec
 from rvtol.distributions import Distribution
 
