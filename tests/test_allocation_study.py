@@ -292,3 +292,14 @@ def test_a_magnitude_output_is_not_linearised_and_the_monte_carlo_constraint_rem
     # ±t = 3σ to ± 0.15 µm
     assert t["u"] == pytest.approx(3 * sigma, abs=0.15) and t["v"] == t["u"]
     assert sec.summary["all_requirements"]["rows"][0]["output"] == "r"
+
+
+def test_a_monte_carlo_constraint_too_small_to_demonstrate_the_yield_is_a_one_line_error(tmp_path):
+    """yield ≥ 0.99 on the 95 % one-sided Clopper–Pearson bound needs ⌈ln 0.05 / ln 0.99⌉ = 299 samples with no
+    failure (success run): n = 200 could never pass, whatever the tolerances."""
+    write(tmp_path / "costs.toml", COSTS)
+    text = MAGNITUDE.replace('basis = "estimate"', 'basis = "lower_bound"').replace("n = 4000", "n = 200")
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "s.toml", text))
+    assert ei.value.key == "analysis[0].ga.n" and "use n ≥ 299" in ei.value.reason
+    assert math.ceil(math.log(0.05) / math.log(0.99)) == 299

@@ -69,6 +69,7 @@ from ..registry import model_factory
 from ..report.sections import Section, frame_records
 from ..sampling import METHODS, substream_seed
 from ..spec import load_spec, requirements_from_tables
+from ..verdict import yield_bound
 from .baseline import uniform_baseline, verify
 from .convex import solve_convex
 from .cost import CostTable, load_costs
@@ -177,9 +178,6 @@ class AllocationAnalysis(Analysis):
                     raise params.error("factors", "the requirements' outputs depend on no factor of the spec")
             curves = assign_curves(spec, names, params.sub("assign"), self.table)
             self.problem = AllocationProblem(model, spec, names, curves, reqs)
-            # evaluated in bulk (GA, verification): only the stages the requirements need
-            self.evaluated = (self.problem if not hasattr(model, "restricted") else AllocationProblem(
-                model.restricted(list(dict.fromkeys(r.output for r in reqs))), spec, names, curves, reqs))
             self.study_problem = (self.problem.with_requirements(list(study.requirements))
                                   if model is study.model and spec is study.spec and study.requirements else None)
         except InputError as exc:
@@ -190,6 +188,13 @@ class AllocationAnalysis(Analysis):
         self.ga_constraint = g.str("constraint", "monte_carlo", choices=("monte_carlo", "linearised", "none"))
         self.ga_n = g.int("n", 2000, min=50)
         self.ga_method = g.str("method", "lhs", choices=METHODS)
+        if self.ga_constraint == "monte_carlo":
+            for r in self.problem.requirements:
+                need = zero_failure_n(r)
+                if need is not None and self.ga_n < need:
+                    raise g.error("n", f"n = {self.ga_n} cannot demonstrate {r.label} even with no failing sample "
+                                       f"(the {r.label!r} judges yield ≥ {r.min_yield:g} on its lower confidence "
+                                       f"bound): use n ≥ {need}")
         kw = dict(population=g.int("population", 40, min=4), generations=g.int("generations", 150, min=1),
                   parents=g.int("parents", 20, min=2), elitism=g.int("elitism", 2, min=0),
                   mutation_probability=g.float("mutation_probability", 0.15, min=0.0, max=1.0),
@@ -230,7 +235,7 @@ class AllocationAnalysis(Analysis):
         spread = self.linear_spread(p, lin, ctx)
         unfit = [] if spread is None else [r for r, ratio in zip(p.requirements, spread["first order / MC"])
                                            if not 0.5 <= ratio <= 2.0]
-        pe = self.evaluated.with_requirements(p.requirements)          # the stages these requirements need
+        pe = evaluated_problem(p)
         results: list[AllocationResult] = []
         ga_con = None
         if self.ga_constraint == "monte_carlo":
@@ -418,6 +423,32 @@ class AllocationAnalysis(Analysis):
             "pareto": frame_records(pareto.to_frame()) if pareto is not None else [],
         }
         return sec
+
+
+def evaluated_problem(p: AllocationProblem) -> AllocationProblem:
+    """``p`` with its model evaluated only as far as its requirements need (a composed model restricted to
+    their outputs: a GA over stack-up requirements does not run the 20-DOF stages)."""
+    if not hasattr(p.model, "restricted"):
+        return p
+    outs = list(dict.fromkeys(r.output for r in p.requirements))
+    return AllocationProblem(p.model.restricted(outs), p.spec, p.factors, p.curves, p.requirements)
+
+
+def zero_failure_n(r) -> int | None:
+    """The fewest samples whose yield bound (the requirement's own interval and level) reaches ``r.min_yield``
+    with no failing sample (the success-run size; 1109 for 0.9973 at 95 %); None when the requirement does
+    not judge a yield on a bound."""
+    if r.min_yield is None or r.basis != "lower_bound":
+        return None
+    if yield_bound(r, 1 << 40, 1 << 40) < r.min_yield:
+        return None
+    lo, hi = 1, 1
+    while yield_bound(r, hi, hi) < r.min_yield:
+        lo, hi = hi, 2 * hi
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if yield_bound(r, mid, mid) < r.min_yield else (lo, mid)
+    return hi
 
 
 def lin_con_mode(convex: str) -> str:
