@@ -254,7 +254,8 @@ class AllocationAnalysis(Analysis):
                 f"convex {lin_con.mode}", p, None, "not linearisable", False, lin_con.describe(), notes=[why]))
         if ga_con is not None:
             settings = replace(self.ga_settings, seed=substream_seed(ctx.seed, "allocation_ga"))
-            results.append(solve_ga(pe if ga_con is not lin_con else p, ga_con, settings))
+            seed_t = results[0].t if results[0].feasible and results[0].t is not None else None   # uniform seeds the GA
+            results.append(solve_ga(pe if ga_con is not lin_con else p, ga_con, settings, initial=seed_t))
         self.result = {r.method: r for r in results}
         vseed = substream_seed(ctx.seed, "allocation_verify")
         checks = {r.method: verify(replace(r, problem=pe), self.verify_n, vseed, ctx.executor)
