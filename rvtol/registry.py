@@ -59,6 +59,8 @@ ANALYSES: dict[str, str] = {
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
+    "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
     "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",

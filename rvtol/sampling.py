@@ -47,6 +47,9 @@ STREAMS = {
     "screening_subsample": 14,                                        # reducers for the torsion curve beside doc 001
     "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
     "calibration_noise": 81,                                          # noise of synthetic measured curves
+    "per_unit": 91,                                                   # measurement noise + unmeasured factors per unit
+    "selective_stock": 92, "selective_optimise": 93,                  # graded batch; design of the class-limit search
+    "synthetic_parts": 94,                                            # synthetic measured parts (studies/)
 }
 
 

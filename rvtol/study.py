@@ -371,6 +371,15 @@ def _is_report_folder(path: Path) -> bool:
         return False
 
 
+def _write_section_files(sections: list[Section], folder: Path) -> None:
+    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    for s in sections:
+        for name, content in s.files.items():
+            if (folder / name).exists():
+                raise ValueError(f"analysis {s.key!r}: report file {name!r} exists already")
+            (folder / name).write_bytes(content)
+
+
 def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
     from .report.render import render_html, render_pdf
@@ -387,6 +396,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(html, tmp / "report.pdf")
+        _write_section_files(result.sections, tmp)
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

@@ -17,6 +17,14 @@ tolerance the optimiser calls feasible is one the sign-off passes:
 
 :func:`judge` also returns a *violation* ≥ 0, zero exactly when the
 requirement passes, for optimisers (normalised shortfall of each figure).
+
+One serial reducer (:mod:`rvtol.production.per_unit`) is judged by :func:`judge_unit` with the same
+figures read the other way round: its measured parts and the unmeasured factors give a probability
+``P`` that *this* unit meets the requirement; the unit **conforms** when ``P`` reaches the yield
+the requirement demands of the population (its lower confidence bound, or the estimate with
+``basis = "estimate"`` — :func:`judge` decides), **does not conform** when even the upper bound
+stays below it, and is **undecided** in between (measure more, or evaluate more samples) — the
+decision rules of ISO 14253-1 with the prediction's spread as the guard band.
 """
 from __future__ import annotations
 
@@ -63,6 +71,52 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
             j.passed = False
             j.reasons.append("Cpk is not demonstrated while samples fail (it only describes the evaluated ones)")
     return j
+
+
+#: the three states of a unit's verdict (:func:`judge_unit`)
+CONFORMS, DOES_NOT_CONFORM, UNDECIDED = "conforms", "does not conform", "undecided"
+
+
+def unit_probability_required(r: Requirement) -> float:
+    """The probability of conformance one unit must show: the requirement's ``min_yield``; for a
+    Cpk-only requirement the yield that Cpk guarantees of a normal process, Φ(3·Cpk) one-sided or
+    2Φ(3·Cpk) − 1 two-sided (a Cpk describes a population, not a unit)."""
+    if r.min_yield is not None:
+        return float(r.min_yield)
+    from scipy.stats import norm
+
+    p = float(norm.cdf(3.0 * r.min_cpk))
+    return 2.0 * p - 1.0 if r.lower is not None and r.upper is not None else p
+
+
+@dataclass
+class UnitJudgement:
+    state: str
+    required: float
+    reasons: list[str] = field(default_factory=list)
+
+
+def judge_unit(r: Requirement, *, p: float, p_lo: float, p_hi: float, n_failed: int = 0) -> UnitJudgement:
+    """The verdict of one unit on requirement ``r`` from its probability of conformance ``p`` and
+    that probability's confidence interval ``[p_lo, p_hi]`` (module docstring)."""
+    req = unit_probability_required(r)
+    lb = r.basis == "lower_bound"
+    yr = r if r.min_yield is not None else _as_yield(r, req)
+    ok = judge(yr, yield_=p, yield_lo=p_lo, n_failed=n_failed)
+    if ok.passed:
+        return UnitJudgement(CONFORMS, req, [])
+    reasons = [f"P(conforms) {'upper bound ' if lb else ''}{_f(p_hi if lb else p, '.5f')} < required {req:g}"]
+    if not (lb and p_hi >= req):
+        return UnitJudgement(DOES_NOT_CONFORM, req, reasons + ok.reasons[1:])
+    return UnitJudgement(UNDECIDED, req, ok.reasons[:1] + [f"upper bound {_f(p_hi, '.5f')} ≥ {req:g}: more "
+                                                             "samples or a smaller measurement uncertainty decide"]
+                         + ok.reasons[1:])
+
+
+def _as_yield(r: Requirement, p: float) -> Requirement:
+    from dataclasses import replace
+
+    return replace(r, min_yield=p, min_cpk=None)
 
 
 def _f(v, fmt: str) -> str:
