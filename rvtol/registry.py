@@ -43,6 +43,7 @@ ANALYSES: dict[str, str] = {
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
     "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
     "torsion_curve": "rvtol.models.torsion_curve.analyses:TorsionCurveAnalysis",
+    "compliance_breakdown": "rvtol.models.torsion_curve.analyses:ComplianceBreakdown",
     "stackup_linear": "rvtol.models.stackup.analyses:StackupLinear",
     "stackup_graph": "rvtol.models.stackup.analyses:StackupGraph",
     "stackup_sequences": "rvtol.models.stackup.analyses:StackupSequences",

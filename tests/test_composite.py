@@ -220,3 +220,50 @@ def test_sensitivity_matrix_of_a_composed_study(tmp_path):
     assert set(st) == {"c1", "c3", "all other tolerances"}       # c1, c3 the top two; c2 lumped
     for k, g in (("c1", "c1"), ("c3", "c3"), ("all other tolerances", "c2")):
         assert abs(st[k]["stack.play"]["ST"] - v[g] / tot) < max(3 * st[k]["stack.play"]["conf"], 0.03)
+
+
+def test_model_specific_analyses_work_on_a_stage_of_a_composed_study(tmp_path):
+    """transmission_error_curve and torsion_curve on the stages named by `model`, inputs through the mapping."""
+    spec = write(tmp_path / "spec.toml", '[[factor]]\nname = "cam"\nunit = "um"\ndist = "uniform"\nlower = 0\n'
+                                         'upper = 4\n[[factor]]\nname = "gap"\nunit = "um"\ndist = "uniform"\n'
+                                         'lower = 1\nupper = 3\n')
+    design = (ROOT / "data/designs/rv80e_te.toml").as_posix()
+    text = f"""
+[study]
+name = "stages"
+spec = "{spec.as_posix()}"
+design = "{design}"
+[[model]]
+name = "te"
+kind = "transmission_error"
+per_crank_rev = 12
+[model.inputs]
+"E_c[1,1]" = "cam"
+"delta_b" = "gap"
+[[model]]
+name = "tc"
+kind = "torsion_curve"
+[model.inputs]
+"delta_b" = "gap"
+[sampling]
+n = 6
+[execution]
+executor = "serial"
+[[analysis]]
+kind = "transmission_error_curve"
+configuration = "worst"
+[[analysis]]
+kind = "torsion_curve"
+model = "tc"
+"""
+    st = load_study(write(tmp_path / "s.toml", text), progress=False)
+    res = run_study(st)
+    te, *tc = res.sections
+    i = int(np.nanargmax(res.mc.column("te.te_pp")))
+    assert te.summary["te_pp_arcsec"]["quasistatic"] == pytest.approx(res.mc.column("te.te_pp")[i], rel=1e-9)
+    x = res.mc.samples.values[i]
+    assert te.summary["values"] == pytest.approx({"E_c[1,1]": x[0], "delta_b": x[1]})
+    assert tc[0].key.startswith("torsion_curve")
+    bad = write(tmp_path / "b.toml", text.replace('model = "tc"', 'model = "te"'))
+    with pytest.raises(InputError, match="not a torsion_curve model"):
+        load_study(bad)

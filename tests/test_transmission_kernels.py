@@ -41,7 +41,7 @@ def numba_forces(g, st, theta_c, q, dth_s=0.0):
     coef, off = np.zeros((tab.n, 2, L.NZ)), np.zeros((tab.n, 2))
     K.update_table(theta_c, dth_s, g.prm(), st.err, st.pin_err, st.disc_h, pin_cos_sin(g), coef, off)
     F, fc, kt, Km = np.zeros(L.NDOF), np.zeros(tab.n), np.zeros((tab.n, 3)), np.zeros((L.NDOF, L.NDOF))
-    energy = K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, F, fc, kt)
+    energy = K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, F, fc, kt)
     K.tangent_matrix(tab.kind, tab.idx, coef, kt, Km)
     return F, Km, energy
 
@@ -72,8 +72,35 @@ def test_numba_and_numpy_agree_on_random_states(geom):
         assert np.max(np.abs(Km - Kr)) <= 1e-9 * np.max(np.abs(Kr))
 
 
-def test_tangent_and_energy_are_consistent_with_forces(geom):
+@pytest.fixture(scope="module")
+def product():
+    """The RV-80E product design: doc 000's laws with the compliance chain in series (series laws)."""
+    from pathlib import Path
+
+    return geometry_from_design(load_design(Path(__file__).resolve().parents[1] / "data/products/rv80e/design.toml"))
+
+
+def test_numba_and_numpy_agree_with_the_compliance_chain(product):
+    """Series laws (linear terms, pair table, groove log law) in the kernels against the twin's own
+    evaluation (brentq on its own δ terms, SciPy's Hermite spline, rvtol.elements.chain.series)."""
+    assert product.chain is not None
+    rng = np.random.default_rng(5)
+    for trial in range(4):
+        st = random_errors(product, rng)
+        ref = ReferenceModel(product, st)
+        theta_c = rng.uniform(0, 2 * np.pi)
+        q = rng.normal(0.0, 0.003, L.NDOF) / product.arc_radii()
+        F, Km, _ = numba_forces(product, st, theta_c, q, 1e-4)
+        Fr, Kr, parts = ref.forces(theta_c, q, 1e-4)
+        assert 5 < np.count_nonzero(parts["pin"]) < 2 * product.z_b
+        assert np.max(np.abs(F - Fr)) <= 1e-9 * np.max(np.abs(Fr))
+        assert np.max(np.abs(Km - Kr)) <= 1e-9 * np.max(np.abs(Kr))
+
+
+@pytest.mark.parametrize("which", ["geom", "product"])
+def test_tangent_and_energy_are_consistent_with_forces(which, request):
     """K = ∂F/∂q and F = ∂E/∂q by central differences (both implementations share nothing here)."""
+    geom = request.getfixturevalue(which)
     rng = np.random.default_rng(11)
     st = random_errors(geom, rng)
     theta_c = 0.37

@@ -77,3 +77,26 @@ def plot_torsion_curve(curve, ax=None, percent: float | None = None):
     ax.set_ylabel("output torsion angle [arcmin]")
     ax.legend(loc="best")
     return fig
+
+
+def plot_compliance_breakdown(labels, series: dict, ax=None, xlabel: str = "output torsion angle [arcsec]"):
+    """Grouped horizontal bars: one group per element (``labels``), one bar per model (``series``: name ->
+    values, NaN = the model has no such element), values printed at the bar ends."""
+    n, m = len(labels), max(len(series), 1)
+    fig, ax = new_axes(ax, figsize=(6.4, 0.42 * n * max(m, 2) / 2 + 1.2))
+    height = 0.8 / m
+    palette = [COLORS["data"], COLORS["fit"], COLORS["ok"], COLORS["ci"], COLORS["limit"]]
+    y = np.arange(n)
+    for k, (name, vals) in enumerate(series.items()):
+        v = np.asarray(vals, dtype=float)
+        pos = y - 0.4 + height * (k + 0.5)
+        ok = np.isfinite(v)
+        ax.barh(pos[ok], v[ok], height=height, color=palette[k % len(palette)], label=name)
+        for p, val in zip(pos[ok], v[ok]):
+            ax.text(val, p, f" {val:.1f}", va="center", fontsize=7)
+    ax.set_yticks(y)
+    ax.set_yticklabels(labels)
+    ax.invert_yaxis()
+    ax.set_xlabel(xlabel)
+    ax.legend(loc="lower right")
+    return fig

@@ -46,7 +46,7 @@ def assembly_times(g, st, q, n=2000):
     def numba_once():
         for _ in range(n):
             K.update_table(0.3, 0.0, prm, st.err, st.pin_err, st.disc_h, pcs, coef, off)
-            K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, F, fc, kt)
+            K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, F, fc, kt)
             K.tangent_matrix(tab.kind, tab.idx, coef, kt, Km)
 
     ref = ReferenceModel(g, st)

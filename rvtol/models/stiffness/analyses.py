@@ -23,7 +23,7 @@ from ... import units
 from ...analysis import Analysis
 from ...report.sections import Section, frame_records
 from .model import TorsionalStiffnessModel
-from .torsion_angle import COMPONENTS, LABELS, ReducerStiffness
+from .torsion_angle import LABELS, ReducerStiffness
 
 
 class StiffnessBreakdown(Analysis):
@@ -75,7 +75,7 @@ class StiffnessBreakdown(Analysis):
         curve = self.rs.evaluate(fr, *self.mods)
         cf = pd.DataFrame({"torque (N·m)": units.from_base(fr, "N*m"),
                            **{f"{LABELS[c]} (arcsec)": units.from_base(curve.component(c), "arcsec")
-                              for c in COMPONENTS},
+                              for c in curve.components},
                            "θ_Σ (arcsec)": units.from_base(curve.total, "arcsec"),
                            "rigidity T/θ_Σ (N·m/arcmin)": units.from_base(curve.rigidity, "N*m/arcmin")})
         s = Section("stiffness_breakdown", "Elastic torsion angle θ_Σ = θ1 + … + θ5 (doc 004, Table 5)")

@@ -28,7 +28,8 @@ errors, ``Δr`` stands for ``Δr_p - δr_p`` and ``ΔR`` for ``ΔR_p + δR_p``
 **Loaded contact** (doc 004's iteration).  The cycloid turns by ``β``; the
 approach at pin ``k`` is ``Δδ_k = l_k β`` with ``β = Δδ_max / r_c'`` and
 ``Δδ_max = w(F_max)``, the Hertz approach (:mod:`.hertz`) of the pin and the
-cycloid at ``φ0`` under ``F_max``.  Pins with ``Δδ_k > Δ(φ_k)`` carry::
+cycloid at ``φ0`` under ``F_max`` (plus, where the design gives the pin grooves, the
+pin's approach in its groove: :mod:`rvtol.elements.contacts`, in series).  Pins with ``Δδ_k > Δ(φ_k)`` carry::
 
     F_k = F_max (Δδ_k - Δ(φ_k)) / Δδ_max
 
@@ -87,6 +88,15 @@ class PinGear:
     b: float          # cycloid width (contact length)
     E: float          # Young's modulus (pins and cycloid)
     nu: float         # Poisson's ratio
+    groove: object = None        # pin-in-groove contact in series (rvtol.elements.reducer_chain.GrooveContact)
+    approach_scale: float = 1.0  # compliance scale of the disc–pin approach (compliance_scale.cycloid_pin)
+    groove_scale: float = 1.0    # and of the groove's (compliance_scale.pin_groove)
+
+    def groove_approach(self, F):
+        """The groove contact's approach (mm) at pin force ``F`` (0 without a groove)."""
+        if self.groove is None:
+            return np.zeros(np.shape(F))
+        return self.groove_scale * self.groove.approach(np.asarray(F, dtype=float))
 
     @property
     def K1(self) -> float:
@@ -111,7 +121,8 @@ class PinGear:
             raise SpecError(f"the cycloid needs z_p = z_c + 1 pins, got {z_p} and {z_c}", file=d.file,
                             key="pin.count")
         vals = dict(z_p=z_p, z_c=z_c, R_p=design_number(d, "pin.circle_radius"), r_p=design_number(d, "pin.radius"),
-                    a=design_number(d, "cycloid.eccentricity"), b=design_number(d, "cycloid.width"),
+                    a=design_number(d, "cycloid.eccentricity"),
+                    b=design_number(d, first_key(d, "cycloid.width", "cycloid.face_width")),
                     E=design_number(d, "material.youngs_modulus"),
                     nu=design_number(d, "material.poisson_ratio", upper=0.5))
         if not vals["a"] * z_p < vals["R_p"]:
@@ -119,6 +130,15 @@ class PinGear:
                             key="cycloid.eccentricity")
         vals.update(override)
         return cls(**vals)
+
+
+def first_key(design, *names: str) -> str:
+    """The first of ``names`` the design has (doc 004's key first, then the 20-DOF model's spelling of the
+    same quantity); a missing quantity is reported under the first name."""
+    for n in names:
+        if n in design:
+            return n
+    return names[0]
 
 
 def design_number(design, name: str, *, integer: bool = False, upper: float | None = None,
@@ -223,7 +243,12 @@ def reference_approach(g: PinGear, F, eR_p=0.0, er_p=0.0):
     Rp = g.R_p + np.asarray(eR_p, float)
     rp = g.r_p + np.asarray(er_p, float)
     rcyc = cycloid_radius(g, g.phi0, Rp, rp)
-    return hertz.approach(F, g.b, rp, rcyc, g.E, g.nu)
+    w = hertz.approach(F, g.b, rp, rcyc, g.E, g.nu)
+    if g.approach_scale != 1.0:
+        w = g.approach_scale * w
+    if g.groove is not None:                      # the pin's groove contact carries the same force: in series
+        w = w + g.groove_approach(F)
+    return w
 
 
 @dataclass

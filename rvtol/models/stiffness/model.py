@@ -31,9 +31,13 @@ FACTORS = {
 STATUS_INTERFERENCE = 2
 STATUS_GEOMETRY = 3
 
-THETA_OUTPUTS = tuple(Quantity(f"theta_{c}", "rad", "arcsec", f"elastic torsion angle, {c.replace('_', ' ')}")
-                      for c in COMPONENTS)
-OUTPUTS = THETA_OUTPUTS + (
+def theta_outputs(components) -> tuple[Quantity, ...]:
+    return tuple(Quantity(f"theta_{c}", "rad", "arcsec", f"elastic torsion angle, {c.replace('_', ' ')}")
+                 for c in components)
+
+
+THETA_OUTPUTS = theta_outputs(COMPONENTS)
+REST = (
     Quantity("theta_total", "rad", "arcsec", "elastic torsion angle θ_Σ at the output"),
     Quantity("torsional_rigidity", "N*mm/rad", "N*m/arcmin", "secant rigidity T / θ_Σ"),
     Quantity("max_pin_force", "N", "N", "largest cycloid–pin force"),
@@ -41,10 +45,12 @@ OUTPUTS = THETA_OUTPUTS + (
     Quantity("K_B", "N*mm/rad", "N*m/arcmin", "cycloid–pin torsional stiffness Σ k_b l_k²"),
     Quantity("pin_backlash", "rad", "arcmin", "output backlash of the cycloid–pin clearance"),
 )
+OUTPUTS = THETA_OUTPUTS + REST
 
 
 class TorsionalStiffnessModel(Model):
-    """θ1..θ5, θ_Σ, rigidity, pin forces, K_B and pin backlash at one output torque."""
+    """θ1..θ5 (and the further components the design provides), θ_Σ, rigidity, pin forces, K_B and pin
+    backlash at one output torque."""
 
     status_reasons = {
         STATUS_NONFINITE: "model returned a non-finite value",
@@ -60,6 +66,7 @@ class TorsionalStiffnessModel(Model):
             raise InputError(f"unknown factor name {unknown[0]!r} for the torsional_stiffness model "
                              f"(known: {', '.join(FACTORS)})", key="factor")
         self.stiffness = stiffness
+        self.outputs = theta_outputs(stiffness.components) + REST     # θ per component the design provides
         self.inputs = tuple(inputs)
         self.input_units = ("mm",) * len(self.inputs)
         self.torque = float(torque)

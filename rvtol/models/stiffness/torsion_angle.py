@@ -46,8 +46,38 @@ document's formulas with their ratios made explicit:
   input-side end plate and ``K_5`` the pillars' stiffness (:mod:`.carrier`).
 
 Negative torques load the other flanks: rvtol mirrors the pin phase and the
-crank angle and returns negative angles.  Not modelled (not in doc 004):
-crank support bearings, pin bending, housing and flange deformation.
+crank angle and returns negative angles.
+
+**Further components** (issue 12), present only when the design gives their data
+(:mod:`rvtol.elements.reducer_chain`, the same elements the 20-DOF model reduces to
+its contacts), each by virtual work under doc 004's statics:
+
+* ``crank_support_bearings``: the preloaded tapered roller pair of each crank under
+  the crank's three loads (gear, two eccentrics) as a 5-component load
+  (:meth:`~rvtol.elements.rolling_bearings.BearingPair.solve`), ``Σ P·u(z) / T``;
+* ``pin_groove``: the pin in its housing groove in series with the disc–pin
+  contact — the contact solution uses the summed approach ``w(F) = w_pin(F) +
+  w_groove(F)`` (more pins share the load), and ``θ2 = i_b w(F_max)/r_c'`` splits
+  into ``i_b w_pin/r_c'`` (cycloid–pin) and ``i_b w_groove/r_c'`` (groove);
+* ``disc_web``: ``2 T_c² / (K_web T)`` with ``T_c = T i_b/2`` (statics);
+* ``input_shaft``: ``T / (K_in i²)`` (the sun carries ``T/i``).
+
+With the crank layout (``crank.journal_diameter``, ``crank.eccentric_diameter``)
+θ4 uses the stepped shaft instead of doc 004's uniform beam, and with the carrier
+plates (``carrier.flange_thickness``, ``end_plate_thickness``, ``plate_clamp_radius``)
+θ5 the pillars with flexible end plates (:mod:`rvtol.elements.carrier_structure`).
+A family's ``compliance_scale.<family>`` multiplies its compliance (the cycloid–pin
+and groove approaches inside the contact solution).  Not modelled: pin bending,
+housing and flange deformation beyond the pillar roots.
+
+**Keys.**  The stiffness model reads doc 004's keys and, where a design spells the
+same quantity as the 20-DOF model does (the RV-80E product), falls back to those:
+``first_stage.module`` → ``sun.module``, ``first_stage.pressure_angle`` →
+``sun.pressure_angle``, ``first_stage.face_width`` → ``sun.face_width``,
+``first_stage.profile_shift_sun`` / ``_planet`` → ``sun.profile_shift`` /
+``planet.profile_shift``, ``cycloid.width`` → ``cycloid.face_width``; the crank
+circle is ``crank_bearing.centre_radius`` where given (the operating centre
+distance of shifted gears), else doc 004's ``a_0 = m (z1 + z2)/2``.
 """
 from __future__ import annotations
 
@@ -59,7 +89,8 @@ import pandas as pd
 from ... import units
 from ...errors import SpecError
 from ...elements import bearings, carrier, crankshaft, involute
-from .cycloid_contact import ContactSolution, PinGear, angular_backlash, design_number, solve_contact
+from ...elements.reducer_chain import ChainElements
+from .cycloid_contact import ContactSolution, PinGear, angular_backlash, design_number, first_key, solve_contact
 
 COMPONENTS = ("involute", "cycloid_pin", "crank_bearings", "crankshafts", "carrier")
 LABELS = {
@@ -69,6 +100,17 @@ LABELS = {
     "crankshafts": "Crankshafts (θ4)",
     "carrier": "Planet carrier (θ5)",
 }
+#: components beyond doc 004's five, present when the design gives their data (module doc)
+EXTRA_COMPONENTS = ("crank_support_bearings", "pin_groove", "disc_web", "input_shaft")
+LABELS.update({
+    "crank_support_bearings": "Crank support bearings (tapered pair)",
+    "pin_groove": "Pins in housing grooves",
+    "disc_web": "Cycloid disc webs",
+    "input_shaft": "Input-shaft twist",
+})
+#: compliance family (rvtol.elements.reducer_chain.FAMILIES) of each component; θ4 is split into two
+FAMILY_OF = {"involute": "sun_planet_mesh", "cycloid_pin": "cycloid_pin", "crank_bearings": "turning_arm_bearings",
+             "carrier": "carrier", **{c: c for c in EXTRA_COMPONENTS}}
 BEARING_KINEMATICS = ("virtual_work", "tangential")
 
 
@@ -98,6 +140,8 @@ class ReducerStiffness:
     pillar_thickness: float
     pillar_length: float
     bearing_kinematics: str = "virtual_work"
+    crank_circle: float | None = None      # crank_bearing.centre_radius (None: a_0 = m (z1 + z2)/2)
+    chain: ChainElements | None = None     # the design's compliance elements (module doc)
 
     @classmethod
     def from_design(cls, design, **override) -> "ReducerStiffness":
@@ -115,12 +159,22 @@ class ReducerStiffness:
                 raise SpecError(f"the torsion-angle model is written for 3 cranks and 2 discs, got {d[name]:g}",
                                 file=d.file, key=name)
         span = num("crank.support_span")
+        z1, z2 = whole("sun.teeth"), whole("planet.teeth")
+        module = num(first_key(d, "first_stage.module", "sun.module"))
+        circle = num("crank_bearing.centre_radius") if "crank_bearing.centre_radius" in d else None
+        chain = ChainElements.from_design(d, circle if circle is not None else module * (z1 + z2) / 2.0)
+        if "pin.groove_radius" in d and chain.groove is not None:
+            pins = PinGear.from_design(d, groove=chain.groove, approach_scale=chain.scale("cycloid_pin"),
+                                       groove_scale=chain.scale("pin_groove"))
+        else:
+            pins = PinGear.from_design(d, approach_scale=chain.scale("cycloid_pin"))
         vals = dict(
-            pins=PinGear.from_design(d), z1=whole("sun.teeth"), z2=whole("planet.teeth"),
-            cranks=3, discs=2, module=num("first_stage.module"),
-            pressure_angle=num("first_stage.pressure_angle", upper=0.5 * np.pi),
-            gear_width=num("first_stage.face_width"), shift_sun=float(d["first_stage.profile_shift_sun"]),
-            shift_planet=float(d["first_stage.profile_shift_planet"]), crank_diameter=num("crank.shaft_diameter"),
+            pins=pins, z1=z1, z2=z2, cranks=3, discs=2, module=module,
+            pressure_angle=num(first_key(d, "first_stage.pressure_angle", "sun.pressure_angle"), upper=0.5 * np.pi),
+            gear_width=num(first_key(d, "first_stage.face_width", "sun.face_width")),
+            shift_sun=float(d[first_key(d, "first_stage.profile_shift_sun", "sun.profile_shift")]),
+            shift_planet=float(d[first_key(d, "first_stage.profile_shift_planet", "planet.profile_shift")]),
+            crank_diameter=num("crank.shaft_diameter"), crank_circle=circle, chain=chain,
             support_span=span, disc_pitch=num("crank.disc_pitch", nonnegative=True, upper=span),
             gear_overhang=num("crank.gear_overhang", nonnegative=True), bearing_rollers=whole("crank_bearing.rollers"),
             bearing_length=num("crank_bearing.roller_length"), pillars=whole("carrier.pillars"),
@@ -141,8 +195,22 @@ class ReducerStiffness:
 
     @property
     def crank_radius(self) -> float:
-        """``a_0`` = sun–planet centre distance (unshifted): ``m (z1 + z2) / 2``."""
+        """The crank circle: the design's ``crank_bearing.centre_radius`` (the operating centre distance of
+        shifted gears) where given, else doc 004's ``a_0 = m (z1 + z2) / 2`` (unshifted)."""
+        if self.crank_circle is not None:
+            return self.crank_circle
         return self.module * (self.z1 + self.z2) / 2.0
+
+    @property
+    def components(self) -> tuple[str, ...]:
+        """Doc 004's five components and the further ones the design provides (module doc)."""
+        el = self.chain
+        if el is None:
+            return COMPONENTS
+        return COMPONENTS + tuple(c for c in EXTRA_COMPONENTS if c in el.present)
+
+    def scale(self, family: str) -> float:
+        return 1.0 if self.chain is None else self.chain.scale(family)
 
     @property
     def i_b(self) -> float:
@@ -155,6 +223,9 @@ class ReducerStiffness:
 
     @property
     def K_carrier(self) -> float:
+        """Pillars with flexible end plates where the design gives the plates, else doc 004's pillars."""
+        if self.chain is not None and self.chain.carrier_stiffness is not None:
+            return self.chain.carrier_stiffness
         p = self.pins
         return carrier.torsional_stiffness(self.pillars, self.pillar_radius, self.pillar_width,
                                            self.pillar_thickness, self.pillar_length, p.E, p.nu)
@@ -176,9 +247,9 @@ class ReducerStiffness:
         T, dr, dR, eR, er = np.broadcast_arrays(
             *(np.atleast_1d(np.asarray(v, float)) for v in (torque, dr, dR, pin_circle_error, pin_radius_error)))
         neg = T < 0
-        theta = np.zeros((len(T), len(COMPONENTS)))
+        theta = np.zeros((len(T), len(self.components)))
         extra = {k: np.zeros(len(T)) for k in ("max_pin_force", "contact_pairs", "K_B", "beta", "F_ref",
-                                               "beta_rigid", "interference")}
+                                               "beta_rigid", "interference", "crank_bending", "crank_torsion")}
         contacts: list[tuple[np.ndarray, ContactSolution]] = []
         for rows, sign in ((~neg, 1.0), (neg, -1.0)):
             if not rows.any():
@@ -187,11 +258,11 @@ class ReducerStiffness:
                                                  sign * pin_phase, sign * crank_angle)
             theta[rows] = sign * th
             for k in extra:
-                extra[k][rows] = ex[k]
+                extra[k][rows] = sign * ex[k] if k in ("crank_bending", "crank_torsion") else ex[k]
             contacts.append((np.flatnonzero(rows), cs))
         # flank to flank: twice (rotation to close n0 at φ0 + the discrete-pin remainder to first contact)
         backlash = self.i_b * (angular_backlash(self.pins, dr, dR, eR, er) + 2.0 * extra["beta_rigid"])
-        return TorsionAngles(T, theta, extra, backlash, contacts)
+        return TorsionAngles(T, theta, extra, backlash, contacts, self.components)
 
     def _evaluate_positive(self, T, dr, dR, eR, er, phase, crank_angle):
         p = self.pins
@@ -207,8 +278,15 @@ class ReducerStiffness:
                                      self.shift_sun, self.shift_planet)
         th1 = np.where(kX > 0, self.cranks * Fn ** 2 / np.where(kX > 0, kX, 1.0), 0.0) / Tsafe
 
-        # θ2: cycloid–pin stage
+        th1 = th1 * self.scale("sun_planet_mesh")
+
+        # θ2: cycloid–pin stage (with the pin grooves in series: split at the largest arm, module doc)
         th2 = self.i_b * cs.beta
+        th_groove = np.zeros_like(th2)
+        if p.groove is not None:
+            w_total = np.where(cs.F_ref > 0, cs.approach_ref, 1.0)
+            th_groove = np.where(cs.F_ref > 0, th2 * p.groove_approach(cs.F_ref) / w_total, 0.0)
+            th2 = th2 - th_groove
 
         ld = self.crank_loads(cs, crank_angle)
         delta = bearings.radial_deflection(ld.bearing_force, self.bearing_rollers, self.bearing_length)
@@ -216,24 +294,56 @@ class ReducerStiffness:
             th3 = (ld.tangential[:, None] * delta).sum(axis=1) / Tsafe
         else:
             th3 = (ld.bearing_force * delta).sum(axis=1) / Tsafe
+        th3 = th3 * self.scale("turning_arm_bearings")
 
         # θ4: crankshafts, bending + shear of the beam, torsion of its two segments
-        A = crankshaft.influence_matrix(ld.z, self.support_span, self.crank_diameter, p.E, p.nu)
-        defl = np.einsum("jk,nikd->nijd", A, ld.loads)
-        bend = (ld.loads * defl).sum(axis=(1, 2, 3))
-        cJ = crankshaft.torsional_compliance(self.crank_diameter, p.E, p.nu)
         t1, t2 = ld.torque
-        twist = (((t1 + t2) ** 2 * (ld.z[1] - ld.z[0]) + t2 ** 2 * (ld.z[2] - ld.z[1])) * cJ).sum(axis=1)
-        th4 = (bend + twist) / Tsafe
+        crank = self.chain.crank if self.chain is not None else None
+        if crank is None:
+            A = crankshaft.influence_matrix(ld.z, self.support_span, self.crank_diameter, p.E, p.nu)
+            cJ = crankshaft.torsional_compliance(self.crank_diameter, p.E, p.nu)
+            c01, c12 = cJ * (ld.z[1] - ld.z[0]), cJ * (ld.z[2] - ld.z[1])
+        else:                           # the stepped shaft, frame centred between the supports
+            zc = ld.z - 0.5 * self.support_span
+            A = crank.bending_flexibility(zc)
+            c01, c12 = crank.twist(zc[0], zc[1]), crank.twist(zc[1], zc[2])
+        defl = np.einsum("jk,nikd->nijd", A, ld.loads)
+        bend = (ld.loads * defl).sum(axis=(1, 2, 3)) / Tsafe * self.scale("crank_bending")
+        twist = ((t1 + t2) ** 2 * c01 + t2 ** 2 * c12).sum(axis=1) / Tsafe * self.scale("crank_torsion")
+        th4 = bend + twist
 
         # θ5: carrier, torque the cranks deliver to the input-side end plate (support at z = 0)
         TB = ld.support_torque(self.crank_radius, self.support_span)[0]
-        th5 = TB ** 2 / self.K_carrier / Tsafe
+        th5 = TB ** 2 / self.K_carrier / Tsafe * self.scale("carrier")
 
-        theta = np.stack([th1, th2, th3, th4, th5], axis=1) * (T > 0)[:, None]
+        cols = [th1, th2, th3, th4, th5]
+        el = self.chain
+        for c in self.components[len(COMPONENTS):]:
+            if c == "crank_support_bearings":
+                cols.append(self._support_pair(ld) / Tsafe * el.scale(c))
+            elif c == "pin_groove":
+                cols.append(th_groove)
+            elif c == "disc_web":
+                cols.append(2.0 * self.disc_torque(T) ** 2 / el.web_stiffness / Tsafe * el.scale(c))
+            elif c == "input_shaft":
+                cols.append(T / (el.input_shaft_stiffness * self.ratio ** 2) * el.scale(c))
+        pos = (T > 0)
+        theta = np.stack(cols, axis=1) * pos[:, None]
         extra = dict(max_pin_force=cs.max_force, contact_pairs=cs.contacts.astype(float), K_B=cs.K_B,
-                     beta=cs.beta, F_ref=cs.F_ref, beta_rigid=cs.beta_rigid, interference=cs.interference.astype(float))
+                     beta=cs.beta, F_ref=cs.F_ref, beta_rigid=cs.beta_rigid, interference=cs.interference.astype(float),
+                     crank_bending=bend * pos, crank_torsion=twist * pos)
         return theta, extra, cs
+
+    def _support_pair(self, ld: "CrankLoads") -> np.ndarray:
+        """Work ``Σ P·u(z)`` (N·mm) of every crank's loads on its support pair (rigid crank), per sample."""
+        pair = self.chain.pair
+        z = ld.z - 0.5 * self.support_span                      # the pair's frame: centred between the supports
+        P = ld.loads                                            # (n, cranks, points, 2)
+        f = np.stack([P[..., 0].sum(-1), P[..., 1].sum(-1), np.zeros(P.shape[:2]),
+                      -(z * P[..., 1]).sum(-1), (z * P[..., 0]).sum(-1)], axis=-1).reshape(-1, 5)
+        q = pair.solve(f, tol=1e-8).q.reshape(P.shape[0], P.shape[1], 5)
+        u = np.stack([q[..., None, 0] + q[..., None, 4] * z, q[..., None, 1] - q[..., None, 3] * z], axis=-1)
+        return (P * u).sum(axis=(1, 2, 3))
 
 
     def crank_loads(self, cs: ContactSolution, crank_angle: float = 0.0) -> "CrankLoads":
@@ -289,6 +399,7 @@ class TorsionAngles:
     extra: dict                   # max_pin_force, contact_pairs, K_B, beta, F_ref, interference (n,)
     pin_backlash: np.ndarray      # (n,) output angle from flank to flank of the pin stage, rad (< 0: preload)
     contacts: list                # [(rows, ContactSolution)]
+    components: tuple = COMPONENTS   # names of the columns of theta
 
     @property
     def total(self) -> np.ndarray:
@@ -301,12 +412,24 @@ class TorsionAngles:
         return np.where(tot != 0, self.torque / np.where(tot != 0, tot, 1.0), np.nan)
 
     def component(self, name: str) -> np.ndarray:
-        return self.theta[:, COMPONENTS.index(name)]
+        return self.theta[:, self.components.index(name)]
+
+    def families(self) -> dict[str, np.ndarray]:
+        """Angles (rad) by compliance family (:data:`rvtol.elements.reducer_chain.FAMILIES`): the components,
+        θ4 split into crankshaft bending and torsion."""
+        out = {}
+        for c in self.components:
+            if c == "crankshafts":
+                out["crank_bending"] = self.extra["crank_bending"]
+                out["crank_torsion"] = self.extra["crank_torsion"]
+            else:
+                out[FAMILY_OF[c]] = self.component(c)
+        return out
 
     def to_frame(self, row: int = 0) -> pd.DataFrame:
         arcsec = units.from_base(self.theta[row], "arcsec")
         total = float(arcsec.sum())
-        df = pd.DataFrame({"component": [LABELS[c] for c in COMPONENTS], "θ (arcsec)": arcsec,
+        df = pd.DataFrame({"component": [LABELS[c] for c in self.components], "θ (arcsec)": arcsec,
                            "share (%)": 100.0 * arcsec / total if total else np.nan})
         return pd.concat([df, pd.DataFrame({"component": ["Total θ_Σ"], "θ (arcsec)": [total],
                                             "share (%)": [100.0]})], ignore_index=True)

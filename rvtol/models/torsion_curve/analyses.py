@@ -1,4 +1,6 @@
-"""``[[analysis]] kind = "torsion_curve"``: hysteresis curves of the 20-DOF model, compared.
+"""``[[analysis]] kind = "torsion_curve"``: hysteresis curves of the 20-DOF model, compared; and
+``kind = "compliance_breakdown"`` (:class:`ComplianceBreakdown`): the output angle per compliance element,
+20-DOF and doc 004's model side by side.
 
 ::
 
@@ -32,19 +34,23 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from ...analysis import Analysis
+from ...analysis import Analysis, target_model
 from ... import units
 from ...design import load_design
+from ...elements.reducer_chain import FAMILIES
+from ...errors import SolverError
 from ...report.sections import Section, frame_records
 from ..lost_motion.model import LostMotionGeometry, LostMotionModel
+from ..transmission import layout as L
+from ..transmission.geometry import geometry_from_design
+from ..transmission.quasistatic import QuasiStaticSolver
 from ..stiffness.cycloid_contact import PinGear
-from ..stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness
+from ..stiffness.torsion_angle import LABELS, ReducerStiffness
 from .model import TorsionCurveModel, compliance_breakdown
 from .screening import CAMS
 
-BREAKDOWN_LABELS = {"sun": "sun support", "mesh": "sun–planet meshes (≈ θ1)", "pin": "cycloid–pin contacts (≈ θ2)",
-                    "cam": "cycloid–crank bearings (≈ θ3)", "crank": "crank–carrier bearings",
-                    "housing": "carrier–housing bearing"}
+BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)",
+                    "cycloid_pin": "cycloid–pin contacts (≈ θ2)", "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
 
 
 def output_ratio(g) -> float:
@@ -79,18 +85,20 @@ class TorsionCurveAnalysis(Analysis):
         self.K = params.float("clearance_coefficient", 1.5, positive=True)
         path = params.path_value("stiffness_design", study.base_dir, None)
         self.stiffness_design = load_design(path) if path is not None else None
+        self.te_design = study.design
+        m = study.model
+        self.target = None
+        if isinstance(m, TorsionCurveModel) or getattr(m, "stages", None):
+            self.target = target_model(params, study, TorsionCurveModel, "torsion_curve")
+            self.model = self.target.model
+        else:
+            self.model = TorsionCurveModel(study.design, ())
+        self.spec = study.spec if self.target is not None else None
         params.finish()
         if self.stiffness_design is not None:      # a bad stiffness design fails here, before any computation
             d = self.stiffness_design
             self.part1 = (ReducerStiffness.from_design(d),
                           (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"]))
-        self.te_design = study.design
-        m = study.model
-        if isinstance(m, TorsionCurveModel):
-            self.model = m
-        else:
-            self.model = TorsionCurveModel(study.design, ())
-        self.spec = study.spec if isinstance(m, TorsionCurveModel) else None
 
     def run(self, ctx) -> list[Section]:
         return [self._curves(), self._lost_motion(), self._rigidity()]
@@ -115,7 +123,7 @@ class TorsionCurveAnalysis(Analysis):
         rows = [self._metrics_row("clearance-free, error-free", free)]
         curves = [("clearance-free", free)]
         if self.spec is not None and len(self.model.inputs):
-            mean = self.spec.mean_base()
+            mean = self.target.inputs(self.spec.mean_base())[0]
             c = m.curve(mean)
             rows.append(self._metrics_row("all factors at the spec's mean", c))
             curves.append(("spec mean", c))
@@ -249,11 +257,19 @@ class TorsionCurveAnalysis(Analysis):
                          f"on its own RV-80E ({units.from_base(T, 'N*m') / (own / 60):.1f} N·m/arcmin), {same:.2f} "
                          f"arcsec with doc 000's pin-gear and first-stage geometry and no profile modification "
                          f"({units.from_base(T, 'N*m') / (same / 60):.1f} N·m/arcmin).")
-        lines.append("Why they differ: the 20-DOF model treats cranks and carrier as rigid bodies (no θ4, θ5) but "
-                     "has the crank–carrier and carrier–housing bearings, which doc 004 leaves out; its contact laws "
-                     "are doc 000's k = k0·P^0.1 (force ∝ deflection^1.11) for pins and bearings, against doc 004's "
-                     "Hertz line contact with logarithmic terms and Palmgren's needle-bearing formula; its involute "
-                     "mesh is doc 000's constant 1.58e5 N/mm against ISO 6336 at low load.")
+        if g.chain is None:
+            lines.append("Why they differ: the 20-DOF model treats cranks and carrier as rigid bodies (no θ4, θ5) "
+                         "but has the crank–carrier and carrier–housing bearings, which doc 004 leaves out; its contact "
+                         "laws are doc 000's k = k0·P^0.1 (force ∝ deflection^1.11) for pins and bearings, against "
+                         "doc 004's Hertz line contact with logarithmic terms and Palmgren's needle-bearing formula; "
+                         "its involute mesh is doc 000's constant 1.58e5 N/mm against ISO 6336 at low load.")
+        else:
+            lines.append("Both models carry the design's compliance elements (crankshafts, crank support pair, "
+                         "carrier, pin grooves, disc webs, input shaft: kind compliance_breakdown compares them "
+                         "element by element); they differ in doc 000's contact laws k = k0·P^0.1 for pins and "
+                         "needle bearings against doc 004's Hertz line contact and Palmgren's needle-bearing "
+                         "formula, doc 000's constant mesh stiffness against ISO 6336, and in how the load is "
+                         "shared (the 20-DOF solves it, doc 004 takes it from statics).")
         s = Section("torsion_curve_rigidity", "Rigidity: 20-DOF beside the elastic torsion-angle model (doc 004)")
         s.add_text(" ".join(lines))
         s.add_table(df, "20-DOF torsion angle at +rated split by virtual work (T θ = Σ f·d)", "{:.4g}")
@@ -273,6 +289,103 @@ class TorsionCurveAnalysis(Analysis):
         a = own.evaluate(T, *mods)
         b = same.evaluate(T, 0.0, 0.0)
         asec = lambda v: units.from_base(v, "arcsec")  # noqa: E731
-        return pd.DataFrame({"component": [LABELS[c] for c in COMPONENTS] + ["Total θ_Σ"],
+        return pd.DataFrame({"component": [LABELS[c] for c in a.components] + ["Total θ_Σ"],
                              "doc 004 RV-80E (arcsec)": np.append(asec(a.theta[0]), asec(a.total[0])),
                              "doc 000 geometry (arcsec)": np.append(asec(b.theta[0]), asec(b.total[0]))})
+
+
+class ComplianceBreakdown(Analysis):
+    """``[[analysis]] kind = "compliance_breakdown"``: the output angle at a torque split per compliance
+    family by virtual work — the 20-DOF model with the design's compliance chain, doc 000's rigid chain
+    (its contact laws only) and doc 004's torsion-angle model side by side.
+
+    ::
+
+        [[analysis]]
+        kind = "compliance_breakdown"
+        torque = { value = 784, unit = "N*m" }   # default: the design's rated torque
+        rigid_chain = true                       # the 20-DOF model without the chain beside
+        stiffness_model = true                   # doc 004's model beside (needs a design it can read)
+
+    Families: :data:`rvtol.elements.reducer_chain.FAMILIES` (stable names; a design scales one with
+    ``compliance_scale.<family>``).  The 20-DOF split is :meth:`QuasiStaticSolver.contact_work` at the
+    clearance-free, error-free equilibrium (input locked); doc 004's is its components, θ4 split into
+    crankshaft bending and torsion.  A second table lists how each element is reduced to the 20-DOF
+    contacts (:mod:`rvtol.models.transmission.compliance`).
+    """
+
+    def setup(self, params, study):
+        if study.design is None:
+            raise params.error("kind", "compliance_breakdown needs a 20-DOF design ([study] design = ...)")
+        self.design = study.design
+        self.torque = params.quantity("torque", "N*m", None, positive=True)
+        self.with_rigid = params.bool("rigid_chain", True)
+        self.with_stiffness = params.bool("stiffness_model", True)
+        params.finish()
+        m = study.model
+        self.geometry = m.geometry if isinstance(m, TorsionCurveModel) else geometry_from_design(study.design)
+        if self.torque is None:
+            self.torque = self.geometry.rated_torque
+        self.rs = None
+        if self.with_stiffness:                    # a design doc 004's model cannot read fails here, at load time
+            d = study.design
+            self.rs = ReducerStiffness.from_design(d)
+            self.mods = (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"])
+
+    def run(self, ctx) -> list[Section]:
+        from ...plotting.stiffness import plot_compliance_breakdown
+
+        T = self.torque
+        asec = lambda v: float(units.from_base(v, "arcsec"))  # noqa: E731
+        cols = {"20-DOF, compliance chain": breakdown_at(self.geometry, T)}
+        if self.with_rigid:
+            cols["20-DOF, doc 000's rigid chain"] = breakdown_at(geometry_from_design(self.design, chain=False), T)
+        if self.rs is not None:
+            fam = self.rs.evaluate(T, *self.mods).families()
+            cols["doc 004 model"] = {k: float(v[0]) for k, v in fam.items()}
+        rows = []
+        for f, label in FAMILIES.items():
+            if any(f in c for c in cols.values()):
+                rows.append({"family": f, "element": label,
+                             **{f"{name} (arcsec)": asec(c[f]) if f in c else np.nan for name, c in cols.items()}})
+        df = pd.DataFrame(rows)
+        totals = {name: sum(c.values()) for name, c in cols.items()}
+        total_row = {"family": "total", "element": "θ at the output",
+                     **{f"{name} (arcsec)": asec(t) for name, t in totals.items()}}
+        rig_row = {"family": "T/θ", "element": "secant rigidity (N·m/arcmin)",
+                   **{f"{name} (arcsec)": float(units.from_base(T / t, "N*m/arcmin")) for name, t in totals.items()}}
+        table = pd.concat([df, pd.DataFrame([total_row, rig_row])], ignore_index=True)
+        fig = plot_compliance_breakdown(list(df["element"]), {name: df[f"{name} (arcsec)"] for name in cols})
+        Tnm = units.from_base(T, "N*m")
+        s = Section("compliance_breakdown", f"Compliance chain: output angle per element at {Tnm:g} N·m")
+        s.add_text(f"Input locked, output torque {Tnm:g} N·m, clearance- and error-free reducer. Each element's share "
+                   "of the output angle by virtual work, θ_e = Σ f_e·δ_e / T (the actual forces as the virtual "
+                   "system; the shares add up to the angle). 20-DOF: doc 000's contact laws with the design's "
+                   "compliance elements in series with the contacts that carry their loads (table 2); doc 004's "
+                   "model: its components under its own statics with the same elements. NaN: the model has no such "
+                   "element. Differences between the two models come from their contact laws (doc 000's "
+                   "k = k0·P^0.1 against doc 004's Hertz/Palmgren/ISO 6336) and load sharing, not from the chain "
+                   "elements, which both take from rvtol.elements.")
+        s.add_table(table, "Output angle per compliance family (arcsec)", "{:.3g}")
+        s.add_figure(fig, f"Output angle per element at {Tnm:g} N·m")
+        ch = self.geometry.chain
+        summary = {"torque_Nm": float(Tnm), "breakdown": frame_records(table)}
+        if ch is not None:
+            red = ch.to_frame()
+            s.add_table(red, "The compliance elements reduced to the 20-DOF contacts (module "
+                             "rvtol.models.transmission.compliance)", "{:.4g}")
+            src = pd.DataFrame({"family": list(ch.elements.sources), "element as built": list(ch.elements.sources.values())})
+            s.add_table(src, "Elements from the design")
+            summary["reductions"] = frame_records(red)
+        s.summary = summary
+        return [s]
+
+
+def breakdown_at(g, T: float, steps: int = 8) -> dict[str, float]:
+    """Output angle (rad) per family of the clearance- and error-free reducer ``g`` at torque ``T`` (N·mm),
+    reached in ``steps`` warm-started load steps."""
+    r = QuasiStaticSolver(g, tol_f=1e-8).torsion(np.linspace(0.0, T, steps + 1)[1:])
+    if not r.ok:
+        raise SolverError(f"no equilibrium of the clearance-free reducer at {T:g} N·mm "
+                          f"({L.STATUS_REASONS.get(r.failure, r.failure)})")
+    return compliance_breakdown(g, None, r.q[-1], T)

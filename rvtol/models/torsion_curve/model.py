@@ -22,11 +22,14 @@ descending branch just above zero, the ascending one just below.  For
 ``τ > 0`` the ascending branch is the first loading ``0 → +T_r`` (the same
 equilibria without friction).
 
-``compliance_breakdown`` splits the angle at any torque into its elements by
-virtual work: ``T θ = Σ_c f_c · (G_c q)`` over the contacts (sun support,
-sun–planet meshes, pins, cycloid–crank bearings, crank–carrier bearings,
-carrier–housing bearing), exact at equilibrium — the 20-DOF counterpart of
-doc 004's θ1 … θ5 (its cranks and carrier are rigid bodies).
+``compliance_breakdown`` splits the angle at any torque into its compliance
+families by virtual work: ``T θ = Σ_c f_c · (G_c q)`` over the contacts (sun
+support, sun–planet meshes, pins, cycloid–crank bearings, crank–carrier
+bearings, carrier–housing bearing), a contact with elements in series split
+into ``f·δ_i(f)`` per element (crankshaft bending and torsion, the tapered
+crank-support pair, carrier, pin grooves, disc webs, input shaft: the
+design's compliance chain, :mod:`rvtol.models.transmission.compliance`),
+exact at equilibrium — the 20-DOF counterpart of doc 004's θ1 … θ5.
 
 ``[model] kind = "torsion_curve"`` (design: a 20-DOF design such as
 ``data/designs/rv80e_te.toml``; factors: those of the transmission-error
@@ -38,6 +41,7 @@ model, :mod:`rvtol.models.transmission.factors`)::
     harmonic = 2           # of the Table 3 tooth patterns
     tol_force = 1e-6       # N
     max_iterations = 200
+    compliance_chain = true   # the design's compliance elements in series (false: doc 000's rigid chain)
 """
 from __future__ import annotations
 
@@ -167,7 +171,8 @@ class TorsionCurve:
 
 
 def compliance_breakdown(g: RVGeometry, errors: ErrorState | None, q, torque: float, theta_c: float = 0.0) -> dict:
-    """Torsion angle (rad) per element group by virtual work, ``Σ_c f_c·(G_c q) / T`` (see module doc)."""
+    """Torsion angle (rad) per compliance family by virtual work, ``Σ_c f_c·(G_c q) / T`` (see module doc and
+    :meth:`QuasiStaticSolver.contact_work`)."""
     work = QuasiStaticSolver(g, errors).contact_work(theta_c, q)
     return {k: w / torque for k, w in work.items()}
 
@@ -178,9 +183,10 @@ class TorsionCurveModel(Model):
     outputs = OUTPUTS
 
     def __init__(self, design_or_geometry, inputs=(), *, percent: float = 3.0, points: int = 20,
-                 torque: float | None = None, harmonic: int = 2, tol_f: float = 1e-6, maxit: int = 200):
+                 torque: float | None = None, harmonic: int = 2, tol_f: float = 1e-6, maxit: int = 200,
+                 compliance_chain: bool = True):
         g = design_or_geometry
-        self.geometry = g if isinstance(g, RVGeometry) else geometry_from_design(g)
+        self.geometry = g if isinstance(g, RVGeometry) else geometry_from_design(g, compliance_chain)
         if not 0.0 < percent < 100.0:
             raise InputError(f"percent must lie in (0, 100), got {percent}", key="percent")
         if points < 4:
@@ -246,6 +252,7 @@ def from_study(params, design, spec) -> TorsionCurveModel:
     harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
     tol = params.float("tol_force", 1e-6, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
+    chain = params.bool("compliance_chain", True)
     params.finish()
     return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
-                             harmonic=harmonic, tol_f=tol, maxit=maxit)
+                             harmonic=harmonic, tol_f=tol, maxit=maxit, compliance_chain=chain)

@@ -2,10 +2,12 @@
 
 Modules: :mod:`.geometry` (derived geometry, undefined symbols filled),
 :mod:`.layout` (DOF/contact/array layout), :mod:`.contacts` (contact table),
-:mod:`.factors` (error factors and the Table 3 patterns), :mod:`._kernels`
-(numba: forces, Newton, sequences, Newmark-β), :mod:`.numpy_twin` (NumPy
-implementation of the same equations), :mod:`.quasistatic`, :mod:`.newmark`,
-:mod:`.model` (:class:`TransmissionErrorModel`).
+:mod:`.factors` (error factors and the Table 3 patterns), :mod:`.compliance`
+(the design's compliance chain — crankshafts, crank support pairs, carrier,
+pin grooves, disc webs, input shaft — in series with the contacts),
+:mod:`._kernels` (numba: forces and series laws, Newton, sequences,
+Newmark-β), :mod:`.numpy_twin` (NumPy implementation of the same equations),
+:mod:`.quasistatic`, :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`).
 
 Quasi-static entry point (also for the torsional-stiffness and adjustment
 capabilities)::

@@ -10,7 +10,9 @@ displacement is affine in the coordinates q, ``d = G q + h``; ``G`` (``coef``
 over the DOF indices ``idx``) and ``h`` (``off``: the error terms) depend on the
 nominal angles only and are rewritten at each position by
 :func:`update_table`.  The force law depends on the contact kind (linear,
-unilateral power law, radial bearing with a dead zone).  Internal generalised
+unilateral power law, radial bearing with a dead zone) and, where a compliance
+chain puts further elements in series with a contact (:mod:`.compliance`), on
+its series law (:func:`series_law`: the force whose deflections add up).  Internal generalised
 forces are ``F = Σ Gᵀ f(d)`` and the tangent stiffness ``K = Σ Gᵀ (∂f/∂d) G``;
 equilibrium is ``F(q) = Q``.  The same Newton solver serves the quasi-static
 sweep and every step of the Newmark-β integration, and the Newmark loop also
@@ -24,10 +26,10 @@ import numpy as np
 from numba import njit
 
 from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C_CRANK, C_HOUSING, C_MESH,
-                     C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, MOD_EQ, MOD_MOVED, N_CRANK,
-                     N_DISC, NH, NZ, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP, P_RRP, P_ZB, P_ZC, PIN_AP,
-                     PIN_GAP, PIN_R, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
-                     ST_SINGULAR, THCA, UNILATERAL)
+                     C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, MOD_EQ, MOD_MOVED, NH, NZ,
+                     N_CRANK, N_DISC, PIN_AP, PIN_GAP, PIN_R, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP,
+                     P_RRP, P_ZB, P_ZC, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
+                     ST_SINGULAR, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_ON, S_TAB, THCA, T_C, T_D, T_F, T_M, UNILATERAL)
 
 _JIT = dict(cache=True, nogil=True)
 TWO_PI = 2.0 * math.pi
@@ -181,9 +183,144 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
             off[c, 0] = o
 
 
+# --------------------------------------------------------------------------- series laws
+@njit(**_JIT)
+def _table_law(tab, t, f):
+    """``(δ, dδ/df, ∫_0^f δ)`` of table ``t`` at ``f >= 0``: cubic Hermite between the knots, linear
+    with the last slope beyond the last knot."""
+    x = tab[t, T_F]
+    n = x.size
+    if f >= x[n - 1]:
+        e = f - x[n - 1]
+        d = tab[t, T_D, n - 1]
+        m = tab[t, T_M, n - 1]
+        return d + m * e, m, tab[t, T_C, n - 1] + d * e + 0.5 * m * e * e
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if x[mid] <= f:
+            lo = mid
+        else:
+            hi = mid
+    h = x[hi] - x[lo]
+    u = (f - x[lo]) / h
+    y0 = tab[t, T_D, lo]
+    y1 = tab[t, T_D, hi]
+    m0 = tab[t, T_M, lo]
+    m1 = tab[t, T_M, hi]
+    u2 = u * u
+    u3 = u2 * u
+    u4 = u3 * u
+    d = (2 * u3 - 3 * u2 + 1) * y0 + h * (u3 - 2 * u2 + u) * m0 + (3 * u2 - 2 * u3) * y1 + h * (u3 - u2) * m1
+    dd = (6 * u2 - 6 * u) * (y0 - y1) / h + (3 * u2 - 4 * u + 1) * m0 + (3 * u2 - 2 * u) * m1
+    ce = tab[t, T_C, lo] + h * (y0 * (u - u3 + 0.5 * u4) + h * m0 * (0.5 * u2 - 2.0 * u3 / 3.0 + 0.25 * u4)
+                                + y1 * (u3 - 0.5 * u4) + h * m1 * (0.25 * u4 - u3 / 3.0))
+    return d, dd, ce
+
+
+@njit(**_JIT)
+def _series_deflection(f, k0, pw, ser, c, tab):
+    """``(δ, dδ/df, ∫_0^f δ)`` of contact ``c``'s series law at ``f > 0`` (terms: :mod:`.layout`)."""
+    cl = ser[c, S_LIN]
+    d = cl * f
+    dd = cl
+    ce = 0.5 * cl * f * f
+    if k0 > 0.0:                      # the kind's power law, f = (k0 δ)^pw
+        e = 1.0 / pw
+        t = f ** e / k0
+        d += t
+        dd += e * t / f
+        ce += t * f / (1.0 + e)
+    b = ser[c, S_LOGB]
+    if b > 0.0:                       # line contact f (a − b ln f), linear beyond f_cap
+        a = ser[c, S_LOGA]
+        cap = ser[c, S_LOGCAP]
+        x = min(f, cap)
+        lx = math.log(x)
+        dx = x * (a - b * lx)
+        cx = 0.5 * x * x * (a - b * lx + 0.5 * b)
+        if f > cap:
+            r = f - cap
+            d += dx + b * r
+            dd += b
+            ce += cx + dx * r + 0.5 * b * r * r
+        else:
+            d += dx
+            dd += a - b - b * lx
+            ce += cx
+    t = int(ser[c, S_TAB])
+    if t >= 0:
+        dt, ddt, ct = _table_law(tab, t, f)
+        d += dt
+        dd += ddt
+        ce += ct
+    return d, dd, ce
+
+
+@njit(**_JIT)
+def series_law(s, k0, pw, ser, c, tab):
+    """Force ``f`` of contact ``c``'s series law at deflection ``s > 0`` (``δ(f) = s``), the tangent
+    ``df/ds = 1/δ'(f)`` and the energy ``∫_0^s f = f s − ∫_0^f δ``.
+
+    Newton on ``δ(f) − s`` kept inside a bracket (bisection when a step leaves it), from the upper end:
+    every term of δ is increasing from δ(0) = 0, so the kind's power law alone bounds f from above.
+    """
+    lo = 0.0
+    if k0 > 0.0:
+        hi = (k0 * s) ** pw
+    elif ser[c, S_LIN] > 0.0:
+        hi = s / ser[c, S_LIN]
+    else:
+        t = int(ser[c, S_TAB])
+        hi = s / tab[t, T_M, 0] if t >= 0 else s / ser[c, S_LOGB]
+    for _ in range(200):
+        d, dd, ce = _series_deflection(hi, k0, pw, ser, c, tab)
+        if d >= s:
+            break
+        lo = hi
+        hi *= 2.0
+    f = hi
+    for _ in range(200):
+        d, dd, ce = _series_deflection(f, k0, pw, ser, c, tab)
+        g = d - s
+        if g > 0.0:
+            hi = f
+        elif g < 0.0:
+            lo = f
+        else:
+            break
+        fn = f - g / dd
+        if not (fn > lo and fn < hi):
+            fn = 0.5 * (lo + hi)
+        if abs(fn - f) <= 4e-16 * fn or hi - lo <= 4e-16 * hi:
+            f = fn
+            break
+        f = fn
+    d, dd, ce = _series_deflection(f, k0, pw, ser, c, tab)
+    return f, 1.0 / dd, f * s - ce
+
+
+@njit(**_JIT)
+def _zero_load_stiffness(k0, pw, gap, ser, c, tab):
+    """Tangent stiffness of a radial contact at zero deflection: nonzero only for a linear law without
+    dead zone (doc 000's linear sun support, a linearised bearing)."""
+    if gap != 0.0 or pw != 1.0:
+        return 0.0
+    if ser[c, S_ON] == 0.0:
+        return k0
+    if ser[c, S_LOGB] > 0.0:
+        return 0.0
+    comp = ser[c, S_LIN] + (1.0 / k0 if k0 > 0.0 else 0.0)
+    t = int(ser[c, S_TAB])
+    if t >= 0:
+        comp += tab[t, T_M, 0]
+    return 1.0 / comp if comp > 0.0 else 0.0
+
+
 # --------------------------------------------------------------------------- forces
 @njit(**_JIT)
-def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
+def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
     """Internal generalised forces ``F = Σ Gᵀ f`` and, per contact, force and tangent terms.
 
     ``fc[c]``: signed force of a scalar contact, resultant of a bearing.
@@ -209,16 +346,20 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
             s = r - gap[c]
             if s <= 0.0 or r == 0.0:
                 fc[c] = 0.0
-                lin = pw[c] == 1.0 and gap[c] == 0.0
-                kt[c, 0] = k0[c] if lin else 0.0
+                k_zero = _zero_load_stiffness(k0[c], pw[c], gap[c], ser, c, tab)
+                kt[c, 0] = k_zero
                 kt[c, 1] = 0.0
-                kt[c, 2] = k0[c] if lin else 0.0
+                kt[c, 2] = k_zero
                 continue
-            f = (k0[c] * s) ** pw[c]
-            energy += f * s / (pw[c] + 1.0)
+            if ser[c, S_ON] != 0.0:
+                f, ktan, e_c = series_law(s, k0[c], pw[c], ser, c, tab)
+                energy += e_c
+            else:
+                f = (k0[c] * s) ** pw[c]
+                energy += f * s / (pw[c] + 1.0)
+                ktan = pw[c] * f / s
             nx = dx / r
             ny = dy / r
-            ktan = pw[c] * f / s
             ksec = f / r
             kt[c, 0] = ktan * nx * nx + ksec * ny * ny
             kt[c, 1] = (ktan - ksec) * nx * ny
@@ -244,9 +385,13 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt):
                 kk = k0[c]
                 energy += 0.5 * f * d
             elif d > 0.0:
-                f = (k0[c] * d) ** pw[c]
-                kk = pw[c] * f / d
-                energy += f * d / (pw[c] + 1.0)
+                if ser[c, S_ON] != 0.0:
+                    f, kk, e_c = series_law(d, k0[c], pw[c], ser, c, tab)
+                    energy += e_c
+                else:
+                    f = (k0[c] * d) ** pw[c]
+                    kk = pw[c] * f / d
+                    energy += f * d / (pw[c] + 1.0)
             else:
                 f = 0.0
                 kk = 0.0
@@ -336,7 +481,7 @@ def cholesky_solve(A, b, x):
 
 # --------------------------------------------------------------------------- Newton
 @njit(**_JIT)
-def _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R):
+def _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R):
     """Total potential Π(q) and its gradient R = ∂Π/∂q (the residual).
 
     Quasi-static: Π = Σ contact energies − Q·q.  Newmark step (c0 > 0): plus
@@ -345,7 +490,7 @@ def _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
     kinematics), so Newton with a line search on Π converges from anywhere.
     """
     n = q.size
-    e = contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
+    e = contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt)
     for a in range(n):
         R[a] = F[a] - Q[a]
         e -= Q[a] * q[a]
@@ -367,8 +512,8 @@ def _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
 
 
 @njit(**_JIT)
-def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit, maxstep,
-           F, K, fc, kt, R, dq, qprev):
+def newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
+           maxstep, F, K, fc, kt, R, dq, qprev):
     """Solve ``F(q) + [M a(q) + C v(q)] − Q = 0`` for q in place; returns (status, iterations).
 
     Quasi-static when ``c0 == 0`` (M, C ignored); a Newmark step otherwise, with
@@ -381,7 +526,7 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
     n = q.size
     dyn = c0 != 0.0
     Rt = np.empty(n)
-    e = _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
+    e = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
     for it in range(maxit + 1):
         rmax = 0.0
         for a in range(n):
@@ -422,7 +567,7 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
         for ls in range(40):
             for a in range(n):
                 q[a] = qprev[a] + lam * dq[a]
-            et = _merit(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
+            et = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
             if et <= e + 1e-4 * lam * slope + 1e-12 * (abs(e) + 1.0) or not math.isfinite(et):
                 break
             lam *= 0.5
@@ -434,33 +579,38 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, 
 
 
 @njit(**_JIT)
-def linearised_laws(kind, k0, pw, gap):
-    """Contact laws for the cold-start guess: every Hertz law linearised at ``P_LINEARISE``,
-    pins bilateral, bearings without clearance (one linear solve gives a guess near the answer)."""
+def linearised_laws(kind, k0, pw, gap, ser, tab):
+    """Contact laws for the cold-start guess: every Hertz (or series) law linearised at ``P_LINEARISE``
+    (secant), pins bilateral, bearings without clearance (one linear solve gives a guess near the answer)."""
     kind_l = kind.copy()
     k0_l = k0.copy()
     pw_l = pw.copy()
     gap_l = np.zeros_like(gap)
+    ser_l = np.zeros_like(ser)
     for c in range(kind.size):
         if kind[c] != LINEAR:
-            k0_l[c] = k0[c] * P_LINEARISE ** (1.0 - 1.0 / pw[c])   # secant k0·P^h of f = (k0 d)^pw at P
+            if ser[c, S_ON] != 0.0:
+                d, dd, ce = _series_deflection(P_LINEARISE, k0[c], pw[c], ser, c, tab)
+                k0_l[c] = P_LINEARISE / d
+            else:
+                k0_l[c] = k0[c] * P_LINEARISE ** (1.0 - 1.0 / pw[c])   # secant k0·P^h of f = (k0 d)^pw at P
             pw_l[c] = 1.0
             if kind[c] == UNILATERAL:
                 kind_l[c] = LINEAR
-    return kind_l, k0_l, pw_l, gap_l
+    return kind_l, k0_l, pw_l, gap_l, ser_l
 
 
 @njit(**_JIT)
-def solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit, maxstep,
-               F, K, fc, kt, R, dq, qprev):
+def solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
+               maxstep, F, K, fc, kt, R, dq, qprev):
     """Equilibrium from no prior solution: a linearised solve, then Newton on the real laws."""
-    kind_l, k0_l, pw_l, gap_l = linearised_laws(kind, k0, pw, gap)
-    st, it0 = newton(q, kind_l, idx, coef, off, k0_l, pw_l, gap_l, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
-                     maxit, 1e300, F, K, fc, kt, R, dq, qprev)
+    kind_l, k0_l, pw_l, gap_l, ser_l = linearised_laws(kind, k0, pw, gap, ser, tab)
+    st, it0 = newton(q, kind_l, idx, coef, off, k0_l, pw_l, gap_l, ser_l, tab, Q, M, C, c0, c1, qpred, vpred, xs,
+                     tol_f, maxit, 1e300, F, K, fc, kt, R, dq, qprev)
     if st != ST_OK:
         q[:] = 0.0
-    st, it1 = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
-                     maxstep, F, K, fc, kt, R, dq, qprev)
+    st, it1 = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
+                     maxit, maxstep, F, K, fc, kt, R, dq, qprev)
     return st, it0 + it1
 
 
@@ -504,8 +654,8 @@ def _workspace(nd, nc):
 
 # --------------------------------------------------------------------------- quasi-static sequence
 @njit(**_JIT)
-def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, xs,
-                q_start, cold, tol_f, maxit, maxstep, out_q, out_status, out_iter, out_rec):
+def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, ser, tab,
+                xs, q_start, cold, tol_f, maxit, maxstep, out_q, out_status, out_iter, out_rec):
     """A sequence of static equilibria, each warm-started from the previous ones.
 
     Position n has nominal carrier angle ``theta_c[n]``, input deviation
@@ -533,15 +683,15 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
             for a in range(nd):
                 q[a] = 2.0 * out_q[p - 1, a] - out_q[p - 2, a]
         if p == 0 and cold:
-            st, it = solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f, maxit,
-                                maxstep, F, K, fc, kt, R, dq, qprev)
+            st, it = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
+                                maxit, maxstep, F, K, fc, kt, R, dq, qprev)
         else:
-            st, it = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f, maxit,
-                            maxstep, F, K, fc, kt, R, dq, qprev)
+            st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
+                            maxit, maxstep, F, K, fc, kt, R, dq, qprev)
             if st != ST_OK:
                 q[:] = 0.0
-                st, it2 = solve_cold(q, kind, idx, coef, off, k0, pw, gap, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
-                                     maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+                st, it2 = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs,
+                                     tol_f, maxit, maxstep, F, K, fc, kt, R, dq, qprev)
                 it += it2
         out_iter[p] = it
         if st == ST_OK:
@@ -558,7 +708,7 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
 # --------------------------------------------------------------------------- Newmark-β
 @njit(**_JIT)
 def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc_h, pin_cs, kind, idx, coef, off,
-                k0, pw, gap, xs, M, C, Q0, Q1, omega_f, q0, v0, tol_f, maxit, maxstep,
+                k0, pw, gap, ser, tab, xs, M, C, Q0, Q1, omega_f, q0, v0, tol_f, maxit, maxstep,
                 out_q, out_v, out_status, out_iter, out_rec):
     """Implicit Newmark-β (γ = 1/2, β = 1/4, average acceleration) with Newton at every step.
 
@@ -585,7 +735,7 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
     # initial acceleration from the equation of motion
     if rv:
         update_table(theta_c0, 0.0, prm, err, pin_err, disc_h, pin_cs, coef, off)
-    contact_forces(q, kind, idx, coef, off, k0, pw, gap, F, fc, kt)
+    contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt)
     for i in range(nd):
         acc = Q0[i] - F[i]
         for b in range(nd):
@@ -604,8 +754,8 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
             qpred[i] = q[i] + h * v[i] + h * h * (0.5 - beta) * a[i]
             vpred[i] = v[i] + h * (1.0 - gamma) * a[i]
             q[i] = qpred[i] + beta * h * h * a[i]      # guess: unchanged acceleration
-        st, it = newton(q, kind, idx, coef, off, k0, pw, gap, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
-                        maxstep, F, K, fc, kt, R, dq, qprev)
+        st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
+                        maxit, maxstep, F, K, fc, kt, R, dq, qprev)
         for i in range(nd):
             a[i] = c0 * (q[i] - qpred[i])
             v[i] = vpred[i] + c1 * (q[i] - qpred[i])

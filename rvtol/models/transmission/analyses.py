@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ... import units
-from ...analysis import Analysis
+from ...analysis import Analysis, ModelTarget, target_model
 from ...distributions import Distribution
 from ...report.sections import Section, frame_records
 from ...spec import Factor, ToleranceSpec
@@ -48,10 +48,9 @@ def _mesh_order_note(mesh: int, n: int) -> str:
             f"revolution and shows aliased at order {alias}")
 
 
-def _te_model(study, params) -> TransmissionErrorModel:
-    if not isinstance(study.model, TransmissionErrorModel):
-        raise params.error("kind", "this analysis needs [model] kind = \"transmission_error\"")
-    return study.model
+def _te_target(study, params) -> ModelTarget:
+    """The study's TE model, or the TE stage of a composed study (key ``model`` names it)."""
+    return target_model(params, study, TransmissionErrorModel, "transmission_error")
 
 
 class TECurve(Analysis):
@@ -60,7 +59,8 @@ class TECurve(Analysis):
     kind = "transmission_error_curve"
 
     def setup(self, params, study):
-        self.model = _te_model(study, params)
+        self.target = _te_target(study, params)
+        self.model = self.target.model
         self.key = params.str("key", self.kind)
         self.title = params.str("title", "Transmission error over one output revolution")
         self.configuration = params.str("configuration", "nominal", choices=("nominal", "median", "worst", "values"))
@@ -84,7 +84,7 @@ class TECurve(Analysis):
             return x, "factor values given in the study"
         if self.configuration == "nominal":
             return x, "every factor at its nominal value"
-        y = ctx.mc.column("te_pp")
+        y = ctx.mc.column(self.target.output("te_pp"))
         ok = np.flatnonzero(ctx.mc.ok & np.isfinite(y))
         if ok.size == 0:
             return x, "no successful Monte Carlo sample: nominal values instead"
@@ -97,7 +97,8 @@ class TECurve(Analysis):
     def run(self, ctx) -> Section:
         from ...plotting import transmission as tp
 
-        x, how = self._row(ctx)
+        x_study, how = self._row(ctx)
+        x = self.target.inputs(x_study)[0]
         res = {self.model.mode: self.model.run(x)}
         if self.newmark and self.model.mode != "newmark":
             res["newmark"] = self.model.variant(mode="newmark").run(x)
@@ -107,11 +108,18 @@ class TECurve(Analysis):
                      f"({100 * self.model.load_torque / g.rated_torque:.3g} % of rated), "
                      f"{self.model.per_crank_rev} positions per crank revolution ({self.model.per_crank_rev * g.z_b} "
                      "per output revolution) for the quasi-static sweep.")
-        spec = ctx.spec
+        if self.target.stage is None:
+            spec = ctx.spec
+            names, shown = spec.names, [f.unit for f in spec.factors]
+        else:                       # a stage of a composed study: its inputs as the mapping gives them
+            names = self.model.inputs
+            shown = ["um" if u == "mm" else "arcsec" if u == "rad" else u for u in self.model.input_units]
         sec.add_table(pd.DataFrame({
-            "factor": spec.names,
-            "value": [float(units.from_base(v, f.unit)) for v, f in zip(x, spec.factors)],
-            "unit": [units.label(f.unit) for f in spec.factors]}), caption="Factor values of this reducer")
+            "factor": names,
+            "value": [float(units.from_base(v, u)) for v, u in zip(x, shown)],
+            "unit": [units.label(u) for u in shown]}),
+            caption="Factor values of this reducer" + ("" if self.target.stage is None else
+                                                       f" (inputs of model {self.target.stage!r})"))
         rows = []
         for mode, r in res.items():
             if not r.ok:
@@ -145,7 +153,7 @@ class TECurve(Analysis):
                                           "derivation in rvtol/models/transmission/orders.py)",
                       float_format="{:.4g}")
         sec.add_table(families_frame(g), caption="Error families and their base orders per output revolution")
-        sec.summary = {"configuration": how, "values": dict(zip(spec.names, map(float, x))),
+        sec.summary = {"configuration": how, "values": dict(zip(names, map(float, x))),
                        "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
                        "top_orders": frame_records(top), "order_attribution": frame_records(attributed)}
         return sec
@@ -157,7 +165,7 @@ class TESensitivity(Analysis):
     kind = "transmission_error_sensitivity"
 
     def setup(self, params, study):
-        base = _te_model(study, params)
+        base = _te_target(study, params).model
         self.key = params.str("key", self.kind)
         self.title = params.str("title", "Sensitivity of the transmission error to the error factors (doc 000 §3–4)")
         self.factors = params.strs("factors", list(TABLE3_GROUPS), min_length=1)

@@ -42,8 +42,10 @@ import numpy as np
 import pandas as pd
 
 from ...design import Design
+from ...elements.reducer_chain import ChainElements, compliance_scale
 from ...errors import SpecError
 from . import layout as L
+from .compliance import ContactChain, reduce_chain
 
 
 def involute(a: float) -> float:
@@ -100,6 +102,8 @@ class RVGeometry:
     m_carrier: float | None = None
     i_carrier: float | None = None
     zeta: float | None = None
+    # compliance chain reduced to the contacts (None: doc 000's rigid chain), see .compliance
+    chain: "ContactChain | None" = None
 
     @property
     def K1(self) -> float:
@@ -200,8 +204,13 @@ def _int(design: Design, name: str) -> int:
     return int(round(v))
 
 
-def geometry_from_design(design: Design) -> RVGeometry:
-    """Read Tables 1–2 (and the estimated inertias) from ``design`` and derive the rest."""
+def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
+    """Read Tables 1–2 (and the estimated inertias) from ``design`` and derive the rest.
+
+    ``chain``: add the compliance elements the design provides (:mod:`.compliance`); False gives doc
+    000's rigid chain (its contact laws only) for the same design.  A family's
+    ``compliance_scale.<family>`` multiplies its compliance either way (doc 000's laws: ``k0 / scale``).
+    """
     def pos(name):
         v = float(design[name])
         if not v > 0:
@@ -249,15 +258,32 @@ def geometry_from_design(design: Design) -> RVGeometry:
                             file=design.file, key=name)
         return v
 
+    r_bs, r_bp, rated = m * z_s * math.cos(alpha) / 2.0, m * z_p * math.cos(alpha) / 2.0, pos("reducer.rated_torque")
+    elements = ChainElements.from_design(design, a_w)
+    contact_chain = None
+    if chain:
+        try:
+            contact_chain = reduce_chain(elements, a_w=a_w, r_bs=r_bs, r_bp=r_bp, ratio=ratio, z_c=z_c, z_b=z_b,
+                                         ecc=ecc, rated_torque=rated)
+        except SpecError as e:
+            raise e.located(file=design.file)
+
+    def scaled(key, family):
+        """A doc 000 stiffness divided by its family's compliance scale (k0 / s scales the deflection by s)."""
+        return pos(key) / compliance_scale(design, family)
+
     return RVGeometry(
         z_s=z_s, z_p=z_p, z_c=z_c, z_b=z_b, module=m, alpha=alpha, x_s=x_s, x_p=x_p,
         ecc=ecc, r_pin_circle=r_pc, r_pin=r_pin,
-        k_s=pos("stiffness.sun_support"), k_sp=pos("stiffness.sun_planet_mesh"),
-        k0_dc=pos("stiffness.cycloid_crank_bearing_k0"), k0_oc=pos("stiffness.crank_carrier_bearing_k0"),
-        k0_pin=pos("stiffness.cycloid_pin_mesh_k0"), k0_ca=pos("stiffness.carrier_housing_bearing_k0"),
-        hertz=hertz, rated_torque=pos("reducer.rated_torque"),
-        alpha_w=alpha_w, a_w=a_w, r_bs=m * z_s * math.cos(alpha) / 2.0, r_bp=m * z_p * math.cos(alpha) / 2.0,
-        ratio=ratio,
+        k_s=scaled("stiffness.sun_support", "sun_support"),
+        k_sp=scaled("stiffness.sun_planet_mesh", "sun_planet_mesh"),
+        k0_dc=scaled("stiffness.cycloid_crank_bearing_k0", "turning_arm_bearings"),
+        k0_oc=scaled("stiffness.crank_carrier_bearing_k0", "crank_support_bearings"),
+        k0_pin=scaled("stiffness.cycloid_pin_mesh_k0", "cycloid_pin"),
+        k0_ca=scaled("stiffness.carrier_housing_bearing_k0", "carrier_housing_bearing"),
+        hertz=hertz, rated_torque=rated,
+        alpha_w=alpha_w, a_w=a_w, r_bs=r_bs, r_bp=r_bp,
+        ratio=ratio, chain=contact_chain,
         m_sun=opt("mass.sun"), m_planet=opt("mass.planet_crank"), i_planet=opt("mass.planet_crank_inertia"),
         m_disc=opt("mass.disc"), i_disc=opt("mass.disc_inertia"), m_carrier=opt("mass.carrier"),
         i_carrier=opt("mass.carrier_inertia"), zeta=opt("damping.modal_ratio", nonnegative=True),

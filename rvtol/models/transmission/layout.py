@@ -32,6 +32,14 @@ UNILATERAL = 1   # scalar, one-sided power law: f = (k0·max(δ, 0))^pw
 RADIAL = 2       # 2-D bearing with a radial dead zone g: f = (k0·max(|d| - g, 0))^pw along d/|d|
 NZ = 5           # max non-zero coefficients per contact row
 
+# series law of a contact (row `ser[c]`, see .compliance and _kernels.series_law): the deflection of the
+# force f is the sum of the kind's power law (absent when k0 = 0), c_lin·f, the log law f·(a − b ln f)
+# (linear beyond f_cap) and a tabulated law (row `tab[id]`); S_ON = 0: the kind's power law alone
+S_ON, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_TAB = 0, 1, 2, 3, 4, 5
+NSER = 6
+# rows of a law table tab[id]: knots f, deflection δ, slope dδ/df, cumulative ∫δ df
+T_F, T_D, T_M, T_C = 0, 1, 2, 3
+
 C_SUN = 0
 C_MESH = 2
 C_CAM = 5

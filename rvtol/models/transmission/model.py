@@ -111,10 +111,10 @@ class TransmissionErrorModel(Model):
                  load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int = 36,
                  harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
-                 tol_f: float = 1e-5, maxit: int = 200):
+                 tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True):
         if mode not in MODES:
             raise InputError(f"unknown mode {mode!r} (expected one of: {', '.join(MODES)})", key="mode")
-        self.geometry = design if isinstance(design, RVGeometry) else geometry_from_design(design)
+        self.geometry = design if isinstance(design, RVGeometry) else geometry_from_design(design, compliance_chain)
         self.mode = mode
         self.factors = ErrorFactors(list(inputs), self.geometry.z_b, harmonic)
         self.inputs = self.factors.names
@@ -214,7 +214,8 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     ``load_torque`` (N·m or {value, unit}; default ``load_fraction`` × rated, 0.03),
     ``per_crank_rev`` (36), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
     ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
-    ``tol_force`` (N, 1e-5), ``max_iterations`` (200)."""
+    ``tol_force`` (N, 1e-5), ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance
+    elements in series with the contacts, :mod:`.compliance`; false: doc 000's rigid chain)."""
     if design is None:
         raise params.error("kind", "the transmission-error model needs [study] design = ...")
     mode = params.str("mode", "quasistatic", choices=MODES)
@@ -228,8 +229,9 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     centrifugal = params.bool("centrifugal", True)
     tol = params.float("tol_force", 1e-5, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
+    chain = params.bool("compliance_chain", True)
     params.finish()
     return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
                                   per_crank_rev=per, harmonic=harmonic, output_speed=speed,
                                   steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
-                                  tol_f=tol, maxit=maxit)
+                                  tol_f=tol, maxit=maxit, compliance_chain=chain)

@@ -108,7 +108,7 @@ class NewmarkSolver:
         off = np.zeros((tab.n, 2))
         K.update_table(theta_c, 0.0, g.prm(), e.err, e.pin_err, e.disc_h, pin_cos_sin(g), coef, off)
         F, fc, kt, Kt = np.zeros(L.NDOF), np.zeros(tab.n), np.zeros((tab.n, 3)), np.zeros((L.NDOF, L.NDOF))
-        K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, F, fc, kt)
+        K.contact_forces(q, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, F, fc, kt)
         K.tangent_matrix(tab.kind, tab.idx, coef, kt, Kt)
         return Kt
 
@@ -142,7 +142,7 @@ class NewmarkSolver:
         off = np.zeros((tab.n, 2))
         failed = K.newmark_run(0.0, self.omega_c, h, nsteps, nskip, True, self.static.prm, e.err, e.pin_err,
                                e.disc_h, self.static.pin_cs, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap,
-                               self.static.xs, self.M, C, Q0, np.zeros(L.NDOF), 0.0, q0, np.zeros(L.NDOF),
+                               tab.ser, tab.tab, self.static.xs, self.M, C, Q0, np.zeros(L.NDOF), 0.0, q0, np.zeros(L.NDOF),
                                self.tol_f, self.maxit, self.maxstep, out_q, out_v, out_status, out_iter, out_rec)
         t = (nskip + np.arange(n_rec)) * h
         theta_c = self.omega_c * t
@@ -155,7 +155,7 @@ class NewmarkSolver:
 
 
 def integrate_small_system(M, C, kind, idx, coef, off, k0, pw, gap, Q0, Q1, omega_f, q0, v0, h, nsteps,
-                           tol_f: float = 1e-8, maxit: int = 60, maxstep: float = 1e300):
+                           tol_f: float = 1e-8, maxit: int = 60, maxstep: float = 1e300, ser=None, tab=None):
     """The same Newmark-β loop on a small system given directly as a contact table (no reducer
     geometry): ``M q̈ + C q̇ + Σ Gᵀ f(G q + off) = Q0 + Q1 sin(omega_f t)``.  For the tests (1-DOF
     oscillators against closed forms and SciPy).  Returns ``(t, q, v, status)`` for steps 1..nsteps."""
@@ -163,9 +163,12 @@ def integrate_small_system(M, C, kind, idx, coef, off, k0, pw, gap, Q0, Q1, omeg
     f = lambda a, dt=float: np.ascontiguousarray(a, dtype=dt)  # noqa: E731
     out_q, out_v = np.zeros((nsteps, nd)), np.zeros((nsteps, nd))
     out_status, out_iter, out_rec = np.full(nsteps, -1, np.int64), np.zeros(nsteps, np.int64), np.zeros((nsteps, K.NREC))
+    ser = np.zeros((len(kind), L.NSER)) if ser is None else ser
+    tab = np.zeros((1, 4, 2)) if tab is None else tab
     failed = K.newmark_run(0.0, 0.0, float(h), int(nsteps), 1, False, np.zeros(L.NPRM), np.zeros(L.NERR),
                            np.zeros((3, L.N_DISC, 1)), np.zeros((L.N_DISC, 2, L.NH, 2)), np.zeros((2, 1)),
-                           f(kind, np.int64), f(idx, np.int64), f(coef), f(off), f(k0), f(pw), f(gap), np.ones(nd),
+                           f(kind, np.int64), f(idx, np.int64), f(coef), f(off), f(k0), f(pw), f(gap), f(ser), f(tab),
+                           np.ones(nd),
                            f(M), f(C), f(Q0), f(Q1), float(omega_f), f(q0), f(v0), float(tol_f), int(maxit),
                            float(maxstep), out_q, out_v, out_status, out_iter, out_rec)
     if failed >= 0:

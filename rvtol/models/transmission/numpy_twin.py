@@ -30,12 +30,21 @@ contact undeformed — where the printed formulas differ, see the notes):
 5. crank–carrier ``d = (X_pi, Y_pi) − (X_ca, Y_ca) − R_dc Δθ_ca t_h − E_cai u(θ_c + φ_i + β_cai)``
    (as printed);
 6. carrier–housing ``d = (X_ca − A_c cos γ_c, Y_ca − A_c sin γ_c)``.
+
+With a compliance chain (:mod:`.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
+(:func:`scipy.optimize.brentq`), each ``δ_i`` evaluated here apart from the kernels: the kind's power
+law, linear springs, the pin–groove log law, the crank-support pair's table by SciPy's
+:class:`~scipy.interpolate.CubicHermiteSpline`; the meshes' linear terms combined by
+:func:`rvtol.elements.chain.series`.
 """
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import brentq
 
+from ...elements import chain as springs
 from . import layout as L
+from .compliance import log_law, table_law
 from .factors import ErrorState
 from .geometry import RVGeometry
 
@@ -142,6 +151,50 @@ class ReferenceModel:
         return out
 
     # -- laws -----------------------------------------------------------------------------
+    def _series_terms(self, group: str, disc: int = 0):
+        """The deflection terms ``δ_i(f) -> (δ, dδ/df)`` of a contact group's series law, or None (the
+        kind's power law alone)."""
+        ch = self.g.chain
+        if ch is None:
+            return None
+        p = self.p
+        k0 = {"cam": self.g.k0_dc, "crank": self.g.k0_oc, "pin": self.g.k0_pin}[group]
+        terms = []
+        lin = {"cam": ch.cam[disc], "crank": ch.crank, "pin": ch.pin}.get(group, {})
+        table = group == "crank" and ch.crank_table is not None
+        if table:
+            terms.append(lambda f: table_law(ch.crank_table, f)[:2])
+        else:
+            terms.append(lambda f: (f ** (1 / p) / k0, f ** (1 / p - 1) / (p * k0) if f > 0 else np.inf))
+        if lin:
+            c = sum(lin.values())
+            terms.append(lambda f: (c * f, c))
+        if group == "pin" and ch.groove is not None:
+            terms.append(lambda f: log_law(ch.groove, f)[:2])
+        return terms if len(terms) > 1 or table else None
+
+    @staticmethod
+    def _series(s, terms):
+        """Force ``f`` with ``Σ δ_i(f) = s`` (0 for ``s <= 0``) and ``df/ds``, elementwise."""
+        s = np.asarray(s, dtype=float)
+        f = np.zeros(s.shape)
+        df = np.zeros(s.shape)
+        for i in np.ndindex(s.shape):
+            si = float(s[i])
+            if not si > 0:
+                continue
+
+            def g(F, si=si):
+                return sum(float(t(F)[0]) for t in terms) - si
+
+            hi = 1.0
+            while g(hi) < 0:
+                hi *= 2.0
+            fi = brentq(g, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
+            f[i] = fi
+            df[i] = 1.0 / sum(float(t(fi)[1]) for t in terms)
+        return f, df
+
     def _power(self, k0, s):
         """Hertz law f = (k0 s)^p and its derivative, zero for s <= 0."""
         sp = np.maximum(s, 0.0)
@@ -149,11 +202,11 @@ class ReferenceModel:
         df = np.where(s > 0, self.p * f / np.where(s > 0, s, 1.0), 0.0)
         return f, df
 
-    def _radial(self, k0, d, gap):
+    def _radial(self, k0, d, gap, terms=None):
         """Bearing with a radial dead zone: force vectors [..., 2] and tangents [..., 2, 2]."""
         r = np.linalg.norm(d, axis=-1)
         s = r - gap
-        f, df = self._power(k0, s)
+        f, df = self._power(k0, s) if terms is None else self._series(s, terms)
         rr = np.where(r > 0, r, 1.0)
         nv = d / rr[..., None]
         nn = nv[..., :, None] * nv[..., None, :]
@@ -169,8 +222,11 @@ class ReferenceModel:
         F = np.zeros(L.NDOF)
         K = np.zeros((L.NDOF, L.NDOF))
         parts = {}
-        # linear: sun support, meshes
-        for name, k in (("sun", g.k_s), ("mesh", g.k_sp)):
+        # linear: sun support, meshes (with the chain's linear terms in series)
+        k_mesh = g.k_sp
+        if g.chain is not None and g.chain.mesh:
+            k_mesh = float(springs.series(g.k_sp, *(1.0 / c for c in g.chain.mesh.values())))
+        for name, k in (("sun", g.k_s), ("mesh", k_mesh)):
             G, h = P[name]
             f = k * (G @ q + h)
             F += G.T @ f
@@ -182,14 +238,20 @@ class ReferenceModel:
         for name, k0 in (("cam", g.k0_dc), ("crank", g.k0_oc), ("housing", g.k0_ca)):
             G, h = P[name]
             d = G @ q + h
-            fv, Kc, fmag = self._radial(k0, d, gaps[name])
+            if name == "cam" and g.chain is not None:     # the discs may differ in their series terms
+                out = [self._radial(k0, d[j], gaps[name][j], self._series_terms("cam", j)) for j in range(2)]
+                fv, Kc, fmag = (np.stack([o[m] for o in out]) for m in range(3))
+            else:
+                terms = self._series_terms(name) if name == "crank" else None
+                fv, Kc, fmag = self._radial(k0, d, gaps[name], terms)
             G2 = G.reshape(-1, 2, L.NDOF)
             F += np.einsum("cxn,cx->n", G2, fv.reshape(-1, 2))
             K += np.einsum("cxa,cxy,cyb->ab", G2, Kc.reshape(-1, 2, 2), G2)
             parts[name] = fmag
         # pins
         G, h = P["pin"]
-        f, df = self._power(g.k0_pin, G @ q + h)
+        terms = self._series_terms("pin")
+        f, df = self._power(g.k0_pin, G @ q + h) if terms is None else self._series(G @ q + h, terms)
         F += np.einsum("jkn,jk->n", G, f)
         K += np.einsum("jka,jk,jkb->ab", G, df, G)
         parts["pin"] = f

@@ -28,6 +28,7 @@ import pandas as pd
 from ...errors import InputError
 from . import _kernels as K
 from . import layout as L
+from .compliance import family_work
 from .contacts import pin_cos_sin, static_table
 from .factors import ErrorState
 from .geometry import RVGeometry
@@ -125,21 +126,25 @@ class QuasiStaticSolver:
         t = self.table
         load = np.zeros(L.NDOF) if load is None else np.ascontiguousarray(load, dtype=float).reshape(L.NDOF)
         failed = K.qs_sequence(theta_c, dth, torque, load, self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs,
-                               t.kind, t.idx, t.k0, t.pw, t.gap, self.xs, q0, cold, self.tol_f, self.maxit,
-                               self.maxstep, out_q, out_status, out_iter, out_rec)
+                               t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab, self.xs, q0, cold, self.tol_f,
+                               self.maxit, self.maxstep, out_q, out_status, out_iter, out_rec)
         return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))
 
     def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
         return self.sweep([theta_c], [torque], dth_s, q_start)
 
     def contact_work(self, theta_c: float, q, dth_s: float = 0.0) -> dict[str, float]:
-        """Work ``Σ_c f_c·(G_c q)`` of each contact group's forces over the motion part of its deflection.
+        """Work ``Σ_c f_c·(G_c q)`` of the contacts' forces over the motion part of their deflections, by
+        compliance family (:data:`rvtol.elements.reducer_chain.FAMILIES`).
 
         The contact table of the production kernels at ``theta_c`` (:func:`._kernels.update_table`),
         forces by :func:`._kernels.contact_forces` at the coordinates ``q``; a bearing's force acts
-        along its total relative displacement ``G q + h``.  Divided by the output torque, the groups
-        are the virtual-work breakdown of the output angle at an equilibrium (N·mm; groups ``sun``,
-        ``mesh``, ``cam``, ``crank``, ``housing``, ``pin``).
+        along its total relative displacement ``G q + h``.  A contact with elements in series
+        (:mod:`.compliance`) splits its work: each element ``f·δ_i(f)``, the contact's own law the rest.
+        Divided by the output torque, the families are the virtual-work breakdown of the output angle at
+        an equilibrium (N·mm): doc 000's six contact laws (``sun_support``, ``sun_planet_mesh``,
+        ``turning_arm_bearings``, ``crank_support_bearings``, ``carrier_housing_bearing``, ``cycloid_pin``)
+        and the chain's families.
         """
         q = np.ascontiguousarray(q, dtype=float).reshape(L.NDOF)
         t, e = self.table, self.errors
@@ -148,7 +153,7 @@ class QuasiStaticSolver:
         off = np.zeros((nc, 2))
         K.update_table(float(theta_c), float(dth_s), self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs, coef, off)
         F, fc, kt = np.zeros(L.NDOF), np.zeros(nc), np.zeros((nc, 3))
-        K.contact_forces(q, t.kind, t.idx, coef, off, t.k0, t.pw, t.gap, F, fc, kt)
+        K.contact_forces(q, t.kind, t.idx, coef, off, t.k0, t.pw, t.gap, t.ser, t.tab, F, fc, kt)
         used = t.idx >= 0
         motion = np.where(used, coef * q[np.where(used, t.idx, 0)], 0.0).sum(axis=2)   # [nc, 2]: G q
         total = motion + off
@@ -156,9 +161,7 @@ class QuasiStaticSolver:
         r = np.hypot(total[:, 0], total[:, 1])
         unit = np.where(r[:, None] > 0, total / np.where(r > 0, r, 1.0)[:, None], 0.0)
         work = np.where(radial, fc * (unit * motion).sum(axis=1), fc * motion[:, 0])
-        groups = {"sun": (L.C_SUN, L.C_MESH), "mesh": (L.C_MESH, L.C_CAM), "pin": (L.C_PIN, nc),
-                  "cam": (L.C_CAM, L.C_CRANK), "crank": (L.C_CRANK, L.C_HOUSING), "housing": (L.C_HOUSING, L.C_PIN)}
-        return {k: float(work[a:b].sum()) for k, (a, b) in groups.items()}
+        return family_work(self.g.chain, work, fc)
 
     # -- the two test-rig set-ups --------------------------------------------------------------
     def positions(self, per_crank_rev: int = 36, revolutions: float = 1.0) -> np.ndarray:
