@@ -9,6 +9,8 @@
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
     spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
+    # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
+                                          # study in this folder; give name, title, analyses, options here
 
     [model]
     kind = "lost_motion"                  # see rvtol.registry.MODELS
@@ -143,6 +145,7 @@ def load_study(path: str | Path, **overrides) -> Study:
     data, sha = read_toml(path)
     file = str(path)
     base = path.parent
+    data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
     name = head.str("name", path.stem)
@@ -151,6 +154,8 @@ def load_study(path: str | Path, **overrides) -> Study:
     title = head.str("title", name)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
+    if parent is not None:
+        inputs["extends"] = parent
 
     design = None
     dpath = head.path_value("design", base, None)
@@ -212,6 +217,49 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+#: tables a study that extends another may not give (they come from the base study)
+_INHERITED_ONLY = ("model", "quantity", "factor", "correlation")
+#: [study] keys that are the derived study's own (never taken from the base)
+_OWN = ("name", "title", "description")
+
+
+def _extended(data: dict, path: Path) -> tuple[dict, dict | None]:
+    """A study with ``[study] extends = "base.toml"``: the base study's design, spec, mapping, models and
+    requirements, with this file's name, title, description, its [sampling] / [execution] / [report] keys
+    over the base's, its requirements added and its own analyses (the base's are not inherited).  The base
+    is in the same folder (its relative paths are read from there) and extends nothing itself."""
+    head = data.get("study")
+    if not isinstance(head, dict) or "extends" not in head:
+        return data, None
+    file = str(path)
+    p = Params(head, file=file, key="study")
+    bpath = p.path_value("extends", path.parent)
+    if bpath.resolve().parent != path.resolve().parent:
+        raise p.error("extends", "the base study must be in the same folder as this one (its relative paths "
+                                 "are read from there)")
+    if bpath.resolve() == path.resolve():
+        raise p.error("extends", "a study cannot extend itself")
+    base, bsha = read_toml(bpath)
+    if isinstance(base.get("study"), dict) and "extends" in base["study"]:
+        raise p.error("extends", f"{bpath.name} extends another study itself (one level only)")
+    for k in _INHERITED_ONLY:
+        if k in data:
+            raise SpecError(f"a study that extends {bpath.name} takes its {k} tables from there", file=file, key=k)
+    merged = {k: v for k, v in base.items() if k != "analysis"}
+    bstudy = {k: v for k, v in base.get("study", {}).items() if k not in _OWN}
+    merged["study"] = {**bstudy, **{k: v for k, v in head.items() if k != "extends"}}
+    merged["study"].setdefault("name", path.stem)
+    for k in ("sampling", "execution", "report"):
+        if k in data:
+            merged[k] = {**base.get(k, {}), **data[k]}
+    if "requirement" in data:
+        merged["requirement"] = list(base.get("requirement", [])) + list(data["requirement"])
+    for k, v in data.items():
+        if k not in merged or k == "analysis":
+            merged[k] = v
+    return merged, {"path": str(bpath), "sha256": bsha}
 
 
 def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: str) -> Model:
