@@ -67,6 +67,12 @@ class Model(ABC):
         status = np.where(bad, STATUS_NONFINITE, STATUS_OK).astype(np.int16)
         return Y, status
 
+    def dependencies(self) -> dict[str, frozenset[str]] | None:
+        """Output name -> the inputs that move it, where the model knows its structure (each model says
+        how it decides; :meth:`rvtol.models.composite.model.CompositeModel.depends_on` uses it);
+        ``None``: every output depends on every input."""
+        return None
+
     # -- conveniences ---------------------------------------------------------
     @property
     def output_names(self) -> tuple[str, ...]:

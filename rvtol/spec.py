@@ -13,8 +13,22 @@ File format (``data/specs/*.toml``)::
     mean = 3.0
     tolerance = 1.0            # band ±T/2 read at sigma_level (3 by default)
     nominal = 3.0              # optional: nominal value for local sensitivity (default: the mean)
-    group = "pin gear"         # optional: component, for reports and allocation
+    part = "pin housing"       # optional: the drawing (part) the feature belongs to
+    feature = "pin-groove circle ⌀153 js3"   # optional: the drawing feature and its callout
+    group = "pin gear"         # optional: for group-wise sensitivity and allocation (default: the part)
     source = "..."             # optional: where the number comes from
+
+    [[factor]]                 # a FAMILY: N exchangeable features (40 pins, 40 pin grooves, ...)
+    name = "pins[k].diameter_in_lot"   # the name holds "[k]" once
+    multiplicity = 40          # -> N independent, identically distributed factors
+    ...                        #    "pins[1].diameter_in_lot" ... "pins[40].diameter_in_lot"
+
+A family table stands for ``multiplicity`` factors with the same distribution, drawn independently
+(each copy is its own column of the sample; the copies are uncorrelated unless a
+``[[correlation]]`` names them one by one).  ``[k]`` is replaced by ``[1]`` … ``[N]``; each copy
+remembers its family (``Factor.family``) so a report can show the family as one row "×N"
+(``ToleranceSpec.to_frame(families=True)``).  A name with ``[k]`` needs ``multiplicity`` and
+``multiplicity`` needs a name with ``[k]``.
 
     [[correlation]]            # optional Gaussian copula, a pair or a block
     factors = ["a", "b"]
@@ -61,6 +75,9 @@ class Factor:
     description: str = ""
     group: str = ""
     source: str = ""
+    part: str = ""
+    feature: str = ""
+    family: str = ""          # the family template ("pins[k].diameter_in_lot") of an expanded copy
 
     @property
     def base_unit(self) -> str:
@@ -160,19 +177,39 @@ class ToleranceSpec:
             self.index(n)
         return self.with_factors(f.scaled(scale[f.name]) if f.name in scale else f for f in self.factors)
 
-    def to_frame(self):
+    def families(self) -> dict[str, tuple[Factor, ...]]:
+        """Family template -> its copies, in spec order (only expanded families)."""
+        out: dict[str, list[Factor]] = {}
+        for f in self.factors:
+            if f.family:
+                out.setdefault(f.family, []).append(f)
+        return {k: tuple(v) for k, v in out.items()}
+
+    def to_frame(self, families: bool = False):
+        """One row per factor; ``families=True``: one row per family (its template name, "×N")."""
         import pandas as pd
 
-        return pd.DataFrame({
-            "factor": self.names,
-            "unit": self.units,
-            "distribution": [f.dist.describe() for f in self.factors],
-            "nominal": [f.nominal_value for f in self.factors],
-            "mean": [f.dist.mean for f in self.factors],
-            "std": [f.dist.std for f in self.factors],
-            "tolerance T": [f.dist.tolerance for f in self.factors],
-            "group": [f.group for f in self.factors],
+        fs, count = list(self.factors), [1] * len(self.factors)
+        if families:
+            fam = self.families()
+            fs = [replace(f, name=f.family) if f.family else f for f in fs
+                  if not f.family or f is fam[f.family][0]]
+            count = [len(fam[f.name]) if f.family else 1 for f in fs]
+        frame = pd.DataFrame({
+            "factor": [f.name for f in fs],
+            "unit": [f.unit for f in fs],
+            "distribution": [f.dist.describe() for f in fs],
+            "nominal": [f.nominal_value for f in fs],
+            "mean": [f.dist.mean for f in fs],
+            "std": [f.dist.std for f in fs],
+            "tolerance T": [f.dist.tolerance for f in fs],
+            "part": [f.part for f in fs],
+            "feature": [f.feature for f in fs],
+            "group": [f.group for f in fs],
         })
+        if families:
+            frame.insert(1, "multiplicity", [f"×{c}" if c > 1 else "" for c in count])
+        return frame
 
 
 @dataclass(frozen=True)
@@ -247,17 +284,48 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
     tables = root.tables("factor")
     if not tables:
         raise root.error("factor", "a spec needs at least one [[factor]]")
-    factors = [factor_from_params(t) for t in tables]
+    factors = [f for t in tables for f in factors_from_params(t)]
     names = [f.name for f in factors]
+    origin = [t for t in tables for _ in range(_multiplicity(t))]
     for i, n in enumerate(names):
         if names.index(n) != i:
-            raise tables[i].error("name", f"duplicate factor name {n!r}")
+            raise origin[i].error("name", f"duplicate factor name {n!r}")
     corr = correlation_from_tables(root.tables("correlation"), names)
     root.finish()
     return ToleranceSpec(spec_name, tuple(factors), corr, desc, file)
 
 
+#: the placeholder of a family factor's index
+FAMILY_INDEX = "[k]"
+
+
+def _multiplicity(p: Params) -> int:
+    """How many factors a ``[[factor]]`` table stands for (1, or a family's ``multiplicity``)."""
+    if "multiplicity" not in p:
+        return 1
+    return p.int("multiplicity", min=1)
+
+
+def factors_from_params(p: Params) -> list[Factor]:
+    """The factor of one ``[[factor]]`` table, or the N copies of a family (module docstring)."""
+    f = factor_from_params(p)
+    n = _multiplicity(p)
+    p.finish()
+    marks = f.name.count(FAMILY_INDEX)
+    if "multiplicity" not in p.data:
+        if marks:
+            raise p.error("multiplicity", f"factor name {f.name!r} holds {FAMILY_INDEX}: a family needs "
+                                          "'multiplicity = N' (the number of copies)")
+        return [f]
+    if marks != 1:
+        raise p.error("name", f"a family (multiplicity = {n}) needs {FAMILY_INDEX} exactly once in its name, "
+                              f"got {f.name!r}")
+    return [replace(f, name=f.name.replace(FAMILY_INDEX, f"[{k}]"), family=f.name) for k in range(1, n + 1)]
+
+
 def factor_from_params(p: Params) -> Factor:
+    """One factor from a ``[[factor]]`` table (a family's template; ``multiplicity`` is read by
+    :func:`factors_from_params`)."""
     name = p.str("name")
     if not name or not _NAME.match(name):
         raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
@@ -265,10 +333,12 @@ def factor_from_params(p: Params) -> Factor:
     dist = from_params(p)
     nominal = p.float("nominal", None)
     desc = p.str("description", "")
-    group = p.str("group", "")
+    part = p.str("part", "")
+    feature = p.str("feature", "")
+    group = p.str("group", part)
     source = p.str("source", "")
-    p.finish()
-    return Factor(name, unit, dist, nominal, desc, group, source)
+    p.finish(allow=("multiplicity",))
+    return Factor(name, unit, dist, nominal, desc, group, source, part, feature)
 
 
 def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:

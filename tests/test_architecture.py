@@ -159,7 +159,9 @@ def test_every_analysis_is_an_analysis_with_setup_and_run(kind):
 
 def _kinds_named_by(path: Path) -> set[str]:
     data = tomllib.loads(path.read_text(encoding="utf-8"))
-    return {t["kind"] for t in data.get("analysis", [])} | ({data["model"]["kind"]} if "model" in data else set())
+    models = data.get("model", [])                     # [model], or [[model]] tables of a composed study
+    models = models if isinstance(models, list) else [models]
+    return {t["kind"] for t in data.get("analysis", [])} | {m["kind"] for m in models}
 
 
 def test_every_registered_kind_is_used_by_a_study_or_a_test():

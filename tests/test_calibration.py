@@ -8,11 +8,13 @@ import pytest
 from scipy import optimize, stats
 
 from rvtol import units
+from rvtol.elements.reducer_chain import with_compliance_scales
+from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.calibration import calibrate, calibrated_factors, load_measurement, reproduce
 from rvtol.calibration.curves import CurveModel
 from rvtol.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
 from rvtol.calibration.measurements import TE, TORSION, Measurement
-from rvtol.calibration.parameters import (COMPLIANCE, FAMILIES, Family, Parameter, make_parameter,
+from rvtol.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
                                           scaled_design_values)
 from rvtol.calibration.synthetic import synthetic_measurement
 from rvtol.cli import main
@@ -127,16 +129,16 @@ def test_two_compliances_from_one_torsion_curve_are_not_separable():
     """The needle-bearing and pin-contact compliances act in series with the same load law: one torsion
     curve sees a weighted sum; the fit says so, names both, and refuses to call them separable."""
     m = load_measurement(TORSION_CSV)
-    cal = calibrate(DESIGN, [m], ["compliance.cycloid_crank_bearing", "compliance.cycloid_pin_mesh",
+    cal = calibrate(DESIGN, [m], ["compliance.turning_arm_bearings", "compliance.cycloid_pin",
                                   "clearance.crank_bearing"], fixed_factors=KNOWN_ERRORS)
     ident = cal.fit.identifiability
     assert not ident.ok
     pair = [(a, b) for a, b, _ in ident.pairs]
-    assert ("compliance.cycloid_crank_bearing", "compliance.cycloid_pin_mesh") in pair
+    assert ("compliance.turning_arm_bearings", "compliance.cycloid_pin") in pair
     msg = next(x for x in ident.messages if "cannot be separated" in x)
     assert "load–deflection test" in msg and "weighted sum" in msg
     frame = cal.fit.to_frame().set_index("parameter")
-    assert not frame.loc["compliance.cycloid_pin_mesh", "separable"]
+    assert not frame.loc["compliance.cycloid_pin", "separable"]
 
 
 def test_a_clearance_the_torsion_curve_does_not_see_is_named():
@@ -191,17 +193,26 @@ def test_te_curve_at_measured_angles_equals_the_te_model():
     np.testing.assert_allclose(units.from_base(got[0], "arcsec"), r.te, rtol=0, atol=1e-7)
 
 
-def test_a_family_is_one_table_entry(monkeypatch):
-    """A new element family with a compliance-type design key needs only its FAMILIES line."""
-    monkeypatch.setitem(FAMILIES, "sun_support_as_compliance", Family("stiffness.sun_support", COMPLIANCE,
-                                                                      "test", "a test"))
-    p = make_parameter("compliance.sun_support_as_compliance", DESIGN)
-    assert p.targets == ("stiffness.sun_support",)
-    assert scaled_design_values(DESIGN, [p], [2.0])["stiffness.sun_support"] == pytest.approx(
-        2.0 * DESIGN["stiffness.sun_support"])
-    k0 = make_parameter("compliance.cycloid_pin_mesh", DESIGN)
-    assert scaled_design_values(DESIGN, [k0], [2.0])["stiffness.cycloid_pin_mesh_k0"] == pytest.approx(
-        DESIGN["stiffness.cycloid_pin_mesh_k0"] / 2.0)
+def test_every_element_family_of_the_chain_is_a_calibration_parameter():
+    """The calibration's families are the compliance chain's (rvtol.elements.reducer_chain.FAMILIES): a family
+    the design's model has scales its compliance_scale key, and the model's compliance scales with it."""
+    from rvtol.elements.reducer_chain import FAMILIES as CHAIN
+
+    assert set(FAMILIES) == set(CHAIN)
+    product = load_design(Path(__file__).resolve().parents[1] / "data/products/rv80e/design.toml")
+    assert set(families_in(product)) == set(CHAIN)                         # the product gives every element
+    assert set(families_in(DESIGN)) == {"sun_support", "sun_planet_mesh", "cycloid_pin", "turning_arm_bearings",
+                                        "crank_support_bearings", "carrier_housing_bearing"}   # doc 000's laws
+    for family in families_in(product):
+        p = make_parameter(f"compliance.{family}", product)
+        assert p.targets == (f"compliance_scale.{family}",)
+        assert scaled_design_values(product, [p], [2.0]) == {f"compliance_scale.{family}": 2.0}
+    with pytest.raises(InputError, match="no pin_groove element"):
+        make_parameter("compliance.pin_groove", DESIGN)
+    k0 = make_parameter("compliance.cycloid_pin", DESIGN)
+    scaled = geometry_from_design(with_compliance_scales(DESIGN, {"cycloid_pin": 2.0}))
+    assert scaled.k0_pin == pytest.approx(geometry_from_design(DESIGN).k0_pin / 2.0, rel=1e-15)
+    assert scaled_design_values(DESIGN, [k0], [2.0]) == {"compliance_scale.cycloid_pin": 2.0}
 
 
 # --------------------------------------------------------------------------- recovery of known parameters
@@ -265,7 +276,7 @@ def test_written_design_reloads_and_reproduces_the_fitted_curves(tmp_path):
     assert dict(again.params) == dict(back.params)
     # changed entries: the scaled stiffnesses and the stored clearance/factors, with provenance
     changed = [k for k in again.params if k not in DESIGN.params or again.param(k) != DESIGN.param(k)]
-    assert sorted(changed) == sorted([f.key for f in FAMILIES.values()] + [
+    assert sorted(changed) == sorted([FAMILIES[f].key for f in families_in(DESIGN)] + [
         "calibration.clearance.crank_bearing", "calibration.factor.E_c", "calibration.factor.R_pin"])
     sha = " + ".join(m.sha256 for m in ms)
     for k in changed:
@@ -273,8 +284,8 @@ def test_written_design_reloads_and_reproduces_the_fitted_curves(tmp_path):
         assert p.source == f"calibrated: {sha}, 2026-01-02, fit of {', '.join(cal.fit.names)}"
         assert "±" in p.note and "95% CI" in p.note
     c = cal.fit.value("compliance.all")
-    assert again["stiffness.cycloid_pin_mesh_k0"] == pytest.approx(DESIGN["stiffness.cycloid_pin_mesh_k0"] / c,
-                                                                 rel=1e-15)
+    assert again["compliance_scale.cycloid_pin"] == pytest.approx(c, rel=1e-15)
+    assert again["stiffness.cycloid_pin_mesh_k0"] == DESIGN["stiffness.cycloid_pin_mesh_k0"]     # untouched
     stored = calibrated_factors(again)
     assert stored["delta_b[2,3]"] == pytest.approx(cal.fit.value("clearance.crank_bearing"), rel=1e-12)
     assert stored["E_c"] == pytest.approx(cal.fit.value("factor.E_c"), rel=1e-12)
@@ -408,7 +419,7 @@ def test_calibration_analysis_writes_the_design_and_refuses_foreign_files(tmp_pa
     est = {p["parameter"]: p for p in sec.summary["parameters"]}
     assert est["compliance.all"]["95% CI low"] <= 1.25 <= est["compliance.all"]["95% CI high"]
     out = tmp_path / "out/calibrated.toml"
-    assert load_design(out).param("stiffness.sun_support").source.startswith("calibrated: ")
+    assert load_design(out).param("compliance_scale.sun_support").source.startswith("calibrated: ")
     load_study(path)                                   # its own earlier output may be replaced
     out.write_text('[design]\nname = "x"\n[a]\nb = { value = 1, unit = "1", source = "s" }\n')
     with pytest.raises(InputError) as e:

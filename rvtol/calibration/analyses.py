@@ -23,7 +23,7 @@
     offset = true                     # fit an angle offset for this curve
 
     [[analysis.parameter]]            # the fitted parameters (rvtol.calibration.parameters)
-    name = "compliance.crank_carrier_bearing"
+    name = "compliance.crank_support_bearings"
     start = 1.0                       # default: 1 (scales), 1 µm (clearances), 0 (factors, offsets)
     bounds = [0.2, 5.0]               # default: [0.1, 10], [0, 50] µm, [−50, 50] µm, [−3600, 3600] arcsec
     unit = "1"                        # of start and bounds (default: 1, um, um or deg, arcsec)

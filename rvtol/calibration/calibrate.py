@@ -7,7 +7,7 @@
 
     design = load_design("data/designs/rv80e_te.toml")
     m = load_measurement("data/measurements/synthetic_rv80e_torsion_curve.csv")
-    cal = calibrate(design, [m], ["compliance.crank_carrier_bearing", "clearance.crank_bearing"])
+    cal = calibrate(design, [m], ["compliance.crank_support_bearings", "clearance.crank_bearing"])
     print(cal.fit.to_frame())                 # estimates, standard errors, t-based intervals
     print(cal.fit.identifiability.messages)   # what the measurement cannot separate, and why
     cal.write_design("reports/calibrated_designs/rv80e_te_calibrated.toml")
@@ -145,7 +145,7 @@ class Calibration:
             if p.kind == "compliance":
                 c = f.x[j]
                 for key, acts in zip(p.targets, p.acts):
-                    old = params[key]
+                    old = params.get(key) or DesignParam(key, 1.0, "1", "as derived from first principles (scale 1)")
                     stiff = acts == STIFFNESS
                     value = (tuple(v / c for v in old.value) if isinstance(old.value, tuple) else old.value / c) \
                         if stiff else (tuple(v * c for v in old.value) if isinstance(old.value, tuple)

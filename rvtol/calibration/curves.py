@@ -40,6 +40,7 @@ from ..models.transmission.geometry import geometry_from_design
 from ..models.transmission.model import ST_BAD_CLEARANCE
 from ..models.transmission.quasistatic import QuasiStaticSolver
 from .measurements import TORSION, Measurement
+from ..elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
 from .parameters import factor_values, scaled_design_values
 
 LOAD_FRACTION = 0.03     # default resisting torque of a TE measurement (× rated): as TransmissionErrorModel
@@ -95,7 +96,10 @@ class CurveModel(Model):
         """The design with the compliance scales of ``x`` applied (other parameters do not touch it)."""
         d = self.design
         changed = scaled_design_values(d, list(self.parameters), x)
-        return d.with_values(**changed) if changed else d
+        present = {k: v for k, v in changed.items() if k in d}
+        added = {k[len(SCALE_PREFIX):]: v for k, v in changed.items() if k not in d}   # scales left at 1
+        d = d.with_values(**present) if present else d
+        return with_compliance_scales(d, added, "calibration trial value") if added else d
 
     def _factor_row(self, x) -> np.ndarray:
         vals = {**self.fixed, **factor_values(list(self.parameters), x)}

@@ -3,12 +3,14 @@
 Four kinds, named by a prefix:
 
 ``compliance.<family>``
-    a **compliance scale** ``c`` (dimensionless, > 0) of one element family of the 20-DOF model:
-    every deflection of that family at a given force is multiplied by ``c``.  It acts on the
-    family's design key (:data:`FAMILIES`): a stiffness (``N/mm``) or a Hertz-type base coefficient
-    ``k0`` (doc 000 Table 2, ``k = k0·P^h`` ⇒ ``δ = P^(1−h)/k0``) is divided by ``c``; a compliance
-    or a compliance multiplier is multiplied by ``c``.  ``compliance.all`` scales every family the
-    design has (the one compliance scale a single torsion curve can identify).  Scales, not
+    a **compliance scale** ``c`` (dimensionless, > 0) of one element family of the reducer's torque
+    path — the families of the compliance chain (:data:`rvtol.elements.reducer_chain.FAMILIES`: doc
+    000's contact laws and, where the design gives them, the crank support pair, crank bending and
+    torsion, carrier, pin grooves, disc webs, input shaft): every deflection of that family at a given
+    force is multiplied by ``c``.  It acts on the family's one design key ``compliance_scale.<family>``
+    (default 1 = as derived; both reducer models read it, doc 000's laws as ``k0 / c``).
+    ``compliance.all`` scales every family the design's model has (the one compliance scale a single
+    torsion curve can identify).  Scales, not
     stiffnesses, are fitted because the output angle is nearly linear in compliances (springs in
     series add their compliances), which keeps the linearised confidence intervals honest.
 ``clearance.<name>``
@@ -22,10 +24,9 @@ Four kinds, named by a prefix:
     a constant added to one measured curve: the zero of a rig's angle encoder is arbitrary.  It
     enters the model linearly (its Jacobian column is exact) and costs no 20-DOF evaluation.
 
-**Adding an element family** is one line in :data:`FAMILIES`: the stable family name, the one design
-key that scales it, whether the key is a stiffness or a compliance, a label and what measurement
-sees the family apart from the others.  Nothing else changes: a family whose key the design lacks is
-refused with the file and key.
+**An element family** added to the compliance chain is a calibration parameter at once; its line in
+:data:`SEPARATED_BY` says which measurement tells it apart from the others.  A family the design's
+model does not have is refused with the design file.
 """
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ from dataclasses import dataclass
 from .. import units
 from ..design import Design
 from ..errors import InputError
+from ..elements.reducer_chain import BASE_FAMILIES, scale_key
+from ..elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
 from ..models.transmission.factors import ErrorFactors
 
 STIFFNESS = "stiffness"     # the design key is a stiffness or k0: key / c
@@ -49,26 +52,39 @@ class Family:
     separated_by: str
 
 
-#: element families of the 20-DOF model (doc 000 Table 2 today) -> the design key that scales each
-FAMILIES: dict[str, Family] = {
-    "sun_support": Family("stiffness.sun_support", STIFFNESS, "sun support (k_s)",
-                          "a radial stiffness test of the input shaft's support"),
-    "sun_planet_mesh": Family("stiffness.sun_planet_mesh", STIFFNESS, "sun–planet meshes (k_sp)",
-                              "a first-stage mesh stiffness test (sun and one planet on a fixture)"),
-    "cycloid_crank_bearing": Family("stiffness.cycloid_crank_bearing_k0", STIFFNESS,
-                                    "cycloid–crank needle bearings (k0_dc)",
-                                    "a load–deflection test of one needle bearing, or a TE curve under load "
-                                    "fitted with the part errors (studies/calibration.md)"),
-    "crank_carrier_bearing": Family("stiffness.crank_carrier_bearing_k0", STIFFNESS,
-                                    "crank–carrier bearings (k0_oc)",
-                                    "a load–deflection test of the crank support bearings in the carrier"),
-    "cycloid_pin_mesh": Family("stiffness.cycloid_pin_mesh_k0", STIFFNESS, "cycloid–pin contacts (k0_pin)",
-                               "a pin-contact load–deflection test, or a TE curve under load fitted with the "
-                               "part errors (studies/calibration.md)"),
-    "carrier_housing_bearing": Family("stiffness.carrier_housing_bearing_k0", STIFFNESS,
-                                      "carrier–housing main bearing (k0_ca)",
-                                      "a radial/tilt stiffness test of the main bearing"),
+#: what measurement tells each family apart from the others
+SEPARATED_BY = {
+    "sun_support": "a radial stiffness test of the input shaft's support",
+    "sun_planet_mesh": "a first-stage mesh stiffness test (sun and one planet on a fixture)",
+    "turning_arm_bearings": "a load–deflection test of one needle bearing, or a TE curve under load fitted with the "
+                            "part errors (studies/calibration.md)",
+    "crank_support_bearings": "a load–deflection test of the crank support bearings in the carrier",
+    "cycloid_pin": "a pin-contact load–deflection test, or a TE curve under load fitted with the part errors "
+                   "(studies/calibration.md)",
+    "carrier_housing_bearing": "a radial/tilt stiffness test of the main bearing",
+    "crank_bending": "a bending test of one crankshaft between its bearings",
+    "crank_torsion": "a torsion test of one crankshaft",
+    "carrier": "a torsion test of the carrier alone (flange against end plate)",
+    "pin_groove": "a pin-in-groove load–deflection test",
+    "disc_web": "a torsion test of one disc between its crank holes and its tooth ring",
+    "input_shaft": "a torsion test of the input shaft",
 }
+
+#: element families of the reducer's torque path (:data:`rvtol.elements.reducer_chain.FAMILIES`): each is
+#: scaled through its one design key ``compliance_scale.<family>`` (a compliance multiplier; default 1)
+FAMILIES: dict[str, Family] = {name: Family(scale_key(name), COMPLIANCE, label,
+                                            SEPARATED_BY.get(name, "a component test of that element"))
+                               for name, label in CHAIN_FAMILIES.items()}
+
+
+def families_in(design: Design) -> tuple[str, ...]:
+    """The families the design's 20-DOF model has: doc 000's contact laws and the chain's elements it gives."""
+    from ..models.transmission.geometry import geometry_from_design
+
+    chain = geometry_from_design(design).chain
+    present = set(BASE_FAMILIES) | set(chain.families if chain is not None else ())
+    return tuple(f for f in FAMILIES if f in present)
+
 
 _CRANK_BEARINGS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
@@ -146,15 +162,16 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
     separated_by = ""
     acts: tuple[str, ...] = ()
     if kind == "compliance":
+        here = families_in(design)
         if what == "all":
-            fams = [f for f in FAMILIES.values() if f.key in design]
+            fams = [FAMILIES[f] for f in here]
             targets, acts = tuple(f.key for f in fams), tuple(f.acts for f in fams)
             label, separated_by = "every element family's compliance", "component tests of each family"
         elif what in FAMILIES:
             f = FAMILIES[what]
-            if f.key not in design:
-                raise InputError(f"the design has no {f.key!r}, which compliance.{what} scales",
-                                 file=design.file, key=f.key)
+            if what not in here:
+                raise InputError(f"the design has no {what} element (families here: {', '.join(here)})",
+                                 file=design.file, key="name")
             targets, acts, label, separated_by = (f.key,), (f.acts,), f.label, f.separated_by
         else:
             raise InputError(f"unknown element family {what!r} (known: all, {', '.join(FAMILIES)})", key="name")
@@ -239,7 +256,8 @@ def scaled_design_values(design: Design, params: list[Parameter], x) -> dict[str
         if p.kind != "compliance":
             continue
         for k, a in zip(p.targets, p.acts):
-            out[k] = design[k] / v if a == STIFFNESS else design[k] * v
+            old = design[k] if k in design else 1.0          # a compliance scale the design leaves at 1
+            out[k] = old / v if a == STIFFNESS else old * v
     return out
 
 

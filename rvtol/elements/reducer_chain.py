@@ -39,7 +39,7 @@ All numbers in base units (mm, N, N·mm, MPa, rad).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -71,6 +71,23 @@ SCALE_PREFIX = "compliance_scale."
 def scale_key(family: str) -> str:
     """The design key that scales a family's compliance (``compliance_scale.<family>``)."""
     return SCALE_PREFIX + family
+
+
+def with_compliance_scales(design, scales: dict[str, float], source: str = "", note: str = ""):
+    """The design with ``compliance_scale.<family>`` set to each value of ``scales`` (added when absent)."""
+    from types import MappingProxyType
+
+    from ..design import DesignParam
+
+    params = dict(design.params)
+    for family, v in scales.items():
+        key = scale_key(family)
+        if family not in FAMILIES:
+            raise SpecError(f"unknown compliance family {family!r} (known: {', '.join(FAMILIES)})", key=key)
+        old = params.get(key)
+        params[key] = DesignParam(key, float(v), "1", source or (old.source if old else "set by the caller"),
+                                  note or (old.note if old else ""))
+    return replace(design, params=MappingProxyType(params))
 
 
 def compliance_scale(design, family: str) -> float:

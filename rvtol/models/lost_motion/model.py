@@ -391,6 +391,12 @@ class LostMotionModel(Model):
             return X[:, self.inputs.index(name)]
         return np.full(len(X), self.nominal[name])
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each stage angle depends on its own factors (:meth:`LostMotionGeometry.coefficients`); the total on all."""
+        coef = self.geometry.coefficients(self.extra)
+        deps = {s: frozenset(n for n in coef[s] if n in self.inputs) for s in STAGES}
+        return {"lost_motion": frozenset(self.inputs), **deps}
+
     def evaluate(self, X):
         X = self.check_input(X)
         w = self.geometry.to_output
