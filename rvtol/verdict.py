@@ -96,12 +96,15 @@ class UnitJudgement:
     reasons: list[str] = field(default_factory=list)
 
 
-def judge_unit(r: Requirement, *, p: float, p_lo: float, p_hi: float, n_failed: int = 0) -> UnitJudgement:
+def judge_unit(r: Requirement, *, p: float, p_lo: float, p_hi: float, n_failed: int = 0,
+               required: float | None = None) -> UnitJudgement:
     """The verdict of one unit on requirement ``r`` from its probability of conformance ``p`` and
-    that probability's confidence interval ``[p_lo, p_hi]`` (module docstring)."""
-    req = unit_probability_required(r)
+    that probability's confidence interval ``[p_lo, p_hi]`` (module docstring); ``required``: the
+    probability a unit must show, instead of :func:`unit_probability_required` (e.g. 0.95, the
+    coverage of ISO 14253-1's decision rule for one workpiece)."""
+    req = unit_probability_required(r) if required is None else float(required)
     lb = r.basis == "lower_bound"
-    yr = r if r.min_yield is not None else _as_yield(r, req)
+    yr = r if r.min_yield == req and r.min_cpk is None else _as_yield(r, req)
     ok = judge(yr, yield_=p, yield_lo=p_lo, n_failed=n_failed)
     if ok.passed:
         return UnitJudgement(CONFORMS, req, [])

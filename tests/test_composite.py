@@ -291,3 +291,18 @@ def test_design_numbers_and_a_shared_mapping(tmp_path):
     with pytest.raises(InputError) as exc:
         load_study(write(tmp_path / "c.toml", bad))
     assert exc.value.key == "quantity.gap" and "'design.cycloid.nothing'" in exc.value.reason
+
+
+def test_a_restricted_composition_evaluates_only_the_stages_its_outputs_need():
+    """Keeping stage one's u needs stage one only; keeping stage two's r needs both (r reads one.u, one.w)."""
+    comp, lin, nonlin = _composite()
+    X = np.array([[2.0e-3, 1.0e-3, 0.2, 1e-4], [1.0e-3, -2.0e-3, 0.1, -2e-4]])
+    full = comp.evaluate(X)
+    only_one = comp.restricted(["one.u"])
+    assert [st.name for st in only_one.stages] == ["one"] and only_one.output_names == ("one.u",)
+    np.testing.assert_array_equal(only_one.evaluate(X)[:, 0], full[:, comp.output_names.index("one.u")])
+    r = comp.restricted(["two.r", "q"])
+    assert [st.name for st in r.stages] == ["one", "two"] and r.output_names == ("q", "two.r")
+    np.testing.assert_array_equal(r.evaluate(X), full[:, [comp.output_names.index(n) for n in ("q", "two.r")]])
+    with pytest.raises(InputError):
+        comp.restricted(["nope"])

@@ -154,8 +154,8 @@ def test_unit_verdicts_conform_fail_and_undecided_by_their_probability(tmp_path)
     model = LinearModel(SPEC.names, ["mm"] * 5, [Quantity("y", "mm", "um")], [a])
     rows = "C0, -1.0, 0.1\nC1, -1.0, 0.1\nC2, 1.0, 0.1\nC3, 1.0, 0.1\nC4, 0.3, 1.0\nC5, 0.3, 1.0\n"
     cranks = write(tmp_path / "c.csv", "serial, cam.x, cam.x.u\n" + rows)
-    mu = load_measured_units(SPEC, write(tmp_path / "k.csv", "reducer, crank_1, crank_2\nA, C0, C1\nB, C2, C3\n"
-                                                             "C, C4, C5\n"), [FamilySource(cranks, ("crank_1", "crank_2"))])
+    kits = write(tmp_path / "k.csv", "reducer, crank_1, crank_2\nA, C0, C1\nB, C2, C3\nC, C4, C5\n")
+    mu = load_measured_units(SPEC, kits, [FamilySource(cranks, ("crank_1", "crank_2"))])
     r = Requirement("y", upper=1.0, unit="um", min_yield=0.9)
     n = samples_to_demonstrate([r])
     pred = predict_units(model, SPEC, mu, n, evaluator=Evaluator(), requirements=[r], seed=4)
@@ -168,6 +168,12 @@ def test_unit_verdicts_conform_fail_and_undecided_by_their_probability(tmp_path)
     # with fewer samples than needed, a unit whose samples all conform is undecided
     pred2 = predict_units(model, SPEC, mu, 10, evaluator=Evaluator(), requirements=[r], seed=4)
     assert pred2.verdicts()["A"] == UNDECIDED
+    # a conformance probability of its own (ISO 14253-1's 95 %): 72 samples demonstrate it
+    n95 = samples_to_demonstrate([r], probability=0.95)
+    assert n95 == math.ceil(math.log(0.025) / math.log(0.95)) == 72
+    pred3 = predict_units(model, SPEC, mu, n95, evaluator=Evaluator(), requirements=[r], seed=4, probability=0.95)
+    assert pred3.verdicts() == {"A": CONFORMS, "B": DOES_NOT_CONFORM, "C": DOES_NOT_CONFORM}
+    assert set(pred3.requirement_frame()["required"]) == {0.95}
 
 
 @pytest.mark.parametrize("which, text, key", [

@@ -163,6 +163,23 @@ def test_the_optimiser_finds_the_brute_force_optimum_of_its_objective():
     assert opt.best > opt.start
 
 
+def test_the_rv80e_pin_rule_weighs_the_pin_circle_as_the_20dof_model_does(root):
+    """studies/rv80e_production.toml's rule reads the pin-stage clearance as ½(n0_1 + n0_2) + c1·δR + g: on the
+    20-DOF torsion curve of the product, a uniform pin-circle change δR moves the lost motion c1 = √(1 − K1²)
+    times as much as the same normal clearance at every pin (central differences, ±0.5 µm)."""
+    from rvtol.design import load_design
+    from rvtol.models.torsion_curve.model import TorsionCurveModel
+
+    design = load_design(root / "data/products/rv80e/design.toml")
+    model = TorsionCurveModel(design, ["delta_pin", "R_pc"])
+    h = 0.5e-3
+    X = np.array([[6.6e-3 - h, 0.0], [6.6e-3 + h, 0.0], [6.6e-3, -h], [6.6e-3, h]])
+    lm = Evaluator()(model, X).Y[:, 0]
+    rate_clearance, rate_circle = (lm[1] - lm[0]) / (2 * h), (lm[3] - lm[2]) / (2 * h)
+    k1 = design["pin.count"] * design["cycloid.eccentricity"] / design["pin.circle_radius"]
+    assert rate_circle / rate_clearance == pytest.approx(math.sqrt(1 - k1 ** 2), rel=0.03)
+
+
 STUDY = """
 [study]
 name = "fit"
@@ -224,11 +241,26 @@ def test_the_study_analysis_compares_cases_with_stock_and_writes_its_summary(tmp
     for c in cases[1:]:
         st = c["stock"]
         made, used, left = (np.array(st[k]) for k in ("made", "used", "left_over"))
-        assert made.sum() == math.ceil(1.05 * n) and used.sum() == n
+        assert made.sum() == 4200 and used.sum() == n            # 1.05 × 4000 parts made
         np.testing.assert_array_equal(made - used, left)
     # finite stock: close to the unlimited closed form (substitutions cost a little)
     assert y[2] <= yield_class_to_class(4) + 4 * math.sqrt(0.25 / n)
     assert not res.mc.verdicts()[0].passed                         # the ungraded study fails 0.9
+
+
+def test_a_supply_of_its_own_adds_the_as_drawn_case(tmp_path):
+    """Shafts from a supply shifted by +0.5 µm: 'as drawn' is the study's own sample, 'no grading' the shifted
+    supply at random — clearance N(9.5, √2) µm, yield Φ(1.5/√2) − Φ(−0.5/√2) in [9, 11]."""
+    text = STUDY.replace("n = 4000", "n = 400").replace("[analysis.optimise]\nclasses = 3\nn = 400\nmax_evaluations = 20\n",
+                                                       "")
+    text += '[analysis.supply]\nunit = "um"\ndist = "normal"\nmean = 0.5\nsigma = 1.0\n'
+    res = run_study(load_study(write(tmp_path / "s.toml", text), progress=False))
+    (sec,) = res.sections
+    assert [c["case"] for c in sec.summary["cases"]] == ["as drawn (spec)", "no grading", "2 equal-probability "
+                                                         "classes", "4 equal-probability classes"]
+    assert sec.summary["cases"][0]["joint_yield"] == res.mc.verdicts()[0].yield_.estimate
+    ref = stats.norm.cdf(1.5 / math.sqrt(2)) - stats.norm.cdf(-0.5 / math.sqrt(2))
+    assert abs(sec.summary["cases"][1]["joint_yield"] - ref) < 4 * math.sqrt(ref * (1 - ref) / 400)
 
 
 @pytest.mark.parametrize("old, new, key", [

@@ -55,7 +55,6 @@ design and checked on the study's samples.
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -73,7 +72,8 @@ from ..spec import YIELD_INTERVALS, factor_from_params
 from .measured_parts import FamilySource, load_measured_units
 from .per_unit import STATES, predict_units, samples_to_demonstrate
 from .selective import (Classes, ClassToClassRule, GradedPart, Supply, TargetRule, assemble, bandwidths,
-                        known_names, named_values, optimise_limits, smoothed_yield, stock_batch, ungraded)
+                        known_names, named_values, optimise_limits, smoothed_yield, stock_batch, stock_size,
+                        ungraded)
 
 
 def _key(kind: str, name: str) -> str:
@@ -95,6 +95,15 @@ def _outputs(params: Params, study) -> list[str]:
     return outs
 
 
+def _evaluated(study, outputs: list[str]):
+    """``(model, requirements)``: the study's model restricted to ``outputs`` (a composed study evaluates only
+    the stages they need) and the study's requirements on them."""
+    model = study.model
+    if hasattr(model, "restricted") and set(outputs) != set(model.output_names):
+        model = model.restricted(outputs)
+    return model, [r for r in study.requirements if r.output in outputs]
+
+
 # --------------------------------------------------------------------------- per-unit prediction
 class PerUnitPrediction(Analysis):
     def setup(self, params, study):
@@ -112,19 +121,21 @@ class PerUnitPrediction(Analysis):
             t.finish()
         self.units = load_measured_units(study.spec, kits, sources)
         study.inputs.update({f"{self.key}:{k}": v for k, v in self.units.files().items()})
-        self.needed = samples_to_demonstrate(study.requirements)
+        self.outputs = _outputs(params, study)
+        self.model, self.requirements = _evaluated(study, self.outputs)
+        self.probability = params.float("conformance_probability", None, min=0.5, max=0.999999)
+        self.needed = samples_to_demonstrate(self.requirements, self.probability)
         self.n = params.int("n", self.needed, min=2)
         self.interval = params.float("interval", 0.95, min=0.5, max=0.9999)
-        self.outputs = _outputs(params, study)
         self.file = f"per_unit_{self.name}.csv" if self.name else "per_unit.csv"
         params.finish()
 
     def run(self, ctx) -> Section:
         from ..plotting.production import plot_unit_intervals
 
-        pred = predict_units(ctx.model, ctx.spec, self.units, self.n, evaluator=ctx.evaluator,
-                             requirements=ctx.study.requirements, method=ctx.options.method, seed=ctx.seed,
-                             interval=self.interval)
+        pred = predict_units(self.model, ctx.spec, self.units, self.n, evaluator=ctx.evaluator,
+                             requirements=self.requirements, method=ctx.options.method, seed=ctx.seed,
+                             interval=self.interval, probability=self.probability)
         s = Section(self.key, "Per-unit prediction from measured parts" + (f": {self.name}" if self.name else ""))
         fams = ", ".join(f"{f.name} ({len(f.serials)} parts, {len(f.columns)} features, slots "
                          f"{', '.join(f.slots)})" for f in self.units.families)
@@ -136,9 +147,11 @@ class PerUnitPrediction(Analysis):
             "(conditionally on the measured ones where the spec correlates them), one design for every reducer "
             "(sub-stream 'per_unit' of the study seed).\n\n"
             "Verdict per requirement (rvtol.verdict.judge_unit): the unit conforms when the probability that it "
-            "meets the requirement reaches the yield the requirement asks of the population (on its lower "
-            "confidence bound unless the requirement's basis is the estimate), does not conform when even the "
-            "upper bound stays below, and is undecided in between; the unit's verdict is its worst. "
+            "meets the requirement reaches "
+            + ("the yield the requirement asks of the population" if self.probability is None else
+               f"{self.probability:g} (the study's conformance probability for one unit)")
+            + " (on its lower confidence bound unless the requirement's basis is the estimate), does not conform "
+            "when even the upper bound stays below, and is undecided in between; the unit's verdict is its worst. "
             f"Result: {counts['conforms']} conform, {counts['does not conform']} do not conform, "
             f"{counts['undecided']} undecided. One row per reducer: {self.file} in the report folder.")
         if self.n < self.needed:
@@ -176,6 +189,7 @@ class PerUnitPrediction(Analysis):
                               "unit's verdict on this output's requirement(s)")
         s.add_file(self.file, pred.unit_frame().to_csv(index=False))
         s.summary = {"n": self.n, "n_to_demonstrate": self.needed, "interval": self.interval, "counts": counts,
+                     "conformance_probability": self.probability,
                      "file": self.file, "units": _unit_summary(pred, req, verdicts)}
         return s
 
@@ -283,36 +297,39 @@ class SelectiveAssembly(Analysis):
                                              f"({supply.factor.describe()})")
         self.stock_ratio = params.float("stock_ratio", None, min=1.0)
         self.outputs = _outputs(params, study)
+        self.model, self.requirements = _evaluated(study, self.outputs)
         self.optimise = None
         if "optimise" in params:
             op = params.sub("optimise")
             self.optimise = {"classes": op.int("classes", 3, min=2, max=20), "n": op.int("n", 300, min=20),
                              "max_evaluations": op.int("max_evaluations", 40, min=2)}
             op.finish()
-            if not study.requirements:
-                raise params.error("optimise", "optimising the class limits needs requirements (the yield)")
+            if not self.requirements:
+                raise params.error("optimise", "optimising the class limits needs requirements on the outputs "
+                                               "(the yield)")
         params.finish()
 
     # ------------------------------------------------------------------
-    def _case(self, ctx, X, env, classes: Classes | None, label: str, k: int) -> dict:
-        """Evaluate one assembly case on the samples ``X``; ``classes`` None: no grading."""
-        spec, model = ctx.spec, ctx.model
+    def _case(self, ctx, X, env, classes: Classes | None, label: str, k: int, as_drawn: bool = False) -> dict:
+        """Evaluate one assembly case on the samples ``X``; ``classes`` None: no grading (parts at random from
+        the supply, or with ``as_drawn`` the samples as the spec drew them)."""
+        spec, model = ctx.spec, self.model
         stock = None
         if classes is None:
-            Xg = ungraded(X, spec, self.part)
+            Xg = X if as_drawn else ungraded(X, spec, self.part)
             asm = None
         else:
             if self.stock_ratio is not None:
-                size = int(math.ceil(self.stock_ratio * len(X) * len(self.part.factors)))
+                size = stock_size(self.stock_ratio, len(X) * len(self.part.factors))
                 stock = stock_batch(self.part.supply, size, ctx.seed)
             asm = assemble(X, spec, self.part, classes, env, stock)
             Xg = asm.X
-        if classes is None and Xg.shape == ctx.mc.samples.values.shape and np.array_equal(Xg, ctx.mc.samples.values):
+        if model is ctx.model and classes is None and np.array_equal(Xg, ctx.mc.samples.values):
             mc = ctx.mc                                   # the study's own result: nothing to evaluate
         else:
             ev = ctx.evaluator(model, Xg, f"selective assembly: {label}")
             s = SampleSet(Xg, spec.names, spec.units, ctx.mc.samples.method, ctx.seed)
-            mc = result_of(model, s, ev, ctx.study.requirements, ctx.mc.confidence)
+            mc = result_of(model, s, ev, self.requirements, ctx.mc.confidence)
         return {"label": label, "k": k, "classes": classes, "mc": mc, "assembly": asm}
 
     def _row(self, case: dict) -> dict:
@@ -343,11 +360,13 @@ class SelectiveAssembly(Analysis):
     def run(self, ctx) -> list[Section]:
         from ..plotting.production import plot_graded_distributions, plot_stock_balance, plot_yield_against_classes
 
-        spec, model = ctx.spec, ctx.model
+        spec, model = ctx.spec, self.model
         X = ctx.mc.samples.values
         env = named_values(model, spec, X)
         supply = self.part.supply
-        cases = [self._case(ctx, X, env, None, "no grading", 1)]
+        same = all(supply.same_as(spec.factor(f)) for f in self.part.factors)
+        cases = [] if same else [self._case(ctx, X, env, None, "as drawn (spec)", 1, as_drawn=True)]
+        cases.append(self._case(ctx, X, env, None, "no grading", 1))
         for k in self.classes:
             if k == 1:
                 continue
@@ -363,15 +382,17 @@ class SelectiveAssembly(Analysis):
         s = Section(self.key, "Selective assembly" + (f": {self.name}" if self.name else ""))
         unit = supply.factor.unit
         rule = "; ".join(f"{f}: {r.describe()}" for f, r in zip(self.part.factors, self.part.rules))
-        same = supply.same_as(spec.factor(self.part.factors[0]))
         own = spec.factor(self.part.factors[0]).describe()
         s.add_text(
             f"Graded: {', '.join(self.part.factors)} (one part per factor and reducer). Supply before grading: "
             f"{supply.factor.describe()}" + ("" if same else f" ({supply.factor.source or 'given in the study'}; the "
-                                             f"spec's own distribution is {own}: the ungraded case picks parts at "
-                                             "random from this supply)")
+                                             f"spec's own distribution is {own}, the case 'as drawn'; 'no "
+                                             "grading' picks parts at random from this supply)")
             + f". Matching rule: {rule}. Simulated inside the Monte Carlo on the study's {ctx.mc.n} samples "
-            "(common random numbers: only the graded factor changes). "
+            "(common random numbers: only the graded factor changes); evaluated: "
+            + ", ".join(model.output_names)
+            + (f" (the stages {', '.join(st.name for st in model.stages)})" if hasattr(model, "stages") else "")
+            + ". "
             + ("Unlimited supply: each part is drawn from the supply within its class."
                if self.stock_ratio is None else
                f"Finite stock: a graded batch of {self.stock_ratio:g} parts per part used (sub-stream "
@@ -391,16 +412,17 @@ class SelectiveAssembly(Analysis):
             s.add_figure(plot_stock_balance(cl, asm.stock.made, asm.stock.used, asm.stock.leftover),
                          f"Stock balance of '{chosen['label']}'")
         for o in self.outputs:
-            rs = [r for r in ctx.mc.requirements if r.output == o]
-            series = {cases[0]["label"]: cases[0]["mc"].column(o), chosen["label"]: chosen["mc"].column(o)}
-            s.add_figure(plot_graded_distributions(series, output=o, unit=ctx.mc.unit_of(o),
+            rs = [r for r in cases[0]["mc"].requirements if r.output == o]
+            series = {c["label"]: c["mc"].column(o) for c in cases if c["classes"] is None}
+            series[chosen["label"]] = chosen["mc"].column(o)
+            s.add_figure(plot_graded_distributions(series, output=o, unit=cases[0]["mc"].unit_of(o),
                                                    lower=next((r.lower for r in rs if r.lower is not None), None),
                                                    upper=next((r.upper for r in rs if r.upper is not None), None)),
                          f"{o}: without grading and with '{chosen['label']}'")
-        if ctx.mc.requirements:
+        if self.requirements:
             ks, ests, los, his = [], [], [], []
             for c in cases:
-                if c["label"] in ("proposed limits", "optimised limits"):
+                if c["label"] in ("proposed limits", "optimised limits", "as drawn (spec)"):
                     continue
                 j = _joint(c["mc"])
                 ks.append(c["k"]), ests.append(j.estimate), los.append(j.lo), his.append(j.hi)
@@ -428,11 +450,11 @@ class SelectiveAssembly(Analysis):
         return s
 
     def _optimise(self, ctx):
-        spec, model = ctx.spec, ctx.model
+        spec, model = ctx.spec, self.model
         o = self.optimise
         Xo = sample(spec, o["n"], ctx.mc.samples.method, substream_seed(ctx.seed, "selective_optimise")).values
         env = named_values(model, spec, Xo)
-        reqs = ctx.mc.requirements
+        reqs = [r.in_unit(model.output(r.output).shown_unit) for r in self.requirements]
         outs = model.output_names
         base = result_of(model, SampleSet(Xo, spec.names, spec.units, "lhs", ctx.seed),
                          ctx.evaluator(model, ungraded(Xo, spec, self.part), "class limits: ungraded"))

@@ -48,13 +48,14 @@ STATES = (CONFORMS, UNDECIDED, DOES_NOT_CONFORM)
 _U_EPS = 2.0 ** -53
 
 
-def samples_to_demonstrate(requirements, max_n: int = 10_000_000) -> int:
+def samples_to_demonstrate(requirements, probability: float | None = None, max_n: int = 10_000_000) -> int:
     """The smallest ``n`` at which a unit with every sample conforming is judged to conform on every
-    requirement (the lower confidence bound of ``n/n`` reaching the required probability); e.g.
-    1365 for 0.9973 at 95 % Clopper–Pearson (``(α/2)^(1/n) ≥ 0.9973``).  1 without requirements."""
+    requirement (the lower confidence bound of ``n/n`` reaching the required probability — each
+    requirement's own, or ``probability``); e.g. 1365 for 0.9973 and 72 for 0.95 at 95 %
+    Clopper–Pearson (``(α/2)^(1/n) ≥ p``).  1 without requirements."""
     need = 1
     for r in requirements:
-        p = unit_probability_required(r)
+        p = unit_probability_required(r) if probability is None else probability
         method = YIELD_INTERVALS[r.interval]
         if r.basis == "estimate" or p <= 0.0:
             continue
@@ -139,6 +140,7 @@ class UnitPredictions:
     interval: float
     measured: np.ndarray               # [units] number of measured factors
     status_reasons: dict
+    probability: float | None = None   # the probability of conformance a unit must show (None: each requirement's)
 
     @property
     def n(self) -> int:
@@ -178,7 +180,8 @@ class UnitPredictions:
             for r in self.requirements:
                 y = self.Y[i, :, names.index(r.output)]
                 yr = st.yield_of(y, ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
-                j = judge_unit(r, p=yr.estimate, p_lo=yr.lo, p_hi=yr.hi, n_failed=int((~ok).sum()))
+                j = judge_unit(r, p=yr.estimate, p_lo=yr.lo, p_hi=yr.hi, n_failed=int((~ok).sum()),
+                               required=self.probability)
                 rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": yr.estimate,
                              "P_lo": yr.lo, "P_hi": yr.hi, "required": j.required, "verdict": j.state,
                              "reasons": "; ".join(j.reasons)})
@@ -220,8 +223,10 @@ class UnitPredictions:
 
 def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n: int, *, evaluator,
                   requirements=(), method: str = "lhs", seed: int | None = None,
-                  interval: float = 0.95) -> UnitPredictions:
-    """Predict every unit of ``measured`` (module docstring); ``evaluator``: an :class:`rvtol.mc.Evaluator`."""
+                  interval: float = 0.95, probability: float | None = None) -> UnitPredictions:
+    """Predict every unit of ``measured`` (module docstring); ``evaluator``: an :class:`rvtol.mc.Evaluator`;
+    ``probability``: the probability of conformance a unit must show (default: each requirement's own,
+    :func:`rvtol.verdict.unit_probability_required`)."""
     if not 0.0 < interval < 1.0:
         raise ValueError(f"interval must lie in (0, 1), got {interval}")
     X = unit_design(spec, measured, n, method, seed)
@@ -231,4 +236,4 @@ def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n:
     reqs = tuple(r.in_unit(model.output(r.output).shown_unit) for r in requirements)
     return UnitPredictions(tuple(measured.units), tuple(model.outputs), res.Y.reshape(U, n, -1),
                            res.status.reshape(U, n), reqs, float(interval), measured.measured.sum(axis=1),
-                           dict(model.status_reasons))
+                           dict(model.status_reasons), probability)

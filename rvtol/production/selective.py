@@ -252,6 +252,11 @@ class Assembly:
         return int((self.wanted != self.given).sum())
 
 
+def stock_size(ratio: float, parts_used: int) -> int:
+    """Parts in a graded batch: ``ratio`` per part used, rounded up (``1.1 × 200`` is 220, not 221)."""
+    return int(np.ceil(round(ratio * parts_used, 9)))
+
+
 def stock_batch(supply: Supply, size: int, seed: int | None) -> np.ndarray:
     """A production batch of ``size`` part sizes (base units) from the sub-stream ``selective_stock``."""
     from ..sampling import substream

@@ -212,6 +212,23 @@ class CompositeModel(Model):
         env, _ = self.environment(X)
         return self.stage_matrix(st, env, len(X))
 
+    def restricted(self, outputs) -> "CompositeModel":
+        """The same composition with only ``outputs`` (names of this model's outputs) and the stages they
+        need (the stages that give them and, transitively, the stages whose outputs feed those) — to
+        evaluate a few outputs without paying for the stages that do not reach them."""
+        outputs = list(outputs)
+        for o in outputs:
+            self.output(o)
+        of_stage = {st.output_name(j): st.name for st in self.stages for j in range(len(st.model.outputs))}
+        need = {of_stage[o] for o in outputs if o in of_stage}
+        for st in reversed(self.stages):
+            if st.name in need:
+                need |= {of_stage[m] for e in st.inputs for m in e.names if m in of_stage}
+        stages = [replace(st, keep=tuple(j for j in range(len(st.model.outputs)) if st.output_name(j) in outputs))
+                  for st in self.stages if st.name in need]
+        quantities = [replace(q, output=q.output and q.name in outputs) for q in self.quantities]
+        return CompositeModel(self.inputs, self.input_units, quantities, stages)
+
     def mapping_table(self) -> list[dict]:
         """Every stage input and quantity with the expression that feeds it (for the report)."""
         rows = [{"model": "(quantity)", "input": q.name, "expression": q.expression.text,
