@@ -32,7 +32,7 @@ def plot_unit_intervals(units, median, lo, hi, verdicts, *, output: str, unit: s
             ax.plot([], [], color=c, lw=2.2, label=v)
     ax.set_yticks(yy, units, fontsize=7)
     ax.set_xlabel(f"{output} [{label(unit)}] — median and {interval:.0%} prediction interval")
-    ax.legend(loc="best", fontsize=7)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
     ax.grid(axis="y", visible=False)
     return fig
 

@@ -334,7 +334,7 @@ class SelectiveAssembly(Analysis):
 
     def _row(self, case: dict) -> dict:
         mc = case["mc"]
-        row = {"case": case["label"], "classes": case["k"]}
+        row = {"case": case["label"], "classes": case["k"], "failed": int(mc.n - mc.ok.sum())}
         for v in mc.verdicts():
             y = v.yield_
             row[f"{v.requirement.label}: yield"] = y.estimate
@@ -489,7 +489,7 @@ def _case_summary(c: dict, unit: str) -> dict:
     from .. import units
 
     mc = c["mc"]
-    out = {"case": c["label"], "classes": c["k"],
+    out = {"case": c["label"], "classes": c["k"], "failed": int(mc.n - mc.ok.sum()),
            "requirements": [{"requirement": v.requirement.label, "yield": v.yield_.estimate,
                              "yield_ci": [v.yield_.lo, v.yield_.hi], "passed": v.passed} for v in mc.verdicts()]}
     if mc.requirements:
