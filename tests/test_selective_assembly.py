@@ -180,6 +180,15 @@ def test_the_rv80e_pin_rule_weighs_the_pin_circle_as_the_20dof_model_does(root):
     assert rate_circle / rate_clearance == pytest.approx(math.sqrt(1 - k1 ** 2), rel=0.03)
 
 
+def test_a_target_may_read_design_numbers(root):
+    from rvtol.design import load_design
+    from rvtol.production.selective import design_numbers
+
+    design = load_design(root / "data/products/rv80e/design.toml")
+    assert design_numbers(["design.pin.count", "design.pin.circle_radius", "hole", "design.no.such"], design) == {
+        "design.pin.count": 40.0, "design.pin.circle_radius": 76.5}
+
+
 STUDY = """
 [study]
 name = "fit"
@@ -251,8 +260,8 @@ def test_the_study_analysis_compares_cases_with_stock_and_writes_its_summary(tmp
 def test_a_supply_of_its_own_adds_the_as_drawn_case(tmp_path):
     """Shafts from a supply shifted by +0.5 µm: 'as drawn' is the study's own sample, 'no grading' the shifted
     supply at random — clearance N(9.5, √2) µm, yield Φ(1.5/√2) − Φ(−0.5/√2) in [9, 11]."""
-    text = STUDY.replace("n = 4000", "n = 400").replace("[analysis.optimise]\nclasses = 3\nn = 400\nmax_evaluations = 20\n",
-                                                       "")
+    text = STUDY.replace("n = 4000", "n = 400")
+    text = text.replace("[analysis.optimise]\nclasses = 3\nn = 400\nmax_evaluations = 20\n", "")
     text += '[analysis.supply]\nunit = "um"\ndist = "normal"\nmean = 0.5\nsigma = 1.0\n'
     res = run_study(load_study(write(tmp_path / "s.toml", text), progress=False))
     (sec,) = res.sections
@@ -268,6 +277,7 @@ def test_a_supply_of_its_own_adds_the_as_drawn_case(tmp_path):
     ('match = "hole"', 'match = "hole"\ntarget = "hole"', "analysis[0].target"),
     ('match = "hole"', 'target = "shaft * 2"', "analysis[0].target"),
     ('match = "hole"', 'target = "nope + 1"', "analysis[0].target"),
+    ('match = "hole"', 'target = "design.pin.count * hole"', "analysis[0].target"),
     ("classes = [2, 4]", "classes = [2, 0]", "analysis[0].classes"),
     ("stock_ratio = 1.05", "stock_ratio = 0.9", "analysis[0].stock_ratio"),
     ("stock_ratio = 1.05", "limits = [1.0, 0.5]", "analysis[0].limits"),

@@ -28,8 +28,8 @@ under ``analyses.per_unit_prediction.units``.
     kind = "selective_assembly"
     name = "pins"                   # optional: section key selective_assembly_<name>
     factor = "pins.diameter_lot"    # the graded part's size (or factors = [...]: one part per factor)
-    target = "..."                  # matching rule: the target size, an expression of factors and mapped
-                                    # quantities in base units (or targets = [...], one per factor)
+    target = "..."                  # matching rule: the target size, an expression of factors, mapped quantities and
+                                    # design numbers design.<key>, base units (or targets = [...], one per factor)
     # match = "hole.size"           # or: class to class with the mating part (or match = [...])
     classes = [2, 3, 4]             # numbers of equal-probability classes compared with no grading
     limits = [-3.0, -2.0, -1.0]     # optional: inner limits of a proposed grading (unit of the supply)
@@ -72,8 +72,8 @@ from ..spec import YIELD_INTERVALS, factor_from_params
 from .measured_parts import FamilySource, load_measured_units
 from .per_unit import STATES, predict_units, samples_to_demonstrate
 from .selective import (Classes, ClassToClassRule, GradedPart, Supply, TargetRule, assemble, bandwidths,
-                        known_names, named_values, optimise_limits, smoothed_yield, stock_batch, stock_size,
-                        ungraded)
+                        design_numbers, known_names, named_values, optimise_limits, smoothed_yield, stock_batch,
+                        stock_size, ungraded)
 
 
 def _key(kind: str, name: str) -> str:
@@ -253,6 +253,7 @@ class SelectiveAssembly(Analysis):
             raise params.error("target", "give the matching rule: target (a target size) or match (class to class)")
         rules = []
         known = known_names(model, spec)
+        self.constants: dict[str, float] = {}
         if targets is not None:
             key = "targets" if "targets" in params else "target"
             if len(targets) != len(factors):
@@ -260,12 +261,13 @@ class SelectiveAssembly(Analysis):
             for t in targets:
                 try:
                     e = Expression.parse(t)
+                    self.constants.update(design_numbers([m for m in e.names if m not in known], study.design))
                 except InputError as exc:
                     raise params.error(key, exc.reason) from None
-                bad = [m for m in e.names if m not in known]
+                bad = [m for m in e.names if m not in known and m not in self.constants]
                 if bad:
-                    raise params.error(key, f"unknown name {bad[0]!r} in {t!r} (a factor of the spec or a mapped "
-                                            "quantity)")
+                    raise params.error(key, f"unknown name {bad[0]!r} in {t!r} (a factor of the spec, a mapped "
+                                            "quantity or a design number design.<key>)")
                 rules.append(TargetRule(e))
         else:
             key = "match_factors" if "match_factors" in params else "match"
@@ -362,7 +364,7 @@ class SelectiveAssembly(Analysis):
 
         spec, model = ctx.spec, self.model
         X = ctx.mc.samples.values
-        env = named_values(model, spec, X)
+        env = {**named_values(model, spec, X), **self.constants}
         supply = self.part.supply
         same = all(supply.same_as(spec.factor(f)) for f in self.part.factors)
         cases = [] if same else [self._case(ctx, X, env, None, "as drawn (spec)", 1, as_drawn=True)]
@@ -453,7 +455,7 @@ class SelectiveAssembly(Analysis):
         spec, model = ctx.spec, self.model
         o = self.optimise
         Xo = sample(spec, o["n"], ctx.mc.samples.method, substream_seed(ctx.seed, "selective_optimise")).values
-        env = named_values(model, spec, Xo)
+        env = {**named_values(model, spec, Xo), **self.constants}
         reqs = [r.in_unit(model.output(r.output).shown_unit) for r in self.requirements]
         outs = model.output_names
         base = result_of(model, SampleSet(Xo, spec.names, spec.units, "lhs", ctx.seed),

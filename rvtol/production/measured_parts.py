@@ -44,7 +44,7 @@ from __future__ import annotations
 import csv
 import io
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
@@ -320,7 +320,6 @@ class MeasuredUnits:
     families: tuple[PartFamily, ...]
     kit_file: str = ""
     kit_sha256: str = ""
-    origin: dict = field(default_factory=dict)    # factor -> family name (for reports)
 
     @property
     def measured(self) -> np.ndarray:
@@ -387,6 +386,5 @@ def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> Mea
             cols = [index[f] for f in fam.factors(slot)]
             value[u, cols] = fam.values[r]
             unc[u, cols] = fam.uncertainty[r]
-    origin = {f: fam for f, (fam, _) in claimed.items()}
     return MeasuredUnits(tuple(spec.names), tuple(k.reducer for k in kits), value, unc, tuple(kits), tuple(fams),
-                         kfile, ksha, origin)
+                         kfile, ksha)

@@ -36,6 +36,7 @@ import pandas as pd
 from scipy import stats
 
 from .. import stats as st
+from .. import units
 from ..mc import result_of
 from ..model import STATUS_OK, Model, Quantity
 from ..sampling import SampleSet, substream_seed, uniform_design
@@ -110,8 +111,6 @@ def unit_design(spec: ToleranceSpec, measured: MeasuredUnits, n: int, method: st
 
 def _score(f, x_base: np.ndarray) -> np.ndarray:
     """The normal score of a value (base units) under the factor's distribution."""
-    from .. import units
-
     p = f.dist.cdf(units.from_base(x_base, f.unit))
     return stats.norm.ppf(np.clip(p, _U_EPS, 1.0 - _U_EPS))
 
