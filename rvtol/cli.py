@@ -38,6 +38,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--method", choices=("random", "lhs", "sobol"), help="sampling method")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
     run.add_argument("--no-pdf", action="store_true", help="skip report.pdf")
+    run.add_argument("--tables", choices=("csv", "xlsx"), action="append",
+                     help="also write samples and statistics as CSV or XLSX beside samples.parquet (repeatable)")
     run.add_argument("--quiet", action="store_true", help="no progress bar, only the verdict line")
     run.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
 
@@ -46,6 +48,14 @@ def _parser() -> argparse.ArgumentParser:
     chk.add_argument("--debug", action="store_true")
 
     sub.add_parser("kinds", help="list the model and analysis kinds a study can use")
+
+    spec = sub.add_parser("spec", help="tolerance specs: convert between TOML and tables")
+    ssub = spec.add_subparsers(dest="spec_command", metavar="SPEC_COMMAND")
+    exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
+    exp.add_argument("spec", help="spec file (.toml, .csv, .tsv or .xlsx)")
+    exp.add_argument("--out", required=True, help="the table to write (.csv, .tsv or .xlsx)")
+    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: the first)")
+    exp.add_argument("--force", action="store_true", help="replace --out if it exists")
     return p
 
 
@@ -59,6 +69,8 @@ def main(argv: list[str] | None = None) -> int:
             return _kinds()
         if args.command == "check":
             return _check(args)
+        if args.command == "spec":
+            return _spec(args)
         return _run(args)
     except InputError as exc:
         print(f"rvtol: error: {exc}", file=sys.stderr)
@@ -86,6 +98,8 @@ def _overrides(args) -> dict:
               scheduler=args.scheduler, chunk_size=args.chunk_size)
     if args.no_pdf:
         ov["pdf"] = False
+    if args.tables:
+        ov["tables"] = tuple(dict.fromkeys(args.tables))
     if args.quiet:
         ov["progress"] = False
     return ov
@@ -100,16 +114,45 @@ def _check(args) -> int:
     return EXIT_PASS
 
 
+def _spec(args) -> int:
+    import os
+
+    from .inputs.sheets import WRITE_SUFFIXES
+    from .inputs.table_spec import write_table_spec
+    from .spec import load_spec
+
+    if args.spec_command != "export":
+        _parser().parse_args(["spec", "--help"])
+    out = Path(args.out)
+    if out.suffix.lower() not in WRITE_SUFFIXES:
+        raise InputError(f"unknown table format {out.suffix!r} (expected {', '.join(WRITE_SUFFIXES)})",
+                         file=str(out), key="--out")
+    if out.exists() and not args.force:
+        raise InputError("exists; give --force to replace it", file=str(out), key="--out")
+    spec = load_spec(args.spec, sheet=args.sheet)
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    try:
+        write_table_spec(spec, tmp)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    print(f"rvtol: wrote {out} ({len(spec)} factors of spec {spec.name!r})")
+    return EXIT_PASS
+
+
 def _kinds() -> int:
-    from .registry import ANALYSES, MODELS
+    from .registry import ANALYSES, MODELS, plugin_models
 
     print("models:   " + ", ".join(sorted(MODELS)))
+    plugins = plugin_models()
+    if plugins:
+        print("models from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in sorted(plugins.items())))
     print("analyses: " + ", ".join(sorted(ANALYSES)))
     return EXIT_PASS
 
 
 def _run(args) -> int:
-    from .study import check_out_dir, load_study, run_study, write_outputs
+    from .study import check_out_dir, load_study, result_files, run_study, write_outputs
 
     study = load_study(args.study, **_overrides(args))
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)  # before the run
@@ -119,8 +162,7 @@ def _run(args) -> int:
         _print_result(result)
     verdict = "PASS" if result.passed else "FAIL"
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
-          + (" (+ report.pdf, summary.json, samples.parquet)" if study.options.pdf
-             else " (+ summary.json, samples.parquet)"))
+          + f" (+ {', '.join(result_files(study.options))})")
     return EXIT_PASS if result.passed else EXIT_FAIL
 
 

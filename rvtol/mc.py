@@ -22,7 +22,7 @@ from .executors import Executor, SerialExecutor
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import judge
+from .verdict import cpk_figures, judge
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -119,12 +119,18 @@ class Verdict:
     passed: bool
     reasons: list[str]
 
+    @property
+    def judged_cpk(self) -> tuple[float | None, float | None]:
+        """The Cpk and lower bound the requirement is judged on (its ``cpk_method``)."""
+        return cpk_figures(self.requirement, self.capability, self.cpk_percentile_ci)
+
     def to_dict(self) -> dict:
         r = self.requirement
         cap = self.capability
         return {
             "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
             "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "cpk_method": r.cpk_method,
             "yield_interval": r.interval,
             "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
@@ -213,7 +219,8 @@ class MonteCarloResult:
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
                    if len(good) >= 100 else (None, None))
-            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cap["cpk"], cpk_lo=cap["cpk_lo"],
+            cpk, cpk_lo = cpk_figures(r, cap, pci)
+            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cpk, cpk_lo=cpk_lo,
                       n_failed=int(self.n - self.ok.sum()))
             out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons))
         return out

@@ -6,6 +6,10 @@ values, unit to report in) and a vectorised ``evaluate(X[n, k]) -> Y[n, m]``
 in base units.  Monte Carlo, five-point and global sensitivity and tolerance
 allocation work on any Model without special cases.
 
+A model may also offer ``gradient(X) -> (n, outputs, inputs)``, its exact derivatives in base units
+(the formula model does); the linearised analyses then use it instead of five-point
+differences (:func:`rvtol.sensitivity.common.model_gradient`).
+
 Samples a model cannot evaluate (a solver that does not converge, contact
 lost everywhere) are reported through :meth:`Model.evaluate_with_status`:
 status 0 is success, any other code is a failure whose reason is

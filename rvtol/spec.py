@@ -18,6 +18,37 @@ File format (``data/specs/*.toml``)::
     group = "pin gear"         # optional: for group-wise sensitivity and allocation (default: the part)
     source = "..."             # optional: where the number comes from
 
+    [[factor]]                 # drawing notation (rvtol.inputs.notation) instead of numbers:
+    name = "bore"
+    nominal = 25               # optional when the text has it ("25 H7")
+    tolerance = "H7"           # "+0.10/-0.00", "±0.05", "5%", "24.95..25.05", "max 0.02", "H7/g6",
+                               # "±0.05 Cpk 1.33 k 0.25", "1.000\" ±0.002\"", ...
+    dist = "normal"            # optional (normal): the kind read over the drawing's band; any
+                               # distribution key (sigma, shift, shape, ...) refines it
+    unit = "mm"                # optional when the text has one ("25 H7" is in mm)
+    direction = -1             # optional: the factor's sign/coefficient in a 1-D stack
+
+    [[factor]]                 # a circular position zone: two coordinates of one zone
+    name = "hole.x"            # (and a second factor "hole.y" with the same zone and tolerance)
+    unit = "mm"
+    tolerance = "⌀0.05"        # the zone's diameter: each coordinate normal, the radius Rayleigh
+    zone = "hole"              # with 99.73 % inside the zone (rvtol.inputs.notation)
+
+    [[factor]]                 # measured values (rvtol.inputs.measured)
+    name = "bore_measured"
+    unit = "mm"
+    dist = "measured"
+    data = "cmm/bores.csv"     # relative to this file; column = "bore", sheet = "CMM"
+    method = "fit"             # fit (AIC-ranked families) | empirical | kde; measurement_sigma = 0.001
+    tolerance = "25 H7"        # optional: the drawing's worst-case limits
+
+A factor written in drawing notation keeps the drawing's worst-case limits (``Factor.limits``):
+its tolerance band (:attr:`Factor.band`: worst case, five-point steps, allocation) is the
+drawing's even when a process spec shifts the mean (``Cpk 1.33 k 0.25``).
+
+A spec may also be a table (``.csv``/``.tsv``/``.xlsx``, :mod:`rvtol.inputs.table_spec`): one row
+per factor, the same keys as columns; :func:`load_spec` reads either.
+
     [[factor]]                 # a FAMILY: N exchangeable features (40 pins, 40 pin grooves, ...)
     name = "pins[k].diameter_in_lot"   # the name holds "[k]" once
     multiplicity = 40          # -> N independent, identically distributed factors
@@ -44,6 +75,8 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     confidence = 0.95          # of the interval the verdict uses
     basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
+    cpk_method = "normal"      # the Cpk min_cpk judges: "normal" (normal theory, Bissell's bound) or
+                               # "percentile" (ISO 22514-2 from the 0.135/50/99.865 % points, bootstrap bound)
 """
 from __future__ import annotations
 
@@ -54,12 +87,18 @@ from pathlib import Path
 import numpy as np
 
 from . import units
-from .distributions import Distribution, from_params
+from .distributions import KINDS, Distribution, from_params
 from .errors import InputError, SpecError
+from .inputs.measured import measured_factor
+from .inputs.notation import NotationError, Tolerance, parse_tolerance
+from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
 YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
+
+#: the Cpk a requirement's min_cpk judges (policy: :func:`rvtol.verdict.cpk_figures`)
+CPK_METHODS = ("normal", "percentile")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -78,6 +117,10 @@ class Factor:
     part: str = ""
     feature: str = ""
     family: str = ""          # the family template ("pins[k].diameter_in_lot") of an expanded copy
+    direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
+    limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
+    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
+    zone: str = ""                                 # the circular position zone this factor is a coordinate of
 
     @property
     def base_unit(self) -> str:
@@ -98,17 +141,28 @@ class Factor:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The tolerance band ``(low, high)`` in the factor's unit (:attr:`Distribution.band`)."""
-        return self.dist.band
+        """The tolerance band ``(low, high)`` in the factor's unit: the drawing's worst-case
+        :attr:`limits` when the factor was written in drawing notation, else :attr:`Distribution.band`."""
+        return self.limits if self.limits is not None else self.dist.band
 
     @property
     def half_band(self) -> float:
-        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`)."""
-        return self.dist.half_band
+        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`, or half the drawing's limits;
+        for a one-sided magnitude the whole band)."""
+        if self.limits is None:
+            return self.dist.half_band
+        lo, hi = self.limits
+        return float(hi - lo) if self.dist.one_sided else 0.5 * float(hi - lo)
 
     def scaled(self, f: float) -> "Factor":
-        """This factor with its tolerance multiplied by ``f``."""
-        return replace(self, dist=self.dist.scaled(f))
+        """This factor with its tolerance multiplied by ``f`` (the drawing's limits about their middle, or
+        above their lower end for a one-sided magnitude, as the distribution scales)."""
+        limits = self.limits
+        if limits is not None:
+            lo, hi = limits
+            m = lo if self.dist.one_sided else 0.5 * (lo + hi)
+            limits = (m + (lo - m) * f, m + (hi - m) * f)
+        return replace(self, dist=self.dist.scaled(f), limits=limits)
 
     def describe(self) -> str:
         return self.dist.describe(self.unit)
@@ -130,6 +184,7 @@ class ToleranceSpec:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
+        check_zones(self.factors, self.file)
         if self.correlation is not None:
             c = np.asarray(self.correlation, dtype=float)
             if c.shape != (len(names), len(names)):
@@ -228,6 +283,7 @@ class Requirement:
     interval: str = "clopper-pearson"
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
+    cpk_method: str = "normal"
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
@@ -237,6 +293,9 @@ class Requirement:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
+        if self.cpk_method not in CPK_METHODS:
+            raise SpecError(f"unknown cpk_method {self.cpk_method!r} (expected one of: {', '.join(CPK_METHODS)})",
+                            file=self.file, key=f"{self.key}.cpk_method" if self.key else "cpk_method")
 
     @property
     def label(self) -> str:
@@ -267,10 +326,26 @@ class Requirement:
 
 
 # --------------------------------------------------------------------------- loaders
-def load_spec(path: str | Path) -> ToleranceSpec:
+def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
+        return load_table_spec(path, sheet=sheet)
     data, sha = read_toml(path)
     spec = spec_from_table(data, file=str(path))
     return replace(spec, sha256=sha)
+
+
+def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec table (:mod:`rvtol.inputs.table_spec`): its rows read as ``[[factor]]`` tables, every error
+    at its sheet, row and column."""
+    from .inputs.table_spec import read_spec_table
+
+    table = read_spec_table(path, sheet=sheet)
+    try:
+        spec = spec_from_table(table.document, file=str(path))
+    except InputError as exc:
+        raise table.locate(exc) from None
+    return replace(spec, sha256=table.sha256)
 
 
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
@@ -329,16 +404,116 @@ def factor_from_params(p: Params) -> Factor:
     name = p.str("name")
     if not name or not _NAME.match(name):
         raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
-    unit = p.unit("unit")
-    dist = from_params(p)
-    nominal = p.float("nominal", None)
+    unit = p.unit("unit", None)
+    drawing = drawing_tolerance(p, unit)
+    if unit is None:
+        if drawing is None or drawing.unit is None:
+            raise p.error("unit", "missing unit (the unit of the nominal and the tolerance, e.g. mm, um, in)")
+        unit = drawing.unit
+    measured = None
+    if p.data.get("dist") == "measured":
+        dist, measured = measured_distribution(p)
+    elif drawing is not None:
+        dist = band_distribution(p, drawing)
+    else:
+        dist = from_params(p)
+    nominal = p.float("nominal", None) if drawing is None else drawing.nominal
     desc = p.str("description", "")
     part = p.str("part", "")
     feature = p.str("feature", "")
     group = p.str("group", part)
     source = p.str("source", "")
+    direction = stack_direction(p)
+    zone = position_zone(p, drawing)
     p.finish(allow=("multiplicity",))
-    return Factor(name, unit, dist, nominal, desc, group, source, part, feature)
+    limits = drawing.limits if drawing is not None else None
+    return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
+                  limits=limits, measured=measured, zone=zone)
+
+
+# ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
+#: distribution keys a factor written in drawing notation may add to refine its band's reading
+_REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scale", "shift")
+
+
+def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
+    """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
+    for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
+    text = p.data.get("tolerance")
+    if not isinstance(text, str):
+        return None
+    p.raw("tolerance")
+    nominal = p.float("nominal", None)
+    try:
+        return parse_tolerance(text, nominal=nominal, unit=unit)
+    except NotationError as exc:
+        raise p.error("tolerance", exc.reason) from None
+
+
+def band_distribution(p: Params, tol: Tolerance) -> Distribution:
+    """The distribution kind ``dist`` (default normal) read over a drawing tolerance's band
+    (:meth:`rvtol.inputs.notation.Tolerance.factor_table`); distribution keys given beside it refine or
+    override what the band gives (an explicit ``sigma`` replaces the band's σ)."""
+    kind = p.str("dist", "normal", choices=KINDS)
+    level = p.float("sigma_level", None, positive=True)
+    try:
+        table = tol.factor_table(kind, sigma_level=level)
+    except NotationError as exc:
+        raise p.error("sigma_level" if "sigma_level" in exc.reason else "dist", exc.reason) from None
+    table.pop("nominal", None)
+    given = {k: p.raw(k) for k in _REFINING if k in p}
+    if kind == "normal" and "sigma" in given:
+        table.pop("tolerance", None)
+    table.update(given)
+    try:
+        return from_params(Params(table, file=p.file, key=p.key))
+    except InputError as exc:
+        if (exc.key or "").rsplit(".", 1)[-1] not in given:   # a number the tolerance gave
+            exc.key = p.path("tolerance")
+        raise
+
+
+def measured_distribution(p: Params):
+    """``dist = "measured"``: the distribution of measured values (:func:`rvtol.inputs.measured.measured_factor`;
+    files relative to the spec file) and the record of the data behind it."""
+    p.str("dist")
+    return measured_factor(p, Path(p.file).parent if p.file else Path("."))
+
+
+def position_zone(p: Params, tol: Tolerance | None) -> str:
+    """``zone``: the circular position zone (``tolerance = "⌀t"``) this factor is one coordinate of."""
+    zone = p.str("zone", "")
+    is_zone = tol is not None and tol.form == "zone"
+    if is_zone and not zone:
+        raise p.error("tolerance", f"a position zone {tol.text!r} has two coordinates: give zone = NAME on both "
+                                   "factors (x and y)")
+    if zone and not is_zone:
+        raise p.error("zone", "a zone coordinate needs tolerance = \"⌀t\" (the zone's diameter)")
+    return zone
+
+
+def check_zones(factors, file: str | None) -> None:
+    """Each position zone has exactly two coordinate factors with the same unit and diameter."""
+    zones: dict[str, list] = {}
+    for f in factors:
+        if f.zone:
+            zones.setdefault(f.zone, []).append(f)
+    for z, fs in zones.items():
+        if len(fs) != 2:
+            raise SpecError(f"position zone {z!r} has {len(fs)} coordinate factor(s) "
+                            f"({', '.join(f.name for f in fs)}); it needs two (x and y)", file=file, key="factor.zone")
+        a, b = fs
+        if a.unit != b.unit or a.limits != b.limits:
+            raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
+                            "and diameter", file=file, key="factor.zone")
+
+
+def stack_direction(p: Params) -> float | None:
+    """``direction``: the factor's sign or coefficient in a one-dimensional stack (``+``, ``-`` or a number)."""
+    v = p.raw("direction", None)
+    if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
+        return 1.0 if v.strip() == "+" else -1.0
+    return None if v is None else p.float("direction")
 
 
 def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:
@@ -418,7 +593,8 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
         name = t.str("name", "")
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
+        cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key))
+                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method))
     return out

@@ -7,7 +7,7 @@
     title = "..."
     description = "..."
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
-    spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
+    spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
     # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
                                           # study in this folder; give name, title, analyses, options here
@@ -38,6 +38,7 @@
     [report]
     pdf = true
     confidence = 0.95
+    tables = ["xlsx"]                     # optional: samples and statistics also as csv and/or xlsx
 
     [[analysis]]
     kind = "local_sensitivity"            # see rvtol.registry.ANALYSES
@@ -85,6 +86,7 @@ class RunOptions:
     pdf: bool = True
     confidence: float = 0.95
     progress: bool = True
+    tables: tuple[str, ...] = ()       # also write samples/statistics as these table formats (csv, xlsx)
 
 
 @dataclass
@@ -270,9 +272,14 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
     spec file, any other to the ``[model]`` table of the study file; an error
     that already names its file (a bad number in the design) keeps it.
     """
-    factory = model_factory(mp.str("kind"), file)
+    kind = mp.str("kind")
+    factory = model_factory(kind, file)
     try:
-        return factory(mp, design, spec)
+        model = factory(mp, design, spec)
+        if not isinstance(model, Model):   # a plug-in's factory (the built-in ones are tested)
+            raise InputError(f"the factory of model kind {kind!r} returned {type(model).__name__}, "
+                             "not an rvtol.model.Model", key="kind")
+        return model
     except InputError as exc:
         if exc.file is None:
             if (exc.key or "").split(".")[0].split("[")[0] == "factor":
@@ -326,6 +333,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
         chunk_size=e.int("chunk_size", 0, min=0) or None,
         pdf=r.bool("pdf", True),
         confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
+        tables=_table_formats(r),
     )
     for p in (s, e, r):
         p.finish()
@@ -339,9 +347,35 @@ def _options(root: Params, ov: dict) -> RunOptions:
         raise InputError(f"n must be >= 2, got {o.n}", file=root.file, key="sampling.n")
     if o.method not in METHODS:
         raise InputError(f"unknown sampling method {o.method!r}", file=root.file, key="sampling.method")
+    if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
+        raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
+                         file=root.file, key="report.tables")
     if o.scheduler and o.executor != "dask":
         o.executor = "dask"
     return o
+
+
+#: table formats a report folder can hold beside samples.parquet
+TABLE_FORMATS = ("csv", "xlsx")
+
+
+def _table_formats(r: Params) -> tuple[str, ...]:
+    v = r.raw("tables", [])
+    v = [v] if isinstance(v, str) else v
+    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+        raise r.error("tables", "expected a list of table formats, e.g. [\"csv\", \"xlsx\"]")
+    bad = [x for x in v if x not in TABLE_FORMATS]
+    if bad:
+        raise r.error("tables", f"unknown table format {bad[0]!r} (expected one of: {', '.join(TABLE_FORMATS)})")
+    return tuple(dict.fromkeys(v))
+
+
+def result_files(options: RunOptions) -> list[str]:
+    """The files a report folder holds besides report.html, for these options."""
+    out = (["report.pdf"] if options.pdf else []) + ["summary.json", "samples.parquet"]
+    for ext in options.tables:
+        out += [f"samples.{ext}", f"statistics.{ext}"]
+    return out
 
 
 # --------------------------------------------------------------------------- running
@@ -428,6 +462,31 @@ def _write_section_files(sections: list[Section], folder: Path) -> None:
             (folder / name).write_bytes(content)
 
 
+#: the most rows an XLSX sheet holds (Excel's limit, header included)
+XLSX_MAX_ROWS = 1_048_576
+
+
+def write_tables(result: StudyResult, samples, folder: Path) -> None:
+    """``samples.csv|xlsx`` and ``statistics.csv|xlsx`` (statistics, and the requirements' figures) in ``folder``."""
+    from .inputs.sheets import write_frames
+
+    if not result.study.options.tables:
+        return
+    import pandas as pd
+
+    stats = result.mc.statistics().reset_index()
+    reqs = pd.DataFrame([{k: (", ".join(map(str, v)) if isinstance(v, list) else v) for k, v in
+                          v.to_dict().items()} for v in result.mc.verdicts()])
+    for ext in result.study.options.tables:
+        write_frames(folder / f"samples.{ext}", {"samples": samples})
+        if ext == "xlsx":
+            write_frames(folder / "statistics.xlsx", {"statistics": stats, "requirements": reqs})
+        else:
+            write_frames(folder / "statistics.csv", {"statistics": stats})
+            if len(reqs):
+                write_frames(folder / "requirements.csv", {"requirements": reqs})
+
+
 def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
     from .report.render import render_html, render_pdf
@@ -439,7 +498,9 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     try:
         summary = result.summary()
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
-        result.mc.to_frame().to_parquet(tmp / "samples.parquet", index=False)
+        samples = result.mc.to_frame()
+        samples.to_parquet(tmp / "samples.parquet", index=False)
+        write_tables(result, samples, tmp)
         html = render_html(result)
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:

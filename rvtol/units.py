@@ -33,6 +33,8 @@ _TABLE: dict[str, tuple[str, float]] = {
     "nm": ("length", 1e-6),
     "cm": ("length", 10.0),
     "m": ("length", 1e3),
+    "in": ("length", 25.4),          # international inch (exact)
+    "thou": ("length", 0.0254),      # 0.001 in
     # angle (base rad)
     "rad": ("angle", 1.0),
     "mrad": ("angle", 1e-3),
@@ -96,6 +98,9 @@ _ALIASES = {
     "µm": "um",
     "μm": "um",
     "micron": "um",
+    "inch": "in",
+    "inches": "in",
+    '"': "in",
     "µrad": "urad",
     "μrad": "urad",
     "°": "deg",

@@ -11,6 +11,11 @@ tolerance the optimiser calls feasible is one the sign-off passes:
 * ``basis = "lower_bound"`` (default) judges the lower end of the
   confidence interval — the figure is *demonstrated* at the stated
   confidence; ``"estimate"`` judges the point estimate;
+* ``cpk_method`` chooses the Cpk a minimum Cpk judges (:func:`cpk_figures`):
+  ``"normal"`` (default) the normal-theory Cpk = min(USL − μ, μ − LSL)/3σ with
+  Bissell's lower bound, or ``"percentile"`` the ISO 22514-2 Cpk from the
+  0.135 %, 50 % and 99.865 % points (any distribution shape) with its
+  bootstrap lower bound;
 * samples the model could not evaluate count as non-conforming in the
   yield, and while any sample fails a Cpk demonstrates nothing (it only
   describes the evaluated samples).
@@ -44,6 +49,19 @@ class Judgement:
     violation: float = 0.0
 
 
+def cpk_figures(r: Requirement, capability: dict, percentile_ci=(None, None)) -> tuple[float | None, float | None]:
+    """``(Cpk, its lower bound)`` that judge ``r``'s minimum Cpk: normal theory (Bissell) or percentile
+    (ISO 22514-2, bootstrap), by ``r.cpk_method``; ``capability`` is :func:`rvtol.stats.capability`'s dict."""
+    if r.cpk_method == "percentile":
+        return capability.get("cpk_percentile"), percentile_ci[0]
+    return capability.get("cpk"), capability.get("cpk_lo")
+
+
+def cpk_name(r: Requirement) -> str:
+    """How the report names the Cpk that judges ``r``."""
+    return "percentile Cpk" if r.cpk_method == "percentile" else "Cpk"
+
+
 def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None = None,
           cpk: float | None = None, cpk_lo: float | None = None, n_failed: int = 0) -> Judgement:
     """Pass/fail, reasons and violation of requirement ``r`` from its measured figures."""
@@ -60,7 +78,7 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
         c = cpk_lo if lb else cpk
         if c is None or not c >= r.min_cpk:
             j.passed = False
-            j.reasons.append(f"Cpk {'lower bound ' if lb else ''}{_f(c, '.3f')} < required {r.min_cpk:g}")
+            j.reasons.append(f"{cpk_name(r)} {'lower bound ' if lb else ''}{_f(c, '.3f')} < required {r.min_cpk:g}")
         if c is None or not math.isfinite(c) or n_failed:
             j.violation += CPK_UNAVAILABLE
         else:

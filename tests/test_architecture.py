@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from rvtol.analysis import Analysis
-from rvtol.registry import ANALYSES, MODELS
+from rvtol.registry import ANALYSES, MODELS, plugin_models
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "rvtol"
@@ -142,6 +142,14 @@ def test_every_model_factory_resolves_with_the_documented_signature(kind):
     assert list(inspect.signature(f).parameters) == ["params", "design", "spec"]
     assert MODELS[kind].startswith(f"rvtol.models.{MODELS[kind].split('.')[2]}.model:"), \
         "a model's factory lives in its package's model.py"
+
+
+@pytest.mark.parametrize("kind", sorted(plugin_models()) or [pytest.param(None, marks=pytest.mark.skip(
+    reason="no package in this environment registers an rvtol.models entry point (tests/test_model_kinds.py "
+           "installs one)"))])
+def test_every_installed_model_plugin_has_the_documented_signature(kind):
+    f = plugin_models()[kind].load()
+    assert callable(f) and len(inspect.signature(f).parameters) == 3
 
 
 @pytest.mark.parametrize("kind", sorted(ANALYSES))

@@ -108,11 +108,14 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
         curve = copy.copy(torsion)
         curve.state = lambda x, s=state: s
         metrics = curve.curve(np.zeros(len(torsion.inputs))).metrics(torsion.percent)
-        for name, value in (("lost_motion", metrics.lost_motion), ("backlash", metrics.backlash),
-                            ("torsional_rigidity", metrics.rigidity)):
-            assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5), name
+        # the stack-up-derived inputs equal the direct formulas to 1e-6 mm (first-order formulas vs exact rotations,
+        # test above); at the 41.9-mm crank circle that moves an output angle by ≲ 4 × 1e-6/41.9 rad (four
+        # crank/cam vectors): the angles agree to that, the rigidity to 1e-5
+        for name, value, tol in (("lost_motion", metrics.lost_motion, 1e-7), ("backlash", metrics.backlash, 1e-7),
+                                 ("torsional_rigidity", metrics.rigidity, 0.0)):
+            assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5, abs=tol), name
         r = te._sweep(state)
-        assert Y[row, m.output_index("te.te_pp")] == pytest.approx(r.te.max() - r.te.min(), rel=1e-5)
+        assert Y[row, m.output_index("te.te_pp")] == pytest.approx(r.te.max() - r.te.min(), rel=1e-5, abs=1e-7)
 
 
 def _cheap(m: CompositeModel) -> CompositeModel:

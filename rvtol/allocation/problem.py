@@ -39,7 +39,7 @@ from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
 from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import judge
+from ..verdict import cpk_figures, judge
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -160,16 +160,26 @@ class Linearisation:
 
 def linearise(problem: AllocationProblem, evaluate: Evaluator | None = None) -> Linearisation:
     """Five-point derivatives (:func:`rvtol.sensitivity.local.five_point`) of the required outputs."""
+    from ..sensitivity.common import model_gradient
     from ..sensitivity.local import five_point
 
     spec, model = problem.spec, problem.model
     outs = list(dict.fromkeys(r.output for r in problem.requirements))
-    loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    x0 = spec.nominal_base()
+    G = model_gradient(model, x0)   # the model's exact derivatives when it has them
+    if G is None:
+        loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    else:
+        Y0 = (evaluate or Evaluator())(model, x0[None], "nominal point").Y[0]
     S, y0, margin, z = [], [], [], []
     for r in problem.requirements:
         q = model.output(r.output)
-        S.append(loc.gradient(r.output, spec.names))
-        yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        if G is None:
+            S.append(loc.gradient(r.output, spec.names))
+            yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        else:
+            S.append(G[model.output_index(r.output)])
+            yd = float(q.to_display(Y0[model.output_index(r.output)]))
         dists = [v for v in ((r.upper - yd) if r.upper is not None else None,
                              (yd - r.lower) if r.lower is not None else None) if v is not None]
         m = min(dists)
@@ -299,8 +309,11 @@ class MonteCarloConstraint:
                     row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
                                        else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
                 if r.min_cpk is not None:
-                    cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
-                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
+                    good = y[ok]
+                    cap = st.capability(good, r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
+                    pci = (st.bootstrap_ci(good, lambda v: st.percentile_cpk(v, r.lower, r.upper), r.confidence)
+                           if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
+                    row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, pci)
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)

@@ -35,7 +35,8 @@ def verdict_section(result) -> Section:
         if r.min_yield is not None:
             need.append(f"yield ≥ {r.min_yield:g}")
         if r.min_cpk is not None:
-            need.append(f"Cpk ≥ {r.min_cpk:g}")
+            need.append(f"Cpk ≥ {r.min_cpk:g}" + (" (percentile, ISO 22514-2)" if r.cpk_method == "percentile"
+                                                   else " (normal theory)"))
         rows.append({
             "requirement": r.label,
             "limits": f"[{lims}] {label(r.unit)}",
@@ -74,18 +75,51 @@ def inputs_section(result) -> Section:
     sec.add_table(run, caption="Run")
     fac = st.spec.to_frame()
     fac["unit"] = [label(u) for u in fac["unit"]]
+    fac.insert(list(fac.columns).index("tolerance T") + 1, "band (worst case)",
+               [f"{f.band[0]:.6g} … {f.band[1]:.6g}" + (" (drawing)" if f.limits is not None else "")
+                for f in st.spec.factors])
     fac["source"] = [f.source for f in st.spec.factors]
     sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
                                "T: tolerance band the distribution stands for)")
     if st.spec.correlation is not None:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
+    measured_factors(sec, st.spec, o.seed)
     if st.design is not None:
         sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
     from ..plotting.mc import factor_histograms
 
     sec.add_figure(factor_histograms(m.samples), caption="Sampled factors")
     return sec
+
+
+def measured_factors(sec: Section, spec, seed) -> None:
+    """Factors whose distribution comes from measured values: the data, the fitted families ranked
+    by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot."""
+    from ..inputs.measured import evidence
+    from ..plotting.inputs import qq_plot
+    from ..sampling import substream_seed
+
+    for i, f in enumerate(spec.factors):
+        if f.measured is None:
+            continue
+        ev = evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
+        sec.add_table(ev["summary"], caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
+                                              "distribution (s: sample standard deviation; gauge u²/s²: the share "
+                                              "of the measurement uncertainty removed)")
+        if ev["ranking"] is not None:
+            sec.add_table(ev["ranking"], caption=f"{f.name}: candidate families by maximum likelihood, ranked by "
+                                                 "AIC = 2k − 2 ln L (weight: Akaike weight; KS p is naive — the "
+                                                 "parameters come from the same data — and only ranks)")
+        if ev["gof"] is not None:
+            g = ev["gof"]
+            sec.add_text(f"{f.name}: goodness of fit of the {g.family} family used — {g.test} statistic "
+                         f"{g.statistic:.4g}, p = {g.pvalue:.3g} ({g.n_mc} bootstrap samples; a small p, e.g. "
+                         "< 0.05, says the family does not describe the data).")
+        if ev["qq"] is not None:
+            what = f"fitted {f.measured.family}" if f.measured.family else f.measured.method
+            sec.add_figure(qq_plot(ev["qq"], f.name, f.unit, what), caption=f"{f.name}: Q-Q plot against the "
+                           f"{what} distribution (Hazen positions)", width="55%")
 
 
 def results_section(result) -> Section:
