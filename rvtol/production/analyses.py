@@ -124,7 +124,10 @@ class PerUnitPrediction(Analysis):
         self.outputs = _outputs(params, study)
         self.model, self.requirements = _evaluated(study, self.outputs)
         self.probability = params.float("conformance_probability", None, min=0.5, max=0.999999)
-        self.needed = samples_to_demonstrate(self.requirements, self.probability)
+        try:
+            self.needed = samples_to_demonstrate(self.requirements, self.probability)
+        except ValueError as exc:       # a requirement that asks for P = 1 of one unit
+            raise params.error("conformance_probability", f"{exc}: give a conformance_probability < 1") from None
         self.n = params.int("n", self.needed, min=2)
         self.interval = params.float("interval", 0.95, min=0.5, max=0.9999)
         self.file = f"per_unit_{self.name}.csv" if self.name else "per_unit.csv"
