@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -22,12 +23,13 @@ from .executors import Executor, SerialExecutor
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import cpk_figures, judge
+from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
+    t0 = time.perf_counter()
     Y, status = model.evaluate_with_status(X)
-    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16)
+    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16), time.perf_counter() - t0
 
 
 def auto_chunk_size(n: int, workers: int) -> int:
@@ -48,11 +50,15 @@ class Evaluation:
 
 
 def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chunk_size: int | None = None,
-             progress: bool = True, desc: str = "evaluating") -> Evaluation:
+             progress: bool = True, desc: str = "evaluating", store=None, persist: str = "costly") -> Evaluation:
     """Evaluate ``model`` on ``X`` (base units) through ``executor`` in chunks.
 
     The result is bit-identical whatever the executor, worker count and chunk
     size (models are row-deterministic; chunks are reassembled by index).
+    With a ``store`` (:class:`rvtol.checkpoint.ChunkStore`) finished chunks are
+    persisted as they complete — ``persist="all"`` of them (the Monte Carlo),
+    or only the ``"costly"`` ones, cheaper to keep than to recompute — and
+    chunks the store already holds are not evaluated again (resume).
     """
     X = model.check_input(X)
     n = X.shape[0]
@@ -61,15 +67,27 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     bounds = [(i, min(i + cs, n)) for i in range(0, n, cs)]
     Y = np.empty((n, len(model.outputs)))
     status = np.empty(n, dtype=np.int16)
+    call = store.begin(persist) if store is not None else None
+    todo = []
+    for i, (a, b) in enumerate(bounds):
+        hit = call.get(a, b, X[a:b]) if call is not None else None
+        if hit is None:
+            todo.append(i)
+        else:
+            Y[a:b], status[a:b] = hit
     bar = _progress(n, desc) if progress else None
     try:
-        tasks = [(model, X[a:b]) for a, b in bounds]
-        for i, (y, s) in executor.imap(_eval_chunk, tasks):
-            a, b = bounds[i]
+        if bar is not None and len(todo) < len(bounds):
+            bar.update(n - sum(bounds[i][1] - bounds[i][0] for i in todo))
+        tasks = [(model, X[bounds[i][0]:bounds[i][1]]) for i in todo]
+        for t, (y, s, seconds) in executor.imap(_eval_chunk, tasks):
+            a, b = bounds[todo[t]]
             if y.shape != (b - a, len(model.outputs)):
                 raise ValueError(f"{type(model).__name__}.evaluate returned shape {y.shape}, "
                                  f"expected {(b - a, len(model.outputs))}")
             Y[a:b], status[a:b] = y, s
+            if call is not None:
+                call.put(a, b, X[a:b], y, s, seconds)
             if bar is not None:
                 bar.update(b - a)
     finally:
@@ -92,13 +110,15 @@ class Evaluator:
     returned ``Y`` are in base units; failed rows are NaN with a non-zero status.
     """
 
-    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False):
+    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False,
+                 store=None):
         self.executor = executor
         self.chunk_size = chunk_size
         self.progress = progress
+        self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
 
     def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
-        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc)
+        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc, self.store)
 
 
 def _progress(total: int, desc: str):
@@ -112,31 +132,39 @@ def _progress(total: int, desc: str):
 # --------------------------------------------------------------------------- results
 @dataclass
 class Verdict:
+    """One requirement judged: the two-sided intervals shown, the bounds judged (:mod:`rvtol.verdict`)."""
+
     requirement: Requirement
     yield_: st.YieldResult
     capability: dict
     cpk_percentile_ci: tuple[float | None, float | None]
     passed: bool
     reasons: list[str]
+    yield_bound: float | None = None
+    cpk_bound: float | None = None
+    n_to_demonstrate: int | None = None
 
     @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
         """The Cpk and lower bound the requirement is judged on (its ``cpk_method``)."""
-        return cpk_figures(self.requirement, self.capability, self.cpk_percentile_ci)
+        method = "cpk_percentile" if self.requirement.cpk_method == "percentile" else "cpk"
+        return self.capability.get(method), self.cpk_bound
 
     def to_dict(self) -> dict:
         r = self.requirement
         cap = self.capability
         return {
             "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
-            "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "min_yield": r.min_yield, "min_yield_default": r.yield_defaulted, "min_cpk": r.min_cpk,
+            "basis": r.basis, "confidence": r.confidence, "bound": r.bound, "bound_level": bound_level(r),
             "cpk_method": r.cpk_method,
             "yield_interval": r.interval,
             "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
+            "yield_bound": self.yield_bound,
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
-            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]],
+            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons,
+            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
         }
 
 
@@ -219,10 +247,13 @@ class MonteCarloResult:
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
                    if len(good) >= 100 else (None, None))
-            cpk, cpk_lo = cpk_figures(r, cap, pci)
-            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cpk, cpk_lo=cpk_lo,
-                      n_failed=int(self.n - self.ok.sum()))
-            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons))
+            yb = yield_bound(r, yr.conforming, yr.n)
+            pj = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), percentile_cpk_confidence(r))
+                  if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
+            cpk, cb = cpk_figures(r, cap, len(good), pj)
+            j = judge(r, yield_=yr.estimate, yield_lo=yb, cpk=cpk, cpk_lo=cb,
+                      n_failed=int(self.n - self.ok.sum()), n=self.n)
+            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons, yb, cb, j.n_to_demonstrate))
         return out
 
     @property
@@ -263,11 +294,11 @@ class MonteCarloResult:
 def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lhs", seed: int | None = None,
                     requirements=(), executor: Executor | None = None, chunk_size: int | None = None,
                     progress: bool = True, confidence: float = 0.95,
-                    samples: SampleSet | None = None) -> MonteCarloResult:
-    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result."""
+                    samples: SampleSet | None = None, store=None) -> MonteCarloResult:
+    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result (``store``: :func:`evaluate`)."""
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
-    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo")
+    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
     return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial")
 
 

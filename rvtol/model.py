@@ -27,7 +27,7 @@ from typing import Callable, ClassVar, Sequence
 import numpy as np
 
 from . import units
-from .errors import InputError, ModelError
+from .errors import InputError, ModelError, did_you_mean
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -86,7 +86,8 @@ class Model(ABC):
         for q in self.outputs:
             if q.name == name:
                 return q
-        raise InputError(f"unknown output name {name!r} (model has: {', '.join(self.output_names)})")
+        raise InputError(f"unknown output name {name!r}{did_you_mean(name, self.output_names)} "
+                         f"(model has: {', '.join(self.output_names)})")
 
     def output_index(self, name: str) -> int:
         return self.output_names.index(self.output(name).name)
@@ -102,7 +103,8 @@ class Model(ABC):
         if tuple(spec.names) != tuple(self.inputs):
             missing = [n for n in self.inputs if n not in spec.names]
             extra = [n for n in spec.names if n not in self.inputs]
-            what = f"unknown factor name {extra[0]!r}" if extra else f"missing factor {missing[0]!r}"
+            what = (f"unknown factor name {extra[0]!r}{did_you_mean(extra[0], missing)}" if extra
+                    else f"missing factor {missing[0]!r}")
             raise InputError(f"{what} for model {type(self).__name__}", file=spec.file, key="factor")
         for f, bu in zip(spec.factors, self.input_units):
             if units.dimension(f.unit) != units.dimension(bu):

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import SpecError
+from .errors import SpecError, did_you_mean
 
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear.model:from_study",
@@ -86,7 +86,8 @@ ANALYSES: dict[str, str] = {
 
 def _load(table: dict[str, str], kind: str, what: str, file: str | None, key: str):
     if kind not in table:
-        raise SpecError(f"unknown {what} kind {kind!r} (known: {', '.join(sorted(table))})", file=file, key=key)
+        raise SpecError(f"unknown {what} kind {kind!r}{did_you_mean(kind, table)} (known: {', '.join(sorted(table))})",
+                        file=file, key=key)
     mod, attr = table[kind].split(":")
     return getattr(importlib.import_module(mod), attr)
 
@@ -111,7 +112,8 @@ def model_factory(kind: str, file: str | None = None):
                                 file=file, key="model.kind") from None
         plugins = sorted(plugin_models())
         known = sorted(MODELS) + plugins
-        raise SpecError(f"unknown model kind {kind!r} (known: {', '.join(known)})", file=file, key="model.kind")
+        raise SpecError(f"unknown model kind {kind!r}{did_you_mean(kind, known)} (known: {', '.join(known)})", file=file,
+                        key="model.kind")
     return _load(MODELS, kind, "model", file, "model.kind")
 
 

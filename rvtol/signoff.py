@@ -90,7 +90,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         stage = r.output.split(".", 1)[0] if "." in r.output and hasattr(model, "stages") else ""
         d = RequirementDigest(r.label, r.output, stage, r.unit or mc.unit_of(r.output), v.passed,
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
-                              _f(v.yield_.lo), _f(v.judged_cpk[1]), list(v.reasons))
+                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
         d.drivers = s1.get(r.output, [])[:top]
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)

@@ -71,9 +71,11 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     output = "lost_motion"
     upper = 1.0
     unit = "arcmin"            # default: the output's display unit
-    min_yield = 0.9973         # and/or min_cpk = 1.33
-    confidence = 0.95          # of the interval the verdict uses
-    basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
+    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD)
+    confidence = 0.95          # of the bound the verdict uses
+    basis = "lower_bound"      # pass on the lower confidence bound (default) or the "estimate"
+    bound = "one-sided"        # the bound: one-sided at `confidence` (default), or "two-sided": the
+                               # lower end of the two-sided interval (a (1 + confidence)/2 one-sided bound)
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
     cpk_method = "normal"      # the Cpk min_cpk judges: "normal" (normal theory, Bissell's bound) or
                                # "percentile" (ISO 22514-2 from the 0.135/50/99.865 % points, bootstrap bound)
@@ -88,7 +90,7 @@ import numpy as np
 
 from . import units
 from .distributions import KINDS, Distribution, from_params
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 from .inputs.measured import measured_factor
 from .inputs.notation import NotationError, Tolerance, parse_tolerance
 from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
@@ -99,6 +101,8 @@ YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
 
 #: the Cpk a requirement's min_cpk judges (policy: :func:`rvtol.verdict.cpk_figures`)
 CPK_METHODS = ("normal", "percentile")
+#: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
+BOUNDS = ("one-sided", "two-sided")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -208,7 +212,8 @@ class ToleranceSpec:
         try:
             return self.names.index(name)
         except ValueError:
-            raise InputError(f"unknown factor name {name!r} (spec has: {', '.join(self.names)})",
+            raise InputError(f"unknown factor name {name!r}{did_you_mean(name, self.names)} "
+                             f"(spec has: {', '.join(self.names)})",
                              file=self.file, key="factor") from None
 
     def factor(self, name: str) -> Factor:
@@ -284,6 +289,9 @@ class Requirement:
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
     cpk_method: str = "normal"
+    bound: str = "one-sided"
+    #: True when min_yield is DEFAULT_MIN_YIELD because the requirement named neither yield nor Cpk
+    yield_defaulted: bool = field(default=False, compare=False)
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
@@ -291,6 +299,10 @@ class Requirement:
     def __post_init__(self):
         if self.min_yield is None and self.min_cpk is None:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
+            object.__setattr__(self, "yield_defaulted", True)
+        if self.bound not in BOUNDS:
+            raise SpecError(f"unknown bound {self.bound!r} (expected one of: {', '.join(BOUNDS)})", file=self.file,
+                            key=f"{self.key}.bound" if self.key else "bound")
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
         if self.cpk_method not in CPK_METHODS:
@@ -544,7 +556,8 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         idx = []
         for f in fs:
             if f not in names:
-                raise t.error("factors" if "factors" in t else "pair", f"unknown factor name {f!r}")
+                raise t.error("factors" if "factors" in t else "pair",
+                              f"unknown factor name {f!r}{did_you_mean(f, names)}")
             idx.append(names.index(f))
         if len(set(idx)) != len(idx):
             raise t.error("factors", "a factor is named twice")
@@ -567,7 +580,10 @@ def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
     """The requirements of a ``[[requirement]]`` file and the file's SHA-256 (one read)."""
     data, sha = read_toml(path)
     root = Params(data, file=str(path))
-    reqs = requirements_from_tables(root.tables("requirement"))
+    tables = root.tables("requirement")
+    if not tables:  # a gate that checks nothing must not pass by accident
+        raise root.error("requirement", "a requirements file needs at least one [[requirement]] table")
+    reqs = requirements_from_tables(tables)
     root.finish()
     return reqs, sha
 
@@ -594,7 +610,8 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         name = t.str("name", "")
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
+        bound = t.str("bound", "one-sided", choices=BOUNDS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method))
+                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method, bound=bound))
     return out

@@ -11,6 +11,9 @@
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
     # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
                                           # study in this folder; give name, title, analyses, options here
+    exploratory = false                   # true: the study checks no requirement on purpose (verdict
+                                          # EXPLORATORY, exit 0); without requirements and without
+                                          # it the verdict is NO REQUIREMENTS (exit 4)
 
     [model]
     kind = "lost_motion"                  # see rvtol.registry.MODELS
@@ -44,6 +47,9 @@
     kind = "local_sensitivity"            # see rvtol.registry.ANALYSES
     # ... analysis parameters
 
+    [[gate]]                              # what a change may do against the accepted baseline
+    kind = "requirements"                 # (rvtol run --baseline, rvtol compare): see rvtol.ci.gates
+
 Loading (:func:`load_study`) reads and checks *everything* — files, keys,
 units, names, the model and every analysis' parameters — before anything is
 computed; :func:`run_study` then runs Monte Carlo and the analyses and
@@ -61,8 +67,9 @@ from functools import cached_property
 from pathlib import Path
 
 
+from .ci.gates import read_gates
 from .design import Design, load_design
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
 from .mc import Evaluator, MonteCarloResult, run_monte_carlo
@@ -103,6 +110,8 @@ class Study:
     options: RunOptions
     analyses: list = field(default_factory=list)  # prepared analysis objects (have .run(ctx))
     inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
+    exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
+    gates: list = field(default_factory=list)  # rvtol.ci.gates.Gate: [[gate]] tables, for --baseline
 
 
 @dataclass
@@ -112,6 +121,7 @@ class StudyContext:
     study: Study
     executor: Executor
     mc: MonteCarloResult
+    store: object = None  # rvtol.checkpoint.ChunkStore of the run (checkpoint / resume), or None
 
     @property
     def design(self):
@@ -137,7 +147,7 @@ class StudyContext:
     def evaluator(self) -> Evaluator:
         """Evaluate any model through the study's executor, chunking and progress bar (base units)."""
         o = self.study.options
-        return Evaluator(self.executor, o.chunk_size, o.progress)
+        return Evaluator(self.executor, o.chunk_size, o.progress, self.store)
 
 
 # --------------------------------------------------------------------------- loading
@@ -186,6 +196,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
     mapping = head.path_value("mapping", base, None)
+    exploratory = head.bool("exploratory", False)
     head.finish()
 
     options = _options(root, overrides)
@@ -204,11 +215,13 @@ def load_study(path: str | Path, **overrides) -> Study:
         raise exc.located(file=spec.file or file) from None
     for r in reqs:
         if r.output not in model.output_names:
-            raise SpecError(f"unknown output name {r.output!r} (model has: {', '.join(model.output_names)})",
+            raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
+                            f"(model has: {', '.join(model.output_names)})",
                             file=r.file, key=f"{r.key}.output" if r.key else "output")
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
-    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs)
+    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
+    study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     for t in root.tables("analysis"):
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
@@ -398,21 +411,29 @@ class StudyResult:
 
         return digest(self.mc, self.study.model, self.study.spec, self.study.options.seed)
 
+    @property
+    def verdict(self) -> str:
+        """PASS, FAIL, NO REQUIREMENTS or EXPLORATORY (:func:`rvtol.verdict.study_verdict`)."""
+        from .verdict import study_verdict
+
+        return study_verdict([v.passed for v in self.mc.verdicts()], self.study.exploratory)
+
     def summary(self) -> dict:
         from .report.summary import build_summary
 
         return build_summary(self)
 
 
-def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
+def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
+    """Monte Carlo, then the analyses; ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     o = study.options
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
-                             o.chunk_size, o.progress, o.confidence)
-        ctx = StudyContext(study, ex, mc)
+                             o.chunk_size, o.progress, o.confidence, store=store)
+        ctx = StudyContext(study, ex, mc, store)
         sections: list[Section] = []
         for a in study.analyses:
             res = a.run(ctx)
@@ -487,8 +508,11 @@ def write_tables(result: StudyResult, samples, folder: Path) -> None:
                 write_frames(folder / "requirements.csv", {"requirements": reqs})
 
 
-def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
-    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
+def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[str, str] | None = None) -> Path:
+    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``.
+
+    ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
+    """
     from .report.render import render_html, render_pdf
 
     out = check_out_dir(out_dir)
@@ -505,6 +529,8 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(html, tmp / "report.pdf")
+        for fname, text in (extra_files or {}).items():
+            (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
         old = None
         if out.exists():

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .errors import UnitError
+from .errors import UnitError, did_you_mean
 
 _ARCMIN = math.pi / 10800.0
 _ARCSEC = math.pi / 648000.0
@@ -146,7 +146,8 @@ def canonical(unit: str) -> str:
     u = unit.strip()
     u = _ALIASES.get(u, u)
     if u not in _TABLE:
-        raise UnitError(f"unknown unit {unit!r} (known: {', '.join(sorted(_TABLE))})")
+        raise UnitError(f"unknown unit {unit!r}{did_you_mean(u, [*_TABLE, *_ALIASES])} "
+                        f"(known: {', '.join(sorted(_TABLE))})")
     return u
 
 

@@ -1,6 +1,8 @@
 """Tolerance allocation: cost fits, convex optimum vs closed forms, GA vs convex, independent MC check."""
 import math
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -185,7 +187,11 @@ def test_monte_carlo_yield_bound_uses_the_requirements_interval(interval, method
     m = mc.measures(p.t0[None, :] * 0.3)[0][0]
     k = round(m["yield"] * 400)
     assert 0 < k < 400
-    assert m["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.95, method)[0], rel=1e-10)
+    # the sign-off's bound (one-sided 95 % by default) = the lower end of SciPy's two-sided 90 % interval
+    assert m["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.90, method)[0], rel=1e-10)
+    two = p.with_requirements([replace(req[0], bound="two-sided")])
+    m2 = MonteCarloConstraint(two, 400, "random", 5).measures(p.t0[None, :] * 0.3)[0][0]
+    assert m2["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.95, method)[0], rel=1e-10)
 
 
 class FailsAwayFromZero(LinearModel):

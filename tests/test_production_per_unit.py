@@ -138,14 +138,16 @@ def test_an_unmeasured_factor_correlated_with_a_measured_one_is_drawn_conditiona
 
 def test_samples_to_demonstrate_is_the_clopper_pearson_count():
     r = Requirement("y", upper=1.0, min_yield=0.9973)
-    assert samples_to_demonstrate([r]) == math.ceil(math.log(0.025) / math.log(0.9973)) == 1365
+    assert samples_to_demonstrate([r]) == math.ceil(math.log(0.05) / math.log(0.9973)) == 1109   # one-sided 95 %
+    r2 = Requirement("y", upper=1.0, min_yield=0.9973, bound="two-sided")
+    assert samples_to_demonstrate([r2]) == math.ceil(math.log(0.025) / math.log(0.9973)) == 1365
     r90 = Requirement("y", upper=1.0, min_yield=0.9, confidence=0.9)
-    assert samples_to_demonstrate([r90]) == math.ceil(math.log(0.05) / math.log(0.9))
+    assert samples_to_demonstrate([r90]) == math.ceil(math.log(0.1) / math.log(0.9))
     assert samples_to_demonstrate([]) == 1
     # a Cpk-only requirement: the one-sided yield Φ(3·1.33)
     rc = Requirement("y", upper=1.0, min_cpk=1.33, min_yield=None)
     p = stats.norm.cdf(3 * 1.33)
-    assert samples_to_demonstrate([rc]) == math.ceil(math.log(0.025) / math.log(p))
+    assert samples_to_demonstrate([rc]) == math.ceil(math.log(0.05) / math.log(p))
 
 
 def test_unit_verdicts_conform_fail_and_undecided_by_their_probability(tmp_path):
@@ -168,9 +170,9 @@ def test_unit_verdicts_conform_fail_and_undecided_by_their_probability(tmp_path)
     # with fewer samples than needed, a unit whose samples all conform is undecided
     pred2 = predict_units(model, SPEC, mu, 10, evaluator=Evaluator(), requirements=[r], seed=4)
     assert pred2.verdicts()["A"] == UNDECIDED
-    # a conformance probability of its own (ISO 14253-1's 95 %): 72 samples demonstrate it
+    # a conformance probability of its own (ISO 14253-1's 95 %): 59 samples demonstrate it
     n95 = samples_to_demonstrate([r], probability=0.95)
-    assert n95 == math.ceil(math.log(0.025) / math.log(0.95)) == 72
+    assert n95 == math.ceil(math.log(0.05) / math.log(0.95)) == 59
     pred3 = predict_units(model, SPEC, mu, n95, evaluator=Evaluator(), requirements=[r], seed=4, probability=0.95)
     assert pred3.verdicts() == {"A": CONFORMS, "B": DOES_NOT_CONFORM, "C": DOES_NOT_CONFORM}
     assert set(pred3.requirement_frame()["required"]) == {0.95}

@@ -38,8 +38,8 @@ from ..errors import InputError
 from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
-from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import cpk_figures, judge
+from ..spec import Requirement, ToleranceSpec
+from ..verdict import cpk_figures, judge, percentile_cpk_confidence, yield_bound
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -285,9 +285,9 @@ class MonteCarloConstraint:
     def measures(self, T) -> list[list[dict]]:
         """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
 
-        Only what a requirement asks for is computed (the yield bound is the
-        requirement's interval: Clopper–Pearson in its closed beta-quantile
-        form for speed, or Wilson, as :func:`rvtol.stats.proportion_ci`).
+        Only what a requirement asks for is computed; the bounds are the sign-off's
+        (:func:`rvtol.verdict.yield_bound`, :func:`rvtol.verdict.cpk_bound`: the
+        requirement's interval, one- or two-sided).
         """
         m = self.problem.model
         out = []
@@ -306,14 +306,14 @@ class MonteCarloConstraint:
                         inside &= np.nan_to_num(y, nan=np.inf) <= r.upper
                     k, n = int(inside.sum()), len(y)
                     row["yield"] = k / n
-                    row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
-                                       else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
+                    row["yield_lo"] = yield_bound(r, k, n)
                 if r.min_cpk is not None:
                     good = y[ok]
                     cap = st.capability(good, r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
-                    pci = (st.bootstrap_ci(good, lambda v: st.percentile_cpk(v, r.lower, r.upper), r.confidence)
+                    pci = (st.bootstrap_ci(good, lambda v: st.percentile_cpk(v, r.lower, r.upper),
+                                           percentile_cpk_confidence(r))
                            if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
-                    row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, pci)
+                    row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, int(ok.sum()), pci)
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
@@ -348,11 +348,6 @@ def affine_centres(problem: AllocationProblem) -> np.ndarray:
                                                                               atol=1e-12 * scale)
         out.append(float(c[0]) if ok else np.nan)
     return np.array(out)
-
-
-def clopper_pearson_lower(k: int, n: int, confidence: float) -> float:
-    """Lower end of the two-sided Clopper–Pearson interval of k/n (as :func:`rvtol.stats.proportion_ci`)."""
-    return 0.0 if k == 0 else float(sps.beta.ppf((1.0 - confidence) / 2.0, k, n - k + 1))
 
 
 def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:

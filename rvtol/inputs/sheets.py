@@ -13,6 +13,7 @@ import io
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..params import read_bytes
 from ..errors import SpecError
 
 #: table formats rvtol reads and writes
@@ -61,23 +62,12 @@ class Sheet:
         return Location(file, self.title)
 
 
-def _read_bytes(path: Path) -> bytes:
-    try:
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise SpecError("file not found", file=str(path), key="-") from None
-    except IsADirectoryError:
-        raise SpecError("is a directory, expected a table file", file=str(path), key="-") from None
-    except OSError as exc:
-        raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
-
-
 def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = ",;\t") -> Sheet:
     """The rows of a CSV/TSV/TXT file or of one XLSX sheet (the first unless ``sheet`` names one)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix in (".xlsx", ".xlsm"):
-        raw = _read_bytes(path)
+        raw = read_bytes(path, "a table file")
         import openpyxl
 
         try:
@@ -100,7 +90,7 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
         _check_formulas(raw, path, title, rows)
         return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest())
     if suffix in (".csv", ".txt", ".tsv"):
-        raw = _read_bytes(path)
+        raw = read_bytes(path, "a table file")
         try:
             text = raw.decode("utf-8-sig")
         except UnicodeDecodeError:

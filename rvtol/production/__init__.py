@@ -17,7 +17,7 @@
     from rvtol.production import FamilySource, load_measured_units, predict_units
 
     units = load_measured_units(spec, "kits.csv", [FamilySource(Path("cranks.csv"), ("crank_1", "crank_2"))])
-    pred = predict_units(model, spec, units, n=1365, evaluator=Evaluator(), requirements=reqs, seed=1)
+    pred = predict_units(model, spec, units, n=1109, evaluator=Evaluator(), requirements=reqs, seed=1)
     print(pred.unit_frame())
 """
 from .measured_parts import FamilySource, MeasuredUnits, load_measured_units, read_kit_list, read_part_family

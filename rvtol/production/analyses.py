@@ -6,7 +6,7 @@
     kind = "per_unit_prediction"
     name = ""                       # optional: section key per_unit_prediction_<name>, file per_unit_<name>.csv
     kits = "measured/kits.csv"      # the kit list (rvtol.production.measured_parts)
-    n = 1365                        # samples per unit (default: the n at which a unit can be shown to
+    n = 1109                        # samples per unit (default: the n at which a unit can be shown to
                                     # conform on every requirement, rvtol.production.per_unit.samples_to_demonstrate)
     interval = 0.95                 # central prediction interval shown per output
     outputs = ["torsion.lost_motion"]   # outputs in the tables and plots (default: those of the requirements)

@@ -18,7 +18,8 @@ All units are evaluated in one call of the study's :class:`~rvtol.mc.Evaluator`.
 Per unit and output: median, mean, standard deviation and the central prediction interval
 (``interval``, 95 % by default: the 2.5 % and 97.5 % points of the ``n`` samples).  Per unit and
 requirement: the probability ``P`` that the unit conforms (the fraction of its samples within the
-limits; samples the model cannot evaluate count as non-conforming) with its confidence interval,
+limits; samples the model cannot evaluate count as non-conforming) with its lower and upper
+confidence bounds (one-sided at the requirement's bound level, :func:`rvtol.verdict.bound_level`),
 and the verdict of :func:`rvtol.verdict.judge_unit`: conforms / does not conform / undecided.
 
 For a linear model ``y = c + Σ a_i x_i`` the prediction is normal-equivalent with variance
@@ -41,7 +42,7 @@ from ..mc import result_of
 from ..model import STATUS_OK, Model, Quantity
 from ..sampling import SampleSet, substream_seed, uniform_design
 from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import CONFORMS, DOES_NOT_CONFORM, UNDECIDED, judge_unit, unit_probability_required
+from ..verdict import CONFORMS, DOES_NOT_CONFORM, UNDECIDED, judge_unit, samples_for_unit, unit_probability_required
 from .measured_parts import MeasuredUnits
 
 #: the order of the unit verdicts, worst last (a unit's overall verdict is its worst requirement's)
@@ -49,29 +50,18 @@ STATES = (CONFORMS, UNDECIDED, DOES_NOT_CONFORM)
 _U_EPS = 2.0 ** -53
 
 
-def samples_to_demonstrate(requirements, probability: float | None = None, max_n: int = 10_000_000) -> int:
+def samples_to_demonstrate(requirements, probability: float | None = None) -> int:
     """The smallest ``n`` at which a unit with every sample conforming is judged to conform on every
-    requirement (the lower confidence bound of ``n/n`` reaching the required probability — each
-    requirement's own, or ``probability``); e.g. 1365 for 0.9973 and 72 for 0.95 at 95 %
-    Clopper–Pearson (``(α/2)^(1/n) ≥ p``).  1 without requirements."""
+    requirement (:func:`rvtol.verdict.samples_for_unit`: the lower bound of ``n/n`` reaching each
+    requirement's own probability, or ``probability``); e.g. 1109 for 0.9973 and 59 for 0.95 at a 95 %
+    one-sided Clopper–Pearson bound (``(1 − c)^(1/n) ≥ p``).  1 without requirements."""
     need = 1
     for r in requirements:
-        p = unit_probability_required(r) if probability is None else probability
-        method = YIELD_INTERVALS[r.interval]
-        if r.basis == "estimate" or p <= 0.0:
-            continue
-        if p >= 1.0:
-            raise ValueError(f"requirement {r.label!r} asks for P = 1: no finite sample demonstrates it")
-        lo, hi = 1, max_n
-        if st.proportion_ci(hi, hi, r.confidence, method)[0] < p:
-            raise ValueError(f"requirement {r.label!r}: more than {max_n} samples per unit needed")
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if st.proportion_ci(mid, mid, r.confidence, method)[0] >= p:
-                hi = mid
-            else:
-                lo = mid + 1
-        need = max(need, lo)
+        m = samples_for_unit(r, probability)
+        if m is None:
+            p = probability if probability is not None else unit_probability_required(r)
+            raise ValueError(f"requirement {r.label!r}: no sample size demonstrates P = {p:g} of one unit")
+        need = max(need, m)
     return need
 
 
@@ -179,10 +169,10 @@ class UnitPredictions:
             for r in self.requirements:
                 y = self.Y[i, :, names.index(r.output)]
                 yr = st.yield_of(y, ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
-                j = judge_unit(r, p=yr.estimate, p_lo=yr.lo, p_hi=yr.hi, n_failed=int((~ok).sum()),
+                j = judge_unit(r, conforming=yr.conforming, n=yr.n, n_failed=int((~ok).sum()),
                                required=self.probability)
-                rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": yr.estimate,
-                             "P_lo": yr.lo, "P_hi": yr.hi, "required": j.required, "verdict": j.state,
+                rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": j.p,
+                             "P_lo": j.p_lo, "P_hi": j.p_hi, "required": j.required, "verdict": j.state,
                              "reasons": "; ".join(j.reasons)})
         return pd.DataFrame(rows, columns=["reducer", "requirement", "output", "P", "P_lo", "P_hi", "required",
                                            "verdict", "reasons"])

@@ -19,7 +19,7 @@ uses ±1; an angle from a length at radius R uses 1/R (rad/mm).
 from __future__ import annotations
 
 from ... import units
-from ...errors import InputError
+from ...errors import InputError, did_you_mean
 from ...model import LinearModel, Quantity
 
 
@@ -68,7 +68,9 @@ def from_study(params, design, spec) -> LinearModel:
                 row.append(coefs.float(f, 0.0))
             unknown = sorted(set(coefs.keys()) - set(spec.names))
             if unknown:
-                raise coefs.error(unknown[0], f"unknown factor name {unknown[0]!r} (spec has: {', '.join(spec.names)})")
+                raise coefs.error(unknown[0], f"unknown factor name {unknown[0]!r}"
+                                                  f"{did_you_mean(unknown[0], spec.names)} "
+                                                  f"(spec has: {', '.join(spec.names)})")
         t.finish()
         quantities.append(Quantity(name, base, disp))
         rows.append(row)
