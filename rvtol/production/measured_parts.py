@@ -52,8 +52,8 @@ import numpy as np
 import pandas as pd
 
 from .. import units
-from ..calibration.measurements import read_text
 from ..errors import InputError
+from ..params import read_text
 
 SERIAL = "serial"
 REDUCER = "reducer"
@@ -77,7 +77,7 @@ def factor_name(slot: str, column: str) -> str:
 def _rows(path) -> tuple[str, str, list[tuple[int, list[str]]]]:
     """``(file, sha256, [(line number, cells)])`` of the non-comment, non-blank lines of a CSV file."""
     file = str(path)
-    text, sha = read_text(path)
+    text, sha = read_text(path, "a CSV file")
     rows = []
     for lineno, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
