@@ -99,6 +99,44 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     return Evaluation(Y, status)
 
 
+class EvaluationCache:
+    """Rows a model has already been evaluated on in one study run, and their results.
+
+    Models are row-deterministic, so a row seen before (bit for bit, the same model object) is not
+    evaluated again: two analyses that linearise the same model at the same point (a sensitivity
+    matrix and an allocation) share their five-point runs.  Keys are 128-bit BLAKE2 digests of the
+    rows; at most ``max_rows`` results are kept (later rows are evaluated, not stored).
+    """
+
+    def __init__(self, max_rows: int = 100_000):
+        self.max_rows = max_rows
+        self._models: dict[int, tuple[Model, dict[bytes, tuple[np.ndarray, int]]]] = {}
+        self.hits = 0
+
+    def __call__(self, model: Model, X: np.ndarray, compute) -> Evaluation:
+        """``compute(X_missing) -> Evaluation`` evaluates the rows not seen before (each distinct row once)."""
+        import hashlib
+
+        X = np.ascontiguousarray(model.check_input(X), dtype=float)
+        # the model object is kept with its results, so its id cannot be reused by another model
+        known = self._models.setdefault(id(model), (model, {}))[1]
+        keys = [hashlib.blake2b(x.tobytes(), digest_size=16).digest() for x in X]
+        todo = list(dict.fromkeys(k for k in keys if k not in known))
+        self.hits += sum(k in known for k in keys)
+        fresh = {}
+        if todo:
+            first = {k: i for i, k in reversed(list(enumerate(keys)))}
+            ev = compute(X[[first[k] for k in todo]])
+            fresh = {k: (ev.Y[i], int(ev.status[i])) for i, k in enumerate(todo)}
+            room = self.max_rows - sum(len(v[1]) for v in self._models.values())
+            for k in todo[:max(room, 0)]:
+                known[k] = fresh[k]
+        got = [known.get(k) or fresh[k] for k in keys]
+        m = len(model.outputs)
+        Y = np.array([g[0] for g in got], dtype=float).reshape(len(keys), m)
+        return Evaluation(Y, np.array([g[1] for g in got], dtype=np.int16))
+
+
 class Evaluator:
     """The one evaluator signature of rvtol: ``evaluator(model, X, desc) -> Evaluation``.
 
@@ -106,19 +144,22 @@ class Evaluator:
     analyses all evaluate models through an Evaluator, so every evaluation
     runs on the same executor with the same chunking, progress bar and
     failure accounting.  ``Evaluator()`` is serial without a progress bar; a
-    study's is ``ctx.evaluator`` (its executor and options).  ``X`` and the
-    returned ``Y`` are in base units; failed rows are NaN with a non-zero status.
+    study's is ``ctx.evaluator`` (its executor and options, and the run's
+    :class:`EvaluationCache`).  ``X`` and the returned ``Y`` are in base units;
+    failed rows are NaN with a non-zero status.
     """
 
     def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False,
-                 store=None):
+                 cache: EvaluationCache | None = None, store=None):
         self.executor = executor
         self.chunk_size = chunk_size
         self.progress = progress
+        self.cache = cache
         self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
 
     def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
-        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc, self.store)
+        run = lambda Xm: evaluate(model, Xm, self.executor, self.chunk_size, self.progress, desc, self.store)  # noqa: E731
+        return run(X) if self.cache is None else self.cache(model, X, run)
 
 
 def _progress(total: int, desc: str):

@@ -131,6 +131,11 @@ class LinearModel(Model):
         # row by row (no BLAS): the result of a row never depends on the chunk it is in
         return self.c + np.stack([(X * a).sum(axis=1) for a in self.A], axis=1)
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each output depends on the inputs with a non-zero coefficient."""
+        return {q.name: frozenset(n for n, a in zip(self.inputs, row) if a != 0.0)
+                for q, row in zip(self.outputs, self.A)}
+
 
 class FunctionModel(Model):
     """Wrap a vectorised function ``f(X) -> Y`` (both base units) as a Model."""
@@ -145,3 +150,12 @@ class FunctionModel(Model):
     def evaluate(self, X):
         Y = np.asarray(self.f(self.check_input(X)), dtype=float)
         return Y.reshape(len(Y), -1)
+
+
+def dependencies(model: "Model") -> dict[str, set[str]] | None:
+    """Output -> the model inputs it can depend on, where the model knows (a composed model through its
+    declared mapping, a model through :meth:`Model.dependencies`); None: every output on every input."""
+    if hasattr(model, "depends_on"):
+        return {k: set(v) for k, v in model.depends_on().items()}
+    own = model.dependencies()
+    return None if own is None else {k: set(v) for k, v in own.items()}

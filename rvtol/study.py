@@ -72,7 +72,7 @@ from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import Evaluator, MonteCarloResult, run_monte_carlo
+from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
@@ -121,6 +121,7 @@ class StudyContext:
     study: Study
     executor: Executor
     mc: MonteCarloResult
+    cache: EvaluationCache = field(default_factory=EvaluationCache)   # rows the analyses evaluated
     store: object = None  # rvtol.checkpoint.ChunkStore of the run (checkpoint / resume), or None
 
     @property
@@ -147,7 +148,7 @@ class StudyContext:
     def evaluator(self) -> Evaluator:
         """Evaluate any model through the study's executor, chunking and progress bar (base units)."""
         o = self.study.options
-        return Evaluator(self.executor, o.chunk_size, o.progress, self.store)
+        return Evaluator(self.executor, o.chunk_size, o.progress, self.cache, self.store)
 
 
 # --------------------------------------------------------------------------- loading
@@ -399,6 +400,7 @@ class StudyResult:
     sections: list[Section]
     elapsed: float
     executor: str
+    timings: list = field(default_factory=list)   # (phase, seconds): the Monte Carlo, then each analysis
 
     @property
     def passed(self) -> bool:
@@ -430,19 +432,23 @@ def run_study(study: Study, executor: Executor | None = None, store=None) -> Stu
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
+    timings = []
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
                              o.chunk_size, o.progress, o.confidence, store=store)
-        ctx = StudyContext(study, ex, mc, store)
+        timings.append((f"Monte Carlo ({o.n} samples)", time.perf_counter() - t0))
+        ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
         for a in study.analyses:
+            t1 = time.perf_counter()
             res = a.run(ctx)
             sections.extend(res if isinstance(res, list) else [res])
+            timings.append((f"analysis {getattr(a, 'key', None) or type(a).__name__}", time.perf_counter() - t1))
         desc = ex.describe()
     finally:
         if own:
             ex.close()
-    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc)
+    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc, timings)
 
 
 def check_out_dir(out_dir: str | Path) -> Path:

@@ -137,13 +137,10 @@ def lm_inputs(v, design) -> dict[str, np.ndarray]:
 
 
 # ----------------------------------------------------------------------------- mapping.md §3
-def te_state(v, design, row: int, *, per_disc: bool = False):
-    """The 20-DOF ErrorState (mm, rad) of sample ``row``.
-
-    ``per_disc=False``: what today's factor names can express — one normal clearance per pin for both
-    discs (the mean of the discs' n0) and one profile pattern for both discs (the vector mean);
-    ``per_disc=True``: mapping.md §3 as written (each disc its own n0_j and pattern).
-    """
+def te_state(v, design, row: int):
+    """The 20-DOF ErrorState (mm, rad) of sample ``row``, mapping.md §3 as written: the pin positions (circle
+    radius + 2-lobe pattern + residual) and the pin-in-groove clearance g_k common to both discs; each disc its
+    own profile modification (Δr_j, ΔR_j: the kernel's n_j(φ)) and its own 2-lobe profile patterns."""
     from rvtol.models.transmission import layout as L
     from rvtol.models.transmission.factors import ErrorState
 
@@ -167,24 +164,21 @@ def te_state(v, design, row: int, *, per_disc: bool = False):
             put(L.E_C + k, L.BETA_C + k, (1.0 if j == 1 else -1.0) * cam(v, i, j)[row])
             put(L.E_H + k, L.BETA_H + k, rot(hole(v, j, i)[row], -PHI[i - 1]))
             e[L.DELTA_B + k] = max(ceff(v, j, i)[row], 0.0) / 2 * um
+    for j in (1, 2):
+        e[L.MOD_EQ + j - 1] = at(f"disc_{j}.profile.equidistance_mod") * um
+        e[L.MOD_MOVED + j - 1] = at(f"disc_{j}.profile.moved_distance_mod") * um
     residual = {c: np.array([at(f"housing.pin_groove[{k}].{c}_residual") for k in range(1, ZB + 1)])
                 for c in ("radial", "tangential")}
     radial = (at("housing.pin_circle.radius") + residual["radial"] + at("housing.pin_grooves.radial_harmonic")
               * np.sin(2 * THK + math.radians(at("housing.pin_grooves.radial_harmonic_phase"))))
     tangential = (residual["tangential"] + at("housing.pin_grooves.cumulative_pitch")
                   * np.sin(2 * THK + math.radians(at("housing.pin_grooves.cumulative_pitch_phase"))))
-    n0s = {j: n0(v, design, j)[row] for j in (1, 2)}
     g = pin_gap(v)[row]
-    pattern = {}
-    for field, amp in ((L.DISC_R, "form"), (L.DISC_AP, "cumulative_pitch")):
-        for j in (1, 2):
-            A, ph = at(f"disc_{j}.profile.{amp}") * um, math.radians(at(f"disc_{j}.profile.{amp}_phase"))
-            pattern[field, j] = np.array([A * math.sin(ph), A * math.cos(ph)])      # A·sin(2θ_d + ph)
     for j in (1, 2):
         s.pin_err[L.PIN_R, j - 1] = radial * um
         s.pin_err[L.PIN_AP, j - 1] = tangential * um
-        clear = n0s[j] if per_disc else 0.5 * (n0s[1] + n0s[2])
-        s.pin_err[L.PIN_GAP, j - 1] = (clear + g) * um
-        for field in (L.DISC_R, L.DISC_AP):
-            s.disc_h[j - 1, field, 2] = pattern[field, j] if per_disc else 0.5 * (pattern[field, 1] + pattern[field, 2])
+        s.pin_err[L.PIN_GAP, j - 1] = g * um
+        for field, amp in ((L.DISC_R, "form"), (L.DISC_AP, "cumulative_pitch")):
+            A, ph = at(f"disc_{j}.profile.{amp}") * um, math.radians(at(f"disc_{j}.profile.{amp}_phase"))
+            s.disc_h[j - 1, field, 2] = [A * math.sin(ph), A * math.cos(ph)]      # A·sin(2θ_d + ph)
     return s

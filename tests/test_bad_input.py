@@ -15,22 +15,9 @@ from rvtol.errors import InputError
 from rvtol.sampling import sample
 from rvtol.spec import spec_from_table
 
-SPEC = """
-[spec]
-name = "s"
-[[factor]]
-name = "a"
-unit = "um"
-dist = "normal"
-mean = 0.0
-tolerance = 30.0
-[[factor]]
-name = "b"
-unit = "um"
-dist = "uniform"
-lower = -5.0
-upper = 5.0
-"""
+from conftest import GAP_MODEL, gap_factors
+
+SPEC = '[spec]\nname = "s"\n' + gap_factors(30.0, mean=0.0)
 
 REQ = """
 [[requirement]]
@@ -52,14 +39,7 @@ name = "t"
 spec = "spec.toml"
 requirements = "req.toml"
 design = "design.toml"
-[model]
-kind = "linear"
-[[model.output]]
-name = "gap"
-unit = "mm"
-display_unit = "um"
-coefficients = { a = 1.0, b = -1.0 }
-[sampling]
+""" + GAP_MODEL + """[sampling]
 n = 2000
 method = "lhs"
 seed = 1

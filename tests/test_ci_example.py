@@ -11,35 +11,17 @@ from pathlib import Path
 import pytest
 import yaml
 
+from conftest import GAP_MODEL, gap_factors
+
 ROOT = Path(__file__).resolve().parents[1]
 CI = ROOT / "studies" / "ci"
 
-SPEC = """
-[[factor]]
-name = "a"
-unit = "um"
-dist = "normal"
-tolerance = {T}
-[[factor]]
-name = "b"
-unit = "um"
-dist = "uniform"
-lower = -5.0
-upper = 5.0
-"""
 
 STUDY = """
 [study]
 name = "tiny"
 spec = "../data/tiny_spec.toml"
-[model]
-kind = "linear"
-[[model.output]]
-name = "gap"
-unit = "mm"
-display_unit = "um"
-coefficients = { a = 1.0, b = -1.0 }
-[sampling]
+""" + GAP_MODEL + """[sampling]
 n = 3000
 method = "lhs"
 seed = 3
@@ -84,7 +66,7 @@ def tree(root: Path, T: float) -> None:
     (root / "studies").mkdir(parents=True)
     (root / "data").mkdir()
     (root / "studies" / "tiny.toml").write_text(STUDY)
-    (root / "data" / "tiny_spec.toml").write_text(SPEC.format(T=T))
+    (root / "data" / "tiny_spec.toml").write_text(gap_factors(T))
 
 
 def shim(tmp_path: Path) -> Path:

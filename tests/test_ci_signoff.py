@@ -17,32 +17,14 @@ from scipy import stats
 from rvtol.ci import differences as df
 from rvtol.cli import main
 
-SPEC = """
-[[factor]]
-name = "a"
-unit = "um"
-dist = "normal"
-tolerance = {T}
-[[factor]]
-name = "b"
-unit = "um"
-dist = "uniform"
-lower = -5.0
-upper = 5.0
-"""
+from conftest import GAP_MODEL, gap_factors
+
 
 STUDY = """
 [study]
 name = "gap"
 spec = "spec_{tag}.toml"
-[model]
-kind = "linear"
-[[model.output]]
-name = "gap"
-unit = "mm"
-display_unit = "um"
-coefficients = {{ a = 1.0, b = -1.0 }}
-[sampling]
+{model}[sampling]
 n = 4000
 method = "lhs"
 seed = 1
@@ -66,8 +48,8 @@ max_increase = 1.0
 
 
 def make(tmp_path, tag: str, T: float, gates: str = GATES, n: int | None = None):
-    (tmp_path / f"spec_{tag}.toml").write_text(SPEC.format(T=T))
-    text = STUDY.format(tag=tag, gates=gates)
+    (tmp_path / f"spec_{tag}.toml").write_text(gap_factors(T))
+    text = STUDY.format(tag=tag, gates=gates, model=GAP_MODEL)
     if n is not None:
         text = text.replace("n = 4000", f"n = {n}")
     p = tmp_path / f"study_{tag}.toml"

@@ -41,13 +41,13 @@ def _stackup_matrix(model: CompositeModel, X):
     return st.model, CompositeModel.stage_matrix(st, env, len(X))
 
 
-def test_the_study_composes_four_models_on_the_drawing_spec(study):
+def test_the_study_composes_five_models_on_the_drawing_spec(study):
     m = study.model
     assert len(study.spec) == 276 and m.inputs == study.spec.names
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening"]
+    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
     torsion, te = m.stage("torsion"), m.stage("te")
     assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
-    assert len(torsion.model.inputs) == 170 and len(m.stage("screening").model.inputs) == 7
+    assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
     assert {r.output for r in study.requirements} <= set(m.output_names)
 
 
@@ -116,6 +116,12 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
             assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5, abs=tol), name
         r = te._sweep(state)
         assert Y[row, m.output_index("te.te_pp")] == pytest.approx(r.te.max() - r.te.min(), rel=1e-5, abs=1e-7)
+        # stage 5: the first stage's free play in series with the torsion curve (plays add; rigidity unchanged)
+        play = Y[row, m.output_index("screening.involute_stage")] / study.design["reducer.ratio"]
+        assert play > 0
+        for name in ("lost_motion", "backlash"):
+            assert Y[row, m.output_index(f"reducer.{name}")] == pytest.approx(
+                Y[row, m.output_index(f"torsion.{name}")] + play, rel=1e-12), name
 
 
 def _cheap(m: CompositeModel) -> CompositeModel:
@@ -135,7 +141,10 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
     (both signs: a min() over discs moves one way only): no output moves that ``depends_on`` does not
     name, and every output it names moves — except torsion-curve outputs of single pins: with the input
     locked, pins whose contact normal points (nearly) at the disc centre carry nothing near zero torque,
-    so their own errors cannot move the hysteresis there (the TE sweep, a full revolution, sees them)."""
+    and each disc's modification opens its pins from n0 = 3.6 µm at φ0 to 15 µm at φ = 0°, 180° (n_j(φ)),
+    so only the pins around φ0 carry load at low torque and the backlash, a minimum over the pins, moves
+    only with the pins that close first: the other pins' errors cannot move those figures (the TE sweep,
+    a full revolution, sees every pin)."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -153,10 +162,10 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         want = {o for o, d in deps.items() if f.name in d}
         assert moved <= want, f.name
         missing = want - moved
-        assert all(o.startswith("torsion.") for o in missing) and (not missing or f.family), (f.name, missing)
+        assert all(o.startswith(("torsion.", "reducer.")) for o in missing) and (not missing or f.family), (f.name, missing)
         inactive |= {f.name} if missing else set()
         unused += [] if moved else [f.name]
-    assert len(inactive) < 20                     # a handful of the 120 per-pin factors
+    assert len(inactive) < 40                     # a minority of the 120 per-pin factors (26 at the nominal)
     # mapping.md §8: the drawing tolerances no model uses (axial widths and gap, sizes absorbed by the
     # selective fitting of the needle sets)
     assert sorted(unused) == sorted(["disc_1.width", "disc_2.width", "carrier.disc_gap"]
@@ -164,17 +173,20 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                                     + [f"crank_{i}.cam_{j}.diameter" for j in (1, 2) for i in (1, 2, 3)])
 
 
-TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp"}
+TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp",
+              "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
+FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backlash", "reducer.first_stage_play"}
 
 
 @pytest.mark.parametrize("factor, outputs", [
-    # by hand from mapping.md: tooth thickness reaches only doc 001's involute stage (E_w)
-    ("sun.tooth_thickness", {"screening.lost_motion", "screening.involute_stage"}),
+    # by hand from mapping.md: tooth thickness reaches only doc 001's involute stage (E_w) and, through it, the
+    # first stage's play in the reducer stage
+    ("sun.tooth_thickness", {"screening.lost_motion"} | FIRST_STAGE),
     ("disc_1.width", set()),                                      # axial: no model
     # a carrier bore: crank 2's axis (stack-up KC), E_ca[2] of the 20-DOF, Δa of doc 001 — not the discs,
     # which crank 1 locates
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
-                                          "screening.lost_motion", "screening.involute_stage"} | TWENTY_DOF),
+                                          "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
     # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play)
     ("housing.pin_groove.diameter", {"pin_clearance_mean", "stackup.pin_ring_1_misfit.margin",
                                      "stackup.pin_ring_2_misfit.margin", "screening.lost_motion",

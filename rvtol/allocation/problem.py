@@ -238,6 +238,72 @@ class LinearisedConstraint:
         return ("linearised RSS: Σ (S_i σ_i)² ≤ (margin/z)²" if self.mode == "rss"
                 else "linearised worst case: Σ |S_i| t_i ≤ margin")
 
+    def binding(self, t=None) -> list[str]:
+        """Why the requirements that no allocation (or the tolerances ``t``, base units) can meet fail:
+        one sentence each, naming the requirement (empty if every budget holds)."""
+        out = []
+        load = self.load(np.asarray(t, float))[0] if t is not None else None
+        for j, r in enumerate(self.problem.requirements):
+            q = self.problem.model.output(r.output)
+            y0 = float(q.to_display(self.lin.y0[j]))
+            where = f"{r.label} ({r.output})"
+            if np.isnan(self.lin.S[j]).any():
+                out.append(f"{where}: the model failed on the five points of a factor, no linearisation")
+            elif self.lin.margin[j] <= 0:
+                out.append(f"{where}: the NOMINAL design gives {y0:.4g} {units.label(q.shown_unit)}, on or outside "
+                           "its limits — no tolerance can fix that; the nominal design must change")
+            elif self.budget[j] <= 0:
+                out.append(f"{where}: the nominal {y0:.4g} {units.label(q.shown_unit)} leaves a margin the factors "
+                           "that are not allocated already use up")
+            elif load is not None and load[j] > 1.0:
+                out.append(f"{where}: {100 * (np.sqrt(load[j]) if self.mode == 'rss' else load[j]):.0f} % of its "
+                           "budget at these tolerances")
+        return out
+
+
+def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) -> dict[str, pd.DataFrame]:
+    """For each requirement whose NOMINAL output lies on or outside its limits (no tolerance can fix it),
+    the first-order design levers: the mean shift of one factor (or of every copy of a family alike) that
+    moves the nominal output to ``limit ∓ z·σ`` — z as the allocation's, σ the linearised RSS spread of
+    the spec's present tolerances — ranked by the output change one tolerance half-band of shift gives.
+    Linear at the nominal point: a direction and a size for the designer, to be confirmed by a study of
+    the changed design.  Angles (phases) are not levers, nor error magnitudes (one-sided distributions:
+    a form or position error's size is what the process achieves, not a nominal the designer sets)."""
+    spec, out = problem.spec, {}
+    sd = spec.std_base()
+    for j, r in enumerate(problem.requirements):
+        if lin.margin[j] > 0 or np.isnan(lin.S[j]).any():
+            continue
+        q = problem.model.output(r.output)
+        sigma = float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))
+        lower = units.convert(r.lower, q.shown_unit, q.unit) if r.lower is not None else None
+        if lower is not None and (r.upper is None or lin.y0[j] <= lower):     # the limit the nominal misses
+            target = lower + lin.z[j] * sigma
+        else:
+            target = units.convert(r.upper, q.shown_unit, q.unit) - lin.z[j] * sigma
+        need = target - lin.y0[j]                                  # base units of the output
+        levers: dict[str, list] = {}
+        for k, f in enumerate(spec.factors):
+            if units.dimension(f.unit) == "angle" or f.dist.one_sided or lin.S[j, k] == 0.0:
+                continue              # phases, and error magnitudes (Rayleigh, ...: set by the process, not a nominal)
+            key = f.family or f.name
+            entry = levers.setdefault(key, [0.0, f, 0])
+            entry[0] += lin.S[j, k]
+            entry[2] += 1
+        rows = []
+        for key, (S, f, count) in levers.items():
+            t = units.to_base(f.half_band, f.unit)
+            shift = need / S
+            rows.append({"lever (mean shift of)": key + (f" (all {count} alike)" if count > 1 else ""),
+                         "unit": f.unit, "now (mean)": f.dist.mean,
+                         f"output change per +t [{q.shown_unit}]": float(q.to_display(S * t)),
+                         "shift needed alone": float(units.from_base(shift, f.unit)),
+                         "shift needed / t": float(shift / t) if t > 0 else np.nan,
+                         "_rank": abs(S * t)})
+        frame = pd.DataFrame(rows).sort_values("_rank", ascending=False).drop(columns="_rank").head(top)
+        out[r.label] = frame.reset_index(drop=True)
+    return out
+
 
 # --------------------------------------------------------------------------- Monte Carlo constraint
 class MonteCarloConstraint:

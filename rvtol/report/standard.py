@@ -99,8 +99,8 @@ def inputs_section(result) -> Section:
                                    f"{len(st.model.outputs)} outputs)"},
         {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
         {"item": "executor", "value": result.executor},
-        {"item": "wall time", "value": f"{result.elapsed:.1f} s"},
-    ])
+        {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo and analyses; report writing after)"},
+    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
     sec.add_table(run, caption="Run")

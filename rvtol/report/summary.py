@@ -77,6 +77,8 @@ def build_summary(result) -> dict:
         "n": mc.n,
         "method": st.options.method,
         "executor": result.executor,
+        "wall_time_s": result.elapsed,
+        "timings_s": {phase: seconds for phase, seconds in result.timings},
         "confidence": mc.confidence,
         "inputs": st.inputs,
         "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),

@@ -154,8 +154,9 @@ class CompositeModel(Model):
                 self.status_reasons[STAGE_CODES * (s + 1) + int(code)] = f"{st.name}: {why}"
 
     # -- evaluation ---------------------------------------------------------------------------
-    def environment(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
-        """Every named value of the composition for the rows of ``X`` (base units), and the status."""
+    def environment(self, X: np.ndarray, stages: set[str] | None = None) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Every named value of the composition for the rows of ``X`` (base units), and the status;
+        ``stages``: evaluate only these stages (their outputs alone are in the environment)."""
         X = self.check_input(X)
         n = len(X)
         env: dict[str, np.ndarray] = {name: X[:, j] for j, name in enumerate(self.inputs)}
@@ -163,6 +164,8 @@ class CompositeModel(Model):
         for q in self.quantities:
             env[q.name] = _column(q.expression.evaluate(env), n)
         for s, st in enumerate(self.stages):
+            if stages is not None and st.name not in stages:
+                continue
             Xs = self.stage_matrix(st, env, n)
             good = (status == STATUS_OK) & np.all(np.isfinite(Xs), axis=1)
             status[(status == STATUS_OK) & ~good] = STATUS_NONFINITE
@@ -207,10 +210,25 @@ class CompositeModel(Model):
         raise InputError(f"unknown model {name!r} (the study's models: {', '.join(s.name for s in self.stages)})")
 
     def stage_inputs(self, name: str, X: np.ndarray) -> np.ndarray:
-        """The inputs (base units) stage ``name`` receives for the rows of ``X``."""
+        """The inputs (base units) stage ``name`` receives for the rows of ``X`` (only the stages whose
+        outputs they read are evaluated)."""
         st = self.stage(name)
-        env, _ = self.environment(X)
+        env, _ = self.environment(X, self.upstream(name))
         return self.stage_matrix(st, env, len(X))
+
+    def upstream(self, name: str) -> set[str]:
+        """The stages whose outputs the inputs of stage ``name`` read, directly or through earlier stages."""
+        producer = {st.output_name(j): st for st in self.stages for j in range(len(st.model.outputs))}
+        need: set[str] = set()
+        todo = [self.stage(name)]
+        while todo:
+            for e in todo.pop().inputs:
+                for m in e.names:
+                    src = producer.get(m)
+                    if src is not None and src.name not in need:
+                        need.add(src.name)
+                        todo.append(src)
+        return need
 
     def restricted(self, outputs) -> "CompositeModel":
         """The same composition with only ``outputs`` (names of this model's outputs) and the stages they
@@ -220,10 +238,10 @@ class CompositeModel(Model):
         for o in outputs:
             self.output(o)
         of_stage = {st.output_name(j): st.name for st in self.stages for j in range(len(st.model.outputs))}
-        need = {of_stage[o] for o in outputs if o in of_stage}
-        for st in reversed(self.stages):
-            if st.name in need:
-                need |= {of_stage[m] for e in st.inputs for m in e.names if m in of_stage}
+        need: set[str] = set()
+        for o in outputs:
+            if o in of_stage:
+                need |= {of_stage[o]} | self.upstream(of_stage[o])
         stages = [replace(st, keep=tuple(j for j in range(len(st.model.outputs)) if st.output_name(j) in outputs))
                   for st in self.stages if st.name in need]
         quantities = [replace(q, output=q.output and q.name in outputs) for q in self.quantities]
