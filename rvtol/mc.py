@@ -340,6 +340,13 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
     ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
+    return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial")
+
+
+def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(), confidence: float = 0.95,
+              executor: str = "serial") -> MonteCarloResult:
+    """The :class:`MonteCarloResult` of an evaluation ``ev`` of ``samples`` (outputs to display units;
+    a value that overflows there fails its sample)."""
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):
@@ -349,5 +356,5 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
         ev.status[overflow] = STATUS_NONFINITE
         Yd[overflow] = np.nan
     reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
-    return MonteCarloResult(tuple(model.outputs), s, Yd, ev.status, dict(model.status_reasons), reqs,
-                            confidence, executor.describe() if executor else "serial")
+    return MonteCarloResult(tuple(model.outputs), samples, Yd, ev.status, dict(model.status_reasons), reqs,
+                            confidence, executor)

@@ -73,6 +73,8 @@ ANALYSES: dict[str, str] = {
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
+    "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
     "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",

@@ -9,6 +9,8 @@
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
     spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
+    # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
+                                          # study in this folder; give name, title, analyses, options here
     exploratory = false                   # true: the study checks no requirement on purpose (verdict
                                           # EXPLORATORY, exit 0); without requirements and without
                                           # it the verdict is NO REQUIREMENTS (exit 4)
@@ -156,6 +158,7 @@ def load_study(path: str | Path, **overrides) -> Study:
     data, sha = read_toml(path)
     file = str(path)
     base = path.parent
+    data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
     name = head.str("name", path.stem)
@@ -164,6 +167,8 @@ def load_study(path: str | Path, **overrides) -> Study:
     title = head.str("title", name)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
+    if parent is not None:
+        inputs["extends"] = parent
 
     design = None
     dpath = head.path_value("design", base, None)
@@ -228,6 +233,49 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+#: tables a study that extends another may not give (they come from the base study)
+_INHERITED_ONLY = ("model", "quantity", "factor", "correlation")
+#: [study] keys that are the derived study's own (never taken from the base)
+_OWN = ("name", "title", "description")
+
+
+def _extended(data: dict, path: Path) -> tuple[dict, dict | None]:
+    """A study with ``[study] extends = "base.toml"``: the base study's design, spec, mapping, models and
+    requirements, with this file's name, title, description, its [sampling] / [execution] / [report] keys
+    over the base's, its requirements added and its own analyses (the base's are not inherited).  The base
+    is in the same folder (its relative paths are read from there) and extends nothing itself."""
+    head = data.get("study")
+    if not isinstance(head, dict) or "extends" not in head:
+        return data, None
+    file = str(path)
+    p = Params(head, file=file, key="study")
+    bpath = p.path_value("extends", path.parent)
+    if bpath.resolve().parent != path.resolve().parent:
+        raise p.error("extends", "the base study must be in the same folder as this one (its relative paths "
+                                 "are read from there)")
+    if bpath.resolve() == path.resolve():
+        raise p.error("extends", "a study cannot extend itself")
+    base, bsha = read_toml(bpath)
+    if isinstance(base.get("study"), dict) and "extends" in base["study"]:
+        raise p.error("extends", f"{bpath.name} extends another study itself (one level only)")
+    for k in _INHERITED_ONLY:
+        if k in data:
+            raise SpecError(f"a study that extends {bpath.name} takes its {k} tables from there", file=file, key=k)
+    merged = {k: v for k, v in base.items() if k != "analysis"}
+    bstudy = {k: v for k, v in base.get("study", {}).items() if k not in _OWN}
+    merged["study"] = {**bstudy, **{k: v for k, v in head.items() if k != "extends"}}
+    merged["study"].setdefault("name", path.stem)
+    for k in ("sampling", "execution", "report"):
+        if k in data:
+            merged[k] = {**base.get(k, {}), **data[k]}
+    if "requirement" in data:
+        merged["requirement"] = list(base.get("requirement", [])) + list(data["requirement"])
+    for k, v in data.items():
+        if k not in merged or k == "analysis":
+            merged[k] = v
+    return merged, {"path": str(bpath), "sha256": bsha}
 
 
 def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: str) -> Model:
@@ -432,6 +480,15 @@ def _is_report_folder(path: Path) -> bool:
         return False
 
 
+def _write_section_files(sections: list[Section], folder: Path) -> None:
+    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    for s in sections:
+        for name, content in s.files.items():
+            if (folder / name).exists():
+                raise ValueError(f"analysis {s.key!r}: report file {name!r} exists already")
+            (folder / name).write_bytes(content)
+
+
 #: the most rows an XLSX sheet holds (Excel's limit, header included)
 XLSX_MAX_ROWS = 1_048_576
 
@@ -480,6 +537,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
             render_pdf(html, tmp / "report.pdf")
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
+        _write_section_files(result.sections, tmp)
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

@@ -34,6 +34,14 @@ tolerance the optimiser calls feasible is one the sign-off passes:
 
 :func:`judge` also returns a *violation* ≥ 0, zero exactly when the
 requirement passes, for optimisers (normalised shortfall of each figure).
+
+One serial reducer (:mod:`rvtol.production.per_unit`) is judged by :func:`judge_unit` with the same
+figures read the other way round: its measured parts and the unmeasured factors give a probability
+``P`` that *this* unit meets the requirement; the unit **conforms** when ``P`` reaches the yield
+the requirement demands of the population (its lower confidence bound, or the estimate with
+``basis = "estimate"`` — :func:`judge` decides), **does not conform** when even the upper bound
+stays below it, and is **undecided** in between (measure more, or evaluate more samples) — the
+decision rules of ISO 14253-1 with the prediction's spread as the guard band.
 """
 from __future__ import annotations
 
@@ -162,6 +170,71 @@ def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None,
 
 def _pct(c: float) -> str:
     return f"{100 * c:.4g} %"
+
+
+#: the three states of a unit's verdict (:func:`judge_unit`)
+CONFORMS, DOES_NOT_CONFORM, UNDECIDED = "conforms", "does not conform", "undecided"
+
+
+def unit_probability_required(r: Requirement) -> float:
+    """The probability of conformance one unit must show: the requirement's ``min_yield``; for a
+    Cpk-only requirement the yield that Cpk guarantees of a normal process, Φ(3·Cpk) one-sided or
+    2Φ(3·Cpk) − 1 two-sided (a Cpk describes a population, not a unit)."""
+    if r.min_yield is not None:
+        return float(r.min_yield)
+    from scipy.stats import norm
+
+    p = float(norm.cdf(3.0 * r.min_cpk))
+    return 2.0 * p - 1.0 if r.lower is not None and r.upper is not None else p
+
+
+@dataclass
+class UnitJudgement:
+    """One unit on one requirement: its verdict, the probability it had to show, the probability it
+    shows (estimate) with the lower and upper bounds at the requirement's bound level, and why."""
+
+    state: str
+    required: float
+    p: float
+    p_lo: float
+    p_hi: float
+    reasons: list[str] = field(default_factory=list)
+
+
+def judge_unit(r: Requirement, *, conforming: int, n: int, n_failed: int = 0,
+               required: float | None = None) -> UnitJudgement:
+    """The verdict of one unit on requirement ``r`` from ``conforming`` of its ``n`` predicted samples
+    (module docstring): ``P = conforming/n`` with its one-sided lower and upper bounds at
+    :func:`bound_level` (the requirement's interval method); ``required``: the probability a unit must
+    show, instead of :func:`unit_probability_required` (e.g. 0.95, the coverage of ISO 14253-1's
+    decision rule for one workpiece)."""
+    from dataclasses import replace
+
+    req = unit_probability_required(r) if required is None else float(required)
+    ry = replace(r, min_yield=req, min_cpk=None)
+    p = conforming / n
+    p_lo = yield_bound(ry, conforming, n)
+    p_hi = 1.0 - st.proportion_lower_bound(n - conforming, n, bound_level(ry), YIELD_INTERVALS[r.interval])
+    ok = judge(ry, yield_=p, yield_lo=p_lo, n_failed=n_failed, n=n)
+    if ok.passed:
+        return UnitJudgement(CONFORMS, req, p, p_lo, p_hi, [])
+    lb = r.basis == "lower_bound"
+    if not lb or p_hi < req:
+        why = f"P(conforms) {'upper bound ' if lb else ''}{_f(p_hi if lb else p, '.5f')} < required {req:g}"
+        return UnitJudgement(DOES_NOT_CONFORM, req, p, p_lo, p_hi, [why] + ok.reasons[1:])
+    return UnitJudgement(UNDECIDED, req, p, p_lo, p_hi, ok.reasons[:1] + [
+        f"upper bound {_f(p_hi, '.5f')} ≥ {req:g}: more samples or a smaller measurement uncertainty decide"]
+        + ok.reasons[1:])
+
+
+def samples_for_unit(r: Requirement, required: float | None = None) -> int | None:
+    """The fewest samples with which a unit whose every sample conforms is judged to conform on ``r``
+    (:func:`rvtol.stats.n_for_yield` at P = 1: the success-run size, e.g. 1109 for 0.9973 at a 95 %
+    one-sided bound, 59 for 0.95); 1 with ``basis = "estimate"``, None when no sample size can."""
+    req = unit_probability_required(r) if required is None else float(required)
+    if r.basis == "estimate":
+        return 1
+    return st.n_for_yield(1.0, req, bound_level(r), YIELD_INTERVALS[r.interval])
 
 
 def _f(v, fmt: str) -> str:
