@@ -126,6 +126,13 @@ def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
     assert a["te_pp [arcsec]"][1] == pytest.approx(free * 206264.806, rel=1e-6)
 
 
+#: the allocation analysis of the small studies below (one cost curve for every factor)
+ALLOCATION = """[[analysis]]
+kind = "allocation"
+costs = "costs.toml"
+assign = { "*" = "turning" }
+"""
+
 SET_ASIDE = """
 [study]
 name = "set_aside"
@@ -176,11 +183,7 @@ unit = "um"
 min_cpk = 1.0
 basis = "estimate"
 
-[[analysis]]
-kind = "allocation"
-costs = "costs.toml"
-assign = { "*" = "turning" }
-[analysis.ga]
+""" + ALLOCATION + """[analysis.ga]
 constraint = "none"
 [analysis.verify]
 n = 2000
@@ -255,11 +258,7 @@ unit = "um"
 min_yield = 0.99
 basis = "estimate"
 
-[[analysis]]
-kind = "allocation"
-costs = "costs.toml"
-assign = { "*" = "turning" }
-[analysis.ga]
+""" + ALLOCATION + """[analysis.ga]
 constraint = "monte_carlo"
 n = 4000
 population = 8
