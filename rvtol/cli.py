@@ -1,13 +1,26 @@
 """``rvtol`` command line: ``main(argv) -> int``.
 
-Exit codes: 0 every requirement holds, 1 a requirement fails, 2 bad input
-(one line ``rvtol: error: FILE: KEY: reason``, nothing written), 3 an
-internal error (a bug: please report it with ``--debug`` output), 130
-interrupted.
+Exit codes (README, "Command line"):
+
+====  ==========================================================================
+0     every requirement demonstrated (verdict PASS), or an exploratory study;
+      ``compare``: every gate holds
+1     a requirement fails (FAIL), or a gate of the baseline comparison fails
+2     bad input: one line ``rvtol: error: FILE: KEY: reason``, nothing written
+      (also: ``--out`` not writable, not enough memory or disk for n, the
+      output folder locked by another run)
+3     internal error — a bug: please report it with the ``--debug`` output
+4     no requirement checked (verdict NO REQUIREMENTS): nothing is demonstrated
+130   interrupted (SIGINT, Ctrl-C); 143 terminated (SIGTERM, a CI cancel):
+      workers stopped, nothing written, finished chunks kept for ``--resume``
+====  ==========================================================================
 """
 from __future__ import annotations
 
 import argparse
+import errno
+import json
+import os
 import time
 import sys
 from pathlib import Path
@@ -15,7 +28,13 @@ from pathlib import Path
 from . import __version__
 from .errors import InputError
 
-EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2, 3, 4
+
+#: exit code of each study verdict (rvtol.verdict.study_verdict)
+VERDICT_EXIT = {"PASS": EXIT_PASS, "FAIL": EXIT_FAIL, "NO REQUIREMENTS": EXIT_NO_REQUIREMENTS, "EXPLORATORY": EXIT_PASS}
+
+#: errors of the machine, not of rvtol: reported as bad input (exit 2), never as an internal error
+_ENVIRONMENT_ERRNOS = {errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EDQUOT, errno.EPERM}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -38,41 +57,93 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="random seed")
     run.add_argument("--method", choices=("random", "lhs", "sobol"), help="sampling method")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
+    run.add_argument("--resume", action="store_true",
+                     help="continue an interrupted run of the same --out from its finished chunks")
+    run.add_argument("--baseline", metavar="DIR", help="compare with this accepted report folder (or summary.json) "
+                     "and apply the study's gates")
+    _ci_outputs(run)
     run.add_argument("--no-pdf", action="store_true", help="skip report.pdf")
+    run.add_argument("--tables", choices=("csv", "xlsx"), action="append",
+                     help="also write samples and statistics as CSV or XLSX beside samples.parquet (repeatable)")
     run.add_argument("--quiet", action="store_true", help="no progress bar, only the verdict line")
     run.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+
+    cmp_ = sub.add_parser("compare", help="compare two runs (report folders or summary.json) and apply the gates")
+    cmp_.add_argument("base", help="the accepted baseline: report folder or summary.json")
+    cmp_.add_argument("new", help="the run to judge: report folder or summary.json")
+    cmp_.add_argument("--out", metavar="FILE", help="write the comparison as JSON")
+    _ci_outputs(cmp_)
+    cmp_.add_argument("--debug", action="store_true")
 
     chk = sub.add_parser("check", help="validate a study and everything it names, without running it")
     chk.add_argument("study")
     chk.add_argument("--debug", action="store_true")
 
     sub.add_parser("kinds", help="list the model and analysis kinds a study can use")
+
+    spec = sub.add_parser("spec", help="tolerance specs: convert between TOML and tables")
+    ssub = spec.add_subparsers(dest="spec_command", metavar="SPEC_COMMAND")
+    exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
+    exp.add_argument("spec", help="spec file (.toml, .csv, .tsv or .xlsx)")
+    exp.add_argument("--out", required=True, help="the table to write (.csv, .tsv or .xlsx)")
+    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: the first)")
+    exp.add_argument("--force", action="store_true", help="replace --out if it exists")
     return p
 
 
+def _ci_outputs(p) -> None:
+    p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report (one test case per requirement and gate)")
+    p.add_argument("--markdown", metavar="FILE", help="write a Markdown summary (also appended to "
+                   "$GITHUB_STEP_SUMMARY when that is set)")
+
+
 def main(argv: list[str] | None = None) -> int:
+    from .runguard import Interrupted, stopping_on_signals
+
     args = _parser().parse_args(argv)
     if args.command is None:
         _parser().print_help()
         return EXIT_INPUT
     try:
-        if args.command == "kinds":
-            return _kinds()
-        if args.command == "check":
-            return _check(args)
-        return _run(args)
+        with stopping_on_signals():
+            if args.command == "kinds":
+                return _kinds()
+            if args.command == "check":
+                return _check(args)
+            if args.command == "compare":
+                return _compare(args)
+            if args.command == "spec":
+                return _spec(args)
+            return _run(args)
     except InputError as exc:
         print(f"rvtol: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except Interrupted as exc:
+        kept = (f"; {exc.kept_chunks} finished chunks kept: rerun with --resume to continue"
+                if exc.kept_chunks else "")
+        print(f"rvtol: stopped by {exc.name}: workers stopped, nothing written{kept}", file=sys.stderr)
+        return exc.exit_code
     except KeyboardInterrupt:
         print("rvtol: interrupted (nothing written)", file=sys.stderr)
         return 130
+    except MemoryError:
+        print("rvtol: error: <command line>: --n: out of memory during the run; lower n", file=sys.stderr)
+        return EXIT_INPUT
+    except OSError as exc:
+        if exc.errno not in _ENVIRONMENT_ERRNOS or getattr(args, "debug", False):
+            return _internal(args, exc)
+        print(f"rvtol: error: {exc.filename or '<output>'}: -: cannot write ({exc.strerror})", file=sys.stderr)
+        return EXIT_INPUT
     except Exception as exc:  # a bug, not bad input
-        if getattr(args, "debug", False):
-            raise
-        print(f"rvtol: internal error: {type(exc).__name__}: {exc} (rerun with --debug for the traceback)",
-              file=sys.stderr)
-        return EXIT_INTERNAL
+        return _internal(args, exc)
+
+
+def _internal(args, exc: BaseException) -> int:
+    if getattr(args, "debug", False):
+        raise exc
+    print(f"rvtol: internal error: {type(exc).__name__}: {exc} (rerun with --debug for the traceback)",
+          file=sys.stderr)
+    return EXIT_INTERNAL
 
 
 def _overrides(args) -> dict:
@@ -87,6 +158,8 @@ def _overrides(args) -> dict:
               scheduler=args.scheduler, chunk_size=args.chunk_size)
     if args.no_pdf:
         ov["pdf"] = False
+    if args.tables:
+        ov["tables"] = tuple(dict.fromkeys(args.tables))
     if args.quiet:
         ov["progress"] = False
     return ov
@@ -97,36 +170,161 @@ def _check(args) -> int:
 
     st = load_study(args.study)
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
-          f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.analyses)} analyses")
+          f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
+          f"{len(st.analyses)} analyses")
+    if not st.requirements:
+        print("rvtol: note: " + ("an exploratory study: it checks no requirement (verdict EXPLORATORY, exit 0)"
+                                 if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "
+                                 "(exit 4); add [[requirement]] tables or declare [study] exploratory = true"))
+    return EXIT_PASS
+
+
+def _spec(args) -> int:
+    import os
+
+    from .inputs.sheets import WRITE_SUFFIXES
+    from .inputs.table_spec import write_table_spec
+    from .spec import load_spec
+
+    if args.spec_command != "export":
+        _parser().parse_args(["spec", "--help"])
+    out = Path(args.out)
+    if out.suffix.lower() not in WRITE_SUFFIXES:
+        raise InputError(f"unknown table format {out.suffix!r} (expected {', '.join(WRITE_SUFFIXES)})",
+                         file=str(out), key="--out")
+    if out.exists() and not args.force:
+        raise InputError("exists; give --force to replace it", file=str(out), key="--out")
+    spec = load_spec(args.spec, sheet=args.sheet)
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    try:
+        write_table_spec(spec, tmp)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    print(f"rvtol: wrote {out} ({len(spec)} factors of spec {spec.name!r})")
     return EXIT_PASS
 
 
 def _kinds() -> int:
-    from .registry import ANALYSES, MODELS
+    from .registry import ANALYSES, MODELS, plugin_models
 
     print("models:   " + ", ".join(sorted(MODELS)))
+    plugins = plugin_models()
+    if plugins:
+        print("models from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in sorted(plugins.items())))
     print("analyses: " + ", ".join(sorted(ANALYSES)))
     return EXIT_PASS
 
 
 def _run(args) -> int:
-    from .study import check_out_dir, load_study, run_study, write_outputs
+    from .checkpoint import run_key
+    from .runguard import RunFolder, check_resources, check_writable, estimate_run, time_pilot
+    from .study import check_out_dir, load_study, result_files, run_study, write_outputs
 
     study = load_study(args.study, **_overrides(args))
-    out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)  # before the run
-    result = run_study(study)
-    t0 = time.perf_counter()
-    write_outputs(result, out)
-    t_report = time.perf_counter() - t0
+    # everything that can be checked is checked before computing (exit 2, nothing written)
+    out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)
+    check_writable(out, "--out")
+    for flag in ("junit", "markdown"):
+        if getattr(args, flag):
+            _check_file_target(getattr(args, flag), f"--{flag}")
+    baseline = None
+    if args.baseline:
+        from .ci.compare import load_run
+
+        baseline = load_run(args.baseline, key="--baseline")
+    est = estimate_run(study)
+    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
+    if not args.quiet:
+        print(f"rvtol: {time_pilot(est, study).describe()}", file=sys.stderr)
+
+    o = study.options
+    key = run_key({"rvtol": __version__, "inputs": {r: v["sha256"] for r, v in study.inputs.items()},
+                   "n": o.n, "seed": o.seed, "method": o.method, "chunk_size": o.chunk_size,
+                   "model": type(study.model).__name__})
+    with RunFolder(out) as folder:
+        store, note = folder.open_store(key, args.resume)
+        if note:
+            print(f"rvtol: {note}", file=sys.stderr)
+        result = run_study(study, store=store)
+        comparison = None
+        extra = {}
+        if baseline is not None:
+            from .ci.compare import RunData, compare
+
+            comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+            extra["comparison.json"] = json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False)
+        t0 = time.perf_counter()
+        write_outputs(result, out, extra_files=extra)
+        t_report = time.perf_counter() - t0
+    if store.reused:
+        print(f"rvtol: resumed: {store.reused} chunks ({store.reused_rows} evaluations) reused, "
+              f"{store.saved} computed", file=sys.stderr)
     if not args.quiet:
         _print_result(result)
         phases = [*result.timings.items(), ("report", t_report)]
         print("time by phase: " + " · ".join(f"{k} {v:.1f} s" for k, v in phases))
-    verdict = "PASS" if result.passed else "FAIL"
+        if comparison is not None:
+            print(comparison.text())
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    _write_ci_outputs(args, summary, comparison)
+    verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
-          + (" (+ report.pdf, summary.json, samples.parquet)" if study.options.pdf
-             else " (+ summary.json, samples.parquet)"))
-    return EXIT_PASS if result.passed else EXIT_FAIL
+          + f" (+ {', '.join(result_files(study.options))})")
+    if comparison is not None:
+        print(f"gates: {comparison.verdict} — {comparison.one_line()}")
+        if not comparison.passed:
+            return EXIT_FAIL
+    return VERDICT_EXIT[verdict]
+
+
+def _check_file_target(path: str, key: str) -> None:
+    from .runguard import check_writable
+
+    p = Path(path)
+    if p.is_dir():
+        raise InputError("is a folder, expected a file name", file=path, key=key)
+    check_writable(p, key)
+
+
+def _write_ci_outputs(args, summary: dict, comparison) -> None:
+    """--junit, --markdown and $GITHUB_STEP_SUMMARY (the same Markdown) of a run or a comparison."""
+    if args.junit:
+        from .ci.junit import write_junit
+
+        Path(args.junit).parent.mkdir(parents=True, exist_ok=True)
+        write_junit(args.junit, summary, comparison)
+    md = None
+    if args.markdown or os.environ.get("GITHUB_STEP_SUMMARY"):
+        from .ci.markdown import render_markdown
+
+        md = render_markdown(summary, comparison)
+    if args.markdown:
+        Path(args.markdown).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.markdown).write_text(md, encoding="utf-8")
+    step = os.environ.get("GITHUB_STEP_SUMMARY")
+    if step:
+        with open(step, "a", encoding="utf-8") as f:
+            f.write(md + "\n")
+
+
+def _compare(args) -> int:
+    from .ci.compare import compare, load_run
+
+    for flag in ("junit", "markdown", "out"):
+        if getattr(args, flag):
+            _check_file_target(getattr(args, flag), f"--{flag}")
+    base = load_run(args.base, key="BASE")
+    new = load_run(args.new, key="NEW")
+    comparison = compare(base, new, seed=new.summary.get("seed"))
+    if args.out:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False),
+                                  encoding="utf-8")
+    print(comparison.text())
+    _write_ci_outputs(args, new.summary, comparison)
+    print(f"gates: {comparison.verdict} — {comparison.one_line()}")
+    return EXIT_PASS if comparison.passed else EXIT_FAIL
 
 
 def _print_result(result) -> None:
@@ -141,14 +339,28 @@ def _print_result(result) -> None:
                   f"{int(r['failed']):>8}")
         else:
             print(f"{name:<28}{r['unit']:>8}{'—':>12}{'—':>12}{'—':>12}{int(r['failed']):>8}")
+    from .verdict import describe_bound
+
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]
-        print(f"  {'PASS' if v.passed else 'FAIL'}  {v.requirement.label}: yield {y.estimate:.5f} "
-              f"[{y.lo:.5f}, {y.hi:.5f}], {y.ppm:.0f} ppm, Cpk {cpk:.3f}" if cpk is not None else
-              f"  {'PASS' if v.passed else 'FAIL'}  {v.requirement.label}: yield {y.estimate:.5f}")
+        r = v.requirement
+        need = []
+        if r.min_yield is not None:
+            need.append(f"yield ≥ {r.min_yield:g}" + (" (default)" if r.yield_defaulted else ""))
+        if r.min_cpk is not None:
+            need.append(f"Cpk ≥ {r.min_cpk:g}")
+        need = " and ".join(need)
+        line = f"  {'PASS' if v.passed else 'FAIL'}  {r.label} (needs {need}, {describe_bound(r)}): " \
+               f"yield {y.estimate:.5f} [{y.lo:.5f}, {y.hi:.5f}] bound {v.yield_bound:.5f}, {y.ppm:.0f} ppm"
+        if cpk is not None:
+            line += f", Cpk {cpk:.3f}" + (f" bound {v.cpk_bound:.3f}" if v.cpk_bound is not None else "")
+        print(line)
         for why in v.reasons:
             print(f"        {why}")
+    if not mc.verdicts():
+        print("  no requirement checked" + (" (exploratory study)" if st.exploratory else
+                                            ": nothing is demonstrated (exit 4)"))
 
 
 def entry_point() -> None:

@@ -8,6 +8,23 @@ codes (see :mod:`rvtol.model`).
 """
 from __future__ import annotations
 
+import difflib
+from typing import Iterable
+
+
+def did_you_mean(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``candidates`` to a misspelt ``word``, else ``""``.
+
+    Closeness is :mod:`difflib`'s ratio (case-insensitive) of at least ``cutoff``.
+
+    >>> did_you_mean("tolerence", ["sigma", "tolerance", "mean"])
+    " (did you mean 'tolerance'?)"
+    """
+    cands = [c for c in dict.fromkeys(candidates) if isinstance(c, str) and c != word]
+    by_lower = {c.lower(): c for c in cands}
+    hit = difflib.get_close_matches(str(word).lower(), list(by_lower), n=1, cutoff=cutoff)
+    return f" (did you mean {by_lower[hit[0]]!r}?)" if hit else ""
+
 
 class RvtolError(Exception):
     """Base class of every error rvtol raises on purpose."""

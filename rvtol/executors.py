@@ -5,12 +5,23 @@ using every core) and ``dask`` (``dask.distributed``: a LocalCluster, or a
 running scheduler given by address).  Each maps a function over chunks and
 hands results back *by chunk index*, so the assembled result never depends
 on which worker finished first.
+
+Stopping: :func:`stop_workers` kills the worker processes of every live
+process pool at once (what the CLI does on SIGTERM/SIGINT, so a cancelled run
+does not wait for chunks in flight).  Workers ignore SIGINT (the terminal
+sends Ctrl-C to the whole process group: the parent decides, no worker
+tracebacks) and exit by themselves when the parent process dies (``kill -9``
+of the run): no orphan keeps computing.
 """
 from __future__ import annotations
 
 import logging
 import multiprocessing
 import os
+import signal
+import threading
+import time
+import weakref
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Callable, Iterator, Sequence
 
@@ -27,6 +38,60 @@ def _single_thread_worker() -> None:
         threadpool_limits(1)
     except Exception:  # threadpoolctl missing: nothing to limit
         pass
+
+
+def _ignore_sigint() -> None:
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+#: how often a pool worker checks that its parent is still alive (s)
+ORPHAN_POLL = 0.5
+
+
+def _started(pid: int) -> float | None:
+    """When process ``pid`` started (None if it is gone or a zombie): tells a live owner from a reused pid."""
+    try:
+        import psutil
+
+        proc = psutil.Process(pid)
+        return None if proc.status() == psutil.STATUS_ZOMBIE else proc.create_time()
+    except Exception:  # gone (or psutil missing: then only existence counts)
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return None
+        except OSError:
+            pass
+        return 0.0
+
+
+def _pool_worker(owner: int) -> None:
+    """Process-pool worker initializer: one BLAS thread, Ctrl-C left to the owner, exit when orphaned.
+
+    ``owner`` is the process that made the pool.  With the forkserver start method a worker's
+    parent is the fork server, which lives as long as any worker does, so the watch is on the owner.
+    """
+    _single_thread_worker()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    born = _started(owner)
+
+    def watch() -> None:  # the owner died (kill -9): stop computing
+        while True:
+            time.sleep(ORPHAN_POLL)
+            if _started(owner) != born:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="rvtol-orphan-watch", daemon=True).start()
+
+
+_LIVE: "weakref.WeakSet[ProcessExecutor]" = weakref.WeakSet()
+
+
+def stop_workers() -> None:
+    """Kill the worker processes of every live process pool now (safe to call from a signal handler)."""
+    for ex in list(_LIVE):
+        ex.kill_workers()
 
 
 class Executor:
@@ -75,9 +140,33 @@ class ProcessExecutor(Executor):
             ctx = multiprocessing.get_context(method)
             if method == "forkserver":
                 ctx.set_forkserver_preload(["numpy", "scipy.stats", "rvtol.model"])
-            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx,
-                                             initializer=_single_thread_worker)
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx, initializer=_pool_worker,
+                                             initargs=(os.getpid(),))
+            self._killed = False
+            _LIVE.add(self)
         return self._pool
+
+    def kill_workers(self) -> None:
+        """SIGKILL the pool's worker processes (their chunks are lost; :meth:`close` then does not wait)."""
+        pool = self._pool
+        if pool is None:
+            return
+        self._killed = True
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            try:
+                os.kill(proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, OSError, AttributeError, TypeError):
+                pass
+        # A worker killed while sending its result leaves half a message in the result pipe, and the pool's
+        # manager thread would wait for the rest forever (and the interpreter for it at exit).  Closing our
+        # copy of the pipe's write end lets it see end-of-file once the workers are gone: the pool then
+        # reports itself broken and cleans up as designed.
+        writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+        try:
+            if writer is not None:
+                writer.close()
+        except OSError:
+            pass
 
     def imap(self, fn, tasks):
         from concurrent.futures.process import BrokenProcessPool
@@ -95,13 +184,17 @@ class ProcessExecutor(Executor):
                         "or crashed") from None
                 yield futs[f], res
         finally:
-            for f in futs:
-                f.cancel()
+            if not getattr(self, "_killed", False):  # killed: the broken pool fails its futures itself
+                for f in futs:
+                    f.cancel()
 
     def close(self):
         if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
-            self._pool = None
+            pool, self._pool = self._pool, None
+            _LIVE.discard(self)
+            # after kill_workers the pool finds itself broken at once; waiting lets it clean up in order
+            killed = getattr(self, "_killed", False)
+            pool.shutdown(wait=True, cancel_futures=not killed)
 
 
 class DaskExecutor(Executor):
@@ -131,6 +224,10 @@ class DaskExecutor(Executor):
                 self._cluster = LocalCluster(n_workers=self._want, threads_per_worker=1, processes=True,
                                              dashboard_address=None, silence_logs=logging.ERROR)
                 self._client = Client(self._cluster)
+                # our own cluster's processes leave Ctrl-C (sent to the whole process group) to us:
+                # closing the cluster stops them, without a traceback from each
+                self._client.run(_ignore_sigint, nanny=True)
+                self._client.run(_ignore_sigint)
             self._client.run(_single_thread_worker)
         return self._client
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -22,12 +23,13 @@ from .executors import Executor, SerialExecutor
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import judge
+from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
+    t0 = time.perf_counter()
     Y, status = model.evaluate_with_status(X)
-    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16)
+    return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16), time.perf_counter() - t0
 
 
 def auto_chunk_size(n: int, workers: int) -> int:
@@ -48,11 +50,15 @@ class Evaluation:
 
 
 def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chunk_size: int | None = None,
-             progress: bool = True, desc: str = "evaluating") -> Evaluation:
+             progress: bool = True, desc: str = "evaluating", store=None, persist: str = "costly") -> Evaluation:
     """Evaluate ``model`` on ``X`` (base units) through ``executor`` in chunks.
 
     The result is bit-identical whatever the executor, worker count and chunk
     size (models are row-deterministic; chunks are reassembled by index).
+    With a ``store`` (:class:`rvtol.checkpoint.ChunkStore`) finished chunks are
+    persisted as they complete — ``persist="all"`` of them (the Monte Carlo),
+    or only the ``"costly"`` ones, cheaper to keep than to recompute — and
+    chunks the store already holds are not evaluated again (resume).
     """
     X = model.check_input(X)
     n = X.shape[0]
@@ -61,15 +67,27 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     bounds = [(i, min(i + cs, n)) for i in range(0, n, cs)]
     Y = np.empty((n, len(model.outputs)))
     status = np.empty(n, dtype=np.int16)
+    call = store.begin(persist) if store is not None else None
+    todo = []
+    for i, (a, b) in enumerate(bounds):
+        hit = call.get(a, b, X[a:b]) if call is not None else None
+        if hit is None:
+            todo.append(i)
+        else:
+            Y[a:b], status[a:b] = hit
     bar = _progress(n, desc) if progress else None
     try:
-        tasks = [(model, X[a:b]) for a, b in bounds]
-        for i, (y, s) in executor.imap(_eval_chunk, tasks):
-            a, b = bounds[i]
+        if bar is not None and len(todo) < len(bounds):
+            bar.update(n - sum(bounds[i][1] - bounds[i][0] for i in todo))
+        tasks = [(model, X[bounds[i][0]:bounds[i][1]]) for i in todo]
+        for t, (y, s, seconds) in executor.imap(_eval_chunk, tasks):
+            a, b = bounds[todo[t]]
             if y.shape != (b - a, len(model.outputs)):
                 raise ValueError(f"{type(model).__name__}.evaluate returned shape {y.shape}, "
                                  f"expected {(b - a, len(model.outputs))}")
             Y[a:b], status[a:b] = y, s
+            if call is not None:
+                call.put(a, b, X[a:b], y, s, seconds)
             if bar is not None:
                 bar.update(b - a)
     finally:
@@ -81,6 +99,44 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     return Evaluation(Y, status)
 
 
+class EvaluationCache:
+    """Rows a model has already been evaluated on in one study run, and their results.
+
+    Models are row-deterministic, so a row seen before (bit for bit, the same model object) is not
+    evaluated again: two analyses that linearise the same model at the same point (a sensitivity
+    matrix and an allocation) share their five-point runs.  Keys are 128-bit BLAKE2 digests of the
+    rows; at most ``max_rows`` results are kept (later rows are evaluated, not stored).
+    """
+
+    def __init__(self, max_rows: int = 100_000):
+        self.max_rows = max_rows
+        self._models: dict[int, tuple[Model, dict[bytes, tuple[np.ndarray, int]]]] = {}
+        self.hits = 0
+
+    def __call__(self, model: Model, X: np.ndarray, compute) -> Evaluation:
+        """``compute(X_missing) -> Evaluation`` evaluates the rows not seen before (each distinct row once)."""
+        import hashlib
+
+        X = np.ascontiguousarray(model.check_input(X), dtype=float)
+        # the model object is kept with its results, so its id cannot be reused by another model
+        known = self._models.setdefault(id(model), (model, {}))[1]
+        keys = [hashlib.blake2b(x.tobytes(), digest_size=16).digest() for x in X]
+        todo = list(dict.fromkeys(k for k in keys if k not in known))
+        self.hits += sum(k in known for k in keys)
+        fresh = {}
+        if todo:
+            first = {k: i for i, k in reversed(list(enumerate(keys)))}
+            ev = compute(X[[first[k] for k in todo]])
+            fresh = {k: (ev.Y[i], int(ev.status[i])) for i, k in enumerate(todo)}
+            room = self.max_rows - sum(len(v[1]) for v in self._models.values())
+            for k in todo[:max(room, 0)]:
+                known[k] = fresh[k]
+        got = [known.get(k) or fresh[k] for k in keys]
+        m = len(model.outputs)
+        Y = np.array([g[0] for g in got], dtype=float).reshape(len(keys), m)
+        return Evaluation(Y, np.array([g[1] for g in got], dtype=np.int16))
+
+
 class Evaluator:
     """The one evaluator signature of rvtol: ``evaluator(model, X, desc) -> Evaluation``.
 
@@ -88,17 +144,22 @@ class Evaluator:
     analyses all evaluate models through an Evaluator, so every evaluation
     runs on the same executor with the same chunking, progress bar and
     failure accounting.  ``Evaluator()`` is serial without a progress bar; a
-    study's is ``ctx.evaluator`` (its executor and options).  ``X`` and the
-    returned ``Y`` are in base units; failed rows are NaN with a non-zero status.
+    study's is ``ctx.evaluator`` (its executor and options, and the run's
+    :class:`EvaluationCache`).  ``X`` and the returned ``Y`` are in base units;
+    failed rows are NaN with a non-zero status.
     """
 
-    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False):
+    def __init__(self, executor: Executor | None = None, chunk_size: int | None = None, progress: bool = False,
+                 cache: EvaluationCache | None = None, store=None):
         self.executor = executor
         self.chunk_size = chunk_size
         self.progress = progress
+        self.cache = cache
+        self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
 
     def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
-        return evaluate(model, X, self.executor, self.chunk_size, self.progress, desc)
+        run = lambda Xm: evaluate(model, Xm, self.executor, self.chunk_size, self.progress, desc, self.store)  # noqa: E731
+        return run(X) if self.cache is None else self.cache(model, X, run)
 
 
 def _progress(total: int, desc: str):
@@ -112,25 +173,39 @@ def _progress(total: int, desc: str):
 # --------------------------------------------------------------------------- results
 @dataclass
 class Verdict:
+    """One requirement judged: the two-sided intervals shown, the bounds judged (:mod:`rvtol.verdict`)."""
+
     requirement: Requirement
     yield_: st.YieldResult
     capability: dict
     cpk_percentile_ci: tuple[float | None, float | None]
     passed: bool
     reasons: list[str]
+    yield_bound: float | None = None
+    cpk_bound: float | None = None
+    n_to_demonstrate: int | None = None
+
+    @property
+    def judged_cpk(self) -> tuple[float | None, float | None]:
+        """The Cpk and lower bound the requirement is judged on (its ``cpk_method``)."""
+        method = "cpk_percentile" if self.requirement.cpk_method == "percentile" else "cpk"
+        return self.capability.get(method), self.cpk_bound
 
     def to_dict(self) -> dict:
         r = self.requirement
         cap = self.capability
         return {
             "requirement": r.label, "output": r.output, "unit": r.unit, "lower": r.lower, "upper": r.upper,
-            "min_yield": r.min_yield, "min_cpk": r.min_cpk, "basis": r.basis, "confidence": r.confidence,
+            "min_yield": r.min_yield, "min_yield_default": r.yield_defaulted, "min_cpk": r.min_cpk,
+            "basis": r.basis, "confidence": r.confidence, "bound": r.bound, "bound_level": bound_level(r),
+            "cpk_method": r.cpk_method,
             "yield_interval": r.interval,
             "yield": self.yield_.estimate, "yield_ci": [self.yield_.lo, self.yield_.hi],
+            "yield_bound": self.yield_bound,
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
-            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]],
+            "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons,
+            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
         }
 
 
@@ -233,9 +308,13 @@ class MonteCarloResult:
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, r.confidence)
                    if len(good) >= 100 else (None, None))
-            j = judge(r, yield_=yr.estimate, yield_lo=yr.lo, cpk=cap["cpk"], cpk_lo=cap["cpk_lo"],
-                      n_failed=int(self.n - self.ok.sum()))
-            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons))
+            yb = yield_bound(r, yr.conforming, yr.n)
+            pj = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), percentile_cpk_confidence(r))
+                  if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
+            cpk, cb = cpk_figures(r, cap, len(good), pj)
+            j = judge(r, yield_=yr.estimate, yield_lo=yb, cpk=cpk, cpk_lo=cb,
+                      n_failed=int(self.n - self.ok.sum()), n=self.n)
+            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons, yb, cb, j.n_to_demonstrate))
         return out
 
     @property
@@ -276,11 +355,18 @@ class MonteCarloResult:
 def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lhs", seed: int | None = None,
                     requirements=(), executor: Executor | None = None, chunk_size: int | None = None,
                     progress: bool = True, confidence: float = 0.95,
-                    samples: SampleSet | None = None) -> MonteCarloResult:
-    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result."""
+                    samples: SampleSet | None = None, store=None) -> MonteCarloResult:
+    """Sample ``spec`` (or use ``samples``), evaluate ``model``, and wrap the result (``store``: :func:`evaluate`)."""
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
-    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo")
+    ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
+    return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial")
+
+
+def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(), confidence: float = 0.95,
+              executor: str = "serial") -> MonteCarloResult:
+    """The :class:`MonteCarloResult` of an evaluation ``ev`` of ``samples`` (outputs to display units;
+    a value that overflows there fails its sample)."""
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):
@@ -290,5 +376,5 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
         ev.status[overflow] = STATUS_NONFINITE
         Yd[overflow] = np.nan
     reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
-    return MonteCarloResult(tuple(model.outputs), s, Yd, ev.status, dict(model.status_reasons), reqs,
-                            confidence, executor.describe() if executor else "serial")
+    return MonteCarloResult(tuple(model.outputs), samples, Yd, ev.status, dict(model.status_reasons), reqs,
+                            confidence, executor)

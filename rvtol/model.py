@@ -6,6 +6,10 @@ values, unit to report in) and a vectorised ``evaluate(X[n, k]) -> Y[n, m]``
 in base units.  Monte Carlo, five-point and global sensitivity and tolerance
 allocation work on any Model without special cases.
 
+A model may also offer ``gradient(X) -> (n, outputs, inputs)``, its exact derivatives in base units
+(the formula model does); the linearised analyses then use it instead of five-point
+differences (:func:`rvtol.sensitivity.common.model_gradient`).
+
 Samples a model cannot evaluate (a solver that does not converge, contact
 lost everywhere) are reported through :meth:`Model.evaluate_with_status`:
 status 0 is success, any other code is a failure whose reason is
@@ -23,7 +27,7 @@ from typing import Callable, ClassVar, Sequence
 import numpy as np
 
 from . import units
-from .errors import InputError, ModelError
+from .errors import InputError, ModelError, did_you_mean
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -67,6 +71,12 @@ class Model(ABC):
         status = np.where(bad, STATUS_NONFINITE, STATUS_OK).astype(np.int16)
         return Y, status
 
+    def dependencies(self) -> dict[str, frozenset[str]] | None:
+        """Output name -> the inputs that move it, where the model knows its structure (each model says
+        how it decides; :meth:`rvtol.models.composite.model.CompositeModel.depends_on` uses it);
+        ``None``: every output depends on every input."""
+        return None
+
     # -- conveniences ---------------------------------------------------------
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -76,7 +86,8 @@ class Model(ABC):
         for q in self.outputs:
             if q.name == name:
                 return q
-        raise InputError(f"unknown output name {name!r} (model has: {', '.join(self.output_names)})")
+        raise InputError(f"unknown output name {name!r}{did_you_mean(name, self.output_names)} "
+                         f"(model has: {', '.join(self.output_names)})")
 
     def output_index(self, name: str) -> int:
         return self.output_names.index(self.output(name).name)
@@ -92,7 +103,8 @@ class Model(ABC):
         if tuple(spec.names) != tuple(self.inputs):
             missing = [n for n in self.inputs if n not in spec.names]
             extra = [n for n in spec.names if n not in self.inputs]
-            what = f"unknown factor name {extra[0]!r}" if extra else f"missing factor {missing[0]!r}"
+            what = (f"unknown factor name {extra[0]!r}{did_you_mean(extra[0], missing)}" if extra
+                    else f"missing factor {missing[0]!r}")
             raise InputError(f"{what} for model {type(self).__name__}", file=spec.file, key="factor")
         for f, bu in zip(spec.factors, self.input_units):
             if units.dimension(f.unit) != units.dimension(bu):
@@ -119,6 +131,11 @@ class LinearModel(Model):
         # row by row (no BLAS): the result of a row never depends on the chunk it is in
         return self.c + np.stack([(X * a).sum(axis=1) for a in self.A], axis=1)
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each output depends on the inputs with a non-zero coefficient."""
+        return {q.name: frozenset(n for n, a in zip(self.inputs, row) if a != 0.0)
+                for q, row in zip(self.outputs, self.A)}
+
 
 class FunctionModel(Model):
     """Wrap a vectorised function ``f(X) -> Y`` (both base units) as a Model."""
@@ -133,3 +150,12 @@ class FunctionModel(Model):
     def evaluate(self, X):
         Y = np.asarray(self.f(self.check_input(X)), dtype=float)
         return Y.reshape(len(Y), -1)
+
+
+def dependencies(model: "Model") -> dict[str, set[str]] | None:
+    """Output -> the model inputs it can depend on, where the model knows (a composed model through its
+    declared mapping, a model through :meth:`Model.dependencies`); None: every output on every input."""
+    if hasattr(model, "depends_on"):
+        return {k: set(v) for k, v in model.depends_on().items()}
+    own = model.dependencies()
+    return None if own is None else {k: set(v) for k, v in own.items()}

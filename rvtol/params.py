@@ -3,7 +3,11 @@
 Every loader in rvtol reads its table through :class:`Params`, so a typo, a
 wrong type, a NaN or an out-of-range number always ends as one line
 ``FILE: KEY: reason``, and keys nobody read are reported by :meth:`finish`
-(typos do not pass silently).
+(typos do not pass silently).  A misspelt key is blamed itself, with the key
+it resembles: when a loader finds a key missing (``tolerance`` of a normal
+factor) while the table holds an unread key close to one the loader read or
+looked for (``tolerence``), the error names ``tolerence`` and suggests
+``tolerance`` — not the missing ``sigma`` a loader might ask for next.
 """
 from __future__ import annotations
 
@@ -14,31 +18,46 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from . import units
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 
 _MISSING = object()
+
+#: how close (difflib ratio) an unknown key must be to a known one to be called its misspelling
+KEY_CUTOFF = 0.75
+
+
+def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
+    """The bytes of an input file; one-line errors (:class:`SpecError`, key ``-``) naming the file."""
+    p = Path(path)
+    try:
+        return p.read_bytes()
+    except FileNotFoundError:
+        raise SpecError("file not found", file=str(path), key="-") from None
+    except IsADirectoryError:
+        raise SpecError(f"is a directory, expected {expected}", file=str(path), key="-") from None
+    except OSError as exc:
+        raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
+
+
+def read_text(path: str | Path, expected: str = "a text file") -> tuple[str, str]:
+    """``(text, sha256)`` of a UTF-8 input file (a byte-order mark, as some Windows editors write, is accepted)."""
+    raw = read_bytes(path, expected)
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise SpecError(f"not UTF-8 text (byte {exc.start}: {raw[exc.start:exc.start + 1]!r}); save the file "
+                        "as UTF-8", file=str(path), key="-") from None
+    return text, hashlib.sha256(raw).hexdigest()
 
 
 def read_toml(path: str | Path) -> tuple[dict, str]:
     """Read a TOML file; return ``(table, sha256)``. Raises :class:`SpecError`."""
-    p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise SpecError("file not found", file=str(path), key="-") from None
-    except IsADirectoryError:
-        raise SpecError("is a directory, expected a TOML file", file=str(path), key="-") from None
-    except OSError as exc:
-        raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SpecError("not UTF-8 text", file=str(path), key="-") from None
+    text, sha = read_text(path, "a TOML file")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"invalid TOML ({exc})", file=str(path), key="-") from None
-    return data, hashlib.sha256(raw).hexdigest()
+    return data, sha
 
 
 class Params:
@@ -61,15 +80,37 @@ class Params:
         self.file = file
         self.key = key
         self._read: set[str] = set()
+        self._probed: set[str] = set()  # names looked for with ``name in params`` (optional alternatives)
 
     # -- helpers -----------------------------------------------------------
     def path(self, name: str) -> str:
         return f"{self.key}.{name}" if self.key else name
 
     def error(self, name: str | None, reason: str) -> SpecError:
+        """An error on key ``name`` of this table; an absent ``name`` next to a misspelt key blames the typo."""
+        if name and name.isidentifier() and name not in self.data:
+            typo = self._typo(extra=(name,))
+            if typo is not None:
+                return typo
         return SpecError(reason, file=self.file, key=self.path(name) if name else (self.key or "-"))
 
+    def _vocabulary(self, allow: Iterable[str] = ()) -> list[str]:
+        """Keys this table is known to take: read, looked for, or allowed."""
+        return sorted(self._read | self._probed | set(allow))
+
+    def _typo(self, extra: Iterable[str] = (), allow: Iterable[str] = ()) -> SpecError | None:
+        """The error for an unread key that looks like a known key missing from the table, if any."""
+        vocab = [k for k in [*self._vocabulary(allow), *extra] if k not in self.data]
+        for k in self.data:
+            if k in self._read or k in self._probed or k in set(allow):
+                continue
+            hint = did_you_mean(k, vocab, cutoff=KEY_CUTOFF)
+            if hint:
+                return SpecError(f"unknown key{hint}", file=self.file, key=self.path(k))
+        return None
+
     def __contains__(self, name: str) -> bool:
+        self._probed.add(name)
         return name in self.data
 
     def keys(self):
@@ -105,7 +146,12 @@ class Params:
         """Raise if the table holds keys nobody read (usually typos)."""
         extra = sorted(set(self.data) - self._read - set(allow))
         if extra:
-            raise self.error(extra[0], f"unknown key (known here: {', '.join(sorted(self._read)) or 'none'})")
+            typo = self._typo(allow=allow)
+            if typo is not None:
+                raise typo
+            known = [k for k in self._vocabulary(allow) if k not in extra]
+            raise SpecError(f"unknown key (known here: {', '.join(known) or 'none'})", file=self.file,
+                            key=self.path(extra[0]))
 
     # -- typed getters -----------------------------------------------------
     def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None) -> str:
@@ -117,7 +163,9 @@ class Params:
         if choices is not None:
             ch = list(choices)
             if v not in ch:
-                raise self.error(name, f"unknown value {v!r} (expected one of: {', '.join(ch)})")
+                hint = did_you_mean(v, ch).strip(" ()")
+                raise self.error(name, f"unknown value {v!r} ({hint + '; ' if hint else ''}"
+                                       f"expected one of: {', '.join(ch)})")
         return v
 
     def bool(self, name: str, default: Any = _MISSING) -> bool:

@@ -15,6 +15,12 @@ contract (tested over every entry by ``tests/test_registry.py``):
   ``cls(params, study)`` validates the ``[[analysis]]`` table when the study
   loads, ``run(ctx)`` returns report Sections after the Monte Carlo.
 
+Installed packages add model kinds of their own through entry points in the group
+``rvtol.models`` (``[project.entry-points."rvtol.models"] my_kind = "mypkg.models:from_study"``),
+found with :mod:`importlib.metadata` when a study names a kind that is not built in (a built-in
+kind wins over an entry point of the same name); a study can also name a factory directly
+(``kind = "python"``, :mod:`rvtol.models.custom.model`).
+
 The reproduction wing's analyses (:mod:`rvtol.reproduction`) are listed last:
 they compare a reference document's printed figures with rvtol and are named
 by the reproduction studies only.
@@ -23,7 +29,7 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import SpecError
+from .errors import SpecError, did_you_mean
 
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear.model:from_study",
@@ -33,7 +39,12 @@ MODELS: dict[str, str] = {
     "torsion_curve": "rvtol.models.torsion_curve.model:from_study",
     "stackup": "rvtol.models.stackup.model:from_study",
     "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
+    "formula": "rvtol.models.formula.model:from_study",
+    "python": "rvtol.models.custom.model:from_study",
 }
+
+#: the entry-point group of model kinds registered by installed packages
+ENTRY_POINT_GROUP = "rvtol.models"
 
 ANALYSES: dict[str, str] = {
     # model-specific
@@ -61,7 +72,11 @@ ANALYSES: dict[str, str] = {
     "pce": "rvtol.sensitivity.analyses:PCE",
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
+    "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
+    "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
+    "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
     # the reproduction wing: one module per reference document
     "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
     "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",
@@ -73,12 +88,34 @@ ANALYSES: dict[str, str] = {
 
 def _load(table: dict[str, str], kind: str, what: str, file: str | None, key: str):
     if kind not in table:
-        raise SpecError(f"unknown {what} kind {kind!r} (known: {', '.join(sorted(table))})", file=file, key=key)
+        raise SpecError(f"unknown {what} kind {kind!r}{did_you_mean(kind, table)} (known: {', '.join(sorted(table))})",
+                        file=file, key=key)
     mod, attr = table[kind].split(":")
     return getattr(importlib.import_module(mod), attr)
 
 
+def plugin_models() -> dict[str, object]:
+    """Model kinds registered by installed packages: name -> entry point (built-in kinds excluded)."""
+    from importlib.metadata import entry_points
+
+    return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP) if ep.name not in MODELS}
+
+
 def model_factory(kind: str, file: str | None = None):
+    """The factory of a model kind: built in (:data:`MODELS`) or an installed entry point."""
+    if kind not in MODELS:
+        ep = plugin_models().get(kind)
+        if ep is not None:
+            try:
+                return ep.load()
+            except Exception as exc:  # ImportError or an error in the plug-in's module
+                raise SpecError(f"model kind {kind!r} is registered by entry point {ep.value!r} "
+                                f"({ENTRY_POINT_GROUP}), which cannot be loaded ({type(exc).__name__}: {exc})",
+                                file=file, key="model.kind") from None
+        plugins = sorted(plugin_models())
+        known = sorted(MODELS) + plugins
+        raise SpecError(f"unknown model kind {kind!r}{did_you_mean(kind, known)} (known: {', '.join(known)})", file=file,
+                        key="model.kind")
     return _load(MODELS, kind, "model", file, "model.kind")
 
 

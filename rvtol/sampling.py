@@ -48,6 +48,12 @@ STREAMS = {
     "screening_subsample": 14,                                        # reducers for the torsion curve beside doc 001
     "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
     "calibration_noise": 81,                                          # noise of synthetic measured curves
+    "measured_gof": 91,                                               # bootstrap of a measured factor's GoF test
+    "stacking_importance": 92,                                        # importance sampling about the FORM point
+    "compare_bootstrap": 93,                                          # baseline comparison: percentile bootstrap
+    "per_unit": 101,                                                  # measurement noise + unmeasured factors per unit
+    "selective_stock": 102, "selective_optimise": 103,                # graded batch; design of the class-limit search
+    "synthetic_parts": 104,                                           # synthetic measured parts (studies/)
 }
 
 
@@ -105,6 +111,15 @@ def to_factors(spec: ToleranceSpec, u: np.ndarray) -> np.ndarray:
         raise InputError("distribution produced non-finite values", file=spec.file,
                          key=f"factor {spec.names[j]!r}")
     return x
+
+
+def from_normal_scores(spec: ToleranceSpec, Z: np.ndarray) -> np.ndarray:
+    """Factor values (base units) of independent standard-normal scores ``Z`` (n×k) through the study's own
+    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF."""
+    Z = np.atleast_2d(np.asarray(Z, dtype=float))
+    if spec.correlation is not None:
+        Z = Z @ np.linalg.cholesky(spec.correlation).T
+    return to_factors(spec, np.clip(stats.norm.cdf(Z), _U_EPS, 1.0 - _U_EPS))
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,10 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   correlation ratio with Kelley's bias correction).  Factors that stand for one drawing tolerance
   (the x1, y1, x2, y2 end points of one position zone, the copies of a per-pin family) are summed
   into that tolerance (:func:`drawing_tolerance`): the share of the output's variance the
-  tolerance explains on its own (first order; interactions are in a study's Sobol section);
+  tolerance explains on its own (first order; interactions are in a study's Sobol section).  The
+  estimates are summed unclipped (each is unbiased; clipped at 0 the 40 copies of a family would
+  add 40 positive halves of their noise) and only over the factors the output can depend on where
+  the model knows its structure (:func:`rvtol.model.dependencies`);
 * **what to change** — for a requirement that is not demonstrated: the spread the output must
   reach and the tightening of its largest driver that would give it, to first order
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
@@ -23,7 +26,7 @@ from dataclasses import dataclass, field
 from scipy import stats
 
 from .mc import MonteCarloResult
-from .model import Model
+from .model import Model, dependencies
 from .spec import ToleranceSpec
 
 #: factors whose last name component is one of these are coordinates of one drawing tolerance
@@ -90,7 +93,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         stage = r.output.split(".", 1)[0] if "." in r.output and hasattr(model, "stages") else ""
         d = RequirementDigest(r.label, r.output, stage, r.unit or mc.unit_of(r.output), v.passed,
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
-                              _f(v.yield_.lo), _f(v.capability.get("cpk_lo")), list(v.reasons))
+                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
         d.drivers = s1.get(r.output, [])[:top]
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
@@ -106,16 +109,19 @@ def _first_order(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
         return {}
     res = given_data(model, spec, mc.samples, mc.Y, outputs=outputs, seed=seed, num_resamples=20)
     group = {f.name: drawing_tolerance(f) for f in spec.factors}
+    deps = dependencies(model)
     out = {}
     for o in outputs:
         fr = res.for_output(o)
         sums: dict[str, list] = {}
         for name, s in zip(fr["factor"], fr["S1"]):
+            if deps is not None and name not in deps.get(o, ()):
+                continue              # cannot move this output: its estimate is noise
             g = sums.setdefault(group[name], [0.0, []])
-            g[0] += max(float(s), 0.0)
-            g[1].append(name)
+            g[0] += float(s)          # the bias-corrected estimates are summed as they are (clipping each at 0
+            g[1].append(name)         # would add the positive half of the noise of every factor of a family)
         ranked = sorted(sums.items(), key=lambda kv: -kv[1][0])
-        out[o] = [Driver(t, v[0], v[1]) for t, v in ranked]
+        out[o] = [Driver(t, max(v[0], 0.0), v[1]) for t, v in ranked]
     return out
 
 

@@ -13,8 +13,53 @@ File format (``data/specs/*.toml``)::
     mean = 3.0
     tolerance = 1.0            # band ±T/2 read at sigma_level (3 by default)
     nominal = 3.0              # optional: nominal value for local sensitivity (default: the mean)
-    group = "pin gear"         # optional: component, for reports and allocation
+    part = "pin housing"       # optional: the drawing (part) the feature belongs to
+    feature = "pin-groove circle ⌀153 js3"   # optional: the drawing feature and its callout
+    group = "pin gear"         # optional: for group-wise sensitivity and allocation (default: the part)
     source = "..."             # optional: where the number comes from
+
+    [[factor]]                 # drawing notation (rvtol.inputs.notation) instead of numbers:
+    name = "bore"
+    nominal = 25               # optional when the text has it ("25 H7")
+    tolerance = "H7"           # "+0.10/-0.00", "±0.05", "5%", "24.95..25.05", "max 0.02", "H7/g6",
+                               # "±0.05 Cpk 1.33 k 0.25", "1.000\" ±0.002\"", ...
+    dist = "normal"            # optional (normal): the kind read over the drawing's band; any
+                               # distribution key (sigma, shift, shape, ...) refines it
+    unit = "mm"                # optional when the text has one ("25 H7" is in mm)
+    direction = -1             # optional: the factor's sign/coefficient in a 1-D stack
+
+    [[factor]]                 # a circular position zone: two coordinates of one zone
+    name = "hole.x"            # (and a second factor "hole.y" with the same zone and tolerance)
+    unit = "mm"
+    tolerance = "⌀0.05"        # the zone's diameter: each coordinate normal, the radius Rayleigh
+    zone = "hole"              # with 99.73 % inside the zone (rvtol.inputs.notation)
+
+    [[factor]]                 # measured values (rvtol.inputs.measured)
+    name = "bore_measured"
+    unit = "mm"
+    dist = "measured"
+    data = "cmm/bores.csv"     # relative to this file; column = "bore", sheet = "CMM"
+    method = "fit"             # fit (AIC-ranked families) | empirical | kde; measurement_sigma = 0.001
+    tolerance = "25 H7"        # optional: the drawing's worst-case limits
+
+A factor written in drawing notation keeps the drawing's worst-case limits (``Factor.limits``):
+its tolerance band (:attr:`Factor.band`: worst case, five-point steps, allocation) is the
+drawing's even when a process spec shifts the mean (``Cpk 1.33 k 0.25``).
+
+A spec may also be a table (``.csv``/``.tsv``/``.xlsx``, :mod:`rvtol.inputs.table_spec`): one row
+per factor, the same keys as columns; :func:`load_spec` reads either.
+
+    [[factor]]                 # a FAMILY: N exchangeable features (40 pins, 40 pin grooves, ...)
+    name = "pins[k].diameter_in_lot"   # the name holds "[k]" once
+    multiplicity = 40          # -> N independent, identically distributed factors
+    ...                        #    "pins[1].diameter_in_lot" ... "pins[40].diameter_in_lot"
+
+A family table stands for ``multiplicity`` factors with the same distribution, drawn independently
+(each copy is its own column of the sample; the copies are uncorrelated unless a
+``[[correlation]]`` names them one by one).  ``[k]`` is replaced by ``[1]`` … ``[N]``; each copy
+remembers its family (``Factor.family``) so a report can show the family as one row "×N"
+(``ToleranceSpec.to_frame(families=True)``).  A name with ``[k]`` needs ``multiplicity`` and
+``multiplicity`` needs a name with ``[k]``.
 
     [[correlation]]            # optional Gaussian copula, a pair or a block
     factors = ["a", "b"]
@@ -26,10 +71,14 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     output = "lost_motion"
     upper = 1.0
     unit = "arcmin"            # default: the output's display unit
-    min_yield = 0.9973         # and/or min_cpk = 1.33
-    confidence = 0.95          # of the interval the verdict uses
-    basis = "lower_bound"      # pass on the CI lower bound (default) or the "estimate"
+    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD)
+    confidence = 0.95          # of the bound the verdict uses
+    basis = "lower_bound"      # pass on the lower confidence bound (default) or the "estimate"
+    bound = "one-sided"        # the bound: one-sided at `confidence` (default), or "two-sided": the
+                               # lower end of the two-sided interval (a (1 + confidence)/2 one-sided bound)
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
+    cpk_method = "normal"      # the Cpk min_cpk judges: "normal" (normal theory, Bissell's bound) or
+                               # "percentile" (ISO 22514-2 from the 0.135/50/99.865 % points, bootstrap bound)
 """
 from __future__ import annotations
 
@@ -40,12 +89,20 @@ from pathlib import Path
 import numpy as np
 
 from . import units
-from .distributions import Distribution, from_params
-from .errors import InputError, SpecError
+from .distributions import KINDS, Distribution, from_params
+from .errors import InputError, SpecError, did_you_mean
+from .inputs.measured import measured_factor
+from .inputs.notation import NotationError, Tolerance, parse_tolerance
+from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
 YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
+
+#: the Cpk a requirement's min_cpk judges (policy: :func:`rvtol.verdict.cpk_figures`)
+CPK_METHODS = ("normal", "percentile")
+#: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
+BOUNDS = ("one-sided", "two-sided")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -61,6 +118,13 @@ class Factor:
     description: str = ""
     group: str = ""
     source: str = ""
+    part: str = ""
+    feature: str = ""
+    family: str = ""          # the family template ("pins[k].diameter_in_lot") of an expanded copy
+    direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
+    limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
+    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
+    zone: str = ""                                 # the circular position zone this factor is a coordinate of
 
     @property
     def base_unit(self) -> str:
@@ -81,17 +145,28 @@ class Factor:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The tolerance band ``(low, high)`` in the factor's unit (:attr:`Distribution.band`)."""
-        return self.dist.band
+        """The tolerance band ``(low, high)`` in the factor's unit: the drawing's worst-case
+        :attr:`limits` when the factor was written in drawing notation, else :attr:`Distribution.band`."""
+        return self.limits if self.limits is not None else self.dist.band
 
     @property
     def half_band(self) -> float:
-        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`)."""
-        return self.dist.half_band
+        """The tolerance ±t in the factor's unit (:attr:`Distribution.half_band`, or half the drawing's limits;
+        for a one-sided magnitude the whole band)."""
+        if self.limits is None:
+            return self.dist.half_band
+        lo, hi = self.limits
+        return float(hi - lo) if self.dist.one_sided else 0.5 * float(hi - lo)
 
     def scaled(self, f: float) -> "Factor":
-        """This factor with its tolerance multiplied by ``f``."""
-        return replace(self, dist=self.dist.scaled(f))
+        """This factor with its tolerance multiplied by ``f`` (the drawing's limits about their middle, or
+        above their lower end for a one-sided magnitude, as the distribution scales)."""
+        limits = self.limits
+        if limits is not None:
+            lo, hi = limits
+            m = lo if self.dist.one_sided else 0.5 * (lo + hi)
+            limits = (m + (lo - m) * f, m + (hi - m) * f)
+        return replace(self, dist=self.dist.scaled(f), limits=limits)
 
     def describe(self) -> str:
         return self.dist.describe(self.unit)
@@ -113,6 +188,7 @@ class ToleranceSpec:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
+        check_zones(self.factors, self.file)
         if self.correlation is not None:
             c = np.asarray(self.correlation, dtype=float)
             if c.shape != (len(names), len(names)):
@@ -136,7 +212,8 @@ class ToleranceSpec:
         try:
             return self.names.index(name)
         except ValueError:
-            raise InputError(f"unknown factor name {name!r} (spec has: {', '.join(self.names)})",
+            raise InputError(f"unknown factor name {name!r}{did_you_mean(name, self.names)} "
+                             f"(spec has: {', '.join(self.names)})",
                              file=self.file, key="factor") from None
 
     def factor(self, name: str) -> Factor:
@@ -160,19 +237,39 @@ class ToleranceSpec:
             self.index(n)
         return self.with_factors(f.scaled(scale[f.name]) if f.name in scale else f for f in self.factors)
 
-    def to_frame(self):
+    def families(self) -> dict[str, tuple[Factor, ...]]:
+        """Family template -> its copies, in spec order (only expanded families)."""
+        out: dict[str, list[Factor]] = {}
+        for f in self.factors:
+            if f.family:
+                out.setdefault(f.family, []).append(f)
+        return {k: tuple(v) for k, v in out.items()}
+
+    def to_frame(self, families: bool = False):
+        """One row per factor; ``families=True``: one row per family (its template name, "×N")."""
         import pandas as pd
 
-        return pd.DataFrame({
-            "factor": self.names,
-            "unit": self.units,
-            "distribution": [f.dist.describe() for f in self.factors],
-            "nominal": [f.nominal_value for f in self.factors],
-            "mean": [f.dist.mean for f in self.factors],
-            "std": [f.dist.std for f in self.factors],
-            "tolerance T": [f.dist.tolerance for f in self.factors],
-            "group": [f.group for f in self.factors],
+        fs, count = list(self.factors), [1] * len(self.factors)
+        if families:
+            fam = self.families()
+            fs = [replace(f, name=f.family) if f.family else f for f in fs
+                  if not f.family or f is fam[f.family][0]]
+            count = [len(fam[f.name]) if f.family else 1 for f in fs]
+        frame = pd.DataFrame({
+            "factor": [f.name for f in fs],
+            "unit": [f.unit for f in fs],
+            "distribution": [f.dist.describe() for f in fs],
+            "nominal": [f.nominal_value for f in fs],
+            "mean": [f.dist.mean for f in fs],
+            "std": [f.dist.std for f in fs],
+            "tolerance T": [f.dist.tolerance for f in fs],
+            "part": [f.part for f in fs],
+            "feature": [f.feature for f in fs],
+            "group": [f.group for f in fs],
         })
+        if families:
+            frame.insert(1, "multiplicity", [f"×{c}" if c > 1 else "" for c in count])
+        return frame
 
 
 @dataclass(frozen=True)
@@ -191,6 +288,10 @@ class Requirement:
     interval: str = "clopper-pearson"
     file: str | None = field(default=None, compare=False)
     key: str | None = field(default=None, compare=False)
+    cpk_method: str = "normal"
+    bound: str = "one-sided"
+    #: True when min_yield is DEFAULT_MIN_YIELD because the requirement named neither yield nor Cpk
+    yield_defaulted: bool = field(default=False, compare=False)
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
@@ -198,8 +299,15 @@ class Requirement:
     def __post_init__(self):
         if self.min_yield is None and self.min_cpk is None:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
+            object.__setattr__(self, "yield_defaulted", True)
+        if self.bound not in BOUNDS:
+            raise SpecError(f"unknown bound {self.bound!r} (expected one of: {', '.join(BOUNDS)})", file=self.file,
+                            key=f"{self.key}.bound" if self.key else "bound")
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
+        if self.cpk_method not in CPK_METHODS:
+            raise SpecError(f"unknown cpk_method {self.cpk_method!r} (expected one of: {', '.join(CPK_METHODS)})",
+                            file=self.file, key=f"{self.key}.cpk_method" if self.key else "cpk_method")
 
     @property
     def label(self) -> str:
@@ -230,10 +338,26 @@ class Requirement:
 
 
 # --------------------------------------------------------------------------- loaders
-def load_spec(path: str | Path) -> ToleranceSpec:
+def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
+        return load_table_spec(path, sheet=sheet)
     data, sha = read_toml(path)
     spec = spec_from_table(data, file=str(path))
     return replace(spec, sha256=sha)
+
+
+def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
+    """A spec table (:mod:`rvtol.inputs.table_spec`): its rows read as ``[[factor]]`` tables, every error
+    at its sheet, row and column."""
+    from .inputs.table_spec import read_spec_table
+
+    table = read_spec_table(path, sheet=sheet)
+    try:
+        spec = spec_from_table(table.document, file=str(path))
+    except InputError as exc:
+        raise table.locate(exc) from None
+    return replace(spec, sha256=table.sha256)
 
 
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
@@ -247,28 +371,161 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
     tables = root.tables("factor")
     if not tables:
         raise root.error("factor", "a spec needs at least one [[factor]]")
-    factors = [factor_from_params(t) for t in tables]
+    factors = [f for t in tables for f in factors_from_params(t)]
     names = [f.name for f in factors]
+    origin = [t for t in tables for _ in range(_multiplicity(t))]
     for i, n in enumerate(names):
         if names.index(n) != i:
-            raise tables[i].error("name", f"duplicate factor name {n!r}")
+            raise origin[i].error("name", f"duplicate factor name {n!r}")
     corr = correlation_from_tables(root.tables("correlation"), names)
     root.finish()
     return ToleranceSpec(spec_name, tuple(factors), corr, desc, file)
 
 
+#: the placeholder of a family factor's index
+FAMILY_INDEX = "[k]"
+
+
+def _multiplicity(p: Params) -> int:
+    """How many factors a ``[[factor]]`` table stands for (1, or a family's ``multiplicity``)."""
+    if "multiplicity" not in p:
+        return 1
+    return p.int("multiplicity", min=1)
+
+
+def factors_from_params(p: Params) -> list[Factor]:
+    """The factor of one ``[[factor]]`` table, or the N copies of a family (module docstring)."""
+    f = factor_from_params(p)
+    n = _multiplicity(p)
+    p.finish()
+    marks = f.name.count(FAMILY_INDEX)
+    if "multiplicity" not in p.data:
+        if marks:
+            raise p.error("multiplicity", f"factor name {f.name!r} holds {FAMILY_INDEX}: a family needs "
+                                          "'multiplicity = N' (the number of copies)")
+        return [f]
+    if marks != 1:
+        raise p.error("name", f"a family (multiplicity = {n}) needs {FAMILY_INDEX} exactly once in its name, "
+                              f"got {f.name!r}")
+    return [replace(f, name=f.name.replace(FAMILY_INDEX, f"[{k}]"), family=f.name) for k in range(1, n + 1)]
+
+
 def factor_from_params(p: Params) -> Factor:
+    """One factor from a ``[[factor]]`` table (a family's template; ``multiplicity`` is read by
+    :func:`factors_from_params`)."""
     name = p.str("name")
     if not name or not _NAME.match(name):
         raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
-    unit = p.unit("unit")
-    dist = from_params(p)
-    nominal = p.float("nominal", None)
+    unit = p.unit("unit", None)
+    drawing = drawing_tolerance(p, unit)
+    if unit is None:
+        if drawing is None or drawing.unit is None:
+            raise p.error("unit", "missing unit (the unit of the nominal and the tolerance, e.g. mm, um, in)")
+        unit = drawing.unit
+    measured = None
+    if p.data.get("dist") == "measured":
+        dist, measured = measured_distribution(p)
+    elif drawing is not None:
+        dist = band_distribution(p, drawing)
+    else:
+        dist = from_params(p)
+    nominal = p.float("nominal", None) if drawing is None else drawing.nominal
     desc = p.str("description", "")
-    group = p.str("group", "")
+    part = p.str("part", "")
+    feature = p.str("feature", "")
+    group = p.str("group", part)
     source = p.str("source", "")
-    p.finish()
-    return Factor(name, unit, dist, nominal, desc, group, source)
+    direction = stack_direction(p)
+    zone = position_zone(p, drawing)
+    p.finish(allow=("multiplicity",))
+    limits = drawing.limits if drawing is not None else None
+    return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
+                  limits=limits, measured=measured, zone=zone)
+
+
+# ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
+#: distribution keys a factor written in drawing notation may add to refine its band's reading
+_REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scale", "shift")
+
+
+def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
+    """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
+    for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
+    text = p.data.get("tolerance")
+    if not isinstance(text, str):
+        return None
+    p.raw("tolerance")
+    nominal = p.float("nominal", None)
+    try:
+        return parse_tolerance(text, nominal=nominal, unit=unit)
+    except NotationError as exc:
+        raise p.error("tolerance", exc.reason) from None
+
+
+def band_distribution(p: Params, tol: Tolerance) -> Distribution:
+    """The distribution kind ``dist`` (default normal) read over a drawing tolerance's band
+    (:meth:`rvtol.inputs.notation.Tolerance.factor_table`); distribution keys given beside it refine or
+    override what the band gives (an explicit ``sigma`` replaces the band's σ)."""
+    kind = p.str("dist", "normal", choices=KINDS)
+    level = p.float("sigma_level", None, positive=True)
+    try:
+        table = tol.factor_table(kind, sigma_level=level)
+    except NotationError as exc:
+        raise p.error("sigma_level" if "sigma_level" in exc.reason else "dist", exc.reason) from None
+    table.pop("nominal", None)
+    given = {k: p.raw(k) for k in _REFINING if k in p}
+    if kind == "normal" and "sigma" in given:
+        table.pop("tolerance", None)
+    table.update(given)
+    try:
+        return from_params(Params(table, file=p.file, key=p.key))
+    except InputError as exc:
+        if (exc.key or "").rsplit(".", 1)[-1] not in given:   # a number the tolerance gave
+            exc.key = p.path("tolerance")
+        raise
+
+
+def measured_distribution(p: Params):
+    """``dist = "measured"``: the distribution of measured values (:func:`rvtol.inputs.measured.measured_factor`;
+    files relative to the spec file) and the record of the data behind it."""
+    p.str("dist")
+    return measured_factor(p, Path(p.file).parent if p.file else Path("."))
+
+
+def position_zone(p: Params, tol: Tolerance | None) -> str:
+    """``zone``: the circular position zone (``tolerance = "⌀t"``) this factor is one coordinate of."""
+    zone = p.str("zone", "")
+    is_zone = tol is not None and tol.form == "zone"
+    if is_zone and not zone:
+        raise p.error("tolerance", f"a position zone {tol.text!r} has two coordinates: give zone = NAME on both "
+                                   "factors (x and y)")
+    if zone and not is_zone:
+        raise p.error("zone", "a zone coordinate needs tolerance = \"⌀t\" (the zone's diameter)")
+    return zone
+
+
+def check_zones(factors, file: str | None) -> None:
+    """Each position zone has exactly two coordinate factors with the same unit and diameter."""
+    zones: dict[str, list] = {}
+    for f in factors:
+        if f.zone:
+            zones.setdefault(f.zone, []).append(f)
+    for z, fs in zones.items():
+        if len(fs) != 2:
+            raise SpecError(f"position zone {z!r} has {len(fs)} coordinate factor(s) "
+                            f"({', '.join(f.name for f in fs)}); it needs two (x and y)", file=file, key="factor.zone")
+        a, b = fs
+        if a.unit != b.unit or a.limits != b.limits:
+            raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
+                            "and diameter", file=file, key="factor.zone")
+
+
+def stack_direction(p: Params) -> float | None:
+    """``direction``: the factor's sign or coefficient in a one-dimensional stack (``+``, ``-`` or a number)."""
+    v = p.raw("direction", None)
+    if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
+        return 1.0 if v.strip() == "+" else -1.0
+    return None if v is None else p.float("direction")
 
 
 def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:
@@ -299,7 +556,8 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         idx = []
         for f in fs:
             if f not in names:
-                raise t.error("factors" if "factors" in t else "pair", f"unknown factor name {f!r}")
+                raise t.error("factors" if "factors" in t else "pair",
+                              f"unknown factor name {f!r}{did_you_mean(f, names)}")
             idx.append(names.index(f))
         if len(set(idx)) != len(idx):
             raise t.error("factors", "a factor is named twice")
@@ -322,7 +580,10 @@ def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
     """The requirements of a ``[[requirement]]`` file and the file's SHA-256 (one read)."""
     data, sha = read_toml(path)
     root = Params(data, file=str(path))
-    reqs = requirements_from_tables(root.tables("requirement"))
+    tables = root.tables("requirement")
+    if not tables:  # a gate that checks nothing must not pass by accident
+        raise root.error("requirement", "a requirements file needs at least one [[requirement]] table")
+    reqs = requirements_from_tables(tables)
     root.finish()
     return reqs, sha
 
@@ -348,7 +609,9 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
         name = t.str("name", "")
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
+        cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
+        bound = t.str("bound", "one-sided", choices=BOUNDS)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key))
+                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method, bound=bound))
     return out

@@ -6,6 +6,13 @@
 * yield: Clopper–Pearson (exact) or Wilson interval of the binomial proportion;
 * Cp/Cpk: normal-theory, with Bissell's interval for Cpk; and the
   percentile ("non-normal") Cpk of ISO 22514-2, with a bootstrap interval.
+
+The intervals shown are two-sided at the stated confidence.  A *bound* (what
+a requirement is judged on, :mod:`rvtol.verdict`) is one-sided at a level ℓ:
+:func:`proportion_lower_bound` and :func:`cpk_lower_bound`; the lower end of a
+two-sided interval at confidence c is the one-sided bound at ℓ = (1 + c)/2.
+:func:`n_for_yield` and :func:`n_for_cpk` invert them: the sample size at
+which the observed yield or Cpk would be demonstrated.
 """
 from __future__ import annotations
 
@@ -62,6 +69,93 @@ def proportion_ci(k: int, n: int, confidence: float = 0.95, method: str = "exact
         return math.nan, math.nan
     ci = stats.binomtest(int(k), int(n)).proportion_ci(confidence_level=confidence, method=method)
     return float(ci.low), float(ci.high)
+
+
+def proportion_lower_bound(k: float, n: float, level: float, method: str = "exact") -> float:
+    """One-sided lower confidence bound at ``level`` of a binomial proportion ``k/n``.
+
+    ``exact`` (Clopper–Pearson): the ``1 − level`` quantile of Beta(k, n − k + 1), 0 when k = 0 —
+    with no failures it is ``(1 − level)^(1/n)``, the success-run bound; ``wilson``: the lower
+    root of the score test at z = Φ⁻¹(level).  ``k`` and ``n`` may be real (sample-size planning).
+    """
+    if not n > 0:
+        return math.nan
+    if method == "exact":
+        return 0.0 if k <= 0 else float(stats.beta.ppf(1.0 - level, k, n - k + 1.0))
+    if method != "wilson":
+        raise ValueError(f"unknown proportion interval {method!r}")
+    z = float(stats.norm.ppf(level))
+    p = k / n
+    den = 1.0 + z * z / n
+    centre = (p + z * z / (2.0 * n)) / den
+    half = z * math.sqrt(max(p * (1.0 - p) / n + z * z / (4.0 * n * n), 0.0)) / den
+    return float(max(0.0, centre - half))
+
+
+def cpk_lower_bound(cpk: float | None, n: float, level: float) -> float | None:
+    """Bissell's (1990) one-sided lower bound of Cpk at ``level``: Ĉ − z·√(1/(9n) + Ĉ²/(2(n−1)))."""
+    if cpk is None or not n > 1 or not math.isfinite(cpk):
+        return None
+    z = float(stats.norm.ppf(level))
+    return float(cpk - z * math.sqrt(1.0 / (9.0 * n) + cpk**2 / (2.0 * (n - 1.0))))
+
+
+#: the largest sample size the planning functions look at
+N_PLAN_MAX = 1e15
+
+
+def n_for_yield(estimate: float, required: float, level: float, method: str = "exact") -> int | None:
+    """Smallest n whose lower bound at ``level`` reaches ``required`` if the yield stays at ``estimate``.
+
+    ``None`` when the estimate itself does not exceed the requirement (no n demonstrates it).
+    With no observed failures (``estimate = 1``, Clopper–Pearson) this is the success-run
+    sample size ⌈ln(1 − level) / ln(required)⌉.
+    """
+    if not (estimate > required) or required <= 0.0:
+        return None
+    if required >= 1.0:
+        return None
+
+    def gap(log_n: float) -> float:
+        n = math.exp(log_n)
+        return proportion_lower_bound(estimate * n, n, level, method) - required
+
+    lo, hi = 0.0, math.log(N_PLAN_MAX)
+    if gap(hi) < 0:
+        return None
+    if gap(lo) >= 0:
+        return 1
+    from scipy.optimize import brentq
+
+    n = math.ceil(math.exp(brentq(gap, lo, hi, xtol=1e-12)))
+    while n > 1 and gap(math.log(n - 1)) >= 0:  # the root is continuous: step to the smallest integer
+        n -= 1
+    while gap(math.log(n)) < 0:
+        n += 1
+    return n
+
+
+def n_for_cpk(cpk: float | None, required: float, level: float) -> int | None:
+    """Smallest n whose Bissell lower bound at ``level`` reaches ``required`` if Cpk stays at ``cpk``.
+
+    The inverse of :func:`cpk_lower_bound` in n; ``None`` when ``cpk`` does not exceed ``required``.
+    """
+    if cpk is None or not math.isfinite(cpk) or not cpk > required:
+        return None
+
+    def gap(n: float) -> float:
+        return cpk_lower_bound(cpk, n, level) - required
+
+    if gap(N_PLAN_MAX) < 0:
+        return None
+    from scipy.optimize import brentq
+
+    n = max(2, math.ceil(brentq(gap, 1.0 + 1e-9, N_PLAN_MAX, xtol=1e-9)))
+    while n > 2 and gap(n - 1) >= 0:
+        n -= 1
+    while gap(n) < 0:
+        n += 1
+    return n
 
 
 def capability(y: np.ndarray, lower: float | None, upper: float | None,

@@ -7,8 +7,13 @@
     title = "..."
     description = "..."
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
-    spec = "../data/specs/rv80e_lost_motion.toml" # or [[factor]] tables in this file
+    spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
+    # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
+                                          # study in this folder; give name, title, analyses, options here
+    exploratory = false                   # true: the study checks no requirement on purpose (verdict
+                                          # EXPLORATORY, exit 0); without requirements and without
+                                          # it the verdict is NO REQUIREMENTS (exit 4)
 
     [model]
     kind = "lost_motion"                  # see rvtol.registry.MODELS
@@ -36,10 +41,14 @@
     [report]
     pdf = true
     confidence = 0.95
+    tables = ["xlsx"]                     # optional: samples and statistics also as csv and/or xlsx
 
     [[analysis]]
     kind = "local_sensitivity"            # see rvtol.registry.ANALYSES
     # ... analysis parameters
+
+    [[gate]]                              # what a change may do against the accepted baseline
+    kind = "requirements"                 # (rvtol run --baseline, rvtol compare): see rvtol.ci.gates
 
 Loading (:func:`load_study`) reads and checks *everything* — files, keys,
 units, names, the model and every analysis' parameters — before anything is
@@ -58,11 +67,12 @@ from functools import cached_property
 from pathlib import Path
 
 
+from .ci.gates import read_gates
 from .design import Design, load_design
-from .errors import InputError, SpecError
+from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import Evaluator, MonteCarloResult, run_monte_carlo
+from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
@@ -83,6 +93,7 @@ class RunOptions:
     pdf: bool = True
     confidence: float = 0.95
     progress: bool = True
+    tables: tuple[str, ...] = ()       # also write samples/statistics as these table formats (csv, xlsx)
 
 
 @dataclass
@@ -99,6 +110,8 @@ class Study:
     options: RunOptions
     analyses: list = field(default_factory=list)  # prepared analysis objects (have .run(ctx))
     inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
+    exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
+    gates: list = field(default_factory=list)  # rvtol.ci.gates.Gate: [[gate]] tables, for --baseline
 
 
 @dataclass
@@ -108,6 +121,8 @@ class StudyContext:
     study: Study
     executor: Executor
     mc: MonteCarloResult
+    cache: EvaluationCache = field(default_factory=EvaluationCache)   # rows the analyses evaluated
+    store: object = None  # rvtol.checkpoint.ChunkStore of the run (checkpoint / resume), or None
 
     @property
     def design(self):
@@ -133,7 +148,7 @@ class StudyContext:
     def evaluator(self) -> Evaluator:
         """Evaluate any model through the study's executor, chunking and progress bar (base units)."""
         o = self.study.options
-        return Evaluator(self.executor, o.chunk_size, o.progress)
+        return Evaluator(self.executor, o.chunk_size, o.progress, self.cache, self.store)
 
 
 # --------------------------------------------------------------------------- loading
@@ -143,6 +158,7 @@ def load_study(path: str | Path, **overrides) -> Study:
     data, sha = read_toml(path)
     file = str(path)
     base = path.parent
+    data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
     name = head.str("name", path.stem)
@@ -151,6 +167,8 @@ def load_study(path: str | Path, **overrides) -> Study:
     title = head.str("title", name)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
+    if parent is not None:
+        inputs["extends"] = parent
 
     design = None
     dpath = head.path_value("design", base, None)
@@ -179,6 +197,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
     mapping = head.path_value("mapping", base, None)
+    exploratory = head.bool("exploratory", False)
     head.finish()
 
     options = _options(root, overrides)
@@ -197,11 +216,13 @@ def load_study(path: str | Path, **overrides) -> Study:
         raise exc.located(file=spec.file or file) from None
     for r in reqs:
         if r.output not in model.output_names:
-            raise SpecError(f"unknown output name {r.output!r} (model has: {', '.join(model.output_names)})",
+            raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
+                            f"(model has: {', '.join(model.output_names)})",
                             file=r.file, key=f"{r.key}.output" if r.key else "output")
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
-    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs)
+    study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
+    study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     for t in root.tables("analysis"):
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
@@ -214,6 +235,49 @@ def load_study(path: str | Path, **overrides) -> Study:
     return study
 
 
+#: tables a study that extends another may not give (they come from the base study)
+_INHERITED_ONLY = ("model", "quantity", "factor", "correlation")
+#: [study] keys that are the derived study's own (never taken from the base)
+_OWN = ("name", "title", "description")
+
+
+def _extended(data: dict, path: Path) -> tuple[dict, dict | None]:
+    """A study with ``[study] extends = "base.toml"``: the base study's design, spec, mapping, models and
+    requirements, with this file's name, title, description, its [sampling] / [execution] / [report] keys
+    over the base's, its requirements added and its own analyses (the base's are not inherited).  The base
+    is in the same folder (its relative paths are read from there) and extends nothing itself."""
+    head = data.get("study")
+    if not isinstance(head, dict) or "extends" not in head:
+        return data, None
+    file = str(path)
+    p = Params(head, file=file, key="study")
+    bpath = p.path_value("extends", path.parent)
+    if bpath.resolve().parent != path.resolve().parent:
+        raise p.error("extends", "the base study must be in the same folder as this one (its relative paths "
+                                 "are read from there)")
+    if bpath.resolve() == path.resolve():
+        raise p.error("extends", "a study cannot extend itself")
+    base, bsha = read_toml(bpath)
+    if isinstance(base.get("study"), dict) and "extends" in base["study"]:
+        raise p.error("extends", f"{bpath.name} extends another study itself (one level only)")
+    for k in _INHERITED_ONLY:
+        if k in data:
+            raise SpecError(f"a study that extends {bpath.name} takes its {k} tables from there", file=file, key=k)
+    merged = {k: v for k, v in base.items() if k != "analysis"}
+    bstudy = {k: v for k, v in base.get("study", {}).items() if k not in _OWN}
+    merged["study"] = {**bstudy, **{k: v for k, v in head.items() if k != "extends"}}
+    merged["study"].setdefault("name", path.stem)
+    for k in ("sampling", "execution", "report"):
+        if k in data:
+            merged[k] = {**base.get(k, {}), **data[k]}
+    if "requirement" in data:
+        merged["requirement"] = list(base.get("requirement", [])) + list(data["requirement"])
+    for k, v in data.items():
+        if k not in merged or k == "analysis":
+            merged[k] = v
+    return merged, {"path": str(bpath), "sha256": bsha}
+
+
 def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: str) -> Model:
     """The study's ``[model]`` through its registered factory; the one place factory errors are located.
 
@@ -222,9 +286,14 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
     spec file, any other to the ``[model]`` table of the study file; an error
     that already names its file (a bad number in the design) keeps it.
     """
-    factory = model_factory(mp.str("kind"), file)
+    kind = mp.str("kind")
+    factory = model_factory(kind, file)
     try:
-        return factory(mp, design, spec)
+        model = factory(mp, design, spec)
+        if not isinstance(model, Model):   # a plug-in's factory (the built-in ones are tested)
+            raise InputError(f"the factory of model kind {kind!r} returned {type(model).__name__}, "
+                             "not an rvtol.model.Model", key="kind")
+        return model
     except InputError as exc:
         if exc.file is None:
             if (exc.key or "").split(".")[0].split("[")[0] == "factor":
@@ -278,6 +347,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
         chunk_size=e.int("chunk_size", 0, min=0) or None,
         pdf=r.bool("pdf", True),
         confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
+        tables=_table_formats(r),
     )
     for p in (s, e, r):
         p.finish()
@@ -291,9 +361,35 @@ def _options(root: Params, ov: dict) -> RunOptions:
         raise InputError(f"n must be >= 2, got {o.n}", file=root.file, key="sampling.n")
     if o.method not in METHODS:
         raise InputError(f"unknown sampling method {o.method!r}", file=root.file, key="sampling.method")
+    if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
+        raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
+                         file=root.file, key="report.tables")
     if o.scheduler and o.executor != "dask":
         o.executor = "dask"
     return o
+
+
+#: table formats a report folder can hold beside samples.parquet
+TABLE_FORMATS = ("csv", "xlsx")
+
+
+def _table_formats(r: Params) -> tuple[str, ...]:
+    v = r.raw("tables", [])
+    v = [v] if isinstance(v, str) else v
+    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+        raise r.error("tables", "expected a list of table formats, e.g. [\"csv\", \"xlsx\"]")
+    bad = [x for x in v if x not in TABLE_FORMATS]
+    if bad:
+        raise r.error("tables", f"unknown table format {bad[0]!r} (expected one of: {', '.join(TABLE_FORMATS)})")
+    return tuple(dict.fromkeys(v))
+
+
+def result_files(options: RunOptions) -> list[str]:
+    """The files a report folder holds besides report.html, for these options."""
+    out = (["report.pdf"] if options.pdf else []) + ["summary.json", "samples.parquet"]
+    for ext in options.tables:
+        out += [f"samples.{ext}", f"statistics.{ext}"]
+    return out
 
 
 # --------------------------------------------------------------------------- running
@@ -317,13 +413,21 @@ class StudyResult:
 
         return digest(self.mc, self.study.model, self.study.spec, self.study.options.seed)
 
+    @property
+    def verdict(self) -> str:
+        """PASS, FAIL, NO REQUIREMENTS or EXPLORATORY (:func:`rvtol.verdict.study_verdict`)."""
+        from .verdict import study_verdict
+
+        return study_verdict([v.passed for v in self.mc.verdicts()], self.study.exploratory)
+
     def summary(self) -> dict:
         from .report.summary import build_summary
 
         return build_summary(self)
 
 
-def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
+def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
+    """Monte Carlo, then the analyses; ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     o = study.options
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
@@ -331,15 +435,17 @@ def run_study(study: Study, executor: Executor | None = None) -> StudyResult:
     timings = {}
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
-                             o.chunk_size, o.progress, o.confidence)
+                             o.chunk_size, o.progress, o.confidence, store=store)
         timings["monte_carlo"] = time.perf_counter() - t0
-        ctx = StudyContext(study, ex, mc)
+        ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
         for i, a in enumerate(study.analyses):
             ta = time.perf_counter()
             res = a.run(ctx)
-            sections.extend(res if isinstance(res, list) else [res])
-            timings[getattr(a, "key", None) or f"analysis[{i}]"] = time.perf_counter() - ta
+            res = res if isinstance(res, list) else [res]
+            sections.extend(res)
+            name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
+            timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
         desc = ex.describe()
     finally:
         if own:
@@ -376,8 +482,45 @@ def _is_report_folder(path: Path) -> bool:
         return False
 
 
-def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
-    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``."""
+def _write_section_files(sections: list[Section], folder: Path) -> None:
+    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    for s in sections:
+        for name, content in s.files.items():
+            if (folder / name).exists():
+                raise ValueError(f"analysis {s.key!r}: report file {name!r} exists already")
+            (folder / name).write_bytes(content)
+
+
+#: the most rows an XLSX sheet holds (Excel's limit, header included)
+XLSX_MAX_ROWS = 1_048_576
+
+
+def write_tables(result: StudyResult, samples, folder: Path) -> None:
+    """``samples.csv|xlsx`` and ``statistics.csv|xlsx`` (statistics, and the requirements' figures) in ``folder``."""
+    from .inputs.sheets import write_frames
+
+    if not result.study.options.tables:
+        return
+    import pandas as pd
+
+    stats = result.mc.statistics().reset_index()
+    reqs = pd.DataFrame([{k: (", ".join(map(str, v)) if isinstance(v, list) else v) for k, v in
+                          v.to_dict().items()} for v in result.mc.verdicts()])
+    for ext in result.study.options.tables:
+        write_frames(folder / f"samples.{ext}", {"samples": samples})
+        if ext == "xlsx":
+            write_frames(folder / "statistics.xlsx", {"statistics": stats, "requirements": reqs})
+        else:
+            write_frames(folder / "statistics.csv", {"statistics": stats})
+            if len(reqs):
+                write_frames(folder / "requirements.csv", {"requirements": reqs})
+
+
+def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[str, str] | None = None) -> Path:
+    """Write summary.json, samples.parquet, report.html (and report.pdf) atomically into ``out_dir``.
+
+    ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
+    """
     from .report.render import render_html, render_pdf
 
     out = check_out_dir(out_dir)
@@ -387,11 +530,16 @@ def write_outputs(result: StudyResult, out_dir: str | Path) -> Path:
     try:
         summary = result.summary()
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
-        result.mc.write_parquet(tmp / "samples.parquet")
+        result.mc.write_parquet(tmp / "samples.parquet")      # a chunk at a time: memory of a chunk, not of n
+        if result.study.options.tables:
+            write_tables(result, result.mc.to_frame(), tmp)
         html = render_html(result)
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(html, tmp / "report.pdf")
+        for fname, text in (extra_files or {}).items():
+            (tmp / fname).write_text(text, encoding="utf-8")
+        _write_section_files(result.sections, tmp)
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

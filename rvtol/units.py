@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .errors import UnitError
+from .errors import UnitError, did_you_mean
 
 _ARCMIN = math.pi / 10800.0
 _ARCSEC = math.pi / 648000.0
@@ -33,6 +33,8 @@ _TABLE: dict[str, tuple[str, float]] = {
     "nm": ("length", 1e-6),
     "cm": ("length", 10.0),
     "m": ("length", 1e3),
+    "in": ("length", 25.4),          # international inch (exact)
+    "thou": ("length", 0.0254),      # 0.001 in
     # angle (base rad)
     "rad": ("angle", 1.0),
     "mrad": ("angle", 1e-3),
@@ -96,6 +98,9 @@ _ALIASES = {
     "µm": "um",
     "μm": "um",
     "micron": "um",
+    "inch": "in",
+    "inches": "in",
+    '"': "in",
     "µrad": "urad",
     "μrad": "urad",
     "°": "deg",
@@ -141,7 +146,8 @@ def canonical(unit: str) -> str:
     u = unit.strip()
     u = _ALIASES.get(u, u)
     if u not in _TABLE:
-        raise UnitError(f"unknown unit {unit!r} (known: {', '.join(sorted(_TABLE))})")
+        raise UnitError(f"unknown unit {unit!r}{did_you_mean(u, [*_TABLE, *_ALIASES])} "
+                        f"(known: {', '.join(sorted(_TABLE))})")
     return u
 
 

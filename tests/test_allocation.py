@@ -1,6 +1,8 @@
 """Tolerance allocation: cost fits, convex optimum vs closed forms, GA vs convex, independent MC check."""
 import math
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -132,6 +134,35 @@ def test_nominal_output_outside_the_limits_is_infeasible(mode):
     assert not uniform_baseline(p, con).feasible
 
 
+@pytest.mark.parametrize("lo, hi", [(0.5, 2.0), (-2.0, -0.5), (None, -0.5)])
+def test_design_levers_shift_the_nominal_to_the_limit_by_hand(lo, hi):
+    """y = Σ k_i x_i + 0.4 e (spec: normal, ±1 = 3σ; e Rayleigh) must lie in [lo, hi]: the nominal 0.1 fails, no
+    tolerance helps. Each lever is the mean shift of one x_i alone that moves y0 to the missed limit ± z σ_y, z = 3 Cpk, σ_y² = Σ (k_i/3)²
+    (hand computation of the linear model); a one-sided factor (an error magnitude) is not a lever."""
+    from rvtol.allocation.problem import design_levers
+
+    names = ["x0", "x1", "x2", "x3", "e"]
+    k = list(K) + [0.4]
+    dists = [Distribution.make("normal", mean=0.0, sigma=1 / 3)] * 4 + [Distribution.make("rayleigh", sigma=0.2)]
+    spec = ToleranceSpec("lin", tuple(Factor(n, "mm", d) for n, d in zip(names, dists)))
+    model = LinearModel(names, ["mm"] * 5, [Quantity("y", "mm")], [k])
+    curves = [CostModel(f"c{i}", "reciprocal_power", 0.5, 1.0, 1.0, "mm", 1e-3, 10.0) for i in range(4)]
+    reqs = expand_requirements([Requirement("y", lo, hi, "mm", min_cpk=1.0, basis="estimate")], model)
+    p = AllocationProblem(model, spec, names[:4], curves, reqs)
+    lin = linearise(p)
+    con = LinearisedConstraint(p, lin, "rss")
+    assert "NOMINAL design" in " ".join(con.binding())
+    frame = next(iter(design_levers(p, lin).values()))
+    y0 = 0.4 * spec.factor("e").dist.mean                # 0.1 mm: below the lower limit
+    sigma = math.sqrt(sum((ki * d.std) ** 2 for ki, d in zip(k, dists)))
+    need = (lo + 3.0 * sigma if lo is not None and y0 <= lo else hi - 3.0 * sigma) - y0
+    got = dict(zip(frame["lever (mean shift of)"], frame["shift needed alone"]))
+    assert set(got) == {"x0", "x1", "x2", "x3"}
+    for i in range(4):
+        assert got[f"x{i}"] == pytest.approx(need / K[i], rel=1e-6)
+    assert list(frame["lever (mean shift of)"]) == [f"x{i}" for i in np.argsort(-np.abs(K))]
+
+
 def test_uniform_baseline_is_the_largest_common_scale():
     p = linear_problem(K, B, limit=1.0)
     res = uniform_baseline(p, LinearisedConstraint(p, linearise(p), "rss"))
@@ -185,7 +216,11 @@ def test_monte_carlo_yield_bound_uses_the_requirements_interval(interval, method
     m = mc.measures(p.t0[None, :] * 0.3)[0][0]
     k = round(m["yield"] * 400)
     assert 0 < k < 400
-    assert m["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.95, method)[0], rel=1e-10)
+    # the sign-off's bound (one-sided 95 % by default) = the lower end of SciPy's two-sided 90 % interval
+    assert m["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.90, method)[0], rel=1e-10)
+    two = p.with_requirements([replace(req[0], bound="two-sided")])
+    m2 = MonteCarloConstraint(two, 400, "random", 5).measures(p.t0[None, :] * 0.3)[0][0]
+    assert m2["yield_lo"] == pytest.approx(proportion_ci(k, 400, 0.95, method)[0], rel=1e-10)
 
 
 class FailsAwayFromZero(LinearModel):

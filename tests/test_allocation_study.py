@@ -77,7 +77,7 @@ def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
     ('assign = { "*" = "ground_axis" }', 'assign = { "Crankshaft 1" = "ground_axis" }', "analysis[1].assign",
      "no cost curve for factor"),
     ('assign = { "*" = "ground_axis" }', 'assign = { "*" = "ground_axis", "Gearbox" = "ground_axis" }',
-     "analysis[1].assign.Gearbox", "neither a factor nor a group"),
+     "analysis[1].assign.Gearbox", "neither a factor, a family, a pattern"),
     ('groups = ["Crankshaft 1",', 'groups = ["Crankshaft 9",', "analysis[1].groups", "unknown group"),
     ('output = "delta_*"', 'output = "gamma_*"', "analysis[1].requirement[0].output", "matches no output"),
     ('[analysis.ga]\n', '[analysis.ga]\nconstraint = "never"\n', "analysis[1].ga.constraint", "unknown value"),
@@ -124,3 +124,181 @@ def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
     free = te.evaluate(np.zeros((1, len(te.inputs))))[0, te.output_index("te_pp")]
     assert b["te_pp [arcsec]"][0] == pytest.approx(2 * a["te_pp [arcsec]"][0], rel=0.02)
     assert a["te_pp [arcsec]"][1] == pytest.approx(free * 206264.806, rel=1e-6)
+
+
+#: the allocation analysis of the small studies below (one cost curve for every factor)
+ALLOCATION = """[[analysis]]
+kind = "allocation"
+costs = "costs.toml"
+assign = { "*" = "turning" }
+"""
+
+SET_ASIDE = """
+[study]
+name = "set_aside"
+
+[model]
+kind = "linear"
+
+[[model.output]]
+name = "y"
+unit = "mm"
+display_unit = "um"
+coefficients = { b = 1.0 }
+
+[[model.output]]
+name = "z"
+unit = "mm"
+display_unit = "um"
+coefficients = { a = 1.0 }
+
+[[factor]]
+name = "a"
+unit = "um"
+dist = "normal"
+mean = 10.0
+tolerance = 6.0
+
+[[factor]]
+name = "b"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[requirement]]
+name = "y within ±3 um"
+output = "y"
+lower = -3.0
+upper = 3.0
+unit = "um"
+min_cpk = 1.0
+basis = "estimate"
+
+[[requirement]]
+name = "z at most 5 um"
+output = "z"
+upper = 5.0
+unit = "um"
+min_cpk = 1.0
+basis = "estimate"
+
+""" + ALLOCATION + """[analysis.ga]
+constraint = "none"
+[analysis.verify]
+n = 2000
+[analysis.pareto]
+scales = [1.0]
+
+[sampling]
+n = 200
+seed = 3
+"""
+
+COSTS = """
+[costs]
+name = "test"
+cost_unit = "relative"
+[[curve]]
+name = "turning"
+kind = "reciprocal_power"
+unit = "um"
+data = { tolerance = [0.5, 1, 2, 4, 10], cost = [9.0, 5.0, 3.0, 2.0, 1.4] }
+bounds = [0.5, 10]
+"""
+
+
+def test_a_requirement_the_nominal_misses_is_set_aside_with_its_levers(tmp_path):
+    """z = a with a's mean 10 µm > 5: no tolerance meets it; it is set aside and its lever (by hand: shift a by
+    5 − 3σ_a − 10 = −8 µm; tolerance 6 µm is the full band ±3σ, σ_a = 1) reported; y = b is allocated alone: |y| ≤ 3 µm at Cpk 1 gives ±t_b = 3σ_b = 3 µm
+    (the constraint's closed form), and a, which y does not see, goes to the curve's loosest 10 µm."""
+    write(tmp_path / "costs.toml", COSTS)
+    study = load_study(write(tmp_path / "s.toml", SET_ASIDE), executor="serial", progress=False)
+    res = run_study(study)
+    summ = {s.key: s.summary for s in res.sections}["allocation"]
+    assert summ["set_aside"] == [r.label for r in study.requirements if r.output == "z"]
+    methods = {m["method"]: m for m in summ["methods"]}
+    assert methods["convex rss"]["status"].startswith("optimal")
+    t = {row["factor"]: row["t convex rss (±)"] for row in summ["tolerances"]}
+    assert t["b"] == pytest.approx(3.0, rel=1e-4) and t["a"] == pytest.approx(10.0, rel=1e-6)
+    (lever,) = next(iter(summ["design_levers"].values()))
+    assert lever["lever (mean shift of)"] == "a" and lever["shift needed alone"] == pytest.approx(-8.0, rel=1e-9)
+
+
+MAGNITUDE = """
+[study]
+name = "magnitude"
+
+[model]
+kind = "formula"
+[[model.output]]
+name = "r"
+formula = "hypot(u, v)"
+unit = "um"
+
+[[factor]]
+name = "u"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[factor]]
+name = "v"
+unit = "um"
+dist = "normal"
+mean = 0.0
+tolerance = 6.0
+
+[[requirement]]
+name = "radial offset at most 3 um"
+output = "r"
+upper = 3.0
+unit = "um"
+min_yield = 0.99
+basis = "estimate"
+
+""" + ALLOCATION + """[analysis.ga]
+constraint = "monte_carlo"
+n = 4000
+population = 8
+parents = 4
+generations = 4
+[analysis.verify]
+n = 2000
+all_requirements = true
+
+[sampling]
+n = 400
+seed = 3
+"""
+
+
+def test_a_magnitude_output_is_not_linearised_and_the_monte_carlo_constraint_remains(tmp_path):
+    """r = hypot(u, v) at the nominal (0, 0): five-point derivatives 0, first-order σ 0 against the Monte Carlo's
+    σ_r = σ √(2 − π/2) (Rayleigh, σ = 1 µm): the linearised methods are unavailable; the uniform scale on the
+    Monte Carlo constraint is the closed form: P(r ≤ 3) = 1 − exp(−9 / 2σ²) ≥ 0.99  ⇔  σ ≤ 3/√(2 ln 100) = 0.9885,
+    ±t = 3σ = 2.966 µm (within the constraint's sampling error at n = 4000)."""
+    write(tmp_path / "costs.toml", COSTS)
+    res = run_study(load_study(write(tmp_path / "s.toml", MAGNITUDE), executor="serial", progress=False))
+    sec = next(s for s in res.sections if s.key == "allocation")
+    methods = {m["method"]: m for m in sec.summary["methods"]}
+    assert methods["convex rss"]["status"] == "not linearisable"
+    t = {row["factor"]: row["t uniform (±)"] for row in sec.summary["tolerances"]}
+    sigma = 3.0 / math.sqrt(2 * math.log(100))
+    # the yield's standard error at n = 4000 is sqrt(0.99·0.01/4000) = 0.0016 (random sampling; LHS is no worse);
+    # dP/dσ at the solution = exp(−9/2σ²)·9/σ³ = 0.093 per µm, so σ is good to ± 3 × 0.0016/0.093 ≈ 0.05 µm and
+    # ±t = 3σ to ± 0.15 µm
+    assert t["u"] == pytest.approx(3 * sigma, abs=0.15) and t["v"] == t["u"]
+    assert sec.summary["all_requirements"]["rows"][0]["output"] == "r"
+
+
+def test_a_monte_carlo_constraint_too_small_to_demonstrate_the_yield_is_a_one_line_error(tmp_path):
+    """yield ≥ 0.99 on the 95 % one-sided Clopper–Pearson bound needs ⌈ln 0.05 / ln 0.99⌉ = 299 samples with no
+    failure (success run): n = 200 could never pass, whatever the tolerances."""
+    write(tmp_path / "costs.toml", COSTS)
+    text = MAGNITUDE.replace('basis = "estimate"', 'basis = "lower_bound"').replace("n = 4000", "n = 200")
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "s.toml", text))
+    assert ei.value.key == "analysis[0].ga.n" and "use n ≥ 299" in ei.value.reason
+    assert math.ceil(math.log(0.05) / math.log(0.99)) == 299

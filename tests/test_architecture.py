@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from rvtol.analysis import Analysis
-from rvtol.registry import ANALYSES, MODELS
+from rvtol.registry import ANALYSES, MODELS, plugin_models
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "rvtol"
@@ -144,6 +144,14 @@ def test_every_model_factory_resolves_with_the_documented_signature(kind):
         "a model's factory lives in its package's model.py"
 
 
+@pytest.mark.parametrize("kind", sorted(plugin_models()) or [pytest.param(None, marks=pytest.mark.skip(
+    reason="no package in this environment registers an rvtol.models entry point (tests/test_model_kinds.py "
+           "installs one)"))])
+def test_every_installed_model_plugin_has_the_documented_signature(kind):
+    f = plugin_models()[kind].load()
+    assert callable(f) and len(inspect.signature(f).parameters) == 3
+
+
 @pytest.mark.parametrize("kind", sorted(ANALYSES))
 def test_every_analysis_is_an_analysis_with_setup_and_run(kind):
     cls = _resolve(ANALYSES[kind])
@@ -159,7 +167,9 @@ def test_every_analysis_is_an_analysis_with_setup_and_run(kind):
 
 def _kinds_named_by(path: Path) -> set[str]:
     data = tomllib.loads(path.read_text(encoding="utf-8"))
-    return {t["kind"] for t in data.get("analysis", [])} | ({data["model"]["kind"]} if "model" in data else set())
+    models = data.get("model", [])                     # [model], or [[model]] tables of a composed study
+    models = models if isinstance(models, list) else [models]
+    return {t["kind"] for t in data.get("analysis", [])} | {m["kind"] for m in models}
 
 
 def test_every_registered_kind_is_used_by_a_study_or_a_test():

@@ -15,22 +15,9 @@ from rvtol.errors import InputError
 from rvtol.sampling import sample
 from rvtol.spec import spec_from_table
 
-SPEC = """
-[spec]
-name = "s"
-[[factor]]
-name = "a"
-unit = "um"
-dist = "normal"
-mean = 0.0
-tolerance = 30.0
-[[factor]]
-name = "b"
-unit = "um"
-dist = "uniform"
-lower = -5.0
-upper = 5.0
-"""
+from conftest import GAP_MODEL, gap_factors
+
+SPEC = '[spec]\nname = "s"\n' + gap_factors(30.0, mean=0.0)
 
 REQ = """
 [[requirement]]
@@ -52,14 +39,7 @@ name = "t"
 spec = "spec.toml"
 requirements = "req.toml"
 design = "design.toml"
-[model]
-kind = "linear"
-[[model.output]]
-name = "gap"
-unit = "mm"
-display_unit = "um"
-coefficients = { a = 1.0, b = -1.0 }
-[sampling]
+""" + GAP_MODEL + """[sampling]
 n = 2000
 method = "lhs"
 seed = 1
@@ -69,7 +49,7 @@ seed = 1
 def setup(tmp_path, study=STUDY, spec=SPEC, req=REQ, design=DESIGN):
     for name, text in (("study.toml", study), ("spec.toml", spec), ("req.toml", req), ("design.toml", design)):
         if text is not None:
-            (tmp_path / name).write_text(text)
+            (tmp_path / name).write_bytes(text.encode("utf-8", "surrogateescape"))
     return tmp_path / "study.toml"
 
 
@@ -97,7 +77,7 @@ CASES = [
     ("spec missing", lambda s: {"spec": None}, "spec.toml", "-", "file not found"),
     ("spec is a directory", lambda s: {"study": STUDY.replace('"spec.toml"', '".."')}, "..", "-", "directory"),
     ("factor without unit", lambda s: {"spec": SPEC.replace('unit = "um"\ndist = "normal"', 'dist = "normal"')},
-     "spec.toml", "factor[0].unit", "missing required key"),
+     "spec.toml", "factor[0].unit", "missing unit"),
     ("unknown unit", lambda s: {"spec": SPEC.replace('"um"', '"furlong"', 1)}, "spec.toml", "factor[0].unit",
      "unknown unit"),
     ("unknown distribution", lambda s: {"spec": SPEC.replace('"normal"', '"gaussian"')}, "spec.toml",
@@ -148,6 +128,25 @@ CASES = [
      "design.toml", "pin.radius.source", "missing required key"),
     ("design value not a number", lambda s: {"design": DESIGN.replace("value = 3.0", "value = true")},
      "design.toml", "pin.radius.value", "expected a number"),
+    # misspelt keys and names: the typo is blamed, with the name it resembles (not the key asked for next)
+    ("misspelt tolerance", lambda s: {"spec": SPEC.replace("tolerance = 30.0", "tolerence = 30.0")}, "spec.toml",
+     "factor[0].tolerence", "unknown key (did you mean 'tolerance'?)"),
+    ("misspelt sampling key", lambda s: {"study": STUDY.replace("seed = 1", "seeed = 1")}, "study.toml",
+     "sampling.seeed", "did you mean 'seed'?"),
+    ("misspelt model kind", lambda s: {"study": STUDY.replace('"linear"', '"linaer"')}, "study.toml",
+     "model.kind", "unknown model kind 'linaer' (did you mean 'linear'?)"),
+    ("misspelt output name", lambda s: {"req": REQ.replace('"gap"', '"gpa"')}, "req.toml",
+     "requirement[0].output", "did you mean 'gap'?"),
+    ("misspelt distribution", lambda s: {"spec": SPEC.replace('"uniform"', '"unifrom"')}, "spec.toml",
+     "factor[1].dist", "unknown value 'unifrom' (did you mean 'uniform'?"),
+    ("misspelt unit", lambda s: {"spec": SPEC.replace('"um"', '"umm"', 1)}, "spec.toml", "factor[0].unit",
+     "did you mean"),
+    ("misspelt coefficient name", lambda s: {"study": STUDY.replace("b = -1.0", "bb = -1.0")}, "study.toml",
+     "model.output[0].coefficients.bb", "did you mean 'b'?"),
+    ("empty requirements file", lambda s: {"req": "# nothing yet\n"}, "req.toml", "requirement",
+     "at least one [[requirement]]"),
+    ("not UTF-8", lambda s: {"study": STUDY.replace("name = \"t\"", "name = \"t\" # \udcff")}, "study.toml", "-",
+     "not UTF-8"),
     ("spec given twice", lambda s: {"study": STUDY + '\n[[factor]]\nname = "x"\nunit = "um"\ndist = "normal"\nsigma = 1.0\n'},
      "study.toml", "factor", "either in the spec file or here"),
 ]
@@ -210,3 +209,24 @@ def test_fuzz_spec_loader_raises_input_error_or_gives_finite_samples(factors):
     except InputError:
         return  # e.g. a distribution whose quantiles overflow: reported, not silent
     assert np.isfinite(x).all()
+
+
+def test_a_utf8_byte_order_mark_is_accepted(tmp_path, capsys):
+    path = setup(tmp_path)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())  # what Notepad writes
+    rc, err, out = run(tmp_path, capsys, path)
+    assert rc == 0, err
+    assert (out / "summary.json").exists()
+
+
+def test_a_typo_in_a_study_cycloid_factor_blames_the_study_key(tmp_path, capsys, root):
+    """The study's [[model.cycloid_factor]] names a factor the spec lacks: the study file and that key, not the spec."""
+    text = (root / "studies" / "lost_motion_rv80e.toml").read_text(encoding="utf-8")
+    text = text.replace('"../data/', f'"{root}/data/').replace('factor = "Delta_r_rp"', 'factor = "Delta_r_rpp"')
+    study = tmp_path / "lm.toml"
+    study.write_text(text, encoding="utf-8")
+    rc = main(["check", str(study)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1, err
+    assert err[0].startswith(f"rvtol: error: {study}: model.cycloid_factor[0].factor: "), err[0]
+    assert "'Delta_r_rpp'" in err[0] and "did you mean 'Delta_r_rp'?" in err[0]

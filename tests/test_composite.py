@@ -267,3 +267,42 @@ model = "tc"
     bad = write(tmp_path / "b.toml", text.replace('model = "tc"', 'model = "te"'))
     with pytest.raises(InputError, match="not a torsion_curve model"):
         load_study(bad)
+
+
+def test_design_numbers_and_a_shared_mapping(tmp_path):
+    """``design.<key>`` reads the study design (base units); ``same_inputs_as`` reuses an earlier mapping."""
+    spec = write(tmp_path / "spec.toml", '[[factor]]\nname = "c1"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
+                                         '[[factor]]\nname = "c2"\nunit = "um"\ndist = "normal"\ntolerance = 1\n'
+                                         '[[factor]]\nname = "c3"\nunit = "um"\ndist = "normal"\ntolerance = 1\n')
+    text = _study(spec).replace('value = "c1 - c2"', 'value = "c1 - c2 + design.cycloid.eccentricity"')
+    text = text.replace('[sampling]', '[[model]]\nname = "lm2"\nkind = "lost_motion"\nsame_inputs_as = "lm"\n\n[sampling]')
+    st = load_study(write(tmp_path / "s.toml", text), progress=False)
+    m = st.model
+    assert m.stage("lm2").inputs == m.stage("lm").inputs and m.stage("lm2").model.inputs == ("Delta_b",)
+    X = np.array([[0.001, 0.0005, 0.0]])
+    env, _ = m.environment(X)
+    assert env["gap"][0] == pytest.approx(0.0005 + 1.5)            # e = 1.5 mm (doc 000 Table 1)
+    np.testing.assert_array_equal(env["lm2.lost_motion"], env["lm.lost_motion"])
+    bad = text.replace('same_inputs_as = "lm"', 'same_inputs_as = "lm3"')
+    with pytest.raises(InputError) as exc:
+        load_study(write(tmp_path / "b.toml", bad))
+    assert exc.value.key == "model[2].same_inputs_as"
+    bad = text.replace("design.cycloid.eccentricity", "design.cycloid.nothing")
+    with pytest.raises(InputError) as exc:
+        load_study(write(tmp_path / "c.toml", bad))
+    assert exc.value.key == "quantity.gap" and "'design.cycloid.nothing'" in exc.value.reason
+
+
+def test_a_restricted_composition_evaluates_only_the_stages_its_outputs_need():
+    """Keeping stage one's u needs stage one only; keeping stage two's r needs both (r reads one.u, one.w)."""
+    comp, lin, nonlin = _composite()
+    X = np.array([[2.0e-3, 1.0e-3, 0.2, 1e-4], [1.0e-3, -2.0e-3, 0.1, -2e-4]])
+    full = comp.evaluate(X)
+    only_one = comp.restricted(["one.u"])
+    assert [st.name for st in only_one.stages] == ["one"] and only_one.output_names == ("one.u",)
+    np.testing.assert_array_equal(only_one.evaluate(X)[:, 0], full[:, comp.output_names.index("one.u")])
+    r = comp.restricted(["two.r", "q"])
+    assert [st.name for st in r.stages] == ["one", "two"] and r.output_names == ("q", "two.r")
+    np.testing.assert_array_equal(r.evaluate(X), full[:, [comp.output_names.index(n) for n in ("q", "two.r")]])
+    with pytest.raises(InputError):
+        comp.restricted(["nope"])

@@ -22,7 +22,8 @@ from rvtol.sampling import sample
 from rvtol.sensitivity import delta, design_to_factors, fast, morris, rbd_fast, sobol
 from rvtol.spec import spec_from_table
 
-from gsa_reference import G_A, ISH, ISH_SPEC, g_function, g_indices, ishigami, ishigami_indices
+from gsa_reference import (G_A, G_MODEL, G_SPEC, ISH, ISH_SPEC, g_function, g_indices, ishigami, ishigami_indices,
+                           linear_case)
 
 
 def _within(est, true, conf, scale=1.0):
@@ -47,31 +48,15 @@ def test_sobol_ishigami_first_total_and_second_order_within_ci():
 
 
 def test_sobol_g_function_within_ci():
-    spec = spec_from_table({"factor": [{"name": f"g{i}", "unit": "1", "dist": "uniform", "lower": 0, "upper": 1}
-                                       for i in range(len(G_A))]})
-    model = FunctionModel(g_function, spec.names, ["y"])
     S1, ST = g_indices()
-    d = sobol(model, spec, n=4096, second_order=False, seed=7).frame
+    d = sobol(G_MODEL, G_SPEC, n=4096, second_order=False, seed=7).frame
     assert _within(d["S1"], S1, d["S1_conf"]).all(), d
     assert _within(d["ST"], ST, d["ST_conf"]).all(), d
     assert list(d.sort_values("ST", ascending=False)["factor"][:4]) == ["g0", "g1", "g2", "g3"]
 
 
-def _linear_case():
-    A = np.array([[1 / 50, -2 / 50, 0.5 / 50, 0.0, 3 / 50]])  # rad/mm
-    spec = spec_from_table({"factor": [
-        {"name": "p", "unit": "um", "dist": "normal", "mean": 3.0, "tolerance": 6.0},
-        {"name": "q", "unit": "um", "dist": "uniform", "lower": -2.0, "upper": 4.0},
-        {"name": "r", "unit": "um", "dist": "triangular", "lower": 0.0, "upper": 9.0},
-        {"name": "s", "unit": "um", "dist": "normal", "mean": 0.0, "tolerance": 2.0},   # does not act
-        {"name": "t", "unit": "um", "dist": "rayleigh", "tolerance": 1.5}]})
-    model = LinearModel(spec.names, ["mm"] * 5, [Quantity("phi", "rad", "arcmin")], A)
-    v = (A[0] * spec.std_base()) ** 2
-    return model, spec, v / v.sum()
-
-
 def test_linear_model_first_order_sobol_equals_normalised_squared_sensitivities():
-    model, spec, share = _linear_case()
+    model, spec, share = linear_case()
     d = sobol(model, spec, n=2048, second_order=False, seed=3).frame
     assert _within(d["S1"], share, d["S1_conf"]).all(), d
     assert _within(d["ST"], share, d["ST_conf"]).all(), d
@@ -79,7 +64,7 @@ def test_linear_model_first_order_sobol_equals_normalised_squared_sensitivities(
 
 
 def test_linear_model_fast_and_rbd_fast_first_order():
-    model, spec, share = _linear_case()
+    model, spec, share = linear_case()
     # eFAST: its bootstrap CIs are flagged unreliable by SALib (kept as a note), so the check uses a fixed
     # tolerance of 0.02: the interference error of eFAST at n = 1025 per factor with M = 4 is < 1 %.
     e = fast(model, spec, n=1025, seed=3)
@@ -210,7 +195,7 @@ def test_failed_and_constant_outputs_are_reported_not_hidden():
 def test_delta_is_the_same_on_any_executor():
     from rvtol.executors import make_executor
 
-    model, spec, _ = _linear_case()
+    model, spec, _ = linear_case()
     s = sample(spec, 1200, "random", 2)
     Y = model.outputs[0].to_display(model.evaluate(s.values))
     serial = delta(model, spec, samples=s, Y=Y, seed=9, num_resamples=10).frame

@@ -6,8 +6,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvtol.design import load_design
-from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.models.transmission.orders import (active_families, alias, expected_orders, families_frame,
                                               lattice_step, order_spectrum)
@@ -22,18 +20,8 @@ PER = 81
 OFF_LATTICE = 1e-6
 
 
-@pytest.fixture(scope="module")
-def design():
-    return load_design(ROOT / "data/designs/rv80e_te.toml")
-
-
-@pytest.fixture(scope="module")
-def geom(design):
-    return geometry_from_design(design)
-
-
-def run(design, values):
-    m = TransmissionErrorModel(design, list(values), per_crank_rev=PER)
+def run(te_design, values):
+    m = TransmissionErrorModel(te_design, list(values), per_crank_rev=PER)
     r = m.run(values)
     assert r.ok
     return m, r
@@ -51,16 +39,16 @@ def off_lattice_share(m, r):
     return np.sqrt(np.sum(a[off] ** 2) / np.sum(a[1:] ** 2)), a
 
 
-def test_lattices_of_the_rv80e(geom):
-    assert (geom.z_b, geom.z_c) == (40, 39)
-    assert [lattice_step(geom, s) for s in ("housing", "carrier", "sun", "uniform")] == [3, 40, 40, 120]
-    e = expected_orders(geom, "pin_ring", 1440)
+def test_lattices_of_the_rv80e(te_geom):
+    assert (te_geom.z_b, te_geom.z_c) == (40, 39)
+    assert [lattice_step(te_geom, s) for s in ("housing", "carrier", "sun", "uniform")] == [3, 40, 40, 120]
+    e = expected_orders(te_geom, "pin_ring", 1440)
     assert e[78] == "2·z_c" and e[81] == "2·z_c + 3" and e[3] == "3"
     assert 40 not in e and 1 not in e
     assert alias(1560, 1440) == 120
-    assert "Z aliased from 1560" in expected_orders(geom, "uniform", 1440)[120]
-    assert expected_orders(geom, "disc_profile", 3240)[80] == "2·z_b"
-    assert len(families_frame(geom)) == 10
+    assert "Z aliased from 1560" in expected_orders(te_geom, "uniform", 1440)[120]
+    assert expected_orders(te_geom, "disc_profile", 3240)[80] == "2·z_b"
+    assert len(families_frame(te_geom)) == 10
 
 
 # values, family, strongest order, derivation (module doc of rvtol.models.transmission.orders)
@@ -87,8 +75,8 @@ SINGLE = [
 
 
 @pytest.mark.parametrize("values, family, strongest, why", SINGLE, ids=[s[3] for s in SINGLE])
-def test_single_family_spectrum(design, values, family, strongest, why):
-    m, r = run(design, values)
+def test_single_family_spectrum(te_design, values, family, strongest, why):
+    m, r = run(te_design, values)
     assert set(active_families(m.factors.bindings, [r.factors[n] for n in m.inputs])) == {"nominal", family}
     share, a = off_lattice_share(m, r)
     assert share < OFF_LATTICE
@@ -103,22 +91,22 @@ def test_single_family_spectrum(design, values, family, strongest, why):
     ({"A_c": 5 * UM}, 39, 78),
     ({"E_ca[1]": 3 * UM}, 40, 80),
 ])
-def test_errors_common_to_both_discs_cancel_at_odd_multiples(design, values, odd, even):
+def test_errors_common_to_both_discs_cancel_at_odd_multiples(te_design, values, odd, even):
     """Disc 2 meets the pins with its other side: a common error's odd multiple cancels to first order
     (below 1 % of the even one; observed 2e-6 … 1.1e-3 of it)."""
-    _, r = run(design, values)
+    _, r = run(te_design, values)
     _, a = order_spectrum(r.te)
     assert a[odd] < 0.01 * a[even]
 
 
-def test_two_families_beat_at_order_one(design):
+def test_two_families_beat_at_order_one(te_design):
     """One pin (housing-fixed, lattice 3) and a disc profile error (disc-fixed, lattice 40): alone neither
     has order 1 (their symmetries forbid it); together the nonlinear mesh mixes them at z_b − z_c = 1, and
     the table names the interaction."""
     pin, disc = {"R_pin[4]": -3 * UM}, {"R_cyc_h[1,1]": 3 * UM}
     amp = {}
     for name, v in (("pin", pin), ("disc", disc), ("both", {**pin, **disc})):
-        m, r = run(design, v)
+        m, r = run(te_design, v)
         amp[name] = order_spectrum(r.te)[1]
     for alone in ("pin", "disc"):
         assert amp[alone][1] < 1e-6 * amp[alone][1:].max()
@@ -128,16 +116,16 @@ def test_two_families_beat_at_order_one(design):
     assert row["expected from"] == "—" and row["interaction"] == "pin ring × disc profile: z_c − z_b"
 
 
-def test_uniform_errors_shift_the_mean_by_their_backlash(design, geom):
+def test_uniform_errors_shift_the_mean_by_their_backlash(te_design, te_geom):
     """A uniform opening of the pin stage has no order of its own; it moves the mean TE by the angle that
     takes up the normal clearance at the largest arm φ0 = arccos K1 (doc 004: n0 = Δr − √(1 − K1²)·ΔR, and a
     pin circle larger by δR acts as ΔR = −δR), n0/R_d — within 10 % (the rest: fewer pins carry the load, so
     the elastic wind-up grows)."""
-    _, r0 = run(design, {"R_pc": 0.0})
-    c1 = np.sqrt(1 - geom.K1 ** 2)
+    _, r0 = run(te_design, {"R_pc": 0.0})
+    c1 = np.sqrt(1 - te_geom.K1 ** 2)
     for values, n0 in (({"R_pc": 3 * UM}, c1 * 3 * UM), ({"delta_pin": 3 * UM}, 3 * UM),
                        ({"equidistance_mod": -15 * UM, "moved_distance_mod": -30 * UM}, (-15 + c1 * 30) * UM)):
-        _, r = run(design, values)
+        _, r = run(te_design, values)
         shift = (r0.te.mean() - r.te.mean()) / 3600 * np.pi / 180        # arcsec -> rad, more wind-up
-        assert shift == pytest.approx(n0 / geom.r_disc_pitch, rel=0.10)
+        assert shift == pytest.approx(n0 / te_geom.r_disc_pitch, rel=0.10)
         assert r.te_pp < 0.03 * abs(r.te.mean() - r0.te.mean())

@@ -8,13 +8,11 @@ import numpy as np
 import pytest
 
 from rvtol import units
-from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.models.transmission import _kernels as K
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.contacts import pin_cos_sin, static_table
 from rvtol.models.transmission.factors import TABLE3_GROUPS, ErrorFactors
-from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import TransmissionErrorModel
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -22,31 +20,21 @@ ARCSEC = units.to_base(1.0, "arcsec")
 UM = 1e-3
 
 
-@pytest.fixture(scope="module")
-def design():
-    return load_design(ROOT / "data/designs/rv80e_te.toml")
-
-
-@pytest.fixture(scope="module")
-def geom(design):
-    return geometry_from_design(design)
-
-
 # ----------------------------------------------------------------------------------------- names -> state
-def test_pin_errors_add_up(geom):
+def test_pin_errors_add_up(te_geom):
     """Pin circle + pin-ring harmonic (amplitude/phase and components) + per-pin residual + the Table 3 group:
     every term adds, on both discs, as the docstring's formulas say."""
     names = ["R_pc", "R_pin_h[3]", "R_pin_h_phase[3]", "R_pin_c[5]", "R_pin_s[5]", "R_pin[7]", "R_pin",
              "AP_pin[2]", "AP_pin_h[1]", "delta_pin", "delta_pin[4]"]
     x = [2e-3, 1e-3, 0.4, 0.5e-3, -0.7e-3, 0.3e-3, 1.5e-3, 0.2e-3, 0.9e-3, 3e-3, -1e-3]
-    st = ErrorFactors(names, geom.z_b).state(x)
-    th = 2 * np.pi * np.arange(geom.z_b) / geom.z_b
+    st = ErrorFactors(names, te_geom.z_b).state(x)
+    th = 2 * np.pi * np.arange(te_geom.z_b) / te_geom.z_b
     radial = 2e-3 + 1e-3 * np.sin(3 * th + 0.4) + 0.5e-3 * np.cos(5 * th) - 0.7e-3 * np.sin(5 * th) \
         + 1.5e-3 * np.sin(2 * th)
     radial[6] += 0.3e-3
     tangential = 0.9e-3 * np.sin(th)
     tangential[1] += 0.2e-3
-    gap = np.full(geom.z_b, 3e-3)
+    gap = np.full(te_geom.z_b, 3e-3)
     gap[3] -= 1e-3
     for j in range(2):
         np.testing.assert_allclose(st.pin_err[L.PIN_R, j], radial, atol=1e-18)
@@ -54,23 +42,23 @@ def test_pin_errors_add_up(geom):
         np.testing.assert_allclose(st.pin_err[L.PIN_GAP, j], gap, atol=1e-18)
 
 
-def test_disc_fields_per_disc_and_order(geom):
+def test_disc_fields_per_disc_and_order(te_geom):
     """R_cyc_h[j,n] = a sin(nθ + ph) on disc j only; components add; the Table 3 group R_cyc with
     harmonic 1 equals the same element on both discs."""
     st = ErrorFactors(["R_cyc_h[2,3]", "R_cyc_h_phase[2,3]", "AP_cyc_c[1,1]", "AP_cyc_s[1,1]", "R_cyc_s[2,3]"],
-                      geom.z_b).state([2e-3, 0.3, 1e-3, -0.5e-3, 0.25e-3])
+                      te_geom.z_b).state([2e-3, 0.3, 1e-3, -0.5e-3, 0.25e-3])
     expect = np.zeros((2, 2, L.NH, 2))
     expect[1, L.DISC_R, 3] = (2e-3 * math.sin(0.3), 2e-3 * math.cos(0.3) + 0.25e-3)
     expect[0, L.DISC_AP, 1] = (1e-3, -0.5e-3)
     np.testing.assert_allclose(st.disc_h, expect, atol=1e-18)
-    both = ErrorFactors(["R_cyc", "R_cyc_phase"], geom.z_b, harmonic=1).state([3e-3, 1.1]).disc_h
+    both = ErrorFactors(["R_cyc", "R_cyc_phase"], te_geom.z_b, harmonic=1).state([3e-3, 1.1]).disc_h
     each = ErrorFactors(["R_cyc_h[1,1]", "R_cyc_h_phase[1,1]", "R_cyc_h[2,1]", "R_cyc_h_phase[2,1]"],
-                        geom.z_b).state([3e-3, 1.1, 3e-3, 1.1]).disc_h
+                        te_geom.z_b).state([3e-3, 1.1, 3e-3, 1.1]).disc_h
     np.testing.assert_array_equal(both, each)
 
 
-def test_profile_modification_factors(geom):
-    st = ErrorFactors(["equidistance_mod[1]", "equidistance_mod[2]", "moved_distance_mod"], geom.z_b).state(
+def test_profile_modification_factors(te_geom):
+    st = ErrorFactors(["equidistance_mod[1]", "equidistance_mod[2]", "moved_distance_mod"], te_geom.z_b).state(
         [-15e-3, -14e-3, -30e-3])
     np.testing.assert_array_equal(st.err[L.MOD_EQ:L.MOD_EQ + 2], [-15e-3, -14e-3])
     np.testing.assert_array_equal(st.err[L.MOD_MOVED:L.MOD_MOVED + 2], [-30e-3, -30e-3])
@@ -86,9 +74,9 @@ def test_profile_modification_factors(geom):
     (["equidistance_mod", "equidistance_mod[1]"], "set the same error"),
     (["equidistance_mod[3]"], "expected equidistance_mod\\[j\\]"),
 ])
-def test_bad_part_error_names(geom, names, msg):
+def test_bad_part_error_names(te_geom, names, msg):
     with pytest.raises(InputError, match=msg):
-        ErrorFactors(names, geom.z_b)
+        ErrorFactors(names, te_geom.z_b)
 
 
 # ----------------------------------------------------------------------------------------- modification
@@ -127,10 +115,10 @@ def _modified_profile_gaps(g, theta_c, dr, dR, j):
     return gaps
 
 
-def test_profile_modification_matches_the_generated_profile(geom):
+def test_profile_modification_matches_the_generated_profile(te_geom):
     """The kernel's offsets for an equidistance and a moved-distance modification equal the clearance of the
     exactly generated modified profile to first order: the residual falls ~100-fold when both shrink 10-fold."""
-    g = geom
+    g = te_geom
     theta_c = 0.23
 
     def worst(dr, dR):
@@ -160,42 +148,42 @@ def _translation(j, d, phase=0.0):
             f"AP_cyc_h_phase[{j},1]": phase + math.pi / 2}
 
 
-def _pp(design, values, per=36):
-    r = TransmissionErrorModel(design, list(values), per_crank_rev=per).run(values)
+def _pp(te_design, values, per=36):
+    r = TransmissionErrorModel(te_design, list(values), per_crank_rev=per).run(values)
     assert r.ok
     return r
 
 
-def test_profile_translation_equals_the_opposite_crank_hole_translation(design):
+def test_profile_translation_equals_the_opposite_crank_hole_translation(te_design):
     """Moving disc 1's profile by d against its crank holes is moving the three holes by −d: the disc's own
     translation (η, θ_do) absorbs the difference, so the TE is the same to the solver's tolerance — a check of
     the frames and signs of the disc fields against the crank-hole errors."""
     a = 5 * UM
     holes = {f"E_h[1,{i}]": a for i in (1, 2, 3)}
     holes.update({f"beta_h[1,{i}]": math.radians(-90.0 - 120.0 * (i - 1)) for i in (1, 2, 3)})
-    r1, r2 = _pp(design, _translation(1, a)), _pp(design, holes)
+    r1, r2 = _pp(te_design, _translation(1, a)), _pp(te_design, holes)
     np.testing.assert_allclose(r1.te, r2.te, rtol=0, atol=1e-6)        # arcsec
 
 
-def test_profile_eccentricity_on_one_or_both_discs(design, geom):
+def test_profile_eccentricity_on_one_or_both_discs(te_design, te_geom):
     """A profile translated by d (a true profile eccentricity) on disc 1 wants the disc turned by d·t_e/R_d,
     t_e the tangential direction of its eccentric: an order-z_b TE.  Disc 2 meets the pins with its other side
     (t_e2 = −t_e1), so the same d on both discs makes them pull the carrier in opposite directions (cancels),
     and an opposite d turns both alike.  Rigid limits (the carrier takes the mean of the two discs' angles):
     one disc |d|/R_d p-p, opposite 2|d|/R_d, same 0.  The elastic contacts keep rvtol within 6 % of them."""
     a = 5 * UM
-    rigid = a / geom.r_disc_pitch / ARCSEC          # |d|/R_d in arcsec (8.547e-5 rad = 17.63″ for 5 µm)
-    one = _pp(design, _translation(1, a)).te_pp
-    same = _pp(design, {**_translation(1, a), **_translation(2, a)}).te_pp
-    opposite = _pp(design, {**_translation(1, a), **_translation(2, -a)}).te_pp
+    rigid = a / te_geom.r_disc_pitch / ARCSEC          # |d|/R_d in arcsec (8.547e-5 rad = 17.63″ for 5 µm)
+    one = _pp(te_design, _translation(1, a)).te_pp
+    same = _pp(te_design, {**_translation(1, a), **_translation(2, a)}).te_pp
+    opposite = _pp(te_design, {**_translation(1, a), **_translation(2, -a)}).te_pp
     assert one == pytest.approx(rigid, rel=0.06)
     assert opposite == pytest.approx(2 * rigid, rel=0.06)
     assert same < 0.05 * one
     # an even order behaves the other way round: the same order-2 field on both discs adds, opposite cancels
     e2 = {"R_cyc_h[1,2]": a}
-    one2 = _pp(design, e2).te_pp
-    assert _pp(design, {**e2, "R_cyc_h[2,2]": a}).te_pp > 1.7 * one2
-    assert _pp(design, {**e2, "R_cyc_h[2,2]": -a}).te_pp < 0.25 * one2
+    one2 = _pp(te_design, e2).te_pp
+    assert _pp(te_design, {**e2, "R_cyc_h[2,2]": a}).te_pp > 1.7 * one2
+    assert _pp(te_design, {**e2, "R_cyc_h[2,2]": -a}).te_pp < 0.25 * one2
 
 
 # ----------------------------------------------------------------------------------------- unchanged numbers
@@ -216,17 +204,17 @@ BEFORE_TABLE3 = [
     [3.42628234969544e-08, -2.3022813823309013e-05], [8.971526009535224e-08, -2.3024329537833072e-05]]
 
 
-def test_existing_factors_keep_their_numbers(design):
+def test_existing_factors_keep_their_numbers(te_design):
     """The doc 000 factors and Table 3 patterns give the numbers they gave before the part errors were added."""
     from rvtol.sampling import sample
     from rvtol.spec import load_spec
 
     spec = load_spec(ROOT / "data/specs/rv80e_te.toml")
-    m = TransmissionErrorModel(design, spec.names, per_crank_rev=12)
+    m = TransmissionErrorModel(te_design, spec.names, per_crank_rev=12)
     Y, status = m.evaluate_with_status(sample(spec, 3, "random", seed=5).values)
     assert np.all(status == 0)
     np.testing.assert_allclose(Y, BEFORE_SPEC, rtol=1e-12, atol=0)
-    m3 = TransmissionErrorModel(design, list(TABLE3_GROUPS), per_crank_rev=12)
+    m3 = TransmissionErrorModel(te_design, list(TABLE3_GROUPS), per_crank_rev=12)
     Y3, status = m3.evaluate_with_status(np.eye(len(TABLE3_GROUPS)) * 3 * UM)
     assert np.all(status == 0)
     np.testing.assert_allclose(Y3[:, :2], BEFORE_TABLE3, rtol=1e-12, atol=0)

@@ -47,3 +47,11 @@ def test_unknown_unit(bad):
 def test_incompatible_conversion():
     with pytest.raises(UnitError):
         units.convert(1.0, "mm", "rad")
+
+
+def test_inch_is_exactly_25_4_mm():
+    # the international inch (1959): 25.4 mm exactly
+    assert units.to_base(1.0, "in") == 25.4
+    assert units.canonical('"') == "in" and units.canonical("inch") == "in"
+    assert units.convert(1.0, "thou", "um") == pytest.approx(25.4, rel=1e-15)
+    assert units.dimension("in") == "length"

@@ -7,13 +7,17 @@
     title = "..."                          # optional
     key = "allocation"                     # optional: section key (summary.json analyses.<key>)
     costs = "../data/costs/bx40e_angular.toml"
-    assign = { "*" = "ground_axis" }       # factor name, or group, or "*" -> cost curve
+    assign = { "*" = "ground_axis" }       # factor name, family, pattern, or group, or "*" -> cost curve
     groups = ["Crankshaft 1", "..."]       # optional: allocate these groups' factors
-    factors = ["..."]                      # optional: or these factors (default: every factor)
+    factors = ["..."]                      # optional: or these factors (default: every factor): names,
+                                           # family templates ("pins[k].diameter_in_lot") or shell
+                                           # patterns ("crank_*.cam_*.position.*"); or "dependencies":
+                                           # every factor a required output depends on (composed models)
     spec = "../data/specs/x.toml"          # optional: another spec than the study's
     convex = "rss"                         # rss | worst_case | none: the linearised global optimum
     [analysis.model]                       # optional: another model than the study's ([model] format)
     kind = "adjusted_assembly"
+    outputs = ["stackup.*"]                # optional: only the requirements on these outputs (patterns)
     [[analysis.requirement]]               # optional: else the study's requirements
     output = "delta_*"                     # a pattern expands to every matching output
     lower = -1.0
@@ -29,6 +33,8 @@
     generations = 150
     [analysis.verify]
     n = 20000                              # independent Monte Carlo check of each allocation
+    all_requirements = false               # also check the cheapest allocation against EVERY study requirement
+                                           # on the study's model (what the allocation left out)
     [analysis.pareto]
     scales = [0.5, 0.75, 1.0, 1.5, 2.0]    # requirement limits × f about the nominal output
     ga = false                             # also run the GA at each scale (expensive)
@@ -36,9 +42,18 @@
 Seeds come from the study seed through separate streams (GA design, GA
 operators, verification), so the analysis is reproducible and the check is
 independent of the optimisation.
+
+A composed model is evaluated only as far as the allocation's requirements need
+(:meth:`CompositeModel.restricted`: a GA over stack-up requirements does not run the 20-DOF stages).
+Two checks keep the linearised methods honest: a requirement the NOMINAL design misses is set aside
+with its design levers (no tolerance can meet it), and a requirement whose first-order spread at
+the nominal differs from the study's Monte Carlo spread by more than a factor of 2 (a magnitude such
+as a tilt or a radial offset, a max − min: zero or undefined derivative at the nominal) makes the
+linearised methods unavailable — the Monte Carlo constraint (GA, uniform scale) remains.
 """
 from __future__ import annotations
 
+import fnmatch
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -48,28 +63,45 @@ import pandas as pd
 
 from ..analysis import Analysis
 from ..errors import InputError
+from ..model import dependencies
 from ..params import Params
 from ..registry import model_factory
 from ..report.sections import Section, frame_records
 from ..sampling import METHODS, substream_seed
 from ..spec import load_spec, requirements_from_tables
+from ..verdict import yield_bound
 from .baseline import uniform_baseline, verify
 from .convex import solve_convex
 from .cost import CostTable, load_costs
 from .ga import HANDLING, GASettings, solve_ga
-from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, expand_requirements, linearise,
-                      requirements_frame)
+from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, design_levers,
+                      expand_requirements, linearise, requirements_frame)
 from .results import AllocationResult, ParetoCurve, component_axis_table
 
 
 
+def matching_factors(spec, key: str) -> list[str]:
+    """The spec's factors a ``factors`` entry or an ``assign`` key names: a factor name, a family template
+    (``pins[k].diameter_in_lot``: all its copies) or a shell pattern (``crank_*.cam_*.position.*``; ``[``
+    opens a character class, so a pattern over per-pin names writes ``[[]`` for a literal bracket)."""
+    if key in spec.names:
+        return [key]
+    fam = [f.name for f in spec.factors if f.family == key]
+    if fam:
+        return fam
+    return [n for n in spec.names if fnmatch.fnmatchcase(n, key)]
+
+
 def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> list:
-    """The cost curve of each allocated factor: by factor name, then group, then ``"*"``."""
+    """The cost curve of each allocated factor: by factor name, family or pattern (the first key in the
+    table's order that matches), then group, then ``"*"``."""
     keys = list(assign.keys())
+    groups = {f.group for f in spec.factors}
+    matched = {k: set(matching_factors(spec, k)) for k in keys if k != "*" and k not in groups}
     curves = []
     for n in names:
         g = spec.factor(n).group
-        k = n if n in keys else (g if g in keys else ("*" if "*" in keys else None))
+        k = next((k for k in matched if n in matched[k]), None) or (g if g in keys else ("*" if "*" in keys else None))
         if k is None:
             raise assign.error(None, f"no cost curve for factor {n!r} (group {g!r}); add it or a \"*\" entry")
         cname = assign.str(k)
@@ -78,8 +110,9 @@ def assign_curves(spec, names: list[str], assign: Params, table: CostTable) -> l
         curves.append(table.curves[cname])
     for k in keys:
         assign.raw(k)
-        if k != "*" and k not in spec.names and k not in {f.group for f in spec.factors}:
-            raise assign.error(k, f"{k!r} is neither a factor nor a group of the spec")
+        if k != "*" and k not in groups and not matched[k]:
+            raise assign.error(k, f"{k!r} is neither a factor, a family, a pattern of factor names nor a group of "
+                                  "the spec")
     assign.finish()
     return curves
 
@@ -104,11 +137,17 @@ class AllocationAnalysis(Analysis):
             model = study.model
         self.model_label = type(model).__name__
         # allocated factors
-        if "factors" in params:
-            names = params.strs("factors", min_length=1)
-            for n in names:
-                if n not in spec.names:
-                    raise params.error("factors", f"unknown factor name {n!r}")
+        by_dependency = "factors" in params and params.raw("factors") == "dependencies"
+        if by_dependency:
+            names = []                  # below, once the requirements are known
+        elif "factors" in params:
+            names = []
+            for key in params.strs("factors", min_length=1):
+                found = matching_factors(spec, key)
+                if not found:
+                    raise params.error("factors", f"{key!r} names no factor of the spec (a name, a family "
+                                                  "template with [k] or a shell pattern)")
+                names += [n for n in found if n not in names]
         elif "groups" in params:
             groups = params.strs("groups", min_length=1)
             known = {f.group for f in spec.factors}
@@ -118,13 +157,29 @@ class AllocationAnalysis(Analysis):
             names = [f.name for f in spec.factors if f.group in groups]
         else:
             names = list(spec.names)
-        curves = assign_curves(spec, names, params.sub("assign"), self.table)
         reqs = requirements_from_tables(params.tables("requirement")) or list(study.requirements)
         if not reqs:
             raise params.error("requirement", "no requirement: give [[analysis.requirement]] or study requirements")
         try:
             reqs = expand_requirements(reqs, model)
+            if "outputs" in params:
+                pats = params.strs("outputs", min_length=1)
+                reqs = [r for r in reqs if any(fnmatch.fnmatchcase(r.output, pat) for pat in pats)]
+                if not reqs:
+                    raise params.error("outputs", f"no requirement is on an output matching {pats}")
+            if by_dependency:
+                deps = dependencies(model)
+                if deps is None:
+                    raise params.error("factors", "\"dependencies\" needs a model that declares what each output "
+                                                  "depends on (a composed or linear model); list the factors")
+                need = set().union(*(deps.get(r.output, set()) for r in reqs))
+                names = [n for n in spec.names if n in need]
+                if not names:
+                    raise params.error("factors", "the requirements' outputs depend on no factor of the spec")
+            curves = assign_curves(spec, names, params.sub("assign"), self.table)
             self.problem = AllocationProblem(model, spec, names, curves, reqs)
+            self.study_problem = (self.problem.with_requirements(list(study.requirements))
+                                  if model is study.model and spec is study.spec and study.requirements else None)
         except InputError as exc:
             # requirement errors already carry their full key; problem-level ones get the analysis' key
             raise exc.located(file=params.file, key=None if exc.key and "[" in exc.key else params.key) from None
@@ -133,6 +188,13 @@ class AllocationAnalysis(Analysis):
         self.ga_constraint = g.str("constraint", "monte_carlo", choices=("monte_carlo", "linearised", "none"))
         self.ga_n = g.int("n", 2000, min=50)
         self.ga_method = g.str("method", "lhs", choices=METHODS)
+        if self.ga_constraint == "monte_carlo":
+            for r in self.problem.requirements:
+                need = zero_failure_n(r)
+                if need is not None and self.ga_n < need:
+                    raise g.error("n", f"n = {self.ga_n} cannot demonstrate {r.label} even with no failing sample "
+                                       f"(the {r.label!r} judges yield ≥ {r.min_yield:g} on its lower confidence "
+                                       f"bound): use n ≥ {need}")
         kw = dict(population=g.int("population", 40, min=4), generations=g.int("generations", 150, min=1),
                   parents=g.int("parents", 20, min=2), elitism=g.int("elitism", 2, min=0),
                   mutation_probability=g.float("mutation_probability", 0.15, min=0.0, max=1.0),
@@ -145,6 +207,9 @@ class AllocationAnalysis(Analysis):
         g.finish()
         v = params.sub("verify", {})
         self.verify_n = v.int("n", 20000, min=100)
+        self.verify_all = v.bool("all_requirements", False)
+        if self.verify_all and self.study_problem is None:
+            raise v.error("all_requirements", "needs the study's own model, spec and requirements")
         v.finish()
         pp = params.sub("pareto", {})
         self.pareto_scales = pp.floats("scales", [0.5, 0.75, 1.0, 1.5, 2.0], positive=True)
@@ -157,31 +222,101 @@ class AllocationAnalysis(Analysis):
 
     # -----------------------------------------------------------------------
     def run(self, ctx) -> list[Section]:
-        p = self.problem
         evaluate = ctx.evaluator
-        lin = linearise(p, evaluate)
+        full = self.problem
+        lin_full = linearise(full, evaluate)
+        # a requirement the NOMINAL design misses cannot be met by any tolerance: it is set aside (with its
+        # design levers below) and the tolerances are allocated against the requirements that can be met
+        missed = [r for j, r in enumerate(full.requirements) if lin_full.margin[j] <= 0]
+        kept = [r for r in full.requirements if r not in missed]
+        p = full.with_requirements(kept) if missed and kept else full
+        lin = linearise(p, evaluate) if p is not full else lin_full     # the same rows: the study's cache answers
         lin_con = LinearisedConstraint(p, lin, "rss" if self.convex == "none" else self.convex)
+        spread = self.linear_spread(p, lin, ctx)
+        unfit = [] if spread is None else [r for r, ratio in zip(p.requirements, spread["first order / MC"])
+                                           if not 0.5 <= ratio <= 2.0]
+        pe = evaluated_problem(p)
         results: list[AllocationResult] = []
         ga_con = None
         if self.ga_constraint == "monte_carlo":
-            ga_con = MonteCarloConstraint(p, self.ga_n, self.ga_method,
+            ga_con = MonteCarloConstraint(pe, self.ga_n, self.ga_method,
                                           substream_seed(ctx.seed, "allocation_ga_design"),
                                           evaluate)
-        elif self.ga_constraint == "linearised":
+        elif self.ga_constraint == "linearised" and not unfit:
             ga_con = lin_con
-        base_con = ga_con or lin_con
-        baseline = uniform_baseline(p, base_con)
-        results.append(baseline)
+        why = ("not linearisable at the nominal: " + "; ".join(f"{r.label} ({r.output})" for r in unfit)) if unfit else ""
+        if ga_con is not None or not unfit:
+            results.append(uniform_baseline(pe if ga_con is not None and ga_con is not lin_con else p, ga_con or lin_con))
+        else:
+            results.append(AllocationResult("uniform", p, None, "not linearisable", False, lin_con.describe(), notes=[why]))
         if self.convex != "none":
-            results.append(solve_convex(p, lin_con))
+            results.append(solve_convex(p, lin_con) if not unfit else AllocationResult(
+                f"convex {lin_con.mode}", p, None, "not linearisable", False, lin_con.describe(), notes=[why]))
         if ga_con is not None:
             settings = replace(self.ga_settings, seed=substream_seed(ctx.seed, "allocation_ga"))
-            results.append(solve_ga(p, ga_con, settings))
+            seed_t = results[0].t if results[0].feasible and results[0].t is not None else None   # uniform seeds the GA
+            results.append(solve_ga(pe if ga_con is not lin_con else p, ga_con, settings, initial=seed_t))
         self.result = {r.method: r for r in results}
         vseed = substream_seed(ctx.seed, "allocation_verify")
-        checks = {r.method: verify(r, self.verify_n, vseed, ctx.executor) for r in results if r.feasible}
-        pareto = self.pareto(p, lin, ga_con, ctx)
-        return [self.cost_section(), self.section(results, checks, pareto, lin_con, ga_con)]
+        checks = {r.method: verify(replace(r, problem=pe), self.verify_n, vseed, ctx.executor)
+                  for r in results if r.feasible}
+        pareto = self.pareto(p, lin, ga_con, ctx) if not unfit else None
+        sec = self.section(p, results, checks, pareto, lin_con, ga_con)
+        if spread is not None:
+            sec.add_table(spread, "First-order spread at the nominal against the study's Monte Carlo (the "
+                                  "linearised methods need a ratio within [0.5, 2])", "{:.4g}")
+        if self.verify_all:
+            self.check_all(sec, [r for r in results if r.feasible and r.t is not None], ctx)
+        if p is not full:
+            sec.add_text("Set aside (the NOMINAL design misses them, so no tolerance can meet them; their design "
+                         "levers follow): " + "; ".join(f"{r.label} ({r.output})" for r in missed)
+                         + ". The tolerances above are allocated against the other requirements.")
+            sec.summary["set_aside"] = [r.label for r in missed]
+        self.levers_tables(sec, design_levers(full, lin_full), LinearisedConstraint(full, lin_full, lin_con.mode))
+        return [self.cost_section(), sec]
+
+    def linear_spread(self, p, lin, ctx) -> pd.DataFrame | None:
+        """Each requirement's first-order standard deviation at the nominal, Σ (S_k σ_k)² at the spec's
+        tolerances, against the study's Monte Carlo standard deviation of that output (None when the
+        allocation does not run on the study's model and spec)."""
+        if self.study_problem is None or ctx.mc is None:
+            return None
+        sd = p.spec.std_base()
+        rows = []
+        for j, r in enumerate(p.requirements):
+            q = p.model.output(r.output)
+            lin_sd = float(q.to_display(float(np.sqrt(np.nansum((lin.S[j] * sd) ** 2)))))
+            mc_sd = float(np.nanstd(ctx.mc.column(r.output), ddof=1))
+            rows.append({"requirement": r.label, "output": r.output, "unit": q.shown_unit,
+                         "first-order σ": lin_sd, "Monte Carlo σ": mc_sd,
+                         "first order / MC": lin_sd / mc_sd if mc_sd > 0 else (1.0 if lin_sd == 0 else np.inf)})
+        return pd.DataFrame(rows)
+
+    def check_all(self, sec: Section, results, ctx) -> None:
+        """The cheapest feasible allocation against every requirement of the study, on the study's model."""
+        if not results:
+            return
+        best = min(results, key=lambda r: r.total_cost)
+        v = verify(replace(best, problem=self.study_problem), self.verify_n,
+                   substream_seed(ctx.seed, "allocation_verify"), ctx.executor)
+        sec.add_table(v.to_frame(), f"{best.method} against every requirement of the study (the study's model, "
+                      f"n = {v.n}): what the allocation did not optimise for, and the set-aside requirements", "{:.4g}")
+        sec.summary["all_requirements"] = {"method": best.method, "n": v.n, "rows": frame_records(v.to_frame())}
+
+    def levers_tables(self, sec: Section, levers: dict, lin_con) -> None:
+        """What the nominal design must change where no tolerance can meet a requirement."""
+        if not levers:
+            return
+        sec.add_text("Where the NOMINAL design already lies on or outside a requirement's limit, scaling tolerances "
+                     "cannot help: as every tolerance shrinks, every reducer approaches the nominal one. The tables "
+                     "below give the design levers to first order: the shift of one drawing nominal (a family's "
+                     "copies alike) that alone moves the nominal output to the limit minus the z·σ the present "
+                     f"tolerances need ({lin_con.describe()}), ranked by the output change of a shift by one "
+                     "tolerance half-band t. Linear at the nominal point: a direction and a size for a design change, "
+                     "to be confirmed by a study of the changed design, not a result.")
+        for label, frame in levers.items():
+            sec.add_table(frame, f"Design levers for: {label}", "{:.4g}")
+        sec.summary["design_levers"] = {label: frame_records(f) for label, f in levers.items()}
 
     def pareto(self, p, lin, ga_con, ctx) -> ParetoCurve:
         rows = []
@@ -222,10 +357,9 @@ class AllocationAnalysis(Analysis):
         sec.summary = {"curves": frame_records(pd.DataFrame(rows))}
         return sec
 
-    def section(self, results, checks, pareto, lin_con, ga_con) -> Section:
+    def section(self, p, results, checks, pareto, lin_con, ga_con) -> Section:
         from ..plotting.allocation import ga_history, tolerance_bars
 
-        p = self.problem
         sec = Section(self.key, self.title)
         sec.add_text(
             f"Minimise Σ C_i(t_i) over {len(p.factors)} tolerances ±t_i of model {self.model_label} "
@@ -278,17 +412,44 @@ class AllocationAnalysis(Analysis):
         ga = self.result.get("GA")
         if ga is not None and ga.history:
             sec.add_figure(ga_history(ga, self.result.get(f"convex {lin_con.mode}")), "GA convergence")
-        sec.add_table(pareto.to_frame(), f"Minimum total cost [{self.table.cost_unit}] against the requirement "
-                      "(limits × scale about the nominal output)", "{:.4g}")
-        sec.add_figure(pareto.plot(), "Cost against requirement (Pareto front)")
+        if pareto is not None:
+            sec.add_table(pareto.to_frame(), f"Minimum total cost [{self.table.cost_unit}] against the requirement "
+                          "(limits × scale about the nominal output)", "{:.4g}")
+            sec.add_figure(pareto.plot(), "Cost against requirement (Pareto front)")
         sec.summary = {
             "factors": p.factors,
             "methods": frame_records(summ),
             "tolerances": frame_records(frame),
             "verification": {m: frame_records(v.to_frame()) for m, v in checks.items()},
-            "pareto": frame_records(pareto.to_frame()),
+            "pareto": frame_records(pareto.to_frame()) if pareto is not None else [],
         }
         return sec
+
+
+def evaluated_problem(p: AllocationProblem) -> AllocationProblem:
+    """``p`` with its model evaluated only as far as its requirements need (a composed model restricted to
+    their outputs: a GA over stack-up requirements does not run the 20-DOF stages)."""
+    if not hasattr(p.model, "restricted"):
+        return p
+    outs = list(dict.fromkeys(r.output for r in p.requirements))
+    return AllocationProblem(p.model.restricted(outs), p.spec, p.factors, p.curves, p.requirements)
+
+
+def zero_failure_n(r) -> int | None:
+    """The fewest samples whose yield bound (the requirement's own interval and level) reaches ``r.min_yield``
+    with no failing sample (the success-run size; 1109 for 0.9973 at 95 %); None when the requirement does
+    not judge a yield on a bound."""
+    if r.min_yield is None or r.basis != "lower_bound":
+        return None
+    if yield_bound(r, 1 << 40, 1 << 40) < r.min_yield:
+        return None
+    lo, hi = 1, 1
+    while yield_bound(r, hi, hi) < r.min_yield:
+        lo, hi = hi, 2 * hi
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if yield_bound(r, mid, mid) < r.min_yield else (lo, mid)
+    return hi
 
 
 def lin_con_mode(convex: str) -> str:

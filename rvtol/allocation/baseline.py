@@ -26,8 +26,10 @@ def uniform_baseline(problem: AllocationProblem, constraint, iterations: int = 4
     at = lambda s: np.clip(s * t0, lo, hi)  # noqa: E731
     feasible = lambda s: bool(constraint.violation(at(s)[None, :])[0] <= 0.0)  # noqa: E731
     if not feasible(s_lo):
+        why = constraint.binding(at(s_lo)) if hasattr(constraint, "binding") else []
         return AllocationResult("uniform", problem, at(s_lo), "infeasible", False, constraint.describe(),
-                                notes=["no common scale of the spec's tolerances meets the requirement"])
+                                notes=["no common scale of the spec's tolerances meets the requirements"
+                                       + (", binding: " + "; ".join(why) if why else "")])
     if feasible(s_hi):
         return AllocationResult("uniform", problem, at(s_hi), "all at their upper bound", True, constraint.describe())
     a, b = math.log(s_lo), math.log(s_hi)

@@ -36,8 +36,7 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
                                        f"{', '.join(constraint.unavailable)}: no linearisation"])
     if np.any(constraint.budget <= 0):
         return AllocationResult(method, problem, None, "infeasible", False, constraint.describe(),
-                                notes=["a requirement is already used up by the factors that are not allocated, "
-                                       "or the nominal output lies outside its limits"])
+                                notes=["infeasible, binding: " + "; ".join(constraint.binding())])
     for j in range(constraint.coef.shape[0]):
         a = constraint.coef[j] * scale  # per curve unit
         if constraint.mode == "rss":
@@ -57,8 +56,10 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
     except cp.SolverError as exc:
         return AllocationResult(method, problem, None, f"solver error: {exc}", False, constraint.describe())
     if prob.status not in ("optimal", "optimal_inaccurate") or t.value is None:
+        why = constraint.binding(lo * scale)
         return AllocationResult(method, problem, None, prob.status, False, constraint.describe(),
-                                notes=["even the tightest tolerances cannot meet the requirement"
+                                notes=[("even the tightest tolerances cannot meet the requirements"
+                                        + (", binding: " + "; ".join(why) if why else ""))
                                        if prob.status == "infeasible" else f"solver status {prob.status}"])
     tv = np.clip(np.asarray(t.value, float), lo, hi) * scale
     return AllocationResult(method, problem, tv, prob.status, True, constraint.describe())

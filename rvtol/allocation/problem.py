@@ -38,8 +38,8 @@ from ..errors import InputError
 from ..mc import Evaluator
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
-from ..spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from ..verdict import judge
+from ..spec import Requirement, ToleranceSpec
+from ..verdict import cpk_figures, judge, percentile_cpk_confidence, yield_bound
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -160,16 +160,26 @@ class Linearisation:
 
 def linearise(problem: AllocationProblem, evaluate: Evaluator | None = None) -> Linearisation:
     """Five-point derivatives (:func:`rvtol.sensitivity.local.five_point`) of the required outputs."""
+    from ..sensitivity.common import model_gradient
     from ..sensitivity.local import five_point
 
     spec, model = problem.spec, problem.model
     outs = list(dict.fromkeys(r.output for r in problem.requirements))
-    loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    x0 = spec.nominal_base()
+    G = model_gradient(model, x0)   # the model's exact derivatives when it has them
+    if G is None:
+        loc = five_point(model, spec, outputs=outs, evaluate=evaluate)
+    else:
+        Y0 = (evaluate or Evaluator())(model, x0[None], "nominal point").Y[0]
     S, y0, margin, z = [], [], [], []
     for r in problem.requirements:
         q = model.output(r.output)
-        S.append(loc.gradient(r.output, spec.names))
-        yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        if G is None:
+            S.append(loc.gradient(r.output, spec.names))
+            yd = float(loc.for_output(r.output)["y0"].iloc[0])  # display
+        else:
+            S.append(G[model.output_index(r.output)])
+            yd = float(q.to_display(Y0[model.output_index(r.output)]))
         dists = [v for v in ((r.upper - yd) if r.upper is not None else None,
                              (yd - r.lower) if r.lower is not None else None) if v is not None]
         m = min(dists)
@@ -228,6 +238,72 @@ class LinearisedConstraint:
         return ("linearised RSS: Σ (S_i σ_i)² ≤ (margin/z)²" if self.mode == "rss"
                 else "linearised worst case: Σ |S_i| t_i ≤ margin")
 
+    def binding(self, t=None) -> list[str]:
+        """Why the requirements that no allocation (or the tolerances ``t``, base units) can meet fail:
+        one sentence each, naming the requirement (empty if every budget holds)."""
+        out = []
+        load = self.load(np.asarray(t, float))[0] if t is not None else None
+        for j, r in enumerate(self.problem.requirements):
+            q = self.problem.model.output(r.output)
+            y0 = float(q.to_display(self.lin.y0[j]))
+            where = f"{r.label} ({r.output})"
+            if np.isnan(self.lin.S[j]).any():
+                out.append(f"{where}: the model failed on the five points of a factor, no linearisation")
+            elif self.lin.margin[j] <= 0:
+                out.append(f"{where}: the NOMINAL design gives {y0:.4g} {units.label(q.shown_unit)}, on or outside "
+                           "its limits — no tolerance can fix that; the nominal design must change")
+            elif self.budget[j] <= 0:
+                out.append(f"{where}: the nominal {y0:.4g} {units.label(q.shown_unit)} leaves a margin the factors "
+                           "that are not allocated already use up")
+            elif load is not None and load[j] > 1.0:
+                out.append(f"{where}: {100 * (np.sqrt(load[j]) if self.mode == 'rss' else load[j]):.0f} % of its "
+                           "budget at these tolerances")
+        return out
+
+
+def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) -> dict[str, pd.DataFrame]:
+    """For each requirement whose NOMINAL output lies on or outside its limits (no tolerance can fix it),
+    the first-order design levers: the mean shift of one factor (or of every copy of a family alike) that
+    moves the nominal output to ``limit ∓ z·σ`` — z as the allocation's, σ the linearised RSS spread of
+    the spec's present tolerances — ranked by the output change one tolerance half-band of shift gives.
+    Linear at the nominal point: a direction and a size for the designer, to be confirmed by a study of
+    the changed design.  Angles (phases) are not levers, nor error magnitudes (one-sided distributions:
+    a form or position error's size is what the process achieves, not a nominal the designer sets)."""
+    spec, out = problem.spec, {}
+    sd = spec.std_base()
+    for j, r in enumerate(problem.requirements):
+        if lin.margin[j] > 0 or np.isnan(lin.S[j]).any():
+            continue
+        q = problem.model.output(r.output)
+        sigma = float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))
+        lower = units.convert(r.lower, q.shown_unit, q.unit) if r.lower is not None else None
+        if lower is not None and (r.upper is None or lin.y0[j] <= lower):     # the limit the nominal misses
+            target = lower + lin.z[j] * sigma
+        else:
+            target = units.convert(r.upper, q.shown_unit, q.unit) - lin.z[j] * sigma
+        need = target - lin.y0[j]                                  # base units of the output
+        levers: dict[str, list] = {}
+        for k, f in enumerate(spec.factors):
+            if units.dimension(f.unit) == "angle" or f.dist.one_sided or lin.S[j, k] == 0.0:
+                continue              # phases, and error magnitudes (Rayleigh, ...: set by the process, not a nominal)
+            key = f.family or f.name
+            entry = levers.setdefault(key, [0.0, f, 0])
+            entry[0] += lin.S[j, k]
+            entry[2] += 1
+        rows = []
+        for key, (S, f, count) in levers.items():
+            t = units.to_base(f.half_band, f.unit)
+            shift = need / S
+            rows.append({"lever (mean shift of)": key + (f" (all {count} alike)" if count > 1 else ""),
+                         "unit": f.unit, "now (mean)": f.dist.mean,
+                         f"output change per +t [{q.shown_unit}]": float(q.to_display(S * t)),
+                         "shift needed alone": float(units.from_base(shift, f.unit)),
+                         "shift needed / t": float(shift / t) if t > 0 else np.nan,
+                         "_rank": abs(S * t)})
+        frame = pd.DataFrame(rows).sort_values("_rank", ascending=False).drop(columns="_rank").head(top)
+        out[r.label] = frame.reset_index(drop=True)
+    return out
+
 
 # --------------------------------------------------------------------------- Monte Carlo constraint
 class MonteCarloConstraint:
@@ -275,9 +351,9 @@ class MonteCarloConstraint:
     def measures(self, T) -> list[list[dict]]:
         """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
 
-        Only what a requirement asks for is computed (the yield bound is the
-        requirement's interval: Clopper–Pearson in its closed beta-quantile
-        form for speed, or Wilson, as :func:`rvtol.stats.proportion_ci`).
+        Only what a requirement asks for is computed; the bounds are the sign-off's
+        (:func:`rvtol.verdict.yield_bound`, :func:`rvtol.verdict.cpk_bound`: the
+        requirement's interval, one- or two-sided).
         """
         m = self.problem.model
         out = []
@@ -296,11 +372,14 @@ class MonteCarloConstraint:
                         inside &= np.nan_to_num(y, nan=np.inf) <= r.upper
                     k, n = int(inside.sum()), len(y)
                     row["yield"] = k / n
-                    row["yield_lo"] = (clopper_pearson_lower(k, n, r.confidence) if r.interval == "clopper-pearson"
-                                       else st.proportion_ci(k, n, r.confidence, YIELD_INTERVALS[r.interval])[0])
+                    row["yield_lo"] = yield_bound(r, k, n)
                 if r.min_cpk is not None:
-                    cap = st.capability(y[ok], r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
-                    row["cpk"], row["cpk_lo"] = cap.get("cpk"), cap.get("cpk_lo")
+                    good = y[ok]
+                    cap = st.capability(good, r.lower, r.upper, r.confidence) if ok.sum() > 2 else {}
+                    pci = (st.bootstrap_ci(good, lambda v: st.percentile_cpk(v, r.lower, r.upper),
+                                           percentile_cpk_confidence(r))
+                           if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
+                    row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, int(ok.sum()), pci)
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
@@ -335,11 +414,6 @@ def affine_centres(problem: AllocationProblem) -> np.ndarray:
                                                                               atol=1e-12 * scale)
         out.append(float(c[0]) if ok else np.nan)
     return np.array(out)
-
-
-def clopper_pearson_lower(k: int, n: int, confidence: float) -> float:
-    """Lower end of the two-sided Clopper–Pearson interval of k/n (as :func:`rvtol.stats.proportion_ci`)."""
-    return 0.0 if k == 0 else float(sps.beta.ppf((1.0 - confidence) / 2.0, k, n - k + 1))
 
 
 def requirements_frame(reqs: Sequence[Requirement]) -> pd.DataFrame:

@@ -31,6 +31,8 @@ class AllocationResult:
 
     def display_t(self) -> list[float]:
         p = self.problem
+        if self.t is None:
+            return [math.nan] * len(p.factors)
         return [float(units.from_base(v, p.spec.factor(n).unit)) for n, v in zip(p.factors, self.t)]
 
     def to_frame(self) -> pd.DataFrame:
@@ -45,7 +47,7 @@ class AllocationResult:
             f"t {self.method} (±)": self.display_t(),
             "t_max": [float(units.from_base(v, f.unit)) for v, f in zip(p.upper, fs)],
             "cost curve": [c.name for c in p.curves],
-            "cost": p.costs(self.t),
+            "cost": p.costs(self.t) if self.t is not None else math.nan,
         })
 
     def plot(self, ax=None, baseline: "AllocationResult | None" = None):

@@ -30,7 +30,6 @@ Values are returned in base units (N·mm, rad).
 from __future__ import annotations
 
 import csv
-import hashlib
 import io
 import re
 from dataclasses import dataclass, field
@@ -39,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import units
+from ..params import read_text
 from ..errors import InputError
 
 TORSION = "torsion"
@@ -123,23 +123,6 @@ def _header(cells: list[str], file: str, line: int, given_units: dict[str, str])
     return out
 
 
-def read_text(path: str | Path) -> tuple[str, str]:
-    """``(text, sha256)`` of a UTF-8 file; one-line errors."""
-    p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise InputError("file not found", file=str(path), key="-") from None
-    except IsADirectoryError:
-        raise InputError("is a directory, expected a CSV file", file=str(path), key="-") from None
-    except OSError as exc:
-        raise InputError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
-    try:
-        return raw.decode("utf-8-sig"), hashlib.sha256(raw).hexdigest()
-    except UnicodeDecodeError:
-        raise InputError("not UTF-8 text", file=str(path), key="-") from None
-
-
 def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = None, sigma: float | None = None,
                      exclude_below: float = 1.0, load_torque: float | None = None, ratio: float | None = None,
                      name: str | None = None, min_points: int = 3) -> Measurement:
@@ -154,7 +137,7 @@ def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = 
     ``input_angle`` column.
     """
     file = str(path)
-    text, sha = read_text(path)
+    text, sha = read_text(path, "a CSV file")
     given = {k.lower(): v for k, v in (column_units or {}).items()}
     for k in given:
         if k not in COLUMNS:

@@ -22,6 +22,11 @@ package            physics                                       ``[model] kind`
                    assembly graph
 ``adjustment``     doc 002: state-space assembly, finite-         ``adjusted_assembly``
                    horizon LQR adjustment
+``formula``        outputs as formulas of the factors written     ``formula``
+                   in the study (exact derivatives)
+``custom``         a Python factory named ``module:function``     ``python`` (and kinds of
+                   in the study                                   installed entry points)
+``composite``      several models on the same samples            several ``[[model]]``
 =================  ============================================  =========================
 
 Closed-form machine elements (Hertz contacts, bearings, shafts, carrier)

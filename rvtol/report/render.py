@@ -54,7 +54,7 @@ def view_model(result) -> dict:
         "title": st.title,
         "name": st.name,
         "description": [p.strip() for p in st.description.split("\n\n") if p.strip()],
-        "verdict": "PASS" if result.passed else "FAIL",
+        "verdict": result.verdict,
         "generated": now_iso(),
         "version": __version__,
         "study_file": st.file,

@@ -42,6 +42,7 @@ class Section:
     title: str
     blocks: list = field(default_factory=list)
     summary: dict[str, Any] = field(default_factory=dict)
+    files: dict[str, bytes] = field(default_factory=dict)   # extra files for the report folder (name -> content)
 
     def add_text(self, text: str) -> "Section":
         self.blocks.append(Text(text))
@@ -50,6 +51,13 @@ class Section:
     def add_table(self, frame: pd.DataFrame, caption: str = "", float_format: str = "{:.4g}",
                   index: bool = False) -> "Section":
         self.blocks.append(Table(frame, caption, float_format, index))
+        return self
+
+    def add_file(self, name: str, content: bytes | str) -> "Section":
+        """A file the report folder holds beside report.html (e.g. a CSV for CI), named ``name``."""
+        if not name or "/" in name or "\\" in name or name.startswith("."):
+            raise ValueError(f"invalid report file name {name!r}")
+        self.files[name] = content.encode("utf-8") if isinstance(content, str) else content
         return self
 
     def add_figure(self, fig, caption: str = "", width: str = "100%") -> "Section":

@@ -19,12 +19,19 @@ def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:
 
 
 def verdict_section(result) -> Section:
+    from ..verdict import EXPLORATORY, describe_bound
+
     mc = result.mc
     sec = Section("verdict", "Verdict")
     verdicts = mc.verdicts()
     if not verdicts:
-        sec.add_text("This study states no requirements: the verdict is PASS by definition. "
-                     "Add [[requirement]] tables to gate on yield or Cpk.")
+        if result.verdict == EXPLORATORY:
+            sec.add_text("EXPLORATORY: this study declares that it checks no requirement ([study] exploratory = "
+                         "true); it describes, it signs nothing off.")
+        else:
+            sec.add_text("NO REQUIREMENTS: this study checks no requirement, so nothing is demonstrated and the run "
+                         "does not pass a gate (exit code 4). Add [[requirement]] tables to gate on yield or Cpk, "
+                         "or declare [study] exploratory = true if the study only describes.")
         return sec
     rows = []
     for v in verdicts:
@@ -33,25 +40,50 @@ def verdict_section(result) -> Section:
                                       f"{r.upper:g}" if r.upper is not None else "+∞"))
         need = []
         if r.min_yield is not None:
-            need.append(f"yield ≥ {r.min_yield:g}")
+            need.append(f"yield ≥ {r.min_yield:g}" + (" (default)" if r.yield_defaulted else ""))
         if r.min_cpk is not None:
-            need.append(f"Cpk ≥ {r.min_cpk:g}")
+            need.append(f"Cpk ≥ {r.min_cpk:g}" + (" (percentile, ISO 22514-2)" if r.cpk_method == "percentile"
+                                                   else " (normal theory)"))
         rows.append({
             "requirement": r.label,
             "limits": f"[{lims}] {label(r.unit)}",
-            "needs": " and ".join(need) + (" (CI lower bound)" if r.basis == "lower_bound" else " (estimate)"),
+            "needs": " and ".join(need),
+            "judged on": describe_bound(r),
             "yield [CI]": _fmt_ci(y.estimate, y.lo, y.hi, "{:.5f}"),
+            "yield bound": _fmt_ci(v.yield_bound, None, None, "{:.5f}"),
             "ppm out [CI]": _fmt_ci(y.ppm, *y.ppm_ci, "{:.0f}"),
             "Cpk [CI]": _fmt_ci(c["cpk"], c["cpk_lo"], c["cpk_hi"], "{:.3f}"),
+            "Cpk bound": _fmt_ci(v.cpk_bound, None, None, "{:.3f}"),
             "Cpk percentile [CI]": _fmt_ci(c["cpk_percentile"], *v.cpk_percentile_ci, "{:.3f}"),
             "result": "PASS" if v.passed else "FAIL",
+            "n to demonstrate": f"{v.n_to_demonstrate:,}" if v.n_to_demonstrate else "",
             "why": "; ".join(v.reasons),
         })
     methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
                       for v in verdicts})
-    sec.add_table(pd.DataFrame(rows), caption=f"Requirements at {mc.confidence:.0%} confidence "
-                  f"(yield: {' / '.join(methods)}; Cpk: Bissell; percentile Cpk: ISO 22514-2 with bootstrap CI)")
+    sec.add_text(policy_text([v.requirement for v in verdicts]))
+    sec.add_table(pd.DataFrame(rows), caption=f"Requirements: intervals [in brackets] two-sided at {mc.confidence:.0%};"
+                  f" the bound column is what is judged (yield: {' / '.join(methods)}; Cpk: Bissell; percentile "
+                  "Cpk: ISO 22514-2 with bootstrap CI)")
     return sec
+
+
+def policy_text(reqs) -> str:
+    """The pass/fail rule of these requirements in words (the report and the Markdown summary state it)."""
+    from ..verdict import describe_bound
+
+    judged = sorted({describe_bound(r) for r in reqs})
+    text = ("A requirement passes when its yield (the fraction of all samples within the limits; samples the model "
+            "could not evaluate count as out) and its Cpk reach the required values on the "
+            f"{' / '.join(judged)} — the figure is then demonstrated at that confidence. "
+            "A requirement the estimate meets but the bound does not is not demonstrated at this n; "
+            "'n to demonstrate' is the sample size that would demonstrate it if the observed yield and Cpk held.")
+    defaulted = [r for r in reqs if r.yield_defaulted]
+    if defaulted:
+        text += (f"\n\nA requirement that names neither a yield nor a Cpk asks for yield ≥ {defaulted[0].min_yield:g} "
+                 "(the ±3σ coverage of a normal distribution, rvtol's default): "
+                 + ", ".join(r.label for r in defaulted) + ".")
+    return text
 
 
 def inputs_section(result) -> Section:
@@ -67,27 +99,58 @@ def inputs_section(result) -> Section:
                                    f"{len(st.model.outputs)} outputs)"},
         {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
         {"item": "executor", "value": result.executor},
-        {"item": "wall time", "value": f"{result.elapsed:.1f} s"
-                                       + (" (" + ", ".join(f"{k} {v:.1f} s" for k, v in result.timings.items()) + ")"
-                                          if result.timings else "")},
-    ])
+        {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo and analyses; report writing after)"},
+    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings.items()])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
     sec.add_table(run, caption="Run")
     fac = st.spec.to_frame()
     fac["unit"] = [label(u) for u in fac["unit"]]
+    fac.insert(list(fac.columns).index("tolerance T") + 1, "band (worst case)",
+               [f"{f.band[0]:.6g} … {f.band[1]:.6g}" + (" (drawing)" if f.limits is not None else "")
+                for f in st.spec.factors])
     fac["source"] = [f.source for f in st.spec.factors]
     sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
                                "T: tolerance band the distribution stands for)")
     if st.spec.correlation is not None:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
+    measured_factors(sec, st.spec, o.seed)
     if st.design is not None:
         sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
     from ..plotting.mc import factor_histograms
 
     sec.add_figure(factor_histograms(m.samples), caption="Sampled factors")
     return sec
+
+
+def measured_factors(sec: Section, spec, seed) -> None:
+    """Factors whose distribution comes from measured values: the data, the fitted families ranked
+    by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot."""
+    from ..inputs.measured import evidence
+    from ..plotting.inputs import qq_plot
+    from ..sampling import substream_seed
+
+    for i, f in enumerate(spec.factors):
+        if f.measured is None:
+            continue
+        ev = evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
+        sec.add_table(ev["summary"], caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
+                                              "distribution (s: sample standard deviation; gauge u²/s²: the share "
+                                              "of the measurement uncertainty removed)")
+        if ev["ranking"] is not None:
+            sec.add_table(ev["ranking"], caption=f"{f.name}: candidate families by maximum likelihood, ranked by "
+                                                 "AIC = 2k − 2 ln L (weight: Akaike weight; KS p is naive — the "
+                                                 "parameters come from the same data — and only ranks)")
+        if ev["gof"] is not None:
+            g = ev["gof"]
+            sec.add_text(f"{f.name}: goodness of fit of the {g.family} family used — {g.test} statistic "
+                         f"{g.statistic:.4g}, p = {g.pvalue:.3g} ({g.n_mc} bootstrap samples; a small p, e.g. "
+                         "< 0.05, says the family does not describe the data).")
+        if ev["qq"] is not None:
+            what = f"fitted {f.measured.family}" if f.measured.family else f.measured.method
+            sec.add_figure(qq_plot(ev["qq"], f.name, f.unit, what), caption=f"{f.name}: Q-Q plot against the "
+                           f"{what} distribution (Hazen positions)", width="55%")
 
 
 def results_section(result) -> Section:

@@ -77,15 +77,27 @@ def build_summary(result) -> dict:
         "n": mc.n,
         "method": st.options.method,
         "executor": result.executor,
+        "wall_time_s": result.elapsed,
+        "timings_s": {k: round(v, 3) for k, v in result.timings.items()},
         "confidence": mc.confidence,
         "inputs": st.inputs,
         "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),
                   "outputs": {q.name: q.shown_unit for q in st.model.outputs}},
+        "spec": spec_record(st.spec),
         "outputs": outputs,
         "failures": failures.to_dict(orient="records"),
-        "verdict": "PASS" if all(v.passed for v in verdicts) else "FAIL",
+        "verdict": result.verdict,
+        "passed": result.verdict == "PASS",
+        "requirements_checked": len(verdicts),
+        "exploratory": st.exploratory,
+        "gates": [g.to_dict() for g in getattr(st, "gates", [])],
         "requirements": [d.to_dict() for d in result.signoff],
-        "passed": all(v.passed for v in verdicts),
         "analyses": {s.key: s.summary for s in result.sections if s.summary},
-        "timings_s": {k: round(v, 3) for k, v in result.timings.items()},
     })
+
+
+def spec_record(spec) -> dict:
+    """The tolerance spec as summary.json records it: per factor its distribution and tolerance band."""
+    return {"name": spec.name, "file": spec.file, "correlated": spec.correlation is not None,
+            "factors": [{"name": f.name, "unit": f.unit, "distribution": f.describe(), "mean": f.dist.mean,
+                         "std": f.dist.std, "band": list(f.band), "group": f.group} for f in spec.factors]}

@@ -42,6 +42,7 @@ from __future__ import annotations
 import pandas as pd
 
 from ..analysis import Analysis
+from ..errors import did_you_mean
 from ..report.sections import Section, Table, frame_records
 from ..units import label
 from . import global_ as gs
@@ -73,12 +74,14 @@ class _Analysis(Analysis):
             self.outputs = params.strs("outputs", min_length=1)
             for o in self.outputs:
                 if o not in model.output_names:
-                    raise params.error("outputs", f"unknown output name {o!r} (model has: "
+                    raise params.error("outputs", f"unknown output name {o!r}{did_you_mean(o, model.output_names)} "
+                                                  f"(model has: "
                                                   f"{', '.join(model.output_names)})")
         self.factors = params.strs("factors", None, min_length=1)
         for f in self.factors or ():
             if f not in spec.names:
-                raise params.error("factors", f"unknown factor name {f!r} (spec has: {', '.join(spec.names)})")
+                raise params.error("factors", f"unknown factor name {f!r}{did_you_mean(f, spec.names)} "
+                                              f"(spec has: {', '.join(spec.names)})")
         self.seed = params.int("seed", None, min=0)
         self.confidence = params.float("confidence", None, min=0.5, max=0.999999)
         self.parse(params)

@@ -57,6 +57,15 @@ def output_indices(model: Model, outputs: Sequence[str] | None) -> list[int]:
     return [model.output_index(n) for n in outputs]
 
 
+def model_gradient(model: Model, x0: np.ndarray) -> np.ndarray | None:
+    """The model's own exact ∂Y/∂X at ``x0`` (outputs × inputs, base units) when it has one (``gradient(X)``:
+    the formula model), else None — the linearised analyses then take five-point derivatives."""
+    g = getattr(model, "gradient", None)
+    if g is None:
+        return None
+    return np.asarray(g(np.atleast_2d(np.asarray(x0, dtype=float))), dtype=float)[0]
+
+
 def to_display(model: Model, Y: np.ndarray, out_idx: Sequence[int]) -> np.ndarray:
     """Columns ``out_idx`` of ``Y`` (base units) in each output's display unit."""
     return np.column_stack([model.outputs[j].to_display(Y[:, j]) for j in out_idx])

@@ -28,7 +28,7 @@ from .. import units
 from ..model import Model
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
-from .common import (derivative_to_display, factor_indices, output_indices,
+from .common import (derivative_to_display, factor_indices, model_gradient, output_indices,
                      ratio_unit)
 from .local import LocalSensitivityResult, five_point
 
@@ -109,8 +109,17 @@ def linear_prediction(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
 def contributions(model: Model, spec: ToleranceSpec, output: str | None = None,
                   local: LocalSensitivityResult | None = None, percent: float = 10.0,
                   evaluate: Evaluator | None = None) -> LinearPrediction:
-    """Five-point gradient of ``output`` at the nominal point, then :func:`linear_prediction`."""
+    """The gradient of ``output`` at the nominal point — the model's exact one when it has ``gradient`` and
+    no ``local`` result is given, else five-point — then :func:`linear_prediction`."""
     q = model.outputs[output_indices(model, [output] if output else None)[0]]
+    G = model_gradient(model, spec.nominal_base()) if local is None else None
+    if G is not None:   # the model's exact derivatives
+        x0 = spec.nominal_base()
+        y0 = float((evaluate or Evaluator())(model, x0[None], "nominal point").Y[0, model.output_index(q.name)])
+        pred = linear_prediction(spec, G[model.output_index(q.name)], y0, output=q.name, out_unit=q.shown_unit,
+                                 out_base_unit=q.unit)
+        pred.notes.append("derivatives: the model's own (exact), not five-point differences")
+        return pred
     if local is None:
         local = five_point(model, spec, outputs=[q.name], percent=percent, evaluate=evaluate)
     g = local.gradient(q.name, spec.names)

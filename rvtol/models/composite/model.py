@@ -29,9 +29,16 @@ Study file (several ``[[model]]`` tables instead of one ``[model]``)::
     "delta_b[1,1]" = "needles.disc_1.crank_1.clearance"
     "E_c[1,1]" = "hypot(stackup.cam_11.u, stackup.cam_11.v)"
 
+    [[model]]
+    name = "te"
+    kind = "transmission_error"
+    same_inputs_as = "torsion"         # instead of [model.inputs]: the mapping of an earlier model
+
 Every expression (:mod:`rvtol.expressions`) reads names in base units: factors, quantities
-declared before it, and outputs of stages declared before it (``stage.output``).  An input a stage
-does not list stays at the model's nominal (as for a factor a one-model spec does not name).
+declared before it, outputs of stages declared before it (``stage.output``) and numbers of the
+study's design as ``design.<key>`` (e.g. ``design.cycloid.eccentricity``, in base units: a mapping
+that needs a geometry number reads it from the design instead of writing it twice).  An input a
+stage does not list stays at the model's nominal (as for a factor a one-model spec does not name).
 
 A sample that any stage cannot evaluate fails with that stage's reason (``<stage>: <reason>``);
 later stages skip it.  The model is row-deterministic when its stages are.
@@ -124,7 +131,7 @@ class CompositeModel(Model):
         known = set(self.inputs)
         seen_outputs: list[str] = []
         for q in self.quantities:
-            _check_names(q.expression, known, f"quantity {q.name!r}")
+            _check_names(q.expression, known, f"quantity {q.name!r}", key=f"quantity.{q.name}")
             if q.name in known:
                 raise InputError(f"quantity {q.name!r} has the name of a factor or an earlier quantity",
                                  key=f"quantity.{q.name}")
@@ -147,8 +154,9 @@ class CompositeModel(Model):
                 self.status_reasons[STAGE_CODES * (s + 1) + int(code)] = f"{st.name}: {why}"
 
     # -- evaluation ---------------------------------------------------------------------------
-    def environment(self, X: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
-        """Every named value of the composition for the rows of ``X`` (base units), and the status."""
+    def environment(self, X: np.ndarray, stages: set[str] | None = None) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Every named value of the composition for the rows of ``X`` (base units), and the status;
+        ``stages``: evaluate only these stages (their outputs alone are in the environment)."""
         X = self.check_input(X)
         n = len(X)
         env: dict[str, np.ndarray] = {name: X[:, j] for j, name in enumerate(self.inputs)}
@@ -156,6 +164,8 @@ class CompositeModel(Model):
         for q in self.quantities:
             env[q.name] = _column(q.expression.evaluate(env), n)
         for s, st in enumerate(self.stages):
+            if stages is not None and st.name not in stages:
+                continue
             Xs = self.stage_matrix(st, env, n)
             good = (status == STATUS_OK) & np.all(np.isfinite(Xs), axis=1)
             status[(status == STATUS_OK) & ~good] = STATUS_NONFINITE
@@ -200,10 +210,42 @@ class CompositeModel(Model):
         raise InputError(f"unknown model {name!r} (the study's models: {', '.join(s.name for s in self.stages)})")
 
     def stage_inputs(self, name: str, X: np.ndarray) -> np.ndarray:
-        """The inputs (base units) stage ``name`` receives for the rows of ``X``."""
+        """The inputs (base units) stage ``name`` receives for the rows of ``X`` (only the stages whose
+        outputs they read are evaluated)."""
         st = self.stage(name)
-        env, _ = self.environment(X)
+        env, _ = self.environment(X, self.upstream(name))
         return self.stage_matrix(st, env, len(X))
+
+    def upstream(self, name: str) -> set[str]:
+        """The stages whose outputs the inputs of stage ``name`` read, directly or through earlier stages."""
+        producer = {st.output_name(j): st for st in self.stages for j in range(len(st.model.outputs))}
+        need: set[str] = set()
+        todo = [self.stage(name)]
+        while todo:
+            for e in todo.pop().inputs:
+                for m in e.names:
+                    src = producer.get(m)
+                    if src is not None and src.name not in need:
+                        need.add(src.name)
+                        todo.append(src)
+        return need
+
+    def restricted(self, outputs) -> "CompositeModel":
+        """The same composition with only ``outputs`` (names of this model's outputs) and the stages they
+        need (the stages that give them and, transitively, the stages whose outputs feed those) — to
+        evaluate a few outputs without paying for the stages that do not reach them."""
+        outputs = list(outputs)
+        for o in outputs:
+            self.output(o)
+        of_stage = {st.output_name(j): st.name for st in self.stages for j in range(len(st.model.outputs))}
+        need: set[str] = set()
+        for o in outputs:
+            if o in of_stage:
+                need |= {of_stage[o]} | self.upstream(of_stage[o])
+        stages = [replace(st, keep=tuple(j for j in range(len(st.model.outputs)) if st.output_name(j) in outputs))
+                  for st in self.stages if st.name in need]
+        quantities = [replace(q, output=q.output and q.name in outputs) for q in self.quantities]
+        return CompositeModel(self.inputs, self.input_units, quantities, stages)
 
     def mapping_table(self) -> list[dict]:
         """Every stage input and quantity with the expression that feeds it (for the report)."""
@@ -215,17 +257,19 @@ class CompositeModel(Model):
         return rows
 
     def depends_on(self) -> dict[str, set[str]]:
-        """Output name -> the factors it depends on (structurally, through the expressions)."""
+        """Output name -> the factors it depends on (structurally, through the expressions; inside a
+        stage through :meth:`Model.dependencies` where the stage's model knows them, else on all its
+        inputs)."""
         deps: dict[str, set[str]] = {n: {n} for n in self.inputs}
         for q in self.quantities:
             deps[q.name] = set().union(*(deps[m] for m in q.expression.names)) if q.expression.names else set()
         for st in self.stages:
-            feed = set()
-            for e in st.inputs:
-                for m in e.names:
-                    feed |= deps[m]
-            for j in range(len(st.model.outputs)):
-                deps[st.output_name(j)] = set(feed)
+            feed = {name: set().union(set(), *(deps[m] for m in e.names))
+                    for name, e in zip(st.model.inputs, st.inputs)}
+            inner = st.model.dependencies() or {}
+            for j, o in enumerate(st.model.outputs):
+                used = inner.get(o.name, st.model.inputs)
+                deps[st.output_name(j)] = set().union(set(), *(feed[n] for n in used))
         return {q.name: deps[q.name] for q in self.outputs}
 
 
@@ -237,17 +281,42 @@ def _column(v, n: int) -> np.ndarray:
     return np.broadcast_to(np.asarray(v, dtype=float), (n,)).astype(float, copy=False)
 
 
-def _check_names(e: Expression, known: set[str], what: str) -> None:
+def _names_of(text) -> tuple[str, ...]:
+    try:
+        return Expression.parse(text).names
+    except InputError:
+        return ()          # reported with its key where the expression is read
+
+
+def _check_names(e: Expression, known: set[str], what: str, key: str | None = None) -> None:
     unknown = [m for m in e.names if m not in known]
     if unknown:
         raise InputError(f"{what}: unknown name {unknown[0]!r} in {e.text!r} (a factor of the spec, a quantity "
-                         "declared before, or an output of a model declared before)")
+                         "declared before, a design number design.<key>, or an output of a model declared before)",
+                         key=key)
 
 
 # --------------------------------------------------------------------------- from a study file
 _STAGE_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 #: keys of a [[model]] table that belong to the composition, not to the model's factory
-COMPOSITION_KEYS = ("name", "inputs", "outputs")
+COMPOSITION_KEYS = ("name", "inputs", "same_inputs_as", "outputs")
+#: prefix of a design number in an expression
+DESIGN_PREFIX = "design."
+
+
+def design_quantities(names, design) -> list[MappedQuantity]:
+    """A constant quantity ``design.<key>`` (base units) for every such name used in an expression."""
+    out = []
+    for n in dict.fromkeys(names):
+        key = n[len(DESIGN_PREFIX):]
+        if not n.startswith(DESIGN_PREFIX) or design is None or key not in design:
+            continue
+        value = design[key]
+        if not isinstance(value, float):
+            raise InputError(f"design parameter {key!r} is not a single number", key=n)
+        unit = units.base_unit(units.canonical(design.param(key).unit))
+        out.append(MappedQuantity(n, Expression.parse(repr(value)), unit, description=f"design {key}"))
+    return out
 
 
 def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:
@@ -282,6 +351,12 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
     """
     if not model_tables:
         raise InputError("a composed study needs at least one [[model]]", key="model")
+    used = [n for q in quantities for n in q.expression.names]
+    for t in model_tables:
+        raw = t.data.get("inputs")
+        if isinstance(raw, dict):
+            used += [n for v in raw.values() if isinstance(v, (str, int, float)) for n in _names_of(v)]
+    quantities = design_quantities(used, design) + list(quantities)
     known = set(spec.names) | {q.name for q in quantities}
     qunits = {q.name: q.unit for q in quantities}
     stages: list[Stage] = []
@@ -291,8 +366,16 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
             raise t.error("name", f"invalid model name {name!r} (a letter, then letters, digits or _)")
         if any(st.name == name for st in stages):
             raise t.error("name", f"two models are named {name!r}")
-        inp = t.sub("inputs", {})
         exprs: dict[str, Expression] = {}
+        if "same_inputs_as" in t:
+            if "inputs" in t:
+                raise t.error("same_inputs_as", "give either [model.inputs] or same_inputs_as, not both")
+            other = t.str("same_inputs_as")
+            src = next((st for st in stages if st.name == other), None)
+            if src is None:
+                raise t.error("same_inputs_as", f"no model {other!r} is declared before this one")
+            exprs = dict(zip(src.model.inputs, src.inputs))
+        inp = t.sub("inputs", {})
         for k in inp.keys():
             try:
                 exprs[k] = Expression.parse(inp.raw(k))
@@ -301,7 +384,7 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
             unknown = [m for m in exprs[k].names if m not in known]
             if unknown:
                 raise inp.error(k, f"unknown name {unknown[0]!r} in {exprs[k].text!r} (a factor of the spec, a "
-                                   "quantity, or an output of a model declared before)")
+                                   "quantity, a design number design.<key>, or an output of a model declared before)")
         inp.finish()
         keep_names = t.strs("outputs", None)
         rest = Params({k: v for k, v in t.data.items() if k not in COMPOSITION_KEYS}, file=t.file, key=t.key)

@@ -154,10 +154,15 @@ class LostMotionScreening(Analysis):
         design = "..."      # 20-DOF design of the torsion curve (default: the study's design)
         limit = 1.0         # arcmin (default: the study's requirement on lost_motion, else the
                             # design's reducer.lost_motion_limit)
+        model = "torsion"   # composed study: the torsion-curve stage (default: the only one)
+        screening = "screening"   # composed study: the lost-motion stage (default: the only one)
 
     Works on a study whose model is the lost-motion model (the torsion curve is evaluated on a
     subsample, sub-stream ``screening_subsample``), the torsion-curve model (its Monte Carlo outputs
-    are the maker's figures; the screening estimate is computed for every sample) or any model with
+    are the maker's figures; the screening estimate is computed for every sample), a composed study
+    with a torsion-curve and a lost-motion stage (keys ``model`` and ``screening`` name them when there
+    are several; both stages' Monte Carlo results on every sample, the screening in both modes on the
+    screening stage's mapped inputs) or any model with
     ``screening_inputs(X)`` (:mod:`rvtol.models.torsion_curve.screening`, which also gives the factor
     bridge between the two vocabularies).  Sections: per-factor rates (document, consistent, 20-DOF
     finite differences), the two screening modes beside the torsion-curve lost motion, backlash and
@@ -173,7 +178,13 @@ class LostMotionScreening(Analysis):
         self.key = params.str("key", "lost_motion_screening")
         self.title = params.str("title", "Screening estimate (doc 001) beside the maker's lost motion (torsion curve)")
         m = study.model
-        if isinstance(m, LostMotionModel):
+        if getattr(m, "stages", None):                 # a composed study: its torsion-curve and screening stages
+            from ...analysis import target_model
+
+            self.source = "composed"
+            self.tc = target_model(params, study, TorsionCurveModel, "torsion_curve")
+            self.lm = target_model(params, study, LostMotionModel, "lost_motion", key="screening")
+        elif isinstance(m, LostMotionModel):
             self.source = "lost_motion"
         elif isinstance(m, TorsionCurveModel):
             self.source = "torsion_curve"
@@ -186,9 +197,12 @@ class LostMotionScreening(Analysis):
         design20 = load_design(path) if path is not None else study.design
         if design20 is None:
             raise params.error("design", "the torsion curve needs a 20-DOF design ([study] design or design = ...)")
-        self.g20 = geometry_from_design(design20)
+        self.g20 = self.tc.model.geometry if self.source == "composed" and path is None else \
+            geometry_from_design(design20)
         if self.source == "lost_motion":
             self.lm_geometry = m.geometry
+        elif self.source == "composed":
+            self.lm_geometry = self.lm.model.geometry
         else:
             d = study.design if study.design is not None else design20
             try:
@@ -201,9 +215,10 @@ class LostMotionScreening(Analysis):
         if not same:
             raise params.error("design", "the torsion curve's design is not the reducer of the screening estimate "
                                          "(cycloid teeth, eccentricity, ratio or K1 differ)")
-        if self.source == "torsion_curve":
-            self.percent = params.float("percent", m.percent, min=0.01, max=50.0)
-            if self.percent != m.percent:
+        if self.source in ("torsion_curve", "composed"):
+            tcm = self.tc.model if self.source == "composed" else m
+            self.percent = params.float("percent", tcm.percent, min=0.01, max=50.0)
+            if self.percent != tcm.percent:
                 raise params.error("percent", f"the study's torsion-curve model reads lost motion at ±{m.percent:g} %"
                                               " (its Monte Carlo outputs are used): give the same percent")
         else:
@@ -211,9 +226,10 @@ class LostMotionScreening(Analysis):
         self.samples = params.int("samples", 1000, min=10)
         limit = params.quantity("limit", "arcmin", None, positive=True)
         if limit is None:
-            req = [r for r in study.requirements if r.output == "lost_motion" and r.upper is not None]
+            out = self.tc.output("lost_motion") if self.source == "composed" else "lost_motion"
+            req = [r for r in study.requirements if r.output == out and r.upper is not None]
             if req:
-                q = next(q for q in m.outputs if q.name == "lost_motion")
+                q = next(q for q in m.outputs if q.name == out)
                 limit = float(units.to_base(req[0].upper, req[0].unit or q.shown_unit))
             elif "reducer.lost_motion_limit" in design20:
                 limit = float(design20["reducer.lost_motion_limit"])
@@ -221,11 +237,31 @@ class LostMotionScreening(Analysis):
         params.finish()
 
     # ------------------------------------------------------------------
+    def _composed_inputs(self, ctx, rows):
+        """Both stages' vocabularies in a composed study: the screening stage's mapped inputs of every row;
+        the drawing tolerances one stage depends on and the other does not (by part)."""
+        from ..torsion_curve.screening import ScreeningInputs
+
+        lm = self.lm.model
+        X_lm = self.lm.inputs(ctx.mc.samples.values[rows])
+        deps = ctx.model.depends_on()
+        d_tc, d_lm = deps.get(self.tc.output("lost_motion"), set()), deps.get(self.lm.output("lost_motion"), set())
+
+        def by_part(names):
+            parts = {}
+            for n in names:
+                g = ctx.spec.factor(n).group or n
+                parts[g] = parts.get(g, 0) + 1
+            return tuple(f"{g} ({k} factor{'s' if k > 1 else ''})" for g, k in sorted(parts.items()))
+
+        return ScreeningInputs(lm.inputs, X_lm, self.tc.model.inputs, None, by_part(d_lm - d_tc),
+                               by_part(d_tc - d_lm), dict(lm.extra), dict(lm.extra_like))
+
     def _rows(self, ctx):
         from ...sampling import substream
 
         n = ctx.mc.n
-        if self.source == "torsion_curve" or self.samples >= n:
+        if self.source in ("torsion_curve", "composed") or self.samples >= n:
             return np.arange(n)
         return np.sort(substream(ctx.seed, "screening_subsample").choice(n, self.samples, replace=False))
 
@@ -239,10 +275,14 @@ class LostMotionScreening(Analysis):
         amin = lambda v: np.asarray(units.from_base(v, "arcmin"), dtype=float)  # noqa: E731
         per_um = lambda v: float(convert(v, "rad/mm", "arcmin/um"))  # noqa: E731
         rows = self._rows(ctx)
-        inputs = screening_inputs(ctx.model, ctx.mc.samples.values[rows], self.g20.z_b)
-        if self.source == "torsion_curve":
+        if self.source == "composed":
+            inputs = self._composed_inputs(ctx, rows)
+        else:
+            inputs = screening_inputs(ctx.model, ctx.mc.samples.values[rows], self.g20.z_b)
+        if self.source in ("torsion_curve", "composed"):
+            out = self.tc.output if self.source == "composed" else str
             ok = ctx.mc.ok[rows]
-            tc_lm, tc_bl = ctx.mc.column("lost_motion")[rows], ctx.mc.column("backlash")[rows]   # arcmin
+            tc_lm, tc_bl = ctx.mc.column(out("lost_motion"))[rows], ctx.mc.column(out("backlash"))[rows]   # arcmin
         else:
             tcm = TorsionCurveModel(self.g20, inputs.tc_names, percent=self.percent)
             e = ev(tcm, inputs.X_tc, "torsion curves (screening)")
@@ -316,7 +356,8 @@ class LostMotionScreening(Analysis):
 
         sec = Section(self.key, self.title)
         m = d.mean()
-        where = ("every Monte Carlo sample (the study's torsion-curve outputs)" if self.source == "torsion_curve"
+        where = ("every Monte Carlo sample (the study's torsion-curve outputs)"
+                 if self.source in ("torsion_curve", "composed")
                  else f"{len(rows)} reducers drawn from the Monte Carlo sample (sub-stream screening_subsample)")
         sec.add_text(
             "What a sign-off judges is the maker's lost motion: the angle between the mid-points of the hysteresis "
@@ -328,6 +369,13 @@ class LostMotionScreening(Analysis):
             f"deflection within ±{p:g} %. The 20-DOF sun–planet mesh has no backlash, so the involute-stage play "
             f"(Δφ12/i, mean {m['involute']:.4f}′) is added to the torsion-curve figures in series (exact at zero "
             "load: plays in series add).")
+        if self.source == "composed":
+            sec.add_text(f"One drawing sample drives both: the screening stage {self.lm.stage!r} reads its seven "
+                         f"inputs through the declared mapping, the torsion stage {self.tc.stage!r} the full 20-DOF "
+                         "error state. The screening sums its stages' plays; the 20-DOF finds the smallest play of "
+                         "the disc's three degrees of freedom together (a disc that translates within its needle "
+                         "clearances closes its pins sooner), so with clearances in the pins AND the needle sets "
+                         "the screening's sum lies above the torsion curve's backlash — a conservative screen.")
         if inputs.unseen_by_tc:
             sec.add_text("Not seen by the torsion curve (no 20-DOF counterpart): " + ", ".join(inputs.unseen_by_tc) + ".")
         if inputs.unseen_by_lm:

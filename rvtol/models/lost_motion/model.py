@@ -138,7 +138,7 @@ import numpy as np
 import pandas as pd
 
 from ... import units
-from ...errors import InputError, SpecError
+from ...errors import InputError, SpecError, did_you_mean
 from ...model import Model, Quantity
 from ..transmission.geometry import involute, inverse_involute
 
@@ -369,7 +369,8 @@ class LostMotionModel(Model):
         known = set(FACTORS) | set(self.extra)
         for n in self.inputs:
             if n not in known:
-                raise InputError(f"unknown factor name {n!r} for the lost-motion model (known: "
+                raise InputError(f"unknown factor name {n!r}{did_you_mean(n, sorted(known))} for the lost-motion "
+                                 f"model (known: "
                                  f"{', '.join(sorted(known))})", key="factor")
         self.nominal = {n: 0.0 for n in known}
         self.nominal.update(nominal or {})
@@ -390,6 +391,12 @@ class LostMotionModel(Model):
         if name in self.inputs:
             return X[:, self.inputs.index(name)]
         return np.full(len(X), self.nominal[name])
+
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each stage angle depends on its own factors (:meth:`LostMotionGeometry.coefficients`); the total on all."""
+        coef = self.geometry.coefficients(self.extra)
+        deps = {s: frozenset(n for n in coef[s] if n in self.inputs) for s in STAGES}
+        return {"lost_motion": frozenset(self.inputs), **deps}
 
     def evaluate(self, X):
         X = self.check_input(X)
@@ -472,10 +479,18 @@ def from_study(params, design, spec) -> LostMotionModel:
     geometry = LostMotionGeometry.from_design(design, mode)
     base = geometry.coefficients()["cycloid_stage"]
     extra, sources, like = {}, {}, {}
-    for t in params.tables("cycloid_factor"):
+    tables = params.tables("cycloid_factor")
+    declared = {t.data.get("factor") for t in tables}
+    # spec factors no table declares: a ξ name close to one of them is a typo (blame this table, not the spec)
+    undeclared = [n for n in spec.names if n not in FACTORS and n not in declared]
+    for t in tables:
         name = t.str("factor")
         if name in FACTORS or name in extra:
             raise t.error("factor", f"{name!r} is already a factor of the model")
+        hint = did_you_mean(name, undeclared) if name not in spec.names else ""
+        if hint:
+            raise t.error("factor", f"the spec has no factor {name!r}{hint} (spec factors the model does not know: "
+                                    f"{', '.join(undeclared)})")
         raw = t.raw("derivative")
         if isinstance(raw, str):
             kind = t.str("derivative", choices=tuple(DERIVATIVE_LIKE))
@@ -490,7 +505,8 @@ def from_study(params, design, spec) -> LostMotionModel:
     for k in list(nom.keys()):
         if k not in FACTORS and k not in extra:
             known = ", ".join(sorted(set(FACTORS) | set(extra)))
-            raise nom.error(k, f"unknown factor name {k!r} (known: {known})")
+            raise nom.error(k, f"unknown factor name {k!r}{did_you_mean(k, set(FACTORS) | set(extra))} "
+                               f"(known: {known})")
         if k in spec.names:
             raise nom.error(k, f"{k!r} is a factor of the spec: its nominal comes from there")
         nominal[k] = nom.quantity(k, "mm")

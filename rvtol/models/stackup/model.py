@@ -272,6 +272,33 @@ class StackupModel(Model):
         worst = np.maximum(np.hypot(pp[:, 0], pp[:, 1]), np.hypot(pm[:, 0], pm[:, 1]))
         return 0.5 * np.maximum(self.clearance(fit, X), 0.0) - worst
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Output -> the inputs that move it to first order at the nominal: the non-zero pattern of the
+        analytic :meth:`jacobian` (so a deviation common to both ends of a KC — a housing error under two
+        carrier features — cancels exactly and is not listed), plus the clearance factors of a floating
+        fit whose float moves the output (the float is clearance × position: bilinear) and those of the
+        fit an assembly margin belongs to.  Effects only through products of two deviations (second
+        order, nanometres at drawing tolerances) are not listed."""
+        J = self.jacobian()
+        floats = {f: set(self.assembly.fits[f].float_factors) for f, m in self.float_modes.items()
+                  if m != "centred" and f in self._float_slot}
+        deps = {}
+        for q, (kc, comp) in zip(self.outputs, self._out_src):
+            rows = {"radial": [0, 1], "tilt": [3, 4], "margin": [0, 1, 3, 4]}.get(comp)
+            rows = rows if rows is not None else ([DOF.index(comp)] if comp in DOF else list(range(6)))
+            used = {self.inputs[c] for c in np.flatnonzero(np.any(J[kc.name][rows] != 0.0, axis=0))}
+            for fit, names in floats.items():
+                if used & names:
+                    used |= self._clearance_inputs(self.assembly.fits[fit])
+            if comp == "margin":
+                used |= self._clearance_inputs(self.assembly.fits[kc.fit])
+            deps[q.name] = frozenset(used)
+        return deps
+
+    def _clearance_inputs(self, fit: Fit) -> set[str]:
+        feats = (self.assembly.features[fit.base], self.assembly.features[fit.mate])
+        return {n for f in feats for n in (f.size, f.form) if n and n in self._col}
+
     # ------------------------------------------------------------------ linearisation
     def linear_form(self, name: str):
         """How an output depends on its KC's 6-vector: ``("dof", kc, i)``, ``("norm", kc, (i, j))``,

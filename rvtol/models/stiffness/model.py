@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, did_you_mean
 from ...model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .torsion_angle import BEARING_KINEMATICS, COMPONENTS, ReducerStiffness
 
@@ -63,7 +63,8 @@ class TorsionalStiffnessModel(Model):
                  pin_phase: float = 0.0, crank_angle: float = 0.0):
         unknown = [n for n in inputs if n not in FACTORS]
         if unknown:
-            raise InputError(f"unknown factor name {unknown[0]!r} for the torsional_stiffness model "
+            raise InputError(f"unknown factor name {unknown[0]!r}{did_you_mean(unknown[0], FACTORS)} for the "
+                             f"torsional_stiffness model "
                              f"(known: {', '.join(FACTORS)})", key="factor")
         self.stiffness = stiffness
         self.outputs = theta_outputs(stiffness.components) + REST     # θ per component the design provides

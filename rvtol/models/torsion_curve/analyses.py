@@ -306,6 +306,7 @@ class ComplianceBreakdown(Analysis):
         torque = { value = 784, unit = "N*m" }   # default: the design's rated torque
         rigid_chain = true                       # the 20-DOF model without the chain beside
         stiffness_model = true                   # doc 004's model beside (needs a design it can read)
+        model = "torsion"                        # composed study: the torsion-curve stage (default: the only one)
 
     Families: :data:`rvtol.elements.reducer_chain.FAMILIES` (stable names; a design scales one with
     ``compliance_scale.<family>``).  The 20-DOF split is :meth:`QuasiStaticSolver.contact_work` at the
@@ -321,9 +322,14 @@ class ComplianceBreakdown(Analysis):
         self.torque = params.quantity("torque", "N*m", None, positive=True)
         self.with_rigid = params.bool("rigid_chain", True)
         self.with_stiffness = params.bool("stiffness_model", True)
-        params.finish()
         m = study.model
-        self.geometry = m.geometry if isinstance(m, TorsionCurveModel) else geometry_from_design(study.design)
+        stages = getattr(m, "stages", None) or ()
+        if isinstance(m, TorsionCurveModel) or "model" in params or any(isinstance(s.model, TorsionCurveModel)
+                                                                         for s in stages):
+            self.geometry = target_model(params, study, TorsionCurveModel, "torsion_curve").model.geometry
+        else:
+            self.geometry = geometry_from_design(study.design)
+        params.finish()
         if self.torque is None:
             self.torque = self.geometry.rated_torque
         self.rs = None

@@ -1,0 +1,594 @@
+"""Drawing tolerance notation → limits and a factor table the spec loader understands.
+
+:func:`parse_tolerance` reads what an engineer copies off a drawing::
+
+    ±0.05            +0.10/-0.00        +0.10 -0.05        0/-0.02          (deviations)
+    5%               ±2 %               +5%/-2%                              (of the nominal)
+    24.95..25.05     24.95 to 25.05     max 0.02           ≤ 0.02           (limits)
+    25 H7            Ø7 h5              25 H7/g6                             (ISO 286 class, fit)
+    ⌀0.05            Ø0.1 mm                                                 (a circular position zone)
+    25 ±0.05 Cp 1.33                    25 ±0.05 Cpk 1.33 k 0.25            (process)
+    1.000" ±0.002"   1 in +0.002/-0.001   25 mm +10/-5 um                   (units)
+
+Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
+
+    text      := [Ø] [nominal [unit]] body [unit] {process}
+               | Ø x [unit]                        a circular position zone of diameter x
+    body      := "±" x ["%"]                      symmetric deviations
+               | d ["%"] [unit] ["/"] d ["%"]      two signed deviations (either order; a
+                                                   deviation without a sign must be 0)
+               | x "%"                             ±x % of the nominal
+               | a [unit] (".." | "to") b          limits of size
+               | ("max" | "≤" | "<=") x            a magnitude: limits 0 … x (runout, position)
+               | class ["/" class]                 ISO 286 class (nominal needed) or fit
+    process   := ("Cp" | "Cpk" | "k") ["=" | "≥" | ">=" | ":"] number
+
+A unit or ``%`` written once after the second deviation applies to both (``+10/-5 um``,
+``+5/-2 %``).  Unicode minus signs and dashes, ``+/-``, ``+-`` and decimal commas are accepted; ``"`` is the
+inch, ``in``, ``inch``, ``thou`` and every unit of :mod:`rvtol.units` are known.  Exponents
+are not (``25e8`` is the ISO class e8 on 25 mm, not 2.5·10⁹).
+
+Process specifications.  ``Cp`` fixes the process spread σ = T / (6·Cp) inside the drawing's
+band T; ``k`` is the mean shift as a fraction of the half band (ISO 22514 / the usual
+k = |μ − m| / (T/2); signed here: positive toward the upper limit), so Cpk = Cp·(1 − |k|).
+Any two of Cp, Cpk, k fix the third (Cpk alone: a centred process, Cp = Cpk; Cp with Cpk:
+k = 1 − Cpk/Cp, shifted upward).  **The drawing's limits stay the worst-case limits**: the
+process spec only says where the parts fall inside them.  The factor table it produces is a
+normal with ``tolerance`` = the drawing band, ``sigma_level`` = 3·Cp (so σ = T/(6·Cp) and the
+distribution's ``tolerance`` is still the drawing's T) and ``shift`` = k·T/2.
+
+Position zones.  ``⌀0.05`` (a diameter sign and one unsigned number) is a circular position zone of
+diameter t: the feature's axis lies within t/2 of its true position.  It describes one coordinate
+of the zone (a factor pair x, y shares it, :mod:`rvtol.spec`), with limits ∓t/2; read as a normal
+each coordinate has σ = (t/2)/√(−2 ln(1 − c)) so that the radial deviation √(x² + y²), a Rayleigh,
+stays inside the zone with the coverage c of ±``sigma_level``·σ (99.73 % at 3: σ = t/2/3.4393).
+
+Fits.  ``25 H7/g6`` gives the clearance (hole − shaft, negative = interference) between the
+fit's worst-case limits EI − es … ES − ei.  As a factor it is a normal whose σ is the
+root-sum-square of the two parts' σ (each part's IT read at ``sigma_level``), placed in the
+middle of the worst-case range, whose ``sigma_level`` is set so that its ``tolerance`` is the
+worst-case range.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .. import units
+from ..errors import InputError
+from . import iso286
+
+#: the accepted forms, quoted in every parse error
+FORMS = ("±0.05 | +0.10/-0.05 | +0.10 -0.05 | 0/-0.02 | 5% | ±2 % | +5%/-2% | 24.95..25.05 | "
+         "24.95 to 25.05 | max 0.02 | 25 H7 | Ø7 h5 | 25 H7/g6, with an optional nominal first, a unit "
+         "(mm, um, in, \", …) and a process spec (Cp 1.33 | Cpk 1.33 k 0.25)")
+
+#: distribution kinds a band can be read as
+BAND_KINDS = ("normal", "uniform", "triangular", "truncnorm")
+MAGNITUDE_KINDS = ("rayleigh", "weibull")
+
+
+class NotationError(InputError):
+    """Tolerance text that cannot be read."""
+
+
+@dataclass(frozen=True)
+class Process:
+    """A process inside the drawing's band: capability Cp, Cpk and signed mean shift k."""
+
+    cp: float
+    cpk: float
+    k: float
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """A toleranced value: nominal, lower/upper deviations (signed, from the nominal or 0), unit.
+
+    ``lower_limit``/``upper_limit`` are the drawing's worst-case limits, whatever the process.
+    """
+
+    text: str
+    form: str                 # symmetric | deviations | percent | limits | max | iso | fit | zone
+    nominal: float | None     # None: written without (deviations about 0, absolute limits)
+    lower: float
+    upper: float
+    unit: str | None          # canonical unit of every number here; None if none was written
+    diameter: bool = False
+    iso: iso286.Limits | None = None
+    fit: iso286.Fit | None = None
+    process: Process | None = None
+
+    @property
+    def base(self) -> float:
+        return 0.0 if self.nominal is None else self.nominal
+
+    @property
+    def lower_limit(self) -> float:
+        return self.base + self.lower
+
+    @property
+    def upper_limit(self) -> float:
+        return self.base + self.upper
+
+    @property
+    def limits(self) -> tuple[float, float]:
+        return self.lower_limit, self.upper_limit
+
+    @property
+    def width(self) -> float:
+        """The tolerance band T = upper − lower deviation."""
+        return self.upper - self.lower
+
+    @property
+    def mid(self) -> float:
+        """The middle of the band (absolute)."""
+        return self.base + 0.5 * (self.lower + self.upper)
+
+    def in_unit(self, unit: str) -> "Tolerance":
+        """The same tolerance in another unit of the same dimension."""
+        u = units.canonical(unit)
+        if self.unit is None or self.unit == u:
+            return replace(self, unit=u)
+        c = lambda v: None if v is None else float(units.convert(v, self.unit, u))  # noqa: E731
+        return replace(self, nominal=c(self.nominal), lower=c(self.lower), upper=c(self.upper), unit=u)
+
+    def describe(self) -> str:
+        if self.form == "zone":
+            return f"⌀{fmt(self.width)}" + (f" {units.label(self.unit)}" if self.unit else "")
+        if self.nominal is None and self.form in ("limits", "max"):
+            s = format_limits(self.lower_limit, self.upper_limit)
+        else:
+            s = format_deviations(self.lower, self.upper)
+        if self.nominal is not None:
+            s = f"{fmt(self.nominal)} {s}"
+        if self.unit:
+            s += f" {units.label(self.unit)}"
+        if self.process:
+            s += f" (Cp {fmt(self.process.cp)}, Cpk {fmt(self.process.cpk)}, k {fmt(self.process.k)})"
+        return s
+
+    # -- the factor table --------------------------------------------------------------
+    def factor_table(self, dist: str = "normal", sigma_level: float | None = None, **extra) -> dict:
+        """Keys for :func:`rvtol.distributions.from_params` (values in ``self.unit``), plus ``nominal``.
+
+        ``dist``: ``normal`` (band read at ±``sigma_level``·σ, 3 by default), ``uniform``,
+        ``triangular``, ``truncnorm`` (normal at ``sigma_level`` cut at the limits), or a
+        magnitude ``rayleigh``/``weibull`` (``extra`` gives weibull's ``shape``) whose coverage
+        quantile is the upper limit above the lower one.
+        """
+        level = 3.0 if sigma_level is None else float(sigma_level)
+        if not level > 0:
+            raise NotationError(f"sigma_level must be > 0, got {sigma_level}")
+        lo, hi, T, c = self.lower_limit, self.upper_limit, self.width, self.mid
+        out: dict = {"dist": dist}
+        if self.form == "zone":
+            if dist != "normal":
+                raise NotationError(f"a position zone's coordinates are normal (their radial deviation is then "
+                                    f"Rayleigh), not {dist!r}")
+            out.update(mean=c, tolerance=T, sigma_level=zone_level(level))
+        elif self.process is not None:
+            if dist != "normal":
+                raise NotationError(f"a process specification (Cp/Cpk) describes a normal process, "
+                                    f"not {dist!r}")
+            if sigma_level is not None:
+                raise NotationError("a process specification fixes σ through Cp: give no sigma_level")
+            out.update(mean=c, tolerance=T, sigma_level=3.0 * self.process.cp,
+                       shift=self.process.k * T / 2.0)
+        elif self.fit is not None and dist == "normal":
+            th, ts = self.fit.hole.width, self.fit.shaft.width
+            out.update(mean=c, tolerance=T, sigma_level=level * (th + ts) / math.hypot(th, ts))
+        elif dist == "normal":
+            out.update(mean=c, tolerance=T)
+            if sigma_level is not None:
+                out["sigma_level"] = level
+        elif dist in ("uniform", "triangular"):
+            out.update(lower=lo, upper=hi)
+        elif dist == "truncnorm":
+            out.update(mean=c, sigma=T / (2.0 * level), lower=lo, upper=hi)
+        elif dist in MAGNITUDE_KINDS:
+            out.update(tolerance=T)
+            if lo != 0.0:
+                out["shift"] = lo
+            if sigma_level is not None:
+                out["sigma_level"] = level
+        else:
+            raise NotationError(f"a tolerance band cannot be read as {dist!r} (use one of: "
+                                f"{', '.join(BAND_KINDS + MAGNITUDE_KINDS)})")
+        for k, v in extra.items():
+            if k in out:
+                raise NotationError(f"{k!r} is set by the tolerance; do not give it as well")
+            out[k] = v
+        if self.nominal is not None:
+            out["nominal"] = self.nominal
+        return out
+
+
+# --------------------------------------------------------------------------------- lexing
+_DASHES = dict.fromkeys(map(ord, "\u2212\u2012\u2013\u2014\ufe63\uff0d"), "-")
+_DIAMETER = "Ø⌀ø∅"
+_UNIT_ALIASES = {'"': "in", "µ": "um", "μ": "um"}
+_TOKEN = re.compile(r"""
+    (?P<ws>\s+)
+  | (?P<range>\.\.)
+  | (?P<num>[+-]?\s*(?:\d+(?:\.(?!\.)\d*)?|\.\d+))
+  | (?P<pm>±)
+  | (?P<slash>/)
+  | (?P<pct>%)
+  | (?P<cmp>≤|<=|≥|>=|=|:)
+  | (?P<word>[A-Za-zµμ°′″"]+(?:\^\d)?)
+""", re.VERBOSE)
+_ISO_GRADE = re.compile(r"(01|0|1[0-8]|[1-9])(?![\d.])")
+
+
+@dataclass
+class _Tok:
+    kind: str
+    text: str
+    pos: int
+    value: float = 0.0
+    signed: bool = False
+
+
+def _normalise(text: str) -> tuple[str, bool]:
+    s = text.translate(_DASHES).replace("＋", "+").strip()
+    s = re.sub(r"\+\s*/\s*-|\+-", "±", s)
+    s = re.sub(r"(?<=\d),(?=\d)", ".", s)
+    s = s.replace("…", "..")
+    diameter = False
+    if s[:1] in _DIAMETER:
+        diameter, s = True, s[1:].lstrip()
+    return s, diameter
+
+
+def _tokens(s: str, text: str) -> list[_Tok]:
+    out, i = [], 0
+    while i < len(s):
+        m = _TOKEN.match(s, i)
+        if not m:
+            raise _err(text, f"unexpected {s[i]!r} at position {i + 1}")
+        kind = m.lastgroup
+        t = m.group()
+        if kind == "num":
+            digits = t.replace(" ", "")
+            out.append(_Tok("num", t, i, float(digits), digits[0] in "+-"))
+        elif kind == "word":
+            g = _ISO_GRADE.match(s, m.end())
+            if g and len(t) <= 2 and t.isascii() and t.isalpha():  # H7, g6, zc11 (checked by iso286)
+                out.append(_Tok("iso", t + g.group(), i))
+                i = g.end()
+                continue
+            if t.lower() == "to":
+                out.append(_Tok("range", t, i))
+            else:
+                out.append(_Tok("word", t, i))
+        elif kind != "ws":
+            out.append(_Tok(kind, t, i))
+        i = m.end()
+    return out
+
+
+def _err(text: str, why: str) -> NotationError:
+    return NotationError(f"cannot read tolerance {text!r}: {why} (accepted: {FORMS})")
+
+
+def _unit(word: str) -> str | None:
+    """The canonical unit of a word, or None if it is not a unit."""
+    w = _UNIT_ALIASES.get(word, word)
+    try:
+        return units.canonical(w)
+    except InputError:
+        return None
+
+
+# --------------------------------------------------------------------------------- parsing
+class _Parser:
+    def __init__(self, text: str, toks: list[_Tok]):
+        self.text, self.toks, self.i = text, toks, 0
+
+    def peek(self, k: int = 0) -> _Tok | None:
+        j = self.i + k
+        return self.toks[j] if j < len(self.toks) else None
+
+    def take(self, kind: str | None = None) -> _Tok | None:
+        t = self.peek()
+        if t is not None and (kind is None or t.kind == kind):
+            self.i += 1
+            return t
+        return None
+
+    def err(self, why: str) -> NotationError:
+        return _err(self.text, why)
+
+    def unexpected(self, what: str = "") -> NotationError:
+        t = self.peek()
+        if t is None:
+            return self.err(f"ends too early{(', expected ' + what) if what else ''}")
+        return self.err(f"unexpected {t.text!r} at position {t.pos + 1}"
+                        f"{(', expected ' + what) if what else ''}")
+
+    def unit(self) -> str | None:
+        t = self.peek()
+        if t is not None and t.kind == "word":
+            u = _unit(t.text)
+            if u is not None:
+                self.i += 1
+                return u
+        return None
+
+    def number(self, what: str) -> _Tok:
+        t = self.take("num")
+        if t is None:
+            raise self.unexpected(what)
+        return t
+
+
+def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None = None) -> Tolerance:
+    """Read drawing tolerance notation (see the module docstring).
+
+    ``nominal`` (in ``unit``) supplies the nominal when the text has none (a table's nominal
+    column); if both are given they must agree.  ``unit`` is the unit of the result (default:
+    the first unit written, ``mm`` for ISO classes, else none); numbers written with another
+    unit of the same dimension are converted; deviations written without a unit are in the
+    nominal's unit, other bare numbers in ``unit``.  Raises :class:`NotationError` (an :class:`InputError`).
+    """
+    if not isinstance(text, str):
+        raise NotationError(f"tolerance must be text, got {type(text).__name__}")
+    if not text.strip():
+        raise _err(text, "it is empty")
+    if len(text) > 200:
+        raise _err(text[:40] + "…", "longer than 200 characters")
+    out_unit = None
+    if unit is not None:
+        try:
+            out_unit = units.canonical(_UNIT_ALIASES.get(unit, unit))
+        except InputError as exc:
+            raise NotationError(exc.reason) from None
+    if nominal is not None and not (isinstance(nominal, (int, float)) and math.isfinite(nominal)):
+        raise NotationError(f"nominal must be a finite number, got {nominal!r}")
+    s, diameter = _normalise(text)
+    p = _Parser(text, _tokens(s, text))
+    if not p.toks:
+        raise _err(text, "it is empty")
+
+    # ---- nominal -------------------------------------------------------------------------
+    nom_t, nom_u = None, None
+    t0, t1 = p.peek(), p.peek(1)
+    if t0.kind == "num" and not t0.signed:
+        nxt = t1
+        if nxt is not None and nxt.kind == "word" and _unit(nxt.text) is not None:
+            nxt = p.peek(2)
+        if nxt is None and diameter:   # ⌀0.05 [unit]: a circular position zone
+            x = p.take().value
+            zu = p.unit()
+            out = (units.canonical(_UNIT_ALIASES.get(unit, unit)) if unit else None) or zu
+            if not x > 0:
+                raise _err(text, "a position zone needs a positive diameter")
+            r = 0.5 * (float(units.convert(x, zu, out)) if zu and out and zu != out else x)
+            if nominal is not None:
+                raise _err(text, "a position zone is a deviation about the true position: give no nominal")
+            return Tolerance(text, "zone", None, -r, r, out, True)
+        if nxt is None:
+            if t1 is None:
+                raise _err(text, "a bare number is ambiguous: write ±x for a symmetric tolerance, "
+                                 "+a/-b for deviations or a..b for limits")
+            raise _err(text, "a nominal without a tolerance")
+        if nxt.kind not in ("range", "slash", "pct"):
+            nom_t = p.take().value
+            nom_u = p.unit()
+
+    # ---- body ----------------------------------------------------------------------------
+    t = p.peek()
+    if t is None:
+        raise p.unexpected("a tolerance after the nominal")
+    nums: list[tuple[float, bool]] = []   # (value, is_percent)
+    form: str
+    iso_cls: list[str] = []
+    body_units: list[str | None] = []
+    if t.kind == "pm":
+        p.take()
+        x = p.number("a number after ±")
+        if x.signed:
+            raise p.err("write ±x with an unsigned x")
+        pct = p.take("pct") is not None
+        body_units.append(p.unit())
+        nums = [(-x.value, pct), (x.value, pct)]
+        form = "percent" if pct else "symmetric"
+    elif t.kind == "iso":
+        iso_cls.append(p.take().text)
+        if p.take("slash"):
+            t2 = p.take("iso")
+            if t2 is None:
+                raise p.unexpected("a shaft class after '/' (e.g. H7/g6)")
+            iso_cls.append(t2.text)
+        form = "fit" if len(iso_cls) == 2 else "iso"
+    elif (t.kind == "word" and t.text.lower() == "max") or (t.kind == "cmp" and t.text in ("≤", "<=")):
+        p.take()
+        x = p.number("a number after 'max'")
+        if x.signed:
+            raise p.err("'max x' takes an unsigned x (a magnitude)")
+        body_units.append(p.unit())
+        nums, form = [(0.0, False), (x.value, False)], "max"
+    elif t.kind == "num":
+        a = p.take()
+        a_pct = p.take("pct") is not None
+        a_unit = p.unit()
+        if p.peek() is not None and p.peek().kind == "range":
+            if a_pct:
+                raise p.err("limits cannot be percentages")
+            p.take()
+            b = p.number("the upper limit after '..'")
+            b_unit = p.unit()
+            nums, form = [(a.value, False), (b.value, False)], "limits"
+            body_units = [a_unit or b_unit, b_unit or a_unit]
+        else:
+            slash = p.take("slash") is not None
+            b = p.take("num")
+            if b is None:
+                if a_pct and not a.signed and not slash:
+                    nums, form = [(-a.value, True), (a.value, True)], "percent"
+                    body_units = [a_unit]
+                elif a.signed or slash:
+                    raise p.err("write both deviations, e.g. +0.05/0 or 0/-0.02 (or ±x)")
+                else:
+                    raise p.unexpected()
+            else:
+                b_pct = p.take("pct") is not None
+                a_pct = a_pct or (b_pct and a_unit is None)   # "+5/-2 %": the % belongs to both
+                b_unit = p.unit()
+                for x in (a, b):
+                    if not x.signed and x.value != 0.0:
+                        raise p.err(f"the deviation {x.text.strip()!r} needs a sign (+ or -); "
+                                    "for limits write a..b")
+                if not slash and not (a.signed and b.signed) and 0.0 not in (a.value, b.value):
+                    raise p.unexpected()
+                nums = [(a.value, a_pct), (b.value, b_pct)]
+                form = "percent" if (a_pct or b_pct) else "deviations"
+                body_units = [a_unit or b_unit, b_unit or a_unit]
+    else:
+        raise p.unexpected("a tolerance")
+    tail_unit = p.unit()
+    if tail_unit is not None:
+        body_units = [u or tail_unit for u in body_units] or [tail_unit]
+
+    # ---- process -------------------------------------------------------------------------
+    proc: dict[str, float] = {}
+    while p.peek() is not None:
+        w = p.take("word")
+        if w is None or w.text.lower() not in ("cp", "cpk", "k"):
+            if w is not None:
+                p.i -= 1
+            raise p.unexpected("a unit or a process spec (Cp, Cpk, k)")
+        key = w.text.lower()
+        if key in proc:
+            raise p.err(f"{w.text} is given twice")
+        p.take("cmp")
+        x = p.number(f"a number after {w.text}")
+        proc[key] = x.value
+
+    # ---- units and nominal ---------------------------------------------------------------
+    body_units = [u or nom_u for u in body_units]   # "1 in +0.002/-0.001": the nominal's unit
+    written = [u for u in [nom_u, *body_units] if u is not None]
+    out = out_unit or (written[0] if written else ("mm" if iso_cls else None))
+
+    def conv(v: float, u: str | None) -> float:
+        if u is None or out is None or u == out:
+            return v
+        try:
+            return float(units.convert(v, u, out))
+        except InputError as exc:
+            raise _err(text, exc.reason) from None
+
+    nom = None if nom_t is None else conv(nom_t, nom_u)
+    if nominal is not None:
+        arg = float(nominal)
+        if nom is not None and not math.isclose(nom, arg, rel_tol=1e-9, abs_tol=1e-12):
+            raise _err(text, f"its nominal {fmt(nom)} differs from the nominal given with it ({fmt(arg)})")
+        nom = arg if nom is None else nom
+
+    iso_lim = fit = None
+    if iso_cls:
+        if nom is None:
+            raise _err(text, "an ISO 286 class needs the nominal size (e.g. 25 H7)")
+        if units.dimension(out) != "length":
+            raise _err(text, f"an ISO 286 class is a length tolerance, not in {out}")
+        mm = float(units.convert(nom, out, "mm"))
+        try:
+            if form == "fit":
+                fit = iso286.fit(iso_cls[0], iso_cls[1], mm)
+                lo_um, hi_um = fit.min_clearance, fit.max_clearance
+            else:
+                iso_lim = iso286.limits(iso_cls[0], mm)
+                lo_um, hi_um = iso_lim.lower, iso_lim.upper
+        except InputError as exc:
+            raise _err(text, exc.reason) from None
+        lower, upper = conv(lo_um / 1000.0, "mm"), conv(hi_um / 1000.0, "mm")
+        if form == "fit":   # a clearance: nominal 0 (hole and shaft share the nominal)
+            nom = None
+    elif form == "limits":
+        la, lb = conv(nums[0][0], body_units[0]), conv(nums[1][0], body_units[1])
+        lo_lim, hi_lim = min(la, lb), max(la, lb)
+        base = 0.0 if nom is None else nom
+        lower, upper = lo_lim - base, hi_lim - base
+    elif form == "max":
+        base = 0.0 if nom is None else nom
+        lower, upper = -base, conv(nums[1][0], body_units[0]) - base
+    else:
+        devs = []
+        for (v, pct), u in zip(nums, body_units + [None] * (2 - len(body_units))):
+            if pct:
+                if nom is None or nom == 0.0:
+                    raise _err(text, "a percentage needs a nonzero nominal")
+                devs.append(v / 100.0 * abs(nom))
+            else:
+                devs.append(conv(v, u))
+        lower, upper = min(devs), max(devs)
+    lower, upper = lower + 0.0, upper + 0.0   # no negative zeros (-0.00 on drawings)
+    if not upper > lower:
+        raise _err(text, "the tolerance band has zero width")
+
+    process = _process(proc, text, form) if proc else None
+    return Tolerance(text, form, nom, lower, upper, out, diameter, iso_lim, fit, process)
+
+
+def zone_level(sigma_level: float = 3.0) -> float:
+    """The radius of a circular zone in σ of each coordinate, for the radial (Rayleigh) coverage of
+    ±``sigma_level``·σ of a normal: √(−2 ln(1 − c)), 3.4393 at 3."""
+    from ..distributions import coverage
+
+    return math.sqrt(-2.0 * math.log(1.0 - coverage(sigma_level)))
+
+
+def _process(proc: dict[str, float], text: str, form: str) -> Process:
+    if form in ("max", "fit"):
+        raise _err(text, f"a process spec needs a two-sided drawing tolerance, not a {form}")
+    cp, cpk, k = proc.get("cp"), proc.get("cpk"), proc.get("k")
+    for name, v in (("Cp", cp), ("Cpk", cpk)):
+        if v is not None and not v > 0:
+            raise _err(text, f"{name} must be > 0")
+    if k is not None and not -1.0 < k < 1.0:
+        raise _err(text, "k (the mean shift over the half tolerance) must lie in (-1, 1)")
+    if cp is None and cpk is None:
+        raise _err(text, "k needs Cp or Cpk")
+    if cp is not None and cpk is not None:
+        if cpk > cp * (1 + 1e-9):
+            raise _err(text, f"Cpk ({fmt(cpk)}) cannot exceed Cp ({fmt(cp)})")
+        kk = 1.0 - cpk / cp
+        if k is not None and not math.isclose(abs(k), kk, rel_tol=1e-6, abs_tol=1e-9):
+            raise _err(text, f"Cp {fmt(cp)}, Cpk {fmt(cpk)} and k {fmt(k)} disagree "
+                             f"(Cpk = Cp·(1 − |k|) gives k = {fmt(kk)})")
+        k = kk if k is None else k
+    elif cp is None:
+        k = 0.0 if k is None else k
+        cp = cpk / (1.0 - abs(k))
+    else:
+        k = 0.0 if k is None else k
+        cpk = cp * (1.0 - abs(k))
+    return Process(float(cp), float(cpk), float(k))
+
+
+# --------------------------------------------------------------------------------- formatting
+def fmt(x: float, digits: int = 12) -> str:
+    """A number in plain positional notation (no exponent), ``digits`` significant digits."""
+    if x == 0:
+        return "0"
+    return np.format_float_positional(float(x), precision=digits, fractional=False, trim="-")
+
+
+def format_deviations(lower: float, upper: float, digits: int = 12) -> str:
+    """``±x`` when symmetric, else ``+upper/-lower`` (a zero is written ``0``)."""
+    if math.isclose(-lower, upper, rel_tol=1e-12, abs_tol=0.0):
+        return f"±{fmt(upper, digits)}"
+
+    def signed(v: float) -> str:
+        s = fmt(v, digits)
+        return s if s == "0" or s.startswith("-") else f"+{s}"
+
+    return f"{signed(upper)}/{signed(lower)}"
+
+
+def format_limits(lower: float, upper: float, digits: int = 12) -> str:
+    return f"{fmt(lower, digits)}..{fmt(upper, digits)}"

@@ -1,0 +1,390 @@
+"""Measured parts: one CSV file per part family, one row per serial number, and a kit list.
+
+**Part family file** (UTF-8, comma-separated; lines starting with ``#`` are comments — say there
+where the numbers come from; the first other line is the header)::
+
+    # crankshafts of the RV-80E, CMM report 2026-03 (cam positions to A-B), u: CMM MPE/√3
+    serial, cam_1.position.x1 [um], cam_1.position.y1 [um], cam_1.form [um], cam_1.form.u [um]
+    uncertainty, 0.3, 0.3, ,
+    C-0001, 0.42, -1.10, 0.6, 0.2
+    C-0002, -0.85, 0.31, 0.9, 0.2
+
+* ``serial``: the part's serial number (unique in the file);
+* a **feature column** holds a measured value of a drawing-spec factor, in the spec's own terms
+  (the deviation from the drawing nominal the factor stands for).  Its name is the factor's name
+  without the part's place in the reducer (its *slot*): the family is declared with the slots its
+  parts can take (``crank_1``, ``crank_2``, ``crank_3``), and a crankshaft in slot ``crank_2``
+  gives the factor ``crank_2.cam_1.position.x1``.  A family index joins without a dot: column
+  ``[7].diameter_in_lot`` in slot ``pins`` is ``pins[7].diameter_in_lot``.  The unit in brackets
+  after a space (``cam_1.form [um]``); without one, the factor's unit in the spec.  A name with a
+  comma (``"E_c[1,2]"``) is quoted, as CSV quotes any cell;
+* **measurement uncertainty** of every feature column: the standard uncertainty u (k = 1, GUM) of
+  one reading, in the column's unit — either in the row whose serial is ``uncertainty`` (one value
+  for every part) or in a column ``<feature>.u`` (one per part; its own unit in brackets or the
+  feature's).  Exactly one of the two for each feature; 0 means exact;
+* every cell of a part row holds a finite number (a feature measured on some parts only belongs
+  in another file: one file per inspection plan).
+
+**Kit list** (same conventions)::
+
+    # which serial parts form which reducer (assembly records)
+    reducer, housing, pins, disc_1, disc_2, crank_1, crank_2, crank_3
+    RV80E-0001, H-0001, P-0003, D-0007, D-0008, C-0001, C-0002, C-0003
+
+``reducer`` is the reducer's serial number; one column per slot of the declared families (all of
+them), holding the serial of the part in that slot or ``-`` when that slot's part was not measured
+(its factors are then sampled from the spec).  A part belongs to one reducer, in one slot.
+
+Every problem is one :class:`~rvtol.errors.InputError` naming the file and the line and column
+(``FILE: line 5, column 'cam_1.form [um]': not a number: 'x'``).  Values are returned in base units
+(mm, rad).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import pandas as pd
+
+from .. import units
+from ..errors import InputError
+from ..params import read_text
+
+SERIAL = "serial"
+REDUCER = "reducer"
+UNCERTAINTY_ROW = "uncertainty"
+U_SUFFIX = ".u"
+NOT_MEASURED = "-"
+
+#: "name" or "name [unit]": the unit is a bracket group after a space (a name may hold brackets: "E_c[1,2]")
+_HEADER = re.compile(r"^\s*(\S.*?)(?:\s+\[\s*([^\[\]]+?)\s*\])?\s*$")
+
+
+def _error(file: str, line: int, column: str | None, reason: str) -> InputError:
+    return InputError(reason, file=file, key=f"line {line}" + (f", column {column!r}" if column else ""))
+
+
+def factor_name(slot: str, column: str) -> str:
+    """The spec factor a feature column stands for in ``slot`` (``crank_2`` + ``cam_1.form``)."""
+    return f"{slot}{column}" if column.startswith("[") else f"{slot}.{column}"
+
+
+def _rows(path) -> tuple[str, str, list[tuple[int, list[str]]]]:
+    """``(file, sha256, [(line number, cells)])`` of the non-comment, non-blank lines of a CSV file."""
+    file = str(path)
+    text, sha = read_text(path, "a CSV file")
+    rows = []
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        rows.append((lineno, [c.strip() for c in next(csv.reader(io.StringIO(line), skipinitialspace=True))]))
+    if not rows:
+        raise InputError("no header line", file=file, key="line 1")
+    return file, sha, rows
+
+
+def _split(cell: str, file: str, line: int) -> tuple[str, str | None]:
+    m = _HEADER.match(cell)
+    if not m or not m.group(1):
+        raise _error(file, line, cell, "cannot read this header cell (expected 'name' or 'name [unit]')")
+    unit = m.group(2)
+    if unit:
+        try:
+            unit = units.canonical(unit)
+        except InputError as exc:
+            raise _error(file, line, cell, exc.reason) from None
+    return m.group(1), unit
+
+
+def _number(text: str, file: str, line: int, column: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise _error(file, line, column, f"not a number: {text!r}") from None
+    if not np.isfinite(v):
+        raise _error(file, line, column, f"must be a finite number, got {text!r}")
+    return v
+
+
+# --------------------------------------------------------------------------- part families
+@dataclass(frozen=True)
+class PartFamily:
+    """The measured parts of one family (base units)."""
+
+    name: str
+    file: str
+    sha256: str
+    slots: tuple[str, ...]
+    columns: tuple[str, ...]          # feature names, relative to the slot
+    units: tuple[str, ...]            # unit each column was written in
+    serials: tuple[str, ...]
+    lines: tuple[int, ...]            # line of each part in the file
+    values: np.ndarray                # [parts, columns], base units
+    uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
+
+    def row(self, serial: str) -> int:
+        return self.serials.index(serial)
+
+    def factors(self, slot: str) -> tuple[str, ...]:
+        return tuple(factor_name(slot, c) for c in self.columns)
+
+
+def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) -> PartFamily:
+    """Read and check one part family file (module docstring) against ``spec``'s factors."""
+    file, sha, rows = _rows(path)
+    slots = tuple(slots)
+    if not slots:
+        raise InputError("a part family needs at least one slot", file=file, key="slots")
+    hline, hcells = rows[0]
+    heads = [_split(c, file, hline) for c in hcells]
+    names = [h[0] for h in heads]
+    if names.count(SERIAL) != 1 or names[0] != SERIAL:
+        raise _error(file, hline, hcells[0], f"the first column must be {SERIAL!r} (once)")
+    dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
+    if dup is not None:
+        raise _error(file, hline, dup, "column appears twice")
+    features = [i for i, n in enumerate(names) if i > 0 and not n.endswith(U_SUFFIX)]
+    if not features:
+        raise _error(file, hline, None, "no feature columns")
+    col_units: list[str] = []
+    for i in features:
+        n, unit = heads[i]
+        fnames = [factor_name(s, n) for s in slots]
+        missing = [f for f in fnames if f not in spec.names]
+        if missing:
+            raise _error(file, hline, hcells[i], f"no factor {missing[0]!r} in the spec {spec.name!r} "
+                                                 f"(column name = factor name without the slot {slots[0]!r})")
+        fu = spec.factor(fnames[0]).unit
+        for f in fnames[1:]:
+            if units.dimension(spec.factor(f).unit) != units.dimension(fu):
+                raise _error(file, hline, hcells[i], f"factors {fnames[0]!r} and {f!r} have different dimensions")
+        unit = unit or fu
+        if units.dimension(unit) != units.dimension(fu):
+            raise _error(file, hline, hcells[i], f"unit {unit!r} does not fit the factor's unit {fu!r}")
+        col_units.append(unit)
+    u_cols: dict[int, tuple[int, str]] = {}
+    for i, (n, unit) in enumerate(heads):
+        if i == 0 or not n.endswith(U_SUFFIX):
+            continue
+        base = n[: -len(U_SUFFIX)]
+        if base not in names or base.endswith(U_SUFFIX):
+            raise _error(file, hline, hcells[i], f"an uncertainty column without its feature column {base!r}")
+        j = features.index(names.index(base))
+        unit = unit or col_units[j]
+        if units.dimension(unit) != units.dimension(col_units[j]):
+            raise _error(file, hline, hcells[i], f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}")
+        u_cols[j] = (i, unit)
+
+    ncols = len(hcells)
+    u_row: tuple[int, list[str]] | None = None
+    parts: list[tuple[int, list[str]]] = []
+    for lineno, cells in rows[1:]:
+        if len(cells) != ncols:
+            raise _error(file, lineno, None, f"{len(cells)} fields, the header has {ncols}")
+        if cells[0].lower() == UNCERTAINTY_ROW:
+            if u_row is not None:
+                raise _error(file, lineno, SERIAL, f"a second {UNCERTAINTY_ROW!r} row (the first on line {u_row[0]})")
+            u_row = (lineno, cells)
+        else:
+            parts.append((lineno, cells))
+    if not parts:
+        raise _error(file, hline, None, "no parts (rows) in the file")
+
+    row_u = np.full(len(features), np.nan)
+    for j, i in enumerate(features):
+        cell = u_row[1][i] if u_row else ""
+        if j in u_cols:
+            if cell:
+                raise _error(file, u_row[0], hcells[i], f"an uncertainty here and a column {hcells[u_cols[j][0]]!r}: "
+                                                         "give one")
+            continue
+        if not cell:
+            raise _error(file, u_row[0] if u_row else hline, hcells[i],
+                         f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row or a column "
+                         f"'{names[i]}{U_SUFFIX}'")
+        v = _number(cell, file, u_row[0], hcells[i])
+        if v < 0:
+            raise _error(file, u_row[0], hcells[i], f"an uncertainty must be >= 0, got {cell!r}")
+        row_u[j] = units.to_base(v, col_units[j])
+    if u_row:
+        for i, cell in enumerate(u_row[1]):
+            if i > 0 and i not in features and cell:
+                raise _error(file, u_row[0], hcells[i], f"the {UNCERTAINTY_ROW!r} row has no entry for an "
+                                                         "uncertainty column")
+
+    serials, lines = [], []
+    values = np.empty((len(parts), len(features)))
+    unc = np.empty_like(values)
+    seen: dict[str, int] = {}
+    for r, (lineno, cells) in enumerate(parts):
+        s = cells[0]
+        if not s:
+            raise _error(file, lineno, SERIAL, "empty serial number")
+        if s == NOT_MEASURED:
+            raise _error(file, lineno, SERIAL, f"{NOT_MEASURED!r} is not a serial number (it marks an unmeasured "
+                                               "slot in a kit list)")
+        if s in seen:
+            raise _error(file, lineno, SERIAL, f"serial {s!r} appears twice (also on line {seen[s]})")
+        seen[s] = lineno
+        serials.append(s)
+        lines.append(lineno)
+        for j, i in enumerate(features):
+            values[r, j] = units.to_base(_number(cells[i], file, lineno, hcells[i]), col_units[j])
+            if j in u_cols:
+                ui, uunit = u_cols[j]
+                v = _number(cells[ui], file, lineno, hcells[ui])
+                if v < 0:
+                    raise _error(file, lineno, hcells[ui], f"an uncertainty must be >= 0, got {cells[ui]!r}")
+                unc[r, j] = units.to_base(v, uunit)
+            else:
+                unc[r, j] = row_u[j]
+    return PartFamily(name or Path(file).stem, file, sha, slots, tuple(names[i] for i in features),
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc)
+
+
+# --------------------------------------------------------------------------- kit list
+@dataclass(frozen=True)
+class Kit:
+    """One reducer: its serial and, per slot, the serial of its measured part (None: not measured)."""
+
+    reducer: str
+    line: int
+    parts: dict[str, str | None]
+
+
+def read_kit_list(path, slots: Sequence[str]) -> tuple[str, str, list[Kit]]:
+    """``(file, sha256, kits)`` of a kit list whose columns are ``reducer`` and exactly ``slots``."""
+    file, sha, rows = _rows(path)
+    hline, head = rows[0]
+    if not head or head[0] != REDUCER:
+        raise _error(file, hline, head[0] if head else None, f"the first column must be {REDUCER!r}")
+    for i, c in enumerate(head):
+        if c in head[:i]:
+            raise _error(file, hline, c, "column appears twice")
+    unknown = [c for c in head[1:] if c not in slots]
+    if unknown:
+        raise _error(file, hline, unknown[0], f"not a slot of the declared part families (slots: {', '.join(slots)})")
+    missing = [s for s in slots if s not in head]
+    if missing:
+        raise _error(file, hline, None, f"no column for slot {missing[0]!r} (write {NOT_MEASURED!r} where a "
+                                        "reducer's part in that slot was not measured)")
+    kits, seen = [], {}
+    for lineno, cells in rows[1:]:
+        if len(cells) != len(head):
+            raise _error(file, lineno, None, f"{len(cells)} fields, the header has {len(head)}")
+        red = cells[0]
+        if not red:
+            raise _error(file, lineno, REDUCER, "empty reducer serial number")
+        if red in seen:
+            raise _error(file, lineno, REDUCER, f"reducer {red!r} appears twice (also on line {seen[red]})")
+        seen[red] = lineno
+        parts = {}
+        for c, v in zip(head[1:], cells[1:]):
+            if not v:
+                raise _error(file, lineno, c, f"empty cell: a serial number, or {NOT_MEASURED!r} when not measured")
+            parts[c] = None if v == NOT_MEASURED else v
+        kits.append(Kit(red, lineno, parts))
+    if not kits:
+        raise _error(file, hline, None, "no reducers in the kit list")
+    return file, sha, kits
+
+
+# --------------------------------------------------------------------------- the measured units
+@dataclass(frozen=True)
+class FamilySource:
+    """Where a part family is read from and which slots its parts take."""
+
+    file: Path
+    slots: tuple[str, ...]
+    name: str | None = None
+
+
+@dataclass(frozen=True)
+class MeasuredUnits:
+    """What is known of each kitted reducer: measured factor values and their uncertainty.
+
+    ``value`` and ``uncertainty`` are ``[units, factors]`` in base units in the spec's factor order;
+    ``value`` is NaN where the factor was not measured on that unit (it is then sampled from the spec).
+    """
+
+    names: tuple[str, ...]            # the spec's factors
+    units: tuple[str, ...]            # the reducers' serial numbers
+    value: np.ndarray
+    uncertainty: np.ndarray
+    kits: tuple[Kit, ...]
+    families: tuple[PartFamily, ...]
+    kit_file: str = ""
+    kit_sha256: str = ""
+
+    @property
+    def measured(self) -> np.ndarray:
+        return np.isfinite(self.value)
+
+    def __len__(self) -> int:
+        return len(self.units)
+
+    def files(self) -> dict[str, dict]:
+        """Role -> ``{path, sha256}`` of every file read (for the study's input record)."""
+        out = {"kit_list": {"path": self.kit_file, "sha256": self.kit_sha256}}
+        for f in self.families:
+            out[f"parts:{f.name}"] = {"path": f.file, "sha256": f.sha256}
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per reducer: serial, number of measured factors, the part serial in every slot."""
+        rows = []
+        for i, k in enumerate(self.kits):
+            rows.append({"reducer": k.reducer, "measured factors": int(self.measured[i].sum()),
+                         **{s: (v if v is not None else NOT_MEASURED) for s, v in k.parts.items()}})
+        return pd.DataFrame(rows)
+
+
+def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> MeasuredUnits:
+    """Read the part families and the kit list; every reducer's measured factors (module docstring)."""
+    fams = [read_part_family(f.file, f.slots, spec, f.name) for f in families]
+    names = [f.name for f in fams]
+    dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
+    if dup is not None:
+        raise InputError(f"two part families are named {dup!r}: give each a name", file=fams[0].file, key="name")
+    slot_family: dict[str, PartFamily] = {}
+    claimed: dict[str, tuple[str, str]] = {}          # factor -> (family, slot)
+    for fam in fams:
+        for s in fam.slots:
+            if s in slot_family:
+                raise InputError(f"slot {s!r} is declared by families {slot_family[s].name!r} and {fam.name!r}",
+                                 file=fam.file, key="slots")
+            slot_family[s] = fam
+            for f in fam.factors(s):
+                if f in claimed:
+                    raise InputError(f"factor {f!r} is measured by family {claimed[f][0]!r} (slot {claimed[f][1]!r}) "
+                                     f"and {fam.name!r} (slot {s!r})", file=fam.file, key="slots")
+                claimed[f] = (fam.name, s)
+    kfile, ksha, kits = read_kit_list(kit_list, list(slot_family))
+    k = len(spec.names)
+    value = np.full((len(kits), k), np.nan)
+    unc = np.zeros((len(kits), k))
+    used: dict[tuple[str, str], tuple[str, int]] = {}
+    index = {n: j for j, n in enumerate(spec.names)}
+    for u, kit in enumerate(kits):
+        for slot, serial in kit.parts.items():
+            if serial is None:
+                continue
+            fam = slot_family[slot]
+            if serial not in fam.serials:
+                raise _error(kfile, kit.line, slot, f"no part {serial!r} in {fam.file} (family {fam.name!r})")
+            if (fam.name, serial) in used:
+                red, line = used[(fam.name, serial)]
+                raise _error(kfile, kit.line, slot, f"part {serial!r} of family {fam.name!r} is already in reducer "
+                                                    f"{red!r} (line {line})")
+            used[(fam.name, serial)] = (kit.reducer, kit.line)
+            r = fam.row(serial)
+            cols = [index[f] for f in fam.factors(slot)]
+            value[u, cols] = fam.values[r]
+            unc[u, cols] = fam.uncertainty[r]
+    return MeasuredUnits(tuple(spec.names), tuple(k.reducer for k in kits), value, unc, tuple(kits), tuple(fams),
+                         kfile, ksha)

@@ -1,0 +1,310 @@
+"""A run that survives CI: signals, the output folder's lock and work folder, checks before computing.
+
+* :func:`stopping_on_signals` — SIGTERM (what CI sends on cancel) and SIGINT
+  (Ctrl-C) kill the worker processes at once (:func:`rvtol.executors.stop_workers`)
+  and raise :class:`Interrupted` in the main thread, so every ``finally``
+  runs (no half-written folder) and the CLI prints one line and exits
+  128 + signal (143, 130).  A second signal during that clean-up exits at once.
+* :class:`RunFolder` — ``.NAME.rvtol-run/`` beside the output folder ``NAME``:
+  an exclusive lock (two runs never write one folder; the lock dies with its
+  process, ``kill -9`` included), the removal of temporary folders that killed
+  runs left behind, and the checkpoint (:class:`rvtol.checkpoint.ChunkStore`)
+  that ``--resume`` continues from.  A finished run removes it; an
+  interrupted or killed one leaves the checkpoint for ``--resume``.
+* :func:`check_writable`, :func:`estimate_run`, :func:`check_resources` —
+  before anything is computed: the output can be written, and the Monte Carlo
+  fits in memory and on disk (a clear error for an absurd n, exit 2); the
+  estimate of memory, disk and time is printed.
+"""
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import glob
+import json
+import logging
+import math
+import os
+import shutil
+import signal
+import tempfile
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .checkpoint import ChunkStore
+from .errors import InputError, RvtolError
+
+
+# --------------------------------------------------------------------------- signals
+class Interrupted(BaseException):
+    """The run was stopped by a signal (a BaseException, like KeyboardInterrupt: nothing swallows it)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+        self.kept_chunks = 0  # finished chunks left for --resume (set by RunFolder)
+
+    @property
+    def name(self) -> str:
+        return signal.Signals(self.signum).name
+
+    @property
+    def exit_code(self) -> int:
+        return 128 + self.signum
+
+
+@contextlib.contextmanager
+def stopping_on_signals(signals=(signal.SIGTERM, signal.SIGINT)):
+    """Within the block, SIGTERM/SIGINT stop the workers and raise :class:`Interrupted` (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    from .executors import stop_workers
+
+    state = {"stopping": False}
+
+    def handler(signum, frame):
+        stop_workers()
+        if state["stopping"]:  # asked twice: do not wait for the clean-up
+            os._exit(128 + signum)
+        state["stopping"] = True
+        for name in ("distributed", "tornado", "asyncio"):  # a cluster torn down mid-task logs its closed comms
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+        raise Interrupted(signum)
+
+    old = {s: signal.signal(s, handler) for s in signals}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+# --------------------------------------------------------------------------- the output folder's work folder
+class RunFolder:
+    """``.NAME.rvtol-run/`` beside output folder ``NAME``: lock, stale clean-up, checkpoint (module docstring)."""
+
+    def __init__(self, out: str | Path):
+        self.out = Path(out)
+        self.path = self.out.parent / f".{self.out.name}.rvtol-run"
+        self.store: ChunkStore | None = None
+        self._fd: int | None = None
+
+    # -- lock ----------------------------------------------------------------
+    def __enter__(self) -> "RunFolder":
+        self.acquire()
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        finished = exc_type is None
+        if isinstance(exc, Interrupted) and self.store is not None:
+            exc.kept_chunks = self.store.count()
+        self.release(keep_checkpoint=not finished)
+
+    def acquire(self) -> None:
+        """Take the folder's lock (or raise InputError naming the run that holds it); clean stale temporaries."""
+        lock = self.path / "lock"
+        for _ in range(20):
+            self.path.mkdir(parents=True, exist_ok=True)
+            try:
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            except FileNotFoundError:  # a finishing run removed the folder in between: again
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
+                os.close(fd)
+                raise InputError(f"another rvtol run (pid {holder}) is writing this folder; wait for it or choose "
+                                 "another --out", file=str(self.out), key="--out") from None
+            try:  # the file we locked must still be the one at the path (a finishing run unlinks it)
+                same = os.fstat(fd).st_ino == os.stat(lock).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                os.ftruncate(fd, 0)
+                os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+                self._fd = fd
+                break
+            os.close(fd)
+        else:  # pragma: no cover - needs a pathological race
+            raise RvtolError(f"could not lock {lock}")
+        self._remove_stale()
+
+    def _remove_stale(self) -> None:
+        """Temporary and replaced report folders of runs that were killed (we hold the lock: none is live)."""
+        stem = glob.escape(f".{self.out.name}")
+        for pattern in (f"{stem}.tmp-*", f"{stem}.old-*"):
+            for p in self.out.parent.glob(pattern):
+                shutil.rmtree(p, ignore_errors=True)
+
+    def release(self, keep_checkpoint: bool = False) -> None:
+        if self._fd is None:
+            return
+        if not keep_checkpoint:
+            shutil.rmtree(self.path / "chunks", ignore_errors=True)
+            (self.path / "run.json").unlink(missing_ok=True)
+            (self.path / "lock").unlink(missing_ok=True)  # while we hold it: a waiting run re-checks the inode
+        fcntl.flock(self._fd, fcntl.LOCK_UN)
+        os.close(self._fd)
+        self._fd = None
+        if not keep_checkpoint:
+            with contextlib.suppress(OSError):
+                self.path.rmdir()
+
+    # -- checkpoint ----------------------------------------------------------
+    def open_store(self, key: str, resume: bool) -> tuple[ChunkStore, str]:
+        """The run's checkpoint: kept if ``resume`` and the interrupted run had the same ``key``; a note."""
+        meta = self.path / "run.json"
+        chunks = self.path / "chunks"
+        try:
+            old = json.loads(meta.read_text()).get("key")
+        except (OSError, ValueError, AttributeError):
+            old = None
+        note = ""
+        if resume and old == key and chunks.is_dir():
+            store = ChunkStore(chunks)
+            note = f"resuming: {store.count()} finished chunks of the interrupted run are reused"
+        else:
+            kept = ChunkStore(chunks).count() if chunks.is_dir() else 0
+            if resume:
+                note = ("nothing to resume: no interrupted run of this output folder" if old is None else
+                        "nothing to resume: the inputs, n, seed or method changed since the interrupted run")
+            elif kept:
+                note = f"starting afresh: the {kept} finished chunks of an interrupted run are discarded " \
+                       "(--resume continues a run)"
+            shutil.rmtree(chunks, ignore_errors=True)
+            store = ChunkStore(chunks)
+        meta.write_text(json.dumps({"key": key, "pid": os.getpid(), "started": time.time()}))
+        self.store = store
+        return store, note
+
+
+# --------------------------------------------------------------------------- before computing
+def _existing_ancestor(path: Path) -> Path:
+    p = path.absolute()
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def check_writable(target: str | Path, key: str) -> Path:
+    """Raise InputError (``target``, ``key``) unless a file can be created where ``target`` goes.
+
+    Probes the nearest existing folder on the way (creates and removes one empty file there).
+    """
+    target = Path(target)
+    where = _existing_ancestor(target.parent)
+    if not where.is_dir():
+        raise InputError(f"{where} is not a folder", file=str(target), key=key)
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".rvtol-probe-", dir=where)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise InputError(f"cannot write in {where} ({exc.strerror or exc})", file=str(target), key=key) from None
+    return where
+
+
+@dataclass
+class RunEstimate:
+    """What the study's Monte Carlo will need (analyses not included)."""
+
+    n: int
+    factors: int
+    outputs: int
+    memory: int          # bytes, peak increase of the run
+    disk: int            # bytes: samples.parquet, checkpoint, report
+    workers: int
+    per_sample: float | None = None   # s, from a pilot at the nominal point
+    seconds: float | None = None      # Monte Carlo wall time
+
+    def describe(self) -> str:
+        s = f"estimate: {self.n:,} samples × {self.factors} factors → {self.outputs} outputs; " \
+            f"memory ≈ {human_bytes(self.memory)}, disk ≈ {human_bytes(self.disk)}"
+        if self.seconds is not None:
+            s += (f", Monte Carlo ≈ {human_seconds(self.seconds)} on {self.workers} worker"
+                  f"{'s' if self.workers != 1 else ''} ({1e3 * self.per_sample:.3g} ms/sample at the nominal point)")
+        return s + " — analyses come on top"
+
+
+#: bytes per sample per factor / per output / fixed, of the Monte Carlo's peak memory (design, values,
+#: outputs in base and display units, sorted copies for the statistics, the table written to parquet):
+#: an upper envelope of the measured peak (linear model, n = 10⁶: 158 B per sample for 3 factors, 1 output)
+MEMORY_PER_SAMPLE = (40, 32, 32)
+#: disk bytes per sample: samples.parquet (8 B per column, uncompressed worst case) and the checkpoint
+DISK_PER_SAMPLE = (8, 16, 10)
+#: the report (HTML with figures, PDF) besides the samples
+REPORT_BYTES = 20 * 2**20
+
+
+def estimate_run(study) -> RunEstimate:
+    """Memory and disk of the study's Monte Carlo (no computation; :func:`time_pilot` adds the time)."""
+    o = study.options
+    n, k, m = o.n, len(study.spec), len(study.model.outputs)
+    mem = n * (MEMORY_PER_SAMPLE[0] * k + MEMORY_PER_SAMPLE[1] * m + MEMORY_PER_SAMPLE[2])
+    disk = n * (DISK_PER_SAMPLE[0] * k + DISK_PER_SAMPLE[1] * m + DISK_PER_SAMPLE[2]) + REPORT_BYTES
+    workers = 1 if o.executor == "serial" else (o.workers or os.cpu_count() or 1)
+    return RunEstimate(n, k, m, mem, disk, workers)
+
+
+def time_pilot(est: RunEstimate, study, rows: int = 4) -> RunEstimate:
+    """Add the Monte Carlo's time to ``est`` from ``rows`` evaluations at the nominal point (after a warm-up)."""
+    from .mc import Evaluator
+
+    x0 = study.spec.nominal_base()[None, :]
+    ev = Evaluator()
+    ev(study.model, x0, "pilot")  # first call: compiled kernels, caches
+    rows = max(1, min(est.n, rows))
+    t0 = time.perf_counter()
+    ev(study.model, np.repeat(x0, rows, axis=0), "pilot")
+    est.per_sample = (time.perf_counter() - t0) / rows
+    est.seconds = est.per_sample * est.n / est.workers
+    return est
+
+
+def available_memory() -> int | None:
+    try:
+        import psutil
+
+        return int(psutil.virtual_memory().available)
+    except Exception:  # pragma: no cover - psutil missing or unsupported platform
+        return None
+
+
+def check_resources(est: RunEstimate, out: Path, n_file: str, n_key: str) -> None:
+    """InputError when the Monte Carlo cannot fit in memory (key ``n_key``) or on disk (``--out``)."""
+    avail = available_memory()
+    if avail is not None and est.memory > avail:
+        raise InputError(f"n = {est.n:,} needs about {human_bytes(est.memory)} of memory for the Monte Carlo "
+                         f"({est.factors} factors, {est.outputs} outputs) and {human_bytes(avail)} are available; "
+                         f"lower n (about {max(2, int(est.n * avail / est.memory)):,} fit)", file=n_file, key=n_key)
+    where = _existing_ancestor(out.parent)
+    free = shutil.disk_usage(where).free
+    if est.disk > free:
+        raise InputError(f"the run needs about {human_bytes(est.disk)} on disk and {where} has "
+                         f"{human_bytes(free)} free", file=str(out), key="--out")
+
+
+def human_bytes(b: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
+        if abs(b) < 1000 or unit == "PB":
+            return f"{b:.3g} {unit}"
+        b /= 1000
+    return f"{b:.3g} EB"  # pragma: no cover
+
+
+def human_seconds(s: float) -> str:
+    if not math.isfinite(s):
+        return "∞"
+    if s < 90:
+        return f"{s:.2g} s"
+    if s < 5400:
+        return f"{s / 60:.2g} min"
+    if s < 2 * 86400:
+        return f"{s / 3600:.2g} h"
+    return f"{s / 86400:.3g} days"

@@ -1,0 +1,29 @@
+"""Tolerance stack-up conventions beside the Monte Carlo, for any :class:`rvtol.model.Model`.
+
+================================  ===============================================================
+module                            what it gives
+================================  ===============================================================
+:mod:`rvtol.stacking.conventions` worst case, RSS, MRSS (Bender, handbook, a given factor), the
+                                  distributions' statistical stack, 6σ static and dynamic RSS (and
+                                  the 1.5σ-shift convention); position zones as discs
+:mod:`rvtol.stacking.worst_case`  the true extreme of a non-linear output over the bands (bounded
+                                  optimisation, corners)
+:mod:`rvtol.stacking.tail`        sub-ppm tail probabilities: FORM (β, Φ(−β)) and importance
+                                  sampling about the most probable failure point
+:mod:`rvtol.stacking.analyses`    the study analyses ``stack_conventions`` and ``tail_probability``
+================================  ===============================================================
+
+::
+
+    sc = stack_conventions(spec, gradient_base, y0_base, output="gap", out_unit="um", out_base_unit="mm")
+    sc.frame                                           # convention, low, high, half_width, sigma, source
+    wc = true_worst_case(model, spec, "gap", evaluate)  # wc.low, wc.high, wc.x_low, wc.x_high
+    est, z = form(model, spec, "gap", limit=120, side="upper")       # est.beta, est.pf_form
+    importance_sampling(model, spec, est, z, n=4000, seed=1)         # est.pf_is ± est.pf_is_se
+"""
+from .conventions import StackConventions, handbook_mrss_factor, stack_conventions
+from .tail import TailEstimate, form, importance_sampling
+from .worst_case import WorstCase, true_worst_case
+
+__all__ = ["StackConventions", "TailEstimate", "WorstCase", "form", "handbook_mrss_factor", "importance_sampling",
+           "stack_conventions", "true_worst_case"]

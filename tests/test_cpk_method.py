@@ -1,0 +1,53 @@
+"""The verdict basis: a minimum Cpk judged on the normal-theory Cpk (default) or the ISO 22514-2 percentile Cpk
+(Requirement.cpk_method), checked on a skewed output whose two Cpk values have closed forms."""
+import math
+
+import numpy as np
+import pytest
+
+from rvtol.errors import SpecError
+from rvtol.mc import run_monte_carlo
+from rvtol.model import FunctionModel, Quantity
+from rvtol.params import Params
+from rvtol.spec import Factor, Requirement, ToleranceSpec, requirements_from_tables
+from rvtol.distributions import Distribution
+
+# r = hypot(x, y) of two standard normals is Rayleigh(σ = 1)
+MEAN, SD = math.sqrt(math.pi / 2), math.sqrt(2 - math.pi / 2)
+MEDIAN, P99865 = math.sqrt(2 * math.log(2)), math.sqrt(-2 * math.log(0.00135))
+USL = 4.2
+CPK_NORMAL = (USL - MEAN) / (3 * SD)                 # 1.4995: passes 1.33
+CPK_PERCENTILE = (USL - MEDIAN) / (P99865 - MEDIAN)  # 1.2298: fails 1.33
+
+
+def run(method):
+    spec = ToleranceSpec("xy", tuple(Factor(n, "mm", Distribution.make("normal", mean=0.0, sigma=1.0))
+                                     for n in ("x", "y")))
+    model = FunctionModel(lambda X: np.hypot(X[:, 0], X[:, 1])[:, None], ["x", "y"], [Quantity("r", "mm")],
+                          ["mm", "mm"])
+    req = Requirement("r", upper=USL, unit="mm", min_cpk=1.33, cpk_method=method)
+    return run_monte_carlo(model, spec, 40000, "lhs", seed=3, requirements=[req], progress=False).verdicts()[0]
+
+
+def test_normal_theory_and_percentile_cpk_judge_differently():
+    normal, pct = run("normal"), run("percentile")
+    n = 40000
+    # estimates against the closed forms (s.e. of Cpk ≈ sqrt(1/9n + Cpk²/2n); percentile Cpk from sample quantiles)
+    assert normal.judged_cpk[0] == pytest.approx(CPK_NORMAL, abs=4 * math.sqrt(1 / (9 * n) + CPK_NORMAL ** 2 / (2 * n)))
+    assert pct.judged_cpk[0] == pytest.approx(CPK_PERCENTILE, rel=0.03)
+    assert normal.passed and not pct.passed
+    assert any("percentile Cpk lower bound" in why for why in pct.reasons)
+    assert pct.to_dict()["cpk_method"] == "percentile"
+    # the judged bound is the one-sided 95 % bound: the lower end of the two-sided 90 % bootstrap interval, inside
+    # the two-sided 95 % interval the report shows
+    lo, hi = pct.cpk_percentile_ci
+    assert lo < pct.judged_cpk[1] < pct.judged_cpk[0] < hi
+
+
+def test_the_requirement_key_is_read_and_checked():
+    t = Params({"output": "r", "upper": 1.0, "min_cpk": 1.33, "cpk_method": "percentile"}, file="s.toml",
+               key="requirement[0]")
+    assert requirements_from_tables([t])[0].cpk_method == "percentile"
+    t = Params({"output": "r", "upper": 1.0, "cpk_method": "median"}, file="s.toml", key="requirement[0]")
+    with pytest.raises(SpecError, match="requirement\\[0\\].cpk_method: unknown value 'median'"):
+        requirements_from_tables([t])

@@ -1,0 +1,200 @@
+"""Drawing tolerance notation: limits by hand, ISO classes from the standard's tables, factor tables
+through the existing loader, process specs by their closed forms."""
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from rvtol.distributions import from_params
+from rvtol.errors import InputError
+from rvtol.inputs.notation import (NotationError, fmt, format_deviations, format_limits,
+                                   parse_tolerance)
+from rvtol.params import Params
+
+
+def limits(text, **kw):
+    t = parse_tolerance(text, **kw)
+    return t.lower_limit, t.upper_limit
+
+
+def dist(table):
+    return from_params(Params(table, file="t.csv", key="row"))
+
+
+# (text, kwargs, lower limit, upper limit, nominal, unit)
+CASES = [
+    ("±0.05", {}, -0.05, 0.05, None, None),
+    ("+/-0.05", {}, -0.05, 0.05, None, None),
+    ("25 ±0.05", {}, 24.95, 25.05, 25, None),
+    ("25 +0.10/-0.00", {}, 25.0, 25.10, 25, None),
+    ("25 +0.10/−0.00", {}, 25.0, 25.10, 25, None),          # U+2212 as on the issue
+    ("25 +0.10 -0.05", {}, 24.95, 25.10, 25, None),
+    ("25 0/-0.02", {}, 24.98, 25.0, 25, None),
+    ("0/-0.02", {"nominal": 12.0}, 11.98, 12.0, 12, None),
+    ("-0.05/+0.10", {"nominal": 25.0}, 24.95, 25.10, 25, None),  # written low first
+    ("+0,10/-0,05", {"nominal": 25.0}, 24.95, 25.10, 25, None),  # decimal commas
+    ("5%", {"nominal": 200.0}, 190.0, 210.0, 200, None),
+    ("±2 %", {"nominal": 50.0}, 49.0, 51.0, 50, None),
+    ("100 +5%/-2%", {}, 98.0, 105.0, 100, None),
+    ("100 +5/-2 %", {}, 98.0, 105.0, 100, None),
+    ("24.95..25.05", {}, 24.95, 25.05, None, None),
+    ("24.95 to 25.05 mm", {}, 24.95, 25.05, None, "mm"),
+    ("24.95..25.05", {"nominal": 25.0}, 24.95, 25.05, 25, None),
+    ("-0.02..+0.03", {}, -0.02, 0.03, None, None),
+    ("max 0.02", {}, 0.0, 0.02, None, None),
+    ("≤ 0.02 mm", {}, 0.0, 0.02, None, "mm"),
+    ("25 mm +10/-5 um", {}, 24.995, 25.010, 25, "mm"),
+    ("+10/-5 um", {"nominal": 25.0, "unit": "mm"}, 24.995, 25.010, 25, "mm"),
+    ('1.000" ±0.002"', {}, 0.998, 1.002, 1, "in"),
+    ("1 in +0.002/-0.001", {}, 0.999, 1.002, 1, "in"),
+    ("1 in +0.002/-0.001", {"unit": "mm"}, 25.3746, 25.4508, 25.4, "mm"),
+    ("±0.5°", {}, -0.5, 0.5, None, "deg"),
+]
+
+
+@pytest.mark.parametrize("text,kw,lo,hi,nom,unit", CASES, ids=[c[0] for c in CASES])
+def test_forms(text, kw, lo, hi, nom, unit):
+    t = parse_tolerance(text, **kw)
+    assert t.lower_limit == pytest.approx(lo, abs=1e-12)
+    assert t.upper_limit == pytest.approx(hi, abs=1e-12)
+    assert t.nominal == (None if nom is None else pytest.approx(nom))
+    assert t.unit == unit
+    assert t.upper > t.lower
+
+
+def test_iso_classes_come_from_the_standards_tables():
+    t = parse_tolerance("25 H7")
+    assert (t.unit, t.form, t.lower, t.upper) == ("mm", "iso", 0.0, 0.021)
+    assert parse_tolerance("Ø7 h5").limits == (6.994, 7.0)
+    assert parse_tolerance("⌀7h5").diameter
+    assert parse_tolerance("h5", nominal=7.0).limits == (6.994, 7.0)
+    assert parse_tolerance("50 k6").limits == pytest.approx((50.002, 50.018), abs=1e-12)
+    assert parse_tolerance("100 P7").limits == pytest.approx((99.941, 99.976), abs=1e-12)
+    assert parse_tolerance("25g6").limits == pytest.approx((24.980, 24.993), abs=1e-12)
+    # 25e8 is the class e8 (−40/−73 µm), never 2.5e9
+    assert parse_tolerance("25e8").limits == pytest.approx((24.927, 24.960), abs=1e-12)
+    # inches: a 1 in H7 bore is looked up at 25.4 mm (18–30 mm: IT7 = 21 µm)
+    t = parse_tolerance("1 H7", unit="in")
+    assert t.unit == "in" and t.upper == pytest.approx(0.021 / 25.4, rel=1e-15)
+
+
+def test_fit_gives_the_clearance_range():
+    t = parse_tolerance("25 H7/g6")
+    assert (t.form, t.nominal, t.unit) == ("fit", None, "mm")
+    assert t.limits == pytest.approx((0.007, 0.041), abs=1e-15)
+    assert t.fit.kind == "clearance"
+    assert parse_tolerance("25 H7/p6").limits == pytest.approx((-0.035, -0.001), abs=1e-15)
+    # as a normal factor: σ is the RSS of the two parts' σ (IT/6 each), its tolerance the WC range
+    d = dist(parse_tolerance("25 H7/g6").factor_table("normal"))
+    assert d.std == pytest.approx(math.hypot(0.021 / 6, 0.013 / 6), rel=1e-12)
+    assert d.mean == pytest.approx(0.024, rel=1e-12)
+    assert d.tolerance == pytest.approx(0.034, rel=1e-12)
+    # ... the same σ as hole − shaft sampled independently (closed form: the variance of a difference)
+    rng = np.random.default_rng(1)
+    c = rng.normal(25.0105, 0.021 / 6, 200_000) - rng.normal(24.9865, 0.013 / 6, 200_000)
+    assert c.std() == pytest.approx(d.std, rel=4 * math.sqrt(0.5 / 200_000))
+
+
+def test_factor_tables_through_the_existing_loader():
+    t = parse_tolerance("25 +0.10/-0.00")
+    d = dist(t.factor_table())
+    assert (d.kind, d.mean, d.std) == ("normal", pytest.approx(25.05), pytest.approx(0.1 / 6))
+    assert t.factor_table()["nominal"] == 25.0
+    d = dist(t.factor_table("uniform"))
+    assert d.frozen.support() == pytest.approx((25.0, 25.1))
+    d = dist(t.factor_table("triangular"))
+    assert d.p["mode"] == pytest.approx(25.05)
+    d = dist(t.factor_table("truncnorm", sigma_level=2))
+    assert d.frozen.support() == pytest.approx((25.0, 25.1)) and d.p["sigma"] == pytest.approx(0.025)
+    d = dist(t.factor_table("normal", sigma_level=4))
+    assert d.std == pytest.approx(0.1 / 8)
+    # a magnitude: the coverage quantile is the limit
+    d = dist(parse_tolerance("max 0.02").factor_table("rayleigh"))
+    assert d.ppf(0.9973002039367398) == pytest.approx(0.02, rel=1e-9)
+    d = dist(parse_tolerance("max 0.02").factor_table("weibull", shape=2.0))
+    assert d.tolerance == pytest.approx(0.02, rel=1e-9)
+    with pytest.raises(NotationError, match="cannot be read as 'lognormal'"):
+        t.factor_table("lognormal")
+
+
+def test_process_spec_keeps_the_drawing_limits():
+    t = parse_tolerance("25 ±0.05 Cpk 1.33 k 0.25")
+    cp = 1.33 / 0.75
+    assert t.process.cp == pytest.approx(cp) and t.process.k == 0.25
+    assert t.limits == (24.95, 25.05)          # the drawing's worst-case limits, unchanged
+    d = dist(t.factor_table())
+    sigma = 0.1 / (6 * cp)
+    assert d.std == pytest.approx(sigma, rel=1e-12)
+    assert d.mean == pytest.approx(25.0 + 0.25 * 0.05, rel=1e-12)
+    assert d.tolerance == pytest.approx(0.1, rel=1e-12)   # the drawing band, not 6σ
+    # closed forms: Cp = T/6σ, Cpk = min(USL − μ, μ − LSL)/3σ
+    assert 0.1 / (6 * d.std) == pytest.approx(cp)
+    assert min(25.05 - d.mean, d.mean - 24.95) / (3 * d.std) == pytest.approx(1.33)
+    # fraction outside the drawing limits from scipy
+    out = stats.norm.sf(25.05, d.mean, d.std) + stats.norm.cdf(24.95, d.mean, d.std)
+    assert out == pytest.approx(stats.norm.sf(3 * 1.33), rel=1e-3)
+
+
+def test_process_spec_combinations():
+    p = parse_tolerance("25 ±0.05 Cp 1.33").process
+    assert (p.cp, p.cpk, p.k) == (1.33, 1.33, 0.0)
+    p = parse_tolerance("25 ±0.05 Cpk ≥ 1.33").process
+    assert (p.cp, p.cpk, p.k) == (1.33, 1.33, 0.0)
+    p = parse_tolerance("25 ±0.05 Cp 2 Cpk 1.5").process
+    assert p.k == pytest.approx(0.25)
+    p = parse_tolerance("25 ±0.05 Cp=2 k=-0.25").process
+    assert (p.cpk, p.k) == (1.5, -0.25)
+    d = dist(parse_tolerance("25 ±0.05 Cp=2 k=-0.25").factor_table())
+    assert d.mean == pytest.approx(25.0 - 0.0125)
+    with pytest.raises(NotationError, match="disagree"):
+        parse_tolerance("25 ±0.05 Cp 2 Cpk 1.5 k 0.1")
+    with pytest.raises(NotationError, match="cannot exceed"):
+        parse_tolerance("25 ±0.05 Cp 1 Cpk 1.5")
+    with pytest.raises(NotationError, match="normal process"):
+        parse_tolerance("25 ±0.05 Cp 1.33").factor_table("uniform")
+    with pytest.raises(NotationError, match="two-sided"):
+        parse_tolerance("max 0.02 Cp 1.33")
+
+
+@pytest.mark.parametrize("text,kw,words", [
+    ("0.05", {}, "bare number is ambiguous"),
+    ("25", {}, "bare number is ambiguous"),
+    ("25 mm", {}, "nominal without a tolerance"),
+    ("24.95-25.05", {}, "write both deviations"),
+    ("25 0.1/0.05", {}, "needs a sign"),
+    ("+0.05", {}, "write both deviations"),
+    ("5%", {}, "percentage needs a nonzero nominal"),
+    ("H7", {}, "needs the nominal size"),
+    ("25 Q7", {}, "unknown fundamental deviation"),
+    ("25 t6", {"nominal": 20.0}, "differs from the nominal"),
+    ("20 t6", {}, "above 24"),
+    ("25 H7/H6", {}, "hole/shaft"),
+    ("±0.05 furlongs", {}, "unexpected 'furlongs'"),
+    ("±0.05 deg", {"unit": "mm"}, "cannot convert"),
+    ("25 ±0.05 Cp", {}, "ends too early"),
+    ("25 +0.05/+0.05", {}, "zero width"),
+    ("__import__('os')", {}, "unexpected"),
+    ("", {}, "empty"),
+    ("±0.05", {"unit": "parsec"}, "unknown unit"),
+])
+def test_errors_say_what_is_accepted(text, kw, words):
+    with pytest.raises(NotationError, match=words) as e:
+        parse_tolerance(text, **kw)
+    assert isinstance(e.value, InputError)
+    if words not in ("unknown unit",):
+        assert "accepted:" in e.value.reason and "H7/g6" in e.value.reason
+
+
+def test_formatting_round_trips():
+    for lo, hi in [(-0.05, 0.05), (0.0, 0.1), (-0.02, 0.0), (-0.020, -0.007), (0.01, 0.03),
+                   (-1 / 3, 2 / 3), (-0.010499999999999999, 0.0105)]:
+        s = format_deviations(lo, hi)
+        t = parse_tolerance(s)
+        assert (t.lower, t.upper) == pytest.approx((lo, hi), rel=1e-11, abs=1e-15), s
+    assert format_deviations(-0.05, 0.05) == "±0.05"
+    assert format_deviations(-0.02, 0.0) == "0/-0.02"
+    assert format_deviations(-0.020, -0.007) == "-0.007/-0.02"
+    assert format_limits(24.95, 25.05) == "24.95..25.05"
+    assert fmt(1e-7) == "0.0000001" and "e" not in fmt(123456789012.5)
+    assert parse_tolerance(format_limits(24.0695, 24.0905)).limits == (24.0695, 24.0905)

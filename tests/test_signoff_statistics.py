@@ -1,0 +1,156 @@
+"""Statistics that say what they are: one- or two-sided bounds, the n that would demonstrate a
+requirement, the default yield stated, and no vacuous verdicts — through the real CLI (``main``).
+
+References are independent of rvtol's code: SciPy's beta quantiles and binomtest intervals, the
+success-run formula n = ln(1 − c)/ln(Y), and Bissell's formula evaluated by hand.
+"""
+import json
+import math
+
+import pytest
+from scipy import stats
+
+from rvtol import stats as st
+from rvtol.cli import main
+
+SPEC = """
+[[factor]]
+name = "a"
+unit = "um"
+dist = "normal"
+sigma = 1.0
+"""
+
+
+def study(tmp_path, requirements: str, *, exploratory: bool | None = None, n: int = 2000) -> str:
+    (tmp_path / "spec.toml").write_text(SPEC)
+    head = '[study]\nname = "s"\nspec = "spec.toml"\n'
+    if exploratory is not None:
+        head += f"exploratory = {str(exploratory).lower()}\n"
+    text = (head + '[model]\nkind = "linear"\n[[model.output]]\nname = "y"\nunit = "um"\n'
+            'coefficients = { a = 1.0 }\n' f'[sampling]\nn = {n}\nmethod = "lhs"\nseed = 11\n' + requirements)
+    p = tmp_path / "study.toml"
+    p.write_text(text)
+    return str(p)
+
+
+def run(tmp_path, path, *extra):
+    out = tmp_path / "out"
+    rc = main(["run", path, "--out", str(out), "--no-pdf", "--executor", "serial", "--quiet", *extra])
+    return rc, (json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else None), out
+
+
+def reqs(s):
+    return s["outputs"]["y"]["requirements"]
+
+
+# --------------------------------------------------------------------------- bounds (unit level)
+@pytest.mark.parametrize("method", ["exact", "wilson"])
+@pytest.mark.parametrize("k,n", [(990, 1000), (1000, 1000), (3, 40), (0, 25)])
+def test_a_two_sided_lower_end_is_the_one_sided_bound_at_one_plus_c_over_two(method, k, n):
+    low = stats.binomtest(k, n).proportion_ci(confidence_level=0.95, method=method).low
+    assert st.proportion_lower_bound(k, n, 0.975, method) == pytest.approx(low, abs=1e-12)
+    if method == "exact" and k > 0:  # one-sided Clopper–Pearson: the 5 % beta quantile
+        assert st.proportion_lower_bound(k, n, 0.95) == pytest.approx(stats.beta.ppf(0.05, k, n - k + 1))
+
+
+def test_success_run_sample_size():
+    # zero failures: the smallest n with (1 − c)^(1/n) >= Y, i.e. n >= ln(1 − c)/ln(Y)
+    for y, c in [(0.9973, 0.95), (0.99, 0.90), (0.999, 0.99)]:
+        assert st.n_for_yield(1.0, y, c) == math.ceil(math.log(1 - c) / math.log(y))
+
+
+def test_n_for_yield_is_the_smallest_n_at_the_observed_rate():
+    est, req, c = 0.9990, 0.9973, 0.95
+    n = st.n_for_yield(est, req, c)
+    bound = lambda m: stats.beta.ppf(1 - c, est * m, m * (1 - est) + 1)  # noqa: E731  (real k: the observed rate)
+    assert bound(n) >= req > bound(n - 1)
+    assert st.n_for_yield(0.9973, req, c) is None and st.n_for_yield(0.99, req, c) is None
+
+
+def test_n_for_cpk_inverts_bissell():
+    cpk, req, c = 1.52, 1.33, 0.95
+    n = st.n_for_cpk(cpk, req, c)
+    z = stats.norm.ppf(c)
+    bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
+    assert bissell(n) >= req > bissell(n - 1)
+    assert st.n_for_cpk(1.2, req, c) is None
+
+
+# --------------------------------------------------------------------------- through the CLI
+def test_one_sided_is_the_default_and_two_sided_is_stricter(tmp_path):
+    rc, s, _ = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nupper = 2.8\nmin_yield = 0.5\n'))
+    r = reqs(s)[0]
+    n = s["n"]
+    k = round(r["yield"] * n)
+    assert 0 < n - k < 30 and r["bound"] == "one-sided" and r["bound_level"] == 0.95
+    one = stats.beta.ppf(0.05, k, n - k + 1)
+    two = stats.binomtest(k, n).proportion_ci(confidence_level=0.95).low
+    assert r["yield_bound"] == pytest.approx(one, rel=1e-12)
+    mid = float(0.5 * (one + two))
+    text = "".join(f'[[requirement]]\nname = "{b}"\noutput = "y"\nupper = 2.8\nmin_yield = {mid!r}\nbound = "{b}"\n'
+                   for b in ("one-sided", "two-sided"))
+    rc, s, out = run(tmp_path, study(tmp_path, text))
+    by = {r["requirement"]: r for r in reqs(s)}
+    assert by["one-sided"]["passed"] and not by["two-sided"]["passed"]
+    assert by["two-sided"]["yield_bound"] == pytest.approx(two, rel=1e-12) and by["two-sided"]["bound_level"] == 0.975
+    assert rc == 1 and s["verdict"] == "FAIL"
+    html = (out / "report.html").read_text()
+    assert "95 % one-sided lower bound" in html and "lower end of the two-sided 95 % interval (97.5 % one-sided)" in html
+
+
+def test_a_requirement_short_of_samples_gets_the_n_that_would_demonstrate_it(tmp_path, capsys):
+    # every sample inside (|y| < 5σ): yield 1, but 500 samples cannot demonstrate 99.73 % at 95 %
+    rc, s, out = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nupper = 5.0\n', n=500))
+    r = reqs(s)[0]
+    assert rc == 1 and r["yield"] == 1.0 and not r["passed"]
+    assert r["min_yield"] == 0.9973 and r["min_yield_default"] is True
+    assert r["n_to_demonstrate"] == math.ceil(math.log(0.05) / math.log(0.9973))  # success run: 1109
+    assert any("about n = 1109 samples would demonstrate it" in why for why in r["reasons"])
+    html = (out / "report.html").read_text()
+    assert "yield ≥ 0.9973 (default)" in html and "rvtol&#39;s default" in html
+    # and with that many samples it is demonstrated
+    rc, s, _ = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nupper = 5.0\n', n=1109))
+    assert rc == 0 and reqs(s)[0]["passed"] and reqs(s)[0]["n_to_demonstrate"] is None
+
+
+def test_a_cpk_short_of_samples_gets_bissells_n(tmp_path):
+    rc, s, _ = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nlower = -4.3\nupper = 4.3\n'
+                                             'min_cpk = 1.33\n', n=200))
+    r = reqs(s)[0]
+    cpk, n_need = r["cpk"], r["n_to_demonstrate"]
+    assert cpk > 1.33 and not r["passed"] and n_need > 200
+    z = stats.norm.ppf(0.95)
+    bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
+    assert bissell(n_need) >= 1.33 > bissell(n_need - 1)
+    assert r["cpk_bound"] == pytest.approx(bissell(200))
+
+
+def test_an_estimate_that_misses_says_more_samples_will_not_help(tmp_path):
+    rc, s, _ = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nupper = 1.0\nmin_yield = 0.99\n'))
+    r = reqs(s)[0]
+    assert rc == 1 and r["n_to_demonstrate"] is None
+    assert any("more samples will not demonstrate it" in why for why in r["reasons"])
+
+
+# --------------------------------------------------------------------------- no vacuous verdicts
+def test_no_requirement_is_not_a_pass(tmp_path, capsys):
+    rc, s, out = run(tmp_path, study(tmp_path, ""))
+    assert rc == 4
+    assert s["verdict"] == "NO REQUIREMENTS" and s["passed"] is False and s["requirements_checked"] == 0
+    assert "verdict: NO REQUIREMENTS" in capsys.readouterr().out
+    assert "NO REQUIREMENTS" in (out / "report.html").read_text()
+
+
+def test_an_exploratory_study_says_so_and_exits_0(tmp_path, capsys):
+    rc, s, out = run(tmp_path, study(tmp_path, "", exploratory=True))
+    assert rc == 0 and s["verdict"] == "EXPLORATORY" and s["passed"] is False and s["exploratory"] is True
+    assert "verdict: EXPLORATORY" in capsys.readouterr().out
+
+
+def test_every_study_either_checks_a_requirement_or_declares_itself_exploratory(root):
+    from rvtol.study import load_study
+
+    for p in sorted((root / "studies").glob("*.toml")):
+        st_ = load_study(p)
+        assert st_.requirements or st_.exploratory, p.name

@@ -1,0 +1,141 @@
+"""Stack-up conventions against hand computation, the true worst case against analytic extremes (a position
+zone's disc, an interior extreme a corner search misses), FORM exact on a linear normal stack, importance
+sampling against numerical integration of a curved sub-ppm tail."""
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate, stats
+
+from rvtol.distributions import Distribution
+from rvtol.model import FunctionModel, LinearModel, Quantity
+from rvtol.models.formula.model import FormulaModel
+from rvtol.spec import Factor, ToleranceSpec
+from rvtol.stacking import (form, handbook_mrss_factor, importance_sampling, stack_conventions,
+                            true_worst_case)
+
+
+def normal(name, mean, sigma, shift=0.0, limits=None, zone=""):
+    return Factor(name, "mm", Distribution.make("normal", mean=mean, sigma=sigma, shift=shift), limits=limits,
+                  zone=zone)
+
+
+def test_conventions_equal_the_formulas_by_hand():
+    # four parts: one with a drawing band and a shifted process (Cp 1.5, k 0.2), one uniform, one correlated pair
+    fs = (normal("a", 10.0, 0.05 / 4.5, shift=0.2 * 0.05, limits=(9.95, 10.05)),
+          Factor("b", "mm", Distribution.make("uniform", lower=4.98, upper=5.02)),
+          normal("c", 3.0, 0.01), normal("d", 2.0, 0.02))
+    corr = np.eye(4)
+    corr[2, 3] = corr[3, 2] = 0.5
+    spec = ToleranceSpec("s", fs, corr)
+    a = np.array([1.0, -1.0, -2.0, 0.5])
+    x0 = np.array([10.0, 5.0, 3.0, 2.0])
+    y0 = float(a @ x0)
+    sc = stack_conventions(spec, a, y0, x0, output="gap", out_unit="um", out_base_unit="mm",
+                           sigma_levels=(3.0, 4.5), mrss_factor=1.6)
+    t = np.array([0.05, 0.02, 0.03, 0.06])              # half bands (normals: ±3σ of their own)
+    mu = np.array([10.01, 5.0, 3.0, 2.0])
+    sd = np.array([0.05 / 4.5, 0.04 / math.sqrt(12), 0.01, 0.02])
+    k = np.array([0.2, 0.0, 0.0, 0.0])
+    wc = float(np.sum(np.abs(a) * t))
+    rss = float(np.sqrt(np.sum((a * t) ** 2)))
+    cf = 1 + 0.5 * (wc - rss) / (rss * (2 - 1))         # n = 4: √n − 1 = 1
+    cov = np.outer(sd, sd) * corr
+    sig = math.sqrt(a @ cov @ a)
+    um = 1000.0
+    row = sc.row
+    assert sc.y_centre == pytest.approx(y0 * um)
+    assert row("worst case (arithmetic)")["half_width"] == pytest.approx(wc * um)
+    assert row("RSS")["half_width"] == pytest.approx(rss * um)
+    assert row("MRSS, Bender")["half_width"] == pytest.approx(1.5 * rss * um)
+    assert row("MRSS, handbook")["half_width"] == pytest.approx(cf * rss * um)
+    assert handbook_mrss_factor(wc, rss, 4) == pytest.approx(cf)
+    assert row("MRSS, given factor")["half_width"] == pytest.approx(1.6 * rss * um)
+    r = row("statistical ±4.5σ (the distributions)")
+    assert r["centre"] == pytest.approx((y0 + a @ (mu - x0)) * um) and r["half_width"] == pytest.approx(4.5 * sig * um)
+    plain = math.sqrt(np.sum((a * sd) ** 2))
+    assert row("6σ static ±3σ")["half_width"] == pytest.approx((0.01 + 3 * plain) * um)
+    dyn = math.sqrt(np.sum((a * sd / (1 - k)) ** 2))
+    assert row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * dyn * um)
+    conv = math.sqrt(np.sum((a * t / (3 * 1.5)) ** 2))   # Cp 2, 1.5σ shift: Cpk 1.5
+    assert row("6σ dynamic, 1.5σ shift ±3σ")["half_width"] == pytest.approx(3 * conv * um)
+    f = sc.factors.set_index("factor")
+    assert f.loc["a", "Cp"] == pytest.approx(1.5) and f.loc["a", "Cpk"] == pytest.approx(1.2)
+    assert f["wc_pct"].sum() == pytest.approx(100.0)
+
+
+def zone_spec(radius=0.025):
+    sigma = radius / math.sqrt(-2 * math.log(1 - (stats.norm.cdf(3) - stats.norm.cdf(-3))))
+    return ToleranceSpec("z", (normal("h.x", 0.0, sigma, limits=(-radius, radius), zone="h"),
+                               normal("h.y", 0.0, sigma, limits=(-radius, radius), zone="h"),
+                               Factor("w", "mm", Distribution.make("uniform", lower=-0.01, upper=0.01))))
+
+
+def test_a_position_zone_is_a_disc_in_the_worst_case():
+    spec = zone_spec()
+    a = np.array([2.0, 1.0, 1.0])
+    sc = stack_conventions(spec, a, 0.0, np.zeros(3), out_unit="mm")
+    disc = 0.025 * math.sqrt(5) + 0.01
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(disc)   # not 0.025·3 + 0.01
+    m = LinearModel(spec.names, ["mm"] * 3, [Quantity("y", "mm")], [a])
+    wc = true_worst_case(m, spec, "y", gradient=a)
+    assert (wc.low, wc.high) == (pytest.approx(-disc, abs=1e-9), pytest.approx(disc, abs=1e-9))
+    x, y = wc.x_high["h.x"], wc.x_high["h.y"]
+    assert math.hypot(x, y) == pytest.approx(0.025) and y / x == pytest.approx(0.5)   # along the gradient
+
+
+def test_the_true_worst_case_finds_an_interior_extreme_and_uses_the_analytic_gradient():
+    fs = (Factor("p", "1", Distribution.make("uniform", lower=1.0, upper=2.0)),
+          Factor("q", "1", Distribution.make("uniform", lower=-3.0, upper=0.5)),
+          Factor("r", "1", Distribution.make("uniform", lower=-1.0, upper=2.0)))
+    spec = ToleranceSpec("n", fs)
+    f = FormulaModel({"y": "p*q - r**2"}, spec.names)
+    # p·q over [1,2]×[-3,0.5]: max 1 (2·0.5), min -6 (2·-3); -r² over [-1,2]: max 0 (interior r = 0), min -4
+    wc = true_worst_case(f, spec, "y")
+    assert wc.high == pytest.approx(1.0, abs=1e-8) and wc.low == pytest.approx(-10.0, abs=1e-8)
+    assert abs(wc.x_high["r"]) < 1e-4 and "analytic gradient" in wc.how
+    py = FunctionModel(lambda X: (X[:, 0] * X[:, 1] - X[:, 2] ** 2)[:, None], spec.names, ["y"])
+    wc2 = true_worst_case(py, spec, "y")
+    assert wc2.high == pytest.approx(1.0, abs=1e-7) and "central differences" in wc2.how
+
+
+def test_form_is_exact_for_a_linear_stack_of_correlated_normals_and_importance_sampling_agrees():
+    fs = (normal("a", 1.0, 0.02), normal("b", 0.5, 0.01), normal("c", 0.2, 0.015))
+    corr = np.array([[1, 0.3, 0], [0.3, 1, -0.2], [0, -0.2, 1.0]])
+    spec = ToleranceSpec("l", fs, corr)
+    a = np.array([1.0, -2.0, 1.5])
+    m = LinearModel(spec.names, ["mm"] * 3, [Quantity("y", "mm", "um")], [a])
+    mu, sd = np.array([1.0, 0.5, 0.2]), np.array([0.02, 0.01, 0.015])
+    s = math.sqrt(a @ (np.outer(sd, sd) * corr) @ a)
+    upper = (a @ mu + 5.2 * s) * 1000        # µm: a 0.1 ppm tail
+    exact = stats.norm.sf(5.2)
+    est, z = form(m, spec, "y", upper, "upper")
+    assert est.converged and est.beta == pytest.approx(5.2, rel=1e-6) and est.pf_form == pytest.approx(exact, rel=1e-5)
+    importance_sampling(m, spec, est, z, 4000, seed=7)
+    assert abs(est.pf_is - exact) < 4 * est.pf_is_se and est.pf_is_se < 0.1 * exact
+    # the most probable failure point lies on the limit
+    xs = np.array([est.x_star[n] for n in spec.names])
+    assert a @ xs * 1000 == pytest.approx(upper, rel=1e-7)
+    lo, _ = form(m, spec, "y", (a @ mu - 4.0 * s) * 1000, "lower")
+    assert lo.beta == pytest.approx(4.0, rel=1e-6)
+
+
+def test_importance_sampling_corrects_form_on_a_curved_sub_ppm_tail():
+    spec = ToleranceSpec("c", (normal("x1", 0.0, 1.0), normal("x2", 0.0, 1.0)))
+    f = FormulaModel({"y": "x1 + 0.05*x2**2"}, spec.names, ["mm", "mm"])
+    U = 5.0
+    exact = integrate.quad(lambda v: stats.norm.pdf(v) * stats.norm.sf(U - 0.05 * v * v), -12, 12, epsabs=0,
+                           epsrel=1e-10)[0]
+    est, z = form(f, spec, "y", U, "upper")
+    assert est.beta == pytest.approx(5.0, rel=1e-5)
+    assert est.pf_form == pytest.approx(stats.norm.sf(5.0), rel=1e-4) and est.pf_form < 0.8 * exact   # curvature
+    importance_sampling(f, spec, est, z, 20000, seed=11)
+    assert abs(est.pf_is - exact) < 4 * est.pf_is_se and est.pf_is_se < 0.05 * exact
+    assert est.ppm_is < 1.0   # sub-ppm
+
+
+def test_a_limit_beyond_the_bounded_worst_case_has_no_failure_point():
+    spec = ToleranceSpec("u", (Factor("u", "mm", Distribution.make("uniform", lower=-1.0, upper=1.0)),))
+    m = LinearModel(["u"], ["mm"], [Quantity("y", "mm")], [[1.0]])
+    est, z = form(m, spec, "y", 1.5, "upper")
+    assert z is None and est.pf_form == 0.0 and "out of reach" in est.notes[0]
