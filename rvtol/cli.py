@@ -21,6 +21,7 @@ import argparse
 import errno
 import json
 import os
+import time
 import sys
 from pathlib import Path
 
@@ -253,12 +254,16 @@ def _run(args) -> int:
 
             comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
             extra["comparison.json"] = json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False)
+        t0 = time.perf_counter()
         write_outputs(result, out, extra_files=extra)
+        t_report = time.perf_counter() - t0
     if store.reused:
         print(f"rvtol: resumed: {store.reused} chunks ({store.reused_rows} evaluations) reused, "
               f"{store.saved} computed", file=sys.stderr)
     if not args.quiet:
         _print_result(result)
+        phases = [*result.timings.items(), ("report", t_report)]
+        print("time by phase: " + " · ".join(f"{k} {v:.1f} s" for k, v in phases))
         if comparison is not None:
             print(comparison.text())
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))

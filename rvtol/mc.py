@@ -240,13 +240,33 @@ class MonteCarloResult:
         return next(q.shown_unit for q in self.outputs if q.name == name)
 
     # -- tables ----------------------------------------------------------------
-    def to_frame(self) -> pd.DataFrame:
-        """One row per sample: factor values and outputs in display units, and status."""
-        df = self.samples.to_frame(display=True)
+    def to_frame(self, rows: slice = slice(None)) -> pd.DataFrame:
+        """One row per sample (``rows``: a range of them): factor values and outputs in display units, and status."""
+        from . import units
+
+        s = self.samples
+        cols = {f"{nm} [{u}]": units.from_base(s.values[rows, j], u) for j, (nm, u) in enumerate(zip(s.names, s.units))}
         for j, q in enumerate(self.outputs):
-            df[f"{q.name} [{q.shown_unit}]"] = self.Y[:, j]
-        df["status"] = self.status
-        return df
+            cols[f"{q.name} [{q.shown_unit}]"] = self.Y[rows, j]
+        cols["status"] = self.status[rows]
+        return pd.DataFrame(cols)
+
+    def write_parquet(self, path, rows: int = 1 << 17) -> None:
+        """:meth:`to_frame` written to a Parquet file ``rows`` samples at a time (one row group each): the memory
+        it takes is that of a chunk, not of n."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        writer = None
+        try:
+            for a in range(0, max(self.n, 1), rows):
+                table = pa.Table.from_pandas(self.to_frame(slice(a, a + rows)), preserve_index=False)
+                if writer is None:
+                    writer = pq.ParquetWriter(path, table.schema)
+                writer.write_table(table)
+        finally:
+            if writer is not None:
+                writer.close()
 
     def statistics(self) -> pd.DataFrame:
         return self._statistics.copy()
@@ -286,7 +306,7 @@ class MonteCarloResult:
             yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
             good = y[self.ok]
             cap = st.capability(good, r.lower, r.upper, r.confidence)
-            pci = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), r.confidence)
+            pci = (st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, r.confidence)
                    if len(good) >= 100 else (None, None))
             yb = yield_bound(r, yr.conforming, yr.n)
             pj = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), percentile_cpk_confidence(r))

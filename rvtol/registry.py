@@ -68,6 +68,8 @@ ANALYSES: dict[str, str] = {
     "morris": "rvtol.sensitivity.analyses:Morris",
     "fast": "rvtol.sensitivity.analyses:Fast",
     "delta": "rvtol.sensitivity.analyses:Delta",
+    "given_data": "rvtol.sensitivity.analyses:GivenData",
+    "pce": "rvtol.sensitivity.analyses:PCE",
     "sensitivity_matrix": "rvtol.sensitivity.analyses:SensitivityMatrix",
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",

@@ -41,6 +41,7 @@ def rng(seed: int | None, *keys: int) -> np.random.Generator:
 STREAMS = {
     "sobol": 1, "morris": 2, "fast": 3, "rbd_fast": 4, "delta": 5,   # global sensitivity designs (SALib)
     "pce": 6, "given_data": 9, "delta_subsample": 8,                  # surrogate / given-data bootstraps, subsample
+    "pce_subsample": 10,                                              # the Monte Carlo rows a surrogate is fitted on
     "ga_population": 7,                                               # GA initial population (from the GA seed)
     "stackup_domains": 11,                                            # domain sampling, one key per domain
     "clearance_fit_sizes": 12, "clearance_fit_positions": 13,         # hole/shaft sizes, position in the fit

@@ -178,30 +178,88 @@ def capability(y: np.ndarray, lower: float | None, upper: float | None,
         z = stats.norm.ppf(0.5 + confidence / 2)
         h = z * math.sqrt(1 / (9 * n) + cpk**2 / (2 * (n - 1)))
         out.update(cpk=float(cpk), cpk_lo=float(cpk - h), cpk_hi=float(cpk + h))
-    out["cpk_percentile"] = percentile_cpk(np.sort(y), lower, upper)
+    out["cpk_percentile"] = percentile_cpk(y, lower, upper)
     return out
 
 
-def percentile_cpk(y_sorted: np.ndarray, lower: float | None, upper: float | None) -> float | None:
-    """ISO 22514-2 style Cpk from the 0.135 %, 50 % and 99.865 % points (any distribution)."""
-    p_lo, med, p_hi = np.quantile(y_sorted, [0.00135, 0.5, 0.99865])
-    sides = []
-    if upper is not None and p_hi > med:
-        sides.append((upper - med) / (p_hi - med))
-    if lower is not None and med > p_lo:
-        sides.append((med - lower) / (med - p_lo))
-    return float(min(sides)) if sides else None
+#: the quantiles of the percentile ("non-normal") Cpk of ISO 22514-2
+CPK_QUANTILES = (0.00135, 0.5, 0.99865)
+
+
+def _cpk_from_quantiles(p_lo, med, p_hi, lower: float | None, upper: float | None) -> np.ndarray:
+    """Percentile Cpk from the quantiles (arrays broadcast); NaN where no side is defined."""
+    p_lo, med, p_hi = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (p_lo, med, p_hi)))
+    out = np.full(med.shape, np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if upper is not None:
+            out = np.where(p_hi > med, np.minimum(out, (upper - med) / (p_hi - med)), out)
+        if lower is not None:
+            out = np.where(med > p_lo, np.minimum(out, (med - lower) / (med - p_lo)), out)
+    return np.where(np.isinf(out), np.nan, out)
+
+
+def percentile_cpk(y: np.ndarray, lower: float | None, upper: float | None) -> float | None:
+    """ISO 22514-2 style Cpk from the 0.135 %, 50 % and 99.865 % points (any distribution; ``y`` in any
+    order: the quantiles are found by partial sorting, O(n))."""
+    v = float(_cpk_from_quantiles(*np.quantile(y, CPK_QUANTILES), lower, upper))
+    return v if math.isfinite(v) else None
+
+
+def bootstrap_quantiles(y_sorted: np.ndarray, qs, n_boot: int = 200, seed: int = 0) -> np.ndarray:
+    """``[n_boot, len(qs)]``: the ``qs``-quantiles (NumPy's "linear" definition) of ``n_boot`` bootstrap
+    resamples of the sorted sample ``y_sorted``, drawn without forming the resamples.
+
+    A resample is n draws from the empirical distribution F_n, so its k-th order statistic is
+    F_n⁻¹(U_(k)) = y_(⌈n U_(k)⌉), U_(k) the k-th order statistic of n uniforms; the order statistics of
+    uniforms at ranks r₁ < … < r_m are jointly the partial sums of a Dirichlet(r₁, r₂ − r₁, …,
+    n + 1 − r_m) vector (spacings of uniform order statistics).  A quantile at position h = (n − 1) q
+    interpolates the order statistics at ranks ⌊h⌋ + 1 and ⌊h⌋ + 2.  Exact in distribution, O(m) per
+    resample instead of O(n).
+    """
+    y = np.asarray(y_sorted, dtype=float)
+    n = len(y)
+    h = (n - 1) * np.asarray(qs, dtype=float)
+    lo = np.floor(h).astype(np.int64)
+    frac = h - lo
+    ranks = np.unique(np.concatenate([lo + 1, np.minimum(lo + 2, n)]))      # 1-based
+    alpha = np.diff(np.concatenate([[0], ranks, [n + 1]])).astype(float)
+    from .sampling import rng
+
+    g = rng(seed).gamma(alpha, size=(n_boot, alpha.size))
+    u = np.cumsum(g, axis=1)[:, :-1] / g.sum(axis=1, keepdims=True)        # U_(r) for each rank
+    values = y[np.clip(np.ceil(n * u).astype(np.int64) - 1, 0, n - 1)]     # resample order statistics
+    at = {r: values[:, i] for i, r in enumerate(ranks)}
+    out = np.empty((n_boot, len(h)))
+    for j, (l0, f) in enumerate(zip(lo, frac)):
+        a = at[l0 + 1]
+        b = at[min(l0 + 2, n)]
+        out[:, j] = a + f * (b - a)
+    return out
+
+
+def percentile_cpk_ci(y_sorted: np.ndarray, lower: float | None, upper: float | None, confidence: float = 0.95,
+                      n_boot: int = 200, seed: int = 0) -> tuple[float | None, float | None]:
+    """Percentile bootstrap interval of :func:`percentile_cpk` (fixed seed: reproducible), the resamples'
+    quantiles drawn by :func:`bootstrap_quantiles` (O(n_boot), whatever n)."""
+    q = bootstrap_quantiles(y_sorted, CPK_QUANTILES, n_boot, seed)
+    vals = _cpk_from_quantiles(q[:, 0], q[:, 1], q[:, 2], lower, upper)
+    vals = vals[np.isfinite(vals)]
+    if len(vals) < n_boot // 2:
+        return None, None
+    a = 1 - confidence
+    return float(np.quantile(vals, a / 2)), float(np.quantile(vals, 1 - a / 2))
 
 
 def bootstrap_ci(y: np.ndarray, statistic, confidence: float = 0.95, n_boot: int = 200,
                  seed: int = 0) -> tuple[float | None, float | None]:
-    """Percentile bootstrap interval of ``statistic(sorted sample)`` (fixed seed: reproducible)."""
+    """Percentile bootstrap interval of ``statistic(resample)`` (fixed seed: reproducible), by resampling:
+    O(n) per resample (the reference :func:`percentile_cpk_ci` is tested against)."""
     from .sampling import rng
 
     g = rng(seed)
     vals = []
     for _ in range(n_boot):
-        v = statistic(np.sort(g.choice(y, size=len(y), replace=True)))
+        v = statistic(g.choice(y, size=len(y), replace=True))
         if v is not None and np.isfinite(v):
             vals.append(v)
     if len(vals) < n_boot // 2:

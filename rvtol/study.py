@@ -400,7 +400,7 @@ class StudyResult:
     sections: list[Section]
     elapsed: float
     executor: str
-    timings: list = field(default_factory=list)   # (phase, seconds): the Monte Carlo, then each analysis
+    timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", then each analysis' key
 
     @property
     def passed(self) -> bool:
@@ -432,18 +432,20 @@ def run_study(study: Study, executor: Executor | None = None, store=None) -> Stu
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
-    timings = []
+    timings = {}
     try:
         mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
                              o.chunk_size, o.progress, o.confidence, store=store)
-        timings.append((f"Monte Carlo ({o.n} samples)", time.perf_counter() - t0))
+        timings["monte_carlo"] = time.perf_counter() - t0
         ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
-        for a in study.analyses:
-            t1 = time.perf_counter()
+        for i, a in enumerate(study.analyses):
+            ta = time.perf_counter()
             res = a.run(ctx)
-            sections.extend(res if isinstance(res, list) else [res])
-            timings.append((f"analysis {getattr(a, 'key', None) or type(a).__name__}", time.perf_counter() - t1))
+            res = res if isinstance(res, list) else [res]
+            sections.extend(res)
+            name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
+            timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
         desc = ex.describe()
     finally:
         if own:
@@ -528,9 +530,9 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
     try:
         summary = result.summary()
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
-        samples = result.mc.to_frame()
-        samples.to_parquet(tmp / "samples.parquet", index=False)
-        write_tables(result, samples, tmp)
+        result.mc.write_parquet(tmp / "samples.parquet")      # a chunk at a time: memory of a chunk, not of n
+        if result.study.options.tables:
+            write_tables(result, result.mc.to_frame(), tmp)
         html = render_html(result)
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:

@@ -69,6 +69,12 @@ method = "rbd"
 [[analysis]]
 kind = "delta"
 num_resamples = 10
+[[analysis]]
+kind = "given_data"
+num_resamples = 50
+[[analysis]]
+kind = "pce"
+num_resamples = 20
 """
 
 
@@ -77,7 +83,7 @@ def test_every_sensitivity_analysis_runs_in_a_study(tmp_path):
     res = run_study(st)
     keys = [s.key for s in res.sections]
     assert keys == ["local_sensitivity", "sensitivity_curve", "contributions", "sobol", "morris", "fast",
-                    "rbd_fast", "delta"]
+                    "rbd_fast", "delta", "given_data", "pce"]
     for s in res.sections:
         json.dumps(s.summary, allow_nan=False)   # JSON-able, no NaN
         assert any(hasattr(b, "png") for b in s.blocks), s.key   # every analysis draws its plot
@@ -87,6 +93,18 @@ def test_every_sensitivity_analysis_runs_in_a_study(tmp_path):
     pred = res.sections[2].summary["gap"]["prediction"]
     sd = np.hypot(1.0, 2.0 * 4 / np.sqrt(12))
     assert pred["std_rss"] == pytest.approx(sd, rel=1e-9)
+    # the Monte Carlo routes: no model run; delta on its stated subsample (all 2000 here), the PCE exact
+    # for this linear model (Q² = 1) and its indices the closed form within their intervals
+    delta, given, pce = (s.summary for s in res.sections[7:])
+    assert delta["settings"]["n"] == 2000 and given["n_evaluations"] == pce["n_evaluations"] == 0
+    exact = {"a": 1.0 / sd ** 2, "b": (2.0 * 4 / np.sqrt(12)) ** 2 / sd ** 2}      # V_i / V of a − 2b
+    v = pce["validation"][0]
+    assert v["reliable"] and v["Q2_loo"] > 0.999999
+    for rec in pce["indices"]:
+        assert abs(rec["S1"] - exact[rec["factor"]]) <= rec["S1_conf"] + 1e-6
+        assert abs(rec["ST"] - exact[rec["factor"]]) <= rec["ST_conf"] + 1e-6
+    for rec in given["indices"]:
+        assert abs(rec["S1"] - exact[rec["factor"]]) <= 2 * rec["S1_conf"]
 
 
 @pytest.mark.parametrize("table, key", [
@@ -100,6 +118,12 @@ def test_every_sensitivity_analysis_runs_in_a_study(tmp_path):
     ('kind = "local_sensitivity"\nabs_step = { zz = 1.0 }', "analysis[0].abs_step.zz"),
     ('kind = "local_sensitivity"\npercnt = 5', "analysis[0].percnt"),
     ('kind = "fast"\nmethod = "rbd"\nsamples = "old"', "analysis[0].samples"),
+    ('kind = "delta"\nn = 50', "analysis[0].n"),
+    ('kind = "given_data"\nclasses = 1', "analysis[0].classes"),
+    ('kind = "pce"\nmin_q2 = 1.5', "analysis[0].min_q2"),
+    ('kind = "pce"\non_poor_fit = "ignore"', "analysis[0].on_poor_fit"),
+    ('kind = "pce"\nmethod = "lars"', "analysis[0].method"),
+    ('kind = "pce"\nn = 20', "analysis[0].n"),
 ])
 def test_bad_analysis_input_names_file_and_key(tmp_path, table, key):
     path = write(tmp_path / "s.toml", STUDY + "\n[[analysis]]\n" + table + "\n")

@@ -61,6 +61,7 @@ def test_the_rv80e_study_loads():
     ("harmonic = 9", None, "model.harmonic"),
     ("load_torque = -5", None, "model.load_torque"),
     ("bogus = 1", None, "model.bogus"),
+    ("max_order = 100", None, "model.max_order"),        # per_crank_rev is set too: one or the other
     ("", '[[factor]]\nname = "E_q"\nunit = "um"\ndist = "uniform"\nlower = 0\nupper = 1\n', "factor"),
     ("", '[[factor]]\nname = "E_c"\nunit = "deg"\ndist = "uniform"\nlower = 0\nupper = 1\n', "factor.unit"),
 ])

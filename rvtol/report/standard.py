@@ -100,7 +100,7 @@ def inputs_section(result) -> Section:
         {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
         {"item": "executor", "value": result.executor},
         {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo and analyses; report writing after)"},
-    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings])
+    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings.items()])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
     sec.add_table(run, caption="Run")

@@ -78,7 +78,7 @@ def build_summary(result) -> dict:
         "method": st.options.method,
         "executor": result.executor,
         "wall_time_s": result.elapsed,
-        "timings_s": {phase: seconds for phase, seconds in result.timings},
+        "timings_s": {k: round(v, 3) for k, v in result.timings.items()},
         "confidence": mc.confidence,
         "inputs": st.inputs,
         "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),

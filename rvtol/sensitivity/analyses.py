@@ -19,8 +19,18 @@ sobol                  ``n`` (base samples, power of 2; 1024), ``second_order`` 
 morris                 ``trajectories`` (20), ``levels`` (4), ``num_resamples`` (1000)
 fast                   ``method`` = "efast" (``n`` per factor, 1024; ``M`` 4) or "rbd" (RBD-FAST on
                        the Monte Carlo samples, or ``samples = "fresh"`` with ``n``; ``M`` 10)
-delta                  ``samples`` = "monte_carlo" (default: reuse the study's sample, correlation
-                       included) or "fresh" (``n``); ``num_resamples`` (50)
+delta                  ``samples`` = "monte_carlo" (default: a random subsample of the study's sample,
+                       correlation included, ``n`` = 2000 rows, 0 = all of them) or "fresh" (``n`` new
+                       runs, 2048); ``num_resamples`` (50)
+given_data             first-order indices from the Monte Carlo sample, no model run: ``classes``
+                       (⌊√n⌋ in [8, 200]), ``num_resamples`` (200)
+pce                    S1, ST, S2 from a polynomial chaos surrogate fitted on the Monte Carlo sample, no
+                       model run, with its validation (Q² leave-one-out and hold-out): ``min_q2``
+                       (0.95: below it the indices are withheld), ``on_poor_fit`` ("withhold" |
+                       "warn" | "raise"), ``n`` (fit on a subsample; 0 = all), ``holdout`` (0.2),
+                       ``germs`` ("auto"), ``ci`` ("bootstrap" | "asymptotic"), ``num_resamples``
+                       (100), ``second_order`` (true), ``max_degree``, ``q``, ``max_interaction``,
+                       ``method`` ("omp" | "ols")
 sensitivity_matrix     drawing tolerance × output (default outputs: every output a requirement names):
                        five-point linearised variance shares of every tolerance, Sobol total indices
                        of the ``top`` (10) tolerances (the others as one group; ``n`` = 64 base
@@ -33,11 +43,15 @@ import pandas as pd
 
 from ..analysis import Analysis
 from ..errors import did_you_mean
-from ..report.sections import Section, frame_records
+from ..report.sections import Section, Table, frame_records
 from ..units import label
 from . import global_ as gs
+from ._given import CorrelatedInputsWarning
+from .given_data import DELTA_DEFAULT_N, delta_given, delta_subsample, given_data
 from .linearisation import contributions, high_low_table
 from .local import five_point, sensitivity_curve
+from .surrogate import CI_METHODS, MIN_Q2, POOR_FIT, PoorSurrogateWarning, pce
+from .surrogate import METHODS as FIT_METHODS
 
 
 class _Analysis(Analysis):
@@ -342,15 +356,88 @@ class Delta(_GlobalAnalysis):
 
     def parse(self, params):
         self.samples = params.str("samples", "monte_carlo", choices=("monte_carlo", "fresh"))
-        self.n = params.int("n", 2048, min=100)
+        given = self.samples == "monte_carlo"
+        # on the Monte Carlo sample: a random subsample of n rows (its kernel density estimates cost ~n² per
+        # factor); n = 0 keeps every sample.  Fresh: n new model runs.
+        self.n = params.int("n", DELTA_DEFAULT_N if given else 2048, min=0 if given else 100)
+        if given and 0 < self.n < 100:
+            raise params.error("n", f"must be 0 (every sample) or >= 100, got {self.n}")
         self.num_resamples = params.int("num_resamples", 50, min=10)
 
     def run(self, ctx):
-        given = self.samples == "monte_carlo"
-        return self.report(gs.delta(ctx.model, ctx.spec, self.n, self.factors, self.outputs, self.seed_of(ctx),
-                                    ctx.mc.samples if given else None, ctx.mc.Y if given else None,
-                                    self.num_resamples, self.confidence_of(ctx), ctx.evaluator,
-                                    ctx.executor))
+        args = dict(factors=self.factors, outputs=self.outputs, seed=self.seed_of(ctx),
+                    num_resamples=self.num_resamples, confidence=self.confidence_of(ctx), evaluate=ctx.evaluator,
+                    executor=ctx.executor)
+        if self.samples == "fresh":
+            return self.report(gs.delta(ctx.model, ctx.spec, self.n, **args))
+        return self.report(delta_given(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, self.n or None, **args))
+
+
+class GivenData(_GlobalAnalysis):
+    kind, title = "given_data", "Global sensitivity: first-order indices from the Monte Carlo sample"
+    explain = ("First-order indices S1 = V[E(Y|X_i)]/V[Y] from the Monte Carlo samples themselves, with no further "
+               "model run: the correlation ratio of the output on each factor over equal-count classes of the "
+               "factor, with Kelley's correction of its noise bias (Plischke, Borgonovo & Smith 2013); CIs by "
+               "bootstrap of the samples. Total indices cannot be read from given data: the pce analysis (a "
+               "surrogate fitted on the same samples) or the Saltelli route (sobol) gives them.")
+
+    def parse(self, params):
+        self.classes = params.int("classes", None, min=2)
+        self.num_resamples = params.int("num_resamples", 200, min=10)
+
+    def run(self, ctx):
+        return self.report(given_data(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, self.factors, self.outputs,
+                                      self.seed_of(ctx), self.classes, self.num_resamples, self.confidence_of(ctx)))
+
+
+class PCE(_GlobalAnalysis):
+    kind, title = "pce", "Global sensitivity: Sobol indices from a polynomial chaos surrogate"
+    explain = ("Sobol indices S1, ST (and S2) read from the coefficients of a sparse polynomial chaos expansion "
+               "fitted on the Monte Carlo samples (no further model run; Sudret 2008, Blatman & Sudret 2011). The "
+               "expansion is validated by leave-one-out and on held-out samples: below the stated Q² its indices "
+               "are withheld (their error could exceed their interval by up to 1 − Q²). CIs by bootstrap of the "
+               "samples, given the selected terms.")
+
+    def parse(self, params):
+        self.germs = params.str("germs", "auto", choices=("auto", "legendre", "hermite"))
+        self.holdout = params.float("holdout", 0.2, min=0.0, max=0.49)
+        self.ci = params.str("ci", "bootstrap", choices=CI_METHODS)
+        self.num_resamples = params.int("num_resamples", 100, min=10)
+        self.min_q2 = params.float("min_q2", MIN_Q2, min=0.0, max=1.0)
+        self.on_poor_fit = params.str("on_poor_fit", "withhold", choices=POOR_FIT)
+        self.second_order = params.bool("second_order", True)
+        self.n = params.int("n", 0, min=0)          # fit on a random subsample of n Monte Carlo rows (0: all)
+        if 0 < self.n < 100:
+            raise params.error("n", f"must be 0 (every sample) or >= 100, got {self.n}")
+        self.fit = {}
+        if "max_degree" in params:
+            self.fit["max_degree"] = params.int("max_degree", min=1)
+        if "q" in params:
+            self.fit["q"] = params.float("q", positive=True, max=1.0)
+        if "max_interaction" in params:
+            self.fit["max_interaction"] = params.int("max_interaction", min=1)
+        if "method" in params:
+            self.fit["method"] = params.str("method", choices=FIT_METHODS)
+
+    def run(self, ctx):
+        import warnings
+
+        samples, Y, note = delta_subsample(ctx.mc.samples, ctx.mc.Y, self.n or None, self.seed_of(ctx),
+                                           "pce_subsample", "the surrogate fit")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PoorSurrogateWarning)   # said in the section's notes
+            warnings.simplefilter("ignore", CorrelatedInputsWarning)
+            res = pce(ctx.model, ctx.spec, samples, Y, self.factors, self.outputs, self.seed_of(ctx), germs=self.germs,
+                      holdout=self.holdout, ci=self.ci, num_resamples=self.num_resamples,
+                      confidence=self.confidence_of(ctx), min_q2=self.min_q2, on_poor_fit=self.on_poor_fit,
+                      second_order=self.second_order, **self.fit)
+        res.notes.insert(0, note[0].upper() + note[1:] + ".")
+        sec = self.report(res)
+        v = res.validation.copy()
+        cols = [c for c in ("output", "reliable", "Q2_loo", "Q2_holdout", "rel_rmse_holdout", "bias_bound", "degree",
+                            "n_terms", "n_candidates", "n_samples", "n_holdout") if c in v.columns]
+        sec.blocks.insert(1, Table(v[cols], f"Validation of the surrogate (indices withheld below Q² = {self.min_q2:g})"))
+        return sec
 
 
 # --------------------------------------------------------------------------- cross-model matrix

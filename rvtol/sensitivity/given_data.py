@@ -199,11 +199,13 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
 
 # --------------------------------------------------------------------------- delta on a subsample
 def delta_subsample(samples: SampleSet, Y: np.ndarray, n: int | None = DELTA_DEFAULT_N,
-                    seed: int | None = None) -> tuple[SampleSet, np.ndarray, str]:
+                    seed: int | None = None, stream: str = "delta_subsample",
+                    what: str = "delta") -> tuple[SampleSet, np.ndarray, str]:
     """A random subsample of ``min(n, len(samples))`` rows (without replacement) and a note saying so.
 
-    ``n=None`` keeps every sample.  The rows are drawn from the ``delta_subsample`` stream of
-    ``seed`` and kept in their original order.
+    ``n=None`` keeps every sample.  The rows are drawn from the sub-stream ``stream`` of ``seed``
+    (:data:`rvtol.sampling.STREAMS`; delta's by default) and kept in their original order; ``what`` names
+    the method in the note.
     """
     from dataclasses import replace
 
@@ -212,13 +214,13 @@ def delta_subsample(samples: SampleSet, Y: np.ndarray, n: int | None = DELTA_DEF
     if len(Y) != N:
         raise InputError(f"Y has {len(Y)} rows for {N} samples", key="Y")
     if n is None or n >= N:
-        return samples, Y, f"delta on all {N} samples"
+        return samples, Y, f"{what} on all {N} samples"
     if n < 100:
-        raise InputError(f"the delta subsample needs n >= 100, got {n}", key="n")
-    rows = np.sort(substream(seed, "delta_subsample").choice(N, size=n, replace=False))
+        raise InputError(f"the {what} subsample needs n >= 100, got {n}", key="n")
+    rows = np.sort(substream(seed, stream).choice(N, size=n, replace=False))
     sub = replace(samples, values=samples.values[rows])
-    return sub, Y[rows], (f"delta on a random subsample of {n} of the {N} samples (its kernel density estimates "
-                          "cost ~n² per factor)")
+    cost = " (its kernel density estimates cost ~n² per factor)" if what == "delta" else ""
+    return sub, Y[rows], f"{what} on a random subsample of {n} of the {N} samples{cost}"
 
 
 def delta_given(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, n: int | None = DELTA_DEFAULT_N,

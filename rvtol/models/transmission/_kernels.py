@@ -17,6 +17,17 @@ forces are ``F = Σ Gᵀ f(d)`` and the tangent stiffness ``K = Σ Gᵀ (∂f/�
 equilibrium is ``F(q) = Q``.  The same Newton solver serves the quasi-static
 sweep and every step of the Newmark-β integration, and the Newmark loop also
 runs on a static table (``rv=False``) — the 1-DOF oscillators of the tests.
+
+Cost (issue 15; ``studies/benchmarks/bench_transmission.py`` measures it against the kernels before):
+a sweep computes the reducer's constants once (:func:`table_constants`: the error vectors, so a
+position costs 8 trigonometric calls instead of 64) and the pin geometry in passes over contiguous
+arrays (:func:`update_table_fast`); the 2·z_b pins are evaluated in a loop of their own (:func:`_forces`,
+:func:`_tangent`); the Cholesky factor works on rows; a Newmark step forms its dynamic stiffness
+once.  Division follows IEEE (``error_model="numpy"``: a zero divisor gives inf/NaN, which Newton
+reports as ``ST_NONFINITE``, instead of a Python exception), and the floating-point contraction /
+reassociation flags let LLVM fuse and vectorise (never ``nnan``/``ninf``: the finiteness checks stay).
+What remains is the number of Newton iterations — set by the contact state changing between
+positions (pins and bearing dead zones), not by the predictor: see ``studies/transmission_error.md``.
 """
 from __future__ import annotations
 
@@ -31,7 +42,7 @@ from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C
                      P_RRP, P_ZB, P_ZC, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
                      ST_SINGULAR, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_ON, S_TAB, THCA, T_C, T_D, T_F, T_M, UNILATERAL)
 
-_JIT = dict(cache=True, nogil=True)
+_JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath={"contract", "reassoc", "arcp", "nsz"})
 TWO_PI = 2.0 * math.pi
 
 # per-position record columns
@@ -47,14 +58,64 @@ REG = 1e-9
 
 
 # --------------------------------------------------------------------------- contact table
+# rows of the per-reducer constants `aux` (:func:`table_constants`): every eccentricity error as a vector
+# (E cos β, E sin β), the crank directions (cos φ_i, sin φ_i) and the mesh-line turn (cos, sin)(π/2 − α')
+AX_AS, AX_ECA, AX_AC, AX_EC, AX_EH, AX_PHI, AX_MESH = 0, 1, 4, 5, 11, 17, 20
+NAUX = 21
+#: rows of the pin scratch array of :func:`update_table_fast`: cos φ, sin φ, cos α, sin α, offset
+NPINW = 5
+
+
+@njit(**_JIT)
+def _polar(aux, r, mag, ang):
+    aux[r, 0] = mag * math.cos(ang)
+    aux[r, 1] = mag * math.sin(ang)
+
+
+@njit(**_JIT)
+def table_constants(prm, err):
+    """The angle-independent part of :func:`update_table` for one reducer (``aux[NAUX, 2]``).
+
+    The bearing errors ``E (cos(θ + β), sin(θ + β))`` of the table are the error vector
+    ``(Ex, Ey) = E (cos β, sin β)`` turned by θ, so a position needs the sines and cosines of the
+    nominal angles θ_c and θ_p and the two mesh terms per planet (8 trigonometric calls instead of 64).
+    """
+    aux = np.zeros((NAUX, 2))
+    _polar(aux, AX_AS, err[A_S], err[GAMMA_S])
+    _polar(aux, AX_AC, err[A_C], err[GAMMA_C])
+    for i in range(N_CRANK):
+        _polar(aux, AX_ECA + i, err[E_CA + i], err[BETA_CA + i])
+        _polar(aux, AX_PHI + i, 1.0, TWO_PI * i / N_CRANK)
+    for m in range(N_DISC * N_CRANK):
+        _polar(aux, AX_EC + m, err[E_C + m], err[BETA_C + m])
+        _polar(aux, AX_EH + m, err[E_H + m], err[BETA_H + m])
+    _polar(aux, AX_MESH, 1.0, 0.5 * math.pi - prm[P_ALPHAW])
+    return aux
+
+
 @njit(**_JIT)
 def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
     """Fill ``coef``/``off`` of every contact for the nominal carrier angle ``theta_c``.
 
     ``dth_s`` is the deviation of the input (sun) angle from its nominal
     ``i·theta_c`` (0 for a prescribed input; the locked-input torsion test keeps
-    ``theta_c`` fixed and ``dth_s = 0``).
+    ``theta_c`` fixed and ``dth_s = 0``).  One call; a sweep computes the constants
+    (:func:`table_constants`) and the scratch once and calls :func:`update_table_fast`.
     """
+    update_table_fast(theta_c, dth_s, prm, err, table_constants(prm, err), pin_err, disc_h, pin_cs, coef, off,
+                      np.empty((NPINW, pin_cs.shape[1])))
+
+
+@njit(**_JIT)
+def _turn(vx, vy, c, s):
+    """The vector (vx, vy) turned by the angle whose cosine and sine are (c, s)."""
+    return vx * c - vy * s, vx * s + vy * c
+
+
+@njit(**_JIT)
+def update_table_fast(theta_c, dth_s, prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w):
+    """:func:`update_table` with the reducer's constants ``aux`` (:func:`table_constants`) and a pin
+    scratch array ``w[NPINW, z_b]``: the pin geometry in passes over contiguous arrays (vectorised)."""
     zb = int(prm[P_ZB])
     zc = prm[P_ZC]
     e = prm[P_ECC]
@@ -66,31 +127,31 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
     k1 = zb * e / rp
     th_s = prm[P_RATIO] * theta_c
     th_p = (1.0 - zb) * theta_c
+    cth, sth = math.cos(theta_c), math.sin(theta_c)
+    cp, sp = math.cos(th_p), math.sin(th_p)
 
     # 1. sun support
     coef[C_SUN, 0, 0] = 1.0
-    off[C_SUN, 0] = -err[A_S] * math.cos(err[GAMMA_S])
+    off[C_SUN, 0] = -aux[AX_AS, 0]
     coef[C_SUN + 1, 0, 0] = 1.0
-    off[C_SUN + 1, 0] = -err[A_S] * math.sin(err[GAMMA_S])
+    off[C_SUN + 1, 0] = -aux[AX_AS, 1]
 
     for i in range(N_CRANK):
-        phi = TWO_PI * i / N_CRANK
-        # 2. sun-planet mesh along the line of action at A_i = θ_c + φ_i + π/2 − α'
-        a = theta_c + phi + 0.5 * math.pi - prm[P_ALPHAW]
-        ca = math.cos(a)
-        sa = math.sin(a)
+        ch, sh = _turn(cth, sth, aux[AX_PHI + i, 0], aux[AX_PHI + i, 1])       # h = θ_c + φ_i
+        # 2. sun-planet mesh along the line of action at A_i = h + π/2 − α'
+        ca, sa = _turn(ch, sh, aux[AX_MESH, 0], aux[AX_MESH, 1])
         c = C_MESH + i
         coef[c, 0, 0] = ca
         coef[c, 0, 1] = sa
         coef[c, 0, 2] = -ca
         coef[c, 0, 3] = -sa
         coef[c, 0, 4] = rbp
+        # the base-circle eccentricities: the cosine of the summed angle, as the document writes it (θ_s reaches
+        # ~500 rad: a product form would round differently in the last digits of these small terms)
+        a = theta_c + TWO_PI * i / N_CRANK + 0.5 * math.pi - prm[P_ALPHAW]
         off[c, 0] = (rbs * dth_s + err[E_S] * math.cos(th_s + err[BETA_S] - a)
                      - err[E_P + i] * math.cos(th_p + err[BETA_P + i] - a))
         # 5. crank - carrier bearing
-        h = theta_c + phi
-        ch = math.cos(h)
-        sh = math.sin(h)
         c = C_CRANK + i
         coef[c, 0, 0] = 1.0
         coef[c, 0, 1] = -1.0
@@ -98,24 +159,32 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
         coef[c, 1, 0] = 1.0
         coef[c, 1, 1] = -1.0
         coef[c, 1, 2] = -rdc * ch
-        off[c, 0] = -err[E_CA + i] * math.cos(h + err[BETA_CA + i])
-        off[c, 1] = -err[E_CA + i] * math.sin(h + err[BETA_CA + i])
+        ex, ey = _turn(aux[AX_ECA + i, 0], aux[AX_ECA + i, 1], ch, sh)
+        off[c, 0] = -ex
+        off[c, 1] = -ey
 
     # 6. carrier - housing bearing
     coef[C_HOUSING, 0, 0] = 1.0
     coef[C_HOUSING, 1, 0] = 1.0
-    off[C_HOUSING, 0] = -err[A_C] * math.cos(err[GAMMA_C])
-    off[C_HOUSING, 1] = -err[A_C] * math.sin(err[GAMMA_C])
+    off[C_HOUSING, 0] = -aux[AX_AC, 0]
+    off[C_HOUSING, 1] = -aux[AX_AC, 1]
 
+    ze = zc * e
+    kk = 1.0 + k1 * k1
+    pc = pin_cs[0]
+    ps = pin_cs[1]
+    cphi_ = w[0]
+    sphi_ = w[1]
+    cal_ = w[2]
+    sal_ = w[3]
+    o_ = w[4]
     for j in range(N_DISC):
-        th_e = th_p + math.pi * j          # eccentric direction of disc j
-        ce = math.cos(th_e)
-        se = math.sin(th_e)
+        sign = 1.0 if j % 2 == 0 else -1.0   # eccentric direction of disc j: θ_e = θ_p + π j
+        ce = sign * cp
+        se = sign * sp
         # 3. cycloid j - crank i bearing: d = u_cam − u_hole
         for i in range(N_CRANK):
-            h = theta_c + TWO_PI * i / N_CRANK
-            ch = math.cos(h)
-            sh = math.sin(h)
+            ch, sh = _turn(cth, sth, aux[AX_PHI + i, 0], aux[AX_PHI + i, 1])
             c = C_CAM + 3 * j + i
             coef[c, 0, 0] = 1.0
             coef[c, 0, 1] = -e * se
@@ -127,12 +196,11 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
             coef[c, 1, 2] = -se
             coef[c, 1, 3] = -e * ce
             coef[c, 1, 4] = -rdc * ch
-            ec = err[E_C + 3 * j + i]
-            bc = err[BETA_C + 3 * j + i]
-            eh = err[E_H + 3 * j + i]
-            bh = err[BETA_H + 3 * j + i]
-            off[c, 0] = ec * math.cos(th_e + bc) - eh * math.cos(h + bh)
-            off[c, 1] = ec * math.sin(th_e + bc) - eh * math.sin(h + bh)
+            m = 3 * j + i
+            cx_, cy_ = _turn(aux[AX_EC + m, 0], aux[AX_EC + m, 1], ce, se)
+            hx_, hy_ = _turn(aux[AX_EH + m, 0], aux[AX_EH + m, 1], ch, sh)
+            off[c, 0] = cx_ - hx_
+            off[c, 1] = cy_ - hy_
         # 4. cycloid j - pin k
         has_disc_err = False
         for f in range(2):
@@ -142,45 +210,59 @@ def update_table(theta_c, dth_s, prm, err, pin_err, disc_h, pin_cs, coef, off):
         dr_mod = err[MOD_EQ + j]
         dR_mod = err[MOD_MOVED + j]
         has_mod = dr_mod != 0.0 or dR_mod != 0.0
-        rot = th_e - theta_c               # disc-fixed angle = absolute angle − disc spin
-        cr = math.cos(rot)
-        sr = math.sin(rot)
+        pr = pin_err[PIN_R, j]
+        pa = pin_err[PIN_AP, j]
+        pg = pin_err[PIN_GAP, j]
         for k in range(zb):
-            cphi = pin_cs[0, k] * ce + pin_cs[1, k] * se      # φ = θ_k − θ_e
-            sphi = pin_cs[1, k] * ce - pin_cs[0, k] * se
-            s = math.sqrt(1.0 - 2.0 * k1 * cphi + k1 * k1)
-            cal = (cphi - k1) / s
-            sal = sphi / s
-            c = C_PIN + j * zb + k
-            coef[c, 0, 0] = cal
-            coef[c, 0, 1] = e * sal
-            coef[c, 0, 2] = zc * e * sal
-            o = -(pin_err[PIN_R, j, k] * (cal * cphi + sal * sphi)
-                  + pin_err[PIN_AP, j, k] * (sal * cphi - cal * sphi)) - pin_err[PIN_GAP, j, k]
+            cphi = pc[k] * ce + ps[k] * se      # φ = θ_k − θ_e
+            sphi = ps[k] * ce - pc[k] * se
+            inv = 1.0 / math.sqrt(kk - 2.0 * k1 * cphi)
+            cal = (cphi - k1) * inv
+            sal = sphi * inv
+            o = -(pr[k] * (cal * cphi + sal * sphi) + pa[k] * (sal * cphi - cal * sphi)) - pg[k]
             if has_mod:
                 # profile modification: normal clearance n(φ) = Δr − ΔR (1 − K1 cos φ)/√S (doc 004)
-                o -= dr_mod - dR_mod * (1.0 - k1 * cphi) / s
-            if has_disc_err:
+                o -= dr_mod - dR_mod * (1.0 - k1 * cphi) * inv
+            cphi_[k] = cphi
+            sphi_[k] = sphi
+            cal_[k] = cal
+            sal_[k] = sal
+            o_[k] = o
+        if has_disc_err:
+            # disc-fixed angle = absolute angle − disc spin: turn by rot = θ_e − θ_c
+            cr = ce * cth + se * sth
+            sr = se * cth - ce * sth
+            a0r = disc_h[j, 0, 0, 0]
+            a0t = disc_h[j, 1, 0, 0]
+            for k in range(zb):
+                cal = cal_[k]
+                sal = sal_[k]
                 # contact point C = pin centre − r_rp n, seen from the disc centre (eccentric frame)
-                cx = rp * cphi - rr * cal - e
-                cy = rp * sphi - rr * sal
-                cn = math.sqrt(cx * cx + cy * cy)
-                cc = cx / cn
-                sc = cy / cn
+                cx = rp * cphi_[k] - rr * cal - e
+                cy = rp * sphi_[k] - rr * sal
+                icn = 1.0 / math.sqrt(cx * cx + cy * cy)
+                cc = cx * icn
+                sc = cy * icn
                 c1 = cc * cr - sc * sr     # cos, sin of the disc-fixed angle of C
                 s1 = sc * cr + cc * sr
-                fr = 0.0
-                ft = 0.0
-                cn_ = 1.0
-                sn_ = 0.0
-                for n in range(NH):
+                fr = a0r
+                ft = a0t
+                cn_ = c1
+                sn_ = s1
+                for n in range(1, NH):
                     fr += disc_h[j, 0, n, 0] * cn_ + disc_h[j, 0, n, 1] * sn_
                     ft += disc_h[j, 1, n, 0] * cn_ + disc_h[j, 1, n, 1] * sn_
                     t = cn_ * c1 - sn_ * s1
                     sn_ = sn_ * c1 + cn_ * s1
                     cn_ = t
-                o += fr * (cal * cc + sal * sc) + ft * (sal * cc - cal * sc)
-            off[c, 0] = o
+                o_[k] += fr * (cal * cc + sal * sc) + ft * (sal * cc - cal * sc)
+        base = C_PIN + j * zb
+        for k in range(zb):
+            c = base + k
+            coef[c, 0, 0] = cal_[k]
+            coef[c, 0, 1] = e * sal_[k]
+            coef[c, 0, 2] = ze * sal_[k]
+            off[c, 0] = o_[k]
 
 
 # --------------------------------------------------------------------------- series laws
@@ -259,12 +341,16 @@ def _series_deflection(f, k0, pw, ser, c, tab):
 
 
 @njit(**_JIT)
-def series_law(s, k0, pw, ser, c, tab):
+def series_law(s, k0, pw, ser, c, tab, f0=0.0):
     """Force ``f`` of contact ``c``'s series law at deflection ``s > 0`` (``δ(f) = s``), the tangent
     ``df/ds = 1/δ'(f)`` and the energy ``∫_0^s f = f s − ∫_0^f δ``.
 
-    Newton on ``δ(f) − s`` kept inside a bracket (bisection when a step leaves it), from the upper end:
-    every term of δ is increasing from δ(0) = 0, so the kind's power law alone bounds f from above.
+    Newton on ``δ(f) − s`` kept inside a bracket (bisection when a step leaves it), from ``f0`` when it
+    lies inside (the contact's force at the previous evaluation: Newton's iterates move little), else
+    from the upper end: every term of δ is increasing from δ(0) = 0, so the kind's power law alone
+    (or the linear term alone) bounds f from above.  Newton converges quadratically: once a step is
+    below 1e-9 of f, the point it gives is exact to rounding, and the tangent and energy of the
+    point before it differ by less than that (relative 1e-9 × the law's curvature).
     """
     lo = 0.0
     if k0 > 0.0:
@@ -274,13 +360,13 @@ def series_law(s, k0, pw, ser, c, tab):
     else:
         t = int(ser[c, S_TAB])
         hi = s / tab[t, T_M, 0] if t >= 0 else s / ser[c, S_LOGB]
-    for _ in range(200):
-        d, dd, ce = _series_deflection(hi, k0, pw, ser, c, tab)
-        if d >= s:
-            break
-        lo = hi
-        hi *= 2.0
-    f = hi
+        for _ in range(200):
+            d, dd, ce = _series_deflection(hi, k0, pw, ser, c, tab)
+            if d >= s:
+                break
+            lo = hi
+            hi *= 2.0
+    f = f0 if lo < f0 < hi else hi
     for _ in range(200):
         d, dd, ce = _series_deflection(f, k0, pw, ser, c, tab)
         g = d - s
@@ -289,11 +375,14 @@ def series_law(s, k0, pw, ser, c, tab):
         elif g < 0.0:
             lo = f
         else:
-            break
+            return f, 1.0 / dd, f * s - ce
         fn = f - g / dd
         if not (fn > lo and fn < hi):
             fn = 0.5 * (lo + hi)
-        if abs(fn - f) <= 4e-16 * fn or hi - lo <= 4e-16 * hi:
+        elif abs(fn - f) <= 1e-9 * fn:
+            f = fn
+            break
+        if hi - lo <= 4e-16 * hi:
             f = fn
             break
         f = fn
@@ -323,25 +412,66 @@ def _zero_load_stiffness(k0, pw, gap, ser, c, tab):
 def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
     """Internal generalised forces ``F = Σ Gᵀ f`` and, per contact, force and tangent terms.
 
-    ``fc[c]``: signed force of a scalar contact, resultant of a bearing.
+    ``fc[c]``: signed force of a scalar contact, resultant of a bearing (on entry: the previous evaluation's,
+    the starting guess of a series law's inversion).
     ``kt[c]``: scalar contacts ``(k, 0, 0)``; bearings the 2×2 tangent ``(Kxx, Kxy, Kyy)``.
     Returns the elastic energy ``Σ ∫ f`` (``F`` is its gradient; the Newton line search uses it).
     """
+    return _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, 0)
+
+
+@njit(**_JIT)
+def _unilateral(d, k0, pw, ser, c, tab, f0):
+    """Force, tangent and energy of a one-sided contact at deflection ``d > 0`` (``f0``: a guess of the force,
+    for a series law)."""
+    if ser[c, S_ON] != 0.0:
+        return series_law(d, k0, pw, ser, c, tab, f0)
+    f = (k0 * d) ** pw
+    return f, pw * f / d, f * d / (pw + 1.0)
+
+
+@njit(**_JIT)
+def _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin):
+    """:func:`contact_forces`; the last ``npin`` contacts are *pins*: one-sided contacts on three
+    consecutive DOFs ``idx[c, 0, 0] + (0, 1, 2)`` (the reducer's cycloid–pin contacts, see
+    :func:`.contacts.static_table`), evaluated in a loop of their own (no index rows)."""
     F[:] = 0.0
     energy = 0.0
     nc = kind.size
-    for c in range(nc):
+    for c in range(nc - npin, nc):
+        i0 = idx[c, 0, 0]
+        g0 = coef[c, 0, 0]
+        g1 = coef[c, 0, 1]
+        g2 = coef[c, 0, 2]
+        d = off[c, 0] + g0 * q[i0] + g1 * q[i0 + 1] + g2 * q[i0 + 2]
+        kt[c, 1] = 0.0
+        kt[c, 2] = 0.0
+        if d > 0.0:
+            f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab, fc[c])
+            energy += e_c
+            fc[c] = f
+            kt[c, 0] = kk
+            F[i0] += g0 * f
+            F[i0 + 1] += g1 * f
+            F[i0 + 2] += g2 * f
+        else:
+            fc[c] = 0.0
+            kt[c, 0] = 0.0
+    for c in range(nc - npin):
         kd = kind[c]
         if kd == RADIAL:
             dx = off[c, 0]
             dy = off[c, 1]
             for m in range(NZ):
                 ix = idx[c, 0, m]
-                if ix >= 0:
-                    dx += coef[c, 0, m] * q[ix]
+                if ix < 0:
+                    break
+                dx += coef[c, 0, m] * q[ix]
+            for m in range(NZ):
                 iy = idx[c, 1, m]
-                if iy >= 0:
-                    dy += coef[c, 1, m] * q[iy]
+                if iy < 0:
+                    break
+                dy += coef[c, 1, m] * q[iy]
             r = math.sqrt(dx * dx + dy * dy)
             s = r - gap[c]
             if s <= 0.0 or r == 0.0:
@@ -352,7 +482,7 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
                 kt[c, 2] = k_zero
                 continue
             if ser[c, S_ON] != 0.0:
-                f, ktan, e_c = series_law(s, k0[c], pw[c], ser, c, tab)
+                f, ktan, e_c = series_law(s, k0[c], pw[c], ser, c, tab, fc[c])
                 energy += e_c
             else:
                 f = (k0[c] * s) ** pw[c]
@@ -369,29 +499,28 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
             fy = f * ny
             for m in range(NZ):
                 ix = idx[c, 0, m]
-                if ix >= 0:
-                    F[ix] += coef[c, 0, m] * fx
+                if ix < 0:
+                    break
+                F[ix] += coef[c, 0, m] * fx
+            for m in range(NZ):
                 iy = idx[c, 1, m]
-                if iy >= 0:
-                    F[iy] += coef[c, 1, m] * fy
+                if iy < 0:
+                    break
+                F[iy] += coef[c, 1, m] * fy
         else:
             d = off[c, 0]
             for m in range(NZ):
                 ix = idx[c, 0, m]
-                if ix >= 0:
-                    d += coef[c, 0, m] * q[ix]
+                if ix < 0:
+                    break
+                d += coef[c, 0, m] * q[ix]
             if kd == LINEAR:
                 f = k0[c] * d
                 kk = k0[c]
                 energy += 0.5 * f * d
             elif d > 0.0:
-                if ser[c, S_ON] != 0.0:
-                    f, kk, e_c = series_law(d, k0[c], pw[c], ser, c, tab)
-                    energy += e_c
-                else:
-                    f = (k0[c] * d) ** pw[c]
-                    kk = pw[c] * f / d
-                    energy += f * d / (pw[c] + 1.0)
+                f, kk, e_c = _unilateral(d, k0[c], pw[c], ser, c, tab, fc[c])
+                energy += e_c
             else:
                 f = 0.0
                 kk = 0.0
@@ -402,17 +531,34 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
             if f != 0.0:
                 for m in range(NZ):
                     ix = idx[c, 0, m]
-                    if ix >= 0:
-                        F[ix] += coef[c, 0, m] * f
+                    if ix < 0:
+                        break
+                    F[ix] += coef[c, 0, m] * f
     return energy
 
 
 @njit(**_JIT)
 def tangent_matrix(kind, idx, coef, kt, K):
-    """``K = Σ Gᵀ (∂f/∂d) G`` from the per-contact tangents of :func:`contact_forces`."""
+    """``K = Σ Gᵀ (∂f/∂d) G`` from the per-contact tangents of :func:`contact_forces` (rows of ``idx`` are
+    filled from the left: the first −1 ends a row)."""
+    _tangent(kind, idx, coef, kt, K, 0)
+
+
+@njit(**_JIT)
+def _tangent(kind, idx, coef, kt, K, npin):
+    """:func:`tangent_matrix` with the last ``npin`` contacts as pins (see :func:`_forces`)."""
     K[:, :] = 0.0
     nc = kind.size
-    for c in range(nc):
+    for c in range(nc - npin, nc):
+        kk = kt[c, 0]
+        if kk == 0.0:
+            continue
+        i0 = idx[c, 0, 0]
+        for a in range(3):
+            ga = kk * coef[c, 0, a]
+            for b in range(3):
+                K[i0 + a, i0 + b] += ga * coef[c, 0, b]
+    for c in range(nc - npin):
         if kind[c] == RADIAL:
             kxx = kt[c, 0]
             kxy = kt[c, 1]
@@ -423,16 +569,17 @@ def tangent_matrix(kind, idx, coef, kt, K):
                 for a in range(NZ):
                     ia = idx[c, r, a]
                     if ia < 0:
-                        continue
+                        break
                     ga = coef[c, r, a]
                     for s in range(2):
-                        kc = (kxx if s == 0 else kxy) if r == 0 else (kxy if s == 0 else kyy)
+                        kc = ga * ((kxx if s == 0 else kxy) if r == 0 else (kxy if s == 0 else kyy))
                         if kc == 0.0:
                             continue
                         for b in range(NZ):
                             ib = idx[c, s, b]
-                            if ib >= 0:
-                                K[ia, ib] += ga * kc * coef[c, s, b]
+                            if ib < 0:
+                                break
+                            K[ia, ib] += kc * coef[c, s, b]
         else:
             kk = kt[c, 0]
             if kk == 0.0:
@@ -440,19 +587,21 @@ def tangent_matrix(kind, idx, coef, kt, K):
             for a in range(NZ):
                 ia = idx[c, 0, a]
                 if ia < 0:
-                    continue
+                    break
                 ga = kk * coef[c, 0, a]
                 for b in range(NZ):
                     ib = idx[c, 0, b]
-                    if ib >= 0:
-                        K[ia, ib] += ga * coef[c, 0, b]
+                    if ib < 0:
+                        break
+                    K[ia, ib] += ga * coef[c, 0, b]
 
 
 # --------------------------------------------------------------------------- linear algebra
 @njit(**_JIT)
-def cholesky_solve(A, b, x):
-    """Solve A x = b for symmetric positive definite A (A is overwritten). False if not PD."""
-    n = b.size
+def cholesky_factor(A):
+    """Cholesky factor ``A = L Lᵀ`` in place (L in the lower triangle; only the lower triangle of the
+    symmetric ``A`` is read), by rows: dot products over contiguous rows.  False if not PD."""
+    n = A.shape[0]
     for j in range(n):
         s = A[j, j]
         for k in range(j):
@@ -461,72 +610,89 @@ def cholesky_solve(A, b, x):
             return False
         d = math.sqrt(s)
         A[j, j] = d
+        r = 1.0 / d
         for i in range(j + 1, n):
             t = A[i, j]
             for k in range(j):
                 t -= A[i, k] * A[j, k]
-            A[i, j] = t / d
-    for i in range(n):
+            A[i, j] = t * r
+    return True
+
+
+@njit(**_JIT)
+def cholesky_back(L, b, x):
+    """Solve ``L Lᵀ x = b`` with the factor of :func:`cholesky_factor` (rows of L only)."""
+    n = b.size
+    for i in range(n):            # L y = b
         t = b[i]
         for k in range(i):
-            t -= A[i, k] * x[k]
-        x[i] = t / A[i, i]
-    for i in range(n - 1, -1, -1):
-        t = x[i]
-        for k in range(i + 1, n):
-            t -= A[k, i] * x[k]
-        x[i] = t / A[i, i]
+            t -= L[i, k] * x[k]
+        x[i] = t / L[i, i]
+    for i in range(n - 1, -1, -1):   # Lᵀ x = y, by rows of L
+        t = x[i] / L[i, i]
+        x[i] = t
+        for k in range(i):
+            x[k] -= L[i, k] * t
+
+
+@njit(**_JIT)
+def cholesky_solve(A, b, x):
+    """Solve A x = b for symmetric positive definite A (A is overwritten). False if not PD."""
+    if not cholesky_factor(A):
+        return False
+    cholesky_back(A, b, x)
     return True
 
 
 # --------------------------------------------------------------------------- Newton
 @njit(**_JIT)
-def _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R):
+def workspace(nd, nc):
+    """Work arrays of the Newton solver: ``(F, K, fc, kt, R, dq, qprev, Rt, dlt)``."""
+    return (np.zeros(nd), np.zeros((nd, nd)), np.zeros(nc), np.zeros((nc, 3)), np.zeros(nd), np.zeros(nd),
+            np.zeros(nd), np.zeros(nd), np.zeros(nd))
+
+
+@njit(**_JIT)
+def _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, F, fc, kt, R, dlt):
     """Total potential Π(q) and its gradient R = ∂Π/∂q (the residual).
 
-    Quasi-static: Π = Σ contact energies − Q·q.  Newmark step (c0 > 0): plus
-    ½ c0 Δᵀ M Δ + vpredᵀ C Δ + ½ c1 Δᵀ C Δ with Δ = q − qpred, whose gradient
-    is M a(q) + C v(q).  Π is convex (monotone contact laws, affine
+    Quasi-static: Π = Σ contact energies − Q·q.  Newmark step (``dyn``): plus
+    ½ Δᵀ D Δ + gᵀ Δ with Δ = q − qpred, D = c0 M + c1 C and g = C vpred (C symmetric), whose
+    gradient D Δ + g = M a(q) + C v(q).  Π is convex (monotone contact laws, affine
     kinematics), so Newton with a line search on Π converges from anywhere.
     """
     n = q.size
-    e = contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt)
+    e = _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin)
     for a in range(n):
         R[a] = F[a] - Q[a]
         e -= Q[a] * q[a]
-    if c0 != 0.0:
+    if dyn:
+        for a in range(n):
+            dlt[a] = q[a] - qpred[a]
         for a in range(n):
             acc = 0.0
-            da = q[a] - qpred[a]
             for b in range(n):
-                db = q[b] - qpred[b]
-                acc += M[a, b] * c0 * db + C[a, b] * (vpred[b] + c1 * db)
-                e += da * (0.5 * c0 * M[a, b] + 0.5 * c1 * C[a, b]) * db
-            R[a] += acc
-        for a in range(n):
-            s = 0.0
-            for b in range(n):
-                s += vpred[b] * C[b, a]
-            e += s * (q[a] - qpred[a])
+                acc += D[a, b] * dlt[b]
+            R[a] += acc + gv[a]
+            e += dlt[a] * (0.5 * acc + gv[a])
     return e
 
 
 @njit(**_JIT)
-def newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
-           maxstep, F, K, fc, kt, R, dq, qprev):
-    """Solve ``F(q) + [M a(q) + C v(q)] − Q = 0`` for q in place; returns (status, iterations).
+def newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, xs, tol_f, maxit, maxstep,
+           ws):
+    """Solve ``F(q) + [D (q − qpred) + g] − Q = 0`` for q in place; returns (status, iterations).
 
-    Quasi-static when ``c0 == 0`` (M, C ignored); a Newmark step otherwise, with
-    ``a(q) = c0 (q − qpred)`` and ``v(q) = vpred + c1 (q − qpred)``.  Residuals are
-    scaled to forces (torques divided by the DOF's arc radius ``xs``), steps to
+    Quasi-static unless ``dyn`` (D, g, qpred ignored); a Newmark step otherwise (see :func:`_merit`).
+    Residuals are scaled to forces (torques divided by the DOF's arc radius ``xs``), steps to
     arc lengths; convergence when the largest scaled residual is below
     ``tol_f`` (N).  Each Newton step (at most ``maxstep`` mm long) is halved
-    until the potential Π decreases enough (Armijo; see :func:`_merit`).
+    until the potential Π decreases enough (Armijo; see :func:`_merit`).  ``npin``: see
+    :func:`_forces`; ``ws``: :func:`workspace`.
     """
+    F, K, fc, kt, R, dq, qprev, Rt, dlt = ws
     n = q.size
-    dyn = c0 != 0.0
-    Rt = np.empty(n)
-    e = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
+    e = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, F, fc, kt, R, dlt)
     for it in range(maxit + 1):
         rmax = 0.0
         for a in range(n):
@@ -539,16 +705,18 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpre
             return ST_OK, it
         if it == maxit:
             break
-        tangent_matrix(kind, idx, coef, kt, K)
+        _tangent(kind, idx, coef, kt, K, npin)
         for a in range(n):
             K[a, a] += REG * 1e5 * xs[a] * xs[a]
-            if dyn:
-                for b in range(n):
-                    K[a, b] += c0 * M[a, b] + c1 * C[a, b]
+        if dyn:
+            for a in range(n):
+                for b in range(a + 1):
+                    K[a, b] += D[a, b]
+        if not cholesky_factor(K):
+            return ST_SINGULAR, it
         for a in range(n):
             Rt[a] = -R[a]
-        if not cholesky_solve(K, Rt, dq):
-            return ST_SINGULAR, it
+        cholesky_back(K, Rt, dq)
         smax = 0.0
         for a in range(n):
             s = abs(dq[a]) * xs[a]
@@ -567,7 +735,8 @@ def newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpre
         for ls in range(40):
             for a in range(n):
                 q[a] = qprev[a] + lam * dq[a]
-            et = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, F, fc, kt, R)
+            et = _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, F, fc, kt, R,
+                        dlt)
             if et <= e + 1e-4 * lam * slope + 1e-12 * (abs(e) + 1.0) or not math.isfinite(et):
                 break
             lam *= 0.5
@@ -601,16 +770,17 @@ def linearised_laws(kind, k0, pw, gap, ser, tab):
 
 
 @njit(**_JIT)
-def solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f, maxit,
-               maxstep, F, K, fc, kt, R, dq, qprev):
-    """Equilibrium from no prior solution: a linearised solve, then Newton on the real laws."""
+def solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, xs, tol_f, maxit, maxstep,
+               ws):
+    """Equilibrium from no prior solution: a linearised solve (pins bilateral: no pin block), then Newton
+    on the real laws."""
     kind_l, k0_l, pw_l, gap_l, ser_l = linearised_laws(kind, k0, pw, gap, ser, tab)
-    st, it0 = newton(q, kind_l, idx, coef, off, k0_l, pw_l, gap_l, ser_l, tab, Q, M, C, c0, c1, qpred, vpred, xs,
-                     tol_f, maxit, 1e300, F, K, fc, kt, R, dq, qprev)
+    st, it0 = newton(q, kind_l, idx, coef, off, k0_l, pw_l, gap_l, ser_l, tab, 0, Q, D, gv, dyn, qpred, xs, tol_f,
+                     maxit, 1e300, ws)
     if st != ST_OK:
         q[:] = 0.0
-    st, it1 = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
-                     maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+    st, it1 = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, xs, tol_f, maxit,
+                     maxstep, ws)
     return st, it0 + it1
 
 
@@ -645,13 +815,6 @@ def record(kind, fc, prm, rec):
     rec[R_TORQUE_IN] = t
 
 
-@njit(**_JIT)
-def _workspace(nd, nc):
-    """Work arrays of the Newton solver: F, K, fc, kt, R, dq, qprev, Q."""
-    return (np.zeros(nd), np.zeros((nd, nd)), np.zeros(nc), np.zeros((nc, 3)), np.zeros(nd), np.zeros(nd),
-            np.zeros(nd), np.zeros(nd))
-
-
 # --------------------------------------------------------------------------- quasi-static sequence
 @njit(**_JIT)
 def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, ser, tab,
@@ -672,26 +835,31 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
     nc = kind.size
     coef = np.zeros((nc, 2, idx.shape[2]))
     off = np.zeros((nc, 2))
-    F, K, fc, kt, R, dq, qprev, Q = _workspace(nd, nc)
-    M = np.zeros((1, 1))
+    aux = table_constants(prm, err)
+    w = np.empty((NPINW, pin_cs.shape[1]))
+    ws = workspace(nd, nc)
+    fc = ws[2]
+    Q = np.zeros(nd)
+    D = np.zeros((1, 1))
+    npin = nc - C_PIN
     q = q_start.copy()
     for p in range(n):
-        update_table(theta_c[p], dth_s[p], prm, err, pin_err, disc_h, pin_cs, coef, off)
+        update_table_fast(theta_c[p], dth_s[p], prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w)
         Q[:] = load
         Q[THCA] += torque[p]
         if p >= 2:
             for a in range(nd):
                 q[a] = 2.0 * out_q[p - 1, a] - out_q[p - 2, a]
         if p == 0 and cold:
-            st, it = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
-                                maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+            st, it = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, Q, False, q, xs, tol_f,
+                                maxit, maxstep, ws)
         else:
-            st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs, tol_f,
-                            maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+            st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, Q, False, q, xs, tol_f, maxit,
+                            maxstep, ws)
             if st != ST_OK:
                 q[:] = 0.0
-                st, it2 = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, M, 0.0, 0.0, q, q, xs,
-                                     tol_f, maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+                st, it2 = solve_cold(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, Q, False, q, xs,
+                                     tol_f, maxit, maxstep, ws)
                 it += it2
         out_iter[p] = it
         if st == ST_OK:
@@ -716,26 +884,37 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
     table follows the nominal motion θ_c(t) = theta_c0 + omega_c t (constant
     input speed); otherwise ``coef``/``off`` are used as given (test systems).
     Steps ``nskip .. nsteps`` are recorded (index n − nskip).  Returns the
-    first failing step or −1.
+    first failing step or −1.  The step's dynamic stiffness D = c0 M + c1 C is formed once, the
+    damping force of the predicted velocity once per step (``C`` symmetric).
     """
     gamma = 0.5
     beta = 0.25
     nd = q0.size
     nc = kind.size
-    F, K, fc, kt, R, dq, qprev, Q = _workspace(nd, nc)
+    ws = workspace(nd, nc)
+    F, fc, kt, R = ws[0], ws[2], ws[3], ws[4]
+    Q = np.zeros(nd)
     q = q0.copy()
     v = v0.copy()
     a = np.zeros(nd)
     qpred = np.zeros(nd)
     vpred = np.zeros(nd)
+    gv = np.zeros(nd)
     Mw = M.copy()
     rec = np.zeros(NREC)
     c0 = 1.0 / (beta * h * h)
     c1 = gamma / (beta * h)
+    D = np.empty((nd, nd))
+    for i in range(nd):
+        for b in range(nd):
+            D[i, b] = c0 * M[i, b] + c1 * C[i, b]
+    aux = table_constants(prm, err)
+    w = np.empty((NPINW, pin_cs.shape[1]))
+    npin = nc - C_PIN if rv else 0
     # initial acceleration from the equation of motion
     if rv:
-        update_table(theta_c0, 0.0, prm, err, pin_err, disc_h, pin_cs, coef, off)
-    contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt)
+        update_table_fast(theta_c0, 0.0, prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w)
+    _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin)
     for i in range(nd):
         acc = Q0[i] - F[i]
         for b in range(nd):
@@ -747,15 +926,20 @@ def newmark_run(theta_c0, omega_c, h, nsteps, nskip, rv, prm, err, pin_err, disc
     for n in range(1, nsteps + 1):
         t = n * h
         if rv:
-            update_table(theta_c0 + omega_c * t, 0.0, prm, err, pin_err, disc_h, pin_cs, coef, off)
+            update_table_fast(theta_c0 + omega_c * t, 0.0, prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w)
         sf = math.sin(omega_f * t)
         for i in range(nd):
             Q[i] = Q0[i] + Q1[i] * sf
             qpred[i] = q[i] + h * v[i] + h * h * (0.5 - beta) * a[i]
             vpred[i] = v[i] + h * (1.0 - gamma) * a[i]
             q[i] = qpred[i] + beta * h * h * a[i]      # guess: unchanged acceleration
-        st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, Q, M, C, c0, c1, qpred, vpred, xs, tol_f,
-                        maxit, maxstep, F, K, fc, kt, R, dq, qprev)
+        for i in range(nd):
+            acc = 0.0
+            for b in range(nd):
+                acc += C[i, b] * vpred[b]
+            gv[i] = acc
+        st, it = newton(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, True, qpred, xs, tol_f,
+                        maxit, maxstep, ws)
         for i in range(nd):
             a[i] = c0 * (q[i] - qpred[i])
             v[i] = vpred[i] + c1 * (q[i] - qpred[i])

@@ -42,10 +42,11 @@ from . import layout as L
 from .factors import ErrorFactors, ErrorState
 from .geometry import RVGeometry, geometry_from_design
 from .newmark import NewmarkSolver
-from .orders import order_spectrum, order_table
+from .orders import MIN_PER_CRANK_REV, order_spectrum, order_table, positions_for_order
 from .quasistatic import QuasiStaticSolver, SweepResult
 
 MODES = ("quasistatic", "newmark")
+DEFAULT_PER_CRANK_REV = 36
 ST_BAD_CLEARANCE = 7
 
 OUTPUTS = (
@@ -100,7 +101,9 @@ class TransmissionErrorModel(Model):
 
     ``load_torque`` (N·mm, resisting) defaults to ``load_fraction`` (3 %) of the
     rated torque; ``per_crank_rev`` positions per crank revolution
-    (quasi-static); ``output_speed`` (rad/s), ``steps_per_crank_rev`` and
+    (quasi-static), or ``max_order``: the highest order of the TE spectrum the output needs, which
+    sets ``per_crank_rev`` (:func:`.orders.positions_for_order`; give one of the two);
+    ``output_speed`` (rad/s), ``steps_per_crank_rev`` and
     ``settle_periods`` for Newmark; ``harmonic`` of the Table 3 tooth patterns.
     """
 
@@ -108,8 +111,8 @@ class TransmissionErrorModel(Model):
                       ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def __init__(self, design: Design | RVGeometry, inputs=(), mode: str = "quasistatic", *,
-                 load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int = 36,
-                 harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
+                 load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int | None = None,
+                 max_order: int | None = None, harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
                  tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True):
         if mode not in MODES:
@@ -126,11 +129,18 @@ class TransmissionErrorModel(Model):
             load_torque = load_fraction * self.geometry.rated_torque
         if not load_torque > 0:
             raise InputError(f"load torque must be > 0, got {load_torque}", key="load_torque")
-        if per_crank_rev < 8:
-            raise InputError(f"per_crank_rev must be >= 8 (positions per crank revolution), got {per_crank_rev}",
-                             key="per_crank_rev")
+        if max_order is not None:
+            if per_crank_rev is not None:
+                raise InputError("give per_crank_rev or max_order, not both (max_order sets per_crank_rev)",
+                                 key="max_order")
+            per_crank_rev = positions_for_order(int(max_order), self.geometry.z_b)
+        per_crank_rev = DEFAULT_PER_CRANK_REV if per_crank_rev is None else per_crank_rev
+        if per_crank_rev < MIN_PER_CRANK_REV:
+            raise InputError(f"per_crank_rev must be >= {MIN_PER_CRANK_REV} (positions per crank revolution), "
+                             f"got {per_crank_rev}", key="per_crank_rev")
         self.load_torque = float(load_torque)
         self.per_crank_rev = int(per_crank_rev)
+        self.max_order = None if max_order is None else int(max_order)
         self.solver_options = dict(tol_f=float(tol_f), maxit=int(maxit))
         self.dynamic_options = dict(output_speed=float(output_speed), steps_per_crank_rev=steps_per_crank_rev,
                                     settle_periods=float(settle_periods), centrifugal=bool(centrifugal))
@@ -212,7 +222,8 @@ class TransmissionErrorModel(Model):
 def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     """``[model] kind = "transmission_error"``; keys: ``mode`` ("quasistatic" | "newmark"),
     ``load_torque`` (N·m or {value, unit}; default ``load_fraction`` × rated, 0.03),
-    ``per_crank_rev`` (36), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
+    ``per_crank_rev`` (36) or ``max_order`` (the highest order of the TE spectrum the study needs: the
+    fewest positions that resolve it, :func:`.orders.positions_for_order`), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
     ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
     ``tol_force`` (N, 1e-5), ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance
     elements in series with the contacts, :mod:`.compliance`; false: doc 000's rigid chain)."""
@@ -221,7 +232,10 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     mode = params.str("mode", "quasistatic", choices=MODES)
     load = params.quantity("load_torque", "N*m", None, positive=True)
     frac = params.float("load_fraction", 0.03, positive=True, max=2.0)
-    per = params.int("per_crank_rev", 36, min=8)
+    per = params.int("per_crank_rev", None, min=MIN_PER_CRANK_REV)
+    max_order = params.int("max_order", None, min=1)
+    if per is not None and max_order is not None:
+        raise params.error("max_order", "give per_crank_rev or max_order, not both (max_order sets per_crank_rev)")
     harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
     speed = params.quantity("output_speed", "rpm", 15 * 2 * math.pi / 60, positive=True)
     steps = params.int("steps_per_crank_rev", None, min=4)
@@ -232,6 +246,6 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     chain = params.bool("compliance_chain", True)
     params.finish()
     return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
-                                  per_crank_rev=per, harmonic=harmonic, output_speed=speed,
+                                  per_crank_rev=per, max_order=max_order, harmonic=harmonic, output_speed=speed,
                                   steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
                                   tol_f=tol, maxit=maxit, compliance_chain=chain)

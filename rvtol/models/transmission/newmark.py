@@ -71,6 +71,9 @@ class NewmarkSolver:
     loads on/off.
     """
 
+    #: the kernel module the run uses (the benchmarks set an earlier commit's to compare)
+    kernels = K
+
     def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *,
                  output_speed: float = 15 * 2 * math.pi / 60, load_torque: float | None = None,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
@@ -140,10 +143,11 @@ class NewmarkSolver:
         out_rec = np.zeros((n_rec, K.NREC))
         coef = np.zeros((tab.n, 2, L.NZ))
         off = np.zeros((tab.n, 2))
-        failed = K.newmark_run(0.0, self.omega_c, h, nsteps, nskip, True, self.static.prm, e.err, e.pin_err,
-                               e.disc_h, self.static.pin_cs, tab.kind, tab.idx, coef, off, tab.k0, tab.pw, tab.gap,
-                               tab.ser, tab.tab, self.static.xs, self.M, C, Q0, np.zeros(L.NDOF), 0.0, q0, np.zeros(L.NDOF),
-                               self.tol_f, self.maxit, self.maxstep, out_q, out_v, out_status, out_iter, out_rec)
+        failed = self.kernels.newmark_run(0.0, self.omega_c, h, nsteps, nskip, True, self.static.prm, e.err,
+                                          e.pin_err, e.disc_h, self.static.pin_cs, tab.kind, tab.idx, coef, off,
+                                          tab.k0, tab.pw, tab.gap, tab.ser, tab.tab, self.static.xs, self.M, C, Q0,
+                                          np.zeros(L.NDOF), 0.0, q0, np.zeros(L.NDOF), self.tol_f, self.maxit,
+                                          self.maxstep, out_q, out_v, out_status, out_iter, out_rec)
         t = (nskip + np.arange(n_rec)) * h
         theta_c = self.omega_c * t
         return DynamicResult(theta_c, np.full(n_rec, -self.load_torque), out_q, out_status, out_iter, out_rec,
@@ -160,6 +164,9 @@ def integrate_small_system(M, C, kind, idx, coef, off, k0, pw, gap, Q0, Q1, omeg
     geometry): ``M q̈ + C q̇ + Σ Gᵀ f(G q + off) = Q0 + Q1 sin(omega_f t)``.  For the tests (1-DOF
     oscillators against closed forms and SciPy).  Returns ``(t, q, v, status)`` for steps 1..nsteps."""
     nd = len(q0)
+    rows = np.asarray(idx)
+    if np.any((rows[..., 1:] >= 0) & (rows[..., :-1] < 0)):
+        raise InputError("contact table: idx rows must be filled from the left (the first -1 ends a row)", key="idx")
     f = lambda a, dt=float: np.ascontiguousarray(a, dtype=dt)  # noqa: E731
     out_q, out_v = np.zeros((nsteps, nd)), np.zeros((nsteps, nd))
     out_status, out_iter, out_rec = np.full(nsteps, -1, np.int64), np.zeros(nsteps, np.int64), np.zeros((nsteps, K.NREC))

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ...errors import InputError
 from . import layout as L
 from .geometry import RVGeometry
 
@@ -122,6 +123,26 @@ def order_spectrum(te: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if n % 2 == 0:
         amp[-1] /= 2.0
     return np.arange(amp.size), amp
+
+
+#: fewest positions per crank revolution a sweep takes (the model's lower bound on ``per_crank_rev``)
+MIN_PER_CRANK_REV = 8
+
+
+def positions_for_order(max_order: int, z_b: int) -> int:
+    """Positions per crank revolution that resolve the order spectrum up to ``max_order`` (orders per
+    output revolution): the fewest ``p ≥ MIN_PER_CRANK_REV`` with ``N = p·z_b > 2·max_order`` samples per
+    output revolution (Nyquist: order k is its own alias only below N/2).
+
+    The orders up to ``max_order`` are then free of their own aliases, not of the curve's content
+    above N/2, which folds onto them (the TE of a reducer with clearances has kinks where contacts
+    change, and a spectrum that decays slowly): subsampling a finer sweep by an integer factor gives
+    exactly the fine spectrum summed over each alias set — what ``tests/test_transmission_resolution.py``
+    checks — and the peak-to-peak of fewer samples reads lower (``studies/transmission_error.md``).
+    """
+    if max_order < 1:
+        raise InputError(f"max_order must be >= 1, got {max_order}", key="max_order")
+    return max(MIN_PER_CRANK_REV, (2 * max_order) // z_b + 1)
 
 
 def alias(t: int, n_positions: int) -> int:

@@ -89,6 +89,9 @@ class QuasiStaticSolver:
     ``maxstep`` (mm): longest Newton step (arc length).
     """
 
+    #: the kernel module the sweep runs on (the benchmarks set an earlier commit's to compare)
+    kernels = K
+
     def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *, tol_f: float = 1e-5,
                  maxit: int = 200, maxstep: float = 0.02):
         self.g = geometry
@@ -125,9 +128,10 @@ class QuasiStaticSolver:
         e = self.errors
         t = self.table
         load = np.zeros(L.NDOF) if load is None else np.ascontiguousarray(load, dtype=float).reshape(L.NDOF)
-        failed = K.qs_sequence(theta_c, dth, torque, load, self.prm, e.err, e.pin_err, e.disc_h, self.pin_cs,
-                               t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab, self.xs, q0, cold, self.tol_f,
-                               self.maxit, self.maxstep, out_q, out_status, out_iter, out_rec)
+        failed = self.kernels.qs_sequence(theta_c, dth, torque, load, self.prm, e.err, e.pin_err, e.disc_h,
+                                          self.pin_cs, t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab, self.xs, q0,
+                                          cold, self.tol_f, self.maxit, self.maxstep, out_q, out_status, out_iter,
+                                          out_rec)
         return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))
 
     def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
