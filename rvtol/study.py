@@ -521,7 +521,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
 
     ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
     """
-    from .report.render import render_html, render_pdf
+    from .report.render import PDF_MAX_ROWS, render_html, render_pdf
 
     out = check_out_dir(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -536,7 +536,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         html = render_html(result)
         (tmp / "report.html").write_text(html, encoding="utf-8")
         if result.study.options.pdf:
-            render_pdf(html, tmp / "report.pdf")
+            render_pdf(render_html(result, PDF_MAX_ROWS), tmp / "report.pdf")
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)

@@ -16,9 +16,14 @@ from .summary import now_iso
 
 _ENV = Environment(loader=PackageLoader("rvtol.report", "templates"), autoescape=select_autoescape(["html", "j2"]))
 
+#: rows of a table the PDF shows (the HTML and summary.json hold every row): page layout of tables is what
+#: costs a PDF its time — the sign-off's 276-factor and mapping tables made 104 pages and 2½ minutes
+PDF_MAX_ROWS = 40
 
-def _table_html(t: Table) -> Markup:
-    df = t.frame.copy()
+
+def _table_html(t: Table, max_rows: int | None = None) -> Markup:
+    df = t.frame if max_rows is None else t.frame.iloc[:max_rows]
+    df = df.copy()
 
     def fmt(v):
         if v is None:
@@ -35,19 +40,23 @@ def _table_html(t: Table) -> Markup:
     return Markup(html)
 
 
-def _block_view(b) -> dict:
+def _block_view(b, max_rows: int | None = None) -> dict:
     if isinstance(b, Text):
         return {"type": "text", "paragraphs": [p.strip() for p in b.text.split("\n\n") if p.strip()]}
     if isinstance(b, Table):
-        return {"type": "table", "html": _table_html(b), "caption": b.caption}
+        cut = max_rows is not None and len(b.frame) > max_rows
+        caption = b.caption + (f" (the first {max_rows} of {len(b.frame)} rows: every row is in report.html and "
+                               "summary.json)" if cut else "")
+        return {"type": "table", "html": _table_html(b, max_rows if cut else None), "caption": caption}
     if isinstance(b, Figure):
         return {"type": "figure", "src": "data:image/png;base64," + base64.b64encode(b.png).decode("ascii"),
                 "caption": b.caption, "width": b.width}
     raise TypeError(f"unknown report block {type(b).__name__}")
 
 
-def view_model(result) -> dict:
-    """Everything the template shows, as plain data (the one view model for HTML and PDF)."""
+def view_model(result, max_rows: int | None = None) -> dict:
+    """Everything the template shows, as plain data (the one view model for HTML and PDF; ``max_rows``: the
+    rows a table keeps, for the PDF)."""
     st = result.study
     sections: list[Section] = standard_sections(result) + list(result.sections)
     return {
@@ -59,13 +68,13 @@ def view_model(result) -> dict:
         "version": __version__,
         "study_file": st.file,
         "toc": [(s.key, s.title) for s in sections],
-        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b) for b in s.blocks]}
+        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b, max_rows) for b in s.blocks]}
                      for s in sections],
     }
 
 
-def render_html(result) -> str:
-    return _ENV.get_template("report.html.j2").render(**view_model(result))
+def render_html(result, max_rows: int | None = None) -> str:
+    return _ENV.get_template("report.html.j2").render(**view_model(result, max_rows))
 
 
 def render_pdf(html: str, path: str | Path) -> None:
