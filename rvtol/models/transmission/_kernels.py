@@ -24,8 +24,11 @@ position costs 8 trigonometric calls instead of 64) and the pin geometry in pass
 arrays (:func:`update_table_fast`); the 2·z_b pins are evaluated in a loop of their own (:func:`_forces`,
 :func:`_tangent`); the Cholesky factor works on rows; a Newmark step forms its dynamic stiffness
 once.  Division follows IEEE (``error_model="numpy"``: a zero divisor gives inf/NaN, which Newton
-reports as ``ST_NONFINITE``, instead of a Python exception), and the floating-point contraction /
-reassociation flags let LLVM fuse and vectorise (never ``nnan``/``ninf``: the finiteness checks stay).
+reports as ``ST_NONFINITE``, instead of a Python exception).  No ``fastmath``: with contraction /
+reassociation the same kernel gave results 1e-15 apart when compiled in the process and when loaded from
+numba's cache (LLVM fuses differently across inlined and linked callees), so a process pool's workers
+and its parent could disagree in the last bit — the engine promises bit-identical results whatever the
+executor, and IEEE arithmetic keeps that promise.
 What remains is the number of Newton iterations — set by the contact state changing between
 positions (pins and bearing dead zones), not by the predictor: see ``studies/transmission_error.md``.
 """
@@ -42,7 +45,7 @@ from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C
                      P_RRP, P_ZB, P_ZC, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
                      ST_SINGULAR, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_ON, S_TAB, THCA, T_C, T_D, T_F, T_M, UNILATERAL)
 
-_JIT = dict(cache=True, nogil=True, error_model="numpy", fastmath={"contract", "reassoc", "arcp", "nsz"})
+_JIT = dict(cache=True, nogil=True, error_model="numpy")   # IEEE arithmetic: no fastmath (see the docstring)
 TWO_PI = 2.0 * math.pi
 
 # per-position record columns
