@@ -126,7 +126,7 @@ def test_a_signal_stops_the_workers_and_leaves_no_process_and_no_folder(study, t
     assert len(procs) >= 2  # the pool's workers (and the fork server, the resource tracker)
     (os.killpg if group else os.kill)(p.pid, sig)
     _, err = p.communicate(timeout=30)
-    assert p.returncode == code
+    assert p.returncode == code, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"rvtol: stopped by {sig.name}: workers stopped, nothing written"), err
     assert "rerun with --resume" in lines[0]
