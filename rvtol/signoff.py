@@ -67,6 +67,7 @@ class RequirementDigest:
     reasons: list[str]
     drivers: list[Driver] = field(default_factory=list)
     change: str = ""
+    overlaps: list[str] = field(default_factory=list)   # pairs of drivers correlated in the spec
 
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
@@ -74,7 +75,7 @@ class RequirementDigest:
                 "P0.135": self.p00135, "yield_lower_bound": self.yield_lo, "cpk_lower_bound": self.cpk_lo,
                 "reasons": self.reasons,
                 "drivers": [{"tolerance": d.tolerance, "S1": d.s1, "factors": d.factors} for d in self.drivers],
-                "what_to_change": self.change}
+                "what_to_change": self.change, "correlated_drivers": self.overlaps}
 
 
 def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | None = None,
@@ -84,7 +85,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
     if not verdicts:
         return []
     outputs = list(dict.fromkeys(v.requirement.output for v in verdicts))
-    s1 = _first_order(mc, model, spec, outputs, seed)
+    s1 = first_order_drivers(mc, model, spec, outputs, seed)
     stats_df = mc.statistics()
     out = []
     for v in verdicts:
@@ -95,13 +96,14 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
                               _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
         d.drivers = s1.get(r.output, [])[:top]
+        d.overlaps = correlated_drivers(d.drivers, spec)
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
         out.append(d)
     return out
 
 
-def _first_order(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
+def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
     from .sensitivity.given_data import given_data
 
     ok = mc.ok
@@ -123,6 +125,22 @@ def _first_order(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
         ranked = sorted(sums.items(), key=lambda kv: -kv[1][0])
         out[o] = [Driver(t, max(v[0], 0.0), v[1]) for t, v in ranked]
     return out
+
+
+def correlated_drivers(drivers: list[Driver], spec: ToleranceSpec, threshold: float = 0.1) -> list[str]:
+    """The pairs of drivers whose factors the spec correlates (|ρ| > ``threshold``, normal scores): their
+    first-order shares overlap — each includes what its partner explains through the correlation — so they
+    are not to be added, and a driver's share overstates what tightening it alone would gain."""
+    from .sensitivity._given import correlated_pairs
+
+    owner = {n: d.tolerance for d in drivers for n in d.factors}
+    rho: dict[tuple[str, str], float] = {}
+    for a, b, r, _ in correlated_pairs(spec.names, correlation=spec.correlation):
+        ta, tb = owner.get(a), owner.get(b)
+        if ta and tb and ta != tb and abs(r) > threshold:
+            key = tuple(sorted((ta, tb)))
+            rho[key] = max(rho.get(key, 0.0), abs(r))
+    return [f"{a} and {b} (|ρ| = {r:.2g})" for (a, b), r in rho.items()]
 
 
 def required_sigma(r, mean: float, sigma: float) -> float | None:

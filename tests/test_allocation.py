@@ -322,3 +322,34 @@ def test_ga_respects_the_requirement_it_was_given_on_a_nonlinear_model():
     # the GA sits on the boundary of the estimate: allow the binomial noise of both samples (3 σ)
     y = check.frame["yield"].iloc[0]
     assert y >= 0.99 - 3 * math.sqrt(0.99 * 0.01 * (1 / 4000 + 1 / 40000))
+
+
+def test_tied_factors_share_one_tolerance_at_the_lagrange_optimum():
+    """x0 and x1 tied (one drawing callout, equal spec tolerances): with t0 = t1 = τ the problem is one variable
+    of cost b0 + b1 over τ and RSS weight k0² + k1², so KKT gives τ ∝ ((b0 + b1)/(k0² + k1²))^(1/3) beside
+    t_i ∝ (b_i/k_i²)^(1/3) of the others, scaled onto Σ (k t)² = L². The GA's genes are the free tolerances only."""
+    p = linear_problem(K, B, limit=1.0)
+    p = replace(p, ties=(("x0", "x1"),))
+    assert list(p.free) == [0, 2, 3]
+    res = solve_convex(p, LinearisedConstraint(p, linearise(p), "rss"))
+    tau = ((B[0] + B[1]) / (K[0] ** 2 + K[1] ** 2)) ** (1 / 3)
+    t = np.array([tau, tau, *((B[2:] / K[2:] ** 2) ** (1 / 3))])
+    t *= 1.0 / math.sqrt(np.sum((K * t) ** 2))
+    np.testing.assert_allclose(res.t, t, rtol=5e-5)
+    ga = solve_ga(p, LinearisedConstraint(p, linearise(p), "rss"), GASettings(population=30, generations=80,
+                                                                               parents=15, seed=1))
+    assert ga.feasible and ga.t[0] == ga.t[1]
+    assert -1e-6 <= ga.total_cost / res.total_cost - 1.0 <= 0.02
+
+
+def test_drawing_ties_group_the_coordinates_and_copies_of_one_callout():
+    from rvtol.allocation.analyses import drawing_ties
+
+    unit = Distribution.make("normal", mean=0.0, sigma=1.0)
+    fs = (Factor("hole.position.x1", "um", unit), Factor("hole.position.y1", "um", unit),
+          Factor("pins[1].d", "um", unit, part="pins", feature="pin diameter", family="pins[k].d"),
+          Factor("pins[2].d", "um", unit, part="pins", feature="pin diameter", family="pins[k].d"),
+          Factor("lone", "um", unit))
+    spec = ToleranceSpec("t", fs)
+    assert drawing_ties(spec, list(spec.names)) == (("hole.position.x1", "hole.position.y1"), ("pins[1].d", "pins[2].d"))
+    assert drawing_ties(spec, ["hole.position.x1", "lone"]) == ()

@@ -222,7 +222,16 @@ def test_a_requirement_the_nominal_misses_is_set_aside_with_its_levers(tmp_path)
     t = {row["factor"]: row["t convex rss (±)"] for row in summ["tolerances"]}
     assert t["b"] == pytest.approx(3.0, rel=1e-4) and t["a"] == pytest.approx(10.0, rel=1e-6)
     (lever,) = next(iter(summ["design_levers"].values()))
-    assert lever["lever (mean shift of)"] == "a" and lever["shift needed alone"] == pytest.approx(-8.0, rel=1e-9)
+    # measured from the study's Monte Carlo: 5 − 3σ̂_z − z̄ (z = a exactly, dz/da = 1), ≈ −8 by hand
+    z = res.mc.column("z")
+    assert lever["lever (mean shift of)"] == "a" and lever["copies shifted alike"] == 1
+    assert lever["shift needed alone"] == pytest.approx(5.0 - 3.0 * np.std(z, ddof=1) - np.mean(z), rel=1e-9)
+    assert lever["shift needed alone"] == pytest.approx(-8.0, abs=4 * 4 / np.sqrt(200))
+    # the check: a fresh Monte Carlo run with a's mean shifted — z̄ moves by the shift (z = a), σ stays
+    (chk,) = summ["design_levers_checked"]
+    assert chk["lever"] == "a" and chk["n"] == 200
+    assert chk["mean after"] == pytest.approx(10.0 + lever["shift needed alone"], abs=4 / np.sqrt(200))
+    assert chk["σ after"] == pytest.approx(1.0, rel=0.2)
 
 
 MAGNITUDE = """
@@ -290,7 +299,15 @@ def test_a_magnitude_output_is_not_linearised_and_the_monte_carlo_constraint_rem
     # dP/dσ at the solution = exp(−9/2σ²)·9/σ³ = 0.093 per µm, so σ is good to ± 3 × 0.0016/0.093 ≈ 0.05 µm and
     # ±t = 3σ to ± 0.15 µm
     assert t["u"] == pytest.approx(3 * sigma, abs=0.15) and t["v"] == t["u"]
-    assert sec.summary["all_requirements"]["rows"][0]["output"] == "r"
+    (row,) = sec.summary["all_requirements"]["rows"]
+    assert row["output"] == "r" and checks_passed(sec, sec.summary["all_requirements"]["method"])
+    # beside it, the study's own Monte Carlo at the spec (σ = 1 µm): P(r ≤ 3) = 1 − exp(−4.5), n = 400
+    assert row["yield at the spec"] == pytest.approx(1 - math.exp(-4.5), abs=4 * math.sqrt(0.01 * 0.99 / 400))
+
+
+def checks_passed(sec, method) -> bool:
+    """Whether ``method``'s own independent check passed (the table of checks in the summary)."""
+    return next(m for m in sec.summary["methods"] if m["method"] == method)["independent MC"] == "pass"
 
 
 def test_a_monte_carlo_constraint_too_small_to_demonstrate_the_yield_is_a_one_line_error(tmp_path):

@@ -15,6 +15,8 @@
                                            # every factor a required output depends on (composed models)
     spec = "../data/specs/x.toml"          # optional: another spec than the study's
     convex = "rss"                         # rss | worst_case | none: the linearised global optimum
+    tie = "none"                           # none | drawing: one ±t per drawing tolerance (the coordinates
+                                           # of a position zone, the copies of a per-pin family tied)
     [analysis.model]                       # optional: another model than the study's ([model] format)
     kind = "adjusted_assembly"
     outputs = ["stackup.*"]                # optional: only the requirements on these outputs (patterns)
@@ -61,8 +63,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .. import units
 from ..analysis import Analysis
 from ..errors import InputError
+from ..mc import run_monte_carlo
 from ..model import dependencies
 from ..params import Params
 from ..registry import model_factory
@@ -74,7 +78,7 @@ from .baseline import uniform_baseline, verify
 from .convex import solve_convex
 from .cost import CostTable, load_costs
 from .ga import HANDLING, GASettings, solve_ga
-from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, design_levers,
+from .problem import (AllocationProblem, LinearisedConstraint, MonteCarloConstraint, design_levers, shifted_spec,
                       expand_requirements, linearise, requirements_frame)
 from .results import AllocationResult, ParetoCurve, component_axis_table
 
@@ -177,7 +181,9 @@ class AllocationAnalysis(Analysis):
                 if not names:
                     raise params.error("factors", "the requirements' outputs depend on no factor of the spec")
             curves = assign_curves(spec, names, params.sub("assign"), self.table)
-            self.problem = AllocationProblem(model, spec, names, curves, reqs)
+            tie = params.str("tie", "none", choices=("none", "drawing"))
+            self.problem = AllocationProblem(model, spec, names, curves, reqs,
+                                             drawing_ties(spec, names) if tie == "drawing" else ())
             self.study_problem = (self.problem.with_requirements(list(study.requirements))
                                   if model is study.model and spec is study.spec and study.requirements else None)
         except InputError as exc:
@@ -266,14 +272,27 @@ class AllocationAnalysis(Analysis):
             sec.add_table(spread, "First-order spread at the nominal against the study's Monte Carlo (the "
                                   "linearised methods need a ratio within [0.5, 2])", "{:.4g}")
         if self.verify_all:
-            self.check_all(sec, [r for r in results if r.feasible and r.t is not None], ctx)
+            self.check_all(sec, [r for r in results if r.feasible and r.t is not None], checks, ctx)
         if p is not full:
             sec.add_text("Set aside (the NOMINAL design misses them, so no tolerance can meet them; their design "
                          "levers follow): " + "; ".join(f"{r.label} ({r.output})" for r in missed)
                          + ". The tolerances above are allocated against the other requirements.")
             sec.summary["set_aside"] = [r.label for r in missed]
-        self.levers_tables(sec, design_levers(full, lin_full), LinearisedConstraint(full, lin_full, lin_con.mode))
+        self.levers_tables(sec, full, lin_full, LinearisedConstraint(full, lin_full, lin_con.mode), ctx)
         return [self.cost_section(), sec]
+
+    def study_reference(self, full, ctx) -> dict[int, tuple[float, float]]:
+        """Each requirement's Monte Carlo mean and standard deviation at the spec's tolerances (base units of
+        the output), from the study's own run; empty when the allocation does not run on the study's model."""
+        if self.study_problem is None or ctx.mc is None:
+            return {}
+        out = {}
+        for j, r in enumerate(full.requirements):
+            q = full.model.output(r.output)
+            y = ctx.mc.column(r.output)
+            out[j] = (units.convert(float(np.nanmean(y)), q.shown_unit, q.unit),
+                      units.convert(float(np.nanstd(y, ddof=1)), q.shown_unit, q.unit))
+        return out
 
     def linear_spread(self, p, lin, ctx) -> pd.DataFrame | None:
         """Each requirement's first-order standard deviation at the nominal, Σ (S_k σ_k)² at the spec's
@@ -292,31 +311,91 @@ class AllocationAnalysis(Analysis):
                          "first order / MC": lin_sd / mc_sd if mc_sd > 0 else (1.0 if lin_sd == 0 else np.inf)})
         return pd.DataFrame(rows)
 
-    def check_all(self, sec: Section, results, ctx) -> None:
-        """The cheapest feasible allocation against every requirement of the study, on the study's model."""
-        if not results:
+    def check_all(self, sec: Section, results, checks, ctx) -> None:
+        """The cheapest allocation that passed its own independent check, against every requirement of the
+        study on the study's model — beside each requirement's yield at the spec's present tolerances (the
+        study's Monte Carlo), so what the allocation costs the requirements it did not optimise for shows."""
+        verified = [r for r in results if r.method in checks and checks[r.method].passed]
+        if not verified:
+            sec.add_text("No allocation passed its own independent Monte Carlo check, so none is checked against "
+                         "every requirement of the study.")
             return
-        best = min(results, key=lambda r: r.total_cost)
+        best = min(verified, key=lambda r: r.total_cost)
         v = verify(replace(best, problem=self.study_problem), self.verify_n,
                    substream_seed(ctx.seed, "allocation_verify"), ctx.executor)
-        sec.add_table(v.to_frame(), f"{best.method} against every requirement of the study (the study's model, "
-                      f"n = {v.n}): what the allocation did not optimise for, and the set-aside requirements", "{:.4g}")
-        sec.summary["all_requirements"] = {"method": best.method, "n": v.n, "rows": frame_records(v.to_frame())}
+        frame = v.to_frame().copy()
+        worse = []
+        if ctx.mc is not None:
+            now = {d["output"]: d["yield"] for d in (x.to_dict() for x in ctx.mc.verdicts())}
+            frame.insert(frame.columns.get_loc("yield"), "yield at the spec", [now.get(o, np.nan) for o in frame["output"]])
+            worse = [f"{o} {a:.3f} → {b:.3f}" for o, a, b in zip(frame["output"], frame["yield at the spec"], frame["yield"])
+                     if np.isfinite(a) and b < a - 2.0 * np.sqrt(max(a * (1 - a), 1e-12) * (1 / v.n + 1 / ctx.mc.n))]
+        sec.add_table(frame, f"{best.method} (the cheapest allocation its own check passed) against every requirement "
+                      f"of the study (the study's model, n = {v.n}): what the allocation did not optimise for, and the "
+                      "set-aside requirements; 'yield at the spec' is the study's Monte Carlo at the present tolerances",
+                      "{:.4g}")
+        if worse:
+            sec.add_text(f"The {best.method} allocation LOWERS the yield of requirements it was not asked to meet "
+                         "(by more than two standard errors of the difference): " + "; ".join(worse) + ". It changes "
+                         "tolerances these outputs also depend on: loosening one widens their spread, and where the "
+                         "nominal lies outside a limit even tightening lowers the yield (the units move toward the "
+                         "nominal). Adopt it only together with those requirements' own fix (their design levers).")
+        sec.summary["all_requirements"] = {"method": best.method, "n": v.n, "rows": frame_records(frame),
+                                           "lowered": worse}
 
-    def levers_tables(self, sec: Section, levers: dict, lin_con) -> None:
-        """What the nominal design must change where no tolerance can meet a requirement."""
+    def levers_tables(self, sec: Section, full, lin_full, lin_con, ctx) -> None:
+        """What the nominal design must change where no tolerance can meet a requirement: where each such
+        requirement stands (nominal, Monte Carlo mean and σ), its first-order levers, and the top lever
+        checked by a Monte Carlo run of the shifted design."""
+        ref = self.study_reference(full, ctx)
+        levers = design_levers(full, lin_full, reference=ref)
         if not levers:
             return
+        base = ("the Monte Carlo mean and σ of the study" if ref else "the nominal output and the linearised σ")
         sec.add_text("Where the NOMINAL design already lies on or outside a requirement's limit, scaling tolerances "
-                     "cannot help: as every tolerance shrinks, every reducer approaches the nominal one. The tables "
-                     "below give the design levers to first order: the shift of one drawing nominal (a family's "
-                     "copies alike) that alone moves the nominal output to the limit minus the z·σ the present "
-                     f"tolerances need ({lin_con.describe()}), ranked by the output change of a shift by one "
-                     "tolerance half-band t. Linear at the nominal point: a direction and a size for a design change, "
-                     "to be confirmed by a study of the changed design, not a result.")
+                     "cannot help: as every tolerance shrinks, every reducer approaches the nominal one (where the "
+                     "Monte Carlo mean lies on the passing side of a limit the nominal misses, the present yield "
+                     "comes from the spread itself and tightening lowers it). The tables below give the design "
+                     "levers to first order: the shift of one drawing nominal (every copy of a family alike) that "
+                     f"alone moves the output from {base} to the limit minus z·σ ({lin_con.describe()}), ranked "
+                     "by the output change of a shift by one tolerance half-band t; the slope is the five-point "
+                     "derivative at the nominal. A direction and a size for a design change: the top lever of each "
+                     "is checked below by a Monte Carlo run of the shifted design, where a linear step can miss.")
+        stand, checks = [], []
+        for j, r in enumerate(full.requirements):
+            if r.label not in levers:
+                continue
+            q = full.model.output(r.output)
+            row = {"requirement": r.label, "output": r.output, "unit": q.shown_unit,
+                   "nominal": float(q.to_display(lin_full.y0[j]))}
+            if j in ref:
+                row["Monte Carlo mean"] = float(q.to_display(ref[j][0]))
+                row["Monte Carlo σ"] = float(q.to_display(ref[j][1]))
+            stand.append(row)
+            top = levers[r.label].iloc[0]
+            checks.append(self.check_lever(full, r, top, ctx))
+        sec.add_table(pd.DataFrame(stand), "Where the requirements the nominal misses stand (the levers are "
+                      f"measured from {base})", "{:.4g}")
         for label, frame in levers.items():
             sec.add_table(frame, f"Design levers for: {label}", "{:.4g}")
+        checked = pd.DataFrame(checks)
+        sec.add_table(checked, "The top lever of each, checked: a Monte Carlo run of the study's spec with that "
+                      "one drawing nominal shifted (every other tolerance as it is)", "{:.4g}")
         sec.summary["design_levers"] = {label: frame_records(f) for label, f in levers.items()}
+        sec.summary["design_levers_checked"] = frame_records(checked)
+
+    def check_lever(self, full, r, top, ctx) -> dict:
+        """One Monte Carlo run of the spec with the lever's nominal shifted by its 'shift needed alone'."""
+        p1 = evaluated_problem(full.with_requirements([r]))
+        n = ctx.mc.n if ctx.mc is not None else self.verify_n
+        spec = shifted_spec(p1.spec, top["lever (mean shift of)"], float(top["shift needed alone"]))
+        mc = run_monte_carlo(p1.model, spec, n, "random", substream_seed(ctx.seed, "allocation_levers"),
+                             p1.requirements, ctx.executor, progress=False)
+        d = mc.verdicts()[0].to_dict()
+        y = mc.column(r.output)
+        return {"requirement": r.label, "lever": top["lever (mean shift of)"], "shift": float(top["shift needed alone"]),
+                "unit": top["unit"], "n": n, "mean after": float(np.nanmean(y)), "σ after": float(np.nanstd(y, ddof=1)),
+                "yield after": d["yield"], "yield lower bound": d["yield_ci"][0], "passed": d["passed"]}
 
     def pareto(self, p, lin, ga_con, ctx) -> ParetoCurve:
         rows = []
@@ -378,6 +457,11 @@ class AllocationAnalysis(Analysis):
         for r in results:
             frame[f"t {r.method} (±)"] = r.display_t() if r.t is not None else np.nan
         frame = frame.drop(columns=["cost"])
+        if p.ties:
+            sec.add_text(f"One ±t per drawing tolerance: {len(p.ties)} callouts stand for "
+                         f"{sum(len(g) for g in p.ties)} factors (coordinates of a position zone, copies of a "
+                         f"per-part family) and share their tolerance, so {len(p.free)} tolerances are optimised "
+                         f"for {len(p.factors)} factors.")
         sec.add_table(frame, "Allocated tolerances ±t per factor (factor units)", "{:.4g}")
         best = results[-1]
         cax = component_axis_table(best) if best.t is not None else None
@@ -418,6 +502,7 @@ class AllocationAnalysis(Analysis):
             sec.add_figure(pareto.plot(), "Cost against requirement (Pareto front)")
         sec.summary = {
             "factors": p.factors,
+            "ties": [list(g) for g in p.ties],
             "methods": frame_records(summ),
             "tolerances": frame_records(frame),
             "verification": {m: frame_records(v.to_frame()) for m, v in checks.items()},
@@ -426,13 +511,25 @@ class AllocationAnalysis(Analysis):
         return sec
 
 
+def drawing_ties(spec, names: list[str]) -> tuple[tuple[str, ...], ...]:
+    """The allocated factors that stand for one drawing tolerance (:func:`rvtol.signoff.drawing_tolerance`:
+    the coordinates of one position zone, the copies of a per-part family), as groups to tie: a drawing
+    gives one ±t per callout, not one per coordinate or per pin."""
+    from ..signoff import drawing_tolerance
+
+    groups: dict[str, list[str]] = {}
+    for n in names:
+        groups.setdefault(drawing_tolerance(spec.factor(n)), []).append(n)
+    return tuple(tuple(g) for g in groups.values() if len(g) > 1)
+
+
 def evaluated_problem(p: AllocationProblem) -> AllocationProblem:
     """``p`` with its model evaluated only as far as its requirements need (a composed model restricted to
     their outputs: a GA over stack-up requirements does not run the 20-DOF stages)."""
     if not hasattr(p.model, "restricted"):
         return p
     outs = list(dict.fromkeys(r.output for r in p.requirements))
-    return AllocationProblem(p.model.restricted(outs), p.spec, p.factors, p.curves, p.requirements)
+    return replace(p, model=p.model.restricted(outs))
 
 
 def zero_failure_n(r) -> int | None:

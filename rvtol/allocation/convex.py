@@ -5,7 +5,8 @@
 * RSS:        ``‖(c_j1 t_1, ..., c_jm t_m)‖₂ ≤ √budget_j`` for each requirement j (second-order cone), or
 * worst case: ``Σ_i c_ji t_i ≤ budget_j`` (linear),
 
-and ``t_min ≤ t ≤ t_max``, with the coefficients of
+``t_min ≤ t ≤ t_max`` and tied factors at their lead's tolerance (one drawing callout), with the
+coefficients of
 :class:`rvtol.allocation.problem.LinearisedConstraint`.  The variables are
 the tolerances in each cost curve's own unit, so the problem is well scaled.
 """
@@ -29,6 +30,9 @@ def solve_convex(problem: AllocationProblem, constraint: LinearisedConstraint, s
     t = cp.Variable(m, name="t")
     cost = sum(c.expr(t[i]) for i, c in enumerate(problem.curves))
     cons = [t >= lo, t <= hi]
+    for k in np.flatnonzero(problem.lead != np.arange(m)):      # tied: t_k = t_lead · t0_k / t0_lead (base)
+        j = problem.lead[k]
+        cons.append(t[k] == problem.ratio[k] * scale[j] / scale[k] * t[j])
     method = f"convex {constraint.mode}"
     if getattr(constraint, "unavailable", None):
         return AllocationResult(method, problem, None, "not available", False, constraint.describe(),

@@ -56,13 +56,19 @@ class GASettings:
 
 
 def genes_to_t(problem: AllocationProblem, G: np.ndarray) -> np.ndarray:
-    lo, hi = problem.lower, problem.upper
-    return lo * (hi / lo) ** np.clip(G, 0.0, 1.0)
+    """One gene per free tolerance (a tied group's lead, or an untied factor), log-scaled on its bounds."""
+    f = problem.free
+    lo, hi = problem.lower[f], problem.upper[f]
+    G = np.asarray(G, float)
+    T = np.empty(G.shape[:-1] + (len(problem.factors),))
+    T[..., f] = lo * (hi / lo) ** np.clip(G, 0.0, 1.0)
+    return problem.tie(T)
 
 
 def t_to_genes(problem: AllocationProblem, T: np.ndarray) -> np.ndarray:
-    lo, hi = problem.lower, problem.upper
-    return np.log(np.clip(T, lo, hi) / lo) / np.log(hi / lo)
+    f = problem.free
+    lo, hi = problem.lower[f], problem.upper[f]
+    return np.log(np.clip(np.asarray(T, float)[..., f], lo, hi) / lo) / np.log(hi / lo)
 
 
 def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASettings(),
@@ -74,7 +80,7 @@ def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASe
     import pygad
 
     s = settings
-    m = len(problem.factors)
+    m = len(problem.free)
     c_max = float(problem.cost(problem.lower))
     c_ref = max(float(problem.cost(problem.upper)), 1e-300)
     history: list[float] = []

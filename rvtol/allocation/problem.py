@@ -67,12 +67,24 @@ class AllocationProblem:
     factors: list[str]
     curves: list[CostModel]
     requirements: list[Requirement]
+    ties: tuple[tuple[str, ...], ...] = ()    # factors that share one tolerance (one drawing callout)
 
     def __post_init__(self):
         self.model.check_spec(self.spec)
         self.idx = [self.spec.index(n) for n in self.factors]
         if len(set(self.idx)) != len(self.idx) or not self.idx:
             raise InputError("allocated factors must be distinct and at least one", key="factors")
+        # a tied factor follows its group's first (the lead) at the spec's ratio: t_k = t_lead · t0_k / t0_lead
+        at = {n: k for k, n in enumerate(self.factors)}
+        self.lead = np.arange(len(self.factors))
+        for group in self.ties:
+            if any(n not in at for n in group):
+                raise InputError(f"tied factors {', '.join(n for n in group if n not in at)} are not allocated",
+                                 key="tie")
+            self.lead[[at[n] for n in group]] = at[group[0]]
+        self.free = np.flatnonzero(self.lead == np.arange(len(self.factors)))   # one variable per tolerance
+        t0 = self.t0
+        self.ratio = t0 / t0[self.lead]
         if len(self.curves) != len(self.factors):
             raise InputError("one cost curve per allocated factor", key="assign")
         for n, c in zip(self.factors, self.curves):
@@ -113,8 +125,15 @@ class AllocationProblem:
         """The spec with the allocated factors' tolerances set to ``t`` (base units)."""
         return self.spec.scaled(self.scales(t))
 
+    def tie(self, t) -> np.ndarray:
+        """``t[..., m]`` with every tied factor set from its lead (clipped to its own bounds)."""
+        t = np.asarray(t, float)
+        if not self.ties:
+            return t
+        return np.clip(t[..., self.lead] * self.ratio, self.lower, self.upper)
+
     def with_requirements(self, reqs: list[Requirement]) -> "AllocationProblem":
-        return AllocationProblem(self.model, self.spec, self.factors, self.curves, reqs)
+        return replace(self, requirements=reqs)
 
     def scaled_requirements(self, f: float) -> "AllocationProblem":
         """The same problem with every limit's distance from the nominal output multiplied by ``f``."""
@@ -261,40 +280,48 @@ class LinearisedConstraint:
         return out
 
 
-def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) -> dict[str, pd.DataFrame]:
+def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8,
+                  reference: dict[int, tuple[float, float]] | None = None) -> dict[str, pd.DataFrame]:
     """For each requirement whose NOMINAL output lies on or outside its limits (no tolerance can fix it),
     the first-order design levers: the mean shift of one factor (or of every copy of a family alike) that
-    moves the nominal output to ``limit ∓ z·σ`` — z as the allocation's, σ the linearised RSS spread of
-    the spec's present tolerances — ranked by the output change one tolerance half-band of shift gives.
-    Linear at the nominal point: a direction and a size for the designer, to be confirmed by a study of
-    the changed design.  Angles (phases) are not levers, nor error magnitudes (one-sided distributions:
-    a form or position error's size is what the process achieves, not a nominal the designer sets)."""
+    moves the output to ``limit ∓ z·σ`` — z as the allocation's — ranked by the output change one
+    tolerance half-band of shift gives.  The output is measured from ``reference[j] = (mean, σ)`` (base
+    units: the study's Monte Carlo mean and standard deviation at the present tolerances) when given —
+    an output that is a minimum or maximum over copies (backlash: the tightest of 38 pin clearances) or a
+    clipped clearance is not centred on its nominal value — else from the nominal output with the
+    linearised RSS σ.  The slope is the five-point derivative at the nominal: a direction and a size for
+    the designer, to be confirmed by a study of the changed design.  Angles (phases) are not levers, nor
+    error magnitudes (one-sided distributions: a form or position error's size is what the process
+    achieves, not a nominal the designer sets)."""
     spec, out = problem.spec, {}
     sd = spec.std_base()
     for j, r in enumerate(problem.requirements):
         if lin.margin[j] > 0 or np.isnan(lin.S[j]).any():
             continue
         q = problem.model.output(r.output)
-        sigma = float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))
+        y_ref, sigma = (reference[j] if reference and j in reference
+                        else (lin.y0[j], float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))))
         lower = units.convert(r.lower, q.shown_unit, q.unit) if r.lower is not None else None
         if lower is not None and (r.upper is None or lin.y0[j] <= lower):     # the limit the nominal misses
             target = lower + lin.z[j] * sigma
         else:
             target = units.convert(r.upper, q.shown_unit, q.unit) - lin.z[j] * sigma
-        need = target - lin.y0[j]                                  # base units of the output
-        levers: dict[str, list] = {}
+        need = target - y_ref                                      # base units of the output
+        levers: dict[str, list] = {}          # lever -> [Σ S over its copies, its first factor]
         for k, f in enumerate(spec.factors):
             if units.dimension(f.unit) == "angle" or f.dist.one_sided or lin.S[j, k] == 0.0:
                 continue              # phases, and error magnitudes (Rayleigh, ...: set by the process, not a nominal)
             key = f.family or f.name
-            entry = levers.setdefault(key, [0.0, f, 0])
+            entry = levers.setdefault(key, [0.0, f])
             entry[0] += lin.S[j, k]
-            entry[2] += 1
+        copies = {}
+        for f in spec.factors:
+            copies[f.family or f.name] = copies.get(f.family or f.name, 0) + 1
         rows = []
-        for key, (S, f, count) in levers.items():
+        for key, (S, f) in levers.items():
             t = units.to_base(f.half_band, f.unit)
             shift = need / S
-            rows.append({"lever (mean shift of)": key + (f" (all {count} alike)" if count > 1 else ""),
+            rows.append({"lever (mean shift of)": key, "copies shifted alike": copies[key],
                          "unit": f.unit, "now (mean)": f.dist.mean,
                          f"output change per +t [{q.shown_unit}]": float(q.to_display(S * t)),
                          "shift needed alone": float(units.from_base(shift, f.unit)),
@@ -303,6 +330,19 @@ def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8) 
         frame = pd.DataFrame(rows).sort_values("_rank", ascending=False).drop(columns="_rank").head(top)
         out[r.label] = frame.reset_index(drop=True)
     return out
+
+
+def shifted_spec(spec, lever: str, shift: float) -> "ToleranceSpec":
+    """``spec`` with every factor the lever names (a factor, or every copy of a family) shifted by ``shift``
+    (the factor's unit): its distribution and its nominal move, its tolerance band keeps its width."""
+    hit = [f.name for f in spec.factors if (f.family or f.name) == lever]
+    if not hit:
+        raise KeyError(lever)
+    return spec.with_factors(
+        replace(f, dist=replace(f.dist, shift=f.dist.shift + shift),
+                nominal=None if f.nominal is None else f.nominal + shift,
+                limits=None if f.limits is None else (f.limits[0] + shift, f.limits[1] + shift))
+        if f.name in hit else f for f in spec.factors)
 
 
 # --------------------------------------------------------------------------- Monte Carlo constraint

@@ -41,6 +41,12 @@ def signoff_section(result) -> Section:
         sec.add_table(pd.DataFrame(drows), caption="The tolerances that matter most for each requirement: first-order "
                                                    "share of the output's variance, estimated from the Monte Carlo "
                                                    "samples (coordinates of one drawing tolerance summed)")
+    overlaps = [f"{d.label}: " + "; ".join(d.overlaps) for d in digests if d.overlaps]
+    if overlaps:
+        sec.add_text("Correlated in the spec, so their shares overlap (each includes what the other explains through "
+                     "the correlation; do not add them, and tightening one alone gains less than its share says; "
+                     "the Sobol total indices of the sensitivity matrix treat the factors as independent and need "
+                     "not agree) — " + " · ".join(overlaps) + ".")
     for d in failed:
         if d.change:
             sec.add_text(f"What to change — {d.label}: {d.change}")

@@ -447,9 +447,9 @@ class SensitivityMatrix(_Analysis):
     A drawing tolerance is a factor, or the factors that stand for one callout (the end-point
     coordinates of a position zone, the copies of a per-pin family): :func:`rvtol.signoff.drawing_tolerance`.
     Five-point: each factor's linearised variance contribution ``(S_i σ_i)²`` as a share of the
-    output's linearised variance (correlation ignored), summed per tolerance.  Sobol: the ``top``
-    tolerances by their largest share over the outputs are groups of their own, every other factor
-    is one group ("all other tolerances"), so n·(top + 3) model runs give a total index per
+    output's linearised variance (correlation ignored), summed per tolerance.  Sobol: ``top``
+    tolerances, taken from every output in turn (:meth:`top_tolerances`), are groups of their own,
+    every other factor is one group ("all other tolerances"), so n·(top + 3) model runs give a total index per
     tolerance that includes its interactions — the two maps side by side show where the
     linearisation misses.
     """
@@ -486,7 +486,7 @@ class SensitivityMatrix(_Analysis):
             for n, v in zip(names, c):
                 share.loc[tol[n], o] += (v / total) if total > 0 and np.isfinite(v) else np.nan
         rank = share.max(axis=1, skipna=True).sort_values(ascending=False)
-        top = list(rank.index[:self.top])
+        top, by_mc = self.top_tolerances(share, ctx, order)
         rest = "all other tolerances"
         groups = [tol[n] if tol[n] in top else rest for n in names]
         res = gs.sobol(model, spec, self.n, names, self.outputs, second_order=False, seed=self.seed_of(ctx),
@@ -505,8 +505,11 @@ class SensitivityMatrix(_Analysis):
             f"tolerance); columns: outputs. Left: the five-point (±{self.percent:g} %) linearised share of each "
             "output's variance, (S_i σ_i)² / Σ (correlation ignored), for every tolerance — "
             f"{4 * len(names) + 1} model runs. Right: Sobol "
-            f"total indices (Saltelli, n = {self.n}, {res.n_evaluations} model runs) of the {len(top)} tolerances with "
-            "the largest share, the others as one group: the total index includes interactions and the "
+            f"total indices (Saltelli, n = {self.n}, {res.n_evaluations} model runs) of {len(top)} tolerances — each "
+            "output's largest in turn (its largest five-point share; for an output the linearisation cannot see, "
+            "a magnitude whose derivative vanishes at the nominal"
+            + (f" ({', '.join(by_mc)})" if by_mc else "") + ", its largest first-order index from the Monte "
+            "Carlo samples) — the others as one group: the total index includes interactions and the "
             "non-linearity the linear share misses.")
         sec.add_figure(heatmap(share.loc[shown], "Five-point linearised share of variance", "share", "{:.2f}", vmax=1.0),
                        caption="Cross-model sensitivity: five-point linearised variance share (drawing tolerance × "
@@ -528,6 +531,33 @@ class SensitivityMatrix(_Analysis):
                                            for o in self.outputs} for t in rows},
                        "model_runs": {"five_point": 4 * len(names) + 1, "sobol": res.n_evaluations}}
         return sec
+
+    def top_tolerances(self, share, ctx, order) -> tuple[list[str], list[str]]:
+        """``top`` drawing tolerances taken from every output in turn (its first, then its second, ...): by
+        five-point share, or — where the share is undefined (a magnitude with zero derivative at the
+        nominal) — by the first-order index the Monte Carlo samples give (:func:`rvtol.signoff.first_order_drivers`).
+        Returns the tolerances and the outputs ranked from the Monte Carlo."""
+        from ..signoff import first_order_drivers
+
+        ranking, by_mc = {}, []
+        for o in self.outputs:
+            col = share[o].dropna()
+            if len(col) and col.max() > 0:
+                ranking[o] = [t for t in col.sort_values(ascending=False).index if col[t] > 0]
+            else:
+                by_mc.append(o)
+        if by_mc and ctx.mc is not None:
+            drivers = first_order_drivers(ctx.mc, ctx.model, ctx.spec, by_mc, self.seed_of(ctx))
+            for o in by_mc:
+                ranking[o] = [d.tolerance for d in drivers.get(o, []) if d.tolerance in order and d.s1 > 0]
+        top, level = [], 0
+        while len(top) < self.top and any(level < len(r) for r in ranking.values()):
+            for o in self.outputs:
+                r = ranking.get(o, [])
+                if level < len(r) and r[level] not in top and len(top) < self.top:
+                    top.append(r[level])
+            level += 1
+        return top, [o for o in by_mc if ranking.get(o)]
 
 
 def _num(v):
