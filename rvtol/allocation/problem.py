@@ -287,7 +287,7 @@ def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8,
     moves the output to ``limit ∓ z·σ`` — z as the allocation's — ranked by the output change one
     tolerance half-band of shift gives.  The output is measured from ``reference[j] = (mean, σ)`` (base
     units: the study's Monte Carlo mean and standard deviation at the present tolerances) when given —
-    an output that is a minimum or maximum over copies (backlash: the tightest of 38 pin clearances) or a
+    an output that is a minimum or maximum over copies (backlash: the tightest of the pin clearances) or a
     clipped clearance is not centred on its nominal value — else from the nominal output with the
     linearised RSS σ.  The slope is the five-point derivative at the nominal: a direction and a size for
     the designer, to be confirmed by a study of the changed design.  Angles (phases) are not levers, nor
