@@ -47,7 +47,7 @@ STREAMS = {
     "clearance_fit_sizes": 12, "clearance_fit_positions": 13,         # hole/shaft sizes, position in the fit
     "screening_subsample": 14,                                        # reducers for the torsion curve beside doc 001
     "allocation_ga_design": 71, "allocation_ga": 72, "allocation_verify": 73,
-    "allocation_levers": 74,                                          # the shifted design of a design lever
+    "allocation_levers": 74, "allocation_ga_confirm": 75,                                         # the shifted design of a design lever
     "calibration_noise": 81,                                          # noise of synthetic measured curves
     "measured_gof": 91,                                               # bootstrap of a measured factor's GoF test
     "stacking_importance": 92,                                        # importance sampling about the FORM point

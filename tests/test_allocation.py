@@ -353,3 +353,19 @@ def test_drawing_ties_group_the_coordinates_and_copies_of_one_callout():
     spec = ToleranceSpec("t", fs)
     assert drawing_ties(spec, list(spec.names)) == (("hole.position.x1", "hole.position.y1"), ("pins[1].d", "pins[2].d"))
     assert drawing_ties(spec, ["hole.position.x1", "lone"]) == ()
+
+
+def test_ga_confirmation_returns_the_cheapest_candidate_that_a_fresh_sample_also_accepts():
+    """The same design as confirmation changes nothing (rank 1 = the unconfirmed best, bit for bit); a fresh
+    design returns a candidate feasible on both samples and never cheaper than the unconfirmed best."""
+    p = linear_problem(K, B, limit=1.0)
+    con = MonteCarloConstraint(p, 400, "lhs", 11)
+    settings = GASettings(population=16, generations=15, parents=8, seed=2)
+    plain = solve_ga(p, con, settings)
+    same = solve_ga(p, con, settings, confirm=MonteCarloConstraint(p, 400, "lhs", 11))
+    np.testing.assert_array_equal(same.t, plain.t)
+    assert "rank 1 by cost" in same.notes[0]
+    fresh = MonteCarloConstraint(p, 400, "lhs", 12)
+    res = solve_ga(p, con, settings, confirm=fresh)
+    assert res.feasible and con.violation(res.t[None, :])[0] <= 0 and fresh.violation(res.t[None, :])[0] <= 0
+    assert res.total_cost >= plain.total_cost

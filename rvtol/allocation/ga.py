@@ -72,10 +72,15 @@ def t_to_genes(problem: AllocationProblem, T: np.ndarray) -> np.ndarray:
 
 
 def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASettings(),
-             initial: np.ndarray | None = None) -> AllocationResult:
+             initial: np.ndarray | None = None, confirm=None, confirm_batches: int = 3) -> AllocationResult:
     """Minimise the cost subject to ``constraint.violation(T) == 0`` with pygad.
 
     ``initial``: optional tolerance vectors (base units) to seed part of the population.
+    ``confirm``: a second constraint of the same kind on a fresh sample (a Monte Carlo constraint with
+    its own design). The GA's cheapest feasible candidate is the one the optimisation's own sample
+    flatters most (it is chosen BY that sample: the winner's curse of a fixed-design constraint), so the
+    feasible candidates are taken cheapest first, in batches of the population size (at most
+    ``confirm_batches``), and the cheapest that also meets ``confirm`` is returned.
     """
     import pygad
 
@@ -85,6 +90,7 @@ def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASe
     c_ref = max(float(problem.cost(problem.upper)), 1e-300)
     history: list[float] = []
     best = {"cost": np.inf, "t": None}
+    pool: dict[bytes, tuple[float, np.ndarray]] = {}        # every feasible candidate (for the confirmation)
 
     def fitness(ga, solutions, indices):
         G = np.atleast_2d(np.asarray(solutions, float))
@@ -99,6 +105,8 @@ def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASe
         for i in np.flatnonzero(ok):
             if cost[i] < best["cost"]:
                 best["cost"], best["t"] = float(cost[i]), T[i].copy()
+            if confirm is not None:
+                pool.setdefault(T[i].tobytes(), (float(cost[i]), T[i].copy()))
         return list(fit / c_ref)
 
     def on_generation(ga):
@@ -125,5 +133,25 @@ def solve_ga(problem: AllocationProblem, constraint, settings: GASettings = GASe
         return AllocationResult(method, problem, genes_to_t(problem, np.asarray(G, float)), "no feasible candidate",
                                 False, what, history, evals,
                                 ["the GA found no candidate that meets the requirement; shown: the least violating"])
-    return AllocationResult(method, problem, best["t"], f"best feasible of {s.generations} generations", True, what,
-                            history, evals)
+    if confirm is None:
+        return AllocationResult(method, problem, best["t"], f"best feasible of {s.generations} generations", True,
+                                what, history, evals)
+    ranked = sorted(pool.values(), key=lambda ct: ct[0])
+    for b in range(confirm_batches):
+        batch = ranked[b * s.population:(b + 1) * s.population]
+        if not batch:
+            break
+        ok = np.flatnonzero(confirm.violation(np.array([t for _, t in batch])) <= 0.0)
+        if len(ok):
+            k = b * s.population + int(ok[0])
+            return AllocationResult(method, problem, ranked[k][1], f"best feasible of {s.generations} generations, "
+                                    "confirmed on a second sample", True, what, history, evals,
+                                    [f"confirmed: the cheapest of the GA's {len(ranked)} feasible candidates that "
+                                     f"also meets the requirements on a fresh sample ({confirm.describe()}) — "
+                                     f"rank {k + 1} by cost, {100 * (ranked[k][0] / ranked[0][0] - 1):.1f} % above "
+                                     "the cheapest on the optimisation's own sample"])
+    n_tried = min(len(ranked), confirm_batches * s.population)
+    return AllocationResult(method, problem, best["t"], f"best feasible of {s.generations} generations, NOT "
+                            "confirmed", True, what, history, evals,
+                            [f"none of the {n_tried} cheapest feasible candidates met the requirements on a fresh "
+                             "sample: the best on the optimisation's own sample is shown"])
