@@ -409,7 +409,7 @@ class AllocationAnalysis(Analysis):
         y = mc.column(r.output)
         return {"requirement": r.label, "lever": top["lever (mean shift of)"], "shift": float(top["shift needed alone"]),
                 "unit": top["unit"], "n": n, "mean after": float(np.nanmean(y)), "σ after": float(np.nanstd(y, ddof=1)),
-                "yield after": d["yield"], "yield lower bound": d["yield_ci"][0], "passed": d["passed"]}
+                "yield after": d["yield"], "yield bound": d["yield_bound"], "passed": d["passed"]}
 
     def pareto(self, p, lin, ga_con, ctx) -> ParetoCurve:
         rows = []

@@ -77,7 +77,7 @@ class Verification:
     method: str
     n: int
     seed: int
-    frame: pd.DataFrame  # output, limits, yield [CI], Cpk [CI], passed
+    frame: pd.DataFrame  # output, limits, yield and Cpk with the lower bounds the verdict judges, passed
 
     @property
     def passed(self) -> bool:
@@ -92,7 +92,7 @@ class Verification:
         key = "Cpk" if f["Cpk"].notna().all() else "yield"
         w = f.loc[f[key].astype(float).idxmin()]
         return {"method": self.method, "passed": f"{int(f['passed'].sum())} of {len(f)}", "worst output": w["output"],
-                "yield": w["yield"], "yield 95% lo": w["yield_lo"], "Cpk": w["Cpk"], "Cpk 95% lo": w["Cpk_lo"],
+                "yield": w["yield"], "yield bound": w["yield_lo"], "Cpk": w["Cpk"], "Cpk bound": w["Cpk_lo"],
                 "required": w["required"]}
 
 
