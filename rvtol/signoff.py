@@ -109,7 +109,7 @@ def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver
     ok = mc.ok
     if ok.sum() < 50:
         return {}
-    res = given_data(model, spec, mc.samples, mc.Y, outputs=outputs, seed=seed, num_resamples=20)
+    res = given_data(model, spec, mc.samples, mc.Y, outputs=outputs, seed=seed, num_resamples=0)   # S1 alone
     group = {f.name: drawing_tolerance(f) for f in spec.factors}
     deps = dependencies(model)
     out = {}

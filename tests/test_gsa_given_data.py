@@ -129,3 +129,19 @@ def test_delta_given_runs_on_the_subsample_and_says_so():
     assert "600 of the 3000" in res.notes[0]
     d = res.frame.set_index("factor")
     assert d["delta"].idxmax() == "q" and d.loc["s", "delta"] < d.loc["t", "delta"]   # q carries 82 % of V
+
+
+def test_indices_alone_skip_the_bootstrap_and_equal_the_ones_with_intervals():
+    """num_resamples = 0 (the sign-off digest: drivers need no interval): the same S1, per column the
+    correlation ratio by hand, the interval columns NaN; one ranking of the factors serves every output."""
+    s = sample(ISH_SPEC, 2048, "lhs", 7)
+    Y = evaluate_display(ISH, s)
+    full = given_data(ISH, ISH_SPEC, s, Y, seed=1, num_resamples=50).frame
+    bare = given_data(ISH, ISH_SPEC, s, Y, seed=1, num_resamples=0).frame
+    np.testing.assert_array_equal(bare["S1"], full["S1"])
+    assert bare[["S1_conf", "S1_low", "S1_high"]].isna().all().all()
+    X = s.values
+    for i, name in enumerate(ISH_SPEC.names):
+        assert bare.loc[bare["factor"] == name, "S1"].item() == pytest.approx(correlation_ratio(X[:, i], Y[:, 0]))
+    with pytest.raises(InputError):
+        first_order_given_data(X, Y[:, 0], num_resamples=5)

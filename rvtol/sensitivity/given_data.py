@@ -110,29 +110,43 @@ def correlation_ratio(x: np.ndarray, y: np.ndarray, classes: int | None = None) 
     return float(_corrected_ratio(np.bincount(c, minlength=M), np.bincount(c, y, M), np.bincount(c, y * y, M)))
 
 
+def class_indices(X: np.ndarray, classes: int | None = None) -> np.ndarray:
+    """:func:`class_index` of every column of ``X`` (``n × k``; M = ``classes`` or :func:`default_classes`):
+    computed once and shared by every output of one sample."""
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n = len(X)
+    M = classes or default_classes(n)
+    if not 2 <= M <= n // 2:
+        raise InputError(f"classes must be in [2, n/2 = {n // 2}], got {M}", key="classes")
+    return np.column_stack([class_index(X[:, i], M) for i in range(X.shape[1])])
+
+
 def first_order_given_data(X: np.ndarray, y: np.ndarray, classes: int | None = None, num_resamples: int = 200,
-                           confidence: float = 0.95, seed: int | np.random.Generator | None = None) -> dict:
+                           confidence: float = 0.95, seed: int | np.random.Generator | None = None,
+                           C: np.ndarray | None = None) -> dict:
     """First-order indices of ``y`` on each column of ``X`` (any scale: only ranks matter), with bootstrap CIs.
 
     Returns arrays ``S1``, ``S1_conf`` (z·sd half-width), ``S1_low``, ``S1_high`` (percentiles)
-    and the number of classes ``M``.
+    and the number of classes ``M``.  ``C``: the :func:`class_indices` of ``X`` when already computed.
+    ``num_resamples = 0``: the indices alone (the interval columns NaN) — no bootstrap.
     """
     X, y = np.atleast_2d(np.asarray(X, dtype=float)), np.asarray(y, dtype=float).ravel()
     n, k = X.shape
     if len(y) != n:
         raise InputError(f"X has {n} rows and y {len(y)}", key="Y")
     M = classes or default_classes(n)
-    if not 2 <= M <= n // 2:
-        raise InputError(f"classes must be in [2, n/2 = {n // 2}], got {M}", key="classes")
-    if num_resamples < 10:
-        raise InputError(f"num_resamples must be >= 10, got {num_resamples}", key="num_resamples")
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    C = np.column_stack([class_index(X[:, i], M) for i in range(k)])
+    if num_resamples != 0 and num_resamples < 10:
+        raise InputError(f"num_resamples must be 0 (no intervals) or >= 10, got {num_resamples}", key="num_resamples")
+    C = class_indices(X, M) if C is None else C
     S1, plug_in = np.empty(k), np.empty(k)
     for i in range(k):
         sums = (np.bincount(C[:, i], minlength=M), np.bincount(C[:, i], y, M), np.bincount(C[:, i], y * y, M))
         S1[i] = _corrected_ratio(*sums)
         plug_in[i] = _corrected_ratio(*sums, kelley=False)
+    if num_resamples == 0:
+        nan = np.full(k, np.nan)
+        return {"S1": S1, "S1_conf": nan, "S1_low": nan, "S1_high": nan, "M": M}
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     # bootstrap in blocks of resamples (memory ~ 3 × block × n values); classes kept
     boot = np.empty((num_resamples, k))
     block = max(1, min(num_resamples, 4_000_000 // max(n, 1)))
@@ -177,6 +191,7 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     rng = substream(seed, "given_data")
     names = [spec.names[i] for i in idx]
     rows, M = [], None
+    C = class_indices(X[:, idx], classes)           # one ranking of the factors for every output
     for c, j in enumerate(oidx):
         q = model.outputs[j]
         y = Yd[:, c]
@@ -184,14 +199,15 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
             notes.append(f"{q.name}: the output does not vary; its indices are 0.")
             res = {col: np.zeros(len(idx)) for col in GIVEN_COLUMNS}
         else:
-            res = first_order_given_data(X[:, idx], y, classes, num_resamples, confidence, rng)
+            res = first_order_given_data(X[:, idx], y, classes, num_resamples, confidence, rng, C)
             M = res["M"]
         for i, nm in enumerate(names):
             rows.append({"output": q.name, "unit": q.shown_unit, "factor": nm,
                          **{col: float(res[col][i]) for col in GIVEN_COLUMNS}})
     frame = pd.DataFrame(rows, columns=["output", "unit", "factor", *GIVEN_COLUMNS])
-    notes.append(f"Intervals (bootstrap, {num_resamples} resamples) cover the sampling of the {len(X)} points, "
-                 "not the small discretisation bias of the classes.")
+    if num_resamples:
+        notes.append(f"Intervals (bootstrap, {num_resamples} resamples) cover the sampling of the {len(X)} points, "
+                     "not the small discretisation bias of the classes.")
     settings = {"n": len(X), "samples": "given", "classes": M or classes or default_classes(len(X)),
                 "num_resamples": num_resamples, "estimator": "Kelley-corrected correlation ratio, equal-count classes"}
     return gs.GlobalSensitivityResult("given_data", frame, 0, confidence, settings, None, n_failed, notes)
