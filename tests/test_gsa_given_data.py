@@ -145,3 +145,26 @@ def test_indices_alone_skip_the_bootstrap_and_equal_the_ones_with_intervals():
         assert bare.loc[bare["factor"] == name, "S1"].item() == pytest.approx(correlation_ratio(X[:, i], Y[:, 0]))
     with pytest.raises(InputError):
         first_order_given_data(X, Y[:, 0], num_resamples=5)
+
+
+def test_one_ranking_serves_the_classes_and_the_dependence_check():
+    """Ranks of U = F(X) from X's ordinal ranks equal scipy's rankdata of U column by column — a tie-free
+    column by the CDF's order, a column with ties (a flat stretch of F, a constant) by average ranks — and
+    the dependence check gives the same pairs either way."""
+    from scipy import stats as sps
+
+    from rvtol.sensitivity._given import correlated_pairs
+    from rvtol.sensitivity.given_data import ordinal_ranks, spearman_ranks
+
+    rng = np.random.default_rng(3)
+    n = 500
+    a = rng.standard_normal(n)
+    X = np.column_stack([a, a + 0.5 * rng.standard_normal(n), rng.random(n), np.full(n, 2.0)])
+    U = np.column_stack([sps.norm.cdf(X[:, 0]), sps.norm.cdf(X[:, 1] / np.sqrt(1.25)),
+                         np.clip(X[:, 2], 0.3, 0.7),              # a CDF flat at both ends: ties in U, not in X
+                         np.full(n, 0.5)])
+    S = spearman_ranks(U, ordinal_ranks(X))
+    np.testing.assert_allclose(S - S.mean(axis=0), sps.rankdata(U, axis=0) - sps.rankdata(U, axis=0).mean(axis=0))
+    names = ["a", "b", "c", "d"]
+    assert correlated_pairs(names, U, ranks=S) == correlated_pairs(names, U)
+    assert [p[:2] for p in correlated_pairs(names, U)] == [("a", "b")]

@@ -84,12 +84,14 @@ def spearman_threshold(n: int) -> float:
 
 
 def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
-                     correlation: np.ndarray | None = None) -> list[tuple[str, str, float, str]]:
+                     correlation: np.ndarray | None = None,
+                     ranks: np.ndarray | None = None) -> list[tuple[str, str, float, str]]:
     """Pairs of dependent factors ``(a, b, rho, source)``: from the spec's copula and/or the sample.
 
     ``correlation`` is the spec's normal-score correlation matrix (columns in the order of
     ``names``); ``U`` the uniform design, whose Spearman matrix flags dependence the spec does not
-    state (e.g. samples from another source).  Source is ``"spec"`` or ``"sample"``.
+    state (e.g. samples from another source).  Source is ``"spec"`` or ``"sample"``.  ``ranks``: ``U``'s
+    column ranks when already known (:func:`rvtol.sensitivity.given_data.spearman_ranks`).
     """
     k = len(names)
     out: dict[tuple[int, int], tuple[float, str]] = {}
@@ -104,7 +106,8 @@ def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
 
         with warnings.catch_warnings(), np.errstate(invalid="ignore", divide="ignore"):
             warnings.simplefilter("ignore", RuntimeWarning)  # constant columns: NaN, skipped
-            rho = np.corrcoef(stats.rankdata(U, axis=0), rowvar=False)  # Spearman = Pearson of the ranks
+            rho = np.corrcoef(stats.rankdata(U, axis=0) if ranks is None else ranks,   # Spearman = Pearson of
+                              rowvar=False)                                               # the ranks
         thr = spearman_threshold(len(U))
         for a in range(k):
             for b in range(a + 1, k):

@@ -84,10 +84,7 @@ def default_classes(n: int) -> int:
 
 def class_index(x: np.ndarray, M: int) -> np.ndarray:
     """Class of each sample: the rank of ``x`` cut into ``M`` classes of equal count (ties by order)."""
-    n = len(x)
-    rank = np.empty(n, dtype=np.int64)
-    rank[np.argsort(x, kind="stable")] = np.arange(n)
-    return (rank * M) // n
+    return (ordinal_ranks(np.asarray(x, dtype=float)[:, None])[:, 0] * M) // len(x)
 
 
 def _corrected_ratio(counts: np.ndarray, sums: np.ndarray, sumsq: np.ndarray, kelley: bool = True) -> np.ndarray:
@@ -110,15 +107,38 @@ def correlation_ratio(x: np.ndarray, y: np.ndarray, classes: int | None = None) 
     return float(_corrected_ratio(np.bincount(c, minlength=M), np.bincount(c, y, M), np.bincount(c, y * y, M)))
 
 
-def class_indices(X: np.ndarray, classes: int | None = None) -> np.ndarray:
+def ordinal_ranks(X: np.ndarray) -> np.ndarray:
+    """The 0-based rank of every value in its column (``n × k``; ties by order, as :func:`class_index`)."""
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n, k = X.shape
+    R = np.empty((n, k), dtype=np.int64)
+    for i in range(k):
+        R[np.argsort(X[:, i], kind="stable"), i] = np.arange(n)
+    return R
+
+
+def class_indices(X: np.ndarray, classes: int | None = None, ranks: np.ndarray | None = None) -> np.ndarray:
     """:func:`class_index` of every column of ``X`` (``n × k``; M = ``classes`` or :func:`default_classes`):
-    computed once and shared by every output of one sample."""
+    computed once and shared by every output of one sample; ``ranks``: its :func:`ordinal_ranks` if known."""
     X = np.atleast_2d(np.asarray(X, dtype=float))
     n = len(X)
     M = classes or default_classes(n)
     if not 2 <= M <= n // 2:
         raise InputError(f"classes must be in [2, n/2 = {n // 2}], got {M}", key="classes")
-    return np.column_stack([class_index(X[:, i], M) for i in range(X.shape[1])])
+    return ((ordinal_ranks(X) if ranks is None else ranks) * M) // n
+
+
+def spearman_ranks(U: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """Ranks of ``U = F(X)`` for a rank correlation, from the ordinal ranks ``R`` of ``X``: a CDF keeps the
+    order, so where ``U``'s column has no ties its ranks are ``R``'s; a column with ties (a flat CDF, a
+    constant factor) gets :func:`scipy.stats.rankdata`'s average ranks, as a fresh ranking would."""
+    out = R.astype(float)
+    for i in range(U.shape[1]):
+        in_order = np.empty(len(U))
+        in_order[R[:, i]] = U[:, i]
+        if not np.all(np.diff(in_order) > 0):
+            out[:, i] = stats.rankdata(U[:, i])
+    return out
 
 
 def first_order_given_data(X: np.ndarray, y: np.ndarray, classes: int | None = None, num_resamples: int = 200,
@@ -183,7 +203,9 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     model.check_spec(spec)
     idx, oidx = factor_indices(spec, factors), output_indices(model, outputs)
     X, Yd, n_failed, notes = given_samples(model, spec, samples, Y, oidx)
-    pairs = correlated_pairs(spec.names, u_from_samples(spec, X), spec.correlation)
+    R = ordinal_ranks(X)                            # one ranking: the classes and the dependence check
+    U = u_from_samples(spec, X)
+    pairs = correlated_pairs(spec.names, U, spec.correlation, ranks=spearman_ranks(U, R))
     if pairs:
         notes.append("The inputs are dependent (" + describe_pairs(pairs) + "): each S1 is the share of variance "
                      "explained by the factor including what it carries of the factors correlated with it; the "
@@ -191,7 +213,7 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     rng = substream(seed, "given_data")
     names = [spec.names[i] for i in idx]
     rows, M = [], None
-    C = class_indices(X[:, idx], classes)           # one ranking of the factors for every output
+    C = class_indices(X[:, idx], classes, R[:, idx])   # one ranking of the factors for every output
     for c, j in enumerate(oidx):
         q = model.outputs[j]
         y = Yd[:, c]
