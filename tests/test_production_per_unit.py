@@ -264,14 +264,18 @@ def test_the_analysis_writes_a_row_per_unit_and_a_summary_entry(tmp_path):
     assert table.loc[0, "n"] == samples_to_demonstrate(study.requirements)
     summary = json.loads((out / "summary.json").read_text())
     units = summary["analyses"]["per_unit_prediction"]["units"]
-    # R1: play = 0.5 − 1.25 + 0.5·housing (N(1, 0.25)): median −0.75 + 1.0 µm; well below 3 µm
+    n = int(table.loc[0, "n"])
+    # R1: play = 0.5 − 1.25 + 0.5·housing (N(1, 0.25)): median −0.75 + 1.0 µm; well below 3 µm. The sample
+    # median's standard error is √(π/2)·σ/√n = 1.2533 · 0.25/√n; within 4 of them
     assert units[0]["verdict"] == "conforms"
-    assert abs(units[0]["outputs"]["play"]["median"] - 0.25) < 0.05
+    assert abs(units[0]["outputs"]["play"]["median"] - 0.25) < 4 * 1.2533 * 0.25 / math.sqrt(n)
     # R2: 2.0 + 0 + 0.5·housing: P(≤ 3) = Φ(0/0.25) = 0.5 -> does not conform
     assert units[1]["verdict"] == "does not conform"
     assert table.loc[1, "verdict"] == "does not conform"
-    # R3: nothing measured: the spec's own spread (σ = √(1 + 1 + 0.0625))
-    assert abs(units[2]["requirements"][0]["P"] - stats.norm.cdf(2.0 / math.sqrt(2.0625))) < 0.03
+    # R3: nothing measured: the spec's own spread (σ = √(1 + 1 + 0.0625)); P from n samples, within 4 binomial
+    # standard errors (n = 59 is what the verdict needs, not a precise P: the check is loose by design)
+    p = stats.norm.cdf(2.0 / math.sqrt(2.0625))
+    assert abs(units[2]["requirements"][0]["P"] - p) < 4 * math.sqrt(p * (1 - p) / n)
 
 
 def test_a_bad_kit_file_fails_the_study_at_load_time(tmp_path):

@@ -15,6 +15,8 @@ reducer, which class the part must come from:
 The rule is simulated **inside the Monte Carlo**, as a transform of each sample before it is
 evaluated (:func:`assemble`): the graded factor's column is replaced by the part the rule picks,
 every other factor stays as sampled (common random numbers between graded and ungraded runs).
+"Measured" here means the sample's true values: grading and targets assume a perfect gauge (no
+measurement error is added), so the simulated yields are an upper bound of what grading gains.
 
 * **Unlimited supply** (no stock): the part is drawn from the supply *within its class*,
   ``x = F⁻¹(F(lo_c) + u (F(hi_c) − F(lo_c)))`` with ``u`` the sample's own uniform for that factor —
