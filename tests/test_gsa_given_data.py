@@ -147,24 +147,34 @@ def test_indices_alone_skip_the_bootstrap_and_equal_the_ones_with_intervals():
         first_order_given_data(X, Y[:, 0], num_resamples=5)
 
 
-def test_one_ranking_serves_the_classes_and_the_dependence_check():
-    """Ranks of U = F(X) from X's ordinal ranks equal scipy's rankdata of U column by column — a tie-free
-    column by the CDF's order, a column with ties (a flat stretch of F, a constant) by average ranks — and
-    the dependence check gives the same pairs either way."""
+def test_one_ranking_serves_the_classes_and_the_dependence_check(monkeypatch):
+    """One ranking of X, a column at a time: the classes equal each column's own ranking, and the Spearman
+    matrix of U = F(X) equals scipy's (Pearson of ``rankdata(U)``) — a tie-free column by the CDF's order, a
+    column with ties (a flat stretch of F, a constant) by average ranks —, summed over row blocks as over the
+    whole; the dependence check gives the same pairs either way."""
     from scipy import stats as sps
 
+    from rvtol.sensitivity import given_data as gd
     from rvtol.sensitivity._given import correlated_pairs
-    from rvtol.sensitivity.given_data import ordinal_ranks, spearman_ranks
 
     rng = np.random.default_rng(3)
     n = 500
     a = rng.standard_normal(n)
     X = np.column_stack([a, a + 0.5 * rng.standard_normal(n), rng.random(n), np.full(n, 2.0)])
-    U = np.column_stack([sps.norm.cdf(X[:, 0]), sps.norm.cdf(X[:, 1] / np.sqrt(1.25)),
-                         np.clip(X[:, 2], 0.3, 0.7),              # a CDF flat at both ends: ties in U, not in X
-                         np.full(n, 0.5)])
-    S = spearman_ranks(U, ordinal_ranks(X))
-    np.testing.assert_allclose(S - S.mean(axis=0), sps.rankdata(U, axis=0) - sps.rankdata(U, axis=0).mean(axis=0))
+    cdfs = [sps.norm.cdf, lambda x: sps.norm.cdf(x / np.sqrt(1.25)),
+            lambda x: np.clip(x, 0.3, 0.7),                   # a CDF flat at both ends: ties in U, not in X
+            lambda x: np.full(len(x), 0.5)]
+    U = np.column_stack([f(X[:, j]) for j, f in enumerate(cdfs)])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        expect = np.corrcoef(sps.rankdata(U, axis=0), rowvar=False)
+    for block in (n, 64):                                      # one block, several
+        monkeypatch.setattr(gd, "GRAM_BLOCK", block)
+        C, rho = gd.classes_and_spearman(X, cdfs, [0, 2, 3], classes=10)
+        np.testing.assert_allclose(rho, expect, rtol=0, atol=1e-13)     # NaN where the constant column is
+        for c, j in enumerate((0, 2, 3)):
+            np.testing.assert_array_equal(C[:, c], gd.class_index(X[:, j], 10))
+            assert np.bincount(C[:, c]).tolist() == [50] * 10           # equal-count classes
     names = ["a", "b", "c", "d"]
-    assert correlated_pairs(names, U, ranks=S) == correlated_pairs(names, U)
-    assert [p[:2] for p in correlated_pairs(names, U)] == [("a", "b")]
+    pairs = correlated_pairs(names, rho=rho, n=n)
+    assert [p[:2] for p in pairs] == [p[:2] for p in correlated_pairs(names, U)] == [("a", "b")]
+    assert pairs[0][2] == pytest.approx(correlated_pairs(names, U)[0][2], abs=1e-13)

@@ -52,15 +52,20 @@ def given_samples(model: Model, spec: ToleranceSpec, samples: SampleSet, Y, oidx
     return X, Yd, int(bad.sum()), notes
 
 
+def u_column(x: np.ndarray, cdf: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """``cdf(x)`` kept strictly inside (0, 1); a non-finite value is an input error."""
+    u = np.asarray(cdf(x), dtype=float)
+    if not np.all(np.isfinite(u)):
+        raise InputError("a CDF returned non-finite values", key="X")
+    return np.clip(u, _U_EPS, 1.0 - _U_EPS)
+
+
 def u_from_values(X: np.ndarray, cdfs: Sequence[Callable[[np.ndarray], np.ndarray]]) -> np.ndarray:
     """The uniform design ``u[:, j] = cdfs[j](X[:, j])``, kept strictly inside (0, 1)."""
     X = np.asarray(X, dtype=float)
     if X.ndim != 2 or X.shape[1] != len(cdfs):
         raise InputError(f"X has shape {X.shape}, expected (n, {len(cdfs)})", key="X")
-    U = np.column_stack([np.asarray(f(X[:, j]), dtype=float) for j, f in enumerate(cdfs)])
-    if not np.all(np.isfinite(U)):
-        raise InputError("a CDF returned non-finite values", key="X")
-    return np.clip(U, _U_EPS, 1.0 - _U_EPS)
+    return np.column_stack([u_column(X[:, j], f) for j, f in enumerate(cdfs)])
 
 
 def spec_cdfs(spec: ToleranceSpec) -> list[Callable[[np.ndarray], np.ndarray]]:
@@ -84,14 +89,15 @@ def spearman_threshold(n: int) -> float:
 
 
 def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
-                     correlation: np.ndarray | None = None,
-                     ranks: np.ndarray | None = None) -> list[tuple[str, str, float, str]]:
+                     correlation: np.ndarray | None = None, rho: np.ndarray | None = None,
+                     n: int | None = None) -> list[tuple[str, str, float, str]]:
     """Pairs of dependent factors ``(a, b, rho, source)``: from the spec's copula and/or the sample.
 
     ``correlation`` is the spec's normal-score correlation matrix (columns in the order of
     ``names``); ``U`` the uniform design, whose Spearman matrix flags dependence the spec does not
-    state (e.g. samples from another source).  Source is ``"spec"`` or ``"sample"``.  ``ranks``: ``U``'s
-    column ranks when already known (:func:`rvtol.sensitivity.given_data.spearman_ranks`).
+    state (e.g. samples from another source).  Source is ``"spec"`` or ``"sample"``.  ``rho`` (with the
+    sample size ``n``): that Spearman matrix when already computed
+    (:func:`rvtol.sensitivity.given_data.classes_and_spearman`), in place of ``U``.
     """
     k = len(names)
     out: dict[tuple[int, int], tuple[float, str]] = {}
@@ -101,14 +107,15 @@ def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
             for b in range(a + 1, k):
                 if C[a, b] != 0.0:
                     out[(a, b)] = (float(C[a, b]), "spec")
-    if U is not None and len(U) > 3 and k > 1:
+    if rho is None and U is not None and len(U) > 3 and k > 1:
         from scipy import stats
 
+        n = len(U)
         with warnings.catch_warnings(), np.errstate(invalid="ignore", divide="ignore"):
             warnings.simplefilter("ignore", RuntimeWarning)  # constant columns: NaN, skipped
-            rho = np.corrcoef(stats.rankdata(U, axis=0) if ranks is None else ranks,   # Spearman = Pearson of
-                              rowvar=False)                                               # the ranks
-        thr = spearman_threshold(len(U))
+            rho = np.corrcoef(stats.rankdata(U, axis=0), rowvar=False)    # Spearman = Pearson of the ranks
+    if rho is not None and n is not None and n > 3 and k > 1:
+        thr = spearman_threshold(n)
         for a in range(k):
             for b in range(a + 1, k):
                 if (a, b) not in out and np.isfinite(rho[a, b]) and abs(rho[a, b]) > thr:

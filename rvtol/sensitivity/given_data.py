@@ -67,7 +67,7 @@ from ..model import Model
 from ..sampling import SampleSet, substream
 from ..spec import ToleranceSpec
 from . import global_ as gs
-from ._given import correlated_pairs, describe_pairs, given_samples, u_from_samples
+from ._given import correlated_pairs, describe_pairs, given_samples, spec_cdfs, u_column
 from ..mc import Evaluator
 from .common import factor_indices, output_indices
 
@@ -82,9 +82,27 @@ def default_classes(n: int) -> int:
     return int(np.clip(np.floor(np.sqrt(n)), 8, 200))
 
 
+def _ordinal_rank(x: np.ndarray) -> np.ndarray:
+    """The 0-based rank of every value of ``x`` (ties by order), as int32 when n allows (memory: 4 bytes a value)."""
+    n = len(x)
+    r = np.empty(n, dtype=np.int32 if n < 2**31 else np.int64)
+    r[np.argsort(x, kind="stable")] = np.arange(n, dtype=r.dtype)
+    return r
+
+
+def _class_dtype(M: int):
+    """The smallest unsigned integer type holding the classes 0 … M − 1 (1 byte a value for M ≤ 256)."""
+    return np.uint8 if M <= 256 else (np.uint16 if M <= 65536 else np.int64)
+
+
+def _classes_of(rank: np.ndarray, M: int, n: int) -> np.ndarray:
+    return ((rank.astype(np.int64) * M) // n).astype(_class_dtype(M))
+
+
 def class_index(x: np.ndarray, M: int) -> np.ndarray:
     """Class of each sample: the rank of ``x`` cut into ``M`` classes of equal count (ties by order)."""
-    return (ordinal_ranks(np.asarray(x, dtype=float)[:, None])[:, 0] * M) // len(x)
+    x = np.asarray(x, dtype=float)
+    return _classes_of(_ordinal_rank(x), M, len(x))
 
 
 def _corrected_ratio(counts: np.ndarray, sums: np.ndarray, sumsq: np.ndarray, kelley: bool = True) -> np.ndarray:
@@ -107,38 +125,68 @@ def correlation_ratio(x: np.ndarray, y: np.ndarray, classes: int | None = None) 
     return float(_corrected_ratio(np.bincount(c, minlength=M), np.bincount(c, y, M), np.bincount(c, y * y, M)))
 
 
-def ordinal_ranks(X: np.ndarray) -> np.ndarray:
-    """The 0-based rank of every value in its column (``n × k``; ties by order, as :func:`class_index`)."""
-    X = np.atleast_2d(np.asarray(X, dtype=float))
-    n, k = X.shape
-    R = np.empty((n, k), dtype=np.int64)
-    for i in range(k):
-        R[np.argsort(X[:, i], kind="stable"), i] = np.arange(n)
-    return R
-
-
-def class_indices(X: np.ndarray, classes: int | None = None, ranks: np.ndarray | None = None) -> np.ndarray:
-    """:func:`class_index` of every column of ``X`` (``n × k``; M = ``classes`` or :func:`default_classes`):
-    computed once and shared by every output of one sample; ``ranks``: its :func:`ordinal_ranks` if known."""
-    X = np.atleast_2d(np.asarray(X, dtype=float))
-    n = len(X)
+def _check_classes(n: int, classes: int | None) -> int:
     M = classes or default_classes(n)
     if not 2 <= M <= n // 2:
         raise InputError(f"classes must be in [2, n/2 = {n // 2}], got {M}", key="classes")
-    return ((ordinal_ranks(X) if ranks is None else ranks) * M) // n
+    return M
 
 
-def spearman_ranks(U: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """Ranks of ``U = F(X)`` for a rank correlation, from the ordinal ranks ``R`` of ``X``: a CDF keeps the
-    order, so where ``U``'s column has no ties its ranks are ``R``'s; a column with ties (a flat CDF, a
-    constant factor) gets :func:`scipy.stats.rankdata`'s average ranks, as a fresh ranking would."""
-    out = R.astype(float)
-    for i in range(U.shape[1]):
-        in_order = np.empty(len(U))
-        in_order[R[:, i]] = U[:, i]
+def class_indices(X: np.ndarray, classes: int | None = None) -> np.ndarray:
+    """:func:`class_index` of every column of ``X`` (``n × k``; M = ``classes`` or :func:`default_classes`):
+    computed once and shared by every output of one sample (1 byte a value for M ≤ 256)."""
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n, k = X.shape
+    M = _check_classes(n, classes)
+    C = np.empty((n, k), dtype=_class_dtype(M))
+    for i in range(k):
+        C[:, i] = _classes_of(_ordinal_rank(X[:, i]), M, n)
+    return C
+
+
+#: rows per block of the rank Gram matrix (:func:`classes_and_spearman`): the transient is block × k values
+GRAM_BLOCK = 1 << 13
+
+
+def classes_and_spearman(X: np.ndarray, cdfs, columns: Sequence[int], classes: int | None = None):
+    """One ranking of the factors, a column at a time, for the classes and the dependence check.
+
+    Returns ``(C, rho)``: :func:`class_indices` of ``X[:, columns]`` and the Spearman matrix of the uniform
+    design ``U = F(X)`` (``cdfs[j]`` maps column j; ``k × k``, NaN for a constant column).  A CDF keeps the
+    order, so where ``U``'s column has no ties its ranks are ``X``'s ordinal ranks; a column with ties (a flat
+    stretch of F, a constant factor) takes :func:`scipy.stats.rankdata`'s average ranks, as a fresh ranking
+    would.  Spearman's ρ is the Pearson correlation of the ranks, its Gram matrix summed over blocks of
+    :data:`GRAM_BLOCK` rows.  Memory: the int32 ranks (4 bytes a value) and the classes (1 byte) besides ``X``
+    — not the several float copies of ``n × k`` a whole-matrix ranking would hold.
+    """
+    X = np.asarray(X, dtype=float)
+    n, k = X.shape
+    M = _check_classes(n, classes)
+    R = np.empty((n, k), dtype=np.int32 if n < 2**31 else np.int64)
+    tied: dict[int, np.ndarray] = {}
+    where = {j: c for c, j in enumerate(columns)}
+    C = np.empty((n, len(columns)), dtype=_class_dtype(M))
+    for j in range(k):
+        R[:, j] = _ordinal_rank(X[:, j])
+        if j in where:
+            C[:, where[j]] = _classes_of(R[:, j], M, n)
+        u = u_column(X[:, j], cdfs[j])
+        in_order = np.empty(n)
+        in_order[R[:, j]] = u
         if not np.all(np.diff(in_order) > 0):
-            out[:, i] = stats.rankdata(U[:, i])
-    return out
+            tied[j] = stats.rankdata(u) - 1.0          # average ranks, from 0 as the ordinal ones
+    mean = np.array([tied[j].mean() if j in tied else (n - 1) / 2.0 for j in range(k)])
+    G = np.zeros((k, k))
+    for a in range(0, n, GRAM_BLOCK):
+        Z = R[a:a + GRAM_BLOCK].astype(float)
+        for j, t in tied.items():
+            Z[:, j] = t[a:a + GRAM_BLOCK]
+        Z -= mean
+        G += Z.T @ Z
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = np.sqrt(np.diag(G))
+        rho = G / np.outer(d, d)
+    return C, rho
 
 
 def first_order_given_data(X: np.ndarray, y: np.ndarray, classes: int | None = None, num_resamples: int = 200,
@@ -203,9 +251,8 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     model.check_spec(spec)
     idx, oidx = factor_indices(spec, factors), output_indices(model, outputs)
     X, Yd, n_failed, notes = given_samples(model, spec, samples, Y, oidx)
-    R = ordinal_ranks(X)                            # one ranking: the classes and the dependence check
-    U = u_from_samples(spec, X)
-    pairs = correlated_pairs(spec.names, U, spec.correlation, ranks=spearman_ranks(U, R))
+    C, rho = classes_and_spearman(X, spec_cdfs(spec), idx, classes)   # one ranking: classes and dependence
+    pairs = correlated_pairs(spec.names, correlation=spec.correlation, rho=rho, n=len(X))
     if pairs:
         notes.append("The inputs are dependent (" + describe_pairs(pairs) + "): each S1 is the share of variance "
                      "explained by the factor including what it carries of the factors correlated with it; the "
@@ -213,7 +260,6 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     rng = substream(seed, "given_data")
     names = [spec.names[i] for i in idx]
     rows, M = [], None
-    C = class_indices(X[:, idx], classes, R[:, idx])   # one ranking of the factors for every output
     for c, j in enumerate(oidx):
         q = model.outputs[j]
         y = Yd[:, c]
