@@ -79,7 +79,7 @@ def uniform_design(n: int, k: int, method: str = "random", seed: int | None = No
     if method == "random":
         u = g.random((n, k))
     elif method == "lhs":
-        u = qmc.LatinHypercube(d=k, rng=g).random(n)
+        u = latin_hypercube(n, k, g)
     else:
         eng = qmc.Sobol(d=k, scramble=True, rng=g)
         m = int(np.log2(n))
@@ -89,7 +89,23 @@ def uniform_design(n: int, k: int, method: str = "random", seed: int | None = No
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UserWarning)  # balance warning: noted in SampleSet.note
                 u = eng.random(n)
-    return np.clip(u, _U_EPS, 1.0 - _U_EPS)
+    return np.clip(u, _U_EPS, 1.0 - _U_EPS, out=u)
+
+
+def latin_hypercube(n: int, k: int, g: np.random.Generator) -> np.ndarray:
+    """``scipy.stats.qmc.LatinHypercube(d=k, rng=g).random(n)`` (scrambled, strength 1, no optimisation) in
+    place: the same draws in the same order (scipy's engine draws from a child of ``g``'s seed sequence:
+    n × k uniforms, then one shuffle of 1 … n per column) and the same arithmetic, a column at a time —
+    memory n × k values instead of scipy's four (its permutation matrix and temporaries).
+    ``tests/test_sampling.py`` holds it to scipy's bit for bit."""
+    g = g.spawn(1)[0]
+    u = g.uniform(size=(n, k))
+    perm = np.empty(n, dtype=np.int64)
+    for i in range(k):
+        perm[:] = np.arange(1, n + 1)
+        g.shuffle(perm)
+        u[:, i] = (perm - u[:, i]) / n
+    return u
 
 
 def apply_copula(u: np.ndarray, corr: np.ndarray | None) -> np.ndarray:
@@ -101,16 +117,15 @@ def apply_copula(u: np.ndarray, corr: np.ndarray | None) -> np.ndarray:
     return np.clip(stats.norm.cdf(z @ L.T), _U_EPS, 1.0 - _U_EPS)
 
 
-def to_factors(spec: ToleranceSpec, u: np.ndarray) -> np.ndarray:
-    """Map a uniform design (already correlated) to factor values in base units."""
-    x = np.empty_like(u, dtype=float)
+def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """Map a uniform design (already correlated) to factor values in base units (into ``out``, which may be
+    ``u`` itself: each column is read before it is written)."""
+    x = np.empty_like(u, dtype=float) if out is None else out
     for j, f in enumerate(spec.factors):
         x[:, j] = f.ppf_base(u[:, j])
-    bad = ~np.isfinite(x)
-    if bad.any():
-        j = int(np.argwhere(bad)[0][1])
-        raise InputError("distribution produced non-finite values", file=spec.file,
-                         key=f"factor {spec.names[j]!r}")
+        if not np.all(np.isfinite(x[:, j])):
+            raise InputError("distribution produced non-finite values", file=spec.file,
+                             key=f"factor {spec.names[j]!r}")
     return x
 
 
@@ -164,4 +179,4 @@ def sample(spec: ToleranceSpec, n: int, method: str = "random", seed: int | None
         note = f"n={n} is not a power of 2: the Sobol sequence is used without its balance property"
     if method == "lhs" and spec.correlation is not None:
         note = "Latin hypercube stratification holds for the uncorrelated normal scores, not the margins"
-    return SampleSet(to_factors(spec, u), spec.names, spec.units, method, seed, note)
+    return SampleSet(to_factors(spec, u, out=u), spec.names, spec.units, method, seed, note)   # in place
