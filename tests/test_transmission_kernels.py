@@ -276,3 +276,28 @@ def test_table3_patterns(geom):
 def test_bad_factor_names(geom, names, msg):
     with pytest.raises(InputError, match=msg):
         ErrorFactors(names, geom.z_b)
+
+
+def test_an_unloading_contact_reaches_zero_force_in_a_few_newton_steps():
+    """A Hertz contact f = (k0 d)^p carrying 1000 N whose load drops to 1e-6 N: Newton's tangent shrinks the
+    deflection only by 1 − 1/p per step toward zero force (the force by (1 − 1/p)^p = 0.078 for p = 1/0.9), so
+    pure Newton needs ⌈ln(1000 N / tol_f) / ln(1/0.078)⌉ = 8 steps to the tolerance; the secant slope of an
+    unloading contact (``_kernels._slope``) is the exact slope to zero and takes it there in 2 — to the same
+    equilibrium (d = Q^(1/p) / k0)."""
+    k0, p, Q, tol = 2.0e5, 1.0 / 0.9, 1e-6, 1e-5
+    idx = np.full((1, 2, L.NZ), -1, np.int64)
+    idx[0, 0, 0] = 0
+    coef = np.zeros((1, 2, L.NZ))
+    coef[0, 0, 0] = 1.0
+    args = (np.array([L.UNILATERAL], np.int64), idx, coef, np.zeros((1, 2)), np.array([k0]), np.array([p]),
+            np.zeros(1), np.zeros((1, L.NSER)), np.zeros((1, 4, 2)), 0, np.array([Q]), np.zeros((1, 1)),
+            np.zeros(1), False, np.zeros(1), np.ones(1), tol, 50, 1e300)
+    ws = K.workspace(1, 1)
+    q = np.array([1000.0 ** (1 / p) / k0])              # the equilibrium under 1000 N
+    ws[2][0] = 1000.0                                   # its force: the previous evaluation's
+    status, iterations = K.newton(q, *args, ws)
+    assert status == L.ST_OK
+    assert (k0 * q[0]) ** p == pytest.approx(Q, abs=tol)
+    newton_steps = int(np.ceil(np.log(1000.0 / tol) / np.log(1.0 / (1.0 - 1.0 / p) ** p)))
+    assert newton_steps == 8
+    assert iterations <= 2 < newton_steps

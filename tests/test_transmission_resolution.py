@@ -121,3 +121,19 @@ def test_the_coarse_spectrum_is_the_fine_spectrum_folded(reducer):
     _, a_c = order_spectrum(coarse.te)
     alias_bound = np.array([2 * sum(abs(Xf[(k + j * nc) % nf]) for j in range(1, r)) for k in range(1, kmax + 1)])
     assert np.all(np.abs(a_c[1:kmax + 1] - a_f[1:kmax + 1]) <= alias_bound + 2 * tol)
+
+
+def test_the_crank_revolution_predictor_reaches_the_same_equilibria_in_fewer_iterations(reducer):
+    """A rotation sweep starts each position from the solution one crank revolution earlier (moved as the last
+    position moved): the equilibria are the linear extrapolation's within the tolerance bound, reached in
+    fewer Newton iterations (the pins engage at the same crank angles every revolution)."""
+    m, st = reducer
+    solver = QuasiStaticSolver(m.geometry, st)
+    th = solver.positions(36)[:360]                     # 10 crank revolutions
+    plain = solver.sweep(th, -m.load_torque)
+    periodic = solver.sweep(th, -m.load_torque, period=36)
+    assert plain.ok and periodic.ok
+    bound = te_bound(solver, plain, range(len(th)))
+    assert np.all(np.abs(periodic.te - plain.te) <= bound)
+    assert periodic.iterations[37:].sum() < 0.95 * plain.iterations[37:].sum()
+    np.testing.assert_array_equal(periodic.iterations[:37], plain.iterations[:37])   # the same until a period

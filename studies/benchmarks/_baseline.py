@@ -5,7 +5,8 @@ side by side on the same inputs in one run.  :func:`kernels` extracts ``layout.p
 ``rvtol/models/transmission`` at a git revision (default :data:`BASELINE_REV`, the starting point of
 issue 15) into ``reports/.bench-baseline/<rev>/`` as a package of its own and imports it (numba caches
 its compilation there); :class:`BaselineTEModel` is the TE model on those kernels (picklable: process
-pool workers load the same package).  The kernels' call signatures are the same at both revisions.
+pool workers load the same package).  The call signatures are today's except ``qs_sequence``'s predictor
+``period`` (issue 15), which :class:`_Kernels` drops: the baseline extrapolates linearly, as it did.
 
 When git or the revision is not available the benchmarks skip the "before" rows and say so.
 """
@@ -39,6 +40,21 @@ def _extract(rev: str) -> Path:
     return out
 
 
+class _Kernels:
+    """An earlier kernel module called with today's signatures."""
+
+    PERIOD = 22          # position of ``period`` in today's qs_sequence arguments
+
+    def __init__(self, module):
+        self.module = module
+
+    def __getattr__(self, name):
+        return getattr(self.module, name)
+
+    def qs_sequence(self, *args):
+        return self.module.qs_sequence(*args[:self.PERIOD], *args[self.PERIOD + 1:])
+
+
 def kernels(rev: str = BASELINE_REV):
     """The kernel module at ``rev``, or None when it cannot be extracted (no git, unknown revision)."""
     try:
@@ -47,7 +63,7 @@ def kernels(rev: str = BASELINE_REV):
         return None
     if str(path) not in sys.path:
         sys.path.insert(0, str(path))
-    return importlib.import_module(f"rvtol_kernels_{rev}._kernels")
+    return _Kernels(importlib.import_module(f"rvtol_kernels_{rev}._kernels"))
 
 
 class BaselineSolver(QuasiStaticSolver):

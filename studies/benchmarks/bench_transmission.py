@@ -110,15 +110,16 @@ def solver_rows(quick: bool, base, rate: float) -> list:
     for name, model, st in reducers(quick):
         g = model.geometry
         new = QuasiStaticSolver(g, st)
-        th = new.positions(model.per_crank_rev)
+        pcr = model.per_crank_rev
+        th = new.positions(pcr)
         T = -model.load_torque
         new.sweep(th[:3], T)
         if base is not None:
             old = _baseline.BaselineSolver(g, st)
             old.sweep(th[:3], T)
-            t_old, t_new, r_old, r_new = interleaved(lambda: old.sweep(th, T), lambda: new.sweep(th, T), rep)
+            t_old, t_new, r_old, r_new = interleaved(lambda: old.sweep(th, T), lambda: new.rotation(-T, pcr), rep)
         else:
-            t_new, r_new = cpu_best(lambda: new.sweep(th, T), rep)
+            t_new, r_new = cpu_best(lambda: new.rotation(-T, pcr), rep)
         npos = th.size
         it = r_new.iterations.mean()
         f = flops(new, th[npos // 3], r_new.q[npos // 3])

@@ -106,12 +106,15 @@ class QuasiStaticSolver:
         self.xs = geometry.arc_radii()
 
     # -- the general entry point --------------------------------------------------------------
-    def sweep(self, theta_c, torque, dth_s=0.0, q_start=None, load=None) -> SweepResult:
+    def sweep(self, theta_c, torque, dth_s=0.0, q_start=None, load=None, period: int = 0) -> SweepResult:
         """Equilibria at each ``theta_c[n]`` (rad) under carrier torque ``torque[n]`` (N·mm).
 
         ``dth_s``: deviation of the input angle from nominal (rad), scalar or per position.
         ``q_start``: warm start for the first position (else a cold start).
         ``load``: further constant generalised forces (20 values, base units), e.g. centrifugal.
+        ``period``: positions after which the contact pattern repeats (one crank revolution of a rotation
+        sweep), for the predictor (:func:`._kernels.qs_sequence`); 0: none.  The equilibria do not depend on
+        it — only the Newton iterations to them.
         """
         theta_c = np.ascontiguousarray(np.atleast_1d(np.asarray(theta_c, dtype=float)))
         n = theta_c.size
@@ -130,8 +133,8 @@ class QuasiStaticSolver:
         load = np.zeros(L.NDOF) if load is None else np.ascontiguousarray(load, dtype=float).reshape(L.NDOF)
         failed = self.kernels.qs_sequence(theta_c, dth, torque, load, self.prm, e.err, e.pin_err, e.disc_h,
                                           self.pin_cs, t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab, self.xs, q0,
-                                          cold, self.tol_f, self.maxit, self.maxstep, out_q, out_status, out_iter,
-                                          out_rec)
+                                          cold, self.tol_f, self.maxit, self.maxstep, int(period), out_q,
+                                          out_status, out_iter, out_rec)
         return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))
 
     def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
@@ -181,7 +184,7 @@ class QuasiStaticSolver:
         """Prescribed input angle over ``revolutions`` output revolutions, resisting load torque
         ``load_torque`` (N·mm, ≥ 0; default 3 % of rated)."""
         T = 0.03 * self.g.rated_torque if load_torque is None else float(load_torque)
-        return self.sweep(self.positions(per_crank_rev, revolutions), -T)
+        return self.sweep(self.positions(per_crank_rev, revolutions), -T, period=per_crank_rev)
 
     def torsion(self, torques, theta_c: float = 0.0, q_start=None) -> SweepResult:
         """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn."""
