@@ -178,3 +178,5 @@ def test_one_ranking_serves_the_classes_and_the_dependence_check(monkeypatch):
     pairs = correlated_pairs(names, rho=rho, n=n)
     assert [p[:2] for p in pairs] == [p[:2] for p in correlated_pairs(names, U)] == [("a", "b")]
     assert pairs[0][2] == pytest.approx(correlated_pairs(names, U)[0][2], abs=1e-13)
+    with pytest.raises(ValueError, match="sample size n"):
+        correlated_pairs(names, rho=rho)

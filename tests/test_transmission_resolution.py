@@ -51,6 +51,7 @@ def te_bound(solver: QuasiStaticSolver, sweep, rows) -> np.ndarray:
     xs = solver.xs
     out = []
     for p in rows:
+        fc[:] = 0.0        # no previous force: every contact's tangent (the unloading secant needs one)
         K.update_table(sweep.theta_c[p], 0.0, g.prm(), e.err, e.pin_err, e.disc_h, pin_cos_sin(g), coef, off)
         K.contact_forces(sweep.q[p], t.kind, t.idx, coef, off, t.k0, t.pw, t.gap, t.ser, t.tab, F, fc, kt)
         K.tangent_matrix(t.kind, t.idx, coef, kt, Km)

@@ -99,6 +99,9 @@ def correlated_pairs(names: Sequence[str], U: np.ndarray | None = None,
     sample size ``n``): that Spearman matrix when already computed
     (:func:`rvtol.sensitivity.given_data.classes_and_spearman`), in place of ``U``.
     """
+    if rho is not None and n is None:
+        raise ValueError("correlated_pairs: a Spearman matrix rho needs its sample size n (the threshold depends "
+                         "on it)")
     k = len(names)
     out: dict[tuple[int, int], tuple[float, str]] = {}
     if correlation is not None:

@@ -100,7 +100,8 @@ def _classes_of(rank: np.ndarray, M: int, n: int) -> np.ndarray:
 
 
 def class_index(x: np.ndarray, M: int) -> np.ndarray:
-    """Class of each sample: the rank of ``x`` cut into ``M`` classes of equal count (ties by order)."""
+    """Class of each sample: the rank of ``x`` cut into ``M`` classes of equal count (ties by order);
+    unsigned integers of the smallest width that holds M (uint8 for M ≤ 256)."""
     x = np.asarray(x, dtype=float)
     return _classes_of(_ordinal_rank(x), M, len(x))
 

@@ -85,7 +85,10 @@ class QuasiStaticSolver:
     """Static equilibria of one reducer (geometry + errors).
 
     ``tol_f`` (N): largest residual force (torques divided by their arc
-    radius) at convergence; ``maxit``: Newton iterations per position;
+    radius) at convergence, and the force above which a pin counts as loaded
+    (:func:`._kernels.record`; keep it far below the pin forces: with a
+    large ``tol_f`` near zero torque no pin may count, ``ST_LOST_CONTACT``);
+    ``maxit``: Newton iterations per position;
     ``maxstep`` (mm): longest Newton step (arc length).
     """
 
@@ -184,7 +187,11 @@ class QuasiStaticSolver:
         """Prescribed input angle over ``revolutions`` output revolutions, resisting load torque
         ``load_torque`` (N·mm, ≥ 0; default 3 % of rated)."""
         T = 0.03 * self.g.rated_torque if load_torque is None else float(load_torque)
-        return self.sweep(self.positions(per_crank_rev, revolutions), -T, period=per_crank_rev)
+        theta = self.positions(per_crank_rev, revolutions)
+        # the contact pattern repeats every per_crank_rev positions only if they are one crank revolution
+        # apart exactly (a whole number of positions over the sweep); else the plain predictor
+        exact = theta.size == per_crank_rev * self.g.z_b * revolutions
+        return self.sweep(theta, -T, period=per_crank_rev if exact else 0)
 
     def torsion(self, torques, theta_c: float = 0.0, q_start=None) -> SweepResult:
         """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn."""
