@@ -204,6 +204,28 @@ def test_delta_is_the_same_on_any_executor():
     assert serial.equals(parallel)
 
 
+def test_delta_raw_alone_is_salibs_analyze_bit_for_bit():
+    """rvtol runs only the δ variant it reports ("raw"); the numbers are SALib analyze's exactly — a factor with
+    both signs (analyze bootstraps its "step" variant too), a positive one (no step), and a constant one (NaN)."""
+    import warnings
+
+    from SALib.analyze import delta as salib_delta
+
+    from rvtol.sensitivity.global_ import _delta_one
+
+    rng = np.random.default_rng(3)
+    X = rng.uniform(-np.pi, np.pi, (600, 2))
+    y = np.sin(X[:, 0]) + 7 * np.sin(X[:, 1]) ** 2 + 0.1 * X[:, 1] ** 4 * np.sin(X[:, 0])
+    for x, seed in ((X[:, 0], 12345), (np.abs(X[:, 1]) + 0.1, 7)):
+        with warnings.catch_warnings(record=True):
+            si = salib_delta.analyze({"num_vars": 1, "names": ["a"], "bounds": [[0.0, 1.0]]}, x[:, None], y,
+                                     num_resamples=12, conf_level=0.95, seed=seed)
+        got = _delta_one("a", x, y, 12, 0.95, seed)
+        assert [got[k] for k in ("delta", "delta_conf", "S1", "S1_conf")] == \
+            [si[k][0] for k in ("delta_raw", "delta_raw_conf", "S1", "S1_conf")]
+    assert np.isnan(_delta_one("a", np.ones(600), y, 12, 0.95, 1)["delta"])
+
+
 def test_sobol_of_groups_matches_the_additive_closed_form():
     """Y = a + b + 2c + d·e (uniform [0, 1]): groups {a, b}, {c}, {d, e} have total indices in closed form."""
     from rvtol.model import FunctionModel, Quantity

@@ -373,19 +373,56 @@ def rbd_fast(model: Model, spec: ToleranceSpec, n: int = 2048, M: int = 10, fact
 
 def _delta_one(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
                seed: int) -> dict:
-    """SALib delta (and S1) for one factor column; module level so an executor can run it."""
-    from SALib.analyze import delta as delta_analyze
+    """SALib's δ "raw" (Plischke's bias-reduced estimator on the data as given: correlations kept) and S1 of
+    one factor column; module level so an executor can run it.
+
+    ``SALib.analyze.delta.analyze`` (1.6) estimates three δ variants — bootstraps "balanced" and "step" as well
+    as "raw" — each by ``num_resamples + 1`` sets of kernel density estimates; rvtol reports "raw" only, so
+    this runs analyze's steps for it alone, with analyze's partition, grid, class size and bin edges.  The
+    other two variants' bootstrap index sets are still drawn (cheap) and thrown away, so the global random
+    stream that analyze seeds reaches the "raw" and S1 draws in the same state: the numbers are analyze's,
+    bit for bit (``tests/test_sensitivity_global.py``), at a third of its time.
+    """
+    from SALib.analyze import delta as sd
 
     fmt = warnings.formatwarning  # SALib's delta replaces the global warning formatter
     try:
         with warnings.catch_warnings(record=True):  # record: SALib resets the filters inside
-            si = delta_analyze.analyze({"num_vars": 1, "names": [name], "bounds": [[0.0, 1.0]]}, x[:, None], y,
-                                       num_resamples=num_resamples, conf_level=confidence, seed=seed)
+            return _delta_raw(sd, name, np.asarray(x, dtype=float), np.asarray(y, dtype=float), num_resamples,
+                              confidence, seed)
     finally:
         warnings.formatwarning = fmt
-    # 'raw' is Plischke's bias-reduced estimator on the data as given (correlations kept)
-    return {"delta": si["delta_raw"][0], "delta_conf": si["delta_raw_conf"][0], "S1": si["S1"][0],
-            "S1_conf": si["S1_conf"][0]}
+
+
+def _delta_raw(sd, name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
+               seed: int) -> dict:
+    """The body of :func:`_delta_one` (``sd``: ``SALib.analyze.delta``): analyze's steps for one factor."""
+    nan = {"delta": np.nan, "delta_conf": np.nan, "S1": np.nan, "S1_conf": np.nan}
+    if seed:
+        np.random.seed(seed)
+    N = y.size
+    exp = 2.0 / (7.0 + np.tanh((1500.0 - N) / 500.0))      # analyze's equal-frequency partition
+    m = np.linspace(0, N, int(np.round(min(int(np.ceil(N**exp)), 48))) + 1)
+    grid = np.linspace(np.min(y), np.max(y), 100)
+    min_class = max(int(N * 0.005), 10)
+    edges, _ = sd.check_specified_bininfo(bininfo=None, Xmin=x.min(), Xmax=x.max(), paramname=name)
+
+    def draw_and_discard(mode: str):                      # the index sets analyze draws for a variant
+        for r in range(num_resamples + 1):
+            sd.obtain_resampled_subset(x, N, mode, edges, name, min_class, warn_print=r == 0)
+
+    try:
+        draw_and_discard("balanced")
+        d, d_conf, _ = sd.bias_reduced_delta(y, grid, x, m, num_resamples, confidence, N, "raw", edges, name,
+                                             min_class)
+        if np.sum(x <= 0) >= min_class and np.sum(x > 0) >= min_class:
+            draw_and_discard("step")
+        ind = np.random.randint(N, size=N)
+        s1 = sd.sobol_first(y[ind], x[ind], m)
+        s1_conf = sd.sobol_first_conf(y, x, m, num_resamples, confidence, N)
+    except Exception:   # analyze's own rule: a factor it cannot analyse (constant, too few per bin) gets NaN
+        return nan
+    return {"delta": d, "delta_conf": d_conf, "S1": s1, "S1_conf": s1_conf}
 
 
 def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[str] | None = None,

@@ -180,7 +180,7 @@ def mc_rows(quick: bool, base) -> list:
         models["before"] = _baseline.BaselineTEModel.of(model)
     n = 48 if quick else 160
     X = sample(spec, n, "lhs", 11).values
-    rows, rate = [], {}
+    rows = []
     for label, m in models.items():
         m.evaluate(X[:2])
     t = {}
@@ -203,8 +203,8 @@ def mc_rows(quick: bool, base) -> list:
                 t0 = time.perf_counter()
                 evaluate(m, X, ex, chunk_size=max(1, n // 16), progress=False)
                 wall[label] = min(wall.get(label, np.inf), time.perf_counter() - t0)
+    rate = {label: n / wall[label] for label in models}
     for label in models:
-        rate[label] = n / wall[label]
         extra = (f"; {rate['after'] / rate['before']:.2f}× the throughput before (target ≥ 3×)"
                  if label == "after" and "before" in rate else "")
         rows.append((f"Monte Carlo, process pool, 2 workers, {label}", f"{rate[label]:.1f} samples/s",
