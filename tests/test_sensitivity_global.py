@@ -17,6 +17,7 @@ import pytest
 from scipy import stats
 
 from rvtol.distributions import coverage
+from rvtol.errors import InputError
 from rvtol.model import FunctionModel, LinearModel, Quantity
 from rvtol.sampling import sample
 from rvtol.sensitivity import delta, design_to_factors, fast, morris, rbd_fast, sobol
@@ -206,7 +207,8 @@ def test_delta_is_the_same_on_any_executor():
 
 def test_delta_raw_alone_is_salibs_analyze_bit_for_bit():
     """rvtol runs only the δ variant it reports ("raw"); the numbers are SALib analyze's exactly — a factor with
-    both signs (analyze bootstraps its "step" variant too), a positive one (no step), and a constant one (NaN)."""
+    both signs (analyze bootstraps its "step" variant too), a positive one (no step), one whose positive side is
+    one bin (the step variant fails: analyze keeps δ, S1 is NaN), and a constant one (NaN)."""
     import warnings
 
     from SALib.analyze import delta as salib_delta
@@ -216,14 +218,24 @@ def test_delta_raw_alone_is_salibs_analyze_bit_for_bit():
     rng = np.random.default_rng(3)
     X = rng.uniform(-np.pi, np.pi, (600, 2))
     y = np.sin(X[:, 0]) + 7 * np.sin(X[:, 1]) ** 2 + 0.1 * X[:, 1] ** 4 * np.sin(X[:, 0])
-    for x, seed in ((X[:, 0], 12345), (np.abs(X[:, 1]) + 0.1, 7)):
+    one_bin = np.where(np.arange(600) < 300, -rng.uniform(0, 1, 600), rng.uniform(0.95, 1.0, 600))
+    one_bin[300] = 1e-6
+    for x, seed in ((X[:, 0], 12345), (np.abs(X[:, 1]) + 0.1, 7), (one_bin, 7)):
         with warnings.catch_warnings(record=True):
             si = salib_delta.analyze({"num_vars": 1, "names": ["a"], "bounds": [[0.0, 1.0]]}, x[:, None], y,
                                      num_resamples=12, conf_level=0.95, seed=seed)
         got = _delta_one("a", x, y, 12, 0.95, seed)
-        assert [got[k] for k in ("delta", "delta_conf", "S1", "S1_conf")] == \
-            [si[k][0] for k in ("delta_raw", "delta_raw_conf", "S1", "S1_conf")]
+        np.testing.assert_array_equal([got[k] for k in ("delta", "delta_conf", "S1", "S1_conf")],
+                                      [si[k][0] for k in ("delta_raw", "delta_raw_conf", "S1", "S1_conf")])
+    assert np.isfinite(got["delta"]) and np.isnan(got["S1"])          # the one-bin case: δ kept, S1 NaN
     assert np.isnan(_delta_one("a", np.ones(600), y, 12, 0.95, 1)["delta"])
+
+
+def test_delta_refuses_a_confidence_outside_0_1():
+    model, spec, _ = linear_case()
+    for c in (0.0, 1.0, 1.5):
+        with pytest.raises(InputError, match="confidence"):
+            delta(model, spec, n=200, seed=1, num_resamples=10, confidence=c)
 
 
 def test_sobol_of_groups_matches_the_additive_closed_form():

@@ -125,9 +125,10 @@ def test_the_coarse_spectrum_is_the_fine_spectrum_folded(reducer):
 
 
 def test_the_crank_revolution_predictor_reaches_the_same_equilibria_in_fewer_iterations(reducer):
-    """A rotation sweep starts each position from the solution one crank revolution earlier (moved as the last
-    position moved): the equilibria are the linear extrapolation's within the tolerance bound, reached in
-    fewer Newton iterations (the pins engage at the same crank angles every revolution)."""
+    """A rotation sweep starts each position from the solution one crank revolution earlier plus the change since
+    then (estimated from the changes beside it): the equilibria are the linear extrapolation's within the
+    tolerance bound, reached in fewer Newton iterations (the pins engage at the same crank angles every
+    revolution).  ``rotation`` uses the period only when its positions are exactly one crank revolution apart."""
     m, st = reducer
     solver = QuasiStaticSolver(m.geometry, st)
     th = solver.positions(36)[:360]                     # 10 crank revolutions
@@ -138,3 +139,18 @@ def test_the_crank_revolution_predictor_reaches_the_same_equilibria_in_fewer_ite
     assert np.all(np.abs(periodic.te - plain.te) <= bound)
     assert periodic.iterations[37:].sum() < 0.95 * plain.iterations[37:].sum()
     np.testing.assert_array_equal(periodic.iterations[:37], plain.iterations[:37])   # the same until a period
+
+
+def test_rotation_passes_the_period_only_when_positions_are_one_crank_revolution_apart(reducer, monkeypatch):
+    m, st = reducer
+    solver = QuasiStaticSolver(m.geometry, st)
+    seen = []
+    monkeypatch.setattr(solver, "sweep", lambda theta, torque, period=0: seen.append((theta.size, period)))
+    z = m.geometry.z_b
+    cases = ((36, 1.0), (36, 0.5), (36, 0.7), (10, 1.1), (36, 0.71), (12.5, 1.0))
+    for pcr, rev in cases:
+        solver.rotation(None, pcr, rev)
+    # 36·z·0.7 and 10·z·1.1 are whole though their float products are not; 0.71 revolutions and a fractional
+    # per_crank_rev space the positions otherwise
+    assert seen == [(36 * z, 36), (18 * z, 36), (round(25.2 * z), 36), (11 * z, 10), (round(36 * z * 0.71), 0),
+                    (round(12.5 * z), 0)]

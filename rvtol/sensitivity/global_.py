@@ -380,8 +380,11 @@ def _delta_one(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, conf
     as "raw" — each by ``num_resamples + 1`` sets of kernel density estimates; rvtol reports "raw" only, so
     this runs analyze's steps for it alone, with analyze's partition, grid, class size and bin edges.  The
     other two variants' bootstrap index sets are still drawn (cheap) and thrown away, so the global random
-    stream that analyze seeds reaches the "raw" and S1 draws in the same state: the numbers are analyze's,
-    bit for bit (``tests/test_sensitivity_global.py``), at a third of its time.
+    stream that analyze seeds reaches the "raw" and S1 draws in the same state: wherever analyze completes,
+    the numbers are analyze's, bit for bit (``tests/test_sensitivity_global.py``), at a third (factors of
+    both signs: three variants) to a half (one sign: no "step") of its time.  Where a density estimate of the
+    "balanced" or "step" bootstrap would fail (a nearly constant output), analyze raises; rvtol, which does not
+    compute them, gives the "raw" numbers.
     """
     from SALib.analyze import delta as sd
 
@@ -411,17 +414,21 @@ def _delta_raw(sd, name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, 
         for r in range(num_resamples + 1):
             sd.obtain_resampled_subset(x, N, mode, edges, name, min_class, warn_print=r == 0)
 
+    errors = (sd.AnalysisError, ValueError, RuntimeError, np.linalg.LinAlgError)   # what analyze's steps raise
     try:
         draw_and_discard("balanced")
         d, d_conf, _ = sd.bias_reduced_delta(y, grid, x, m, num_resamples, confidence, N, "raw", edges, name,
                                              min_class)
+    except errors:      # analyze's rule: a factor it cannot bin (constant, one bin left) gets NaN throughout
+        return nan
+    try:
         if np.sum(x <= 0) >= min_class and np.sum(x > 0) >= min_class:
             draw_and_discard("step")
         ind = np.random.randint(N, size=N)
         s1 = sd.sobol_first(y[ind], x[ind], m)
         s1_conf = sd.sobol_first_conf(y, x, m, num_resamples, confidence, N)
-    except Exception:   # analyze's own rule: a factor it cannot analyse (constant, too few per bin) gets NaN
-        return nan
+    except errors:      # analyze keeps the δ it has when the step variant (or S1) fails
+        return {**nan, "delta": d, "delta_conf": d_conf}
     return {"delta": d, "delta_conf": d_conf, "S1": s1, "S1_conf": s1_conf}
 
 
@@ -437,6 +444,8 @@ def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[st
     on ``executor`` (serial by default), each with its own seed, so the
     result does not depend on where they ran.
     """
+    if not 0.0 < confidence < 1.0:
+        raise InputError(f"confidence must be in (0, 1), got {confidence}", key="confidence")
     idx, oidx, evaluate = _prepare(model, spec, factors, outputs, evaluate)
     X, Yd, n_eval, notes, n_failed = _given_or_fresh(model, spec, idx, oidx, evaluate, samples, Y, n, "random",
                                                      seed, "delta", "delta indices")

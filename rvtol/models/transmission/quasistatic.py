@@ -190,8 +190,9 @@ class QuasiStaticSolver:
         theta = self.positions(per_crank_rev, revolutions)
         # the contact pattern repeats every per_crank_rev positions only if they are one crank revolution
         # apart exactly (a whole number of positions over the sweep); else the plain predictor
-        exact = theta.size == per_crank_rev * self.g.z_b * revolutions
-        return self.sweep(theta, -T, period=per_crank_rev if exact else 0)
+        exact = (float(per_crank_rev).is_integer()
+                 and abs(theta.size - per_crank_rev * self.g.z_b * revolutions) <= 1e-9 * theta.size)
+        return self.sweep(theta, -T, period=int(per_crank_rev) if exact else 0)
 
     def torsion(self, torques, theta_c: float = 0.0, q_start=None) -> SweepResult:
         """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn."""
