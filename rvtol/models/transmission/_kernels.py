@@ -23,7 +23,10 @@ a sweep computes the reducer's constants once (:func:`table_constants`: the erro
 position costs 8 trigonometric calls instead of 64) and the pin geometry in passes over contiguous
 arrays (:func:`update_table_fast`); the 2·z_b pins are evaluated in a loop of their own (:func:`_forces`,
 :func:`_tangent`); the Cholesky factor works on rows; a Newmark step forms its dynamic stiffness
-once.  Division follows IEEE (``error_model="numpy"``: a zero divisor gives inf/NaN, which Newton
+once.  The small helpers of the contact laws called per contact and evaluation (:func:`_unilateral`,
+:func:`_series_deflection`) are inlined by numba (``inline="always"``): left as calls (LLVM did not inline
+them) they cost a quarter of the force evaluation of an error-free reducer, whose every pin is loaded —
+same arithmetic, bit-identical results.  Division follows IEEE (``error_model="numpy"``: a zero divisor gives inf/NaN, which Newton
 reports as ``ST_NONFINITE``, instead of a Python exception).  No ``fastmath``: with contraction /
 reassociation the same kernel gave results 1e-15 apart when compiled in the process and when loaded from
 numba's cache (LLVM fuses differently across inlined and linked callees), so a process pool's workers
@@ -310,7 +313,7 @@ def _table_law(tab, t, f):
     return d, dd, ce
 
 
-@njit(**_JIT)
+@njit(inline="always", **_JIT)
 def _series_deflection(f, k0, pw, ser, c, tab):
     """``(δ, dδ/df, ∫_0^f δ)`` of contact ``c``'s series law at ``f > 0`` (terms: :mod:`.layout`)."""
     cl = ser[c, S_LIN]
@@ -431,7 +434,7 @@ def contact_forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt):
     return _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, 0)
 
 
-@njit(**_JIT)
+@njit(inline="always", **_JIT)
 def _unilateral(d, k0, pw, ser, c, tab, f0):
     """Force, tangent and energy of a one-sided contact at deflection ``d > 0`` (``f0``: a guess of the force,
     for a series law)."""
