@@ -386,20 +386,20 @@ def _delta_one(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, conf
     "balanced" or "step" bootstrap would fail (a nearly constant output), analyze raises; rvtol, which does not
     compute them, gives the "raw" numbers.
     """
-    from SALib.analyze import delta as sd
-
     fmt = warnings.formatwarning  # SALib's delta replaces the global warning formatter
     try:
         with warnings.catch_warnings(record=True):  # record: SALib resets the filters inside
-            return _delta_raw(sd, name, np.asarray(x, dtype=float), np.asarray(y, dtype=float), num_resamples,
+            return _delta_raw(name, np.asarray(x, dtype=float), np.asarray(y, dtype=float), num_resamples,
                               confidence, seed)
     finally:
         warnings.formatwarning = fmt
 
 
-def _delta_raw(sd, name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
+def _delta_raw(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
                seed: int) -> dict:
-    """The body of :func:`_delta_one` (``sd``: ``SALib.analyze.delta``): analyze's steps for one factor."""
+    """The body of :func:`_delta_one`: ``SALib.analyze.delta.analyze``'s steps for one factor."""
+    from SALib.analyze import delta as sd
+
     nan = {"delta": np.nan, "delta_conf": np.nan, "S1": np.nan, "S1_conf": np.nan}
     if seed:
         np.random.seed(seed)

@@ -26,14 +26,15 @@ arrays (:func:`update_table_fast`); the 2·z_b pins are evaluated in a loop of t
 once.  The small helpers of the contact laws called per contact and evaluation (:func:`_unilateral`,
 :func:`_series_deflection`) are inlined by numba (``inline="always"``): left as calls (LLVM did not inline
 them) they cost a quarter of the force evaluation of an error-free reducer, whose every pin is loaded —
-same arithmetic, bit-identical results.  Division follows IEEE (``error_model="numpy"``: a zero divisor gives inf/NaN, which Newton
-reports as ``ST_NONFINITE``, instead of a Python exception).  No ``fastmath``: with contraction /
+same arithmetic, bit-identical results.  Division follows IEEE (``error_model="numpy"``: a zero divisor
+gives inf/NaN, which Newton reports as ``ST_NONFINITE``, instead of a Python exception).  No ``fastmath``: with contraction /
 reassociation the same kernel gave results 1e-15 apart when compiled in the process and when loaded from
 numba's cache (LLVM fuses differently across inlined and linked callees), so a process pool's workers
 and its parent could disagree in the last bit — the engine promises bit-identical results whatever the
 executor, and IEEE arithmetic keeps that promise.
 Newton iterations: a rotation sweep predicts each position from the one a crank revolution earlier and
-the changes since (:func:`qs_sequence`), and a contact that unloads gets its secant slope (:func:`_slope`).  What remains
+the changes since (:func:`qs_sequence`), and a contact that unloads gets its secant slope
+(:func:`_slope`).  What remains
 is set by the contact state changing between positions (pins engaging, bearings crossing their dead
 zones): ≈ 4 iterations per position, each at the arithmetic of its pieces — see
 ``studies/transmission_error.md``.
@@ -903,13 +904,12 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
         update_table_fast(theta_c[p], dth_s[p], prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w)
         Q[:] = load
         Q[THCA] += torque[p]
-        if period > 0 and p >= 2 * period:
+        if period > 0 and p > period:
             for a in range(nd):
-                q[a] = out_q[p - period, a] + 0.5 * ((out_q[p - 1, a] - out_q[p - 1 - period, a])
-                                                     + (out_q[p - period, a] - out_q[p - 2 * period, a]))
-        elif period > 0 and p > period:
-            for a in range(nd):
-                q[a] = out_q[p - period, a] + out_q[p - 1, a] - out_q[p - 1 - period, a]
+                change = out_q[p - 1, a] - out_q[p - 1 - period, a]                      # D(p−1)
+                if p >= 2 * period:
+                    change = 0.5 * (change + (out_q[p - period, a] - out_q[p - 2 * period, a]))   # and D(p−P)
+                q[a] = out_q[p - period, a] + change
         elif p >= 2:
             for a in range(nd):
                 q[a] = 2.0 * out_q[p - 1, a] - out_q[p - 2, a]
