@@ -149,16 +149,18 @@ def test_a_catalogue_bound_against_the_predicted_units():
 
 
 def test_measured_strong_orders_against_predicted_spectra():
-    """TE = 3 sin(θ) + 1 sin(40θ) + 0.05 sin(80θ) on 936 points per revolution: amplitudes 3, 1, 0.05 — shares
-    100 %, 33 %, 1.7 % of the largest; order 500 lies above the Nyquist order 468."""
-    th = 2 * np.pi * np.arange(936) / 936
-    te = 3 * np.sin(th) + np.sin(40 * th + 0.3) + 0.05 * np.sin(80 * th)
-    rows = {r["order"]: r for r in compare_orders([1, 40, 80, 500], [te, 2 * te, None], threshold=0.10)}
-    assert rows[1]["amplitude"] == pytest.approx(4.5) and rows[1]["share"] == pytest.approx(1.0)   # median of 3, 6
+    """Two predicted reducers: amplitudes 3 and 6″ at order 1, 1 and 2″ at order 40, 0.05 and 0.1″ at order 80
+    (spectra up to order 468) — medians 4.5, 1.5, 0.075″; shares of the largest order 1, 1/3, 1/60 on both; the
+    third reducer failed (None). Order 500 lies above the spectra's highest order."""
+    a = np.zeros(469)
+    a[0], a[1], a[40], a[80] = 7.0, 3.0, 1.0, 0.05              # order 0 (the mean) is no order of the spectrum
+    rows = {r["order"]: r for r in compare_orders([1, 40, 80, 500], [a, 2 * a, None], threshold=0.10)}
+    assert rows[1]["amplitude"] == pytest.approx(4.5) and rows[1]["share"] == pytest.approx(1.0)
     assert rows[40]["amplitude"] == pytest.approx(1.5) and rows[40]["share"] == pytest.approx(1 / 3)
+    assert rows[80]["amplitude"] == pytest.approx(0.075) and rows[80]["share"] == pytest.approx(1 / 60)
     assert rows[40]["verdict"] == "present" and rows[80]["verdict"] == "absent"
-    assert rows[80]["share"] == pytest.approx(0.05 / 3)
-    assert rows[500]["verdict"].startswith("not resolved")
+    assert rows[500]["verdict"] == "not resolved (highest order 468)"
+    assert compare_orders([1], [None])[0]["verdict"] == "no successful prediction"
 
 
 # --------------------------------------------------------------------------- validate: prediction and calibration
@@ -249,10 +251,9 @@ executor = "serial"
 kind = "validation"
 published = ["pub/*.toml"]
 reducer = "RV-80E"
+calibrate_on = "s:q"
 [analysis.outputs]
 y = "y"
-[analysis.calibration]
-on = "s:q"
 """
 
 
@@ -274,17 +275,17 @@ def st_sample(st):
     return sample(st.spec, st.options.n, st.options.method, st.options.seed).values[:, 0] * 1e3
 
 
-@pytest.mark.parametrize("change, key, reason", [
-    ('published = ["pub/*.toml"]', "analysis[0].published", "matches no file"),
-    ('y = "y"', "analysis[0].outputs.y", "unknown output name"),
-    ('on = "s:q"', "analysis[0].calibration.on", "cannot be calibrated on"),
+@pytest.mark.parametrize("change, bad, key, reason", [
+    ('published = ["pub/*.toml"]', 'published = ["nowhere/*.toml"]', "analysis[0].published", "matches no file"),
+    ('y = "y"', 'y = "w"', "analysis[0].outputs", "y: unknown output name 'w'"),
+    ('calibrate_on = "s:q"', 'calibrate_on = "s:limit"', "analysis[0].calibrate_on", "cannot be calibrated on"),
+    ('calibrate_on = "s:q"', 'calibrate_on = "s:q"\nbounds = [2.0, 1.0]', "analysis[0].bounds", "low < high"),
+    ('reducer = "RV-80E"', 'reducer = "RV-80E"\nte_model = "te"', "analysis[0].te_model", "unknown model name"),
 ])
-def test_a_bad_validation_table_fails_when_the_study_loads(tmp_path, change, key, reason):
+def test_a_bad_validation_table_fails_when_the_study_loads(tmp_path, change, bad, key, reason):
     from rvtol.study import load_study
 
     _files(tmp_path / "pub")
-    bad = {"analysis[0].published": 'published = ["nowhere/*.toml"]', "analysis[0].outputs.y": 'y = "w"',
-           "analysis[0].calibration.on": 'on = "s:limit"'}[key]
     with pytest.raises(InputError) as e:
         load_study(write(tmp_path / "v.toml", STUDY.replace(change, bad)))
     assert e.value.key == key and reason in e.value.reason

@@ -24,8 +24,6 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-from ..models.transmission.orders import order_spectrum
-
 INSIDE, ABOVE, BELOW = "inside the predicted interval", "above the predicted interval", "below the predicted interval"
 CONSISTENT, PARTLY, CONTRADICTS = "consistent", "partly", "contradicts"
 PRESENT, ABSENT = "present", "absent"
@@ -101,31 +99,31 @@ def compare_limit(limit: float, upper: bool, values, interval: float = 0.95, con
             "yield": 100.0 * float(np.mean(within)), "verdict": verdict}
 
 
-def order_amplitudes(curves) -> tuple[np.ndarray, np.ndarray]:
-    """``(amplitude[c, k], share[c, k])`` of TE curves sampled uniformly over one output revolution (rows of
-    equal length; order k per output revolution, :func:`rvtol.models.transmission.orders.order_spectrum`);
-    share = amplitude / the curve's largest amplitude of an order ≥ 1."""
-    amps = np.array([order_spectrum(np.asarray(c, dtype=float))[1] for c in curves])
+def _shares(spectra) -> tuple[np.ndarray, np.ndarray]:
+    """``(amplitude[c, k], share[c, k])`` of spectra (amplitude of order k per output revolution, k = 0 the mean;
+    cut to the shortest); share = amplitude / the spectrum's largest amplitude of an order ≥ 1."""
+    n = min(len(a) for a in spectra)
+    amps = np.array([np.asarray(a, dtype=float)[:n] for a in spectra])
     top = amps[:, 1:].max(axis=1, keepdims=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         share = np.where(top > 0, amps / top, np.nan)
     return amps, share
 
 
-def compare_orders(orders, curves, threshold: float = 0.10) -> list[dict]:
-    """Per measured strong order: the predicted amplitude and share (medians over ``curves``; NaN above the
-    curves' Nyquist order) and whether the predicted spectrum has it (share ≥ ``threshold``)."""
-    curves = [c for c in curves if c is not None and len(c)]
-    if not curves:
+def compare_orders(orders, spectra, threshold: float = 0.10) -> list[dict]:
+    """Per measured strong order: the predicted amplitude and share (medians over the predicted reducers'
+    ``spectra``, None for a reducer the solver failed on) and whether the predicted spectrum has it
+    (share ≥ ``threshold``); an order above the spectra's highest is *not resolved*."""
+    spectra = [a for a in spectra if a is not None and len(a) > 1]
+    if not spectra:
         return [{"order": int(o), "amplitude": float("nan"), "share": float("nan"),
                  "verdict": "no successful prediction"} for o in orders]
-    n = min(len(c) for c in curves)
-    amps, share = order_amplitudes([np.asarray(c, dtype=float)[:n] for c in curves])
+    amps, share = _shares(spectra)
     rows = []
     for o in orders:
         if o >= amps.shape[1]:
             rows.append({"order": int(o), "amplitude": float("nan"), "share": float("nan"),
-                         "verdict": f"not resolved ({n} points per revolution)"})
+                         "verdict": f"not resolved (highest order {amps.shape[1] - 1})"})
             continue
         a, s = float(np.median(amps[:, o])), float(np.median(share[:, o]))
         rows.append({"order": int(o), "amplitude": a, "share": s,
@@ -133,13 +131,11 @@ def compare_orders(orders, curves, threshold: float = 0.10) -> list[dict]:
     return rows
 
 
-def largest_orders(curves, top: int = 6) -> list[tuple[int, float]]:
-    """The ``top`` orders ≥ 1 with the largest median amplitude over ``curves``: ``[(order, amplitude)]``."""
-    curves = [c for c in curves if c is not None and len(c)]
-    if not curves:
+def largest_orders(spectra, top: int = 6) -> list[tuple[int, float]]:
+    """The ``top`` orders ≥ 1 with the largest median amplitude over ``spectra``: ``[(order, amplitude)]``."""
+    spectra = [a for a in spectra if a is not None and len(a) > 1]
+    if not spectra:
         return []
-    n = min(len(c) for c in curves)
-    amps, _ = order_amplitudes([np.asarray(c, dtype=float)[:n] for c in curves])
-    med = np.median(amps, axis=0)
+    med = np.median(_shares(spectra)[0], axis=0)
     idx = np.argsort(med[1:])[::-1][:top] + 1
     return [(int(i), float(med[i])) for i in idx]

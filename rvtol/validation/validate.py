@@ -195,7 +195,7 @@ def _row(stage, src, q, measured, unc, unit, nominal, cmp, failed, role) -> dict
 
 
 def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: int, method: str = "lhs",
-             seed: int | None = None, evaluator: Evaluator | None = None, known=None, te_curves=None,
+             seed: int | None = None, evaluator: Evaluator | None = None, known=None, te_spectra=None,
              calibrate_on: str | None = None, parameter: str = "tolerance_scale",
              bounds: tuple[float, float] = (0.25, 10.0), interval: float = 0.95, confidence: float = 0.95,
              order_threshold: float = 0.10, spectrum_samples: int = 16, rtol: float = 0.02) -> ValidationResult:
@@ -203,7 +203,8 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
 
     ``outputs``: published quantity name -> the model output that predicts it; ``known``: ``(X, {output: display
     values}, ok)`` already evaluated on the unscaled sample (the study's Monte Carlo), used when ``X`` is that
-    sample; ``te_curves(X) -> [TE curve over one output revolution (arcsec) or None]`` for the spectrum.
+    sample; ``te_spectra(X) -> [TE amplitude per order of one output revolution (arcsec; index = order) or None]``
+    for the measured TE orders.
     """
     sources = tuple(sources)
     for qname, out in outputs.items():
@@ -215,7 +216,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
         raise InputError(f"bounds must satisfy 0 < low < high, got {list(bounds)}", key="calibration.bounds")
     quantities = [(src, q) for src in sources if src.status == "read" for q in src.quantities]
     by_key = {q.key: (src, q) for src, q in quantities}
-    spectrum = te_curves is not None
+    spectrum = te_spectra is not None
     reason = {q.key: _not_predicted(src, q, reducer, outputs, spectrum) for src, q in quantities}
     numeric = [(src, q) for src, q in quantities if q.numeric and not reason[q.key]]
     order_qs = [(src, q) for src, q in quantities if not q.numeric and not reason[q.key]]
@@ -252,15 +253,15 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
                              int(np.sum(~np.isfinite(v))), role))
         if order_qs:
             idx = np.flatnonzero(ok)[:spectrum_samples]
-            curves = te_curves(X[idx]) if idx.size else []
-            largest[stage] = largest_orders(curves)
+            spectra = te_spectra(X[idx]) if idx.size else []
+            largest[stage] = largest_orders(spectra)
             for src, q in order_qs:
-                for r in compare_orders(q.orders, curves, order_threshold):
+                for r in compare_orders(q.orders, spectra, order_threshold):
                     order_rows.append({"stage": stage, "source": src.id, "quantity": q.id, "reducer": q.reducer,
                                        "order [1/rev]": r["order"], "measured": "strong",
                                        "predicted amplitude [arcsec]": r["amplitude"],
                                        "of the largest predicted order [%]": 100.0 * r["share"],
-                                       "curves": len([c for c in curves if c is not None]),
+                                       "reducers": len([a for a in spectra if a is not None]),
                                        "verdict": r["verdict"]})
 
     values, X, ok = pred.predict(1.0, needed, "validation: prediction") if needed else ({}, pred.samples(1.0),
