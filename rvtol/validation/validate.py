@@ -127,7 +127,7 @@ def _estimated(src: PublishedSource) -> str:
 def _not_predicted(src: PublishedSource, q: PublishedQuantity, reducer: str, outputs: dict, spectrum: bool) -> str:
     if q.reducer != reducer:
         why = src.estimated.get("design", f"rvtol has no {q.reducer} design")
-        return f"not predicted: the study's design is an {reducer}, this figure is of a {q.reducer} reducer ({why})"
+        return f"not predicted: the study's design is an {reducer}; this figure's reducer: {q.reducer} ({why})"
     if q.kind == "orders":
         return "" if spectrum else "not predicted: the study gives no TE model for the spectrum"
     if q.quantity not in outputs:
