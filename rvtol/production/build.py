@@ -192,8 +192,8 @@ class ShimPreload:
     name: str
     title: str
     end_play: Expression          # TRUE axial end play of the stack without shim (base units)
-    target: TargetRule            # measured end play + target interference + step/2: the nearest shim is the
-    shims: np.ndarray             #   largest shim ≤ it
+    measured: Expression          # the end play as read (with its gauge error)
+    shims: np.ndarray             # shim thicknesses in equal steps (base units)
     preload_target: float         # N
     interference_target: float    # mm
     law: PreloadLaw
@@ -206,8 +206,17 @@ class ShimPreload:
         return float(self.shims[1] - self.shims[0])
 
     @property
+    def target(self) -> TargetRule:
+        """Measured end play + target interference + step/2: the nearest shim is the largest shim ≤ it."""
+        return TargetRule(Expression.parse(f"({self.measured.text}) + {self.interference_target + 0.5 * self.step!r}"))
+
+    def with_step(self, step: float) -> "ShimPreload":
+        """The same rule with shims in steps of ``step`` (base units) over the same range."""
+        return replace(self, shims=self.shims[0] + step * np.arange(int(round((self.shims[-1] - self.shims[0]) / step)) + 1))
+
+    @property
     def reads(self) -> set[str]:
-        return set(self.end_play.names) | set(self.target.names)
+        return set(self.end_play.names) | set(self.measured.names)
 
     def choose(self, env: dict, n: int) -> ShimResult:
         classes = Classes(np.append(self.shims, np.inf))
@@ -494,9 +503,8 @@ def _shim(p: Params, known: set[str], design) -> ShimPreload:
         law = PreloadLaw.from_design(design, key)
     except InputError as exc:
         raise p.error("bearing", exc.reason) from None
-    delta = law.interference(preload)
-    target = TargetRule(Expression.parse(f"({measured.text}) + {delta + 0.5 * float(steps[0])!r}"))
-    return ShimPreload(name, title, end_play, target, shims, preload, delta, law, unit, rule, source)
+    return ShimPreload(name, title, end_play, measured, shims, preload, law.interference(preload), law, unit, rule,
+                       source)
 
 
 def _choice(p: Params, spec: ToleranceSpec, design) -> DesignChoice:
