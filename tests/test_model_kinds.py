@@ -46,7 +46,7 @@ kind = "formula"
 discs = "disc1_width + disc2_width"
 [[model.output]]
 name = "axial_clearance"
-formula = "(carrier_gap - discs) * 1000"
+formula = "carrier_gap - discs"
 unit = "um"
 """
 
