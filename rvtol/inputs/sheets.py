@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -57,6 +58,7 @@ class Sheet:
     title: str | None
     lettered: bool
     sha256: str
+    merged: tuple[tuple[int, int, int, int], ...] = ()   # XLSX merged ranges (first row, col, last row, col; 1-based)
 
     def location(self, file: str) -> Location:
         return Location(file, self.title)
@@ -85,10 +87,11 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
                                 key="sheet")
             rows = [(r, list(cells)) for r, cells in enumerate(ws.iter_rows(values_only=True), start=1)]
             title = ws.title
+            merged = _merged_ranges(raw, getattr(ws, "_worksheet_path", None))
         finally:
             wb.close()
         _check_formulas(raw, path, title, rows)
-        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest())
+        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
     if suffix in (".csv", ".txt", ".tsv"):
         raw = read_bytes(path, "a table file")
         try:
@@ -104,6 +107,30 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
         return Sheet(rows, None, False, hashlib.sha256(raw).hexdigest())
     raise SpecError(f"unknown table format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx; save other "
                     "spreadsheets as .xlsx)", file=str(path), key="-")
+
+
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+)(\d+):([A-Z]+)(\d+)"')
+
+
+def _col_number(letters: bytes) -> int:
+    n = 0
+    for ch in letters.decode():
+        n = n * 26 + ord(ch) - 64
+    return n
+
+
+def _merged_ranges(raw: bytes, sheet_path: str | None) -> tuple[tuple[int, int, int, int], ...]:
+    """The merged ranges of one sheet, from its XML (openpyxl's read-only mode does not read them)."""
+    if not sheet_path:
+        return ()
+    import zipfile
+
+    with zipfile.ZipFile(io.BytesIO(raw)) as z:
+        try:
+            xml = z.read(sheet_path.lstrip("/"))
+        except KeyError:
+            return ()
+    return tuple((int(r0), _col_number(c0), int(r1), _col_number(c1)) for c0, r0, c1, r1 in _MERGE.findall(xml))
 
 
 def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, list]]) -> None:
