@@ -233,6 +233,9 @@ def _run(args) -> int:
         from .ci.compare import load_run
 
         baseline = load_run(args.baseline, key="--baseline")
+        if baseline.summary.get("study") != study.name:
+            raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
+                             f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
     est = estimate_run(study)
     check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
     if not args.quiet:
@@ -314,8 +317,11 @@ def _compare(args) -> int:
     for flag in ("junit", "markdown", "out"):
         if getattr(args, flag):
             _check_file_target(getattr(args, flag), f"--{flag}")
+    from .ci.compare import same_study
+
     base = load_run(args.base, key="BASE")
     new = load_run(args.new, key="NEW")
+    same_study(base, new, key="BASE", file=args.base)
     comparison = compare(base, new, seed=new.summary.get("seed"))
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)

@@ -214,6 +214,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         model.check_spec(spec)
     except InputError as exc:
         raise exc.located(file=spec.file or file) from None
+    check_requirement_names(reqs)
     for r in reqs:
         if r.output not in model.output_names:
             raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
@@ -233,6 +234,19 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def check_requirement_names(reqs: list[Requirement]) -> None:
+    """Two requirements with one name (or, unnamed, the same output and limits) would be two JUnit cases
+    and two rows no reader can tell apart: refused, naming both."""
+    seen: dict[str, Requirement] = {}
+    for r in reqs:
+        first = seen.get(r.label)
+        if first is not None:
+            where = f"{first.key or 'requirement'}" + (f" of {first.file}" if first.file != r.file else "")
+            raise SpecError(f"requirement {r.label!r} is given twice (first as {where}): give each requirement "
+                            "its own name", file=r.file, key=f"{r.key}.name" if r.key else "name")
+        seen[r.label] = r
 
 
 #: tables a study that extends another may not give (they come from the base study)

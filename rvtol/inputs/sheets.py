@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..params import read_bytes
+from ..params import decode_text, read_bytes
 from ..errors import SpecError
 
 #: table formats rvtol reads and writes
@@ -94,13 +94,7 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
         return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
     if suffix in (".csv", ".txt", ".tsv"):
         raw = read_bytes(path, "a table file")
-        try:
-            text = raw.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            try:
-                text = raw.decode("cp1252")   # Excel's "CSV" on Western Windows
-            except UnicodeDecodeError:
-                raise SpecError("not UTF-8 (or Windows-1252) text", file=str(path), key="-") from None
+        text = decode_text(raw, str(path), fallback="cp1252")   # cp1252: Excel's "CSV" on Western Windows
         delim = "\t" if suffix == ".tsv" else sniff(text, delimiters)
         reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " ")
         rows = [(r, cells) for r, cells in enumerate(reader, start=1)]
@@ -149,6 +143,38 @@ def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, li
                                     file=str(path), key=Location(str(path), title).key(r, None, col_letter(i)))
     finally:
         wb.close()
+
+
+#: files from this size on show a progress bar while read (on a terminal)
+PROGRESS_BYTES = 8 * 2**20
+
+
+class _Progress:
+    def __init__(self, total: int, desc: str):
+        self.bar = None
+        if total >= PROGRESS_BYTES:
+            import sys
+
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc=desc, unit="B", unit_scale=True, delay=1.0, leave=False,
+                            file=sys.stderr, disable=None, dynamic_ncols=True)
+
+    def advance(self, n: int) -> None:
+        if self.bar is not None:
+            self.bar.update(min(n, self.bar.total - self.bar.n))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def byte_progress(total: int, desc: str) -> _Progress:
+    """A progress bar on stderr for reading ``total`` bytes (only for a large file, only on a terminal)."""
+    return _Progress(total, desc)
 
 
 def sniff(text: str, delimiters: str = ",;\t") -> str:
