@@ -26,7 +26,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .errors import InputError
+from .errors import InputError, ModelCodeError
 
 EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2, 3, 4
 
@@ -77,6 +77,8 @@ def _parser() -> argparse.ArgumentParser:
 
     chk = sub.add_parser("check", help="validate a study and everything it names, without running it")
     chk.add_argument("study")
+    chk.add_argument("--execute", action="store_true",
+                     help="also run the code of a Python model's factory (by default it is checked, not run)")
     chk.add_argument("--debug", action="store_true")
 
     sub.add_parser("kinds", help="list the model and analysis kinds a study can use")
@@ -118,6 +120,13 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"rvtol: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except ModelCodeError as exc:   # the user's model code raised or exited: its message, exit 3, never 0
+        print(f"rvtol: error: {exc} (the model's own code; nothing written)", file=sys.stderr)
+        return EXIT_INTERNAL
+    except SystemExit as exc:       # sys.exit() in code rvtol called (a plug-in): never a silent exit 0
+        print(f"rvtol: error: <model>: -: code rvtol ran called sys.exit({exc.code!r}) (nothing written)",
+              file=sys.stderr)
+        return EXIT_INTERNAL
     except Interrupted as exc:
         kept = (f"; {exc.kept_chunks} finished chunks kept: rerun with --resume to continue"
                 if exc.kept_chunks else "")
@@ -166,9 +175,20 @@ def _overrides(args) -> dict:
 
 
 def _check(args) -> int:
-    from .study import load_study
+    from .study import NotRunModel, load_study
 
-    st = load_study(args.study)
+    st = load_study(args.study, execute=args.execute)
+    if isinstance(st.model, NotRunModel):
+        print(f"rvtol: {st.file}: ok — {len(st.spec)} factors, {len(st.requirements)} requirements; "
+              + "; ".join(st.model.notes))
+        print("rvtol: note: the model's code was not run, so its outputs, the requirements' and gates' outputs "
+              "and the analyses are unchecked: rvtol check --execute runs it")
+        return EXIT_PASS
+    failures = _formula_failures(st)
+    if failures:
+        for key, text in failures:
+            print(f"rvtol: error: {st.file}: {key}: {text}", file=sys.stderr)
+        return EXIT_INPUT
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
           f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
           f"{len(st.analyses)} analyses")
@@ -177,6 +197,17 @@ def _check(args) -> int:
                                  if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "
                                  "(exit 4); add [[requirement]] tables or declare [study] exploratory = true"))
     return EXIT_PASS
+
+
+def _formula_failures(st) -> list[tuple[str, str]]:
+    """A formula model evaluated at the nominal and the corners of the bands: (key, where and why) per output
+    that fails (rvtol.models.formula.probe)."""
+    from .models.formula.model import FormulaModel
+    from .models.formula.probe import probe
+
+    if not isinstance(st.model, FormulaModel):
+        return []
+    return [(f"model.output[{f.output}].formula", f.describe()) for f in probe(st.model, st.spec, st.options.seed)]
 
 
 def _spec(args) -> int:

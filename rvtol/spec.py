@@ -574,7 +574,7 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
                         prev = c[ia, ib]
                         same = "the same" if prev == m[a, b] else f"{prev:g} there, {m[a, b]:g} here"
                         raise t.error("factors" if "factors" in t.data else "pair",
-                                      f"the correlation of {names[ia]!r} and {names[ib]!r} is given twice "
+                                      f"the correlation of {names[pair[0]]!r} and {names[pair[1]]!r} is given twice "
                                       f"(first in {given[pair]}; {same}): give each pair once")
                     given[pair] = t.key
                 if a != b:

@@ -152,8 +152,43 @@ class StudyContext:
 
 
 # --------------------------------------------------------------------------- loading
-def load_study(path: str | Path, **overrides) -> Study:
-    """Read and validate a study file and everything it names. Raises :class:`InputError`."""
+class NotRunModel(Model):
+    """Stands for a model whose code ``rvtol check`` did not run (a ``kind = "python"`` factory): its outputs are unknown, so requirements' outputs, gates and analyses are not checked.
+    ``notes`` say what was checked without running."""
+
+    def __init__(self, spec: ToleranceSpec, notes: list[str]):
+        from . import units as _units
+
+        self.inputs = tuple(spec.names)
+        self.input_units = tuple(_units.base_unit(u) for u in spec.units)
+        self.outputs = ()
+        self.notes = notes
+
+    def evaluate(self, X):   # pragma: no cover - never run
+        raise RuntimeError("a model rvtol check did not run cannot be evaluated")
+
+
+def _user_code(root: Params) -> list[str] | None:
+    """``[model]`` tables that run the study's own code (``kind = "python"``): validated without running it
+    (:func:`rvtol.models.custom.model.check_without_running`); notes, or None if there are none.  (A kind of an
+    installed package is loaded like a built-in one: installing it was the decision to run it.)"""
+    raw = root.data.get("model")
+    tables = root.tables("model") if isinstance(raw, list) else [root.sub("model")]
+    notes = []
+    for t in tables:
+        kind = t.data.get("kind")
+        if kind == "python":
+            from .models.custom.model import check_without_running
+
+            notes.append(check_without_running(t))
+    return notes or None
+
+
+def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
+    """Read and validate a study file and everything it names. Raises :class:`InputError`.
+
+    ``execute=False`` (``rvtol check`` without ``--execute``): a model made by the user's code is validated
+    without running that code (:class:`NotRunModel`), and what depends on its outputs is not checked."""
     path = Path(path)
     data, sha = read_toml(path)
     file = str(path)
@@ -202,6 +237,15 @@ def load_study(path: str | Path, **overrides) -> Study:
 
     options = _options(root, overrides)
 
+    notes = None if execute else _user_code(root)
+    if notes is not None:       # rvtol check: no user code runs; nothing that needs its outputs is checked
+        check_requirement_names(reqs)
+        study = Study(name, title, desc, file, base, design, spec, NotRunModel(spec, notes), reqs, options, [],
+                      inputs, exploratory)
+        for k in ("model", "quantity", "gate", "analysis"):
+            root.raw(k, None)
+        root.finish()
+        return study
     if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
         model = _composite(root, mapping, design, spec, file, inputs)
     else:

@@ -287,6 +287,11 @@ def _header(cells: list, loc: Location, r: int, lettered: bool) -> list[str | No
     """Standard column names; ``None`` for an ignored column (notes), ``""`` for a blank header."""
     out: list[str | None] = []
     seen: dict[str, int] = {}
+    filled = [c for c in cells if not blank(c)]
+    if not any(" ".join(_text(c).lower().replace("\u2212", "-").split()) in _ALIASES for c in filled):
+        # not a spec table at all (a data file named by mistake): say so without echoing what it holds
+        raise loc.error(f"not the header of a spec table: none of its {len(filled)} cells is a known column "
+                        f"({', '.join(COLUMNS)}, +tol, -tol)", r)
     for i, c in enumerate(cells):
         letter = col_letter(i) if lettered else None
         if blank(c):
