@@ -530,7 +530,28 @@ def check_out_dir(out_dir: str | Path) -> Path:
         if any(out.iterdir()) and not _is_report_folder(out):
             raise InputError("exists and is not an rvtol report folder (no rvtol summary.json in it); "
                              "choose another --out or empty it", file=where, key="--out")
+        foreign = foreign_files(out)
+        if foreign:
+            shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+            raise InputError(f"holds files rvtol did not write ({shown}); a run replaces the whole folder: move them "
+                             "elsewhere first", file=where, key="--out")
     return out
+
+
+#: the list of the files a report folder's run wrote (written last, in the same atomic step)
+MANIFEST = ".rvtol-files"
+#: files of a report folder written before the manifest existed
+_KNOWN = ("summary.json", "samples.parquet", "report.html", "report.pdf", "comparison.json", "requirements.csv",
+          "per_unit.csv", "samples.csv", "samples.xlsx", "statistics.csv", "statistics.xlsx")
+
+
+def foreign_files(folder: Path) -> list[str]:
+    """The entries of an rvtol report folder that rvtol did not write (its manifest, or the known names)."""
+    try:
+        known = set((folder / MANIFEST).read_text(encoding="utf-8").split("\n")) | {MANIFEST}
+    except (OSError, UnicodeDecodeError):
+        known = set(_KNOWN)
+    return sorted(p.name for p in folder.iterdir() if p.name not in known)
 
 
 def _is_report_folder(path: Path) -> bool:
@@ -598,6 +619,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
+        (tmp / MANIFEST).write_text("\n".join(sorted(p.name for p in tmp.iterdir())), encoding="utf-8")
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

@@ -287,3 +287,20 @@ def test_file_contents_are_not_echoed(tmp_path, capsys):
     assert err == (f"rvtol: error: {tmp_path / 'data.csv'}: row 1: not the header of a spec table: none of its 3 "
                    "cells is a known column (name, part, feature, nominal, tolerance, distribution, unit, direction, "
                    "source, +tol, -tol)\n")
+
+
+# --------------------------------------------------------------------------- item 5: a report folder is rvtol's alone
+def test_files_rvtol_did_not_write_are_never_deleted(tmp_path, capsys):
+    p = write_study(tmp_path, FACTORS + FORMULA.format(formula="a + b", unit="mm") +
+                    '[[requirement]]\noutput = "y"\nupper = 5\n')
+    out = tmp_path / "rep"
+    assert run_cli(["run", p, "--out", out, "--no-pdf", "--quiet"], capsys)[0] == 1
+    manifest = (out / ".rvtol-files").read_text(encoding="utf-8").split("\n")
+    assert sorted(manifest) == sorted(x.name for x in out.iterdir())
+    assert run_cli(["run", p, "--out", out, "--no-pdf", "--quiet"], capsys)[0] == 1   # its own files: replaced
+    (out / "my notes.txt").write_text("mine", encoding="utf-8")
+    (out / "sketches").mkdir()
+    rc, _, err = run_cli(["run", p, "--out", out, "--no-pdf", "--quiet"], capsys)
+    assert (rc, err) == (2, f"rvtol: error: {out}: --out: holds files rvtol did not write (my notes.txt, sketches); "
+                            "a run replaces the whole folder: move them elsewhere first\n")
+    assert (out / "my notes.txt").read_text(encoding="utf-8") == "mine" and (out / "sketches").is_dir()
