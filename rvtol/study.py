@@ -633,7 +633,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
-        (tmp / MANIFEST).write_text("\n".join(sorted(p.name for p in tmp.iterdir())), encoding="utf-8")
+        (tmp / MANIFEST).write_text("\n".join(sorted([MANIFEST, *(p.name for p in tmp.iterdir())])), encoding="utf-8")
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
