@@ -75,6 +75,9 @@ def _parser() -> argparse.ArgumentParser:
     _ci_outputs(cmp_)
     cmp_.add_argument("--debug", action="store_true")
 
+    ini = sub.add_parser("init", help="write a first study (study.toml and spec.csv) that runs as written")
+    ini.add_argument("dir", nargs="?", default=".", help="folder to write into (default: the current folder)")
+
     chk = sub.add_parser("check", help="validate a study and everything it names, without running it")
     chk.add_argument("study")
     chk.add_argument("--execute", action="store_true",
@@ -114,6 +117,8 @@ def main(argv: list[str] | None = None) -> int:
                 return _kinds(args.kind)
             if args.command == "check":
                 return _check(args)
+            if args.command == "init":
+                return _init(args)
             if args.command == "compare":
                 return _compare(args)
             if args.command == "spec":
@@ -174,6 +179,18 @@ def _overrides(args) -> dict:
     if args.quiet:
         ov["progress"] = False
     return ov
+
+
+def _init(args) -> int:
+    from .init_template import write_template
+
+    files = write_template(args.dir)
+    study = files[0]
+    print(f"rvtol: wrote {', '.join(str(f) for f in files)} — a first study that runs as written:\n"
+          f"  rvtol run {study}\n"
+          "then replace the parts in spec.csv and the formulas in study.toml with your own "
+          "(every key: studies/WRITING_A_STUDY.md)")
+    return EXIT_PASS
 
 
 def _check(args) -> int:

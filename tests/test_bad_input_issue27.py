@@ -304,3 +304,23 @@ def test_files_rvtol_did_not_write_are_never_deleted(tmp_path, capsys):
     assert (rc, err) == (2, f"rvtol: error: {out}: --out: holds files rvtol did not write (my notes.txt, sketches); "
                             "a run replaces the whole folder: move them elsewhere first\n")
     assert (out / "my notes.txt").read_text(encoding="utf-8") == "mine" and (out / "sketches").is_dir()
+
+
+# --------------------------------------------------------------------------- item 7: a first study in five minutes
+def test_rvtol_init_writes_a_study_that_runs_as_written(tmp_path, capsys):
+    folder = tmp_path / "first"
+    assert run_cli(["init", folder], capsys)[0] == 0
+    rc, out, err = run_cli(["run", folder / "study.toml", "--out", tmp_path / "rep", "--quiet"], capsys)
+    assert rc == 0, err
+    s = json.loads((tmp_path / "rep" / "summary.json").read_text(encoding="utf-8"))
+    gap, pin = s["outputs"]["gap"], s["outputs"]["pin_height"]
+    # by hand: gap = 60 − 2·(18 − 0.06) − 23.8 = 0.32 mm; σ = √(2·(0.1/6)² + 2·(0.12/6)²) mm = 36.82 µm
+    sd = 1000 * (2 * (0.1 / 6) ** 2 + 2 * (0.12 / 6) ** 2) ** 0.5
+    assert gap["unit"] == "um" and abs(gap["mean"] - 320.0) < 4 * sd / 5000 ** 0.5
+    assert abs(gap["std"] / sd - 1) < 0.05
+    # the V-groove pin with its angle in degrees: 1.27·(1 + √2) mm (sin of radians, not of 45 "radians")
+    assert abs(pin["mean"] - 1.27 * (1 + 2 ** 0.5)) < 1e-4
+    assert s["verdict"] == "PASS"
+    rc, _, err = run_cli(["init", folder], capsys)     # never overwrites
+    assert (rc, err) == (2, f"rvtol: error: {folder}: DIR: study.toml, spec.csv exist already: rvtol init writes a "
+                            "new study only into a folder without one\n")
