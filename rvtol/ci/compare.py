@@ -134,7 +134,9 @@ class Change:
         if self.unpaired_ci is None or None in self.ci or None in self.unpaired_ci:
             return None
         w, wu = self.ci[1] - self.ci[0], self.unpaired_ci[1] - self.unpaired_ci[0]
-        return wu / w if w > 0 else math.inf
+        # a paired interval of zero width (nothing changed, or every sample moved alike) has no finite gain:
+        # None rather than "inf× narrower"
+        return wu / w if w > 0 else None
 
     def to_dict(self) -> dict:
         return {"statistic": self.statistic, "base": self.base, "new": self.new, "change": self.change,
