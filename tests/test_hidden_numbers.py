@@ -43,3 +43,99 @@ def test_markdown_escapes_raw_html_from_the_study():
     md = render_markdown(summary)
     assert "<script>" not in md and "<img" not in md
     assert "&lt;script&gt;alert(1)&lt;/script&gt;" in md and "`s'x`" in md
+
+
+# --------------------------------------------------------------------------- a unit's verdict, a figure at its minimum
+def test_a_unit_whose_probability_misses_but_whose_upper_bound_reaches_stays_undecided():
+    from scipy.stats import beta
+
+    from rvtol.spec import Requirement
+    from rvtol.verdict import CONFORMS, DOES_NOT_CONFORM, UNDECIDED, judge_unit
+
+    r = Requirement("y", upper=1.0)
+    # 56 of 59 samples conform: P = 0.949 < 0.95; the one-sided 95 % Clopper–Pearson upper bound of P is
+    # Beta(0.95; k + 1, n − k) = 0.9905 ≥ 0.95 — neither demonstrated nor refuted
+    u = judge_unit(r, conforming=56, n=59, required=0.95)
+    assert u.state == UNDECIDED and u.p == pytest.approx(56 / 59)
+    assert u.p_hi == pytest.approx(beta.ppf(0.95, 57, 3), rel=1e-9) and u.p_hi >= 0.95
+    # 45 of 59: the upper bound Beta(0.95; 46, 14) = 0.8524 < 0.95 — does not conform
+    u = judge_unit(r, conforming=45, n=59, required=0.95)
+    assert u.state == DOES_NOT_CONFORM and u.p_hi == pytest.approx(beta.ppf(0.95, 46, 14), rel=1e-9)
+    # 59 of 59: the lower bound 0.05^(1/59) = 0.95049 ≥ 0.95 (the success-run size) — conforms
+    u = judge_unit(r, conforming=59, n=59, required=0.95)
+    assert u.state == CONFORMS and u.p_lo == pytest.approx(0.05 ** (1 / 59), rel=1e-9)
+
+
+@pytest.mark.parametrize("basis", ["estimate", "lower_bound"])
+def test_a_figure_exactly_at_its_minimum_passes_and_a_hair_below_fails(basis):
+    """The README's rule: a requirement passes when the figure judged *reaches* the required value (≥)."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    ry = Requirement("y", upper=1.0, min_yield=0.9973, basis=basis)
+    rc = Requirement("y", upper=1.0, min_cpk=1.33, basis=basis)
+    below = math.nextafter(0.9973, 0.0)
+    assert judge(ry, yield_=0.9973, yield_lo=0.9973, n=1000).passed
+    assert not judge(ry, yield_=below, yield_lo=below, n=1000).passed
+    assert judge(rc, cpk=1.33, cpk_lo=1.33, n=1000).passed
+    assert not judge(rc, cpk=math.nextafter(1.33, 0.0), cpk_lo=math.nextafter(1.33, 0.0), n=1000).passed
+
+
+def test_the_success_run_bound_is_the_closed_form():
+    """No failure in n: the one-sided Clopper–Pearson lower bound is (1 − c)^(1/n); 1109 samples demonstrate 0.9973."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import yield_bound
+
+    r = Requirement("y", upper=1.0)
+    for n in (59, 1108, 1109, 5000):
+        assert yield_bound(r, n, n) == pytest.approx(0.05 ** (1 / n), rel=1e-12)
+    assert yield_bound(r, 1108, 1108) < 0.9973 <= yield_bound(r, 1109, 1109)
+
+
+# --------------------------------------------------------------------------- a truncated normal's mean
+def test_the_mean_of_an_asymmetrically_truncated_normal_is_the_closed_form():
+    """E[X] = μ + σ·(φ(α) − φ(β))/(Φ(β) − Φ(α)), α = (a − μ)/σ, β = (b − μ)/σ (Johnson, Kotz & Balakrishnan,
+    Continuous Univariate Distributions 1, §10.1), written with math.erf — no scipy."""
+    from rvtol.params import Params
+    from rvtol.distributions import from_params
+
+    phi = lambda z: math.exp(-0.5 * z * z) / math.sqrt(2 * math.pi)   # noqa: E731
+    Phi = lambda z: 0.5 * (1 + math.erf(z / math.sqrt(2)))           # noqa: E731
+    mu, sigma, lo, hi = 10.0, 2.0, 9.0, 16.0
+    a, b = (lo - mu) / sigma, (hi - mu) / sigma
+    mean = mu + sigma * (phi(a) - phi(b)) / (Phi(b) - Phi(a))   # 10 + 2·(0.35207 − 0.00443)/0.69011 = 11.0075
+    var = sigma ** 2 * (1 + (a * phi(a) - b * phi(b)) / (Phi(b) - Phi(a)) - ((phi(a) - phi(b)) / (Phi(b) - Phi(a))) ** 2)
+    d = from_params(Params({"dist": "truncnorm", "mean": mu, "sigma": sigma, "lower": lo, "upper": hi}))
+    assert d.mean == pytest.approx(mean, rel=1e-12) and d.std == pytest.approx(math.sqrt(var), rel=1e-10)
+    assert mean - mu == pytest.approx(1.0075, abs=1e-4)
+    # the sampler's inverse CDF on a fine midpoint grid has the same mean
+    u = (np.arange(200_000) + 0.5) / 200_000
+    assert float(np.mean(d.ppf(u))) == pytest.approx(mean, abs=1e-5)
+    # a shifted process: the shift adds to the truncated mean
+    s = from_params(Params({"dist": "truncnorm", "mean": mu, "sigma": sigma, "lower": lo, "upper": hi, "shift": 0.5}))
+    assert s.mean == pytest.approx(mean + 0.5, rel=1e-12)
+
+
+# --------------------------------------------------------------------------- global sensitivity on a subset
+def test_sobol_on_a_subset_of_unequally_distributed_factors_uses_each_factors_own_distribution():
+    """y = x1 + x2 + x3, x1 ~ U(−1, 1) (variance 1/3), x2 ~ N(0, 0.1²), x3 ~ N(0, 2²); analysing the subset
+    [x3, x1] (out of spec order) with x2 at its nominal: S_T(x3) = 4/(4 + 1/3) = 0.9231, S_T(x1) = 0.0769 — a
+    factor read through another's inverse CDF swaps them."""
+    from rvtol.model import FunctionModel
+    from rvtol.params import Params
+    from rvtol.sensitivity.global_ import sobol
+    from rvtol.spec import ToleranceSpec, factor_from_params
+
+    def f(name, **kw):
+        return factor_from_params(Params({"name": name, "unit": "mm", **kw}))
+
+    spec = ToleranceSpec("s", (f("x1", dist="uniform", lower=-1, upper=1), f("x2", dist="normal", sigma=0.1),
+                               f("x3", dist="normal", sigma=2.0)))
+    model = FunctionModel(lambda X: X.sum(axis=1, keepdims=True), spec.names, ["y"], input_units=["mm"] * 3)
+    res = sobol(model, spec, n=1024, factors=["x3", "x1"], second_order=False, seed=3)
+    frame = res.to_frame().reset_index()
+    col_f = next(c for c in frame.columns if c in ("factor", "name", "group"))
+    got = {row[col_f]: row for _, row in frame.iterrows()}
+    assert got["x3"]["ST"] == pytest.approx(4 / (4 + 1 / 3), abs=0.03)
+    assert got["x1"]["ST"] == pytest.approx((1 / 3) / (4 + 1 / 3), abs=0.03)
+    assert got["x3"]["S1"] == pytest.approx(4 / (4 + 1 / 3), abs=0.05)
