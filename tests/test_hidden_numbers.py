@@ -139,3 +139,34 @@ def test_sobol_on_a_subset_of_unequally_distributed_factors_uses_each_factors_ow
     assert got["x3"]["ST"] == pytest.approx(4 / (4 + 1 / 3), abs=0.03)
     assert got["x1"]["ST"] == pytest.approx((1 / 3) / (4 + 1 / 3), abs=0.03)
     assert got["x3"]["S1"] == pytest.approx(4 / (4 + 1 / 3), abs=0.05)
+
+
+# --------------------------------------------------------------------------- torsion-curve metrics on an asymmetric loop
+def test_torsion_curve_metrics_of_an_asymmetric_hysteresis_loop_by_hand():
+    """An analytic loop with different stiffness and clearance on each side and a friction width h: loading
+    θ = τ/k₊ + g₊ (τ > 0), θ = τ/k₋ − g₋ (τ < 0), the descending branch h above the ascending one, the branches
+    meeting at the turning points ±T (where the descending branch starts and the ascending one starts again).
+    The maker's definitions (module docstring of rvtol.models.torsion_curve.model) by hand:
+    lost motion = p/k₊ + p/k₋ + g₊ + g₋ (h cancels in the mid-line); mid(T) = T/k₊ + g₊, mid(−T) = −T/k₋ − g₋ + h,
+    rigidity = 2T/(mid(T) − mid(−T)); backlash = D(ε) − A(−ε) = g₊ + g₋ + h + ε(1/k₊ + 1/k₋); width = h."""
+    from rvtol.models.torsion_curve.model import EPSILON, TorsionCurve, torque_schedule
+
+    T, kp, kn, gp, gn, h = 784e3, 8.0e7, 6.0e7, 1.0e-4, 2.5e-4, 2.0e-5   # N·mm, N·mm/rad, rad
+    torque, branch = torque_schedule(T, points=20, percent=3.0)
+    side = np.where(torque > 0, torque / kp + gp, torque / kn - gn)
+    side[(branch == 0) & (torque == 0)] = gp
+    side[(branch == 2) & (torque == 0)] = -gn
+    angle = side + np.where(branch == 1, h, 0.0)
+    m = TorsionCurve(torque, angle, branch, T).metrics(percent=3.0)
+    p, e = 0.03 * T, EPSILON * T
+    span = (T / kp + gp) - (-T / kn - gn + h)
+    assert m.lost_motion == pytest.approx(p / kp + p / kn + gp + gn, rel=1e-12)
+    assert m.rigidity == pytest.approx(2 * T / span, rel=1e-12)
+    assert m.backlash == pytest.approx(gp + gn + h + e * (1 / kp + 1 / kn), rel=1e-12)
+    assert m.angle_at_rated == pytest.approx(T / kp + gp, rel=1e-12)
+    assert m.hysteresis_width == pytest.approx(h, rel=1e-9)
+    # asymmetric: swapping the sides changes the rated-angle figure but not lost motion
+    swapped = np.where(torque > 0, torque / kn + gn, torque / kp - gp) + np.where(branch == 1, h, 0.0)
+    m2 = TorsionCurve(torque, swapped, branch, T).metrics(percent=3.0)
+    assert m2.angle_at_rated == pytest.approx(T / kn + gn, rel=1e-12)
+    assert m2.lost_motion == pytest.approx(m.lost_motion, rel=1e-12)
