@@ -180,6 +180,12 @@ class FormulaModel(Model):
         fu = tuple(_units.base_unit(u) for u in spec.units) if units == "base" else tuple(spec.units)
         return cls(outputs, spec.names, fu, definitions=definitions, checked=units == "checked")
 
+    def probe(self, spec, seed: int = 0) -> list:
+        """Where an output fails at the nominal or a corner of the bands (:func:`rvtol.models.formula.probe.probe`)."""
+        from .probe import probe
+
+        return probe(self, spec, seed)
+
     # -- evaluation -------------------------------------------------------------------
     def _env(self, X: np.ndarray) -> dict:
         Xf = X / self._in_factor   # base → the units written in the formulas
