@@ -324,3 +324,36 @@ def test_rvtol_init_writes_a_study_that_runs_as_written(tmp_path, capsys):
     rc, _, err = run_cli(["init", folder], capsys)     # never overwrites
     assert (rc, err) == (2, f"rvtol: error: {folder}: DIR: study.toml, spec.csv exist already: rvtol init writes a "
                             "new study only into a folder without one\n")
+
+
+# --------------------------------------------------------------------------- messages (the list, item 8)
+@pytest.mark.parametrize("factor,message", [
+    ('mean = 1\ntolerence = 0.1\n', "factor[0].tolerence: unknown key (did you mean 'tolerance'?)"),
+    ('dist = "normal"\nmean = 1\ntolerence = 0.1\n', "factor[0].tolerence: unknown key (did you mean 'tolerance'?)"),
+    ('tolerence = "±0.1"\nnominal = 1\n', "factor[0].tolerence: unknown key (did you mean 'tolerance'?)"),
+])
+def test_a_misspelt_key_is_named_not_reported_missing(tmp_path, capsys, factor, message):
+    p = write_study(tmp_path, f'[[factor]]\nname = "a"\nunit = "mm"\n{factor}' + FORMULA.format(formula="a", unit="mm"))
+    rc, _, err = run_cli(["check", p], capsys)
+    assert (rc, err) == (2, f"rvtol: error: {p}: {message}\n")
+
+
+def test_a_txt_spec_and_utf16_tables_give_accurate_messages(tmp_path, capsys):
+    txt = tmp_path / "spec.txt"
+    txt.write_text('[[factor]]\nname = "a"\nunit = "mm"\ndist = "normal"\nmean = 1\ntolerance = 0.1\n', encoding="utf-8")
+    with pytest.raises(InputError) as e:
+        load_spec(txt)
+    assert str(e.value) == (f"{txt}: -: a spec is a TOML file (.toml) or a table (.csv, .tsv or .xlsx), not .txt: "
+                            "rename it after what it holds (a tab-separated table: .tsv)")
+    # Excel's "Unicode text": UTF-16 with a byte-order mark — read
+    table = "name\tnominal\ttolerance\tunit\nbore\t25\tH7\tmm\n"
+    u16 = tmp_path / "spec.tsv"
+    u16.write_bytes(table.encode("utf-16"))
+    assert load_spec(u16).factors[0].band == pytest.approx((25.0, 25.021))
+    # UTF-16 without its mark: named, not misread as Windows-1252
+    bare = tmp_path / "bare.csv"
+    bare.write_bytes(table.replace("\t", ",").encode("utf-16-le"))
+    with pytest.raises(InputError) as e:
+        load_spec(bare)
+    assert str(e.value) == (f"{bare}: -: not a text file (it holds NUL bytes) — it looks like UTF-16 without a "
+                            "byte-order mark: save it as UTF-8")
