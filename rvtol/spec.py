@@ -89,7 +89,7 @@ from pathlib import Path
 import numpy as np
 
 from . import units
-from .distributions import KINDS, Distribution, from_params
+from .distributions import KINDS, ONE_SIDED, Distribution, from_params
 from .errors import InputError, SpecError, did_you_mean
 from .inputs.measured import measured_factor
 from .inputs.notation import NotationError, Tolerance, parse_tolerance
@@ -431,7 +431,7 @@ def factor_from_params(p: Params) -> Factor:
     elif drawing is not None:
         dist = band_distribution(p, drawing)
     else:
-        dist = from_params(p)
+        dist = from_params(_located_on_nominal(p))
     nominal = p.float("nominal", None) if drawing is None else drawing.nominal
     desc = p.str("description", "")
     part = p.str("part", "")
@@ -444,6 +444,29 @@ def factor_from_params(p: Params) -> Factor:
     limits = drawing.limits if drawing is not None else None
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
                   limits=limits, measured=measured, zone=zone)
+
+
+#: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
+_LOCATION_KEYS = ("mean", "lower", "upper", "median", "mode", "shift")
+
+
+def _located_on_nominal(p: Params) -> Params:
+    """The factor's table with ``mean = nominal`` when it gives a non-zero nominal and nothing that places the
+    distribution: ``nominal = 10.0, dist = "normal", tolerance = 0.06`` is 10 ± 0.03, never 0 ± 0.03 (a distribution
+    left at its default mean 0 beside a nominal of 10 is a silent wrong answer).  A one-sided (magnitude) kind has
+    no mean to place: it must say where its values start (``shift``)."""
+    nominal = p.data.get("nominal")
+    if not isinstance(nominal, (int, float)) or isinstance(nominal, bool) or nominal == 0 \
+            or any(k in p.data for k in _LOCATION_KEYS):
+        return p
+    kind = p.data.get("dist")
+    if kind in ONE_SIDED:
+        raise p.error("nominal", f"a {kind} factor is a magnitude (its values start at 0): with nominal = {nominal} "
+                                 "say where they start ('shift'), or give the nominal as 0")
+    placed = Params({**p.data, "mean": nominal}, file=p.file, key=p.key)
+    placed._probed = p._probed          # one table: what either reads counts as read (p.finish sees it)
+    placed._read = p._read
+    return placed
 
 
 # ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
