@@ -91,7 +91,8 @@ class Analysis(ABC):
         if layout is None:
             raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
         blocks = layout(result, self.options)
-        return Section(self.key, self.title, list(blocks), self.summary(result))
+        fixes = result.fixes(self.key) if hasattr(result, "fixes") else []
+        return Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
 
     def summary(self, result) -> dict:
         """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""

@@ -22,6 +22,7 @@ class Table:
     caption: str = ""
     float_format: str = "{:.4g}"
     index: bool = False
+    text: bool = False          # a table of words: every cell left-aligned
 
 
 @dataclass
@@ -37,6 +38,15 @@ class Text:
 
 
 @dataclass
+class Links:
+    """Links to other sections of the report: ``(section key, text)``; a key the report does not hold is left out
+    (the renderer knows which sections exist)."""
+
+    items: list[tuple[str, str]]
+    lead: str = "See"
+
+
+@dataclass
 class RunTable:
     """Where the run's timings table goes: the timings end with the run, so the renderer fills it in
     (:func:`rvtol.report.standard.run_table`)."""
@@ -49,14 +59,15 @@ class Section:
     blocks: list = field(default_factory=list)
     summary: dict[str, Any] = field(default_factory=dict)
     files: dict[str, bytes] = field(default_factory=dict)   # extra files for the report folder (name -> content)
+    fixes: list = field(default_factory=list)   # rvtol.signoff.Fix: ways to pass a requirement this section shows
 
     def add_text(self, text: str) -> "Section":
         self.blocks.append(Text(text))
         return self
 
     def add_table(self, frame: pd.DataFrame, caption: str = "", float_format: str = "{:.4g}",
-                  index: bool = False) -> "Section":
-        self.blocks.append(Table(frame, caption, float_format, index))
+                  index: bool = False, text: bool = False) -> "Section":
+        self.blocks.append(Table(frame, caption, float_format, index, text))
         return self
 
     def add_file(self, name: str, content: bytes | str) -> "Section":
