@@ -22,7 +22,7 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   band the present spread fits when the mean sits in its middle: a nominal moves, no tolerance
   changes), tighten (the first-order scaling above), redesign (the mean on or beyond a limit: no
   tolerance can help).  Analyses add checked fixes of their own (the allocation's verified
-  tolerances and its design levers checked by Monte Carlo): :attr:`rvtol.report.sections.Section.fixes`.
+  tolerances and its design levers checked by Monte Carlo): :attr:`rvtol.blocks.Section.fixes`.
 """
 from __future__ import annotations
 

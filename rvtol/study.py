@@ -76,7 +76,7 @@ from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
-from .report.sections import Section
+from .blocks import Section
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
                    spec_from_table)
@@ -589,7 +589,7 @@ def _is_report_folder(path: Path) -> bool:
 
 
 def _write_section_files(sections: list[Section], folder: Path) -> None:
-    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    """The files analyses add to the report folder (:meth:`rvtol.blocks.Section.add_file`)."""
     for s in sections:
         for name, content in s.files.items():
             if (folder / name).exists():

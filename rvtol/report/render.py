@@ -11,7 +11,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from .. import __version__
-from .sections import Figure, Links, RunTable, Section, Table, Text
+from ..blocks import Figure, Links, RunTable, Section, Table, Text
 from .standard import run_table
 from .summary import now_iso
 

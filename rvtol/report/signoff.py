@@ -10,7 +10,7 @@ import pandas as pd
 
 from ..signoff import FIX_KINDS, LIGHTS
 from ..units import label
-from .sections import Links, Section
+from ..blocks import Links, Section
 
 #: the word in a requirement's light cell (the renderer colours ``● WORD``)
 LIGHT_WORD = {"green": "PASS", "amber": "UNDECIDED", "red": "FAIL"}
