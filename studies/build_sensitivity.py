@@ -51,6 +51,29 @@ def replace_build(model, rules):
                           model.build_outputs)
 
 
+def trial_fit(st, rules, X):
+    """X with the needles and shims as built and the pin set chosen by a TRIAL fit in the assembled reducer: the
+    largest gauge with which both discs, where their cranks put them, keep the pins' minimum clearance in the pin
+    ring — margin_j = n0_j + ḡ − offset_j ≥ minimum (the stack-up's pin-ring KC, mapping.md §6), read on the true
+    parts (a trial, no gauge)."""
+    from rvtol.production.selective import Classes
+
+    drawn = st.model.without_build()
+    env, _ = drawn.environment(X, set())
+    changed, _ = rules.apply(env, len(X))
+    Xb = X.copy()
+    for name, v in changed.items():
+        Xb[:, st.spec.index(name)] = v
+    su = drawn.restricted(["stackup.pin_ring_1_misfit.margin", "stackup.pin_ring_2_misfit.margin"])
+    margin = su.evaluate(Xb).min(axis=1)                  # the tighter disc's margin with the build's pin set
+    pins = next(f for f in rules.fits if f.name == "pins")
+    lot = Xb[:, st.spec.index("pins.diameter_lot")]
+    target = lot + margin - pins.minimum                  # the margin moves 1:1 with −δd (ḡ = δD_g/2 − δd − w̄)
+    Xt = Xb.copy()
+    Xt[:, st.spec.index("pins.diameter_lot")] = pins.sizes[Classes(np.append(pins.sizes, np.inf)).of(target)]
+    return Xt
+
+
 def table_row(label, Y, status, model):
     ok = status == 0
     col = lambda o: units.from_base(Y[:, model.output_index(o)], model.output(o).shown_unit)  # noqa: E731
@@ -86,6 +109,8 @@ def main():
         Xg = X.copy()
         Xg[:, gauges] *= f
         cases.append((f"gauges: u × {f:g}", base, Xg))
+    cases.append(("pins by trial fit in the assembled reducer (pin-ring margin ≥ 1 µm)", base.without_build(),
+                  trial_fit(st, rules, X)))
     import pandas as pd
 
     rows = []

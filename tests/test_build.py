@@ -396,3 +396,35 @@ def test_a_build_needs_a_composed_study(tmp_path):
     with pytest.raises(InputError) as e:
         load_study(p)
     assert e.value.key == "study.build" and "composed study" in e.value.reason
+
+
+def test_production_analyses_refuse_a_study_that_builds_its_own_parts(tmp_path):
+    """per_unit_prediction (built units, measured) and selective_assembly (its own grading) would be overruled by
+    the study's build: one error naming the analysis."""
+    spec = write(tmp_path / "spec.toml", "\n".join(
+        f'[[factor]]\nname = "{f["name"]}"\nunit = "um"\ndist = "{f["dist"]}"\n'
+        + "".join(f"{k} = {v}\n" for k, v in f.items() if k not in ("name", "unit", "dist"))
+        for f in SPEC["factor"]))
+    _fit_file(tmp_path)
+    p = write(tmp_path / "s.toml", f"""
+[study]
+name = "built"
+spec = "{spec.as_posix()}"
+build = "build.toml"
+[[model]]
+name = "fit"
+kind = "linear"
+[model.inputs]
+c = "bore - shaft - 2 * roller"
+[[model.output]]
+name = "play"
+unit = "um"
+coefficients = {{ c = 1.0 }}
+[[analysis]]
+kind = "selective_assembly"
+factor = "roller"
+target = "bore"
+""")
+    with pytest.raises(InputError) as e:
+        load_study(p)
+    assert e.value.key == "analysis[0].kind" and "build = false" in e.value.reason
