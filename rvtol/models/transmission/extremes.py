@@ -1,54 +1,56 @@
 """The extremes of the TE curve over one output revolution, refined from a rotation sweep (issue 24).
 
 Δθ_er, the peak-to-peak TE, is max − min of the continuous curve Δθ_ca(θ_c) over one output revolution.
-A sweep knows the curve at its positions only, and the largest and smallest of those lie below and above
-the curve's own extremes — by up to 0.2″ at 36 positions per crank revolution and 2″ at 12 for the TE
-study's spec reducers (``studies/transmission_error.md`` §5).  :func:`te_extremes` finds the curve's
-extremes, to ``tol_te``, from the sweep and a few more equilibria between its positions.
+A sweep knows the curve at its positions only, and the largest and smallest of those lie inside the
+curve's own extremes: at the TE study's 36 positions per crank revolution by 0.15″ on average and up to
+0.8″ (400 spec samples against a dense reference, ``studies/transmission_error.md`` §5).
+:func:`te_extremes` finds the curve's extremes, to :data:`TOL_TE`, from the sweep and a few hundred
+equilibria between its positions.
 
-**Why a local refinement of the sampled extremes is not enough.**  The TE of a reducer with clearances is
-not a band-limited curve: the loaded pins take over from one another once per pin pitch (every 9.2° of
-crank angle for z_c = 39), each time with a kink of the curve, and the smallest TE (the largest wind-up)
-sits at such a kink between two smooth branches — a V of slopes up to ≈ 0.3″ per degree of crank.  The
-largest TE is a rounded peak.  A sweep brackets a V only where it has a position on each flank near the
-bottom; around the extreme there are competing Vs (the neighbouring pin pitches and crank revolutions,
-within tenths of an arcsecond), so the sampled extreme need not lie next to the curve's: at 36 positions
-per crank revolution the curve's minimum was next to the 2nd or 3rd smallest sampled minimum in 19 of 80
-cases, at 12 next to the 21st.  Refining the sampled extreme (Brent or parabolic steps) finds *a* local
-extreme, not the global one.
+**The curve is not band-limited.**  The loaded pins take over from one another several times per pin pitch
+(9.2° of crank angle for z_c = 39, two discs), each time with a kink of the curve: the TE of a reducer
+with clearances is a smooth envelope (orders 1, 2, 40, 78, 80 …) with a saw-tooth of kinks on it, and
+its extremes sit at kinks — the smallest TE (the largest wind-up) at the bottom of a V whose flanks
+rise ≈ 0.3″ per degree of crank, the largest TE at a rounded top or at a small peak where a pin
+engages.  Around the extreme lie competing ones within tenths of an arcsecond (the neighbouring pin
+pitches and crank revolutions): at 36 positions per crank revolution the curve's minimum lay next to the
+2nd or 3rd smallest sampled minimum in 19 of 80 cases, at 12 next to the 28th.  Refining the sampled
+extreme (Brent or parabolic steps from its neighbours) finds *a* local extreme, not the global one.
 
-**What is refined: every interval that could hold a larger extreme** (branch and bound, in
-:func:`._kernels.qs_extreme`).  Over an interval [θ_k, θ_k+1] of width w the curve's slope is taken to be at
-most S = κ·c, c the steepest chord |ΔTE|/Δθ of the interval and its two neighbours; through both ends,
-such a curve stays above (TE_k + TE_k+1)/2 − S·w/2 (:func:`._kernels.interval_bounds`; for the largest TE,
-the same with the sign turned).  Every interval whose bound is beyond the best value found (less
-``tol_te``) is halved and its midpoint's equilibrium solved, from the mean of its ends' equilibria; level by
-level until no bound is: the result is then the curve's extreme within ``tol_te`` and the solver's
-tolerance, *if* the slope bound holds.  When it holds:
+**What is refined: every interval that could hold a larger extreme** (branch and bound,
+:func:`._kernels.qs_extreme`).  Over an interval [θ_k, θ_k+1] of width w the curve's slope is taken to be
+at most S = κ·c, c the steepest chord |ΔTE|/Δθ of the interval and its two neighbours; through both
+ends, such a curve stays above (TE_k + TE_k+1)/2 − S·w/2 (:func:`._kernels.interval_bound`; for the
+largest TE the same with the sign turned).  Every interval whose bound lies beyond the best value found
+(by more than ``tol_te``) is halved and its midpoint's equilibrium solved, level by level, until no bound
+does: the result is then the curve's extreme within ``tol_te`` and the solver's tolerance — *if* the
+slope bound holds.  When it does:
 
+* a smooth stretch: an interval's chord is the slope at one of its points; the bound fails only where the
+  slope peaks inside an interval above κ times every neighbouring chord.  For a sinusoid of order n
+  sampled N times per revolution the worst case (the peak on an interval's end) has chord / peak slope =
+  sin(2πn/N)/(2πn/N): κ = π/2 covers every order with at least 4 positions per period — the sweep must
+  *resolve* the orders of the envelope, not only sample them above Nyquist (at 2 per period the samples
+  can all sit on zeros);
 * a kink between straight branches: the neighbouring chords are the branch slopes, κ ≥ 1;
-* a smooth stretch: the chord of an interval is the slope at a point of it; the bound fails only where
-  the slope peaks inside an interval above κ times every neighbouring chord.  For a sinusoid of order n
-  sampled N times per revolution (w = 2π/N) the worst case (the peak on an interval's end) has chord /
-  peak slope = sin(nw)/(nw): κ = π/2 (:data:`KAPPA`) covers every order with ≥ 4 positions per period,
-  n ≤ N/4 — the sweep must *resolve* the curve's orders, not only sample them above Nyquist (at n = N/2
-  the samples can all sit on zeros).  This is the band-limited part of the argument; the kinks are
-  resolved by the halving itself, which brings positions onto both flanks of every V that could matter.
+* a kink *inside* an interval whose chords average over several branches of the saw-tooth: its slope
+  can be several times any chord around it, and a small peak (a pin engaging near the top of the
+  envelope, ≈ 0.1″ above the chord between two positions) can hide there.  At 36 positions per crank
+  revolution π/2 missed the largest TE of 2 of 600 spec samples (by 0.017″ and 0.007″; the refinement
+  needed κ = 1.6 and 2.05 to find them); from 12 positions none (the envelope's own chords, 3× longer,
+  leave room for the saw-tooth).  :data:`KAPPA` = 3 keeps 1.5× the largest κ found necessary.
 
-What it cannot see: a feature narrower than an interval and steeper than κ times its neighbours (a spike
-between two positions).  The spec reducers have none at 8 or more positions per crank revolution — checked
-against sweeps of 144 positions per crank revolution refined the same way: the extremes of 100 spec
-samples agree within 4e-6″ from 8, 9, 12, 18 and 36 positions (``tests/test_transmission_extremes.py``
-checks spec samples against a dense sweep and a fine local sweep at each extreme).
+What it cannot see: a feature narrower than an interval and steeper than κ times its neighbours.  The
+600 spec samples of the check (``studies/benchmarks/bench_transmission.py`` repeats it on 100) agree with
+a reference from 288 positions per crank revolution within 6e-6″ from 36 and from 12 positions.
 
-Cost: the intervals whose bound reaches beyond the best extreme are those of the flanks of the competing
-Vs; at the TE study's 36 positions per crank revolution ≈ 60 equilibria per extreme (+5 % of the
-sweep), at 12 ≈ 130, each from a guess between two solved neighbours (≈ 3.5 Newton iterations at the
-first halvings, 1–2 at the last).  The coarser the sweep, the more of it the refinement redoes.
+Cost: the intervals whose bound reaches beyond the best are those of the competing Vs and tops: ≈ 350
+equilibria per reducer from 36 positions per crank revolution (+20 % over the 1440 of the sweep), ≈ 790
+from 12; each from a guess interpolated between its neighbours (≈ 3 Newton iterations, against the
+sweep's 3.7).  The coarser the sweep, the more of it the refinement redoes.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,9 +60,9 @@ from ...errors import InputError
 from . import layout as L
 from .quasistatic import QuasiStaticSolver, SweepResult
 
-#: slope bound over an interval in units of its steepest neighbouring chord (module doc: a sinusoid with
-#: at least 4 positions per period)
-KAPPA = 0.5 * math.pi
+#: slope bound over an interval in units of its steepest neighbouring chord (module doc: π/2 for a
+#: sinusoid with at least 4 positions per period; a pin's kink inside an interval needed up to 2.05)
+KAPPA = 3.0
 #: tolerance on each extreme (rad): 1e-5″, a tenth of the TE an equilibrium's own force tolerance can
 #: move (< 1e-4″ at tol_f = 1e-5 N, ``tests/test_transmission_resolution.py``)
 TOL_TE = units.to_base(1e-5, "arcsec")
