@@ -2,8 +2,9 @@
 
 Δθ_er, the peak-to-peak TE, is max − min of the continuous curve Δθ_ca(θ_c) over one output revolution.
 A sweep knows the curve at its positions only, and the largest and smallest of those lie inside the
-curve's own extremes: at the TE study's 36 positions per crank revolution by 0.15″ on average and up to
-0.8″ (400 spec samples against a dense reference, ``studies/transmission_error.md`` §5).
+curve's own extremes: their peak-to-peak reads 0.15″ low on average and up to 0.83″ at the TE study's 36
+positions per crank revolution, 0.55″ and 2.3″ at 12 (200 spec samples against a dense reference,
+``studies/transmission_error.md`` §5).
 :func:`te_extremes` finds the curve's extremes, to :data:`TOL_TE`, from the sweep and a few hundred
 equilibria between its positions.
 
@@ -13,8 +14,9 @@ with clearances is a smooth envelope (orders 1, 2, 40, 78, 80 …) with a saw-to
 its extremes sit at kinks — the smallest TE (the largest wind-up) at the bottom of a V whose flanks
 rise ≈ 0.3″ per degree of crank, the largest TE at a rounded top or at a small peak where a pin
 engages.  Around the extreme lie competing ones within tenths of an arcsecond (the neighbouring pin
-pitches and crank revolutions): at 36 positions per crank revolution the curve's minimum lay next to the
-2nd or 3rd smallest sampled minimum in 19 of 80 cases, at 12 next to the 28th.  Refining the sampled
+pitches and crank revolutions): at 36 positions per crank revolution the curve's extreme lay next to the
+2nd or 3rd most extreme sampled one, not the first, for 19 of the 80 extremes of 40 spec reducers, at 12
+up to the 28th.  Refining the sampled
 extreme (Brent or parabolic steps from its neighbours) finds *a* local extreme, not the global one.
 
 **What is refined: every interval that could hold a larger extreme** (branch and bound,
@@ -40,14 +42,16 @@ slope bound holds.  When it does:
   needed κ = 1.6 and 2.05 to find them); from 12 positions none (the envelope's own chords, 3× longer,
   leave room for the saw-tooth).  :data:`KAPPA` = 3 keeps 1.5× the largest κ found necessary.
 
-What it cannot see: a feature narrower than an interval and steeper than κ times its neighbours.  The
-600 spec samples of the check (``studies/benchmarks/bench_transmission.py`` repeats it on 100) agree with
-a reference from 288 positions per crank revolution within 6e-6″ from 36 and from 12 positions.
+What it cannot see: a feature narrower than an interval and steeper than κ times its neighbours.  With
+κ = 3 the extremes of 600 spec samples from 36 and from 12 positions per crank revolution agree with a
+reference from 288 positions (refined with κ = 3 or 4) within 2.2e-6″
+(``studies/benchmarks/bench_transmission.py`` repeats the check on 24 or 100 samples).
 
-Cost: the intervals whose bound reaches beyond the best are those of the competing Vs and tops: ≈ 350
-equilibria per reducer from 36 positions per crank revolution (+20 % over the 1440 of the sweep), ≈ 790
-from 12; each from a guess interpolated between its neighbours (≈ 3 Newton iterations, against the
-sweep's 3.7).  The coarser the sweep, the more of it the refinement redoes.
+Cost: the intervals whose bound reaches beyond the best are those of the competing Vs and tops: ≈ 340
+equilibria per reducer from 36 positions per crank revolution (2.5 Newton iterations each: +21 % over the
+1440 of the sweep), ≈ 750 from 12 (3.4 iterations each, more than the 12-position sweep itself); each
+from a guess interpolated between its neighbours.  The coarser the sweep, the more of it the refinement
+redoes.
 """
 from __future__ import annotations
 
