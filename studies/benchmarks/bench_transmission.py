@@ -35,7 +35,7 @@ from rvtol.executors import make_executor
 from rvtol.mc import evaluate
 from rvtol.models.transmission import _kernels as K
 from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin, static_table
+from rvtol.models.transmission.contacts import pin_cos_sin
 from rvtol.models.transmission.extremes import TOL_TE, te_extremes
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.models.transmission.newmark import NewmarkSolver

@@ -42,9 +42,9 @@ from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
 from . import _kernels as K
 from . import layout as L
+from .extremes import Extremes, te_extremes
 from .factors import ErrorFactors, ErrorState
 from .geometry import RVGeometry, geometry_from_design
-from .extremes import Extremes, te_extremes
 from .newmark import NewmarkSolver
 from .orders import MIN_PER_CRANK_REV, order_spectrum, order_table, positions_for_order
 from .quasistatic import QuasiStaticSolver, SweepResult
