@@ -10,7 +10,10 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 
 * ``sun_support``, ``sun_planet_mesh``, ``cycloid_pin``, ``turning_arm_bearings``,
   ``carrier_housing_bearing``: doc 000's contact laws (Table 2, ``stiffness.*``); in doc 004's model the
-  involute mesh (ISO 6336-1), the disc–pin Hertz contact and the needle bearings (Palmgren);
+  involute mesh (ISO 6336-1), the disc–pin Hertz contact and the needle bearings (Palmgren).  Where the
+  design gives the needle row (``crank_bearing.rollers``, ``crank_bearing.roller_length``) the 20-DOF
+  model's ``turning_arm_bearings`` is the needle row by Palmgren's line contact with its roller load
+  distribution (:class:`.rolling_bearings.NeedleRollerBearing`) instead of doc 000's ``k0·P^0.1``;
 * ``crank_support_bearings``: doc 000's one planar k0·P^0.1 law per crank, or the preloaded tapered
   roller pair (:mod:`.rolling_bearings`; ``crank_support_bearing.{rollers, roller_length,
   pitch_diameter, cup_angle, cone_angle, preload, arrangement}``);
@@ -19,9 +22,18 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 * ``crank_torsion``: twist of the crank between the planet gear and an eccentric (:mod:`.shafts`);
 * ``carrier``: pillars with flexible end plates (:mod:`.carrier_structure`; ``carrier.*`` with
   ``flange_thickness``, ``end_plate_thickness``, ``plate_clamp_radius``);
-* ``pin_groove``: pin in its housing groove, in series with the disc–pin contact
-  (:func:`.contacts.groove_approach`; ``pin.groove_radius``, ``pin.groove_contact_length``);
+* ``pin_groove``: pin in its housing groove, in series with the disc–pin contact, a **conforming** contact
+  (:func:`.conforming.conforming_groove_approach`: doc 004's Hertz approach corrected by the exact
+  pin-in-hole solution; ``pin.groove_radius``, ``pin.groove_contact_length``);
+* ``housing_ring``: the housing ring between the groove contacts' reference depth and its bolt circle,
+  plane-stress finite elements (:func:`.fe_seats.housing_ring_work`; ``housing.clamp_radius``, ``pin.length``);
 * ``disc_web``: in-plane torsion of the disc web (:mod:`.disc_web`; ``cycloid.crank_hole_diameter``);
+* ``disc_seats``: the disc round its crank holes beyond the axisymmetric web — the 4.9-mm ligament to the
+  centre bore, the ovalising hole — plane-stress finite elements (:func:`.fe_seats.disc_work`;
+  ``cycloid.centre_bore_diameter``, ``cycloid.pillar_hole_diameter``);
+* ``carrier_seats``: the end plate and the flange round their bearing cups, clamped at the pillar roots,
+  plane-stress finite elements (:func:`.fe_seats.carrier_plate_work`; ``carrier.outer_radius``,
+  ``carrier.bore_diameter``, ``crank_support_bearing.outside_diameter``);
 * ``input_shaft``: twist of the input shaft between the locked end and the sun (:mod:`.shafts`;
   ``input_shaft.diameter``, ``input_shaft.length``).
 
@@ -44,8 +56,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import SpecError
-from . import carrier_structure, contacts, disc_web, shafts
-from .rolling_bearings import BearingPair, TaperedRollerBearing
+from . import carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
+from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
 
 #: stable family names of the torque path's compliances and their labels (module doc)
 FAMILIES: dict[str, str] = {
@@ -55,11 +67,14 @@ FAMILIES: dict[str, str] = {
     "crank_torsion": "crankshaft torsion",
     "cycloid_pin": "cycloid–pin contacts",
     "pin_groove": "pins in housing grooves",
+    "housing_ring": "housing ring behind the pin grooves",
     "disc_web": "cycloid disc webs",
+    "disc_seats": "disc round its crank holes (beyond the web)",
     "turning_arm_bearings": "turning-arm (needle) bearings",
     "crank_bending": "crankshaft bending + shear",
     "crank_support_bearings": "crank support bearings",
     "carrier": "carrier pillars and end plates",
+    "carrier_seats": "carrier plates round the bearing cups",
     "carrier_housing_bearing": "carrier–housing (main) bearing",
 }
 #: the families doc 000's 20-DOF model always has (its contact laws)
@@ -184,21 +199,17 @@ class GrooveContact:
     nu: float
 
     def approach(self, F):
-        """Pin centre to the housing point one groove radius deep (mm): :func:`.contacts.groove_approach`."""
+        """Pin centre to the housing point one groove radius deep (mm): the conforming pin-in-hole contact
+        (:func:`.conforming.conforming_groove_approach`)."""
+        return conforming.conforming_groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
+
+    def hertz_approach(self, F):
+        """doc 004's Hertz formula alone (:func:`.contacts.groove_approach`), outside its validity here."""
         return contacts.groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
     def half_angle(self, F):
-        """Half-angle of the contact arc (rad); Hertz needs it well below ~0.3 (see :mod:`.contacts`)."""
-        return contacts.groove_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
-
-    def log_law(self, forces=(10.0, 1000.0)) -> tuple[float, float]:
-        """``(a, b)`` with ``approach(F) = F (a − b ln F)`` exactly: the formula's own form, since the
-        contact half-width is ``√(κF)`` (``ln(4d/L) = ln 4d − ½ ln κ − ½ ln F``).  Fitted through two
-        forces; the caller checks a third."""
-        F1, F2 = (float(v) for v in forces)
-        y1, y2 = float(self.approach(F1)) / F1, float(self.approach(F2)) / F2
-        b = (y1 - y2) / (math.log(F2) - math.log(F1))
-        return y1 + b * math.log(F1), b
+        """Half-angle of the contact arc (rad) of the conforming solution."""
+        return conforming.contact_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
 
 # ------------------------------------------------------------------------------------------------ all
@@ -221,6 +232,10 @@ class ChainElements:
     carrier_stiffness: float | None = None          # K_carrier between end plate and flange, N·mm/rad
     web_stiffness: float | None = None              # K_web of one disc, N·mm/rad
     web_radii: tuple | None = None                  # (r_i, r_o)
+    needle: NeedleRollerBearing | None = None       # the turning-arm needle row (Palmgren), zero clearance
+    disc_seat_compliance: float | None = None       # per crank hole, beyond the web (mm/N), FE
+    carrier_seat_compliance: tuple | None = None    # per cup (end plate A, flange B) (mm/N), FE
+    housing_ring_compliance: float | None = None    # per pin (mm/N), FE
     scales: dict = field(default_factory=dict)
     sources: dict = field(default_factory=dict)     # family -> how it was built (for reports)
 
@@ -232,8 +247,10 @@ class ChainElements:
             out += ["crank_bending", "crank_torsion"]
         if self.pair is not None:
             out.append("crank_support_bearings")
-        for name, v in (("carrier", self.carrier_stiffness), ("pin_groove", self.groove),
-                        ("disc_web", self.web_stiffness), ("input_shaft", self.input_shaft_stiffness)):
+        for name, v in (("carrier", self.carrier_stiffness), ("carrier_seats", self.carrier_seat_compliance),
+                        ("pin_groove", self.groove), ("housing_ring", self.housing_ring_compliance),
+                        ("disc_web", self.web_stiffness), ("disc_seats", self.disc_seat_compliance),
+                        ("input_shaft", self.input_shaft_stiffness)):
             if v is not None:
                 out.append(name)
         return tuple(out)
@@ -294,7 +311,7 @@ class ChainElements:
                 raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
                                 "outside Hertz theory)", file=design.file, key="pin.groove_radius")
             kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
-            src["pin_groove"] = (f"Hertz line contact pin r {rp:g} in groove r {rg:g} mm "
+            src["pin_groove"] = (f"conforming pin-in-hole contact, pin r {rp:g} in groove r {rg:g} mm "
                                  f"(radial clearance {(rg - rp) * 1e3:.3g} µm)")
         if has("input_shaft.diameter", "input_shaft.length"):
             d, Ls = _num(design, "input_shaft.diameter"), _num(design, "input_shaft.length")
@@ -326,4 +343,75 @@ class ChainElements:
                 kw["web_stiffness"] = float(disc_web.annular_web_stiffness(ri, ro, _num(design, wkey), G))
             kw["web_radii"] = (ri, ro)
             src["disc_web"] = f"annulus r {ri:.2f} … {ro:.2f} mm (crank-hole edge to tooth root), t = disc width"
+        if has("crank_bearing.rollers", "crank_bearing.roller_length"):
+            with _located(design, "crank_bearing.rollers"):
+                kw["needle"] = NeedleRollerBearing(int(_num(design, "crank_bearing.rollers")),
+                                                   _num(design, "crank_bearing.roller_length"))
+            src["turning_arm_bearings"] = (f"needle row {kw['needle'].rollers} × {kw['needle'].length:g} mm, Palmgren "
+                                           "line contact with its roller load distribution (20-DOF: replaces doc "
+                                           "000's k0·P^0.1)")
+        _fe_elements(design, float(crank_radius), E, nu, G, kw, src)
         return cls(E, nu, float(crank_radius), scales=scales, sources=src, **kw)
+
+
+def _statics(design):
+    """``(T, i, z_c, z_p, R_p, r_p, e, w)``: rated torque (N·mm), ratio and the pin-gear data the finite-element
+    seats are loaded with, or None when the design lacks one."""
+    keys = ("reducer.rated_torque", "reducer.ratio", "cycloid.teeth", "pin.count", "pin.circle_radius", "pin.radius",
+            "cycloid.eccentricity")
+    wkey = "cycloid.face_width" if "cycloid.face_width" in design else "cycloid.width"
+    if not all(k in design for k in keys) or wkey not in design:
+        return None
+    T, i, zc, zp, Rp, rp, e = (_num(design, k) for k in keys)
+    return T, i, int(round(zc)), int(round(zp)), Rp, rp, e, _num(design, wkey)
+
+
+def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src: dict) -> None:
+    """The finite-element seats and ring (:mod:`.fe_seats`) where the design gives their dimensions."""
+    st = _statics(design)
+    if st is None:
+        return
+    T, i, zc, zp, Rp, rp, e, w = st
+    Tc = T * (1.0 - 1.0 / i) * zc / zp / 2.0               # one disc's torque, T i_b / 2
+    has = lambda *keys: all(k in design for k in keys)   # noqa: E731
+    if kw.get("web_stiffness") is not None and has("cycloid.centre_bore_diameter", "cycloid.pillar_hole_diameter",
+                                                    "carrier.pillar_radius"):
+        with _located(design, "cycloid.crank_hole_diameter"):
+            res = fe_seats.disc_work(Tc, r_root=Rp - rp - e, bore=_num(design, "cycloid.centre_bore_diameter"),
+                                     crank_radius=a, crank_hole=_num(design, "cycloid.crank_hole_diameter"),
+                                     pillar_radius=_num(design, "carrier.pillar_radius"),
+                                     pillar_hole=_num(design, "cycloid.pillar_hole_diameter"), thickness=w, z_p=zp,
+                                     z_c=zc, R_p=Rp, ecc=e, E=E, nu=nu)
+            kw["disc_seat_compliance"] = fe_seats.disc_seat_compliance(res, Tc, kw["web_stiffness"])
+        src["disc_seats"] = (f"plane-stress FE disc (scikit-fem P2), mean work {np.mean(res.work):.4g} N·mm at rated "
+                             f"less the web's {Tc ** 2 / kw['web_stiffness']:.4g}: "
+                             f"{kw['disc_seat_compliance'] * 1e6:.3g} µm/kN per crank hole")
+    ckeys = ("carrier.outer_radius", "carrier.bore_diameter", "crank_support_bearing.outside_diameter",
+             "carrier.pillar_radius", "carrier.pillar_width", "carrier.pillar_thickness", "carrier.end_plate_thickness",
+             "carrier.flange_thickness", "crank.support_span")
+    if kw.get("crank") is not None and has(*ckeys):
+        ro, bore, D, Rpil, pw, pt, te, tf, _ = (_num(design, k) for k in ckeys)
+        zA, zB = kw["crank"].support
+        rhoA = zB / (zB - zA)
+        b0 = carrier_structure.equivalent_boss_radius(carrier_structure.rectangle(pw, pt, nu))
+        cups = []
+        with _located(design, "carrier.outer_radius"):
+            for t, share in ((te, rhoA), (tf, 1.0 - rhoA)):
+                r = fe_seats.carrier_plate_work(T, r_outer=ro, bore=bore, crank_radius=a, cup_diameter=D,
+                                                pillar_radius=Rpil, pillar_root_radius=b0, thickness=t, share=share,
+                                                E=E, nu=nu)
+                cups.append(r.compliance)
+        kw["carrier_seat_compliance"] = tuple(cups)
+        src["carrier_seats"] = (f"plane-stress FE end plate {te:g} mm / flange {tf:g} mm, cups ⌀{D:g} on r {a:.3f}, "
+                                f"clamped at the pillar roots: {cups[0] * 1e6:.3g} / {cups[1] * 1e6:.3g} µm/kN per cup")
+    if kw.get("groove") is not None and has("housing.clamp_radius", "pin.length"):
+        gr = kw["groove"]
+        with _located(design, "housing.clamp_radius"):
+            r = fe_seats.housing_ring_work(Tc, r_inner=Rp + gr.r_pin + gr.r_groove,
+                                           r_outer=_num(design, "housing.clamp_radius"),
+                                           thickness=_num(design, "pin.length"), z_p=zp, z_c=zc, R_p=Rp, ecc=e, E=E,
+                                           nu=nu)
+        kw["housing_ring_compliance"] = r.compliance
+        src["housing_ring"] = (f"plane-stress FE ring r {Rp + gr.r_pin + gr.r_groove:.2f} … "
+                               f"{_num(design, 'housing.clamp_radius'):g} mm (clamped), t = pin length: "
+                               f"{r.compliance * 1e6:.3g} µm/kN per pin")

@@ -463,7 +463,7 @@ class NeedleRollerBearing:
             if Fi == 0.0 and half >= 0:
                 continue                      # free play: any position inside the clearance; take 0
             e = np.array([np.cos(bi), np.sin(bi)])
-            u[i], _ = _equilibrium(parts, Fi * e, u[i - 1] if i else np.zeros(2), np.ones(2), 1e-11,
+            u[i], _ = _equilibrium(parts, Fi * e, u[i - 1] if i else np.zeros(2), np.ones(2), 1e-10,
                                    "needle bearing")
         d = u @ Bm.T - half
         Q, dQ = _roller_loads(K, d)
