@@ -206,9 +206,11 @@ def conforming_correction(F, length, r_pin, r_groove, E, nu, *, F_max: float = 3
 def conforming_groove_approach(F, length, r_pin, r_groove, E, nu):
     """Approach (mm) of the pin centre to the housing point one groove radius deep (module doc): doc 004's
     Hertz formula (:func:`.contacts.groove_approach`) plus :func:`conforming_correction`."""
+    scalar = np.ndim(F) == 0
     F = np.atleast_1d(_checks.nonnegative("F", F)).astype(float)
-    return contacts.groove_approach(F, length, r_pin, r_groove, E, nu) + conforming_correction(
+    out = contacts.groove_approach(F, length, r_pin, r_groove, E, nu) + conforming_correction(
         F, length, r_pin, r_groove, E, nu)
+    return float(out[0]) if scalar else out
 
 
 def contact_half_angle(F, length, r_pin, r_groove, E, nu) -> np.ndarray:

@@ -43,15 +43,16 @@ from . import _checks
 
 
 # ------------------------------------------------------------------------------------------------ meshes
-def annulus_mesh(r_inner: float, r_outer: float, n_r: int, n_theta: int):
-    """Structured triangular mesh of the annulus ``r_inner ≤ r ≤ r_outer`` (skfem ``MeshTri``)."""
+def annulus_mesh(r_inner: float, r_outer: float, n_r: int, n_theta: int, *, geometric: bool = False):
+    """Structured triangular mesh of the annulus ``r_inner ≤ r ≤ r_outer`` (skfem ``MeshTri``); ``geometric``:
+    radial spacing growing in proportion to the radius (elements of similar shape from the bore outwards)."""
     import skfem
 
     ri = float(_checks.positive("r_inner", r_inner))
     ro = float(_checks.positive("r_outer", r_outer))
     if not ro > ri:
         raise SpecError(f"must exceed r_inner {ri:g}, got {ro:g}", key="r_outer")
-    r = np.linspace(ri, ro, int(n_r) + 1)
+    r = np.geomspace(ri, ro, int(n_r) + 1) if geometric else np.linspace(ri, ro, int(n_r) + 1)
     th = np.linspace(0.0, 2.0 * np.pi, int(n_theta), endpoint=False)
     R, T = np.meshgrid(r, th, indexing="ij")
     p = np.vstack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel()])
@@ -121,7 +122,7 @@ def perforated_disc_mesh(r_outer: float, holes, *, bore: float = 0.0, h: float =
     # rings around every circle: spacing h_fine growing to h, going into the material
     for c, sign in [(outer, -1.0)] + [(c, 1.0) for c in cuts]:
         radii, spacing, rho, s = [], [], c.r, hf
-        while s < h and len(radii) < 60:
+        while (s < h or not radii) and len(radii) < 60:
             radii.append(rho)
             spacing.append(s)
             rho += sign * s
@@ -281,7 +282,7 @@ class PlateModel:
         lam, mu = lame_parameters(self.E, self.nu)
         lam_ps = 2.0 * lam * mu / (lam + 2.0 * mu)          # plane stress
         self.element = skfem.ElementVector(skfem.ElementTriP2())
-        self.basis = skfem.Basis(mesh, self.element, intorder=4)
+        self.basis = skfem.Basis(mesh, self.element, intorder=2)   # exact for P2 stiffness on straight triangles
         K = (self.t * skfem.asm(linear_elasticity(lam_ps, mu), self.basis)).tocsc()
         N = self.basis.N
         if fixed is None:
