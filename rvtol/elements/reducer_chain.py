@@ -34,6 +34,17 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 * ``carrier_seats``: the end plate and the flange round their bearing cups, clamped at the pillar roots,
   plane-stress finite elements (:func:`.fe_seats.carrier_plate_work`; ``carrier.outer_radius``,
   ``carrier.bore_diameter``, ``crank_support_bearing.outside_diameter``);
+* ``carrier_joints``: the bolted joints of the end plate on the pillars, VDI 2230 preload and
+  Greenwood–Williamson interface (:mod:`.bolted_joint`; ``carrier.joint_bolts``,
+  ``carrier.joint_bolt_diameter``, ``carrier.joint_roughness_ra``, ``roughness.summit_radius``): the
+  interface's tilt compliance in series with the end plate's rotational spring, its shear compliance with
+  each pillar — the carrier's compliance with the joints less without;
+* ``edge_loading``: the needle rows bear on one end where the crank tilts under its loads (beam slope and
+  the support pair's tilt at the eccentrics), slice model (:func:`.rolling_bearings.edge_loaded_approach`),
+  the extra approach at rated as a linear term per cam;
+* ``contact_roughness``: the rough layer of the pin–groove contact (:mod:`.roughness`;
+  ``pin.roughness_ra``, ``pin.groove_roughness_ra``, ``roughness.summit_radius``), linear at the rated
+  pin loads;
 * ``input_shaft``: twist of the input shaft between the locked end and the sun (:mod:`.shafts`;
   ``input_shaft.diameter``, ``input_shaft.length``).
 
@@ -57,6 +68,8 @@ import numpy as np
 
 from ..errors import SpecError
 from . import carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
+from .bolted_joint import BoltedJoint
+from .roughness import GreenwoodWilliamson
 from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
 
 #: stable family names of the torque path's compliances and their labels (module doc)
@@ -67,14 +80,17 @@ FAMILIES: dict[str, str] = {
     "crank_torsion": "crankshaft torsion",
     "cycloid_pin": "cycloid–pin contacts",
     "pin_groove": "pins in housing grooves",
+    "contact_roughness": "roughness of the pin–groove contacts",
     "housing_ring": "housing ring behind the pin grooves",
     "disc_web": "cycloid disc webs",
     "disc_seats": "disc round its crank holes (beyond the web)",
     "turning_arm_bearings": "turning-arm (needle) bearings",
+    "edge_loading": "needle edge loading from crank tilt",
     "crank_bending": "crankshaft bending + shear",
     "crank_support_bearings": "crank support bearings",
     "carrier": "carrier pillars and end plates",
     "carrier_seats": "carrier plates round the bearing cups",
+    "carrier_joints": "end plate–pillar bolted joints",
     "carrier_housing_bearing": "carrier–housing (main) bearing",
 }
 #: the families doc 000's 20-DOF model always has (its contact laws)
@@ -236,6 +252,8 @@ class ChainElements:
     disc_seat_compliance: float | None = None       # per crank hole, beyond the web (mm/N), FE
     carrier_seat_compliance: tuple | None = None    # per cup (end plate A, flange B) (mm/N), FE
     housing_ring_compliance: float | None = None    # per pin (mm/N), FE
+    carrier_joint_compliance: float | None = None   # 1/K_carrier with the joints less without (rad/(N·mm))
+    roughness_compliance: float | None = None       # per pin (mm/N), the groove contact's rough layer
     scales: dict = field(default_factory=dict)
     sources: dict = field(default_factory=dict)     # family -> how it was built (for reports)
 
@@ -248,6 +266,8 @@ class ChainElements:
         if self.pair is not None:
             out.append("crank_support_bearings")
         for name, v in (("carrier", self.carrier_stiffness), ("carrier_seats", self.carrier_seat_compliance),
+                        ("carrier_joints", self.carrier_joint_compliance),
+                        ("contact_roughness", self.roughness_compliance),
                         ("pin_groove", self.groove), ("housing_ring", self.housing_ring_compliance),
                         ("disc_web", self.web_stiffness), ("disc_seats", self.disc_seat_compliance),
                         ("input_shaft", self.input_shaft_stiffness)):
@@ -331,6 +351,30 @@ class ChainElements:
             k = carrier_structure.pillar_stiffness(sec, h, E, nu, kphi)
             kw["carrier_stiffness"] = float(carrier_structure.carrier_torsional_stiffness(
                 n, R, k, section=sec, length=h, G=G))
+            jkeys = ("carrier.joint_bolts", "carrier.joint_bolt_diameter", "carrier.joint_roughness_ra",
+                     "roughness.summit_radius", "reducer.rated_torque", "crank.support_span")
+            if has(*jkeys) and crank is not None:
+                nb, db, ra, beta, T, _ = (_num(design, k) for k in jkeys)
+                with _located(design, "carrier.joint_bolt_diameter"):
+                    joint = BoltedJoint(db, te, w, t, E, bolts=int(round(nb)))
+                with _located(design, "carrier.joint_roughness_ra"):
+                    gw = GreenwoodWilliamson.from_ra(ra, ra, beta, E / (2.0 * (1.0 - nu * nu)))
+                    c_tilt, c_shear = joint.tilt_compliance(gw), joint.shear_compliance(gw, nu)
+                zA, zB = crank.support
+                FQ = zB / (zB - zA) * T / (n * R)                    # pillar shear at rated (end-plate share)
+                chk = joint.opening_and_slip(0.5 * FQ * h, FQ)
+                if chk["opens"] or chk["slips"]:
+                    raise SpecError(f"the end plate's bolted joint {'opens' if chk['opens'] else 'slips'} at rated "
+                                    f"torque (VDI 2230: preload {joint.preload():.4g} N, pillar shear {FQ:.4g} N)",
+                                    file=design.file, key="carrier.joint_bolts")
+                k_j = 1.0 / (1.0 / carrier_structure.pillar_stiffness(
+                    sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
+                K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))
+                kw["carrier_joint_compliance"] = 1.0 / K_j - 1.0 / kw["carrier_stiffness"]
+                src["carrier_joints"] = (f"{int(round(nb))} × M{db:g} 10.9 per pillar, VDI 2230 preload "
+                                         f"{joint.preload():.4g} N (opening margin {chk['margin_open']:.3g} MPa, slip "
+                                         f"margin {chk['margin_slip']:.4g} N at rated), interface Ra {ra * 1e3:g} µm: "
+                                         f"tilt {c_tilt:.3g} rad/N·mm, shear {c_shear * 1e6:.3g} µm/kN")
             src["carrier"] = (f"{int(round(n))} pillars {w:g} × {t:g} × {h:g} mm at R {R:g} (fixed–guided, "
                               f"Cowper κ, twist), end plate {te:g} / flange {tf:g} mm as Kirchhoff plates clamped at "
                               f"{a:g} mm around a pillar root")
@@ -412,6 +456,21 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
                                            thickness=_num(design, "pin.length"), z_p=zp, z_c=zc, R_p=Rp, ecc=e, E=E,
                                            nu=nu)
         kw["housing_ring_compliance"] = r.compliance
+    if kw.get("groove") is not None and has("pin.roughness_ra", "pin.groove_roughness_ra", "roughness.summit_radius"):
+        gr = kw["groove"]
+        with _located(design, "pin.roughness_ra"):
+            gw = GreenwoodWilliamson.from_ra(_num(design, "pin.roughness_ra"), _num(design, "pin.groove_roughness_ra"),
+                                             _num(design, "roughness.summit_radius"), E / (2.0 * (1.0 - nu * nu)))
+        _, F = fe_seats.pin_forces(Tc, zp, zc, Rp, e)
+        F = np.hypot(*F.T)
+        F = F[F > 0]
+        ang = conforming.contact_half_angle(F, gr.length, gr.r_pin, gr.r_groove, E, nu)
+        area = 2.0 * ang * gr.r_pin * gr.length
+        c = np.array([gw.layer_compliance(f / a, a) for f, a in zip(F, area)])
+        kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))
+        src["contact_roughness"] = (f"Greenwood–Williamson layer, σ = {gw.sigma * 1e3:.3g} µm, β = {gw.beta * 1e3:g} µm, "
+                                    f"at the rated pin loads on the conforming contact arcs: "
+                                    f"{kw['roughness_compliance'] * 1e6:.3g} µm/kN per pin (energy-weighted)")
         src["housing_ring"] = (f"plane-stress FE ring r {Rp + gr.r_pin + gr.r_groove:.2f} … "
                                f"{_num(design, 'housing.clamp_radius'):g} mm (clamped), t = pin length: "
                                f"{r.compliance * 1e6:.3g} µm/kN per pin")

@@ -69,6 +69,7 @@ import pandas as pd
 from scipy.interpolate import CubicHermiteSpline
 
 from ...elements.reducer_chain import FAMILIES, ChainElements
+from ...elements.rolling_bearings import edge_loaded_approach
 from ...errors import SpecError
 from . import layout as L
 from .layout import T_C, T_D, T_F, T_M
@@ -256,6 +257,16 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
         out.pin_table = _tabulate(lambda F: sc * el.groove.approach(F), f)
         notes["pin_groove"] = ("conforming pin-in-hole law (Hertz approach + exact conformity correction), tabulated "
                                f"to {f[-1]:.3g} N, pin centre to housing, same force as the pin")
+    if el.roughness_compliance is not None:
+        out.pin["contact_roughness"] = s("contact_roughness") * el.roughness_compliance
+        notes["contact_roughness"] = "GW rough layer of the groove contact, energy-weighted over the rated pin loads"
+    if el.carrier_joint_compliance is not None:
+        if cr is None:
+            raise SpecError("the carrier joints need the crank layout (the end plate's share)", key="carrier_joints")
+        zA, zB = cr.support
+        rho = zB / (zB - zA)
+        out.crank["carrier_joints"] = s("carrier_joints") * 3.0 * a_w ** 2 * rho ** 2 * el.carrier_joint_compliance
+        notes["carrier_joints"] = "3 a'² ρ_A² (1/K_carrier with the joints − 1/K_carrier without)"
     if el.housing_ring_compliance is not None:
         out.pin["housing_ring"] = s("housing_ring") * el.housing_ring_compliance
         notes["housing_ring"] = "energy-equivalent per pin under the classical pin sharing at rated (FE ring)"
@@ -285,12 +296,42 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
                 m[k] = sc * np.linalg.inv(K)[0, 0]
         m[0] = m[0] if np.isfinite(m[0]) else d[1] / f[1]
         out.cam_table = np.stack([f, d, m, hermite_integrals(f, d, m)])
+        if cr is not None:
+            gam = crank_tilt(el, cam, disc / 3.0)
+            d_r = float(np.hypot(*el.needle.solve(F_cam).u[0]))
+            extra = edge_loaded_approach(d_r, gam, el.needle.length) - d_r
+            for j in range(2):
+                out.cam[j]["edge_loading"] = s("edge_loading") * extra / F_cam
+            notes["edge_loading"] = (f"crank tilt {gam * 1e6:.3g} µrad at the eccentrics at rated: the most loaded needle's "
+                                     f"middle moves in {extra * 1e6:.3g} nm more (slice model), secant at {F_cam:.4g} N")
         notes["turning_arm_bearings"] = (f"needle row {el.needle.rollers} × {el.needle.length:g} mm, Palmgren with the "
                                          f"roller load distribution (zero clearance: the 20-DOF gap carries δ_b), "
                                          f"tabulated to {f[-1]:.3g} N")
     if out.crank_table is not None:
         _check_crank_law(out, TABLE_RANGE * R_rated)
     return out
+
+
+def crank_tilt(el: ChainElements, tangential: float, radial: float) -> float:
+    """Slope (rad) of the crank at its eccentrics relative to the disc under the rated crank loads: each disc's
+    tangential crank-hole load ``tangential`` (N, the same at both eccentrics) and radial ``±radial`` (the two
+    discs' pin resultants are opposite), on the stepped beam with rigid supports (its section rotation,
+    :meth:`.shafts.SteppedShaft.flexibility`) plus the support pair's tilt (tangent at the rated crank
+    resultant); mean of the two eccentrics of the magnitude over both planes."""
+    cr = el.crank
+    z = list(cr.eccentrics)
+    C = cr.shaft.flexibility(z + z, ["force", "force", "moment", "moment"], supports=cr.support)
+    rot = C[2:, :2]                                   # section rotation at the eccentrics per force there
+    planes = (np.array([tangential, tangential]), np.array([radial, -radial]))
+    slope = np.zeros(2)
+    for P in planes:
+        s = rot @ P
+        if el.pair is not None:
+            f = np.array([P.sum(), 0.0, 0.0, 0.0, float(np.dot(z, P))])
+            K = el.pair.solve(np.array([tangential * 2.0, 0.0, 0.0, 0.0, 0.0]), tol=1e-8).stiffness[0]
+            s = s + np.linalg.solve(K, f)[4]
+        slope = np.hypot(slope, s)
+    return float(slope.mean())
 
 
 def _knots(rated_force: float) -> np.ndarray:
