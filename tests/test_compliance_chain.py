@@ -57,7 +57,7 @@ def test_only_designs_with_element_data_get_the_chain():
     assert geometry_from_design(PRODUCT, chain=False).chain is None
     assert set(G.chain.families) == {"input_shaft", "crank_torsion", "pin_groove", "disc_web", "crank_bending",
                                      "crank_support_bearings", "carrier", "housing_ring", "disc_seats",
-                                     "carrier_seats"}
+                                     "carrier_seats", "carrier_joints", "contact_roughness", "edge_loading"}
     assert set(G.chain.families) | set(GROUPS.values()) == set(FAMILIES)
 
 
@@ -97,12 +97,12 @@ def test_bad_element_data_names_its_key():
 # ---------------------------------------------------------------------------------------------- element laws
 def test_pin_law_is_the_disc_pin_contact_in_series_with_the_groove_element():
     """Kernel force of a pin contact at the deflection of doc 000's law plus the groove element's tabulated
-    approach plus the housing ring's linear term returns that force; tangent and energy follow.  The table
+    approach plus the linear terms (housing ring, contact roughness) returns that force; tangent and energy follow.  The table
     itself is the conforming groove element (rvtol.elements.conforming) at its knots and within 0.2 % between."""
     gr = G.chain.elements.groove
     p = G.force_exponent
     ch = G.chain
-    c_ring = ch.pin["housing_ring"]
+    c_ring = sum(ch.pin.values())                       # housing ring + contact roughness (linear)
     knots = ch.pin_table[L.T_F]
     np.testing.assert_allclose(ch.pin_table[L.T_D][1:], gr.approach(knots[1:]), rtol=1e-12)
     mid = 0.5 * (knots[2:] + knots[1:-1])      # the first interval (to 0.2 N) is the secant: F ln F has no slope at 0
@@ -223,7 +223,8 @@ def linearised(g):
     sec = float(ch.elements.groove.approach(1000.0)) / 1000.0
     return replace(g, chain=replace(ch, crank_table=np.stack([f, d, m, hermite_integrals(f, d, m)]), groove=None,
                                     pin_table=None, cam_table=None,
-                                    pin={"pin_groove": sec, "housing_ring": ch.pin["housing_ring"]})), m0, sec
+                                    pin={"pin_groove": sec, "housing_ring": ch.pin["housing_ring"],
+                                         "contact_roughness": ch.pin["contact_roughness"]})), m0, sec
 
 
 def test_linearised_chain_equals_the_series_parallel_combination_of_its_element_stiffnesses():
@@ -252,10 +253,11 @@ def test_linearised_chain_equals_the_series_parallel_combination_of_its_element_
     # the finite-element seats and ring enter as the energy-equivalent compliances of the elements
     cA, cB = el.carrier_seat_compliance
     k_crank = springs.series(1 / m0, 1 / ch.crank["crank_bending"], el.carrier_stiffness / (3 * g.a_w ** 2 / 4),
-                             2 * K_web / (3 * g.a_w ** 2 * ib ** 2), 1 / (0.25 * cA + 0.25 * cB))
-    k_cam = [springs.series(g.k0_dc, 1 / ch.cam[j]["crank_bending"], 1 / ch.cam[j]["crank_support_bearings"],
-                            1 / el.disc_seat_compliance) for j in range(2)]
-    k_pin = springs.series(g.k0_pin, 1 / sec, 1 / el.housing_ring_compliance)
+                             2 * K_web / (3 * g.a_w ** 2 * ib ** 2), 1 / (0.25 * cA + 0.25 * cB),
+                             1 / (3 * g.a_w ** 2 / 4 * el.carrier_joint_compliance))
+    k_cam = [1 / (1 / g.k0_dc + ch.cam[j]["crank_bending"] + ch.cam[j]["crank_support_bearings"]
+                  + el.disc_seat_compliance + ch.cam[j]["edge_loading"]) for j in range(2)]
+    k_pin = springs.series(g.k0_pin, 1 / sec, 1 / el.housing_ring_compliance, 1 / el.roughness_compliance)
     ref = ReferenceModel(g)
     P = ref.linear_parts(0.0)
     loaded = ref.forces(0.0, r.q[0])[2]["pin"] > 0
@@ -294,7 +296,7 @@ def test_a_torque_path_element_adds_its_closed_form_to_the_output_compliance(fam
     el = full.chain.elements
     keep = {"input_shaft": "input_shaft_stiffness", "carrier": "carrier_stiffness", "disc_web": "web_stiffness"}
     only = replace(el, pair=None, groove=None, needle=None, disc_seat_compliance=None, carrier_seat_compliance=None,
-                   housing_ring_compliance=None, **{k: None for f, k in keep.items() if f != family})
+                   housing_ring_compliance=None, carrier_joint_compliance=None, roughness_compliance=None, **{k: None for f, k in keep.items() if f != family})
     ch = reduced(only, g0)
     ch = replace(ch, mesh={k: v for k, v in ch.mesh.items() if k == family},
                  cam=({}, {}), crank={k: v for k, v in ch.crank.items() if k == family})
@@ -315,7 +317,10 @@ def test_full_nonlinear_breakdown_sums_to_the_angle_at_every_torque():
         parts = compliance_breakdown(G, None, q, tau)
         assert set(parts) == set(FAMILIES)
         assert sum(parts.values()) == pytest.approx(theta, rel=1e-9)
-        assert all(v >= -1e-12 * theta for v in parts.values())
+        # every element stores energy except the needles' edge loading, which a tilt of a few 100 µrad
+        # lets carry the same load at a slightly smaller middle approach (rvtol.elements.rolling_bearings)
+        assert all(v >= -1e-12 * theta for f, v in parts.items() if f != "edge_loading")
+        assert abs(parts["edge_loading"]) < 1e-3 * theta
 
 
 def test_chain_elements_from_a_design_without_material_is_empty():
