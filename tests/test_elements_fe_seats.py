@@ -133,3 +133,18 @@ def test_tabulated_needle_row_is_palmgren_and_softer_than_doc_000_law_only_by_it
     assert u == pytest.approx(stribeck, rel=0.01)
     doc000 = 1000.0 ** 0.9 / 1.93e5                           # k = k0 P^0.1: δ = P^0.9/k0
     assert doc000 / u == pytest.approx(1.6, abs=0.05)
+
+
+def test_linearised_dimension_model_predicts_a_resolved_element():
+    """The linearised model of a per-sample dimension (``fe_seats.log_sensitivity``: c (1 + s Δx/x)) against
+    the element solved again at the changed dimension: within the quadratic remainder at 1 % (the ring's
+    compliance grows about as the 10th power of its clamp radius: a 7.5-mm wall)."""
+    kw = dict(thickness=24.0, z_p=40, z_c=39, R_p=76.5, ecc=1.5, E=E, nu=NU, angles=1, n_r=4, per_pitch=4)
+
+    def c(r_outer):
+        return fe_seats.housing_ring_work(3e5, r_inner=82.5, r_outer=r_outer, **kw).compliance
+
+    s = fe_seats.log_sensitivity(c, {"r_outer": 90.0}, ["r_outer"])["r_outer"]
+    assert s > 0                                        # a wider wall is softer in this clamped ring
+    # the linear prediction misses by the second-order term s(s − 1)/2 (Δx/x)² of c ∝ x^s
+    assert abs(c(90.9) / c(90.0) - (1 + 0.01 * s)) < 0.5 * s * s * 1e-4
