@@ -67,7 +67,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import SpecError
-from . import carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
+from . import _checks, carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
 from .bolted_joint import BoltedJoint
 from .roughness import GreenwoodWilliamson
 from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
@@ -389,8 +389,8 @@ class ChainElements:
             src["disc_web"] = f"annulus r {ri:.2f} … {ro:.2f} mm (crank-hole edge to tooth root), t = disc width"
         if has("crank_bearing.rollers", "crank_bearing.roller_length"):
             with _located(design, "crank_bearing.rollers"):
-                kw["needle"] = NeedleRollerBearing(int(_num(design, "crank_bearing.rollers")),
-                                                   _num(design, "crank_bearing.roller_length"))
+                rollers = _checks.whole("rollers", design["crank_bearing.rollers"])
+            kw["needle"] = NeedleRollerBearing(rollers, _num(design, "crank_bearing.roller_length"))
             src["turning_arm_bearings"] = (f"needle row {kw['needle'].rollers} × {kw['needle'].length:g} mm, Palmgren "
                                            "line contact with its roller load distribution (20-DOF: replaces doc "
                                            "000's k0·P^0.1)")
