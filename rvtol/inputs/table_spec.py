@@ -80,6 +80,9 @@ _ALIASES = {
     "sign": "direction",
     "source": "source", "reference": "source", "ref": "source",
     "zone": "zone", "position zone": "zone",
+    "size": "size", "feature of size": "size", "bonus from": "size",
+    "feature type": "feature_type", "feature_type": "feature_type",
+    "datum size": "datum_size", "datum_size": "datum_size", "datum type": "datum_type", "datum_type": "datum_type",
     "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
@@ -93,9 +96,10 @@ _DIRECTIVES = ("spec", "description", "correlation")
 _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
 _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
-           "zone": "zone"}
+           "zone": "zone", "size": "size", "feature_type": "feature_type", "datum_size": "datum_size",
+           "datum_type": "datum_type"}
 #: columns written only when some factor needs them
-_OPTIONAL = ("group", "description", "zone")
+_OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type")
 
 
 @dataclass
@@ -433,7 +437,8 @@ def _band_cells(f) -> tuple[float | None, str, str]:
             extra["sigma"] = p["sigma"]
         if d.shift:
             extra["shift"] = d.shift
-        return nominal, f"⌀{fmt(hi - lo)}", "normal" + (
+        mod = {"MMC": " (M)", "LMC": " (L)"}.get(getattr(f, "modifier", ""), "")
+        return nominal, f"⌀{fmt(hi - lo)}{mod}", "normal" + (
             "(" + ", ".join(f"{k}={fmt(v)}" for k, v in extra.items()) + ")" if extra else "")
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
@@ -501,11 +506,11 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
-    value = {"group": lambda f: f.group, "description": lambda f: f.description,
-             "zone": lambda f: getattr(f, "zone", "")}
+    value = {"group": lambda f: f.group, "description": lambda f: f.description}
+    value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
     needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
-              "description": any(f.description for f in spec.factors),
-              "zone": any(getattr(f, "zone", "") for f in spec.factors)}
+              "description": any(f.description for f in spec.factors)}
+    needed.update({c: any(getattr(f, c, "") for f in spec.factors) for c in _OPTIONAL[2:]})
     extra = [c for c in _OPTIONAL if needed[c]]
     rows.append(list(COLUMNS) + extra)
     for f in spec.factors:
