@@ -30,6 +30,7 @@ from ..report.sections import Section, frame_records
 from ..sensitivity.common import model_gradient
 from ..units import label
 from .conventions import SIX_SIGMA_CP, SIX_SIGMA_SHIFT, stack_conventions
+from .slopes import one_sided_slopes
 from .tail import form, importance_sampling
 from .worst_case import true_worst_case
 
@@ -136,14 +137,15 @@ class StackConventionsAnalysis(Analysis):
             q = ctx.model.output(o)
             sc = stack_conventions(ctx.spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
                                    sigma_levels=self.sigma_levels, mrss_factor=self.mrss_factor,
-                                   six_sigma=self.six_sigma)
+                                   six_sigma=self.six_sigma,
+                                   slopes=one_sided_slopes(ctx.model, ctx.spec, o, evaluate=search_evaluator(ctx)))
             wc = None
             if self.true_wc:
                 wc = true_worst_case(ctx.model, ctx.spec, o, search_evaluator(ctx), starts=self.starts,
                                      max_evaluations=self.max_evaluations, gradient=g)
                 sc.add("worst case (true extreme)", wc.low, wc.high, note=wc.how + ("; " + "; ".join(wc.notes)
                                                                                     if wc.notes else ""),
-                       source="bounded optimisation (scipy L-BFGS-B)")
+                       source="corners, differential evolution, L-BFGS-B (scipy)")
             pct = self._monte_carlo(ctx, o, sc)
             lims = _limits(ctx.mc, o)
             frame = sc.frame.copy()
@@ -175,7 +177,8 @@ class StackConventionsAnalysis(Analysis):
             s["percentiles"] = frame_records(pct)
             if wc is not None:
                 s["true_worst_case"] = {"low": wc.low, "high": wc.high, "x_low": wc.x_low, "x_high": wc.x_high,
-                                        "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes}
+                                        "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes,
+                                        "guaranteed": wc.guaranteed, "methods": wc.methods}
             summary[o] = s
         sec.summary = summary
         return sec
