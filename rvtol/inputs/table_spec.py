@@ -88,7 +88,7 @@ _ALIASES = {
 }
 #: distribution parameters a distribution cell may set (numbers)
 CELL_KEYS = ("mean", "sigma", "tolerance", "lower", "upper", "mode", "median", "shape", "scale", "shift",
-             "sigma_level")
+             "sigma_level", "alpha", "beta", "gamma", "delta", "location", "skewness", "kurtosis")
 #: parameters of a ``measured(...)`` cell (text or numbers)
 MEASURED_CELL_KEYS = ("data", "column", "sheet", "method", "families", "family", "location", "interpolate",
                       "bandwidth", "measurement_sigma")
@@ -440,6 +440,10 @@ def _band_cells(f) -> tuple[float | None, str, str]:
         mod = {"MMC": " (M)", "LMC": " (L)"}.get(getattr(f, "modifier", ""), "")
         return nominal, f"⌀{fmt(hi - lo)}{mod}", "normal" + (
             "(" + ", ".join(f"{k}={fmt(v)}" for k, v in extra.items()) + ")" if extra else "")
+    if d.kind in ("beta", "gamma", "gumbel", "johnsonsu", "johnsonsb", "pearson3", "pearson"):   # by parameters
+        cell = d.kind + "(" + ", ".join(f"{k}={fmt(v)}" for k, v in list(p.items()) + [("shift", d.shift)] if v or
+                                        k != "shift") + ")"
+        return nominal, text(*f.limits) if f.limits is not None else "", cell
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
         tol = f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi)

@@ -30,7 +30,7 @@ pce                    S1, ST, S2 from a polynomial chaos surrogate fitted on th
                        "warn" | "raise"), ``n`` (fit on a subsample; 0 = all), ``holdout`` (0.2),
                        ``germs`` ("auto"), ``ci`` ("bootstrap" | "asymptotic"), ``num_resamples``
                        (100), ``second_order`` (true), ``max_degree``, ``q``, ``max_interaction``,
-                       ``method`` ("omp" | "ols")
+                       ``method`` ("lars": OpenTURNS' functional chaos, the default | "omp" | "ols")
 sensitivity_matrix     drawing tolerance × output (default outputs: every output a requirement names):
                        five-point linearised variance shares of every tolerance, Sobol total indices
                        of the ``top`` (10) tolerances (the others as one group; ``n`` = 64 base
@@ -418,6 +418,9 @@ class PCE(_GlobalAnalysis):
             self.fit["max_interaction"] = params.int("max_interaction", min=1)
         if "method" in params:
             self.fit["method"] = params.str("method", choices=FIT_METHODS)
+        if "max_interaction" in self.fit and self.fit.get("method", "lars") == "lars":
+            raise params.error("max_interaction", "capping the interaction order needs method = \"omp\" or \"ols\" "
+                                                  "(OpenTURNS' LARS enumerates by hyperbolic norm only)")
 
     def run(self, ctx):
         import warnings
