@@ -1,33 +1,37 @@
 """The analysis plug-in contract: what a study's ``[[analysis]]`` table becomes.
 
-An analysis is built when the study is *loaded* and run after its Monte Carlo:
+An analysis is a thin adapter between a study and one capability of the library:
 
-1. ``Analysis(params, study)`` — ``params`` is the ``[[analysis]]`` table (a
-   :class:`rvtol.params.Params`, ``kind`` already read), ``study`` the loaded
-   :class:`rvtol.study.Study` (design, spec, model, requirements, earlier
-   analyses).  It reads and checks **every** parameter here and raises
-   :class:`rvtol.errors.InputError` (``params.error(key, reason)``) for bad
-   input, so a study fails before anything is computed; keys it did not read
-   are reported as typos by the study loader.
-2. ``run(ctx)`` — ``ctx`` is the :class:`rvtol.study.StudyContext`: the study,
-   its Monte Carlo result (``ctx.mc``), and ``ctx.evaluator`` (the one way to
-   evaluate a model: the study's executor, chunking and progress bar).  It
-   returns one :class:`rvtol.report.Section` or a list of them; their
-   ``summary`` dicts go into ``summary.json`` under ``analyses.<key>``.
+* **declarative options** — a dataclass ``Options`` (:mod:`rvtol.options`): every key the
+  ``[[analysis]]`` table may hold, with its type, default, constraints and meaning; the table is
+  read and checked when the study *loads* (``Analysis(params, study)``), so a study fails
+  before anything is computed, and ``rvtol kinds KIND`` lists the keys;
+* **one library call** — ``compute(ctx)`` calls the capability's plain function, which returns a
+  result dataclass (``to_frame()``, ``plot()``, ``summary()``); ``ctx`` is the
+  :class:`rvtol.study.StudyContext` (the study, its Monte Carlo result ``ctx.mc`` and
+  ``ctx.evaluator``, the one way to evaluate a model);
+* **one generic report** — :meth:`Analysis.report` puts the blocks of the capability's layout
+  (``layout(result, options)``, in the capability's ``texts`` module, where its prose lives)
+  into a :class:`rvtol.report.Section`, and ``result.summary()`` into ``summary.json`` under
+  ``analyses.<key>``.
 
-Subclass :class:`Analysis` and implement :meth:`Analysis.setup` and
-:meth:`Analysis.run`; register the class in :data:`rvtol.registry.ANALYSES`
-as ``"module:Class"`` under the ``kind`` a study names.
+Everything a report shows is computed in ``run`` (a timed phase of the study); rendering
+only renders.  Register the class in :data:`rvtol.registry.ANALYSES` (or through the
+``rvtol.analyses`` entry-point group of an installed package) under the ``kind`` a study names.
+
+Older analyses override ``setup(params, study)`` (read the table by hand) and ``run(ctx)``
+(return Sections); both forms are accepted.
 """
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
-from typing import TYPE_CHECKING, Protocol, runtime_checkable
+from abc import ABC
+from dataclasses import dataclass
+from typing import Any, Callable, ClassVar, Protocol, runtime_checkable
 
-if TYPE_CHECKING:  # pragma: no cover - types only
-    from .params import Params
-    from .report.sections import Section
-    from .study import Study, StudyContext
+from .options import option, read_options
+
+# type names in quotes: rvtol.params.Params, rvtol.report.sections.Section, rvtol.study.Study / StudyContext
+# (not imported: the study layer imports the analyses, not the other way round)
 
 
 @runtime_checkable
@@ -37,19 +41,61 @@ class AnalysisProtocol(Protocol):
     def run(self, ctx: "StudyContext") -> "Section | list[Section]": ...
 
 
+@dataclass
+class CommonOptions:
+    """The keys every analysis takes."""
+
+    key: str | None = option(None, "summary.json key and report anchor of this analysis (default: its kind; "
+                                   "give one to run a kind twice)")
+    title: str | None = option(None, "the report section's title (default: the kind's title)")
+
+
 class Analysis(ABC):
     """Base class of every study analysis (see the module docstring)."""
 
+    #: the ``kind`` a study names
+    kind: ClassVar[str] = ""
+    #: the report section's default title
+    title: ClassVar[str] = ""
+    #: the declarative options (a dataclass, usually derived from :class:`CommonOptions`)
+    Options: ClassVar[type | None] = None
+    #: ``layout(result, options) -> list of report blocks`` (in the capability's ``texts`` module)
+    layout: ClassVar[Callable[[Any, Any], list] | None] = None
+
     def __init__(self, params: "Params", study: "Study"):
+        if self.Options is not None:
+            self.options = read_options(self.Options, params, study)
+            self.key = getattr(self.options, "key", None) or self.kind
+            self.title = getattr(self.options, "title", None) or type(self).title
         self.setup(params, study)
 
-    @abstractmethod
     def setup(self, params: "Params", study: "Study") -> None:
-        """Read and validate the ``[[analysis]]`` parameters (raise InputError); compute nothing heavy."""
+        """Study-dependent preparation after the options are read (declarative analyses); or, in an older
+        analysis without ``Options``, read and validate the ``[[analysis]]`` parameters (raise InputError)."""
+        if self.Options is None:
+            raise TypeError(f"{type(self).__name__} declares no Options and does not read its table in setup()")
 
-    @abstractmethod
     def run(self, ctx: "StudyContext") -> "Section | list[Section]":
-        """Compute and return the report section(s)."""
+        """Compute (one library call) and report (the generic section of the result)."""
+        return self.report(self.compute(ctx))
+
+    def compute(self, ctx: "StudyContext"):
+        """The capability's result for this study (one call of a library function)."""
+        raise TypeError(f"{type(self).__name__} defines neither compute() nor run()")
+
+    def report(self, result) -> "Section":
+        """The generic report: the capability's layout of ``result`` and its summary."""
+        from .report.sections import Section
+
+        layout = type(self).layout
+        if layout is None:
+            raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
+        blocks = layout(result, self.options)
+        return Section(self.key, self.title, list(blocks), self.summary(result))
+
+    def summary(self, result) -> dict:
+        """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""
+        return result.summary()
 
 
 class ModelTarget:

@@ -79,7 +79,9 @@ def _parser() -> argparse.ArgumentParser:
     chk.add_argument("study")
     chk.add_argument("--debug", action="store_true")
 
-    sub.add_parser("kinds", help="list the model and analysis kinds a study can use")
+    kinds = sub.add_parser("kinds", help="list the model and analysis kinds a study can use; with KIND, the keys of "
+                                         "that analysis kind (type, default, meaning)")
+    kinds.add_argument("kind", nargs="?", help="an analysis kind: list its keys")
 
     spec = sub.add_parser("spec", help="tolerance specs: convert between TOML and tables")
     ssub = spec.add_subparsers(dest="spec_command", metavar="SPEC_COMMAND")
@@ -107,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with stopping_on_signals():
             if args.command == "kinds":
-                return _kinds()
+                return _kinds(args.kind)
             if args.command == "check":
                 return _check(args)
             if args.command == "compare":
@@ -205,14 +207,38 @@ def _spec(args) -> int:
     return EXIT_PASS
 
 
-def _kinds() -> int:
-    from .registry import ANALYSES, MODELS, plugin_models
+def _kinds(kind: str | None = None) -> int:
+    from .registry import ANALYSES, MODELS, analysis_function, plugin_analyses, plugin_models
 
+    if kind is not None:
+        return _analysis_keys(analysis_function(kind, "<command line>", "kind"), kind)
     print("models:   " + ", ".join(sorted(MODELS)))
     plugins = plugin_models()
     if plugins:
         print("models from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in sorted(plugins.items())))
     print("analyses: " + ", ".join(sorted(ANALYSES)))
+    plugins = plugin_analyses()
+    if plugins:
+        print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
+                                                                sorted(plugins.items())))
+    print("rvtol kinds KIND lists the keys of an analysis kind")
+    return EXIT_PASS
+
+
+def _analysis_keys(cls, kind: str) -> int:
+    """The keys of one analysis kind: from its declared options."""
+    from .options import describe
+
+    print(f"{kind}: {cls.title}")
+    if cls.Options is None:
+        print("  (this analysis reads its keys by hand: see the docstring of " f"{cls.__module__})")
+        return EXIT_PASS
+    for o in describe(cls.Options):
+        default = "required" if o.required else f"default {o.default!r}"
+        rule = f"; {o.constraint}" if o.constraint else ""
+        print(f"  {o.key} ({o.type}; {default}{rule})")
+        if o.help:
+            print(f"      {o.help}")
     return EXIT_PASS
 
 
@@ -262,12 +288,11 @@ def _run(args) -> int:
               f"{store.saved} computed", file=sys.stderr)
     if not args.quiet:
         _print_result(result)
-        phases = [*result.timings.items(), ("report", t_report)]
+        phases = [*result.timings.items(), ("writing", t_report)]
         print("time by phase: " + " · ".join(f"{k} {v:.1f} s" for k, v in phases))
         if comparison is not None:
             print(comparison.text())
-    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-    _write_ci_outputs(args, summary, comparison)
+    _write_ci_outputs(args, result.summary(), comparison)
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
           + f" (+ {', '.join(result_files(study.options))})")

@@ -45,6 +45,8 @@ MODELS: dict[str, str] = {
 
 #: the entry-point group of model kinds registered by installed packages
 ENTRY_POINT_GROUP = "rvtol.models"
+#: the entry-point group of analysis kinds registered by installed packages
+ANALYSIS_ENTRY_POINT_GROUP = "rvtol.analyses"
 
 ANALYSES: dict[str, str] = {
     # model-specific
@@ -75,6 +77,7 @@ ANALYSES: dict[str, str] = {
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
     # the reproduction wing: one module per reference document
@@ -119,5 +122,25 @@ def model_factory(kind: str, file: str | None = None):
     return _load(MODELS, kind, "model", file, "model.kind")
 
 
+def plugin_analyses() -> dict[str, object]:
+    """Analysis kinds registered by installed packages: name -> entry point (built-in kinds excluded)."""
+    from importlib.metadata import entry_points
+
+    return {ep.name: ep for ep in entry_points(group=ANALYSIS_ENTRY_POINT_GROUP) if ep.name not in ANALYSES}
+
+
 def analysis_function(kind: str, file: str | None = None, key: str = "analysis.kind"):
+    """The class of an analysis kind: built in (:data:`ANALYSES`) or an installed entry point."""
+    if kind not in ANALYSES:
+        ep = plugin_analyses().get(kind)
+        if ep is not None:
+            try:
+                return ep.load()
+            except Exception as exc:  # ImportError or an error in the plug-in's module
+                raise SpecError(f"analysis kind {kind!r} is registered by entry point {ep.value!r} "
+                                f"({ANALYSIS_ENTRY_POINT_GROUP}), which cannot be loaded ({type(exc).__name__}: {exc})",
+                                file=file, key=key) from None
+        known = sorted(ANALYSES) + sorted(plugin_analyses())
+        raise SpecError(f"unknown analysis kind {kind!r}{did_you_mean(kind, known)} (known: {', '.join(known)})",
+                        file=file, key=key)
     return _load(ANALYSES, kind, "analysis", file, key)

@@ -7,7 +7,7 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   from the Monte Carlo samples themselves (:func:`rvtol.sensitivity.given_data.given_data`, the
   correlation ratio with Kelley's bias correction).  Factors that stand for one drawing tolerance
   (the x1, y1, x2, y2 end points of one position zone, the copies of a per-pin family) are summed
-  into that tolerance (:func:`drawing_tolerance`): the share of the output's variance the
+  into that tolerance (:func:`rvtol.callouts.drawing_tolerance`): the share of the output's variance the
   tolerance explains on its own (first order; interactions are in a study's Sobol section).  The
   estimates are summed unclipped (each is unbiased; clipped at 0 the 40 copies of a family would
   add 40 positive halves of their noise) and only over the factors the output can depend on where
@@ -20,36 +20,14 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 
 from scipy import stats
 
 from .mc import MonteCarloResult
-from .model import Model, dependencies
+from .model import Model
+from .sensitivity.drivers import Driver, first_order_drivers
 from .spec import ToleranceSpec
-
-#: factors whose last name component is one of these are coordinates of one drawing tolerance
-_COORDINATE = re.compile(r"\.(x1|y1|x2|y2|x|y|z|u|v|w)$")
-_INDEX = re.compile(r"\[[^\]]*\]")
-
-
-def drawing_tolerance(factor) -> str:
-    """The drawing tolerance a factor belongs to: its ``feature`` (with its part) when the spec says, else
-    its name without a coordinate suffix (``.x1`` … ``.y``) and without a family index (``[k]``)."""
-    feat = getattr(factor, "feature", "") or ""
-    part = getattr(factor, "part", "") or ""
-    if feat:
-        return f"{part}: {feat}" if part else feat
-    return _INDEX.sub("[k]", _COORDINATE.sub("", factor.name)) if ("[" in factor.name or _COORDINATE.search(
-        factor.name)) else factor.name
-
-
-@dataclass
-class Driver:
-    tolerance: str
-    s1: float            # summed first-order index of its factors
-    factors: list[str]
 
 
 @dataclass
@@ -100,30 +78,6 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
         out.append(d)
-    return out
-
-
-def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
-    from .sensitivity.given_data import given_data
-
-    ok = mc.ok
-    if ok.sum() < 50:
-        return {}
-    res = given_data(model, spec, mc.samples, mc.Y, outputs=outputs, seed=seed, num_resamples=0)   # S1 alone
-    group = {f.name: drawing_tolerance(f) for f in spec.factors}
-    deps = dependencies(model)
-    out = {}
-    for o in outputs:
-        fr = res.for_output(o)
-        sums: dict[str, list] = {}
-        for name, s in zip(fr["factor"], fr["S1"]):
-            if deps is not None and name not in deps.get(o, ()):
-                continue              # cannot move this output: its estimate is noise
-            g = sums.setdefault(group[name], [0.0, []])
-            g[0] += float(s)          # the bias-corrected estimates are summed as they are (clipping each at 0
-            g[1].append(name)         # would add the positive half of the noise of every factor of a family)
-        ranked = sorted(sums.items(), key=lambda kv: -kv[1][0])
-        out[o] = [Driver(t, max(v[0], 0.0), v[1]) for t, v in ranked]
     return out
 
 

@@ -395,23 +395,21 @@ def result_files(options: RunOptions) -> list[str]:
 # --------------------------------------------------------------------------- running
 @dataclass
 class StudyResult:
+    """Everything a run computed: the Monte Carlo, the analyses' sections and — computed in the run, so writing
+    the report only writes — the sign-off digest, the report's standard sections and the summary."""
+
     study: Study
     mc: MonteCarloResult
     sections: list[Section]
     elapsed: float
     executor: str
-    timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", then each analysis' key
+    timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", each analysis' key, ...
+    signoff: list = field(default_factory=list)   # per requirement: verdict, drivers, what to change
+    standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
 
     @property
     def passed(self) -> bool:
         return self.mc.passed
-
-    @cached_property
-    def signoff(self) -> list:
-        """Per requirement: verdict, drivers, what to change (:func:`rvtol.signoff.digest`)."""
-        from .signoff import digest
-
-        return digest(self.mc, self.study.model, self.study.spec, self.study.options.seed)
 
     @property
     def verdict(self) -> str:
@@ -420,14 +418,24 @@ class StudyResult:
 
         return study_verdict([v.passed for v in self.mc.verdicts()], self.study.exploratory)
 
-    def summary(self) -> dict:
+    @cached_property
+    def _summary(self) -> dict:
         from .report.summary import build_summary
 
         return build_summary(self)
 
+    def summary(self) -> dict:
+        """summary.json's content (built once: every writer and the CLI read the same dict)."""
+        return self._summary
+
 
 def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
-    """Monte Carlo, then the analyses; ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
+    """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
+    ``signoff`` — the per-requirement digest —, ``report`` — the report's own sections and figures);
+    ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
+    from .report.standard import standard_sections
+    from .signoff import digest
+
     o = study.options
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
@@ -450,7 +458,15 @@ def run_study(study: Study, executor: Executor | None = None, store=None) -> Stu
     finally:
         if own:
             ex.close()
-    return StudyResult(study, mc, sections, time.perf_counter() - t0, desc, timings)
+    result = StudyResult(study, mc, sections, 0.0, desc, timings)
+    ta = time.perf_counter()
+    result.signoff = digest(mc, study.model, study.spec, o.seed)
+    timings["signoff"] = time.perf_counter() - ta
+    ta = time.perf_counter()
+    result.standard_sections = standard_sections(result)
+    timings["report"] = time.perf_counter() - ta
+    result.elapsed = time.perf_counter() - t0
+    return result
 
 
 def check_out_dir(out_dir: str | Path) -> Path:
@@ -528,13 +544,11 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
     tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(6)}"
     tmp.mkdir()  # mode 0777 & ~umask, like any folder the user makes
     try:
-        summary = result.summary()
-        (tmp / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False, allow_nan=False))
+        (tmp / "summary.json").write_text(json.dumps(result.summary(), indent=2, ensure_ascii=False, allow_nan=False))
         result.mc.write_parquet(tmp / "samples.parquet")      # a chunk at a time: memory of a chunk, not of n
         if result.study.options.tables:
             write_tables(result, result.mc.to_frame(), tmp)
-        html = render_html(result)
-        (tmp / "report.html").write_text(html, encoding="utf-8")
+        (tmp / "report.html").write_text(render_html(result), encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(render_html(result, PDF_MAX_ROWS), tmp / "report.pdf")
         for fname, text in (extra_files or {}).items():

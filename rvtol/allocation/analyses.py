@@ -526,10 +526,10 @@ class AllocationAnalysis(Analysis):
 
 
 def drawing_ties(spec, names: list[str]) -> tuple[tuple[str, ...], ...]:
-    """The allocated factors that stand for one drawing tolerance (:func:`rvtol.signoff.drawing_tolerance`:
+    """The allocated factors that stand for one drawing tolerance (:func:`rvtol.callouts.drawing_tolerance`:
     the coordinates of one position zone, the copies of a per-part family), as groups to tie: a drawing
     gives one ±t per callout, not one per coordinate or per pin."""
-    from ..signoff import drawing_tolerance
+    from ..callouts import drawing_tolerance
 
     groups: dict[str, list[str]] = {}
     for n in names:

@@ -10,8 +10,8 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from .. import __version__
-from .sections import Figure, Section, Table, Text
-from .standard import standard_sections
+from .sections import Figure, RunTable, Section, Table, Text
+from .standard import run_table
 from .summary import now_iso
 
 _ENV = Environment(loader=PackageLoader("rvtol.report", "templates"), autoescape=select_autoescape(["html", "j2"]))
@@ -40,7 +40,9 @@ def _table_html(t: Table, max_rows: int | None = None) -> Markup:
     return Markup(html)
 
 
-def _block_view(b, max_rows: int | None = None) -> dict:
+def _block_view(b, max_rows: int | None = None, result=None) -> dict:
+    if isinstance(b, RunTable):
+        b = run_table(result)
     if isinstance(b, Text):
         return {"type": "text", "paragraphs": [p.strip() for p in b.text.split("\n\n") if p.strip()]}
     if isinstance(b, Table):
@@ -56,9 +58,9 @@ def _block_view(b, max_rows: int | None = None) -> dict:
 
 def view_model(result, max_rows: int | None = None) -> dict:
     """Everything the template shows, as plain data (the one view model for HTML and PDF; ``max_rows``: the
-    rows a table keeps, for the PDF)."""
+    rows a table keeps, for the PDF).  It only formats: the sections were built during the run."""
     st = result.study
-    sections: list[Section] = standard_sections(result) + list(result.sections)
+    sections: list[Section] = list(result.standard_sections) + list(result.sections)
     return {
         "title": st.title,
         "name": st.name,
@@ -68,7 +70,7 @@ def view_model(result, max_rows: int | None = None) -> dict:
         "version": __version__,
         "study_file": st.file,
         "toc": [(s.key, s.title) for s in sections],
-        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b, max_rows) for b in s.blocks]}
+        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b, max_rows, result) for b in s.blocks]}
                      for s in sections],
     }
 

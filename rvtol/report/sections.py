@@ -37,6 +37,12 @@ class Text:
 
 
 @dataclass
+class RunTable:
+    """Where the run's timings table goes: the timings end with the run, so the renderer fills it in
+    (:func:`rvtol.report.standard.run_table`)."""
+
+
+@dataclass
 class Section:
     key: str
     title: str

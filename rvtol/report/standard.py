@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 
 from ..units import label
-from .sections import Section
+from .sections import RunTable, Section, Table
 
 
 def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:
@@ -92,18 +92,7 @@ def inputs_section(result) -> Section:
     files = pd.DataFrame([{"role": k, "file": v["path"], "sha256": (v["sha256"] or "")[:16]}
                           for k, v in st.inputs.items()])
     sec.add_table(files, caption="Input files (first 16 hex digits of SHA-256)")
-    o = st.options
-    m = result.mc
-    run = pd.DataFrame([
-        {"item": "model", "value": f"{type(st.model).__name__} ({len(st.model.inputs)} inputs, "
-                                   f"{len(st.model.outputs)} outputs)"},
-        {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
-        {"item": "executor", "value": result.executor},
-        {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo and analyses; report writing after)"},
-    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings.items()])
-    if m.samples.note:
-        run.loc[len(run)] = {"item": "note", "value": m.samples.note}
-    sec.add_table(run, caption="Run")
+    sec.blocks.append(RunTable())      # the run's timings: they end with the run, so the renderer fills them in
     fac = st.spec.to_frame()
     fac["unit"] = [label(u) for u in fac["unit"]]
     fac.insert(list(fac.columns).index("tolerance T") + 1, "band (worst case)",
@@ -115,12 +104,12 @@ def inputs_section(result) -> Section:
     if st.spec.correlation is not None:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
-    measured_factors(sec, st.spec, o.seed)
+    measured_factors(sec, st.spec, st.options.seed)
     if st.design is not None:
         sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
     from ..plotting.mc import factor_histograms
 
-    sec.add_figure(factor_histograms(m.samples), caption="Sampled factors")
+    sec.add_figure(factor_histograms(result.mc.samples), caption="Sampled factors")
     return sec
 
 
@@ -205,3 +194,19 @@ def standard_sections(result) -> list[Section]:
     if f is not None:
         out.append(f)
     return out
+
+
+def run_table(result) -> Table:
+    """The run: model, samples, executor, wall time and the time of every phase."""
+    st, m, o = result.study, result.mc, result.study.options
+    run = pd.DataFrame([
+        {"item": "model", "value": f"{type(st.model).__name__} ({len(st.model.inputs)} inputs, "
+                                   f"{len(st.model.outputs)} outputs)"},
+        {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
+        {"item": "executor", "value": result.executor},
+        {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo, analyses and the report's figures; "
+                                       "writing the files after)"},
+    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings.items()])
+    if m.samples.note:
+        run.loc[len(run)] = {"item": "note", "value": m.samples.note}
+    return Table(run, "Run")

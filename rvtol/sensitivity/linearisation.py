@@ -28,6 +28,7 @@ from .. import units
 from ..model import Model
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
+from ..records import frame_records
 from .common import (derivative_to_display, factor_indices, model_gradient, output_indices,
                      ratio_unit)
 from .local import LocalSensitivityResult, five_point
@@ -181,3 +182,36 @@ def high_low_table(model: Model, spec: ToleranceSpec, factors: Sequence[str] | N
                          "y_nominal": float(y[0]), "y_low": ylo, "y_median": ymed, "y_high": yhi,
                          "swing": abs(yhi - ylo)})
     return HighLowResult(pd.DataFrame(rows))
+
+
+# --------------------------------------------------------------------------- the contributions study
+@dataclass
+class ContributionsResult:
+    """Per output: the linearised prediction (:func:`contributions`) beside the Monte Carlo's statistics, and
+    the one-at-a-time high/low/median table."""
+
+    outputs: list[str]
+    percent: float
+    predictions: dict[str, LinearPrediction]
+    high_low: HighLowResult
+    mc_statistics: pd.DataFrame | None = None     # the study's Monte Carlo statistics (rows: outputs)
+
+    def to_frame(self) -> pd.DataFrame:
+        return pd.concat([p.frame.assign(output=o) for o, p in self.predictions.items()], ignore_index=True)
+
+    def summary(self) -> dict:
+        hl = self.high_low.frame
+        return {o: {"prediction": p.summary(), "contributions": frame_records(p.frame),
+                    "high_low": frame_records(hl[hl["output"] == o])} for o, p in self.predictions.items()}
+
+
+def linearised_contributions(model: Model, spec: ToleranceSpec, outputs: Sequence[str],
+                             factors: Sequence[str] | None = None, percent: float = 10.0,
+                             evaluate: Evaluator | None = None, mc_statistics: pd.DataFrame | None = None
+                             ) -> ContributionsResult:
+    """Five-point derivatives of every factor, the linearised prediction of each output, and the high/low/median
+    table of ``factors`` (all when None)."""
+    local = five_point(model, spec, None, outputs, percent, None, evaluate)
+    hl = high_low_table(model, spec, factors, outputs, evaluate)
+    preds = {o: contributions(model, spec, o, local) for o in outputs}
+    return ContributionsResult(list(outputs), percent, preds, hl, mc_statistics)

@@ -830,3 +830,19 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
                 "on_poor_fit": on_poor_fit}
     return SurrogateSensitivityResult("pce", frame, 0, confidence, settings, s2, n_failed, notes,
                                       validation=validation, raw=raw, fits=fits, independent=independent)
+
+
+def pce_given(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, n: int | None = None,
+              factors: Sequence[str] | None = None, outputs: Sequence[str] | None = None, seed: int | None = None,
+              **options) -> SurrogateSensitivityResult:
+    """:func:`pce` fitted on a random subsample of ``n`` rows of the given samples (None: all of them), the
+    subsample stated first in the notes; a poor fit and correlated inputs are said in the notes, not warned."""
+    from .given_data import delta_subsample
+
+    samples, Y, note = delta_subsample(samples, Y, n, seed, "pce_subsample", "the surrogate fit")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PoorSurrogateWarning)   # said in the notes
+        warnings.simplefilter("ignore", CorrelatedInputsWarning)
+        res = pce(model, spec, samples, Y, factors, outputs, seed, **options)
+    res.notes.insert(0, note[0].upper() + note[1:] + ".")
+    return res

@@ -1,0 +1,24 @@
+"""Drawing callouts: which factors of a spec stand for one tolerance on a drawing.
+
+A drawing callout can be several factors: the x1, y1, x2, y2 end-point coordinates of one position
+zone, the copies of a per-pin or per-groove family.  Sign-off drivers, the sensitivity matrix and the
+allocation's "one ±t per callout" group factors by :func:`drawing_tolerance`.
+"""
+from __future__ import annotations
+
+import re
+
+#: factors whose last name component is one of these are coordinates of one drawing tolerance
+_COORDINATE = re.compile(r"\.(x1|y1|x2|y2|x|y|z|u|v|w)$")
+_INDEX = re.compile(r"\[[^\]]*\]")
+
+
+def drawing_tolerance(factor) -> str:
+    """The drawing tolerance a factor belongs to: its ``feature`` (with its part) when the spec says, else
+    its name without a coordinate suffix (``.x1`` … ``.y``) and without a family index (``[k]``)."""
+    feat = getattr(factor, "feature", "") or ""
+    part = getattr(factor, "part", "") or ""
+    if feat:
+        return f"{part}: {feat}" if part else feat
+    return _INDEX.sub("[k]", _COORDINATE.sub("", factor.name)) if ("[" in factor.name or _COORDINATE.search(
+        factor.name)) else factor.name

@@ -1,0 +1,321 @@
+"""Declarative options: what a study's ``[[analysis]]`` table may hold, as one dataclass per kind.
+
+An analysis declares its keys as dataclass fields; each field's type, default and constraints
+(the role scikit-learn's parameter constraints play) are enough to read and check the table —
+no hand-written parsing — and to list every key with its meaning (``rvtol kinds KIND``)::
+
+    @dataclass
+    class Options(SensitivityOptions):
+        n: int = option(1024, "base samples N (a power of 2: the Sobol' sequence's balance)",
+                        min=2, power_of_two=True)
+        second_order: bool = option(True, "also the second-order indices S2")
+
+Types understood: ``int``, ``float``, ``bool``, ``str``, ``Literal[...]`` (one of the values),
+``list[str]``, ``list[float]``, ``list[int]``, ``dict[str, float]`` (a table of numbers),
+``dict`` (a table, read as it is) and any of them ``| None`` (absent → the default).  Rules:
+
+====================  =====================================================================
+``choices``           the values a string may take (or type it ``Literal[...]``)
+``min``, ``max``      bounds of a number (inclusive)
+``positive``          a number > 0; ``nonnegative``: >= 0
+``power_of_two``      an integer power of 2; ``even``: an even integer
+``zero_or_min``       0 (meaning "all"/"off") or at least this value
+``min_length``        a list with at least this many entries
+``unit``              a quantity: a bare number in this unit or ``{value = x, unit = "..."}``,
+                      held in base units (mm, N, rad, s)
+``names``             a list (or a string) whose entries name the study's ``"outputs"``,
+                      ``"factors"``, ``"requirements"`` or the model's ``"stages"``;
+                      ``"all"`` stands for every output when ``all_ok``
+``key``               the TOML key, when it is not a Python identifier
+====================  =====================================================================
+
+Checks that involve several keys or the study (a default that depends on another key, a count
+that must exceed another) go in the options class' ``complete(self, study, error)`` method,
+called after every key is read: ``error(key, reason)`` returns the located one-line error to
+raise.
+"""
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from dataclasses import MISSING, dataclass, field, fields
+from typing import Any, Literal
+
+from .errors import did_you_mean
+
+#: the default of an option a study must give
+REQUIRED = MISSING
+
+_RULES = ("choices", "min", "max", "positive", "nonnegative", "power_of_two", "even", "zero_or_min", "min_length",
+          "unit", "names", "all_ok", "key")
+
+
+@dataclass(frozen=True)
+class Rule:
+    """The meaning and constraints of one option (a field's metadata)."""
+
+    help: str
+    choices: tuple | None = None
+    min: float | None = None
+    max: float | None = None
+    positive: bool = False
+    nonnegative: bool = False
+    power_of_two: bool = False
+    even: bool = False
+    zero_or_min: float | None = None
+    min_length: int = 0
+    unit: str | None = None
+    names: str | None = None
+    all_ok: bool = False
+    key: str | None = None
+
+    def constraint(self) -> str:
+        """The constraints in words, for ``rvtol kinds``."""
+        out = []
+        if self.choices:
+            out.append("one of " + ", ".join(map(repr, self.choices)))
+        if self.positive:
+            out.append("> 0")
+        if self.nonnegative:
+            out.append(">= 0")
+        if self.zero_or_min is not None:
+            out.append(f"0 or >= {self.zero_or_min:g}")
+        if self.min is not None:
+            out.append(f">= {self.min:g}")
+        if self.max is not None:
+            out.append(f"<= {self.max:g}")
+        if self.power_of_two:
+            out.append("a power of 2")
+        if self.even:
+            out.append("even")
+        if self.min_length:
+            out.append(f"at least {self.min_length}")
+        if self.unit:
+            out.append(f"in {self.unit} (or {{value, unit}})")
+        if self.names:
+            out.append(f"names of the study's {self.names}" + (' or "all"' if self.all_ok else ""))
+        return ", ".join(out)
+
+
+def option(default: Any = REQUIRED, help: str = "", **rules) -> Any:
+    """A declared option: its default (:data:`REQUIRED` if the study must give it), meaning and rules."""
+    bad = set(rules) - set(_RULES)
+    if bad:
+        raise TypeError(f"unknown option rule(s): {', '.join(sorted(bad))}")
+    if "choices" in rules:
+        rules["choices"] = tuple(rules["choices"])
+    meta = {"rvtol": Rule(help, **rules)}
+    if isinstance(default, (list, dict)):
+        return field(default_factory=lambda d=default: type(d)(d), metadata=meta, kw_only=True)
+    return field(default=default, metadata=meta, kw_only=True)   # keyword-only: a required option may follow others
+
+
+@dataclass
+class Option:
+    """One option as ``rvtol kinds`` lists it."""
+
+    key: str
+    type: str
+    default: Any
+    required: bool
+    help: str
+    constraint: str
+
+
+def rule_of(f: dataclasses.Field) -> Rule:
+    return f.metadata.get("rvtol") or Rule("")
+
+
+def key_of(f: dataclasses.Field) -> str:
+    return rule_of(f).key or f.name
+
+
+def describe(cls) -> list[Option]:
+    """Every option of an options dataclass: key, type, default, meaning and constraints."""
+    hints = typing.get_type_hints(cls)
+    out = []
+    for f in fields(cls):
+        if not f.init:
+            continue
+        r = rule_of(f)
+        if f.default is not MISSING:
+            default, required = f.default, False
+        elif f.default_factory is not MISSING:
+            default, required = f.default_factory(), False
+        else:
+            default, required = None, True
+        out.append(Option(key_of(f), _type_name(hints[f.name]), default, required, r.help, r.constraint()))
+    return out
+
+
+def read_options(cls, params, study=None):
+    """An instance of the options dataclass ``cls`` read from ``params`` (:class:`rvtol.params.Params`).
+
+    Every field is read and checked; an absent optional key takes its default; the class'
+    ``complete(study, error)`` (if any) then fills study-dependent defaults and checks
+    relations between keys.  Raises the one-line :class:`rvtol.errors.SpecError` of the
+    first bad key.  Keys the table holds but the class does not declare are left for the
+    caller's ``params.finish()`` (which names them as typos).
+    """
+    hints = typing.get_type_hints(cls)
+    values = {}
+    for f in fields(cls):
+        if not f.init:
+            continue
+        key, r = key_of(f), rule_of(f)
+        if f.default is not MISSING:
+            default = f.default
+        elif f.default_factory is not MISSING:
+            default = f.default_factory()
+        else:
+            default = MISSING
+        values[f.name] = _read(params, key, hints[f.name], default, r, study)
+    obj = cls(**values)
+    complete = getattr(obj, "complete", None)
+    if complete is not None:
+        complete(study, params.error)
+    return obj
+
+
+# --------------------------------------------------------------------------- reading one key
+def _read(params, key: str, tp, default, r: Rule, study):
+    optional, tp = _unoptional(tp)
+    if default is MISSING:
+        raw = params.raw(key)
+    else:
+        raw = params.raw(key, _ABSENT)
+        if raw is _ABSENT:
+            return default
+    if raw is None and optional:
+        return None
+    if r.names and r.all_ok and raw == "all":
+        return list(_known(r.names, study) or [])
+    if r.unit is not None:
+        return params.quantity(key, r.unit, **_number_checks(r))
+    origin = typing.get_origin(tp)
+    if tp is bool:
+        return params.bool(key)
+    if tp is int:
+        v = params.int(key, min=_int_or_none(r.min), max=_int_or_none(r.max))
+        return _check_number(params, key, v, r)
+    if tp is float:
+        v = params.float(key, min=r.min, max=r.max, positive=r.positive, nonnegative=r.nonnegative)
+        return _check_number(params, key, v, r)
+    if origin is Literal:
+        return params.str(key, choices=[str(a) for a in typing.get_args(tp)])
+    if tp is str:
+        v = params.str(key, choices=r.choices)
+        if r.names:
+            _check_names(params, key, [v], r.names, study)
+        return v
+    if origin is list:
+        (item,) = typing.get_args(tp) or (Any,)
+        if item is str:
+            v = params.strs(key, min_length=r.min_length)
+            if r.names:
+                _check_names(params, key, v, r.names, study)
+            return v
+        if item is float:
+            v = params.floats(key, min_length=r.min_length, min=r.min, max=r.max, positive=r.positive,
+                              nonnegative=r.nonnegative)
+            return v
+        if item is int:
+            v = params.raw(key)
+            if not isinstance(v, list) or any(isinstance(x, bool) or not isinstance(x, int) for x in v):
+                raise params.error(key, "expected an array of integers")
+            if len(v) < r.min_length:
+                raise params.error(key, f"expected at least {r.min_length} integers, got {len(v)}")
+            return [_check_number(params, f"{key}", x, r) for x in v]
+        return params.raw(key)
+    if origin is dict or tp is dict:
+        args = typing.get_args(tp)
+        sub = params.sub(key)
+        if args and args[1] is float:
+            out = {k: sub.float(k, min=r.min, max=r.max, positive=r.positive, nonnegative=r.nonnegative)
+                   for k in list(sub.keys())}
+            if r.names:
+                for k in out:
+                    _check_names(sub, k, [k], r.names, study)
+            return out
+        return dict(sub.data)
+    return params.raw(key)
+
+
+_ABSENT = object()
+
+
+def _unoptional(tp):
+    """``(optional, T)`` for ``T | None`` (and ``Optional[T]``), ``(False, tp)`` otherwise."""
+    origin = typing.get_origin(tp)
+    if origin in (typing.Union, types.UnionType):
+        args = [a for a in typing.get_args(tp) if a is not type(None)]
+        if len(args) == 1 and len(args) < len(typing.get_args(tp)):
+            return True, args[0]
+    return False, tp
+
+
+def _int_or_none(v):
+    return None if v is None else int(v)
+
+
+def _number_checks(r: Rule) -> dict:
+    return {k: getattr(r, k) for k in ("min", "max", "positive", "nonnegative") if getattr(r, k) not in (None, False)}
+
+
+def _check_number(params, key, v, r: Rule):
+    if r.zero_or_min is not None and v != 0 and v < r.zero_or_min:
+        raise params.error(key, f"must be 0 or >= {r.zero_or_min:g}, got {v}")
+    if r.positive and not v > 0:
+        raise params.error(key, f"must be > 0, got {v}")
+    if r.nonnegative and v < 0:
+        raise params.error(key, f"must be >= 0, got {v}")
+    if r.power_of_two and (v < 1 or int(v) & (int(v) - 1)):
+        raise params.error(key, f"must be a power of 2, got {v}")
+    if r.even and int(v) % 2:
+        raise params.error(key, f"must be even, got {v}")
+    return v
+
+
+def _known(what: str, study) -> list[str] | None:
+    if study is None:
+        return None
+    if what == "outputs":
+        return list(study.model.output_names)
+    if what == "factors":
+        return list(study.spec.names)
+    if what == "requirements":
+        return [r.label for r in study.requirements]
+    if what == "stages":
+        return [s.name for s in getattr(study.model, "stages", ())]
+    raise ValueError(f"unknown name kind {what!r}")
+
+
+_NAMED = {"outputs": "output", "factors": "factor", "requirements": "requirement", "stages": "model"}
+_HOLDER = {"outputs": "model has", "factors": "spec has", "requirements": "study has",
+           "stages": "the study's models"}
+
+
+def _check_names(params, key, values, what: str, study) -> None:
+    known = _known(what, study)
+    if known is None:
+        return
+    for v in values:
+        if v not in known:
+            raise params.error(key, f"unknown {_NAMED[what]} name {v!r}{did_you_mean(v, known)} "
+                                    f"({_HOLDER[what]}: {', '.join(known) or 'none'})")
+
+
+def _type_name(tp) -> str:
+    optional, tp = _unoptional(tp)
+    origin = typing.get_origin(tp)
+    if origin is Literal:
+        name = " | ".join(repr(a) for a in typing.get_args(tp))
+    elif origin is list:
+        (item,) = typing.get_args(tp) or (Any,)
+        name = f"list of {getattr(item, '__name__', str(item))}"
+    elif origin is dict or tp is dict:
+        name = "table"
+    else:
+        name = getattr(tp, "__name__", str(tp))
+    return name + (", optional" if optional else "")
