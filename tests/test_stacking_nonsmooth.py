@@ -123,3 +123,80 @@ def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.1, abs=1e-9), pytest.approx(0.2, abs=1e-9))
     true = true_worst_case(m, spec, "y")
     assert (true.low, true.high) == (pytest.approx(-0.1, abs=1e-7), pytest.approx(0.2, abs=1e-7))
+
+
+def test_the_fixed_fastener_formula():
+    """ASME Y14.5-2018 Appendix B, fixed fastener: H = F + T₁ + T₂ — a stud of MMC 6.0 fixed in one part (⌀0.2 zone), a
+    6.4 clearance hole in the other (⌀0.2 zone): the margin (H − F)/2 − |p₁ − p₂| is 0 at worst."""
+    spec = spec_from_table({"factor": [
+        {"name": "H", "tolerance": "6.4 +0.2/0", "unit": "mm"}, {"name": "F", "tolerance": "6.0 0/-0.1", "unit": "mm"},
+        {"name": "x1", "tolerance": "⌀0.2", "unit": "mm", "zone": "stud"},
+        {"name": "y1", "tolerance": "⌀0.2", "unit": "mm", "zone": "stud"},
+        {"name": "x2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "y2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"}]})
+    m = FormulaModel.from_spec(spec, {"margin": "(H - F)/2 - hypot(x1 - x2, y1 - y2)"})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "margin"))
+    assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
+    assert true_worst_case(m, spec, "margin").low == pytest.approx(0.0, abs=1e-6)
+
+
+def test_a_datum_feature_shift_adds_to_the_zone():
+    """A hole 10.4 +0.1/0 positioned ⌀0.2 Ⓜ to a datum bore B 20 +0.1/0 referenced at MMB: at the largest hole and
+    the largest datum bore the axis may lie 0.1 (t/2) + 0.05 (the hole's bonus, (10.5 − 10.4)/2) + 0.05 (the datum
+    shift, (20.1 − 20.0)/2) = 0.2 from true position.  The datum-feature shift equals the datum feature's departure
+    from its MMB (ASME Y14.5-2018, datum features referenced at MMB; ISO 2692:2014 for the maximum material
+    requirement); the numbers are ours, checked by hand — a textbook's printed example could not be checked here."""
+    common = {"tolerance": "⌀0.2 (M)", "unit": "mm", "zone": "h", "size": "D", "feature_type": "internal",
+              "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+        {"name": "x", **common}, {"name": "y", **common}]})
+    from rvtol.spec import zone_bonus
+    assert zone_bonus(spec, "h") == [(0, 0.5, pytest.approx(10.4)), (1, 0.5, pytest.approx(20.0))]
+    m = FormulaModel.from_spec(spec, {"r": "hypot(x, y)"})
+    true = true_worst_case(m, spec, "r")
+    assert true.high == pytest.approx(0.2, abs=1e-6) and true.x_high["D"] == pytest.approx(10.5)
+    assert true.x_high["B"] == pytest.approx(20.1)
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "r"))
+    assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
+    assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-12)   # a radius is never negative
+    # an external datum feature (a boss) at MMB: its MMC is the largest size, the shift grows as it gets smaller
+    spec2 = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 0/-0.1", "unit": "mm"},
+        {"name": "x", **common, "datum_type": "external"}, {"name": "y", **common, "datum_type": "external"}]})
+    assert zone_bonus(spec2, "h")[1] == (1, -0.5, pytest.approx(20.0))
+
+
+def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
+    """The study reads the MMC zones from a CSV spec (columns zone, size, feature type) and gives 0 by both worst cases."""
+    import json
+
+    from rvtol.cli import main
+
+    from conftest import ROOT
+
+    out = tmp_path / "report"
+    rc = main(["run", str(ROOT / "studies" / "stack_floating_fastener.toml"), "--out", str(out), "--executor", "serial",
+               "--no-pdf", "--quiet", "--n", "2000"])
+    assert rc == 0
+    s = json.loads((out / "summary.json").read_text())["analyses"]["stack_conventions"]["margin"]
+    rows = {r["convention"]: r for r in s["conventions"]}
+    assert rows["worst case (arithmetic)"]["low"] == pytest.approx(0.0, abs=1e-9)
+    assert rows["worst case (true extreme)"]["low"] == pytest.approx(0.0, abs=1e-6)
+    assert rows["worst case (arithmetic)"]["high"] == pytest.approx(0.7, abs=1e-9)
+
+
+@pytest.mark.parametrize("extra, key, reason", [
+    ({}, "size", "bonus from the feature's actual size"),
+    ({"size": "H1"}, "feature_type", "feature type"),
+    ({"size": "nope", "feature_type": "internal"}, "size", "names no factor"),
+])
+def test_a_zone_at_mmc_needs_its_feature_of_size(extra, key, reason):
+    z = {"tolerance": "⌀0.4 (M)", "unit": "mm", "zone": "h", **extra}
+    with pytest.raises(InputError, match=reason) as e:
+        spec_from_table({"factor": [{"name": "H1", "tolerance": "6.4 +0.2/0", "unit": "mm"},
+                                    {"name": "x", **z}, {"name": "y", **z}]}, file="s.toml")
+    assert key in (e.value.key or "")

@@ -7,7 +7,9 @@ stack_conventions      ``outputs`` (default: the outputs the requirements name, 
                        ``sigma_levels`` ([3]: the ±zσ of the statistical rows), ``percentiles``
                        ([0.135, 99.865]: Monte Carlo percentiles with CIs), ``mrss_factor`` (a
                        given MRSS factor), ``six_sigma = {cp = 2.0, shift = 1.5}`` (or false),
-                       ``true_worst_case`` (true), ``starts`` (4), ``max_evaluations`` (5000: model
+                       ``true_worst_case`` (true), ``second_order`` (true: mean shift, skewness,
+                       kurtosis by the method of moments and Pearson tails), ``starts`` (4),
+                       ``max_evaluations`` (5000: model
                        evaluations of the search; an expensive model wants fewer),
                        ``gradient`` ("auto": the model's analytic one if it has it, else
                        "five_point"), ``percent`` (10, five-point)
@@ -99,6 +101,7 @@ class StackConventionsAnalysis(Analysis):
             t.finish()
             self.six_sigma = (cp, shift)
         self.true_wc = params.bool("true_worst_case", True)
+        self.second_order = params.bool("second_order", True)
         self.starts = params.int("starts", 4, min=2)
         self.max_evaluations = params.int("max_evaluations", 5000, min=100)
         self.gradient = params.str("gradient", "auto", choices=("auto", "five_point"))
@@ -148,6 +151,8 @@ class StackConventionsAnalysis(Analysis):
                 sc.add("worst case (true extreme)", wc.low, wc.high, note=wc.how + ("; " + "; ".join(wc.notes)
                                                                                     if wc.notes else ""),
                        source="corners, differential evolution, L-BFGS-B (scipy)")
+            if self.second_order:
+                _second_order_rows(ctx, o, sc, self.sigma_levels, search_evaluator(ctx))
             pct = self._monte_carlo(ctx, o, sc)
             lims = _limits(ctx.mc, o)
             frame = sc.frame.copy()
@@ -203,6 +208,32 @@ class StackConventionsAnalysis(Analysis):
             rows.append({"percentile": p, "value": est, "ci_low": lo, "ci_high": hi,
                          "note": "" if lo is not None and hi is not None else "too few samples for this tail"})
         return pd.DataFrame(rows)
+
+
+def _second_order_rows(ctx, o, sc, sigma_levels, evaluate) -> None:
+    """The second-order rows (:mod:`rvtol.stacking.second_order`) beside the linearised ones, or a note why not."""
+    from .second_order import curvature, second_order
+
+    q = ctx.model.output(o)
+    d = lambda v: float(q.to_display(np.array([v]))[0])  # noqa: E731
+    if any("kink" in n for n in sc.notes):
+        sc.notes.append("second order: the output has a kink at the nominal point (no second-order expansion)")
+        return
+    try:
+        y0, g, H, _ = curvature(ctx.model, ctx.spec, o, evaluate=evaluate)
+        so = second_order(ctx.spec, y0, g, H)
+    except ValueError as exc:
+        sc.notes.append(f"second order: {exc}")
+        return
+    for z in sigma_levels:
+        sc.add(f"second order (moments) ±{z:g}σ", d(so.mean - z * so.sigma), d(so.mean + z * so.sigma),
+               centre=d(so.mean), sigma=d(so.mean + so.sigma) - d(so.mean),
+               note=f"mean shift {d(so.mean) - d(so.y_at_means):+.4g} from curvature, skewness {so.skewness:.3g}, "
+                    f"kurtosis {so.kurtosis:.3g}", source="Glancy & Chase 1999 (method of moments)")
+        lo, hi = so.interval(z)
+        sc.add(f"second order, {so.law} tails ({z:g}σ coverage)", d(lo), d(hi), centre=d(so.mean),
+               note="quantiles of the curve with the four moments" + ("; " + "; ".join(so.notes) if so.notes else ""),
+               source="Pearson 1895 / Johnson 1949")
 
 
 class TailProbabilityAnalysis(Analysis):

@@ -455,4 +455,4 @@ def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: f
         t = float(con.t[i])
         high += t * max(0.0, up_hi[i], dn_hi[i])
         low -= t * max(0.0, -up_lo[i], -dn_lo[i])
-    return low, high
+    return low + 0.0, high + 0.0

@@ -245,9 +245,12 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
                     beta = float(np.linalg.norm(u)) * (-1.0 if beyond(y0) else 1.0)
                     est.beta = beta
                     return Estimate("FORM", float(r.getEventProbability()), note=note)
-            est.beta = math.inf
-            return Estimate("FORM", 0.0, note="no point of the limit state was found: the limit is out of reach of "
-                                              "the distributions (bounded supports beyond their worst case), P = 0")
+            if _out_of_reach(spec, ls, beyond):
+                est.beta = math.inf
+                return Estimate("FORM", 0.0, note="no point of the limit state: every factor is bounded and no corner "
+                                                  "of their supports reaches the limit — out of reach, P = 0")
+            return Estimate("FORM", None, note="Abdo-Rackwitz and Cobyla found no point of the limit state (a "
+                                               "failure domain they cannot reach from the origin): no FORM estimate")
         if "FORM" in methods or "SORM" in methods or "importance sampling" in methods:
             counted("FORM", run_form) if "FORM" in methods else run_form()
     if u_star is not None:
@@ -336,6 +339,20 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
     if ls.failed:
         est.notes.append(f"{ls.failed} evaluations could not be made and count as failures")
     return est
+
+
+def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
+    """True when every factor's support is bounded and none of the supports' corners (u = ±8.3, Φ = 1 − 5e-17;
+    at most 2¹² of them) lies beyond the limit."""
+    k = len(spec)
+    if k > 12:
+        return False
+    for f in spec.factors:
+        lo, hi = (float(v) for v in f.dist.frozen.support())
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            return False
+    corners = 8.3 * (2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1) - 1.0)
+    return not np.any(beyond(ls.y(corners)))
 
 
 def _reason(exc: Exception) -> str:
