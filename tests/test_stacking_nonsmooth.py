@@ -54,7 +54,7 @@ def test_the_derivative_of_a_norm_at_its_zero_is_not_nan():
 @pytest.mark.parametrize("modifier", ["", " (M)"], ids=["RFS", "MMC"])
 def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modifier):
     spec = fastener_spec(modifier)
-    model = FormulaModel.from_spec(spec, {"margin": MARGIN})
+    model = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
     x0 = spec.nominal_base()
     g = model.gradient(x0[None])[0, 0]
     y0 = float(model.evaluate(x0[None])[0, 0])
@@ -91,7 +91,7 @@ def test_the_mmc_bonus_pays_for_the_hole_size():
     """At MMC the margin's worst case does not depend on the hole's size (bonus = H − H_MMC); at RFS it does."""
     for modifier, expect in (("", 0.2 * 0.5 * 2), (" (M)", 0.0)):
         spec = fastener_spec(modifier)
-        m = FormulaModel.from_spec(spec, {"margin": MARGIN})
+        m = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
         x0 = spec.nominal_base()
         sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0,
                                out_unit="mm", slopes=one_sided_slopes(m, spec, "margin"))
@@ -113,7 +113,7 @@ def test_an_undefined_derivative_is_an_error_not_a_zero():
 def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
     spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm"},
                                        {"name": "w", "tolerance": "±0.05", "unit": "mm"}]})
-    m = FormulaModel.from_spec(spec, {"y": "abs(u) + 2*w"})
+    m = FormulaModel.from_spec(spec, {"y": ("abs(u) + 2*w", "mm")})
     x0 = spec.nominal_base()
     sl = one_sided_slopes(m, spec, "y")
     assert sl.kinked == ["u"]
@@ -134,7 +134,7 @@ def test_the_fixed_fastener_formula():
         {"name": "y1", "tolerance": "⌀0.2", "unit": "mm", "zone": "stud"},
         {"name": "x2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
         {"name": "y2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"}]})
-    m = FormulaModel.from_spec(spec, {"margin": "(H - F)/2 - hypot(x1 - x2, y1 - y2)"})
+    m = FormulaModel.from_spec(spec, {"margin": ("(H - F)/2 - hypot(x1 - x2, y1 - y2)", "mm")})
     x0 = spec.nominal_base()
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
                            slopes=one_sided_slopes(m, spec, "margin"))
@@ -155,7 +155,7 @@ def test_a_datum_feature_shift_adds_to_the_zone():
         {"name": "x", **common}, {"name": "y", **common}]})
     from rvtol.spec import zone_bonus
     assert zone_bonus(spec, "h") == [(0, 0.5, pytest.approx(10.4)), (1, 0.5, pytest.approx(20.0))]
-    m = FormulaModel.from_spec(spec, {"r": "hypot(x, y)"})
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(x, y)", "mm")})
     true = true_worst_case(m, spec, "r")
     assert true.high == pytest.approx(0.2, abs=1e-6) and true.x_high["D"] == pytest.approx(10.5)
     assert true.x_high["B"] == pytest.approx(20.1)

@@ -13,18 +13,18 @@ from rvtol.stacking.second_order import curvature, second_order
 
 
 def normal(name, mean, sigma):
-    return Factor(name, "mm", Distribution.make("normal", mean=mean, sigma=sigma))
+    return Factor(name, "1", Distribution.make("normal", mean=mean, sigma=sigma))
 
 
-def run(spec, formula):
-    m = FormulaModel.from_spec(spec, {"y": formula})
+def run(spec, formula, unit="mm"):
+    m = FormulaModel.from_spec(spec, {"y": (formula, unit)})
     y0, g, H, _ = curvature(m, spec, "y")
     return second_order(spec, y0, g, H)
 
 
 def test_a_square_of_a_normal_is_exact_and_its_pearson_tail_is_the_noncentral_chi2():
     mu, s = 1.0, 0.5
-    res = run(ToleranceSpec("q", (normal("x", mu, s),)), "x**2")
+    res = run(ToleranceSpec("q", (normal("x", mu, s),)), "x**2", "1")
     # y/σ² is non-central χ²(1, λ = μ²/σ²): its moments in closed form
     lam = (mu / s) ** 2
     law = stats.ncx2(1, lam, scale=s * s)
@@ -39,7 +39,7 @@ def test_a_square_of_a_normal_is_exact_and_its_pearson_tail_is_the_noncentral_ch
 
 def test_a_product_of_two_normals_mean_variance_and_third_moment():
     m1, s1, m2, s2 = 10.0, 0.2, 4.0, 0.3
-    res = run(ToleranceSpec("p", (normal("a", m1, s1), normal("b", m2, s2))), "a*b")
+    res = run(ToleranceSpec("p", (normal("a", m1, s1), normal("b", m2, s2))), "a*b", "1")
     # E = μ₁μ₂, Var = μ₁²σ₂² + μ₂²σ₁² + σ₁²σ₂², E[(y − E y)³] = 6 μ₁μ₂ σ₁²σ₂² (independent normals)
     var = m1 ** 2 * s2 ** 2 + m2 ** 2 * s1 ** 2 + s1 ** 2 * s2 ** 2
     assert res.mean == pytest.approx(m1 * m2, rel=1e-12) and res.sigma == pytest.approx(math.sqrt(var), rel=1e-9)
@@ -48,8 +48,8 @@ def test_a_product_of_two_normals_mean_variance_and_third_moment():
 
 def test_a_uniform_factor_under_curvature():
     """y = x² with x ~ U(1, 2): E y = 7/3, Var = 31/5 − 49/9 (moments of a uniform in closed form)."""
-    spec = ToleranceSpec("u", (Factor("x", "mm", Distribution.make("uniform", lower=1.0, upper=2.0)),))
-    res = run(spec, "x**2")
+    spec = ToleranceSpec("u", (Factor("x", "1", Distribution.make("uniform", lower=1.0, upper=2.0)),))
+    res = run(spec, "x**2", "1")
     assert res.mean == pytest.approx(7 / 3, rel=1e-9)
     assert res.sigma == pytest.approx(math.sqrt(31 / 5 - 49 / 9), rel=1e-7)
     # the third central moment of x² (from E x^k = (2^(k+1) − 1)/(k + 1))

@@ -31,7 +31,7 @@ C, L_CONV = 0.1, 0.1979
 
 def radius_case():
     spec = ToleranceSpec("r", tuple(Factor(n, "mm", Distribution.make("normal", mean=0.0, sigma=SIGMA)) for n in "xy"))
-    return spec, FormulaModel.from_spec(spec, {"r": "hypot(x, y)"})
+    return spec, FormulaModel.from_spec(spec, {"r": ("hypot(x, y)", "mm")})
 
 
 def convolution_case():
