@@ -200,3 +200,20 @@ def test_a_zone_at_mmc_needs_its_feature_of_size(extra, key, reason):
         spec_from_table({"factor": [{"name": "H1", "tolerance": "6.4 +0.2/0", "unit": "mm"},
                                     {"name": "x", **z}, {"name": "y", **z}]}, file="s.toml")
     assert key in (e.value.key or "")
+
+
+def test_mmc_zones_round_trip_through_a_spreadsheet(tmp_path):
+    from conftest import ROOT
+
+    from rvtol.inputs.table_spec import write_table_spec
+    from rvtol.spec import load_spec
+
+    spec = load_spec(ROOT / "data" / "examples" / "floating_fastener_mmc.csv")
+    f = spec.factor("x1")
+    assert (f.zone, f.modifier, f.size, f.feature_type) == ("hole1", "MMC", "H1", "internal")
+    out = write_table_spec(spec, tmp_path / "back.csv")
+    back = load_spec(out)
+    for a, b in zip(spec.factors, back.factors):
+        assert (a.name, a.zone, a.modifier, a.size, a.feature_type, a.limits) == \
+            (b.name, b.zone, b.modifier, b.size, b.feature_type, b.limits)
+        assert a.dist.std == pytest.approx(b.dist.std)
