@@ -13,7 +13,8 @@ and where the derivative is undefined (NaN, ∞).  :func:`one_sided_slopes` asks
   a smooth output has max D = −min D = |∇_zone y|; a cone (−|p₁ − p₂| of a floating fastener) has
   max D = min D = −1: every direction lowers it.
 
-A contributor is *kinked* when the two sides disagree by more than ``kink_tolerance`` of their size.
+A contributor is *kinked* when the two sides disagree by more than ``kink_tolerance`` of their size and
+(for a factor) its one-sided slopes stay as the step doubles — a smooth extremum's double with it.
 The linearised worst case then takes the side that hurts (:mod:`rvtol.stacking.conventions`): a factor
 adds t·max(0, D⁺, D⁻) above and t·max(0, −D⁺, −D⁻) below; a zone of radius r adds r·max(0, max D)
 above and r·max(0, −min D) below — the handbooks' "a position tolerance ⌀t contributes t/2 in the
@@ -64,6 +65,13 @@ def _kink(a: float, b: float, tol: float) -> bool:
     return bool(scale > 0 and abs(a + b) > tol * scale)
 
 
+def _stationary(up: float, down: float, up2: float, down2: float) -> bool:
+    """True when both one-sided slopes double with the step: a smooth extremum (y ≈ y₀ + ½ y'' h²), not a kink
+    (whose one-sided slopes stay as the step grows)."""
+    return all(abs(b - 2 * a) <= 0.1 * abs(2 * a) for a, b in ((up, up2), (down, down2)) if a != 0.0) and \
+        (up != 0.0 or down != 0.0)
+
+
 def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndarray | None = None,
                      evaluate: Evaluator | None = None, *, step: float = STEP,
                      kink_tolerance: float = KINK_TOLERANCE, directions: int = DIRECTIONS) -> Slopes:
@@ -91,7 +99,7 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
     phis = 2 * np.pi * np.arange(directions) / directions
     rows = [x0]
     for i in plain:
-        for s in (1.0, -1.0):
+        for s in (1.0, -1.0, 2.0, -2.0):   # the doubled steps tell a kink (slopes that stay) from a smooth extremum
             x = x0.copy()
             x[i] += s * h[i]
             rows.append(x)
@@ -109,10 +117,11 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
     r = 1
     for i in plain:
         up[i], down[i] = (v[r] - y0) / h[i], (v[r + 1] - y0) / h[i]
-        r += 2
+        up2, down2 = (v[r + 2] - y0) / (2 * h[i]), (v[r + 3] - y0) / (2 * h[i])
+        r += 4
         if not (np.isfinite(up[i]) and np.isfinite(down[i])):
             out.undefined.append(spec.names[i])
-        elif _kink(up[i], down[i], kink_tolerance):
+        elif _kink(up[i], down[i], kink_tolerance) and not _stationary(up[i], down[i], up2, down2):
             out.kinked.append(spec.names[i])
     for z, (ix, iy) in zones.items():
         d = (v[r:r + directions] - y0) / h[ix]
