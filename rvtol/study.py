@@ -76,7 +76,7 @@ from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
-from .report.sections import Section
+from .blocks import Section
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
                    spec_from_table)
@@ -442,9 +442,11 @@ def _table_formats(r: Params) -> tuple[str, ...]:
     return tuple(dict.fromkeys(v))
 
 
-def result_files(options: RunOptions) -> list[str]:
-    """The files a report folder holds besides report.html, for these options."""
-    out = (["report.pdf"] if options.pdf else []) + ["summary.json", "samples.parquet"]
+def result_files(options: RunOptions, requirements: bool = True) -> list[str]:
+    """The files a report folder holds besides report.html, for these options (summary.pdf: the first page alone,
+    for a study with requirements)."""
+    pdfs = ["report.pdf"] + (["summary.pdf"] if requirements else [])
+    out = (pdfs if options.pdf else []) + ["summary.json", "samples.parquet"]
     for ext in options.tables:
         out += [f"samples.{ext}", f"statistics.{ext}"]
     return out
@@ -464,6 +466,7 @@ class StudyResult:
     timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", each analysis' key, ...
     signoff: list = field(default_factory=list)   # per requirement: verdict, drivers, what to change
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
+    comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
 
     @property
     def passed(self) -> bool:
@@ -487,9 +490,10 @@ class StudyResult:
         return self._summary
 
 
-def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
+def run_study(study: Study, executor: Executor | None = None, store=None, baseline=None) -> StudyResult:
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
-    ``signoff`` — the per-requirement digest —, ``report`` — the report's own sections and figures);
+    ``signoff`` — the per-requirement digest —, ``comparison`` — with the ``baseline`` run
+    (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's own sections and figures);
     ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     from .report.standard import standard_sections
     from .signoff import digest
@@ -520,6 +524,13 @@ def run_study(study: Study, executor: Executor | None = None, store=None) -> Stu
     ta = time.perf_counter()
     result.signoff = digest(mc, study.model, study.spec, o.seed)
     timings["signoff"] = time.perf_counter() - ta
+    if baseline is not None:
+        from .ci.compare import RunData, compare
+
+        ta = time.perf_counter()
+        result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+        result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
+        timings["comparison"] = time.perf_counter() - ta
     ta = time.perf_counter()
     result.standard_sections = standard_sections(result)
     timings["report"] = time.perf_counter() - ta
@@ -578,7 +589,7 @@ def _is_report_folder(path: Path) -> bool:
 
 
 def _write_section_files(sections: list[Section], folder: Path) -> None:
-    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    """The files analyses add to the report folder (:meth:`rvtol.blocks.Section.add_file`)."""
     for s in sections:
         for name, content in s.files.items():
             if (folder / name).exists():
@@ -616,7 +627,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
 
     ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
     """
-    from .report.render import PDF_MAX_ROWS, render_html, render_pdf
+    from .report.render import PDF_MAX_ROWS, render_html, render_pdf, render_summary_html
 
     out = check_out_dir(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -630,6 +641,8 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         (tmp / "report.html").write_text(render_html(result), encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(render_html(result, PDF_MAX_ROWS), tmp / "report.pdf")
+            if result.signoff:
+                render_pdf(render_summary_html(result), tmp / "summary.pdf")     # the first page alone
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
