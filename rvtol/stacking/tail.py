@@ -188,7 +188,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
     """P(``output`` > ``limit``) (``side="upper"``) or P(output < limit) by the ``methods`` of the module docstring;
     ``limit`` in the output's display unit.  ``samples``: the model evaluations of each sampling method (importance
     sampling: N; subset simulation: about N per level; directional sampling: N/20 directions); ``seed``, ``key``:
-    OpenTURNS' generator is seeded per method from the named sub-stream ``stacking_importance`` of ``seed`` (the result
+    OpenTURNS' generator is seeded per method from the named sub-stream ``stacking_tail`` of ``seed`` (key: the method) (the result
     is the same for a seed); ``design_points``: the most multi-FORM looks for."""
     import openturns as ot
 
@@ -218,7 +218,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
         return e
 
     def seed_for(i):
-        ot.RandomGenerator.SetSeed(substream_seed(seed, "stacking_importance", key, i))
+        ot.RandomGenerator.SetSeed(substream_seed(seed, "stacking_tail", key, i))
 
     # FORM: Abdo-Rackwitz (gradient), Cobyla where the gradient vanishes or the solver fails
     form_result = None
