@@ -216,10 +216,11 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
     # which crank 1 locates
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
                                           "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
-    # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play) and, through the
-    # pin set the build chooses from it, the fitted pin-stage clearance
-    ("housing.pin_groove.diameter", {"pin_clearance_mean", "stackup.pin_ring_1_misfit.margin",
-                                     "stackup.pin_ring_2_misfit.margin", "screening.lost_motion",
+    # the groove size: every pin's clearance g_k (the 20-DOF stages and the discs' per-pin fit in the pin ring), their
+    # mean ḡ (doc 001's ξ) and, through the pin set the build chooses from it, the fitted pin-stage clearance
+    ("housing.pin_groove.diameter", {"pin_clearance_mean", "pin_ring.disc_1.margin", "pin_ring.disc_2.margin",
+                                     "pin_ring.disc_1.clearance_min", "pin_ring.disc_2.clearance_min",
+                                     "screening.lost_motion",
                                      "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF),
     # the end play of crank 1's bearing stack sets the preload its shim leaves
     ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
