@@ -42,16 +42,46 @@ def _stackup_matrix(model: CompositeModel, X):
     return st.model, CompositeModel.stage_matrix(st, env, len(X))
 
 
-def test_the_study_composes_five_models_on_the_drawing_spec(study):
+def test_the_study_composes_six_models_on_the_drawing_spec(study):
     m = study.model
     # 279 drawing factors (tolerances.toml) and the 19 gauge errors of the build (build.toml)
     assert len(study.spec) == 279 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
-    torsion, te = m.stage("torsion"), m.stage("te")
+    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer", "pin_ring"]
+    torsion, te, ring = m.stage("torsion"), m.stage("te"), m.stage("pin_ring")
     assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
+    # the pin-ring fit: the torsion curve's mapping (the pins' clearances) and the stack-up's disc places
+    assert ring.model.inputs[:183] == torsion.model.inputs and ring.inputs[:183] == torsion.inputs
+    assert [e.text for e in ring.inputs[183:]] == [f"stackup.disc_{j}_in_pin_ring.{c}" for j in (1, 2)
+                                                   for c in ("u", "v", "alpha", "beta")]
     assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
     assert {r.output for r in study.requirements} <= set(m.output_names)
+
+
+def test_the_discs_place_in_the_pin_ring_is_the_chain_through_crank_1(drawn, study):
+    """disc_j_in_pin_ring (u, v) at the disc's mid-plane z_j, housing axes: the carrier's axis in the housing
+    H(z_j) + crank 1's axis in the carrier a_1(z_j) + cam j on crank 1 c_1j − the disc's hole 1 h_j1 (the disc goes
+    onto crank 1's cam, centred; at the reference position every part's axes are the housing's) — exactly to first
+    order (the analytic linearisation); the exact-rotation chain differs by second-order terms only (products of
+    the parts' tilts, ~3e-4 rad, with lever arms up to the 42-mm crank circle: nanometres), which the same sample
+    at half its deviations shows: the difference falls by 4."""
+    X, v = drawn
+    su, Xs = _stackup_matrix(study.model, X)
+    J = su.jacobian()
+    rest = []
+    for scale in (1.0, 0.5):
+        devs, status = su.kc_deviations(scale * Xs)
+        assert (status == 0).all()
+        r = []
+        for j in (1, 2):
+            z = ref.Z_DISC[j]
+            uv = (ref.axis_at(v, "housing.main_raceways.coaxiality", z) + ref.a(v, 1, z) + ref.cam(v, 1, j)
+                  - ref.hole(v, j, 1)) * UM * scale
+            name = f"disc_{j}_in_pin_ring"
+            np.testing.assert_allclose(scale * (Xs @ J[name].T)[:, :2], uv, rtol=0, atol=1e-12, err_msg=name)
+            r.append(np.abs(devs[name][:, :2] - uv).max())
+        rest.append(max(r))
+    assert rest[0] < 5e-6 and rest[1] == pytest.approx(rest[0] / 4, rel=0.1)
 
 
 def test_stackup_kcs_equal_the_direct_formulas(drawn, study):
