@@ -192,7 +192,10 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
     a full revolution, sees every pin).  And the sizes the needle sets are fitted to: at the nominal every set
     is fitted to 1 µm two-point clearance, less than the nominal cylindricities (0.73 + 0.55 µm), so it is
     slightly preloaded (zero clearance in the 20-DOF model, mapping.md §3); a bore or eccentric step moves the
-    gauge chosen and the fitted clearance, not the physics."""
+    gauge chosen and the fitted clearance, not the physics.  The discs' per-pin fit in the pin ring is a minimum
+    over the pins too: a pin's own factor moves it only if the step can make that pin one of the tightest — a pin
+    whose clearance against a disc is within the 5-µm step of that disc's tightest (the pins along the eccentric
+    have 12.9 µm, those near φ0 = 38.3° from it 1.8 µm, mapping.md §6)."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -204,7 +207,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         Y, status = m.evaluate_with_status(X)
         assert (status == 0).all()
         runs.append(Y)
-    unused, inactive = [], set()
+    unused, inactive, ring_pins = [], set(), set()
     for j, f in enumerate(study.spec.factors):
         moved = {o for i, o in enumerate(m.output_names) if any(Y[0, i] != Y[j + 1, i] for Y in runs)}
         want = {o for o, d in deps.items() if f.name in d}
@@ -218,9 +221,15 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                 (f.name, missing)
             assert f.name in NEEDLE_FORMS or any(o.startswith("build.needles.") for o in moved), f.name
             continue
-        assert all(o.startswith(("torsion.", "reducer.")) for o in missing) and (not missing or f.family), (f.name, missing)
-        inactive |= {f.name} if missing else set()
+        assert all(o.startswith(("torsion.", "reducer.", "pin_ring.")) for o in missing) and (not missing or f.family), (f.name, missing)
+        inactive |= {f.name} if any(not o.startswith("pin_ring.") for o in missing) else set()
+        if f.family and any(o.startswith("pin_ring.") for o in moved):
+            ring_pins.add(int(f.name.split("[")[1].split("]")[0]))
         unused += [] if moved else [f.name]
+    # the per-pin factors that move the pin-ring fit belong to pins a 5-µm step can make the tightest against a disc
+    C = m.stage("pin_ring").model.clearances(m.stage_inputs("pin_ring", x0[None]))[0]
+    near = {k + 1 for k in range(C.shape[1]) if any(C[j, k] - C[j].min() <= 5e-3 * (1 + 1e-3) for j in (0, 1))}
+    assert ring_pins and ring_pins <= near and not {1, 21} & near, sorted(ring_pins - near)
     # a minority of the 120 per-pin factors: 43 at the built nominal, where the needle sets are fitted to zero play
     # and the cranks hold each disc, so the backlash (a minimum over the pins) sees only the pins that close first;
     # 4 on the same parts as drawn (needle play 2.7 µm lets the disc find more pins); 26 before issue 23
