@@ -12,7 +12,9 @@ no hand-written parsing — and to list every key with its meaning (``rvtol kind
 
 Types understood: ``int``, ``float``, ``bool``, ``str``, ``Literal[...]`` (one of the values),
 ``list[str]``, ``list[float]``, ``list[int]``, ``dict[str, float]`` (a table of numbers),
-``dict`` (a table, read as it is) and any of them ``| None`` (absent → the default).  Rules:
+``dict`` (a table, read as it is), ``list[dict]`` (an array of tables ``[[analysis.name]]``, each a
+:class:`rvtol.params.Params` for ``complete`` to read with located errors) and any of them ``| None``
+(absent → the default).  Rules:
 
 ====================  =====================================================================
 ``choices``           the values a string may take (or type it ``Literal[...]``)
@@ -219,6 +221,11 @@ def _read(params, key: str, tp, default, r: Rule, study):
         if item is float:
             v = params.floats(key, min_length=r.min_length, min=r.min, max=r.max, positive=r.positive,
                               nonnegative=r.nonnegative)
+            return v
+        if item is dict:                          # an array of tables: each a Params, for complete() to read
+            v = params.tables(key)
+            if len(v) < r.min_length:
+                raise params.error(key, f"give at least {r.min_length} [[{params.path(key)}]] table(s)")
             return v
         if item is int:
             v = params.raw(key)

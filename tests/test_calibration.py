@@ -21,7 +21,7 @@ from rvtol.cli import main
 from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.model import FunctionModel
-from rvtol.models.torsion_curve.analyses import CAMS
+from rvtol.models.torsion_curve.model import CAMS
 from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.study import load_study, run_study

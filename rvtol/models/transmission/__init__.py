@@ -7,7 +7,9 @@ Modules: :mod:`.geometry` (derived geometry, undefined symbols filled),
 pin grooves, disc webs, input shaft — in series with the contacts),
 :mod:`._kernels` (numba: forces and series laws, Newton, sequences,
 Newmark-β), :mod:`.numpy_twin` (NumPy implementation of the same equations),
-:mod:`.quasistatic`, :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`).
+:mod:`.quasistatic`, :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`),
+:mod:`.curve` (one reducer in full), :mod:`.sensitivity` (Δθ_er against the error magnitudes),
+:mod:`.analyses` (laid out by :mod:`.texts`).
 
 Quasi-static entry point (also for the torsional-stiffness and adjustment
 capabilities)::
