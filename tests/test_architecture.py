@@ -232,12 +232,13 @@ def test_every_kind_a_study_names_is_registered():
 OLDER_SHAPE = {
     "allocation", "stack_conventions", "tail_probability", "calibration", "per_unit_prediction", "selective_assembly",
 }
-#: analyses that return several sections — one summary.json entry each, kept so that the summaries of the studies
-#: stay what they were — with a small run() of their own: compute(), then one layout per section (the reason)
+#: analyses that report several sections — one summary.json entry each, kept so that the summaries of the studies
+#: stay what they were: a small report(result) of their own, one layout per section (kind: the reason)
 SEVERAL_SECTIONS = {
     "torsion_curve": "the curves, lost motion against clearances and rigidity: three comparisons of one reducer",
     "stiffness_breakdown": "the torsion-angle components and the cycloid–pin load distribution",
     "stiffness_reproduction": "doc 004's five studies (Tables 2–5, sweeps) and the reproduction table",
+    "allocation": "the cost–tolerance models and the allocation",
 }
 
 
@@ -249,12 +250,10 @@ def test_an_analysis_is_a_thin_adapter(kind):
 
     cls = _resolve(all_analyses()[kind])
     assert cls.Options is not None and dataclasses.is_dataclass(cls.Options), "declare the keys as Options"
-    assert "setup" not in vars(cls), "options are read declaratively, no own setup"
-    if kind in SEVERAL_SECTIONS:
-        run = inspect.getsource(cls.run)
-        assert len(run.splitlines()) <= 12 and "self.compute(ctx)" in run, "run(): compute, then one layout a section"
-    else:
-        assert "run" not in vars(cls), "compute() and the generic report, no own run"
+    assert "run" not in vars(cls) and "setup" not in vars(cls), "compute() and the generic report, no own run/setup"
+    if "report" in vars(cls):
+        assert kind in SEVERAL_SECTIONS, "one section, the generic report (or a reason in SEVERAL_SECTIONS)"
+        assert len(inspect.getsource(cls.report).splitlines()) <= 12, "report(): one layout per section, no more"
     assert "compute" in {n for c in cls.__mro__ for n in vars(c) if c is not Analysis}
     assert cls.layout is not None and cls.layout.__module__.endswith(".texts"), "the layout lives in a texts module"
     src = inspect.getsource(cls.compute)

@@ -71,6 +71,8 @@ class LostMotionScreening(Analysis):
                 self.plan = screening_plan(study, design20, source, tc, lm, design_given=self.design is not None,
                                            percent=self.percent, samples=self.samples, limit=self.limit)
             except InputError as exc:
+                if exc.file is not None:                # located already (e.g. a key the 20-DOF design lacks)
+                    raise
                 raise error(exc.key, exc.reason) from None
 
     def compute(self, ctx):

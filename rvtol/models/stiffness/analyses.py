@@ -58,9 +58,8 @@ class StiffnessBreakdown(Analysis):
         o = self.options
         return stiffness_breakdown(o.stiffness, o.torque, o.modifications, o.torque_fractions)
 
-    def run(self, ctx):
+    def report(self, res):
         """Two sections, each with its summary.json entry (``<key>`` and ``stiffness_contact``)."""
-        res = self.compute(ctx)
-        return [self.report(res.angles),
+        return [super().report(res.angles),
                 Section("stiffness_contact", texts.CONTACT_TITLE, texts.contact(res.contact, self.options),
                         res.contact.summary())]

@@ -78,10 +78,10 @@ class TorsionCurveAnalysis(Analysis):
         return torsion_curve_study(model, mean, [c * um for c in o.clearances], [c * um for c in o.pin_clearances],
                                    o.clearance_coefficient, o.part1)
 
-    def run(self, ctx):
+    def report(self, res):
         """Three sections, each with its summary.json entry (``<key>``, ``<key>_lost_motion``, ``<key>_rigidity``)."""
-        res, o = self.compute(ctx), self.options
-        return [self.report(res.curves),
+        o = self.options
+        return [super().report(res.curves),
                 Section(f"{self.key}_lost_motion", texts.LOST_MOTION_TITLE, texts.lost_motion(res.clearances, o),
                         res.clearances.summary()),
                 Section(f"{self.key}_rigidity", texts.RIGIDITY_TITLE, texts.rigidity(res.rigidity, o),

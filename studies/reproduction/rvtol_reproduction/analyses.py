@@ -255,12 +255,11 @@ class StiffnessReproduction(Analysis):
                                   radii=o.pin_circle_radii, eccentricities=o.eccentricities, widths=o.widths,
                                   points=o.sweep_points, error_range=o.error_range)
 
-    def run(self, ctx):
+    def report(self, r):
         """Six sections, each with its summary.json entry: the library's two (torsion angle, pin loads) with the
         document beside them, geometry, modifications, errors, and the reproduction table (this analysis' own)."""
-        r, o = self.compute(ctx), self.options
         sections = []
         for key, part in r.parts().items():
             title, layout = texts.STIFFNESS_SECTIONS[key]
-            sections.append(Section(key, title, layout(r, o), part.summary()))
-        return sections + [self.report(r)]
+            sections.append(Section(key, title, layout(r, self.options), part.summary()))
+        return sections + [super().report(r)]
