@@ -1,6 +1,6 @@
 """The elastic torsion angle of one reducer at a torque: its components and the cycloid–pin load distribution.
 
-:func:`stiffness_breakdown` returns a :class:`StiffnessBreakdown` of two results: a
+:func:`stiffness_breakdown` returns a :class:`StiffnessAtTorque` of two results: a
 :class:`TorsionAngleBreakdown` (θ_Σ = θ1 + … + θ5 at the output by component, the equivalent rigidity,
 the components against the torque) and a :class:`PinLoads` (the pins on the loaded side with their
 clearance, force and single-pair stiffness; the largest pin force and the contact pairs against the
@@ -64,7 +64,7 @@ class PinLoads:
 
 
 @dataclass
-class StiffnessBreakdown:
+class StiffnessAtTorque:
     angles: TorsionAngleBreakdown
     contact: PinLoads
 
@@ -75,7 +75,8 @@ class StiffnessBreakdown:
         return self.angles.summary()
 
 
-def torsion_angle_breakdown(rs: ReducerStiffness, T: float, mods: tuple[float, float], fractions) -> TorsionAngleBreakdown:
+def torsion_angle_breakdown(rs: ReducerStiffness, T: float, mods: tuple[float, float],
+                            fractions) -> TorsionAngleBreakdown:
     """θ_Σ of ``rs`` at the output torque ``T`` (N·mm) with the profile modifications ``mods`` (mm), and
     at the ``fractions`` of ``T``."""
     res = rs.evaluate(T, *mods)
@@ -105,6 +106,6 @@ def pin_loads(rs: ReducerStiffness, T: float, mods: tuple[float, float], fractio
     return PinLoads(pins, lf, cs)
 
 
-def stiffness_breakdown(rs: ReducerStiffness, T: float, mods: tuple[float, float], fractions) -> StiffnessBreakdown:
+def stiffness_breakdown(rs: ReducerStiffness, T: float, mods: tuple[float, float], fractions) -> StiffnessAtTorque:
     """:func:`torsion_angle_breakdown` and :func:`pin_loads` of one reducer."""
-    return StiffnessBreakdown(torsion_angle_breakdown(rs, T, mods, fractions), pin_loads(rs, T, mods, fractions))
+    return StiffnessAtTorque(torsion_angle_breakdown(rs, T, mods, fractions), pin_loads(rs, T, mods, fractions))

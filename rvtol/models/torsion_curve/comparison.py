@@ -41,8 +41,8 @@ from ..transmission import layout as L
 from ..transmission.quasistatic import QuasiStaticSolver
 from .model import CAMS, TorsionCurve, TorsionCurveModel, compliance_breakdown
 
-BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)",
-                    "cycloid_pin": "cycloid–pin contacts (≈ θ2)", "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
+BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)", "cycloid_pin": "cycloid–pin contacts (≈ θ2)",
+                    "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
 
 _arcmin = lambda v: units.from_base(v, "arcmin")  # noqa: E731
 _arcsec = lambda v: float(units.from_base(v, "arcsec"))  # noqa: E731

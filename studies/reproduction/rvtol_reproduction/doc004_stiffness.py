@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from rvtol import units
-from rvtol.models.stiffness.breakdown import StiffnessBreakdown, stiffness_breakdown
+from rvtol.models.stiffness.breakdown import StiffnessAtTorque, stiffness_breakdown
 from rvtol.models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
 from rvtol.models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
 from rvtol.records import frame_records
@@ -295,7 +295,8 @@ class ModificationStudy:
 
     def clearances(self) -> pd.DataFrame:
         df = self.table3
-        return pd.DataFrame({"combination": SHORT, "Δr_p (µm)": df["Δr_p (mm)"] * 1e3, "ΔR_p (µm)": df["ΔR_p (mm)"] * 1e3,
+        return pd.DataFrame({"combination": SHORT, "Δr_p (µm)": df["Δr_p (mm)"] * 1e3,
+                             "ΔR_p (µm)": df["ΔR_p (mm)"] * 1e3,
                              "radial Δr_p−ΔR_p (µm)": df["radial clearance Δr_p-ΔR_p (mm)"] * 1e3,
                              "normal n0 (µm)": df["normal clearance n0 (mm)"] * 1e3,
                              "2n0/r_c' (rad)": df["backlash angle 2n0/r_c (rad)"],
@@ -356,7 +357,7 @@ class ErrorSweeps:
 
 @dataclass
 class StiffnessDocument:
-    breakdown: StiffnessBreakdown
+    breakdown: StiffnessAtTorque
     geometry: GeometrySweeps
     modifications: ModificationStudy
     errors: ErrorSweeps
