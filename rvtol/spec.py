@@ -89,7 +89,7 @@ from pathlib import Path
 import numpy as np
 
 from . import units
-from .distributions import KINDS, Distribution, from_params
+from .distributions import KINDS, ONE_SIDED, Distribution, from_params
 from .errors import InputError, SpecError, did_you_mean
 from .inputs.measured import measured_factor
 from .inputs.notation import NotationError, Tolerance, parse_tolerance
@@ -340,6 +340,9 @@ class Requirement:
 # --------------------------------------------------------------------------- loaders
 def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
     """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    if Path(path).suffix.lower() == ".txt":     # a TOML spec saved as text, or a table: say which to name it
+        raise SpecError("a spec is a TOML file (.toml) or a table (.csv, .tsv or .xlsx), not .txt: rename it after "
+                        "what it holds (a tab-separated table: .tsv)", file=str(path), key="-")
     if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
         return load_table_spec(path, sheet=sheet)
     data, sha = read_toml(path)
@@ -428,7 +431,7 @@ def factor_from_params(p: Params) -> Factor:
     elif drawing is not None:
         dist = band_distribution(p, drawing)
     else:
-        dist = from_params(p)
+        dist = from_params(_located_on_nominal(p))
     nominal = p.float("nominal", None) if drawing is None else drawing.nominal
     desc = p.str("description", "")
     part = p.str("part", "")
@@ -443,6 +446,29 @@ def factor_from_params(p: Params) -> Factor:
                   limits=limits, measured=measured, zone=zone)
 
 
+#: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
+_LOCATION_KEYS = ("mean", "lower", "upper", "median", "mode", "shift")
+
+
+def _located_on_nominal(p: Params) -> Params:
+    """The factor's table with ``mean = nominal`` when it gives a non-zero nominal and nothing that places the
+    distribution: ``nominal = 10.0, dist = "normal", tolerance = 0.06`` is 10 ± 0.03, never 0 ± 0.03 (a distribution
+    left at its default mean 0 beside a nominal of 10 is a silent wrong answer).  A one-sided (magnitude) kind has
+    no mean to place: it must say where its values start (``shift``)."""
+    nominal = p.data.get("nominal")
+    if not isinstance(nominal, (int, float)) or isinstance(nominal, bool) or nominal == 0 \
+            or any(k in p.data for k in _LOCATION_KEYS):
+        return p
+    kind = p.data.get("dist")
+    if kind in ONE_SIDED:
+        raise p.error("nominal", f"a {kind} factor is a magnitude (its values start at 0): with nominal = {nominal} "
+                                 "say where they start ('shift'), or give the nominal as 0")
+    placed = Params({**p.data, "mean": nominal}, file=p.file, key=p.key)
+    placed._probed = p._probed          # one table: what either reads counts as read (p.finish sees it)
+    placed._read = p._read
+    return placed
+
+
 # ---- the engineers' input forms of a [[factor]] table (rvtol.inputs) --------------------------
 #: distribution keys a factor written in drawing notation may add to refine its band's reading
 _REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scale", "shift")
@@ -451,7 +477,7 @@ _REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scal
 def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
     """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
     for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
-    text = p.data.get("tolerance")
+    text = p.data.get("tolerance") if "tolerance" in p else None   # probed: a misspelt 'tolerence' is named
     if not isinstance(text, str):
         return None
     p.raw("tolerance")
@@ -533,6 +559,7 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         return None
     k = len(names)
     c = np.eye(k)
+    given: dict[tuple[int, int], str] = {}   # pair -> the table that gave it: a second one contradicts or repeats
     for t in tables:
         if "pair" in t:
             fs = t.strs("pair")
@@ -564,6 +591,15 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         t.finish()
         for a, ia in enumerate(idx):
             for b, ib in enumerate(idx):
+                if a < b:
+                    pair = (min(ia, ib), max(ia, ib))
+                    if pair in given:
+                        prev = c[ia, ib]
+                        same = "the same" if prev == m[a, b] else f"{prev:g} there, {m[a, b]:g} here"
+                        raise t.error("factors" if "factors" in t.data else "pair",
+                                      f"the correlation of {names[pair[0]]!r} and {names[pair[1]]!r} is given twice "
+                                      f"(first in {given[pair]}; {same}): give each pair once")
+                    given[pair] = t.key
                 if a != b:
                     c[ia, ib] = m[a, b]
     w = np.linalg.eigvalsh(c)

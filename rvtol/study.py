@@ -76,7 +76,7 @@ from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
-from .report.sections import Section
+from .blocks import Section
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
                    spec_from_table)
@@ -152,8 +152,43 @@ class StudyContext:
 
 
 # --------------------------------------------------------------------------- loading
-def load_study(path: str | Path, **overrides) -> Study:
-    """Read and validate a study file and everything it names. Raises :class:`InputError`."""
+class NotRunModel(Model):
+    """Stands for a model whose code ``rvtol check`` did not run (a ``kind = "python"`` factory): its outputs are unknown, so requirements' outputs, gates and analyses are not checked.
+    ``notes`` say what was checked without running."""
+
+    def __init__(self, spec: ToleranceSpec, notes: list[str]):
+        from . import units as _units
+
+        self.inputs = tuple(spec.names)
+        self.input_units = tuple(_units.base_unit(u) for u in spec.units)
+        self.outputs = ()
+        self.notes = notes
+
+    def evaluate(self, X):   # pragma: no cover - never run
+        raise RuntimeError("a model rvtol check did not run cannot be evaluated")
+
+
+def _user_code(root: Params) -> list[str] | None:
+    """``[model]`` tables that run the study's own code (``kind = "python"``): validated without running it
+    (:func:`rvtol.models.custom.model.check_without_running`); notes, or None if there are none.  (A kind of an
+    installed package is loaded like a built-in one: installing it was the decision to run it.)"""
+    raw = root.data.get("model")
+    tables = root.tables("model") if isinstance(raw, list) else [root.sub("model")]
+    notes = []
+    for t in tables:
+        kind = t.data.get("kind")
+        if kind == "python":
+            from .models.custom.model import check_without_running
+
+            notes.append(check_without_running(t))
+    return notes or None
+
+
+def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
+    """Read and validate a study file and everything it names. Raises :class:`InputError`.
+
+    ``execute=False`` (``rvtol check`` without ``--execute``): a model made by the user's code is validated
+    without running that code (:class:`NotRunModel`), and what depends on its outputs is not checked."""
     path = Path(path)
     data, sha = read_toml(path)
     file = str(path)
@@ -202,6 +237,15 @@ def load_study(path: str | Path, **overrides) -> Study:
 
     options = _options(root, overrides)
 
+    notes = None if execute else _user_code(root)
+    if notes is not None:       # rvtol check: no user code runs; nothing that needs its outputs is checked
+        check_requirement_names(reqs)
+        study = Study(name, title, desc, file, base, design, spec, NotRunModel(spec, notes), reqs, options, [],
+                      inputs, exploratory)
+        for k in ("model", "quantity", "gate", "analysis"):
+            root.raw(k, None)
+        root.finish()
+        return study
     if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
         model = _composite(root, mapping, design, spec, file, inputs)
     else:
@@ -214,6 +258,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         model.check_spec(spec)
     except InputError as exc:
         raise exc.located(file=spec.file or file) from None
+    check_requirement_names(reqs)
     for r in reqs:
         if r.output not in model.output_names:
             raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
@@ -233,6 +278,19 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def check_requirement_names(reqs: list[Requirement]) -> None:
+    """Two requirements with one name (or, unnamed, the same output and limits) would be two JUnit cases
+    and two rows no reader can tell apart: refused, naming both."""
+    seen: dict[str, Requirement] = {}
+    for r in reqs:
+        first = seen.get(r.label)
+        if first is not None:
+            where = f"{first.key or 'requirement'}" + (f" of {first.file}" if first.file != r.file else "")
+            raise SpecError(f"requirement {r.label!r} is given twice (first as {where}): give each requirement "
+                            "its own name", file=r.file, key=f"{r.key}.name" if r.key else "name")
+        seen[r.label] = r
 
 
 #: tables a study that extends another may not give (they come from the base study)
@@ -384,9 +442,11 @@ def _table_formats(r: Params) -> tuple[str, ...]:
     return tuple(dict.fromkeys(v))
 
 
-def result_files(options: RunOptions) -> list[str]:
-    """The files a report folder holds besides report.html, for these options."""
-    out = (["report.pdf"] if options.pdf else []) + ["summary.json", "samples.parquet"]
+def result_files(options: RunOptions, requirements: bool = True) -> list[str]:
+    """The files a report folder holds besides report.html, for these options (summary.pdf: the first page alone,
+    for a study with requirements)."""
+    pdfs = ["report.pdf"] + (["summary.pdf"] if requirements else [])
+    out = (pdfs if options.pdf else []) + ["summary.json", "samples.parquet"]
     for ext in options.tables:
         out += [f"samples.{ext}", f"statistics.{ext}"]
     return out
@@ -406,6 +466,7 @@ class StudyResult:
     timings: dict = field(default_factory=dict)   # wall time (s) by phase: "monte_carlo", each analysis' key, ...
     signoff: list = field(default_factory=list)   # per requirement: verdict, drivers, what to change
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
+    comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
 
     @property
     def passed(self) -> bool:
@@ -429,9 +490,10 @@ class StudyResult:
         return self._summary
 
 
-def run_study(study: Study, executor: Executor | None = None, store=None) -> StudyResult:
+def run_study(study: Study, executor: Executor | None = None, store=None, baseline=None) -> StudyResult:
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
-    ``signoff`` — the per-requirement digest —, ``report`` — the report's own sections and figures);
+    ``signoff`` — the per-requirement digest —, ``comparison`` — with the ``baseline`` run
+    (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's own sections and figures);
     ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     from .report.standard import standard_sections
     from .signoff import digest
@@ -462,6 +524,13 @@ def run_study(study: Study, executor: Executor | None = None, store=None) -> Stu
     ta = time.perf_counter()
     result.signoff = digest(mc, study.model, study.spec, o.seed)
     timings["signoff"] = time.perf_counter() - ta
+    if baseline is not None:
+        from .ci.compare import RunData, compare
+
+        ta = time.perf_counter()
+        result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+        result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
+        timings["comparison"] = time.perf_counter() - ta
     ta = time.perf_counter()
     result.standard_sections = standard_sections(result)
     timings["report"] = time.perf_counter() - ta
@@ -488,7 +557,28 @@ def check_out_dir(out_dir: str | Path) -> Path:
         if any(out.iterdir()) and not _is_report_folder(out):
             raise InputError("exists and is not an rvtol report folder (no rvtol summary.json in it); "
                              "choose another --out or empty it", file=where, key="--out")
+        foreign = foreign_files(out)
+        if foreign:
+            shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+            raise InputError(f"holds files rvtol did not write ({shown}); a run replaces the whole folder: move them "
+                             "elsewhere first", file=where, key="--out")
     return out
+
+
+#: the list of the files a report folder's run wrote (written last, in the same atomic step)
+MANIFEST = ".rvtol-files"
+#: files of a report folder written before the manifest existed
+_KNOWN = ("summary.json", "samples.parquet", "report.html", "report.pdf", "comparison.json", "requirements.csv",
+          "per_unit.csv", "samples.csv", "samples.xlsx", "statistics.csv", "statistics.xlsx")
+
+
+def foreign_files(folder: Path) -> list[str]:
+    """The entries of an rvtol report folder that rvtol did not write (its manifest, or the known names)."""
+    try:
+        known = set((folder / MANIFEST).read_text(encoding="utf-8").split("\n")) | {MANIFEST}
+    except (OSError, UnicodeDecodeError):
+        known = set(_KNOWN)
+    return sorted(p.name for p in folder.iterdir() if p.name not in known)
 
 
 def _is_report_folder(path: Path) -> bool:
@@ -499,7 +589,7 @@ def _is_report_folder(path: Path) -> bool:
 
 
 def _write_section_files(sections: list[Section], folder: Path) -> None:
-    """The files analyses add to the report folder (:meth:`rvtol.report.sections.Section.add_file`)."""
+    """The files analyses add to the report folder (:meth:`rvtol.blocks.Section.add_file`)."""
     for s in sections:
         for name, content in s.files.items():
             if (folder / name).exists():
@@ -537,7 +627,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
 
     ``extra_files`` (name -> text) go into the same folder in the same atomic step (e.g. comparison.json).
     """
-    from .report.render import PDF_MAX_ROWS, render_html, render_pdf
+    from .report.render import PDF_MAX_ROWS, render_html, render_pdf, render_summary_html
 
     out = check_out_dir(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -551,9 +641,12 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         (tmp / "report.html").write_text(render_html(result), encoding="utf-8")
         if result.study.options.pdf:
             render_pdf(render_html(result, PDF_MAX_ROWS), tmp / "report.pdf")
+            if result.signoff:
+                render_pdf(render_summary_html(result), tmp / "summary.pdf")     # the first page alone
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
+        (tmp / MANIFEST).write_text("\n".join(sorted([MANIFEST, *(p.name for p in tmp.iterdir())])), encoding="utf-8")
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

@@ -10,10 +10,11 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..params import read_bytes
+from ..params import decode_text, read_bytes
 from ..errors import SpecError
 
 #: table formats rvtol reads and writes
@@ -57,6 +58,7 @@ class Sheet:
     title: str | None
     lettered: bool
     sha256: str
+    merged: tuple[tuple[int, int, int, int], ...] = ()   # XLSX merged ranges (first row, col, last row, col; 1-based)
 
     def location(self, file: str) -> Location:
         return Location(file, self.title)
@@ -85,25 +87,44 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
                                 key="sheet")
             rows = [(r, list(cells)) for r, cells in enumerate(ws.iter_rows(values_only=True), start=1)]
             title = ws.title
+            merged = _merged_ranges(raw, getattr(ws, "_worksheet_path", None))
         finally:
             wb.close()
         _check_formulas(raw, path, title, rows)
-        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest())
+        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
     if suffix in (".csv", ".txt", ".tsv"):
         raw = read_bytes(path, "a table file")
-        try:
-            text = raw.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            try:
-                text = raw.decode("cp1252")   # Excel's "CSV" on Western Windows
-            except UnicodeDecodeError:
-                raise SpecError("not UTF-8 (or Windows-1252) text", file=str(path), key="-") from None
+        text = decode_text(raw, str(path), fallback="cp1252")   # cp1252: Excel's "CSV" on Western Windows
         delim = "\t" if suffix == ".tsv" else sniff(text, delimiters)
         reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " ")
         rows = [(r, cells) for r, cells in enumerate(reader, start=1)]
         return Sheet(rows, None, False, hashlib.sha256(raw).hexdigest())
     raise SpecError(f"unknown table format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx; save other "
                     "spreadsheets as .xlsx)", file=str(path), key="-")
+
+
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+)(\d+):([A-Z]+)(\d+)"')
+
+
+def _col_number(letters: bytes) -> int:
+    n = 0
+    for ch in letters.decode():
+        n = n * 26 + ord(ch) - 64
+    return n
+
+
+def _merged_ranges(raw: bytes, sheet_path: str | None) -> tuple[tuple[int, int, int, int], ...]:
+    """The merged ranges of one sheet, from its XML (openpyxl's read-only mode does not read them)."""
+    if not sheet_path:
+        return ()
+    import zipfile
+
+    with zipfile.ZipFile(io.BytesIO(raw)) as z:
+        try:
+            xml = z.read(sheet_path.lstrip("/"))
+        except KeyError:
+            return ()
+    return tuple((int(r0), _col_number(c0), int(r1), _col_number(c1)) for c0, r0, c1, r1 in _MERGE.findall(xml))
 
 
 def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, list]]) -> None:
@@ -122,6 +143,38 @@ def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, li
                                     file=str(path), key=Location(str(path), title).key(r, None, col_letter(i)))
     finally:
         wb.close()
+
+
+#: files from this size on show a progress bar while read (on a terminal)
+PROGRESS_BYTES = 8 * 2**20
+
+
+class _Progress:
+    def __init__(self, total: int, desc: str):
+        self.bar = None
+        if total >= PROGRESS_BYTES:
+            import sys
+
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc=desc, unit="B", unit_scale=True, delay=1.0, leave=False,
+                            file=sys.stderr, disable=None, dynamic_ncols=True)
+
+    def advance(self, n: int) -> None:
+        if self.bar is not None:
+            self.bar.update(min(n, self.bar.total - self.bar.n))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def byte_progress(total: int, desc: str) -> _Progress:
+    """A progress bar on stderr for reading ``total`` bytes (only for a large file, only on a terminal)."""
+    return _Progress(total, desc)
 
 
 def sniff(text: str, delimiters: str = ",;\t") -> str:

@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 
 from ..units import label
-from .sections import RunTable, Section, Table
+from ..blocks import RunTable, Section, Table
 
 
 def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:

@@ -1,12 +1,12 @@
 """What the adjustment section says: its prose and the layout of an :class:`.assessment.AdjustmentAssessment`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.adjustment.analyses`.
 """
 from __future__ import annotations
 
 from ... import units
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 
 DESCRIBE = ("{title}. State x = KC angular errors ({states}) relative to the datum; x(k+1) = A x(k) + B u(k) + F(k) "
             "w(k), A = I (rigid), B = F (an adjustment acts like the part's error), y(k) = C(k) x(k) + v(k) measures "

@@ -1,6 +1,6 @@
 """What the lost-motion breakdown says: its prose and the layout of a :class:`.breakdown.StageBreakdown`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.lost_motion.analyses`.
 """
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 
 DOCUMENT = ("Lost motion of each contribution by the document's formulas as printed (doc 001, document mode): mean ± "
             "T/2 with T as written (means added, tolerances combined by RSS, involute stage divided by the ratio i), "

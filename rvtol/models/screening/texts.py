@@ -1,11 +1,11 @@
 """What the screening comparison says: its prose and the layout of a :class:`.comparison.ScreeningComparison`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.screening.analyses`.
 """
 from __future__ import annotations
 
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 
 INTRO = ("What a sign-off judges is the maker's lost motion: the angle between the mid-points of the hysteresis width "
          "at ±{p:g} % of rated torque, input locked, elastic deflection included (REFERENCE), here from the 20-DOF "

@@ -1,13 +1,13 @@
 """What the stack-up sections say: their prose and the layout of each result of the stack-up capabilities.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.stackup.analyses`.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 from ...units import label
 from .linear import BASIS
 

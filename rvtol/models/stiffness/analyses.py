@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 from ...analysis import Analysis, CommonOptions
 from ...options import option
-from ...report.sections import Section
+from ...blocks import Section
 from . import texts
 from .breakdown import stiffness_breakdown
 from .model import TorsionalStiffnessModel

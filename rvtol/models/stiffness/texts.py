@@ -1,12 +1,12 @@
 """What the stiffness sections say: their prose and the layout of each result of :mod:`.breakdown`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.stiffness.analyses`.
 """
 from __future__ import annotations
 
 from ... import units
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 
 HEADER = ("All figures at the output torque T = {torque:g} N·m (input locked), per disc T_c = {disc:.1f} N·m; Table 1 "
           "modifications Δr_p = {dr:g} µm, ΔR_p = {dR:g} µm unless stated.")

@@ -24,7 +24,7 @@ from pathlib import Path
 from ... import units
 from ...analysis import Analysis, CommonOptions, target_model
 from ...options import option
-from ...report.sections import Section
+from ...blocks import Section
 from ..stiffness.torsion_angle import ReducerStiffness
 from ..transmission.geometry import geometry_from_design
 from . import texts

@@ -1,12 +1,12 @@
 """What the torsion-curve sections say: their prose and the layout of each result of :mod:`.comparison`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.torsion_curve.analyses`.
 """
 from __future__ import annotations
 
 from ... import units
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 
 CURVES = ("Carrier torque 0 → +{torque:g} → −… → 0 N·m in {points} steps per quarter, each equilibrium warm-started "
           "from the previous one (doc 000's 20-DOF model, quasi-static). Figures by the maker's definitions "

@@ -1,11 +1,11 @@
 """What the transmission-error sections say: their prose and the layout of :mod:`.curve` and :mod:`.sensitivity`.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), named by
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.transmission.analyses`.
 """
 from __future__ import annotations
 
-from ...report.sections import Figure, Table, Text, figure_png
+from ...blocks import Figure, Table, Text, figure_png
 from .sensitivity import HIGH_FRACTION, NEGLIGIBLE_FRACTION
 
 CURVE = ("Configuration: {how}. Load torque {load:.4g} N·m resisting ({share:.3g} % of rated), {per_rev} positions per "

@@ -18,7 +18,7 @@ from rvtol.models.stiffness.analyses import StiffnessOptions
 from rvtol.models.transmission.analyses import TESensitivityOptions, TESensitivity
 from rvtol.models.transmission.sensitivity import te_sensitivity
 from rvtol.options import REQUIRED, option
-from rvtol.report.sections import Section
+from rvtol.blocks import Section
 
 from . import texts
 from .doc000_transmission_error import SENSITIVITIES, te_against_document

@@ -1,13 +1,13 @@
 """What the reproduction sections say: their prose and the layout of each document's comparison.
 
-``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`), one per analysis of
+``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), one per analysis of
 :mod:`.analyses`; the library's layouts are reused where a section shows what the library computes.
 """
 from __future__ import annotations
 
 from rvtol.models.stiffness import texts as stiffness_texts
 from rvtol.models.transmission import texts as te_texts
-from rvtol.report.sections import Figure, Table, Text, figure_png
+from rvtol.blocks import Figure, Table, Text, figure_png
 
 from .printed import RULE
 
