@@ -12,9 +12,9 @@ no hand-written parsing — and to list every key with its meaning (``rvtol kind
 
 Types understood: ``int``, ``float``, ``bool``, ``str``, ``Literal[...]`` (one of the values),
 ``list[str]``, ``list[float]``, ``list[int]``, ``dict[str, float]`` (a table of numbers),
-``dict`` (a table, read as it is), ``list[dict]`` (an array of tables ``[[analysis.name]]``, each a
-:class:`rvtol.params.Params` for ``complete`` to read with located errors) and any of them ``| None``
-(absent → the default).  Rules:
+``dict`` (a table, read as it is), ``list[Params]`` (an array of tables ``[[analysis.<key>]]`` handed on
+unread, each a :class:`rvtol.params.Params`: ``complete`` reads and finishes them, errors located) and any
+of them ``| None`` (absent → the default).  Rules:
 
 ====================  =====================================================================
 ``choices``           the values a string may take (or type it ``Literal[...]``)
@@ -222,11 +222,12 @@ def _read(params, key: str, tp, default, r: Rule, study):
             v = params.floats(key, min_length=r.min_length, min=r.min, max=r.max, positive=r.positive,
                               nonnegative=r.nonnegative)
             return v
-        if item is dict:                          # an array of tables: each a Params, for complete() to read
-            v = params.tables(key)
-            if len(v) < r.min_length:
-                raise params.error(key, f"give at least {r.min_length} [[{params.path(key)}]] table(s)")
-            return v
+        if _is_params(item):                      # an array of tables handed on: complete() reads them
+            tables = params.tables(key)
+            if len(tables) < r.min_length:
+                raise params.error(key, f"give at least {r.min_length} [[{params.path(key)}]] table"
+                                        f"{'s' if r.min_length > 1 else ''}")
+            return tables
         if item is int:
             v = params.raw(key)
             if not isinstance(v, list) or any(isinstance(x, bool) or not isinstance(x, int) for x in v):
@@ -250,6 +251,10 @@ def _read(params, key: str, tp, default, r: Rule, study):
 
 
 _ABSENT = object()
+
+
+def _is_params(tp) -> bool:
+    return getattr(tp, "__name__", None) == "Params" and getattr(tp, "__module__", "") == "rvtol.params"
 
 
 def _unoptional(tp):
@@ -320,7 +325,7 @@ def _type_name(tp) -> str:
         name = " | ".join(repr(a) for a in typing.get_args(tp))
     elif origin is list:
         (item,) = typing.get_args(tp) or (Any,)
-        name = f"list of {getattr(item, '__name__', str(item))}"
+        name = "array of tables" if _is_params(item) else f"list of {getattr(item, '__name__', str(item))}"
     elif origin is dict or tp is dict:
         name = "table"
     else:

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from ...analysis import Analysis, CommonOptions
 from ...errors import InputError
 from ...options import option
+from ...params import Params
 from . import texts
 from .domain_check import check_domains, domain_from_table
 from .linear import check_linearisable, linear_stackup
@@ -102,7 +103,7 @@ class StackupDomains(Analysis):
     @dataclass
     class Options(CommonOptions):
         n: int = option(200_000, "samples per check", min=1000)
-        domain: list[dict] = option([], "[[analysis.domain]] tables: kind = \"plane\" (t1, t2, length, width), "
+        domain: list[Params] = option([], "[[analysis.domain]] tables: kind = \"plane\" (t1, t2, length, width), "
                                         "\"cylinder\" (t, length) or \"clearance\" (clearance, length, hole, shaft); "
                                         "k (3), name")
         domains: list = field(init=False, default_factory=list)
