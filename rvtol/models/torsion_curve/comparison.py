@@ -39,7 +39,7 @@ from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import LABELS, ReducerStiffness
 from ..transmission import layout as L
 from ..transmission.quasistatic import QuasiStaticSolver
-from .model import CAMS, TorsionCurve, TorsionCurveModel, compliance_breakdown
+from .model import CAMS, RIGIDITY_READINGS, TorsionCurve, TorsionCurveModel, compliance_breakdown
 
 BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)", "cycloid_pin": "cycloid–pin contacts (≈ θ2)",
                     "turning_arm_bearings": "cycloid–crank bearings (≈ θ3)"}
@@ -108,6 +108,8 @@ def _metrics_row(label: str, curve: TorsionCurve, percent: float) -> dict:
             f"lost motion ±{percent:g} % (arcmin)": units.from_base(mt.lost_motion, "arcmin"),
             "backlash (arcmin)": units.from_base(mt.backlash, "arcmin"),
             "rigidity b/a (N·m/arcmin)": units.from_base(mt.rigidity, "N*m/arcmin"),
+            "rigidity 50–100 % (N·m/arcmin)": units.from_base(mt.rigidity_50_100, "N*m/arcmin"),
+            "rigidity b/a less backlash (N·m/arcmin)": units.from_base(mt.rigidity_clearance_free, "N*m/arcmin"),
             "angle at +rated (arcmin)": units.from_base(mt.angle_at_rated, "arcmin"),
             "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec")}
 
@@ -207,8 +209,10 @@ def clearance_sweep(model: TorsionCurveModel, clearances, pin_clearances, K: flo
 # --------------------------------------------------------------------------- rigidity
 @dataclass
 class RigidityComparison:
-    """``breakdown``: the 20-DOF angle at +rated per element (arcsec); ``torsion_angle``: the elastic
-    torsion-angle model's components on its own reducer and with the 20-DOF's geometry (None without it)."""
+    """``breakdown``: the 20-DOF angle at +rated per element (arcsec); ``readings``: the clearance-free curve's
+    rigidity under each reading of the maker's b/a (:data:`.model.RIGIDITY_READINGS`, N·m/arcmin);
+    ``torsion_angle``: the elastic torsion-angle model's components on its own reducer and with the 20-DOF's
+    geometry (None without it)."""
 
     breakdown: pd.DataFrame
     torque: float                 # N·mm
@@ -216,14 +220,21 @@ class RigidityComparison:
     angle: float                  # the virtual-work sum at +rated, rad
     solver_angle: float           # the solver's angle at +rated, rad
     chain: bool                   # the 20-DOF model carries the design's compliance elements
+    readings: dict
     torsion_angle: pd.DataFrame | None = None
 
     def to_frame(self) -> pd.DataFrame:
         return self.breakdown
 
+    def readings_table(self) -> pd.DataFrame:
+        return pd.DataFrame({"output": list(RIGIDITY_READINGS), "reading": list(RIGIDITY_READINGS.values()),
+                             "clearance-free reducer (N·m/arcmin)": [self.readings[k] for k in RIGIDITY_READINGS]})
+
     def summary(self) -> dict:
         return {"breakdown_20dof": frame_records(self.breakdown),
                 "rigidity_b_over_a_Nm_per_arcmin": float(units.from_base(self.rigidity, "N*m/arcmin")),
+                "rigidity_readings_clearance_free_Nm_per_arcmin": self.readings,
+                "rigidity_readings": dict(RIGIDITY_READINGS),
                 "part1": frame_records(self.torsion_angle) if self.torsion_angle is not None else None}
 
 
@@ -253,8 +264,10 @@ def rigidity_comparison(model: TorsionCurveModel, part1=None) -> RigidityCompari
     total20 = sum(bd.values())
     rows.append({"element": "total", "20-DOF at +rated (arcsec)": _arcsec(total20)})
     comp = torsion_angle_beside(g, *part1, T) if part1 is not None else None
-    return RigidityComparison(pd.DataFrame(rows), T, free.metrics(model.percent).rigidity, total20,
-                              float(free.angle[k]), g.chain is not None, comp)
+    mt = free.metrics(model.percent)
+    readings = {k: float(units.from_base(v, "N*m/arcmin")) for k, v in mt.readings().items()}
+    return RigidityComparison(pd.DataFrame(rows), T, mt.rigidity, total20, float(free.angle[k]), g.chain is not None,
+                              readings, comp)
 
 
 # --------------------------------------------------------------------------- the torsion_curve analysis

@@ -90,7 +90,8 @@ def rigidity(res, o) -> list:
               Table(res.breakdown, "20-DOF torsion angle at +rated split by virtual work (T θ = Σ f·d)", "{:.4g}")]
     if comp is not None:
         blocks.append(Table(comp, "Elastic torsion-angle model (doc 004) components at the same torque", "{:.4g}"))
-    return blocks
+    return blocks + [Table(res.readings_table(), "Rigidity under each reading of the maker's b/a (the Monte Carlo "
+                                                 "reports each output)", "{:.4g}")]
 
 
 def compliance(res, o) -> list:
