@@ -9,7 +9,8 @@ from ...blocks import Figure, Table, Text, figure_png
 from .sensitivity import HIGH_FRACTION, NEGLIGIBLE_FRACTION
 
 CURVE = ("Configuration: {how}. Load torque {load:.4g} N·m resisting ({share:.3g} % of rated), {per_rev} positions per "
-         "crank revolution ({per_out} per output revolution) for the quasi-static sweep.")
+         "crank revolution ({per_out} per output revolution) for the quasi-static sweep; its Δθ_er is the curve's, from "
+         "its largest and smallest values refined between the positions (marked).")
 SPECTRUM = ("Order spectrum of the {mode} TE (orders per output revolution; {z_b} = crank rotation relative to the "
             "carrier, {z_c} = absolute crank/eccentric rotation; {mesh})")
 ORDERS = ("Largest orders of the TE spectrum (≥ 1 % of the largest) and the error families expected there: active "
