@@ -53,6 +53,7 @@ import numpy as np
 import pandas as pd
 from .. import units
 from ..spec import ToleranceSpec
+from ..stats import rss
 from ..sensitivity.common import derivative_to_display, ratio_unit
 
 #: Bender's inflation factor of the RSS
@@ -173,9 +174,9 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     yc = y0 + float(a @ (con.c - x0))
     mu_y = y0 + float(a @ (con.mu - x0))
     C = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
-    sig_y = math.sqrt(max(float((a * con.sigma) @ C @ (a * con.sigma)), 0.0))
+    sig_y = rss(a * con.sigma, C)
     t_wc = con.worst_half_width()
-    t_rss = float(np.sqrt(np.sum((a * con.s) ** 2)))
+    t_rss = rss(a * con.s)
     n = con.n_active
     notes = []
     rows = []
@@ -207,10 +208,10 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                                                                    if spec.correlation is not None else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    sig_plain = float(np.sqrt(np.sum((a * con.sigma) ** 2)))
+    sig_plain = rss(a * con.sigma)
     with np.errstate(divide="ignore", invalid="ignore"):
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    sig_dyn = float(np.sqrt(np.sum((a * con.sigma * infl) ** 2)))
+    sig_dyn = rss(a * con.sigma * infl)
     if not math.isfinite(sig_dyn):
         notes.append("a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined")
     for z in sigma_levels:
@@ -221,7 +222,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
-        sig_c = float(np.sqrt(np.sum((a * con.s / (3.0 * cpk)) ** 2)))
+        sig_c = rss(a * con.s / (3.0 * cpk))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
                 note=f"every band a ±{3 * cp:g}σ process (Cp {cp:g}) shifted {sh:g}σ (Cpk {cpk:g})",
