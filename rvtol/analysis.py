@@ -91,11 +91,18 @@ class Analysis(ABC):
         if layout is None:
             raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
         blocks = layout(result, self.options)
-        return Section(self.key, self.title, list(blocks), self.summary(result))
+        sec = Section(self.key, self.title, list(blocks), self.summary(result))
+        for name, content in self.files(result).items():
+            sec.add_file(name, content)
+        return sec
 
     def summary(self, result) -> dict:
         """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""
         return result.summary()
+
+    def files(self, result) -> dict[str, "bytes | str"]:
+        """Files the report folder gets beside report.html (name -> content; default none)."""
+        return {}
 
 
 class ModelTarget:

@@ -262,6 +262,10 @@ def _read(params, key: str, tp, default, r: Rule, study):
                 raise params.error(key, "expected an array of integers")
             if len(v) < r.min_length:
                 raise params.error(key, f"expected at least {r.min_length} integers, got {len(v)}")
+            for x in v:
+                if (r.min is not None and x < r.min) or (r.max is not None and x > r.max):
+                    raise params.error(key, f"expected integers in [{r.min if r.min is not None else '-∞'}, "
+                                            f"{r.max if r.max is not None else '∞'}], got {x}")
             return [_check_number(params, f"{key}", x, r) for x in v]
         if dataclasses.is_dataclass(item) or _is_params(item):
             tables = params.tables(key)

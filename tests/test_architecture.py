@@ -195,7 +195,7 @@ OLDER_SHAPE = {
     "lost_motion_breakdown", "lost_motion_screening", "transmission_error_curve", "transmission_error_sensitivity",
     "stiffness_breakdown", "torsion_curve", "compliance_breakdown", "stackup_linear", "stackup_graph",
     "stackup_sequences", "stackup_domains", "adjustment", "stack_conventions", "tail_probability",
-    "calibration", "per_unit_prediction", "selective_assembly", "transmission_error_reproduction",
+    "calibration", "transmission_error_reproduction",
     "lost_motion_reproduction", "adjustment_reproduction", "stackup_shaft_hole", "stiffness_reproduction",
 }
 
@@ -272,7 +272,7 @@ def test_packages_form_no_cycle():
 #: registry; physics-specific code lives beside its physics (the list of exceptions only shrinks)
 MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study|reproduction(\..*)?)$")
 MODEL_IMPORTS_LEFT = {"rvtol.calibration.analyses", "rvtol.calibration.parameters", "rvtol.calibration.curves",
-                      "rvtol.production.selective"}
+}
 
 
 def test_model_agnostic_packages_import_no_model():
