@@ -1,4 +1,4 @@
-"""Calibration against measured curves (rvtol.calibration): the fit and its uncertainty against closed
+"""Calibration against measured curves (rvtol.models.transmission.calibration): the fit and its uncertainty against closed
 forms and SciPy, recovery of known parameters from synthetic measurements (with interval coverage over
 seeds), identifiability warnings, CSV errors, the written design, and the study analysis."""
 from pathlib import Path
@@ -10,13 +10,13 @@ from scipy import optimize, stats
 from rvtol import units
 from rvtol.elements.reducer_chain import with_compliance_scales
 from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.calibration import calibrate, calibrated_factors, load_measurement, reproduce
-from rvtol.calibration.curves import CurveModel
-from rvtol.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
-from rvtol.calibration.measurements import TE, TORSION, Measurement
-from rvtol.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
+from rvtol.models.transmission.calibration import calibrate, calibrated_factors, load_measurement, reproduce
+from rvtol.models.transmission.calibration.curves import CurveModel
+from rvtol.models.transmission.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
+from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
+from rvtol.models.transmission.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
                                           scaled_design_values)
-from rvtol.calibration.synthetic import synthetic_measurement
+from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
 from rvtol.cli import main
 from rvtol.design import load_design
 from rvtol.errors import InputError

@@ -37,9 +37,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import units
-from ..params import read_text
-from ..errors import InputError
+from .... import units
+from ....params import read_text
+from ....errors import InputError
 
 TORSION = "torsion"
 TE = "transmission_error"
