@@ -14,7 +14,8 @@ Types understood: ``int``, ``float``, ``bool``, ``str``, ``Literal[...]`` (one o
 ``list[str]``, ``list[float]``, ``list[int]``, ``dict[str, float]`` (a table of numbers),
 ``dict[str, str]`` (a table of strings), ``dict`` (a table, read as it is), ``Path`` (a file, relative
 to the study's folder), another options dataclass (a sub-table ``[analysis.<key>]`` with keys of its
-own; absent: every default — give the class itself as the default), ``list[<options dataclass>]``
+own; absent or ``true``: every default — give the class itself as the default; ``false``: None when
+typed ``| None``), ``list[<options dataclass>]``
 (an array of tables ``[[analysis.<key>]]``), ``Params`` (a sub-table handed on unread: the code that
 takes it reads and finishes it; ``list[Params]``: an array of such tables), and any of them
 ``| None`` (absent → the default).  Rules:
@@ -209,8 +210,17 @@ def read_options(cls, params, study=None):
 # --------------------------------------------------------------------------- reading one key
 def _read(params, key: str, tp, default, r: Rule, study):
     optional, tp = _unoptional(tp)
-    if dataclasses.is_dataclass(tp) and dataclasses.is_dataclass(default):   # a sub-table: read even if absent
-        return _read_table(tp, params.sub(key, {}), study)
+    if dataclasses.is_dataclass(tp):                  # a sub-table; ``true`` (or absent, with such a default): its
+        raw = params.raw(key) if default is MISSING else params.raw(key, _ABSENT)    # defaults; ``false``: None
+        if raw is _ABSENT and not dataclasses.is_dataclass(default):
+            return default
+        if optional and raw is False:
+            return None
+        if raw is True or raw is _ABSENT:
+            from .params import Params
+
+            return _read_table(tp, Params({}, file=params.file, key=params.path(key)), study)
+        return _read_table(tp, params.sub(key), study)
     if default is MISSING:
         raw = params.raw(key)
     else:
@@ -228,8 +238,6 @@ def _read(params, key: str, tp, default, r: Rule, study):
         return params.path_value(key, Path(study.base_dir) if study is not None else Path("."))
     if _is_params(tp):
         return params.sub(key)
-    if dataclasses.is_dataclass(tp):
-        return _read_table(tp, params.sub(key), study)
     if tp is bool:
         return params.bool(key)
     if tp is int:

@@ -194,7 +194,7 @@ def test_every_kind_a_study_names_is_registered():
 OLDER_SHAPE = {
     "lost_motion_breakdown", "lost_motion_screening", "transmission_error_curve", "transmission_error_sensitivity",
     "stiffness_breakdown", "torsion_curve", "compliance_breakdown", "stackup_linear", "stackup_graph",
-    "stackup_sequences", "stackup_domains", "adjustment", "stack_conventions", "tail_probability",
+    "stackup_sequences", "stackup_domains", "adjustment",
     "transmission_error_reproduction",
     "lost_motion_reproduction", "adjustment_reproduction", "stackup_shaft_hole", "stiffness_reproduction",
 }
