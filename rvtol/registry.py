@@ -77,6 +77,7 @@ ANALYSES: dict[str, str] = {
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.models.transmission.calibration.analyses:CalibrationAnalysis",
+    "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
     # the reproduction wing: one module per reference document

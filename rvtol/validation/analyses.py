@@ -1,0 +1,105 @@
+"""``[[analysis]] kind = "validation"``: the study's model against published measurements (:mod:`rvtol.validation`).
+
+A thin adapter (:mod:`rvtol.analysis`): its options, one call of :func:`rvtol.validation.validate`, the layout
+in :mod:`rvtol.validation.texts`.  ``rvtol kinds validation`` lists every key.  The published files are read
+and checked when the study loads; the prediction reuses the study's Monte Carlo sample (same ``n``, method and
+seed); the calibration draws the same uniform design with the spec's tolerances scaled.
+"""
+from __future__ import annotations
+
+import glob
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..analysis import Analysis, CommonOptions, ModelTarget
+from ..errors import InputError
+from ..options import REQUIRED, option
+from . import texts
+from .published import load_published_files
+from .validate import PARAMETERS, validate
+
+
+@dataclass
+class ValidationOptions(CommonOptions):
+    published: list[str] = option(REQUIRED, "published-data files or glob patterns, relative to the study "
+                                            "(data/measurements/published/*.toml)", min_length=1)
+    reducer: str = option(REQUIRED, "the reducer the study's design is (e.g. RV-80E): figures of other reducers are "
+                                    "listed, not predicted")
+    outputs: dict = option({}, "{published quantity = model output}: the output that predicts each quantity "
+                               "(e.g. transmission_error_pp = \"te.te_pp\")")
+    te_model: str | None = option(None, "the TE model (a stage of a composed study) whose curves give the predicted "
+                                        "order spectrum, for measured TE orders", names="stages")
+    interval: float = option(0.95, "central predicted interval a measured value is judged against", min=0.5,
+                             max=0.999)
+    confidence: float = option(0.95, "confidence of the predicted median's interval", min=0.5, max=0.999)
+    order_threshold: float = option(0.10, "a measured strong order is 'present' in the prediction at this share of "
+                                          "the largest predicted order", min=0.0, max=1.0)
+    spectrum_samples: int = option(16, "predicted reducers whose TE spectrum is computed", min=1)
+    calibrate_on: str | None = option(None, "<source id>:<quantity id> of the measured value to fit the parameter "
+                                            "to (the others are then predicted: hold-out); default: no calibration")
+    parameter: str = option("tolerance_scale", "the fitted parameter: tolerance_scale multiplies every tolerance "
+                                               "of the spec about its middle", choices=PARAMETERS)
+    bounds: list[float] = option([0.25, 10.0], "[low, high] of the fitted parameter", positive=True)
+    sources: list = field(default_factory=list, init=False)
+    te: ModelTarget | None = field(default=None, init=False)
+
+    def complete(self, study, error):
+        paths = []
+        for pattern in self.published:
+            hits = sorted(glob.glob(pattern if Path(pattern).is_absolute() else str(study.base_dir / pattern)))
+            if not hits:
+                raise error("published", f"{pattern!r} matches no file")
+            paths += [h for h in hits if h not in paths]
+        self.sources = load_published_files(paths)
+        for name, out in self.outputs.items():
+            if not isinstance(out, str):
+                raise error("outputs", f"{name}: expected the name of a model output (a string), got {out!r}")
+            try:
+                study.model.output(out)
+            except InputError as exc:
+                raise error("outputs", f"{name}: {exc.reason}") from None
+        if len(self.bounds) != 2 or not self.bounds[0] < self.bounds[1]:
+            raise error("bounds", f"expected [low, high] with low < high, got {self.bounds}")
+        if self.te_model is not None:
+            self.te = _te_target(study, self.te_model, error)
+        if self.calibrate_on is not None:
+            known = {q.key: q for s in self.sources if s.status == "read" for q in s.quantities}
+            q = known.get(self.calibrate_on)
+            if q is None:
+                raise error("calibrate_on", f"unknown published figure {self.calibrate_on!r} (known: "
+                                            f"{', '.join(known) or 'none'})")
+            if q.reducer != self.reducer or q.kind not in ("value", "range") or q.quantity not in self.outputs:
+                raise error("calibrate_on", f"{self.calibrate_on!r} cannot be calibrated on: a measured value (kind "
+                                            f"value or range) of the {self.reducer} whose quantity {q.quantity!r} "
+                                            "outputs maps to a model output")
+
+
+def _te_target(study, name: str, error) -> ModelTarget:
+    stage = next(s for s in study.model.stages if s.name == name)
+    if not callable(getattr(stage.model, "run", None)) or "te_pp" not in stage.model.output_names:
+        raise error("te_model", f"model {name!r} is not a transmission_error model")
+    return ModelTarget(study.model, stage.model, name)
+
+
+def te_spectra(target: ModelTarget):
+    """``X -> [TE amplitude per order of one output revolution (arcsec), or None where the solver failed]``: each
+    row's TE curve by the TE stage's own ``run`` and its order spectrum (``TEResult.spectrum``)."""
+    def spectra(X):
+        return [r.spectrum()["amplitude [arcsec]"].to_numpy() if r.ok else None
+                for r in (target.model.run(x) for x in target.inputs(X))]
+    return spectra
+
+
+class ValidationAnalysis(Analysis):
+    kind, title = "validation", "The model against published measurements"
+    layout = texts.layout
+    Options = ValidationOptions
+
+    def compute(self, ctx):
+        o, mc = self.options, ctx.mc
+        known = (mc.samples.values, {out: mc.column(out) for out in set(o.outputs.values())}, mc.ok)
+        return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
+                        method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
+                        te_spectra=te_spectra(o.te) if o.te is not None else None, calibrate_on=o.calibrate_on,
+                        parameter=o.parameter, bounds=tuple(o.bounds), interval=o.interval, confidence=o.confidence,
+                        order_threshold=o.order_threshold, spectrum_samples=o.spectrum_samples)

@@ -1,0 +1,96 @@
+"""What a validation section says: its prose and the layout of a :class:`.validate.ValidationResult` as report
+blocks (:mod:`rvtol.report.sections`); the analysis (:mod:`.analyses`) names :func:`layout`."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..report.sections import Figure, Table, Text, figure_png
+
+INTRODUCTION = (
+    "Each published figure of an {reducer} is predicted by the model as it is — its nominal point and a Monte Carlo "
+    "sample of {n} reducers of the tolerance spec — before any calibration. A measured value (a TE peak-to-peak from "
+    "its printed extremes, …) is one unit the maker built: it is judged against the predicted spread — predicted "
+    "median / measured, the measured value's percentile among the predicted units, and whether it lies inside the "
+    "central {i:.0f} % of them (its reading uncertainty allowed for). A catalogue bound holds for every shipped unit: "
+    "'consistent' when the central {i:.0f} % of the predicted units meet it, 'partly' when only the median does, "
+    "'contradicts' when the median does not. The median's interval is distribution-free (two order statistics). "
+    "Measured strong orders of a TE spectrum are compared in shape only (their amplitudes are not known): 'present' "
+    "when the predicted order reaches {t:.0f} % of the largest predicted order. A figure of another reducer, or of a "
+    "quantity no model output is mapped to, is listed with the reason it is not predicted; sources found but not "
+    "read are listed at the end.")
+
+CALIBRATED = (
+    "Calibration on one figure, {on} ({measured:.4g} {unit}): the published figures read are scalars, so one "
+    "parameter is fitted — the tolerance scale s that multiplies every tolerance of the spec about its middle (the "
+    "measured units' parts made to s × the drawing's bands), on the same uniform design for every s. s = {s:.4g} "
+    "brings the predicted median to the measured value ({message}). Every other figure is then predicted with it "
+    "(hold-out). A scale far from 1 says the drawing's tolerances do not explain the measurement; a hold-out the "
+    "calibrated model misses says the fitted parameter is not what differs.")
+
+COLUMNS = ["source", "quantity", "unit under test", "kind", "measured", "± reading", "unit", "nominal", "median",
+           "median CI low", "median CI high", "P low", "P high", "predicted / measured", "measured percentile [%]",
+           "yield [%]", "failed", "verdict"]
+
+
+def calibration(fit) -> str:
+    if fit is None:
+        return "No calibration was asked for."
+    if not fit.success:
+        return f"Calibration on {fit.on} failed: {fit.message}."
+    return CALIBRATED.format(on=fit.on, measured=fit.measured, unit=fit.unit, s=fit.value, message=fit.message)
+
+
+def misses(result) -> str:
+    """One sentence per figure the model does not agree with, in each stage."""
+    lines = []
+    for _, r in result.misses().iterrows():
+        if np.isfinite(r.get("order [1/rev]", np.nan)):
+            lines.append(f"{r['stage']}: order {int(r['order [1/rev]'])} of {r['source']}:{r['quantity']} is strong "
+                         f"in the measurement; the model gives it {r['predicted amplitude [arcsec]']:.3g}″, "
+                         f"{r['of the largest predicted order [%]']:.2g} % of its largest order.")
+            continue
+        what = f"{r['source']}:{r['quantity']} ({r['what']}, {r['unit under test']})"
+        if r["kind"] in ("value", "range"):
+            lines.append(f"{r['stage']}: {what} measured {r['measured']:.4g} {r['unit']}, predicted median "
+                         f"{r['median']:.4g} (central interval {r['P low']:.4g}–{r['P high']:.4g}; ratio "
+                         f"{r['predicted / measured']:.3g}): {r['verdict']}, the measured value at the "
+                         f"{r['measured percentile [%]']:.3g}th percentile of the predicted units.")
+        else:
+            lines.append(f"{r['stage']}: {what} {r['kind'].replace('_', ' ')} {r['measured']:.4g} {r['unit']}, "
+                         f"predicted median {r['median']:.4g} (central interval {r['P low']:.4g}–"
+                         f"{r['P high']:.4g}), {r['yield [%]']:.3g} % of the predicted units within: {r['verdict']}.")
+    if not lines:
+        return "The model agrees with every figure it predicts."
+    return "Where the model misses: " + " ".join(lines)
+
+
+def layout(res, o) -> list:
+    blocks = [Text(INTRODUCTION.format(reducer=o.reducer, n=res.n, i=100 * res.interval, t=100 * o.order_threshold)),
+              Table(res.sources_frame().drop(columns=["file"]), "Published sources")]
+    lo, hi = 50 * (1 - res.interval), 50 * (1 + res.interval)
+    names = {"P low": f"P{lo:g}", "P high": f"P{hi:g}"}
+    for stage in dict.fromkeys(res.comparison["stage"]):
+        frame = res.stage(stage)
+        cols = COLUMNS + (["role"] if frame["role"].any() else [])
+        blocks.append(Table(frame[cols].rename(columns=names), f"{stage[0].upper()}{stage[1:]}: published figures "
+                                                                "against the model"))
+    if len(res.orders):
+        blocks.append(Table(res.orders, "Orders the measured TE spectrum shows as strong, against the predicted "
+                                        "spectrum (median over the predicted reducers)"))
+        for stage, top in res.largest.items():
+            blocks.append(Text(f"Largest predicted TE orders, {stage}: "
+                               + ", ".join(f"{k} ({a:.3g}″)" for k, a in top) + "."))
+    first = res.stage(res.comparison["stage"].iloc[0])
+    est = first[first["estimated for this reducer"] != ""].drop_duplicates("source")
+    if len(est):
+        blocks.append(Table(est[["source", "estimated for this reducer"]],
+                            "Reducer data rvtol had to estimate to predict each source's figures"))
+    blocks.append(Text(calibration(res.calibration)))
+    if res.calibration is not None:
+        blocks.append(Table(res.calibration.to_frame(), "Calibration: the tolerance scales evaluated"))
+    if np.isfinite(res.comparison["predicted / measured"].astype(float)).any():
+        blocks.append(Figure(figure_png(res.plot()), "Predicted / measured per published figure (log scale)"))
+    blocks.append(Text(misses(res)))
+    if len(res.missing):
+        blocks.append(Table(res.missing, "Looked for and not found, or found and not read"))
+    return blocks

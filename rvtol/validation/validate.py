@@ -1,0 +1,358 @@
+"""``validate``: the model's predictions of published measurements, before and after a calibration.
+
+::
+
+    from rvtol.validation import validate, load_published_files
+    res = validate(model, spec, load_published_files(paths), {"transmission_error_pp": "te.te_pp"},
+                   reducer="RV-80E", n=400, method="lhs", seed=1,
+                   calibrate_on="yang2021_mmt:te_pp_prototype_1")
+    res.to_frame()            # quantity, measured, predicted (nominal, median, interval), ratio, verdict, per stage
+    res.orders                # measured strong TE orders against the predicted spectrum
+    res.calibration           # the fitted tolerance scale
+
+1. **Prediction, no calibration.**  Every published figure of the study's reducer whose quantity the study
+   maps to a model output is predicted by the model as it is: its nominal point and a Monte Carlo sample of
+   the tolerance spec (``n``, ``method``, ``seed``: the study's own sample when ``known`` is given), and
+   compared (:mod:`.compare`).  A figure of another reducer, or of a quantity no output is mapped to, is
+   listed with the reason it is not predicted.
+2. **Calibration on one figure, the others predicted (hold-out).**  The published figures read are
+   scalars (a TE peak-to-peak, catalogue bounds), not curves: what one scalar can fix is one parameter.
+   ``tolerance_scale`` ``s`` multiplies every tolerance of the spec about its middle
+   (:meth:`rvtol.spec.ToleranceSpec.scaled`: the parts of the measured units made to ``s`` × the drawing's
+   bands) and is fitted so that the predicted median equals the figure ``calibrate_on`` — on the same
+   uniform design for every ``s`` (common random numbers: the median is a continuous function of ``s``),
+   by Brent's method (:func:`scipy.optimize.brentq`) in ``bounds``.  Every other figure is then predicted
+   with the fitted ``s``.  A curve measurement (torsion or TE curve) would be calibrated with
+   :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy import optimize
+
+from ..errors import InputError
+from ..mc import EvaluationCache, Evaluator
+from ..records import frame_records
+from ..sampling import sample
+from .compare import compare_limit, compare_orders, compare_value, largest_orders
+from .published import PublishedQuantity, PublishedSource, display_value
+
+PARAMETERS = ("tolerance_scale",)
+BEFORE = "predicted (no calibration)"
+
+
+@dataclass
+class ScaleFit:
+    """The fitted tolerance scale (``value`` None when no scale in ``bounds`` reproduces the figure)."""
+
+    parameter: str
+    on: str
+    output: str
+    measured: float
+    unit: str
+    bounds: tuple[float, float]
+    value: float | None
+    history: list[tuple[float, float]]       # (s, predicted median) in the order evaluated
+    success: bool
+    message: str
+
+    @property
+    def stage(self) -> str:
+        return (f"after calibration ({self.parameter} = {self.value:.4g} fitted to {self.on})" if self.success
+                else f"calibration on {self.on} failed")
+
+    def to_frame(self) -> pd.DataFrame:
+        return pd.DataFrame([{"tolerance scale": s, f"predicted median [{self.unit}]": m,
+                              f"measured [{self.unit}]": self.measured} for s, m in sorted(self.history)])
+
+
+@dataclass
+class ValidationResult:
+    """Comparisons (display units of the mapped outputs) per stage; sources and what was not read."""
+
+    sources: tuple[PublishedSource, ...]
+    comparison: pd.DataFrame
+    orders: pd.DataFrame
+    missing: pd.DataFrame
+    calibration: ScaleFit | None
+    n: int
+    interval: float
+    largest: dict = field(default_factory=dict)     # stage -> [(order, amplitude)] of the predicted TE
+
+    def to_frame(self) -> pd.DataFrame:
+        return self.comparison
+
+    def sources_frame(self) -> pd.DataFrame:
+        return pd.DataFrame([{"source": s.id, "citation": s.citation, "status": s.status, "read from": s.read_from,
+                              "reducer": s.reducer, "how read": s.how_read, "accessed": s.accessed,
+                              "figures": len(s.quantities), "file": s.file} for s in self.sources])
+
+    def stage(self, name: str) -> pd.DataFrame:
+        return self.comparison[self.comparison["stage"] == name].reset_index(drop=True)
+
+    def misses(self) -> pd.DataFrame:
+        """The predicted rows where the model does not agree with the publication (every stage)."""
+        bad = self.comparison["verdict"].isin(["above the predicted interval", "below the predicted interval",
+                                               "partly", "contradicts"])
+        rows = self.comparison[bad]
+        o = self.orders[self.orders["verdict"] == "absent"] if len(self.orders) else self.orders
+        return pd.concat([rows, o], ignore_index=True) if len(o) else rows.reset_index(drop=True)
+
+    def plot(self, ax=None):
+        from ..plotting.validation import ratio_chart
+
+        return ratio_chart(self.comparison, ax=ax)
+
+    def summary(self) -> dict:
+        cal = None
+        if self.calibration is not None:
+            c = self.calibration
+            cal = {"parameter": c.parameter, "on": c.on, "output": c.output, "measured": c.measured, "unit": c.unit,
+                   "bounds": list(c.bounds), "value": c.value, "success": c.success, "message": c.message,
+                   "history": [list(h) for h in c.history]}
+        return {"n": self.n, "interval": self.interval,
+                "sources": frame_records(self.sources_frame()),
+                "comparison": frame_records(self.comparison), "orders": frame_records(self.orders),
+                "missing": frame_records(self.missing), "calibration": cal,
+                "largest_predicted_orders": {k: [list(x) for x in v] for k, v in self.largest.items()}}
+
+
+def _estimated(src: PublishedSource) -> str:
+    return "; ".join(f"{k}: {v}" for k, v in src.estimated.items())
+
+
+def _not_predicted(src: PublishedSource, q: PublishedQuantity, reducer: str, outputs: dict, spectrum: bool) -> str:
+    if q.reducer != reducer:
+        why = src.estimated.get("design", f"rvtol has no {q.reducer} design")
+        return f"not predicted: the study's design is an {reducer}; this figure's reducer: {q.reducer} ({why})"
+    if q.kind == "orders":
+        return "" if spectrum else "not predicted: the study gives no TE model for the spectrum"
+    if q.quantity not in outputs:
+        return f"not predicted: the study maps no model output to {q.quantity!r}"
+    return ""
+
+
+class _Predictor:
+    """The model's outputs over the scaled spec's sample; every evaluation through one Evaluator."""
+
+    def __init__(self, model, spec, n, method, seed, evaluator, known):
+        self.model, self.spec, self.n, self.method, self.seed = model, spec, n, method, seed
+        self.evaluator = evaluator or Evaluator(cache=EvaluationCache())
+        self.known = known
+        self._sub: dict[tuple, object] = {}
+
+    def spec_at(self, s: float):
+        return self.spec if s == 1.0 else self.spec.scaled({f: s for f in self.spec.names})
+
+    def samples(self, s: float) -> np.ndarray:
+        return sample(self.spec_at(s), self.n, self.method, self.seed).values
+
+    def _restricted(self, outputs: tuple[str, ...]):
+        if outputs not in self._sub:
+            r = getattr(self.model, "restricted", None)
+            self._sub[outputs] = r(list(outputs)) if r is not None else self.model
+        return self._sub[outputs]
+
+    def predict(self, s: float, outputs, desc: str) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+        """``({output: display values, NaN where the sample failed}, X, ok)`` at scale ``s``."""
+        outputs = tuple(outputs)
+        X = self.samples(s)
+        if s == 1.0 and self.known is not None:
+            kX, kY, kok = self.known
+            if kX.shape == X.shape and np.array_equal(kX, X) and all(o in kY for o in outputs):
+                return {o: np.where(kok, kY[o], np.nan) for o in outputs}, X, kok.copy()
+        sub = self._restricted(outputs)
+        ev = self.evaluator(sub, X, desc)
+        ok = ev.status == 0
+        out = {}
+        for o in outputs:
+            j = [q.name for q in sub.outputs].index(o)
+            out[o] = np.where(ok, sub.outputs[j].to_display(ev.Y[:, j]), np.nan)
+        return out, X, ok
+
+    def nominal(self, s: float, outputs) -> dict[str, float]:
+        outputs = tuple(outputs)
+        sub = self._restricted(outputs)
+        ev = self.evaluator(sub, self.spec_at(s).nominal_base()[None, :], "validation: nominal")
+        if ev.status[0] != 0:
+            return {o: float("nan") for o in outputs}
+        names = [q.name for q in sub.outputs]
+        return {o: float(sub.outputs[names.index(o)].to_display(ev.Y[0, names.index(o)])) for o in outputs}
+
+
+def _row(stage, src, q, measured, unc, unit, nominal, cmp, failed, role) -> dict:
+    return {"stage": stage, "source": src.id, "quantity": q.id, "what": q.quantity, "reducer": q.reducer,
+            "unit under test": q.unit_under_test, "kind": q.kind, "measured": measured, "± reading": unc,
+            "unit": unit, "nominal": nominal, "median": cmp.get("median", np.nan),
+            "median CI low": cmp.get("median_low", np.nan), "median CI high": cmp.get("median_high", np.nan),
+            "P low": cmp.get("low", np.nan), "P high": cmp.get("high", np.nan),
+            "predicted / measured": cmp.get("ratio", np.nan), "measured percentile [%]": cmp.get("percentile", np.nan),
+            "yield [%]": cmp.get("yield", np.nan), "n": cmp.get("n", 0), "failed": failed,
+            "verdict": cmp.get("verdict", ""), "role": role, "estimated for this reducer": _estimated(src)}
+
+
+def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: int, method: str = "lhs",
+             seed: int | None = None, evaluator: Evaluator | None = None, known=None, te_spectra=None,
+             calibrate_on: str | None = None, parameter: str = "tolerance_scale",
+             bounds: tuple[float, float] = (0.25, 10.0), interval: float = 0.95, confidence: float = 0.95,
+             order_threshold: float = 0.10, spectrum_samples: int = 16, rtol: float = 0.02) -> ValidationResult:
+    """Predict every published figure of ``reducer`` (module docstring).
+
+    ``outputs``: published quantity name -> the model output that predicts it; ``known``: ``(X, {output: display
+    values}, ok)`` already evaluated on the unscaled sample (the study's Monte Carlo), used when ``X`` is that
+    sample; ``te_spectra(X) -> [TE amplitude per order of one output revolution (arcsec; index = order) or None]``
+    for the measured TE orders.
+    """
+    sources = tuple(sources)
+    for qname, out in outputs.items():
+        model.output(out)                       # InputError naming the output
+    if parameter not in PARAMETERS:
+        raise InputError(f"unknown calibration parameter {parameter!r} (known: {', '.join(PARAMETERS)})",
+                         key="calibration.parameter")
+    if not (0 < bounds[0] < bounds[1]):
+        raise InputError(f"bounds must satisfy 0 < low < high, got {list(bounds)}", key="calibration.bounds")
+    quantities = [(src, q) for src in sources if src.status == "read" for q in src.quantities]
+    by_key = {q.key: (src, q) for src, q in quantities}
+    spectrum = te_spectra is not None
+    reason = {q.key: _not_predicted(src, q, reducer, outputs, spectrum) for src, q in quantities}
+    numeric = [(src, q) for src, q in quantities if q.numeric and not reason[q.key]]
+    order_qs = [(src, q) for src, q in quantities if not q.numeric and not reason[q.key]]
+    needed = tuple(dict.fromkeys(outputs[q.quantity] for _, q in numeric))
+    target = None
+    if calibrate_on is not None:
+        if calibrate_on not in by_key:
+            raise InputError(f"unknown published figure {calibrate_on!r}"
+                             f" (known: {', '.join(by_key) or 'none'})", key="calibration.on")
+        src, q = by_key[calibrate_on]
+        if reason[q.key]:
+            raise InputError(f"cannot calibrate on {calibrate_on!r}: {reason[q.key]}", key="calibration.on")
+        if q.kind not in ("value", "range"):
+            raise InputError(f"cannot calibrate on {calibrate_on!r}: a {q.kind} is not a measured value",
+                             key="calibration.on")
+        target = (src, q)
+    pred = _Predictor(model, spec, n, method, seed, evaluator, known)
+    rows, order_rows, largest = [], [], {}
+
+    def stage_rows(stage: str, s: float, values: dict, ok: np.ndarray, X: np.ndarray) -> None:
+        nom = pred.nominal(s, needed) if needed else {}
+        for src, q in numeric:
+            out = outputs[q.quantity]
+            unit = model.output(out).shown_unit
+            meas, unc = display_value(q, unit)
+            v = values[out]
+            if q.kind in ("value", "range"):
+                cmp = compare_value(meas, unc, v, interval, confidence)
+            else:
+                cmp = compare_limit(meas, q.kind == "upper_limit", v, interval, confidence)
+            role = ("" if target is None or stage == BEFORE else
+                    "calibrated on" if q.key == target[1].key else "hold-out")
+            rows.append(_row(stage, src, q, meas, unc, unit, nom.get(out, np.nan), cmp,
+                             int(np.sum(~np.isfinite(v))), role))
+        if order_qs:
+            idx = np.flatnonzero(ok)[:spectrum_samples]
+            spectra = te_spectra(X[idx]) if idx.size else []
+            largest[stage] = largest_orders(spectra)
+            for src, q in order_qs:
+                for r in compare_orders(q.orders, spectra, order_threshold):
+                    order_rows.append({"stage": stage, "source": src.id, "quantity": q.id, "reducer": q.reducer,
+                                       "order [1/rev]": r["order"], "measured": "strong",
+                                       "predicted amplitude [arcsec]": r["amplitude"],
+                                       "of the largest predicted order [%]": 100.0 * r["share"],
+                                       "reducers": len([a for a in spectra if a is not None]),
+                                       "verdict": r["verdict"]})
+
+    values, X, ok = pred.predict(1.0, needed, "validation: prediction") if needed else ({}, pred.samples(1.0),
+                                                                                      np.ones(n, bool))
+    stage_rows(BEFORE, 1.0, values, ok, X)
+    for src, q in quantities:
+        if reason[q.key]:
+            unit = q.unit
+            rows.append(_row(BEFORE, src, q, q.value if q.numeric else np.nan,
+                             q.reading_uncertainty if q.numeric else np.nan, unit, np.nan,
+                             {"verdict": reason[q.key]}, 0, ""))
+    fit = None
+    if target is not None:
+        src, q = target
+        out = outputs[q.quantity]
+        unit = model.output(out).shown_unit
+        meas, _ = display_value(q, unit)
+        fit = _fit_scale(pred, out, meas, unit, q.key, parameter, bounds, values[out], rtol)
+        if fit.success:
+            s = fit.value
+            # the fitted output's sample was evaluated by the fit (the evaluator's cache has it); the rest now
+            v2, X2, ok2 = pred.predict(s, (out,), "validation: after calibration")
+            rest = tuple(o for o in needed if o != out)
+            if rest:
+                v3, _, ok3 = pred.predict(s, rest, "validation: after calibration")
+                v2, ok2 = {**v2, **v3}, ok2 & ok3
+            stage_rows(fit.stage, s, v2, ok2, X2)
+    comparison = pd.DataFrame(rows)
+    orders = pd.DataFrame(order_rows)
+    missing = pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
+                             "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
+    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest)
+
+
+def _fit_scale(pred: _Predictor, output: str, measured: float, unit: str, key: str, parameter: str,
+               bounds: tuple[float, float], at_one: np.ndarray, rtol: float) -> ScaleFit:
+    """The tolerance scale whose predicted median of ``output`` equals ``measured`` (module docstring)."""
+    lo, hi = bounds
+    medians: dict[float, float] = {}
+    history: list[tuple[float, float]] = []
+
+    def median(s: float) -> float:
+        if s not in medians:
+            v = at_one if s == 1.0 else pred.predict(s, (output,), f"validation: tolerance scale {s:.4g}")[0][output]
+            v = v[np.isfinite(v)]
+            medians[s] = float(np.median(v)) if v.size else float("nan")
+            history.append((s, medians[s]))
+        return medians[s]
+
+    def g(s: float) -> float:
+        return median(s) - measured
+
+    def result(value, success, message) -> ScaleFit:
+        return ScaleFit(parameter, key, output, measured, unit, bounds, value, history, success, message)
+
+    def clip(x: float) -> float:
+        return min(max(x, lo), hi)
+
+    a = clip(1.0)
+    ga = g(a)
+    if not np.isfinite(ga):
+        return result(None, False, f"no successful prediction at tolerance scale {a:g}")
+    if ga == 0:
+        return result(a, True, "exact at the first evaluation")
+    m0 = median(a)
+    # first guess: the scale that makes the median proportional to the scale (errors acting linearly)
+    b = clip(a * measured / m0) if m0 > 0 and measured > 0 else (hi if ga < 0 else lo)
+    if b == a:
+        b = hi if a < hi else lo
+    gb = g(b)
+    for _ in range(12):
+        if not np.isfinite(gb) or np.sign(gb) != np.sign(ga):
+            break
+        # not bracketed: extrapolate the secant through the last two points by 1.5 × its step (the median is
+        # concave in the scale where clearances saturate), at least a factor 1.25 from the last point
+        slope = (gb - ga) / (b - a)
+        if slope == 0 or not np.isfinite(slope):
+            new = 2.0 * b if b > a else b / 2.0
+        else:
+            new = b - 1.5 * gb / slope
+            new = max(new, 1.25 * b) if new > b else min(new, b / 1.25)
+        new = clip(new)
+        if new == b:
+            break
+        a, ga, b = b, gb, new
+        gb = g(b)
+    if not np.isfinite(gb):
+        return result(None, False, f"no successful prediction at tolerance scale {b:g}")
+    if np.sign(gb) == np.sign(ga):
+        return result(None, False, f"no tolerance scale in [{lo:g}, {hi:g}] brings the predicted median to "
+                                   f"{measured:.4g} {unit}: at {b:g} it is {median(b):.4g} {unit}")
+    s, r = optimize.brentq(g, min(a, b), max(a, b), rtol=rtol, full_output=True, disp=False)
+    return result(float(s), bool(r.converged), f"Brent's method: {r.function_calls} calls, {r.iterations} "
+                                               f"iterations, relative tolerance {rtol:g}")
