@@ -26,7 +26,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .errors import InputError
+from .errors import InputError, ModelCodeError
 
 EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2, 3, 4
 
@@ -75,8 +75,13 @@ def _parser() -> argparse.ArgumentParser:
     _ci_outputs(cmp_)
     cmp_.add_argument("--debug", action="store_true")
 
+    ini = sub.add_parser("init", help="write a first study (study.toml and spec.csv) that runs as written")
+    ini.add_argument("dir", nargs="?", default=".", help="folder to write into (default: the current folder)")
+
     chk = sub.add_parser("check", help="validate a study and everything it names, without running it")
     chk.add_argument("study")
+    chk.add_argument("--execute", action="store_true",
+                     help="also run the code of a Python model's factory (by default it is checked, not run)")
     chk.add_argument("--debug", action="store_true")
 
     kinds = sub.add_parser("kinds", help="list the model and analysis kinds a study can use; with KIND, the keys of "
@@ -112,6 +117,8 @@ def main(argv: list[str] | None = None) -> int:
                 return _kinds(args.kind)
             if args.command == "check":
                 return _check(args)
+            if args.command == "init":
+                return _init(args)
             if args.command == "compare":
                 return _compare(args)
             if args.command == "spec":
@@ -120,6 +127,13 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"rvtol: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except ModelCodeError as exc:   # the user's model code raised or exited: its message, exit 3, never 0
+        print(f"rvtol: error: {exc} (the model's own code; nothing written)", file=sys.stderr)
+        return EXIT_INTERNAL
+    except SystemExit as exc:       # sys.exit() in code rvtol called (a plug-in): never a silent exit 0
+        print(f"rvtol: error: <model>: -: code rvtol ran called sys.exit({exc.code!r}) (nothing written)",
+              file=sys.stderr)
+        return EXIT_INTERNAL
     except Interrupted as exc:
         kept = (f"; {exc.kept_chunks} finished chunks kept: rerun with --resume to continue"
                 if exc.kept_chunks else "")
@@ -167,10 +181,33 @@ def _overrides(args) -> dict:
     return ov
 
 
-def _check(args) -> int:
-    from .study import load_study
+def _init(args) -> int:
+    from .init_template import write_template
 
-    st = load_study(args.study)
+    files = write_template(args.dir)
+    study = files[0]
+    print(f"rvtol: wrote {', '.join(str(f) for f in files)} — a first study that runs as written:\n"
+          f"  rvtol run {study}\n"
+          "then replace the parts in spec.csv and the formulas in study.toml with your own "
+          "(every key: studies/WRITING_A_STUDY.md)")
+    return EXIT_PASS
+
+
+def _check(args) -> int:
+    from .study import NotRunModel, load_study
+
+    st = load_study(args.study, execute=args.execute)
+    if isinstance(st.model, NotRunModel):
+        print(f"rvtol: {st.file}: ok — {len(st.spec)} factors, {len(st.requirements)} requirements; "
+              + "; ".join(st.model.notes))
+        print("rvtol: note: the model's code was not run, so its outputs, the requirements' and gates' outputs "
+              "and the analyses are unchecked: rvtol check --execute runs it")
+        return EXIT_PASS
+    failures = _formula_failures(st)
+    if failures:
+        for key, text in failures:
+            print(f"rvtol: error: {st.file}: {key}: {text}", file=sys.stderr)
+        return EXIT_INPUT
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
           f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
           f"{len(st.analyses)} analyses")
@@ -179,6 +216,15 @@ def _check(args) -> int:
                                  if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "
                                  "(exit 4); add [[requirement]] tables or declare [study] exploratory = true"))
     return EXIT_PASS
+
+
+def _formula_failures(st) -> list[tuple[str, str]]:
+    """A formula model evaluated at the nominal and the corners of the bands: (key, where and why) per output
+    that fails (rvtol.models.formula.probe)."""
+    probe = getattr(st.model, "probe", None)      # models that can be probed without running user code
+    if probe is None:
+        return []
+    return [(f"model.output[{f.output}].formula", f.describe()) for f in probe(st.spec, st.options.seed)]
 
 
 def _spec(args) -> int:
@@ -259,6 +305,9 @@ def _run(args) -> int:
         from .ci.compare import load_run
 
         baseline = load_run(args.baseline, key="--baseline")
+        if baseline.summary.get("study") != study.name:
+            raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
+                             f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
     est = estimate_run(study)
     check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
     if not args.quiet:
@@ -339,8 +388,11 @@ def _compare(args) -> int:
     for flag in ("junit", "markdown", "out"):
         if getattr(args, flag):
             _check_file_target(getattr(args, flag), f"--{flag}")
+    from .ci.compare import same_study
+
     base = load_run(args.base, key="BASE")
     new = load_run(args.new, key="NEW")
+    same_study(base, new, key="BASE", file=args.base)
     comparison = compare(base, new, seed=new.summary.get("seed"))
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)

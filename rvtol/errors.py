@@ -63,6 +63,33 @@ class UnitError(InputError):
     """An unknown unit, or a unit of the wrong dimension."""
 
 
+class ModelCodeError(RvtolError):
+    """A user's model code (a ``kind = "python"`` factory or its model) raised or called ``sys.exit``: not bad
+    input (the study is fine) and not an rvtol bug — the CLI prints the message and exits 3."""
+
+    def __init__(self, reason: str, *, file: str | None = None, key: str | None = None):
+        super().__init__(reason)
+        self.reason, self.file, self.key = reason, file, key
+
+    def __reduce__(self):   # crosses process boundaries (worker → main) intact
+        return (_model_code_error, (self.reason, self.file, self.key))
+
+    def __str__(self) -> str:
+        return f"{self.file or '<input>'}: {self.key or '-'}: {self.reason}"
+
+
+def _model_code_error(reason, file, key):
+    return ModelCodeError(reason, file=file, key=key)
+
+
+def describe_exception(exc: BaseException) -> str:
+    """``raised ValueError: boom`` / ``called sys.exit(0)`` — what a piece of user code did."""
+    if isinstance(exc, SystemExit):
+        return f"called sys.exit({exc.code!r})"
+    msg = str(exc).strip().splitlines()[0][:300] if str(exc).strip() else ""
+    return f"raised {type(exc).__name__}" + (f": {msg}" if msg else "")
+
+
 class ModelError(RvtolError):
     """A model was used wrongly by code (wrong array shape, unknown output)."""
 

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
+import stat
 import tomllib
 from pathlib import Path
 from typing import Any, Iterable
@@ -26,11 +28,50 @@ _MISSING = object()
 KEY_CUTOFF = 0.75
 
 
-def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
-    """The bytes of an input file; one-line errors (:class:`SpecError`, key ``-``) naming the file."""
+#: the largest input file rvtol reads (bytes); ``RVTOL_MAX_INPUT_MB`` raises or lowers it
+MAX_INPUT_BYTES = 256 * 2**20
+
+
+def max_input_bytes() -> int:
+    v = os.environ.get("RVTOL_MAX_INPUT_MB")
+    try:
+        return int(float(v) * 2**20) if v else MAX_INPUT_BYTES
+    except ValueError:
+        return MAX_INPUT_BYTES
+
+
+def check_input_file(path: str | Path, expected: str = "a file") -> int:
+    """The size of an input file that may be read: a regular file (not a folder, FIFO or device such as
+    /dev/zero — a FIFO would hang, a device never ends) no larger than :func:`max_input_bytes`."""
     p = Path(path)
     try:
-        return p.read_bytes()
+        st = p.stat()
+    except FileNotFoundError:
+        raise SpecError("file not found", file=str(path), key="-") from None
+    except OSError as exc:
+        raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise SpecError(f"is a directory, expected {expected}", file=str(path), key="-")
+    if not stat.S_ISREG(st.st_mode):
+        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else "a device" if
+                stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode) else "a socket" if stat.S_ISSOCK(st.st_mode)
+                else "not a regular file")
+        raise SpecError(f"is {kind}, expected {expected} (rvtol reads only regular files)", file=str(path), key="-")
+    cap = max_input_bytes()
+    if st.st_size > cap:
+        raise SpecError(f"is {st.st_size / 2**20:.0f} MB, more than rvtol reads ({cap / 2**20:.0f} MB; set "
+                        "RVTOL_MAX_INPUT_MB to allow more)", file=str(path), key="-")
+    return st.st_size
+
+
+def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
+    """The bytes of an input file (:func:`check_input_file` first); one-line errors (:class:`SpecError`, key
+    ``-``) naming the file."""
+    p = Path(path)
+    check_input_file(p, expected)
+    try:
+        with open(p, "rb") as fh:
+            return fh.read(max_input_bytes() + 1)
     except FileNotFoundError:
         raise SpecError("file not found", file=str(path), key="-") from None
     except IsADirectoryError:
@@ -39,15 +80,38 @@ def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
         raise SpecError(f"cannot read file ({exc.strerror})", file=str(path), key="-") from None
 
 
-def read_text(path: str | Path, expected: str = "a text file") -> tuple[str, str]:
-    """``(text, sha256)`` of a UTF-8 input file (a byte-order mark, as some Windows editors write, is accepted)."""
-    raw = read_bytes(path, expected)
+def decode_text(raw: bytes, file: str, fallback: str | None = None) -> str:
+    """Text of an input file: UTF-8 (a byte-order mark accepted), UTF-16 with its byte-order mark (Excel's
+    "Unicode text"), else ``fallback`` (e.g. cp1252); a file of NUL bytes or of UTF-16 without a mark is
+    not taken for text."""
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError:
+            raise SpecError("not readable UTF-16 text (it starts with a UTF-16 byte-order mark); save the file "
+                            "as UTF-8", file=file, key="-") from None
+    if b"\x00" in raw[:4096]:
+        hint = (" — it looks like UTF-16 without a byte-order mark: save it as UTF-8"
+                if raw[1:4096:2].count(0) > len(raw[1:4096:2]) // 2 or raw[0:4096:2].count(0) > len(raw[0:4096:2]) // 2
+                else "")
+        raise SpecError(f"not a text file (it holds NUL bytes){hint}", file=file, key="-")
     try:
-        text = raw.decode("utf-8-sig")
+        return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
+        if fallback:
+            try:
+                return raw.decode(fallback)
+            except UnicodeDecodeError:
+                pass
         raise SpecError(f"not UTF-8 text (byte {exc.start}: {raw[exc.start:exc.start + 1]!r}); save the file "
-                        "as UTF-8", file=str(path), key="-") from None
-    return text, hashlib.sha256(raw).hexdigest()
+                        "as UTF-8", file=file, key="-") from None
+
+
+def read_text(path: str | Path, expected: str = "a text file") -> tuple[str, str]:
+    """``(text, sha256)`` of a UTF-8 input file (a byte-order mark, as some Windows editors write, is accepted;
+    UTF-16 with its mark too)."""
+    raw = read_bytes(path, expected)
+    return decode_text(raw, str(path)), hashlib.sha256(raw).hexdigest()
 
 
 def read_toml(path: str | Path) -> tuple[dict, str]:

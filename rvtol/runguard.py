@@ -212,7 +212,7 @@ def check_writable(target: str | Path, key: str) -> Path:
 
 @dataclass
 class RunEstimate:
-    """What the study's Monte Carlo will need (analyses not included)."""
+    """What the study's Monte Carlo and its report will need (analyses not included)."""
 
     n: int
     factors: int
@@ -222,13 +222,16 @@ class RunEstimate:
     workers: int
     per_sample: float | None = None   # s, from a pilot at the nominal point
     seconds: float | None = None      # Monte Carlo wall time
+    report_seconds: float | None = None   # writing the report folder
 
     def describe(self) -> str:
         s = f"estimate: {self.n:,} samples × {self.factors} factors → {self.outputs} outputs; " \
             f"memory ≈ {human_bytes(self.memory)}, disk ≈ {human_bytes(self.disk)}"
         if self.seconds is not None:
             s += (f", Monte Carlo ≈ {human_seconds(self.seconds)} on {self.workers} worker"
-                  f"{'s' if self.workers != 1 else ''} ({1e3 * self.per_sample:.3g} ms/sample at the nominal point)")
+                  f"{'s' if self.workers != 1 else ''} ({1e3 * self.per_sample:.3g} ms/sample in a pilot)")
+        if self.report_seconds is not None:
+            s += f", report ≈ {human_seconds(self.report_seconds)}"
         return s + " — analyses come on top"
 
 
@@ -236,34 +239,73 @@ class RunEstimate:
 #: outputs in base and display units, sorted copies for the statistics, the table written to parquet):
 #: an upper envelope of the measured peak (linear model, n = 10⁶: 158 B per sample for 3 factors, 1 output)
 MEMORY_PER_SAMPLE = (40, 32, 32)
-#: disk bytes per sample: samples.parquet (8 B per column, uncompressed worst case) and the checkpoint
+#: disk bytes per sample: samples.parquet (8 B per value: random floats do not compress; measured 7.9 B for
+#: 20 000 samples of linear_stackup) and the checkpoint of the outputs during the run
 DISK_PER_SAMPLE = (8, 16, 10)
-#: the report (HTML with figures, PDF) besides the samples
-REPORT_BYTES = 20 * 2**20
+#: the report besides the samples: HTML (figures inlined) per part — the base, each output, each analysis —
+#: an envelope of the measured 146 kB (1 output, no analysis), 232 kB (1 output, 2 analyses), 448 kB (2, 2);
+#: a PDF about as much again
+REPORT_BYTES_PER_PART = 150_000
+#: seconds to start a process pool's workers (each imports numpy, scipy and rvtol; measured 3–4 s on 2 idle
+#: cores, 8 s at a load average of 17)
+POOL_START_SECONDS = 4.0
+#: the engine's own cost per sample (design, inverse CDFs, statistics) per factor and fixed: measured
+#: 2–4 µs per sample for 3–11 factors (linear_stackup, stack_handbook_motor)
+ENGINE_SECONDS_PER_SAMPLE = (0.3e-6, 1.0e-6)
+#: the report's seconds: fixed and per output (HTML; measured 3–5 s for 1 output, 6 s for 5), ×3 with the PDF
+REPORT_SECONDS = (2.5, 0.6)
+REPORT_PDF_FACTOR = 3.0
 
 
 def estimate_run(study) -> RunEstimate:
-    """Memory and disk of the study's Monte Carlo (no computation; :func:`time_pilot` adds the time)."""
+    """Memory and disk of the study's Monte Carlo and report (no computation; :func:`time_pilot` adds the time)."""
     o = study.options
     n, k, m = o.n, len(study.spec), len(study.model.outputs)
     mem = n * (MEMORY_PER_SAMPLE[0] * k + MEMORY_PER_SAMPLE[1] * m + MEMORY_PER_SAMPLE[2])
-    disk = n * (DISK_PER_SAMPLE[0] * k + DISK_PER_SAMPLE[1] * m + DISK_PER_SAMPLE[2]) + REPORT_BYTES
+    parts = 1 + m + len(study.analyses)
+    report = REPORT_BYTES_PER_PART * parts * (2 if o.pdf else 1)
+    disk = n * (DISK_PER_SAMPLE[0] * k + DISK_PER_SAMPLE[1] * m + DISK_PER_SAMPLE[2]) + report
     workers = 1 if o.executor == "serial" else (o.workers or os.cpu_count() or 1)
     return RunEstimate(n, k, m, mem, disk, workers)
 
 
-def time_pilot(est: RunEstimate, study, rows: int = 4) -> RunEstimate:
-    """Add the Monte Carlo's time to ``est`` from ``rows`` evaluations at the nominal point (after a warm-up)."""
+def time_pilot(est: RunEstimate, study, rows: int = 64) -> RunEstimate:
+    """Add the Monte Carlo's and the report's time to ``est``: the model timed at the nominal point on 1 and on
+    ``rows`` rows (after a warm-up), which separates the cost of a call from the cost of a row; a process
+    pool's start; the report's parts."""
     from .mc import Evaluator
+    from .sampling import sample
 
     x0 = study.spec.nominal_base()[None, :]
     ev = Evaluator()
     ev(study.model, x0, "pilot")  # first call: compiled kernels, caches
-    rows = max(1, min(est.n, rows))
-    t0 = time.perf_counter()
-    ev(study.model, np.repeat(x0, rows, axis=0), "pilot")
-    est.per_sample = (time.perf_counter() - t0) / rows
-    est.seconds = est.per_sample * est.n / est.workers
+
+    def timed(X, repeat):          # the fastest of a few: a shared machine's stalls are not the model's cost
+        best = math.inf
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            ev(study.model, X, "pilot")
+            best = min(best, time.perf_counter() - t0)
+        return best
+
+    t1 = timed(x0, 3)
+    rows = max(2, min(est.n, rows if t1 < 0.02 else 8))
+    # sampled reducers, not the nominal one: a solver may work harder away from the nominal point
+    X = sample(study.spec, rows, "random", seed=study.options.seed).values
+    tm = timed(X, 3 if t1 < 0.02 else 1)
+    per_row = max((tm - t1) / (rows - 1), tm / rows / 50.0)
+    if per_row * rows > 0.5:        # a costly model: the many-row timing is the better per-sample figure
+        per_row = tm / rows
+    o = study.options
+    from .mc import auto_chunk_size
+
+    chunk = o.chunk_size or auto_chunk_size(est.n, est.workers)
+    calls = math.ceil(est.n / max(chunk, 1))
+    est.per_sample = per_row
+    engine = est.n * (ENGINE_SECONDS_PER_SAMPLE[0] * est.factors + ENGINE_SECONDS_PER_SAMPLE[1])
+    est.seconds = (per_row * est.n + max(t1 - per_row, 0.0) * calls) / est.workers + engine \
+        + (POOL_START_SECONDS if o.executor != "serial" and est.workers > 1 else 0.0)
+    est.report_seconds = (REPORT_SECONDS[0] + REPORT_SECONDS[1] * est.outputs) * (REPORT_PDF_FACTOR if o.pdf else 1.0)
     return est
 
 

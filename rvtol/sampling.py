@@ -52,6 +52,7 @@ STREAMS = {
     "measured_gof": 91,                                               # bootstrap of a measured factor's GoF test
     "stacking_importance": 92,                                        # importance sampling about the FORM point
     "compare_bootstrap": 93,                                          # baseline comparison: percentile bootstrap
+    "check_corners": 94,                                              # rvtol check: corners of many bands
     "per_unit": 101,                                                  # measurement noise + unmeasured factors per unit
     "selective_stock": 102, "selective_optimise": 103,                # graded batch; design of the class-limit search
     "synthetic_parts": 104,                                           # synthetic measured parts (studies/)

@@ -340,6 +340,9 @@ class Requirement:
 # --------------------------------------------------------------------------- loaders
 def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
     """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    if Path(path).suffix.lower() == ".txt":     # a TOML spec saved as text, or a table: say which to name it
+        raise SpecError("a spec is a TOML file (.toml) or a table (.csv, .tsv or .xlsx), not .txt: rename it after "
+                        "what it holds (a tab-separated table: .tsv)", file=str(path), key="-")
     if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
         return load_table_spec(path, sheet=sheet)
     data, sha = read_toml(path)
@@ -451,7 +454,7 @@ _REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scal
 def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
     """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
     for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
-    text = p.data.get("tolerance")
+    text = p.data.get("tolerance") if "tolerance" in p else None   # probed: a misspelt 'tolerence' is named
     if not isinstance(text, str):
         return None
     p.raw("tolerance")
@@ -533,6 +536,7 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         return None
     k = len(names)
     c = np.eye(k)
+    given: dict[tuple[int, int], str] = {}   # pair -> the table that gave it: a second one contradicts or repeats
     for t in tables:
         if "pair" in t:
             fs = t.strs("pair")
@@ -564,6 +568,15 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         t.finish()
         for a, ia in enumerate(idx):
             for b, ib in enumerate(idx):
+                if a < b:
+                    pair = (min(ia, ib), max(ia, ib))
+                    if pair in given:
+                        prev = c[ia, ib]
+                        same = "the same" if prev == m[a, b] else f"{prev:g} there, {m[a, b]:g} here"
+                        raise t.error("factors" if "factors" in t.data else "pair",
+                                      f"the correlation of {names[pair[0]]!r} and {names[pair[1]]!r} is given twice "
+                                      f"(first in {given[pair]}; {same}): give each pair once")
+                    given[pair] = t.key
                 if a != b:
                     c[ia, ib] = m[a, b]
     w = np.linalg.eigvalsh(c)

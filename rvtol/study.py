@@ -152,8 +152,43 @@ class StudyContext:
 
 
 # --------------------------------------------------------------------------- loading
-def load_study(path: str | Path, **overrides) -> Study:
-    """Read and validate a study file and everything it names. Raises :class:`InputError`."""
+class NotRunModel(Model):
+    """Stands for a model whose code ``rvtol check`` did not run (a ``kind = "python"`` factory): its outputs are unknown, so requirements' outputs, gates and analyses are not checked.
+    ``notes`` say what was checked without running."""
+
+    def __init__(self, spec: ToleranceSpec, notes: list[str]):
+        from . import units as _units
+
+        self.inputs = tuple(spec.names)
+        self.input_units = tuple(_units.base_unit(u) for u in spec.units)
+        self.outputs = ()
+        self.notes = notes
+
+    def evaluate(self, X):   # pragma: no cover - never run
+        raise RuntimeError("a model rvtol check did not run cannot be evaluated")
+
+
+def _user_code(root: Params) -> list[str] | None:
+    """``[model]`` tables that run the study's own code (``kind = "python"``): validated without running it
+    (:func:`rvtol.models.custom.model.check_without_running`); notes, or None if there are none.  (A kind of an
+    installed package is loaded like a built-in one: installing it was the decision to run it.)"""
+    raw = root.data.get("model")
+    tables = root.tables("model") if isinstance(raw, list) else [root.sub("model")]
+    notes = []
+    for t in tables:
+        kind = t.data.get("kind")
+        if kind == "python":
+            from .models.custom.model import check_without_running
+
+            notes.append(check_without_running(t))
+    return notes or None
+
+
+def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
+    """Read and validate a study file and everything it names. Raises :class:`InputError`.
+
+    ``execute=False`` (``rvtol check`` without ``--execute``): a model made by the user's code is validated
+    without running that code (:class:`NotRunModel`), and what depends on its outputs is not checked."""
     path = Path(path)
     data, sha = read_toml(path)
     file = str(path)
@@ -202,6 +237,15 @@ def load_study(path: str | Path, **overrides) -> Study:
 
     options = _options(root, overrides)
 
+    notes = None if execute else _user_code(root)
+    if notes is not None:       # rvtol check: no user code runs; nothing that needs its outputs is checked
+        check_requirement_names(reqs)
+        study = Study(name, title, desc, file, base, design, spec, NotRunModel(spec, notes), reqs, options, [],
+                      inputs, exploratory)
+        for k in ("model", "quantity", "gate", "analysis"):
+            root.raw(k, None)
+        root.finish()
+        return study
     if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
         model = _composite(root, mapping, design, spec, file, inputs)
     else:
@@ -214,6 +258,7 @@ def load_study(path: str | Path, **overrides) -> Study:
         model.check_spec(spec)
     except InputError as exc:
         raise exc.located(file=spec.file or file) from None
+    check_requirement_names(reqs)
     for r in reqs:
         if r.output not in model.output_names:
             raise SpecError(f"unknown output name {r.output!r}{did_you_mean(r.output, model.output_names)} "
@@ -233,6 +278,19 @@ def load_study(path: str | Path, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def check_requirement_names(reqs: list[Requirement]) -> None:
+    """Two requirements with one name (or, unnamed, the same output and limits) would be two JUnit cases
+    and two rows no reader can tell apart: refused, naming both."""
+    seen: dict[str, Requirement] = {}
+    for r in reqs:
+        first = seen.get(r.label)
+        if first is not None:
+            where = f"{first.key or 'requirement'}" + (f" of {first.file}" if first.file != r.file else "")
+            raise SpecError(f"requirement {r.label!r} is given twice (first as {where}): give each requirement "
+                            "its own name", file=r.file, key=f"{r.key}.name" if r.key else "name")
+        seen[r.label] = r
 
 
 #: tables a study that extends another may not give (they come from the base study)
@@ -488,7 +546,28 @@ def check_out_dir(out_dir: str | Path) -> Path:
         if any(out.iterdir()) and not _is_report_folder(out):
             raise InputError("exists and is not an rvtol report folder (no rvtol summary.json in it); "
                              "choose another --out or empty it", file=where, key="--out")
+        foreign = foreign_files(out)
+        if foreign:
+            shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+            raise InputError(f"holds files rvtol did not write ({shown}); a run replaces the whole folder: move them "
+                             "elsewhere first", file=where, key="--out")
     return out
+
+
+#: the list of the files a report folder's run wrote (written last, in the same atomic step)
+MANIFEST = ".rvtol-files"
+#: files of a report folder written before the manifest existed
+_KNOWN = ("summary.json", "samples.parquet", "report.html", "report.pdf", "comparison.json", "requirements.csv",
+          "per_unit.csv", "samples.csv", "samples.xlsx", "statistics.csv", "statistics.xlsx")
+
+
+def foreign_files(folder: Path) -> list[str]:
+    """The entries of an rvtol report folder that rvtol did not write (its manifest, or the known names)."""
+    try:
+        known = set((folder / MANIFEST).read_text(encoding="utf-8").split("\n")) | {MANIFEST}
+    except (OSError, UnicodeDecodeError):
+        known = set(_KNOWN)
+    return sorted(p.name for p in folder.iterdir() if p.name not in known)
 
 
 def _is_report_folder(path: Path) -> bool:
@@ -554,6 +633,7 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
         for fname, text in (extra_files or {}).items():
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
+        (tmp / MANIFEST).write_text("\n".join(sorted([MANIFEST, *(p.name for p in tmp.iterdir())])), encoding="utf-8")
         old = None
         if out.exists():
             old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"

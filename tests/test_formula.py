@@ -105,10 +105,11 @@ def test_derivatives_agree_with_central_differences():
 
 
 def test_units_and_definitions():
-    # clearance in µm of a gap (mm) minus two widths (mm); the tilt through a definition
+    # units = "factor" (unchecked): the numbers as written, the output's unit what they yield —
+    # clearance in µm of a gap (mm) minus two widths (mm) converted by hand; the tilt through a definition
     m = FormulaModel([FormulaOutput("gap", "(g - w1 - w2)*1000", "um", "um"),
                       FormulaOutput("tilt", "atan2(d, L)", "rad", "arcmin")],
-                     ["g", "w1", "w2", "d"], ["mm", "mm", "mm", "um"], definitions={"L": "12.5*2"})
+                     ["g", "w1", "w2", "d"], ["mm", "mm", "mm", "um"], definitions={"L": "12.5*2"}, checked=False)
     assert m.input_units == ("mm", "mm", "mm", "mm")
     assert m.outputs[0] == Quantity("gap", "mm", "um") and m.outputs[1].display_unit == "arcmin"
     X = np.array([[24.08, 11.99, 12.0, 0.002]])      # base units: d = 2 µm = 0.002 mm
@@ -170,7 +171,7 @@ def test_model_construction_errors():
 
 def test_study_factory_locates_errors():
     spec = load_spec("data/specs/rv80e_axial_stack.toml")
-    p = Params({"units": "factor", "define": {"w": "disc1_width + disc2_width"},
+    p = Params({"units": "checked", "define": {"w": "disc1_width + disc2_width"},
                 "output": [{"name": "gap", "formula": "carrier_gap - w", "unit": "mm", "display_unit": "um"}]},
                file="study.toml", key="model")
     m = from_study(p, None, spec)

@@ -46,7 +46,7 @@ kind = "formula"
 discs = "disc1_width + disc2_width"
 [[model.output]]
 name = "axial_clearance"
-formula = "(carrier_gap - discs) * 1000"
+formula = "carrier_gap - discs"
 unit = "um"
 """
 
@@ -126,7 +126,7 @@ def test_a_python_factory_next_to_the_study_runs_through_the_cli_on_worker_proce
 def test_bad_python_models_are_one_line_errors(tmp_path, root, capsys, model, key, words):
     write(tmp_path / "gapmodel.py", GAPMODEL)
     path = study(tmp_path, root, "bad", model)
-    rc = main(["check", str(path)])
+    rc = main(["check", "--execute", str(path)])
     err = capsys.readouterr().err
     if "sqrt" in words:   # a factory with the wrong signature is a bug in it, not bad input: internal error
         assert rc == 3 and "TypeError" in err
@@ -138,7 +138,7 @@ def test_bad_python_models_are_one_line_errors(tmp_path, root, capsys, model, ke
 def test_a_factory_that_returns_no_model_is_refused(tmp_path, root, capsys):
     write(tmp_path / "notmodel.py", "def make(params, design, spec):\n    return 42\n")
     path = study(tmp_path, root, "bad", '[model]\nkind = "python"\nfactory = "notmodel:make"\npath = "."\n')
-    assert main(["check", str(path)]) == 2
+    assert main(["check", "--execute", str(path)]) == 2
     assert "factory 'notmodel:make' returned int, not an rvtol.model.Model" in capsys.readouterr().err
 
 

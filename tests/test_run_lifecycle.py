@@ -187,7 +187,7 @@ def test_the_estimate_is_printed_before_the_run(study, tmp_path, capsys):
     assert main(["run", str(study), "--out", str(tmp_path / "o"), "--no-pdf", "--executor", "serial",
                  "--n", "300"]) in (0, 1)
     err = capsys.readouterr().err
-    assert "rvtol: estimate: 300 samples × " in err and "ms/sample at the nominal point" in err
+    assert "rvtol: estimate: 300 samples × " in err and "ms/sample in a pilot" in err
 
 
 def test_the_checkpoint_keeps_every_monte_carlo_chunk_and_only_costly_analysis_chunks(tmp_path, monkeypatch):

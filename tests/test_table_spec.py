@@ -164,15 +164,15 @@ def test_xlsx_errors_name_sheet_row_and_column(tmp_path, row, where, words):
 
 
 @pytest.mark.parametrize("text,words", [
-    ("name,unit,tolerance\na,mm,±1\na,mm,±2\n", "row 3, column 'name': duplicate factor name 'a' (first in row 2)"),
-    ("name,unit,tolerance,colour\na,mm,±1,red\n", "row 1, column 'colour': unknown column"),
-    ("unit,tolerance\nmm,±1\n", "row 1: the header has no 'name' column"),
-    ("name,unit,tolerance,+tol,-tol\na,mm,±1,1,1\n", "not both"),
+    ("name,unit,tolerance\na,mm,-1..1\na,mm,-2..2\n", "row 3, column 'name': duplicate factor name 'a' (first in row 2)"),
+    ("name,unit,tolerance,colour\na,mm,-1..1,red\n", "row 1, column 'colour': unknown column"),
+    ("unit,tolerance\nmm,-1..1\n", "row 1: the header has no 'name' column"),
+    ("name,unit,tolerance,+tol,-tol\na,mm,-1..1,1,1\n", "not both"),
     ("name,unit,+tol,-tol\na,mm,0.1,\n", "row 2, column '-tol': +tol and -tol go together"),
-    ("name,unit,tolerance,direction\na,mm,±1,up\n", "row 2, column 'direction': expected a direction"),
-    ("#correlation,a,b,2\nname,unit,tolerance\na,mm,±1\nb,mm,±1\n", "row 1: #correlation: must be <= 1.0"),
-    ("#correlation,a,c,0.5\nname,unit,tolerance\na,mm,±1\nb,mm,±1\n", "unknown factor name 'c'"),
-    ("#colour,red\nname,unit,tolerance\na,mm,±1\n", "row 1: unknown directive '#colour'"),
+    ("name,unit,tolerance,direction\na,mm,-1..1,up\n", "row 2, column 'direction': expected a direction"),
+    ("#correlation,a,b,2\nname,unit,tolerance\na,mm,-1..1\nb,mm,-1..1\n", "row 1: #correlation: must be <= 1.0"),
+    ("#correlation,a,c,0.5\nname,unit,tolerance\na,mm,-1..1\nb,mm,-1..1\n", "unknown factor name 'c'"),
+    ("#colour,red\nname,unit,tolerance\na,mm,-1..1\n", "row 1: unknown directive '#colour'"),
     ("name,unit,tolerance\n", "no factor rows"),
     ("", "no header row"),
 ])

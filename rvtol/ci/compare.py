@@ -103,9 +103,13 @@ def load_run(path: str | Path, key: str = "-") -> RunData:
     if not summary_path.exists():
         raise InputError("no such report folder or summary.json" if not p.exists() else
                          "no summary.json in this folder: not an rvtol report", file=str(path), key=key)
+    from ..params import read_text
+
     try:
-        summary = json.loads(summary_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        summary = json.loads(read_text(summary_path, "a summary.json file")[0])
+    except InputError as exc:
+        raise InputError(f"cannot read summary.json ({exc.reason})", file=str(summary_path), key=key) from None
+    except ValueError as exc:
         raise InputError(f"cannot read summary.json ({exc})", file=str(summary_path), key=key) from None
     validate_summary(summary, str(summary_path))
     samples = summary_path.parent / "samples.parquet"
@@ -130,7 +134,9 @@ class Change:
         if self.unpaired_ci is None or None in self.ci or None in self.unpaired_ci:
             return None
         w, wu = self.ci[1] - self.ci[0], self.unpaired_ci[1] - self.unpaired_ci[0]
-        return wu / w if w > 0 else math.inf
+        # a paired interval of zero width (nothing changed, or every sample moved alike) has no finite gain:
+        # None rather than "inf× narrower"
+        return wu / w if w > 0 else None
 
     def to_dict(self) -> dict:
         return {"statistic": self.statistic, "base": self.base, "new": self.new, "change": self.change,
@@ -233,6 +239,14 @@ def _clean(obj):
 
 
 # --------------------------------------------------------------------------- the comparison
+def same_study(base: RunData, new: RunData, key: str = "BASE", file: str | None = None) -> None:
+    """A comparison of runs of two different studies compares nothing: refused (InputError naming both)."""
+    a, b = base.summary.get("study"), new.summary.get("study")
+    if a != b:
+        raise InputError(f"the baseline is a run of study {a!r}, this is a run of study {b!r}: compare runs of one "
+                         "study", file=file or base.source, key=key)
+
+
 def compare(base: RunData, new: RunData, seed: int | None = None, gates: list[Gate] | None = None) -> Comparison:
     """Compare ``new`` with ``base``; ``gates`` default to those recorded in ``new`` (else DEFAULT_GATES)."""
     bs, ns = base.summary, new.summary

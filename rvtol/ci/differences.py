@@ -21,7 +21,8 @@ hypercube or Sobol design the intervals are conservative):
 * a non-conforming fraction: Newcombe's hybrid score interval, for
   independent proportions (Newcombe 1998, *Stat. Med.* 17:873, method 10)
   and for paired ones (Newcombe 1998, *Stat. Med.* 17:2635, method 10, with
-  the φ correlation of the paired 2×2 table), built on Wilson intervals.
+  the φ correlation of the paired 2×2 table and Newcombe's continuity
+  correction of its cross-product), built on Wilson intervals.
 """
 from __future__ import annotations
 
@@ -125,7 +126,11 @@ def proportion_change(out_a: np.ndarray, out_b: np.ndarray, paired: bool, confid
         x, y = np.asarray(out_a, bool), np.asarray(out_b, bool)
         n11, n10, n01, n00 = [int(v) for v in ((x & y).sum(), (x & ~y).sum(), (~x & y).sum(), (~x & ~y).sum())]
         den = (n11 + n10) * (n01 + n00) * (n11 + n01) * (n10 + n00)
-        phi = (n11 * n00 - n10 * n01) / math.sqrt(den) if den > 0 else 0.0
+        # Newcombe's φ̂ with his continuity correction of the cross-product (1998, Stat. Med. 17:2635, §2.10):
+        # A = n11·n00 − n10·n01; A − N/2 when A > N/2, 0 when 0 ≤ A ≤ N/2, A when A < 0
+        big_a, half = n11 * n00 - n10 * n01, 0.5 * (n11 + n10 + n01 + n00)
+        num = big_a - half if big_a > half else (0.0 if big_a >= 0 else big_a)
+        phi = num / math.sqrt(den) if den > 0 else 0.0
     # b − a: the lower end pairs b's lower Wilson limit with a's upper one (and vice versa)
     lo = d - math.sqrt(max((pb - lb) ** 2 - 2 * phi * (pb - lb) * (ua - pa) + (ua - pa) ** 2, 0.0))
     hi = d + math.sqrt(max((ub - pb) ** 2 - 2 * phi * (ub - pb) * (pa - la) + (pa - la) ** 2, 0.0))

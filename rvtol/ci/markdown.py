@@ -5,6 +5,8 @@ the same text is appended there and shows on the run's page.
 """
 from __future__ import annotations
 
+import html
+
 from .. import units
 
 _ICON = {"PASS": "✅", "FAIL": "❌", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
@@ -21,7 +23,14 @@ def _ci(ci, fmt: str = ".4g") -> str:
 
 
 def _cell(s: str) -> str:
-    return str(s).replace("|", "\\|").replace("\n", " ")
+    """Text from the study (names, titles, reasons) in a Markdown table or heading: raw HTML escaped (a
+    ``<script>`` in a requirement's name shows as text), pipes escaped, one line."""
+    return html.escape(str(s), quote=False).replace("|", "\\|").replace("\n", " ")
+
+
+def _code(s) -> str:
+    """Text in a code span: backticks cannot close it early."""
+    return "`" + str(s).replace("`", "'") + "`"
 
 
 def _table(head: list[str], rows: list[list]) -> list[str]:
@@ -33,7 +42,7 @@ def _table(head: list[str], rows: list[list]) -> list[str]:
 def render_markdown(summary: dict, comparison=None) -> str:
     v = summary["verdict"]
     lines = [f"### {_ICON.get(v, '')} rvtol · {_cell(summary.get('title') or summary['study'])}: **{v}**", "",
-             f"Study `{summary['study']}` · {summary['n']:,} samples ({summary['method']}, seed {summary['seed']}) · "
+             f"Study {_code(summary['study'])} · {summary['n']:,} samples ({summary['method']}, seed {summary['seed']}) · "
              f"rvtol {summary['rvtol_version']}", ""]
     reqs = [r for o in summary["outputs"].values() for r in o.get("requirements", [])]
     if reqs:
@@ -71,8 +80,8 @@ def render_markdown(summary: dict, comparison=None) -> str:
 def comparison_markdown(c) -> list[str]:
     pct = f"{100 * c.confidence:g} %"
     lines = [f"#### {_ICON[c.verdict]} Against the baseline: gates **{c.verdict}**", "",
-             f"Baseline `{c.base['source']}` (n {c.base['n']:,}, seed {c.base['seed']}, verdict {c.base['verdict']}) · "
-             + ("**paired** on common random numbers (" if c.paired else "unpaired (") + c.pairing + ")", ""]
+             f"Baseline {_code(c.base['source'])} (n {c.base['n']:,}, seed {c.base['seed']}, verdict {c.base['verdict']}) · "
+             + ("**paired** on common random numbers (" if c.paired else "unpaired (") + _cell(c.pairing) + ")", ""]
     if c.spec_changes:
         lines += _table(["factor", "change", "before", "after"],
                         [[s["factor"], s["change"], s.get("old") or "—", s.get("new") or "—"] for s in c.spec_changes])

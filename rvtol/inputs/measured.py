@@ -41,8 +41,8 @@ than the parts').  u ≥ s is refused (the gauge cannot resolve the parts).
 """
 from __future__ import annotations
 
-import csv
-import io
+import array
+import itertools
 import math
 import re
 import warnings
@@ -54,7 +54,7 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import InputError, SpecError
-from .sheets import read_rows
+from .sheets import byte_progress, stream_rows
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -703,46 +703,27 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
 
     A first row that is not all numbers is the header.  Blank cells are skipped (columns of
     different lengths); anything else that is not a number is an error naming row and column.
-    Semicolon- or tab-separated files may use decimal commas.
+    Semicolon- or tab-separated files may use decimal commas.  The rows are read one at a time
+    (only the column's numbers are kept: a file of millions of rows takes the memory of its
+    numbers), with a progress bar on a terminal for a large file.
     """
     path = Path(path)
     file = str(path)
-    suffix = path.suffix.lower()
-    where_sheet = ""
-    if suffix in (".xlsx", ".xlsm"):
-        sh = read_rows(path, sheet)
-        rows = sh.rows
-        where_sheet = f"sheet {sh.title!r}, "
-        decimal_comma = False
-    elif suffix in (".csv", ".tsv", ".txt", ".dat", ""):
-        try:
-            text = path.read_bytes().decode("utf-8-sig")
-        except FileNotFoundError:
-            raise SpecError("file not found", file=file, key="-") from None
-        except UnicodeDecodeError:
-            raise SpecError("not UTF-8 text", file=file, key="-") from None
-        except OSError as exc:
-            raise SpecError(f"cannot read file ({exc.strerror})", file=file, key="-") from None
-        lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-        sample = "\n".join(lines[:50])
-        if suffix == ".tsv":
-            delim = "\t"
-        else:
-            try:
-                delim = csv.Sniffer().sniff(sample, delimiters=",;\t ").delimiter if sample else ","
-            except csv.Error:
-                delim = ","
-        decimal_comma = delim in ";\t "
-        reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " ")
-        rows = [(r, cells) for r, cells in enumerate(reader, start=1)]
-    else:
-        raise SpecError(f"unknown measurement file format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx)",
-                        file=file, key="-")
-    rows = [(r, c) for r, c in rows if any(not (v is None or (isinstance(v, str) and not v.strip())) for v in c)
-            and not (isinstance(c[0], str) and c[0].lstrip().startswith("#"))]
-    if not rows:
+    rs = stream_rows(path, sheet, delimiters=",;\t ", text_suffixes=(".csv", ".tsv", ".txt", ".dat", ""),
+                     what="a file of measured values")
+    rows, size = rs.rows, rs.size
+    where_sheet = f"sheet {rs.title!r}, " if rs.title is not None else ""
+    decimal_comma = rs.delimiter is not None and rs.delimiter in ";\t "
+
+    def empty(v):
+        return v is None or (isinstance(v, str) and not v.strip())
+
+    rows = ((r, c) for r, c in rows if any(not empty(v) for v in c)
+            and not (isinstance(c[0], str) and c[0].lstrip().startswith("#")))
+    first_row = next(rows, None)
+    if first_row is None:
         raise SpecError("no values", file=file, key="-")
-    r0, first = rows[0]
+    r0, first = first_row
 
     def is_num(v):
         try:
@@ -750,23 +731,14 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         except ValueError:
             return False
 
-    has_header = not all(is_num(v) for v in first if not (v is None or (isinstance(v, str) and not v.strip())))
+    has_header = not all(is_num(v) for v in first if not empty(v))
     header = [("" if v is None else str(v).strip()) for v in first] if has_header else None
-    body = rows[1:] if has_header else rows
-    width = max(len(c) for _, c in rows)
-    if column is None:
-        used = [i for i in range(width) if any(i < len(c) and not (c[i] is None or str(c[i]).strip() == "")
-                                             for _, c in body)]
-        if len(used) != 1:
-            names = ", ".join(h for h in (header or []) if h) or f"{len(used)} unnamed columns"
-            raise SpecError(f"the file has several columns ({names}): say which one (column = ...)",
-                            file=file, key=f"{where_sheet}row {r0}")
-        j = used[0]
-    elif isinstance(column, int) and not isinstance(column, bool):
-        if not 1 <= column <= width:
-            raise SpecError(f"column {column} is out of range (the file has {width})", file=file, key="column")
+    body = rows if has_header else itertools.chain([first_row], rows)
+    width = len(first)
+    j = None
+    if isinstance(column, int) and not isinstance(column, bool):
         j = column - 1
-    else:
+    elif column is not None:
         if header is None:
             raise SpecError(f"the file has no header row to find column {column!r} in; give its number",
                             file=file, key="column")
@@ -778,24 +750,47 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         if len(hits) > 1:
             raise SpecError(f"column {column!r} appears {len(hits)} times", file=file, key=f"{where_sheet}row {r0}")
         j = hits[0]
-    label = header[j] if header and header[j] else f"{j + 1}"
-    vals = []
-    for r, cells in body:
-        v = cells[j] if j < len(cells) else None
-        try:
-            x = _cell_number(v, decimal_comma)
-        except ValueError:
-            raise SpecError(f"expected a number, got {str(v).strip()!r}", file=file,
-                            key=f"{where_sheet}row {r}, column {label!r}") from None
-        if x is None:
-            continue
-        if not math.isfinite(x):
-            raise SpecError(f"not a finite number: {v!r}", file=file, key=f"{where_sheet}row {r}, column {label!r}")
-        vals.append(x)
-    if len(vals) < 2:
-        raise SpecError(f"column {label!r} holds {len(vals)} value(s); need at least 2", file=file,
+    # the values of column j — or, without a column, of every column (exactly one may be used)
+    vals: dict[int, array.array] = {}
+
+    with byte_progress(size, f"reading {path.name}") as bar:
+        step = 0
+        for r, cells in body:
+            width = max(width, len(cells))
+            cols = (j,) if j is not None else range(len(cells))
+            for i in cols:
+                v = cells[i] if i < len(cells) else None
+                if empty(v):
+                    continue
+                try:
+                    x = _cell_number(v, decimal_comma)
+                except ValueError:
+                    label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
+                    raise SpecError("expected a number" + (f", got {str(v).strip()!r}" if len(str(v)) <= 24 else ""),
+                                    file=file, key=f"{where_sheet}row {r}, column {label!r}") from None
+                if not math.isfinite(x):
+                    label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
+                    raise SpecError(f"not a finite number: {v!r}", file=file,
+                                    key=f"{where_sheet}row {r}, column {label!r}")
+                vals.setdefault(i, array.array("d")).append(x)
+            step += 1
+            if step == 4096:
+                bar.advance(4096 * (sum(len(str(c)) + 1 for c in cells)))
+                step = 0
+    if j is not None and not 0 <= j < width:
+        raise SpecError(f"column {column} is out of range (the file has {width})", file=file, key="column")
+    if j is None:
+        if len(vals) != 1:
+            names = ", ".join(h for h in (header or []) if h) if header and len(header) <= 12 else ""
+            raise SpecError(f"the file has several columns{f' ({names})' if names else ''}: say which one "
+                            "(column = ...)", file=file, key=f"{where_sheet}row {r0}")
+        j = next(iter(vals))
+    label = header[j] if header and j < len(header) and header[j] else f"{j + 1}"
+    got = vals.get(j, array.array("d"))
+    if len(got) < 2:
+        raise SpecError(f"column {label!r} holds {len(got)} value(s); need at least 2", file=file,
                         key=f"{where_sheet}column {label!r}")
-    return np.asarray(vals, dtype=float)
+    return np.frombuffer(got, dtype=float).copy()
 
 
 #: the keys of a ``[[factor]]`` table with ``dist = "measured"`` (besides name, unit, …)

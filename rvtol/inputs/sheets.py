@@ -18,8 +18,9 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
-from ..params import read_bytes
+from ..params import decode_text, read_bytes
 from ..errors import InputError, SpecError
 
 #: table formats rvtol reads and writes
@@ -63,6 +64,7 @@ class Sheet:
     title: str | None
     lettered: bool
     sha256: str
+    merged: tuple[tuple[int, int, int, int], ...] = ()   # XLSX merged ranges (first row, col, last row, col; 1-based)
 
     def location(self, file: str) -> Location:
         return Location(file, self.title)
@@ -91,25 +93,90 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
                                 key="sheet")
             rows = [(r, list(cells)) for r, cells in enumerate(ws.iter_rows(values_only=True), start=1)]
             title = ws.title
+            merged = _merged_ranges(raw, getattr(ws, "_worksheet_path", None))
         finally:
             wb.close()
         _check_formulas(raw, path, title, rows)
-        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest())
-    if suffix in (".csv", ".txt", ".tsv"):
+        return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
+    if suffix in TEXT_SUFFIXES:
         raw = read_bytes(path, "a table file")
+        rows, _ = _text_rows(raw, path, delimiters)
+        return Sheet(list(rows), None, False, hashlib.sha256(raw).hexdigest())
+    raise _unknown_format(path, TEXT_SUFFIXES)
+
+
+#: text table formats (CSV with its delimiter sniffed, TSV)
+TEXT_SUFFIXES = (".csv", ".txt", ".tsv")
+
+
+def _unknown_format(path: Path, text_suffixes) -> SpecError:
+    shown = ", ".join(s for s in text_suffixes if s)
+    return SpecError(f"unknown table format {path.suffix!r} (expected {shown} or .xlsx; save other spreadsheets as "
+                     ".xlsx)", file=str(path), key="-")
+
+
+def _text_rows(raw: bytes, path: Path, delimiters: str):
+    """``(rows, delimiter)`` of a text table: its decoded text read by :mod:`csv` one row at a time (a quoted cell
+    after ``, `` is one cell)."""
+    text = decode_text(raw, str(path), fallback="cp1252")   # cp1252: Excel's "CSV" on Western Windows
+    delim = "\t" if path.suffix.lower() == ".tsv" else sniff(text, delimiters)
+    reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=True)
+    return enumerate(reader, start=1), delim
+
+
+@dataclass
+class RowStream:
+    """The rows of a table file one at a time (:func:`stream_rows`): ``rows`` yields ``(row number, cells)``;
+    ``delimiter`` of a text file (None: a workbook), its ``size`` in bytes."""
+
+    rows: Iterator[tuple[int, list]]
+    title: str | None
+    lettered: bool
+    delimiter: str | None
+    size: int
+
+    def location(self, file: str) -> Location:
+        return Location(file, self.title)
+
+
+def stream_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = ",;\t",
+                text_suffixes: tuple[str, ...] = TEXT_SUFFIXES, what: str = "a table file") -> RowStream:
+    """:func:`read_rows` one row at a time, for a file too large to hold as cells (only what the reader keeps
+    of each row stays in memory); ``text_suffixes``: the suffixes read as text tables."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in (".xlsx", ".xlsm"):
+        sh = read_rows(path, sheet)
+        return RowStream(iter(sh.rows), sh.title, True, None, 0)
+    if suffix in text_suffixes:
+        raw = read_bytes(path, what)
+        rows, delim = _text_rows(raw, path, delimiters)
+        return RowStream(rows, None, False, delim, len(raw))
+    raise _unknown_format(path, text_suffixes)
+
+
+_MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+)(\d+):([A-Z]+)(\d+)"')
+
+
+def _col_number(letters: bytes) -> int:
+    n = 0
+    for ch in letters.decode():
+        n = n * 26 + ord(ch) - 64
+    return n
+
+
+def _merged_ranges(raw: bytes, sheet_path: str | None) -> tuple[tuple[int, int, int, int], ...]:
+    """The merged ranges of one sheet, from its XML (openpyxl's read-only mode does not read them)."""
+    if not sheet_path:
+        return ()
+    import zipfile
+
+    with zipfile.ZipFile(io.BytesIO(raw)) as z:
         try:
-            text = raw.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            try:
-                text = raw.decode("cp1252")   # Excel's "CSV" on Western Windows
-            except UnicodeDecodeError:
-                raise SpecError("not UTF-8 (or Windows-1252) text", file=str(path), key="-") from None
-        delim = "\t" if suffix == ".tsv" else sniff(text, delimiters)
-        reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=True)   # `a, "b,c"`: one quoted cell
-        rows = [(r, cells) for r, cells in enumerate(reader, start=1)]
-        return Sheet(rows, None, False, hashlib.sha256(raw).hexdigest())
-    raise SpecError(f"unknown table format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx; save other "
-                    "spreadsheets as .xlsx)", file=str(path), key="-")
+            xml = z.read(sheet_path.lstrip("/"))
+        except KeyError:
+            return ()
+    return tuple((int(r0), _col_number(c0), int(r1), _col_number(c1)) for c0, r0, c1, r1 in _MERGE.findall(xml))
 
 
 def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, list]]) -> None:
@@ -130,11 +197,49 @@ def _check_formulas(raw: bytes, path: Path, title: str, rows: list[tuple[int, li
         wb.close()
 
 
+#: files from this size on show a progress bar while read (on a terminal)
+PROGRESS_BYTES = 8 * 2**20
+
+
+class _Progress:
+    def __init__(self, total: int, desc: str):
+        self.bar = None
+        if total >= PROGRESS_BYTES:
+            import sys
+
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc=desc, unit="B", unit_scale=True, delay=1.0, leave=False,
+                            file=sys.stderr, disable=None, dynamic_ncols=True)
+
+    def advance(self, n: int) -> None:
+        if self.bar is not None:
+            self.bar.update(min(n, self.bar.total - self.bar.n))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def byte_progress(total: int, desc: str) -> _Progress:
+    """A progress bar on stderr for reading ``total`` bytes (only for a large file, only on a terminal)."""
+    return _Progress(total, desc)
+
+
 def sniff(text: str, delimiters: str = ",;\t") -> str:
-    """The delimiter of CSV text (comment lines ignored); ``,`` when it cannot be told."""
-    head = "\n".join(line for line in text.splitlines()[:50] if line.strip() and not line.lstrip().startswith("#"))
+    """The delimiter of CSV text, from its first 50 lines that are not blank or comments; ``,`` when it cannot
+    be told."""
+    head = []
+    for line in io.StringIO(text):                  # line by line: a large file is not split whole
+        if line.strip() and not line.lstrip().startswith("#"):
+            head.append(line)
+            if len(head) == 50:
+                break
     try:
-        return csv.Sniffer().sniff(head or text[:4096], delimiters=delimiters).delimiter
+        return csv.Sniffer().sniff("".join(head) or text[:4096], delimiters=delimiters).delimiter
     except csv.Error:
         return ","
 

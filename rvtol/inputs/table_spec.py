@@ -260,6 +260,7 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
             continue
         if header is None:
             header, header_row = _header(cells, loc, r, lettered), r
+            _refuse_merged(sh, header, header_row, loc)
             continue
         f, cols = _row(cells, header, loc, r, lettered)
         n = f["name"]
@@ -286,6 +287,11 @@ def _header(cells: list, loc: Location, r: int, lettered: bool) -> list[str | No
     """Standard column names; ``None`` for an ignored column (notes), ``""`` for a blank header."""
     out: list[str | None] = []
     seen: dict[str, int] = {}
+    filled = [c for c in cells if not blank(c)]
+    if not any(" ".join(_text(c).lower().replace("\u2212", "-").split()) in _ALIASES for c in filled):
+        # not a spec table at all (a data file named by mistake): say so without echoing what it holds
+        raise loc.error(f"not the header of a spec table: none of its {len(filled)} cells is a known column "
+                        f"({', '.join(COLUMNS)}, +tol, -tol)", r)
     for i, c in enumerate(cells):
         letter = col_letter(i) if lettered else None
         if blank(c):
@@ -393,7 +399,42 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         if d is not None:
             table["direction"] = d
         keycol["direction"] = col["direction"]
+    if "nominal" not in table and _relative(table.get("tolerance"), table.get("unit")):
+        tol = table["tolerance"]
+        fix = "write 0 for a factor that is itself a deviation from its nominal, e.g. a position or form error"
+        if "nominal" in col:
+            raise where("nominal")(f"missing nominal: the tolerance {tol!r} is a deviation from it ({fix})")
+        raise loc.error(f"no 'nominal' column: the tolerance {tol!r} is a deviation from a nominal (add the column; "
+                        f"{fix})", r, "nominal")
     return table, keycol
+
+
+def _relative(tolerance, unit) -> bool:
+    """True for a tolerance written as deviations from a nominal it does not give itself (``±0.05``,
+    ``+0.1/-0``, ``+tol``/``-tol``): read without a nominal it would sit about 0 — an invented nominal."""
+    if not isinstance(tolerance, str):
+        return False
+    from .notation import NotationError, parse_tolerance
+
+    try:
+        t = parse_tolerance(tolerance, unit=unit)
+    except (NotationError, InputError):
+        return False          # the spec reader reports it, at this row and column
+    return t.nominal is None and t.form in ("symmetric", "deviations")
+
+
+def _refuse_merged(sh, header: list, header_row: int, loc: Location) -> None:
+    """Merged cells below the header: a merged range keeps its value in its first cell only and every other
+    cell reads blank — a missing nominal would silently become 0.  Refused, naming the range."""
+    for (r0, c0, r1, c1) in sh.merged:
+        if r1 <= header_row:
+            continue
+        r = max(r0, header_row + 1)
+        label = header[c0 - 1] if c0 - 1 < len(header) and header[c0 - 1] else None
+        rng = f"{col_letter(c0 - 1)}{r0}:{col_letter(c1 - 1)}{r1}"
+        raise loc.error(f"merged cells {rng}: only the first cell of a merged range holds the value, the others "
+                        "read as blank — unmerge them and write the value in every row", r,
+                        _LABEL.get(label, label), col_letter(c0 - 1))
 
 
 # ------------------------------------------------------------------------------ writing
@@ -411,7 +452,7 @@ def _band_cells(f) -> tuple[float | None, str, str]:
     base = 0.0 if nominal is None else nominal
 
     def text(lo: float, hi: float) -> str:
-        if nominal is None and not math.isclose(lo, -hi, rel_tol=1e-12, abs_tol=0.0):
+        if nominal is None:      # no nominal: absolute limits (deviations would need one, _relative)
             return format_limits(lo, hi)
         return format_deviations(lo - base, hi - base)
 

@@ -10,27 +10,37 @@ NaN/inf and the engine counts it as a failed sample.
     model = FormulaModel.from_spec(spec, {"clearance": ("carrier_gap - disc1_width - disc2_width", "mm", "um")})
 
 Factor names are written as they are (``carrier_gap``, ``E_c[1,2]``, ``disc.width``), any other in
-braces (``{pin gap}``).  Inside the formulas each factor is in its own unit (``units="factor"``, the unit written in
-the spec) or in rvtol's base units (``units="base"``); each output declares the unit its
-formula yields.  ``evaluate`` and :meth:`FormulaModel.gradient` (exact ∂Y/∂X, used by the
-linearised analyses instead of five-point differences) work in base units like every Model.
-A study names it as::
+braces (``{pin gap}``).  ``units`` says how the factors' units enter the formulas:
+
+* ``"checked"`` (default): every factor carries its unit into the formulas, which are checked by
+  dimensional analysis at load time (:mod:`rvtol.models.formula.dimensions`, pint): operands of
+  ``+``/``-`` are converted to one unit, ``sin``/``cos``/``tan`` get radians whatever unit the angle
+  was given in, a length added to an angle is an error naming the formula, and each output's
+  ``unit`` is the unit to give the result in (converted);
+* ``"factor"``: each factor enters as the number written in its own unit and each output's ``unit``
+  is the unit that number expression yields — unchecked (for empirical formulas whose constants
+  carry hidden units); a trigonometric function of an angle not in radians is still refused;
+* ``"base"``: as ``"factor"`` with every factor in rvtol's base units (mm, rad, N, s).
+
+``evaluate`` and :meth:`FormulaModel.gradient` (exact ∂Y/∂X, used by the linearised analyses
+instead of five-point differences) work in base units like every Model.  A study names it as::
 
     [model]
     kind = "formula"
-    units = "factor"                 # or "base"
+    units = "checked"                # default; or "factor" / "base" (unchecked numbers)
     [model.define]                   # optional intermediate quantities, in order
     tilt = "atan2(e1 - e2, L)"
+    L = { formula = "25", unit = "mm" }   # a constant with its unit (units = "checked")
     [[model.output]]
     name = "gap"
     formula = "carrier_gap - disc1_width - disc2_width"
-    unit = "mm"                      # the unit the formula yields (default "1")
+    unit = "mm"                      # the output's unit (default "1")
     display_unit = "um"              # optional: the unit to report in
     description = "..."              # optional
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -39,6 +49,10 @@ from ... import units as _units
 from ...errors import InputError
 from ...expressions import CONSTANTS, Expression, ExpressionError
 from ...model import Model, Quantity
+from . import dimensions as _dim
+
+#: how the factors' units enter the formulas (module docstring)
+UNIT_MODES = ("checked", "factor", "base")
 
 
 # --------------------------------------------------------------------------- the model
@@ -81,11 +95,13 @@ class FormulaModel(Model):
     ``inputs``: factor names (the columns of ``X``); ``input_units``: the unit each input has
     *inside the formulas* (default ``"1"``; the model's :attr:`input_units` are their base
     units, as for every Model); ``definitions``: ordered ``{name: formula}`` intermediate
-    quantities, each usable by later ones and by the outputs.
+    quantities, each usable by later ones and by the outputs (``(formula, unit)``: in that unit);
+    ``checked``: dimensional analysis of every formula (``units = "checked"``), else the numbers are
+    taken as written (only a trigonometric function of an angle not in radians is refused).
     """
 
     def __init__(self, outputs, inputs: Sequence[str], input_units: Sequence[str] | None = None, *,
-                 definitions: Mapping[str, str] | None = None):
+                 definitions: Mapping[str, str | tuple[str, str]] | None = None, checked: bool = True):
         self.inputs = tuple(inputs)
         if len(set(self.inputs)) != len(self.inputs):
             raise ExpressionError("an input name is given twice")
@@ -98,15 +114,31 @@ class FormulaModel(Model):
         except InputError as exc:
             raise ExpressionError(exc.reason) from None
         self._in_factor = np.array([_units.factor(u) for u in self.formula_units])
+        self.checked = bool(checked)
         known = list(self.inputs)
+        scale = {n: _dim.quantity(u) for n, u in zip(self.inputs, self.formula_units)} if checked else {}
+        angles = {n: {(n, u)} for n, u in zip(self.inputs, self.formula_units)
+                  if _units.dimension(u) == "angle" and _units.factor(u) != 1.0}
         self.definitions: list[tuple[str, Expression]] = []
-        for name, text in (definitions or {}).items():
+        for name, value in (definitions or {}).items():
             if not isinstance(name, str) or not name:
                 raise ExpressionError(f"definition name must be text, got {name!r}")
             if name in known or name in CONSTANTS:
                 raise ExpressionError(f"definition {name!r} has the name of an input, another definition or a "
                                       "constant")
-            self.definitions.append((name, Expression.parse(text, known, what=f"definition {name!r}")))
+            text, unit = (value if isinstance(value, (tuple, list)) else (value, None))
+            what = f"definition {name!r}"
+            expr = Expression.parse(text, known, what=what)
+            if checked:
+                tree, q, number = _dim.check_formula(expr, scale, what)
+                tree, scale[name] = _dim.definition_conversion(expr, tree, q, number,
+                                                               None if unit is None else _dim.check_unit(unit), what)
+                expr = replace(expr, tree=tree)
+            else:
+                if unit is not None:
+                    raise ExpressionError(f"{what}: a unit for a definition needs units = \"checked\"")
+                angles[name] = _dim.unchecked_trig(expr, angles, what)
+            self.definitions.append((name, expr))
             known.append(name)
         specs = _outputs(outputs)
         if not specs:
@@ -123,7 +155,14 @@ class FormulaModel(Model):
                 disp = _units.require_dimension(o.display_unit, _units.dimension(u)) if o.display_unit else u
             except InputError as exc:
                 raise ExpressionError(f"output {o.name!r}: {exc.reason}") from None
-            self.formulas.append(Expression.parse(o.formula, known, what=f"output {o.name!r}"))
+            what = f"output {o.name!r}"
+            expr = Expression.parse(o.formula, known, what=what)
+            if checked:
+                tree, q, number = _dim.check_formula(expr, scale, what)
+                expr = replace(expr, tree=_dim.output_conversion(expr, tree, q, number, u, what))
+            else:
+                _dim.unchecked_trig(expr, angles, what)
+            self.formulas.append(expr)
             outs.append(Quantity(o.name, _units.base_unit(u), disp, o.description))
             self._out_factor.append(_units.factor(u))
         self.outputs = tuple(outs)
@@ -133,13 +172,19 @@ class FormulaModel(Model):
     # -- construction from a spec or a study --------------------------------------------
     @classmethod
     def from_spec(cls, spec, outputs, *, definitions: Mapping[str, str] | None = None,
-                  units: str = "factor") -> "FormulaModel":
-        """Inputs are the spec's factors, in the formulas in their own unit (``units="factor"``)
-        or in base units (``"base"``)."""
-        if units not in ("factor", "base"):
-            raise ExpressionError(f"units must be 'factor' or 'base', got {units!r}")
-        fu = tuple(spec.units) if units == "factor" else tuple(_units.base_unit(u) for u in spec.units)
-        return cls(outputs, spec.names, fu, definitions=definitions)
+                  units: str = "checked") -> "FormulaModel":
+        """Inputs are the spec's factors with their units, dimension-checked (``units="checked"``), or as
+        the numbers written in their own unit (``"factor"``) or in base units (``"base"``), unchecked."""
+        if units not in UNIT_MODES:
+            raise ExpressionError(f"units must be one of {', '.join(map(repr, UNIT_MODES))}, got {units!r}")
+        fu = tuple(_units.base_unit(u) for u in spec.units) if units == "base" else tuple(spec.units)
+        return cls(outputs, spec.names, fu, definitions=definitions, checked=units == "checked")
+
+    def probe(self, spec, seed: int = 0) -> list:
+        """Where an output fails at the nominal or a corner of the bands (:func:`rvtol.models.formula.probe.probe`)."""
+        from .probe import probe
+
+        return probe(self, spec, seed)
 
     # -- evaluation -------------------------------------------------------------------
     def _env(self, X: np.ndarray) -> dict:
@@ -187,11 +232,16 @@ class FormulaModel(Model):
 
 def from_study(params, design, spec) -> FormulaModel:
     """The study factory (``[model] kind = "formula"``); errors name the file and key."""
-    u = params.str("units", "factor", choices=("factor", "base"))
+    u = params.str("units", "checked", choices=UNIT_MODES)
     defs_p = params.sub("define", {})
-    definitions = {}
+    definitions: dict = {}
     for name in list(defs_p.keys()):
-        definitions[name] = defs_p.str(name)
+        if isinstance(defs_p.data[name], dict):     # L = { formula = "25", unit = "mm" }
+            t = defs_p.sub(name)
+            definitions[name] = (t.str("formula"), t.unit("unit"))
+            t.finish()
+        else:
+            definitions[name] = defs_p.str(name)
     outs = params.tables("output")
     if not outs:
         raise params.error("output", "a formula model needs at least one [[model.output]]")
@@ -205,23 +255,24 @@ def from_study(params, design, spec) -> FormulaModel:
         t.finish()
         specs.append((t, FormulaOutput(name, formula, unit, disp, desc)))
     params.finish()
-    fu = tuple(spec.units) if u == "factor" else tuple(_units.base_unit(x) for x in spec.units)
-    known = list(spec.names)
-    for name, text in definitions.items():   # locate errors before building
+    fu = tuple(_units.base_unit(x) for x in spec.units) if u == "base" else tuple(spec.units)
+    # build one output at a time after the definitions, so that an error names its own key
+    defined: dict = {}
+    for name, value in definitions.items():
+        defined[name] = value
         try:
-            Expression.parse(text, known, what=f"definition {name!r}")
+            FormulaModel([("_", "0")], spec.names, fu, definitions=defined, checked=u == "checked")
         except ExpressionError as exc:
             raise defs_p.error(name, exc.reason) from None
-        known.append(name)
     for t, o in specs:
         try:
-            Expression.parse(o.formula, known, what=f"output {o.name!r}")
+            FormulaModel([o], spec.names, fu, definitions=definitions, checked=u == "checked")
         except ExpressionError as exc:
-            raise t.error("formula", exc.reason) from None
+            raise t.error("formula" if exc.reason.startswith(f"output {o.name!r}:") else None, exc.reason) from None
     try:
-        return FormulaModel([o for _, o in specs], spec.names, fu, definitions=definitions)
+        return FormulaModel([o for _, o in specs], spec.names, fu, definitions=definitions, checked=u == "checked")
     except ExpressionError as exc:
         raise params.error(None, exc.reason) from None
 
 
-__all__ = ["FormulaModel", "FormulaOutput", "from_study"]
+__all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study"]
