@@ -12,7 +12,7 @@ An analysis is a thin adapter between a study and one capability of the library:
   ``ctx.evaluator``, the one way to evaluate a model);
 * **one generic report** — :meth:`Analysis.report` puts the blocks of the capability's layout
   (``layout(result, options)``, in the capability's ``texts`` module, where its prose lives)
-  into a :class:`rvtol.report.Section`, and ``result.summary()`` into ``summary.json`` under
+  into a :class:`rvtol.blocks.Section`, and ``result.summary()`` into ``summary.json`` under
   ``analyses.<key>``.
 
 Everything a report shows is computed in ``run`` (a timed phase of the study); rendering
@@ -30,7 +30,7 @@ from typing import Any, Callable, ClassVar, Protocol, runtime_checkable
 
 from .options import option, read_options
 
-# type names in quotes: rvtol.params.Params, rvtol.report.sections.Section, rvtol.study.Study / StudyContext
+# type names in quotes: rvtol.params.Params, rvtol.blocks.Section, rvtol.study.Study / StudyContext
 # (not imported: the study layer imports the analyses, not the other way round)
 
 
@@ -85,13 +85,14 @@ class Analysis(ABC):
 
     def report(self, result) -> "Section":
         """The generic report: the capability's layout of ``result`` and its summary."""
-        from .report.sections import Section
+        from .blocks import Section
 
         layout = type(self).layout
         if layout is None:
             raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
         blocks = layout(result, self.options)
-        sec = Section(self.key, self.title, list(blocks), self.summary(result))
+        fixes = result.fixes(self.key) if hasattr(result, "fixes") else []
+        sec = Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
         for name, content in self.files(result).items():
             sec.add_file(name, content)
         return sec

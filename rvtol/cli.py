@@ -321,13 +321,10 @@ def _run(args) -> int:
         store, note = folder.open_store(key, args.resume)
         if note:
             print(f"rvtol: {note}", file=sys.stderr)
-        result = run_study(study, store=store)
-        comparison = None
+        result = run_study(study, store=store, baseline=baseline)
+        comparison = result.comparison
         extra = {}
-        if baseline is not None:
-            from .ci.compare import RunData, compare
-
-            comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+        if comparison is not None:
             extra["comparison.json"] = json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False)
         t0 = time.perf_counter()
         write_outputs(result, out, extra_files=extra)
@@ -344,7 +341,7 @@ def _run(args) -> int:
     _write_ci_outputs(args, result.summary(), comparison)
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
-          + f" (+ {', '.join(result_files(study.options))})")
+          + f" (+ {', '.join(result_files(study.options, bool(study.requirements)))})")
     if comparison is not None:
         print(f"gates: {comparison.verdict} — {comparison.one_line()}")
         if not comparison.passed:

@@ -15,7 +15,14 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
 * **what to change** — for a requirement that is not demonstrated: the spread the output must
   reach and the tightening of its largest driver that would give it, to first order
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
-  the allocation analysis gives cost-optimal tolerances that are checked by Monte Carlo.
+  the allocation analysis gives cost-optimal tolerances that are checked by Monte Carlo;
+* **a traffic light** — green: demonstrated; amber: not demonstrated, but the estimate meets the
+  requirement (more samples would decide); red: the estimate itself misses it;
+* **fixes by kind**, cheapest first (:data:`FIX_KINDS`): more samples (amber), re-centre (a two-sided
+  band the present spread fits when the mean sits in its middle: a nominal moves, no tolerance
+  changes), tighten (the first-order scaling above), redesign (the mean on or beyond a limit: no
+  tolerance can help).  Analyses add checked fixes of their own (the allocation's verified
+  tolerances and its design levers checked by Monte Carlo): :attr:`rvtol.blocks.Section.fixes`.
 """
 from __future__ import annotations
 
@@ -28,6 +35,31 @@ from .mc import MonteCarloResult
 from .model import Model
 from .sensitivity.drivers import Driver, first_order_drivers
 from .spec import ToleranceSpec
+
+
+#: the kinds of fix, cheapest first: what a quality engineer tries in this order
+FIX_KINDS = ("more samples", "re-centre", "tighten", "redesign")
+#: the traffic light of a requirement and what it means
+LIGHTS = {"green": "demonstrated at its confidence",
+          "amber": "not demonstrated: the estimate meets it, more samples would decide",
+          "red": "the estimate itself misses it"}
+
+
+@dataclass
+class Fix:
+    """One way to make a requirement pass: its kind (:data:`FIX_KINDS`), what to do, what it gives, where the report
+    shows it (a section key; '' for the digest's own first-order estimate) and whether a Monte Carlo run checked it."""
+
+    requirement: str
+    kind: str
+    action: str
+    effect: str
+    source: str = ""
+    checked: bool = False
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "action": self.action, "effect": self.effect, "source": self.source,
+                "checked": self.checked}
 
 
 @dataclass
@@ -46,6 +78,10 @@ class RequirementDigest:
     drivers: list[Driver] = field(default_factory=list)
     change: str = ""
     overlaps: list[str] = field(default_factory=list)   # pairs of drivers correlated in the spec
+    light: str = "green"                                 # :data:`LIGHTS`
+    yield_: float | None = None                          # the yield estimate
+    cpk: float | None = None                             # the Cpk estimate (the one the requirement is judged on)
+    fixes: list[Fix] = field(default_factory=list)       # the digest's own, first-order (analyses add theirs)
 
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
@@ -53,7 +89,8 @@ class RequirementDigest:
                 "P0.135": self.p00135, "yield_lower_bound": self.yield_lo, "cpk_lower_bound": self.cpk_lo,
                 "reasons": self.reasons,
                 "drivers": [{"tolerance": d.tolerance, "S1": d.s1, "factors": d.factors} for d in self.drivers],
-                "what_to_change": self.change, "correlated_drivers": self.overlaps}
+                "what_to_change": self.change, "correlated_drivers": self.overlaps, "light": self.light,
+                "yield": self.yield_, "cpk": self.cpk, "fixes": [f.to_dict() for f in self.fixes]}
 
 
 def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | None = None,
@@ -75,8 +112,11 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
                               _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
+        d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
+        d.light = "green" if v.passed else ("amber" if v.n_to_demonstrate else "red")
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
+            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output))
         out.append(d)
     return out
 
@@ -97,20 +137,86 @@ def correlated_drivers(drivers: list[Driver], spec: ToleranceSpec, threshold: fl
     return [f"{a} and {b} (|ρ| = {r:.2g})" for (a, b), r in rho.items()]
 
 
-def required_sigma(r, mean: float, sigma: float) -> float | None:
-    """The standard deviation the output may have for ``r`` to pass at its point estimate (normal theory)."""
+def required_sigma(r, mean: float, sigma: float, y=None) -> float | None:
+    """The standard deviation the output may have for ``r`` to pass at its point estimate.
+
+    A minimum Cpk is normal theory (3·Cpk standard deviations to the nearer limit).  A minimum yield is read from
+    the evaluated samples ``y`` when given — the deviations from the mean scaled by the largest s in (0, 1] whose
+    scaled sample still meets the yield (:func:`spread_scale`): s·σ — so a skewed output (a magnitude, a clipped
+    clearance) is sized by its own tail; without ``y``, normal theory (z of the yield, two-sided halves it)."""
     dists = [d for d in ((r.upper - mean) if r.upper is not None else None,
                          (mean - r.lower) if r.lower is not None else None) if d is not None]
     if not dists or min(dists) <= 0:
         return None
-    z = 0.0
+    targets = []
     if r.min_cpk is not None:
-        z = max(z, 3.0 * r.min_cpk)
+        targets.append(min(dists) / (3.0 * r.min_cpk))
     if r.min_yield is not None:
-        two = r.lower is not None and r.upper is not None
-        p = 1.0 - (1.0 - r.min_yield) / (2.0 if two else 1.0)
-        z = max(z, float(stats.norm.ppf(p)))
-    return min(dists) / z if z > 0 else None
+        if y is not None and len(y):
+            s = spread_scale(r, mean, y)
+            targets.append(s * sigma if s is not None else 0.0)
+        else:
+            two = r.lower is not None and r.upper is not None
+            targets.append(min(dists) / float(stats.norm.ppf(1.0 - (1.0 - r.min_yield) / (2.0 if two else 1.0))))
+    return min(targets) if targets else None
+
+
+def spread_scale(r, mean: float, y, tol: float = 1e-4) -> float | None:
+    """The largest s in (0, 1] such that ``mean + s (y − mean)`` meets ``r.min_yield`` within its limits (None: no s
+    does). The fraction inside grows as s shrinks (the mean lies inside the limits), so bisection finds it."""
+    import numpy as np
+
+    y = np.asarray(y, dtype=float)
+
+    def inside(s):
+        z = mean + s * (y - mean)
+        ok = np.ones(len(z), dtype=bool)
+        if r.lower is not None:
+            ok &= z >= r.lower
+        if r.upper is not None:
+            ok &= z <= r.upper
+        return ok.mean() >= r.min_yield
+
+    if inside(1.0):
+        return 1.0
+    lo, hi = 0.0, 1.0
+    if not inside(tol):
+        return None
+    lo = tol
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if inside(mid) else (lo, mid)
+    return lo
+
+
+@dataclass
+class Tightening:
+    """What the spread of an output must become, and the drivers whose joint scaling by ``f`` gives it (first order)."""
+
+    sigma: float
+    target: float | None               # the σ the output may have (None: the mean lies at or beyond a limit)
+    need: float = 0.0                  # the share of the variance that must go
+    used: list[Driver] = field(default_factory=list)
+    explained: float = 0.0             # Σ S1 of the drivers used
+    f: float | None = None             # their common scale (None: they do not explain enough)
+
+
+def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> Tightening:
+    """``σ² → σ² (1 − Σ S1 (1 − f²))`` solved for the scale ``f`` of the fewest largest drivers that can reach the
+    target σ of :func:`required_sigma` (``y``: the evaluated samples, for a yield)."""
+    t = Tightening(sigma, required_sigma(r, mean, sigma, y))
+    if t.target is None or not drivers:
+        return t
+    t.need = 1.0 - (t.target / sigma) ** 2
+    if t.need <= 0:
+        return t
+    for d in drivers:
+        t.explained += d.s1
+        t.used.append(d)
+        if t.explained >= t.need:
+            t.f = math.sqrt(max(0.0, 1.0 - t.need / t.explained))
+            break
+    return t
 
 
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:
@@ -118,35 +224,67 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     if mean is None or sigma is None:
         return "No sample could be evaluated: nothing to estimate from."
-    target = required_sigma(r, mean, sigma)
+    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
-    if target is None:
+    if t.target is None:
         return (f"The mean {mean:.4g} {unit} itself lies at or beyond the limit: tightening tolerances cannot fix "
                 "it — the nominal design (or a mean shift of its largest drivers) must change.")
     if not drivers:
-        return f"The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit}; no driver could be estimated."
-    need = 1.0 - (target / sigma) ** 2        # share of the variance that must go
-    if need <= 0:
+        return f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit}; no driver could be estimated."
+    if t.need <= 0:
         return ("The point estimate already meets the requirement: the confidence bound does not — more samples "
                 "(a larger n) would demonstrate it, or a small tightening of the drivers below.")
-    total = 0.0
-    used = []
-    for d in drivers:
-        total += d.s1
-        used.append(d)
-        if total >= need:
-            break
-    if total < need:
-        names = ", ".join(d.tolerance for d in used)
-        return (f"The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit} ({100 * need:.0f} % of the "
-                f"variance), more than the largest drivers explain to first order ({names}: {100 * total:.0f} %): "
-                "tighten several tolerances — see the allocation and Sobol sections.")
-    f = math.sqrt(max(0.0, 1.0 - need / total))
-    names = " and ".join(d.tolerance for d in used)
-    return (f"The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit}: scaling {names} to "
-            f"{100 * f:.0f} % of {'its' if len(used) == 1 else 'their'} present tolerance would do it to first "
-            f"order (S1 = {total:.2f}). An estimate; the allocation section gives cost-optimal tolerances checked by "
-            "Monte Carlo.")
+    names = (", " if t.f is None else " and ").join(d.tolerance for d in t.used)
+    if t.f is None:
+        return (f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit} ({100 * t.need:.0f} % of the "
+                f"variance), more than the largest drivers explain to first order ({names}: {100 * t.explained:.0f} %): "
+                "tighten several tolerances (an allocation analysis finds which, at the least cost).")
+    return (f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit}: scaling {names} to "
+            f"{100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'} present tolerance would do it to first "
+            f"order (S1 = {t.explained:.2f}). An estimate: an allocation analysis gives cost-optimal tolerances checked "
+            "by Monte Carlo.")
+
+
+def _evaluated(mc, output: str):
+    """The output's evaluated samples, in the requirement's unit (the Monte Carlo's display unit)."""
+    return mc.column(output)[mc.ok]
+
+
+def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None) -> list[Fix]:
+    """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked)."""
+    mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
+    if n_to_demonstrate:
+        return [Fix(r.label, "more samples", f"run n = {n_to_demonstrate:,} samples",
+                    "the estimate already meets the requirement; this n would demonstrate it if the figures hold")]
+    if mean is None or sigma is None:
+        return []
+    out = []
+    if required_sigma(r, mean, sigma, y) is None:
+        beyond = [(lim, side) for lim, side in ((r.upper, "below"), (r.lower, "above"))
+                  if lim is not None and (mean >= lim if side == "below" else mean <= lim)]
+        lim, side = beyond[0] if beyond else (r.upper if r.upper is not None else r.lower, "inside")
+        out.append(Fix(r.label, "redesign", f"move the mean ({mean:.4g} {unit}) {side} the limit {lim:g} {unit}: a "
+                       "nominal of the design", "tightening cannot help: as tolerances shrink, every unit approaches "
+                       "the nominal one"))
+        return out
+    if r.lower is not None and r.upper is not None:
+        mid = 0.5 * (r.lower + r.upper)
+        centred = required_sigma(r, mid, sigma, None if y is None else y - mean + mid)
+        if centred is not None and sigma <= centred and abs(mean - mid) > 0.05 * (r.upper - r.lower):
+            out.append(Fix(r.label, "re-centre", f"move the mean from {mean:.4g} to {mid:.4g} {unit} "
+                           f"(shift {mid - mean:+.3g} {unit}: a nominal, no tolerance changes)",
+                           f"the present spread σ = {sigma:.3g} {unit} fits the band when centred (needs "
+                           f"σ ≤ {centred:.3g}); to first order, at the point estimate"))
+    t = tightening(r, mean, sigma, d.drivers, y)
+    if t.f is not None:
+        names = " and ".join(x.tolerance for x in t.used)
+        out.append(Fix(r.label, "tighten", f"scale {names} to {100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'}"
+                       " present tolerance", f"σ from {sigma:.3g} to {t.target:.3g} {unit}: to first order, at the point "
+                       f"estimate (S1 = {t.explained:.2f} from the Monte Carlo samples)"))
+    elif t.used:
+        out.append(Fix(r.label, "tighten", "tighten several tolerances", f"σ from {sigma:.3g} to {t.target:.3g} {unit}: "
+                       f"more than the largest drivers explain to first order ({100 * t.explained:.0f} %)"))
+    return out
 
 
 def _f(v):

@@ -110,17 +110,17 @@ def monte_carlo(gs, n):
     for row in range(n):
         st = pm.te_state(v, d, row)
         for k in gs:
-            r = te_models[k]._sweep(st)
+            r, ext = te_models[k]._sweep(st)
             tc = tc_models[k]
             tc.state = lambda x, st=st: st
             c = tc.curve()
-            if not (r.ok and c.ok):
+            if not (r.ok and ext.ok and c.ok):
                 continue
             m = metrics(c)
             te = r.te * ARCSEC
             for key in ("lost_motion", "rigidity", "backlash"):
                 out[k][key].append(m[key])
-            out[k]["te_pp"].append(te.max() - te.min())
+            out[k]["te_pp"].append(ext.pp * ARCSEC)
             results[k].append((row, r.theta_c, te))
     print(f"\n### Monte Carlo, drawing tolerances mapped (mapping.md), n = {n} (same samples before/after)\n")
     print("| quantity | chain | mean | sd | min | max |")

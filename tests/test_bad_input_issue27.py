@@ -357,3 +357,33 @@ def test_a_txt_spec_and_utf16_tables_give_accurate_messages(tmp_path, capsys):
         load_spec(bare)
     assert str(e.value) == (f"{bare}: -: not a text file (it holds NUL bytes) — it looks like UTF-16 without a "
                             "byte-order mark: save it as UTF-8")
+
+
+# --------------------------------------------------------------------------- a nominal places the distribution
+def _one_factor_spec(tmp_path, factor: str):
+    from rvtol.spec import load_spec
+
+    p = tmp_path / "spec.toml"
+    p.write_text('[[factor]]\nname = "a"\nunit = "mm"\n' + factor)
+    return load_spec(p)
+
+
+def test_a_nominal_without_a_mean_centres_the_distribution(tmp_path):
+    """nominal 10, normal, tolerance 0.06 (±3σ) is 10 ± 0.03: mean 10, σ 0.01 — never 0 ± 0.03 beside a nominal of 10."""
+    f = _one_factor_spec(tmp_path, 'nominal = 10.0\ndist = "normal"\ntolerance = 0.06\n').factors[0]
+    assert f.dist.mean == pytest.approx(10.0) and f.dist.std == pytest.approx(0.01)
+    assert f.band == pytest.approx((9.97, 10.03))
+    u = _one_factor_spec(tmp_path, 'nominal = 5\ndist = "uniform"\ntolerance = 0.2\n').factors[0]
+    assert u.band == pytest.approx((4.9, 5.1))
+
+
+def test_an_explicit_mean_is_kept_beside_a_nominal(tmp_path):
+    f = _one_factor_spec(tmp_path, 'nominal = 10.0\nmean = 10.01\ndist = "normal"\ntolerance = 0.06\n').factors[0]
+    assert f.dist.mean == pytest.approx(10.01)
+
+
+def test_a_magnitude_with_a_nonzero_nominal_must_say_where_it_starts(tmp_path):
+    from rvtol.errors import InputError
+
+    with pytest.raises(InputError, match=r"factor\[0\]\.nominal: a rayleigh factor is a magnitude"):
+        _one_factor_spec(tmp_path, 'nominal = 0.01\ndist = "rayleigh"\ntolerance = 0.02\n')

@@ -56,7 +56,8 @@ def test_only_designs_with_element_data_get_the_chain():
     assert te.chain is None and np.all(static_table(te, np.zeros(L.NERR)).ser == 0)
     assert geometry_from_design(PRODUCT, chain=False).chain is None
     assert set(G.chain.families) == {"input_shaft", "crank_torsion", "pin_groove", "disc_web", "crank_bending",
-                                     "crank_support_bearings", "carrier"}
+                                     "crank_support_bearings", "carrier", "housing_ring", "disc_seats",
+                                     "carrier_seats", "carrier_joints", "contact_roughness", "edge_loading"}
     assert set(G.chain.families) | set(GROUPS.values()) == set(FAMILIES)
 
 
@@ -71,7 +72,7 @@ def test_compliance_scales_multiply_each_family(tmp_path):
     g = geometry_from_design(replace(d, params=MappingProxyType(params)))
     assert g.chain.crank["carrier"] == pytest.approx(2.0 * base.chain.crank["carrier"], rel=1e-14)
     assert g.k0_pin == pytest.approx(base.k0_pin / 0.5, rel=1e-14)        # δ = f^(1/p)/k0 halves
-    assert g.chain.groove[0] == pytest.approx(3.0 * base.chain.groove[0], rel=1e-14)
+    np.testing.assert_allclose(g.chain.pin_table[1], 3.0 * base.chain.pin_table[1], rtol=1e-14)
     np.testing.assert_allclose(g.chain.crank_table[1], 1.5 * base.chain.crank_table[1], rtol=1e-14)
     assert g.chain.cam[0]["crank_support_bearings"] == pytest.approx(1.5 * base.chain.cam[0]["crank_support_bearings"])
     params["compliance_scale.bogus"] = DesignParam("compliance_scale.bogus", 1.0, "1", "test")
@@ -95,13 +96,20 @@ def test_bad_element_data_names_its_key():
 
 # ---------------------------------------------------------------------------------------------- element laws
 def test_pin_law_is_the_disc_pin_contact_in_series_with_the_groove_element():
-    """Kernel force of a pin contact at the deflection of doc 000's law plus the groove element's approach
-    (rvtol.elements.contacts.groove_approach, the closed form) returns that force; tangent and energy follow."""
+    """Kernel force of a pin contact at the deflection of doc 000's law plus the groove element's tabulated
+    approach plus the linear terms (housing ring, contact roughness) returns that force; tangent and energy follow.  The table
+    itself is the conforming groove element (rvtol.elements.conforming) at its knots and within 0.2 % between."""
     gr = G.chain.elements.groove
     p = G.force_exponent
+    ch = G.chain
+    c_ring = sum(ch.pin.values())                       # housing ring + contact roughness (linear)
+    knots = ch.pin_table[L.T_F]
+    np.testing.assert_allclose(ch.pin_table[L.T_D][1:], gr.approach(knots[1:]), rtol=1e-12)
+    mid = 0.5 * (knots[2:] + knots[1:-1])      # the first interval (to 0.2 N) is the secant: F ln F has no slope at 0
+    np.testing.assert_allclose(table_law(ch.pin_table, mid)[0], gr.approach(mid), rtol=2e-3)
 
     def delta(F):
-        return F ** (1 / p) / G.k0_pin + float(contacts.groove_approach(F, gr.length, gr.r_pin, gr.r_groove, E, NU))
+        return F ** (1 / p) / G.k0_pin + float(table_law(ch.pin_table, F)[0]) + c_ring * F
 
     for F in (0.5, 20.0, 400.0, 1500.0, 5000.0):
         s = delta(F)
@@ -214,7 +222,9 @@ def linearised(g):
     d, m = m0 * f, np.array([m0, m0])
     sec = float(ch.elements.groove.approach(1000.0)) / 1000.0
     return replace(g, chain=replace(ch, crank_table=np.stack([f, d, m, hermite_integrals(f, d, m)]), groove=None,
-                                    pin={"pin_groove": sec})), m0, sec
+                                    pin_table=None, cam_table=None,
+                                    pin={"pin_groove": sec, "housing_ring": ch.pin["housing_ring"],
+                                         "contact_roughness": ch.pin["contact_roughness"]})), m0, sec
 
 
 def test_linearised_chain_equals_the_series_parallel_combination_of_its_element_stiffnesses():
@@ -240,11 +250,14 @@ def test_linearised_chain_equals_the_series_parallel_combination_of_its_element_
         + w / 2 / (SHEAR * J(d["crank.eccentric_diameter"]))                         # gear → nearer eccentric
     ib = (1 - 1 / g.ratio) * g.z_c / g.z_b
     k_mesh = springs.series(g.k_sp, 1 / (g.r_bp ** 2 * C_tw), K_in / (3 * g.r_bs ** 2))
+    # the finite-element seats and ring enter as the energy-equivalent compliances of the elements
+    cA, cB = el.carrier_seat_compliance
     k_crank = springs.series(1 / m0, 1 / ch.crank["crank_bending"], el.carrier_stiffness / (3 * g.a_w ** 2 / 4),
-                             2 * K_web / (3 * g.a_w ** 2 * ib ** 2))
-    k_cam = [springs.series(g.k0_dc, 1 / ch.cam[j]["crank_bending"], 1 / ch.cam[j]["crank_support_bearings"])
-             for j in range(2)]
-    k_pin = springs.series(g.k0_pin, 1 / sec)
+                             2 * K_web / (3 * g.a_w ** 2 * ib ** 2), 1 / (0.25 * cA + 0.25 * cB),
+                             1 / (3 * g.a_w ** 2 / 4 * el.carrier_joint_compliance))
+    k_cam = [1 / (1 / g.k0_dc + ch.cam[j]["crank_bending"] + ch.cam[j]["crank_support_bearings"]
+                  + el.disc_seat_compliance + ch.cam[j]["edge_loading"]) for j in range(2)]
+    k_pin = springs.series(g.k0_pin, 1 / sec, 1 / el.housing_ring_compliance, 1 / el.roughness_compliance)
     ref = ReferenceModel(g)
     P = ref.linear_parts(0.0)
     loaded = ref.forces(0.0, r.q[0])[2]["pin"] > 0
@@ -282,7 +295,8 @@ def test_a_torque_path_element_adds_its_closed_form_to_the_output_compliance(fam
     full = geometry_from_design(LINEAR)
     el = full.chain.elements
     keep = {"input_shaft": "input_shaft_stiffness", "carrier": "carrier_stiffness", "disc_web": "web_stiffness"}
-    only = replace(el, pair=None, groove=None, **{k: None for f, k in keep.items() if f != family})
+    only = replace(el, pair=None, groove=None, needle=None, disc_seat_compliance=None, carrier_seat_compliance=None,
+                   housing_ring_compliance=None, carrier_joint_compliance=None, roughness_compliance=None, **{k: None for f, k in keep.items() if f != family})
     ch = reduced(only, g0)
     ch = replace(ch, mesh={k: v for k, v in ch.mesh.items() if k == family},
                  cam=({}, {}), crank={k: v for k, v in ch.crank.items() if k == family})
@@ -303,7 +317,10 @@ def test_full_nonlinear_breakdown_sums_to_the_angle_at_every_torque():
         parts = compliance_breakdown(G, None, q, tau)
         assert set(parts) == set(FAMILIES)
         assert sum(parts.values()) == pytest.approx(theta, rel=1e-9)
-        assert all(v >= -1e-12 * theta for v in parts.values())
+        # every element stores energy except the needles' edge loading, which a tilt of a few 100 µrad
+        # lets carry the same load at a slightly smaller middle approach (rvtol.elements.rolling_bearings)
+        assert all(v >= -1e-12 * theta for f, v in parts.items() if f != "edge_loading")
+        assert abs(parts["edge_loading"]) < 1e-3 * theta
 
 
 def test_chain_elements_from_a_design_without_material_is_empty():
@@ -342,7 +359,7 @@ def test_stiffness_model_extra_components_against_their_closed_forms():
     # grooves: θ2 + θ_groove = i_b w(F_max)/r_c', split in the ratio of the two approaches at F_max
     cs = res.contacts[0][1]
     gr = RS.pins.groove
-    w_g = contacts.groove_approach(cs.F_ref, gr.length, gr.r_pin, gr.r_groove, E, NU)
+    w_g = gr.approach(cs.F_ref)
     both = res.component("cycloid_pin") + res.component("pin_groove")
     np.testing.assert_allclose(both, RS.i_b * cs.approach_ref / RS.pins.r_c, rtol=1e-12)
     np.testing.assert_allclose(res.component("pin_groove"), both * w_g / cs.approach_ref, rtol=1e-12)
@@ -416,7 +433,7 @@ def test_compliance_breakdown_analysis_puts_the_models_side_by_side(tmp_path):
     assert rows["total"][chain] == pytest.approx(r.te[-1] * 648000 / math.pi, rel=1e-6)
     assert rows["total"][doc] == pytest.approx(RS.evaluate(tau, *MODS).total[0] * 648000 / math.pi, rel=1e-12)
     assert rows["input_shaft"][rigid] is None and rows["sun_support"][doc] is None
-    assert {r["family"] for r in sec.summary["reductions"]} == set(G.chain.families)
+    assert {r["family"] for r in sec.summary["reductions"]} == set(G.chain.families) | {"turning_arm_bearings"}
 
 
 def test_compliance_breakdown_checks_its_design_when_the_study_loads(tmp_path):

@@ -39,6 +39,12 @@ def test_metrics_of_a_synthetic_curve_follow_the_definitions():
     assert m.rigidity == pytest.approx(2 * T / (b + 2 * T / k), rel=1e-12)
     assert m.backlash == pytest.approx(b + 2 * EPSILON * T / k, rel=1e-12)
     assert m.hysteresis_width == pytest.approx(0.0, abs=1e-18)
+    # the other two readings of the maker's b/a: the slope between 50 % and 100 % rated is the elastic k; b/a
+    # with the backlash (the width at ±ε) taken out of a is k/(1 − ε)
+    assert m.rigidity_50_100 == pytest.approx(k, rel=1e-12)
+    assert m.rigidity_clearance_free == pytest.approx(k / (1 - EPSILON), rel=1e-12)
+    assert m.readings() == {"torsional_rigidity": m.rigidity, "rigidity_50_100": m.rigidity_50_100,
+                            "rigidity_clearance_free": m.rigidity_clearance_free}
     # a loop of width w (1 - (τ/T)²): mid-points (lost motion, rigidity) unchanged, backlash grows by
     # the width at ±ε, the largest width away from zero is the one at ±3 %
     w = 5e-5
@@ -57,6 +63,9 @@ def test_schedule_runs_zero_to_plus_to_minus_to_zero():
     for v in (0.03 * T, -0.03 * T, EPSILON * T, -EPSILON * T):
         assert np.any(np.isclose(torque, v, rtol=0, atol=1e-9))
     assert list(np.unique(branch)) == [0, 1, 2] and np.all(np.diff(branch) >= 0)
+    odd, _ = torque_schedule(T, 7, 3.0)                  # half rated is a point of every schedule (50–100 % reading)
+    for v in (0.5 * T, -0.5 * T):
+        assert np.any(np.isclose(odd, v, rtol=0, atol=1e-9))
 
 
 def _tangent_compliance(g, q, theta_c=0.0):

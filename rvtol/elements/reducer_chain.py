@@ -10,7 +10,10 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 
 * ``sun_support``, ``sun_planet_mesh``, ``cycloid_pin``, ``turning_arm_bearings``,
   ``carrier_housing_bearing``: doc 000's contact laws (Table 2, ``stiffness.*``); in doc 004's model the
-  involute mesh (ISO 6336-1), the disc–pin Hertz contact and the needle bearings (Palmgren);
+  involute mesh (ISO 6336-1), the disc–pin Hertz contact and the needle bearings (Palmgren).  Where the
+  design gives the needle row (``crank_bearing.rollers``, ``crank_bearing.roller_length``) the 20-DOF
+  model's ``turning_arm_bearings`` is the needle row by Palmgren's line contact with its roller load
+  distribution (:class:`.rolling_bearings.NeedleRollerBearing`) instead of doc 000's ``k0·P^0.1``;
 * ``crank_support_bearings``: doc 000's one planar k0·P^0.1 law per crank, or the preloaded tapered
   roller pair (:mod:`.rolling_bearings`; ``crank_support_bearing.{rollers, roller_length,
   pitch_diameter, cup_angle, cone_angle, preload, arrangement}``);
@@ -19,9 +22,29 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 * ``crank_torsion``: twist of the crank between the planet gear and an eccentric (:mod:`.shafts`);
 * ``carrier``: pillars with flexible end plates (:mod:`.carrier_structure`; ``carrier.*`` with
   ``flange_thickness``, ``end_plate_thickness``, ``plate_clamp_radius``);
-* ``pin_groove``: pin in its housing groove, in series with the disc–pin contact
-  (:func:`.contacts.groove_approach`; ``pin.groove_radius``, ``pin.groove_contact_length``);
+* ``pin_groove``: pin in its housing groove, in series with the disc–pin contact, a **conforming** contact
+  (:func:`.conforming.conforming_groove_approach`: doc 004's Hertz approach corrected by the exact
+  pin-in-hole solution; ``pin.groove_radius``, ``pin.groove_contact_length``);
+* ``housing_ring``: the housing ring between the groove contacts' reference depth and its bolt circle,
+  plane-stress finite elements (:func:`.fe_seats.housing_ring_work`; ``housing.clamp_radius``, ``pin.length``);
 * ``disc_web``: in-plane torsion of the disc web (:mod:`.disc_web`; ``cycloid.crank_hole_diameter``);
+* ``disc_seats``: the disc round its crank holes beyond the axisymmetric web — the 4.9-mm ligament to the
+  centre bore, the ovalising hole — plane-stress finite elements (:func:`.fe_seats.disc_work`;
+  ``cycloid.centre_bore_diameter``, ``cycloid.pillar_hole_diameter``);
+* ``carrier_seats``: the end plate and the flange round their bearing cups, clamped at the pillar roots,
+  plane-stress finite elements (:func:`.fe_seats.carrier_plate_work`; ``carrier.outer_radius``,
+  ``carrier.bore_diameter``, ``crank_support_bearing.outside_diameter``);
+* ``carrier_joints``: the bolted joints of the end plate on the pillars, VDI 2230 preload and
+  Greenwood–Williamson interface (:mod:`.bolted_joint`; ``carrier.joint_bolts``,
+  ``carrier.joint_bolt_diameter``, ``carrier.joint_roughness_ra``, ``roughness.summit_radius``): the
+  interface's tilt compliance in series with the end plate's rotational spring, its shear compliance with
+  each pillar — the carrier's compliance with the joints less without;
+* ``edge_loading``: the needle rows bear on one end where the crank tilts under its loads (beam slope and
+  the support pair's tilt at the eccentrics), slice model (:func:`.rolling_bearings.edge_loaded_approach`),
+  the extra approach at rated as a linear term per cam;
+* ``contact_roughness``: the rough layer of the pin–groove contact (:mod:`.roughness`;
+  ``pin.roughness_ra``, ``pin.groove_roughness_ra``, ``roughness.summit_radius``), linear at the rated
+  pin loads;
 * ``input_shaft``: twist of the input shaft between the locked end and the sun (:mod:`.shafts`;
   ``input_shaft.diameter``, ``input_shaft.length``).
 
@@ -44,8 +67,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import SpecError
-from . import carrier_structure, contacts, disc_web, shafts
-from .rolling_bearings import BearingPair, TaperedRollerBearing
+from . import _checks, carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
+from .bolted_joint import BoltedJoint
+from .roughness import GreenwoodWilliamson
+from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
 
 #: stable family names of the torque path's compliances and their labels (module doc)
 FAMILIES: dict[str, str] = {
@@ -55,11 +80,17 @@ FAMILIES: dict[str, str] = {
     "crank_torsion": "crankshaft torsion",
     "cycloid_pin": "cycloid–pin contacts",
     "pin_groove": "pins in housing grooves",
+    "contact_roughness": "roughness of the pin–groove contacts",
+    "housing_ring": "housing ring behind the pin grooves",
     "disc_web": "cycloid disc webs",
+    "disc_seats": "disc round its crank holes (beyond the web)",
     "turning_arm_bearings": "turning-arm (needle) bearings",
+    "edge_loading": "needle edge loading from crank tilt",
     "crank_bending": "crankshaft bending + shear",
     "crank_support_bearings": "crank support bearings",
     "carrier": "carrier pillars and end plates",
+    "carrier_seats": "carrier plates round the bearing cups",
+    "carrier_joints": "end plate–pillar bolted joints",
     "carrier_housing_bearing": "carrier–housing (main) bearing",
 }
 #: the families doc 000's 20-DOF model always has (its contact laws)
@@ -184,21 +215,17 @@ class GrooveContact:
     nu: float
 
     def approach(self, F):
-        """Pin centre to the housing point one groove radius deep (mm): :func:`.contacts.groove_approach`."""
+        """Pin centre to the housing point one groove radius deep (mm): the conforming pin-in-hole contact
+        (:func:`.conforming.conforming_groove_approach`)."""
+        return conforming.conforming_groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
+
+    def hertz_approach(self, F):
+        """doc 004's Hertz formula alone (:func:`.contacts.groove_approach`), outside its validity here."""
         return contacts.groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
     def half_angle(self, F):
-        """Half-angle of the contact arc (rad); Hertz needs it well below ~0.3 (see :mod:`.contacts`)."""
-        return contacts.groove_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
-
-    def log_law(self, forces=(10.0, 1000.0)) -> tuple[float, float]:
-        """``(a, b)`` with ``approach(F) = F (a − b ln F)`` exactly: the formula's own form, since the
-        contact half-width is ``√(κF)`` (``ln(4d/L) = ln 4d − ½ ln κ − ½ ln F``).  Fitted through two
-        forces; the caller checks a third."""
-        F1, F2 = (float(v) for v in forces)
-        y1, y2 = float(self.approach(F1)) / F1, float(self.approach(F2)) / F2
-        b = (y1 - y2) / (math.log(F2) - math.log(F1))
-        return y1 + b * math.log(F1), b
+        """Half-angle of the contact arc (rad) of the conforming solution."""
+        return conforming.contact_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
 
 # ------------------------------------------------------------------------------------------------ all
@@ -221,6 +248,12 @@ class ChainElements:
     carrier_stiffness: float | None = None          # K_carrier between end plate and flange, N·mm/rad
     web_stiffness: float | None = None              # K_web of one disc, N·mm/rad
     web_radii: tuple | None = None                  # (r_i, r_o)
+    needle: NeedleRollerBearing | None = None       # the turning-arm needle row (Palmgren), zero clearance
+    disc_seat_compliance: float | None = None       # per crank hole, beyond the web (mm/N), FE
+    carrier_seat_compliance: tuple | None = None    # per cup (end plate A, flange B) (mm/N), FE
+    housing_ring_compliance: float | None = None    # per pin (mm/N), FE
+    carrier_joint_compliance: float | None = None   # 1/K_carrier with the joints less without (rad/(N·mm))
+    roughness_compliance: float | None = None       # per pin (mm/N), the groove contact's rough layer
     scales: dict = field(default_factory=dict)
     sources: dict = field(default_factory=dict)     # family -> how it was built (for reports)
 
@@ -232,8 +265,12 @@ class ChainElements:
             out += ["crank_bending", "crank_torsion"]
         if self.pair is not None:
             out.append("crank_support_bearings")
-        for name, v in (("carrier", self.carrier_stiffness), ("pin_groove", self.groove),
-                        ("disc_web", self.web_stiffness), ("input_shaft", self.input_shaft_stiffness)):
+        for name, v in (("carrier", self.carrier_stiffness), ("carrier_seats", self.carrier_seat_compliance),
+                        ("carrier_joints", self.carrier_joint_compliance),
+                        ("contact_roughness", self.roughness_compliance),
+                        ("pin_groove", self.groove), ("housing_ring", self.housing_ring_compliance),
+                        ("disc_web", self.web_stiffness), ("disc_seats", self.disc_seat_compliance),
+                        ("input_shaft", self.input_shaft_stiffness)):
             if v is not None:
                 out.append(name)
         return tuple(out)
@@ -294,7 +331,7 @@ class ChainElements:
                 raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
                                 "outside Hertz theory)", file=design.file, key="pin.groove_radius")
             kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
-            src["pin_groove"] = (f"Hertz line contact pin r {rp:g} in groove r {rg:g} mm "
+            src["pin_groove"] = (f"conforming pin-in-hole contact, pin r {rp:g} in groove r {rg:g} mm "
                                  f"(radial clearance {(rg - rp) * 1e3:.3g} µm)")
         if has("input_shaft.diameter", "input_shaft.length"):
             d, Ls = _num(design, "input_shaft.diameter"), _num(design, "input_shaft.length")
@@ -314,6 +351,30 @@ class ChainElements:
             k = carrier_structure.pillar_stiffness(sec, h, E, nu, kphi)
             kw["carrier_stiffness"] = float(carrier_structure.carrier_torsional_stiffness(
                 n, R, k, section=sec, length=h, G=G))
+            jkeys = ("carrier.joint_bolts", "carrier.joint_bolt_diameter", "carrier.joint_roughness_ra",
+                     "roughness.summit_radius", "reducer.rated_torque", "crank.support_span")
+            if has(*jkeys) and crank is not None:
+                nb, db, ra, beta, T, _ = (_num(design, k) for k in jkeys)
+                with _located(design, "carrier.joint_bolt_diameter"):
+                    joint = BoltedJoint(db, te, w, t, E, bolts=int(round(nb)))
+                with _located(design, "carrier.joint_roughness_ra"):
+                    gw = GreenwoodWilliamson.from_ra(ra, ra, beta, E / (2.0 * (1.0 - nu * nu)))
+                    c_tilt, c_shear = joint.tilt_compliance(gw), joint.shear_compliance(gw, nu)
+                zA, zB = crank.support
+                FQ = zB / (zB - zA) * T / (n * R)                    # pillar shear at rated (end-plate share)
+                chk = joint.opening_and_slip(0.5 * FQ * h, FQ)
+                if chk["opens"] or chk["slips"]:
+                    raise SpecError(f"the end plate's bolted joint {'opens' if chk['opens'] else 'slips'} at rated "
+                                    f"torque (VDI 2230: preload {joint.preload():.4g} N, pillar shear {FQ:.4g} N)",
+                                    file=design.file, key="carrier.joint_bolts")
+                k_j = 1.0 / (1.0 / carrier_structure.pillar_stiffness(
+                    sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
+                K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))
+                kw["carrier_joint_compliance"] = 1.0 / K_j - 1.0 / kw["carrier_stiffness"]
+                src["carrier_joints"] = (f"{int(round(nb))} × M{db:g} 10.9 per pillar, VDI 2230 preload "
+                                         f"{joint.preload():.4g} N (opening margin {chk['margin_open']:.3g} MPa, slip "
+                                         f"margin {chk['margin_slip']:.4g} N at rated), interface Ra {ra * 1e3:g} µm: "
+                                         f"tilt {c_tilt:.3g} rad/N·mm, shear {c_shear * 1e6:.3g} µm/kN")
             src["carrier"] = (f"{int(round(n))} pillars {w:g} × {t:g} × {h:g} mm at R {R:g} (fixed–guided, "
                               f"Cowper κ, twist), end plate {te:g} / flange {tf:g} mm as Kirchhoff plates clamped at "
                               f"{a:g} mm around a pillar root")
@@ -326,4 +387,90 @@ class ChainElements:
                 kw["web_stiffness"] = float(disc_web.annular_web_stiffness(ri, ro, _num(design, wkey), G))
             kw["web_radii"] = (ri, ro)
             src["disc_web"] = f"annulus r {ri:.2f} … {ro:.2f} mm (crank-hole edge to tooth root), t = disc width"
+        if has("crank_bearing.rollers", "crank_bearing.roller_length"):
+            with _located(design, "crank_bearing.rollers"):
+                rollers = _checks.whole("rollers", design["crank_bearing.rollers"])
+            kw["needle"] = NeedleRollerBearing(rollers, _num(design, "crank_bearing.roller_length"))
+            src["turning_arm_bearings"] = (f"needle row {kw['needle'].rollers} × {kw['needle'].length:g} mm, Palmgren "
+                                           "line contact with its roller load distribution (20-DOF: replaces doc "
+                                           "000's k0·P^0.1)")
+        _fe_elements(design, float(crank_radius), E, nu, G, kw, src)
         return cls(E, nu, float(crank_radius), scales=scales, sources=src, **kw)
+
+
+def _statics(design):
+    """``(T, i, z_c, z_p, R_p, r_p, e, w)``: rated torque (N·mm), ratio and the pin-gear data the finite-element
+    seats are loaded with, or None when the design lacks one."""
+    keys = ("reducer.rated_torque", "reducer.ratio", "cycloid.teeth", "pin.count", "pin.circle_radius", "pin.radius",
+            "cycloid.eccentricity")
+    wkey = "cycloid.face_width" if "cycloid.face_width" in design else "cycloid.width"
+    if not all(k in design for k in keys) or wkey not in design:
+        return None
+    T, i, zc, zp, Rp, rp, e = (_num(design, k) for k in keys)
+    return T, i, int(round(zc)), int(round(zp)), Rp, rp, e, _num(design, wkey)
+
+
+def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src: dict) -> None:
+    """The finite-element seats and ring (:mod:`.fe_seats`) where the design gives their dimensions."""
+    st = _statics(design)
+    if st is None:
+        return
+    T, i, zc, zp, Rp, rp, e, w = st
+    Tc = T * (1.0 - 1.0 / i) * zc / zp / 2.0               # one disc's torque, T i_b / 2
+    has = lambda *keys: all(k in design for k in keys)   # noqa: E731
+    if kw.get("web_stiffness") is not None and has("cycloid.centre_bore_diameter", "cycloid.pillar_hole_diameter",
+                                                    "carrier.pillar_radius"):
+        with _located(design, "cycloid.crank_hole_diameter"):
+            res = fe_seats.disc_work(Tc, r_root=Rp - rp - e, bore=_num(design, "cycloid.centre_bore_diameter"),
+                                     crank_radius=a, crank_hole=_num(design, "cycloid.crank_hole_diameter"),
+                                     pillar_radius=_num(design, "carrier.pillar_radius"),
+                                     pillar_hole=_num(design, "cycloid.pillar_hole_diameter"), thickness=w, z_p=zp,
+                                     z_c=zc, R_p=Rp, ecc=e, E=E, nu=nu)
+            kw["disc_seat_compliance"] = fe_seats.disc_seat_compliance(res, Tc, kw["web_stiffness"])
+        src["disc_seats"] = (f"plane-stress FE disc (scikit-fem P2), mean work {np.mean(res.work):.4g} N·mm at rated "
+                             f"less the web's {Tc ** 2 / kw['web_stiffness']:.4g}: "
+                             f"{kw['disc_seat_compliance'] * 1e6:.3g} µm/kN per crank hole")
+    ckeys = ("carrier.outer_radius", "carrier.bore_diameter", "crank_support_bearing.outside_diameter",
+             "carrier.pillar_radius", "carrier.pillar_width", "carrier.pillar_thickness", "carrier.end_plate_thickness",
+             "carrier.flange_thickness", "crank.support_span")
+    if kw.get("crank") is not None and has(*ckeys):
+        ro, bore, D, Rpil, pw, pt, te, tf, _ = (_num(design, k) for k in ckeys)
+        zA, zB = kw["crank"].support
+        rhoA = zB / (zB - zA)
+        b0 = carrier_structure.equivalent_boss_radius(carrier_structure.rectangle(pw, pt, nu))
+        cups = []
+        with _located(design, "carrier.outer_radius"):
+            for t, share in ((te, rhoA), (tf, 1.0 - rhoA)):
+                r = fe_seats.carrier_plate_work(T, r_outer=ro, bore=bore, crank_radius=a, cup_diameter=D,
+                                                pillar_radius=Rpil, pillar_root_radius=b0, thickness=t, share=share,
+                                                E=E, nu=nu)
+                cups.append(r.compliance)
+        kw["carrier_seat_compliance"] = tuple(cups)
+        src["carrier_seats"] = (f"plane-stress FE end plate {te:g} mm / flange {tf:g} mm, cups ⌀{D:g} on r {a:.3f}, "
+                                f"clamped at the pillar roots: {cups[0] * 1e6:.3g} / {cups[1] * 1e6:.3g} µm/kN per cup")
+    if kw.get("groove") is not None and has("housing.clamp_radius", "pin.length"):
+        gr = kw["groove"]
+        with _located(design, "housing.clamp_radius"):
+            r = fe_seats.housing_ring_work(Tc, r_inner=Rp + gr.r_pin + gr.r_groove,
+                                           r_outer=_num(design, "housing.clamp_radius"),
+                                           thickness=_num(design, "pin.length"), z_p=zp, z_c=zc, R_p=Rp, ecc=e, E=E,
+                                           nu=nu)
+        kw["housing_ring_compliance"] = r.compliance
+    if kw.get("groove") is not None and has("pin.roughness_ra", "pin.groove_roughness_ra", "roughness.summit_radius"):
+        gr = kw["groove"]
+        with _located(design, "pin.roughness_ra"):
+            gw = GreenwoodWilliamson.from_ra(_num(design, "pin.roughness_ra"), _num(design, "pin.groove_roughness_ra"),
+                                             _num(design, "roughness.summit_radius"), E / (2.0 * (1.0 - nu * nu)))
+        _, F = fe_seats.pin_forces(Tc, zp, zc, Rp, e)
+        F = np.hypot(*F.T)
+        F = F[F > 0]
+        ang = conforming.contact_half_angle(F, gr.length, gr.r_pin, gr.r_groove, E, nu)
+        area = 2.0 * ang * gr.r_pin * gr.length
+        c = np.array([gw.layer_compliance(f / a, a) for f, a in zip(F, area)])
+        kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))
+        src["contact_roughness"] = (f"Greenwood–Williamson layer, σ = {gw.sigma * 1e3:.3g} µm, β = {gw.beta * 1e3:g} µm, "
+                                    f"at the rated pin loads on the conforming contact arcs: "
+                                    f"{kw['roughness_compliance'] * 1e6:.3g} µm/kN per pin (energy-weighted)")
+        src["housing_ring"] = (f"plane-stress FE ring r {Rp + gr.r_pin + gr.r_groove:.2f} … "
+                               f"{_num(design, 'housing.clamp_radius'):g} mm (clamped), t = pin length: "
+                               f"{r.compliance * 1e6:.3g} µm/kN per pin")

@@ -14,11 +14,22 @@ def te_curve(result, ax=None, label: str | None = None, color: str | None = None
     fig, ax = new_axes(ax)
     ax.plot(np.degrees(result.theta_c), result.te, lw=0.9, color=color or COLORS["data"],
             label=label or f"{result.mode}: Δθ_er = {result.te_pp:.3g} arcsec")
+    _mark_extremes(ax, result, color)
     ax.set_xlabel("output angle θ_c [deg]")
     ax.set_ylabel("transmission error Δθ_ca [arcsec]")
     ax.set_xlim(0, 360)
     ax.legend(loc="best")
     return fig
+
+
+def _mark_extremes(ax, result, color=None, shift: float = 0.0):
+    """The curve's largest and smallest TE refined between the positions (quasi-static results), as markers."""
+    e = getattr(result, "extremes", None)
+    if e is None:
+        return
+    arcsec = 180.0 * 3600.0 / np.pi
+    ax.plot(np.degrees([e.theta_max, e.theta_min]), [e.te_max * arcsec - shift, e.te_min * arcsec - shift], "o",
+            ms=4, mfc="none", color=color or COLORS["data"])
 
 
 def te_curves(results: dict, ax=None):
@@ -27,6 +38,7 @@ def te_curves(results: dict, ax=None):
     for n, (lab, r) in enumerate(results.items()):
         ax.plot(np.degrees(r.theta_c), r.te - r.te.mean(), lw=1.2 if n == 0 else 0.8, ls="-" if n == 0 else "--",
                 color=_PALETTE[n % len(_PALETTE)], label=f"{lab}: Δθ_er = {r.te_pp:.3g} arcsec")
+        _mark_extremes(ax, r, _PALETTE[n % len(_PALETTE)], shift=r.te.mean())
     ax.set_xlabel("output angle θ_c [deg]")
     ax.set_ylabel("Δθ_ca − mean [arcsec]")
     ax.set_xlim(0, 360)

@@ -52,6 +52,9 @@ class ProductionOptions(CommonOptions):
 
     def complete(self, study, error):
         kind = self.KIND
+        if getattr(study, "build", None) is not None:    # the build would choose the fitted parts again per sample
+            raise error("kind", f"this analysis {self.BUILT}; the study's build would choose those parts again: give "
+                                "[study] build = false")
         self.key = self.key or (f"{kind}_{self.name}" if self.name else kind)
         if any(getattr(a, "key", None) == self.key for a in study.analyses):
             raise error("name", f"two analyses with the key {self.key!r}: give each a name")
@@ -81,6 +84,7 @@ class PerUnitPrediction(Analysis):
     @dataclass
     class Options(ProductionOptions):
         KIND = "per_unit_prediction"
+        BUILT = "predicts units that are built already (their fitted parts are measured)"
         kits: Path = option(REQUIRED, "the kit list: which serial parts form which reducer")
         parts: list[PartsOptions] = option(REQUIRED, "[[analysis.parts]]: one table per measured part family",
                                            min_length=1)
@@ -132,6 +136,7 @@ class SelectiveAssembly(Analysis):
     @dataclass
     class Options(ProductionOptions):
         KIND = "selective_assembly"
+        BUILT = "grades and fits the parts itself"
         factor: str | None = option(None, "the graded part's size: a factor of the spec", names="factors")
         factors: list[str] | None = option(None, "or several factors (one part per factor)", names="factors",
                                            min_length=1)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import base64
 import logging
+import re
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from .. import __version__
-from .sections import Figure, RunTable, Section, Table, Text
+from ..blocks import Figure, Links, RunTable, Section, Table, Text
 from .standard import run_table
 from .summary import now_iso
 
@@ -36,13 +37,19 @@ def _table_html(t: Table, max_rows: int | None = None) -> Markup:
         df[c] = df[c].map(fmt).astype(object)
     if t.index:
         df.index = [fmt(i) for i in df.index]
-    html = df.to_html(index=t.index, escape=True, border=0, classes="data", na_rep="—")
-    return Markup(html)
+    html = df.to_html(index=t.index, escape=True, border=0, classes="data" + (" text" if t.text else ""), na_rep="—")
+    return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html))
 
 
-def _block_view(b, max_rows: int | None = None, result=None) -> dict:
+#: a requirement's traffic light in a table cell (rvtol.report.signoff): coloured by the template's CSS
+_LIGHT = re.compile(r"<td>● (PASS|UNDECIDED|FAIL)")
+
+
+def _block_view(b, max_rows: int | None = None, result=None, keys=()) -> dict:
     if isinstance(b, RunTable):
         b = run_table(result)
+    if isinstance(b, Links):
+        return {"type": "links", "lead": b.lead, "items": [(k, t) for k, t in b.items if k in keys]}
     if isinstance(b, Text):
         return {"type": "text", "paragraphs": [p.strip() for p in b.text.split("\n\n") if p.strip()]}
     if isinstance(b, Table):
@@ -61,6 +68,7 @@ def view_model(result, max_rows: int | None = None) -> dict:
     rows a table keeps, for the PDF).  It only formats: the sections were built during the run."""
     st = result.study
     sections: list[Section] = list(result.standard_sections) + list(result.sections)
+    keys = {s.key for s in sections}
     return {
         "title": st.title,
         "name": st.name,
@@ -70,13 +78,20 @@ def view_model(result, max_rows: int | None = None) -> dict:
         "version": __version__,
         "study_file": st.file,
         "toc": [(s.key, s.title) for s in sections],
-        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b, max_rows, result) for b in s.blocks]}
+        "sections": [{"key": s.key, "title": s.title, "blocks": [_block_view(b, max_rows, result, keys) for b in s.blocks]}
                      for s in sections],
     }
 
 
 def render_html(result, max_rows: int | None = None) -> str:
-    return _ENV.get_template("report.html.j2").render(**view_model(result, max_rows))
+    return _ENV.get_template("report.html.j2").render(**view_model(result, max_rows), link_base="")
+
+
+def render_summary_html(result) -> str:
+    """The one-page summary: the verdict and the sign-off section (the first page of the full report)."""
+    view = view_model(result)
+    view["sections"] = [s for s in view["sections"] if s["key"] == "signoff"]
+    return _ENV.get_template("summary.html.j2").render(**view, link_base="report.html")
 
 
 def render_pdf(html: str, path: str | Path) -> None:

@@ -1,14 +1,31 @@
-"""The first page a quality manager reads: the verdict per requirement, the tolerances that matter, what to change."""
+"""The first page a quality manager reads: per requirement a traffic light with its yield and Cpk, the tolerances
+that matter, the cheapest fix by kind, and — when there is one — the comparison with the accepted baseline.
+
+Everything here lays out what the run computed (:mod:`rvtol.signoff`, the analyses' fixes, the comparison);
+the same section opens report.html, report.pdf and the one-page summary.pdf.
+"""
 from __future__ import annotations
 
 import pandas as pd
 
+from ..signoff import FIX_KINDS, LIGHTS
 from ..units import label
-from .sections import Section
+from ..blocks import Links, Section
+
+#: the word in a requirement's light cell (the renderer colours ``● WORD``)
+LIGHT_WORD = {"green": "PASS", "amber": "UNDECIDED", "red": "FAIL"}
+#: a driver below this first-order share is not listed (it would read as 0 %)
+MIN_SHARE = 0.005
+#: drivers listed per requirement on the first page (summary.json holds the digest's three)
+FIRST_PAGE_DRIVERS = 2
 
 
 def _num(v, fmt="{:.4g}") -> str:
     return "—" if v is None else fmt.format(v)
+
+
+def _need(bound, need, fmt) -> str:
+    return f"{_num(bound, fmt)} (needs ≥ {need:g})" if need is not None else "—"
 
 
 def signoff_section(result) -> Section:
@@ -17,37 +34,94 @@ def signoff_section(result) -> Section:
     if not digests:
         sec.add_text("This study states no requirements: nothing is signed off.")
         return sec
-    failed = [d for d in digests if not d.passed]
-    if failed:
-        sec.add_text(f"FAIL — {len(failed)} of {len(digests)} requirements are not demonstrated at their stated "
-                     "confidence: " + "; ".join(d.label for d in failed) + ".")
-    else:
-        sec.add_text(f"PASS — all {len(digests)} requirements are demonstrated at their stated confidence.")
-    rows = []
+    reqs = {v.requirement.label: v.requirement for v in result.mc.verdicts()}
+    counts = {k: sum(d.light == k for d in digests) for k in LIGHTS}
+    head = (f"FAIL — {len(digests) - counts['green']} of {len(digests)} requirements are not demonstrated at their "
+            "stated confidence" if counts["green"] < len(digests) else
+            f"PASS — all {len(digests)} requirements are demonstrated at their stated confidence")
+    sec.add_text(head + f" ({counts['green']} PASS, {counts['amber']} UNDECIDED, {counts['red']} FAIL). "
+                 + " ".join(f"{LIGHT_WORD[k]}: {v}." for k, v in LIGHTS.items()))
+    rows, staged = [], any(d.model for d in digests)
     for d in digests:
-        rows.append({"requirement": d.label, "model": d.model or "—", "verdict": "PASS" if d.passed else "FAIL",
+        r = reqs[d.label]
+        rows.append({"": f"● {LIGHT_WORD[d.light]}", "requirement": d.label, **({"model": d.model or "—"} if staged else {}),
+                     "yield": _num(d.yield_, "{:.5f}"), "yield bound": _need(d.yield_lo, r.min_yield, "{:.5f}"),
+                     "Cpk": _num(d.cpk, "{:.2f}"), "Cpk bound": _need(d.cpk_lo, r.min_cpk, "{:.2f}"),
                      "mean": _num(d.mean), "P0.135 … P99.865": f"{_num(d.p00135)} … {_num(d.p99865)}",
-                     "unit": label(d.unit), "yield (lower bound)": _num(d.yield_lo, "{:.5f}"),
-                     "Cpk (lower bound)": _num(d.cpk_lo, "{:.2f}")})
-    sec.add_table(pd.DataFrame(rows), caption="Every requirement: PASS means demonstrated at the stated confidence "
-                                              "(details, intervals and reasons in the requirements section)")
+                     "unit": label(d.unit)})
+    sec.add_table(pd.DataFrame(rows), caption="Every requirement: the bound (one-sided, at the requirement's "
+                                              "confidence) is what is judged; details, intervals and reasons in the "
+                                              "requirements section", text=True)
     drows = []
-    for d in digests:
-        for rank, drv in enumerate(d.drivers, start=1):
-            drows.append({"requirement": d.label, "rank": rank, "drawing tolerance": drv.tolerance,
+    watched = [d for d in digests if d.light != "green"] or digests    # the failures' drivers; all when all pass
+    for d in watched:
+        shown = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
+        for drv in shown:
+            drows.append({"requirement": d.label, "drawing tolerance": drv.tolerance,
                           "share of variance (S1)": f"{100 * drv.s1:.0f} %",
-                          "factors": ", ".join(drv.factors[:4]) + (" …" if len(drv.factors) > 4 else "")})
+                          "factors": ", ".join(drv.factors[:2]) + (f" (+{len(drv.factors) - 2})"
+                                                                    if len(drv.factors) > 2 else "")})
     if drows:
-        sec.add_table(pd.DataFrame(drows), caption="The tolerances that matter most for each requirement: first-order "
-                                                   "share of the output's variance, estimated from the Monte Carlo "
-                                                   "samples (coordinates of one drawing tolerance summed)")
+        sec.add_table(pd.DataFrame(drows), text=True, caption=f"The (up to {FIRST_PAGE_DRIVERS}) tolerances that matter "
+                      "most for each requirement not demonstrated (for every requirement when all pass): first-order "
+                      "share of its variance, estimated from the "
+                      "Monte Carlo samples (the coordinates of one drawing tolerance summed); listed when at least "
+                      f"{100 * MIN_SHARE:g} % and more than three standard errors of its estimate")
     overlaps = [f"{d.label}: " + "; ".join(d.overlaps) for d in digests if d.overlaps]
     if overlaps:
         sec.add_text("Correlated in the spec, so their shares overlap (each includes what the other explains through "
-                     "the correlation; do not add them, and tightening one alone gains less than its share says; "
-                     "the Sobol total indices of the sensitivity matrix treat the factors as independent and need "
-                     "not agree) — " + " · ".join(overlaps) + ".")
-    for d in failed:
-        if d.change:
-            sec.add_text(f"What to change — {d.label}: {d.change}")
+                     "the correlation; do not add them, and tightening one alone gains less than its share says) — "
+                     + " · ".join(overlaps) + ".")
+    _fixes(sec, result, digests)
+    if result.comparison is not None:
+        _baseline(sec, result.comparison)
     return sec
+
+
+def _fixes(sec: Section, result, digests) -> None:
+    """The cheapest fix of each kind for every requirement that is not demonstrated, checked ones first."""
+    titles = {s.key: s.title for s in result.sections}
+    extra = [f for s in result.sections for f in s.fixes]
+    rows, sources = [], []
+    for d in digests:
+        if d.light == "green":
+            continue
+        fixes = [f for f in extra if f.requirement == d.label] + list(d.fixes)
+        for kind in FIX_KINDS:
+            of_kind = sorted((f for f in fixes if f.kind == kind), key=lambda f: not f.checked)
+            if not of_kind:
+                continue
+            f = of_kind[0]
+            where = titles.get(f.source)
+            rows.append({"requirement": d.label, "fix": kind, "what to do": f.action, "what it gives": f.effect,
+                         "evidence": (("checked by a Monte Carlo run" if f.checked else "estimate")
+                                      + (f" — {where}" if where else " (first order)"))})
+            if f.source in titles:
+                sources.append(f.source)
+    if not rows:
+        return
+    sec.add_table(pd.DataFrame(rows), caption="What to change, cheapest kind first (more samples, re-centre a "
+                  "nominal, tighten tolerances, redesign)", text=True)
+    if sources:
+        sec.blocks.append(Links([(k, titles[k]) for k in dict.fromkeys(sources)], "Details"))
+
+
+def _baseline(sec: Section, cmp) -> None:
+    """Against the accepted baseline: each requirement before and after, its ppm change, the gates."""
+    rows = [{"requirement": r["requirement"], "baseline": r["base_verdict"], "this run": r["new_verdict"],
+             "ppm out": f"{_num(r['ppm']['base'], '{:.0f}')} → {_num(r['ppm']['new'], '{:.0f}')}",
+             "change [CI]": f"{_num(r['ppm']['change'], '{:+.0f}')} [{_ci(r['ppm']['ci'])}]"}
+            for r in cmp.requirements]
+    b = cmp.base
+    sec.add_text(f"Against the accepted baseline {b['source']} (n {b['n']}, seed {b['seed']}; "
+                 f"{'paired on common random numbers' if cmp.paired else 'unpaired'}): gates {cmp.verdict} — "
+                 f"{cmp.one_line()}.")
+    if rows:
+        sec.add_table(pd.DataFrame(rows), caption=f"Requirements against the baseline (ppm non-conforming, change with "
+                                                  f"its {100 * cmp.confidence:g} % interval)")
+    if cmp.spec_changes:
+        sec.add_table(pd.DataFrame(cmp.spec_changes), caption="What changed in the tolerance spec")
+
+
+def _ci(ci) -> str:
+    return "—" if not ci or None in ci else f"{ci[0]:+.0f}, {ci[1]:+.0f}"

@@ -9,11 +9,12 @@ on where the model knows its structure (:func:`rvtol.model.dependencies`).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ..callouts import drawing_tolerance
 from ..model import dependencies
-from .given_data import given_data
+from .given_data import default_classes, given_data
 
 
 @dataclass
@@ -21,6 +22,12 @@ class Driver:
     tolerance: str
     s1: float            # summed first-order index of its factors
     factors: list[str]
+    noise: float = 0.0   # the standard error of that sum where the tolerance has no effect (its estimates' noise)
+
+    @property
+    def significant(self) -> bool:
+        """Its share stands out of its estimation noise (more than 3 standard errors)."""
+        return self.s1 > 3.0 * self.noise
 
 
 def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver]]:
@@ -29,6 +36,9 @@ def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver
     if ok.sum() < 50:
         return {}
     res = given_data(model, spec, mc.samples, mc.Y, outputs=outputs, seed=seed, num_resamples=0)   # S1 alone
+    n = int(ok.sum())
+    M = default_classes(n)
+    se1 = math.sqrt(2.0 * (M - 1)) / n      # one null estimate's standard error (M classes; Kelley-corrected η²)
     group = {f.name: drawing_tolerance(f) for f in spec.factors}
     deps = dependencies(model)
     out = {}
@@ -42,5 +52,5 @@ def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver
             g[0] += float(s)          # the bias-corrected estimates are summed as they are (clipping each at 0
             g[1].append(name)         # would add the positive half of the noise of every factor of a family)
         ranked = sorted(sums.items(), key=lambda kv: -kv[1][0])
-        out[o] = [Driver(t, max(v[0], 0.0), v[1]) for t, v in ranked]
+        out[o] = [Driver(t, max(v[0], 0.0), v[1], se1 * math.sqrt(len(v[1]))) for t, v in ranked]
     return out

@@ -1,6 +1,6 @@
 """What the sensitivity sections say: their prose and the layout of each result as report blocks.
 
-One function per analysis kind, ``layout(result, options) -> list of blocks`` (:mod:`rvtol.report.sections`:
+One function per analysis kind, ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`:
 Text, Table, Figure); the analyses (:mod:`rvtol.sensitivity.analyses`) name them, the generic report
 (:meth:`rvtol.analysis.Analysis.report`) puts the blocks into a section.
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 from ..units import label
 from . import global_ as gs
 

@@ -14,6 +14,7 @@ from ..options import option
 from . import texts
 from .compare import compare_conventions, tail_probabilities
 from .conventions import SIX_SIGMA_CP, SIX_SIGMA_SHIFT
+from .tail import APPROXIMATIONS, METHODS
 
 
 @dataclass
@@ -46,7 +47,9 @@ class StackConventionsAnalysis(Analysis):
         mrss_factor: float | None = option(None, "a given MRSS factor (a row of its own)", positive=True)
         six_sigma: SixSigmaOptions | None = option(SixSigmaOptions, "the 1.5σ-shift convention's row (false: "
                                                                     "none)")
-        true_worst_case: bool = option(True, "the true extreme of the model over the bands (bounded optimisation)")
+        true_worst_case: bool = option(True, "the true extreme of the model over the bands (corners, differential "
+                                             "evolution, L-BFGS-B)")
+        second_order: bool = option(True, "mean shift, skewness and kurtosis by the method of moments, Pearson tails")
         starts: int = option(4, "starts of the worst-case search", min=2)
         max_evaluations: int = option(5000, "model evaluations of the worst-case search", min=100)
         gradient: str = option("auto", "auto: the model's analytic gradient if it has one, else five-point",
@@ -66,20 +69,23 @@ class StackConventionsAnalysis(Analysis):
         o = self.options
         return compare_conventions(ctx.model, ctx.spec, o.outputs, ctx.mc, ctx.evaluator, sigma_levels=o.sigma_levels,
                                    percentiles=o.percentiles, mrss_factor=o.mrss_factor, six_sigma=o.six,
-                                   true_wc=o.true_worst_case, starts=o.starts, max_evaluations=o.max_evaluations,
+                                   true_wc=o.true_worst_case, second_order=o.second_order, starts=o.starts, max_evaluations=o.max_evaluations,
                                    gradient=o.gradient, percent=o.percent)
 
 
 class TailProbabilityAnalysis(Analysis):
-    """FORM and importance sampling beyond each requirement limit (:mod:`rvtol.stacking.tail`)."""
+    """Tail probabilities beyond each requirement limit by OpenTURNS' reliability methods (:mod:`rvtol.stacking.tail`)."""
 
-    kind, title = "tail_probability", "Tail probabilities beyond the limits (FORM, importance sampling)"
+    kind = "tail_probability"
+    title = "Tail probabilities beyond the limits (FORM, SORM, importance, subset and directional sampling)"
     layout = texts.tails
 
     @dataclass
     class Options(StackOptions):
-        samples: int = option(4000, "importance samples per limit (0: FORM only)", min=0, zero_or_min=100)
-        max_iterations: int = option(60, "FORM iterations", min=5)
+        samples: int = option(4000, "model runs per sampling method and limit (0: the approximations only)", min=0,
+                              zero_or_min=100)
+        methods: list[str] = option(list(METHODS), "the reliability methods", choices=METHODS, min_length=1)
+        design_points: int = option(4, "the most design points multi-FORM looks for", min=2)
         seed: int | None = option(None, "seed of the importance samples (default: the study's)", min=0)
 
         def complete(self, study, error):
@@ -91,8 +97,10 @@ class TailProbabilityAnalysis(Analysis):
             for o in self.outputs:
                 if not any(r.output == o for r in study.requirements):
                     raise error("outputs", f"output {o!r} has no requirement (no limit to estimate a tail beyond)")
+            if not self.samples:
+                self.methods = [m for m in self.methods if m in APPROXIMATIONS]
 
     def compute(self, ctx):
         o = self.options
         return tail_probabilities(ctx.model, ctx.spec, ctx.mc, o.outputs, ctx.evaluator, samples=o.samples,
-                                  max_iterations=o.max_iterations, seed=ctx.seed if o.seed is None else o.seed)
+                                  methods=tuple(o.methods), design_points=o.design_points, seed=ctx.seed if o.seed is None else o.seed)

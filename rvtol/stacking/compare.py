@@ -3,9 +3,10 @@
 :func:`compare_conventions` gives, per output, every convention of :mod:`rvtol.stacking.conventions`
 from the output's gradient at the nominal point (the model's own, else five-point), the true worst
 case (:mod:`rvtol.stacking.worst_case`) and the Monte Carlo's own rows and percentiles with their
-order-statistic intervals; :func:`tail_probabilities` gives, per requirement limit, FORM and
-importance sampling (:mod:`rvtol.stacking.tail`) beside the Monte Carlo's count.  Only the Monte
-Carlo enters a verdict.
+order-statistic intervals, and (``second_order``) the second-order moments of
+:mod:`rvtol.stacking.second_order`; :func:`tail_probabilities` gives, per requirement limit, OpenTURNS'
+reliability estimates (:mod:`rvtol.stacking.tail`: FORM, SORM, multi-FORM, importance, subset and
+directional sampling) beside the Monte Carlo's count.  Only the Monte Carlo enters a verdict.
 """
 from __future__ import annotations
 
@@ -24,7 +25,8 @@ from ..records import frame_records
 from ..sensitivity.common import model_gradient
 from ..units import label
 from .conventions import StackConventions, stack_conventions
-from .tail import TailEstimate, form, importance_sampling
+from .slopes import one_sided_slopes
+from .tail import METHODS, TailEstimate, tail_probability
 from .worst_case import WorstCase, true_worst_case
 
 
@@ -69,7 +71,8 @@ class OutputConventions:
         wc = self.worst_case
         if wc is not None:
             s["true_worst_case"] = {"low": wc.low, "high": wc.high, "x_low": wc.x_low, "x_high": wc.x_high,
-                                    "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes}
+                                    "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes,
+                                    "guaranteed": wc.guaranteed, "methods": wc.methods}
         return s
 
 
@@ -95,22 +98,26 @@ class ConventionsComparison:
 
 def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.0,), percentiles=(0.135, 99.865),
                         mrss_factor: float | None = None, six_sigma: tuple[float, float] | None = None,
-                        true_wc: bool = True, starts: int = 4, max_evaluations: int = 5000, gradient: str = "auto",
+                        true_wc: bool = True, second_order: bool = True, starts: int = 4,
+                        max_evaluations: int = 5000, gradient: str = "auto",
                         percent: float = 10.0) -> ConventionsComparison:
     """The conventions of each output (module docstring); ``gradient``: ``auto`` (the model's own where it has
     one) or ``five_point`` (±``percent`` % of the nominals)."""
     out = {}
     for o, (g, y0, how) in _gradients(model, spec, outputs, evaluator, gradient, percent).items():
         q = model.output(o)
+        search = search_evaluator(model, spec, evaluator)
         sc = stack_conventions(spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
-                               sigma_levels=sigma_levels, mrss_factor=mrss_factor, six_sigma=six_sigma)
+                               sigma_levels=sigma_levels, mrss_factor=mrss_factor, six_sigma=six_sigma,
+                               slopes=one_sided_slopes(model, spec, o, evaluate=search))
         wc = None
         if true_wc:
-            wc = true_worst_case(model, spec, o, search_evaluator(model, spec, evaluator), starts=starts,
-                                 max_evaluations=max_evaluations, gradient=g)
+            wc = true_worst_case(model, spec, o, search, starts=starts, max_evaluations=max_evaluations, gradient=g)
             sc.add("worst case (true extreme)", wc.low, wc.high, note=wc.how + ("; " + "; ".join(wc.notes)
                                                                                 if wc.notes else ""),
-                   source="bounded optimisation (scipy L-BFGS-B)")
+                   source="corners, differential evolution, L-BFGS-B (scipy)")
+        if second_order:
+            _second_order_rows(model, spec, o, sc, sigma_levels, search)
         pct = _monte_carlo(mc, o, sc, sigma_levels, percentiles)
         rq = [r for r in mc.requirements if r.output == o]
         inside = None
@@ -121,6 +128,32 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
                       for a, b in zip(sc.frame["low"], sc.frame["high"])]
         out[o] = OutputConventions(sc, how, pct, wc, limits_of(mc, o), inside)
     return ConventionsComparison(out, mc.confidence)
+
+
+def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate) -> None:
+    """The second-order rows (:mod:`rvtol.stacking.second_order`) beside the linearised ones, or a note why not."""
+    from .second_order import curvature, second_order
+
+    q = model.output(o)
+    d = lambda v: float(q.to_display(np.array([v]))[0])  # noqa: E731
+    if any("kink" in n for n in sc.notes):
+        sc.notes.append("second order: the output has a kink at the nominal point (no second-order expansion)")
+        return
+    try:
+        y0, g, H, _ = curvature(model, spec, o, evaluate=evaluate)
+        so = second_order(spec, y0, g, H)
+    except ValueError as exc:
+        sc.notes.append(f"second order: {exc}")
+        return
+    for z in sigma_levels:
+        sc.add(f"second order (moments) ±{z:g}σ", d(so.mean - z * so.sigma), d(so.mean + z * so.sigma),
+               centre=d(so.mean), sigma=d(so.mean + so.sigma) - d(so.mean),
+               note=f"mean shift {d(so.mean) - d(so.y_at_means):+.4g} from curvature, skewness {so.skewness:.3g}, "
+                    f"kurtosis {so.kurtosis:.3g}", source="Glancy & Chase 1999 (method of moments)")
+        lo, hi = so.interval(z)
+        sc.add(f"second order, {so.law} tails ({z:g}σ coverage)", d(lo), d(hi), centre=d(so.mean),
+               note="quantiles of the curve with the four moments" + ("; " + "; ".join(so.notes) if so.notes else ""),
+               source="Pearson 1895 / Johnson 1949")
 
 
 def _gradients(model, spec, outputs, evaluator, gradient: str, percent: float) -> dict:
@@ -165,7 +198,7 @@ def _monte_carlo(mc, o: str, sc: StackConventions, sigma_levels, percentiles) ->
 # --------------------------------------------------------------------------- tails
 @dataclass
 class LimitTail:
-    """One requirement limit: FORM (and importance sampling) beside the Monte Carlo's count."""
+    """One requirement limit: OpenTURNS' estimates beside the Monte Carlo's count."""
 
     requirement: object
     side: str
@@ -175,23 +208,32 @@ class LimitTail:
     n: int
     ci: tuple[float, float]
 
-    def row(self) -> dict:
-        r, est, (lo, hi) = self.requirement, self.estimate, self.ci
-        k, n = self.k, self.n
-        return {"requirement": r.label,
-                "limit": f"{'≥' if self.side == 'lower' else '≤'} {self.limit:g} {label(r.unit)}",
-                "Monte Carlo ppm [CI]": f"{1e6 * k / n:.3g} [{1e6 * lo:.3g}, {1e6 * hi:.3g}] (n = {n})",
-                "FORM β": est.beta, "FORM ppm": est.ppm_form,
-                "IS ppm ± s.e.": (f"{est.ppm_is:.3g} ± {1e6 * est.pf_is_se:.2g} (N = {est.n_is})"
-                                  if est.pf_is is not None else "—"),
-                "converged": "yes" if est.converged else ("n/a" if est.beta in (None, math.inf) else "no"),
-                "evaluations": est.evaluations, "notes": "; ".join(est.notes)}
+    @property
+    def where(self) -> str:
+        r = self.requirement
+        return f"{r.label} ({self.side}: {'≥' if self.side == 'lower' else '≤'} {self.limit:g} {label(r.unit)})"
+
+    def rows(self) -> list[dict]:
+        """The Monte Carlo's row, then one per method (the reference marked)."""
+        est, (lo, hi), k, n = self.estimate, self.ci, self.k, self.n
+        rows = [{"limit": self.where, "method": f"Monte Carlo (the verdict's, n = {n})",
+                 "ppm": 1e6 * k / n, "± s.e. / [CI]": f"[{1e6 * lo:.3g}, {1e6 * hi:.3g}]",
+                 "evaluations": n, "note": "counted, Clopper–Pearson interval"}]
+        for e in est.estimates:
+            rows.append({"limit": self.where, "method": e.method + (" (reference)" if e.method == est.reference else ""),
+                         "ppm": None if e.pf is None else 1e6 * e.pf,
+                         "± s.e. / [CI]": "" if e.se is None else f"± {1e6 * e.se:.2g}",
+                         "evaluations": e.evaluations, "note": e.note})
+        return rows
+
+    def disagreements(self) -> list[str]:
+        return [f"{self.where}: {d}" for d in self.estimate.disagreements]
 
     def record(self) -> dict:
         d = self.estimate.to_dict()
         lo, hi = self.ci
         d.update(requirement=self.requirement.label, mc_ppm=1e6 * self.k / self.n, mc_ppm_ci=[1e6 * lo, 1e6 * hi],
-                 mc_n=self.n)
+                 mc_n=self.n, verdict_uses="Monte Carlo")
         return d
 
 
@@ -204,7 +246,10 @@ class TailProbabilities:
     notes: list[str] = field(default_factory=list)
 
     def to_frame(self) -> pd.DataFrame:
-        return pd.DataFrame([t.row() for t in self.limits])
+        return pd.DataFrame([row for t in self.limits for row in t.rows()])
+
+    def disagreements(self) -> list[str]:
+        return [f for t in self.limits for f in t.disagreements()]
 
     def failure_points(self) -> pd.DataFrame:
         """The most probable failure points (each factor in its unit), where FORM found one."""
@@ -213,12 +258,14 @@ class TailProbabilities:
                              for d in recs if d["most_probable_failure_point"]])
 
     def summary(self) -> dict:
-        return {"estimates": [t.record() for t in self.limits]}
+        return {"estimates": [t.record() for t in self.limits], "disagreements": self.disagreements(),
+                "verdict_uses": "Monte Carlo"}
 
 
-def tail_probabilities(model, spec, mc, outputs, evaluator, *, samples: int = 4000, max_iterations: int = 60,
-                       seed: int | None = None) -> TailProbabilities:
-    """FORM and (``samples`` > 0) importance sampling beyond each limit of the requirements on ``outputs``."""
+def tail_probabilities(model, spec, mc, outputs, evaluator, *, samples: int = 4000, methods=None,
+                       design_points: int = 4, seed: int | None = None) -> TailProbabilities:
+    """OpenTURNS' estimates (``methods``; the sampling ones with ``samples`` model runs each) beyond each limit of
+    the requirements on ``outputs``."""
     search = search_evaluator(model, spec, evaluator)
     out, key = [], 0
     for r in mc.requirements:
@@ -228,9 +275,8 @@ def tail_probabilities(model, spec, mc, outputs, evaluator, *, samples: int = 40
         for side, lim in (("lower", r.lower), ("upper", r.upper)):
             if lim is None:
                 continue
-            est, z = form(model, spec, r.output, lim, side, search, max_iterations=max_iterations)
-            if z is not None and samples:
-                importance_sampling(model, spec, est, z, samples, seed, key, evaluator)
+            est = tail_probability(model, spec, r.output, lim, side, search, samples=samples, seed=seed, key=key,
+                                   methods=METHODS if methods is None else methods, design_points=design_points)
             key += 1
             beyond = (~np.isfinite(y)) | ((y < lim) if side == "lower" else (y > lim))
             k, n = int(beyond.sum()), len(y)

@@ -21,14 +21,17 @@ CONTRIBUTORS = ("{output}: contributors (a: sensitivity; k = |μ − band centre
 PERCENTILES = "{output}: Monte Carlo percentiles of the study's choice with {confidence:.0%} order-statistic intervals"
 INTERVALS = "{output}: each convention's interval (Monte Carlo rows in orange), limits dashed"
 
-TAILS = ("Estimates, not demonstrations: FORM (first-order reliability) finds the most probable failure point z* in "
-         "standard-normal space and gives β = |z*| and P_f ≈ Φ(−β) — exact for a linear output of normal factors, a "
-         "tangent-plane approximation otherwise; importance sampling about z* (N samples, weights φ(z)/φ(z − z*)) "
-         "estimates P_f without that approximation, with its standard error. Both rest on the factors' distributions "
-         "(their tails are extrapolated, not measured) and do not enter the verdict, which is the Monte Carlo's: "
-         "where it sees no failure it only bounds the ppm.")
-TAIL_TABLE = ("Probability beyond each limit: Monte Carlo (counted, with its {confidence:.0%} Clopper–Pearson interval), "
-              "FORM and importance sampling (estimated from the distributions)")
+TAILS = ("Estimates, not demonstrations, by OpenTURNS in the study's own standard-normal space: FORM (the most "
+         "probable failure point u*, β = |u*|, P ≈ Φ(−β): exact for a linear output of normal factors), SORM "
+         "(FORM corrected by the curvatures at u*), multi-FORM (several design points), importance sampling "
+         "about u*, subset simulation and directional sampling (any shape of failure domain), each sampling "
+         "estimate with its standard error. Estimates that disagree beyond three standard errors are flagged; "
+         "the reference is the most precise sampling estimate not under suspicion (importance sampling about "
+         "one point is blind to failure regions far from it). All rest on the factors' distributions (their "
+         "tails extrapolated, not measured) and none enters the verdict, which is the Monte Carlo's: where it "
+         "sees no failure it only bounds the ppm.")
+TAIL_TABLE = ("Probability beyond each limit: the Monte Carlo (counted; the verdict uses it) and OpenTURNS' estimates "
+              "from the distributions, the reference marked ({confidence:.0%} interval of the Monte Carlo)")
 FAILURE_POINTS = ("The most probable failure points (each factor in its unit): the combination of deviations most likely "
                   "to reach the limit")
 
@@ -51,6 +54,7 @@ def conventions(res, o) -> list:
 
 def tails(res, o) -> list:
     blocks = [Text(TAILS), Table(res.to_frame(), TAIL_TABLE.format(confidence=res.confidence))]
+    blocks += [Text("Disagreement: " + f) for f in res.disagreements()]
     pts = res.failure_points()
     if len(pts):
         blocks.append(Table(pts, FAILURE_POINTS))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 
 INTRODUCTION = (
     "Each published figure of an {reducer} is predicted by the model as it is — its nominal point and a Monte Carlo "

@@ -79,11 +79,12 @@ class BaselineNewmark(NewmarkSolver):
 
 
 class BaselineTEModel(TransmissionErrorModel):
-    """The TE model on the baseline kernels, same options (quasi-static only)."""
+    """The TE model on the baseline kernels, same options (quasi-static only); Δθ_er of the sweep's positions, as
+    at the baseline (no refinement of the extremes: the baseline kernels have none)."""
 
     def _sweep(self, st):
         return BaselineSolver(self.geometry, st, **self.solver_options).rotation(self.load_torque,
-                                                                                 self.per_crank_rev)
+                                                                                 self.per_crank_rev), None
 
     @classmethod
     def of(cls, model: TransmissionErrorModel) -> "BaselineTEModel":

@@ -46,7 +46,7 @@ from ..transmission.geometry import geometry_from_design
 from ..transmission.quasistatic import QuasiStaticSolver
 from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import LABELS, ReducerStiffness
-from .model import TorsionCurveModel, compliance_breakdown
+from .model import RIGIDITY_READINGS, TorsionCurveModel, compliance_breakdown
 from .screening import CAMS
 
 BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)",
@@ -112,6 +112,8 @@ class TorsionCurveAnalysis(Analysis):
                 f"lost motion ±{self.model.percent:g} % (arcmin)": units.from_base(mt.lost_motion, "arcmin"),
                 "backlash (arcmin)": units.from_base(mt.backlash, "arcmin"),
                 "rigidity b/a (N·m/arcmin)": units.from_base(mt.rigidity, "N*m/arcmin"),
+                "rigidity 50–100 % (N·m/arcmin)": units.from_base(mt.rigidity_50_100, "N*m/arcmin"),
+                "rigidity b/a less backlash (N·m/arcmin)": units.from_base(mt.rigidity_clearance_free, "N*m/arcmin"),
                 "angle at +rated (arcmin)": units.from_base(mt.angle_at_rated, "arcmin"),
                 "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec")}
 
@@ -275,8 +277,14 @@ class TorsionCurveAnalysis(Analysis):
         s.add_table(df, "20-DOF torsion angle at +rated split by virtual work (T θ = Σ f·d)", "{:.4g}")
         if comp is not None:
             s.add_table(comp, "Elastic torsion-angle model (doc 004) components at the same torque", "{:.4g}")
+        readings = {k: float(units.from_base(v, "N*m/arcmin")) for k, v in mt.readings().items()}
+        s.add_table(pd.DataFrame({"output": list(RIGIDITY_READINGS), "reading": list(RIGIDITY_READINGS.values()),
+                                  "clearance-free reducer (N·m/arcmin)": [readings[k] for k in RIGIDITY_READINGS]}),
+                    "Rigidity under each reading of the maker's b/a (the Monte Carlo reports each output)", "{:.4g}")
         s.summary = {"breakdown_20dof": frame_records(df),
                      "rigidity_b_over_a_Nm_per_arcmin": float(units.from_base(mt.rigidity, "N*m/arcmin")),
+                     "rigidity_readings_clearance_free_Nm_per_arcmin": readings,
+                     "rigidity_readings": dict(RIGIDITY_READINGS),
                      "part1": frame_records(comp) if comp is not None else None}
         return s
 

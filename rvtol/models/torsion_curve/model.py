@@ -8,7 +8,15 @@ the previous one), with the clearances and errors of the sample.  From the
 curve, by the maker's definitions (``../shared/REFERENCE.md``):
 
 * **torsional rigidity** ``b/a``: the torque span ``b = 2 T_r`` over the
-  angle span ``a`` between the rated-torque end points of the mid-line;
+  angle span ``a`` between the rated-torque end points of the mid-line
+  (REFERENCE's reading, output ``torsional_rigidity``).  The maker's figure
+  leaves room for two other readings, both reported beside it:
+  ``rigidity_50_100``, the mid-line's slope between 50 % and 100 % of rated
+  torque (both signs: ``T_r / [(θ(T_r) − θ(T_r/2)) + (θ(−T_r/2) − θ(−T_r))]``,
+  the range where the clearances are closed and the contact laws nearly
+  linear), and ``rigidity_clearance_free``, ``b/a`` with the free play taken
+  out of ``a`` (``2 T_r / (a − backlash)``: the curve of the same reducer
+  without its dead band at zero torque);
 * **lost motion**: angle between the mid-points of the hysteresis width at
   ``+p %`` and ``−p %`` of rated torque (``p = 3`` by default, a parameter);
 * **backlash**: the hysteresis width at zero torque, ``θ_desc(0) − θ_asc(0)`` (REFERENCE's
@@ -69,14 +77,22 @@ OUTPUTS = (
     Quantity("backlash", "rad", "arcmin", "hysteresis width at zero torque"),
     Quantity("angle_at_rated", "rad", "arcmin", "mid-line torsion angle at +rated torque"),
     Quantity("hysteresis_width", "rad", "arcsec", "largest hysteresis width away from zero torque"),
+    Quantity("rigidity_50_100", "N*mm/rad", "N*m/arcmin", "mid-line slope between 50 % and 100 % rated torque"),
+    Quantity("rigidity_clearance_free", "N*mm/rad", "N*m/arcmin", "b/a with the backlash taken out of a"),
 )
+#: the readings of the maker's rigidity b/a (module doc): output name -> reading
+RIGIDITY_READINGS = {
+    "torsional_rigidity": "b/a between the rated-torque end points of the mid-line (REFERENCE)",
+    "rigidity_50_100": "mid-line slope between 50 % and 100 % of rated torque",
+    "rigidity_clearance_free": "b/a with the backlash (free play at zero torque) taken out of a",
+}
 
 
 def torque_schedule(rated: float, points: int = 20, percent: float = 3.0,
                     epsilon: float = EPSILON) -> tuple[np.ndarray, np.ndarray]:
     """``(torque, branch)``: 0 → +T → −T → 0 with ``points`` steps per quarter, plus ±ε and ±p %."""
     T = float(rated)
-    quarter = np.concatenate([np.linspace(0.0, T, points + 1), [epsilon * T, percent / 100.0 * T]])
+    quarter = np.concatenate([np.linspace(0.0, T, points + 1), [epsilon * T, percent / 100.0 * T, 0.5 * T]])
     quarter = np.unique(quarter)                                    # 0 … T, increasing
     pos = quarter[1:]
     up = quarter
@@ -96,10 +112,17 @@ class CurveMetrics:
     backlash: float
     angle_at_rated: float
     hysteresis_width: float
+    rigidity_50_100: float = math.nan
+    rigidity_clearance_free: float = math.nan
 
     def as_row(self) -> np.ndarray:
         return np.array([self.lost_motion, self.rigidity, self.backlash, self.angle_at_rated,
-                         self.hysteresis_width])
+                         self.hysteresis_width, self.rigidity_50_100, self.rigidity_clearance_free])
+
+    def readings(self) -> dict:
+        """The rigidity under each reading (:data:`RIGIDITY_READINGS`), N·mm/rad."""
+        return {"torsional_rigidity": self.rigidity, "rigidity_50_100": self.rigidity_50_100,
+                "rigidity_clearance_free": self.rigidity_clearance_free}
 
 
 @dataclass
@@ -158,7 +181,10 @@ class TorsionCurve:
         backlash = self.descending(e) - self.ascending(-e)
         taus = self.torque[(np.abs(self.torque) >= 2 * e)]
         width = max((abs(self.descending(t) - self.ascending(t)) for t in np.unique(taus)), default=0.0)
-        return CurveMetrics(lm, 2.0 * T / span if span > 0 else math.nan, backlash, self.midline(T), width)
+        upper = (self.midline(T) - self.midline(0.5 * T)) + (self.midline(-0.5 * T) - self.midline(-T))
+        free = span - backlash
+        return CurveMetrics(lm, 2.0 * T / span if span > 0 else math.nan, backlash, self.midline(T), width,
+                            T / upper if upper > 0 else math.nan, 2.0 * T / free if free > 0 else math.nan)
 
     def to_frame(self) -> pd.DataFrame:
         return pd.DataFrame({"branch": [BRANCHES[b] for b in self.branch], "torque (N·m)": self.torque_Nm,

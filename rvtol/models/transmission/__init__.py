@@ -7,7 +7,8 @@ Modules: :mod:`.geometry` (derived geometry, undefined symbols filled),
 pin grooves, disc webs, input shaft — in series with the contacts),
 :mod:`._kernels` (numba: forces and series laws, Newton, sequences,
 Newmark-β), :mod:`.numpy_twin` (NumPy implementation of the same equations),
-:mod:`.quasistatic`, :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`).
+:mod:`.quasistatic`, :mod:`.extremes` (the TE curve's extremes refined between a
+sweep's positions: Δθ_er), :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`).
 
 Quasi-static entry point (also for the torsional-stiffness and adjustment
 capabilities)::
@@ -24,6 +25,7 @@ capabilities)::
     # (a) prescribed input angle + output load torque (TE over one output revolution)
     r = solver.rotation(load_torque=0.03 * g.rated_torque, per_crank_rev=36)
     r.te            # Δθ_ca = θ_ca − θ_c per position (rad); r.theta_c nominal carrier angles
+    te_extremes(solver, r).pp   # Δθ_er of the curve, refined between the positions (rvtol...extremes)
     # (b) input locked + prescribed output torque (torsion / hysteresis curve)
     T = 784e3       # N·mm
     r = solver.torsion(np.concatenate([np.linspace(0, T, 21), np.linspace(T, -T, 41), np.linspace(-T, 0, 21)]))

@@ -107,7 +107,8 @@ class TECurve(Analysis):
         sec.add_text(f"Configuration: {how}. Load torque {self.model.load_torque / 1e3:.4g} N·m resisting "
                      f"({100 * self.model.load_torque / g.rated_torque:.3g} % of rated), "
                      f"{self.model.per_crank_rev} positions per crank revolution ({self.model.per_crank_rev * g.z_b} "
-                     "per output revolution) for the quasi-static sweep.")
+                     "per output revolution) for the quasi-static sweep; its Δθ_er is the curve's, from its largest "
+                     "and smallest values refined between the positions (marked).")
         if self.target.stage is None:
             spec = ctx.spec
             names, shown = spec.names, [f.unit for f in spec.factors]

@@ -69,6 +69,7 @@ import pandas as pd
 from scipy.interpolate import CubicHermiteSpline
 
 from ...elements.reducer_chain import FAMILIES, ChainElements
+from ...elements.rolling_bearings import edge_loaded_approach
 from ...errors import SpecError
 from . import layout as L
 from .layout import T_C, T_D, T_F, T_M
@@ -134,6 +135,8 @@ class ContactChain:
     pin: dict = field(default_factory=dict)     # linear terms with each pin (linearised variants)
     crank_table: np.ndarray | None = None       # (4, TABLE_POINTS): f, δ, dδ/df, ∫δ (replaces doc 000's law)
     groove: tuple | None = None                 # (a, b, f_cap): δ = f (a − b ln f), linear beyond f_cap
+    pin_table: np.ndarray | None = None         # (4, TABLE_POINTS): the conforming groove law (in series)
+    cam_table: np.ndarray | None = None         # (4, TABLE_POINTS): the needle row (replaces doc 000's law)
     notes: dict = field(default_factory=dict)   # family -> reduction as text (reports)
 
     @property
@@ -142,12 +145,14 @@ class ContactChain:
         out = set(self.mesh) | set(self.cam[0]) | set(self.cam[1]) | set(self.crank) | set(self.pin)
         if self.crank_table is not None:
             out.add("crank_support_bearings")
-        if self.groove is not None:
+        if self.groove is not None or self.pin_table is not None:
             out.add("pin_groove")
         return tuple(f for f in FAMILIES if f in out)
 
     def groove_delta(self, f):
         """The groove term ``δ(f)`` (mm) of the pin law."""
+        if self.pin_table is not None:
+            return table_law(self.pin_table, f)[0]
         return log_law(self.groove, f)[0]
 
     def series_work(self, group: str, forces, disc: int = 0) -> dict[str, float]:
@@ -162,7 +167,7 @@ class ContactChain:
         if group == "crank" and self.crank_table is not None:
             fam = "crank_support_bearings"
             out[fam] = out.get(fam, 0.0) + float((f * table_law(self.crank_table, f)[0]).sum())
-        if group == "pin" and self.groove is not None:
+        if group == "pin" and (self.groove is not None or self.pin_table is not None):
             out["pin_groove"] = out.get("pin_groove", 0.0) + float((f * self.groove_delta(f)).sum())
         return out
 
@@ -182,7 +187,11 @@ class ContactChain:
             f, d = self.crank_table[T_F], self.crank_table[T_D]
             rows.append(("crank_support_bearings", "each crank–carrier contact (nonlinear law)",
                          float(d[1] / f[1]), self.notes.get("crank_support_table", "")))
-        if self.groove is not None:
+        if self.cam_table is not None:
+            f, d = self.cam_table[T_F], self.cam_table[T_D]
+            rows.append(("turning_arm_bearings", "each cycloid–crank bearing (nonlinear law, replaces doc 000's)",
+                         float(d[-1] / f[-1]), self.notes.get("turning_arm_bearings", "")))
+        if self.groove is not None or self.pin_table is not None:
             rows.append(("pin_groove", "each cycloid–pin contact (nonlinear law)",
                          float(self.groove_delta(1000.0) / 1000.0), self.notes.get("pin_groove", "")))
         return pd.DataFrame({"family": [r[0] for r in rows], "element": [FAMILIES[r[0]] for r in rows],
@@ -194,7 +203,7 @@ class ContactChain:
 def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, ratio: float, z_c: int, z_b: int,
                  ecc: float, rated_torque: float) -> ContactChain | None:
     """The elements ``el`` reduced to the 20-DOF contacts (module doc); None when there is nothing to add."""
-    if not el.present:
+    if not el.present and el.needle is None:
         return None
     s = el.scale
     out = ContactChain(el)
@@ -240,24 +249,107 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
         ib = (1.0 - 1.0 / ratio) * z_c / z_b
         out.crank["disc_web"] = s("disc_web") * 3.0 * a_w ** 2 * ib ** 2 / (2.0 * el.web_stiffness)
         notes["disc_web"] = f"3 a'² i_b² / (2 K_web), i_b = {ib:.4f}"
+    ib = (1.0 - 1.0 / ratio) * z_c / z_b
+    disc = rated_torque * (1.0 - 1.0 / ratio) / (2.0 * z_b * ecc)   # one disc's pin resultant at rated
     if el.groove is not None:
-        a, b = el.groove.log_law()
         sc = s("pin_groove")
-        out.groove = (sc * a, sc * b, groove_cap(a, b))
-        check = 300.0
-        exact = sc * float(el.groove.approach(check))
-        if abs(float(out.groove_delta(check)) - exact) > 1e-9 * exact:
-            raise SpecError("the groove contact law is not of the form f (a − b ln f)", key="pin.groove_radius")
-        disc = rated_torque * (1.0 - 1.0 / ratio) / (2.0 * z_b * ecc)   # one disc's pin resultant at rated
-        if not groove_cap(a, b) > disc:
-            raise SpecError(f"groove contact formula leaves its range (half-width of the pin's size) below "
-                            f"{groove_cap(a, b):.3g} N, less than a disc's pin resultant at rated torque {disc:.3g} N",
-                            key="pin.groove_radius")
-        notes["pin_groove"] = ("δ = f (a − b ln f): pin centre to housing (groove_approach), same force as the pin; "
-                               f"linear beyond {groove_cap(a, b):.3g} N (never reached at equilibrium)")
+        f = _knots(disc)
+        out.pin_table = _tabulate(lambda F: sc * el.groove.approach(F), f)
+        notes["pin_groove"] = ("conforming pin-in-hole law (Hertz approach + exact conformity correction), tabulated "
+                               f"to {f[-1]:.3g} N, pin centre to housing, same force as the pin")
+    if el.roughness_compliance is not None:
+        out.pin["contact_roughness"] = s("contact_roughness") * el.roughness_compliance
+        notes["contact_roughness"] = "GW rough layer of the groove contact, energy-weighted over the rated pin loads"
+    if el.carrier_joint_compliance is not None:
+        if cr is None:
+            raise SpecError("the carrier joints need the crank layout (the end plate's share)", key="carrier_joints")
+        zA, zB = cr.support
+        rho = zB / (zB - zA)
+        out.crank["carrier_joints"] = s("carrier_joints") * 3.0 * a_w ** 2 * rho ** 2 * el.carrier_joint_compliance
+        notes["carrier_joints"] = "3 a'² ρ_A² (1/K_carrier with the joints − 1/K_carrier without)"
+    if el.housing_ring_compliance is not None:
+        out.pin["housing_ring"] = s("housing_ring") * el.housing_ring_compliance
+        notes["housing_ring"] = "energy-equivalent per pin under the classical pin sharing at rated (FE ring)"
+    if el.disc_seat_compliance is not None:
+        for j in range(2):
+            out.cam[j]["disc_seats"] = s("disc_seats") * el.disc_seat_compliance
+        notes["disc_seats"] = "energy-equivalent per crank hole under doc 004's statics at rated (FE disc less the web)"
+    if el.carrier_seat_compliance is not None:
+        if cr is None:
+            raise SpecError("the carrier seats need the crank layout (their bearing shares)", key="carrier_seats")
+        zA, zB = cr.support
+        rho = zB / (zB - zA)
+        cA, cB = el.carrier_seat_compliance
+        out.crank["carrier_seats"] = s("carrier_seats") * (rho ** 2 * cA + (1.0 - rho) ** 2 * cB)
+        notes["carrier_seats"] = (f"ρ_A² c_A + ρ_B² c_B on the crank resultant (c per cup, FE end plate / flange), "
+                                  f"ρ_A = {rho:g}")
+    if el.needle is not None:
+        cam = rated_torque * ib / 2.0 / (3.0 * a_w)                     # tangential crank-hole load at rated
+        F_cam = math.hypot(cam, disc / 3.0)
+        sc = s("turning_arm_bearings")
+        f = _knots(F_cam)
+        sol = el.needle.solve(f)
+        d = sc * np.hypot(sol.u[:, 0], sol.u[:, 1])
+        m = np.full(f.size, np.nan)
+        for k, K in enumerate(sol.stiffness):
+            if np.linalg.cond(K) < 1e12:
+                m[k] = sc * np.linalg.inv(K)[0, 0]
+        m[0] = m[0] if np.isfinite(m[0]) else d[1] / f[1]
+        out.cam_table = np.stack([f, d, m, hermite_integrals(f, d, m)])
+        if cr is not None:
+            gam = crank_tilt(el, cam, disc / 3.0)
+            d_r = float(np.hypot(*el.needle.solve(F_cam).u[0]))
+            extra = edge_loaded_approach(d_r, gam, el.needle.length) - d_r
+            for j in range(2):
+                out.cam[j]["edge_loading"] = s("edge_loading") * extra / F_cam
+            notes["edge_loading"] = (f"crank tilt {gam * 1e6:.3g} µrad at the eccentrics at rated: the most loaded needle's "
+                                     f"middle moves in {extra * 1e6:.3g} nm more (slice model), secant at {F_cam:.4g} N")
+        notes["turning_arm_bearings"] = (f"needle row {el.needle.rollers} × {el.needle.length:g} mm, Palmgren with the "
+                                         f"roller load distribution (zero clearance: the 20-DOF gap carries δ_b), "
+                                         f"tabulated to {f[-1]:.3g} N")
     if out.crank_table is not None:
         _check_crank_law(out, TABLE_RANGE * R_rated)
     return out
+
+
+def crank_tilt(el: ChainElements, tangential: float, radial: float) -> float:
+    """Slope (rad) of the crank at its eccentrics relative to the disc under the rated crank loads: each disc's
+    tangential crank-hole load ``tangential`` (N, the same at both eccentrics) and radial ``±radial`` (the two
+    discs' pin resultants are opposite), on the stepped beam with rigid supports (its section rotation,
+    :meth:`.shafts.SteppedShaft.flexibility`) plus the support pair's tilt (tangent at the rated crank
+    resultant); mean of the two eccentrics of the magnitude over both planes."""
+    cr = el.crank
+    z = list(cr.eccentrics)
+    C = cr.shaft.flexibility(z + z, ["force", "force", "moment", "moment"], supports=cr.support)
+    rot = C[2:, :2]                                   # section rotation at the eccentrics per force there
+    planes = (np.array([tangential, tangential]), np.array([radial, -radial]))
+    slope = np.zeros(2)
+    for P in planes:
+        s = rot @ P
+        if el.pair is not None:
+            f = np.array([P.sum(), 0.0, 0.0, 0.0, float(np.dot(z, P))])
+            K = el.pair.solve(np.array([tangential * 2.0, 0.0, 0.0, 0.0, 0.0]), tol=1e-8).stiffness[0]
+            s = s + np.linalg.solve(K, f)[4]
+        slope = np.hypot(slope, s)
+    return float(slope.mean())
+
+
+def _knots(rated_force: float) -> np.ndarray:
+    """Force knots of a tabulated law: ``TABLE_POINTS`` spaced as ``(k/(n−1))^TABLE_SPACING`` to
+    ``TABLE_RANGE`` × the rated force."""
+    return TABLE_RANGE * rated_force * (np.arange(TABLE_POINTS) / (TABLE_POINTS - 1)) ** TABLE_SPACING
+
+
+def _tabulate(delta, f) -> np.ndarray:
+    """``(4, n)`` table (f, δ, dδ/df, ∫δ) of a law ``delta(F)`` (vectorised) at the knots ``f``: slopes by
+    central differences of relative step 1e-4 (one-sided at 0)."""
+    d = np.asarray(delta(f), dtype=float)
+    h = 1e-4 * np.maximum(f, f[1])
+    up = np.asarray(delta(f + h), dtype=float)
+    lo = np.asarray(delta(np.maximum(f - h, 0.0)), dtype=float)
+    m = (up - lo) / (f + h - np.maximum(f - h, 0.0))
+    m[0] = d[1] / f[1]
+    return np.stack([f, d, m, hermite_integrals(f, d, m)])
 
 
 def _pair_law(el: ChainElements, R_lin: float, R_max: float):

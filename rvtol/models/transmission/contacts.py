@@ -49,12 +49,22 @@ def static_table(g: RVGeometry, err: np.ndarray) -> ContactTable:
     ch = g.chain
     ser = np.zeros((nc, L.NSER))
     tab = np.zeros((1, 4, 2))
-    k_mesh, k0_oc = g.k_sp, g.k0_oc
+    k_mesh, k0_oc, k0_dc = g.k_sp, g.k0_oc, g.k0_dc
+    t_crank = t_cam = t_pin = -1
     if ch is not None:
         k_mesh = 1.0 / (1.0 / g.k_sp + sum(ch.mesh.values()))
-        if ch.crank_table is not None:
-            tab = np.ascontiguousarray(ch.crank_table[None, :, :])
-            k0_oc = 0.0                                  # the pair's table replaces doc 000's law
+        tables = []
+        for name in ("crank_table", "cam_table", "pin_table"):
+            if getattr(ch, name) is not None:
+                tables.append(getattr(ch, name))
+                if name == "crank_table":
+                    t_crank, k0_oc = len(tables) - 1, 0.0     # the pair's table replaces doc 000's law
+                elif name == "cam_table":
+                    t_cam, k0_dc = len(tables) - 1, 0.0       # the needle row replaces doc 000's law
+                else:
+                    t_pin = len(tables) - 1
+        if tables:
+            tab = np.ascontiguousarray(np.stack(tables))
 
     def series(c, linear=0.0, log=None, table=-1):
         ser[c, L.S_ON] = 1.0
@@ -71,20 +81,20 @@ def static_table(g: RVGeometry, err: np.ndarray) -> ContactTable:
         put(L.C_CRANK + i, L.RADIAL, [[b, L.XCA, L.THCA], [b + 1, L.YCA, L.THCA]], k0_oc, p,
             err[L.DELTA_OC + i])
         if ch is not None and (ch.crank or ch.crank_table is not None):
-            series(L.C_CRANK + i, sum(ch.crank.values()), table=0 if ch.crank_table is not None else -1)
+            series(L.C_CRANK + i, sum(ch.crank.values()), table=t_crank)
         for j in range(L.N_DISC):
             d = L.disc(j)
             put(L.C_CAM + 3 * j + i, L.RADIAL, [[b, b + 2, d, d + 1, d + 2], [b + 1, b + 2, d, d + 1, d + 2]],
-                g.k0_dc, p, err[L.DELTA_B + 3 * j + i])
-            if ch is not None and ch.cam[j]:
-                series(L.C_CAM + 3 * j + i, sum(ch.cam[j].values()))
+                k0_dc, p, err[L.DELTA_B + 3 * j + i])
+            if ch is not None and (ch.cam[j] or ch.cam_table is not None):
+                series(L.C_CAM + 3 * j + i, sum(ch.cam[j].values()), table=t_cam)
     put(L.C_HOUSING, L.RADIAL, [[L.XCA], [L.YCA]], g.k0_ca, p, err[L.DELTA_CA])
     for j in range(L.N_DISC):
         d = L.disc(j)
         for k in range(g.z_b):
             put(L.C_PIN + j * g.z_b + k, L.UNILATERAL, [[d, d + 1, d + 2]], g.k0_pin, p)
-            if ch is not None and (ch.groove is not None or ch.pin):
-                series(L.C_PIN + j * g.z_b + k, sum(ch.pin.values()), log=ch.groove)
+            if ch is not None and (ch.groove is not None or ch.pin or ch.pin_table is not None):
+                series(L.C_PIN + j * g.z_b + k, sum(ch.pin.values()), log=ch.groove, table=t_pin)
     return ContactTable(kind, idx, k0, pw, gap, ser, tab)
 
 

@@ -87,6 +87,7 @@ ST_LOST_CONTACT = 3
 ST_DIVERGED = 4
 ST_SINGULAR = 5
 ST_NONFINITE = 6
+ST_UNRESOLVED = 8          # (7 is the model's negative-clearance code)
 
 STATUS_REASONS = {
     ST_MAXITER: "Newton iteration did not converge (equilibrium not found within the iteration limit)",
@@ -94,6 +95,8 @@ STATUS_REASONS = {
     ST_DIVERGED: "solution diverged (a displacement exceeded the model's small-deviation range)",
     ST_SINGULAR: "singular tangent stiffness (a body is free: no contact restrains it)",
     ST_NONFINITE: "non-finite force or displacement in the solver",
+    ST_UNRESOLVED: "TE extreme not resolved: intervals of the sweep still admitted a larger extreme after the "
+                   "refinement's limit of halvings",
 }
 
 

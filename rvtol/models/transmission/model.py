@@ -17,7 +17,10 @@ Outputs:
 
 Δθ_er is max − min of Δθ_ca; the document writes max|Δθ_ca| − min|Δθ_ca|,
 which is the same while Δθ_ca keeps its sign (it does under load: the
-wind-up dominates).  Failed rows (no convergence, lost contact, negative
+wind-up dominates).  Quasi-static, max and min are the continuous curve's,
+refined between the sweep's positions to 1e-5″ (:mod:`.extremes`); the other
+outputs are those of the sweep's positions.  Newmark: the time steps' (tens
+of thousands per revolution).  Failed rows (no convergence, lost contact, negative
 clearance) get a status code with its reason, never numbers.
 
 :meth:`TransmissionErrorModel.run` gives one reducer in full: the TE curve,
@@ -39,6 +42,7 @@ from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
 from . import _kernels as K
 from . import layout as L
+from .extremes import Extremes, te_extremes
 from .factors import ErrorFactors, ErrorState
 from .geometry import RVGeometry, geometry_from_design
 from .newmark import NewmarkSolver
@@ -70,6 +74,7 @@ class TEResult:
     status: int
     reason: str
     factors: dict
+    extremes: Extremes | None = None    # quasi-static: the curve's extremes between the positions (rad)
 
     @property
     def ok(self) -> bool:
@@ -77,6 +82,9 @@ class TEResult:
 
     @property
     def te_pp(self) -> float:
+        """Δθ_er (arcsec): of the continuous curve (quasi-static), of the time steps (Newmark)."""
+        if self.extremes is not None:
+            return float(units.from_base(self.extremes.pp, "arcsec"))
         return float(self.te.max() - self.te.min())
 
     def spectrum(self) -> pd.DataFrame:
@@ -157,38 +165,42 @@ class TransmissionErrorModel(Model):
     def state(self, x) -> ErrorState:
         return self.factors.state(x)
 
-    def _sweep(self, st: ErrorState) -> SweepResult:
+    def _sweep(self, st: ErrorState) -> tuple[SweepResult, Extremes | None]:
+        """The revolution and, quasi-static, its TE extremes refined between the positions (:mod:`.extremes`)."""
         if self.mode == "quasistatic":
-            return QuasiStaticSolver(self.geometry, st, **self.solver_options).rotation(
-                self.load_torque, self.per_crank_rev)
+            solver = QuasiStaticSolver(self.geometry, st, **self.solver_options)
+            r = solver.rotation(self.load_torque, self.per_crank_rev)
+            return r, (te_extremes(solver, r) if r.ok else None)
         return NewmarkSolver(self.geometry, st, load_torque=self.load_torque, **self.dynamic_options,
-                             **self.solver_options).run()
+                             **self.solver_options).run(), None
 
-    def _row(self, x) -> tuple[np.ndarray, int, SweepResult | None]:
+    def _row(self, x) -> tuple[np.ndarray, int, SweepResult | None, Extremes | None]:
         y = np.full(len(self.outputs), np.nan)
         if not np.all(np.isfinite(x)):
-            return y, STATUS_NONFINITE, None
+            return y, STATUS_NONFINITE, None, None
         st = self.state(x)
         clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
                                 st.err[L.DELTA_CA:L.DELTA_CA + 1]])
         if np.any(clear < 0):
-            return y, ST_BAD_CLEARANCE, None
-        r = self._sweep(st)
+            return y, ST_BAD_CLEARANCE, None, None
+        r, ext = self._sweep(st)
         if not r.ok:
-            return y, r.failure, r
+            return y, r.failure, r, None
+        if ext is not None and not ext.ok:
+            return y, ext.status, r, ext
         te = r.te
         rec = r.rec
         npins = rec[:, [K.R_NPIN0, K.R_NPIN1]]
-        y[:] = (te.max() - te.min(), te.mean(), rec[:, K.R_PIN_MAX].max(), rec[:, K.R_CAM_MAX].max(),
-                npins.min(), npins.mean())
-        return y, 0, r
+        pp = ext.pp if ext is not None else te.max() - te.min()
+        y[:] = (pp, te.mean(), rec[:, K.R_PIN_MAX].max(), rec[:, K.R_CAM_MAX].max(), npins.min(), npins.mean())
+        return y, 0, r, ext
 
     def evaluate_with_status(self, X):
         X = self.check_input(X)
         Y = np.full((X.shape[0], len(self.outputs)), np.nan)
         status = np.zeros(X.shape[0], np.int16)
         for n, x in enumerate(X):
-            Y[n], status[n], _ = self._row(x)
+            Y[n], status[n], _, _ = self._row(x)
         return Y, status
 
     def evaluate(self, X):
@@ -211,12 +223,12 @@ class TransmissionErrorModel(Model):
             x = np.array([float(values.get(n, 0.0)) for n in self.inputs])
         else:
             x = np.asarray(values, dtype=float).reshape(len(self.inputs))
-        y, status, r = self._row(x)
+        y, status, r, ext = self._row(x)
         reason = self.status_reasons.get(status, "") if status else ""
         if r is None:
             return TEResult(self.mode, np.zeros(0), np.zeros(0), None, status, reason, dict(zip(self.inputs, x)))
         te = units.from_base(r.te, "arcsec")
-        return TEResult(self.mode, r.theta_c, te, r, status, reason, dict(zip(self.inputs, x)))
+        return TEResult(self.mode, r.theta_c, te, r, status, reason, dict(zip(self.inputs, x)), ext)
 
 
 def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:

@@ -161,11 +161,14 @@ class ReferenceModel:
         k0 = {"cam": self.g.k0_dc, "crank": self.g.k0_oc, "pin": self.g.k0_pin}[group]
         terms = []
         lin = {"cam": ch.cam[disc], "crank": ch.crank, "pin": ch.pin}.get(group, {})
-        table = group == "crank" and ch.crank_table is not None
+        own = {"crank": ch.crank_table, "cam": ch.cam_table}.get(group)     # a table replacing doc 000's law
+        table = own is not None
         if table:
-            terms.append(lambda f: table_law(ch.crank_table, f)[:2])
+            terms.append(lambda f: table_law(own, f)[:2])
         else:
             terms.append(lambda f: (f ** (1 / p) / k0, f ** (1 / p - 1) / (p * k0) if f > 0 else np.inf))
+        if group == "pin" and ch.pin_table is not None:
+            terms.append(lambda f: table_law(ch.pin_table, f)[:2])
         if lin:
             c = sum(lin.values())
             terms.append(lambda f: (c * f, c))

@@ -1,0 +1,93 @@
+"""Report building blocks: a :class:`Section` holds tables, figures and text — plain data.
+
+Every analysis returns Sections (its capability's ``texts`` layout makes the blocks); the HTML/PDF
+report (:mod:`rvtol.report`) renders them generically, and ``Section.summary`` (JSON-able) goes into
+``summary.json`` under ``analyses.<key>``.  A base module: the capabilities lay their results out
+with it, and the report package renders it, so neither imports the other.  Figures are rendered to PNG as soon as they are
+added (and the matplotlib figure closed), so Sections are cheap to keep.
+"""
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, field
+from typing import Any
+
+import pandas as pd
+
+from .records import frame_records  # noqa: F401  (re-exported for the analyses)
+
+
+@dataclass
+class Table:
+    frame: pd.DataFrame
+    caption: str = ""
+    float_format: str = "{:.4g}"
+    index: bool = False
+    text: bool = False          # a table of words: every cell left-aligned
+
+
+@dataclass
+class Figure:
+    png: bytes
+    caption: str = ""
+    width: str = "100%"
+
+
+@dataclass
+class Text:
+    text: str  # plain text; blank lines separate paragraphs; escaped when rendered
+
+
+@dataclass
+class Links:
+    """Links to other sections of the report: ``(section key, text)``; a key the report does not hold is left out
+    (the renderer knows which sections exist)."""
+
+    items: list[tuple[str, str]]
+    lead: str = "See"
+
+
+@dataclass
+class RunTable:
+    """Where the run's timings table goes: the timings end with the run, so the renderer fills it in
+    (:func:`rvtol.report.standard.run_table`)."""
+
+
+@dataclass
+class Section:
+    key: str
+    title: str
+    blocks: list = field(default_factory=list)
+    summary: dict[str, Any] = field(default_factory=dict)
+    files: dict[str, bytes] = field(default_factory=dict)   # extra files for the report folder (name -> content)
+    fixes: list = field(default_factory=list)   # rvtol.signoff.Fix: ways to pass a requirement this section shows
+
+    def add_text(self, text: str) -> "Section":
+        self.blocks.append(Text(text))
+        return self
+
+    def add_table(self, frame: pd.DataFrame, caption: str = "", float_format: str = "{:.4g}",
+                  index: bool = False, text: bool = False) -> "Section":
+        self.blocks.append(Table(frame, caption, float_format, index, text))
+        return self
+
+    def add_file(self, name: str, content: bytes | str) -> "Section":
+        """A file the report folder holds beside report.html (e.g. a CSV for CI), named ``name``."""
+        if not name or "/" in name or "\\" in name or name.startswith("."):
+            raise ValueError(f"invalid report file name {name!r}")
+        self.files[name] = content.encode("utf-8") if isinstance(content, str) else content
+        return self
+
+    def add_figure(self, fig, caption: str = "", width: str = "100%") -> "Section":
+        """Add a matplotlib figure (rendered to PNG now, then closed) or PNG bytes."""
+        self.blocks.append(Figure(fig if isinstance(fig, bytes) else figure_png(fig), caption, width))
+        return self
+
+
+def figure_png(fig, dpi: int = 130) -> bytes:
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    return buf.getvalue()
