@@ -92,11 +92,18 @@ class Analysis(ABC):
             raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
         blocks = layout(result, self.options)
         fixes = result.fixes(self.key) if hasattr(result, "fixes") else []
-        return Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
+        sec = Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
+        for name, content in self.files(result).items():
+            sec.add_file(name, content)
+        return sec
 
     def summary(self, result) -> dict:
         """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""
         return result.summary()
+
+    def files(self, result) -> dict[str, "bytes | str"]:
+        """Files the report folder gets beside report.html (name -> content; default none)."""
+        return {}
 
 
 class ModelTarget:

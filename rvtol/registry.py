@@ -76,7 +76,7 @@ ANALYSES: dict[str, str] = {
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
-    "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "calibration": "rvtol.models.transmission.calibration.analyses:CalibrationAnalysis",
     "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",

@@ -227,11 +227,6 @@ def test_every_kind_a_study_names_is_registered():
 
 
 # --------------------------------------------------------------------------- the analysis shape (issue 26)
-#: analysis kinds still written in the older shape (setup() reading the table by hand, run() building sections);
-#: the list only shrinks
-OLDER_SHAPE = {
-    "allocation", "stack_conventions", "tail_probability", "calibration", "per_unit_prediction", "selective_assembly",
-}
 #: analyses that report several sections — one summary.json entry each, kept so that the summaries of the studies
 #: stay what they were: a small report(result) of their own, one layout per section (kind: the reason)
 SEVERAL_SECTIONS = {
@@ -242,7 +237,7 @@ SEVERAL_SECTIONS = {
 }
 
 
-@pytest.mark.parametrize("kind", sorted(set(all_analyses()) - OLDER_SHAPE))
+@pytest.mark.parametrize("kind", sorted(all_analyses()))
 def test_an_analysis_is_a_thin_adapter(kind):
     """Declared options (a dataclass), one capability call (``compute``), the generic report with the layout of
     the capability's texts module — no ``run`` or ``setup`` of its own doing the work."""
@@ -264,10 +259,6 @@ def test_several_sections_list_names_only_registered_kinds():
     assert set(SEVERAL_SECTIONS) <= set(all_analyses())
 
 
-def test_older_shape_list_names_only_registered_kinds():
-    assert OLDER_SHAPE <= set(ANALYSES)
-
-
 #: words a string literal of an analyses.py may hold before it counts as report prose (prose lives in texts.py)
 PROSE_WORDS = 16
 
@@ -277,8 +268,6 @@ def test_analyses_modules_hold_no_prose():
     for p in [*PKG.rglob("analyses.py"), *WING.rglob("analyses.py")]:
         module = ".".join(p.relative_to(WING if p.is_relative_to(WING) else ROOT).with_suffix("").parts)
         kinds = {k for k, v in all_analyses().items() if v.split(":")[0] == module}
-        if kinds & OLDER_SHAPE:
-            continue
         tree = ast.parse(p.read_text(encoding="utf-8"))
         docs = {id(n.body[0].value) for n in ast.walk(tree)
                 if isinstance(n, (ast.Module, ast.ClassDef, ast.FunctionDef)) and n.body
@@ -319,13 +308,11 @@ def test_packages_form_no_cycle():
 
 
 #: modules outside rvtol/models that may import a model package: the loader composing a study's models and the
-#: registry; physics-specific code lives beside its physics (the list of exceptions only shrinks)
+#: registry; physics-specific code lives beside its physics
 MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study)$")
-MODEL_IMPORTS_LEFT = {"rvtol.calibration.analyses", "rvtol.calibration.parameters", "rvtol.calibration.curves",
-                      "rvtol.production.selective"}
 
 
 def test_model_agnostic_packages_import_no_model():
     bad = sorted({m for m, ts in import_graph().items() for t in ts
                   if t.startswith("rvtol.models.") and not MODEL_IMPORTS_ALLOWED.match(m)})
-    assert set(bad) == MODEL_IMPORTS_LEFT, bad
+    assert bad == []

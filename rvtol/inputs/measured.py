@@ -42,8 +42,6 @@ than the parts').  u ≥ s is refused (the gauge cannot resolve the parts).
 from __future__ import annotations
 
 import array
-import csv
-import io
 import itertools
 import math
 import re
@@ -56,8 +54,7 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import InputError, SpecError
-from ..params import decode_text, read_bytes
-from .sheets import byte_progress, read_rows
+from .sheets import byte_progress, stream_rows
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -67,7 +64,15 @@ FAMILIES: dict[str, tuple[object, bool]] = {
     "gamma": (stats.gamma, True),
     "rayleigh": (stats.rayleigh, True),
     "uniform": (stats.uniform, False),
+    "beta": (stats.beta, False),
+    "gumbel": (stats.gumbel_r, False),
+    "johnsonsu": (stats.johnsonsu, False),
+    "johnsonsb": (stats.johnsonsb, False),
+    "pearson3": (stats.pearson3, False),
 }
+#: the candidates tried when a spec names none (the families beyond them — beta, gumbel, Johnson SU/SB,
+#: Pearson III — are fitted when named: ``families = ["johnsonsu", "normal"]``)
+DEFAULT_FAMILIES = ("normal", "lognormal", "weibull", "gamma", "rayleigh", "uniform")
 METHODS = ("fit", "empirical", "kde")
 _CHUNK = 1 << 22   # elements per block in the KDE sums
 
@@ -579,6 +584,16 @@ def _rvtol_kind(c: Candidate) -> tuple[str | None, dict]:
         return "rayleigh", dict(sigma=p["scale"], shift=p["loc"])
     if c.family == "uniform":
         return "uniform", dict(lower=p["loc"], upper=p["loc"] + p["scale"])
+    if c.family == "gamma":
+        return "gamma", dict(shape=p["a"], scale=p["scale"], shift=p["loc"])
+    if c.family == "beta":
+        return "beta", dict(alpha=p["a"], beta=p["b"], lower=p["loc"], upper=p["loc"] + p["scale"])
+    if c.family == "gumbel":
+        return "gumbel", dict(mode=p["loc"], scale=p["scale"])
+    if c.family in ("johnsonsu", "johnsonsb"):
+        return c.family, dict(gamma=p["a"], delta=p["b"], location=p["loc"], scale=p["scale"])
+    if c.family == "pearson3":
+        return "pearson3", dict(mean=p["loc"], sigma=p["scale"], skewness=p["skew"])
     return None, {}
 
 
@@ -596,7 +611,7 @@ def _shape_names(dist) -> list[str]:
     return [s.strip() for s in dist.shapes.split(",")] if dist.shapes else []
 
 
-def fit(values, *, families=tuple(FAMILIES), location: float | None = 0.0,
+def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
         measurement_sigma: float | None = None, gof: str | None = "best", n_mc: int = 499,
         seed: int = 0, origin: str = "") -> FitReport:
     """Fit candidate families by maximum likelihood and rank them by AIC (see the module docstring).
@@ -712,38 +727,11 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     """
     path = Path(path)
     file = str(path)
-    suffix = path.suffix.lower()
-    where_sheet = ""
-    if suffix in (".xlsx", ".xlsm"):
-        sh = read_rows(path, sheet)
-        rows = iter(sh.rows)
-        where_sheet = f"sheet {sh.title!r}, "
-        decimal_comma = False
-        size = 0
-    elif suffix in (".csv", ".tsv", ".txt", ".dat", ""):
-        raw = read_bytes(path, "a file of measured values")
-        size = len(raw)
-        text = decode_text(raw, file)
-        del raw
-        head = []
-        for ln in io.StringIO(text):
-            if ln.strip() and not ln.lstrip().startswith("#"):
-                head.append(ln)
-                if len(head) == 50:
-                    break
-        sample = "".join(head)
-        if suffix == ".tsv":
-            delim = "\t"
-        else:
-            try:
-                delim = csv.Sniffer().sniff(sample, delimiters=",;\t ").delimiter if sample else ","
-            except csv.Error:
-                delim = ","
-        decimal_comma = delim in ";\t "
-        rows = enumerate(csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " "), start=1)
-    else:
-        raise SpecError(f"unknown measurement file format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx)",
-                        file=file, key="-")
+    rs = stream_rows(path, sheet, delimiters=",;\t ", text_suffixes=(".csv", ".tsv", ".txt", ".dat", ""),
+                     what="a file of measured values")
+    rows, size = rs.rows, rs.size
+    where_sheet = f"sheet {rs.title!r}, " if rs.title is not None else ""
+    decimal_comma = rs.delimiter is not None and rs.delimiter in ";\t "
 
     def empty(v):
         return v is None or (isinstance(v, str) and not v.strip())
@@ -884,7 +872,7 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
             if not isinstance(bw, (str, int, float)) or isinstance(bw, bool):
                 raise p.error("bandwidth", "expected scott, silverman or a number")
             return kde(values, bandwidth=bw, measurement_sigma=u, origin=origin), Measured(**record)
-        fams = p.strs("families", list(FAMILIES))
+        fams = p.strs("families", list(DEFAULT_FAMILIES))
         family = p.str("family", None)
         loc = p.float("location", 0.0)
         rep = fit(values, families=fams, location=loc, measurement_sigma=u, gof=None, origin=origin)
