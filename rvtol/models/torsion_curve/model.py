@@ -70,6 +70,8 @@ from ..transmission.quasistatic import QuasiStaticSolver
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
 BRANCHES = ("loading 0 → +T", "descending +T → −T", "ascending −T → 0")
+#: the six cycloid–crank bearing clearances δ_b (disc j, crank i) of the 20-DOF model
+CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 OUTPUTS = (
     Quantity("lost_motion", "rad", "arcmin", "angle between the hysteresis mid-points at ±p % rated torque"),
