@@ -115,7 +115,8 @@ class TorsionCurveAnalysis(Analysis):
                 "rigidity 50–100 % (N·m/arcmin)": units.from_base(mt.rigidity_50_100, "N*m/arcmin"),
                 "rigidity b/a less backlash (N·m/arcmin)": units.from_base(mt.rigidity_clearance_free, "N*m/arcmin"),
                 "angle at +rated (arcmin)": units.from_base(mt.angle_at_rated, "arcmin"),
-                "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec")}
+                "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec"),
+                f"friction width ±{self.model.percent:g} % (arcsec)": units.from_base(mt.friction_width, "arcsec")}
 
     def _curves(self) -> Section:
         from ...plotting import new_axes
@@ -236,7 +237,7 @@ class TorsionCurveAnalysis(Analysis):
     def _rigidity(self) -> Section:
         g = self.model.geometry
         free = TorsionCurveModel(g, (), percent=self.model.percent, points=self.model.points,
-                                 torque=self.model.torque).curve()
+                                 torque=self.model.torque, friction=False).curve()     # virtual work: no friction
         T = self.model.torque
         k = int(np.flatnonzero(np.isclose(free.torque, T))[0])
         bd = compliance_breakdown(g, None, free.q[k], T)

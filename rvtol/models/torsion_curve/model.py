@@ -206,10 +206,10 @@ class TorsionCurve:
         return self._branch_at(1, tau)
 
     def ascending(self, tau: float) -> float:
-        """Ascending branch: ``−T → 0`` below zero, the first loading ``0 → +T`` above (the same elastic states as
+        """Ascending branch: ``−T → 0`` up to zero, the first loading ``0 → +T`` above (the same elastic states as
         the loop's closing leg: the frictionless curve does not depend on the path, and the friction torque
         of a rising torque is the same)."""
-        return self._branch_at(2 if tau < 0 else 0, tau)
+        return self._branch_at(2 if tau <= 0 else 0, tau)
 
     def loading(self, tau: float) -> float:
         """The branch that loads towards ``tau``: ascending above zero, descending below (the branch a stiffness
@@ -265,7 +265,8 @@ def friction_loop(torque, branch, angle, friction, rated: float, readings=(), q=
     ``(branch, T, angle, T_e, T_f[, q])`` (solved at ``T = T_e + d T_f(T_e)``) inserted where the figures are
     read, the tips ``(0, +T_r)`` and ``(1, −T_r)`` among them.  Every point of a branch moving in direction ``d``
     (:data:`DIRECTION`) moves to ``T = T_e + d T_f``; points beyond ±T_r are dropped; after a tip the unloading
-    branch keeps the tip's angle until it reaches it (the contacts stick while the torque turns by 2 T_f).
+    branch keeps the tip's angle until it reaches it at ``T_r − 2 T_f`` (the contacts stick while the torque
+    turns by 2 T_f: the tip's elastic state seen from the other side).
     Returns ``(torque, angle, branch, elastic, friction, q)`` ordered branch by branch along the path."""
     torque, angle, friction = (np.asarray(a, dtype=float) for a in (torque, angle, friction))
     branch = np.asarray(branch, dtype=int)
@@ -276,8 +277,11 @@ def friction_loop(torque, branch, angle, friction, rated: float, readings=(), q=
     exact = [(int(r[0]), float(r[1]), float(r[2]), float(r[3]), float(r[4]), r[5] if len(r) > 5 else None)
              for r in readings]
     T = float(rated)
-    tips = {b: a for b, t, a, *_ in exact if abs(abs(t) - T) <= 1e-12 * T}
-    keep = [r for r in rows if abs(r[1]) <= T * (1.0 + 1e-12)] + exact
+    tips = {r[0]: r[2] for r in exact if abs(abs(r[1]) - T) <= 1e-12 * T}
+    # where the unloading branch leaves a tip's angle: the tip's elastic state at T_e − d T_f, d the next branch's
+    corners = [(b + 1, r[3] + DIRECTION[b + 1] * r[4], r[2], r[3], r[4], r[5])
+               for r in exact for b in (r[0],) if abs(abs(r[1]) - T) <= 1e-12 * T]
+    keep = [r for r in rows if abs(r[1]) <= T * (1.0 + 1e-12)] + exact + corners
     out = []
     for b in range(len(BRANCHES)):
         part = [r for r in keep if r[0] == b]
