@@ -25,8 +25,16 @@ NumPy broadcasting (row-deterministic; a row where the expression is undefined, 
 negative or ``log 0``, gives NaN/inf, never an exception).  ``Expression.gradient(env)`` gives the
 exact partial derivative with respect to every name: forward-mode differentiation of the same tree
 (each node carries its value and its partial derivatives), not finite differences.  At
-non-differentiable points the derivative is a one-sided choice: ``abs`` → sign(x) (0 at 0),
-``min``/``max`` → the derivative of the first argument that attains the extremum.
+non-differentiable points the derivative is an element of the subdifferential, never NaN from 0/0:
+``abs`` → sign(x) (0 at 0); ``min``/``max`` → the derivative of the first argument that attains the
+extremum; a norm at the origin — ``hypot(x, y)``, ``sqrt(x**2 + y**2)``, ``(x**2 + y**2)**0.5`` at
+x = y = 0, where every direction increases it (a cone) — → 0, the subgradient of least norm (the
+centre of the unit disc of subgradients): ``sqrt``/``**`` of an argument that is 0 *and stationary*
+contributes 0, not ∞·0.  A root of an argument that is 0 and *moving* (``sqrt(x)`` at x = 0) keeps its
+infinite one-sided slope, and ``atan2`` at the origin (no direction) stays NaN: undefined.  A
+derivative at a kink says nothing about the other side; analyses that linearise (the stack-up
+conventions) therefore detect kinks by one-sided differences of the model itself
+(:mod:`rvtol.stacking.slopes`) instead of trusting any single derivative there.
 """
 from __future__ import annotations
 
@@ -339,7 +347,7 @@ def _dual(t, env, seeds):
             return q, _combine((np.true_divide(1.0, b), da), (-q / b, db))
         a = np.asarray(a, dtype=float)
         v = np.power(a, b)
-        terms = [(b * np.power(a, b - 1.0), da)] if da else []
+        terms = [(1.0, _root_chain(b * np.power(a, b - 1.0), da, a))] if da else []
         if db:
             terms.append((v * np.log(a), db))
         return v, _combine(*terms)
@@ -348,7 +356,7 @@ def _dual(t, env, seeds):
     (a, da) = duals[0]
     if fn == "sqrt":
         v = np.sqrt(a)
-        return v, _combine((0.5 / v, da))
+        return v, _root_chain(0.5 / v, da, a)
     if fn == "exp":
         v = np.exp(a)
         return v, _combine((v, da))
@@ -377,7 +385,7 @@ def _dual(t, env, seeds):
         v, d = duals[0]
         for w, dw in duals[1:]:
             h = np.hypot(v, w)
-            d = _combine((v / h, d), (w / h, dw))
+            d = _combine((_over_norm(v, h), d), (_over_norm(w, h), dw))
             v = h
         return v, d
     if fn in ("sum", "mean"):
@@ -388,3 +396,22 @@ def _dual(t, env, seeds):
     k = (np.argmin if fn == "min" else np.argmax)(np.stack(vals), axis=0)
     value = np.choose(k, vals) if np.ndim(k) else vals[int(k)]
     return value, _combine(*[(np.where(k == i, 1.0, 0.0), d) for i, (_, d) in enumerate(duals)])
+
+
+def _over_norm(v, h):
+    """v / h of a norm's derivative, 0 where the norm is 0 (the least-norm subgradient at the origin)."""
+    v, h = np.asarray(v, dtype=float), np.asarray(h, dtype=float)
+    return np.divide(v, h, out=np.zeros(np.broadcast(v, h).shape), where=h != 0)
+
+
+
+def _root_chain(c, d: dict, a) -> dict:
+    """``c·∂a`` of a root's argument ``a`` (``c`` its outer derivative, infinite where ``a`` = 0), with 0 — not
+    ∞·0 = NaN — where ``a`` is 0 *and stationary* (a sum of squares at its zero: a norm's cone, whose least-norm
+    subgradient is 0).  Where ``a`` is 0 and moving (√x at x = 0) the infinite slope stays."""
+    zero = np.asarray(a, dtype=float) == 0
+    out = {}
+    for n, v in d.items():
+        cv = c * v
+        out[n] = np.where(zero & (np.asarray(v) == 0), 0.0, cv) if np.any(zero) else cv
+    return out

@@ -116,7 +116,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         d.light = "green" if v.passed else ("amber" if v.n_to_demonstrate else "red")
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
-            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate)
+            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output))
         out.append(d)
     return out
 
@@ -137,20 +137,56 @@ def correlated_drivers(drivers: list[Driver], spec: ToleranceSpec, threshold: fl
     return [f"{a} and {b} (|ρ| = {r:.2g})" for (a, b), r in rho.items()]
 
 
-def required_sigma(r, mean: float, sigma: float) -> float | None:
-    """The standard deviation the output may have for ``r`` to pass at its point estimate (normal theory)."""
+def required_sigma(r, mean: float, sigma: float, y=None) -> float | None:
+    """The standard deviation the output may have for ``r`` to pass at its point estimate.
+
+    A minimum Cpk is normal theory (3·Cpk standard deviations to the nearer limit).  A minimum yield is read from
+    the evaluated samples ``y`` when given — the deviations from the mean scaled by the largest s in (0, 1] whose
+    scaled sample still meets the yield (:func:`spread_scale`): s·σ — so a skewed output (a magnitude, a clipped
+    clearance) is sized by its own tail; without ``y``, normal theory (z of the yield, two-sided halves it)."""
     dists = [d for d in ((r.upper - mean) if r.upper is not None else None,
                          (mean - r.lower) if r.lower is not None else None) if d is not None]
     if not dists or min(dists) <= 0:
         return None
-    z = 0.0
+    targets = []
     if r.min_cpk is not None:
-        z = max(z, 3.0 * r.min_cpk)
+        targets.append(min(dists) / (3.0 * r.min_cpk))
     if r.min_yield is not None:
-        two = r.lower is not None and r.upper is not None
-        p = 1.0 - (1.0 - r.min_yield) / (2.0 if two else 1.0)
-        z = max(z, float(stats.norm.ppf(p)))
-    return min(dists) / z if z > 0 else None
+        if y is not None and len(y):
+            s = spread_scale(r, mean, y)
+            targets.append(s * sigma if s is not None else 0.0)
+        else:
+            two = r.lower is not None and r.upper is not None
+            targets.append(min(dists) / float(stats.norm.ppf(1.0 - (1.0 - r.min_yield) / (2.0 if two else 1.0))))
+    return min(targets) if targets else None
+
+
+def spread_scale(r, mean: float, y, tol: float = 1e-4) -> float | None:
+    """The largest s in (0, 1] such that ``mean + s (y − mean)`` meets ``r.min_yield`` within its limits (None: no s
+    does). The fraction inside grows as s shrinks (the mean lies inside the limits), so bisection finds it."""
+    import numpy as np
+
+    y = np.asarray(y, dtype=float)
+
+    def inside(s):
+        z = mean + s * (y - mean)
+        ok = np.ones(len(z), dtype=bool)
+        if r.lower is not None:
+            ok &= z >= r.lower
+        if r.upper is not None:
+            ok &= z <= r.upper
+        return ok.mean() >= r.min_yield
+
+    if inside(1.0):
+        return 1.0
+    lo, hi = 0.0, 1.0
+    if not inside(tol):
+        return None
+    lo = tol
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if inside(mid) else (lo, mid)
+    return lo
 
 
 @dataclass
@@ -165,10 +201,10 @@ class Tightening:
     f: float | None = None             # their common scale (None: they do not explain enough)
 
 
-def tightening(r, mean: float, sigma: float, drivers: list[Driver]) -> Tightening:
+def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> Tightening:
     """``σ² → σ² (1 − Σ S1 (1 − f²))`` solved for the scale ``f`` of the fewest largest drivers that can reach the
-    target σ of :func:`required_sigma`."""
-    t = Tightening(sigma, required_sigma(r, mean, sigma))
+    target σ of :func:`required_sigma` (``y``: the evaluated samples, for a yield)."""
+    t = Tightening(sigma, required_sigma(r, mean, sigma, y))
     if t.target is None or not drivers:
         return t
     t.need = 1.0 - (t.target / sigma) ** 2
@@ -188,7 +224,7 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     if mean is None or sigma is None:
         return "No sample could be evaluated: nothing to estimate from."
-    t = tightening(r, mean, sigma, drivers)
+    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
     if t.target is None:
         return (f"The mean {mean:.4g} {unit} itself lies at or beyond the limit: tightening tolerances cannot fix "
@@ -209,7 +245,12 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
             "by Monte Carlo.")
 
 
-def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None) -> list[Fix]:
+def _evaluated(mc, output: str):
+    """The output's evaluated samples, in the requirement's unit (the Monte Carlo's display unit)."""
+    return mc.column(output)[mc.ok]
+
+
+def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None) -> list[Fix]:
     """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked)."""
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
     if n_to_demonstrate:
@@ -218,7 +259,7 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
     if mean is None or sigma is None:
         return []
     out = []
-    if required_sigma(r, mean, sigma) is None:
+    if required_sigma(r, mean, sigma, y) is None:
         beyond = [(lim, side) for lim, side in ((r.upper, "below"), (r.lower, "above"))
                   if lim is not None and (mean >= lim if side == "below" else mean <= lim)]
         lim, side = beyond[0] if beyond else (r.upper if r.upper is not None else r.lower, "inside")
@@ -228,13 +269,13 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
         return out
     if r.lower is not None and r.upper is not None:
         mid = 0.5 * (r.lower + r.upper)
-        centred = required_sigma(r, mid, sigma)
+        centred = required_sigma(r, mid, sigma, None if y is None else y - mean + mid)
         if centred is not None and sigma <= centred and abs(mean - mid) > 0.05 * (r.upper - r.lower):
             out.append(Fix(r.label, "re-centre", f"move the mean from {mean:.4g} to {mid:.4g} {unit} "
                            f"(shift {mid - mean:+.3g} {unit}: a nominal, no tolerance changes)",
                            f"the present spread σ = {sigma:.3g} {unit} fits the band when centred (needs "
                            f"σ ≤ {centred:.3g}); to first order, at the point estimate"))
-    t = tightening(r, mean, sigma, d.drivers)
+    t = tightening(r, mean, sigma, d.drivers, y)
     if t.f is not None:
         names = " and ".join(x.tolerance for x in t.used)
         out.append(Fix(r.label, "tighten", f"scale {names} to {100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'}"

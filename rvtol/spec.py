@@ -125,6 +125,11 @@ class Factor:
     limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
     measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
     zone: str = ""                                 # the circular position zone this factor is a coordinate of
+    modifier: str = ""                             # a zone's material condition: "" (RFS), "MMC", "LMC"
+    size: str = ""                                 # the feature-of-size factor whose departure gives the bonus
+    feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
+    datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
+    datum_type: str = ""                           # shifts the zone (datum-feature shift); its feature type
 
     @property
     def base_unit(self) -> str:
@@ -440,10 +445,11 @@ def factor_from_params(p: Params) -> Factor:
     source = p.str("source", "")
     direction = stack_direction(p)
     zone = position_zone(p, drawing)
+    gdt = material_condition(p, drawing, zone)
     p.finish(allow=("multiplicity",))
     limits = drawing.limits if drawing is not None else None
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
-                  limits=limits, measured=measured, zone=zone)
+                  limits=limits, measured=measured, zone=zone, **gdt)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
@@ -530,6 +536,65 @@ def position_zone(p: Params, tol: Tolerance | None) -> str:
     return zone
 
 
+FEATURE_TYPES = ("internal", "external")
+
+
+def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
+    """A position zone's material condition (``⌀0.4 (M)``: MMC, ``(L)``: LMC) and the features of size it
+    depends on: ``size`` (the toleranced feature's size factor; its departure from MMC/LMC is the bonus) with
+    ``feature_type`` (internal: a hole, external: a pin), and ``datum_size``/``datum_type`` (a datum feature of
+    size referenced at MMB: its departure from MMB shifts the pattern, :func:`zone_bonus`)."""
+    modifier = tol.modifier if tol is not None and tol.form == "zone" else ""
+    size = p.str("size", "")
+    ftype = p.str("feature_type", "", choices=("",) + FEATURE_TYPES)
+    dsize = p.str("datum_size", "")
+    dtype = p.str("datum_type", "", choices=("",) + FEATURE_TYPES)
+    if (size or ftype or dsize) and not zone:
+        raise p.error("size" if size else "feature_type" if ftype else "datum_size",
+                      "a material condition belongs to a position zone (tolerance = \"⌀t (M)\", zone = NAME)")
+    if modifier and not size:
+        raise p.error("size", f"a zone at {modifier} gets its bonus from the feature's actual size: give size = "
+                              "the size factor's name and feature_type = \"internal\" (a hole) or \"external\" (a pin)")
+    if size and not modifier:
+        raise p.error("size", "size names the feature whose departure from MMC/LMC is the bonus: the zone needs a "
+                              "modifier (\"⌀t (M)\" or \"⌀t (L)\"); at RFS there is no bonus")
+    if size and not ftype:
+        raise p.error("feature_type", "the bonus needs the feature type: \"internal\" (a hole: MMC = smallest) or "
+                                      "\"external\" (a pin: MMC = largest)")
+    if bool(dsize) != bool(dtype):
+        raise p.error("datum_type" if dsize else "datum_size",
+                      "a datum-feature shift needs both datum_size (the datum feature's size factor) and datum_type")
+    return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype}
+
+
+def zone_bonus(spec: "ToleranceSpec", zone: str) -> list[tuple[int, float, float]]:
+    """How the radius of ``zone`` grows with features of size: ``[(factor index, κ, reference)]`` in base units, the
+    radius being r = t/2 + Σ κ (x − reference) ≥ t/2 over the bands (ASME Y14.5-2018 §7.3.3 bonus, §7.11 datum
+    shift; ISO 2692).
+
+    * the toleranced feature at MMC: bonus = departure of its actual size from MMC (internal: MMC = the smallest
+      size, κ = +½ per unit of diameter; external: MMC = the largest, κ = −½); at LMC from LMC (internal: the
+      largest, κ = −½; external: the smallest, κ = +½);
+    * a datum feature of size referenced at MMB: the datum-feature shift, its departure from its MMB (taken as its
+      MMC size: a datum feature without a geometric tolerance of its own), κ as at MMC.
+
+    Radii are half the diametral bonus.  The datum shift moves the whole pattern; per zone it is the shift
+    available to that feature alone (for a pattern of several features, conservative)."""
+    out = []
+    fs = [f for f in spec.factors if f.zone == zone]
+    if not fs:
+        return out
+    f = fs[0]
+    for name, ftype, mod in ((f.size, f.feature_type, f.modifier), (f.datum_size, f.datum_type, "MMC")):
+        if not name or not mod:
+            continue
+        i = spec.index(name)
+        lo, hi = (float(units.to_base(v, spec.factors[i].unit)) for v in spec.factors[i].band)
+        at_small = (ftype == "internal") == (mod == "MMC")     # the reference is the smallest size
+        out.append((i, 0.5 if at_small else -0.5, lo if at_small else hi))
+    return out
+
+
 def check_zones(factors, file: str | None) -> None:
     """Each position zone has exactly two coordinate factors with the same unit and diameter."""
     zones: dict[str, list] = {}
@@ -544,6 +609,25 @@ def check_zones(factors, file: str | None) -> None:
         if a.unit != b.unit or a.limits != b.limits:
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
                             "and diameter", file=file, key="factor.zone")
+        gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type)  # noqa: E731
+        if gd(a) != gd(b):
+            raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same "
+                            "modifier, size, feature_type, datum_size and datum_type", file=file, key="factor.zone")
+        names = {f.name: f for f in factors}
+        for key in ("size", "datum_size"):
+            ref = getattr(a, key)
+            if not ref:
+                continue
+            g = names.get(ref)
+            if g is None:
+                raise SpecError(f"position zone {z!r}: {key} names no factor ({ref!r}){did_you_mean(ref, list(names))}",
+                                file=file, key=f"factor.{key}")
+            if g.zone:
+                raise SpecError(f"position zone {z!r}: {key} {ref!r} is a zone coordinate, not a size", file=file,
+                                key=f"factor.{key}")
+            if units.dimension(g.unit) != units.dimension(a.unit):
+                raise SpecError(f"position zone {z!r}: {key} {ref!r} is in {g.unit}, not a length like the zone",
+                                file=file, key=f"factor.{key}")
 
 
 def stack_direction(p: Params) -> float | None:

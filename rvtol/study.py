@@ -21,6 +21,8 @@
 
     # or several models on the same samples (a composed study, rvtol.models.composite):
     # [study] mapping = "mapping.toml"    # optional file of [[quantity]] tables (or give them here)
+    # [study] build = "build.toml"        # optional: how the reducer is built (rvtol.production.build):
+                                          # selective fits, shim preloads, gauges; false: the parts as drawn
     # [[model]]
     # name = "torsion"                    # its outputs are named "torsion.<output>"
     # kind = "torsion_curve"
@@ -112,6 +114,7 @@ class Study:
     inputs: dict[str, dict] = field(default_factory=dict)  # role -> {path, sha256}
     exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
     gates: list = field(default_factory=list)  # rvtol.ci.gates.Gate: [[gate]] tables, for --baseline
+    build: object = None  # rvtol.production.build.BuildRules of a composed study's [study] build, or None
 
 
 @dataclass
@@ -232,11 +235,13 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         inputs["requirements"] = {"path": str(rpath), "sha256": rsha}
     reqs += requirements_from_tables(root.tables("requirement"))
     mapping = head.path_value("mapping", base, None)
+    build_path = None if head.raw("build", False) is False else head.path_value("build", base)
     exploratory = head.bool("exploratory", False)
     head.finish()
 
     options = _options(root, overrides)
 
+    rules = None
     notes = None if execute else _user_code(root)
     if notes is not None:       # rvtol check: no user code runs; nothing that needs its outputs is checked
         check_requirement_names(reqs)
@@ -247,10 +252,13 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         root.finish()
         return study
     if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
-        model = _composite(root, mapping, design, spec, file, inputs)
+        model, spec, rules = _composite(root, mapping, design, spec, file, inputs, build_path)
     else:
         if mapping is not None or "quantity" in root:
             raise head.error("mapping", "a mapping ([[quantity]] tables) needs several [[model]] tables")
+        if build_path is not None:
+            raise head.error("build", "a build (how the reducer is assembled) needs a composed study: several "
+                                      "[[model]] tables")
         mp = root.sub("model")
         model = build_model(mp, design, spec, file)
         mp.finish()
@@ -267,6 +275,7 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
     study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
+    study.build = rules
     study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     for t in root.tables("analysis"):
         akind = t.str("kind")
@@ -361,9 +370,11 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
         raise exc from None
 
 
-def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs: dict) -> Model:
-    """Several ``[[model]]`` tables on the same samples (:mod:`rvtol.models.composite`)."""
-    from .models.composite.model import from_study_tables, quantities_from_tables
+def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs: dict,
+               build_path: Path | None = None) -> tuple[Model, ToleranceSpec, object]:
+    """Several ``[[model]]`` tables on the same samples (:mod:`rvtol.models.composite`); with a build file,
+    its rules (:mod:`rvtol.production.build`) and the spec with its gauge errors."""
+    from .models.composite.model import design_quantities, from_study_tables, quantities_from_tables
 
     tables = root.tables("quantity")
     if mpath is not None:
@@ -382,11 +393,20 @@ def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs
     except InputError as exc:
         raise exc.located(file=file) from None
 
+    rules = None
+    if build_path is not None:
+        from .production.build import extended_spec, load_build
+
+        used = [n for q in quantities for n in q.expression.names]
+        rules = load_build(build_path, spec, design, design_quantities(used, design) + list(quantities))
+        inputs["build"] = {"path": str(build_path), "sha256": rules.sha256}
+        spec = extended_spec(spec, rules)
+
     def build(params: Params, design_, stage_inputs) -> Model:
         return build_model(params, design_, stage_inputs, file)
 
     try:
-        return from_study_tables(root.tables("model"), quantities, design, spec, build)
+        return from_study_tables(root.tables("model"), quantities, design, spec, build, rules), spec, rules
     except InputError as exc:
         raise exc.located(file=file) from None
 
@@ -467,6 +487,7 @@ class StudyResult:
     signoff: list = field(default_factory=list)   # per requirement: verdict, drivers, what to change
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
     comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
+    build_usage: object = None    # pandas.DataFrame: per build rule, what it did on the Monte Carlo's reducers
 
     @property
     def passed(self) -> bool:
@@ -521,6 +542,11 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
         if own:
             ex.close()
     result = StudyResult(study, mc, sections, 0.0, desc, timings)
+    if study.build is not None:        # what the build rules did on the Monte Carlo's reducers (report, summary)
+        from .production.build import usage
+
+        env, _ = study.model.without_build().environment(mc.samples.values, set())
+        result.build_usage = usage(study.build, env, mc.n)
     ta = time.perf_counter()
     result.signoff = digest(mc, study.model, study.spec, o.seed)
     timings["signoff"] = time.perf_counter() - ta

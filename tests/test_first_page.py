@@ -176,3 +176,33 @@ def test_study_descriptions_carry_no_development_references():
     for p in (ROOT / "studies").glob("*.toml"):
         desc = tomllib.loads(p.read_text(encoding="utf-8")).get("study", {}).get("description", "")
         assert not re.search(r"\b[Ii]ssue \d+", desc), p.name
+
+
+def test_spread_scale_reads_the_tail_of_the_samples():
+    """Uniform samples on [0, 1] (mean 0.5), upper limit 0.99, yield 0.9973: the scaled sample meets it when
+    0.5 + s (0.9973 − 0.5) ≤ 0.99, s = 0.49 / 0.4973 = 0.98533 (bisection to 1e-4)."""
+    import numpy as np
+
+    from rvtol.signoff import spread_scale
+
+    y = np.linspace(0.0, 1.0, 100_001)
+    r = Requirement("y", upper=0.99, unit="mm", min_yield=0.9973)
+    assert spread_scale(r, 0.5, y) == pytest.approx(0.49 / (np.quantile(y, 0.9973) - 0.5), abs=2e-4)
+
+
+def test_a_skewed_output_normal_theory_would_pass_still_gets_a_tightening_fix():
+    """Exponential output (mean 1, σ 1), upper limit 5.5, yield 0.9973: normal theory allows σ = 4.5 / 2.78 = 1.62 > 1
+    (it would call the spread fine), but the exponential's own P99.73 is −ln 0.0027 = 5.91 > 5.5: the deviations must
+    shrink by s = 4.5 / 4.91 = 0.916, σ to 0.916 — the fix says so."""
+    import numpy as np
+    from scipy.stats import expon
+
+    from rvtol.sensitivity.drivers import Driver
+
+    y = expon.ppf((np.arange(200_000) + 0.5) / 200_000)
+    r = Requirement("y", upper=5.5, unit="mm", min_yield=0.9973)
+    assert required_sigma(r, 1.0, 1.0) > 1.0                                   # normal theory: fine
+    assert required_sigma(r, 1.0, 1.0, y) == pytest.approx(4.5 / (-math.log(0.0027) - 1.0), abs=2e-3)
+    d = type("D", (), {"drivers": [Driver("x", 1.0, ["x"])], "change": ""})()
+    fixes = first_order_fixes(r, _row(1.0, 1.0), d, None, y)
+    assert [f.kind for f in fixes] == ["tighten"] and "σ from 1 to 0.91" in fixes[0].effect

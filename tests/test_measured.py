@@ -5,6 +5,8 @@ import math
 import pickle
 
 import numpy as np
+
+from rvtol.spec import spec_from_table
 import pytest
 from scipy import integrate, stats
 
@@ -134,13 +136,17 @@ def test_qq_data():
     assert np.corrcoef(q["theoretical"], q["sample"])[0, 1] > 0.995
 
 
-def test_gamma_is_usable_but_not_a_spec_kind():
+def test_gamma_is_a_spec_kind_and_its_factor_table_round_trips():
+    """Gamma became a spec kind (issue 25): the fitted family writes a [[factor]] table that reads back the same law."""
     r = M.fit(draw(stats.gamma(4, 0, 0.5), 500), families=["gamma"], gof=None)
     d = r.distribution()
     assert d.kind == "gamma" and d.mean == pytest.approx(r.best.frozen.mean())
     assert d.scaled(2.0).std == pytest.approx(2 * d.std)
-    with pytest.raises(InputError, match="not a distribution kind"):
-        r.factor_table()
+    t = r.factor_table()
+    assert t["dist"] == "gamma"
+    back = spec_from_table({"factor": [{"name": "g", "unit": "mm", **t}]}).factors[0].dist
+    p = np.array([0.01, 0.5, 0.99])
+    np.testing.assert_allclose(back.ppf(p), r.best.frozen.ppf(p), rtol=1e-12)
 
 
 def test_positive_families_are_skipped_for_data_below_their_location():

@@ -198,3 +198,43 @@ def test_formatting_round_trips():
     assert format_limits(24.95, 25.05) == "24.95..25.05"
     assert fmt(1e-7) == "0.0000001" and "e" not in fmt(123456789012.5)
     assert parse_tolerance(format_limits(24.0695, 24.0905)).limits == (24.0695, 24.0905)
+
+
+# ---------------------------------------------------------------- issue 25: drawing forms and general tolerances
+def test_a_class_with_its_deviations_as_drawings_print_it():
+    """``50 H7 (+0.025/0)``: ISO 286-1 Table 1 gives IT7 = 25 µm for 30–50 mm and H has EI = 0."""
+    from rvtol.inputs.notation import parse_tolerance
+
+    t = parse_tolerance("50 H7 (+0.025/0)")
+    assert (t.form, t.nominal, t.lower, t.upper) == ("iso", 50.0, 0.0, pytest.approx(0.025))
+    assert parse_tolerance("50 +0.025/0 (H7)").upper == pytest.approx(0.025)
+    assert parse_tolerance("25 g6 (-0.007/-0.020)").limits == (pytest.approx(24.980), pytest.approx(24.993))
+    with pytest.raises(InputError, match="mistyped"):
+        parse_tolerance("50 H7 (+0.030/0)")
+
+
+def test_iso_2768_general_tolerances():
+    """ISO 2768-1:1989 Table 1: class m is ±0.3 over 30–120 mm, ±0.5 over 120–400; f ±0.05 at 0.5–6; v has none
+    below 3 mm; ISO 2768-2 Table 1: straightness K over 100–300 mm is 0.4; Table 4: run-out H 0.1."""
+    from rvtol.inputs import iso2768
+    from rvtol.inputs.notation import parse_tolerance
+
+    assert parse_tolerance("50 ISO 2768-m").limits == (pytest.approx(49.7), pytest.approx(50.3))
+    assert parse_tolerance("120 ISO 2768-mK").upper == pytest.approx(0.3)     # 120 is in 30–120
+    assert parse_tolerance("120.5 ISO 2768-m").upper == pytest.approx(0.5)
+    assert parse_tolerance("ISO 2768-f", nominal=4.0).upper == pytest.approx(0.05)
+    with pytest.raises(InputError, match="no value"):
+        parse_tolerance("2 ISO 2768-v")
+    assert iso2768.geometric("straightness", "K", 150) == 0.4 and iso2768.geometric("runout", "H") == 0.1
+    assert iso2768.geometric("perpendicularity", "L", 80) == 0.6
+
+
+def test_zone_material_condition_modifiers():
+    from rvtol.inputs.notation import parse_tolerance
+
+    for text, mod in (("⌀0.4 (M)", "MMC"), ("⌀0.4 Ⓜ", "MMC"), ("Ø0.4 MMC", "MMC"), ("⌀0.4 (L)", "LMC"),
+                      ("⌀0.4 Ⓛ", "LMC"), ("⌀0.4 (S)", ""), ("⌀0.4", "")):
+        t = parse_tolerance(text)
+        assert (t.form, t.modifier, t.width) == ("zone", mod, pytest.approx(0.4))
+    with pytest.raises(InputError, match="position zone"):
+        parse_tolerance("25 ±0.1 (M)")

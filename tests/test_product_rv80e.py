@@ -34,6 +34,7 @@ def drawn(study):
 
 
 def _stackup_matrix(model: CompositeModel, X):
+    """The stack-up's inputs on the parts as drawn."""
     env = {n: X[:, j] for j, n in enumerate(model.inputs)}
     for q in model.quantities:
         env[q.name] = np.broadcast_to(np.asarray(q.expression.evaluate(env), float), (len(X),))
@@ -43,7 +44,9 @@ def _stackup_matrix(model: CompositeModel, X):
 
 def test_the_study_composes_five_models_on_the_drawing_spec(study):
     m = study.model
-    assert len(study.spec) == 276 and m.inputs == study.spec.names
+    # 279 drawing factors (tolerances.toml) and the 19 gauge errors of the build (build.toml)
+    assert len(study.spec) == 279 + 19 and m.inputs == study.spec.names
+    assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
     assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
     torsion, te = m.stage("torsion"), m.stage("te")
     assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
@@ -79,8 +82,10 @@ def _state_vectors(err):
 
 
 def test_torsion_te_and_screening_inputs_equal_the_direct_computation(drawn, study):
+    """The declared mapping on the parts as drawn (the build, which only replaces the values of the factors it
+    sets, is tested in test_build.py)."""
     X, v = drawn
-    m, design = study.model, study.design
+    m, design = study.model.without_build(), study.design
     Xt = m.stage_inputs("torsion", X)
     np.testing.assert_array_equal(m.stage_inputs("te", X), Xt)
     torsion = m.stage("torsion").model
@@ -98,7 +103,7 @@ def test_torsion_te_and_screening_inputs_equal_the_direct_computation(drawn, stu
 
 def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(drawn, study):
     X, v = drawn
-    m = study.model
+    m = study.model.without_build()
     rows = X[:2]
     Y, status = m.evaluate_with_status(rows)
     assert (status == 0).all()
@@ -133,18 +138,31 @@ def _cheap(m: CompositeModel) -> CompositeModel:
         elif isinstance(st.model, TransmissionErrorModel):
             st = replace(st, model=TransmissionErrorModel(st.model.geometry, st.model.inputs, per_crank_rev=8))
         stages.append(st)
-    return CompositeModel(m.inputs, m.input_units, list(m.quantities), stages)
+    return CompositeModel(m.inputs, m.input_units, list(m.quantities), stages, m.build)
+
+
+#: the cylindricities of the needle raceways (they reduce the fitted two-point clearance, mapping.toml)
+NEEDLE_FORMS = ({f"disc_{j}.crank_hole_{i}.form" for j in (1, 2) for i in (1, 2, 3)}
+                | {f"crank_{i}.cam_{j}.form" for j in (1, 2) for i in (1, 2, 3)})
+#: the bore and eccentric sizes the needle gauges are fitted to (build.toml)
+FITTED_SIZES = ({f"disc_{j}.crank_hole_{i}.diameter" for j in (1, 2) for i in (1, 2, 3)}
+                | {f"crank_{i}.cam_{j}.diameter" for j in (1, 2) for i in (1, 2, 3)})
+FITTED_SIZES |= {f"gauge.{n}" for n in FITTED_SIZES}          # … and their readings' errors
 
 
 def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
-    """One drawing factor at a time, +1 µm and −5 µm (+1 and −5 mrad on an angle) from the nominal
+    """The reducer as built: one drawing factor or gauge error at a time, +1 µm and −5 µm (+1 and −5 mrad on an
+    angle; 1e-3 and 5e-3 × (1 + |nominal|) in base units) from the nominal
     (both signs: a min() over discs moves one way only): no output moves that ``depends_on`` does not
     name, and every output it names moves — except torsion-curve outputs of single pins: with the input
     locked, pins whose contact normal points (nearly) at the disc centre carry nothing near zero torque,
     and each disc's modification opens its pins from n0 = 3.6 µm at φ0 to 15 µm at φ = 0°, 180° (n_j(φ)),
     so only the pins around φ0 carry load at low torque and the backlash, a minimum over the pins, moves
     only with the pins that close first: the other pins' errors cannot move those figures (the TE sweep,
-    a full revolution, sees every pin)."""
+    a full revolution, sees every pin).  And the sizes the needle sets are fitted to: at the nominal every set
+    is fitted to 1 µm two-point clearance, less than the nominal cylindricities (0.73 + 0.55 µm), so it is
+    slightly preloaded (zero clearance in the 20-DOF model, mapping.md §3); a bore or eccentric step moves the
+    gauge chosen and the fitted clearance, not the physics."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -162,15 +180,26 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         want = {o for o, d in deps.items() if f.name in d}
         assert moved <= want, f.name
         missing = want - moved
+        if f.name in FITTED_SIZES | NEEDLE_FORMS:
+            # through a needle set fitted below its cylindricities (docstring): a step moves the physics only if
+            # it opens the set (the fit absorbs most size steps: a gauge one class up or down), and doc 001's Δ,
+            # the tighter disc's mean over its three sets, not while the other disc's sets stay preloaded (0)
+            assert moved and all(o.startswith(("torsion.", "reducer.", "te.", "screening.")) for o in missing), \
+                (f.name, missing)
+            assert f.name in NEEDLE_FORMS or any(o.startswith("build.needles.") for o in moved), f.name
+            continue
         assert all(o.startswith(("torsion.", "reducer.")) for o in missing) and (not missing or f.family), (f.name, missing)
         inactive |= {f.name} if missing else set()
         unused += [] if moved else [f.name]
-    assert len(inactive) < 40                     # a minority of the 120 per-pin factors (26 at the nominal)
-    # mapping.md §8: the drawing tolerances no model uses (axial widths and gap, sizes absorbed by the
-    # selective fitting of the needle sets)
-    assert sorted(unused) == sorted(["disc_1.width", "disc_2.width", "carrier.disc_gap"]
-                                    + [f"disc_{j}.crank_hole_{i}.diameter" for j in (1, 2) for i in (1, 2, 3)]
-                                    + [f"crank_{i}.cam_{j}.diameter" for j in (1, 2) for i in (1, 2, 3)])
+    # a minority of the 120 per-pin factors: 43 at the built nominal, where the needle sets are fitted to zero play
+    # and the cranks hold each disc, so the backlash (a minimum over the pins) sees only the pins that close first;
+    # 4 on the same parts as drawn (needle play 2.7 µm lets the disc find more pins); 26 before issue 23
+    assert len(inactive) < 60
+    # mapping.md §8: the drawing tolerances no model uses (axial widths and gap) and the factors the build sets
+    # (the pin set's lot and the needle sets' clearances are chosen per reducer, build.toml): their drawn values
+    # do not reach the reducer; the crank-hole and eccentric sizes now do, through the needle fits
+    assert sorted(unused) == sorted(["disc_1.width", "disc_2.width", "carrier.disc_gap", "pins.diameter_lot"]
+                                    + [f"needles.disc_{j}.crank_{i}.clearance" for j in (1, 2) for i in (1, 2, 3)])
 
 
 TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp",
@@ -187,10 +216,13 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
     # which crank 1 locates
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
                                           "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
-    # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play)
+    # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play) and, through the
+    # pin set the build chooses from it, the fitted pin-stage clearance
     ("housing.pin_groove.diameter", {"pin_clearance_mean", "stackup.pin_ring_1_misfit.margin",
                                      "stackup.pin_ring_2_misfit.margin", "screening.lost_motion",
-                                     "screening.cycloid_stage"} | TWENTY_DOF),
+                                     "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF),
+    # the end play of crank 1's bearing stack sets the preload its shim leaves
+    ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
 ])
 def test_changing_one_drawing_tolerance_moves_exactly_its_outputs(study, factor, outputs):
     """The study's Monte Carlo (3 reducers, same seed) with one drawing tolerance doubled."""

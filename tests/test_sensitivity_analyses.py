@@ -122,7 +122,7 @@ def test_every_sensitivity_analysis_runs_in_a_study(tmp_path):
     ('kind = "given_data"\nclasses = 1', "analysis[0].classes"),
     ('kind = "pce"\nmin_q2 = 1.5', "analysis[0].min_q2"),
     ('kind = "pce"\non_poor_fit = "ignore"', "analysis[0].on_poor_fit"),
-    ('kind = "pce"\nmethod = "lars"', "analysis[0].method"),
+    ('kind = "pce"\nmethod = "lasso"', "analysis[0].method"),
     ('kind = "pce"\nn = 20', "analysis[0].n"),
 ])
 def test_bad_analysis_input_names_file_and_key(tmp_path, table, key):

@@ -43,6 +43,12 @@ from . import _checks
 
 
 # ------------------------------------------------------------------------------------------------ meshes
+def _mesh(skfem, p: np.ndarray, t: np.ndarray):
+    """skfem's triangle mesh of points ``p`` (2 × N) and triangles ``t`` (3 × M), both C-contiguous (skfem copies and
+    logs a warning on the console for a transposed array over 1000 entries)."""
+    return skfem.MeshTri(np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(t))
+
+
 def annulus_mesh(r_inner: float, r_outer: float, n_r: int, n_theta: int, *, geometric: bool = False):
     """Structured triangular mesh of the annulus ``r_inner ≤ r ≤ r_outer`` (skfem ``MeshTri``); ``geometric``:
     radial spacing growing in proportion to the radius (elements of similar shape from the bore outwards)."""
@@ -63,7 +69,7 @@ def annulus_mesh(r_inner: float, r_outer: float, n_r: int, n_theta: int, *, geom
         for j in range(nt):
             a, b, c, d = idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)
             tri += [(a, b, c), (a, c, d)]
-    return skfem.MeshTri(p, np.array(tri, dtype=np.int64).T)
+    return _mesh(skfem, p, np.array(tri, dtype=np.int64).T)
 
 
 @dataclass(frozen=True)
@@ -156,7 +162,7 @@ def perforated_disc_mesh(r_outer: float, holes, *, bore: float = 0.0, h: float =
     used = np.unique(tri)
     remap = -np.ones(p.shape[1], np.int64)
     remap[used] = np.arange(used.size)
-    return skfem.MeshTri(p[:, used], remap[tri].T)
+    return _mesh(skfem, p[:, used], remap[tri].T)
 
 
 # ------------------------------------------------------------------------------------------------ loads

@@ -67,7 +67,15 @@ FAMILIES: dict[str, tuple[object, bool]] = {
     "gamma": (stats.gamma, True),
     "rayleigh": (stats.rayleigh, True),
     "uniform": (stats.uniform, False),
+    "beta": (stats.beta, False),
+    "gumbel": (stats.gumbel_r, False),
+    "johnsonsu": (stats.johnsonsu, False),
+    "johnsonsb": (stats.johnsonsb, False),
+    "pearson3": (stats.pearson3, False),
 }
+#: the candidates tried when a spec names none (the families beyond them — beta, gumbel, Johnson SU/SB,
+#: Pearson III — are fitted when named: ``families = ["johnsonsu", "normal"]``)
+DEFAULT_FAMILIES = ("normal", "lognormal", "weibull", "gamma", "rayleigh", "uniform")
 METHODS = ("fit", "empirical", "kde")
 _CHUNK = 1 << 22   # elements per block in the KDE sums
 
@@ -579,6 +587,16 @@ def _rvtol_kind(c: Candidate) -> tuple[str | None, dict]:
         return "rayleigh", dict(sigma=p["scale"], shift=p["loc"])
     if c.family == "uniform":
         return "uniform", dict(lower=p["loc"], upper=p["loc"] + p["scale"])
+    if c.family == "gamma":
+        return "gamma", dict(shape=p["a"], scale=p["scale"], shift=p["loc"])
+    if c.family == "beta":
+        return "beta", dict(alpha=p["a"], beta=p["b"], lower=p["loc"], upper=p["loc"] + p["scale"])
+    if c.family == "gumbel":
+        return "gumbel", dict(mode=p["loc"], scale=p["scale"])
+    if c.family in ("johnsonsu", "johnsonsb"):
+        return c.family, dict(gamma=p["a"], delta=p["b"], location=p["loc"], scale=p["scale"])
+    if c.family == "pearson3":
+        return "pearson3", dict(mean=p["loc"], sigma=p["scale"], skewness=p["skew"])
     return None, {}
 
 
@@ -596,7 +614,7 @@ def _shape_names(dist) -> list[str]:
     return [s.strip() for s in dist.shapes.split(",")] if dist.shapes else []
 
 
-def fit(values, *, families=tuple(FAMILIES), location: float | None = 0.0,
+def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
         measurement_sigma: float | None = None, gof: str | None = "best", n_mc: int = 499,
         seed: int = 0, origin: str = "") -> FitReport:
     """Fit candidate families by maximum likelihood and rank them by AIC (see the module docstring).
@@ -884,7 +902,7 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
             if not isinstance(bw, (str, int, float)) or isinstance(bw, bool):
                 raise p.error("bandwidth", "expected scott, silverman or a number")
             return kde(values, bandwidth=bw, measurement_sigma=u, origin=origin), Measured(**record)
-        fams = p.strs("families", list(FAMILIES))
+        fams = p.strs("families", list(DEFAULT_FAMILIES))
         family = p.str("family", None)
         loc = p.float("location", 0.0)
         rep = fit(values, families=fams, location=loc, measurement_sigma=u, gof=None, origin=origin)

@@ -9,6 +9,9 @@
     ⌀0.05            Ø0.1 mm                                                 (a circular position zone)
     25 ±0.05 Cp 1.33                    25 ±0.05 Cpk 1.33 k 0.25            (process)
     1.000" ±0.002"   1 in +0.002/-0.001   25 mm +10/-5 um                   (units)
+    50 H7 (+0.025/0)                    50 +0.025/0 (H7)                    (class with its deviations)
+    ⌀0.4 (M)         ⌀0.4 Ⓜ             ⌀0.4 MMC         ⌀0.4 (L)          (zone at MMC / LMC)
+    50 ISO 2768-m    120 ISO 2768-mK                                        (general tolerance)
 
 Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
 
@@ -43,6 +46,15 @@ of the zone (a factor pair x, y shares it, :mod:`rvtol.spec`), with limits ∓t/
 each coordinate has σ = (t/2)/√(−2 ln(1 − c)) so that the radial deviation √(x² + y²), a Rayleigh,
 stays inside the zone with the coverage c of ±``sigma_level``·σ (99.73 % at 3: σ = t/2/3.4393).
 
+A class written with its deviations (``50 H7 (+0.025/0)``, as drawings print it) must agree with the
+standard's table to 0.5 µm, else it is refused: one of the two is mistyped.  ``ISO 2768-m`` (f, m, c,
+v; a trailing geometric class H/K/L is accepted and ignored here) gives the general tolerance of the
+nominal, ±(ISO 2768-1 Table 1), :mod:`rvtol.inputs.iso2768`.
+
+Material condition of a position zone.  ``(M)``/``Ⓜ``/``MMC`` and ``(L)``/``Ⓛ``/``LMC`` after ``⌀t``
+set ``Tolerance.modifier``; ``(S)``/``RFS`` is the default.  The zone then grows with the bonus of the
+feature's actual size (:func:`rvtol.spec.zone_bonus`).
+
 Fits.  ``25 H7/g6`` gives the clearance (hole − shaft, negative = interference) between the
 fit's worst-case limits EI − es … ES − ei.  As a factor it is a normal whose σ is the
 root-sum-square of the two parts' σ (each part's IT read at ``sigma_level``), placed in the
@@ -63,7 +75,7 @@ from . import iso286
 
 #: the accepted forms, quoted in every parse error
 FORMS = ("±0.05 | +0.10/-0.05 | +0.10 -0.05 | 0/-0.02 | 5% | ±2 % | +5%/-2% | 24.95..25.05 | "
-         "24.95 to 25.05 | max 0.02 | 25 H7 | Ø7 h5 | 25 H7/g6, with an optional nominal first, a unit "
+         "24.95 to 25.05 | max 0.02 | 25 H7 | Ø7 h5 | 25 H7/g6 | 50 H7 (+0.025/0) | 50 ISO 2768-m | ⌀0.4 (M), with an optional nominal first, a unit "
          "(mm, um, in, \", …) and a process spec (Cp 1.33 | Cpk 1.33 k 0.25)")
 
 #: distribution kinds a band can be read as
@@ -101,6 +113,7 @@ class Tolerance:
     iso: iso286.Limits | None = None
     fit: iso286.Fit | None = None
     process: Process | None = None
+    modifier: str = ""        # a position zone's material condition: "" (RFS), "MMC", "LMC"
 
     @property
     def base(self) -> float:
@@ -138,7 +151,8 @@ class Tolerance:
 
     def describe(self) -> str:
         if self.form == "zone":
-            return f"⌀{fmt(self.width)}" + (f" {units.label(self.unit)}" if self.unit else "")
+            return (f"⌀{fmt(self.width)}" + (f" {units.label(self.unit)}" if self.unit else "")
+                    + {"MMC": " (M)", "LMC": " (L)"}.get(self.modifier, ""))
         if self.nominal is None and self.form in ("limits", "max"):
             s = format_limits(self.lower_limit, self.upper_limit)
         else:
@@ -326,7 +340,66 @@ class _Parser:
         return t
 
 
+_MODIFIER = re.compile(r"\s*(?:\(\s*([MLS])\s*\)|([ⓂⓁⓈ])|\b(MMC|LMC|RFS))\s*$")
+_MODIFIERS = {"M": "MMC", "Ⓜ": "MMC", "MMC": "MMC", "L": "LMC", "Ⓛ": "LMC", "LMC": "LMC", "S": "", "Ⓢ": "",
+              "RFS": ""}
+_PAREN = re.compile(r"^(.*\S)\s*\(([^()]*)\)\s*$")
+_ISO2768 = re.compile(r"^\s*(.*?)\s*ISO\s*2768\s*-?\s*([fmcvFMCV])\s*([HKL])?\s*$")
+
+
 def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None = None) -> Tolerance:
+    """Read drawing tolerance notation (see the module docstring): the forms of :func:`_parse_plain`, and around
+    them a zone's material condition, a class with its deviations in parentheses, an ISO 2768 general class."""
+    if not isinstance(text, str):
+        raise NotationError(f"tolerance must be text, got {type(text).__name__}")
+    s = text.strip()
+    m = _MODIFIER.search(s)
+    if m and m.start() > 0 and s[:1] not in _DIAMETER:
+        raise _err(text, "a material condition (M)/(L)/MMC/LMC belongs to a position zone: ⌀t (M)")
+    if m and m.start() > 0:
+        tol = _parse_plain(s[:m.start()], nominal=nominal, unit=unit)
+        if tol.form != "zone":
+            raise _err(text, "a material condition (M)/(L) belongs to a position zone ⌀t")
+        return replace(tol, text=text, modifier=_MODIFIERS[next(g for g in m.groups() if g)])
+    m = _ISO2768.match(s)
+    if m:
+        from . import iso2768
+
+        head = m.group(1)
+        nom = _parse_plain(head + " ±1", nominal=nominal, unit=unit) if head else None
+        if nom is None and nominal is None:
+            raise _err(text, "ISO 2768 needs the nominal size (e.g. 50 ISO 2768-m)")
+        base = nom if nom is not None else _parse_plain("±1", nominal=nominal, unit=unit or "mm")
+        if base.nominal is None:
+            raise _err(text, "ISO 2768 needs the nominal size (e.g. 50 ISO 2768-m)")
+        u = base.unit or "mm"
+        try:
+            dev = float(units.convert(iso2768.linear(m.group(2), float(units.convert(base.nominal, u, "mm"))),
+                                      "mm", u))
+        except InputError as exc:
+            raise _err(text, exc.reason) from None
+        return Tolerance(text, "symmetric", base.nominal, -dev, dev, u)
+    m = _PAREN.match(s)
+    if m and s[:1] not in _DIAMETER:
+        outer, inner = m.group(1), m.group(2)
+        a = _parse_plain(outer, nominal=nominal, unit=unit)
+        nom = a.nominal if a.nominal is not None else nominal
+        b = _parse_plain(inner, nominal=nom, unit=a.unit or unit)
+        iso, dev = (a, b) if a.form == "iso" else (b, a) if b.form == "iso" else (None, None)
+        if iso is None:
+            raise _err(text, "a tolerance in parentheses must pair an ISO 286 class with its deviations, e.g. "
+                             "50 H7 (+0.025/0)")
+        dev = dev.in_unit(iso.unit)
+        tol_mm = float(units.convert(0.0005, "mm", iso.unit))
+        if abs(dev.lower - iso.lower) > tol_mm or abs(dev.upper - iso.upper) > tol_mm:
+            raise _err(text, f"the deviations written ({format_deviations(dev.lower, dev.upper)}) differ from "
+                             f"ISO 286's {iso.iso.cls} at {fmt(iso.nominal)} "
+                             f"({format_deviations(iso.lower, iso.upper)}): one of them is mistyped")
+        return replace(iso, text=text)
+    return _parse_plain(text, nominal=nominal, unit=unit)
+
+
+def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = None) -> Tolerance:
     """Read drawing tolerance notation (see the module docstring).
 
     ``nominal`` (in ``unit``) supplies the nominal when the text has none (a table's nominal

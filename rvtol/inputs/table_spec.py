@@ -80,12 +80,15 @@ _ALIASES = {
     "sign": "direction",
     "source": "source", "reference": "source", "ref": "source",
     "zone": "zone", "position zone": "zone",
+    "size": "size", "feature of size": "size", "bonus from": "size",
+    "feature type": "feature_type", "feature_type": "feature_type",
+    "datum size": "datum_size", "datum_size": "datum_size", "datum type": "datum_type", "datum_type": "datum_type",
     "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
 CELL_KEYS = ("mean", "sigma", "tolerance", "lower", "upper", "mode", "median", "shape", "scale", "shift",
-             "sigma_level")
+             "sigma_level", "alpha", "beta", "gamma", "delta", "location", "skewness", "kurtosis")
 #: parameters of a ``measured(...)`` cell (text or numbers)
 MEASURED_CELL_KEYS = ("data", "column", "sheet", "method", "families", "family", "location", "interpolate",
                       "bandwidth", "measurement_sigma")
@@ -93,9 +96,10 @@ _DIRECTIVES = ("spec", "description", "correlation")
 _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
 _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
-           "zone": "zone"}
+           "zone": "zone", "size": "size", "feature_type": "feature_type", "datum_size": "datum_size",
+           "datum_type": "datum_type"}
 #: columns written only when some factor needs them
-_OPTIONAL = ("group", "description", "zone")
+_OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type")
 
 
 @dataclass
@@ -474,8 +478,13 @@ def _band_cells(f) -> tuple[float | None, str, str]:
             extra["sigma"] = p["sigma"]
         if d.shift:
             extra["shift"] = d.shift
-        return nominal, f"⌀{fmt(hi - lo)}", "normal" + (
+        mod = {"MMC": " (M)", "LMC": " (L)"}.get(getattr(f, "modifier", ""), "")
+        return nominal, f"⌀{fmt(hi - lo)}{mod}", "normal" + (
             "(" + ", ".join(f"{k}={fmt(v)}" for k, v in extra.items()) + ")" if extra else "")
+    if d.kind in ("beta", "gamma", "gumbel", "johnsonsu", "johnsonsb", "pearson3", "pearson"):   # by parameters
+        cell = d.kind + "(" + ", ".join(f"{k}={fmt(v)}" for k, v in list(p.items()) + [("shift", d.shift)] if v or
+                                        k != "shift") + ")"
+        return nominal, text(*f.limits) if f.limits is not None else "", cell
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
         tol = f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi)
@@ -542,11 +551,11 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
-    value = {"group": lambda f: f.group, "description": lambda f: f.description,
-             "zone": lambda f: getattr(f, "zone", "")}
+    value = {"group": lambda f: f.group, "description": lambda f: f.description}
+    value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
     needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
-              "description": any(f.description for f in spec.factors),
-              "zone": any(getattr(f, "zone", "") for f in spec.factors)}
+              "description": any(f.description for f in spec.factors)}
+    needed.update({c: any(getattr(f, c, "") for f in spec.factors) for c in _OPTIONAL[2:]})
     extra = [c for c in _OPTIONAL if needed[c]]
     rows.append(list(COLUMNS) + extra)
     for f in spec.factors:

@@ -104,9 +104,17 @@ def _evaluated(study, outputs: list[str]):
     return model, [r for r in study.requirements if r.output in outputs]
 
 
+def _no_build(params, study, why: str) -> None:
+    """A study with a build (``[study] build``) chooses its fitted parts per sample: this analysis would be overruled."""
+    if getattr(study, "build", None) is not None:
+        raise params.error("kind", f"this analysis {why}; the study's build would choose those parts again: give "
+                                   "[study] build = false")
+
+
 # --------------------------------------------------------------------------- per-unit prediction
 class PerUnitPrediction(Analysis):
     def setup(self, params, study):
+        _no_build(params, study, "predicts units that are built already (their fitted parts are measured)")
         self.name = params.str("name", "")
         self.key = _key("per_unit_prediction", self.name)
         _unique_key(params, study, self.key)
@@ -226,6 +234,7 @@ def _listed(params: Params, one: str, many: str, default=None) -> list[str] | No
 
 class SelectiveAssembly(Analysis):
     def setup(self, params, study):
+        _no_build(params, study, "grades and fits the parts itself")
         spec, model = study.spec, study.model
         self.name = params.str("name", "")
         self.key = _key("selective_assembly", self.name)

@@ -16,6 +16,8 @@ from ..blocks import Links, Section
 LIGHT_WORD = {"green": "PASS", "amber": "UNDECIDED", "red": "FAIL"}
 #: a driver below this first-order share is not listed (it would read as 0 %)
 MIN_SHARE = 0.005
+#: drivers listed per requirement on the first page (summary.json holds the digest's three)
+FIRST_PAGE_DRIVERS = 2
 
 
 def _num(v, fmt="{:.4g}") -> str:
@@ -49,17 +51,20 @@ def signoff_section(result) -> Section:
                      "unit": label(d.unit)})
     sec.add_table(pd.DataFrame(rows), caption="Every requirement: the bound (one-sided, at the requirement's "
                                               "confidence) is what is judged; details, intervals and reasons in the "
-                                              "requirements section")
+                                              "requirements section", text=True)
     drows = []
     watched = [d for d in digests if d.light != "green"] or digests    # the failures' drivers; all when all pass
     for d in watched:
-        for drv in (x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant):
+        shown = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
+        for drv in shown:
             drows.append({"requirement": d.label, "drawing tolerance": drv.tolerance,
                           "share of variance (S1)": f"{100 * drv.s1:.0f} %",
-                          "factors": ", ".join(drv.factors[:4]) + (" …" if len(drv.factors) > 4 else "")})
+                          "factors": ", ".join(drv.factors[:2]) + (f" (+{len(drv.factors) - 2})"
+                                                                    if len(drv.factors) > 2 else "")})
     if drows:
-        sec.add_table(pd.DataFrame(drows), caption="The tolerances that matter for each requirement not demonstrated "
-                      "(for every requirement when all pass): first-order share of its variance, estimated from the "
+        sec.add_table(pd.DataFrame(drows), text=True, caption=f"The (up to {FIRST_PAGE_DRIVERS}) tolerances that matter "
+                      "most for each requirement not demonstrated (for every requirement when all pass): first-order "
+                      "share of its variance, estimated from the "
                       "Monte Carlo samples (the coordinates of one drawing tolerance summed); listed when at least "
                       f"{100 * MIN_SHARE:g} % and more than three standard errors of its estimate")
     overlaps = [f"{d.label}: " + "; ".join(d.overlaps) for d in digests if d.overlaps]

@@ -105,12 +105,31 @@ def inputs_section(result) -> Section:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
     measured_factors(sec, st.spec, st.options.seed)
+    if getattr(st, "build", None) is not None:
+        build_tables(sec, st.build, result.build_usage)
     if st.design is not None:
         sec.add_table(st.design.to_frame(), caption=f"Design: {st.design.name}")
     from ..plotting.mc import factor_histograms
 
     sec.add_figure(factor_histograms(result.mc.samples), caption="Sampled factors")
     return sec
+
+
+def build_tables(sec: Section, rules, used) -> None:
+    """How the reducer is built (the study's build file): every rule with its reasoning and source, and what
+    each did on the Monte Carlo's reducers."""
+    sec.add_text(f"How the reducer is built ({rules.name}, {rules.file}): every Monte Carlo sample is the reducer "
+                 "these rules assemble from that sample's parts. A selective fit takes the largest part whose "
+                 "clearance, read with the gauges' errors (the gauge.* factors above), is at least its minimum; a "
+                 "shim rule takes the shim nearest to the measured end play plus the target preload's "
+                 "interference; a design choice is a drawing value chosen for these rules (checked against the "
+                 "drawing spec and the design when the study loads).")
+    sec.add_table(rules.to_frame(), caption="Build rules applied (rvtol.production.build)")
+    if used is not None:
+        sec.add_table(used, caption="What each rule did on the Monte Carlo's reducers: the fitted clearance (true "
+                                    "sizes) or preload; the share of reducers for which the supply had no part small "
+                                    "enough (clearance below the minimum) or even its largest part left more than a "
+                                    "step above it; the parts used per size")
 
 
 def measured_factors(sec: Section, spec, seed) -> None:

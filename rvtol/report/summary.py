@@ -93,6 +93,8 @@ def build_summary(result) -> dict:
         "gates": [g.to_dict() for g in getattr(st, "gates", [])],
         "requirements": [d.to_dict() for d in result.signoff],
         "analyses": {s.key: s.summary for s in result.sections if s.summary},
+        **({"build": {**st.build.record(), "usage": result.build_usage.to_dict(orient="records")}}
+           if getattr(st, "build", None) is not None else {}),
     })
 
 

@@ -148,7 +148,7 @@ from .common import factor_indices, output_indices
 from .global_ import GlobalSensitivityResult
 
 FAMILIES = ("legendre", "hermite")
-METHODS = ("ols", "omp")
+METHODS = ("lars", "ols", "omp")
 CI_METHODS = ("bootstrap", "asymptotic")
 POOR_FIT = ("withhold", "warn", "raise")
 
@@ -355,6 +355,32 @@ def _omp(Psi: np.ndarray, y: np.ndarray, var_y: float, max_steps: int, patience:
     return sel, _ols(Psi[:, sel], y, var_y)
 
 
+def _lars(G: np.ndarray, y: np.ndarray, families, degree: int, q: float, size: int) -> np.ndarray:
+    """The terms OpenTURNS' functional chaos keeps out of the hyperbolic set of ``degree`` (its first ``size``
+    terms): least-angle regression (``ot.LARS``) along the path, the step chosen by the corrected leave-one-out
+    error (``ot.CorrectedLeaveOneOut``) — Blatman & Sudret (2011) as OpenTURNS implements it.  Returns the
+    multi-indices (row 0 the constant) in rvtol's orthonormal basis (the same Legendre and Hermite polynomials)."""
+    import openturns as ot
+
+    ot.Log.Show(ot.Log.NONE)
+    k = G.shape[1]
+    margins = [ot.Uniform(-1.0, 1.0) if f == "legendre" else ot.Normal(0.0, 1.0) for f in families]
+    factories = [ot.LegendreFactory() if f == "legendre" else ot.HermiteFactory() for f in families]
+    enum = ot.HyperbolicAnisotropicEnumerateFunction(k, q)
+    basis = ot.OrthogonalProductPolynomialFactory(factories, enum)
+    selection = ot.LeastSquaresMetaModelSelectionFactory(ot.LARS(), ot.CorrectedLeaveOneOut())
+    algo = ot.FunctionalChaosAlgorithm(ot.Sample(G), ot.Sample(y[:, None]), ot.JointDistribution(margins),
+                                       ot.FixedStrategy(basis, size), ot.LeastSquaresStrategy(selection))
+    algo.run()
+    idx = list(algo.getResult().getIndices())
+    alpha = np.array([list(enum(int(i))) for i in idx], dtype=np.int16)
+    order = np.lexsort(alpha.T[::-1])   # the constant first, then as OpenTURNS enumerates
+    alpha = alpha[order]
+    if np.any(alpha[0]):
+        alpha = np.vstack([np.zeros((1, k), dtype=np.int16), alpha])
+    return alpha
+
+
 @dataclass
 class _Candidate:
     degree: int
@@ -374,6 +400,9 @@ def _select(G, y, families, *, max_degree, q, max_interaction, method, oversampl
         max_terms = max(cap, OMP_MAX_ENTRIES // n)
     for p in range(1, max_degree + 1):
         A = multi_indices(k, p, q, max_interaction, max_terms=cap if method == "ols" else max_terms)
+        if method == "lars" and max_interaction is not None:
+            raise InputError("max_interaction needs method 'omp' or 'ols': OpenTURNS' enumeration (LARS) caps the "
+                             "hyperbolic norm, not the interaction order", key="max_interaction")
         if A is None:
             why = (f"degree {p} would need more than n/{oversampling:g} = {cap} terms" if method == "ols"
                    else f"degree {p} would need more than max_terms = {max_terms} candidates")
@@ -381,6 +410,10 @@ def _select(G, y, families, *, max_degree, q, max_interaction, method, oversampl
         if method == "ols":
             fit = _ols(design_matrix(G, families, A), y, var_y)
             cand = None if fit is None else _Candidate(p, A, fit, len(A))
+        elif method == "lars":
+            sel = _lars(G, y, families, p, q, len(A))
+            fit = _ols(design_matrix(G, families, sel), y, var_y)
+            cand = None if fit is None else _Candidate(p, sel, fit, len(A))
         else:
             sel, fit = _omp(design_matrix(G, families, A), y, var_y, min(len(A) - 1, cap - 1, max_steps))
             cand = None if fit is None else _Candidate(p, A[sel], fit, len(A))
@@ -475,7 +508,7 @@ def sobol_from_coefficients(alpha: np.ndarray, coefs: np.ndarray):
     c2 = np.asarray(coefs, dtype=float) ** 2
     c2[:, 0] = 0.0
     D = c2.sum(axis=1, keepdims=True)
-    D[D == 0] = np.nan
+    D[D == 0] = np.inf   # an expansion of the constant alone attributes no variance to any factor: indices 0
     M1, MT, pair_rows, nz = _index_maps(alpha)
     S1, ST = (c2 @ M1) / D, (c2 @ MT) / D
     k = alpha.shape[1]
@@ -616,6 +649,14 @@ def pce_indices(U: np.ndarray, y: np.ndarray, families: str | Sequence[str] = "l
     resamples.  ``fit_options``: :func:`fit_pce`'s keywords (``max_degree``, ``q``,
     ``max_interaction``, ``method``, ``oversampling``, ``max_terms``, ``max_steps``).
     """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):   # small factorisations: threads cost more than they give
+        return _pce_indices(U, y, families, holdout=holdout, ci=ci, num_resamples=num_resamples,
+                            confidence=confidence, min_q2=min_q2, seed=seed, **fit_options)
+
+
+def _pce_indices(U, y, families, *, holdout, ci, num_resamples, confidence, min_q2, seed, **fit_options):
     if ci not in CI_METHODS:
         raise InputError(f"unknown ci {ci!r} (expected one of: {', '.join(CI_METHODS)})", key="ci")
     if not 0 <= holdout < 0.5:

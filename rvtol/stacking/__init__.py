@@ -18,12 +18,12 @@ module                            what it gives
     sc = stack_conventions(spec, gradient_base, y0_base, output="gap", out_unit="um", out_base_unit="mm")
     sc.frame                                           # convention, low, high, half_width, sigma, source
     wc = true_worst_case(model, spec, "gap", evaluate)  # wc.low, wc.high, wc.x_low, wc.x_high
-    est, z = form(model, spec, "gap", limit=120, side="upper")       # est.beta, est.pf_form
-    importance_sampling(model, spec, est, z, n=4000, seed=1)         # est.pf_is ± est.pf_is_se
+    est = tail_probability(model, spec, "gap", limit=120, side="upper", seed=1)
+    est.estimates, est.reference, est.disagreements           # FORM, SORM, …, subset; the best; the flags
 """
 from .conventions import StackConventions, handbook_mrss_factor, stack_conventions
-from .tail import TailEstimate, form, importance_sampling
+from .tail import TailEstimate, tail_probability
 from .worst_case import WorstCase, true_worst_case
 
-__all__ = ["StackConventions", "TailEstimate", "WorstCase", "form", "handbook_mrss_factor", "importance_sampling",
-           "stack_conventions", "true_worst_case"]
+__all__ = ["StackConventions", "TailEstimate", "WorstCase", "handbook_mrss_factor", "stack_conventions",
+           "tail_probability", "true_worst_case"]

@@ -7,12 +7,16 @@ stack_conventions      ``outputs`` (default: the outputs the requirements name, 
                        ``sigma_levels`` ([3]: the ±zσ of the statistical rows), ``percentiles``
                        ([0.135, 99.865]: Monte Carlo percentiles with CIs), ``mrss_factor`` (a
                        given MRSS factor), ``six_sigma = {cp = 2.0, shift = 1.5}`` (or false),
-                       ``true_worst_case`` (true), ``starts`` (4), ``max_evaluations`` (5000: model
+                       ``true_worst_case`` (true), ``second_order`` (true: mean shift, skewness,
+                       kurtosis by the method of moments and Pearson tails), ``starts`` (4),
+                       ``max_evaluations`` (5000: model
                        evaluations of the search; an expensive model wants fewer),
                        ``gradient`` ("auto": the model's analytic one if it has it, else
                        "five_point"), ``percent`` (10, five-point)
 tail_probability       ``outputs`` (default: every output a requirement names), ``samples`` (4000
-                       importance samples per limit, 0: FORM only), ``max_iterations`` (60), ``seed``
+                       model runs per sampling method and limit, 0: the approximations only),
+                       ``methods`` (FORM, SORM, multi-FORM, importance sampling, subset,
+                       directional), ``design_points`` (4, multi-FORM), ``seed``
 =====================  ==========================================================================
 """
 from __future__ import annotations
@@ -30,7 +34,8 @@ from ..report.sections import Section, frame_records
 from ..sensitivity.common import model_gradient
 from ..units import label
 from .conventions import SIX_SIGMA_CP, SIX_SIGMA_SHIFT, stack_conventions
-from .tail import form, importance_sampling
+from .slopes import one_sided_slopes
+from .tail import APPROXIMATIONS, METHODS, tail_probability
 from .worst_case import true_worst_case
 
 
@@ -96,6 +101,7 @@ class StackConventionsAnalysis(Analysis):
             t.finish()
             self.six_sigma = (cp, shift)
         self.true_wc = params.bool("true_worst_case", True)
+        self.second_order = params.bool("second_order", True)
         self.starts = params.int("starts", 4, min=2)
         self.max_evaluations = params.int("max_evaluations", 5000, min=100)
         self.gradient = params.str("gradient", "auto", choices=("auto", "five_point"))
@@ -136,14 +142,17 @@ class StackConventionsAnalysis(Analysis):
             q = ctx.model.output(o)
             sc = stack_conventions(ctx.spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
                                    sigma_levels=self.sigma_levels, mrss_factor=self.mrss_factor,
-                                   six_sigma=self.six_sigma)
+                                   six_sigma=self.six_sigma,
+                                   slopes=one_sided_slopes(ctx.model, ctx.spec, o, evaluate=search_evaluator(ctx)))
             wc = None
             if self.true_wc:
                 wc = true_worst_case(ctx.model, ctx.spec, o, search_evaluator(ctx), starts=self.starts,
                                      max_evaluations=self.max_evaluations, gradient=g)
                 sc.add("worst case (true extreme)", wc.low, wc.high, note=wc.how + ("; " + "; ".join(wc.notes)
                                                                                     if wc.notes else ""),
-                       source="bounded optimisation (scipy L-BFGS-B)")
+                       source="corners, differential evolution, L-BFGS-B (scipy)")
+            if self.second_order:
+                _second_order_rows(ctx, o, sc, self.sigma_levels, search_evaluator(ctx))
             pct = self._monte_carlo(ctx, o, sc)
             lims = _limits(ctx.mc, o)
             frame = sc.frame.copy()
@@ -175,7 +184,8 @@ class StackConventionsAnalysis(Analysis):
             s["percentiles"] = frame_records(pct)
             if wc is not None:
                 s["true_worst_case"] = {"low": wc.low, "high": wc.high, "x_low": wc.x_low, "x_high": wc.x_high,
-                                        "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes}
+                                        "evaluations": wc.evaluations, "how": wc.how, "notes": wc.notes,
+                                        "guaranteed": wc.guaranteed, "methods": wc.methods}
             summary[o] = s
         sec.summary = summary
         return sec
@@ -200,13 +210,40 @@ class StackConventionsAnalysis(Analysis):
         return pd.DataFrame(rows)
 
 
+def _second_order_rows(ctx, o, sc, sigma_levels, evaluate) -> None:
+    """The second-order rows (:mod:`rvtol.stacking.second_order`) beside the linearised ones, or a note why not."""
+    from .second_order import curvature, second_order
+
+    q = ctx.model.output(o)
+    d = lambda v: float(q.to_display(np.array([v]))[0])  # noqa: E731
+    if any("kink" in n for n in sc.notes):
+        sc.notes.append("second order: the output has a kink at the nominal point (no second-order expansion)")
+        return
+    try:
+        y0, g, H, _ = curvature(ctx.model, ctx.spec, o, evaluate=evaluate)
+        so = second_order(ctx.spec, y0, g, H)
+    except ValueError as exc:
+        sc.notes.append(f"second order: {exc}")
+        return
+    for z in sigma_levels:
+        sc.add(f"second order (moments) ±{z:g}σ", d(so.mean - z * so.sigma), d(so.mean + z * so.sigma),
+               centre=d(so.mean), sigma=d(so.mean + so.sigma) - d(so.mean),
+               note=f"mean shift {d(so.mean) - d(so.y_at_means):+.4g} from curvature, skewness {so.skewness:.3g}, "
+                    f"kurtosis {so.kurtosis:.3g}", source="Glancy & Chase 1999 (method of moments)")
+        lo, hi = so.interval(z)
+        sc.add(f"second order, {so.law} tails ({z:g}σ coverage)", d(lo), d(hi), centre=d(so.mean),
+               note="quantiles of the curve with the four moments" + ("; " + "; ".join(so.notes) if so.notes else ""),
+               source="Pearson 1895 / Johnson 1949")
+
+
 class TailProbabilityAnalysis(Analysis):
-    """FORM and importance sampling beyond each requirement limit (:mod:`rvtol.stacking.tail`)."""
+    """Tail probabilities beyond each requirement limit by OpenTURNS' reliability methods (:mod:`rvtol.stacking.tail`)."""
 
     def setup(self, params, study):
         self.study = study
         self.key = params.str("key", "tail_probability")
-        self.title = params.str("title", "Tail probabilities beyond the limits (FORM, importance sampling)")
+        self.title = params.str("title", "Tail probabilities beyond the limits (FORM, SORM, importance, subset and "
+                                         "directional sampling)")
         self.outputs = _outputs(params, study, default_first=False)
         if not self.outputs:
             raise params.error("outputs", "tail probabilities need requirement limits: this study has no "
@@ -216,56 +253,70 @@ class TailProbabilityAnalysis(Analysis):
                 raise params.error("outputs", f"output {o!r} has no requirement (no limit to estimate a tail beyond)")
         self.samples = params.int("samples", 4000, min=0)
         if 0 < self.samples < 100:
-            raise params.error("samples", f"importance sampling needs at least 100 samples, got {self.samples}")
-        self.max_iterations = params.int("max_iterations", 60, min=5)
+            raise params.error("samples", f"the sampling methods need at least 100 samples, got {self.samples}")
+        self.methods = tuple(params.strs("methods", list(METHODS), min_length=1))
+        for m in self.methods:
+            if m not in METHODS:
+                raise params.error("methods", f"unknown method {m!r} (known: {', '.join(METHODS)})")
+        if not self.samples:
+            self.methods = tuple(m for m in self.methods if m in APPROXIMATIONS)
+        self.design_points = params.int("design_points", 4, min=2)
         self.seed = params.int("seed", None, min=0)
 
     def run(self, ctx):
         seed = ctx.seed if self.seed is None else self.seed
         sec = Section(self.key, self.title)
         sec.add_text(
-            "Estimates, not demonstrations: FORM (first-order reliability) finds the most probable failure point "
-            "z* in standard-normal space and gives β = |z*| and P_f ≈ Φ(−β) — exact for a linear output of normal "
-            "factors, a tangent-plane approximation otherwise; importance sampling about z* (N samples, weights "
-            "φ(z)/φ(z − z*)) estimates P_f without that approximation, with its standard error. Both rest on the "
-            "factors' distributions (their tails are extrapolated, not measured) and do not enter the verdict, "
-            "which is the Monte Carlo's: where it sees no failure it only bounds the ppm.")
-        rows, records = [], []
+            "Estimates, not demonstrations, by OpenTURNS in the study's own standard-normal space: FORM (the most "
+            "probable failure point u*, β = |u*|, P ≈ Φ(−β): exact for a linear output of normal factors), SORM "
+            "(FORM corrected by the curvatures at u*), multi-FORM (several design points), importance sampling "
+            "about u*, subset simulation and directional sampling (any shape of failure domain), each sampling "
+            "estimate with its standard error. Estimates that disagree beyond three standard errors are flagged; "
+            "the reference is the most precise sampling estimate not under suspicion (importance sampling about "
+            "one point is blind to failure regions far from it). All rest on the factors' distributions (their "
+            "tails extrapolated, not measured) and none enters the verdict, which is the Monte Carlo's: where it "
+            "sees no failure it only bounds the ppm.")
+        rows, records, flags = [], [], []
         key = 0
         search = search_evaluator(ctx)
-        for i, r in enumerate(ctx.mc.requirements):
+        for r in ctx.mc.requirements:
             if r.output not in self.outputs:
                 continue
             y = ctx.mc.column(r.output)
             for side, lim in (("lower", r.lower), ("upper", r.upper)):
                 if lim is None:
                     continue
-                est, z = form(ctx.model, ctx.spec, r.output, lim, side, search,
-                              max_iterations=self.max_iterations)
-                if z is not None and self.samples:
-                    importance_sampling(ctx.model, ctx.spec, est, z, self.samples, seed, key, ctx.evaluator)
+                est = tail_probability(ctx.model, ctx.spec, r.output, lim, side, search, samples=self.samples,
+                                       seed=seed, key=key, methods=self.methods, design_points=self.design_points)
                 key += 1
                 beyond = (~np.isfinite(y)) | ((y < lim) if side == "lower" else (y > lim))
                 k, n = int(beyond.sum()), len(y)
                 lo, hi = st.proportion_ci(k, n, ctx.mc.confidence)
-                rows.append({
-                    "requirement": r.label, "limit": f"{'≥' if side == 'lower' else '≤'} {lim:g} {label(r.unit)}",
-                    "Monte Carlo ppm [CI]": f"{1e6 * k / n:.3g} [{1e6 * lo:.3g}, {1e6 * hi:.3g}] (n = {n})",
-                    "FORM β": est.beta, "FORM ppm": est.ppm_form,
-                    "IS ppm ± s.e.": (f"{est.ppm_is:.3g} ± {1e6 * est.pf_is_se:.2g} (N = {est.n_is})"
-                                      if est.pf_is is not None else "—"),
-                    "converged": "yes" if est.converged else ("n/a" if est.beta in (None, math.inf) else "no"),
-                    "evaluations": est.evaluations, "notes": "; ".join(est.notes)})
+                where = f"{r.label} ({side}: {'≥' if side == 'lower' else '≤'} {lim:g} {label(r.unit)})"
+                rows.append({"limit": where, "method": f"Monte Carlo (the verdict's, n = {n})",
+                             "ppm": 1e6 * k / n, "± s.e. / [CI]": f"[{1e6 * lo:.3g}, {1e6 * hi:.3g}]",
+                             "evaluations": n, "note": "counted, Clopper–Pearson interval"})
+                for e in est.estimates:
+                    rows.append({"limit": where, "method": e.method + (" (reference)" if e.method == est.reference
+                                                                       else ""),
+                                 "ppm": None if e.pf is None else 1e6 * e.pf,
+                                 "± s.e. / [CI]": "" if e.se is None else f"± {1e6 * e.se:.2g}",
+                                 "evaluations": e.evaluations, "note": e.note})
+                flags += [f"{where}: {d}" for d in est.disagreements]
                 d = est.to_dict()
-                d.update(requirement=r.label, mc_ppm=1e6 * k / n, mc_ppm_ci=[1e6 * lo, 1e6 * hi], mc_n=n)
+                d.update(requirement=r.label, mc_ppm=1e6 * k / n, mc_ppm_ci=[1e6 * lo, 1e6 * hi], mc_n=n,
+                         verdict_uses="Monte Carlo")
                 records.append(d)
-        sec.add_table(pd.DataFrame(rows), caption="Probability beyond each limit: Monte Carlo (counted, with its "
-                                                  f"{ctx.mc.confidence:.0%} Clopper–Pearson interval), FORM and "
-                                                  "importance sampling (estimated from the distributions)")
+        sec.add_table(pd.DataFrame(rows), caption="Probability beyond each limit: the Monte Carlo (counted; the "
+                                                  "verdict uses it) and OpenTURNS' estimates from the distributions, "
+                                                  f"the reference marked ({ctx.mc.confidence:.0%} interval of the "
+                                                  "Monte Carlo)")
+        for f in flags:
+            sec.add_text("Disagreement: " + f)
         pts = [{"limit": f"{d['requirement']} ({d['side']})", **d["most_probable_failure_point"]} for d in records
                if d["most_probable_failure_point"]]
         if pts:
             sec.add_table(pd.DataFrame(pts), caption="The most probable failure points (each factor in its unit): "
                                                      "the combination of deviations most likely to reach the limit")
-        sec.summary = {"estimates": records}
+        sec.summary = {"estimates": records, "disagreements": flags, "verdict_uses": "Monte Carlo"}
         return sec

@@ -31,6 +31,28 @@ worst case as the disc, not the square: the pair contributes t · √(a_x² + a_
 linear function over the zone) instead of t · (|a_x| + |a_y|); in the RSS each coordinate's ±3σ is
 its own 3σ (the zone is the Rayleigh radius's 99.73 % quantile, not a ±3σ band).
 
+Non-smooth outputs.  A derivative at the nominal point says nothing about a kink there: a norm of a
+centred position zone (the clearance of a floating fastener, −|p₁ − p₂|) has no gradient, an
+``abs`` or a ``min``/``max`` at a tie has two.  Given the model's one-sided slopes
+(:mod:`rvtol.stacking.slopes`), every contributor whose two sides disagree is treated by the side that
+hurts: a factor adds t·max(0, D⁺, D⁻) to the upper worst case and t·max(0, −D⁺, −D⁻) to the lower; a
+kinked position zone of diameter t adds (t/2)·max(0, max_φ D) above and (t/2)·max(0, −min_φ D) below —
+"a position tolerance ⌀t contributes t/2 in the direction that hurts" (Drake 1999 ch. 9), the direction
+and the effect per unit radius measured on the model.  The RSS and the statistical rows read such a
+contributor as bilateral, ±(t/2)·(its largest one-sided slope) — the handbooks' equal-bilateral
+conversion — which is an approximation for a one-sided effect (said in the notes; the Monte Carlo and
+the second-order rows are the reference).  A derivative that is NaN or infinite is never read as 0:
+with slopes it is replaced by their central difference (noted), without them it is an error.
+
+Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC grows with the bonus of its
+feature's actual size and with a datum-feature shift (:func:`rvtol.spec.zone_bonus`: the radius
+r = t/2 + Σ κ (x_s − ref_s), κ = ±½).  The worst-case rows take it exactly for the linearised output:
+the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z lo_z κ_z), −(D⁻_i + Σ_z lo_z κ_z)),
+the upper end likewise with hi_z — each size factor's effect through the zone it enlarges added to its
+own.  The RSS reads the zone at its radius at the size's band centre and the size with that coupled
+sensitivity; the statistical rows describe the produced parts, whose deviations the bonus does not
+change (it widens acceptance, not the process).
+
 The worst case that is the true extreme of a non-linear model is :mod:`rvtol.stacking.worst_case`.
 
 References.  P. J. Drake Jr. (ed.), *Dimensioning and Tolerancing Handbook*, McGraw-Hill, 1999,
@@ -52,7 +74,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 from .. import units
-from ..spec import ToleranceSpec
+from ..errors import InputError
+from ..spec import ToleranceSpec, zone_bonus
 from ..sensitivity.common import derivative_to_display, ratio_unit
 
 #: Bender's inflation factor of the RSS
@@ -118,10 +141,16 @@ class Contributors:
 
 
 def contributors(spec: ToleranceSpec, gradient: np.ndarray) -> Contributors:
-    """The contributors of an output with base-unit ``gradient`` (NaN → 0)."""
+    """The contributors of an output with base-unit ``gradient`` (finite: see :func:`stack_conventions`)."""
     b = lambda v, f: float(units.to_base(v, f.unit))  # noqa: E731
     fs = spec.factors
-    return Contributors(list(spec.names), np.nan_to_num(np.asarray(gradient, float)),
+    g = np.asarray(gradient, float)
+    if not np.all(np.isfinite(g)):
+        bad = [spec.names[i] for i in np.flatnonzero(~np.isfinite(g))]
+        raise InputError(f"the derivative of the output is undefined (NaN or ∞) for {', '.join(bad[:5])}"
+                         f"{' …' if len(bad) > 5 else ''}: it cannot be read as 0; give the model's one-sided "
+                         "slopes (rvtol.stacking.slopes) so the side that hurts is taken", key="gradient")
+    return Contributors(list(spec.names), g,
                         np.array([b(f.band[0], f) for f in fs]), np.array([b(f.band[1], f) for f in fs]),
                         spec.mean_base(), spec.std_base(), [getattr(f, "zone", "") for f in fs])
 
@@ -155,41 +184,161 @@ class StackConventions:
                 "conventions": self.frame.replace({np.nan: None}).to_dict("records"), "notes": self.notes}
 
 
+@dataclass
+class _OneSided:
+    """A contributor the linearised rows take by its sides: a kinked factor or zone, or a zone at MMC/LMC."""
+
+    name: str
+    unit: float          # half band (factor) or radius at the size centres (zone), base units
+    hi: float            # upper worst-case effect per unit of ``unit`` (≥ 0)
+    lo: float            # lower worst-case effect per unit (≥ 0)
+    sigma: float         # σ of the factor or of one zone coordinate
+    s: float             # the band read as ±3σ (the half band, or 3σ of a zone coordinate)
+    zone: str = ""
+    kinked: bool = False
+    bonus: list = field(default_factory=list)   # [(factor index, κ)] of a zone's radius
+
+
+def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list) -> tuple[np.ndarray, list, dict]:
+    """The smooth gradient (kinked and undefined entries resolved), the one-sided contributors, and the plain factors'
+    one-sided slopes {i: (D⁺, D⁻)} of the kinked ones."""
+    g = np.array(gradient, dtype=float)
+    names = spec.names
+    zone_of = [f.zone for f in spec.factors]
+    bad = [i for i in range(len(g)) if not np.isfinite(g[i])]
+    if bad and slopes is None:
+        contributors(spec, g)   # raises: an undefined derivative is never read as 0
+    kinked_plain: dict[int, tuple[float, float]] = {}
+    kinked_zones = set()
+    if slopes is not None:
+        kinked_zones = {z for z in slopes.kinked if z in zone_of} | {z for z in slopes.undefined if z in zone_of}
+        undefined = [n for n in slopes.undefined if n in names and not zone_of[names.index(n)]]
+        if undefined:
+            raise InputError(f"the model cannot be evaluated next to the nominal point for {', '.join(undefined)}: "
+                             "no linearised stack", key="gradient")
+        for i in range(len(g)):
+            if zone_of[i]:
+                if not np.isfinite(g[i]) and zone_of[i] not in kinked_zones:
+                    g[i] = slopes.zone_grad[zone_of[i]][0 if spec.factors[i].name == _zone_pair(spec, zone_of[i])[0]
+                                                        else 1]
+                continue
+            if names[i] in slopes.kinked:
+                kinked_plain[i] = (float(slopes.up[i]), float(slopes.down[i]))
+                g[i] = 0.0
+            elif not np.isfinite(g[i]):
+                g[i] = slopes.central(i)
+        replaced = [names[i] for i in bad if not zone_of[i] or zone_of[i] not in kinked_zones]
+        if replaced:
+            notes.append("the model's derivative is undefined (NaN/∞) for " + ", ".join(replaced) + ": the central "
+                         "difference of its one-sided slopes is used instead")
+    return g, sorted(kinked_zones), kinked_plain
+
+
+def _zone_pair(spec: ToleranceSpec, z: str) -> tuple[str, str]:
+    return tuple(f.name for f in spec.factors if f.zone == z)
+
+
 def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: np.ndarray | None = None, *,
                       output: str = "y", out_unit: str = "1", out_base_unit: str | None = None,
                       sigma_levels=(3.0,), mrss_factor: float | None = None,
-                      six_sigma: tuple[float, float] | None = (SIX_SIGMA_CP, SIX_SIGMA_SHIFT)) -> StackConventions:
+                      six_sigma: tuple[float, float] | None = (SIX_SIGMA_CP, SIX_SIGMA_SHIFT),
+                      slopes=None) -> StackConventions:
     """Every convention of the module docstring for one output.
 
     ``gradient``: ∂y/∂x (output base unit per factor base unit) at ``x0`` (default the spec's nominal
     point) where the output is ``y0`` (base units); results in ``out_unit``.  ``six_sigma``: the (Cp,
-    shift in σ) of the Six Sigma convention row, None to leave it out.
+    shift in σ) of the Six Sigma convention row, None to leave it out.  ``slopes``: the model's one-sided
+    slopes at ``x0`` (:func:`rvtol.stacking.slopes.one_sided_slopes`): kinked contributors are then taken by
+    the side that hurts and undefined derivatives by their central difference; without them an undefined
+    derivative is an error.
     """
     x0 = spec.nominal_base() if x0 is None else np.asarray(x0, dtype=float)
+    notes: list[str] = []
+    gradient, kinked_zones, kinked_plain = _linear_parts(spec, gradient, slopes, notes)
     con = contributors(spec, gradient)
     a = con.a
     ob = out_base_unit or units.base_unit(out_unit)
     d = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731
+    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC
+    sided: list[_OneSided] = []
+    for i, (up, dn) in kinked_plain.items():
+        sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
+                               float(con.sigma[i]), float(con.t[i]), kinked=True))
+        notes.append(f"{spec.names[i]}: the output has a kink at the nominal point (one-sided slopes D⁺ = {up:.4g}, "
+                     f"D⁻ = {dn:.4g} per base unit): the worst case takes the side that hurts")
+    for z in dict.fromkeys(zz for zz in con.zone if zz):
+        ix, iy = [m for m, zz in enumerate(con.zone) if zz == z]
+        bonus = zone_bonus(spec, z)
+        if z not in kinked_zones and not bonus:
+            continue
+        r0 = float(con.t[ix]) + sum(kap * (float(con.c[m]) - ref) for m, kap, ref in bonus)
+        if z in kinked_zones:
+            hi, lo = max(0.0, float(slopes.zone_max[z])), max(0.0, -float(slopes.zone_min[z]))
+            a[ix] = a[iy] = 0.0
+            notes.append(f"position zone {z}: the output has a kink at the zone's centre (a norm: per unit radius "
+                         f"it rises at most {hi:.4g} and falls at most {lo:.4g}); it is taken by its radius in the "
+                         "direction that hurts (worst case), as ±radius × the larger slope (RSS, statistical rows: "
+                         "an approximation of a one-sided effect)")
+        else:
+            hi = lo = float(np.hypot(a[ix], a[iy]))
+        sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
+                               kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
+        if bonus:
+            mods = spec.factors[ix]
+            notes.append(f"position zone {z} at {mods.modifier or 'RFS'}" + (f" (datum {mods.datum_size} at MMB)"
+                                                                             if mods.datum_size else "")
+                         + f": radius {d(r0):.6g} at the sizes' band centres, growing with the bonus of "
+                         + ", ".join(spec.names[m] for m, _, _ in bonus))
+    bonus_zone = {o.zone for o in sided if o.bonus}
+    plain_in_sided = {spec.names.index(o.name) for o in sided if not o.zone}
     yc = y0 + float(a @ (con.c - x0))
     mu_y = y0 + float(a @ (con.mu - x0))
     C = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
-    sig_y = math.sqrt(max(float((a * con.sigma) @ C @ (a * con.sigma)), 0.0))
-    t_wc = con.worst_half_width()
-    t_rss = float(np.sqrt(np.sum((a * con.s) ** 2)))
-    n = con.n_active
-    notes = []
+    # the statistical rows: the produced parts (no bonus); kinked contributors as ±(largest slope)·σ
+    a_stat = a.copy()
+    for o in sided:
+        if o.zone and not o.kinked:   # a smooth zone at MMC: its coordinates as they are
+            ix, iy = [m for m, zz in enumerate(con.zone) if zz == o.zone]
+            a_stat[ix], a_stat[iy] = a[ix], a[iy]
+    extra_sig2 = sum((max(o.hi, o.lo) * o.sigma) ** 2 for o in sided if o.kinked)
+    sig_y = math.sqrt(max(float((a_stat * con.sigma) @ C @ (a_stat * con.sigma)) + extra_sig2, 0.0))
+    if not sided:
+        t_wc = con.worst_half_width()
+        wc_low, wc_high = yc - t_wc, yc + t_wc
+        t_rss = float(np.sqrt(np.sum((a * con.s) ** 2)))
+    else:
+        wc_low, wc_high = _worst_sided(con, a, sided, yc)
+        t_wc = 0.5 * (wc_high - wc_low)
+        a_rss = a.copy()
+        zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
+        for o in sided:
+            down = o.lo >= o.hi
+            for m, kap in o.bonus:
+                a_rss[m] += -o.lo * kap if down else o.hi * kap
+        terms = [(a_rss[m] * con.s[m]) ** 2 for m in range(len(spec)) if m not in zone_idx and m not in plain_in_sided]
+        terms += [(max(o.hi, o.lo) * o.unit) ** 2 for o in sided]
+        smooth_zone_idx = [m for m in zone_idx if con.zone[m] not in {o.zone for o in sided}]
+        terms += [(a[m] * con.s[m]) ** 2 for m in smooth_zone_idx]
+        t_rss = float(math.sqrt(sum(terms)))
+    n = con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
     rows = []
 
-    def add(name, centre, half, sigma=None, note="", source=""):
-        rows.append({"convention": name, "low": d(centre - half), "high": d(centre + half),
+    def add(name, centre, half, sigma=None, note="", source="", low=None, high=None):
+        lo_, hi_ = (centre - half, centre + half) if low is None else (low, high)
+        rows.append({"convention": name, "low": d(lo_), "high": d(hi_),
                      "half_width": d(half) if math.isfinite(half) else math.nan, "centre": d(centre),
                      "sigma": None if sigma is None else d(sigma), "note": note, "source": source})
 
     zone_note = " (position zones as discs)" if any(con.zone) else ""
-    add("worst case (arithmetic)", yc, t_wc, note="every factor at the end of its band" + zone_note,
-        source="Fortini 1967")
-    add("RSS", yc, t_rss, sigma=t_rss / 3, note="every band read as ±3σ of a centred normal",
-        source="Scholz 1995 §4.1")
+    if any(o.kinked for o in sided):
+        zone_note += "; kinked contributors by the side that hurts (one-sided)"
+    if bonus_zone:
+        zone_note += "; zones at MMC/LMC with their bonus (and datum shift)"
+    add("worst case (arithmetic)", 0.5 * (wc_low + wc_high) if sided else yc, t_wc,
+        note="every factor at the end of its band" + zone_note, source="Fortini 1967", low=wc_low, high=wc_high)
+    add("RSS", yc, t_rss, sigma=t_rss / 3, note="every band read as ±3σ of a centred normal"
+        + ("; kinked contributors and zones at MMC/LMC as equal-bilateral ±(radius or half band) × the slope that "
+           "hurts (handbook)" if sided else ""), source="Scholz 1995 §4.1")
     for name, cf, src in (("MRSS, Bender", BENDER, "Bender 1968 (SAE 680490)"),
                           ("MRSS, handbook", handbook_mrss_factor(t_wc, t_rss, n), "Drake 1999, ch. 9"),
                           ("MRSS, given factor", mrss_factor, "the study's mrss_factor")):
@@ -204,13 +353,15 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     for z in sigma_levels:
         add(f"statistical ±{z:g}σ (the distributions)", mu_y, z * sig_y, sigma=sig_y,
             note="mean and σ of each factor's own distribution" + (", correlation included"
-                                                                   if spec.correlation is not None else ""),
+                                                                   if spec.correlation is not None else "")
+            + ("; kinked contributors as ±(largest one-sided slope)·σ, no mean shift (an approximation)"
+               if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    sig_plain = float(np.sqrt(np.sum((a * con.sigma) ** 2)))
+    sig_plain = float(np.sqrt(np.sum((a_stat * con.sigma) ** 2) + extra_sig2))
     with np.errstate(divide="ignore", invalid="ignore"):
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    sig_dyn = float(np.sqrt(np.sum((a * con.sigma * infl) ** 2)))
+    sig_dyn = float(np.sqrt(np.sum((a_stat * con.sigma * infl) ** 2) + extra_sig2))
     if not math.isfinite(sig_dyn):
         notes.append("a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined")
     for z in sigma_levels:
@@ -221,7 +372,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
-        sig_c = float(np.sqrt(np.sum((a * con.s / (3.0 * cpk)) ** 2)))
+        sig_c = float(np.sqrt(np.sum((a * con.s / (3.0 * cpk)) ** 2)
+                              + sum((max(o.hi, o.lo) * o.s / (3.0 * cpk)) ** 2 for o in sided if o.kinked)))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
                 note=f"every band a ±{3 * cp:g}σ process (Cp {cp:g}) shifted {sh:g}σ (Cpk {cpk:g})",
@@ -230,12 +382,77 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     # per factor
     fac = []
     wc_terms = np.abs(a) * con.t
+    for o in sided:
+        if not o.zone:
+            wc_terms[spec.names.index(o.name)] = max(o.hi, o.lo) * o.unit
+        else:
+            ix = [m for m, zz in enumerate(con.zone) if zz == o.zone]
+            wc_terms[ix] = 0.5 * max(o.hi, o.lo) * o.unit
     rss_terms = (a * con.s) ** 2
+    for o in sided:
+        if o.kinked:
+            w = (max(o.hi, o.lo) * o.unit) ** 2
+            if o.zone:
+                rss_terms[[m for m, zz in enumerate(con.zone) if zz == o.zone]] = 0.5 * w
+            else:
+                rss_terms[spec.names.index(o.name)] = w
+    side_of = {o.name: o for o in sided if not o.zone}
+    side_of.update({spec.names[m]: o for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone})
     for i, f in enumerate(spec.factors):
         cp_i = con.t[i] / (3 * con.sigma[i]) if con.sigma[i] > 0 else math.nan
+        o = side_of.get(f.name)
+        how = ""
+        if o is not None and o.kinked:
+            how = f"kink: per unit {'radius' if o.zone else 'of band'} up {o.hi:.4g}, down {o.lo:.4g}"
+        elif o is not None:
+            how = f"zone at {f.modifier or 'RFS'} (datum shift)" if not f.modifier else f"zone at {f.modifier}"
         fac.append({"factor": f.name, "a": float(derivative_to_display(a[i], out_unit, f.unit)) * units.factor(ob),
                     "a_unit": ratio_unit(out_unit, f.unit), "band": f"{f.band[0]:.6g} … {f.band[1]:.6g}",
                     "unit": f.unit, "sigma": f.dist.std, "k": float(k[i]), "Cp": cp_i, "Cpk": cp_i * (1 - k[i]),
                     "zone": con.zone[i], "wc_pct": 100 * wc_terms[i] / wc_terms.sum() if wc_terms.sum() else 0.0,
-                    "rss_pct": 100 * rss_terms[i] / rss_terms.sum() if rss_terms.sum() else 0.0})
+                    "rss_pct": 100 * rss_terms[i] / rss_terms.sum() if rss_terms.sum() else 0.0,
+                    **({"linearisation": how} if sided else {})})
     return StackConventions(output, out_unit, d(yc), frame, pd.DataFrame(fac), notes)
+
+
+def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: float) -> tuple[float, float]:
+    """The linearised worst case with one-sided contributors and zones whose radius grows with sizes (module
+    docstring): (low, high) in base units."""
+    k = len(a)
+    zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
+    plain_sided = {o.name: o for o in sided if not o.zone}
+    up = a.astype(float).copy()   # D⁺ per factor (kinked ones: their hi/lo below)
+    dn = -up                      # D⁻
+    low = high = yc
+    # smooth zones without bonus: the disc
+    seen = set()
+    for m in range(k):
+        z = con.zone[m]
+        if z and m not in zone_idx and z not in seen:
+            seen.add(z)
+            j = [q for q, zz in enumerate(con.zone) if zz == z]
+            w = float(con.t[m]) * float(np.hypot(*a[j]))
+            low, high = low - w, high + w
+    up_hi, dn_hi, up_lo, dn_lo = up.copy(), dn.copy(), up.copy(), dn.copy()
+    for o in sided:
+        if not o.zone:
+            continue
+        low -= o.lo * o.unit
+        high += o.hi * o.unit
+        for m, kap in o.bonus:
+            up_hi[m] += o.hi * kap
+            dn_hi[m] -= o.hi * kap
+            up_lo[m] -= o.lo * kap
+            dn_lo[m] += o.lo * kap
+    for i in range(k):
+        if con.zone[i]:
+            continue
+        o = plain_sided.get(con.names[i])
+        if o is not None:
+            high += o.hi * o.unit
+            low -= o.lo * o.unit
+            continue
+        t = float(con.t[i])
+        high += t * max(0.0, up_hi[i], dn_hi[i])
+        low -= t * max(0.0, -up_lo[i], -dn_lo[i])
+    return low + 0.0, high + 0.0

@@ -1,41 +1,60 @@
-"""Sub-ppm tail probabilities where Monte Carlo cannot demonstrate them: FORM and importance sampling.
+"""Sub-ppm tail probabilities where Monte Carlo cannot demonstrate them, by OpenTURNS' reliability methods.
 
 A Monte Carlo run of n samples that sees no part beyond a limit only bounds the probability (below
 ≈ 3/n at 95 %); a requirement of 1 ppm needs millions of samples to be *shown*.  Reliability
-methods estimate the tail itself:
+methods estimate the tail itself.  rvtol hands them to OpenTURNS (the field's library), on the
+study's own probability model: the factors are written as functions of independent standard normals
+u through the study's sampling transform (Gaussian copula: x_i = F_i⁻¹(Φ((L u)_i)), L the Cholesky
+factor of the spec's correlation, :func:`rvtol.sampling.from_normal_scores`), so the standard space
+OpenTURNS works in is exactly the one the Monte Carlo draws from, for every distribution kind.  The
+event is y > limit (``side="upper"``) or y < limit.
 
-* **FORM** (first-order reliability method; Hasofer & Lind 1974, Rackwitz & Fiessler 1978).  The
-  factors are written as functions of independent standard normals z through the study's own
-  sampling transform (Gaussian copula: x_i = F_i⁻¹(Φ((L z)_i)), L the Cholesky factor of the spec's
-  correlation, :mod:`rvtol.sampling`).  With the limit state g(z) = limit − y (upper limit) or
-  y − limit (lower), failure is g ≤ 0.  The most probable failure point z* is the point of g = 0
-  nearest the origin, found by the HL-RF iteration z ← ((∇g·z − g)/|∇g|²) ∇g with a backtracking
-  step on the merit ½|z|² + c|g| (Zhang & Der Kiureghian 1995); gradients by central differences
-  in z, one batch per iterate.  β = |z*| (negative when the nominal point itself fails) and
-  P_f ≈ Φ(−β): exact for a linear output of normal factors, an approximation otherwise (it replaces
-  the failure surface by its tangent plane at z*).
-* **Importance sampling** about z* (Melchers 1989): z = z* + ε, ε ~ N(0, I), weights
-  w = φ(z)/φ(z − z*) = exp(−z·z* + |z*|²/2); P_f = mean(1[g ≤ 0]·w) with its standard error
-  s/√N.  It is unbiased for any output shape and corrects FORM's curvature error; its error is
-  stated (a relative s.e. ≲ 10 % needs N ≈ 100/(coefficient of variation)²).  Samples the model
-  cannot evaluate count as failures (as in the yield) and are reported.
+=================  ===========================================================================  ===========
+method             what it gives                                                                error
+=================  ===========================================================================  ===========
+FORM               the most probable failure point u* (nearest point of the limit state to the   none stated
+                   origin; ``ot.AbdoRackwitz``, or ``ot.Cobyla`` — derivative-free — where the
+                   gradient vanishes, e.g. a radius at a centred zone), β = |u*|, P ≈ Φ(−β):
+                   exact for a linear output of normal factors
+SORM               FORM corrected by the limit state's curvatures at u* (Breitung 1984; Tvedt    none stated
+                   and Hohenbichler in the record): undefined where a curvature is ≤ −1/β (a
+                   circle around the origin: every direction fails alike)
+multi-FORM         several design points found one after another (``ot.MultiFORM``, deflation),  none stated
+                   the probability of their union of half-spaces: a failure domain with
+                   several directions of failure
+importance         N samples of N(u*, I) weighted by φ(u)/φ(u − u*) (``ot.ImportanceSampling-   s.e.
+sampling           Experiment``): unbiased, but its error estimate is blind to failure regions
+                   far from u*
+subset             Au & Beck (2001): a chain of conditional levels p₀ = 0.1 by Markov chain     s.e. (c.o.v.)
+simulation         Monte Carlo (``ot.SubsetSampling``): any shape, any number of design points
+directional        random directions in u-space, the failure distance on each by root finding,  s.e.
+sampling           χ² tail along it (Bjerager 1988; ``ot.DirectionalSampling``): exact for a
+                   failure domain outside a sphere about the origin
+=================  ===========================================================================  ===========
 
-Both rest on one failure point: a failure domain with several (a radius beyond a circle around a
-centred position zone, where every direction fails alike) is underestimated by FORM and by
-sampling about one of them — the Monte Carlo, or a model of the radius itself (Rayleigh), is the
-reference there.
+The estimates are compared: two sampling estimates **disagree** when they differ by more than three
+of their combined standard errors; FORM / SORM / multi-FORM (approximations without an error) when
+they lie outside three standard errors of the reference.  Of two disagreeing sampling estimates the
+less robust one is suspect — importance sampling about one design point, whose standard error cannot
+see failure regions far from it, before subset or directional simulation, which explore the whole
+space (two of those disagreeing: both).  The **reference** — the tail's best estimate — is the
+sampling estimate with the smallest coefficient of variation that is not suspect; each disagreement
+is listed.  All of them are *estimates* from the
+distributions (their tails extrapolated, not measured): **the verdict stays the Monte Carlo's**
+(:mod:`rvtol.verdict`), which the report says beside them.
 
-Both are *estimates* from the distributions, labelled as such in the report: the verdict stays the
-Monte Carlo's (:mod:`rvtol.verdict`).  Distributions whose support is bounded (uniform, truncated
-normal) cannot reach a limit beyond their worst case: then g > 0 everywhere FORM looks and P_f = 0
-to the resolution of the transform.
+Samples the model cannot evaluate count as failures (as in the yield) and are reported.
+Distributions with bounded support (uniform, triangular, truncated normal) cannot reach a limit
+beyond their worst case: then no point of the limit state exists, β = ∞ and P = 0.
 
-References.  A. M. Hasofer and N. C. Lind, "Exact and invariant second-moment code format", J. Eng.
-Mech. Div. ASCE 100 (1974) 111–121; R. Rackwitz and B. Fiessler, "Structural reliability under
-combined random load sequences", Computers & Structures 9 (1978) 489–494; Y. Zhang and A. Der
-Kiureghian, "Two improved algorithms for reliability analysis", in Reliability and Optimization of
-Structural Systems, Springer 1995; R. E. Melchers, "Importance sampling in structural systems",
-Structural Safety 6 (1989) 3–10.
+References.  A. M. Hasofer and N. C. Lind, J. Eng. Mech. Div. ASCE 100 (1974) 111–121 (FORM);
+K. Breitung, "Asymptotic approximations for multinormal integrals", J. Eng. Mech. 110 (1984) 357–366
+(SORM); S.-K. Au and J. L. Beck, "Estimation of small failure probabilities in high dimensions by
+subset simulation", Prob. Eng. Mech. 16 (2001) 263–277; P. Bjerager, "Probability integration by
+directional simulation", J. Eng. Mech. 114 (1988) 1285–1302; R. E. Melchers, "Importance sampling in
+structural systems", Structural Safety 6 (1989) 3–10; M. Baudin et al., "OpenTURNS: an industrial
+software for uncertainty quantification in simulation", Handbook of Uncertainty Quantification,
+Springer 2017.
 """
 from __future__ import annotations
 
@@ -43,167 +62,332 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 
 from .. import units
 from ..mc import Evaluator
 from ..model import Model
-from ..sampling import from_normal_scores, substream
+from ..sampling import from_normal_scores, substream_seed
 from ..spec import ToleranceSpec
+
+METHODS = ("FORM", "SORM", "multi-FORM", "importance sampling", "subset", "directional")
+#: the approximations (no error of their own)
+APPROXIMATIONS = ("FORM", "SORM", "multi-FORM")
+#: two estimates disagree beyond this many combined standard errors
+DISAGREE_SE = 3.0
+#: which of two disagreeing sampling estimates is the suspect: importance sampling about one design point is
+#: blind to failure regions far from it (its standard error does not see them); subset and directional
+#: simulation explore the whole space
+ROBUSTNESS = {"importance sampling": 0, "directional": 1, "subset": 1}
+
+
+@dataclass
+class Estimate:
+    """One method's estimate of the tail probability."""
+
+    method: str
+    pf: float | None
+    se: float | None = None          # standard error (sampling methods)
+    evaluations: int = 0
+    note: str = ""
+
+    @property
+    def cov(self) -> float | None:
+        if self.se is None or not self.pf:
+            return None
+        return self.se / self.pf
+
+    def to_dict(self) -> dict:
+        return {"method": self.method, "pf": self.pf, "ppm": None if self.pf is None else 1e6 * self.pf,
+                "se": self.se, "ppm_se": None if self.se is None else 1e6 * self.se, "cov": self.cov,
+                "evaluations": self.evaluations, "note": self.note}
 
 
 @dataclass
 class TailEstimate:
-    """FORM and importance-sampling estimates of P(output beyond one limit)."""
+    """Every method's estimate of P(output beyond one limit), their agreement and the reference."""
 
     output: str
     unit: str                 # display unit of the limit
     side: str                 # "upper" | "lower"
     limit: float              # display units
+    estimates: list = field(default_factory=list)
     beta: float | None = None
-    pf_form: float | None = None
     converged: bool = False
-    iterations: int = 0
-    x_star: dict = field(default_factory=dict)    # factor -> value (its unit) at the most probable failure point
-    pf_is: float | None = None
-    pf_is_se: float | None = None
-    n_is: int = 0
-    is_failed_samples: int = 0
+    x_star: dict = field(default_factory=dict)        # factor -> value (its unit) at the most probable failure point
+    design_points: list = field(default_factory=list)  # multi-FORM: [{factor: value}, ...]
+    reference: str | None = None
+    disagreements: list = field(default_factory=list)
+    failed_samples: int = 0
     evaluations: int = 0
     notes: list[str] = field(default_factory=list)
+
+    def get(self, method: str) -> Estimate | None:
+        return next((e for e in self.estimates if e.method == method), None)
+
+    def _pf(self, method):
+        e = self.get(method)
+        return None if e is None else e.pf
+
+    @property
+    def pf_form(self) -> float | None:
+        return self._pf("FORM")
 
     @property
     def ppm_form(self) -> float | None:
         return None if self.pf_form is None else 1e6 * self.pf_form
 
     @property
-    def ppm_is(self) -> float | None:
-        return None if self.pf_is is None else 1e6 * self.pf_is
+    def pf_reference(self) -> float | None:
+        return None if self.reference is None else self._pf(self.reference)
 
     def to_dict(self) -> dict:
+        imp = self.get("importance sampling")
         return {"output": self.output, "unit": self.unit, "side": self.side, "limit": self.limit, "beta": self.beta,
                 "pf_form": self.pf_form, "ppm_form": self.ppm_form, "form_converged": self.converged,
-                "form_iterations": self.iterations, "most_probable_failure_point": self.x_star,
-                "pf_importance_sampling": self.pf_is, "pf_importance_sampling_se": self.pf_is_se,
-                "ppm_importance_sampling": self.ppm_is, "n_importance_sampling": self.n_is,
-                "importance_failed_samples": self.is_failed_samples, "evaluations": self.evaluations,
-                "notes": self.notes}
+                "most_probable_failure_point": self.x_star, "design_points": self.design_points,
+                "pf_importance_sampling": None if imp is None else imp.pf,
+                "pf_importance_sampling_se": None if imp is None else imp.se,
+                "estimates": [e.to_dict() for e in self.estimates], "reference": self.reference,
+                "pf_reference": self.pf_reference, "disagreements": self.disagreements,
+                "failed_samples": self.failed_samples, "evaluations": self.evaluations, "notes": self.notes}
 
 
-class _LimitState:
-    """g(z) for one output and limit, evaluated in batches through an Evaluator."""
+class _Limit:
+    """The output as a function of standard normals u (OpenTURNS function), evaluated in batches."""
 
     def __init__(self, model: Model, spec: ToleranceSpec, output: str, limit_base: float, side: str, evaluate):
         self.model, self.spec, self.side, self.limit = model, spec, side, limit_base
         self.j = model.output_index(output)
         self.evaluate = evaluate
         self.count = 0
+        self.failed = 0
+        # a value that lies beyond the limit: failed evaluations count as failures
+        self.beyond = limit_base + (1.0 if side == "upper" else -1.0) * (abs(limit_base) + 1.0)
 
-    def x(self, Z: np.ndarray) -> np.ndarray:
-        return from_normal_scores(self.spec, Z)
-
-    def g(self, Z: np.ndarray) -> np.ndarray:
-        """Limit-state values (base units; NaN where the model failed)."""
-        Z = np.atleast_2d(Z)
-        self.count += len(Z)
-        ev = self.evaluate(self.model, self.x(Z), "tail estimate")
+    def y(self, U) -> np.ndarray:
+        U = np.atleast_2d(np.asarray(U, dtype=float))
+        self.count += len(U)
+        ev = self.evaluate(self.model, from_normal_scores(self.spec, U), "tail estimate")
         y = np.where(ev.ok, ev.Y[:, self.j], np.nan)
-        return self.limit - y if self.side == "upper" else y - self.limit
+        bad = ~np.isfinite(y)
+        self.failed += int(bad.sum())
+        return np.where(bad, self.beyond, y)
 
-    def g_and_grad(self, z: np.ndarray, h: float = 1e-4) -> tuple[float, np.ndarray]:
-        k = len(z)
-        pts = np.repeat(z[None], 2 * k + 1, axis=0)
-        for m in range(k):
-            pts[1 + 2 * m, m] += h
-            pts[2 + 2 * m, m] -= h
-        v = self.g(pts)
-        return float(v[0]), (v[1::2] - v[2::2]) / (2 * h)
+    def event(self):
+        import openturns as ot
+
+        k = len(self.spec)
+        f = ot.PythonFunction(k, 1, func_sample=lambda U: self.y(U)[:, None])
+        vec = ot.CompositeRandomVector(f, ot.RandomVector(ot.Normal(k)))
+        return ot.ThresholdEvent(vec, ot.Greater() if self.side == "upper" else ot.Less(), self.limit)
 
 
-def form(model: Model, spec: ToleranceSpec, output: str, limit: float, side: str = "upper",
-         evaluate: Evaluator | None = None, *, max_iterations: int = 60, tol: float = 1e-6) -> tuple[TailEstimate, np.ndarray | None]:
-    """FORM for P(output > limit) (``side="upper"``) or P(output < limit); ``limit`` in the output's display
-    unit.  Returns the estimate and z* (None when no failure point was found)."""
+def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: float, side: str = "upper",
+                     evaluate: Evaluator | None = None, *, samples: int = 4000, seed: int | None = None,
+                     key: int = 0, methods=METHODS, design_points: int = 4) -> TailEstimate:
+    """P(``output`` > ``limit``) (``side="upper"``) or P(output < limit) by the ``methods`` of the module docstring;
+    ``limit`` in the output's display unit.  ``samples``: the model evaluations of each sampling method (importance
+    sampling: N; subset simulation: about N per level; directional sampling: N/20 directions); ``seed``, ``key``:
+    OpenTURNS' generator is seeded per method from the named sub-stream ``stacking_tail`` of ``seed`` (key: the method) (the result
+    is the same for a seed); ``design_points``: the most multi-FORM looks for."""
+    import openturns as ot
+
+    ot.Log.Show(ot.Log.NONE)
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise ValueError(f"unknown tail methods {unknown} (known: {', '.join(METHODS)})")
     evaluate = evaluate or Evaluator()
     q = model.output(output)
-    lim_base = float(units.convert(limit, q.shown_unit, q.unit))
-    ls = _LimitState(model, spec, output, lim_base, side, evaluate)
+    lim = float(units.convert(limit, q.shown_unit, q.unit))
+    ls = _Limit(model, spec, output, lim, side, evaluate)
     est = TailEstimate(output, q.shown_unit, side, float(limit))
     k = len(spec)
-    z = np.zeros(k)
-    g, dg = ls.g_and_grad(z)
-    if not np.isfinite(g) or not np.all(np.isfinite(dg)):
-        est.notes.append("the model cannot be evaluated at or around the nominal point: no FORM estimate")
-        est.evaluations = ls.count
-        return est, None
-    g0 = max(abs(g), 1e-300)
-    sign0 = 1.0 if g > 0 else -1.0
-    for it in range(1, max_iterations + 1):
-        n2 = float(dg @ dg)
-        if n2 == 0.0:
-            est.notes.append("the limit state is flat here (bounded distributions at their ends, or an output that "
-                             "does not depend on the factors): the limit is out of reach, P_f = 0 to the resolution "
-                             "of the transform" if g > 0 else "the limit state is flat where it fails")
-            est.iterations = it
-            est.evaluations = ls.count
-            if g > 0:
-                est.beta, est.pf_form = math.inf, 0.0
-            return est, None
-        z_new = ((dg @ z - g) / n2) * dg
-        d = z_new - z
-        c = 2.0 * math.sqrt(float(z @ z)) / math.sqrt(n2) + 10.0 / math.sqrt(n2)
-        merit = lambda zz, gg: 0.5 * float(zz @ zz) + c * abs(gg)  # noqa: E731
-        m0, step = merit(z, g), 1.0
-        while True:
-            zt = z + step * d
-            gt, dgt = ls.g_and_grad(zt)
-            if np.isfinite(gt) and np.all(np.isfinite(dgt)) and (merit(zt, gt) <= m0 or step < 1 / 64):
-                break
-            step *= 0.5
-            if step < 1 / 1024:
-                break
-        if not (np.isfinite(gt) and np.all(np.isfinite(dgt))):
-            est.notes.append("the model failed along the FORM search: no estimate")
-            est.iterations, est.evaluations = it, ls.count
-            return est, None
-        moved = float(np.linalg.norm(zt - z))
-        z, g, dg = zt, gt, dgt
-        if moved <= tol * (1.0 + float(np.linalg.norm(z))) and abs(g) <= 1e-6 * g0:
-            est.converged = True
-            est.iterations = it
-            break
-    else:
-        est.iterations = max_iterations
-        est.notes.append(f"FORM did not converge in {max_iterations} iterations (|g|/|g(0)| = {abs(g) / g0:.2g}): "
-                         "the estimate is indicative only")
-    beta = sign0 * float(np.linalg.norm(z))
-    est.beta, est.pf_form = beta, float(stats.norm.sf(beta))
-    xs = ls.x(z[None])[0]
-    est.x_star = {f.name: float(units.from_base(xs[i], f.unit)) for i, f in enumerate(spec.factors)}
+    event = ls.event()
+    beyond = (lambda y: y > lim) if side == "upper" else (lambda y: y < lim)  # noqa: E731
+    y0 = ls.y(np.zeros((1, k)))[0]
+    u_star = None
+
+    def counted(method, fn):
+        c0 = ls.count
+        try:
+            e = fn()
+        except Exception as exc:   # OpenTURNS reports a method that cannot run as an exception: say why
+            e = Estimate(method, None, note=_reason(exc))
+        e.evaluations = ls.count - c0
+        est.estimates.append(e)
+        return e
+
+    def seed_for(i):
+        ot.RandomGenerator.SetSeed(substream_seed(seed, "stacking_tail", key, i))
+
+    # FORM: Abdo-Rackwitz (gradient), Cobyla where the gradient vanishes or the solver fails
+    form_result = None
+    if any(m in methods for m in APPROXIMATIONS + ("importance sampling",)):
+        def run_form():
+            nonlocal form_result, u_star
+            if beyond(y0):
+                est.notes.append("the nominal point itself fails: β < 0")
+            for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.Cobyla(), [0.0] * k),
+                                  (ot.Cobyla(), [0.1] * k)):
+                try:
+                    algo = ot.FORM(solver, event, start)
+                    algo.run()
+                except Exception:
+                    continue
+                r = algo.getResult()
+                u = np.array(r.getStandardSpaceDesignPoint())
+                g = ls.y(u[None])[0]
+                if abs(g - lim) <= 1e-6 * (abs(lim) + abs(y0 - lim)) + 1e-12:
+                    form_result, u_star = r, u
+                    note = "" if isinstance(solver, ot.AbdoRackwitz) else \
+                        "Cobyla (derivative-free): the output's gradient vanishes at the start or Abdo-Rackwitz failed"
+                    est.converged = True
+                    beta = float(np.linalg.norm(u)) * (-1.0 if beyond(y0) else 1.0)
+                    est.beta = beta
+                    return Estimate("FORM", float(r.getEventProbability()), note=note)
+            if _out_of_reach(spec, ls, beyond):
+                est.beta = math.inf
+                return Estimate("FORM", 0.0, note="no point of the limit state: every factor is bounded and no corner "
+                                                  "of their supports reaches the limit — out of reach, P = 0")
+            return Estimate("FORM", None, note="Abdo-Rackwitz and Cobyla found no point of the limit state (a "
+                                               "failure domain they cannot reach from the origin): no FORM estimate")
+        if "FORM" in methods or "SORM" in methods or "importance sampling" in methods:
+            counted("FORM", run_form) if "FORM" in methods else run_form()
+    if u_star is not None:
+        xs = from_normal_scores(spec, u_star[None])[0]
+        est.x_star = {f.name: float(units.from_base(xs[i], f.unit)) for i, f in enumerate(spec.factors)}
+    reachable = u_star is not None
+    if "SORM" in methods and reachable:
+        def run_sorm():
+            algo = ot.SORM(ot.Cobyla(), event, list(u_star))
+            algo.run()
+            r = algo.getResult()
+            pb = float(r.getEventProbabilityBreitung())
+            if not math.isfinite(pb):
+                return Estimate("SORM", None, note="Breitung's formula is undefined here (a curvature ≤ −1/β)")
+            extra = []
+            for name, get in (("Tvedt", r.getEventProbabilityTvedt), ("Hohenbichler", r.getEventProbabilityHohenbichler)):
+                try:
+                    extra.append(f"{name} {1e6 * float(get()):.4g} ppm")
+                except Exception:
+                    extra.append(f"{name} undefined")
+            return Estimate("SORM", pb, note="Breitung; " + ", ".join(extra))
+        counted("SORM", run_sorm)
+    if "multi-FORM" in methods and reachable:
+        def run_multi():
+            algo = ot.MultiFORM(ot.Cobyla(), event, list(u_star))
+            algo.setMaximumDesignPointsNumber(design_points)
+            algo.run()
+            r = algo.getResult()
+            pts = [np.array(x.getStandardSpaceDesignPoint()) for x in r.getFORMResultCollection()]
+            pf = float(r.getEventProbability())
+            if not (0.0 <= pf <= 1.0) or len(pts) < 2:
+                return Estimate("multi-FORM", None, note=f"{len(pts)} design point(s) found: nothing beyond FORM")
+            X = from_normal_scores(spec, np.array(pts))
+            est.design_points = [{f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)}
+                                 for x in X]
+            return Estimate("multi-FORM", pf,
+                            note=f"{len(pts)} design point(s), β = " + ", ".join(f"{np.linalg.norm(p):.4g}" for p in pts))
+        counted("multi-FORM", run_multi)
+    block = 100
+    outer = max(1, samples // block)
+    if "importance sampling" in methods:
+        def run_is():
+            if not reachable:
+                return Estimate("importance sampling", None, note="no design point to sample about")
+            seed_for(1)
+            exp = ot.ImportanceSamplingExperiment(ot.Normal(list(u_star), [1.0] * k, ot.CorrelationMatrix(k)))
+            algo = ot.ProbabilitySimulationAlgorithm(event, exp)
+            algo.setMaximumOuterSampling(outer)
+            algo.setBlockSize(block)
+            algo.setMaximumCoefficientOfVariation(-1.0)
+            algo.run()
+            r = algo.getResult()
+            return Estimate("importance sampling", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                            note=f"N = {outer * block} about u*")
+        counted("importance sampling", run_is)
+    if "subset" in methods:
+        def run_subset():
+            seed_for(2)
+            algo = ot.SubsetSampling(event)
+            n_level = max(block, samples)
+            algo.setMaximumOuterSampling(max(1, n_level // block))
+            algo.setBlockSize(block)
+            algo.setConditionalProbability(0.1)
+            algo.run()
+            r = algo.getResult()
+            levels = algo.getStepsNumber() if hasattr(algo, "getStepsNumber") else None
+            return Estimate("subset", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                            note=f"{n_level} samples per level, p₀ = 0.1" + (f", {levels} levels" if levels else ""))
+        counted("subset", run_subset)
+    if "directional" in methods:
+        def run_directional():
+            seed_for(3)
+            algo = ot.DirectionalSampling(event)
+            n_dir = max(block // 2, samples // 20)
+            algo.setBlockSize(50)
+            algo.setMaximumOuterSampling(max(1, n_dir // 50))
+            algo.setMaximumCoefficientOfVariation(-1.0)
+            algo.run()
+            r = algo.getResult()
+            return Estimate("directional", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                            note=f"{max(1, n_dir // 50) * 50} directions, root by Brent (safe and slow)")
+        counted("directional", run_directional)
+    _compare(est)
+    est.failed_samples = ls.failed
     est.evaluations = ls.count
-    return est, z
-
-
-def importance_sampling(model: Model, spec: ToleranceSpec, est: TailEstimate, z_star: np.ndarray, n: int,
-                        seed: int | None, key: int = 0, evaluate: Evaluator | None = None) -> TailEstimate:
-    """Importance sampling of ``est``'s tail about the FORM point ``z_star`` (``n`` samples from the named
-    sub-stream ``stacking_importance`` of ``seed``, ``key`` telling outputs and limits apart)."""
-    evaluate = evaluate or Evaluator()
-    q = model.output(est.output)
-    ls = _LimitState(model, spec, est.output, float(units.convert(est.limit, q.shown_unit, q.unit)), est.side,
-                     evaluate)
-    eps = substream(seed, "stacking_importance", key).standard_normal((n, len(z_star)))
-    Z = z_star[None] + eps
-    g = ls.g(Z)
-    failed = ~np.isfinite(g)
-    hit = failed | (g <= 0)
-    logw = -(Z @ z_star) + 0.5 * float(z_star @ z_star)
-    terms = np.where(hit, np.exp(logw), 0.0)
-    est.pf_is = float(terms.mean())
-    est.pf_is_se = float(terms.std(ddof=1) / math.sqrt(n))
-    est.n_is = n
-    est.is_failed_samples = int(failed.sum())
-    est.evaluations += ls.count
-    if failed.any():
-        est.notes.append(f"{int(failed.sum())} importance samples could not be evaluated and count as failures")
+    if ls.failed:
+        est.notes.append(f"{ls.failed} evaluations could not be made and count as failures")
     return est
+
+
+def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
+    """True when every factor's support is bounded and none of the supports' corners (u = ±8.3, Φ = 1 − 5e-17;
+    at most 2¹² of them) lies beyond the limit."""
+    k = len(spec)
+    if k > 12:
+        return False
+    for f in spec.factors:
+        lo, hi = (float(v) for v in f.dist.frozen.support())
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            return False
+    corners = 8.3 * (2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1) - 1.0)
+    return not np.any(beyond(ls.y(corners)))
+
+
+def _reason(exc: Exception) -> str:
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return "could not run: " + text[:200]
+
+
+def _compare(est: TailEstimate) -> None:
+    """The reference estimate and the disagreements (module docstring)."""
+    sampled = [e for e in est.estimates if e.method not in APPROXIMATIONS and e.pf is not None and e.se is not None]
+
+    def agree(a: Estimate, b: Estimate) -> bool:
+        err = math.hypot(a.se, b.se)
+        return abs(a.pf - b.pf) <= DISAGREE_SE * err + 1e-3 * max(a.pf, b.pf) * (err == 0)
+
+    if sampled:
+        suspect = set()
+        for i, a in enumerate(sampled):
+            for b in sampled[i + 1:]:
+                if not agree(a, b):
+                    ra, rb = ROBUSTNESS.get(a.method, 0), ROBUSTNESS.get(b.method, 0)
+                    suspect |= {a.method} if ra < rb else {b.method} if rb < ra else {a.method, b.method}
+                    est.disagreements.append(
+                        f"{a.method} {1e6 * a.pf:.4g} ± {1e6 * a.se:.2g} ppm and {b.method} {1e6 * b.pf:.4g} ± "
+                        f"{1e6 * b.se:.2g} ppm differ by more than {DISAGREE_SE:g} combined standard errors")
+        trusted = [e for e in sampled if e.method not in suspect] or \
+            [max(sampled, key=lambda e: ROBUSTNESS.get(e.method, 0))]
+        ref = min(trusted, key=lambda e: (e.cov if e.cov is not None else math.inf, -ROBUSTNESS.get(e.method, 0)))
+        est.reference = ref.method
+        for e in est.estimates:
+            if e.method in APPROXIMATIONS and e.pf is not None:
+                err = DISAGREE_SE * ref.se if ref.se else 1e-3 * ref.pf
+                if abs(e.pf - ref.pf) > err:
+                    est.disagreements.append(
+                        f"{e.method} {1e6 * e.pf:.4g} ppm lies outside {DISAGREE_SE:g} standard errors of the reference "
+                        f"({ref.method} {1e6 * ref.pf:.4g} ± {1e6 * ref.se:.2g} ppm)")
+    elif est.get("FORM") is not None and est.get("FORM").pf is not None:
+        est.reference = "FORM"

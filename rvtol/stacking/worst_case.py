@@ -1,15 +1,27 @@
 """The worst case that is the true extreme of a non-linear model, over the tolerance bands.
 
 :func:`true_worst_case` finds the minimum and maximum of an output over the factors' bands
-(:attr:`rvtol.spec.Factor.band`; a circular position zone as its disc, not the square) by bounded
-optimisation: L-BFGS-B (scipy) from several starts — the band centres, the linearised worst-case
-corner and Halton points — with gradients analytic (a model with ``gradient``) or by central
-differences in one batch of model evaluations per iterate; with few factors every corner of the
-box is evaluated too and polished.  It is a local method with several starts: it finds the true
-extreme of a monotone or mildly non-linear output (for a monotone one the extreme is a corner, which
-the corner search finds exactly) and says which starts and corners it tried.  The linearised worst
-case (:mod:`rvtol.stacking.conventions`) stands beside it: where they differ, the output is not
-linear over the bands.
+(:attr:`rvtol.spec.Factor.band`; a circular position zone as its disc, not the square; a zone at MMC or
+LMC as the disc whose radius grows with its feature's size, :func:`rvtol.spec.zone_bonus`).  The
+output may be non-smooth (a norm of centred zones, ``abs``, ``min``/``max``), so no single method is
+trusted:
+
+1. **corners**: with few factors every corner of the box (each plain factor at an end of its band)
+   with every zone on its boundary circle at ``zone_directions`` angles — the extreme of an output
+   that is monotone in each factor (checked: the sign of each factor's effect on a Halton sample of the
+   box, ``monotone`` in the result; evidence, not a proof);
+2. **differential evolution** (scipy, derivative-free global search, the population evaluated in one batch
+   per generation), which needs no derivative and does not stop at a kink;
+3. **L-BFGS-B** from several starts — the band centres, the linearised worst-case corner, Halton points
+   and the best points of 1–2 — with gradients analytic (a model with ``gradient``; where it is undefined,
+   central differences) or by central differences in one batch per iterate.
+
+The reported extreme is the best of all.  It is **guaranteed** only for a model that is linear in its
+factors (the corner/disc is then the extreme, ``guaranteed = True``); otherwise the result says which
+methods reached the reported value (within 1e-9 of the output's range) and that the extreme of a
+non-convex output over a box is not guaranteed by any finite search.  The linearised worst case
+(:mod:`rvtol.stacking.conventions`) stands beside it: where they differ, the output is not linear over
+the bands.
 """
 from __future__ import annotations
 
@@ -23,7 +35,8 @@ from scipy.stats import qmc
 from .. import units
 from ..mc import Evaluator
 from ..model import Model
-from ..spec import ToleranceSpec
+from ..model import LinearModel
+from ..spec import ToleranceSpec, zone_bonus
 from .conventions import contributors
 
 
@@ -40,19 +53,23 @@ class WorstCase:
     evaluations: int
     how: str
     notes: list[str] = field(default_factory=list)
+    guaranteed: bool = False          # True only where the extreme is provably the corner/disc (a linear model)
+    monotone: bool | None = None      # each factor's effect of one sign over the sampled box (None: not checked)
+    methods: dict = field(default_factory=dict)   # "low"/"high" -> {method: best value (display)}
 
 
 class _Box:
-    """The bands as a box of normalised variables v: [0, 1] per factor; a position zone as (ρ ∈ [0, 1], φ ∈ [−1, 1])."""
+    """The bands as a box of normalised variables v: [0, 1] per factor; a position zone as (ρ ∈ [0, 1], φ ∈ [−1, 1]),
+    its radius t/2 plus the bonus of the sizes it depends on (at the sizes of the same point)."""
 
     def __init__(self, spec: ToleranceSpec):
         con = contributors(spec, np.zeros(len(spec)))
         self.lo, self.hi, self.k = con.lo, con.hi, len(spec)
         self.plain = [i for i, z in enumerate(con.zone) if not z]
-        self.zones = []   # (i_x, i_y, radius)
+        self.zones = []   # (i_x, i_y, radius, [(size index, κ, reference)])
         for z in dict.fromkeys(z for z in con.zone if z):
             i, j = [m for m, zz in enumerate(con.zone) if zz == z]
-            self.zones.append((i, j, float(con.t[i])))
+            self.zones.append((i, j, float(con.t[i]), zone_bonus(spec, z)))
         self.dim = len(self.plain) + 2 * len(self.zones)
         self.bounds = [(0.0, 1.0)] * len(self.plain) + [b for _ in self.zones for b in ((0.0, 1.0), (-1.0, 1.0))]
 
@@ -61,41 +78,47 @@ class _Box:
         X = np.empty((V.shape[0], self.k))
         p = len(self.plain)
         X[:, self.plain] = self.lo[self.plain] + V[:, :p] * (self.hi[self.plain] - self.lo[self.plain])
-        for q, (i, j, r) in enumerate(self.zones):
+        for q, (i, j, r, bonus) in enumerate(self.zones):
             rho, phi = V[:, p + 2 * q], V[:, p + 2 * q + 1]
+            R = r + sum(kap * (X[:, m] - ref) for m, kap, ref in bonus)
             cx, cy = 0.5 * (self.lo[i] + self.hi[i]), 0.5 * (self.lo[j] + self.hi[j])
-            X[:, i] = cx + r * rho * np.cos(np.pi * phi)
-            X[:, j] = cy + r * rho * np.sin(np.pi * phi)
+            X[:, i] = cx + R * rho * np.cos(np.pi * phi)
+            X[:, j] = cy + R * rho * np.sin(np.pi * phi)
         return X
 
     def corner(self, a: np.ndarray, sign: float) -> np.ndarray:
         """The linearised extreme for the gradient ``a`` (``sign`` +1: maximum, −1: minimum)."""
         v = [1.0 if sign * a[i] > 0 else 0.0 for i in self.plain]
-        for i, j, _ in self.zones:
+        for i, j, _, _ in self.zones:
             ax, ay = sign * a[i], sign * a[j]
             v += [1.0, math.atan2(ay, ax) / math.pi] if (ax or ay) else [0.0, 0.0]
         return np.array(v)
 
-    def corners(self, a: np.ndarray, sign: float, limit: int = 12) -> np.ndarray | None:
-        """Every corner of the plain factors (zones at their linearised extreme), or None beyond ``limit`` factors."""
-        p = len(self.plain)
-        if p > limit:
+    def corners(self, directions: int, limit: int) -> np.ndarray | None:
+        """Every corner of the plain factors × every zone on its boundary at ``directions`` angles (and at its
+        centre), or None beyond ``limit`` points."""
+        p, nz = len(self.plain), len(self.zones)
+        count = 2 ** p * (directions + 1) ** nz
+        if count > limit:
             return None
-        base = self.corner(a, sign)
         grid = ((np.arange(2 ** p)[:, None] >> np.arange(p)) & 1).astype(float)
-        out = np.repeat(base[None], len(grid), axis=0)
-        out[:, :p] = grid
+        ring = [(0.0, 0.0)] + [(1.0, -1.0 + 2.0 * m / directions) for m in range(directions)]
+        out = grid
+        for _ in range(nz):
+            out = np.array([np.concatenate([row, pt]) for row in out for pt in ring])
         return out
 
 
 def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Evaluator | None = None, *,
-                    starts: int = 4, corner_limit: int = 10, max_evaluations: int = 5000,
-                    gradient: np.ndarray | None = None) -> WorstCase:
+                    starts: int = 4, corner_limit: int = 4096, max_evaluations: int = 5000,
+                    gradient: np.ndarray | None = None, zone_directions: int = 16, seed: int = 0,
+                    monotone_samples: int = 16) -> WorstCase:
     """The minimum and maximum of ``output`` over the factors' bands (module docstring).
 
     ``gradient`` (base units, at the nominal point) orients the linearised corner start; without it a
-    central difference at the band centres does.  ``max_evaluations`` caps the
-    model evaluations of the search (the best point found so far is reported, and the cap noted).
+    central difference at the band centres does.  ``max_evaluations`` caps the model evaluations of the
+    searches (the best point found so far is reported, and the cap noted); ``corner_limit`` the corners
+    enumerated; ``seed`` the differential evolution (the result is deterministic for a seed).
     """
     evaluate = evaluate or Evaluator()
     q = model.output(output)
@@ -105,6 +128,8 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
     count = [0]
     notes: list[str] = []
     h = 1e-5
+    lo_b = np.array([b[0] for b in box.bounds])
+    hi_b = np.array([b[1] for b in box.bounds])
 
     def values(V) -> np.ndarray:
         X = box.to_x(V)
@@ -112,19 +137,7 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
         ev = evaluate(model, X, "true worst case")
         return np.where(ev.ok, ev.Y[:, j], np.nan)
 
-    def value_and_grad(v, sign):
-        """(sign·y, sign·∂y/∂v) at v: one batch of 2·dim + 1 rows (central differences, one-sided at bounds)."""
-        if analytic:
-            X = box.to_x(v)
-            y = float(values(v)[0])
-            G = np.asarray(model.gradient(X), float)[0, j]
-            Jv = np.empty(box.dim)
-            for m in range(box.dim):   # chain rule through the box map, by differences of the (cheap) map
-                e = np.zeros(box.dim)
-                e[m] = h
-                lo_v, hi_v = _clip(v - e, box.bounds), _clip(v + e, box.bounds)
-                Jv[m] = G @ ((box.to_x(hi_v) - box.to_x(lo_v))[0]) / max(hi_v[m] - lo_v[m], 1e-300)
-            return sign * y, sign * Jv
+    def differences(v, sign):
         pts = [v]
         for m in range(box.dim):
             e = np.zeros(box.dim)
@@ -135,30 +148,66 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
                       for m in range(box.dim)])
         return sign * y[0], sign * g
 
+    def value_and_grad(v, sign):
+        """(sign·y, sign·∂y/∂v) at v: analytic where the model's gradient is defined, else central differences."""
+        if analytic:
+            X = box.to_x(v)
+            y = float(values(v)[0])
+            G = np.asarray(model.gradient(X), float)[0, j]
+            if np.isfinite(y) and np.all(np.isfinite(G)):
+                Jv = np.empty(box.dim)
+                for m in range(box.dim):   # chain rule through the box map, by differences of the (cheap) map
+                    e = np.zeros(box.dim)
+                    e[m] = h
+                    lo_v, hi_v = _clip(v - e, box.bounds), _clip(v + e, box.bounds)
+                    Jv[m] = G @ ((box.to_x(hi_v) - box.to_x(lo_v))[0]) / max(hi_v[m] - lo_v[m], 1e-300)
+                return sign * y, sign * Jv
+            undefined_grad[0] = True
+        return differences(v, sign)
+
+    undefined_grad = [False]
     centre = np.array([0.5] * len(box.plain) + [0.0, 0.0] * len(box.zones))
-    if gradient is None:   # orient the corner by the box-variable gradient at the centre (same signs)
-        _, g0 = value_and_grad(centre, 1.0)
+    if gradient is None or not np.all(np.isfinite(gradient)):   # orient the corner by the box-variable gradient
+        _, g0 = differences(centre, 1.0)
         a = np.zeros(box.k)
         a[box.plain] = g0[:len(box.plain)]
     else:
-        a = np.nan_to_num(np.asarray(gradient, float))
+        a = np.asarray(gradient, float)
+    linear = isinstance(model, LinearModel)
+    monotone = None
+    if box.plain and monotone_samples:
+        monotone = _monotone(values, box, monotone_samples, seed)
+    cs = box.corners(zone_directions, corner_limit)
+    ys_corner = values(cs) if cs is not None else None
     halton = qmc.Halton(d=box.dim, scramble=False).random(max(starts - 2, 0) + 1)[1:]   # skip the origin
-    lo_b = np.array([b[0] for b in box.bounds])
-    hi_b = np.array([b[1] for b in box.bounds])
-    result = {}
-    hows = []
+    result, methods = {}, {}
     for sign, key in ((-1.0, "high"), (1.0, "low")):
         sgn = -sign   # minimise sign·y: sign −1 finds the maximum
-        cands = [centre, box.corner(a, sgn)] + [lo_b + u * (hi_b - lo_b) for u in halton]
-        best_v, best_y = None, math.inf
-        cs = box.corners(a, sgn, corner_limit)
-        if cs is not None:
-            ys = sign * values(cs)
-            if np.any(np.isfinite(ys)):
-                m = int(np.nanargmin(ys))
-                best_v, best_y = cs[m], float(ys[m])
-                cands.insert(0, cs[m])
-        for v0 in cands:
+        found: dict[str, tuple[float, np.ndarray]] = {}
+        if ys_corner is not None and np.any(np.isfinite(ys_corner)):
+            m = int(np.nanargmin(sign * ys_corner))
+            found["corners"] = (float(sign * ys_corner[m]), cs[m])
+        # differential evolution: derivative-free, global, the population in one batch per generation
+        budget = max_evaluations - count[0]
+        pop = max(5, min(15, budget // (2 * max(box.dim, 1) * 20)))
+        if budget > 4 * pop * box.dim:
+            def batch(V, sign=sign):
+                y = values(np.asarray(V).T)
+                return np.where(np.isfinite(y), sign * y, np.inf)
+
+            gens = max(1, (budget // 2) // (pop * box.dim) - 1)
+            init = "sobol" if box.dim > 1 else "latinhypercube"
+            try:
+                de = optimize.differential_evolution(batch, box.bounds, popsize=pop, maxiter=gens, tol=0.0,
+                                                     atol=0.0, seed=seed, polish=False, vectorized=True,
+                                                     updating="deferred", init=init)
+                if np.isfinite(de.fun):
+                    found["differential evolution"] = (float(de.fun), de.x)
+            except ValueError:
+                pass
+        cands = [(m + " → L-BFGS-B", v) for m, (_, v) in sorted(found.items(), key=lambda t: t[1][0])]
+        cands += [("L-BFGS-B", v) for v in [centre, box.corner(a, sgn)] + [lo_b + u * (hi_b - lo_b) for u in halton]]
+        for origin, v0 in cands:
             if count[0] >= max_evaluations:
                 notes.append(f"stopped at the evaluation budget ({max_evaluations})")
                 break
@@ -169,23 +218,66 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
                                         options={"maxiter": 200, "ftol": 1e-13, "gtol": 1e-12,
                                                  "maxfun": max(2, (max_evaluations - count[0]) // per_call)})
             except _Failed:
-                notes.append("the model could not be evaluated at some points inside the bands; those starts "
-                             "were abandoned")
+                notes.append("the model could not be evaluated at some points inside the bands (NaN): those "
+                             "L-BFGS-B starts were abandoned")
                 continue
-            if res.fun < best_y:
-                best_v, best_y = res.x, float(res.fun)
-        if best_v is None:
+            if origin not in found or res.fun < found[origin][0]:
+                found[origin] = (float(res.fun), res.x)
+        if not found:
             result[key] = (math.nan, {})
+            methods[key] = {}
             continue
+        best_y, best_v = min(found.values(), key=lambda t: t[0])
         x = box.to_x(best_v)[0]
         result[key] = (sign * best_y, {f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)})
-    hows.append(f"L-BFGS-B over the bands from {len(halton) + 2} starts (centre, linearised corner, Halton)"
-                + (", every corner of the box" if box.corners(a, 1.0, corner_limit) is not None else "")
-                + ("; analytic gradient" if analytic else "; central differences"))
+        methods[key] = {m: sign * v for m, (v, _) in found.items()}
     disp = lambda v: float(q.to_display(np.array([v]))[0]) if math.isfinite(v) else math.nan  # noqa: E731
     lo, hi = disp(result["low"][0]), disp(result["high"][0])
-    return WorstCase(output, q.shown_unit, lo, hi, result["low"][1], result["high"][1], count[0], "; ".join(hows),
-                     list(dict.fromkeys(notes)))
+    span = abs(hi - lo) if math.isfinite(hi - lo) else 0.0
+    agree = {}
+    for key, val in (("low", lo), ("high", hi)):
+        ms = {m: disp(v) for m, v in methods.get(key, {}).items()}
+        methods[key] = ms
+        agree[key] = [m for m, v in ms.items() if abs(v - val) <= 1e-9 * max(span, abs(val), 1e-300)]
+    how = (f"best of: every corner × zone boundary at {zone_directions} angles"
+           + (f" ({len(cs)} points)" if cs is not None else " (skipped: too many)")
+           + ", differential evolution (scipy, derivative-free), L-BFGS-B from their best points and from "
+           + f"{len(halton) + 2} starts (centre, linearised corner, Halton)" + ("; analytic gradient" if analytic else "; central differences")
+           + (" (central differences where it is undefined)" if undefined_grad[0] else ""))
+    how += f"; low reached by {', '.join(agree['low']) or '—'}, high by {', '.join(agree['high']) or '—'}"
+    if linear:
+        how += "; a linear model: the extreme is the corner/disc (guaranteed)"
+    else:
+        how += ("; not guaranteed (a global search over a non-linear output)"
+                + ("; the output is monotone in each plain factor over a sampled box (evidence, not proof): its "
+                   "extreme lies on the corners enumerated" if monotone else ""))
+    return WorstCase(output, q.shown_unit, lo, hi, result["low"][1], result["high"][1], count[0], how,
+                     list(dict.fromkeys(notes)), guaranteed=linear, monotone=monotone, methods=methods)
+
+
+def _monotone(values, box: _Box, n: int, seed: int) -> bool:
+    """True when every plain factor's effect keeps one sign at ``n`` Halton points of the box (zones at random
+    points of their discs): a corner is then the extreme (for a model that is monotone everywhere)."""
+    U = qmc.Halton(d=box.dim, scramble=True, seed=seed).random(n)
+    lo_b = np.array([b[0] for b in box.bounds])
+    hi_b = np.array([b[1] for b in box.bounds])
+    V = lo_b + U * (hi_b - lo_b)
+    p = len(box.plain)
+    rows = []
+    for v in V:   # each factor's local effect (±0.02 of its band) and its effect end to end, at every point
+        for m in range(p):
+            for lo_, hi_ in ((max(v[m] - 0.02, 0.0), min(v[m] + 0.02, 1.0)), (0.0, 1.0)):
+                a, b = v.copy(), v.copy()
+                a[m], b[m] = lo_, hi_
+                rows += [a, b]
+    y = values(np.array(rows)).reshape(n, p * 2, 2)
+    dy = y[:, :, 1] - y[:, :, 0]
+    if not np.all(np.isfinite(dy)):
+        return False
+    scale = np.abs(dy).max(initial=0.0)
+    tol = 1e-12 * max(scale, 1e-300)
+    dy = dy.reshape(n, p, 2).transpose(1, 0, 2).reshape(p, -1)   # per factor: every local and end-to-end effect
+    return bool(np.all((dy >= -tol).all(axis=1) | (dy <= tol).all(axis=1)))
 
 
 class _Failed(Exception):

@@ -8,7 +8,7 @@
    design; ``ot.SobolIndicesExperiment``), both without second order; the error of each against the
    closed-form indices (Ishigami & Homma 1990).
 
-OpenTURNS is a benchmark extra (``pip install -e ".[bench]"``), not a runtime dependency; without it this
+OpenTURNS is a main dependency (reliability, functional chaos); without it this
 prints one line and exits.
 
     python studies/benchmarks/bench_openturns.py [--quick]

@@ -42,6 +42,14 @@ stage does not list stays at the model's nominal (as for a factor a one-model sp
 
 A sample that any stage cannot evaluate fails with that stage's reason (``<stage>: <reason>``);
 later stages skip it.  The model is row-deterministic when its stages are.
+
+**Build.**  A composition may carry the rules by which the reducer is built (``[study] build``,
+:mod:`rvtol.production.build`): any object with ``sets`` (the factors it gives their as-built values),
+``outputs`` (its own :class:`~rvtol.model.Quantity` outputs), ``reads()`` (set factor or output -> the
+names its rule reads) and ``apply(env, n) -> (as-built factor values, named values)``.  It runs between
+the drawing factors and the physics: the quantities are computed on the as-drawn factors, the build reads
+them, and every quantity and stage then sees the as-built factors (the sample ``X`` itself is not changed).
+:meth:`CompositeModel.without_build` is the same composition on the parts as drawn.
 """
 from __future__ import annotations
 
@@ -123,11 +131,19 @@ class StageInputs:
 class CompositeModel(Model):
     """Factors -> quantities -> stages, evaluated in declaration order (see the module docstring)."""
 
-    def __init__(self, inputs, input_units, quantities: list[MappedQuantity], stages: list[Stage]):
+    def __init__(self, inputs, input_units, quantities: list[MappedQuantity], stages: list[Stage], build=None,
+                 build_outputs: tuple[str, ...] | None = None):
         self.inputs = tuple(inputs)
         self.input_units = tuple(input_units)
         self.quantities = tuple(quantities)
         self.stages = tuple(stages)
+        self.build = build
+        if build is not None:
+            unknown = [f for f in build.sets if f not in self.inputs]
+            if unknown:
+                raise InputError(f"the build sets {unknown[0]!r}, which is not a factor", key="build")
+        own = tuple(build.outputs) if build is not None else ()
+        self.build_outputs = tuple(q.name for q in own) if build_outputs is None else tuple(build_outputs)
         known = set(self.inputs)
         seen_outputs: list[str] = []
         for q in self.quantities:
@@ -136,6 +152,7 @@ class CompositeModel(Model):
                 raise InputError(f"quantity {q.name!r} has the name of a factor or an earlier quantity",
                                  key=f"quantity.{q.name}")
             known.add(q.name)
+        known |= {q.name for q in own}
         for st in self.stages:
             if len(st.inputs) != len(st.model.inputs):
                 raise InputError(f"stage {st.name!r}: {len(st.inputs)} input expressions for "
@@ -146,6 +163,7 @@ class CompositeModel(Model):
                 known.add(st.output_name(j))
                 seen_outputs.append(st.output_name(j))
         self.outputs = tuple([q.quantity for q in self.quantities if q.output]
+                             + [q for q in own if q.name in self.build_outputs]
                              + [_renamed(o, f"{st.name}.{o.name}") for st in self.stages
                                 for o in (st.model.outputs[j] for j in st.keep)])
         self.status_reasons = {STATUS_NONFINITE: Model.status_reasons[STATUS_NONFINITE]}
@@ -161,8 +179,12 @@ class CompositeModel(Model):
         n = len(X)
         env: dict[str, np.ndarray] = {name: X[:, j] for j, name in enumerate(self.inputs)}
         status = np.zeros(n, dtype=np.int16)
-        for q in self.quantities:
-            env[q.name] = _column(q.expression.evaluate(env), n)
+        self._quantities(env, n)
+        if self.build is not None:                  # the reducer as built from this sample's parts
+            changed, named = self.build.apply(env, n)
+            env.update(changed)
+            self._quantities(env, n)
+            env.update(named)
         for s, st in enumerate(self.stages):
             if stages is not None and st.name not in stages:
                 continue
@@ -182,6 +204,14 @@ class CompositeModel(Model):
             for j in range(len(st.model.outputs)):
                 env[st.output_name(j)] = Ys[:, j]
         return env, status
+
+    def _quantities(self, env: dict, n: int) -> None:
+        for q in self.quantities:
+            env[q.name] = _column(q.expression.evaluate(env), n)
+
+    def without_build(self) -> "CompositeModel":
+        """The same composition on the parts as drawn (no build rules applied)."""
+        return CompositeModel(self.inputs, self.input_units, list(self.quantities), list(self.stages))
 
     @staticmethod
     def stage_matrix(st: Stage, env: dict, n: int) -> np.ndarray:
@@ -245,7 +275,8 @@ class CompositeModel(Model):
         stages = [replace(st, keep=tuple(j for j in range(len(st.model.outputs)) if st.output_name(j) in outputs))
                   for st in self.stages if st.name in need]
         quantities = [replace(q, output=q.output and q.name in outputs) for q in self.quantities]
-        return CompositeModel(self.inputs, self.input_units, quantities, stages)
+        return CompositeModel(self.inputs, self.input_units, quantities, stages, self.build,
+                              tuple(o for o in self.build_outputs if o in outputs))
 
     def mapping_table(self) -> list[dict]:
         """Every stage input and quantity with the expression that feeds it (for the report)."""
@@ -261,8 +292,16 @@ class CompositeModel(Model):
         stage through :meth:`Model.dependencies` where the stage's model knows them, else on all its
         inputs)."""
         deps: dict[str, set[str]] = {n: {n} for n in self.inputs}
-        for q in self.quantities:
-            deps[q.name] = set().union(*(deps[m] for m in q.expression.names)) if q.expression.names else set()
+
+        def quantities():
+            for q in self.quantities:
+                deps[q.name] = set().union(set(), *(deps[m] for m in q.expression.names))
+
+        quantities()
+        if self.build is not None:      # a set factor and a build output depend on what their rule reads
+            built = {name: set().union(set(), *(deps[m] for m in reads)) for name, reads in self.build.reads().items()}
+            deps.update(built)
+            quantities()
         for st in self.stages:
             feed = {name: set().union(set(), *(deps[m] for m in e.names))
                     for name, e in zip(st.model.inputs, st.inputs)}
@@ -342,22 +381,27 @@ def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:
 
 
 def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantity], design, spec,
-                      build: Callable) -> CompositeModel:
+                      build: Callable, rules=None) -> CompositeModel:
     """A CompositeModel from the study's ``[[model]]`` tables.
 
     ``build(params, design, inputs)`` builds one model through its registered factory (the study's
     :func:`rvtol.study.build_model`, which also locates its errors); ``inputs`` is a
-    :class:`StageInputs` standing in for the spec.
+    :class:`StageInputs` standing in for the spec.  ``rules``: the reducer's build rules (module
+    docstring; ``spec`` then holds their gauge factors).
     """
     if not model_tables:
         raise InputError("a composed study needs at least one [[model]]", key="model")
     used = [n for q in quantities for n in q.expression.names]
+    if rules is not None:
+        used += [n for names in rules.reads().values() for n in names]
     for t in model_tables:
         raw = t.data.get("inputs")
         if isinstance(raw, dict):
             used += [n for v in raw.values() if isinstance(v, (str, int, float)) for n in _names_of(v)]
     quantities = design_quantities(used, design) + list(quantities)
     known = set(spec.names) | {q.name for q in quantities}
+    if rules is not None:
+        known |= {q.name for q in rules.outputs}
     qunits = {q.name: q.unit for q in quantities}
     stages: list[Stage] = []
     for t in model_tables:
@@ -415,4 +459,4 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
         stage = Stage(name, model, tuple(exprs.values()), keep, rest.data.get("kind", ""))
         stages.append(stage)
         known |= {stage.output_name(j) for j in range(len(outs))}
-    return CompositeModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, stages)
+    return CompositeModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, stages, rules)

@@ -1,0 +1,219 @@
+"""Non-smooth stack-ups handled honestly: the ASME floating fastener (RFS and MMC) gives margin 0 by every
+worst-case method; a kinked output is never linearised by a silent 0; an undefined derivative is an error.
+
+The floating-fastener formula (ASME Y14.5-2018, Appendix B "Formulas for positional tolerancing", B.3:
+T = H − F; ASME Y14.5M-1994 Appendix B, B4): two parts with clearance holes of MMC size H = 6.4 mm, a
+fastener of MMC size F = 6.0 mm, each hole located within ⌀T = 0.4 mm of true position.  The fastener
+fits when the holes' axes are no further apart than (H₁ − F)/2 + (H₂ − F)/2; the margin
+(H₁ − F)/2 + (H₂ − F)/2 − |p₁ − p₂| is 0 at worst: holes at MMC, fastener at MMC, the two axes at
+opposite ends of their zones.  At MMC (⌀0.4 Ⓜ) the zone grows with the hole's departure from MMC, and the
+worst case is 0 at every hole size (the bonus exactly pays for the larger hole's extra clearance)."""
+import math
+
+import numpy as np
+import pytest
+
+from rvtol.errors import InputError
+from rvtol.expressions import Expression
+from rvtol.models.formula.model import FormulaModel
+from rvtol.sampling import sample
+from rvtol.spec import spec_from_table
+from rvtol.stacking import stack_conventions, true_worst_case
+from rvtol.stacking.slopes import one_sided_slopes
+
+MARGIN = "(H1 - F)/2 + (H2 - F)/2 - hypot(x1 - x2, y1 - y2)"
+
+
+def fastener_spec(modifier=""):
+    zone = {"tolerance": f"⌀0.4{modifier}", "unit": "mm"}
+    extra = lambda z: ({"size": z, "feature_type": "internal"} if modifier else {})  # noqa: E731
+    return spec_from_table({"factor": [
+        {"name": "H1", "tolerance": "6.4 +0.2/0", "unit": "mm"},
+        {"name": "H2", "tolerance": "6.4 +0.2/0", "unit": "mm"},
+        {"name": "F", "tolerance": "6.0 0/-0.1", "unit": "mm"},
+        {"name": "x1", "zone": "hole1", **zone, **extra("H1")}, {"name": "y1", "zone": "hole1", **zone, **extra("H1")},
+        {"name": "x2", "zone": "hole2", **zone, **extra("H2")}, {"name": "y2", "zone": "hole2", **zone, **extra("H2")},
+    ]}, name="floating_fastener")
+
+
+def test_the_derivative_of_a_norm_at_its_zero_is_not_nan():
+    env = {"x": np.array([0.0, 3.0]), "y": np.array([0.0, 4.0]), "H": np.array([1.0, 1.0])}
+    for text in ("hypot(x, y)", "sqrt(x**2 + y**2)", "(x**2 + y**2)**0.5"):
+        v, g = Expression.parse(text).gradient(env)
+        assert np.all(np.isfinite(g["x"])) and np.all(np.isfinite(g["y"]))
+        assert (g["x"][0], g["y"][0]) == (0.0, 0.0)               # the least-norm subgradient at the cone's tip
+        assert (g["x"][1], g["y"][1]) == (pytest.approx(0.6), pytest.approx(0.8))
+    # a linear term of the same output survives (the NaN used to erase it)
+    _, g = Expression.parse("H/2 - hypot(x, y)").gradient(env)
+    assert g["H"][0] == 0.5
+    # a root of a moving zero keeps its infinite slope; atan2 at the origin stays undefined
+    assert math.isinf(Expression.parse("sqrt(x)").gradient(env)[1]["x"][0])
+    assert math.isnan(Expression.parse("atan2(y, x)").gradient(env)[1]["x"][0])
+
+
+@pytest.mark.parametrize("modifier", ["", " (M)"], ids=["RFS", "MMC"])
+def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modifier):
+    spec = fastener_spec(modifier)
+    model = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
+    x0 = spec.nominal_base()
+    g = model.gradient(x0[None])[0, 0]
+    y0 = float(model.evaluate(x0[None])[0, 0])
+    slopes = one_sided_slopes(model, spec, "margin")
+    assert set(slopes.kinked) == {"hole1", "hole2"}
+    assert slopes.zone_max["hole1"] == pytest.approx(-1.0) and slopes.zone_min["hole1"] == pytest.approx(-1.0)
+    sc = stack_conventions(spec, g, y0, x0, output="margin", out_unit="mm", slopes=slopes)
+    wc = sc.row("worst case (arithmetic)")
+    # H_min − F_max − T = 6.4 − 6.0 − 0.4 = 0; the upper end: H_max − F_min with the axes aligned = 0.7
+    assert wc["low"] == pytest.approx(0.0, abs=1e-9) and wc["high"] == pytest.approx(0.7, abs=1e-9)
+    assert any("kink" in n for n in sc.notes)
+    true = true_worst_case(model, spec, "margin", gradient=g, max_evaluations=20000)
+    assert true.low == pytest.approx(0.0, abs=1e-6) and true.high == pytest.approx(0.7, abs=1e-6)
+    assert "not guaranteed" in true.how and not any("could not be evaluated" in n for n in true.notes)
+    # the corners reach it on their own, the global search once polished; the linearised corner start too
+    reached = true.methods["low"]
+    for method in ("corners", "corners → L-BFGS-B", "differential evolution → L-BFGS-B"):
+        assert reached[method] == pytest.approx(0.0, abs=1e-6), (method, reached)
+    # the worst point: the two axes at opposite ends of their zones, ⌀(0.4 + bonus) apart
+    p = true.x_low
+    sep = math.hypot(p["x1"] - p["x2"], p["y1"] - p["y2"])
+    bonus = (p["H1"] - 6.4 + p["H2"] - 6.4) / 2 if modifier else 0.0
+    assert sep == pytest.approx(0.4 + bonus, abs=1e-4)
+    # and no conforming part of a Monte Carlo sample is worse than the worst case (holes inside their zones,
+    # with their bonus at MMC)
+    X = sample(spec, 4000, "random", 1).values
+    r1 = 0.2 + (0.5 * (X[:, 0] - 6.4) if modifier else 0.0)
+    r2 = 0.2 + (0.5 * (X[:, 1] - 6.4) if modifier else 0.0)
+    ok = (np.hypot(X[:, 3], X[:, 4]) <= r1) & (np.hypot(X[:, 5], X[:, 6]) <= r2)
+    assert ok.mean() > 0.99 and model.evaluate(X[ok])[:, 0].min() > 0.0
+
+
+def test_the_mmc_bonus_pays_for_the_hole_size():
+    """At MMC the margin's worst case does not depend on the hole's size (bonus = H − H_MMC); at RFS it does."""
+    for modifier, expect in (("", 0.2 * 0.5 * 2), (" (M)", 0.0)):
+        spec = fastener_spec(modifier)
+        m = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
+        x0 = spec.nominal_base()
+        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0,
+                               out_unit="mm", slopes=one_sided_slopes(m, spec, "margin"))
+        f = sc.factors.set_index("factor")
+        # the holes' share of the lower worst case: ½ per hole per mm at RFS; 0 at MMC (½ − ½·1 from the bonus)
+        assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
+        assert f.loc["H1", "a"] == pytest.approx(0.5)
+        del expect
+
+
+def test_an_undefined_derivative_is_an_error_not_a_zero():
+    spec = fastener_spec()
+    g = np.zeros(len(spec))
+    g[3] = np.nan
+    with pytest.raises(InputError, match="undefined"):
+        stack_conventions(spec, g, 0.0, out_unit="mm")
+
+
+def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm"},
+                                       {"name": "w", "tolerance": "±0.05", "unit": "mm"}]})
+    m = FormulaModel.from_spec(spec, {"y": ("abs(u) + 2*w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "y")
+    assert sl.kinked == ["u"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    wc = sc.row("worst case (arithmetic)")
+    # |u| ∈ [0, 0.1] whatever the sign of u; 2w ∈ ±0.1: y ∈ [−0.1, 0.2] — a silent 0 gave ±0.1
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.1, abs=1e-9), pytest.approx(0.2, abs=1e-9))
+    true = true_worst_case(m, spec, "y")
+    assert (true.low, true.high) == (pytest.approx(-0.1, abs=1e-7), pytest.approx(0.2, abs=1e-7))
+
+
+def test_the_fixed_fastener_formula():
+    """ASME Y14.5-2018 Appendix B, fixed fastener: H = F + T₁ + T₂ — a stud of MMC 6.0 fixed in one part (⌀0.2 zone), a
+    6.4 clearance hole in the other (⌀0.2 zone): the margin (H − F)/2 − |p₁ − p₂| is 0 at worst."""
+    spec = spec_from_table({"factor": [
+        {"name": "H", "tolerance": "6.4 +0.2/0", "unit": "mm"}, {"name": "F", "tolerance": "6.0 0/-0.1", "unit": "mm"},
+        {"name": "x1", "tolerance": "⌀0.2", "unit": "mm", "zone": "stud"},
+        {"name": "y1", "tolerance": "⌀0.2", "unit": "mm", "zone": "stud"},
+        {"name": "x2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "y2", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"}]})
+    m = FormulaModel.from_spec(spec, {"margin": ("(H - F)/2 - hypot(x1 - x2, y1 - y2)", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "margin"))
+    assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
+    assert true_worst_case(m, spec, "margin").low == pytest.approx(0.0, abs=1e-6)
+
+
+def test_a_datum_feature_shift_adds_to_the_zone():
+    """A hole 10.4 +0.1/0 positioned ⌀0.2 Ⓜ to a datum bore B 20 +0.1/0 referenced at MMB: at the largest hole and
+    the largest datum bore the axis may lie 0.1 (t/2) + 0.05 (the hole's bonus, (10.5 − 10.4)/2) + 0.05 (the datum
+    shift, (20.1 − 20.0)/2) = 0.2 from true position.  The datum-feature shift equals the datum feature's departure
+    from its MMB (ASME Y14.5-2018, datum features referenced at MMB; ISO 2692:2014 for the maximum material
+    requirement); the numbers are ours, checked by hand — a textbook's printed example could not be checked here."""
+    common = {"tolerance": "⌀0.2 (M)", "unit": "mm", "zone": "h", "size": "D", "feature_type": "internal",
+              "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+        {"name": "x", **common}, {"name": "y", **common}]})
+    from rvtol.spec import zone_bonus
+    assert zone_bonus(spec, "h") == [(0, 0.5, pytest.approx(10.4)), (1, 0.5, pytest.approx(20.0))]
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(x, y)", "mm")})
+    true = true_worst_case(m, spec, "r")
+    assert true.high == pytest.approx(0.2, abs=1e-6) and true.x_high["D"] == pytest.approx(10.5)
+    assert true.x_high["B"] == pytest.approx(20.1)
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "r"))
+    assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
+    assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-12)   # a radius is never negative
+    # an external datum feature (a boss) at MMB: its MMC is the largest size, the shift grows as it gets smaller
+    spec2 = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 0/-0.1", "unit": "mm"},
+        {"name": "x", **common, "datum_type": "external"}, {"name": "y", **common, "datum_type": "external"}]})
+    assert zone_bonus(spec2, "h")[1] == (1, -0.5, pytest.approx(20.0))
+
+
+def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
+    """The study reads the MMC zones from a CSV spec (columns zone, size, feature type) and gives 0 by both worst cases."""
+    import json
+
+    from rvtol.cli import main
+
+    from conftest import ROOT
+
+    out = tmp_path / "report"
+    rc = main(["run", str(ROOT / "studies" / "stack_floating_fastener.toml"), "--out", str(out), "--executor", "serial",
+               "--no-pdf", "--quiet", "--n", "2000"])
+    assert rc == 0
+    s = json.loads((out / "summary.json").read_text())["analyses"]["stack_conventions"]["margin"]
+    rows = {r["convention"]: r for r in s["conventions"]}
+    assert rows["worst case (arithmetic)"]["low"] == pytest.approx(0.0, abs=1e-9)
+    assert rows["worst case (true extreme)"]["low"] == pytest.approx(0.0, abs=1e-6)
+    assert rows["worst case (arithmetic)"]["high"] == pytest.approx(0.7, abs=1e-9)
+
+
+@pytest.mark.parametrize("extra, key, reason", [
+    ({}, "size", "bonus from the feature's actual size"),
+    ({"size": "H1"}, "feature_type", "feature type"),
+    ({"size": "nope", "feature_type": "internal"}, "size", "names no factor"),
+])
+def test_a_zone_at_mmc_needs_its_feature_of_size(extra, key, reason):
+    z = {"tolerance": "⌀0.4 (M)", "unit": "mm", "zone": "h", **extra}
+    with pytest.raises(InputError, match=reason) as e:
+        spec_from_table({"factor": [{"name": "H1", "tolerance": "6.4 +0.2/0", "unit": "mm"},
+                                    {"name": "x", **z}, {"name": "y", **z}]}, file="s.toml")
+    assert key in (e.value.key or "")
+
+
+def test_mmc_zones_round_trip_through_a_spreadsheet(tmp_path):
+    from conftest import ROOT
+
+    from rvtol.inputs.table_spec import write_table_spec
+    from rvtol.spec import load_spec
+
+    spec = load_spec(ROOT / "data" / "examples" / "floating_fastener_mmc.csv")
+    f = spec.factor("x1")
+    assert (f.zone, f.modifier, f.size, f.feature_type) == ("hole1", "MMC", "H1", "internal")
+    out = write_table_spec(spec, tmp_path / "back.csv")
+    back = load_spec(out)
+    for a, b in zip(spec.factors, back.factors):
+        assert (a.name, a.zone, a.modifier, a.size, a.feature_type, a.limits) == \
+            (b.name, b.zone, b.modifier, b.size, b.feature_type, b.limits)
+        assert a.dist.std == pytest.approx(b.dist.std)
