@@ -292,3 +292,53 @@ def units_to_base(v, unit):
     from rvtol import units
 
     return units.to_base(v, unit)
+
+
+class _SpringSolver:
+    """A spring of stiffness k with free play ±c as the 20-DOF solver's stand-in for :meth:`_reading`: the
+    frictionless angle θ₀(T_e) = sign(T_e)(c + |T_e|/k) and a friction torque that depends on the flank in
+    contact (``tf_pos`` for T_e > 0, ``tf_neg`` below)."""
+
+    def __init__(self, k, c, tf_pos, tf_neg):
+        self.k, self.c, self.tf_pos, self.tf_neg = k, c, tf_pos, tf_neg
+
+    def theta(self, te):
+        return math.copysign(self.c + abs(te) / self.k, te) if te != 0 else 0.0
+
+    def sweep(self, theta_c, torque, dth, q0):
+        te = float(torque[0])
+        return type("S", (), dict(ok=True, failure=0, te=np.array([self.theta(te)]), q=np.zeros((1, 1)),
+                                  torque=np.array([te])))()
+
+    def friction_torques(self, s):
+        te = float(s.torque[0])
+        return np.array([self.tf_pos if te > 0 else self.tf_neg]), None
+
+
+def test_reading_point_stuck_at_the_far_edge_of_the_free_play():
+    """Descending branch at −p with a friction T0 < p while the positive flank carries and T1 > p on the negative
+    flank: no elastic torque satisfies T_e − T_f(T_e) = −p on either side (the positive side reaches only −T0, the
+    negative side starts below −T1), so the reducer crosses the play and sticks at its negative edge, θ = −c; with
+    T1 < p the reading is the ordinary root T_e = −p + T1, θ = −(c + (p − T1)/k); with T0 > p it stays on the
+    positive flank, T_e = T0 − p (path dependence: the negative flank has a root too, T_e = −p + T1)."""
+    k, c, rated, p = 50.0, 0.02, 1000.0, 30.0
+    m = TorsionCurveModel.__new__(TorsionCurveModel)
+    m.torque = rated
+    torque, branch = torque_schedule(rated, 8, 3.0)
+    r = type("R", (), dict(torque=torque, theta_c=np.zeros(torque.size), q=np.zeros((torque.size, 1))))()
+    cases = [(10.0, 40.0, -c, None), (10.0, 20.0, -(c + (p - 20.0) / k), -p + 20.0),
+             (45.0, 20.0, c + (45.0 - p) / k, 45.0 - p)]
+    for t0, t1, angle, te in cases:
+        solver = _SpringSolver(k, c, t0, t1)
+        tf = np.array([t0 if t > 0 else t1 for t in torque])
+        got = m._reading(solver, r, tf, branch, 1, -p)
+        assert not isinstance(got, int)
+        assert got[2] == pytest.approx(angle, rel=1e-9, abs=1e-6 * rated / k), (t0, t1)   # the edge: T_e ~ 1e-9 T_r
+        if te is None:
+            assert -1e-6 * rated < got[3] < 0.0                     # at the negative edge of the play
+        else:
+            assert got[3] == pytest.approx(te, rel=1e-9)
+    # the first loading starts inside the play and reaches only the positive flank, though T_e + T_f(T_e) = p has
+    # a root on the negative one too (T1 > p)
+    got = m._reading(_SpringSolver(k, c, 10.0, 40.0), r, np.where(torque > 0, 10.0, 40.0), branch, 0, p)
+    assert got[3] == pytest.approx(p - 10.0, rel=1e-9) and got[2] == pytest.approx(c + (p - 10.0) / k, rel=1e-9)

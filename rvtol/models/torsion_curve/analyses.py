@@ -154,8 +154,12 @@ class TorsionCurveAnalysis(Analysis):
                    "quarter, each equilibrium warm-started from the previous one (doc 000's 20-DOF model, "
                    "quasi-static). Figures by the maker's definitions (REFERENCE): rigidity b/a between the "
                    f"rated-torque end points, lost motion between the mid-points at ±{m.percent:g} % rated, "
-                   "backlash = width at zero torque. The model has no friction, so the branches coincide away "
-                   "from zero (hysteresis width ~0) and the curve jumps across the clearances at zero torque.")
+                   "backlash = width at zero torque. "
+                   + ("Coulomb friction of the design's [friction] coefficients opens the loop (friction width at "
+                      f"±{m.percent:g} %, rvtol/models/transmission/friction.py): lost motion reads the mid-points, "
+                      "backlash the width at zero torque, free play and friction together." if m.friction else
+                      "The model has no friction, so the branches coincide away from zero (hysteresis width ~0) "
+                      "and the curve jumps across the clearances at zero torque."))
         s.add_table(df, "Maker's figures of the simulated curves", "{:.4g}")
         s.add_figure(fig, "Torsion curves (whole cycle)")
         s.add_figure(zoom, "Torsion curves within ±10 % of rated torque")

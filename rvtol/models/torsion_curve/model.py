@@ -87,6 +87,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from scipy import optimize
 
 from ... import units
 from ...errors import InputError
@@ -98,8 +99,9 @@ from ..transmission.model import ST_BAD_CLEARANCE
 from ..transmission.quasistatic import QuasiStaticSolver
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
-#: fixed-point steps and tolerance (fraction of rated torque) of a reading point on a loop with friction
-MAX_READING_STEPS, READING_TOL = 12, 1e-9
+#: fixed-point steps and tolerance (fraction of rated torque) of a reading point on a loop with friction; the elastic
+#: torque at which a reading stuck at the edge of the free play is solved (fraction of rated torque)
+MAX_READING_STEPS, READING_TOL, EDGE = 12, 1e-9, 1e-9
 BRANCHES = ("loading 0 → +T", "descending +T → −T", "ascending −T → 0")
 #: the direction each branch moves in (+1: torque rising, −1: falling)
 DIRECTION = (1.0, -1.0, 1.0)
@@ -244,6 +246,14 @@ class TorsionCurve:
         return plot_torsion_curve(self, ax=ax, percent=percent)
 
 
+class _Failed(Exception):
+    """An equilibrium of a reading point failed (its status)."""
+
+    def __init__(self, status: int):
+        super().__init__(status)
+        self.status = int(status)
+
+
 def _sorted(x, y):
     """``(x, y)`` sorted by ``x`` (for :func:`numpy.interp`)."""
     o = np.argsort(x, kind="stable")
@@ -372,24 +382,65 @@ class TorsionCurveModel(Model):
 
     def _reading(self, solver, r, tf, branch, b: int, tau: float):
         """``(b, tau, angle, T_e, T_f, q)``: the point of branch ``b`` at output torque ``tau`` on the loop with
-        friction, ``T_e + d T_f(T_e) = tau`` solved by fixed point (``T_f`` changes with ``T_e`` by a fraction μ of
-        it: a few steps), each equilibrium warm-started from the frictionless curve's nearest point on the same
-        side of the free play; or a status code."""
+        friction, a root of ``h(T_e) = T_e + d T_f(T_e) = tau`` (``d`` the branch's direction), each
+        equilibrium warm-started from the frictionless curve's nearest point on the same side of the free play;
+        or a status code.
+
+        Coulomb friction leaves the root path-dependent where the flank in contact changes ``T_f`` (a root can
+        exist on both sides of the play): the branch keeps the side it comes from — the unloading branch (b = 1)
+        stays on the positive flank, the reloading one (b = 2) on the negative, as long as a root exists there —
+        and only then crosses the play to the side it moves to; the first loading (b = 0) starts inside the play
+        and can only reach the side it moves to.  A fixed point first (``T_f`` changes with ``T_e`` by a fraction
+        μ of it: a few steps), its root taken where it lies on the side the branch may be on; otherwise Brent's
+        method on each side in that order; where no side has a root, the reducer has crossed the play and sticks
+        at its far edge in the branch's direction, its friction holding what the contacts do not carry."""
         d = DIRECTION[b]
+        T = self.torque
+        cache: dict[float, tuple] = {}
+
+        def point(te):
+            if te not in cache:
+                side = np.flatnonzero(np.sign(r.torque) == np.sign(te)) if te != 0 else np.arange(r.torque.size)
+                k = int(side[np.argmin(np.abs(r.torque[side] - te))])
+                s = solver.sweep([r.theta_c[k]], [te], 0.0, r.q[k])
+                if not s.ok:
+                    raise _Failed(s.failure)
+                f = float(solver.friction_torques(s)[0][0])
+                if not math.isfinite(f):
+                    raise _Failed(STATUS_NONFINITE)
+                cache[te] = (te + d * f, float(s.te[0]), f, s.q[0].copy())
+            return cache[te]
+
+        def found(te):
+            _, angle, f, q = point(te)
+            return b, tau, angle, te, f, q
+
+        sides = (-d, d) if b > 0 else (d,)
         on = np.flatnonzero(branch == b)
-        te = tau - d * float(np.interp(tau, *_sorted(r.torque[on] + d * tf[on], tf[on])))
-        for _ in range(MAX_READING_STEPS):
-            side = np.flatnonzero(np.sign(r.torque) == np.sign(te)) if te != 0 else np.arange(r.torque.size)
-            k = int(side[np.argmin(np.abs(r.torque[side] - te))])
-            s = solver.sweep([r.theta_c[k]], [te], 0.0, r.q[k])
-            if not s.ok:
-                return s.failure
-            f = float(solver.friction_torques(s)[0][0])
-            new = tau - d * f
-            if abs(new - te) <= READING_TOL * self.torque:
-                return b, tau, float(s.te[0]), te, f, s.q[0].copy()
-            te = new
-        return STATUS_NONFINITE
+        try:
+            fixed = None
+            te = tau - d * float(np.interp(tau, *_sorted(r.torque[on] + d * tf[on], tf[on])))
+            for _ in range(MAX_READING_STEPS):
+                new = tau - d * point(te)[2]
+                if abs(new - te) <= READING_TOL * T:
+                    fixed = te
+                    break
+                if new * te < 0.0:
+                    break
+                te = new
+            reach = abs(tau) + 4.0 * float(np.max(np.abs(tf))) + 1e-3 * T
+            for side in sides:
+                if fixed is not None and np.sign(fixed) == side:
+                    return found(fixed)
+                lo, hi = sorted((side * EDGE * T, side * reach))
+                glo, ghi = point(lo)[0] - tau, point(hi)[0] - tau
+                if glo * ghi <= 0.0:
+                    te = optimize.brentq(lambda t: point(t)[0] - tau, lo, hi, xtol=READING_TOL * T, rtol=1e-15,
+                                         maxiter=200)
+                    return found(te)
+            return found(d * EDGE * T)
+        except _Failed as exc:
+            return exc.status
 
     def evaluate_with_status(self, X):
         X = self.check_input(X)
