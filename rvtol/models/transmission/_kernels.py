@@ -1099,8 +1099,26 @@ def _grown(a, cap):
 
 
 @njit(**_JIT)
+def _meas(theta, meas):
+    """``Σ_k a_k cos(n_k θ) + b_k sin(n_k θ)`` of the rows ``meas[k] = (n, a, b)``."""
+    v = 0.0
+    for k in range(meas.shape[0]):
+        v += meas[k, 1] * math.cos(meas[k, 0] * theta) + meas[k, 2] * math.sin(meas[k, 0] * theta)
+    return v
+
+
+@njit(**_JIT)
 def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap,
                ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels):
+    """:func:`qs_extreme_curve` of Δθ_ca itself (no measurement terms)."""
+    return qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx,
+                            k0, pw, gap, ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels,
+                            np.zeros((0, 3)))
+
+
+@njit(**_JIT)
+def qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw,
+                     gap, ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels, meas):
     """The smallest value of ``sign·Δθ_ca`` over one output revolution, refined from a rotation sweep
     (``theta_c`` increasing over [0, 2π), its equilibria ``q_sweep``; ``sign`` −1: the largest TE).
 
@@ -1110,10 +1128,12 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
     can hold a value more than ``tol_te`` below the best.  The points form a ring (``nxt``/``prv``); a level rechecks only the
     intervals whose bound can have changed — the halves and the neighbours of a halved interval (the best
     value only falls, so an interval that was not a candidate stays one only through its neighbours' chords).
-    Input deviation ``dth_s`` and carrier torque ``torque`` are those of the sweep.  Returns (status, θ_c of
-    the extreme, Δθ_ca there, equilibria solved, Newton iterations); status ≠ ST_OK: an equilibrium between
-    the sweep's positions failed, or ``max_levels`` halvings left an interval whose bound is still below the
-    best (ST_UNRESOLVED).
+    Input deviation ``dth_s`` and carrier torque ``torque`` are those of the sweep.  ``meas[k] = (n, a, b)``: terms
+    ``a cos(n θ_c) + b sin(n θ_c)`` added to Δθ_ca — the measurement chain of a test rig (:mod:`.rig`): the curve
+    refined is then the TE the rig reads (no rows: Δθ_ca itself, bit for bit).  Returns (status, θ_c of the
+    extreme, the curve's value there, equilibria solved, Newton iterations); status ≠ ST_OK: an equilibrium
+    between the sweep's positions failed, or ``max_levels`` halvings left an interval whose bound is still below
+    the best (ST_UNRESOLVED).
     """
     n, nd = q_sweep.shape
     nc = kind.size
@@ -1135,7 +1155,9 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
     nxt = np.empty(cap, np.int64)
     prv = np.empty(cap, np.int64)
     th[:n] = theta_c
-    g[:n] = sign * q_sweep[:, THCA]
+    nm = meas.shape[0]
+    for k in range(n):
+        g[k] = sign * (q_sweep[k, THCA] + _meas(theta_c[k], meas) if nm > 0 else q_sweep[k, THCA])
     q[:n] = q_sweep
     for k in range(n):
         nxt[k] = k + 1 if k + 1 < n else 0
@@ -1157,7 +1179,7 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
                 ns += 1
         if ns == 0:
             k = int(np.argmin(g[:size]))
-            return ST_OK, th[k], q[k, THCA], nev, nit
+            return ST_OK, th[k], sign * g[k], nev, nit
         if size + ns > cap:
             cap = 2 * (size + ns)
             th, g, q, nxt, prv = _grown(th, cap), _grown(g, cap), _grown(q, cap), _grown(nxt, cap), _grown(prv, cap)
@@ -1194,9 +1216,9 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
             nev += 1
             nit += it
             if st != ST_OK:
-                return st, x, q[j, THCA], nev, nit
+                return st, x, q[j, THCA] + (_meas(x, meas) if nm > 0 else 0.0), nev, nit
             th[j] = x
-            g[j] = sign * q[j, THCA]
+            g[j] = sign * (q[j, THCA] + _meas(x, meas) if nm > 0 else q[j, THCA])
             if g[j] < best:
                 best = g[j]
             nxt[j], prv[j] = kn, k
@@ -1215,7 +1237,7 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
                     check[nchk] = t
                     nchk += 1
     k = int(np.argmin(g[:size]))
-    return ST_UNRESOLVED, th[k], q[k, THCA], nev, nit
+    return ST_UNRESOLVED, th[k], sign * g[k], nev, nit
 
 
 # --------------------------------------------------------------------------- Newmark-β

@@ -157,6 +157,13 @@ class TECurve(Analysis):
         sec.summary = {"configuration": how, "values": dict(zip(names, map(float, x))),
                        "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
                        "top_orders": frame_records(top), "order_attribution": frame_records(attributed)}
+        if first.te_rig is not None:          # the TE its test rig reads (rvtol/models/transmission/rig.py)
+            on_rig = self.model.order_table(first, top=12, min_fraction=0.01, rig=True)
+            sec.add_table(on_rig, caption=f"The TE the test rig ({self.model.rig.name}) reads, Δθ_er "
+                                          f"{first.te_pp_rig:.4g}″: its largest orders, the measurement chain's "
+                                          "(order 1: output encoder; order i: input encoder) named first",
+                          float_format="{:.4g}")
+            sec.summary.update(te_pp_rig_arcsec=first.te_pp_rig, order_attribution_rig=frame_records(on_rig))
         return sec
 
 
