@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
-from rvtol.reproduction.doc002_adjustment import CRANK_ANGLES, te_inputs, te_values
+from rvtol_reproduction.doc002_adjustment import CRANK_ANGLES, te_inputs, te_values
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
@@ -117,7 +117,7 @@ def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
     """Small offsets: TE is kinematic, proportional to L; at Q = ∞ the mapped reducer is error-free."""
     from rvtol.design import load_design
     from rvtol.models.transmission.model import TransmissionErrorModel
-    from rvtol.reproduction.doc002_adjustment import te_against_q
+    from rvtol_reproduction.doc002_adjustment import te_against_q
 
     te = TransmissionErrorModel(load_design(root / "data/designs/rv80e_te.toml"), inputs=te_inputs())
     m = AdjustedAssemblyModel(load_assembly(root / "data/assemblies/bx40e_2d.toml"))

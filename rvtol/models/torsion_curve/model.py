@@ -105,6 +105,8 @@ MAX_READING_STEPS, READING_TOL, EDGE = 12, 1e-9, 1e-9
 BRANCHES = ("loading 0 → +T", "descending +T → −T", "ascending −T → 0")
 #: the direction each branch moves in (+1: torque rising, −1: falling)
 DIRECTION = (1.0, -1.0, 1.0)
+#: the six cycloid–crank bearing clearances δ_b (disc j, crank i) of the 20-DOF model
+CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 
 OUTPUTS = (
     Quantity("lost_motion", "rad", "arcmin", "angle between the hysteresis mid-points at ±p % rated torque"),

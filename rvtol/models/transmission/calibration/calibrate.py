@@ -2,7 +2,7 @@
 
 ::
 
-    from rvtol.calibration import calibrate, load_measurement
+    from rvtol.models.transmission.calibration import calibrate, load_measurement
     from rvtol.design import load_design
 
     design = load_design("data/designs/rv80e_te.toml")
@@ -26,16 +26,16 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .. import units
-from ..design import Design, DesignParam
-from ..errors import InputError, SolverError
-from ..mc import Evaluator
-from ..model import Model, Quantity
-from ..records import frame_records
+from .... import units
+from ....design import Design, DesignParam
+from ....errors import InputError, SolverError
+from ....mc import Evaluator
+from ....model import Model, Quantity
+from ....records import frame_records
 from .curves import CurveModel, defined
 from .design_file import CALIBRATION, calibrated_factors, write_design
 from .fit import FitResult, least_squares_fit
-from .measurements import Measurement
+from .measurements import TORSION, Measurement
 from .parameters import STIFFNESS, Parameter, check_parameters, make_parameter
 
 
@@ -174,11 +174,11 @@ class Calibration:
     def write_design(self, path: str | Path) -> Design:
         """Write :meth:`calibrated_design` to ``path`` (atomically; read back and checked)."""
         src = os.path.normpath(self.design.file) if self.design.file else "<design>"
-        comments = [f"Calibrated design written by rvtol.calibration on {self.date}.",
+        comments = [f"Calibrated design written by rvtol.models.transmission.calibration on {self.date}.",
                     f"From {src} (sha256 {self.design.sha256 or 'unknown'})",
                     *[f"against {os.path.normpath(m.file)} (sha256 {m.sha256})" for m in self.measurements],
                     f"Fitted: {', '.join(self.fit.names)}. Changed entries carry source = \"calibrated: ...\".",
-                    "Fitted clearances/factors are under [calibration.*]: rvtol.calibration.calibrated_factors(design)."]
+                    "Fitted clearances/factors are under [calibration.*]: rvtol.models.transmission.calibration.calibrated_factors(design)."]
         return write_design(self.calibrated_design(), path, comments=comments,
                             source=f"rvtol calibration of {src} against "
                                    f"{', '.join(Path(m.file).name for m in self.measurements)}")
@@ -246,6 +246,82 @@ def calibrate(design: Design, measurements, parameters, *, fixed_factors: dict |
                             confidence=confidence, max_correlation=max_correlation,
                             max_condition_index=max_condition_index, kinds=tuple(sorted({m.kind for m in measurements})))
     return Calibration(design, measurements, model, fit, date or _dt.date.today().isoformat(), evaluator)
+
+
+@dataclass
+class CalibrationRun:
+    """A study's calibration: the fit (None when it failed, ``failed`` saying why), the curves beside the
+    calibrated model, and the calibrated design written to ``output`` — or why not (``not_written``:
+    ``"not converged"``, ``"not separable"``)."""
+
+    calibration: Calibration | None
+    failed: str | None = None
+    output: Path | None = None
+    written: str | None = None
+    not_written: str | None = None
+
+    @property
+    def fit(self) -> FitResult:
+        return self.calibration.fit
+
+    def comparisons(self) -> list[CurveComparison]:
+        return self.calibration.comparisons()
+
+    def to_frame(self):
+        """The fitted parameters (display units)."""
+        return self.fit.to_frame()
+
+    def statistics(self):
+        """One row: points, parameters, degrees of freedom, residual SD, reduced χ², condition, evaluations."""
+        import pandas as pd
+
+        f = self.fit
+        return pd.DataFrame([{"points fitted n": f.n, "parameters p": len(f.parameters), "dof ν": f.dof,
+                              "s (weighted residual SD)": np.sqrt(f.s2),
+                              "reduced χ²": f.s2 if f.weighted else np.nan, f"t({f.dof})": f.t,
+                              "condition number (unit columns)": f.identifiability.condition,
+                              "optimiser steps": f.nfev, "model evaluations": f.evaluations,
+                              "rejected trial points": len(f.rejected)}])
+
+    def plot(self, which: str = "correlation", i: int = 0):
+        """``correlation`` of the estimates, or ``curve`` ``i``: the measured curve beside the calibrated model
+        with its residuals."""
+        from ....plotting.calibration import plot_correlation, plot_overlay
+
+        if which == "correlation":
+            return plot_correlation(self.fit.correlation_frame())
+        c = self.comparisons()[i]
+        m = c.measurement
+        return plot_overlay(c.x, c.measured, c.model, c.used, xlabel=m.x_label, ylabel=m.y_label,
+                            title=Path(m.file).name, split_at_zero=m.kind == TORSION, unit=m.y_unit)
+
+    def summary(self) -> dict:
+        if self.calibration is None:
+            return {"failed": self.failed}
+        return {**self.calibration.summary(), "design_written": self.written}
+
+
+def calibrate_study(design: Design, measurements, parameters, *, output: str | Path | None = None,
+                    allow_unidentifiable: bool = False, **kw) -> CalibrationRun:
+    """:func:`calibrate` as a study runs it: a fit the solver cannot finish is a result that says so; the
+    curves beside the calibrated model are computed; the calibrated design is written to ``output`` only
+    after a converged fit, and (unless ``allow_unidentifiable``) only when every parameter is separable."""
+    try:
+        cal = calibrate(design, measurements, parameters, **kw)
+    except SolverError as exc:
+        return CalibrationRun(None, str(exc), output)
+    cal.comparisons()
+    run = CalibrationRun(cal, None, output)
+    if output is None:
+        return run
+    if not cal.fit.success:
+        run.not_written = "not converged"
+    elif not cal.fit.identifiability.ok and not allow_unidentifiable:
+        run.not_written = "not separable"
+    else:
+        cal.write_design(output)
+        run.written = str(output)
+    return run
 
 
 def reproduce(design: Design, measurements, *, offsets: dict | None = None) -> list[np.ndarray]:

@@ -1,7 +1,7 @@
-"""Measured curves from CSV files: a hysteresis (torsion) curve or a transmission-error curve.
+"""Measured curves from table files: a hysteresis (torsion) curve or a transmission-error curve.
 
-File format (UTF-8 text, comma-separated; lines starting with ``#`` are comments; the first other
-line is the header)::
+File format (CSV, TSV or an XLSX sheet, read by :func:`rvtol.inputs.sheets.read_table`; rows starting
+with ``#`` are comments; the first other row is the header)::
 
     # SYNTHETIC hysteresis curve of the RV-80E ...
     torque [N*m], angle [arcsec], sigma [arcsec]
@@ -9,8 +9,8 @@ line is the header)::
     19.6, 6.02, 0.5
     ...
 
-Columns are recognised by name (case-insensitive; the unit in brackets, or from ``units`` when the
-header has none):
+Columns are recognised by name (case-insensitive; the unit in brackets after a space, or from
+``units`` when the header has none):
 
 =====================  ========================================================================
 torsion curve          ``torque`` (output torque, positive turns the output forward) and ``angle``
@@ -24,22 +24,19 @@ either                 ``sigma``: standard uncertainty of each measured angle / 
 
 Other columns (time, temperature...) are read past and listed in :attr:`Measurement.ignored`.
 Which curve a file holds follows from its columns.  Every problem is one :class:`InputError`
-naming the file and the line/column (``FILE: line 12, column 'angle [arcsec]': not a number``).
+naming the file and the row/column (``FILE: row 12, column 'angle [arcsec]': not a number``).
 Values are returned in base units (N·mm, rad).
 """
 from __future__ import annotations
 
-import csv
-import io
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .. import units
-from ..params import read_text
-from ..errors import InputError
+from .... import units
+from ....errors import InputError
+from ....inputs.sheets import Table, read_table
 
 TORSION = "torsion"
 TE = "transmission_error"
@@ -48,7 +45,6 @@ KINDS = (TORSION, TE)
 #: recognised column names -> dimension
 COLUMNS = {"torque": "torque", "angle": "angle", "output_angle": "angle", "input_angle": "angle",
            "te": "angle", "sigma": "angle"}
-_HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[\s*([^\[\]]*?)\s*\])?\s*$")
 
 
 @dataclass(frozen=True)
@@ -67,7 +63,7 @@ class Measurement:
     y_label: str
     x_unit: str                        # display units (the file's)
     y_unit: str
-    lines: np.ndarray                  # line number of each point in the file (1-based)
+    lines: np.ndarray                  # row number of each point in the file (1-based)
     ignored: tuple[str, ...] = ()
     include: np.ndarray | None = None  # points the fit uses (default all)
     load_torque: float | None = None   # TE only: resisting output torque (N·mm)
@@ -91,35 +87,27 @@ class Measurement:
         return units.from_base(self.y, self.y_unit)
 
 
-def _error(file, line, column, reason) -> InputError:
-    where = f"line {line}" + (f", column {column!r}" if column is not None else "")
-    return InputError(reason, file=file, key=where)
-
-
-def _header(cells: list[str], file: str, line: int, given_units: dict[str, str]) -> dict[str, tuple[int, str, str]]:
+def _header(t: Table, given_units: dict[str, str]) -> dict[str, tuple[int, str, str]]:
     """``{name: (index, unit, header cell)}`` of the recognised columns."""
     out: dict[str, tuple[int, str, str]] = {}
-    for i, cell in enumerate(cells):
-        m = _HEADER.match(cell)
-        if not m or not m.group(1):
-            raise _error(file, line, cell, "cannot read this header cell (expected 'name' or 'name [unit]')")
-        name = m.group(1).strip().lower().replace(" ", "_")
+    for i, cell in enumerate(t.cells):
+        name = t.names[i].strip().lower().replace(" ", "_")
         if name not in COLUMNS:
             continue
         if name in out:
-            raise _error(file, line, cell, f"column {name!r} appears twice")
-        unit = m.group(2)
+            raise t.error(f"column {name!r} appears twice", col=i)
+        unit = t.unit(i)
         key = given_units.get(name)
-        if unit and key and units.canonical(unit) != units.canonical(key):
-            raise _error(file, line, cell, f"the header says [{unit}], the 'units' key says {key!r}")
+        if unit and key and unit != units.canonical(key):
+            raise t.error(f"the header says [{t.units[i]}], the 'units' key says {key!r}", col=i)
         unit = unit or key
         if unit:
             try:
                 unit = units.canonical(unit)
                 units.require_dimension(unit, COLUMNS[name])
             except InputError as exc:
-                raise _error(file, line, cell, exc.reason) from None
-        out[name] = (i, unit or "", cell.strip())
+                raise t.error(exc.reason, col=i) from None
+        out[name] = (i, unit or "", cell)
     return out
 
 
@@ -136,70 +124,55 @@ def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = 
     the resisting output torque of the measurement; ``ratio``: the reducer ratio, needed for an
     ``input_angle`` column.
     """
-    file = str(path)
-    text, sha = read_text(path, "a CSV file")
+    t = read_table(path, what="e.g. 'torque [N*m], angle [arcsec]'")
+    file = t.file
     given = {k.lower(): v for k, v in (column_units or {}).items()}
     for k in given:
         if k not in COLUMNS:
             raise InputError(f"unknown column {k!r} in 'units' (known: {', '.join(COLUMNS)})", file=file, key="units")
-    rows = []
-    header = None
-    for lineno, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        cells = next(csv.reader(io.StringIO(line), skipinitialspace=True))
-        if header is None:
-            header = (lineno, cells, _header(cells, file, lineno, given))
-            continue
-        rows.append((lineno, cells))
-    if header is None:
-        raise InputError("no header line (e.g. 'torque [N*m], angle [arcsec]')", file=file, key="line 1")
-    hline, hcells, cols = header
+    cols = _header(t, given)
     if "torque" in cols and "te" in cols:
-        raise _error(file, hline, None, "both 'torque' and 'te' columns: give a torsion curve or a TE curve")
+        raise t.error("both 'torque' and 'te' columns: give a torsion curve or a TE curve")
     if "torque" in cols or "angle" in cols:
         kind, need = TORSION, ("torque", "angle")
     elif "te" in cols or "output_angle" in cols or "input_angle" in cols:
         kind = TE
         if "output_angle" in cols and "input_angle" in cols:
-            raise _error(file, hline, None, "give 'output_angle' or 'input_angle', not both")
+            raise t.error("give 'output_angle' or 'input_angle', not both")
         need = ("input_angle" if "input_angle" in cols else "output_angle", "te")
     else:
-        raise _error(file, hline, None, "no recognised columns: a torsion curve needs 'torque' and 'angle', "
-                                         "a TE curve 'output_angle' (or 'input_angle') and 'te'")
+        raise t.error("no recognised columns: a torsion curve needs 'torque' and 'angle', a TE curve 'output_angle' "
+                      "(or 'input_angle') and 'te'")
     for c in need:
         if c not in cols:
-            raise _error(file, hline, None, f"missing column {c!r}")
-    for c in need + (("sigma",) if "sigma" in cols else ()):
-        if not cols[c][1] and c != "sigma":
-            raise _error(file, hline, cols[c][2], f"no unit: write '{c} [unit]' or give units = {{{c} = ...}}")
+            raise t.error(f"missing column {c!r}")
+    for c in need:
+        if not cols[c][1]:
+            raise t.error(f"no unit: write '{c} [unit]' or give units = {{{c} = ...}}", col=cols[c][0])
     if "sigma" in cols and sigma is not None:
-        raise _error(file, hline, cols["sigma"][2], "a sigma column and a sigma key: give one")
+        raise t.error("a sigma column and a sigma key: give one", col=cols["sigma"][0])
     xname, yname = need
     sig_unit = cols["sigma"][1] or cols[yname][1] if "sigma" in cols else None
-    ncols = len(hcells)
+    ncols = len(t.cells)
+    rows = t.rows
     data = np.empty((len(rows), 3))
     lines = np.empty(len(rows), int)
-    for r, (lineno, cells) in enumerate(rows):
+    for r, (row, cells) in enumerate(rows):
         if len(cells) != ncols:
-            raise _error(file, lineno, None, f"{len(cells)} fields, the header has {ncols}")
+            raise t.error(f"{len(cells)} fields, the header has {ncols}", row)
         for j, c in enumerate((xname, yname, "sigma")):
             if c not in cols:
                 data[r, j] = np.nan
                 continue
-            i, unit, label = cols[c]
-            try:
-                v = float(cells[i])
-            except ValueError:
-                raise _error(file, lineno, label, f"not a number: {cells[i]!r}") from None
-            if not np.isfinite(v):
-                raise _error(file, lineno, label, f"must be a finite number, got {cells[i]!r}")
+            i, unit, _ = cols[c]
+            v = t.number(row, cells, i)
             if c == "sigma" and not v > 0:
-                raise _error(file, lineno, label, f"an uncertainty must be > 0, got {cells[i]!r}")
+                raise t.error(f"an uncertainty must be > 0, got {cells[i]!r}", row, i)
             data[r, j] = units.to_base(v, unit if c != "sigma" else sig_unit)
-        lines[r] = lineno
+        lines[r] = row
+    hline = t.header_row
     if len(rows) < min_points:
-        raise InputError(f"{len(rows)} data rows; need at least {min_points}", file=file, key=f"line {hline}")
+        raise InputError(f"{len(rows)} data rows; need at least {min_points}", file=file, key=t.location.key(hline))
     x, y = data[:, 0], data[:, 1]
     if sigma is not None:
         if not (np.isfinite(sigma) and sigma > 0):
@@ -211,7 +184,7 @@ def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = 
     ratio_divided = False
     if xname == "input_angle":
         if ratio is None or not ratio > 0:
-            raise _error(file, hline, cols[xname][2], "an input angle needs the reducer ratio")
+            raise t.error("an input angle needs the reducer ratio", col=cols[xname][0])
         x = x / ratio
         ratio_divided = True
         notes.append(f"input angle divided by the ratio {ratio:g} (nominal output angle)")
@@ -221,7 +194,7 @@ def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = 
                              key="exclude_below")
         top = float(np.max(np.abs(x)))
         if not top > 0:
-            raise _error(file, hline, cols["torque"][2], "every torque is zero")
+            raise t.error("every torque is zero", col=cols["torque"][0])
         include = (np.abs(x) >= exclude_below / 100.0 * top) & (x != 0.0)
         if (~include).any():
             notes.append(f"{int((~include).sum())} point(s) with |torque| < {exclude_below:g} % of the largest "
@@ -236,7 +209,7 @@ def load_measurement(path: str | Path, *, column_units: dict[str, str] | None = 
         include = np.ones(x.size, bool)
         if load_torque is not None and not load_torque > 0:
             raise InputError(f"load torque must be > 0, got {load_torque}", file=file, key="load_torque")
-    ignored = tuple(c.strip() for i, c in enumerate(hcells) if i not in {v[0] for v in cols.values()})
-    return Measurement(kind, name or Path(file).stem, file, sha, x, y, s, cols[xname][2], cols[yname][2],
+    ignored = tuple(c for i, c in enumerate(t.cells) if i not in {v[0] for v in cols.values()})
+    return Measurement(kind, name or Path(file).stem, file, t.sha256, x, y, s, cols[xname][2], cols[yname][2],
                        cols[xname][1], cols[yname][1], lines, ignored, include,
                        load_torque if kind == TE else None, ratio_divided, tuple(notes))

@@ -41,14 +41,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .. import units
-from ..design import Design
-from ..errors import InputError
-from ..elements.reducer_chain import BASE_FAMILIES, scale_key
-from ..elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
-from ..models.transmission.factors import ErrorFactors
-from ..models.transmission.friction import KEYS as FRICTION_KEYS
-from ..models.transmission.friction import LABELS as FRICTION_LABELS
+from .... import units
+from ....design import Design
+from ....errors import InputError
+from ....elements.reducer_chain import BASE_FAMILIES, scale_key
+from ....elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
+from ..factors import ErrorFactors
+from ..friction import KEYS as FRICTION_KEYS
+from ..friction import LABELS as FRICTION_LABELS
 
 STIFFNESS = "stiffness"     # the design key is a stiffness or k0: key / c
 COMPLIANCE = "compliance"   # the design key is a compliance or a compliance multiplier: key · c
@@ -89,7 +89,7 @@ FAMILIES: dict[str, Family] = {name: Family(scale_key(name), COMPLIANCE, label,
 
 def families_in(design: Design) -> tuple[str, ...]:
     """The families the design's 20-DOF model has: doc 000's contact laws and the chain's elements it gives."""
-    from ..models.transmission.geometry import geometry_from_design
+    from ..geometry import geometry_from_design
 
     chain = geometry_from_design(design).chain
     present = set(BASE_FAMILIES) | set(chain.families if chain is not None else ())

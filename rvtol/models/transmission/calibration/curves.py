@@ -39,17 +39,17 @@ from types import MappingProxyType
 
 import numpy as np
 
-from ..design import Design
-from ..errors import InputError
-from ..model import STATUS_NONFINITE, Model, Quantity
-from ..models.transmission import layout as L
-from ..models.transmission.factors import ErrorFactors
-from ..models.transmission.friction import friction_from_design
-from ..models.transmission.geometry import geometry_from_design
-from ..models.transmission.model import ST_BAD_CLEARANCE
-from ..models.transmission.quasistatic import QuasiStaticSolver
+from ....design import Design
+from ....errors import InputError
+from ....model import STATUS_NONFINITE, Model, Quantity
+from .. import layout as L
+from ..factors import ErrorFactors
+from ..friction import friction_from_design
+from ..geometry import geometry_from_design
+from ..model import ST_BAD_CLEARANCE
+from ..quasistatic import QuasiStaticSolver
 from .measurements import TORSION, Measurement
-from ..elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
+from ....elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
 from .parameters import factor_values, scaled_design_values
 
 LOAD_FRACTION = 0.03     # default resisting torque of a TE measurement (× rated): as TransmissionErrorModel
@@ -59,7 +59,7 @@ class CurveModel(Model):
     """Predicted measured curves of one reducer per row of physical calibration parameters.
 
     ``fixed_factors``: error factors held at known values (base units; e.g. measured part errors,
-    or a calibrated design's clearances, :func:`rvtol.calibration.calibrated_factors`).
+    or a calibrated design's clearances, :func:`rvtol.models.transmission.calibration.calibrated_factors`).
     """
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,

@@ -45,9 +45,9 @@ import numpy as np
 import pandas as pd
 from scipy import optimize, stats
 
-from ..errors import InputError, SolverError
-from ..mc import Evaluator
-from ..model import Model
+from ....errors import InputError, SolverError
+from ....mc import Evaluator
+from ....model import Model
 from .parameters import Parameter, separation_advice
 
 STEP = 1e-3          # finite-difference step, fraction of a parameter's typical size
@@ -134,6 +134,15 @@ class FitResult:
 
     def correlation_frame(self) -> pd.DataFrame:
         return pd.DataFrame(self.corr, index=self.names, columns=self.names)
+
+    @property
+    def largest_correlation(self) -> float:
+        """The largest |ρ| between two estimates (0 with one parameter)."""
+        c = self.corr
+        if c.shape[0] < 2:
+            return 0.0
+        off = np.abs(c[~np.eye(c.shape[0], dtype=bool)])
+        return float(np.nanmax(off)) if np.isfinite(off).any() else float("nan")
 
 
 def _differences(evaluator: Evaluator, model: Model, x: np.ndarray, f0: np.ndarray, lower, upper, typical):

@@ -2,7 +2,7 @@
 
 A sign-off judges the maker's figures on the hysteresis curve (lost motion at
 ±p % of rated torque, backlash at zero torque, rigidity b/a; ``../shared/
-REFERENCE.md``), i.e. :class:`.model.TorsionCurveModel`.  Doc 001's formula
+REFERENCE.md``), i.e. :class:`rvtol.models.torsion_curve.model.TorsionCurveModel`.  Doc 001's formula
 (:mod:`rvtol.models.lost_motion.model`) is a fast screening estimate of the
 geometric part.  To set the two side by side on the *same* reducers, one
 sample's factors must drive both models; this module translates them.
@@ -47,7 +47,7 @@ clearance) so that each step is clearance-dominated; the consistent mode's
 coefficients are held to them (``tests/test_lost_motion_modes.py``).
 
 A model that is neither a :class:`LostMotionModel` nor a
-:class:`.model.TorsionCurveModel` can still be screened: it implements
+:class:`rvtol.models.torsion_curve.model.TorsionCurveModel` can still be screened: it implements
 ``screening_inputs(X) -> {"lost_motion": (names, X_lm), "torsion_curve":
 (names, X_tc)}`` (base units, one row per row of ``X``).
 """
@@ -59,10 +59,8 @@ import numpy as np
 
 from ...errors import InputError
 from ..lost_motion.model import FACTORS, LostMotionGeometry, LostMotionModel
+from ..torsion_curve.model import CAMS, TorsionCurveModel
 from ..transmission.factors import TABLE3_DELTA_B
-from .model import TorsionCurveModel
-
-CAMS = tuple(f"delta_b[{j},{i}]" for j in (1, 2) for i in (1, 2, 3))
 INVOLUTE = ("E_w", "Delta_a", "Delta_F_r")
 #: reference state and step of the finite differences (mm): clearance-dominated, first order
 RATE_REFERENCE = 0.002

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import units
-from ..design import Design
-from ..sampling import substream
+from .... import units
+from ....design import Design
+from ....sampling import substream
 from .curves import LOAD_FRACTION, CurveModel
 from .measurements import TE, TORSION, Measurement
 from .parameters import make_parameter

@@ -1,39 +1,26 @@
 """Doc 004 (torsional stiffness from elastic torsion angles): its parameter studies and printed figures.
 
-::
-
-    [[analysis]]
-    kind = "stiffness_reproduction"
-    printed = "../data/reproduction/doc004_stiffness.toml"
-    torque = { value = 784, unit = "N*m" }        # default: the model's torque (rated)
-    pin_circle_radii = [65, 71.25, 77.5, 83.75, 90]   # mm (default: Table 2's, from the printed file)
-    eccentricities = [1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8]   # mm (Table 4)
-    widths = [10, 11, 12, 13, 14, 15]             # mm (Table 4)
-    sweep_points = 5                              # points of the modification / error sweeps
-    error_range = 10                              # µm: errors swept over ±error_range
-    torque_fractions = [0.25, 0.5, 0.75, 1.0]     # of the torque, for contact pairs vs load
-
-Sections: the torsion-angle breakdown (Table 5) and the cycloid–pin load
-distribution (:class:`rvtol.models.stiffness.analyses.StiffnessBreakdown`),
-geometry (Tables 2 and 4), modifications (Table 3 and the Δr_p / ΔR_p
-sweeps), pin errors (δR_p / δr_p sweeps and the 128.7 N / 82.5 N figures),
-and the reproduction table (each printed number against rvtol's, by the rule
-of :mod:`.printed`).  The parameter-study functions return DataFrames with the
-display units in the column names.
+:func:`stiffness_document` returns a :class:`StiffnessDocument`: the torsion-angle breakdown (Table 5)
+and the cycloid–pin load distribution (:func:`rvtol.models.stiffness.breakdown.stiffness_breakdown`)
+with the document's values beside them, geometry (Tables 2 and 4), modifications (Table 3 and the Δr_p,
+ΔR_p sweeps), pin errors (δR_p / δr_p sweeps and the 128.7 N / 82.5 N figures), and the reproduction
+table (each printed number against rvtol's, by the rule of :mod:`.printed`).  The parameter-study
+functions return DataFrames with the display units in the column names.
 """
 from __future__ import annotations
 
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
-from .. import units
-from ..models.stiffness.analyses import StiffnessBreakdown
-from ..report.sections import Section, frame_records
-from ..models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
-from ..models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
-from .printed import RULE, PrintedFigures, load_printed, ordering_verdict
+from rvtol import units
+from rvtol.models.stiffness.breakdown import StiffnessAtTorque, stiffness_breakdown
+from rvtol.models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
+from rvtol.models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
+from rvtol.records import frame_records
+
+from .printed import PrintedFigures, ordering_verdict
 
 _PIN_PARAM = {"R_p": "R_p", "a": "a", "b": "b"}
 _PIN_UNIT = {"R_p": "mm", "a": "mm", "b": "mm"}
@@ -267,154 +254,173 @@ def reproduction_table(r: dict, P: PrintedFigures) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-# --------------------------------------------------------------------------- the study analysis
-class StiffnessReproduction(StiffnessBreakdown):
-    """``stiffness_reproduction``: doc 004's studies and its printed figures against rvtol."""
+# --------------------------------------------------------------------------- the document's studies
+#: the printed figures the comparison needs
+FIGURES = (["table2_R_p", "table3_combination", "table3_dr_p", "table3_dR_p", "table3_j_C1", "table3_force",
+            "table3_contact_pairs", "error_force_pin_circle", "error_force_pin_radius"]
+           + [f"table5_{c}" for c in list(COMPONENTS) + ["total"]])
+SHORT = ["1: +Δr", "2: −ΔR", "3: +Δr +ΔR", "4: +Δr −ΔR", "5: −Δr −ΔR"]
 
-    def read(self, params, study) -> None:
-        self.printed = P = load_printed(params.path_value("printed", Path(study.file).parent))
-        P.require(["table2_R_p", "table3_combination", "table3_dr_p", "table3_dR_p", "table3_j_C1", "table3_force",
-                   "table3_contact_pairs", "error_force_pin_circle", "error_force_pin_radius"]
-                  + [f"table5_{c}" for c in list(COMPONENTS) + ["total"]])
-        mm = dict(positive=True, min_length=2)
-        self.radii = params.floats("pin_circle_radii", P["table2_R_p"].value, **mm)
-        self.eccentricities = params.floats("eccentricities", [1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8], **mm)
-        self.widths = params.floats("widths", [10.0, 11.0, 12.0, 13.0, 14.0, 15.0], **mm)
-        self.points = params.int("sweep_points", 5, min=3, max=101)
-        self.error_range = params.quantity("error_range", "um", 0.010, positive=True)
-        for name, vals in (("pin_circle_radii", self.radii), ("eccentricities", self.eccentricities)):
-            for v in vals:
-                K1 = (v if name == "eccentricities" else self.rs.pins.a) * self.rs.pins.z_p / (
-                    v if name == "pin_circle_radii" else self.rs.pins.R_p)
-                if K1 >= 1.0:
-                    raise params.error(name, f"value {v:g} mm gives K1 = a z_p / R_p = {K1:.3f} >= 1")
 
-    def annotate_breakdown(self, df: pd.DataFrame) -> None:
-        df["doc 004 (arcsec)"] = [self.printed[f"table5_{c}"].value for c in list(COMPONENTS) + ["total"]]
+@dataclass
+class GeometrySweeps:
+    """Against R_p, a and b (Tables 2 and 4): force, contact pairs, K_B and θ per value (``frames``)."""
 
-    def run(self, ctx) -> list[Section]:
-        T = self.torque
-        head = self.header()
-        results = {}
-        sections = [self.breakdown(T, head, results), self.contact(T, results), self._geometry(T, head, results),
-                    self._modifications(T, head, results), self._errors(T, head, results)]
-        sections.append(self._reproduction(results))
-        return sections
+    frames: dict[str, pd.DataFrame]
 
-    def _geometry(self, T, head, out) -> Section:
-        from ..plotting.stiffness import plot_sweep
+    def plot(self, param: str, what: str = "force"):
+        from rvtol.plotting.stiffness import plot_sweep
 
-        s = Section("stiffness_geometry", "Geometry: pin circle radius, eccentricity, width (Tables 2 and 4)")
-        s.add_text(head + " k_b uses |T'| (see the model notes); K_B is summed over the pins loaded at T.")
-        s.summary = {}
-        for param, vals, what in (("R_p", self.radii, "pin circle radius R_p (Table 2, Table 4)"),
-                                  ("a", self.eccentricities, "eccentricity a (Table 4)"),
-                                  ("b", self.widths, "cycloid width b (Table 4)")):
-            df = geometry_sweep(self.rs, T, self.mods, param, np.asarray(vals) * 1.0)
-            out[f"geometry_{param}"] = df
-            s.add_table(df, f"Against the {what}", "{:.4g}")
-            x = f"{param} (mm)"
-            s.add_figure(plot_sweep(df, x, ["max pin force (N)"], ylabel="force [N]", secondary="contact pairs"),
-                         f"Largest pin force and contact pairs against {param}")
-            s.add_figure(plot_sweep(df, x, ["θ_Σ (arcsec)", "θ2 (arcsec)"], ylabel="torsion angle [arcsec]",
-                                    secondary="K_B (N·m/arcmin)", secondary_label="K_B [N·m/arcmin]"),
-                         f"θ_Σ, θ2 and K_B against {param}")
-            s.summary[param] = frame_records(df)
-        return s
+        df, x = self.frames[param], f"{param} (mm)"
+        if what == "force":
+            return plot_sweep(df, x, ["max pin force (N)"], ylabel="force [N]", secondary="contact pairs")
+        return plot_sweep(df, x, ["θ_Σ (arcsec)", "θ2 (arcsec)"], ylabel="torsion angle [arcsec]",
+                          secondary="K_B (N·m/arcmin)", secondary_label="K_B [N·m/arcmin]")
 
-    def _modifications(self, T, head, out) -> Section:
-        from ..plotting.stiffness import plot_sweep
+    def summary(self) -> dict:
+        return {p: frame_records(df) for p, df in self.frames.items()}
 
-        P = self.printed
-        t3 = {"combination": P["table3_combination"].value}
-        combos = list(zip(t3["combination"], P["table3_dr_p"].value, P["table3_dR_p"].value))
-        df = modification_combinations(self.rs, T, combos)
-        df["doc 004 j_C1 (mm)"] = P["table3_j_C1"].value
-        df["doc 004 force"] = P["table3_force"].value
-        df["doc 004 contact pairs"] = [int(v) for v in P["table3_contact_pairs"].value]
-        pairs = {f"pairs at {f:g}·T": [int(self.rs.evaluate(f * T, dr, dR).extra["contact_pairs"][0])
-                                       for _, dr, dR in combos] for f in self.fractions}
-        pairs_df = pd.DataFrame({"combination": t3["combination"], **pairs})
-        n = self.points
-        sw_e = modification_sweep(self.rs, T, "equidistance", np.linspace(0.0, 0.020, n))
-        sw_m = modification_sweep(self.rs, T, "moved_distance", np.linspace(-0.020, 0.0, n))
-        out.update(table3=df, table3_pairs=pairs_df, sweep_equidistance=sw_e, sweep_moved=sw_m)
-        s = Section("stiffness_modifications", "Profile modifications (Table 3 and the Δr_p, ΔR_p sweeps)")
-        s.add_text(head + " Table 3 keeps the radial clearance Δr_p − ΔR_p = 0.02 mm. rvtol's 'angular backlash' "
-                   "2·n0/r_c' (rad) with n0 = Δr_p − √(1−K1²)·ΔR_p the normal clearance at φ0 = arccos K1 is the "
-                   "quantity that matches the document's j_C1 column (printed as mm); the clearance formula Δ(φ_k) "
-                   "itself is measured from first contact and is nanometres at the first pin. Each sweep holds the "
-                   "other modification at zero.")
-        short = ["1: +Δr", "2: −ΔR", "3: +Δr +ΔR", "4: +Δr −ΔR", "5: −Δr −ΔR"]
-        clear = pd.DataFrame({"combination": short, "Δr_p (µm)": df["Δr_p (mm)"] * 1e3,
-                              "ΔR_p (µm)": df["ΔR_p (mm)"] * 1e3,
-                              "radial Δr_p−ΔR_p (µm)": df["radial clearance Δr_p-ΔR_p (mm)"] * 1e3,
-                              "normal n0 (µm)": df["normal clearance n0 (mm)"] * 1e3,
-                              "2n0/r_c' (rad)": df["backlash angle 2n0/r_c (rad)"],
-                              "doc 004 j_C1 ('mm')": df["doc 004 j_C1 (mm)"],
-                              "min Δ(φ_k) (nm)": df["min pin clearance Δ(φ_k) (mm)"] * 1e6})
-        loads = pd.DataFrame({"combination": short, "max pin force (N)": df["max pin force (N)"],
-                              "doc 004 force": df["doc 004 force"], "contact pairs": df["contact pairs"],
-                              "doc 004 pairs": df["doc 004 contact pairs"], "K_B (N·m/arcmin)": df["K_B (N·m/arcmin)"],
-                              "θ2 (arcsec)": df["θ2 (arcsec)"], "θ_Σ (arcsec)": df["θ_Σ (arcsec)"]})
-        legend = "; ".join(f"{i + 1} {name.lower()}" for i, name in enumerate(t3["combination"]))
-        s.add_table(clear, f"Doc 004 Table 3, clearances ({legend})", "{:.4g}")
-        s.add_table(loads, "Doc 004 Table 3 — largest pin force and contact pairs", "{:.4g}")
-        pairs_df["combination"] = short
-        s.add_table(pairs_df, "Contact pairs of the five combinations at fractions of the torque "
-                    "(doc 004 does not state its torque)")
-        s.add_table(sw_e, "θ against the equidistance modification Δr_p (ΔR_p = 0)", "{:.4g}")
-        s.add_table(sw_m, "θ against the moved-distance modification ΔR_p (Δr_p = 0)", "{:.4g}")
-        for sw, x in ((sw_e, "Δr_p (µm)"), (sw_m, "ΔR_p (µm)")):
-            s.add_figure(plot_sweep(sw, x, ["θ_Σ (arcsec)", f"{LABELS['cycloid_pin']} (arcsec)"],
-                                    ylabel="torsion angle [arcsec]", secondary="contact pairs"),
-                         f"θ_Σ and θ2 against {x}")
-        s.summary = {"table3": frame_records(df), "pairs_vs_torque": frame_records(pairs_df),
-                     "sweep_equidistance": frame_records(sw_e), "sweep_moved_distance": frame_records(sw_m)}
-        return s
 
-    def _errors(self, T, head, out) -> Section:
-        from ..plotting.stiffness import plot_sweep
+@dataclass
+class ModificationStudy:
+    """Table 3's five combinations (``table3``, with the document's columns), their contact pairs at
+    fractions of the torque (``pairs``) and θ against each modification (``sweep_equidistance``,
+    ``sweep_moved``)."""
 
-        vals = np.linspace(-self.error_range, self.error_range, self.points)
-        e_R = error_sweep(self.rs, T, self.mods, "pin_circle", vals)
-        e_r = error_sweep(self.rs, T, self.mods, "pin_radius", vals)
-        out.update(error_pin_circle=e_R, error_pin_radius=e_r)
-        stats = pd.DataFrame({
-            "error": ["δR_p (pin circle radius)", "δr_p (pin radius)"],
-            "mean |ΔF| between sweep points (N)": [mean_abs_step(e_R), mean_abs_step(e_r)],
-            "F(+range) − F(−range) (N)": [sweep_change(e_R, "max pin force (N)"),
-                                          sweep_change(e_r, "max pin force (N)")],
-            "θ_Σ(+range) − θ_Σ(−range) (arcsec)": [sweep_change(e_R), sweep_change(e_r)],
-            "doc 004 average force change (N)": [self.printed["error_force_pin_circle"].value,
-                                                 self.printed["error_force_pin_radius"].value],
-        })
-        out["error_stats"] = stats
-        step = 2 * self.error_range / (self.points - 1) * 1e3
-        s = Section("stiffness_errors", "Pin circle radius and pin radius errors (δR_p, δr_p)")
-        s.add_text(head + f" Errors swept over ±{self.error_range * 1e3:g} µm in {step:g}-µm steps, the other error "
-                   "zero. Doc 004's Δ2 subtracts both errors from the clearance, so positive errors close it "
-                   "(more pins carry load, smaller θ).")
-        s.add_table(stats, "Sensitivity of the largest pin force and of θ_Σ to the pin errors", "{:.4g}")
-        s.add_table(e_R, "Against δR_p", "{:.4g}")
-        s.add_table(e_r, "Against δr_p", "{:.4g}")
-        merged = pd.DataFrame({"error (µm)": vals * 1e3, "δR_p: max pin force (N)": e_R["max pin force (N)"],
-                               "δr_p: max pin force (N)": e_r["max pin force (N)"],
-                               "δR_p: θ_Σ (arcsec)": e_R["θ_Σ (arcsec)"], "δr_p: θ_Σ (arcsec)": e_r["θ_Σ (arcsec)"]})
-        s.add_figure(plot_sweep(merged, "error (µm)", ["δR_p: max pin force (N)", "δr_p: max pin force (N)"],
-                                ylabel="largest pin force [N]"), "Largest pin force against the pin errors")
-        s.add_figure(plot_sweep(merged, "error (µm)", ["δR_p: θ_Σ (arcsec)", "δr_p: θ_Σ (arcsec)"],
-                                ylabel="θ_Σ [arcsec]"), "θ_Σ against the pin errors")
-        s.summary = {"stats": frame_records(stats), "pin_circle": frame_records(e_R),
-                     "pin_radius": frame_records(e_r)}
-        return s
+    table3: pd.DataFrame
+    pairs: pd.DataFrame
+    sweep_equidistance: pd.DataFrame
+    sweep_moved: pd.DataFrame
+    combinations: list[str]
 
-    def _reproduction(self, r) -> Section:
-        df = reproduction_table(r, self.printed)
-        s = Section("stiffness_reproduction", "Doc 004's printed figures against rvtol")
-        s.add_text(f"One row per printed figure (printed figures from {self.printed.path}); the reason column says "
-                   f"why. 'reproduced' — {RULE}")
-        s.add_table(df, "Reproduction table", "{:.4g}")
-        s.summary = {"rows": frame_records(df),
-                     "printed_file": {"path": self.printed.path, "sha256": self.printed.sha256}}
-        return s
+    def clearances(self) -> pd.DataFrame:
+        df = self.table3
+        return pd.DataFrame({"combination": SHORT, "Δr_p (µm)": df["Δr_p (mm)"] * 1e3,
+                             "ΔR_p (µm)": df["ΔR_p (mm)"] * 1e3,
+                             "radial Δr_p−ΔR_p (µm)": df["radial clearance Δr_p-ΔR_p (mm)"] * 1e3,
+                             "normal n0 (µm)": df["normal clearance n0 (mm)"] * 1e3,
+                             "2n0/r_c' (rad)": df["backlash angle 2n0/r_c (rad)"],
+                             "doc 004 j_C1 ('mm')": df["doc 004 j_C1 (mm)"],
+                             "min Δ(φ_k) (nm)": df["min pin clearance Δ(φ_k) (mm)"] * 1e6})
+
+    def loads(self) -> pd.DataFrame:
+        df = self.table3
+        return pd.DataFrame({"combination": SHORT, "max pin force (N)": df["max pin force (N)"],
+                             "doc 004 force": df["doc 004 force"], "contact pairs": df["contact pairs"],
+                             "doc 004 pairs": df["doc 004 contact pairs"], "K_B (N·m/arcmin)": df["K_B (N·m/arcmin)"],
+                             "θ2 (arcsec)": df["θ2 (arcsec)"], "θ_Σ (arcsec)": df["θ_Σ (arcsec)"]})
+
+    def plot(self, which: str = "equidistance"):
+        from rvtol.plotting.stiffness import plot_sweep
+
+        sw, x = (self.sweep_equidistance, "Δr_p (µm)") if which == "equidistance" else (self.sweep_moved, "ΔR_p (µm)")
+        return plot_sweep(sw, x, ["θ_Σ (arcsec)", f"{LABELS['cycloid_pin']} (arcsec)"], ylabel="torsion angle [arcsec]",
+                          secondary="contact pairs")
+
+    def summary(self) -> dict:
+        return {"table3": frame_records(self.table3), "pairs_vs_torque": frame_records(self.pairs),
+                "sweep_equidistance": frame_records(self.sweep_equidistance),
+                "sweep_moved_distance": frame_records(self.sweep_moved)}
+
+
+@dataclass
+class ErrorSweeps:
+    """θ and the largest pin force against δR_p and δr_p (``pin_circle``, ``pin_radius``) and their
+    summary (``stats``, with the document's average force changes)."""
+
+    values: np.ndarray              # mm
+    pin_circle: pd.DataFrame
+    pin_radius: pd.DataFrame
+    stats: pd.DataFrame
+    error_range: float              # mm
+    points: int
+
+    def merged(self) -> pd.DataFrame:
+        e_R, e_r = self.pin_circle, self.pin_radius
+        return pd.DataFrame({"error (µm)": self.values * 1e3, "δR_p: max pin force (N)": e_R["max pin force (N)"],
+                             "δr_p: max pin force (N)": e_r["max pin force (N)"],
+                             "δR_p: θ_Σ (arcsec)": e_R["θ_Σ (arcsec)"], "δr_p: θ_Σ (arcsec)": e_r["θ_Σ (arcsec)"]})
+
+    def plot(self, what: str = "force"):
+        from rvtol.plotting.stiffness import plot_sweep
+
+        m = self.merged()
+        if what == "force":
+            return plot_sweep(m, "error (µm)", ["δR_p: max pin force (N)", "δr_p: max pin force (N)"],
+                              ylabel="largest pin force [N]")
+        return plot_sweep(m, "error (µm)", ["δR_p: θ_Σ (arcsec)", "δr_p: θ_Σ (arcsec)"], ylabel="θ_Σ [arcsec]")
+
+    def summary(self) -> dict:
+        return {"stats": frame_records(self.stats), "pin_circle": frame_records(self.pin_circle),
+                "pin_radius": frame_records(self.pin_radius)}
+
+
+@dataclass
+class StiffnessDocument:
+    breakdown: StiffnessAtTorque
+    geometry: GeometrySweeps
+    modifications: ModificationStudy
+    errors: ErrorSweeps
+    reproduction: pd.DataFrame
+    printed: PrintedFigures
+
+    def to_frame(self) -> pd.DataFrame:
+        return self.reproduction
+
+    def parts(self) -> dict:
+        """The results shown before the reproduction table, by their summary.json key."""
+        return {"stiffness_breakdown": self.breakdown.angles, "stiffness_contact": self.breakdown.contact,
+                "stiffness_geometry": self.geometry, "stiffness_modifications": self.modifications,
+                "stiffness_errors": self.errors}
+
+    def summary(self) -> dict:
+        return {"rows": frame_records(self.reproduction),
+                "printed_file": {"path": self.printed.path, "sha256": self.printed.sha256}}
+
+
+def geometry_sweeps(rs, T, mods, radii, eccentricities, widths) -> GeometrySweeps:
+    return GeometrySweeps({param: geometry_sweep(rs, T, mods, param, np.asarray(vals) * 1.0)
+                           for param, vals in (("R_p", radii), ("a", eccentricities), ("b", widths))})
+
+
+def modification_study(rs, T, P: PrintedFigures, fractions, points: int) -> ModificationStudy:
+    names = P["table3_combination"].value
+    combos = list(zip(names, P["table3_dr_p"].value, P["table3_dR_p"].value))
+    df = modification_combinations(rs, T, combos)
+    df["doc 004 j_C1 (mm)"] = P["table3_j_C1"].value
+    df["doc 004 force"] = P["table3_force"].value
+    df["doc 004 contact pairs"] = [int(v) for v in P["table3_contact_pairs"].value]
+    pairs = {f"pairs at {f:g}·T": [int(rs.evaluate(f * T, dr, dR).extra["contact_pairs"][0]) for _, dr, dR in combos]
+             for f in fractions}
+    pairs_df = pd.DataFrame({"combination": SHORT, **pairs})
+    sw_e = modification_sweep(rs, T, "equidistance", np.linspace(0.0, 0.020, points))
+    sw_m = modification_sweep(rs, T, "moved_distance", np.linspace(-0.020, 0.0, points))
+    return ModificationStudy(df, pairs_df, sw_e, sw_m, list(names))
+
+
+def error_sweeps(rs, T, mods, error_range: float, points: int, P: PrintedFigures) -> ErrorSweeps:
+    vals = np.linspace(-error_range, error_range, points)
+    e_R = error_sweep(rs, T, mods, "pin_circle", vals)
+    e_r = error_sweep(rs, T, mods, "pin_radius", vals)
+    stats = pd.DataFrame({
+        "error": ["δR_p (pin circle radius)", "δr_p (pin radius)"],
+        "mean |ΔF| between sweep points (N)": [mean_abs_step(e_R), mean_abs_step(e_r)],
+        "F(+range) − F(−range) (N)": [sweep_change(e_R, "max pin force (N)"), sweep_change(e_r, "max pin force (N)")],
+        "θ_Σ(+range) − θ_Σ(−range) (arcsec)": [sweep_change(e_R), sweep_change(e_r)],
+        "doc 004 average force change (N)": [P["error_force_pin_circle"].value, P["error_force_pin_radius"].value],
+    })
+    return ErrorSweeps(vals, e_R, e_r, stats, error_range, points)
+
+
+def stiffness_document(rs: ReducerStiffness, T: float, mods, fractions, P: PrintedFigures, *, radii, eccentricities,
+                       widths, points: int = 5, error_range: float = 0.010) -> StiffnessDocument:
+    """Doc 004's studies on ``rs`` at the output torque ``T`` (N·mm) with the Table 1 modifications ``mods``
+    and its printed figures ``P`` against them."""
+    bd = stiffness_breakdown(rs, T, mods, fractions)
+    bd.angles.components["doc 004 (arcsec)"] = [P[f"table5_{c}"].value for c in list(COMPONENTS) + ["total"]]
+    geo = geometry_sweeps(rs, T, mods, radii, eccentricities, widths)
+    mod = modification_study(rs, T, P, fractions, points)
+    err = error_sweeps(rs, T, mods, error_range, points, P)
+    r = {"table5": bd.angles.components, **{f"geometry_{k}": v for k, v in geo.frames.items()}, "table3": mod.table3,
+         "sweep_equidistance": mod.sweep_equidistance, "sweep_moved": mod.sweep_moved, "error_stats": err.stats}
+    return StiffnessDocument(bd, geo, mod, err, reproduction_table(r, P), P)
