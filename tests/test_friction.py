@@ -248,8 +248,8 @@ def friction_design(tmp_path_factory):
 def test_calibration_curve_follows_the_measured_path_through_the_loop(friction_design):
     """The calibration's model of a measured loop (in file order: the test's path) is the torsion-curve model's
     loop with friction at every point the latter solves exactly (both solve T_e + d T_f(T_e) = T)."""
-    from rvtol.calibration.curves import CurveModel
-    from rvtol.calibration.synthetic import _grid
+    from rvtol.models.transmission.calibration.curves import CurveModel
+    from rvtol.models.transmission.calibration.synthetic import _grid
 
     T = float(friction_design["reducer.rated_torque"])
     p = 0.03 * T
@@ -272,8 +272,8 @@ def test_calibration_separates_the_friction_loop_from_the_clearance(friction_des
     compliance: the fit with a friction parameter recovers all three within their intervals, each separable
     (the width grows with the torque, the clearance opens the loop at zero torque, the compliance sets the
     mid-line's slope); without it the loop's width is left in the residuals."""
-    from rvtol.calibration import calibrate
-    from rvtol.calibration.synthetic import synthetic_measurement
+    from rvtol.models.transmission.calibration import calibrate
+    from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
 
     truth = {"compliance.all": 1.2, "clearance.crank_bearing": 2.0, "friction.pin": 1.5}
     arcsec = float(np.radians(1 / 3600))
