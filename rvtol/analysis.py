@@ -92,11 +92,18 @@ class Analysis(ABC):
             raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
         blocks = layout(result, self.options)
         fixes = result.fixes(self.key) if hasattr(result, "fixes") else []
-        return Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
+        sec = Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
+        for name, content in self.files(result).items():
+            sec.add_file(name, content)
+        return sec
 
     def summary(self, result) -> dict:
         """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""
         return result.summary()
+
+    def files(self, result) -> dict[str, "bytes | str"]:
+        """Files the report folder gets beside report.html (name -> content; default none)."""
+        return {}
 
 
 class ModelTarget:
@@ -128,28 +135,28 @@ class ModelTarget:
         return tuple(self.model.input_units)
 
 
-def target_model(params: "Params", study: "Study", cls, what: str, key: str = "model") -> ModelTarget:
-    """The study's model if it is a ``cls``; in a composed study the stage named by the analysis'
-    ``key`` (default ``model``; default stage: the only one that is a ``cls``).  ``what`` names the kind
-    for errors."""
+def target_model(study: "Study", cls, what: str, name: str | None, error, key: str = "model") -> ModelTarget:
+    """The study's model if it is a ``cls``; in a composed study the stage ``name`` (the value of the
+    analysis' option ``key``, default ``model``; None: the only stage that is a ``cls``).  ``what`` names the
+    kind for errors; ``error(key, reason)`` makes the located one-line error (an options class'
+    ``complete``)."""
     model = study.model
     stages = getattr(model, "stages", None)
     if stages is None:
-        if key in params:
-            raise params.error(key, "a one-model study has no stages to choose from")
+        if name is not None:
+            raise error(key, "a one-model study has no stages to choose from")
         if not isinstance(model, cls):
-            raise params.error("kind", f"this analysis needs a {what} model ([model] kind = \"{what}\")")
+            raise error("kind", f"this analysis needs a {what} model ([model] kind = \"{what}\")")
         return ModelTarget(model, model, None)
     fitting = [s for s in stages if isinstance(s.model, cls)]
-    name = params.str(key, None)
     if name is None:
         if len(fitting) != 1:
-            raise params.error(key, f"name the {what} model this analysis works on (the study's {what} models: "
-                                    f"{', '.join(s.name for s in fitting) or 'none'})")
+            raise error(key, f"name the {what} model this analysis works on (the study's {what} models: "
+                             f"{', '.join(s.name for s in fitting) or 'none'})")
         return ModelTarget(model, fitting[0].model, fitting[0].name)
     for s in stages:
         if s.name == name:
             if not isinstance(s.model, cls):
-                raise params.error(key, f"model {name!r} is not a {what} model")
+                raise error(key, f"model {name!r} is not a {what} model")
             return ModelTarget(model, s.model, s.name)
-    raise params.error(key, f"unknown model {name!r} (the study's models: {', '.join(s.name for s in stages)})")
+    raise error(key, f"unknown model {name!r} (the study's models: {', '.join(s.name for s in stages)})")

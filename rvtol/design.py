@@ -26,7 +26,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from . import units
-from .errors import SpecError
+from .errors import InputError, SpecError
 from .params import Params, check_number, read_toml
 
 
@@ -96,6 +96,25 @@ class Design:
             "source": [p.source for p in self.params.values()],
             "note": [p.note for p in self.params.values()],
         })
+
+
+#: the prefix that names a design number in an expression (``design.pin.count``)
+DESIGN_PREFIX = "design."
+
+
+def design_numbers(names, design: "Design | None") -> dict[str, float]:
+    """The ``design.<key>`` names among ``names`` that ``design`` holds, with their values (base units), in
+    the order first named; a parameter that is not a single number is an error naming it."""
+    out = {}
+    for n in dict.fromkeys(names):
+        key = n[len(DESIGN_PREFIX):]
+        if not n.startswith(DESIGN_PREFIX) or design is None or key not in design:
+            continue
+        value = design[key]
+        if not isinstance(value, float):
+            raise InputError(f"design parameter {key!r} is not a single number", key=n)
+        out[n] = value
+    return out
 
 
 def load_design(path: str | Path) -> Design:

@@ -12,7 +12,13 @@ no hand-written parsing — and to list every key with its meaning (``rvtol kind
 
 Types understood: ``int``, ``float``, ``bool``, ``str``, ``Literal[...]`` (one of the values),
 ``list[str]``, ``list[float]``, ``list[int]``, ``dict[str, float]`` (a table of numbers),
-``dict`` (a table, read as it is) and any of them ``| None`` (absent → the default).  Rules:
+``dict[str, str]`` (a table of strings), ``dict`` (a table, read as it is), ``Path`` (a file, relative
+to the study's folder), another options dataclass (a sub-table ``[analysis.<key>]`` with keys of its
+own; absent or ``true``: every default — give the class itself as the default; ``false``: None when
+typed ``| None``), ``list[<options dataclass>]``
+(an array of tables ``[[analysis.<key>]]``), ``Params`` (a sub-table handed on unread: the code that
+takes it reads and finishes it; ``list[Params]``: an array of such tables), and any of them
+``| None`` (absent → the default).  Rules:
 
 ====================  =====================================================================
 ``choices``           the values a string may take (or type it ``Literal[...]``)
@@ -40,6 +46,7 @@ import dataclasses
 import types
 import typing
 from dataclasses import MISSING, dataclass, field, fields
+from pathlib import Path
 from typing import Any, Literal
 
 from .errors import did_you_mean
@@ -106,6 +113,8 @@ def option(default: Any = REQUIRED, help: str = "", **rules) -> Any:
     if "choices" in rules:
         rules["choices"] = tuple(rules["choices"])
     meta = {"rvtol": Rule(help, **rules)}
+    if isinstance(default, type) and dataclasses.is_dataclass(default):    # a sub-table: every default
+        return field(default_factory=default, metadata=meta, kw_only=True)
     if isinstance(default, (list, dict)):
         return field(default_factory=lambda d=default: type(d)(d), metadata=meta, kw_only=True)
     return field(default=default, metadata=meta, kw_only=True)   # keyword-only: a required option may follow others
@@ -131,8 +140,9 @@ def key_of(f: dataclasses.Field) -> str:
     return rule_of(f).key or f.name
 
 
-def describe(cls) -> list[Option]:
-    """Every option of an options dataclass: key, type, default, meaning and constraints."""
+def describe(cls, prefix: str = "") -> list[Option]:
+    """Every option of an options dataclass: key, type, default, meaning and constraints (the keys of a
+    sub-table as ``table.key``, of an array of tables as ``table[].key``)."""
     hints = typing.get_type_hints(cls)
     out = []
     for f in fields(cls):
@@ -145,8 +155,27 @@ def describe(cls) -> list[Option]:
             default, required = f.default_factory(), False
         else:
             default, required = None, True
-        out.append(Option(key_of(f), _type_name(hints[f.name]), default, required, r.help, r.constraint()))
+        tp = hints[f.name]
+        nested = _nested(tp)
+        if nested is not None:
+            default = {} if dataclasses.is_dataclass(default) else default      # a sub-table: its keys' defaults
+        out.append(Option(prefix + key_of(f), _type_name(tp), default, required, r.help, r.constraint()))
+        if nested is not None:
+            sub, many = nested
+            out += describe(sub, f"{prefix}{key_of(f)}{'[]' if many else ''}.")
     return out
+
+
+def _nested(tp) -> tuple[type, bool] | None:
+    """``(options class, is an array of tables)`` of a sub-table option, else None."""
+    _, tp = _unoptional(tp)
+    if dataclasses.is_dataclass(tp):
+        return tp, False
+    if typing.get_origin(tp) is list:
+        (item,) = typing.get_args(tp) or (Any,)
+        if dataclasses.is_dataclass(item):
+            return item, True
+    return None
 
 
 def read_options(cls, params, study=None):
@@ -181,6 +210,17 @@ def read_options(cls, params, study=None):
 # --------------------------------------------------------------------------- reading one key
 def _read(params, key: str, tp, default, r: Rule, study):
     optional, tp = _unoptional(tp)
+    if dataclasses.is_dataclass(tp):                  # a sub-table; ``true`` (or absent, with such a default): its
+        raw = params.raw(key) if default is MISSING else params.raw(key, _ABSENT)    # defaults; ``false``: None
+        if raw is _ABSENT and not dataclasses.is_dataclass(default):
+            return default
+        if optional and raw is False:
+            return None
+        if raw is True or raw is _ABSENT:
+            from .params import Params
+
+            return _read_table(tp, Params({}, file=params.file, key=params.path(key)), study)
+        return _read_table(tp, params.sub(key), study)
     if default is MISSING:
         raw = params.raw(key)
     else:
@@ -194,6 +234,10 @@ def _read(params, key: str, tp, default, r: Rule, study):
     if r.unit is not None:
         return params.quantity(key, r.unit, **_number_checks(r))
     origin = typing.get_origin(tp)
+    if tp is Path:
+        return params.path_value(key, Path(study.base_dir) if study is not None else Path("."))
+    if _is_params(tp):
+        return params.sub(key)
     if tp is bool:
         return params.bool(key)
     if tp is int:
@@ -226,7 +270,17 @@ def _read(params, key: str, tp, default, r: Rule, study):
                 raise params.error(key, "expected an array of integers")
             if len(v) < r.min_length:
                 raise params.error(key, f"expected at least {r.min_length} integers, got {len(v)}")
+            for x in v:
+                if (r.min is not None and x < r.min) or (r.max is not None and x > r.max):
+                    raise params.error(key, f"expected integers in [{r.min if r.min is not None else '-∞'}, "
+                                            f"{r.max if r.max is not None else '∞'}], got {x}")
             return [_check_number(params, f"{key}", x, r) for x in v]
+        if dataclasses.is_dataclass(item) or _is_params(item):
+            tables = params.tables(key)
+            if len(tables) < r.min_length:
+                raise params.error(key, f"give at least {r.min_length} [[{params.path(key)}]] table"
+                                        f"{'s' if r.min_length > 1 else ''}")
+            return tables if _is_params(item) else [_read_table(item, t, study) for t in tables]
         return params.raw(key)
     if origin is dict or tp is dict:
         args = typing.get_args(tp)
@@ -238,11 +292,24 @@ def _read(params, key: str, tp, default, r: Rule, study):
                 for k in out:
                     _check_names(sub, k, [k], r.names, study)
             return out
+        if args and args[1] is str:
+            return {k: sub.str(k) for k in list(sub.keys())}
         return dict(sub.data)
     return params.raw(key)
 
 
 _ABSENT = object()
+
+
+def _read_table(cls, sub, study):
+    """A sub-table read by its own options class; keys it does not declare are errors (typos)."""
+    obj = read_options(cls, sub, study)
+    sub.finish()
+    return obj
+
+
+def _is_params(tp) -> bool:
+    return getattr(tp, "__name__", None) == "Params" and getattr(tp, "__module__", "") == "rvtol.params"
 
 
 def _unoptional(tp):
@@ -313,9 +380,12 @@ def _type_name(tp) -> str:
         name = " | ".join(repr(a) for a in typing.get_args(tp))
     elif origin is list:
         (item,) = typing.get_args(tp) or (Any,)
-        name = f"list of {getattr(item, '__name__', str(item))}"
-    elif origin is dict or tp is dict:
+        name = ("array of tables" if dataclasses.is_dataclass(item) or _is_params(item)
+                else f"list of {getattr(item, '__name__', str(item))}")
+    elif origin is dict or tp is dict or dataclasses.is_dataclass(tp) or _is_params(tp):
         name = "table"
+    elif tp is Path:
+        name = "file"
     else:
         name = getattr(tp, "__name__", str(tp))
     return name + (", optional" if optional else "")

@@ -21,9 +21,9 @@ found with :mod:`importlib.metadata` when a study names a kind that is not built
 kind wins over an entry point of the same name); a study can also name a factory directly
 (``kind = "python"``, :mod:`rvtol.models.custom.model`).
 
-The reproduction wing's analyses (:mod:`rvtol.reproduction`) are listed last:
-they compare a reference document's printed figures with rvtol and are named
-by the reproduction studies only.
+Installed packages add analysis kinds the same way (group ``rvtol.analyses``, the class as the
+entry point's object): the reproduction wing (``studies/reproduction``, distribution
+``rvtol-reproduction``) registers its five analyses so; a built-in kind wins here too.
 """
 from __future__ import annotations
 
@@ -52,7 +52,7 @@ ANALYSIS_ENTRY_POINT_GROUP = "rvtol.analyses"
 ANALYSES: dict[str, str] = {
     # model-specific
     "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
-    "lost_motion_screening": "rvtol.models.lost_motion.analyses:LostMotionScreening",
+    "lost_motion_screening": "rvtol.models.screening.analyses:LostMotionScreening",
     "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
     "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
     "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
@@ -77,16 +77,10 @@ ANALYSES: dict[str, str] = {
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
-    "calibration": "rvtol.calibration.analyses:CalibrationAnalysis",
+    "calibration": "rvtol.models.transmission.calibration.analyses:CalibrationAnalysis",
     "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
-    # the reproduction wing: one module per reference document
-    "transmission_error_reproduction": "rvtol.reproduction.doc000_transmission_error:TEReproduction",
-    "lost_motion_reproduction": "rvtol.reproduction.doc001_lost_motion:LostMotionReproduction",
-    "adjustment_reproduction": "rvtol.reproduction.doc002_adjustment:AdjustmentReproduction",
-    "stackup_shaft_hole": "rvtol.reproduction.doc003_stackup:StackupShaftHole",
-    "stiffness_reproduction": "rvtol.reproduction.doc004_stiffness:StiffnessReproduction",
 }
 
 

@@ -13,6 +13,10 @@ a requirement is judged on, :mod:`rvtol.verdict`) is one-sided at a level ℓ:
 two-sided interval at confidence c is the one-sided bound at ℓ = (1 + c)/2.
 :func:`n_for_yield` and :func:`n_for_cpk` invert them: the sample size at
 which the observed yield or Cpk would be demonstrated.
+
+:func:`rss` is the root sum of squares of a linear stack — every RSS in rvtol (the linearised
+prediction, the stack-up conventions, the stack-up chain's linearisation, the allocation's
+constraint) is this one function.
 """
 from __future__ import annotations
 
@@ -24,6 +28,32 @@ from scipy import stats
 
 #: the percentiles every output reports (in %), including the ±3σ-equivalent ones
 PERCENTILES = (0.135, 1.0, 5.0, 50.0, 95.0, 99.0, 99.865)
+
+
+def rss(terms, correlation=None, *, weights=None, variances=None, axis=None, squared: bool = False,
+        skip_nan: bool = False):
+    """Root sum of squares of a linear stack's contributions ``c_i`` (a sensitivity times a spread: S_i·σ_i,
+    a_i·t_i): √Σ c_i² — the standard deviation of Σ S_i x_i for independent x_i of standard deviations σ_i.
+
+    ``correlation`` R (the factors' correlation matrix): √(cᵀ R c), clipped at 0.  ``weights`` w_i:
+    √Σ w_i c_i²; ``variances`` v_i: each term a quantity of mean c_i and variance v_i, √Σ w_i (c_i² + v_i)
+    (its root mean square).  ``axis``: sum along this axis of an array of stacks (default: every term);
+    ``squared``: the sum of squares itself (a variance budget, not rounded through a square root);
+    ``skip_nan``: NaN terms left out (a factor without a derivative).
+    """
+    c = np.asarray(terms, dtype=float)
+    if correlation is not None:
+        v = max(float(c @ np.asarray(correlation, dtype=float) @ c), 0.0)
+        return v if squared else math.sqrt(v)
+    sq = c ** 2
+    if variances is not None:
+        sq = sq + variances
+    if weights is not None:
+        sq = weights * sq
+    v = (np.nansum if skip_nan else np.sum)(sq, axis=axis)
+    if squared:
+        return v
+    return float(np.sqrt(v)) if axis is None else np.sqrt(v)
 
 
 def mean_ci(y: np.ndarray, confidence: float = 0.95) -> tuple[float, float, float]:

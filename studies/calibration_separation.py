@@ -12,8 +12,8 @@ script prints both scales with their standard errors, their correlation ρ, the 
 import numpy as np
 
 from rvtol import units
-from rvtol.calibration import calibrate
-from rvtol.calibration.synthetic import synthetic_measurement
+from rvtol.models.transmission.calibration import calibrate
+from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
 from rvtol.design import load_design
 
 D = load_design("data/designs/rv80e_te.toml")

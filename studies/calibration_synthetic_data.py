@@ -1,7 +1,7 @@
 """Regenerate the SYNTHETIC measured curves in data/measurements/ (issue 12, item 4).
 
 They are made by the 20-DOF model of data/designs/rv80e_te.toml with the known parameters below plus
-seeded normal noise (rvtol.calibration.synthetic); they are NOT measurements of any reducer.  The
+seeded normal noise (rvtol.models.transmission.calibration.synthetic); they are NOT measurements of any reducer.  The
 calibration study (studies/calibration_rv80e_synthetic.toml) and tests/test_calibration.py fit them
 and check that the fit finds these values within its intervals.
 
@@ -10,7 +10,7 @@ and check that the fit finds these values within its intervals.
 from pathlib import Path
 
 from rvtol import units
-from rvtol.calibration.synthetic import synthetic_measurement, write_synthetic_csv
+from rvtol.models.transmission.calibration.synthetic import synthetic_measurement, write_synthetic_csv
 from rvtol.design import load_design
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -343,7 +343,7 @@ def test_tied_factors_share_one_tolerance_at_the_lagrange_optimum():
 
 
 def test_drawing_ties_group_the_coordinates_and_copies_of_one_callout():
-    from rvtol.allocation.analyses import drawing_ties
+    from rvtol.allocation.allocate import drawing_ties
 
     unit = Distribution.make("normal", mean=0.0, sigma=1.0)
     fs = (Factor("hole.position.x1", "um", unit), Factor("hole.position.y1", "um", unit),

@@ -9,10 +9,19 @@ from pathlib import Path
 import pytest
 
 from rvtol.analysis import Analysis
-from rvtol.registry import ANALYSES, MODELS, plugin_models
+from rvtol.registry import ANALYSES, MODELS, plugin_analyses, plugin_models
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "rvtol"
+#: the reproduction wing: a distribution of its own (studies/reproduction), installed by the test command
+WING = ROOT / "studies" / "reproduction"
+WING_KINDS = {"transmission_error_reproduction", "lost_motion_reproduction", "adjustment_reproduction",
+              "stackup_shaft_hole", "stiffness_reproduction"}
+
+
+def all_analyses() -> dict[str, str]:
+    """Every analysis kind a study can name: built in, and registered by installed packages (entry points)."""
+    return {**{k: ep.value for k, ep in plugin_analyses().items()}, **ANALYSES}
 
 
 def _modules() -> dict[str, Path]:
@@ -101,7 +110,7 @@ def test_no_import_cycles():
 
 
 # layers that build reports: everything else is computation and must not import the report layer
-REPORT_LAYER = re.compile(r"^rvtol\.(report(\..*)?|study|cli|__main__|analysis|reproduction(\..*)?|.*\.analyses|.*\.texts)$")
+REPORT_LAYER = re.compile(r"^rvtol\.(report(\..*)?|study|cli|__main__|analysis|.*\.analyses|.*\.texts)$")
 
 
 def test_computation_does_not_import_the_report_layer():
@@ -110,10 +119,41 @@ def test_computation_does_not_import_the_report_layer():
     assert bad == []
 
 
+def _imports(path: Path) -> set[str]:
+    out = set()
+    for n in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(n, ast.ImportFrom) and n.module and not n.level:
+            out.add(n.module)
+        elif isinstance(n, ast.Import):
+            out |= {a.name for a in n.names}
+    return out
+
+
 def test_the_library_does_not_import_the_reproduction_wing():
-    bad = [(m, t) for m, ts in import_graph().items() for t in ts
-           if t.startswith("rvtol.reproduction") and not m.startswith("rvtol.reproduction")]
+    assert not (PKG / "reproduction").exists(), "the wing lives in studies/reproduction, outside the package"
+    bad = [str(p.relative_to(ROOT)) for p in PKG.rglob("*.py")
+           if any(m.split(".")[0] == "rvtol_reproduction" for m in _imports(p))]
     assert bad == []
+
+
+#: what only the reproduction wing may say: it reads a document's printed figures
+PRINTED_FIGURES = re.compile(r"data/reproduction|load_printed|printed figure|printed box|printed value", re.I)
+
+
+def test_no_library_module_mentions_a_documents_printed_figures():
+    bad = [f"{p.relative_to(ROOT)}:{i}" for p in PKG.rglob("*.py")
+           for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if PRINTED_FIGURES.search(line)]
+    assert bad == []
+
+
+def test_the_reproduction_wing_is_an_installed_plug_in():
+    """The test command installs studies/reproduction; its kinds come from the rvtol.analyses entry points."""
+    eps = plugin_analyses()
+    assert WING_KINDS <= set(eps), "install the wing: python -m pip install -e studies/reproduction"
+    for k in WING_KINDS:
+        assert eps[k].value.startswith("rvtol_reproduction.analyses:") and k not in ANALYSES
+        assert Path(inspect.getfile(eps[k].load())).resolve().is_relative_to(WING.resolve()), \
+            "the installed wing is not this checkout's"
 
 
 def test_plotting_imports_no_computation():
@@ -152,17 +192,15 @@ def test_every_installed_model_plugin_has_the_documented_signature(kind):
     assert callable(f) and len(inspect.signature(f).parameters) == 3
 
 
-@pytest.mark.parametrize("kind", sorted(ANALYSES))
+@pytest.mark.parametrize("kind", sorted(all_analyses()))
 def test_every_analysis_is_an_analysis_with_setup_and_run(kind):
-    cls = _resolve(ANALYSES[kind])
+    cls = _resolve(all_analyses()[kind])
     assert inspect.isclass(cls) and issubclass(cls, Analysis)
     assert "__init__" not in vars(cls), "construction goes through Analysis.__init__ -> setup"
     assert list(inspect.signature(cls.setup).parameters) == ["self", "params", "study"]
     assert list(inspect.signature(cls.run).parameters) == ["self", "ctx"]
     assert not inspect.isabstract(cls)
-    mod = ANALYSES[kind].split(":")[0]
-    assert mod.endswith(".analyses") or mod.startswith("rvtol.reproduction.doc"), \
-        "analyses live in a package's analyses.py, or in the reproduction wing"
+    assert all_analyses()[kind].split(":")[0].endswith(".analyses"), "analyses live in a package's analyses.py"
 
 
 def _kinds_named_by(path: Path) -> set[str]:
@@ -178,45 +216,47 @@ def test_every_registered_kind_is_used_by_a_study_or_a_test():
         used |= _kinds_named_by(p)
     tests = " ".join(p.read_text(encoding="utf-8") for p in (ROOT / "tests").glob("test_*.py"))
     used |= set(re.findall(r'kind = "(\w+)"', tests))
-    missing = sorted((set(MODELS) | set(ANALYSES)) - used)
+    missing = sorted((set(MODELS) | set(all_analyses())) - used)
     assert missing == []
 
 
 def test_every_kind_a_study_names_is_registered():
     for p in (ROOT / "studies").glob("*.toml"):
         for k in _kinds_named_by(p):
-            assert k in MODELS or k in ANALYSES, (p.name, k)
+            assert k in MODELS or k in all_analyses(), (p.name, k)
 
 
 # --------------------------------------------------------------------------- the analysis shape (issue 26)
-#: analysis kinds still written in the older shape (setup() reading the table by hand, run() building sections);
-#: the list only shrinks
-OLDER_SHAPE = {
-    "lost_motion_breakdown", "lost_motion_screening", "transmission_error_curve", "transmission_error_sensitivity",
-    "stiffness_breakdown", "torsion_curve", "compliance_breakdown", "stackup_linear", "stackup_graph",
-    "stackup_sequences", "stackup_domains", "adjustment", "allocation", "stack_conventions", "tail_probability",
-    "calibration", "per_unit_prediction", "selective_assembly", "transmission_error_reproduction",
-    "lost_motion_reproduction", "adjustment_reproduction", "stackup_shaft_hole", "stiffness_reproduction",
+#: analyses that report several sections — one summary.json entry each, kept so that the summaries of the studies
+#: stay what they were: a small report(result) of their own, one layout per section (kind: the reason)
+SEVERAL_SECTIONS = {
+    "torsion_curve": "the curves, lost motion against clearances and rigidity: three comparisons of one reducer",
+    "stiffness_breakdown": "the torsion-angle components and the cycloid–pin load distribution",
+    "stiffness_reproduction": "doc 004's five studies (Tables 2–5, sweeps) and the reproduction table",
+    "allocation": "the cost–tolerance models and the allocation",
 }
 
 
-@pytest.mark.parametrize("kind", sorted(set(ANALYSES) - OLDER_SHAPE))
+@pytest.mark.parametrize("kind", sorted(all_analyses()))
 def test_an_analysis_is_a_thin_adapter(kind):
     """Declared options (a dataclass), one capability call (``compute``), the generic report with the layout of
     the capability's texts module — no ``run`` or ``setup`` of its own doing the work."""
     import dataclasses
 
-    cls = _resolve(ANALYSES[kind])
+    cls = _resolve(all_analyses()[kind])
     assert cls.Options is not None and dataclasses.is_dataclass(cls.Options), "declare the keys as Options"
     assert "run" not in vars(cls) and "setup" not in vars(cls), "compute() and the generic report, no own run/setup"
+    if "report" in vars(cls):
+        assert kind in SEVERAL_SECTIONS, "one section, the generic report (or a reason in SEVERAL_SECTIONS)"
+        assert len(inspect.getsource(cls.report).splitlines()) <= 12, "report(): one layout per section, no more"
     assert "compute" in {n for c in cls.__mro__ for n in vars(c) if c is not Analysis}
     assert cls.layout is not None and cls.layout.__module__.endswith(".texts"), "the layout lives in a texts module"
     src = inspect.getsource(cls.compute)
     assert len(src.splitlines()) <= 15, "compute() is one library call, not the computation itself"
 
 
-def test_older_shape_list_names_only_registered_kinds():
-    assert OLDER_SHAPE <= set(ANALYSES)
+def test_several_sections_list_names_only_registered_kinds():
+    assert set(SEVERAL_SECTIONS) <= set(all_analyses())
 
 
 #: words a string literal of an analyses.py may hold before it counts as report prose (prose lives in texts.py)
@@ -225,10 +265,9 @@ PROSE_WORDS = 16
 
 def test_analyses_modules_hold_no_prose():
     bad = []
-    for p in PKG.rglob("analyses.py"):
-        kinds = {k for k, v in ANALYSES.items() if v.split(":")[0] == ".".join(p.relative_to(ROOT).with_suffix("").parts)}
-        if kinds & OLDER_SHAPE:
-            continue
+    for p in [*PKG.rglob("analyses.py"), *WING.rglob("analyses.py")]:
+        module = ".".join(p.relative_to(WING if p.is_relative_to(WING) else ROOT).with_suffix("").parts)
+        kinds = {k for k, v in all_analyses().items() if v.split(":")[0] == module}
         tree = ast.parse(p.read_text(encoding="utf-8"))
         docs = {id(n.body[0].value) for n in ast.walk(tree)
                 if isinstance(n, (ast.Module, ast.ClassDef, ast.FunctionDef)) and n.body
@@ -261,7 +300,7 @@ def package_graph() -> dict[str, set[str]]:
 
 
 #: package-level cycles still to break (the list only shrinks)
-PACKAGE_CYCLES_LEFT = [["rvtol.models.lost_motion", "rvtol.models.torsion_curve"]]
+PACKAGE_CYCLES_LEFT = []
 
 
 def test_packages_form_no_cycle():
@@ -269,13 +308,11 @@ def test_packages_form_no_cycle():
 
 
 #: modules outside rvtol/models that may import a model package: the loader composing a study's models and the
-#: registry; physics-specific code lives beside its physics (the list of exceptions only shrinks)
-MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study|reproduction(\..*)?)$")
-MODEL_IMPORTS_LEFT = {"rvtol.calibration.analyses", "rvtol.calibration.parameters", "rvtol.calibration.curves",
-                      "rvtol.production.selective"}
+#: registry; physics-specific code lives beside its physics
+MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study)$")
 
 
 def test_model_agnostic_packages_import_no_model():
     bad = sorted({m for m, ts in import_graph().items() for t in ts
                   if t.startswith("rvtol.models.") and not MODEL_IMPORTS_ALLOWED.match(m)})
-    assert set(bad) == MODEL_IMPORTS_LEFT, bad
+    assert bad == []

@@ -1,4 +1,4 @@
-"""Calibration against measured curves (rvtol.calibration): the fit and its uncertainty against closed
+"""Calibration against measured curves (rvtol.models.transmission.calibration): the fit and its uncertainty against closed
 forms and SciPy, recovery of known parameters from synthetic measurements (with interval coverage over
 seeds), identifiability warnings, CSV errors, the written design, and the study analysis."""
 from pathlib import Path
@@ -10,18 +10,18 @@ from scipy import optimize, stats
 from rvtol import units
 from rvtol.elements.reducer_chain import with_compliance_scales
 from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.calibration import calibrate, calibrated_factors, load_measurement, reproduce
-from rvtol.calibration.curves import CurveModel
-from rvtol.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
-from rvtol.calibration.measurements import TE, TORSION, Measurement
-from rvtol.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
+from rvtol.models.transmission.calibration import calibrate, calibrated_factors, load_measurement, reproduce
+from rvtol.models.transmission.calibration.curves import CurveModel
+from rvtol.models.transmission.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
+from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
+from rvtol.models.transmission.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
                                           scaled_design_values)
-from rvtol.calibration.synthetic import synthetic_measurement
+from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
 from rvtol.cli import main
 from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.model import FunctionModel
-from rvtol.models.torsion_curve.analyses import CAMS
+from rvtol.models.torsion_curve.model import CAMS
 from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.study import load_study, run_study
@@ -320,22 +320,22 @@ GOOD = "# a comment\ntorque [N*m], angle [arcsec]\n10, 1.0\n20, 2.0\n-10, -1.0\n
 
 
 @pytest.mark.parametrize("text,key,reason", [
-    ("", "line 1", "no header"),
-    ("time [s], temp\n1, 2\n", "line 1", "no recognised columns"),
-    ("torque [N*m]\n1\n2\n3\n", "line 1", "missing column 'angle'"),
-    ("torque [N*m], angle\n1, 2\n2, 3\n3, 4\n", "line 1, column 'angle'", "no unit"),
-    ("torque [N*m], angle [furlong]\n1, 2\n", "line 1, column 'angle [furlong]'", "unknown unit"),
-    ("torque [N*m], angle [mm]\n1, 2\n", "line 1, column 'angle [mm]'", "angle"),
-    ("torque [N*m], angle [arcsec], angle [arcmin]\n1, 2, 3\n", "line 1, column 'angle [arcmin]'", "twice"),
-    (GOOD.replace("20, 2.0", "20, two"), "line 4, column 'angle [arcsec]'", "not a number: 'two'"),
-    (GOOD.replace("-10, -1.0", "-10"), "line 5", "1 fields, the header has 2"),
-    (GOOD.replace("20, 2.0", "20, inf"), "line 4, column 'angle [arcsec]'", "finite"),
-    ("torque [N*m], angle [arcsec], sigma [arcsec]\n1, 2, 0\n2, 3, 1\n-1, 1, 1\n", "line 2, column 'sigma [arcsec]'",
+    ("", "row 1", "no header"),
+    ("time [s], temp\n1, 2\n", "row 1", "no recognised columns"),
+    ("torque [N*m]\n1\n2\n3\n", "row 1", "missing column 'angle'"),
+    ("torque [N*m], angle\n1, 2\n2, 3\n3, 4\n", "row 1, column 'angle'", "no unit"),
+    ("torque [N*m], angle [furlong]\n1, 2\n", "row 1, column 'angle [furlong]'", "unknown unit"),
+    ("torque [N*m], angle [mm]\n1, 2\n", "row 1, column 'angle [mm]'", "angle"),
+    ("torque [N*m], angle [arcsec], angle [arcmin]\n1, 2, 3\n", "row 1, column 'angle [arcmin]'", "twice"),
+    (GOOD.replace("20, 2.0", "20, two"), "row 4, column 'angle [arcsec]'", "not a number: 'two'"),
+    (GOOD.replace("-10, -1.0", "-10"), "row 5", "1 fields, the header has 2"),
+    (GOOD.replace("20, 2.0", "20, inf"), "row 4, column 'angle [arcsec]'", "finite"),
+    ("torque [N*m], angle [arcsec], sigma [arcsec]\n1, 2, 0\n2, 3, 1\n-1, 1, 1\n", "row 2, column 'sigma [arcsec]'",
      "must be > 0"),
-    ("torque [N*m], te [arcsec]\n1, 2\n", "line 1", "both 'torque' and 'te'"),
-    ("input_angle [deg], te [arcsec]\n1, 2\n2, 3\n3, 4\n", "line 1, column 'input_angle [deg]'", "ratio"),
-    ("torque [N*m], angle [arcsec]\n1, 2\n", "line 1", "need at least 3"),
-    ("torque [N*m], angle [arcsec]\n0, 2\n0, 3\n0, 4\n", "line 1, column 'torque [N*m]'", "every torque is zero"),
+    ("torque [N*m], te [arcsec]\n1, 2\n", "row 1", "both 'torque' and 'te'"),
+    ("input_angle [deg], te [arcsec]\n1, 2\n2, 3\n3, 4\n", "row 1, column 'input_angle [deg]'", "ratio"),
+    ("torque [N*m], angle [arcsec]\n1, 2\n", "row 1", "need at least 3"),
+    ("torque [N*m], angle [arcsec]\n0, 2\n0, 3\n0, 4\n", "row 1, column 'torque [N*m]'", "every torque is zero"),
 ])
 def test_bad_csv_gives_file_line_and_column(tmp_path, text, key, reason):
     path = tmp_path / "m.csv"
@@ -462,4 +462,4 @@ def test_a_bad_measurement_file_is_reported_by_the_cli_with_its_line(tmp_path, c
     path = _study(tmp_path, csv=bad.as_posix())
     assert main(["check", str(path)]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == f"rvtol: error: {bad}: line 3, column 'angle [arcsec]': not a number: 'x'"
+    assert err == f"rvtol: error: {bad}: row 3, column 'angle [arcsec]': not a number: 'x'"

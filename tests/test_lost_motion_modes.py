@@ -11,7 +11,7 @@ from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.model import Model, Quantity
 from rvtol.models.lost_motion.model import LostMotionGeometry, LostMotionModel
-from rvtol.models.torsion_curve import screening as S
+from rvtol.models.screening import bridge as S
 from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver

@@ -179,23 +179,23 @@ def test_unit_verdicts_conform_fail_and_undecided_by_their_probability(tmp_path)
 
 
 @pytest.mark.parametrize("which, text, key", [
-    ("cranks", "serial, cam.y [um]\nuncertainty, 0\nC1, 1\n", "line 1, column 'cam.y [um]'"),
-    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, 1\nC1, 2\n", "line 4, column 'serial'"),
-    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, abc\n", "line 3, column 'cam.x'"),
-    ("cranks", "serial, cam.x\nC1, 1\n", "line 1, column 'cam.x'"),
-    ("cranks", "serial, cam.x\nuncertainty, -0.1\nC1, 1\n", "line 2, column 'cam.x'"),
-    ("cranks", "serial, cam.x, cam.x.u\nuncertainty, 0.1,\nC1, 1, 0.2\n", "line 2, column 'cam.x'"),
-    ("cranks", "serial, cam.x [deg]\nuncertainty, 0\nC1, 1\n", "line 1, column 'cam.x [deg]'"),
-    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, 1, 2\n", "line 3"),
-    ("cranks", "part, cam.x\nuncertainty, 0\nC1, 1\n", "line 1, column 'part'"),
-    ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, C9, H1, P1\n", "line 2, column 'crank_2'"),
+    ("cranks", "serial, cam.y [um]\nuncertainty, 0\nC1, 1\n", "row 1, column 'cam.y [um]'"),
+    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, 1\nC1, 2\n", "row 4, column 'serial'"),
+    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, abc\n", "row 3, column 'cam.x'"),
+    ("cranks", "serial, cam.x\nC1, 1\n", "row 1, column 'cam.x'"),
+    ("cranks", "serial, cam.x\nuncertainty, -0.1\nC1, 1\n", "row 2, column 'cam.x'"),
+    ("cranks", "serial, cam.x, cam.x.u\nuncertainty, 0.1,\nC1, 1, 0.2\n", "row 2, column 'cam.x'"),
+    ("cranks", "serial, cam.x [deg]\nuncertainty, 0\nC1, 1\n", "row 1, column 'cam.x [deg]'"),
+    ("cranks", "serial, cam.x\nuncertainty, 0\nC1, 1, 2\n", "row 3"),
+    ("cranks", "part, cam.x\nuncertainty, 0\nC1, 1\n", "row 1, column 'part'"),
+    ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, C9, H1, P1\n", "row 2, column 'crank_2'"),
     ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, C2, H1, P1\nR2, C1, C3, H2, P2\n",
-     "line 3, column 'crank_1'"),
-    ("kits", "reducer, crank_1, crank_2, housing\nR1, C1, C2, H1\n", "line 1"),
-    ("kits", "reducer, crank_1, crank_2, housing, pins, carrier\nR1, C1, C2, H1, P1, X\n", "line 1, column 'carrier'"),
-    ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, , H1, P1\n", "line 2, column 'crank_2'"),
+     "row 3, column 'crank_1'"),
+    ("kits", "reducer, crank_1, crank_2, housing\nR1, C1, C2, H1\n", "row 1"),
+    ("kits", "reducer, crank_1, crank_2, housing, pins, carrier\nR1, C1, C2, H1, P1, X\n", "row 1, column 'carrier'"),
+    ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, , H1, P1\n", "row 2, column 'crank_2'"),
     ("kits", "reducer, crank_1, crank_2, housing, pins\nR1, C1, C2, H1, P1\nR1, C3, C4, H2, P2\n",
-     "line 3, column 'reducer'"),
+     "row 3, column 'reducer'"),
 ])
 def test_bad_measured_files_name_the_file_line_and_column(tmp_path, which, text, key):
     fams = _families(tmp_path)
@@ -283,4 +283,4 @@ def test_a_bad_kit_file_fails_the_study_at_load_time(tmp_path):
     kits = write(tmp_path / "kits.csv", "reducer, crank_1, crank_2\nR1, C1, C1\n")
     with pytest.raises(InputError) as exc:
         load_study(write(tmp_path / "s.toml", STUDY))
-    assert exc.value.file == str(kits) and exc.value.key == "line 2, column 'crank_2'"
+    assert exc.value.file == str(kits) and exc.value.key == "row 2, column 'crank_2'"

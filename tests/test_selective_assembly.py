@@ -182,7 +182,7 @@ def test_the_rv80e_pin_rule_weighs_the_pin_circle_as_the_20dof_model_does(root):
 
 def test_a_target_may_read_design_numbers(root):
     from rvtol.design import load_design
-    from rvtol.production.selective import design_numbers
+    from rvtol.design import design_numbers
 
     design = load_design(root / "data/products/rv80e/design.toml")
     assert design_numbers(["design.pin.count", "design.pin.circle_radius", "hole", "design.no.such"], design) == {

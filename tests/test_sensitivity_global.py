@@ -205,29 +205,31 @@ def test_delta_is_the_same_on_any_executor():
     assert serial.equals(parallel)
 
 
-def test_delta_raw_alone_is_salibs_analyze_bit_for_bit():
-    """rvtol runs only the δ variant it reports ("raw"); the numbers are SALib analyze's exactly — a factor with
-    both signs (analyze bootstraps its "step" variant too), a positive one (no step), one whose positive side is
-    one bin (the step variant fails: analyze keeps δ, S1 is NaN), and a constant one (NaN)."""
+def test_delta_of_one_factor_leaves_the_process_random_state_and_warnings_as_they_were():
+    """δ runs through SALib's public analyze with its own seed; SALib (1.6) seeds NumPy's global generator and
+    replaces the global warning formatter — both are restored.  A factor whose positive side is one bin (the
+    step variant fails: analyze keeps δ, S1 is NaN) and a constant factor (NaN) as analyze gives them; the same
+    seed gives the same numbers."""
     import warnings
-
-    from SALib.analyze import delta as salib_delta
 
     from rvtol.sensitivity.global_ import _delta_one
 
     rng = np.random.default_rng(3)
     X = rng.uniform(-np.pi, np.pi, (600, 2))
     y = np.sin(X[:, 0]) + 7 * np.sin(X[:, 1]) ** 2 + 0.1 * X[:, 1] ** 4 * np.sin(X[:, 0])
+    np.random.seed(2024)
+    before = np.random.get_state()[1].copy()
+    fmt, filters = warnings.formatwarning, list(warnings.filters)
+    a = _delta_one("a", X[:, 1], y, 12, 0.95, 12345)
+    assert np.array_equal(np.random.get_state()[1], before)
+    assert warnings.formatwarning is fmt and warnings.filters == filters
+    assert a == _delta_one("a", X[:, 1], y, 12, 0.95, 12345)
+    assert a != _delta_one("a", X[:, 1], y, 12, 0.95, 54321)
+    assert 0.0 < a["delta"] < 1.0 and a["delta_conf"] > 0.0 and 0.0 < a["S1"] < 1.0
     one_bin = np.where(np.arange(600) < 300, -rng.uniform(0, 1, 600), rng.uniform(0.95, 1.0, 600))
     one_bin[300] = 1e-6
-    for x, seed in ((X[:, 0], 12345), (np.abs(X[:, 1]) + 0.1, 7), (one_bin, 7)):
-        with warnings.catch_warnings(record=True):
-            si = salib_delta.analyze({"num_vars": 1, "names": ["a"], "bounds": [[0.0, 1.0]]}, x[:, None], y,
-                                     num_resamples=12, conf_level=0.95, seed=seed)
-        got = _delta_one("a", x, y, 12, 0.95, seed)
-        np.testing.assert_array_equal([got[k] for k in ("delta", "delta_conf", "S1", "S1_conf")],
-                                      [si[k][0] for k in ("delta_raw", "delta_raw_conf", "S1", "S1_conf")])
-    assert np.isfinite(got["delta"]) and np.isnan(got["S1"])          # the one-bin case: δ kept, S1 NaN
+    got = _delta_one("a", one_bin, y, 12, 0.95, 7)
+    assert np.isfinite(got["delta"]) and np.isnan(got["S1"])
     assert np.isnan(_delta_one("a", np.ones(600), y, 12, 0.95, 1)["delta"])
 
 

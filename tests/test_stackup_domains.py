@@ -71,8 +71,10 @@ def test_planar_truncnorm_variance_by_independent_integration():
 
 
 def test_planar_record_states_the_documents_formulas():
+    from rvtol_reproduction.doc003_stackup import planar_record   # the reproduction wing (studies/reproduction)
+
     z = dm.ParallelPlaneZone(0.0, 0.02, 40.0, 25.0)
-    rec = dm.planar_record(z).set_index("quantity")
+    rec = planar_record(z).set_index("quantity")
     doc = rec["document (printed formula)"]
     assert doc["mean Δw"] == pytest.approx(0.01) and doc["mean Δα"] == pytest.approx(0.02 / 80)
     assert doc["σ²(Δw)"] == pytest.approx(0.02**2 / 12) and doc["σ²(Δα)"] == pytest.approx(0.02**2 / (3 * 40**2))

@@ -149,6 +149,10 @@ SHAFT_HOLE = (ROOT / "studies/stackup_shaft_hole.toml").read_text(encoding="utf-
 
 @pytest.mark.parametrize("old,new,key,reason", [
     ('t1 = 0.0\nt2 = 0.020', 't1 = 0.030\nt2 = 0.020', r"analysis\[3\]\.domain\[2\]\.t2", "t1 < t2"),
+    # the reproduction wing's planar zone (doc 003's printed formulas): its own keys, located the same way
+    ('t1 = 0.0, t2 = 0.020', 't1 = 0.030, t2 = 0.020', r"analysis\[0\]\.planar_zone\.t2", "t1 < t2"),
+    ('length = 40.0, width', 'length = -40.0, width', r"analysis\[0\]\.planar_zone\.length", "> 0"),
+    ('width = 25.0 }', 'width = 25.0, widht = 3 }', r"analysis\[0\]\.planar_zone\.widht", "unknown key"),
 ])
 def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason):
     """Errors found by the analyses' own checks still name the study file and the full key."""

@@ -137,4 +137,4 @@ magnitudes = [1.0]
     res = run_study(load_study(write(tmp_path / "s.toml", study_text(analyses=analyses)), n=4, progress=False))
     (sens,) = res.sections
     rank = {r["factor"]: r for r in sens.summary["ranking"]}
-    assert rank["E_c"]["rvtol class"] == "high" and "document class" not in rank["E_c"] and not sens.summary["printed"]
+    assert rank["E_c"]["rvtol class"] == "high" and "document class" not in rank["E_c"] and "printed" not in sens.summary

@@ -12,7 +12,8 @@
 * :mod:`.ga` — :func:`solve_ga` (pygad; seeded, any constraint);
 * :mod:`.baseline` — uniform-tolerance baseline and the independent Monte
   Carlo :func:`verify`;
-* :mod:`.analyses` — the ``allocation`` study analysis (``ANALYSES["allocation"]``).
+* :mod:`.allocate` — :func:`allocate`: what a study asks for, one :class:`Allocation` result;
+* :mod:`.analyses` — the ``allocation`` study analysis (``ANALYSES["allocation"]``), :mod:`.texts` its report.
 """
 from .baseline import uniform_baseline, verify
 from .convex import solve_convex

@@ -33,6 +33,7 @@ import pandas as pd
 from scipy import stats as sps
 
 from .. import stats as st
+from ..stats import rss
 from .. import units
 from ..errors import InputError
 from ..mc import Evaluator
@@ -227,11 +228,11 @@ class LinearisedConstraint:
         S = np.where(missing, 0.0, lin.S)
         if mode == "rss":
             self.coef = np.abs(S[:, problem.idx]) * lin.rho[problem.idx]  # per unit t: σ contribution
-            fixed = (S[:, ~alloc] * lin.rho[~alloc] * lin.t_spec[~alloc]) ** 2
+            fixed = rss(S[:, ~alloc] * lin.rho[~alloc] * lin.t_spec[~alloc], axis=1, squared=True)
             # a nominal output on or outside its limits (margin ≤ 0) leaves no budget: squaring a
             # negative margin would turn it into a positive one
             room = np.where(lin.margin > 0, lin.margin / lin.z, 0.0)
-            self.budget = room ** 2 - fixed.sum(axis=1)  # for Σ (coef t)²
+            self.budget = room ** 2 - fixed  # for Σ (coef t)²
         else:
             self.coef = np.abs(S[:, problem.idx])
             self.budget = lin.margin - (np.abs(S[:, ~alloc]) * lin.t_spec[~alloc]).sum(axis=1)  # for Σ coef t
@@ -241,7 +242,7 @@ class LinearisedConstraint:
         """``[p, j]`` used fraction of each requirement's budget (≤ 1 is feasible)."""
         T = np.atleast_2d(T)
         if self.mode == "rss":
-            used = ((T[:, None, :] * self.coef[None]) ** 2).sum(-1)
+            used = rss(T[:, None, :] * self.coef[None], axis=-1, squared=True)
         else:
             used = (T[:, None, :] * self.coef[None]).sum(-1)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -300,7 +301,7 @@ def design_levers(problem: AllocationProblem, lin: Linearisation, top: int = 8,
             continue
         q = problem.model.output(r.output)
         y_ref, sigma = (reference[j] if reference and j in reference
-                        else (lin.y0[j], float(np.sqrt(np.sum((lin.S[j] * sd) ** 2)))))
+                        else (lin.y0[j], rss(lin.S[j] * sd)))
         lower = units.convert(r.lower, q.shown_unit, q.unit) if r.lower is not None else None
         if lower is not None and (r.upper is None or lin.y0[j] <= lower):     # the limit the nominal misses
             target = lower + lin.z[j] * sigma

@@ -42,8 +42,6 @@ than the parts').  u ≥ s is refused (the gauge cannot resolve the parts).
 from __future__ import annotations
 
 import array
-import csv
-import io
 import itertools
 import math
 import re
@@ -56,8 +54,7 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import InputError, SpecError
-from ..params import decode_text, read_bytes
-from .sheets import byte_progress, read_rows
+from .sheets import byte_progress, stream_rows
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -730,38 +727,11 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     """
     path = Path(path)
     file = str(path)
-    suffix = path.suffix.lower()
-    where_sheet = ""
-    if suffix in (".xlsx", ".xlsm"):
-        sh = read_rows(path, sheet)
-        rows = iter(sh.rows)
-        where_sheet = f"sheet {sh.title!r}, "
-        decimal_comma = False
-        size = 0
-    elif suffix in (".csv", ".tsv", ".txt", ".dat", ""):
-        raw = read_bytes(path, "a file of measured values")
-        size = len(raw)
-        text = decode_text(raw, file)
-        del raw
-        head = []
-        for ln in io.StringIO(text):
-            if ln.strip() and not ln.lstrip().startswith("#"):
-                head.append(ln)
-                if len(head) == 50:
-                    break
-        sample = "".join(head)
-        if suffix == ".tsv":
-            delim = "\t"
-        else:
-            try:
-                delim = csv.Sniffer().sniff(sample, delimiters=",;\t ").delimiter if sample else ","
-            except csv.Error:
-                delim = ","
-        decimal_comma = delim in ";\t "
-        rows = enumerate(csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " "), start=1)
-    else:
-        raise SpecError(f"unknown measurement file format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx)",
-                        file=file, key="-")
+    rs = stream_rows(path, sheet, delimiters=",;\t ", text_suffixes=(".csv", ".tsv", ".txt", ".dat", ""),
+                     what="a file of measured values")
+    rows, size = rs.rows, rs.size
+    where_sheet = f"sheet {rs.title!r}, " if rs.title is not None else ""
+    decimal_comma = rs.delimiter is not None and rs.delimiter in ";\t "
 
     def empty(v):
         return v is None or (isinstance(v, str) and not v.strip())

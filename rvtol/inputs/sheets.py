@@ -1,21 +1,27 @@
 """Spreadsheet files both ways: rows of cells from CSV/TSV/XLSX with their locations, and rows or
 DataFrames written as CSV (UTF-8 with a byte-order mark, so Excel shows ``±`` and ``µ``) or XLSX.
 
-Every reader of a table in rvtol (spec tables, measured values) goes through :func:`read_rows`, so
-a problem is always one line naming the file, the sheet (XLSX), the row and the column
-(:class:`Location`): ``stack.xlsx: sheet 'spec', row 7, column 'tolerance' (E): …``.
+Every reader of a table in rvtol (spec tables, measured values, measured parts and kit lists,
+measured curves) goes through :func:`read_rows`, so a problem is always one line naming the file,
+the sheet (XLSX), the row and the column (:class:`Location`): ``stack.xlsx: sheet 'spec', row 7,
+column 'tolerance' (E): …``.  :func:`read_table` reads a table with a header row: rows whose first
+cell starts with ``#`` are comments, blank rows are skipped, and a header cell is ``name`` or
+``name [unit]`` (:func:`split_header`: the unit is a bracket group after a space, so a name may hold
+brackets itself, ``E_c[1,2] [um]``).
 """
 from __future__ import annotations
 
 import csv
 import hashlib
 import io
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
 from ..params import decode_text, read_bytes
-from ..errors import SpecError
+from ..errors import InputError, SpecError
 
 #: table formats rvtol reads and writes
 READ_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xlsm")
@@ -92,15 +98,61 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
             wb.close()
         _check_formulas(raw, path, title, rows)
         return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
-    if suffix in (".csv", ".txt", ".tsv"):
+    if suffix in TEXT_SUFFIXES:
         raw = read_bytes(path, "a table file")
-        text = decode_text(raw, str(path), fallback="cp1252")   # cp1252: Excel's "CSV" on Western Windows
-        delim = "\t" if suffix == ".tsv" else sniff(text, delimiters)
-        reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=delim == " ")
-        rows = [(r, cells) for r, cells in enumerate(reader, start=1)]
-        return Sheet(rows, None, False, hashlib.sha256(raw).hexdigest())
-    raise SpecError(f"unknown table format {path.suffix!r} (expected .csv, .tsv, .txt or .xlsx; save other "
-                    "spreadsheets as .xlsx)", file=str(path), key="-")
+        rows, _ = _text_rows(raw, path, delimiters)
+        return Sheet(list(rows), None, False, hashlib.sha256(raw).hexdigest())
+    raise _unknown_format(path, TEXT_SUFFIXES)
+
+
+#: text table formats (CSV with its delimiter sniffed, TSV)
+TEXT_SUFFIXES = (".csv", ".txt", ".tsv")
+
+
+def _unknown_format(path: Path, text_suffixes) -> SpecError:
+    shown = ", ".join(s for s in text_suffixes if s)
+    return SpecError(f"unknown table format {path.suffix!r} (expected {shown} or .xlsx; save other spreadsheets as "
+                     ".xlsx)", file=str(path), key="-")
+
+
+def _text_rows(raw: bytes, path: Path, delimiters: str):
+    """``(rows, delimiter)`` of a text table: its decoded text read by :mod:`csv` one row at a time (a quoted cell
+    after ``, `` is one cell)."""
+    text = decode_text(raw, str(path), fallback="cp1252")   # cp1252: Excel's "CSV" on Western Windows
+    delim = "\t" if path.suffix.lower() == ".tsv" else sniff(text, delimiters)
+    reader = csv.reader(io.StringIO(text), delimiter=delim, skipinitialspace=True)
+    return enumerate(reader, start=1), delim
+
+
+@dataclass
+class RowStream:
+    """The rows of a table file one at a time (:func:`stream_rows`): ``rows`` yields ``(row number, cells)``;
+    ``delimiter`` of a text file (None: a workbook), its ``size`` in bytes."""
+
+    rows: Iterator[tuple[int, list]]
+    title: str | None
+    lettered: bool
+    delimiter: str | None
+    size: int
+
+    def location(self, file: str) -> Location:
+        return Location(file, self.title)
+
+
+def stream_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = ",;\t",
+                text_suffixes: tuple[str, ...] = TEXT_SUFFIXES, what: str = "a table file") -> RowStream:
+    """:func:`read_rows` one row at a time, for a file too large to hold as cells (only what the reader keeps
+    of each row stays in memory); ``text_suffixes``: the suffixes read as text tables."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in (".xlsx", ".xlsm"):
+        sh = read_rows(path, sheet)
+        return RowStream(iter(sh.rows), sh.title, True, None, 0)
+    if suffix in text_suffixes:
+        raw = read_bytes(path, what)
+        rows, delim = _text_rows(raw, path, delimiters)
+        return RowStream(rows, None, False, delim, len(raw))
+    raise _unknown_format(path, text_suffixes)
 
 
 _MERGE = re.compile(rb'<(?:\w+:)?mergeCell\s+ref="([A-Z]+)(\d+):([A-Z]+)(\d+)"')
@@ -178,16 +230,116 @@ def byte_progress(total: int, desc: str) -> _Progress:
 
 
 def sniff(text: str, delimiters: str = ",;\t") -> str:
-    """The delimiter of CSV text (comment lines ignored); ``,`` when it cannot be told."""
-    head = "\n".join(line for line in text.splitlines()[:50] if line.strip() and not line.lstrip().startswith("#"))
+    """The delimiter of CSV text, from its first 50 lines that are not blank or comments; ``,`` when it cannot
+    be told."""
+    head = []
+    for line in io.StringIO(text):                  # line by line: a large file is not split whole
+        if line.strip() and not line.lstrip().startswith("#"):
+            head.append(line)
+            if len(head) == 50:
+                break
     try:
-        return csv.Sniffer().sniff(head or text[:4096], delimiters=delimiters).delimiter
+        return csv.Sniffer().sniff("".join(head) or text[:4096], delimiters=delimiters).delimiter
     except csv.Error:
         return ","
 
 
 def blank(v) -> bool:
     return v is None or (isinstance(v, str) and not v.strip())
+
+
+# ------------------------------------------------------------------------------ tables with a header row
+#: "name" or "name [unit]": the unit is a bracket group after a space (a name may hold brackets: "E_c[1,2]")
+_HEADER = re.compile(r"^\s*(\S.*?)(?:\s+\[\s*([^\[\]]+?)\s*\])?\s*$")
+
+
+def split_header(cell: str) -> tuple[str, str | None] | None:
+    """``(name, unit or None)`` of a header cell ``name`` or ``name [unit]`` (the unit as written); None for a
+    blank cell."""
+    m = _HEADER.match(str(cell))
+    if not m or not m.group(1):
+        return None
+    return m.group(1), m.group(2)
+
+
+@dataclass
+class Table:
+    """A table with a header row (:func:`read_table`): the header's names and units, the body rows with their
+    row numbers, and located errors."""
+
+    file: str
+    sha256: str
+    location: Location
+    header_row: int
+    cells: list[str]                  # the header cells as written
+    names: list[str]                  # their names
+    units: list[str | None]           # their units as written, None where the header gives none
+    rows: list[tuple[int, list]]      # (row number, cells: strings stripped, XLSX numbers as numbers, blank "")
+    lettered: bool = False
+
+    def error(self, reason: str, row: int | None = None, col: int | None = None) -> SpecError:
+        """A located error: at ``row`` (default the header's) and column index ``col`` (None: the whole row)."""
+        row = self.header_row if row is None else row
+        if col is None:
+            return self.location.error(reason, row)
+        name = self.cells[col] if col < len(self.cells) and self.cells[col] else None
+        return self.location.error(reason, row, name, col_letter(col) if self.lettered or name is None else None)
+
+    def unit(self, col: int) -> str | None:
+        """The canonical unit of column ``col`` from its header (None if it gives none; an unknown unit is an
+        error at the header cell)."""
+        from .. import units
+
+        u = self.units[col]
+        if u is None:
+            return None
+        try:
+            return units.canonical(u)
+        except InputError as exc:
+            raise self.error(exc.reason, col=col) from None
+
+    def number(self, row: int, cells: list, col: int) -> float:
+        """The finite number in column ``col`` of a body row (an error naming row and column otherwise)."""
+        v = cells[col] if col < len(cells) else ""
+        if isinstance(v, bool):
+            raise self.error(f"not a number: {v!r}", row, col)
+        try:
+            x = float(v)
+        except (TypeError, ValueError):
+            raise self.error(f"not a number: {v!r}", row, col) from None
+        if not math.isfinite(x):
+            raise self.error(f"must be a finite number, got {v!r}", row, col)
+        return x
+
+
+def read_table(path: str | Path, sheet: str | None = None, *, what: str = "a header row") -> Table:
+    """The table in a CSV/TSV/TXT file or XLSX sheet: comment rows (first cell ``# …``) and blank rows skipped,
+    the first other row the header (:func:`split_header`; :meth:`Table.unit` checks a column's unit), the rest
+    the body.  ``what`` says what the header should look like (in the error of a file without one)."""
+    sh = read_rows(path, sheet)
+    file = str(path)
+    loc = sh.location(file)
+    rows = []
+    for r, cells in sh.rows:
+        cells = [c.strip() if isinstance(c, str) else ("" if c is None else c) for c in cells]
+        if not any(c != "" for c in cells) or (isinstance(cells[0], str) and cells[0].startswith("#")):
+            continue
+        while cells and cells[-1] == "" and sh.lettered:     # XLSX: trailing empty cells of a wider sheet
+            cells.pop()
+        rows.append((r, cells))
+    if not rows:
+        raise SpecError(f"no header row ({what})", file=file, key=loc.key(1))
+    hrow, head = rows[0]
+    head = [str(c) for c in head]
+    names, col_units = [], []
+    for i, c in enumerate(head):
+        parsed = split_header(c)
+        if parsed is None:
+            raise loc.error("cannot read this header cell (expected 'name' or 'name [unit]')", hrow, c or None,
+                            col_letter(i))
+        names.append(parsed[0])
+        col_units.append(parsed[1])
+    return Table(file, sh.sha256, loc, hrow, head, names, col_units, rows[1:], sh.lettered)
 
 
 # ------------------------------------------------------------------------------ writing

@@ -3,9 +3,11 @@
 Each package has the same shape: its solvers (pure functions and small
 classes; numba only in ``_kernels.py`` with a NumPy twin), ``model.py`` (the
 Model and its study factory ``from_study(params, design, spec)``, registered
-in :data:`rvtol.registry.MODELS`) and ``analyses.py`` (its report sections,
-:class:`rvtol.analysis.Analysis` subclasses registered in
-:data:`rvtol.registry.ANALYSES`).
+in :data:`rvtol.registry.MODELS`), its capabilities (plain functions returning
+result dataclasses with ``to_frame()``, ``plot()``, ``summary()``),
+``analyses.py`` (thin :class:`rvtol.analysis.Analysis` adapters: declared
+options, one call; registered in :data:`rvtol.registry.ANALYSES`) and
+``texts.py`` (the report's prose and the layout of each result).
 
 =================  ============================================  =========================
 package            physics                                       ``[model] kind``
@@ -27,6 +29,8 @@ package            physics                                       ``[model] kind`
 ``custom``         a Python factory named ``module:function``     ``python`` (and kinds of
                    in the study                                   installed entry points)
 ``composite``      several models on the same samples            several ``[[model]]``
+``screening``      doc 001's screening beside the 20-DOF torsion  (analysis
+                   curve on the same reducers (the bridge)        ``lost_motion_screening``)
 =================  ============================================  =========================
 
 Closed-form machine elements (Hertz contacts, bearings, shafts, carrier)

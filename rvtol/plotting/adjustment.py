@@ -105,23 +105,3 @@ def step_statistics(stats, ax=None):
     ax.set_title(f"Monte Carlo batch (n={stats.n}), Q = {units.number_label(stats.accuracy)}")
     ax.legend(fontsize=7, ncol=2 if nx <= 6 else 3)
     return fig
-
-
-def te_against_q(sweep, points, printed, ax=None):
-    """TE peak-to-peak of the example assembly against Q (rvtol's mapping), beside doc 002's Table 4."""
-    fig, ax = new_axes(ax)
-    ax.plot(sweep["Q"], sweep["te_pp [arcsec]"], "-", color=COLORS["data"], label="rvtol (RV-80E TE model, mapped KCs)")
-    fin = points[np.isfinite(points["Q"])]
-    ax.plot(fin["Q"].clip(lower=sweep["Q"].min()), fin["te_pp [arcsec]"], "o", color=COLORS["data"])
-    qs = [0.0, 5.0, 10.0]
-    ax.plot(np.clip(qs, sweep["Q"].min(), None), printed[:3], "s", color=COLORS["fit"], label="doc 002, Table 4")
-    ax.axhline(printed[3], color=COLORS["fit"], ls="--", lw=1, label=f"doc 002, Q = ∞ ({printed[3]:g})")
-    inf = points[~np.isfinite(points["Q"])]
-    if len(inf):
-        ax.axhline(float(inf["te_pp [arcsec]"].iloc[0]), color=COLORS["data"], ls=":", lw=1,
-                   label=f"rvtol, Q = ∞ ({float(inf['te_pp [arcsec]'].iloc[0]):.2g})")
-    ax.set_xscale("log")
-    ax.set_xlabel("accuracy weight Q [1] (Q = 0 drawn at the left edge)")
-    ax.set_ylabel("TE peak-to-peak [arcsec]")
-    ax.legend(fontsize=7)
-    return fig

@@ -143,7 +143,7 @@ def sequence_histograms(comparison, outputs=None, bins: int = 50):
 
 
 def planar_domain(zone, samples, ax=None):
-    """Samples of a parallel-plane zone on (Δw, Δα·W/2): the exact domain, its box and the document's box."""
+    """Samples of a parallel-plane zone on (Δw, Δα·W/2): the exact domain and its bounding box."""
     fig, ax = new_axes(ax, (5.0, 3.6))
     s = np.asarray(samples)[:3000]
     h = 0.5 * zone.dt
@@ -153,10 +153,6 @@ def planar_domain(zone, samples, ax=None):
             label="exact domain at Δβ = 0")
     ax.plot(np.array([h, -h, -h, h, h]) * 1e3, np.array([h, h, -h, -h, h]) * 1e3, color=COLORS["ci"], ls=":",
             label="bounding box")
-    db = zone.doc_box()
-    bw, ba = db[2], db[3] * zone.W / 2
-    ax.plot(np.array([bw, -bw, -bw, bw, bw]) * 1e3, np.array([ba, ba, -ba, -ba, ba]) * 1e3, color=COLORS["limit"],
-            ls="--", label="document's printed box")
     ax.set_xlabel("Δw − zone centre [µm]")
     ax.set_ylabel("Δα · W/2 [µm]")
     ax.set_aspect("equal", adjustable="datalim")

@@ -100,3 +100,24 @@ def plot_compliance_breakdown(labels, series: dict, ax=None, xlabel: str = "outp
     ax.set_xlabel(xlabel)
     ax.legend(loc="lower right")
     return fig
+
+
+def plot_torsion_curves(curves, percent: float, rated_Nm: float, zoom: bool = False):
+    """Torsion curves (``curves``: (label, curve) pairs) over the whole cycle, or (``zoom``) within ±10 % of
+    rated torque, with the ±``percent`` % band of the maker's lost motion."""
+    fig, ax = new_axes(None, figsize=(6.4, 3.2 if zoom else 4.0))
+    for label, c in curves:
+        if zoom:
+            sel = np.abs(c.torque) <= 0.1 * c.rated
+            ax.plot(c.torque_Nm[sel], c.angle_arcmin[sel], "o-", ms=2, lw=1, label=label)
+        else:
+            ax.plot(c.torque_Nm, c.angle_arcmin, "-o", ms=2, lw=1, label=label)
+    lim = percent / 100.0 * rated_Nm
+    if zoom:
+        ax.axvspan(-lim, lim, color="0.6", alpha=0.2)
+    else:
+        ax.axvspan(-lim, lim, color="0.6", alpha=0.2, label=f"±{percent:g} % rated")
+    ax.set_xlabel("output torque [N·m]")
+    ax.set_ylabel("torsion angle [arcmin]" if zoom else "output torsion angle [arcmin]")
+    ax.legend(loc="best")
+    return fig

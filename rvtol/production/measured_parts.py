@@ -1,7 +1,8 @@
-"""Measured parts: one CSV file per part family, one row per serial number, and a kit list.
+"""Measured parts: one table file per part family, one row per serial number, and a kit list.
 
-**Part family file** (UTF-8, comma-separated; lines starting with ``#`` are comments — say there
-where the numbers come from; the first other line is the header)::
+**Part family file** (CSV, TSV or an XLSX sheet, read by :func:`rvtol.inputs.sheets.read_table`; rows
+starting with ``#`` are comments — say there where the numbers come from; the first other row is the
+header)::
 
     # crankshafts of the RV-80E, CMM report 2026-03 (cam positions to A-B), u: CMM MPE/√3
     serial, cam_1.position.x1 [um], cam_1.position.y1 [um], cam_1.form [um], cam_1.form.u [um]
@@ -35,15 +36,12 @@ where the numbers come from; the first other line is the header)::
 them), holding the serial of the part in that slot or ``-`` when that slot's part was not measured
 (its factors are then sampled from the spec).  A part belongs to one reducer, in one slot.
 
-Every problem is one :class:`~rvtol.errors.InputError` naming the file and the line and column
-(``FILE: line 5, column 'cam_1.form [um]': not a number: 'x'``).  Values are returned in base units
-(mm, rad).
+Every problem is one :class:`~rvtol.errors.InputError` naming the file and the row and column
+(``FILE: row 5, column 'cam_1.form [um]': not a number: 'x'``; in a workbook also the sheet).  Values
+are returned in base units (mm, rad).
 """
 from __future__ import annotations
 
-import csv
-import io
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -53,7 +51,7 @@ import pandas as pd
 
 from .. import units
 from ..errors import InputError
-from ..params import read_text
+from ..inputs.sheets import Table, read_table
 
 SERIAL = "serial"
 REDUCER = "reducer"
@@ -61,53 +59,21 @@ UNCERTAINTY_ROW = "uncertainty"
 U_SUFFIX = ".u"
 NOT_MEASURED = "-"
 
-#: "name" or "name [unit]": the unit is a bracket group after a space (a name may hold brackets: "E_c[1,2]")
-_HEADER = re.compile(r"^\s*(\S.*?)(?:\s+\[\s*([^\[\]]+?)\s*\])?\s*$")
-
-
-def _error(file: str, line: int, column: str | None, reason: str) -> InputError:
-    return InputError(reason, file=file, key=f"line {line}" + (f", column {column!r}" if column else ""))
-
 
 def factor_name(slot: str, column: str) -> str:
     """The spec factor a feature column stands for in ``slot`` (``crank_2`` + ``cam_1.form``)."""
     return f"{slot}{column}" if column.startswith("[") else f"{slot}.{column}"
 
 
-def _rows(path) -> tuple[str, str, list[tuple[int, list[str]]]]:
-    """``(file, sha256, [(line number, cells)])`` of the non-comment, non-blank lines of a CSV file."""
-    file = str(path)
-    text, sha = read_text(path, "a CSV file")
-    rows = []
-    for lineno, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        rows.append((lineno, [c.strip() for c in next(csv.reader(io.StringIO(line), skipinitialspace=True))]))
-    if not rows:
-        raise InputError("no header line", file=file, key="line 1")
-    return file, sha, rows
+def _text(v) -> str:
+    """A cell as text (an XLSX serial number may be a number)."""
+    return v if isinstance(v, str) else (f"{v:g}" if isinstance(v, float) else str(v))
 
 
-def _split(cell: str, file: str, line: int) -> tuple[str, str | None]:
-    m = _HEADER.match(cell)
-    if not m or not m.group(1):
-        raise _error(file, line, cell, "cannot read this header cell (expected 'name' or 'name [unit]')")
-    unit = m.group(2)
-    if unit:
-        try:
-            unit = units.canonical(unit)
-        except InputError as exc:
-            raise _error(file, line, cell, exc.reason) from None
-    return m.group(1), unit
-
-
-def _number(text: str, file: str, line: int, column: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise _error(file, line, column, f"not a number: {text!r}") from None
-    if not np.isfinite(v):
-        raise _error(file, line, column, f"must be a finite number, got {text!r}")
+def _nonnegative(t: Table, row: int, cells: list, col: int) -> float:
+    v = t.number(row, cells, col)
+    if v < 0:
+        raise t.error(f"an uncertainty must be >= 0, got {cells[col]!r}", row, col)
     return v
 
 
@@ -123,7 +89,7 @@ class PartFamily:
     columns: tuple[str, ...]          # feature names, relative to the slot
     units: tuple[str, ...]            # unit each column was written in
     serials: tuple[str, ...]
-    lines: tuple[int, ...]            # line of each part in the file
+    lines: tuple[int, ...]            # row of each part in the file
     values: np.ndarray                # [parts, columns], base units
     uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
 
@@ -136,114 +102,102 @@ class PartFamily:
 
 def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) -> PartFamily:
     """Read and check one part family file (module docstring) against ``spec``'s factors."""
-    file, sha, rows = _rows(path)
+    t = read_table(path, what="serial, <feature> [unit], ...")
     slots = tuple(slots)
     if not slots:
-        raise InputError("a part family needs at least one slot", file=file, key="slots")
-    hline, hcells = rows[0]
-    heads = [_split(c, file, hline) for c in hcells]
-    names = [h[0] for h in heads]
+        raise InputError("a part family needs at least one slot", file=t.file, key="slots")
+    names = t.names
     if names.count(SERIAL) != 1 or names[0] != SERIAL:
-        raise _error(file, hline, hcells[0], f"the first column must be {SERIAL!r} (once)")
-    dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
+        raise t.error(f"the first column must be {SERIAL!r} (once)", col=0)
+    dup = next((i for i, n in enumerate(names) if n in names[:i]), None)
     if dup is not None:
-        raise _error(file, hline, dup, "column appears twice")
+        raise t.error("column appears twice", col=dup)
     features = [i for i, n in enumerate(names) if i > 0 and not n.endswith(U_SUFFIX)]
     if not features:
-        raise _error(file, hline, None, "no feature columns")
+        raise t.error("no feature columns")
     col_units: list[str] = []
     for i in features:
-        n, unit = heads[i]
-        fnames = [factor_name(s, n) for s in slots]
+        fnames = [factor_name(s, names[i]) for s in slots]
         missing = [f for f in fnames if f not in spec.names]
         if missing:
-            raise _error(file, hline, hcells[i], f"no factor {missing[0]!r} in the spec {spec.name!r} "
-                                                 f"(column name = factor name without the slot {slots[0]!r})")
+            raise t.error(f"no factor {missing[0]!r} in the spec {spec.name!r} (column name = factor name without "
+                          f"the slot {slots[0]!r})", col=i)
         fu = spec.factor(fnames[0]).unit
         for f in fnames[1:]:
             if units.dimension(spec.factor(f).unit) != units.dimension(fu):
-                raise _error(file, hline, hcells[i], f"factors {fnames[0]!r} and {f!r} have different dimensions")
-        unit = unit or fu
+                raise t.error(f"factors {fnames[0]!r} and {f!r} have different dimensions", col=i)
+        unit = t.unit(i) or fu
         if units.dimension(unit) != units.dimension(fu):
-            raise _error(file, hline, hcells[i], f"unit {unit!r} does not fit the factor's unit {fu!r}")
+            raise t.error(f"unit {unit!r} does not fit the factor's unit {fu!r}", col=i)
         col_units.append(unit)
     u_cols: dict[int, tuple[int, str]] = {}
-    for i, (n, unit) in enumerate(heads):
+    for i, n in enumerate(names):
         if i == 0 or not n.endswith(U_SUFFIX):
             continue
         base = n[: -len(U_SUFFIX)]
         if base not in names or base.endswith(U_SUFFIX):
-            raise _error(file, hline, hcells[i], f"an uncertainty column without its feature column {base!r}")
+            raise t.error(f"an uncertainty column without its feature column {base!r}", col=i)
         j = features.index(names.index(base))
-        unit = unit or col_units[j]
+        unit = t.unit(i) or col_units[j]
         if units.dimension(unit) != units.dimension(col_units[j]):
-            raise _error(file, hline, hcells[i], f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}")
+            raise t.error(f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}", col=i)
         u_cols[j] = (i, unit)
 
-    ncols = len(hcells)
-    u_row: tuple[int, list[str]] | None = None
-    parts: list[tuple[int, list[str]]] = []
-    for lineno, cells in rows[1:]:
+    ncols = len(names)
+    u_row: tuple[int, list] | None = None
+    parts: list[tuple[int, list]] = []
+    for row, cells in t.rows:
         if len(cells) != ncols:
-            raise _error(file, lineno, None, f"{len(cells)} fields, the header has {ncols}")
-        if cells[0].lower() == UNCERTAINTY_ROW:
+            raise t.error(f"{len(cells)} fields, the header has {ncols}", row)
+        if _text(cells[0]).lower() == UNCERTAINTY_ROW:
             if u_row is not None:
-                raise _error(file, lineno, SERIAL, f"a second {UNCERTAINTY_ROW!r} row (the first on line {u_row[0]})")
-            u_row = (lineno, cells)
+                raise t.error(f"a second {UNCERTAINTY_ROW!r} row (the first on row {u_row[0]})", row, 0)
+            u_row = (row, cells)
         else:
-            parts.append((lineno, cells))
+            parts.append((row, cells))
     if not parts:
-        raise _error(file, hline, None, "no parts (rows) in the file")
+        raise t.error("no parts (rows) in the file")
 
     row_u = np.full(len(features), np.nan)
     for j, i in enumerate(features):
         cell = u_row[1][i] if u_row else ""
         if j in u_cols:
-            if cell:
-                raise _error(file, u_row[0], hcells[i], f"an uncertainty here and a column {hcells[u_cols[j][0]]!r}: "
-                                                         "give one")
+            if cell != "":
+                raise t.error(f"an uncertainty here and a column {t.cells[u_cols[j][0]]!r}: give one", u_row[0], i)
             continue
-        if not cell:
-            raise _error(file, u_row[0] if u_row else hline, hcells[i],
-                         f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row or a column "
-                         f"'{names[i]}{U_SUFFIX}'")
-        v = _number(cell, file, u_row[0], hcells[i])
-        if v < 0:
-            raise _error(file, u_row[0], hcells[i], f"an uncertainty must be >= 0, got {cell!r}")
-        row_u[j] = units.to_base(v, col_units[j])
+        if cell == "":
+            raise t.error(f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row or a column "
+                          f"'{names[i]}{U_SUFFIX}'", u_row[0] if u_row else None, i)
+        row_u[j] = units.to_base(_nonnegative(t, u_row[0], u_row[1], i), col_units[j])
     if u_row:
         for i, cell in enumerate(u_row[1]):
-            if i > 0 and i not in features and cell:
-                raise _error(file, u_row[0], hcells[i], f"the {UNCERTAINTY_ROW!r} row has no entry for an "
-                                                         "uncertainty column")
+            if i > 0 and i not in features and cell != "":
+                raise t.error(f"the {UNCERTAINTY_ROW!r} row has no entry for an uncertainty column", u_row[0], i)
 
     serials, lines = [], []
     values = np.empty((len(parts), len(features)))
     unc = np.empty_like(values)
     seen: dict[str, int] = {}
-    for r, (lineno, cells) in enumerate(parts):
-        s = cells[0]
+    for r, (row, cells) in enumerate(parts):
+        s = _text(cells[0])
         if not s:
-            raise _error(file, lineno, SERIAL, "empty serial number")
+            raise t.error("empty serial number", row, 0)
         if s == NOT_MEASURED:
-            raise _error(file, lineno, SERIAL, f"{NOT_MEASURED!r} is not a serial number (it marks an unmeasured "
-                                               "slot in a kit list)")
+            raise t.error(f"{NOT_MEASURED!r} is not a serial number (it marks an unmeasured slot in a kit list)",
+                          row, 0)
         if s in seen:
-            raise _error(file, lineno, SERIAL, f"serial {s!r} appears twice (also on line {seen[s]})")
-        seen[s] = lineno
+            raise t.error(f"serial {s!r} appears twice (also on row {seen[s]})", row, 0)
+        seen[s] = row
         serials.append(s)
-        lines.append(lineno)
+        lines.append(row)
         for j, i in enumerate(features):
-            values[r, j] = units.to_base(_number(cells[i], file, lineno, hcells[i]), col_units[j])
+            values[r, j] = units.to_base(t.number(row, cells, i), col_units[j])
             if j in u_cols:
                 ui, uunit = u_cols[j]
-                v = _number(cells[ui], file, lineno, hcells[ui])
-                if v < 0:
-                    raise _error(file, lineno, hcells[ui], f"an uncertainty must be >= 0, got {cells[ui]!r}")
-                unc[r, j] = units.to_base(v, uunit)
+                unc[r, j] = units.to_base(_nonnegative(t, row, cells, ui), uunit)
             else:
                 unc[r, j] = row_u[j]
-    return PartFamily(name or Path(file).stem, file, sha, slots, tuple(names[i] for i in features),
+    return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
                       tuple(col_units), tuple(serials), tuple(lines), values, unc)
 
 
@@ -253,45 +207,46 @@ class Kit:
     """One reducer: its serial and, per slot, the serial of its measured part (None: not measured)."""
 
     reducer: str
-    line: int
+    line: int                          # its row in the kit list
     parts: dict[str, str | None]
 
 
-def read_kit_list(path, slots: Sequence[str]) -> tuple[str, str, list[Kit]]:
-    """``(file, sha256, kits)`` of a kit list whose columns are ``reducer`` and exactly ``slots``."""
-    file, sha, rows = _rows(path)
-    hline, head = rows[0]
+def read_kit_list(path, slots: Sequence[str]) -> tuple[Table, list[Kit]]:
+    """``(table, kits)`` of a kit list whose columns are ``reducer`` and exactly ``slots``."""
+    t = read_table(path, what="reducer, <slot>, ...")
+    head = t.cells
     if not head or head[0] != REDUCER:
-        raise _error(file, hline, head[0] if head else None, f"the first column must be {REDUCER!r}")
+        raise t.error(f"the first column must be {REDUCER!r}", col=0 if head else None)
     for i, c in enumerate(head):
         if c in head[:i]:
-            raise _error(file, hline, c, "column appears twice")
-    unknown = [c for c in head[1:] if c not in slots]
+            raise t.error("column appears twice", col=i)
+    unknown = [i for i, c in enumerate(head) if i > 0 and c not in slots]
     if unknown:
-        raise _error(file, hline, unknown[0], f"not a slot of the declared part families (slots: {', '.join(slots)})")
+        raise t.error(f"not a slot of the declared part families (slots: {', '.join(slots)})", col=unknown[0])
     missing = [s for s in slots if s not in head]
     if missing:
-        raise _error(file, hline, None, f"no column for slot {missing[0]!r} (write {NOT_MEASURED!r} where a "
-                                        "reducer's part in that slot was not measured)")
+        raise t.error(f"no column for slot {missing[0]!r} (write {NOT_MEASURED!r} where a reducer's part in that slot "
+                      "was not measured)")
     kits, seen = [], {}
-    for lineno, cells in rows[1:]:
+    for row, cells in t.rows:
         if len(cells) != len(head):
-            raise _error(file, lineno, None, f"{len(cells)} fields, the header has {len(head)}")
-        red = cells[0]
+            raise t.error(f"{len(cells)} fields, the header has {len(head)}", row)
+        red = _text(cells[0])
         if not red:
-            raise _error(file, lineno, REDUCER, "empty reducer serial number")
+            raise t.error("empty reducer serial number", row, 0)
         if red in seen:
-            raise _error(file, lineno, REDUCER, f"reducer {red!r} appears twice (also on line {seen[red]})")
-        seen[red] = lineno
+            raise t.error(f"reducer {red!r} appears twice (also on row {seen[red]})", row, 0)
+        seen[red] = row
         parts = {}
-        for c, v in zip(head[1:], cells[1:]):
+        for i, (c, v) in enumerate(zip(head[1:], cells[1:]), start=1):
+            v = _text(v)
             if not v:
-                raise _error(file, lineno, c, f"empty cell: a serial number, or {NOT_MEASURED!r} when not measured")
+                raise t.error(f"empty cell: a serial number, or {NOT_MEASURED!r} when not measured", row, i)
             parts[c] = None if v == NOT_MEASURED else v
-        kits.append(Kit(red, lineno, parts))
+        kits.append(Kit(red, row, parts))
     if not kits:
-        raise _error(file, hline, None, "no reducers in the kit list")
-    return file, sha, kits
+        raise t.error("no reducers in the kit list")
+    return t, kits
 
 
 # --------------------------------------------------------------------------- the measured units
@@ -364,7 +319,7 @@ def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> Mea
                     raise InputError(f"factor {f!r} is measured by family {claimed[f][0]!r} (slot {claimed[f][1]!r}) "
                                      f"and {fam.name!r} (slot {s!r})", file=fam.file, key="slots")
                 claimed[f] = (fam.name, s)
-    kfile, ksha, kits = read_kit_list(kit_list, list(slot_family))
+    kt, kits = read_kit_list(kit_list, list(slot_family))
     k = len(spec.names)
     value = np.full((len(kits), k), np.nan)
     unc = np.zeros((len(kits), k))
@@ -376,15 +331,16 @@ def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> Mea
                 continue
             fam = slot_family[slot]
             if serial not in fam.serials:
-                raise _error(kfile, kit.line, slot, f"no part {serial!r} in {fam.file} (family {fam.name!r})")
+                raise kt.error(f"no part {serial!r} in {fam.file} (family {fam.name!r})", kit.line,
+                               kt.cells.index(slot))
             if (fam.name, serial) in used:
                 red, line = used[(fam.name, serial)]
-                raise _error(kfile, kit.line, slot, f"part {serial!r} of family {fam.name!r} is already in reducer "
-                                                    f"{red!r} (line {line})")
+                raise kt.error(f"part {serial!r} of family {fam.name!r} is already in reducer {red!r} (row {line})",
+                               kit.line, kt.cells.index(slot))
             used[(fam.name, serial)] = (kit.reducer, kit.line)
             r = fam.row(serial)
             cols = [index[f] for f in fam.factors(slot)]
             value[u, cols] = fam.values[r]
             unc[u, cols] = fam.uncertainty[r]
     return MeasuredUnits(tuple(spec.names), tuple(k.reducer for k in kits), value, unc, tuple(kits), tuple(fams),
-                         kfile, ksha)
+                         kt.file, kt.sha256)

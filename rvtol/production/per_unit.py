@@ -209,6 +209,51 @@ class UnitPredictions:
         v = list(self.verdicts().values())
         return {s: v.count(s) for s in STATES}
 
+    def verdict_table(self) -> pd.DataFrame:
+        """One row per reducer: its verdict and, per requirement, ``P [lo, hi]``."""
+        req, verdicts = self._requirements, self.verdicts()
+        table = pd.DataFrame({"reducer": list(verdicts), "verdict": list(verdicts.values())})
+        for r in self.requirements:
+            sub = req[req["requirement"] == r.label].set_index("reducer")
+            table[f"{r.label}: P [CI]"] = [f"{sub.loc[u, 'P']:.4f} [{sub.loc[u, 'P_lo']:.4f}, {sub.loc[u, 'P_hi']:.4f}]"
+                                           for u in table["reducer"]]
+        return table
+
+    def plot(self, output: str, ax=None):
+        """Every unit's median and prediction interval of ``output``, coloured by its verdict on the output's
+        requirement(s)."""
+        from ..plotting.production import plot_unit_intervals
+
+        req, outs = self._requirements, self._outputs
+        rs = [r for r in self.requirements if r.output == output]
+        sub = outs[outs["output"] == output].set_index("reducer").reindex(self.units)
+        vs = []
+        for u in self.units:
+            states = req.loc[(req["reducer"] == u) & (req["output"] == output), "verdict"].tolist()
+            vs.append(max(states, key=STATES.index) if states else "")
+        return plot_unit_intervals(list(self.units), sub["median"].to_numpy(float), sub["lo"].to_numpy(float),
+                                   sub["hi"].to_numpy(float), vs, output=output, unit=sub["unit"].iloc[0],
+                                   lower=next((r.lower for r in rs if r.lower is not None), None),
+                                   upper=next((r.upper for r in rs if r.upper is not None), None),
+                                   interval=self.interval, ax=ax)
+
+    def summary(self) -> dict:
+        """n, the interval, the verdict counts and, per unit, its verdict, requirements and outputs."""
+        req, outs, verdicts = self._requirements, self._outputs, self.verdicts()
+        units_ = []
+        for u in self.units:
+            rq = req[req["reducer"] == u]
+            ou = outs[outs["reducer"] == u]
+            units_.append({
+                "reducer": u, "verdict": verdicts[u],
+                "requirements": [{"requirement": r["requirement"], "P": r["P"], "P_ci": [r["P_lo"], r["P_hi"]],
+                                  "required": r["required"], "verdict": r["verdict"]} for _, r in rq.iterrows()],
+                "outputs": {o["output"]: {"unit": o["unit"], "median": o["median"], "interval": [o["lo"], o["hi"]],
+                                          "failed": o["failed"]} for _, o in ou.iterrows()},
+            })
+        return {"n": self.n, "interval": self.interval, "counts": self.counts(),
+                "conformance_probability": self.probability, "units": units_}
+
 
 def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n: int, *, evaluator,
                   requirements=(), method: str = "lhs", seed: int | None = None,

@@ -334,14 +334,6 @@ def named_values(model, spec: ToleranceSpec, X: np.ndarray) -> dict[str, np.ndar
     return env
 
 
-def design_numbers(names, design) -> dict[str, float]:
-    """``design.<key>`` names (base units) of ``names`` that the study's design holds (the composition's
-    :func:`rvtol.models.composite.model.design_quantities`)."""
-    from ..models.composite.model import design_quantities
-
-    return {q.name: float(q.expression.evaluate({})) for q in design_quantities(names, design)}
-
-
 def known_names(model, spec: ToleranceSpec) -> set[str]:
     """The names a matching rule may read: the factors and the composed study's quantities."""
     return set(spec.names) | {q.name for q in getattr(model, "quantities", ())}

@@ -373,63 +373,29 @@ def rbd_fast(model: Model, spec: ToleranceSpec, n: int = 2048, M: int = 10, fact
 
 def _delta_one(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
                seed: int) -> dict:
-    """SALib's δ "raw" (Plischke's bias-reduced estimator on the data as given: correlations kept) and S1 of
-    one factor column; module level so an executor can run it.
+    """δ "raw" (Plischke's bias-reduced estimator on the data as given: correlations kept) and S1 of one factor
+    column, by ``SALib.analyze.delta.analyze`` with its own ``seed``; module level so an executor can run it.
 
-    ``SALib.analyze.delta.analyze`` (1.6) estimates three δ variants — bootstraps "balanced" and "step" as well
-    as "raw" — each by ``num_resamples + 1`` sets of kernel density estimates; rvtol reports "raw" only, so
-    this runs analyze's steps for it alone, with analyze's partition, grid, class size and bin edges.  The
-    other two variants' bootstrap index sets are still drawn (cheap) and thrown away, so the global random
-    stream that analyze seeds reaches the "raw" and S1 draws in the same state: wherever analyze completes,
-    the numbers are analyze's, bit for bit (``tests/test_sensitivity_global.py``), at a third (factors of
-    both signs: three variants) to a half (one sign: no "step") of its time.  Where a density estimate of the
-    "balanced" or "step" bootstrap would fail (a nearly constant output), analyze raises; rvtol, which does not
-    compute them, gives the "raw" numbers.
+    SALib's public call also bootstraps the "balanced" and "step" variants (rvtol reports "raw"): the price
+    of its public interface, up to three times the kernel density estimates of "raw" alone.  SALib (≤ 1.6)
+    seeds NumPy's global generator and replaces the global warning formatter: both are restored afterwards,
+    so nothing else in the process sees it.  Where analyze cannot bin the factor (constant, one bin left) or
+    a variant's density estimate fails, it leaves the factor's numbers NaN (δ kept when only the step
+    variant or S1 fails).
     """
-    fmt = warnings.formatwarning  # SALib's delta replaces the global warning formatter
-    try:
-        with warnings.catch_warnings(record=True):  # record: SALib resets the filters inside
-            return _delta_raw(name, np.asarray(x, dtype=float), np.asarray(y, dtype=float), num_resamples,
-                              confidence, seed)
-    finally:
-        warnings.formatwarning = fmt
-
-
-def _delta_raw(name: str, x: np.ndarray, y: np.ndarray, num_resamples: int, confidence: float,
-               seed: int) -> dict:
-    """The body of :func:`_delta_one`: ``SALib.analyze.delta.analyze``'s steps for one factor."""
     from SALib.analyze import delta as sd
 
-    nan = {"delta": np.nan, "delta_conf": np.nan, "S1": np.nan, "S1_conf": np.nan}
-    if seed:
-        np.random.seed(seed)
-    N = y.size
-    exp = 2.0 / (7.0 + np.tanh((1500.0 - N) / 500.0))      # analyze's equal-frequency partition
-    m = np.linspace(0, N, int(np.round(min(int(np.ceil(N**exp)), 48))) + 1)
-    grid = np.linspace(np.min(y), np.max(y), 100)
-    min_class = max(int(N * 0.005), 10)
-    edges, _ = sd.check_specified_bininfo(bininfo=None, Xmin=x.min(), Xmax=x.max(), paramname=name)
-
-    def draw_and_discard(mode: str):                      # the index sets analyze draws for a variant
-        for r in range(num_resamples + 1):
-            sd.obtain_resampled_subset(x, N, mode, edges, name, min_class, warn_print=r == 0)
-
-    errors = (sd.AnalysisError, ValueError, RuntimeError, np.linalg.LinAlgError)   # what analyze's steps raise
+    problem = {"num_vars": 1, "names": ["x"], "bounds": [[0.0, 1.0]]}   # "x": analyze refuses some suffixes
+    state, fmt = np.random.get_state(), warnings.formatwarning
     try:
-        draw_and_discard("balanced")
-        d, d_conf, _ = sd.bias_reduced_delta(y, grid, x, m, num_resamples, confidence, N, "raw", edges, name,
-                                             min_class)
-    except errors:      # analyze's rule: a factor it cannot bin (constant, one bin left) gets NaN throughout
-        return nan
-    try:
-        if np.sum(x <= 0) >= min_class and np.sum(x > 0) >= min_class:
-            draw_and_discard("step")
-        ind = np.random.randint(N, size=N)
-        s1 = sd.sobol_first(y[ind], x[ind], m)
-        s1_conf = sd.sobol_first_conf(y, x, m, num_resamples, confidence, N)
-    except errors:      # analyze keeps the δ it has when the step variant (or S1) fails
-        return {**nan, "delta": d, "delta_conf": d_conf}
-    return {"delta": d, "delta_conf": d_conf, "S1": s1, "S1_conf": s1_conf}
+        with warnings.catch_warnings(record=True):      # record: SALib resets the filters inside
+            si = sd.analyze(problem, np.asarray(x, dtype=float)[:, None], np.asarray(y, dtype=float),
+                            num_resamples=num_resamples, conf_level=confidence, seed=seed)
+    finally:
+        warnings.formatwarning = fmt
+        np.random.set_state(state)
+    return {"delta": float(si["delta_raw"][0]), "delta_conf": float(si["delta_raw_conf"][0]),
+            "S1": float(si["S1"][0]), "S1_conf": float(si["S1_conf"][0])}
 
 
 def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[str] | None = None,

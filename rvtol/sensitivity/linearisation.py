@@ -4,7 +4,7 @@ With the five-point gradient S (base units) at the nominal point x0 and each
 factor's mean μ_i, standard deviation σ_i and tolerance band [lo_i, hi_i]:
 
 * first-order mean:   y0 + Σ S_i (μ_i − x0_i)
-* RSS standard deviation: σ_y = √(Sᵀ C S), C_ij = ρ_ij σ_i σ_j (ρ: the spec's
+* RSS standard deviation (:func:`rvtol.stats.rss`): σ_y = √(Sᵀ C S), C_ij = ρ_ij σ_i σ_j (ρ: the spec's
   normal-score correlation, used as the Pearson correlation — exact for
   normal factors);
 * % contribution to variance (independent factors): 100·(S_i σ_i)² / Σ_j (S_j σ_j)²;
@@ -29,6 +29,7 @@ from ..model import Model
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
 from ..records import frame_records
+from ..stats import rss
 from .common import (derivative_to_display, factor_indices, model_gradient, output_indices,
                      ratio_unit)
 from .local import LocalSensitivityResult, five_point
@@ -81,8 +82,8 @@ def linear_prediction(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     dlo, dhi = g * (lims[:, 0] - x0), g * (lims[:, 1] - x0)
     contrib = g * sd
     corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
-    var = float(contrib @ corr @ contrib)
-    var_indep = float(np.sum(contrib**2))
+    sd_y = rss(contrib, corr)
+    var_indep = float(rss(contrib, squared=True))
     ob = out_base_unit or units.base_unit(out_unit)
     disp = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731
     frame = pd.DataFrame({
@@ -98,11 +99,11 @@ def linear_prediction(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     })
     notes = []
     if spec.correlation is not None:
-        shown = f"{disp(np.sqrt(var_indep)):.4g} {units.label(out_unit)}"
+        shown = f"{disp(rss(contrib)):.4g} {units.label(out_unit)}"
         notes.append(f"RSS σ includes the correlation (σ without it: {shown}); "
                      "% contributions are those of the independent factors.")
     return LinearPrediction(
-        output, out_unit, disp(y0), disp(y0 + float(g @ (mu - x0))), disp(np.sqrt(max(var, 0.0))),
+        output, out_unit, disp(y0), disp(y0 + float(g @ (mu - x0))), disp(sd_y),
         disp(y0 + float(np.minimum(dlo, dhi).sum())), disp(y0 + float(np.maximum(dlo, dhi).sum())),
         frame, sigma_level, notes)
 

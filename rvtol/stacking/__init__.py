@@ -10,6 +10,7 @@ module                            what it gives
                                   optimisation, corners)
 :mod:`rvtol.stacking.tail`        sub-ppm tail probabilities: FORM (β, Φ(−β)) and importance
                                   sampling about the most probable failure point
+:mod:`rvtol.stacking.compare`     a study's conventions and tails beside its Monte Carlo (one result each)
 :mod:`rvtol.stacking.analyses`    the study analyses ``stack_conventions`` and ``tail_probability``
 ================================  ===============================================================
 

@@ -76,6 +76,7 @@ import pandas as pd
 from .. import units
 from ..errors import InputError
 from ..spec import ToleranceSpec, zone_bonus
+from ..stats import rss
 from ..sensitivity.common import derivative_to_display, ratio_unit
 
 #: Bender's inflation factor of the RSS
@@ -301,11 +302,11 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             ix, iy = [m for m, zz in enumerate(con.zone) if zz == o.zone]
             a_stat[ix], a_stat[iy] = a[ix], a[iy]
     extra_sig2 = sum((max(o.hi, o.lo) * o.sigma) ** 2 for o in sided if o.kinked)
-    sig_y = math.sqrt(max(float((a_stat * con.sigma) @ C @ (a_stat * con.sigma)) + extra_sig2, 0.0))
+    sig_y = math.sqrt(rss(a_stat * con.sigma, C, squared=True) + extra_sig2)
     if not sided:
         t_wc = con.worst_half_width()
         wc_low, wc_high = yc - t_wc, yc + t_wc
-        t_rss = float(np.sqrt(np.sum((a * con.s) ** 2)))
+        t_rss = rss(a * con.s)
     else:
         wc_low, wc_high = _worst_sided(con, a, sided, yc)
         t_wc = 0.5 * (wc_high - wc_low)
@@ -358,10 +359,10 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    sig_plain = float(np.sqrt(np.sum((a_stat * con.sigma) ** 2) + extra_sig2))
+    sig_plain = math.sqrt(rss(a_stat * con.sigma, squared=True) + extra_sig2)
     with np.errstate(divide="ignore", invalid="ignore"):
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    sig_dyn = float(np.sqrt(np.sum((a_stat * con.sigma * infl) ** 2) + extra_sig2))
+    sig_dyn = math.sqrt(rss(a_stat * con.sigma * infl, squared=True) + extra_sig2)
     if not math.isfinite(sig_dyn):
         notes.append("a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined")
     for z in sigma_levels:
@@ -372,8 +373,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
-        sig_c = float(np.sqrt(np.sum((a * con.s / (3.0 * cpk)) ** 2)
-                              + sum((max(o.hi, o.lo) * o.s / (3.0 * cpk)) ** 2 for o in sided if o.kinked)))
+        sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), squared=True)
+                          + sum((max(o.hi, o.lo) * o.s / (3.0 * cpk)) ** 2 for o in sided if o.kinked))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
                 note=f"every band a ±{3 * cp:g}σ process (Cp {cp:g}) shifted {sh:g}σ (Cpk {cpk:g})",

@@ -23,7 +23,7 @@
    uniform design for every ``s`` (common random numbers: the median is a continuous function of ``s``),
    by Brent's method (:func:`scipy.optimize.brentq`) in ``bounds``.  Every other figure is then predicted
    with the fitted ``s``.  A curve measurement (torsion or TE curve) would be calibrated with
-   :mod:`rvtol.calibration` instead; none was readable in the published sources found.
+   :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ import numpy as np
 from rvtol.design import load_design
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 from rvtol.models.torsion_curve.model import TorsionCurveModel, torque_schedule
-from rvtol.models.torsion_curve.analyses import CAMS
+from rvtol.models.torsion_curve.model import CAMS
 from rvtol.models.transmission.numpy_twin import ReferenceModel
 
 from _timing import best_time, print_table

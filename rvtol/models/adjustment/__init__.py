@@ -5,9 +5,10 @@
 * :mod:`.lqr` — backward Riccati recursion, its Q → ∞ limit, Kalman filter gains;
 * :mod:`.adjuster` — :class:`Adjuster` (``fit()`` computes the gains; ``simulate()`` runs assemblies);
 * :mod:`.model` — the adjusted assembly as a :class:`rvtol.model.Model` (``MODELS["adjusted_assembly"]``);
-* :mod:`.sweep`, :mod:`.analyses` — example runs, Q sweep, the ``adjustment`` study analysis.
+* :mod:`.sweep`, :mod:`.assessment` — example runs, Q sweep, the whole assessment as one result;
+* :mod:`.analyses` — the ``adjustment`` study analysis, laid out by :mod:`.texts`.
 
-Doc 002's printed figures are compared in :mod:`rvtol.reproduction.doc002_adjustment`.
+The comparison with doc 002 lives in the reproduction wing (``studies/reproduction``).
 """
 from .adjuster import Adjuster, AssemblyRun
 from .description import AssemblyDescription, assembly_from_table, load_assembly

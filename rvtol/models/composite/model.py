@@ -61,6 +61,7 @@ from typing import Callable
 import numpy as np
 
 from ... import units
+from ...design import DESIGN_PREFIX, design_numbers
 from ...errors import InputError
 from ...params import Params
 from ...expressions import Expression
@@ -341,22 +342,12 @@ _STAGE_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 #: keys of a [[model]] table that belong to the composition, not to the model's factory
 COMPOSITION_KEYS = ("name", "inputs", "same_inputs_as", "outputs")
 #: prefix of a design number in an expression
-DESIGN_PREFIX = "design."
-
-
 def design_quantities(names, design) -> list[MappedQuantity]:
-    """A constant quantity ``design.<key>`` (base units) for every such name used in an expression."""
-    out = []
-    for n in dict.fromkeys(names):
-        key = n[len(DESIGN_PREFIX):]
-        if not n.startswith(DESIGN_PREFIX) or design is None or key not in design:
-            continue
-        value = design[key]
-        if not isinstance(value, float):
-            raise InputError(f"design parameter {key!r} is not a single number", key=n)
-        unit = units.base_unit(units.canonical(design.param(key).unit))
-        out.append(MappedQuantity(n, Expression.parse(repr(value)), unit, description=f"design {key}"))
-    return out
+    """A constant quantity ``design.<key>`` (base units) for every such name used in an expression
+    (:func:`rvtol.design.design_numbers`)."""
+    return [MappedQuantity(n, Expression.parse(repr(value)), units.base_unit(units.canonical(
+                design.param(n[len(DESIGN_PREFIX):]).unit)), description=f"design {n[len(DESIGN_PREFIX):]}")
+            for n, value in design_numbers(names, design).items()]
 
 
 def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:

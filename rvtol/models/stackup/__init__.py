@@ -7,6 +7,10 @@
 * :mod:`.graph` — the assembly graph (features, fits, flows f1–f5, sequences, KCs);
 * :mod:`.model` — the chain as a :class:`~rvtol.model.Model` (``MODELS["stackup"]``);
 * :mod:`.linearise` — worst case / RSS / loop signs of the linearised chain;
-* :mod:`.analyses` — the linearised chain beside the Monte Carlo, graph, sequences and domains
-  (``ANALYSES["stackup_*"]``); doc 003's shaft–hole figures: :mod:`rvtol.reproduction.doc003_stackup`.
+* :mod:`.linear`, :mod:`.overview`, :mod:`.sequences`, :mod:`.domain_check` — the linearised chain
+  beside the Monte Carlo, the assembly graph, the sequences side by side, the domains' moments checked;
+* :mod:`.analyses` — ``ANALYSES["stackup_*"]``, laid out by :mod:`.texts`.
+
+Doc 003's shaft–hole example and planar-zone formulas are compared in the reproduction wing
+(``studies/reproduction``).
 """

@@ -10,8 +10,7 @@ deterministic samplers for both (all 6-DOF, fixed DOFs are zero):
   holds the face iff every corner does: the **exact domain**
   ``|w − m| + |Δα|·W/2 + |Δβ|·L/2 ≤ Δt/2`` (``m = (t1 + t2)/2``), an
   octahedron.  Its bounding **box** is ``|w − m| ≤ Δt/2``, ``|Δα| ≤ Δt/W``,
-  ``|Δβ| ≤ Δt/L``.  The document prints the box as ``|Δw| ≤ Δt,
-  |Δα| ≤ 2Δt/L1, |Δβ| ≤ 2Δt/W1`` (see :func:`planar_record`).
+  ``|Δβ| ≤ Δt/L``.
 * :class:`CylindricalZone` — an axis of length ``L`` inside a cylinder of
   diameter ``t``: both end points ``p(±L/2) = (u ± Δβ·L/2, v ∓ Δα·L/2)`` lie
   in the disc of radius ``t/2``.  The map (u, v, Δα, Δβ) → (p₊, p₋) is
@@ -113,12 +112,6 @@ class ParallelPlaneZone:
         hw[[2, 3, 4]] = 0.5 * self.dt / self._lever
         return hw
 
-    def doc_box(self) -> np.ndarray:
-        """The document's printed bounds ``|Δw| ≤ Δt, |Δα| ≤ 2Δt/L1, |Δβ| ≤ 2Δt/W1`` (L1 = L, W1 = W)."""
-        hw = np.zeros(6)
-        hw[[2, 3, 4]] = [self.dt, 2.0 * self.dt / self.L, 2.0 * self.dt / self.W]
-        return hw
-
     def contains(self, E, tol: float = 1e-12) -> np.ndarray:
         E = np.asarray(E, dtype=float)
         s = np.abs(E[..., 2] - self.centre) + np.abs(E[..., 3]) * self._lever[1] + np.abs(E[..., 4]) * self._lever[2]
@@ -196,38 +189,6 @@ def _rejection(draw, accept, n: int) -> np.ndarray:
         parts.append(y)
         got += len(y)
     return np.concatenate(parts)[:n]
-
-
-def planar_record(zone: ParallelPlaneZone):
-    """Where the document's printed planar-zone moments differ from the derivation, and why."""
-    import pandas as pd
-
-    dt, L, W = zone.dt, zone.L, zone.W
-    box, doc_box = zone.box(), zone.doc_box()
-    Pu, Pb = zone.cov("uniform"), zone.box_cov()
-    rows = [
-        ("mean Δw", dt / 2, zone.centre, zone.centre,
-         "equal only if w is measured from the lower zone limit (t1 = 0); the zone centre is (t1+t2)/2"),
-        ("mean Δα", dt / (2 * L), 0.0, 0.0, "0 by the symmetry Δα → −Δα of the zone; the printed value has no basis"),
-        ("mean Δβ", dt / (2 * W), 0.0, 0.0, "0 by the symmetry Δβ → −Δβ of the zone; the printed value has no basis"),
-        ("bound |Δw|", dt, box[2], box[2], "printed Δt is the whole zone width; measured from the mid-plane it is Δt/2"),
-        ("bound |Δα|", 2 * dt / L, box[3], box[3],
-         "printed 2Δt/L1: twice the tilt that keeps the face inside Δt; also α (about x) tilts along W, not L"),
-        ("bound |Δβ|", 2 * dt / W, box[4], box[4],
-         "printed 2Δt/W1: twice the tilt that keeps the face inside Δt; β (about y) tilts along L"),
-        ("σ²(Δw)", dt**2 / 12, Pb[2, 2], Pu[2, 2],
-         "printed = uniform on the box (Δt²/12); the exact domain gives Δt²/40 (the octahedron is 1/6 of its box)"),
-        ("σ²(Δα)", dt**2 / (3 * L**2), Pb[3, 3], Pu[3, 3],
-         "printed = uniform on |Δα| ≤ Δt/L1, half the printed bound; the right lever for α is W"),
-        ("σ²(Δβ)", dt**2 / (3 * W**2), Pb[4, 4], Pu[4, 4],
-         "printed = uniform on |Δβ| ≤ Δt/W1, half the printed bound; the right lever for β is L"),
-        ("σ34 = cov(Δw, Δα)", float("nan"), 0.0, 0.0,
-         "printed non-zero 'from the constraints'; the constraints make w and α dependent but uncorrelated "
-         "(symmetric in α → −α), so σ34 = 0"),
-        ("σ35 = cov(Δw, Δβ)", float("nan"), 0.0, 0.0, "as σ34: 0 by symmetry"),
-    ]
-    return pd.DataFrame(rows, columns=["quantity", "document (printed formula)", "box (derived)",
-                                       "exact domain (derived)", "why they differ"])
 
 
 # --------------------------------------------------------------------------- axis in a cylinder

@@ -41,6 +41,7 @@ from scipy.special import ndtr
 
 from ... import units
 from ...sensitivity.linearisation import linear_prediction
+from ...stats import rss
 from ...units import label
 from .model import StackupModel
 
@@ -220,8 +221,8 @@ def linearise_output(model: StackupModel, spec, name: str, J: dict, fx: Factors,
                            "accumulator": "—",
                            "worst-case share %": _pct((np.sqrt(w)[:, None] * np.abs(Jk)).sum(0) * fx.half),
                            "variance share %": _pct(contrib)})
-        figs = {"WC high": disp(np.sqrt(np.sum(w * wc_dof**2))),
-                "RSS high": disp(np.sqrt(np.sum(w * (m**2 + np.diag(C)))))}
+        figs = {"WC high": disp(rss(wc_dof, weights=w)),
+                "RSS high": disp(rss(m, weights=w, variances=np.diag(C)))}
         return OutputLinearisation(name, q.shown_unit, form, figs, fr,
                                    ["worst case is an upper bound √Σ w_i WC_i² (each DOF at its own worst)"])
     return OutputLinearisation(name, q.shown_unit, form, {}, pd.DataFrame(),

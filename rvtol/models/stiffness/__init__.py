@@ -6,9 +6,11 @@
   elements: :mod:`rvtol.elements` — Hertz contact, ISO 6336-1 mesh, Palmgren
   bearings, Timoshenko crankshaft, carrier pillars);
 * :mod:`.model` — ``MODELS["torsional_stiffness"]``;
-* :mod:`.analyses` — the torsion-angle breakdown and load distribution
-  (``ANALYSES["stiffness_breakdown"]``); doc 004's parameter studies and printed
-  figures are in :mod:`rvtol.reproduction.doc004_stiffness`.
+* :mod:`.breakdown` — the torsion-angle breakdown and load distribution of one reducer;
+* :mod:`.analyses` — ``ANALYSES["stiffness_breakdown"]``, laid out by :mod:`.texts`.
+
+Doc 004's parameter studies and the comparison with it live in the reproduction wing
+(``studies/reproduction``).
 """
 from .cycloid_contact import ContactSolution, PinGear, solve_contact
 from .torsion_angle import COMPONENTS, ReducerStiffness, TorsionAngles

@@ -3,8 +3,11 @@
 * :mod:`.model` — :class:`TorsionCurve` (one curve and its metrics: rigidity,
   lost motion at ±p % of rated, backlash) and :class:`TorsionCurveModel`
   (``MODELS["torsion_curve"]``);
-* :mod:`.screening` — the bridge between doc 001's factors and the 20-DOF's, and
-  the 20-DOF backlash rates per doc-001 factor (used by ``lost_motion_screening``);
-* :mod:`.analyses` — curve, clearance sweeps and the comparison with the
-  analytical models (``ANALYSES["torsion_curve"]``).
+* :mod:`.comparison` — curves, clearance sweeps, rigidity and compliance: the 20-DOF
+  curve beside the analytical models;
+* :mod:`.analyses` — ``ANALYSES["torsion_curve"]`` and ``["compliance_breakdown"]``, laid out
+  by :mod:`.texts`.
+
+The bridge between doc 001's factors and the 20-DOF's (``lost_motion_screening``) is the package
+:mod:`rvtol.models.screening`.
 """

@@ -8,7 +8,9 @@ pin grooves, disc webs, input shaft — in series with the contacts),
 :mod:`._kernels` (numba: forces and series laws, Newton, sequences,
 Newmark-β), :mod:`.numpy_twin` (NumPy implementation of the same equations),
 :mod:`.quasistatic`, :mod:`.extremes` (the TE curve's extremes refined between a
-sweep's positions: Δθ_er), :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`).
+sweep's positions: Δθ_er), :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`),
+:mod:`.curve` (one reducer in full), :mod:`.sensitivity` (Δθ_er against the error magnitudes),
+:mod:`.analyses` (laid out by :mod:`.texts`).
 
 Quasi-static entry point (also for the torsional-stiffness and adjustment
 capabilities)::

@@ -1,0 +1,106 @@
+"""What the production sections say: their prose and the layout of each result as report blocks.
+
+``per_unit`` lays out a :class:`~rvtol.production.per_unit.UnitPredictions` (the per-unit prediction from
+measured parts), ``selective`` a :class:`~rvtol.production.grading.Grading` (selective assembly); the
+analyses (:mod:`rvtol.production.analyses`) name them.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..report.sections import Figure, Table, Text, figure_png
+
+# --------------------------------------------------------------------------- per-unit prediction
+PER_UNIT = ("{units} reducers from the kit list {kits}; measured part families: {families}. Per reducer, {n} samples: "
+            "each measured factor at its measured value plus a normal measurement error of its stated standard "
+            "uncertainty, each unmeasured factor drawn from the spec (conditionally on the measured ones where the "
+            "spec correlates them), one design for every reducer (sub-stream 'per_unit' of the study seed).\n\n"
+            "Verdict per requirement (rvtol.verdict.judge_unit): the unit conforms when the probability that it "
+            "meets the requirement reaches {probability} (on its lower confidence bound unless the requirement's "
+            "basis is the estimate), does not conform when even the upper bound stays below, and is undecided in "
+            "between; the unit's verdict is its worst. Result: {conforms} conform, {not_conform} do not conform, "
+            "{undecided} undecided. One row per reducer: {file} in the report folder.")
+POPULATION = "the yield the requirement asks of the population"
+ONE_UNIT = "{p:g} (the study's conformance probability for one unit)"
+TOO_FEW = ("Note: with n = {n} samples per unit no unit can be shown to conform on every requirement (that needs n ≥ "
+           "{needed} with every sample conforming): the verdicts can only be 'does not conform' or 'undecided'.")
+KITS = "Kits: the part serial in every slot ('-': not measured) and the number of measured factors"
+VERDICTS = "Per-unit verdicts: probability of conformance P with its {confidence:.0%} interval"
+PREDICTIONS = ("Per-unit predictions: median, mean, std and the {interval:.0%} prediction interval [lo, hi] (display "
+               "units); failed: samples the model could not evaluate")
+UNIT_PLOT = ("{output}: per-unit median and {interval:.0%} prediction interval, coloured by the unit's verdict on this "
+             "output's requirement(s)")
+
+
+def per_unit(res, o) -> list:
+    units = o.units
+    fams = ", ".join(f"{f.name} ({len(f.serials)} parts, {len(f.columns)} features, slots {', '.join(f.slots)})"
+                     for f in units.families)
+    counts = res.counts()
+    blocks = [Text(PER_UNIT.format(
+        units=len(units), kits=Path(units.kit_file).name, families=fams, n=o.n,
+        probability=POPULATION if o.conformance_probability is None else ONE_UNIT.format(p=o.conformance_probability),
+        conforms=counts["conforms"], not_conform=counts["does not conform"], undecided=counts["undecided"],
+        file=o.file))]
+    if o.n < o.needed:
+        blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
+    outs = res.output_frame()
+    outs = outs[outs["output"].isin(o.outputs)]
+    blocks += [Table(units.to_frame(), KITS),
+               Table(res.verdict_table(), VERDICTS.format(
+                   confidence=res.requirements[0].confidence if res.requirements else 0.95)),
+               Table(outs, PREDICTIONS.format(interval=o.interval))]
+    blocks += [Figure(figure_png(res.plot(out)), UNIT_PLOT.format(output=out, interval=o.interval))
+               for out in o.outputs]
+    return blocks
+
+
+# --------------------------------------------------------------------------- selective assembly
+SETUP = ("Graded: {factors} (one part per factor and reducer). Supply before grading: {supply}{other}. Matching rule: "
+         "{rule}. Simulated inside the Monte Carlo on the study's {n} samples (common random numbers: only the "
+         "graded factor changes); evaluated: {outputs}{stages}. {stock}")
+OTHER_SUPPLY = (" ({source}; the spec's own distribution is {own}, the case 'as drawn'; 'no grading' picks parts at "
+                "random from this supply)")
+UNLIMITED = "Unlimited supply: each part is drawn from the supply within its class."
+FINITE = ("Finite stock: a graded batch of {ratio:g} parts per part used (sub-stream 'selective_stock'); a reducer "
+          "whose class is empty takes the class whose centre is nearest its target, and the parts left over are "
+          "counted per class.")
+CASES = ("Assembly cases: yield of every requirement and of all together with its {confidence:.0%} interval, verdict "
+         "(rvtol.verdict.judge), output statistics")
+CLASSES = "Classes of the case '{label}' (limits in {unit}; the outer ones at the supply's support)"
+STOCK = ("Stock balance of '{label}': parts made per class, wanted by the rule, used, left over ({substituted} "
+         "substituted)")
+AGAINST_CLASSES = ("The number of classes against the gain: yield of all requirements together, with its interval")
+OPTIMISED = ("Optimised limits of {k} classes: Nelder–Mead over the classes' cumulative probabilities from equal "
+             "probabilities, on a design of {n} samples of its own (sub-stream 'selective_optimise', unlimited "
+             "supply), maximising the yield of all requirements with the indicator smoothed by a normal kernel "
+             "(Silverman bandwidth of the ungraded outputs): {start:.4f} at equal probabilities → {best:.4f} after "
+             "{evaluations} evaluations ({message}). The row 'optimised limits' above checks them on the study's "
+             "samples.")
+
+
+def selective(res, o) -> list:
+    supply = res.part.supply
+    other = "" if res.same_supply else OTHER_SUPPLY.format(source=supply.factor.source or "given in the study",
+                                                           own=res.own)
+    stages = f" (the stages {', '.join(res.stages)})" if res.stages is not None else ""
+    stock = UNLIMITED if res.stock_ratio is None else FINITE.format(ratio=res.stock_ratio)
+    chosen = res.chosen
+    blocks = [Text(SETUP.format(factors=", ".join(res.part.factors), supply=supply.factor.describe(), other=other,
+                                rule=res.rule, n=res.n, outputs=", ".join(res.model_outputs), stages=stages,
+                                stock=stock)),
+              Table(res.to_frame(), CASES.format(confidence=res.confidence)),
+              Table(chosen.classes.describe(res.unit, supply), CLASSES.format(label=chosen.label, unit=res.unit))]
+    asm = chosen.assembly
+    if asm is not None and asm.stock is not None:
+        blocks += [Table(asm.stock.to_frame(), STOCK.format(label=chosen.label, substituted=asm.stock.substituted)),
+                   Figure(figure_png(res.plot("stock")), f"Stock balance of '{chosen.label}'")]
+    blocks += [Figure(figure_png(res.plot("distributions", out)), f"{out}: without grading and with '{chosen.label}'")
+               for out in res.outputs]
+    if res.has_requirements:
+        blocks.append(Figure(figure_png(res.plot("classes")), AGAINST_CLASSES))
+    opt = res.optimised
+    if opt is not None:
+        blocks.append(Text(OPTIMISED.format(k=opt.classes.k, n=res.optimise_n, start=opt.start, best=opt.best,
+                                            evaluations=opt.evaluations, message=opt.message)))
+    return blocks

@@ -1,0 +1,265 @@
+"""The reproduction analyses: each a thin adapter (:mod:`rvtol.analysis`) over one document's comparison.
+
+Registered through the ``rvtol.analyses`` entry-point group (``studies/reproduction/pyproject.toml``);
+``rvtol kinds KIND`` lists every key.  Each reads the document's printed figures (``printed``: a
+``data/reproduction/docNNN_*.toml`` file, relative to the study) when the study loads.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from rvtol.analysis import Analysis
+from rvtol.errors import InputError, SpecError
+from rvtol.models.adjustment.analyses import AdjustmentOptions
+from rvtol.models.lost_motion.analyses import LostMotionOptions
+from rvtol.models.stackup.analyses import StackupOptions
+from rvtol.models.stiffness.analyses import StiffnessOptions
+from rvtol.models.transmission.analyses import TESensitivityOptions, TESensitivity
+from rvtol.models.transmission.sensitivity import te_sensitivity
+from rvtol.options import REQUIRED, option
+from rvtol.blocks import Section
+
+from . import texts
+from .doc000_transmission_error import SENSITIVITIES, te_against_document
+from .doc001_lost_motion import FIGURES as DOC001_FIGURES
+from .doc001_lost_motion import lost_motion_figures
+from .doc002_adjustment import FIGURES as DOC002_FIGURES
+from .doc002_adjustment import Doc002Inputs, adjustment_figures
+from .doc003_stackup import COMPARE, DIMENSION, shaft_hole_figures
+from .doc004_stiffness import FIGURES as DOC004_FIGURES
+from .doc004_stiffness import stiffness_document
+from .printed import load_printed
+
+PRINTED = "the document's printed figures (data/reproduction/docNNN_*.toml, relative to the study)"
+
+
+def _printed(study, path: str, needs=()):
+    printed = load_printed(Path(study.base_dir) / path)
+    printed.require(needs)
+    return printed
+
+
+# --------------------------------------------------------------------------- doc 000
+class TEReproduction(Analysis):
+    """``transmission_error_sensitivity`` with doc 000 beside it: its classes and printed sensitivities."""
+
+    kind, title = "transmission_error_reproduction", TESensitivity.title
+    layout = texts.transmission_error
+
+    @dataclass
+    class Options(TESensitivityOptions):
+        key: str | None = option("transmission_error_sensitivity", "summary.json key and report anchor (the "
+                                 "section of transmission_error_sensitivity, with the document beside it)")
+        printed: str = option(REQUIRED, PRINTED)
+        figures: object = field(init=False, default=None)
+
+        def complete(self, study, error):
+            super().complete(study, error)
+            self.figures = _printed(study, self.printed, SENSITIVITIES)
+
+    def compute(self, ctx):
+        o = self.options
+        res = te_sensitivity(o.te_model, o.spec, o.factors, o.magnitudes, o.percent, ctx.evaluator)
+        return te_against_document(res, o.figures)
+
+
+# --------------------------------------------------------------------------- doc 001
+class LostMotionReproduction(Analysis):
+    """Every figure doc 001 prints, against rvtol's computation from the document's formulas and inputs."""
+
+    kind, title = "lost_motion_reproduction", "Reproduction of the document's printed figures (doc 001)"
+    layout = texts.lost_motion
+
+    @dataclass
+    class Options(LostMotionOptions):
+        printed: str = option(REQUIRED, PRINTED)
+        figures: object = field(init=False, default=None)
+
+        def complete(self, study, error):
+            super().complete(study, error)
+            if study.model.mode != "document":
+                raise error("kind", "the reproduction compares doc 001's formulas as printed: the study needs "
+                                    "[model] mode = \"document\"")
+            self.figures = _printed(study, self.printed, DOC001_FIGURES)
+
+    def compute(self, ctx):
+        return lost_motion_figures(ctx.model, ctx.spec, ctx.mc, self.options.figures, ctx.evaluator, ctx.design)
+
+
+# --------------------------------------------------------------------------- doc 002
+class AdjustmentReproduction(Analysis):
+    """Every printed number of doc 002 against rvtol (the example, the linear map, Table 5, the claims)."""
+
+    kind, title = "adjustment_reproduction", "Doc 002: printed numbers against rvtol"
+    layout = texts.adjustment
+
+    @dataclass
+    class Options(AdjustmentOptions):
+        printed: str = option(REQUIRED, PRINTED)
+        assembly_3d: str = option(REQUIRED, "the 3-D assembly of the linear map (P1 = 0.3069 v1x ...)")
+        accuracy_weight: float = option(10.0, "the Q of the linear map (doc 002's worked value)", nonnegative=True)
+        allocation: str = option(REQUIRED, "key of an earlier allocation analysis (Table 5)")
+        allocation_unadjusted: str | None = option(None, "key of an earlier allocation analysis without adjustment")
+        te_design: str | None = option(None, "a 20-DOF design: the example's TE against Q through rvtol's mapping")
+        te_lever_arm: float = option(6.0, "the lever arm L of the mapping", unit="mm", positive=True)
+        inputs: Doc002Inputs | None = field(init=False, default=None)
+
+        def complete(self, study, error):
+            from rvtol.design import load_design
+            from rvtol.models.adjustment.description import load_assembly
+            from rvtol.models.transmission.model import TransmissionErrorModel
+
+            from .doc002_adjustment import te_inputs
+
+            super().complete(study, error)
+            if study.design is None:
+                raise error("kind", "needs the BX40E design (study design = data/designs/bx40e.toml)")
+            if "example.part_errors" not in study.design:
+                raise error("kind", "the design has no parameter 'example.part_errors' (doc 002's Table 3)")
+            base = Path(study.base_dir)
+            alloc = self._allocation(study, "allocation", self.allocation, error)
+            free = self._allocation(study, "allocation_unadjusted", self.allocation_unadjusted, error)
+            te = None
+            if self.te_design is not None:
+                te = TransmissionErrorModel(load_design(base / self.te_design), inputs=te_inputs())
+            self.inputs = Doc002Inputs(study.model, study.design, _printed(study, self.printed, DOC002_FIGURES),
+                                       load_assembly(base / self.assembly_3d), self.accuracy_weight, alloc, free, te,
+                                       self.te_lever_arm)
+
+        @staticmethod
+        def _allocation(study, key, name, error):
+            if name is None:
+                return None
+            from rvtol.allocation.analyses import AllocationAnalysis
+
+            for a in study.analyses:
+                if getattr(a, "key", None) == name and isinstance(a, AllocationAnalysis):
+                    return a
+            raise error(key, f"no allocation analysis with key {name!r} before this one in the study")
+
+    def compute(self, ctx):
+        return adjustment_figures(self.options.inputs)
+
+
+# --------------------------------------------------------------------------- doc 003
+class StackupShaftHole(Analysis):
+    """Doc 003's shaft–hole example (and, with ``planar_zone``, its planar-zone formulas) against rvtol."""
+
+    kind, title = "stackup_shaft_hole", "Stack-up: doc 003 shaft–hole example — printed figures against rvtol"
+    layout = texts.shaft_hole
+
+    @dataclass
+    class Options(StackupOptions):
+        printed: str = option(REQUIRED, PRINTED)
+        fit: str | None = option(None, "a clearance fit of the study's assembly (default: the first)")
+        kc: str | None = option(None, "the KC whose ‖e‖, ‖ε‖ and tilt are compared (default: the first)")
+        planar_zone: dict | None = option(None, "{t1, t2, length, width (mm), name}: a parallel-plane zone whose "
+                                                "printed formulas (doc 003) are set against the derivation")
+        figures: list = field(init=False, default_factory=list)
+        printed_figures: object = field(init=False, default=None)
+        clearance_fit: object = field(init=False, default=None)
+        zone: object = field(init=False, default=None)
+        planar_name: str = field(init=False, default="")
+
+        def complete(self, study, error):
+            super().complete(study, error)
+            m = study.model
+            self.printed_figures = P = _printed(study, self.printed)
+            fits = [f for f in m.assembly.fits.values() if f.is_clearance]
+            self.clearance_fit = m.assembly.fits.get(self.fit if self.fit is not None else
+                                                     (fits[0].name if fits else ""))
+            if self.clearance_fit is None or not self.clearance_fit.is_clearance:
+                raise error("fit", "name a clearance fit of the assembly")
+            self.kc = self.kc if self.kc is not None else m.kcs[0].name
+            if self.kc not in {k.name for k in m.kcs}:
+                raise error("kc", f"unknown KC {self.kc!r}")
+            self.figures = [self._figure(m, P, key, fig, error) for key, fig in P.figures.items()]
+            if not self.figures:
+                raise SpecError("no figures", file=P.path, key="figure")
+            if self.planar_zone is not None:
+                self.planar_name, self.zone = self._zone(self.planar_zone, error)
+
+        def _figure(self, m, P, key, fig, error):
+            from rvtol import units
+
+            if key not in COMPARE:
+                raise SpecError(f"unknown comparison (expected one of: {', '.join(COMPARE)})", file=P.path,
+                                key=f"figure.{key}")
+            if key != "max_clearance" and f"{self.kc}.{key}" not in m.output_names:
+                raise error("kc", f"the model has no output {self.kc}.{key}")
+            if units.dimension(fig.unit) != DIMENSION[key]:
+                raise SpecError(f"expected a {DIMENSION[key]} unit, got {fig.unit!r}", file=P.path,
+                                key=f"figure.{key}.unit")
+            return fig
+
+        @staticmethod
+        def _zone(table: dict, error):
+            from rvtol.models.stackup.domains import ParallelPlaneZone
+            from rvtol.params import Params
+
+            t = Params(table)
+            try:
+                name = t.str("name", "parallel-plane zone")
+                zone = ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
+                                         t.quantity("length", "mm", positive=True),
+                                         t.quantity("width", "mm", positive=True))
+                t.finish()
+            except InputError as exc:
+                raise error("planar_zone" + (f".{exc.key}" if exc.key else ""), exc.reason) from None
+            return name, zone
+
+    def compute(self, ctx):
+        o = self.options
+        return shaft_hole_figures(ctx.model, ctx.spec, ctx.mc, o.clearance_fit, o.kc, o.figures, o.printed_figures,
+                                  o.zone, ctx.seed)
+
+
+# --------------------------------------------------------------------------- doc 004
+class StiffnessReproduction(Analysis):
+    """``stiffness_reproduction``: doc 004's studies and its printed figures against rvtol."""
+
+    kind, title = "stiffness_reproduction", texts.STIFFNESS_TITLE
+    layout = texts.stiffness_reproduction
+
+    @dataclass
+    class Options(StiffnessOptions):
+        printed: str = option(REQUIRED, PRINTED)
+        pin_circle_radii: list[float] | None = option(None, "mm: the pin circle radii (default: Table 2's, from the "
+                                                            "printed file)", positive=True, min_length=2)
+        eccentricities: list[float] = option([1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8], "mm (Table 4)", positive=True,
+                                             min_length=2)
+        widths: list[float] = option([10.0, 11.0, 12.0, 13.0, 14.0, 15.0], "mm (Table 4)", positive=True,
+                                     min_length=2)
+        sweep_points: int = option(5, "points of the modification and error sweeps", min=3, max=101)
+        error_range: float = option(0.010, "the errors are swept over ±error_range (default 10 µm)", unit="um",
+                                    positive=True)
+        figures: object = field(init=False, default=None)
+
+        def complete(self, study, error):
+            super().complete(study, error)
+            self.figures = _printed(study, self.printed, DOC004_FIGURES)
+            if self.pin_circle_radii is None:
+                self.pin_circle_radii = self.figures["table2_R_p"].value
+            pins = self.stiffness.pins
+            for name, vals in (("pin_circle_radii", self.pin_circle_radii), ("eccentricities", self.eccentricities)):
+                for v in vals:
+                    K1 = (v if name == "eccentricities" else pins.a) * pins.z_p / (
+                        v if name == "pin_circle_radii" else pins.R_p)
+                    if K1 >= 1.0:
+                        raise error(name, f"value {v:g} mm gives K1 = a z_p / R_p = {K1:.3f} >= 1")
+
+    def compute(self, ctx):
+        o = self.options
+        return stiffness_document(o.stiffness, o.torque, o.modifications, o.torque_fractions, o.figures,
+                                  radii=o.pin_circle_radii, eccentricities=o.eccentricities, widths=o.widths,
+                                  points=o.sweep_points, error_range=o.error_range)
+
+    def report(self, r):
+        """Six sections, each with its summary.json entry: the library's two (torsion angle, pin loads) with the
+        document beside them, geometry, modifications, errors, and the reproduction table (this analysis' own)."""
+        sections = []
+        for key, part in r.parts().items():
+            title, layout = texts.STIFFNESS_SECTIONS[key]
+            sections.append(Section(key, title, layout(r, self.options), part.summary()))
+        return sections + [super().report(r)]
