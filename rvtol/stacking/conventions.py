@@ -301,7 +301,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         if o.zone and not o.kinked:   # a smooth zone at MMC: its coordinates as they are
             ix, iy = [m for m, zz in enumerate(con.zone) if zz == o.zone]
             a_stat[ix], a_stat[iy] = a[ix], a[iy]
-    extra_sig2 = sum((max(o.hi, o.lo) * o.sigma) ** 2 for o in sided if o.kinked)
+    extra_sig2 = rss([max(o.hi, o.lo) * o.sigma for o in sided if o.kinked], squared=True)
     sig_y = math.sqrt(rss(a_stat * con.sigma, C, squared=True) + extra_sig2)
     if not sided:
         t_wc = con.worst_half_width()
@@ -316,11 +316,11 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             down = o.lo >= o.hi
             for m, kap in o.bonus:
                 a_rss[m] += -o.lo * kap if down else o.hi * kap
-        terms = [(a_rss[m] * con.s[m]) ** 2 for m in range(len(spec)) if m not in zone_idx and m not in plain_in_sided]
-        terms += [(max(o.hi, o.lo) * o.unit) ** 2 for o in sided]
+        terms = [a_rss[m] * con.s[m] for m in range(len(spec)) if m not in zone_idx and m not in plain_in_sided]
+        terms += [max(o.hi, o.lo) * o.unit for o in sided]
         smooth_zone_idx = [m for m in zone_idx if con.zone[m] not in {o.zone for o in sided}]
-        terms += [(a[m] * con.s[m]) ** 2 for m in smooth_zone_idx]
-        t_rss = float(math.sqrt(sum(terms)))
+        terms += [a[m] * con.s[m] for m in smooth_zone_idx]
+        t_rss = rss(terms)
     n = con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
     rows = []
 

@@ -43,6 +43,7 @@ from ..distributions import coverage, pearson_frozen
 from ..mc import Evaluator
 from ..model import Model
 from ..spec import ToleranceSpec
+from ..stats import rss
 
 
 @dataclass
@@ -143,7 +144,7 @@ def second_order(spec: ToleranceSpec, y0: float, gradient: np.ndarray, hessian: 
     sd = spec.std_base()
     k = len(spec)
     # curvature below the differences' rounding (1e-9 of the linear spread) is noise, not curvature
-    lin = math.sqrt(float(np.sum((a * sd) ** 2))) or 1.0
+    lin = rss(a * sd) or 1.0
     H = np.where(np.abs(H) * np.outer(sd, sd) <= 1e-9 * lin, 0.0, H)
     K = np.zeros(5)    # cumulants 1..4
     c = np.zeros(k)

@@ -140,6 +140,7 @@ import pandas as pd
 from ... import units
 from ...errors import InputError, SpecError, did_you_mean
 from ...model import Model, Quantity
+from ...stats import rss
 from ..transmission.geometry import involute, inverse_involute
 
 #: the document's 180·60/π: arcmin per radian
@@ -444,7 +445,7 @@ def analytic(geometry: LostMotionGeometry, moments: dict[str, FactorMoments],
     for s in STAGES:
         c = coef[s]
         mean = K * sum(v * m[n].mean for n, v in c.items())
-        sigma = K * math.sqrt(sum((v * m[n].std) ** 2 for n, v in c.items()))
+        sigma = K * rss([v * m[n].std for n, v in c.items()])
         if g.mode != "document":
             T = math.nan
         elif s == "involute_stage":
@@ -454,14 +455,13 @@ def analytic(geometry: LostMotionGeometry, moments: dict[str, FactorMoments],
                 (m["Delta_F_r"].band / 2 * ta / 3) ** 2
             T = math.sqrt(D_j) * K / g.pitch_diameter
         else:   # ξ terms: ∂Δφ34/∂ξ · T_ξ in the RSS
-            T = K * math.sqrt(sum((v * m[n].band) ** 2 for n, v in c.items()))
+            T = K * rss([v * m[n].band for n, v in c.items()])
         rows.append((s, w[s], mean, T, sigma))
     frame = pd.DataFrame(rows, columns=["stage", "to_output", "mean", "T_doc", "sigma"])
     frame["T_6sigma"] = 6.0 * frame["sigma"]
     wt = frame["to_output"]
     total = {"stage": "lost_motion", "to_output": 1.0, "mean": float((frame["mean"] * wt).sum()),
-             "T_doc": float(np.sqrt(((frame["T_doc"] * wt) ** 2).sum(skipna=False))),
-             "sigma": float(np.sqrt(((frame["sigma"] * wt) ** 2).sum()))}
+             "T_doc": rss(frame["T_doc"] * wt), "sigma": rss(frame["sigma"] * wt)}
     total["T_6sigma"] = 6.0 * total["sigma"]
     return pd.concat([frame, pd.DataFrame([total])], ignore_index=True)
 
