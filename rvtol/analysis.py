@@ -19,8 +19,11 @@ Everything a report shows is computed in ``run`` (a timed phase of the study); r
 only renders.  Register the class in :data:`rvtol.registry.ANALYSES` (or through the
 ``rvtol.analyses`` entry-point group of an installed package) under the ``kind`` a study names.
 
-Older analyses override ``setup(params, study)`` (read the table by hand) and ``run(ctx)``
-(return Sections); both forms are accepted.
+A plug-in analysis (built in or from an installed package) derives from :class:`Analysis` and
+declares ``Options``: :func:`rvtol.registry.analysis_function` refuses any other class, and there is
+no hand-read form of the ``[[analysis]]`` table.  It may override ``run(ctx)`` (returning one Section
+or a list), ``report(result)`` (several sections) or ``summary(result)``; the study runner only calls
+``Analysis(params, study)`` and ``run(ctx)``.
 """
 from __future__ import annotations
 
@@ -63,17 +66,11 @@ class Analysis(ABC):
     layout: ClassVar[Callable[[Any, Any], list] | None] = None
 
     def __init__(self, params: "Params", study: "Study"):
-        if self.Options is not None:
-            self.options = read_options(self.Options, params, study)
-            self.key = getattr(self.options, "key", None) or self.kind
-            self.title = getattr(self.options, "title", None) or type(self).title
-        self.setup(params, study)
-
-    def setup(self, params: "Params", study: "Study") -> None:
-        """Study-dependent preparation after the options are read (declarative analyses); or, in an older
-        analysis without ``Options``, read and validate the ``[[analysis]]`` parameters (raise InputError)."""
         if self.Options is None:
-            raise TypeError(f"{type(self).__name__} declares no Options and does not read its table in setup()")
+            raise TypeError(f"{type(self).__name__} declares no Options (the keys of its [[analysis]] table)")
+        self.options = read_options(self.Options, params, study)
+        self.key = getattr(self.options, "key", None) or self.kind
+        self.title = getattr(self.options, "title", None) or type(self).title
 
     def run(self, ctx: "StudyContext") -> "Section | list[Section]":
         """Compute (one library call) and report (the generic section of the result)."""

@@ -276,9 +276,6 @@ def _analysis_keys(cls, kind: str) -> int:
     from .options import describe
 
     print(f"{kind}: {cls.title}")
-    if cls.Options is None:
-        print("  (this analysis reads its keys by hand: see the docstring of " f"{cls.__module__})")
-        return EXIT_PASS
     for o in describe(cls.Options):
         default = "required" if o.required else f"default {o.default!r}"
         rule = f"; {o.constraint}" if o.constraint else ""

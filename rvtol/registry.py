@@ -130,11 +130,18 @@ def analysis_function(kind: str, file: str | None = None, key: str = "analysis.k
         ep = plugin_analyses().get(kind)
         if ep is not None:
             try:
-                return ep.load()
+                cls = ep.load()
             except Exception as exc:  # ImportError or an error in the plug-in's module
                 raise SpecError(f"analysis kind {kind!r} is registered by entry point {ep.value!r} "
                                 f"({ANALYSIS_ENTRY_POINT_GROUP}), which cannot be loaded ({type(exc).__name__}: {exc})",
                                 file=file, key=key) from None
+            from .analysis import Analysis
+
+            if not (isinstance(cls, type) and issubclass(cls, Analysis) and cls.Options is not None):
+                raise SpecError(f"analysis kind {kind!r} is registered by entry point {ep.value!r}, which is not an "
+                                "rvtol analysis (a subclass of rvtol.analysis.Analysis declaring Options)",
+                                file=file, key=key)
+            return cls
         known = sorted(ANALYSES) + sorted(plugin_analyses())
         raise SpecError(f"unknown analysis kind {kind!r}{did_you_mean(kind, known)} (known: {', '.join(known)})",
                         file=file, key=key)

@@ -168,6 +168,8 @@ class AllocationAnalysis(Analysis):
             return reqs
 
     def compute(self, ctx):
+        """The :class:`~rvtol.allocation.Allocation` of this study, also held as ``outcome`` for analyses that
+        read it later (its ``by_method``: method -> :class:`~rvtol.allocation.AllocationResult`)."""
         o = self.options
         self.outcome = allocate(o.problem, o.plan, o.table, ctx.evaluator, ctx.executor, ctx.seed, ctx.mc,
                                 o.study_problem)
@@ -180,12 +182,3 @@ class AllocationAnalysis(Analysis):
                         result.costs_summary())
         return [costs, super().report(result)]
 
-    # what a later analysis reads of this one (the doc 002 reproduction: Table 5)
-    @property
-    def problem(self):
-        return self.options.problem
-
-    @property
-    def result(self) -> dict:
-        outcome = getattr(self, "outcome", None)
-        return outcome.by_method if outcome is not None else {}

@@ -8,8 +8,8 @@ from __future__ import annotations
 from ... import units
 from ...blocks import Figure, Table, Text, figure_png
 
-HEADER = ("All figures at the output torque T = {torque:g} N·m (input locked), per disc T_c = {disc:.1f} N·m; Table 1 "
-          "modifications Δr_p = {dr:g} µm, ΔR_p = {dR:g} µm unless stated.")
+HEADER = ("All figures at the output torque T = {torque:g} N·m (input locked), per disc T_c = {disc:.1f} N·m; the "
+          "design's profile modifications Δr_p = {dr:g} µm, ΔR_p = {dR:g} µm unless stated.")
 BREAKDOWN = ("{head} Equivalent torsional rigidity T/θ_Σ = {rigidity:.1f} N·m/arcmin. With doc 004's literal θ3 "
              "(tangential bearing deflection only) θ3 would be {theta3:.2f} arcsec.")
 CONTACT = ("Loaded pins {pins}, largest force {force:.1f} N, F_max at the largest arm {ref:.1f} N, elastic cycloid "

@@ -119,8 +119,11 @@ class Doc002Inputs:
 
 
 def allocation_results(analysis) -> dict:
-    """The results of an allocation analysis that has run (method -> :class:`rvtol.allocation.AllocationResult`)."""
-    return getattr(analysis, "result", None) or {}
+    """The results of an allocation analysis that has run (method -> :class:`rvtol.allocation.AllocationResult`):
+    the ``by_method`` of its public result, the :class:`rvtol.allocation.Allocation` its ``compute`` returned and
+    holds as ``outcome`` (empty before it has run)."""
+    outcome = getattr(analysis, "outcome", None)
+    return outcome.by_method if outcome is not None else {}
 
 
 @dataclass
