@@ -507,6 +507,7 @@ class StudyResult:
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
     comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
     build_usage: object = None    # pandas.DataFrame: per build rule, what it did on the Monte Carlo's reducers
+    measured_evidence: dict = field(default_factory=dict)   # measured factor -> rvtol.inputs.measured.evidence
 
     @property
     def passed(self) -> bool:
@@ -532,7 +533,8 @@ class StudyResult:
 
 def run_study(study: Study, executor: Executor | None = None, store=None, baseline=None) -> StudyResult:
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
-    ``signoff`` — the per-requirement digest —, ``comparison`` — with the ``baseline`` run
+    ``signoff`` — the per-requirement digest —, ``measured_factors`` — the measured factors' fits and their
+    goodness-of-fit bootstrap, when a factor is measured —, ``comparison`` — with the ``baseline`` run
     (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's own sections and figures);
     ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
     from .report.standard import standard_sections
@@ -569,6 +571,12 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
     ta = time.perf_counter()
     result.signoff = digest(mc, study.model, study.spec, o.seed)
     timings["signoff"] = time.perf_counter() - ta
+    if any(f.measured is not None for f in study.spec.factors):   # the fits' goodness-of-fit bootstrap
+        from .inputs.measured import spec_evidence
+
+        ta = time.perf_counter()
+        result.measured_evidence = spec_evidence(study.spec, o.seed)
+        timings["measured_factors"] = time.perf_counter() - ta
     if baseline is not None:
         from .ci.compare import RunData, compare
 

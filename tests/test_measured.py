@@ -268,6 +268,34 @@ def test_read_measurements(tmp_path):
         M.read_measurements(tmp_path / "m.xlsx")
 
 
+def test_read_measurements_goes_through_the_table_reader(tmp_path):
+    """A header cell ``name [unit]`` (rvtol.inputs.sheets.split_header) is found by its name and its unit converted
+    to the factor's (hand: 25.011 mm = 25011 µm); a TSV with decimal commas; an XLSX sheet with a unit header."""
+    p = tmp_path / "cmm.csv"
+    p.write_text("# CMM export\npart,d [mm],\"E_c[1,2] [um]\"\n1,25.011,4\n2,25.008,6\n", encoding="utf-8")
+    np.testing.assert_array_equal(M.read_measurements(p, "d"), [25.011, 25.008])
+    np.testing.assert_array_equal(M.read_measurements(p, "d [mm]"), [25.011, 25.008])   # as written
+    np.testing.assert_allclose(M.read_measurements(p, "d", unit="um"), [25011.0, 25008.0], rtol=1e-15)
+    np.testing.assert_allclose(M.read_measurements(p, "E_c[1,2]", unit="mm"), [0.004, 0.006], rtol=1e-15)
+    with pytest.raises(SpecError, match="row 2, column 'd \\[mm\\]': cannot convert 'mm' \\(length\\)"):
+        M.read_measurements(p, "d", unit="deg")
+    t = tmp_path / "cmm.tsv"
+    t.write_text("# exported with a German locale\nbore [mm]\truns\n25,011\t1\n25,008\t2\n", encoding="utf-8")
+    np.testing.assert_array_equal(M.read_measurements(t, "bore"), [25.011, 25.008])
+    from openpyxl import Workbook
+
+    wb = Workbook()
+    wb.active.title = "CMM"
+    for row in (["# gauge G-12"], ["d [um]"], [11.0], [8.0], [13.0]):
+        wb.active.append(row)
+    wb.save(tmp_path / "d.xlsx")
+    np.testing.assert_allclose(M.read_measurements(tmp_path / "d.xlsx", "d", unit="mm"), [0.011, 0.008, 0.013],
+                               rtol=1e-15)
+    d, rec = M.measured_factor(Params({"data": "d.xlsx", "column": "d", "unit": "mm", "method": "empirical"},
+                                      file="s.toml", key="factor[0]"), tmp_path)
+    np.testing.assert_allclose(rec.values, [0.011, 0.008, 0.013], rtol=1e-15)
+
+
 def test_spec_loader_hook(tmp_path):
     p = tmp_path / "cmm.csv"
     x = draw(stats.norm(25.01, 0.004), 300)

@@ -44,7 +44,6 @@ from __future__ import annotations
 import array
 import itertools
 import math
-import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -54,7 +53,8 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import InputError, SpecError
-from .sheets import byte_progress, stream_rows
+from .sheets import (blank, byte_progress, cell_number, col_letter, decimal_comma, skipped, split_header,
+                     stream_rows)
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -700,44 +700,30 @@ def from_measurements(values, method: str = "fit", **kw):
 
 
 # ----------------------------------------------------------------------------- reading values
-_NUM = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?$")
-
-
-def _cell_number(v, decimal_comma: bool):
-    if v is None or (isinstance(v, str) and not v.strip()):
-        return None
-    if isinstance(v, bool):
-        raise ValueError(str(v))
-    if isinstance(v, (int, float)):
-        return float(v)
-    s = str(v).strip().replace("\u2212", "-")
-    if not _NUM.match(s) or ("," in s and not decimal_comma):
-        raise ValueError(s)
-    return float(s.replace(",", "."))
-
-
-def read_measurements(path: str | Path, column: str | int | None = None, *, sheet: str | None = None) -> np.ndarray:
+def read_measurements(path: str | Path, column: str | int | None = None, *, sheet: str | None = None,
+                      unit: str | None = None) -> np.ndarray:
     """Measured values from a CSV/TSV/TXT or XLSX file: one column by header name or 1-based number.
 
-    A first row that is not all numbers is the header.  Blank cells are skipped (columns of
-    different lengths); anything else that is not a number is an error naming row and column.
-    Semicolon- or tab-separated files may use decimal commas.  The rows are read one at a time
-    (only the column's numbers are kept: a file of millions of rows takes the memory of its
-    numbers), with a progress bar on a terminal for a large file.
+    The rows come through the one table reader (:mod:`rvtol.inputs.sheets`) with its rules: comment
+    rows (``# …``) and blank rows skipped, a header cell ``name`` or ``name [unit]``
+    (:func:`~rvtol.inputs.sheets.split_header`: ``column = "d"`` finds ``d [mm]``; the name as
+    written, and then any case, are tried), decimal commas in semicolon-, tab- or space-separated
+    text (:func:`~rvtol.inputs.sheets.cell_number`).  Unlike a spec table the header is optional: a
+    first row that is all numbers is data.  With a unit in the column's header and ``unit`` (the
+    factor's) given, the values are converted to ``unit`` (another dimension is an error at the
+    header cell).  Blank cells are skipped (columns of different lengths); anything else that is not
+    a number is an error naming row and column.  The rows are read one at a time (only the column's
+    numbers are kept: a file of millions of rows takes the memory of its numbers), with a progress
+    bar on a terminal for a large file.
     """
     path = Path(path)
     file = str(path)
     rs = stream_rows(path, sheet, delimiters=",;\t ", text_suffixes=(".csv", ".tsv", ".txt", ".dat", ""),
                      what="a file of measured values")
-    rows, size = rs.rows, rs.size
+    loc = rs.location(file)
     where_sheet = f"sheet {rs.title!r}, " if rs.title is not None else ""
-    decimal_comma = rs.delimiter is not None and rs.delimiter in ";\t "
-
-    def empty(v):
-        return v is None or (isinstance(v, str) and not v.strip())
-
-    rows = ((r, c) for r, c in rows if any(not empty(v) for v in c)
-            and not (isinstance(c[0], str) and c[0].lstrip().startswith("#")))
+    comma = decimal_comma(rs.delimiter)
+    rows = ((r, c) for r, c in rs.rows if not skipped(c))
     first_row = next(rows, None)
     if first_row is None:
         raise SpecError("no values", file=file, key="-")
@@ -745,12 +731,16 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
 
     def is_num(v):
         try:
-            return _cell_number(v, decimal_comma) is not None
+            return cell_number(v, comma) is not None
         except ValueError:
             return False
 
-    has_header = not all(is_num(v) for v in first if not empty(v))
-    header = [("" if v is None else str(v).strip()) for v in first] if has_header else None
+    has_header = not all(is_num(v) for v in first if not blank(v))
+    header, names, col_units = None, None, None
+    if has_header:
+        header = [("" if v is None else str(v).strip()) for v in first]
+        parsed = [split_header(h) if h else ("", None) for h in header]
+        names, col_units = [n for n, _ in parsed], [u for _, u in parsed]
     body = rows if has_header else itertools.chain([first_row], rows)
     width = len(first)
     j = None
@@ -760,8 +750,9 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         if header is None:
             raise SpecError(f"the file has no header row to find column {column!r} in; give its number",
                             file=file, key="column")
-        hits = [i for i, h in enumerate(header) if h == str(column)] or \
-               [i for i, h in enumerate(header) if h.lower() == str(column).lower()]
+        want = str(column).strip()
+        hits = ([i for i, h in enumerate(header) if h == want] or [i for i, n in enumerate(names) if n == want]
+                or [i for i, n in enumerate(names) if n.lower() == want.lower()])
         if not hits:
             raise SpecError(f"no column {column!r} (columns: {', '.join(h for h in header if h)})",
                             file=file, key=f"{where_sheet}row {r0}")
@@ -771,17 +762,17 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     # the values of column j — or, without a column, of every column (exactly one may be used)
     vals: dict[int, array.array] = {}
 
-    with byte_progress(size, f"reading {path.name}") as bar:
+    with byte_progress(rs.size, f"reading {path.name}") as bar:
         step = 0
         for r, cells in body:
             width = max(width, len(cells))
             cols = (j,) if j is not None else range(len(cells))
             for i in cols:
                 v = cells[i] if i < len(cells) else None
-                if empty(v):
+                if blank(v):
                     continue
                 try:
-                    x = _cell_number(v, decimal_comma)
+                    x = cell_number(v, comma)
                 except ValueError:
                     label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
                     raise SpecError("expected a number" + (f", got {str(v).strip()!r}" if len(str(v)) <= 24 else ""),
@@ -799,8 +790,8 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         raise SpecError(f"column {column} is out of range (the file has {width})", file=file, key="column")
     if j is None:
         if len(vals) != 1:
-            names = ", ".join(h for h in (header or []) if h) if header and len(header) <= 12 else ""
-            raise SpecError(f"the file has several columns{f' ({names})' if names else ''}: say which one "
+            shown = ", ".join(h for h in (header or []) if h) if header and len(header) <= 12 else ""
+            raise SpecError(f"the file has several columns{f' ({shown})' if shown else ''}: say which one "
                             "(column = ...)", file=file, key=f"{where_sheet}row {r0}")
         j = next(iter(vals))
     label = header[j] if header and j < len(header) and header[j] else f"{j + 1}"
@@ -808,7 +799,16 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     if len(got) < 2:
         raise SpecError(f"column {label!r} holds {len(got)} value(s); need at least 2", file=file,
                         key=f"{where_sheet}column {label!r}")
-    return np.frombuffer(got, dtype=float).copy()
+    out = np.frombuffer(got, dtype=float).copy()
+    written = col_units[j] if col_units and j < len(col_units) else None
+    if written is not None and unit is not None:       # the header's unit -> the factor's
+        from .. import units
+
+        try:
+            out = units.convert(out, units.canonical(written), units.canonical(unit))
+        except InputError as exc:
+            raise loc.error(exc.reason, r0, header[j], col_letter(j) if rs.lettered else None) from None
+    return out
 
 
 #: the keys of a ``[[factor]]`` table with ``dist = "measured"`` (besides name, unit, …)
@@ -855,7 +855,8 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
     method = p.str("method", "fit", choices=METHODS)
     u = p.float("measurement_sigma", None, positive=True)
     try:
-        values = read_measurements(path, col, sheet=sheet)
+        unit = p.data.get("unit")    # the factor's unit: a header's unit (d [um]) is converted to it
+        values = read_measurements(path, col, sheet=sheet, unit=unit if isinstance(unit, str) else None)
     except InputError as exc:
         if exc.key in (None, "-"):   # the file as a whole (missing, unreadable): the spec's key
             raise p.error("data", f"{exc.reason}: {exc.file}") from None
@@ -910,6 +911,15 @@ def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> 
     elif m.method == "kde":
         out["qq"] = qq_data(dist.data, dist)
     return out
+
+
+def spec_evidence(spec, seed: int | None) -> dict[str, dict]:
+    """:func:`evidence` of every measured factor of ``spec`` (factor name -> its dict), each bootstrap from its
+    own substream of ``seed``; empty when no factor is measured."""
+    from ..sampling import substream_seed
+
+    return {f.name: evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
+            for i, f in enumerate(spec.factors) if f.measured is not None}
 
 
 def measured_from_params(p, base_dir: Path | str = ".") -> object:

@@ -65,6 +65,7 @@ class Sheet:
     lettered: bool
     sha256: str
     merged: tuple[tuple[int, int, int, int], ...] = ()   # XLSX merged ranges (first row, col, last row, col; 1-based)
+    delimiter: str | None = None                         # of a text file (None: a workbook)
 
     def location(self, file: str) -> Location:
         return Location(file, self.title)
@@ -100,8 +101,8 @@ def read_rows(path: str | Path, sheet: str | None = None, *, delimiters: str = "
         return Sheet(rows, title, True, hashlib.sha256(raw).hexdigest(), merged)
     if suffix in TEXT_SUFFIXES:
         raw = read_bytes(path, "a table file")
-        rows, _ = _text_rows(raw, path, delimiters)
-        return Sheet(list(rows), None, False, hashlib.sha256(raw).hexdigest())
+        rows, delim = _text_rows(raw, path, delimiters)
+        return Sheet(list(rows), None, False, hashlib.sha256(raw).hexdigest(), delimiter=delim)
     raise _unknown_format(path, TEXT_SUFFIXES)
 
 
@@ -248,6 +249,37 @@ def blank(v) -> bool:
     return v is None or (isinstance(v, str) and not v.strip())
 
 
+def skipped(cells) -> bool:
+    """A row every table reader skips: all cells blank, or a comment (its first cell starts with ``#``)."""
+    return all(blank(c) for c in cells) or (bool(cells) and isinstance(cells[0], str)
+                                            and cells[0].lstrip().startswith("#"))
+
+
+#: a number as a table cell may write it: decimal point, or decimal comma where the text delimiter is not a comma
+_NUM = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?$")
+
+
+def decimal_comma(delimiter: str | None) -> bool:
+    """Whether a text table with this delimiter may write decimal commas (``;``, tab or space separated; never a
+    comma-separated file, where ``25,011`` is two cells; None: a workbook, whose numbers are numbers)."""
+    return delimiter is not None and delimiter in ";\t "
+
+
+def cell_number(v, comma: bool = False) -> float | None:
+    """The number in a cell (None for a blank one): a workbook's number, or text as :data:`_NUM` (``−`` read as
+    ``-``; a decimal comma only if ``comma``); ValueError for anything else."""
+    if blank(v):
+        return None
+    if isinstance(v, bool):
+        raise ValueError(str(v))
+    if isinstance(v, (int, float)):
+        return float(v)
+    s = str(v).strip().replace("\u2212", "-")
+    if not _NUM.match(s) or ("," in s and not comma):
+        raise ValueError(s)
+    return float(s.replace(",", "."))
+
+
 # ------------------------------------------------------------------------------ tables with a header row
 #: "name" or "name [unit]": the unit is a bracket group after a space (a name may hold brackets: "E_c[1,2]")
 _HEADER = re.compile(r"^\s*(\S.*?)(?:\s+\[\s*([^\[\]]+?)\s*\])?\s*$")
@@ -276,6 +308,7 @@ class Table:
     units: list[str | None]           # their units as written, None where the header gives none
     rows: list[tuple[int, list]]      # (row number, cells: strings stripped, XLSX numbers as numbers, blank "")
     lettered: bool = False
+    comma: bool = False               # decimal commas allowed (:func:`decimal_comma` of a text file's delimiter)
 
     def error(self, reason: str, row: int | None = None, col: int | None = None) -> SpecError:
         """A located error: at ``row`` (default the header's) and column index ``col`` (None: the whole row)."""
@@ -304,7 +337,7 @@ class Table:
         if isinstance(v, bool):
             raise self.error(f"not a number: {v!r}", row, col)
         try:
-            x = float(v)
+            x = cell_number(v, True) if self.comma and isinstance(v, str) and "," in v else float(v)
         except (TypeError, ValueError):
             raise self.error(f"not a number: {v!r}", row, col) from None
         if not math.isfinite(x):
@@ -321,9 +354,9 @@ def read_table(path: str | Path, sheet: str | None = None, *, what: str = "a hea
     loc = sh.location(file)
     rows = []
     for r, cells in sh.rows:
-        cells = [c.strip() if isinstance(c, str) else ("" if c is None else c) for c in cells]
-        if not any(c != "" for c in cells) or (isinstance(cells[0], str) and cells[0].startswith("#")):
+        if skipped(cells):
             continue
+        cells = [c.strip() if isinstance(c, str) else ("" if c is None else c) for c in cells]
         while cells and cells[-1] == "" and sh.lettered:     # XLSX: trailing empty cells of a wider sheet
             cells.pop()
         rows.append((r, cells))
@@ -331,15 +364,23 @@ def read_table(path: str | Path, sheet: str | None = None, *, what: str = "a hea
         raise SpecError(f"no header row ({what})", file=file, key=loc.key(1))
     hrow, head = rows[0]
     head = [str(c) for c in head]
+    names, col_units = header_cells(head, loc, hrow)
+    return Table(file, sh.sha256, loc, hrow, head, names, col_units, rows[1:], sh.lettered,
+                 decimal_comma(sh.delimiter))
+
+
+def header_cells(head: list[str], loc: Location, row: int) -> tuple[list[str], list[str | None]]:
+    """The names and units (as written; None where none is given) of a header row's cells (:func:`split_header`);
+    a cell that is neither ``name`` nor ``name [unit]`` is an error at that cell."""
     names, col_units = [], []
     for i, c in enumerate(head):
         parsed = split_header(c)
         if parsed is None:
-            raise loc.error("cannot read this header cell (expected 'name' or 'name [unit]')", hrow, c or None,
+            raise loc.error("cannot read this header cell (expected 'name' or 'name [unit]')", row, c or None,
                             col_letter(i))
         names.append(parsed[0])
         col_units.append(parsed[1])
-    return Table(file, sh.sha256, loc, hrow, head, names, col_units, rows[1:], sh.lettered)
+    return names, col_units
 
 
 # ------------------------------------------------------------------------------ writing

@@ -104,7 +104,7 @@ def inputs_section(result) -> Section:
     if st.spec.correlation is not None:
         sec.add_table(pd.DataFrame(st.spec.correlation, index=st.spec.names, columns=st.spec.names),
                       caption="Correlation of normal scores (Gaussian copula)", index=True, float_format="{:.3g}")
-    measured_factors(sec, st.spec, st.options.seed)
+    measured_factors(sec, st.spec, result.measured_evidence)
     if getattr(st, "build", None) is not None:
         build_tables(sec, st.build, result.build_usage)
     if st.design is not None:
@@ -132,17 +132,16 @@ def build_tables(sec: Section, rules, used) -> None:
                                     "step above it; the parts used per size")
 
 
-def measured_factors(sec: Section, spec, seed) -> None:
+def measured_factors(sec: Section, spec, evidence: dict) -> None:
     """Factors whose distribution comes from measured values: the data, the fitted families ranked
-    by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot."""
-    from ..inputs.measured import evidence
+    by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot — laid out
+    from ``evidence`` (factor name -> :func:`rvtol.inputs.measured.evidence`, computed in the run)."""
     from ..plotting.inputs import qq_plot
-    from ..sampling import substream_seed
 
-    for i, f in enumerate(spec.factors):
-        if f.measured is None:
+    for f in spec.factors:
+        if f.name not in evidence:
             continue
-        ev = evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
+        ev = evidence[f.name]
         sec.add_table(ev["summary"], caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
                                               "distribution (s: sample standard deviation; gauge u²/s²: the share "
                                               "of the measurement uncertainty removed)")
