@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 from scipy import stats
 
+from . import signoff_texts as T
 from .callouts import short_label
 from .mc import MonteCarloResult
 from .model import Model
@@ -221,29 +222,24 @@ def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> T
 
 
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:
-    """A first-order estimate of the tightening that would make ``r`` pass (text)."""
+    """A first-order estimate of the tightening that would make ``r`` pass (a sentence of :mod:`.signoff_texts`)."""
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     if mean is None or sigma is None:
-        return "No sample could be evaluated: nothing to estimate from."
+        return T.NOTHING_EVALUATED
     t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
     if t.target is None:
-        return (f"The mean {mean:.4g} {unit} itself lies at or beyond the limit: tightening tolerances cannot fix "
-                "it — the nominal design (or a mean shift of its largest drivers) must change.")
+        return T.MEAN_BEYOND.format(mean=mean, unit=unit)
     if not drivers:
-        return f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit}; no driver could be estimated."
+        return T.NO_DRIVER.format(sigma=sigma, target=t.target, unit=unit)
     if t.need <= 0:
-        return ("The point estimate already meets the requirement: the confidence bound does not — more samples "
-                "(a larger n) would demonstrate it, or a small tightening of the drivers below.")
+        return T.ONLY_CONFIDENCE
     names = (", " if t.f is None else " and ").join(d.tolerance for d in t.used)
     if t.f is None:
-        return (f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit} ({100 * t.need:.0f} % of the "
-                f"variance), more than the largest drivers explain to first order ({names}: {100 * t.explained:.0f} %): "
-                "tighten several tolerances (an allocation analysis finds which, at the least cost).")
-    return (f"The spread must fall from σ = {sigma:.3g} to {t.target:.3g} {unit}: scaling {names} to "
-            f"{100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'} present tolerance would do it to first "
-            f"order (S1 = {t.explained:.2f}). An estimate: an allocation analysis gives cost-optimal tolerances checked "
-            "by Monte Carlo.")
+        return T.SEVERAL.format(sigma=sigma, target=t.target, unit=unit, need=100 * t.need, names=names,
+                                explained=100 * t.explained)
+    return T.SCALE.format(sigma=sigma, target=t.target, unit=unit, names=names, f=100 * t.f, their=T.their(len(t.used)),
+                          explained=t.explained)
 
 
 def _evaluated(mc, output: str):
@@ -252,11 +248,15 @@ def _evaluated(mc, output: str):
 
 
 def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None) -> list[Fix]:
-    """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked)."""
+    """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked; the
+    sentences of :mod:`.signoff_texts`)."""
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
+
+    def fix(kind, template, **numbers):
+        return Fix(r.label, kind, *(part.format(**numbers) for part in template))
+
     if n_to_demonstrate:
-        return [Fix(r.label, "more samples", f"run n = {n_to_demonstrate:,} samples",
-                    "the estimate already meets the requirement; this n would demonstrate it if the figures hold")]
+        return [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)]
     if mean is None or sigma is None:
         return []
     out = []
@@ -264,27 +264,22 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
         beyond = [(lim, side) for lim, side in ((r.upper, "below"), (r.lower, "above"))
                   if lim is not None and (mean >= lim if side == "below" else mean <= lim)]
         lim, side = beyond[0] if beyond else (r.upper if r.upper is not None else r.lower, "inside")
-        out.append(Fix(r.label, "redesign", f"move the mean ({mean:.4g} {unit}) {side} the limit {lim:g} {unit}: a "
-                       "nominal of the design", "tightening cannot help: as tolerances shrink, every unit approaches "
-                       "the nominal one"))
+        out.append(fix("redesign", T.REDESIGN, mean=mean, unit=unit, side=side, limit=lim))
         return out
     if r.lower is not None and r.upper is not None:
         mid = 0.5 * (r.lower + r.upper)
         centred = required_sigma(r, mid, sigma, None if y is None else y - mean + mid)
         if centred is not None and sigma <= centred and abs(mean - mid) > 0.05 * (r.upper - r.lower):
-            out.append(Fix(r.label, "re-centre", f"move the mean from {mean:.4g} to {mid:.4g} {unit} "
-                           f"(shift {mid - mean:+.3g} {unit}: a nominal, no tolerance changes)",
-                           f"the present spread σ = {sigma:.3g} {unit} fits the band when centred (needs "
-                           f"σ ≤ {centred:.3g}); to first order, at the point estimate"))
+            out.append(fix("re-centre", T.RECENTRE, mean=mean, mid=mid, unit=unit, shift=mid - mean, sigma=sigma,
+                           centred=centred))
     t = tightening(r, mean, sigma, d.drivers, y)
     if t.f is not None:
         names = " and ".join(short_label(x.tolerance) for x in t.used)
-        out.append(Fix(r.label, "tighten", f"scale {names} to {100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'}"
-                       " present tolerance", f"σ from {sigma:.3g} to {t.target:.3g} {unit}: to first order, at the point "
-                       f"estimate (S1 = {t.explained:.2f} from the Monte Carlo samples)"))
+        out.append(fix("tighten", T.TIGHTEN, names=names, f=100 * t.f, their=T.their(len(t.used)), sigma=sigma,
+                       target=t.target, unit=unit, explained=t.explained))
     elif t.used:
-        out.append(Fix(r.label, "tighten", "tighten several tolerances", f"σ from {sigma:.3g} to {t.target:.3g} {unit}: "
-                       f"more than the largest drivers explain to first order ({100 * t.explained:.0f} %)"))
+        out.append(fix("tighten", T.TIGHTEN_SEVERAL, sigma=sigma, target=t.target, unit=unit,
+                       explained=100 * t.explained))
     return out
 
 
