@@ -193,11 +193,11 @@ def test_every_installed_model_plugin_has_the_documented_signature(kind):
 
 
 @pytest.mark.parametrize("kind", sorted(all_analyses()))
-def test_every_analysis_is_an_analysis_with_setup_and_run(kind):
+def test_every_analysis_is_an_analysis_with_options_and_run(kind):
     cls = _resolve(all_analyses()[kind])
     assert inspect.isclass(cls) and issubclass(cls, Analysis)
-    assert "__init__" not in vars(cls), "construction goes through Analysis.__init__ -> setup"
-    assert list(inspect.signature(cls.setup).parameters) == ["self", "params", "study"]
+    assert "__init__" not in vars(cls), "construction goes through Analysis.__init__ (reads the Options)"
+    assert not hasattr(cls, "setup"), "no hand-read form of the [[analysis]] table"
     assert list(inspect.signature(cls.run).parameters) == ["self", "ctx"]
     assert not inspect.isabstract(cls)
     assert all_analyses()[kind].split(":")[0].endswith(".analyses"), "analyses live in a package's analyses.py"

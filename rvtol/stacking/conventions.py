@@ -77,6 +77,7 @@ from .. import units
 from ..errors import InputError
 from ..spec import ToleranceSpec, zone_bonus
 from ..stats import rss
+from . import notes as N
 from ..sensitivity.common import derivative_to_display, ratio_unit
 
 #: Bender's inflation factor of the RSS
@@ -230,8 +231,7 @@ def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list
                 g[i] = slopes.central(i)
         replaced = [names[i] for i in bad if not zone_of[i] or zone_of[i] not in kinked_zones]
         if replaced:
-            notes.append("the model's derivative is undefined (NaN/∞) for " + ", ".join(replaced) + ": the central "
-                         "difference of its one-sided slopes is used instead")
+            notes.append(N.UNDEFINED_DERIVATIVE.format(names=", ".join(replaced)))
     return g, sorted(kinked_zones), kinked_plain
 
 
@@ -265,8 +265,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     for i, (up, dn) in kinked_plain.items():
         sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
                                float(con.sigma[i]), float(con.t[i]), kinked=True))
-        notes.append(f"{spec.names[i]}: the output has a kink at the nominal point (one-sided slopes D⁺ = {up:.4g}, "
-                     f"D⁻ = {dn:.4g} per base unit): the worst case takes the side that hurts")
+        notes.append(N.KINKED_FACTOR.format(name=spec.names[i], up=up, down=dn))
     for z in dict.fromkeys(zz for zz in con.zone if zz):
         ix, iy = [m for m, zz in enumerate(con.zone) if zz == z]
         bonus = zone_bonus(spec, z)
@@ -276,20 +275,16 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         if z in kinked_zones:
             hi, lo = max(0.0, float(slopes.zone_max[z])), max(0.0, -float(slopes.zone_min[z]))
             a[ix] = a[iy] = 0.0
-            notes.append(f"position zone {z}: the output has a kink at the zone's centre (a norm: per unit radius "
-                         f"it rises at most {hi:.4g} and falls at most {lo:.4g}); it is taken by its radius in the "
-                         "direction that hurts (worst case), as ±radius × the larger slope (RSS, statistical rows: "
-                         "an approximation of a one-sided effect)")
+            notes.append(N.KINKED_ZONE.format(zone=z, hi=hi, lo=lo))
         else:
             hi = lo = float(np.hypot(a[ix], a[iy]))
         sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
                                kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
         if bonus:
             mods = spec.factors[ix]
-            notes.append(f"position zone {z} at {mods.modifier or 'RFS'}" + (f" (datum {mods.datum_size} at MMB)"
-                                                                             if mods.datum_size else "")
-                         + f": radius {d(r0):.6g} at the sizes' band centres, growing with the bonus of "
-                         + ", ".join(spec.names[m] for m, _, _ in bonus))
+            notes.append(N.ZONE_BONUS.format(zone=z, modifier=mods.modifier or "RFS", radius=d(r0),
+                                             datum=N.ZONE_DATUM.format(datum=mods.datum_size) if mods.datum_size else "",
+                                             sizes=", ".join(spec.names[m] for m, _, _ in bonus)))
     bonus_zone = {o.zone for o in sided if o.bonus}
     plain_in_sided = {spec.names.index(o.name) for o in sided if not o.zone}
     yc = y0 + float(a @ (con.c - x0))
@@ -330,33 +325,29 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                      "half_width": d(half) if math.isfinite(half) else math.nan, "centre": d(centre),
                      "sigma": None if sigma is None else d(sigma), "note": note, "source": source})
 
-    zone_note = " (position zones as discs)" if any(con.zone) else ""
+    zone_note = N.ZONES_AS_DISCS if any(con.zone) else ""
     if any(o.kinked for o in sided):
-        zone_note += "; kinked contributors by the side that hurts (one-sided)"
+        zone_note += N.KINKED_ONE_SIDED
     if bonus_zone:
-        zone_note += "; zones at MMC/LMC with their bonus (and datum shift)"
+        zone_note += N.ZONES_WITH_BONUS
     add("worst case (arithmetic)", 0.5 * (wc_low + wc_high) if sided else yc, t_wc,
-        note="every factor at the end of its band" + zone_note, source="Fortini 1967", low=wc_low, high=wc_high)
-    add("RSS", yc, t_rss, sigma=t_rss / 3, note="every band read as ±3σ of a centred normal"
-        + ("; kinked contributors and zones at MMC/LMC as equal-bilateral ±(radius or half band) × the slope that "
-           "hurts (handbook)" if sided else ""), source="Scholz 1995 §4.1")
+        note=N.WORST_CASE.format(zones=zone_note), source="Fortini 1967", low=wc_low, high=wc_high)
+    add("RSS", yc, t_rss, sigma=t_rss / 3, note=N.RSS.format(sided=N.RSS_SIDED if sided else ""),
+        source="Scholz 1995 §4.1")
     for name, cf, src in (("MRSS, Bender", BENDER, "Bender 1968 (SAE 680490)"),
                           ("MRSS, handbook", handbook_mrss_factor(t_wc, t_rss, n), "Drake 1999, ch. 9"),
                           ("MRSS, given factor", mrss_factor, "the study's mrss_factor")):
         if cf is None:
             if name == "MRSS, handbook":
-                notes.append("MRSS (handbook) needs at least two contributors")
+                notes.append(N.MRSS_FEW)
             continue
         half = cf * t_rss
-        note = f"C_f = {cf:.4g} × RSS" + (" — wider than the worst case (few contributors)" if half > t_wc else "")
-        add(name, yc, half, note=note, source=src)
+        add(name, yc, half, note=N.MRSS.format(cf=cf, wider=N.MRSS_WIDER if half > t_wc else ""), source=src)
     k = con.k
     for z in sigma_levels:
         add(f"statistical ±{z:g}σ (the distributions)", mu_y, z * sig_y, sigma=sig_y,
-            note="mean and σ of each factor's own distribution" + (", correlation included"
-                                                                   if spec.correlation is not None else "")
-            + ("; kinked contributors as ±(largest one-sided slope)·σ, no mean shift (an approximation)"
-               if extra_sig2 else ""),
+            note=N.STATISTICAL.format(correlation=N.STATISTICAL_CORRELATION if spec.correlation is not None else "",
+                                      kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
     sig_plain = math.sqrt(rss(a_stat * con.sigma, squared=True) + extra_sig2)
@@ -364,20 +355,20 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
     sig_dyn = math.sqrt(rss(a_stat * con.sigma * infl, squared=True) + extra_sig2)
     if not math.isfinite(sig_dyn):
-        notes.append("a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined")
+        notes.append(N.DYNAMIC_UNDEFINED)
     for z in sigma_levels:
         add(f"6σ static ±{z:g}σ", yc, shift + z * sig_plain, sigma=sig_plain,
-            note="the factors' mean shifts added arithmetically", source="Harry & Stewart 1988")
+            note=N.SIX_SIGMA_STATIC, source="Harry & Stewart 1988")
         add(f"6σ dynamic RSS ±{z:g}σ", yc, z * sig_dyn, sigma=sig_dyn,
-            note="each σ inflated by Cp/Cpk = 1/(1 − k)", source="Harry & Stewart 1988")
+            note=N.SIX_SIGMA_DYNAMIC, source="Harry & Stewart 1988")
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
         sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), squared=True)
-                          + sum((max(o.hi, o.lo) * o.s / (3.0 * cpk)) ** 2 for o in sided if o.kinked))
+                          + rss([max(o.hi, o.lo) * o.s / (3.0 * cpk) for o in sided if o.kinked], squared=True))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
-                note=f"every band a ±{3 * cp:g}σ process (Cp {cp:g}) shifted {sh:g}σ (Cpk {cpk:g})",
+                note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk),
                 source="Harry & Stewart 1988")
     frame = pd.DataFrame(rows)
     # per factor

@@ -68,6 +68,7 @@ from ..mc import Evaluator
 from ..model import Model
 from ..sampling import from_normal_scores, substream_seed
 from ..spec import ToleranceSpec
+from . import notes as N
 
 METHODS = ("FORM", "SORM", "multi-FORM", "importance sampling", "subset", "directional")
 #: the approximations (no error of their own)
@@ -226,7 +227,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
         def run_form():
             nonlocal form_result, u_star
             if beyond(y0):
-                est.notes.append("the nominal point itself fails: β < 0")
+                est.notes.append(N.NOMINAL_FAILS)
             for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.Cobyla(), [0.0] * k),
                                   (ot.Cobyla(), [0.1] * k)):
                 try:
@@ -239,18 +240,15 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
                 g = ls.y(u[None])[0]
                 if abs(g - lim) <= 1e-6 * (abs(lim) + abs(y0 - lim)) + 1e-12:
                     form_result, u_star = r, u
-                    note = "" if isinstance(solver, ot.AbdoRackwitz) else \
-                        "Cobyla (derivative-free): the output's gradient vanishes at the start or Abdo-Rackwitz failed"
+                    note = "" if isinstance(solver, ot.AbdoRackwitz) else N.FORM_COBYLA
                     est.converged = True
                     beta = float(np.linalg.norm(u)) * (-1.0 if beyond(y0) else 1.0)
                     est.beta = beta
                     return Estimate("FORM", float(r.getEventProbability()), note=note)
             if _out_of_reach(spec, ls, beyond):
                 est.beta = math.inf
-                return Estimate("FORM", 0.0, note="no point of the limit state: every factor is bounded and no corner "
-                                                  "of their supports reaches the limit — out of reach, P = 0")
-            return Estimate("FORM", None, note="Abdo-Rackwitz and Cobyla found no point of the limit state (a "
-                                               "failure domain they cannot reach from the origin): no FORM estimate")
+                return Estimate("FORM", 0.0, note=N.FORM_OUT_OF_REACH)
+            return Estimate("FORM", None, note=N.FORM_NONE)
         if "FORM" in methods or "SORM" in methods or "importance sampling" in methods:
             counted("FORM", run_form) if "FORM" in methods else run_form()
     if u_star is not None:
@@ -264,14 +262,14 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             r = algo.getResult()
             pb = float(r.getEventProbabilityBreitung())
             if not math.isfinite(pb):
-                return Estimate("SORM", None, note="Breitung's formula is undefined here (a curvature ≤ −1/β)")
+                return Estimate("SORM", None, note=N.SORM_UNDEFINED)
             extra = []
             for name, get in (("Tvedt", r.getEventProbabilityTvedt), ("Hohenbichler", r.getEventProbabilityHohenbichler)):
                 try:
-                    extra.append(f"{name} {1e6 * float(get()):.4g} ppm")
+                    extra.append(N.SORM_OTHER.format(name=name, ppm=1e6 * float(get())))
                 except Exception:
-                    extra.append(f"{name} undefined")
-            return Estimate("SORM", pb, note="Breitung; " + ", ".join(extra))
+                    extra.append(N.SORM_OTHER_UNDEFINED.format(name=name))
+            return Estimate("SORM", pb, note=N.SORM.format(others=", ".join(extra)))
         counted("SORM", run_sorm)
     if "multi-FORM" in methods and reachable:
         def run_multi():
@@ -282,19 +280,19 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             pts = [np.array(x.getStandardSpaceDesignPoint()) for x in r.getFORMResultCollection()]
             pf = float(r.getEventProbability())
             if not (0.0 <= pf <= 1.0) or len(pts) < 2:
-                return Estimate("multi-FORM", None, note=f"{len(pts)} design point(s) found: nothing beyond FORM")
+                return Estimate("multi-FORM", None, note=N.MULTI_FORM_ONE.format(n=len(pts)))
             X = from_normal_scores(spec, np.array(pts))
             est.design_points = [{f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)}
                                  for x in X]
             return Estimate("multi-FORM", pf,
-                            note=f"{len(pts)} design point(s), β = " + ", ".join(f"{np.linalg.norm(p):.4g}" for p in pts))
+                            note=N.MULTI_FORM.format(n=len(pts), betas=", ".join(f"{np.linalg.norm(p):.4g}" for p in pts)))
         counted("multi-FORM", run_multi)
     block = 100
     outer = max(1, samples // block)
     if "importance sampling" in methods:
         def run_is():
             if not reachable:
-                return Estimate("importance sampling", None, note="no design point to sample about")
+                return Estimate("importance sampling", None, note=N.IS_NO_POINT)
             seed_for(1)
             exp = ot.ImportanceSamplingExperiment(ot.Normal(list(u_star), [1.0] * k, ot.CorrelationMatrix(k)))
             algo = ot.ProbabilitySimulationAlgorithm(event, exp)
@@ -304,7 +302,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             algo.run()
             r = algo.getResult()
             return Estimate("importance sampling", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=f"N = {outer * block} about u*")
+                            note=N.IS.format(n=outer * block))
         counted("importance sampling", run_is)
     if "subset" in methods:
         def run_subset():
@@ -318,7 +316,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             r = algo.getResult()
             levels = algo.getStepsNumber() if hasattr(algo, "getStepsNumber") else None
             return Estimate("subset", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=f"{n_level} samples per level, p₀ = 0.1" + (f", {levels} levels" if levels else ""))
+                            note=N.SUBSET.format(n=n_level, levels=N.SUBSET_LEVELS.format(levels=levels) if levels else ""))
         counted("subset", run_subset)
     if "directional" in methods:
         def run_directional():
@@ -331,13 +329,13 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             algo.run()
             r = algo.getResult()
             return Estimate("directional", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=f"{max(1, n_dir // 50) * 50} directions, root by Brent (safe and slow)")
+                            note=N.DIRECTIONAL.format(n=max(1, n_dir // 50) * 50))
         counted("directional", run_directional)
     _compare(est)
     est.failed_samples = ls.failed
     est.evaluations = ls.count
     if ls.failed:
-        est.notes.append(f"{ls.failed} evaluations could not be made and count as failures")
+        est.notes.append(N.FAILED_EVALUATIONS.format(n=ls.failed))
     return est
 
 
@@ -357,7 +355,7 @@ def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
 
 def _reason(exc: Exception) -> str:
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-    return "could not run: " + text[:200]
+    return N.COULD_NOT_RUN.format(why=text[:200])
 
 
 def _compare(est: TailEstimate) -> None:
@@ -375,9 +373,9 @@ def _compare(est: TailEstimate) -> None:
                 if not agree(a, b):
                     ra, rb = ROBUSTNESS.get(a.method, 0), ROBUSTNESS.get(b.method, 0)
                     suspect |= {a.method} if ra < rb else {b.method} if rb < ra else {a.method, b.method}
-                    est.disagreements.append(
-                        f"{a.method} {1e6 * a.pf:.4g} ± {1e6 * a.se:.2g} ppm and {b.method} {1e6 * b.pf:.4g} ± "
-                        f"{1e6 * b.se:.2g} ppm differ by more than {DISAGREE_SE:g} combined standard errors")
+                    est.disagreements.append(N.DISAGREE.format(a=a.method, a_ppm=1e6 * a.pf, a_se=1e6 * a.se,
+                                                               b=b.method, b_ppm=1e6 * b.pf, b_se=1e6 * b.se,
+                                                               k=DISAGREE_SE))
         trusted = [e for e in sampled if e.method not in suspect] or \
             [max(sampled, key=lambda e: ROBUSTNESS.get(e.method, 0))]
         ref = min(trusted, key=lambda e: (e.cov if e.cov is not None else math.inf, -ROBUSTNESS.get(e.method, 0)))
@@ -386,8 +384,8 @@ def _compare(est: TailEstimate) -> None:
             if e.method in APPROXIMATIONS and e.pf is not None:
                 err = DISAGREE_SE * ref.se if ref.se else 1e-3 * ref.pf
                 if abs(e.pf - ref.pf) > err:
-                    est.disagreements.append(
-                        f"{e.method} {1e6 * e.pf:.4g} ppm lies outside {DISAGREE_SE:g} standard errors of the reference "
-                        f"({ref.method} {1e6 * ref.pf:.4g} ± {1e6 * ref.se:.2g} ppm)")
+                    est.disagreements.append(N.OUTSIDE_REFERENCE.format(method=e.method, ppm=1e6 * e.pf, k=DISAGREE_SE,
+                                                                        ref=ref.method, ref_ppm=1e6 * ref.pf,
+                                                                        ref_se=1e6 * ref.se))
     elif est.get("FORM") is not None and est.get("FORM").pf is not None:
         est.reference = "FORM"

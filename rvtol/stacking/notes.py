@@ -1,0 +1,62 @@
+"""The notes the stack-up computations write into their results (:mod:`.conventions`, :mod:`.tail`): templates
+they fill with their numbers (``str.format`` fields named after them).
+
+A leaf module (no imports): the computations format these while they run (the notes are recorded in
+summary.json); the layout of the results is :mod:`.texts`.
+"""
+
+# ---------------------------------------------------------------- conventions: notes of the whole comparison
+UNDEFINED_DERIVATIVE = ("the model's derivative is undefined (NaN/∞) for {names}: the central difference of its "
+                        "one-sided slopes is used instead")
+KINKED_FACTOR = ("{name}: the output has a kink at the nominal point (one-sided slopes D⁺ = {up:.4g}, D⁻ = {down:.4g} "
+                 "per base unit): the worst case takes the side that hurts")
+KINKED_ZONE = ("position zone {zone}: the output has a kink at the zone's centre (a norm: per unit radius it rises at "
+               "most {hi:.4g} and falls at most {lo:.4g}); it is taken by its radius in the direction that hurts (worst "
+               "case), as ±radius × the larger slope (RSS, statistical rows: an approximation of a one-sided effect)")
+ZONE_BONUS = "position zone {zone} at {modifier}{datum}: radius {radius:.6g} at the sizes' band centres, growing with " \
+             "the bonus of {sizes}"
+ZONE_DATUM = " (datum {datum} at MMB)"
+MRSS_FEW = "MRSS (handbook) needs at least two contributors"
+DYNAMIC_UNDEFINED = "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined"
+
+# ---------------------------------------------------------------- conventions: the note of each row
+ZONES_AS_DISCS = " (position zones as discs)"
+KINKED_ONE_SIDED = "; kinked contributors by the side that hurts (one-sided)"
+ZONES_WITH_BONUS = "; zones at MMC/LMC with their bonus (and datum shift)"
+WORST_CASE = "every factor at the end of its band{zones}"
+RSS = "every band read as ±3σ of a centred normal{sided}"
+RSS_SIDED = ("; kinked contributors and zones at MMC/LMC as equal-bilateral ±(radius or half band) × the slope that "
+             "hurts (handbook)")
+MRSS = "C_f = {cf:.4g} × RSS{wider}"
+MRSS_WIDER = " — wider than the worst case (few contributors)"
+STATISTICAL = "mean and σ of each factor's own distribution{correlation}{kinked}"
+STATISTICAL_CORRELATION = ", correlation included"
+STATISTICAL_KINKED = "; kinked contributors as ±(largest one-sided slope)·σ, no mean shift (an approximation)"
+SIX_SIGMA_STATIC = "the factors' mean shifts added arithmetically"
+SIX_SIGMA_DYNAMIC = "each σ inflated by Cp/Cpk = 1/(1 − k)"
+SIX_SIGMA_SHIFT = "every band a ±{width:g}σ process (Cp {cp:g}) shifted {shift:g}σ (Cpk {cpk:g})"
+
+# ---------------------------------------------------------------- tail: the estimates' notes
+NOMINAL_FAILS = "the nominal point itself fails: β < 0"
+FORM_COBYLA = "Cobyla (derivative-free): the output's gradient vanishes at the start or Abdo-Rackwitz failed"
+FORM_OUT_OF_REACH = ("no point of the limit state: every factor is bounded and no corner of their supports reaches the "
+                     "limit — out of reach, P = 0")
+FORM_NONE = ("Abdo-Rackwitz and Cobyla found no point of the limit state (a failure domain they cannot reach from the "
+             "origin): no FORM estimate")
+SORM_UNDEFINED = "Breitung's formula is undefined here (a curvature ≤ −1/β)"
+SORM = "Breitung; {others}"
+SORM_OTHER = "{name} {ppm:.4g} ppm"
+SORM_OTHER_UNDEFINED = "{name} undefined"
+MULTI_FORM_ONE = "{n} design point(s) found: nothing beyond FORM"
+MULTI_FORM = "{n} design point(s), β = {betas}"
+IS_NO_POINT = "no design point to sample about"
+IS = "N = {n} about u*"
+SUBSET = "{n} samples per level, p₀ = 0.1{levels}"
+SUBSET_LEVELS = ", {levels} levels"
+DIRECTIONAL = "{n} directions, root by Brent (safe and slow)"
+FAILED_EVALUATIONS = "{n} evaluations could not be made and count as failures"
+COULD_NOT_RUN = "could not run: {why}"
+DISAGREE = ("{a} {a_ppm:.4g} ± {a_se:.2g} ppm and {b} {b_ppm:.4g} ± {b_se:.2g} ppm differ by more than {k:g} combined "
+            "standard errors")
+OUTSIDE_REFERENCE = ("{method} {ppm:.4g} ppm lies outside {k:g} standard errors of the reference ({ref} {ref_ppm:.4g} ± "
+                     "{ref_se:.2g} ppm)")
