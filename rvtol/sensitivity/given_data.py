@@ -70,6 +70,7 @@ from . import global_ as gs
 from ._given import correlated_pairs, describe_pairs, given_samples, spec_cdfs, u_column
 from ..mc import Evaluator
 from .common import factor_indices, output_indices
+from . import notes as N
 
 #: default size of the random subsample delta runs on (see module notes)
 DELTA_DEFAULT_N = 2000
@@ -255,9 +256,7 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
     C, rho = classes_and_spearman(X, spec_cdfs(spec), idx, classes)   # one ranking: classes and dependence
     pairs = correlated_pairs(spec.names, correlation=spec.correlation, rho=rho, n=len(X))
     if pairs:
-        notes.append("The inputs are dependent (" + describe_pairs(pairs) + "): each S1 is the share of variance "
-                     "explained by the factor including what it carries of the factors correlated with it; the "
-                     "indices need not sum to ≤ 1. The delta index is the moment-independent alternative.")
+        notes.append(N.GIVEN_DEPENDENT.format(pairs=describe_pairs(pairs)))
     rng = substream(seed, "given_data")
     names = [spec.names[i] for i in idx]
     rows, M = [], None
@@ -265,7 +264,7 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
         q = model.outputs[j]
         y = Yd[:, c]
         if np.ptp(y) == 0.0:
-            notes.append(f"{q.name}: the output does not vary; its indices are 0.")
+            notes.append(N.CONSTANT_OUTPUT.format(output=q.name))
             res = {col: np.zeros(len(idx)) for col in GIVEN_COLUMNS}
         else:
             res = first_order_given_data(X[:, idx], y, classes, num_resamples, confidence, rng, C)
@@ -275,8 +274,7 @@ def given_data(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndar
                          **{col: float(res[col][i]) for col in GIVEN_COLUMNS}})
     frame = pd.DataFrame(rows, columns=["output", "unit", "factor", *GIVEN_COLUMNS])
     if num_resamples:
-        notes.append(f"Intervals (bootstrap, {num_resamples} resamples) cover the sampling of the {len(X)} points, "
-                     "not the small discretisation bias of the classes.")
+        notes.append(N.GIVEN_INTERVALS.format(resamples=num_resamples, n=len(X)))
     settings = {"n": len(X), "samples": "given", "classes": M or classes or default_classes(len(X)),
                 "num_resamples": num_resamples, "estimator": "Kelley-corrected correlation ratio, equal-count classes"}
     return gs.GlobalSensitivityResult("given_data", frame, 0, confidence, settings, None, n_failed, notes)

@@ -46,6 +46,7 @@ from ..sampling import SampleSet, sample, substream, substream_seed
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
 from .common import (FrameResult, correlation_note, factor_indices, output_indices, to_display)
+from . import notes as N
 
 _U_EPS = 2.0**-53
 
@@ -311,8 +312,7 @@ def fast(model: Model, spec: ToleranceSpec, n: int = 1024, M: int = 4, factors: 
     U = fast_sampler.sample(problem, n, M=M, seed=substream(seed, "fast"))
     Yd, n_failed = _evaluate_design(model, spec, idx, oidx, U, evaluate, "eFAST indices")
     notes = [m for m in [correlation_note(spec, "eFAST")] if m]
-    notes.append("eFAST confidence intervals come from a bootstrap that SALib flags as unreliable for this "
-                 "method (SALib issue 649): read them as indicative.")
+    notes.append(N.FAST_INTERVALS)
     aseed = substream_seed(seed, "fast")
 
     def analyse(y):

@@ -146,6 +146,7 @@ from ._given import (CorrelatedInputsWarning, correlated_pairs, describe_pairs, 
                      u_from_samples)
 from .common import factor_indices, output_indices
 from .global_ import GlobalSensitivityResult
+from . import notes as N
 
 FAMILIES = ("legendre", "hermite")
 METHODS = ("lars", "ols", "omp")
@@ -770,10 +771,7 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
     pairs = correlated_pairs(spec.names, U, spec.correlation)
     independent = not pairs
     if pairs:
-        msg = ("The inputs are dependent: " + describe_pairs(pairs) + ". PCE Sobol indices assume "
-               "independent factors: these are the indices of a surrogate fitted on the dependent sample and "
-               "read with independent margins, not a valid variance decomposition. The delta index "
-               "(moment-independent, computed on the dependent sample) is the valid measure here.")
+        msg = N.PCE_DEPENDENT.format(pairs=describe_pairs(pairs))
         warnings.warn(msg, CorrelatedInputsWarning, stacklevel=2)
         notes.append(msg)
     rng = substream(seed, "pce")
@@ -784,7 +782,7 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
         y = Yd[:, c]
         base = {"output": q_.name, "unit": q_.shown_unit}
         if len(y) < 2 or np.ptp(y) == 0.0:
-            notes.append(f"{q_.name}: the output does not vary; its indices are 0.")
+            notes.append(N.CONSTANT_OUTPUT.format(output=q_.name))
             rows += [{**base, "factor": nm, **{col: 0.0 for col in PCE_COLUMNS}} for nm in names]
             s2rows += [{"output": q_.name, "factor_i": a, "factor_j": b, "S2": 0.0, "S2_conf": 0.0}
                        for a, b in itertools.combinations(names, 2)]
@@ -802,14 +800,10 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
             s2rows.append({"output": q_.name, "factor_i": a, "factor_j": b, "S2": float(res.S2[lo, hi]),
                            "S2_conf": float(res.S2_conf[lo, hi])})
         if not res.reliable:
-            msg = (f"{q_.name}: the polynomial chaos surrogate is not accurate enough (Q² LOO = {v['Q2_loo']:.3f}, "
-                   f"hold-out = {v['Q2_holdout']:.3f} < {min_q2:g}); its indices could be off by up to "
-                   f"{v['bias_bound']:.2f} beyond their intervals")
+            msg = N.PCE_POOR_FIT.format(output=q_.name, q2_loo=v["Q2_loo"], q2_holdout=v["Q2_holdout"], min_q2=min_q2,
+                                        bias=v["bias_bound"]) + N.PCE_POOR_FIT_THEN[on_poor_fit]
             if on_poor_fit == "raise":
-                raise SurrogateError(msg + ". Use the Saltelli route (sobol) or more samples.")
-            msg += (". They are withheld (NaN; the surrogate's values are in `raw`): use the Saltelli route "
-                    "(sobol) or more samples." if on_poor_fit == "withhold" else
-                    ". Read them as indicative only.")
+                raise SurrogateError(msg)
             warnings.warn(msg, PoorSurrogateWarning, stacklevel=2)
             notes.append(msg)
     raw = pd.DataFrame(rows, columns=["output", "unit", "factor", *PCE_COLUMNS])
@@ -823,8 +817,7 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
         s2 = pd.DataFrame(s2rows, columns=["output", "factor_i", "factor_j", "S2", "S2_conf"])
         if on_poor_fit == "withhold":
             s2.loc[s2["output"].isin(bad), ["S2", "S2_conf"]] = np.nan
-    notes.append(f"Intervals ({ci}, {num_resamples} resamples) cover the sampling of the {len(X)} Monte Carlo "
-                 "points given the selected terms, not the surrogate's truncation error (see bias_bound).")
+    notes.append(N.PCE_INTERVALS.format(ci=ci, resamples=num_resamples, n=len(X)))
     settings = {"n": len(X), "samples": "given", "germs": dict(zip(spec.names, fams)), **fit_options,
                 "holdout": holdout, "ci": ci, "num_resamples": num_resamples, "min_q2": min_q2,
                 "on_poor_fit": on_poor_fit}
