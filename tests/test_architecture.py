@@ -316,3 +316,35 @@ def test_model_agnostic_packages_import_no_model():
     bad = sorted({m for m, ts in import_graph().items() for t in ts
                   if t.startswith("rvtol.models.") and not MODEL_IMPORTS_ALLOWED.match(m)})
     assert bad == []
+
+
+def _result_class(cls):
+    """The class of the result ``cls.compute`` returns: the return annotation of the library function whose call
+    gives the returned value (``return f(...)``, or ``x = f(...)`` … ``return x``)."""
+    import textwrap
+    import typing
+
+    fn = next(c.__dict__["compute"] for c in cls.__mro__ if "compute" in c.__dict__)
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    ret = [n.value for n in ast.walk(tree) if isinstance(n, ast.Return) and n.value is not None][-1]
+    if not isinstance(ret, ast.Call):
+        ret = next(n.value for n in ast.walk(tree) if isinstance(n, ast.Assign) and isinstance(n.value, ast.Call)
+                   and any(ast.unparse(t) == ast.unparse(ret) for t in n.targets))
+    scope = vars(importlib.import_module(fn.__module__))
+    f = ret.func
+    target = scope[f.id] if isinstance(f, ast.Name) else getattr(scope[f.value.id], f.attr)
+    return typing.get_type_hints(target)["return"]
+
+
+@pytest.mark.parametrize("kind", sorted(all_analyses()))
+def test_every_result_has_to_frame_summary_and_the_reports_figure(kind):
+    """What an analysis' compute returns is a result object: ``to_frame()`` and ``summary()``, and ``plot()``
+    where the report shows a figure of it (its layout, or its own report, lays out a Figure)."""
+    cls = _resolve(all_analyses()[kind])
+    res = _result_class(cls)
+    assert inspect.isclass(res), f"{kind}: compute's library function has no result class as its return annotation"
+    for name in ("to_frame", "summary"):
+        assert callable(getattr(res, name, None)), f"{res.__name__} has no {name}()"
+    shown = inspect.getsource(cls.layout) + (inspect.getsource(cls.report) if "report" in vars(cls) else "")
+    if "Figure(" in shown:
+        assert callable(getattr(res, "plot", None)), f"{res.__name__}: the report shows a figure, it has no plot()"

@@ -135,6 +135,11 @@ class UnitPredictions:
     def n(self) -> int:
         return self.Y.shape[1]
 
+    def to_frame(self) -> pd.DataFrame:
+        """One row per reducer: :meth:`unit_frame` (verdict, per requirement P and verdict, per output median and
+        interval)."""
+        return self.unit_frame()
+
     def output_frame(self) -> pd.DataFrame:
         """One row per unit and output: median, mean, std, the prediction interval, failed samples."""
         return self._outputs.copy()

@@ -10,7 +10,6 @@ from dataclasses import dataclass
 
 from ..analysis import Analysis, CommonOptions
 from ..options import REQUIRED, option
-from ..records import frame_records
 from . import global_ as gs
 from . import texts
 from .given_data import DELTA_DEFAULT_N, delta_given, given_data
@@ -64,10 +63,6 @@ class LocalSensitivity(_Sensitivity):
         o = self.options
         return five_point(ctx.model, ctx.spec, o.factors, o.outputs, o.percent, o.abs_step or None, ctx.evaluator)
 
-    def summary(self, res):
-        return {"percent": self.options.percent, "notes": res.notes,
-                "derivatives": frame_records(res.frame.drop(columns=["S_base"]))}
-
 
 class SensitivityCurve(_Sensitivity):
     kind, title = "sensitivity_curve", "Sensitivity against error magnitude"
@@ -103,10 +98,6 @@ class SensitivityCurve(_Sensitivity):
         o = self.options
         return sensitivity_curve(ctx.model, ctx.spec, o.factors, o.magnitudes, o.unit, o.outputs, o.percent, o.together,
                                  ctx.evaluator)
-
-    def summary(self, res):
-        return {"percent": self.options.percent, "together": self.options.together,
-                "curve": frame_records(res.frame)}
 
 
 class Contributions(_Sensitivity):

@@ -200,6 +200,18 @@ class ContributionsResult:
     def to_frame(self) -> pd.DataFrame:
         return pd.concat([p.frame.assign(output=o) for o, p in self.predictions.items()], ignore_index=True)
 
+    def plot(self, output: str | None = None, which: str = "variance", ax=None):
+        """The report's figure of ``output`` (default: the first): ``variance`` (% contribution to variance of the
+        linearised prediction) or ``swing`` (the one-at-a-time high/low swing)."""
+        out = output or self.outputs[0]
+        if out not in self.predictions:
+            raise ValueError(f"no output {out!r} (outputs: {', '.join(self.outputs)})")
+        if which == "variance":
+            return self.predictions[out].plot(ax=ax)
+        if which == "swing":
+            return self.high_low.plot(out, ax=ax)
+        raise ValueError(f"unknown figure {which!r} (expected variance or swing)")
+
     def summary(self) -> dict:
         hl = self.high_low.frame
         return {o: {"prediction": p.summary(), "contributions": frame_records(p.frame),

@@ -39,6 +39,7 @@ from ..errors import InputError
 from ..model import Model
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
+from ..records import frame_records
 from .common import (FrameResult, derivative_to_display, factor_indices,
                      output_indices, ratio_unit)
 
@@ -152,6 +153,11 @@ class LocalSensitivityResult(FrameResult):
             f"S·σ [{units.label(out_u)}]": d["S_sigma"],
         })
 
+    def summary(self) -> dict:
+        """What summary.json records: the span, the notes and every derivative (without the base-unit S)."""
+        return {"percent": self.percent, "notes": self.notes,
+                "derivatives": frame_records(self.frame.drop(columns=["S_base"]))}
+
     def plot(self, output: str | None = None, ax=None):
         from ..plotting.sensitivity import tornado
 
@@ -246,6 +252,10 @@ class SensitivityCurveResult(FrameResult):
     percent: float
     together: bool
     notes: list[str] = field(default_factory=list)
+
+    def summary(self) -> dict:
+        """What summary.json records: the span, one-at-a-time or together, and every point of the curves."""
+        return {"percent": self.percent, "together": self.together, "curve": frame_records(self.frame)}
 
     def plot(self, output: str | None = None, ax=None):
         from ..plotting.sensitivity import curves

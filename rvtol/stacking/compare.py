@@ -261,6 +261,11 @@ class TailProbabilities:
         return {"estimates": [t.record() for t in self.limits], "disagreements": self.disagreements(),
                 "verdict_uses": "Monte Carlo"}
 
+    def plot(self):
+        """No figure: a handful of probabilities per limit, each with its standard error, read best as the
+        report's table (:meth:`to_frame`); calling this is an error that says so."""
+        raise ValueError("tail probabilities have no figure: read to_frame() (one row per limit and method)")
+
 
 def tail_probabilities(model, spec, mc, outputs, evaluator, *, samples: int = 4000, methods=None,
                        design_points: int = 4, seed: int | None = None) -> TailProbabilities:

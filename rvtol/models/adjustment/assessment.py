@@ -81,6 +81,17 @@ class AdjustmentAssessment:
     def to_frame(self) -> pd.DataFrame:
         return self.sweep.to_frame()
 
+    def plot(self, which: str = "example"):
+        """The report's figure of ``which``: ``example`` (the example assembly's KC errors after each step),
+        ``batch`` (the Monte Carlo batch's RMS KC error step by step; an error without a batch) or ``sweep``
+        (final error and effort against Q)."""
+        if which == "batch" and self.batch is None:
+            raise ValueError("no Monte Carlo batch was assessed: no batch figure")
+        parts = {"example": self.example, "batch": self.batch, "sweep": self.sweep}
+        if which not in parts:
+            raise ValueError(f"unknown figure {which!r} (expected example, batch or sweep)")
+        return parts[which].plot()
+
     def summary(self) -> dict:
         m, lm = self.model, self.linear_map
         return {"accuracy_weight": None if math.isinf(m.accuracy) else m.accuracy,

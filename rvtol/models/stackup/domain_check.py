@@ -112,6 +112,24 @@ class DomainCheck:
     def summary(self) -> dict:
         return {d.name: d.summary() for d in self.domains}
 
+    def plot(self, domain: str | None = None):
+        """The report's figure of a planar zone ``domain`` (default: the first): its uniform samples, the exact
+        domain and its box.  Other domains have no figure (the report shows their moments as tables): naming one
+        is an error."""
+        from .domains import ParallelPlaneZone
+
+        planar = [d for d in self.domains if isinstance(d.domain, ParallelPlaneZone)]
+        if domain is None:
+            if not planar:
+                raise ValueError("no planar zone among the domains: no figure (the moments are tables)")
+            return planar[0].plot()
+        for d in self.domains:
+            if d.name == domain:
+                if d not in planar:
+                    raise ValueError(f"domain {domain!r} is not a planar zone: no figure (its moments are a table)")
+                return d.plot()
+        raise ValueError(f"no domain {domain!r} (domains: {', '.join(d.name for d in self.domains)})")
+
 
 def domain_moments(name: str, d, n: int, seed: int, figure_seed: int | None = None) -> DomainMoments:
     """Derived against sampled moments of the domain ``d`` (``seed``: of the ``n`` samples; ``figure_seed``:

@@ -96,6 +96,15 @@ class LinearStackup:
     def summary(self) -> dict:
         return {"outputs": {o.name: o.summary() for o in self.outputs}}
 
+    def plot(self, output: str | None = None):
+        """The contribution chart of ``output`` (default: the first the study charts, else the first output) with
+        its ``top`` contributors — the report's figure."""
+        name = output or (self.figures[0] if self.figures else self.outputs[0].name)
+        for o in self.outputs:
+            if o.name == name:
+                return o.plot(self.top)
+        raise ValueError(f"no output {name!r} (outputs: {', '.join(o.name for o in self.outputs)})")
+
 
 def linear_stackup(model: StackupModel, spec, mc, outputs, top: int = 12, figures=()) -> LinearStackup:
     """Worst case and RSS of the linearised chain of each of ``outputs`` beside the Monte Carlo ``mc``;

@@ -74,6 +74,14 @@ class StiffnessAtTorque:
     def summary(self) -> dict:
         return self.angles.summary()
 
+    def plot(self, which: str = "angles"):
+        """The report's figure of ``which``: ``angles`` (the torsion-angle components) or ``contact`` (the pin
+        forces and initial clearances)."""
+        parts = {"angles": self.angles, "contact": self.contact}
+        if which not in parts:
+            raise ValueError(f"unknown figure {which!r} (expected angles or contact)")
+        return parts[which].plot()
+
 
 def torsion_angle_breakdown(rs: ReducerStiffness, T: float, mods: tuple[float, float],
                             fractions) -> TorsionAngleBreakdown:

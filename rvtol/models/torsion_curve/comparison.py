@@ -288,6 +288,18 @@ class TorsionCurveStudy:
     def summary(self) -> dict:
         return self.curves.summary()
 
+    def plot(self, which: str = "curves", zoom: bool = False):
+        """The report's figure of ``which``: ``curves`` (the torsion curves; ``zoom``: within ±10 % of rated
+        torque) or ``clearances`` (lost motion against δ_b).  The rigidity comparison is a table and has no
+        figure: asking for it is an error."""
+        if which == "curves":
+            return self.curves.plot(zoom=zoom)
+        if which == "clearances":
+            return self.clearances.plot()
+        if which == "rigidity":
+            raise ValueError("the rigidity comparison has no figure (the report shows it as text and a table)")
+        raise ValueError(f"unknown figure {which!r} (expected curves or clearances)")
+
 
 def torsion_curve_study(model: TorsionCurveModel, mean_inputs, clearances, pin_clearances, K: float = 1.5,
                         part1=None) -> TorsionCurveStudy:

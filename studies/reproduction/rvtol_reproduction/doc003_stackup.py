@@ -127,6 +127,13 @@ class ShaftHoleFigures:
             out["planar_zone"] = self.planar.summary()
         return out
 
+    def plot(self):
+        """The report's figure: the planar zone's samples, exact domain, box and printed formulas (an error when
+        no zone was given — the clearance figures are a table)."""
+        if self.planar is None:
+            raise ValueError("no planar zone was compared: no figure (the clearance figures are a table)")
+        return self.planar.plot()
+
 
 def shaft_hole_figures(m: StackupModel, spec, mc, fit, kc: str, figures, printed: PrintedFigures,
                        planar: ParallelPlaneZone | None = None, seed: int | None = None) -> ShaftHoleFigures:
