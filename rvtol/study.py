@@ -572,10 +572,12 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
     result.signoff = digest(mc, study.model, study.spec, o.seed)
     timings["signoff"] = time.perf_counter() - ta
     if any(f.measured is not None for f in study.spec.factors):   # the fits' goodness-of-fit bootstrap
-        from .inputs.measured import spec_evidence
+        from .inputs.measured import evidence
+        from .sampling import substream_seed
 
         ta = time.perf_counter()
-        result.measured_evidence = spec_evidence(study.spec, o.seed)
+        result.measured_evidence = {f.name: evidence(f.measured, f.dist, seed=substream_seed(o.seed, "measured_gof", i))
+                                    for i, f in enumerate(study.spec.factors) if f.measured is not None}
         timings["measured_factors"] = time.perf_counter() - ta
     if baseline is not None:
         from .ci.compare import RunData, compare

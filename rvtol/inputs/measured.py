@@ -913,15 +913,6 @@ def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> 
     return out
 
 
-def spec_evidence(spec, seed: int | None) -> dict[str, dict]:
-    """:func:`evidence` of every measured factor of ``spec`` (factor name -> its dict), each bootstrap from its
-    own substream of ``seed``; empty when no factor is measured."""
-    from ..sampling import substream_seed
-
-    return {f.name: evidence(f.measured, f.dist, seed=substream_seed(seed, "measured_gof", i))
-            for i, f in enumerate(spec.factors) if f.measured is not None}
-
-
 def measured_from_params(p, base_dir: Path | str = ".") -> object:
     """The distribution of :func:`measured_factor` alone."""
     return measured_factor(p, base_dir)[0]
