@@ -1,6 +1,7 @@
 """The spec loader reads the engineers' forms: drawing notation in a [[factor]] (the drawing's worst-case
 limits kept when a process spec shifts the mean), measured values (dist = "measured"), spec tables; and a
 table spec round-trips through `rvtol spec export`."""
+import json
 import math
 
 import numpy as np
@@ -199,6 +200,9 @@ n = 400
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Measured factor bore" in html and "ranked by AIC" in html
     assert "Anderson-Darling, parametric bootstrap statistic" in html and "Q-Q plot against the fitted normal" in html
+    # the bootstrap ran in the run (a timed phase), not while the report was laid out
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    assert "measured_factors" in summary["timings_s"]
 
 
 def test_a_circular_position_zone_is_two_rayleigh_coordinates(tmp_path):
