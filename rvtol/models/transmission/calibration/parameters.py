@@ -49,6 +49,7 @@ from ....elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
 from ..factors import ErrorFactors
 from ..friction import KEYS as FRICTION_KEYS
 from ..friction import LABELS as FRICTION_LABELS
+from . import advice
 
 STIFFNESS = "stiffness"     # the design key is a stiffness or k0: key / c
 COMPLIANCE = "compliance"   # the design key is a compliance or a compliance multiplier: key · c
@@ -62,28 +63,13 @@ class Family:
     separated_by: str
 
 
-#: what measurement tells each family apart from the others
-SEPARATED_BY = {
-    "sun_support": "a radial stiffness test of the input shaft's support",
-    "sun_planet_mesh": "a first-stage mesh stiffness test (sun and one planet on a fixture)",
-    "turning_arm_bearings": "a load–deflection test of one needle bearing, or a TE curve under load fitted with the "
-                            "part errors (studies/calibration.md)",
-    "crank_support_bearings": "a load–deflection test of the crank support bearings in the carrier",
-    "cycloid_pin": "a pin-contact load–deflection test, or a TE curve under load fitted with the part errors "
-                   "(studies/calibration.md)",
-    "carrier_housing_bearing": "a radial/tilt stiffness test of the main bearing",
-    "crank_bending": "a bending test of one crankshaft between its bearings",
-    "crank_torsion": "a torsion test of one crankshaft",
-    "carrier": "a torsion test of the carrier alone (flange against end plate)",
-    "pin_groove": "a pin-in-groove load–deflection test",
-    "disc_web": "a torsion test of one disc between its crank holes and its tooth ring",
-    "input_shaft": "a torsion test of the input shaft",
-}
+#: what measurement tells each family apart from the others (:mod:`.advice`)
+SEPARATED_BY = advice.FAMILY_SEPARATED_BY
 
 #: element families of the reducer's torque path (:data:`rvtol.elements.reducer_chain.FAMILIES`): each is
 #: scaled through its one design key ``compliance_scale.<family>`` (a compliance multiplier; default 1)
 FAMILIES: dict[str, Family] = {name: Family(scale_key(name), COMPLIANCE, label,
-                                            SEPARATED_BY.get(name, "a component test of that element"))
+                                            SEPARATED_BY.get(name, advice.FAMILY_DEFAULT))
                                for name, label in CHAIN_FAMILIES.items()}
 
 
@@ -109,18 +95,17 @@ class Clearance:
 #: effective clearances: one value set on every factor of the group (base unit mm)
 CLEARANCES: dict[str, Clearance] = {
     "crank_bearing": Clearance(_CRANK_BEARINGS, "cycloid–crank bearing clearance δ_b, all six bearings",
-                               "a radial-clearance gauge reading of the needle bearings"),
+                               advice.CLEARANCE_SEPARATED_BY["crank_bearing"]),
     "crank_support": Clearance(("delta_oc",), "crank–carrier bearing clearance δ_oc, all three",
-                               "a radial-play reading of the crank support bearings"),
+                               advice.CLEARANCE_SEPARATED_BY["crank_support"]),
     "carrier_housing": Clearance(("delta_ca",), "carrier–housing bearing clearance δ_ca",
-                                 "a radial-play reading of the main bearing"),
+                                 advice.CLEARANCE_SEPARATED_BY["carrier_housing"]),
     "pin": Clearance(("delta_pin",), "normal clearance δ at every pin (undersize pins)",
-                     "pin-diameter and pin-circle measurements"),
+                     advice.CLEARANCE_SEPARATED_BY["pin"]),
 }
 
 KINDS = ("compliance", "friction", "clearance", "factor", "offset")
-FRICTION_SEPARATED_BY = ("the loop's width away from zero torque, both branches measured over a wide torque range "
-                         "(friction widens it in proportion to the torque; a clearance opens it at zero torque only)")
+FRICTION_SEPARATED_BY = advice.FRICTION_SEPARATED_BY
 DEFAULTS = {  # (start, lower, upper) as written in the display unit, display unit
     "compliance": ((1.0, 0.1, 10.0), "1"),
     "friction": ((1.0, 0.0, 10.0), "1"),
@@ -179,7 +164,7 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
         if what == "all":
             fams = [FAMILIES[f] for f in here]
             targets, acts = tuple(f.key for f in fams), tuple(f.acts for f in fams)
-            label, separated_by = "every element family's compliance", "component tests of each family"
+            label, separated_by = "every element family's compliance", advice.ALL_FAMILIES_SEPARATED_BY
         elif what in FAMILIES:
             f = FAMILIES[what]
             if what not in here:
@@ -221,7 +206,7 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
             raise InputError(exc.reason, key="name") from None
         angle = ef.units[0] == "rad"
         targets, label = (what,), f"error factor {what}"
-        separated_by = "a direct measurement of that part error"
+        separated_by = advice.FACTOR_SEPARATED_BY
         (s0, lo0, hi0), u0 = DEFAULTS["factor_angle" if angle else "factor_length"]
     elif kind == "offset":
         names = [m.name for m in measurements]
@@ -230,8 +215,7 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
                              key="name")
         m = measurements[names.index(what)]
         targets, label = (what,), f"angle offset of {what}"
-        separated_by = ("measuring both torque directions" if m.kind == "torsion"
-                        else "an absolute zero of the TE encoders (a known reference position)")
+        separated_by = advice.OFFSET_SEPARATED_BY[m.kind == "torsion"]
         (s0, lo0, hi0), u0 = DEFAULTS["offset"]
     else:
         raise InputError(f"unknown parameter kind {kind!r} in {name!r} (known: {', '.join(KINDS)})", key="name")
@@ -303,18 +287,15 @@ def separation_advice(group: list[Parameter], curves=()) -> str:
     kinds = {p.kind for p in group}
     torsion_only = set(curves) == {"torsion"}
     if kinds == {"compliance"}:
-        why = ("their deflections add along the same torque path with nearly the same load law, so the curve "
-               "measures little more than a weighted sum of their compliances")
+        reason = "same_path"
     elif kinds <= {"clearance", "factor"} and torsion_only:
-        why = "both open play at zero torque, so the torsion curve measures their combined backlash"
+        reason = "play"
     elif "offset" in kinds and kinds & {"clearance", "factor"} and torsion_only:
-        why = ("a clearance raises the positive-torque branch and lowers the negative one; with torques of one "
-               "sign that is an offset")
+        reason = "offset"
     elif "compliance" in kinds and kinds & {"clearance", "factor"} and torsion_only:
-        why = ("a clearance shifts each branch by a constant where a compliance scales the elastic angle; they "
-               "separate only as far as the curve covers a wide torque range in both directions")
+        reason = "shift_and_scale"
     else:
-        why = "their effects on this measurement are nearly proportional"
-    seps = "; ".join(f"{p.name} — {p.separated_by}" for p in group if p.separated_by)
-    return (f"{why}. To separate them: {seps}; or hold all but one at a known value (leave it out of the "
-            f"parameters).")
+        reason = "proportional"
+    seps = "; ".join(advice.SEPARATED_BY_ONE.format(name=p.name, measurement=p.separated_by)
+                     for p in group if p.separated_by)
+    return advice.SEPARATION.format(why=advice.LOOK_ALIKE[reason], measurements=seps)
