@@ -71,6 +71,7 @@ from . import _checks, carrier_structure, conforming, contacts, disc_web, fe_sea
 from .bolted_joint import BoltedJoint
 from .roughness import GreenwoodWilliamson
 from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
+from . import sources as S
 
 #: stable family names of the torque path's compliances and their labels (module doc)
 FAMILIES: dict[str, str] = {
@@ -298,9 +299,9 @@ class ChainElements:
                "crank.eccentric_diameter"):
             crank = CrankGeometry.from_design(design, E, nu)
             kw["crank"] = crank
-            src["crank_bending"] = src["crank_torsion"] = (
-                f"stepped Timoshenko shaft ⌀{design.value('crank.journal_diameter', 'mm'):g}/"
-                f"⌀{design.value('crank.eccentric_diameter', 'mm'):g} mm, supports {crank.span:g} mm apart")
+            src["crank_bending"] = src["crank_torsion"] = S.CRANK.format(
+                journal=design.value("crank.journal_diameter", "mm"),
+                eccentric=design.value("crank.eccentric_diameter", "mm"), span=crank.span)
         keys = [f"crank_support_bearing.{k}" for k in ("rollers", "roller_length", "pitch_diameter", "cup_angle",
                                                         "cone_angle", "preload")]
         if has(*keys):
@@ -322,21 +323,20 @@ class ChainElements:
             with _located(design, keys[5]):
                 pair = pair.with_preload_force(pre) if pre > 0 else pair
             kw.update(pair=pair, pair_preload=pre)
-            src["crank_support_bearings"] = (f"tapered roller pair ({arrangement}), {brg.rollers} rollers × "
-                                             f"{brg.length:g} mm, α = {math.degrees(brg.alpha):.2f}°, "
-                                             f"preload {pre:g} N (Δ = {pair.interference * 1e3:.2f} µm)")
+            src["crank_support_bearings"] = S.CRANK_SUPPORT.format(
+                arrangement=arrangement, rollers=brg.rollers, length=brg.length, alpha_deg=math.degrees(brg.alpha),
+                preload=pre, interference_um=pair.interference * 1e3)
         if has("pin.groove_radius", "pin.groove_contact_length", "pin.radius"):
             rp, rg = _num(design, "pin.radius"), _num(design, "pin.groove_radius")
             if not rg > rp:
                 raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
                                 "outside Hertz theory)", file=design.file, key="pin.groove_radius")
             kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
-            src["pin_groove"] = (f"conforming pin-in-hole contact, pin r {rp:g} in groove r {rg:g} mm "
-                                 f"(radial clearance {(rg - rp) * 1e3:.3g} µm)")
+            src["pin_groove"] = S.PIN_GROOVE.format(rp=rp, rg=rg, clearance_um=(rg - rp) * 1e3)
         if has("input_shaft.diameter", "input_shaft.length"):
             d, Ls = _num(design, "input_shaft.diameter"), _num(design, "input_shaft.length")
             kw["input_shaft_stiffness"] = float(G * shafts.circle_section(d)[2] / Ls)
-            src["input_shaft"] = f"⌀{d:g} × {Ls:g} mm solid shaft, K = G J / L"
+            src["input_shaft"] = S.INPUT_SHAFT.format(d=d, length=Ls)
         ckeys = [f"carrier.{k}" for k in ("pillars", "pillar_radius", "pillar_width", "pillar_thickness",
                                           "pillar_length", "flange_thickness", "end_plate_thickness",
                                           "plate_clamp_radius")]
@@ -371,13 +371,10 @@ class ChainElements:
                     sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
                 K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))
                 kw["carrier_joint_compliance"] = 1.0 / K_j - 1.0 / kw["carrier_stiffness"]
-                src["carrier_joints"] = (f"{int(round(nb))} × M{db:g} 10.9 per pillar, VDI 2230 preload "
-                                         f"{joint.preload():.4g} N (opening margin {chk['margin_open']:.3g} MPa, slip "
-                                         f"margin {chk['margin_slip']:.4g} N at rated), interface Ra {ra * 1e3:g} µm: "
-                                         f"tilt {c_tilt:.3g} rad/N·mm, shear {c_shear * 1e6:.3g} µm/kN")
-            src["carrier"] = (f"{int(round(n))} pillars {w:g} × {t:g} × {h:g} mm at R {R:g} (fixed–guided, "
-                              f"Cowper κ, twist), end plate {te:g} / flange {tf:g} mm as Kirchhoff plates clamped at "
-                              f"{a:g} mm around a pillar root")
+                src["carrier_joints"] = S.CARRIER_JOINTS.format(
+                    bolts=int(round(nb)), d=db, preload=joint.preload(), open=chk["margin_open"],
+                    slip=chk["margin_slip"], ra_um=ra * 1e3, tilt=c_tilt, shear=c_shear * 1e6)
+            src["carrier"] = S.CARRIER.format(pillars=int(round(n)), w=w, t=t, h=h, R=R, te=te, tf=tf, a=a)
         if has("cycloid.crank_hole_diameter", "pin.circle_radius", "pin.radius", "cycloid.eccentricity") and (
                 "cycloid.face_width" in design or "cycloid.width" in design):
             wkey = "cycloid.face_width" if "cycloid.face_width" in design else "cycloid.width"
@@ -386,14 +383,12 @@ class ChainElements:
             with _located(design, "cycloid.crank_hole_diameter"):
                 kw["web_stiffness"] = float(disc_web.annular_web_stiffness(ri, ro, _num(design, wkey), G))
             kw["web_radii"] = (ri, ro)
-            src["disc_web"] = f"annulus r {ri:.2f} … {ro:.2f} mm (crank-hole edge to tooth root), t = disc width"
+            src["disc_web"] = S.DISC_WEB.format(ri=ri, ro=ro)
         if has("crank_bearing.rollers", "crank_bearing.roller_length"):
             with _located(design, "crank_bearing.rollers"):
                 rollers = _checks.whole("rollers", design["crank_bearing.rollers"])
             kw["needle"] = NeedleRollerBearing(rollers, _num(design, "crank_bearing.roller_length"))
-            src["turning_arm_bearings"] = (f"needle row {kw['needle'].rollers} × {kw['needle'].length:g} mm, Palmgren "
-                                           "line contact with its roller load distribution (20-DOF: replaces doc "
-                                           "000's k0·P^0.1)")
+            src["turning_arm_bearings"] = S.NEEDLE.format(rollers=kw["needle"].rollers, length=kw["needle"].length)
         _fe_elements(design, float(crank_radius), E, nu, G, kw, src)
         return cls(E, nu, float(crank_radius), scales=scales, sources=src, **kw)
 
@@ -427,9 +422,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
                                      pillar_hole=_num(design, "cycloid.pillar_hole_diameter"), thickness=w, z_p=zp,
                                      z_c=zc, R_p=Rp, ecc=e, E=E, nu=nu)
             kw["disc_seat_compliance"] = fe_seats.disc_seat_compliance(res, Tc, kw["web_stiffness"])
-        src["disc_seats"] = (f"plane-stress FE disc (scikit-fem P2), mean work {np.mean(res.work):.4g} N·mm at rated "
-                             f"less the web's {Tc ** 2 / kw['web_stiffness']:.4g}: "
-                             f"{kw['disc_seat_compliance'] * 1e6:.3g} µm/kN per crank hole")
+        src["disc_seats"] = S.DISC_SEATS.format(work=np.mean(res.work), web=Tc ** 2 / kw["web_stiffness"],
+                                                compliance=kw["disc_seat_compliance"] * 1e6)
     ckeys = ("carrier.outer_radius", "carrier.bore_diameter", "crank_support_bearing.outside_diameter",
              "carrier.pillar_radius", "carrier.pillar_width", "carrier.pillar_thickness", "carrier.end_plate_thickness",
              "carrier.flange_thickness", "crank.support_span")
@@ -446,8 +440,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
                                                 E=E, nu=nu)
                 cups.append(r.compliance)
         kw["carrier_seat_compliance"] = tuple(cups)
-        src["carrier_seats"] = (f"plane-stress FE end plate {te:g} mm / flange {tf:g} mm, cups ⌀{D:g} on r {a:.3f}, "
-                                f"clamped at the pillar roots: {cups[0] * 1e6:.3g} / {cups[1] * 1e6:.3g} µm/kN per cup")
+        src["carrier_seats"] = S.CARRIER_SEATS.format(te=te, tf=tf, D=D, a=a, end_plate=cups[0] * 1e6,
+                                                      flange=cups[1] * 1e6)
     if kw.get("groove") is not None and has("housing.clamp_radius", "pin.length"):
         gr = kw["groove"]
         with _located(design, "housing.clamp_radius"):
@@ -468,9 +462,7 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         area = 2.0 * ang * gr.r_pin * gr.length
         c = np.array([gw.layer_compliance(f / a, a) for f, a in zip(F, area)])
         kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))
-        src["contact_roughness"] = (f"Greenwood–Williamson layer, σ = {gw.sigma * 1e3:.3g} µm, β = {gw.beta * 1e3:g} µm, "
-                                    f"at the rated pin loads on the conforming contact arcs: "
-                                    f"{kw['roughness_compliance'] * 1e6:.3g} µm/kN per pin (energy-weighted)")
-        src["housing_ring"] = (f"plane-stress FE ring r {Rp + gr.r_pin + gr.r_groove:.2f} … "
-                               f"{_num(design, 'housing.clamp_radius'):g} mm (clamped), t = pin length: "
-                               f"{r.compliance * 1e6:.3g} µm/kN per pin")
+        src["contact_roughness"] = S.CONTACT_ROUGHNESS.format(sigma_um=gw.sigma * 1e3, beta_um=gw.beta * 1e3,
+                                                              compliance=kw["roughness_compliance"] * 1e6)
+        src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove,
+                                                    ro=_num(design, "housing.clamp_radius"), compliance=r.compliance * 1e6)
