@@ -52,7 +52,7 @@ import numpy as np
 from scipy import special, stats
 
 from ..distributions import Distribution, coverage
-from ..errors import InputError, SpecError
+from ..errors import did_you_mean, InputError, SpecError
 from .sheets import (blank, byte_progress, cell_number, col_letter, decimal_comma, skipped, split_header,
                      stream_rows)
 
@@ -754,7 +754,9 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         hits = ([i for i, h in enumerate(header) if h == want] or [i for i, n in enumerate(names) if n == want]
                 or [i for i, n in enumerate(names) if n.lower() == want.lower()])
         if not hits:
-            raise SpecError(f"no column {column!r} (columns: {', '.join(h for h in header if h)})",
+            # the header's cells are not echoed (a file's first line may hold anything): a close name only
+            raise SpecError(f"no column {column!r} in the header row"
+                            f"{did_you_mean(str(column), [n for n in names if n and len(n) <= 64])}",
                             file=file, key=f"{where_sheet}row {r0}")
         if len(hits) > 1:
             raise SpecError(f"column {column!r} appears {len(hits)} times", file=file, key=f"{where_sheet}row {r0}")
