@@ -74,7 +74,7 @@ from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
+from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
@@ -488,6 +488,7 @@ class StudyResult:
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
     comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
     build_usage: object = None    # pandas.DataFrame: per build rule, what it did on the Monte Carlo's reducers
+    parallel: dict = field(default_factory=dict)  # per phase of ``timings``: the wall time (s) spent in parallel evaluation
 
     @property
     def passed(self) -> bool:
@@ -513,9 +514,11 @@ class StudyResult:
 
 def run_study(study: Study, executor: Executor | None = None, store=None, baseline=None) -> StudyResult:
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
-    ``signoff`` — the per-requirement digest —, ``comparison`` — with the ``baseline`` run
-    (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's own sections and figures);
-    ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
+    ``build_usage`` — what the build rules did —, ``signoff`` — the per-requirement digest —, ``comparison`` —
+    with the ``baseline`` run (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's
+    own sections and figures); ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation.
+    Each phase's wall time goes to ``result.timings``, the part of it spent in parallel evaluation
+    (:func:`rvtol.mc.parallel_seconds`) to ``result.parallel``."""
     from .report.standard import standard_sections
     from .signoff import digest
 
@@ -523,43 +526,52 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
-    timings = {}
+    timings, parallel = {}, {}
+
+    def timed(name, f):
+        ta, pa = time.perf_counter(), parallel_seconds()
+        try:
+            return f()
+        finally:
+            timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
+            parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
+
     try:
-        mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
-                             o.chunk_size, o.progress, o.confidence, store=store)
-        timings["monte_carlo"] = time.perf_counter() - t0
+        mc = timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
+                                                          study.requirements, ex, o.chunk_size, o.progress,
+                                                          o.confidence, store=store))
         ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
         for i, a in enumerate(study.analyses):
-            ta = time.perf_counter()
+            ta, pa = time.perf_counter(), parallel_seconds()
             res = a.run(ctx)
             res = res if isinstance(res, list) else [res]
             sections.extend(res)
             name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
             timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
-        desc = ex.describe()
+            parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
+        result = StudyResult(study, mc, sections, 0.0, ex.describe(), timings, parallel=parallel)
+        if study.build is not None:        # what the build rules did on the Monte Carlo's reducers (report, summary)
+            from .production.build import usage
+
+            def build_usage():
+                env, _ = study.model.without_build().environment(mc.samples.values, set())
+                return usage(study.build, env, mc.n)
+
+            result.build_usage = timed("build_usage", build_usage)
+        result.signoff = timed("signoff", lambda: digest(mc, study.model, study.spec, o.seed))
     finally:
         if own:
             ex.close()
-    result = StudyResult(study, mc, sections, 0.0, desc, timings)
-    if study.build is not None:        # what the build rules did on the Monte Carlo's reducers (report, summary)
-        from .production.build import usage
-
-        env, _ = study.model.without_build().environment(mc.samples.values, set())
-        result.build_usage = usage(study.build, env, mc.n)
-    ta = time.perf_counter()
-    result.signoff = digest(mc, study.model, study.spec, o.seed)
-    timings["signoff"] = time.perf_counter() - ta
     if baseline is not None:
         from .ci.compare import RunData, compare
 
-        ta = time.perf_counter()
-        result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
-        result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
-        timings["comparison"] = time.perf_counter() - ta
-    ta = time.perf_counter()
-    result.standard_sections = standard_sections(result)
-    timings["report"] = time.perf_counter() - ta
+        def comparison():
+            result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+            result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
+
+        timed("comparison", comparison)
+    result.standard_sections = timed("report", lambda: standard_sections(result))
     result.elapsed = time.perf_counter() - t0
     return result
 
