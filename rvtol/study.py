@@ -78,7 +78,7 @@ from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, 
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
-from .blocks import Section
+from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
                    spec_from_table)
@@ -516,7 +516,8 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
     ``build_usage`` — what the build rules did —, ``signoff`` — the per-requirement digest —, ``comparison`` —
     with the ``baseline`` run (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's
-    own sections and figures); ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation.
+    own sections —, ``figures`` — every figure of the run rendered, on the workers); ``store``
+    (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation.
     Each phase's wall time goes to ``result.timings``, the part of it spent in parallel evaluation
     (:func:`rvtol.mc.parallel_seconds`) to ``result.parallel``."""
     from .report.standard import standard_sections
@@ -537,41 +538,43 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
             parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
 
     try:
-        mc = timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
-                                                          study.requirements, ex, o.chunk_size, o.progress,
-                                                          o.confidence, store=store))
-        ctx = StudyContext(study, ex, mc, store=store)
-        sections: list[Section] = []
-        for i, a in enumerate(study.analyses):
-            ta, pa = time.perf_counter(), parallel_seconds()
-            res = a.run(ctx)
-            res = res if isinstance(res, list) else [res]
-            sections.extend(res)
-            name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
-            timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
-            parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
-        result = StudyResult(study, mc, sections, 0.0, ex.describe(), timings, parallel=parallel)
-        if study.build is not None:        # what the build rules did on the Monte Carlo's reducers (report, summary)
-            from .production.build import usage
+        with deferred_figures():    # figures are pickled as they are made and rendered together on the workers
+            mc = timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
+                                                              study.requirements, ex, o.chunk_size, o.progress,
+                                                              o.confidence, store=store))
+            ctx = StudyContext(study, ex, mc, store=store)
+            sections: list[Section] = []
+            for i, a in enumerate(study.analyses):
+                ta, pa = time.perf_counter(), parallel_seconds()
+                res = a.run(ctx)
+                res = res if isinstance(res, list) else [res]
+                sections.extend(res)
+                name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
+                timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
+                parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
+            result = StudyResult(study, mc, sections, 0.0, ex.describe(), timings, parallel=parallel)
+            if study.build is not None:    # what the build rules did on the Monte Carlo's reducers (report, summary)
+                from .production.build import usage
 
-            def build_usage():
-                env, _ = study.model.without_build().environment(mc.samples.values, set())
-                return usage(study.build, env, mc.n)
+                def build_usage():
+                    env, _ = study.model.without_build().environment(mc.samples.values, set())
+                    return usage(study.build, env, mc.n)
 
-            result.build_usage = timed("build_usage", build_usage)
-        result.signoff = timed("signoff", lambda: digest(mc, study.model, study.spec, o.seed))
+                result.build_usage = timed("build_usage", build_usage)
+            result.signoff = timed("signoff", lambda: digest(mc, study.model, study.spec, o.seed))
+            if baseline is not None:
+                from .ci.compare import RunData, compare
+
+                def comparison():
+                    result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+                    result.__dict__.pop("_summary", None)   # built for the comparison; rebuilt with every phase's time
+
+                timed("comparison", comparison)
+            result.standard_sections = timed("report", lambda: standard_sections(result))
+        timed("figures", lambda: render_deferred([*result.sections, *result.standard_sections], ctx.evaluator.map))
     finally:
         if own:
             ex.close()
-    if baseline is not None:
-        from .ci.compare import RunData, compare
-
-        def comparison():
-            result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
-            result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
-
-        timed("comparison", comparison)
-    result.standard_sections = timed("report", lambda: standard_sections(result))
     result.elapsed = time.perf_counter() - t0
     return result
 
