@@ -16,6 +16,7 @@ not run in parallel; the main process also pickles the chunks).
 main beside this worktree, in the same session, for a before/after table.
 
     python studies/benchmarks/bench_scaling.py                       # sign-off at --n 300, TE at --n 1000
+    python studies/benchmarks/bench_scaling.py --quick               # --n 100 / 300, 1 and 2 workers, once
     python studies/benchmarks/bench_scaling.py --signoff-n 1500 --te-n 10000 --repeat 2
     python studies/benchmarks/bench_scaling.py --code /work/main --code . --only te --workers 1,2
 """
@@ -137,7 +138,10 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--code", action="append", default=None, help="a checkout to run (repeatable; default: this one)")
     ap.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster")
+    ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
     a = ap.parse_args()
+    if a.quick:
+        a.signoff_n, a.te_n, a.repeat, a.workers = 100, 300, 1, a.workers or "1,2"
     counts = ([int(w) for w in a.workers.split(",")] if a.workers
               else list(range(1, (os.cpu_count() or 1) + 1)))
     try:
