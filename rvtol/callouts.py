@@ -22,3 +22,19 @@ def drawing_tolerance(factor) -> str:
         return f"{part}: {feat}" if part else feat
     return _INDEX.sub("[k]", _COORDINATE.sub("", factor.name)) if ("[" in factor.name or _COORDINATE.search(
         factor.name)) else factor.name
+
+
+def short_label(tolerance: str, width: int = 70) -> str:
+    """A drawing tolerance's name without its parenthesised details, for a table cell: ``crankshaft 1: eccentric cam 1
+    (for disc 1, ...): position ⌀0.006 to the journal axis A-B (x: ...)`` → ``crankshaft 1: eccentric cam 1: position
+    ⌀0.006 to the journal axis A-B``; cut at ``width`` characters with an ellipsis."""
+    out, depth = [], 0
+    for ch in tolerance:
+        if ch == "(":
+            depth += 1
+        elif ch == ")" and depth:
+            depth -= 1
+        elif not depth:
+            out.append(ch)
+    text = re.sub(r"\s+", " ", "".join(out)).replace(" :", ":").replace(" ,", ",").strip(" ,:")
+    return text if len(text) <= width else text[:width - 1].rstrip() + "…"

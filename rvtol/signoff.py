@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 from scipy import stats
 
+from .callouts import short_label
 from .mc import MonteCarloResult
 from .model import Model
 from .sensitivity.drivers import Driver, first_order_drivers
@@ -277,7 +278,7 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
                            f"σ ≤ {centred:.3g}); to first order, at the point estimate"))
     t = tightening(r, mean, sigma, d.drivers, y)
     if t.f is not None:
-        names = " and ".join(x.tolerance for x in t.used)
+        names = " and ".join(short_label(x.tolerance) for x in t.used)
         out.append(Fix(r.label, "tighten", f"scale {names} to {100 * t.f:.0f} % of {'its' if len(t.used) == 1 else 'their'}"
                        " present tolerance", f"σ from {sigma:.3g} to {t.target:.3g} {unit}: to first order, at the point "
                        f"estimate (S1 = {t.explained:.2f} from the Monte Carlo samples)"))

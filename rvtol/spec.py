@@ -386,8 +386,37 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
         if names.index(n) != i:
             raise origin[i].error("name", f"duplicate factor name {n!r}")
     corr = correlation_from_tables(root.tables("correlation"), names)
+    root.raw("rig", None)       # a test rig's description holds its parameters beside its tolerances (models.transmission.rig)
     root.finish()
     return ToleranceSpec(spec_name, tuple(factors), corr, desc, file)
+
+
+def merge_specs(specs) -> ToleranceSpec:
+    """Several specs as one (a study's ``spec = [a, b]``: e.g. the product's drawing tolerances and a test rig's):
+    the factors one after the other, each spec's correlation a block of the whole (none between the files);
+    a factor name in two files is refused."""
+    specs = list(specs)
+    if len(specs) == 1:
+        return specs[0]
+    seen: dict[str, str] = {}
+    for s in specs:
+        for n in s.names:
+            if n in seen:
+                raise SpecError(f"factor {n!r} is in {seen[n]} and in {s.file}: a name can be in one spec only",
+                                file=s.file, key="factor")
+            seen[n] = str(s.file)
+    k = sum(len(s) for s in specs)
+    corr = None
+    if any(s.correlation is not None for s in specs):
+        corr = np.eye(k)
+        i = 0
+        for s in specs:
+            if s.correlation is not None:
+                corr[i:i + len(s), i:i + len(s)] = s.correlation
+            i += len(s)
+    return ToleranceSpec(" + ".join(s.name for s in specs), tuple(f for s in specs for f in s.factors), corr,
+                         " ".join(s.description for s in specs if s.description), specs[0].file,
+                         ";".join(str(s.sha256) for s in specs))
 
 
 #: the placeholder of a family factor's index

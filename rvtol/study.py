@@ -7,7 +7,8 @@
     title = "..."
     description = "..."
     design = "../data/designs/rv80e_te.toml"      # optional, relative to this file
-    spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file
+    spec = "../data/specs/rv80e_lost_motion.toml" # TOML, CSV or XLSX; or [[factor]] tables in this file; or a
+                                          # list of files read as one spec (the product's and a test rig's)
     requirements = "../data/requirements/x.toml"  # optional; [[requirement]] here too
     # extends = "base.toml"               # or: take design, spec, mapping, models and requirements from a
                                           # study in this folder; give name, title, analyses, options here
@@ -80,8 +81,8 @@ from .params import Params, read_toml
 from .registry import analysis_function, model_factory
 from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
-from .spec import (Requirement, ToleranceSpec, load_spec, read_requirements_file, requirements_from_tables,
-                   spec_from_table)
+from .spec import (Requirement, ToleranceSpec, load_spec, merge_specs, read_requirements_file,
+                   requirements_from_tables, spec_from_table)
 
 @dataclass
 class RunOptions:
@@ -214,12 +215,17 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         design = load_design(dpath)
         inputs["design"] = {"path": str(dpath), "sha256": design.sha256}
 
-    spath = head.path_value("spec", base, None)
-    if spath is not None:
+    spaths = _spec_paths(head, base)
+    if spaths:
         if "factor" in root:
             raise root.error("factor", "give the factors either in the spec file or here, not both")
-        spec = load_spec(spath)
-        inputs["spec"] = {"path": str(spath), "sha256": spec.sha256}
+        parts = [load_spec(sp) for sp in spaths]
+        for k, (sp, part) in enumerate(zip(spaths, parts)):
+            inputs["spec" if k == 0 else f"spec_{k + 1}"] = {"path": str(sp), "sha256": part.sha256}
+        try:
+            spec = merge_specs(parts)
+        except InputError as exc:
+            raise exc.located(file=file) from None
     else:
         if "factor" not in root:
             raise head.error("spec", "missing required key (or give [[factor]] tables in the study file)")
@@ -287,6 +293,19 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def _spec_paths(head: Params, base: Path) -> list[Path]:
+    """``[study] spec``: one file, or a list of files read as one spec (e.g. the product's drawing tolerances and
+    a test rig's, :func:`rvtol.spec.merge_specs`)."""
+    v = head.raw("spec", None)
+    if v is None:
+        return []
+    if isinstance(v, list):
+        if not v or not all(isinstance(x, str) and x for x in v):
+            raise head.error("spec", "expected a file name or a list of file names")
+        return [Path(x) if Path(x).is_absolute() else base / x for x in v]
+    return [head.path_value("spec", base)]
 
 
 def check_requirement_names(reqs: list[Requirement]) -> None:

@@ -235,6 +235,11 @@ def test_a_requirement_the_nominal_misses_is_set_aside_with_its_levers(tmp_path)
     assert chk["lever"] == "a" and chk["n"] == 200
     assert chk["mean after"] == pytest.approx(10.0 + lever["shift needed alone"], abs=4 / np.sqrt(200))
     assert chk["σ after"] == pytest.approx(1.0, rel=0.2)
+    # the first page's checked redesign fix: there exactly when the shifted design's Monte Carlo passed
+    sec = next(s for s in res.sections if s.key == "allocation")
+    redesign = [f for f in sec.fixes if f.kind == "redesign"]
+    assert [(f.requirement, f.checked, f.source) for f in redesign] == ([(chk["requirement"], True, "allocation")]
+                                                                        if chk["passed"] else [])
 
 
 MAGNITUDE = """
@@ -306,6 +311,12 @@ def test_a_magnitude_output_is_not_linearised_and_the_monte_carlo_constraint_rem
     assert row["output"] == "r" and checks_passed(sec, sec.summary["all_requirements"]["method"])
     # beside it, the study's own Monte Carlo at the spec (σ = 1 µm): P(r ≤ 3) = 1 − exp(−4.5), n = 400
     assert row["yield at the spec"] == pytest.approx(1 - math.exp(-4.5), abs=4 * math.sqrt(0.01 * 0.99 / 400))
+    # the first page's checked tighten fix: the verified allocation demonstrates the requirement
+    (fix,) = sec.fixes
+    assert (fix.requirement, fix.kind, fix.checked, fix.source) == ("radial offset at most 3 um", "tighten", True,
+                                                                     "allocation")
+    allreq = sec.summary["all_requirements"]
+    assert allreq["method"] in fix.action and f"n = {allreq['n']}" in fix.effect
 
 
 def checks_passed(sec, method) -> bool:

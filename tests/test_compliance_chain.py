@@ -458,3 +458,24 @@ def test_models_switch_the_chain_off_from_the_study():
     assert tc_study(Params({}), PRODUCT, spec).geometry.chain is not None
     assert tc_study(Params({"compliance_chain": False}), PRODUCT, spec).geometry.chain is None
     assert te_study(Params({"compliance_chain": False}), PRODUCT, spec).geometry.chain is None
+
+
+def test_the_pin_flank_law_is_palmgrens_line_contact_for_the_disc_face():
+    """studies/compliance_chain.md §8: doc 000's cycloid–pin law k = k0 P^0.1 (deflection P^0.9/k0) is Palmgren's
+    line-contact law δ = 3.84e-5 Q^0.9/l^0.8 (Harris & Kotzalas vol. 1 ch. 6) for l = the 12-mm disc face,
+    k0 = l^0.8/3.84e-5 = 1.90e5 (doc 000: 1.93e5, 1.5 % stiffer); doc 004's Hertz formula gives 1.15–1.45× its
+    approach between 0.3 and 4 kN on the product's ⌀6 pin and flank radii of 10–100 mm (the logarithm's datum
+    depth: the radii)."""
+    from rvtol.elements import hertz
+    from rvtol.elements.bearings import PALMGREN_LINE
+
+    l = PRODUCT["cycloid.face_width"]
+    assert l == 12.0 and G.k0_pin == 1.93e5
+    assert l ** 0.8 / PALMGREN_LINE == pytest.approx(G.k0_pin, rel=0.016)
+    r_pin = PRODUCT["pin.radius"]
+    for F in (300.0, 1000.0, 4000.0):
+        doc000 = F ** 0.9 / G.k0_pin
+        assert doc000 == pytest.approx(PALMGREN_LINE * F ** 0.9 / l ** 0.8, rel=0.016)
+        for rho in (10.0, 30.0, 100.0, -30.0):
+            ratio = float(hertz.approach(F, l, r_pin, rho, E, NU)) / doc000
+            assert 1.1 < ratio < 1.5, (F, rho, ratio)

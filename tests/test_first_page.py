@@ -206,3 +206,12 @@ def test_a_skewed_output_normal_theory_would_pass_still_gets_a_tightening_fix():
     d = type("D", (), {"drivers": [Driver("x", 1.0, ["x"])], "change": ""})()
     fixes = first_order_fixes(r, _row(1.0, 1.0), d, None, y)
     assert [f.kind for f in fixes] == ["tighten"] and "σ from 1 to 0.91" in fixes[0].effect
+
+
+def test_a_drawing_tolerance_reads_short_in_a_cell():
+    from rvtol.callouts import short_label
+
+    assert short_label("pin housing: pin-groove circle (40 semicircular grooves, centres on R 76.5): groove-centre "
+                       "circle ø153 js3 (±4 µm on the diameter)") == "pin housing: pin-groove circle: groove-centre circle ø153 js3"
+    assert short_label("a (b (c) d) e") == "a e"
+    assert short_label("x" * 80, width=10) == "x" * 9 + "…"

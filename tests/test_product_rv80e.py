@@ -1,6 +1,7 @@
 """The RV-80E sign-off study: one drawing sample drives the stack-up, the 20-DOF torsion curve and TE and
 doc 001's screening through the declared mapping, and equals the direct computation of mapping.md."""
 import copy
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -14,6 +15,7 @@ from rvtol.models.composite.model import CompositeModel
 from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.transmission.rig import INPUTS as RIG_INPUTS
 from rvtol.sampling import sample
 from rvtol.study import load_study
 
@@ -44,12 +46,16 @@ def _stackup_matrix(model: CompositeModel, X):
 
 def test_the_study_composes_five_models_on_the_drawing_spec(study):
     m = study.model
-    # 279 drawing factors (tolerances.toml) and the 19 gauge errors of the build (build.toml)
-    assert len(study.spec) == 279 + 19 and m.inputs == study.spec.names
+    # 281 drawing factors (tolerances.toml), the TE rig's 4 (data/rigs/te_rig_single_head.toml) and the 19 gauge
+    # errors of the build (build.toml)
+    assert len(study.spec) == 281 + 4 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
+    assert sum(n.startswith("rig.") for n in m.inputs) == 4
     assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
     torsion, te = m.stage("torsion"), m.stage("te")
-    assert te.model.inputs == torsion.model.inputs and te.inputs == torsion.inputs      # same_inputs_as
+    n = len(torsion.model.inputs)          # same_inputs_as, and the rig's measurement chain beside it
+    assert te.model.inputs[:n] == torsion.model.inputs and te.inputs[:n] == torsion.inputs
+    assert te.model.inputs[n:] == RIG_INPUTS
     assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
     assert {r.output for r in study.requirements} <= set(m.output_names)
 
@@ -87,7 +93,19 @@ def test_torsion_te_and_screening_inputs_equal_the_direct_computation(drawn, stu
     X, v = drawn
     m, design = study.model.without_build(), study.design
     Xt = m.stage_inputs("torsion", X)
-    np.testing.assert_array_equal(m.stage_inputs("te", X), Xt)
+    Xe = m.stage_inputs("te", X)
+    np.testing.assert_array_equal(Xe[:, :Xt.shape[1]], Xt)
+    # the TE rig's output eccentricity (mapping.toml pilot_eccentricity): the pilot's position to datum C less the
+    # raceway axis at the flange face z_f = 12 + 20 mm, extrapolated from its end points at ±21 mm, plus the rig's
+    # centring; the input ring's centring alone
+    z, h = 32.0, 21.0
+    for c, col in (("x", 0), ("y", 1)):
+        m1, m2 = v[f"carrier.main_raceways.runout.{c}1"], v[f"carrier.main_raceways.runout.{c}2"]
+        want = v[f"carrier.output_pilot.position.{c}"] - (m1 * (h + z) + m2 * (h - z)) / (2 * h) \
+            + v[f"rig.output_encoder.centring.{c}"]
+        np.testing.assert_allclose(Xe[:, Xt.shape[1] + col], want * UM, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(Xe[:, Xt.shape[1] + 2 + col], v[f"rig.input_encoder.centring.{c}"] * UM,
+                                   rtol=1e-12, atol=1e-15)
     torsion = m.stage("torsion").model
     for row in range(len(X)):
         got, want = torsion.state(Xt[row]), ref.te_state(v, design, row)
@@ -119,8 +137,10 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
         for name, value, tol in (("lost_motion", metrics.lost_motion, 1e-7), ("backlash", metrics.backlash, 1e-7),
                                  ("torsional_rigidity", metrics.rigidity, 0.0)):
             assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5, abs=tol), name
-        r, ext = te._sweep(state)
+        x_te = m.stage_inputs("te", rows)[row]
+        r, ext, ext_rig = te._sweep(state, te.rig_terms(x_te))
         assert Y[row, m.output_index("te.te_pp")] == pytest.approx(ext.pp, rel=1e-5, abs=1e-7)
+        assert Y[row, m.output_index("te.te_pp_rig")] == pytest.approx(ext_rig.pp, rel=1e-5, abs=1e-7)
         # stage 5: the first stage's free play in series with the torsion curve (plays add; rigidity unchanged)
         play = Y[row, m.output_index("screening.involute_stage")] / study.design["reducer.ratio"]
         assert play > 0
@@ -136,7 +156,8 @@ def _cheap(m: CompositeModel) -> CompositeModel:
         if isinstance(st.model, TorsionCurveModel):
             st = replace(st, model=TorsionCurveModel(st.model.geometry, st.model.inputs, points=4))
         elif isinstance(st.model, TransmissionErrorModel):
-            st = replace(st, model=TransmissionErrorModel(st.model.geometry, st.model.inputs, per_crank_rev=8))
+            st = replace(st, model=TransmissionErrorModel(st.model.geometry, st.model.inputs, per_crank_rev=8,
+                                                          rig=st.model.rig))
         stages.append(st)
     return CompositeModel(m.inputs, m.input_units, list(m.quantities), stages, m.build)
 
@@ -202,8 +223,8 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                                     + [f"needles.disc_{j}.crank_{i}.clearance" for j in (1, 2) for i in (1, 2, 3)])
 
 
-TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "te.te_pp",
-              "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
+TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "torsion.friction_width",
+              "te.te_pp", "te.te_pp_rig", "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
 FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backlash", "reducer.first_stage_play"}
 
 
@@ -223,6 +244,10 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
                                      "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF),
     # the end play of crank 1's bearing stack sets the preload its shim leaves
     ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
+    # the output pilot's position: only what a TE rig centred on it reads (issue 23 item 5), not the reducer
+    ("carrier.output_pilot.position.x", {"pilot_eccentricity.x", "te.te_pp_rig"}),
+    # the rig's own centring of its input ring: the rig's TE alone
+    ("rig.input_encoder.centring.y", {"te.te_pp_rig"}),
 ])
 def test_changing_one_drawing_tolerance_moves_exactly_its_outputs(study, factor, outputs):
     """The study's Monte Carlo (3 reducers, same seed) with one drawing tolerance doubled."""
@@ -232,3 +257,60 @@ def test_changing_one_drawing_tolerance_moves_exactly_its_outputs(study, factor,
                 for spec in (study.spec, study.spec.scaled({factor: 2.0}))]
     moved = {o for o in study.model.output_names if not np.array_equal(runs[0].column(o), runs[1].column(o))}
     assert moved == outputs == {o for o, d in deps.items() if factor in d}
+
+
+def _order_1(res) -> tuple[complex, complex]:
+    """The order-1 Fourier coefficients (arcsec) of the reducer's TE and of the TE the rig reads, ``c = a − i b``
+    for ``a cos θ + b sin θ`` (the positions are uniform over one output revolution)."""
+    c = lambda y: 2.0 / y.size * np.sum(y * np.exp(-1j * res.theta_c))  # noqa: E731
+    return c(np.asarray(res.te)), c(np.asarray(res.te_rig))
+
+
+def test_runout_sources_read_at_order_1_as_e_over_r_and_add_as_vectors(study):
+    """Issue 23 item 5 through the whole model (drawing factors → mapping → TE stage with its rig): the nominal
+    reducer, one runout source at a time and two together.  An eccentricity e of the output graduation about the
+    carrier's rotation axis reads (e_x sin θ + e_y cos θ)/R at order 1 (R = 75 mm, the rig's ⌀150 ring); the
+    flange pilot's position p adds directly, the main raceways' runout m (axis end points at z = ±21 mm) with its
+    sign reversed and extrapolated to the flange face z_f = 32 mm; two sources add as vectors.  The reducer's own
+    TE has no order 1 at the nominal, with or without the runout (the carrier's translation moves all crank bores
+    together: the two discs cancel it)."""
+    m = study.model.without_build()
+    st = m.stage("te").model
+    te = TransmissionErrorModel(st.geometry, st.inputs, per_crank_rev=8, rig=st.rig)
+    R = st.rig.output.radius
+    assert R == 75.0
+    x0, names = study.spec.nominal_base(), list(study.spec.names)
+    arcsec = float(np.degrees(1.0) * 3600.0)
+
+    def run(**values):
+        x = x0.copy()
+        for k, v in values.items():
+            x[names.index(k)] = v * UM
+        res = te.run(m.stage_inputs("te", x[None])[0])
+        assert res.ok
+        return _order_1(res)
+
+    def closed_form(ex, ey):                     # µm → the coefficient a − i b of (e_x sin θ + e_y cos θ)/R
+        return (ey - 1j * ex) * UM / R * arcsec
+
+    own0, rig0 = run()
+    assert abs(own0) < 1e-6 and abs(rig0) < 1e-6
+    pilot = {"carrier.output_pilot.position.x": 4.0}
+    runout = {"carrier.main_raceways.runout.y1": 3.0, "carrier.main_raceways.runout.y2": 3.0}
+    tilted = {"carrier.main_raceways.runout.x1": 3.0, "carrier.main_raceways.runout.x2": -3.0}
+    cases = {"pilot": (pilot, (4.0, 0.0)), "runout": (runout, (0.0, -3.0)),
+             "tilted runout": (tilted, (-3.0 * (21 + 32) / 42 + 3.0 * (21 - 32) / 42, 0.0)),
+             "centring": ({"rig.output_encoder.centring.y": 2.0}, (0.0, 2.0))}
+    got = {}
+    for label, (values, e) in cases.items():
+        own, on_rig = run(**values)
+        assert abs(own) < 1e-6, label
+        assert on_rig == pytest.approx(closed_form(*e), abs=1e-6), label
+        assert abs(on_rig) == pytest.approx(math.hypot(*e) * UM / R * arcsec, rel=1e-9), label
+        got[label] = on_rig
+    # two sources of known phase: the vector sum, |(4, −3)| = 5 µm → 5 µm/75 mm = 13.75″ at atan2
+    own, both = run(**pilot, **runout)
+    assert abs(own) < 1e-6
+    assert both == pytest.approx(got["pilot"] + got["runout"], abs=1e-6)
+    assert abs(both) == pytest.approx(5.0 * UM / R * arcsec, rel=1e-9)
+    assert abs(both) < abs(got["pilot"]) + abs(got["runout"]) - 1.0     # not the arithmetic sum

@@ -217,3 +217,22 @@ def test_mmc_zones_round_trip_through_a_spreadsheet(tmp_path):
         assert (a.name, a.zone, a.modifier, a.size, a.feature_type, a.limits) == \
             (b.name, b.zone, b.modifier, b.size, b.feature_type, b.limits)
         assert a.dist.std == pytest.approx(b.dist.std)
+
+
+def test_the_datum_shift_of_tec_ease_tip_223():
+    """Tec-Ease GD&T tip 223 ("Datum Features can Give You a Shift — not a Bonus", 1998; ASME Y14.5-2009/2018): datum
+    feature B referenced at MMB has a simulator of ⌀19.6 and may be produced as large as ⌀20.2, so the pattern it
+    locates "could shift as much as 0.6 total" — 0.3 from the datum axis each way.  Here one feature of the pattern,
+    positioned ⌀0.2 RFS: its axis lies within 0.1 + 0.3 = 0.4 of true position when B is at ⌀20.2, within 0.1 when B
+    is at its MMB (the tip gives no tolerance of its own to the pattern: ⌀0.2 is ours)."""
+    common = {"tolerance": "⌀0.2", "unit": "mm", "zone": "p", "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [{"name": "B", "tolerance": "19.6 +0.6/0", "unit": "mm"},
+                                       {"name": "x", **common}, {"name": "y", **common}]})
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(x, y)", "mm")})
+    true = true_worst_case(m, spec, "r")
+    assert true.high == pytest.approx(0.1 + 0.6 / 2, abs=1e-6) and true.x_high["B"] == pytest.approx(20.2)
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "r"))
+    assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.4, abs=1e-9)
+    # the shift, total: twice the largest radial displacement the datum's departure from MMB adds (0.6, the tip's)
+    assert 2 * (true.high - 0.1) == pytest.approx(0.6, abs=2e-6)

@@ -200,6 +200,7 @@ class AllCheck:
     n: int = 0
     frame: pd.DataFrame | None = None
     lowered: list[str] = field(default_factory=list)
+    labels: list[str] = field(default_factory=list)     # the requirement of each row of ``frame``
 
 
 @dataclass
@@ -298,6 +299,32 @@ class Allocation:
         if which == "ga":
             return ga_history(self.by_method["GA"], self.by_method.get(f"convex {self.plan.linearised_mode}"))
         return tolerance_bars([r for r in self.results if r.t is not None])
+
+    def fixes(self, key: str) -> list:
+        """Checked ways to pass the study's requirements (:class:`rvtol.signoff.Fix`, for the first page): the
+        cheapest verified allocation where its independent Monte Carlo on the study's model demonstrates a
+        requirement ("tighten"), and each design lever whose shifted design a Monte Carlo run passed
+        ("redesign")."""
+        from ..signoff import Fix
+
+        out = []
+        a = self.all_check
+        if a is not None and a.frame is not None:
+            r = self.by_method.get(a.method)
+            cost = f" (total cost {r.total_cost:.4g} {self.cost_unit})" if r is not None and r.t is not None else ""
+            for label, row in zip(a.labels, a.frame.to_dict("records")):
+                if row["passed"]:
+                    out.append(Fix(label, "tighten", f"the {a.method} allocation's tolerances{cost}",
+                                   f"yield {row['yield']:.5f} (bound {row['yield_lo']:.5f}) in an independent "
+                                   f"Monte Carlo run of the study's model (n = {a.n})", key, checked=True))
+        if self.levers is not None:
+            for row in self.levers.checked.to_dict("records"):
+                if row["passed"]:
+                    out.append(Fix(row["requirement"], "redesign",
+                                   f"shift the nominal of {row['lever']} by {row['shift']:+.4g} {row['unit']}",
+                                   f"yield {row['yield after']:.5f} (bound {row['yield bound']:.5f}) in a Monte "
+                                   f"Carlo run of the shifted design (n = {row['n']})", key, checked=True))
+        return out
 
     def costs_summary(self) -> dict:
         return {"curves": frame_records(self.curves_frame())}
@@ -439,7 +466,7 @@ def check_all(results: list[AllocationResult], checks: dict[str, Verification], 
         frame.insert(frame.columns.get_loc("yield"), "yield at the spec", [now.get(o, np.nan) for o in frame["output"]])
         worse = [f"{o} {a:.3f} → {b:.3f}" for o, a, b in zip(frame["output"], frame["yield at the spec"], frame["yield"])
                  if np.isfinite(a) and b < a - 2.0 * np.sqrt(max(a * (1 - a), 1e-12) * (1 / v.n + 1 / mc.n))]
-    return AllCheck(best.method, v.n, frame, worse)
+    return AllCheck(best.method, v.n, frame, worse, [r.label for r in study_problem.requirements])
 
 
 def levers(full: AllocationProblem, lin_full, lin_con: LinearisedConstraint, ref: dict, mc, plan: Plan, executor,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from ..callouts import short_label
 from ..signoff import FIX_KINDS, LIGHTS
 from ..units import label
 from ..blocks import Links, Section
@@ -42,22 +43,30 @@ def signoff_section(result) -> Section:
     sec.add_text(head + f" ({counts['green']} PASS, {counts['amber']} UNDECIDED, {counts['red']} FAIL). "
                  + " ".join(f"{LIGHT_WORD[k]}: {v}." for k, v in LIGHTS.items()))
     rows, staged = [], any(d.model for d in digests)
+    cpk_asked = any(reqs[d.label].min_cpk is not None for d in digests)
     for d in digests:
         r = reqs[d.label]
-        rows.append({"": f"● {LIGHT_WORD[d.light]}", "requirement": d.label, **({"model": d.model or "—"} if staged else {}),
-                     "yield": _num(d.yield_, "{:.5f}"), "yield bound": _need(d.yield_lo, r.min_yield, "{:.5f}"),
-                     "Cpk": _num(d.cpk, "{:.2f}"), "Cpk bound": _need(d.cpk_lo, r.min_cpk, "{:.2f}"),
-                     "mean": _num(d.mean), "P0.135 … P99.865": f"{_num(d.p00135)} … {_num(d.p99865)}",
-                     "unit": label(d.unit)})
-    sec.add_table(pd.DataFrame(rows), caption="Every requirement: the bound (one-sided, at the requirement's "
-                                              "confidence) is what is judged; details, intervals and reasons in the "
-                                              "requirements section", text=True)
+        needs = " and ".join(x for x in (f"yield ≥ {r.min_yield:g}" if r.min_yield is not None else "",
+                                         f"Cpk ≥ {r.min_cpk:g}" if r.min_cpk is not None else "") if x)
+        row = {"": f"● {LIGHT_WORD[d.light]}", "requirement": short_label(d.label, 90)}
+        if staged:
+            row["model"] = d.model or "—"
+        row.update({"needs": needs, "yield": _num(d.yield_, "{:.5f}"), "yield bound": _num(d.yield_lo, "{:.5f}"),
+                    "Cpk": _num(d.cpk, "{:.2f}")})
+        if cpk_asked:
+            row["Cpk bound"] = _num(d.cpk_lo, "{:.2f}")
+        row.update({"mean": _num(d.mean), "P0.135 … P99.865": f"{_num(d.p00135)} … {_num(d.p99865)}",
+                    "unit": label(d.unit)})
+        rows.append(row)
+    sec.add_table(pd.DataFrame(rows), caption="Every requirement (its full name, intervals and reasons in the "
+                                              "requirements section): the bound — one-sided, at the requirement's "
+                                              "confidence — is what is judged against what it needs", text=True)
     drows = []
     watched = [d for d in digests if d.light != "green"] or digests    # the failures' drivers; all when all pass
     for d in watched:
         shown = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
         for drv in shown:
-            drows.append({"requirement": d.label, "drawing tolerance": drv.tolerance,
+            drows.append({"requirement": d.label, "drawing tolerance": short_label(drv.tolerance),
                           "share of variance (S1)": f"{100 * drv.s1:.0f} %",
                           "factors": ", ".join(drv.factors[:2]) + (f" (+{len(drv.factors) - 2})"
                                                                     if len(drv.factors) > 2 else "")})

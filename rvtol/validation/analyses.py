@@ -83,9 +83,10 @@ def _te_target(study, name: str, error) -> ModelTarget:
 
 def te_spectra(target: ModelTarget):
     """``X -> [TE amplitude per order of one output revolution (arcsec), or None where the solver failed]``: each
-    row's TE curve by the TE stage's own ``run`` and its order spectrum (``TEResult.spectrum``)."""
+    row's TE curve by the TE stage's own ``run`` and its order spectrum (``TEResult.spectrum``) — of the TE its test
+    rig reads where the stage has one (a published spectrum is a rig's measurement)."""
     def spectra(X):
-        return [r.spectrum()["amplitude [arcsec]"].to_numpy() if r.ok else None
+        return [r.spectrum(rig=True)["amplitude [arcsec]"].to_numpy() if r.ok else None
                 for r in (target.model.run(x) for x in target.inputs(X))]
     return spectra
 

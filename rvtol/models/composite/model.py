@@ -32,7 +32,8 @@ Study file (several ``[[model]]`` tables instead of one ``[model]``)::
     [[model]]
     name = "te"
     kind = "transmission_error"
-    same_inputs_as = "torsion"         # instead of [model.inputs]: the mapping of an earlier model
+    same_inputs_as = "torsion"         # the mapping of an earlier model ([model.inputs] beside it: added to it,
+                                       # or overriding its entries)
 
 Every expression (:mod:`rvtol.expressions`) reads names in base units: factors, quantities
 declared before it, outputs of stages declared before it (``stage.output``) and numbers of the
@@ -403,8 +404,6 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
             raise t.error("name", f"two models are named {name!r}")
         exprs: dict[str, Expression] = {}
         if "same_inputs_as" in t:
-            if "inputs" in t:
-                raise t.error("same_inputs_as", "give either [model.inputs] or same_inputs_as, not both")
             other = t.str("same_inputs_as")
             src = next((st for st in stages if st.name == other), None)
             if src is None:

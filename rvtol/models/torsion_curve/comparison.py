@@ -70,9 +70,11 @@ def analytic_lost_motion(g, K: float, Delta_b=0.0, Delta_r_c=0.0, mode: str = "d
     return m.evaluate(X)[:, 0]
 
 
-def _free_curve(model: TorsionCurveModel) -> TorsionCurve:
+def _free_curve(model: TorsionCurveModel, friction: bool = True) -> TorsionCurve:
+    """The clearance-free, error-free curve of ``model``'s reducer (``friction``: with the design's Coulomb
+    friction, if it has any)."""
     return TorsionCurveModel(model.geometry, (), percent=model.percent, points=model.points,
-                             torque=model.torque).curve()
+                             torque=model.torque, friction=friction).curve()
 
 
 # --------------------------------------------------------------------------- the curves
@@ -85,6 +87,7 @@ class SimulatedCurves:
     percent: float
     torque: float           # N·mm
     points: int
+    friction: bool = False  # the curves include the design's Coulomb friction
 
     def to_frame(self) -> pd.DataFrame:
         return self.metrics
@@ -111,7 +114,8 @@ def _metrics_row(label: str, curve: TorsionCurve, percent: float) -> dict:
             "rigidity 50–100 % (N·m/arcmin)": units.from_base(mt.rigidity_50_100, "N*m/arcmin"),
             "rigidity b/a less backlash (N·m/arcmin)": units.from_base(mt.rigidity_clearance_free, "N*m/arcmin"),
             "angle at +rated (arcmin)": units.from_base(mt.angle_at_rated, "arcmin"),
-            "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec")}
+            "largest hysteresis width (arcsec)": units.from_base(mt.hysteresis_width, "arcsec"),
+            f"friction width ±{percent:g} % (arcsec)": units.from_base(mt.friction_width, "arcsec")}
 
 
 def simulated_curves(model: TorsionCurveModel, mean_inputs=None) -> SimulatedCurves:
@@ -124,7 +128,8 @@ def simulated_curves(model: TorsionCurveModel, mean_inputs=None) -> SimulatedCur
         c = model.curve(mean_inputs)
         rows.append(_metrics_row("all factors at the spec's mean", c, model.percent))
         curves.append(("spec mean", c))
-    return SimulatedCurves(pd.DataFrame(rows), curves, model.percent, model.torque, model.points)
+    return SimulatedCurves(pd.DataFrame(rows), curves, model.percent, model.torque, model.points,
+                           bool(model.friction))
 
 
 # --------------------------------------------------------------------------- lost motion against clearances
@@ -256,7 +261,7 @@ def rigidity_comparison(model: TorsionCurveModel, part1=None) -> RigidityCompari
     """The clearance-free curve's angle at +rated split by virtual work; ``part1`` = (stiffness model, its
     modifications, the face width of the 20-DOF design's discs): the torsion-angle model beside."""
     g = model.geometry
-    free = _free_curve(model)
+    free = _free_curve(model, friction=False)     # virtual work: no friction
     T = model.torque
     k = int(np.flatnonzero(np.isclose(free.torque, T))[0])
     bd = compliance_breakdown(g, None, free.q[k], T)

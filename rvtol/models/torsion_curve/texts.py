@@ -11,8 +11,12 @@ from ...blocks import Figure, Table, Text, figure_png
 CURVES = ("Carrier torque 0 → +{torque:g} → −… → 0 N·m in {points} steps per quarter, each equilibrium warm-started "
           "from the previous one (doc 000's 20-DOF model, quasi-static). Figures by the maker's definitions "
           "(REFERENCE): rigidity b/a between the rated-torque end points, lost motion between the mid-points at "
-          "±{percent:g} % rated, backlash = width at zero torque. The model has no friction, so the branches coincide "
-          "away from zero (hysteresis width ~0) and the curve jumps across the clearances at zero torque.")
+          "±{percent:g} % rated, backlash = width at zero torque. ")
+FRICTION = ("Coulomb friction of the design's [friction] coefficients opens the loop (friction width at ±{percent:g} %, "
+            "rvtol/models/transmission/friction.py): lost motion reads the mid-points, backlash the width at zero "
+            "torque, free play and friction together.")
+NO_FRICTION = ("The model has no friction, so the branches coincide away from zero (hysteresis width ~0) and the curve "
+               "jumps across the clearances at zero torque.")
 
 #: titles of the torsion_curve analysis' second and third sections
 LOST_MOTION_TITLE = "Lost motion against clearances: 20-DOF beside the analytical model (doc 001)"
@@ -60,7 +64,8 @@ def compliance_title(torque_Nm: float) -> str:
 
 
 def curves(res, o) -> list:
-    return [Text(CURVES.format(torque=units.from_base(res.torque, "N*m"), points=res.points, percent=res.percent)),
+    return [Text(CURVES.format(torque=units.from_base(res.torque, "N*m"), points=res.points, percent=res.percent)
+                 + (FRICTION if res.friction else NO_FRICTION).format(percent=res.percent)),
             Table(res.metrics, "Maker's figures of the simulated curves", "{:.4g}"),
             Figure(figure_png(res.plot()), "Torsion curves (whole cycle)"),
             Figure(figure_png(res.plot(zoom=True)), "Torsion curves within ±10 % of rated torque")]

@@ -51,7 +51,7 @@ from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C
                      N_CRANK, N_DISC, PIN_AP, PIN_GAP, PIN_R, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP,
                      P_RRP, P_ZB, P_ZC, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
                      ST_SINGULAR, ST_UNRESOLVED, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_ON, S_TAB, THCA, T_C, T_D, T_F,
-                     T_M, UNILATERAL)
+                     T_M, UNILATERAL, FR_A, FR_ARM, FR_B, FR_KIND, FR_MU, FR_P0, FR_PIN, FR_ROTATION)
 
 _JIT = dict(cache=True, nogil=True, error_model="numpy")   # IEEE arithmetic: no fastmath (see the docstring)
 TWO_PI = 2.0 * math.pi
@@ -948,6 +948,112 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
     return -1
 
 
+# --------------------------------------------------------------------------- Coulomb friction (torsion curve)
+@njit(**_JIT)
+def friction_jacobian(c, fr, coef, idx, prm, ji, jv):
+    """The sliding motion of friction contact ``c`` as a row of the coordinates: its DOFs ``ji[:n]`` and
+    coefficients ``jv[:n]``; returns n (:mod:`.friction`).
+
+    A pin (``FR_PIN``): the tangential slip of the disc's contact point, ``t·u_C`` with ``t = (−sin α, cos α)``
+    in the eccentric frame (u_e, t_e): ``−sin α η + e cos α θ_do + (R_d cos α + λ) θ_d``, λ = |PC| the distance
+    from the pitch point P to the contact point, ``λ = −z_b e cos α + √(R_p² − (z_b e sin α)²) − r_rp`` (the pin
+    centre lies on the normal through P at distance √(R_p² − …) − z_b e cos α); cos α and sin α are read from the
+    pin's contact row (``coef[c, 0, :]`` = (cos α, e sin α, R_d sin α)).  A relative rotation (``FR_ROTATION``):
+    ``+1`` on DOF a, ``−1`` on DOF b (none when b < 0: against the ground).
+    """
+    k = int(fr[c, FR_KIND])
+    if k == FR_PIN:
+        e = prm[P_ECC]
+        h = prm[P_ZB] * e
+        cal = coef[c, 0, 0]
+        sal = coef[c, 0, 1] / e
+        lam = -h * cal + math.sqrt(prm[P_RP] * prm[P_RP] - (h * sal) * (h * sal)) - prm[P_RRP]
+        i0 = idx[c, 0, 0]
+        ji[0] = i0
+        ji[1] = i0 + 1
+        ji[2] = i0 + 2
+        jv[0] = -sal
+        jv[1] = e * cal
+        jv[2] = prm[P_ZC] * e * cal + lam
+        return 3
+    if k == FR_ROTATION:
+        ji[0] = int(fr[c, FR_A])
+        jv[0] = 1.0
+        b = int(fr[c, FR_B])
+        if b >= 0:
+            ji[1] = b
+            jv[1] = -1.0
+            return 2
+        return 1
+    return 0
+
+
+@njit(**_JIT)
+def friction_torque(q, kind, idx, coef, off, k0, pw, gap, ser, tab, fr, prm, xs, npin, ws, v, parts):
+    """The friction torque at the output of the equilibrium ``q`` (contact table ``coef``/``off``; :mod:`.friction`):
+    every friction contact's force or moment ``m_c = μ_c (F_c + P0_c) arm_c`` (``F_c`` its normal force at
+    ``q``) times its sliding motion per unit output rotation, ``|J_c v| / |v_θ|`` with ``v = K⁻¹ e_θ`` the
+    motion of the reducer per unit output torque (the tangent ``K`` at ``q``, regularised as :func:`newton`;
+    ``e_θ`` the output's unit torque): ``T_f = Σ_c m_c |J_c v| / |v_θ|`` — the work the contacts dissipate
+    while the output turns, per unit output angle.  ``parts[g]``: the share of each group (0 pins, 1 needle
+    rows, 2 crank-support pairs).  Returns ``T_f`` (N·mm; NaN where the tangent is singular)."""
+    F, K, fc, kt = ws[0], ws[1], ws[2], ws[3]
+    n = q.size
+    fc[:] = 0.0                           # tangents, not the secants of unloading contacts (:func:`_slope`)
+    _forces(q, kind, idx, coef, off, k0, pw, gap, ser, tab, F, fc, kt, npin)
+    _tangent(kind, idx, coef, kt, K, npin)
+    for a in range(n):
+        K[a, a] += REG * 1e5 * xs[a] * xs[a]
+    e = np.zeros(n)
+    e[THCA] = 1.0
+    parts[:] = 0.0
+    if not cholesky_solve(K, e, v):
+        return np.nan
+    vt = abs(v[THCA])
+    if not vt > 0.0:
+        return np.nan
+    ji = np.zeros(3, np.int64)
+    jv = np.zeros(3)
+    total = 0.0
+    for c in range(kind.size):
+        if fr[c, FR_KIND] == 0.0:
+            continue
+        m = fr[c, FR_MU] * (fc[c] + fr[c, FR_P0]) * fr[c, FR_ARM]
+        if m == 0.0:
+            continue
+        nj = friction_jacobian(c, fr, coef, idx, prm, ji, jv)
+        s = 0.0
+        for t in range(nj):
+            s += jv[t] * v[ji[t]]
+        tc = m * abs(s) / vt
+        total += tc
+        grp = 0 if int(fr[c, FR_KIND]) == FR_PIN else (1 if c < C_CRANK else 2)
+        parts[grp] += tc
+    return total
+
+
+@njit(**_JIT)
+def friction_torques(theta_c, dth_s, q_path, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, ser, tab, fr,
+                     xs, out_tf, out_parts):
+    """:func:`friction_torque` at every equilibrium of a sweep (``q_path[n, 20]`` at ``theta_c[n]``)."""
+    n = theta_c.size
+    nd = q_path.shape[1]
+    nc = kind.size
+    coef = np.zeros((nc, 2, idx.shape[2]))
+    off = np.zeros((nc, 2))
+    aux = table_constants(prm, err)
+    w = np.empty((NPINW, pin_cs.shape[1]))
+    ws = workspace(nd, nc)
+    v = np.zeros(nd)
+    parts = np.zeros(3)
+    npin = nc - C_PIN
+    for p in range(n):
+        update_table_fast(theta_c[p], dth_s[p], prm, err, aux, pin_err, disc_h, pin_cs, coef, off, w)
+        out_tf[p] = friction_torque(q_path[p], kind, idx, coef, off, k0, pw, gap, ser, tab, fr, prm, xs, npin, ws, v,
+                                    parts)
+        out_parts[p, :] = parts
+
+
 # --------------------------------------------------------------------------- extremes of a periodic sweep
 @njit(**_JIT)
 def interval_bound(ta, tb, ga, gb, chord_before, chord_after, kappa):
@@ -993,8 +1099,26 @@ def _grown(a, cap):
 
 
 @njit(**_JIT)
+def _meas(theta, meas):
+    """``Σ_k a_k cos(n_k θ) + b_k sin(n_k θ)`` of the rows ``meas[k] = (n, a, b)``."""
+    v = 0.0
+    for k in range(meas.shape[0]):
+        v += meas[k, 1] * math.cos(meas[k, 0] * theta) + meas[k, 2] * math.sin(meas[k, 0] * theta)
+    return v
+
+
+@njit(**_JIT)
 def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap,
                ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels):
+    """:func:`qs_extreme_curve` of Δθ_ca itself (no measurement terms)."""
+    return qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx,
+                            k0, pw, gap, ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels,
+                            np.zeros((0, 3)))
+
+
+@njit(**_JIT)
+def qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw,
+                     gap, ser, tab, xs, tol_f, maxit, maxstep, kappa, tol_te, max_levels, meas):
     """The smallest value of ``sign·Δθ_ca`` over one output revolution, refined from a rotation sweep
     (``theta_c`` increasing over [0, 2π), its equilibria ``q_sweep``; ``sign`` −1: the largest TE).
 
@@ -1004,10 +1128,12 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
     can hold a value more than ``tol_te`` below the best.  The points form a ring (``nxt``/``prv``); a level rechecks only the
     intervals whose bound can have changed — the halves and the neighbours of a halved interval (the best
     value only falls, so an interval that was not a candidate stays one only through its neighbours' chords).
-    Input deviation ``dth_s`` and carrier torque ``torque`` are those of the sweep.  Returns (status, θ_c of
-    the extreme, Δθ_ca there, equilibria solved, Newton iterations); status ≠ ST_OK: an equilibrium between
-    the sweep's positions failed, or ``max_levels`` halvings left an interval whose bound is still below the
-    best (ST_UNRESOLVED).
+    Input deviation ``dth_s`` and carrier torque ``torque`` are those of the sweep.  ``meas[k] = (n, a, b)``: terms
+    ``a cos(n θ_c) + b sin(n θ_c)`` added to Δθ_ca — the measurement chain of a test rig (:mod:`.rig`): the curve
+    refined is then the TE the rig reads (no rows: Δθ_ca itself, bit for bit).  Returns (status, θ_c of the
+    extreme, the curve's value there, equilibria solved, Newton iterations); status ≠ ST_OK: an equilibrium
+    between the sweep's positions failed, or ``max_levels`` halvings left an interval whose bound is still below
+    the best (ST_UNRESOLVED).
     """
     n, nd = q_sweep.shape
     nc = kind.size
@@ -1029,7 +1155,9 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
     nxt = np.empty(cap, np.int64)
     prv = np.empty(cap, np.int64)
     th[:n] = theta_c
-    g[:n] = sign * q_sweep[:, THCA]
+    nm = meas.shape[0]
+    for k in range(n):
+        g[k] = sign * (q_sweep[k, THCA] + _meas(theta_c[k], meas) if nm > 0 else q_sweep[k, THCA])
     q[:n] = q_sweep
     for k in range(n):
         nxt[k] = k + 1 if k + 1 < n else 0
@@ -1051,7 +1179,7 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
                 ns += 1
         if ns == 0:
             k = int(np.argmin(g[:size]))
-            return ST_OK, th[k], q[k, THCA], nev, nit
+            return ST_OK, th[k], sign * g[k], nev, nit
         if size + ns > cap:
             cap = 2 * (size + ns)
             th, g, q, nxt, prv = _grown(th, cap), _grown(g, cap), _grown(q, cap), _grown(nxt, cap), _grown(prv, cap)
@@ -1088,9 +1216,9 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
             nev += 1
             nit += it
             if st != ST_OK:
-                return st, x, q[j, THCA], nev, nit
+                return st, x, q[j, THCA] + (_meas(x, meas) if nm > 0 else 0.0), nev, nit
             th[j] = x
-            g[j] = sign * q[j, THCA]
+            g[j] = sign * (q[j, THCA] + _meas(x, meas) if nm > 0 else q[j, THCA])
             if g[j] < best:
                 best = g[j]
             nxt[j], prv[j] = kn, k
@@ -1109,7 +1237,7 @@ def qs_extreme(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_err, d
                     check[nchk] = t
                     nchk += 1
     k = int(np.argmin(g[:size]))
-    return ST_UNRESOLVED, th[k], q[k, THCA], nev, nit
+    return ST_UNRESOLVED, th[k], sign * g[k], nev, nit
 
 
 # --------------------------------------------------------------------------- Newmark-β

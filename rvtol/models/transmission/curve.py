@@ -57,6 +57,7 @@ class ReducerCurve:
     solvers: pd.DataFrame
     top: pd.DataFrame | None = None
     attributed: pd.DataFrame | None = None
+    on_rig: pd.DataFrame | None = None          # the orders the study's test rig reads (None: no rig)
 
     @property
     def good(self) -> dict:
@@ -85,9 +86,13 @@ class ReducerCurve:
         good = self.good
         if not good:
             return {}
-        return {"configuration": self.how, "values": dict(self.values),
-                "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
-                "top_orders": frame_records(self.top), "order_attribution": frame_records(self.attributed)}
+        out = {"configuration": self.how, "values": dict(self.values),
+               "te_pp_arcsec": {m: r.te_pp for m, r in good.items()},
+               "top_orders": frame_records(self.top), "order_attribution": frame_records(self.attributed)}
+        if self.on_rig is not None:
+            out.update(te_pp_rig_arcsec=next(iter(good.values())).te_pp_rig,
+                       order_attribution_rig=frame_records(self.on_rig))
+        return out
 
 
 def _solver_row(mode: str, r) -> dict:
@@ -124,4 +129,6 @@ def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units
         first = next(iter(good.values()))
         out.top = first.top_orders(8)
         out.attributed = model.order_table(first, top=12, min_fraction=0.01)
+        if first.te_rig is not None:          # the TE its test rig reads (rvtol/models/transmission/rig.py)
+            out.on_rig = model.order_table(first, top=12, min_fraction=0.01, rig=True)
     return out

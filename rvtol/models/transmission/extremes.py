@@ -98,10 +98,12 @@ class Extremes:
 
 
 def te_extremes(solver: QuasiStaticSolver, sweep: SweepResult, kappa: float = KAPPA,
-                tol_te: float = TOL_TE) -> Extremes:
+                tol_te: float = TOL_TE, meas=None) -> Extremes:
     """The extremes of the TE curve of ``solver``'s reducer, refined from ``sweep``: a full output revolution
     of :meth:`.QuasiStaticSolver.rotation` (positions uniform over [0, 2π), one carrier torque), all
-    converged.  ``kappa`` and ``tol_te``: the slope bound and tolerance of the module doc."""
+    converged.  ``kappa`` and ``tol_te``: the slope bound and tolerance of the module doc.  ``meas``: rows
+    ``(n, a, b)`` of a test rig's measurement chain added to the curve (:mod:`.rig`): the extremes of the TE
+    the rig reads."""
     th = sweep.theta_c
     n = th.size
     if n < 3 or not sweep.ok:
@@ -115,10 +117,13 @@ def te_extremes(solver: QuasiStaticSolver, sweep: SweepResult, kappa: float = KA
     q = np.ascontiguousarray(sweep.q)
     out = []
     for sign in (-1.0, 1.0):
-        out.append(solver.kernels.qs_extreme(sign, th, q, 0.0, float(sweep.torque[0]), np.zeros(L.NDOF), solver.prm,
-                                             e.err, e.pin_err, e.disc_h, solver.pin_cs, t.kind, t.idx, t.k0, t.pw,
-                                             t.gap, t.ser, t.tab, solver.xs, solver.tol_f, solver.maxit,
-                                             solver.maxstep, float(kappa), float(tol_te), MAX_LEVELS))
+        args = (sign, th, q, 0.0, float(sweep.torque[0]), np.zeros(L.NDOF), solver.prm, e.err, e.pin_err, e.disc_h,
+                solver.pin_cs, t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab, solver.xs, solver.tol_f, solver.maxit,
+                solver.maxstep, float(kappa), float(tol_te), MAX_LEVELS)
+        if meas is None or len(meas) == 0:
+            out.append(solver.kernels.qs_extreme(*args))
+        else:
+            out.append(solver.kernels.qs_extreme_curve(*args, np.ascontiguousarray(meas, dtype=float).reshape(-1, 3)))
     (st_hi, th_hi, te_hi, n_hi, it_hi), (st_lo, th_lo, te_lo, n_lo, it_lo) = out
     return Extremes(float(te_hi), float(th_hi), float(te_lo), float(th_lo), int(n_hi + n_lo), int(it_hi + it_lo),
                     int(st_hi if st_hi != L.ST_OK else st_lo))

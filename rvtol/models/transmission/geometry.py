@@ -46,6 +46,7 @@ from ...elements.reducer_chain import ChainElements, compliance_scale
 from ...errors import SpecError
 from . import layout as L
 from .compliance import ContactChain, reduce_chain
+from .friction import Friction, friction_from_design
 
 
 def involute(a: float) -> float:
@@ -104,6 +105,8 @@ class RVGeometry:
     zeta: float | None = None
     # compliance chain reduced to the contacts (None: doc 000's rigid chain), see .compliance
     chain: "ContactChain | None" = None
+    # Coulomb friction at the sliding contacts (None: none given), see .friction; the torsion curve uses it
+    friction: "Friction | None" = None
 
     @property
     def K1(self) -> float:
@@ -283,7 +286,7 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
         k0_ca=scaled("stiffness.carrier_housing_bearing_k0", "carrier_housing_bearing"),
         hertz=hertz, rated_torque=rated,
         alpha_w=alpha_w, a_w=a_w, r_bs=r_bs, r_bp=r_bp,
-        ratio=ratio, chain=contact_chain,
+        ratio=ratio, chain=contact_chain, friction=friction_from_design(design),
         m_sun=opt("mass.sun"), m_planet=opt("mass.planet_crank"), i_planet=opt("mass.planet_crank_inertia"),
         m_disc=opt("mass.disc"), i_disc=opt("mass.disc_inertia"), m_carrier=opt("mass.carrier"),
         i_carrier=opt("mass.carrier_inertia"), zeta=opt("damping.modal_ratio", nonnegative=True),

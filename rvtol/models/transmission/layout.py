@@ -89,6 +89,15 @@ ST_SINGULAR = 5
 ST_NONFINITE = 6
 ST_UNRESOLVED = 8          # (7 is the model's negative-clearance code)
 
+# friction table `fr[nc, NFR]` (see .friction): per contact the kind of its sliding motion, the friction
+# coefficient, the arm turning μ·P into a moment (1 for a force), a load-independent normal load P0 (N: a
+# bearing's preload) and, for a relative rotation, the two rotation DOFs (b = −1: the ground)
+FR_KIND, FR_MU, FR_ARM, FR_P0, FR_A, FR_B = 0, 1, 2, 3, 4, 5
+NFR = 6
+FR_NONE = 0      # no friction
+FR_PIN = 1       # a pin: tangential slip of the disc's contact point (Jacobian from the pin's contact row)
+FR_ROTATION = 2  # a bearing: relative rotation of DOF a against DOF b
+
 STATUS_REASONS = {
     ST_MAXITER: "Newton iteration did not converge (equilibrium not found within the iteration limit)",
     ST_LOST_CONTACT: "contact lost everywhere: no pin of either cycloid disc carries load",

@@ -13,7 +13,13 @@ Outputs:
 ``bearing_force_max``  largest cycloid–crank (needle) bearing force              N
 ``loaded_pins_min``    fewest pins carrying load on one disc                     1
 ``loaded_pins_mean``   mean number of loaded pins per disc                       1
+``te_pp_rig``          with a test rig (``rig``): Δθ_er of the TE the rig reads  arcsec
+                       (the reducer's plus its measurement chain, :mod:`.rig`)
 =====================  ========================================================  =======
+
+With a rig description (``rig``, :func:`.rig.load_rig`) the model also takes the measurement chain's inputs
+(:data:`.rig.INPUTS`: the eccentricity of the output and input encoders' graduations, mm) and gives
+``te_pp_rig``; :meth:`TransmissionErrorModel.run` then holds both curves (``TEResult.te_rig``).
 
 Δθ_er is max − min of Δθ_ca; the document writes max|Δθ_ca| − min|Δθ_ca|,
 which is the same while Δθ_ca keeps its sign (it does under load: the
@@ -32,6 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -48,6 +55,8 @@ from .geometry import RVGeometry, geometry_from_design
 from .newmark import NewmarkSolver
 from .orders import MIN_PER_CRANK_REV, order_spectrum, order_table, positions_for_order
 from .quasistatic import QuasiStaticSolver, SweepResult
+from .rig import INPUTS as RIG_INPUTS
+from .rig import Rig, load_rig, measurement_terms
 
 MODES = ("quasistatic", "newmark")
 DEFAULT_PER_CRANK_REV = 36
@@ -61,6 +70,7 @@ OUTPUTS = (
     Quantity("loaded_pins_min", "1", "1", "fewest loaded pins on one disc"),
     Quantity("loaded_pins_mean", "1", "1", "mean number of loaded pins per disc"),
 )
+RIG_OUTPUT = Quantity("te_pp_rig", "rad", "arcsec", "TE peak-to-peak the test rig reads (reducer + measurement chain)")
 
 
 @dataclass
@@ -75,6 +85,9 @@ class TEResult:
     reason: str
     factors: dict
     extremes: Extremes | None = None    # quasi-static: the curve's extremes between the positions (rad)
+    te_rig: np.ndarray | None = None    # with a test rig: the TE it reads (arcsec), :mod:`.rig`
+    extremes_rig: Extremes | None = None
+    rig_terms: np.ndarray | None = None  # the measurement chain's rows (order, cos, sin) in rad
 
     @property
     def ok(self) -> bool:
@@ -87,8 +100,16 @@ class TEResult:
             return float(units.from_base(self.extremes.pp, "arcsec"))
         return float(self.te.max() - self.te.min())
 
-    def spectrum(self) -> pd.DataFrame:
-        k, a = order_spectrum(self.te)
+    @property
+    def te_pp_rig(self) -> float:
+        """Δθ_er of the TE the rig reads (arcsec), NaN without a rig."""
+        if self.extremes_rig is None:
+            return float("nan")
+        return float(units.from_base(self.extremes_rig.pp, "arcsec"))
+
+    def spectrum(self, rig: bool = False) -> pd.DataFrame:
+        """Order spectrum of the reducer's TE, or (``rig``) of the TE the rig reads where the model has a rig."""
+        k, a = order_spectrum(self.te_rig if rig and self.te_rig is not None else self.te)
         return pd.DataFrame({"order [1/rev]": k, "amplitude [arcsec]": a})
 
     def top_orders(self, n: int = 8) -> pd.DataFrame:
@@ -122,15 +143,25 @@ class TransmissionErrorModel(Model):
                  load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int | None = None,
                  max_order: int | None = None, harmonic: int = 2, output_speed: float = 15 * 2 * math.pi / 60,
                  steps_per_crank_rev: int | None = None, settle_periods: float = 50.0, centrifugal: bool = True,
-                 tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True):
+                 tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True, rig: Rig | None = None):
         if mode not in MODES:
             raise InputError(f"unknown mode {mode!r} (expected one of: {', '.join(MODES)})", key="mode")
         self.geometry = design if isinstance(design, RVGeometry) else geometry_from_design(design, compliance_chain)
         self.mode = mode
-        self.factors = ErrorFactors(list(inputs), self.geometry.z_b, harmonic)
-        self.inputs = self.factors.names
-        self.input_units = self.factors.units
-        self.outputs = OUTPUTS
+        names = list(inputs)
+        self.rig = rig
+        rig_names = [n for n in names if n in RIG_INPUTS]
+        if rig_names and rig is None:
+            raise InputError(f"input {rig_names[0]!r} is a test rig's (the model needs rig = \"…\")", key="factor")
+        if rig is not None and mode != "quasistatic":
+            raise InputError("a test rig's measurement chain is modelled for the quasi-static TE only", key="rig")
+        self._err_cols = np.array([k for k, n in enumerate(names) if n not in RIG_INPUTS], dtype=int)
+        self._rig_cols = {n: k for k, n in enumerate(names) if n in RIG_INPUTS}
+        self.factors = ErrorFactors([n for n in names if n not in RIG_INPUTS], self.geometry.z_b, harmonic)
+        self.inputs = tuple(names)
+        err_units = dict(zip(self.factors.names, self.factors.units))
+        self.input_units = tuple(err_units.get(n, "mm") for n in names)
+        self.outputs = OUTPUTS + ((RIG_OUTPUT,) if rig is not None else ())
         if load_torque is None:
             if not 0.0 < load_fraction <= 2.0:
                 raise InputError(f"load_fraction must lie in (0, 2], got {load_fraction}", key="load_fraction")
@@ -159,57 +190,94 @@ class TransmissionErrorModel(Model):
         """The same reducer and options with other inputs and/or another solver."""
         return TransmissionErrorModel(self.geometry, self.inputs if inputs is None else inputs, mode or self.mode,
                                       load_torque=self.load_torque, per_crank_rev=self.per_crank_rev,
-                                      harmonic=self.factors.harmonic, **self.dynamic_options, **self.solver_options)
+                                      harmonic=self.factors.harmonic, **self.dynamic_options, **self.solver_options,
+                                      rig=self.rig)
+
+    def dependencies(self) -> dict[str, frozenset[str]] | None:
+        """Without a rig: every output on every input.  With one: the reducer's own outputs do not read the
+        measurement chain's inputs (:data:`.rig.INPUTS`); ``te_pp_rig`` reads all."""
+        if self.rig is None:
+            return None
+        own = frozenset(n for n in self.inputs if n not in RIG_INPUTS)
+        return {**{q.name: own for q in OUTPUTS}, RIG_OUTPUT.name: frozenset(self.inputs)}
 
     # -- one reducer ------------------------------------------------------------------------
     def state(self, x) -> ErrorState:
-        return self.factors.state(x)
+        """The error state of a row ``x`` of the model's inputs."""
+        return self.factors.state(np.asarray(x, dtype=float)[self._err_cols])
 
-    def _sweep(self, st: ErrorState) -> tuple[SweepResult, Extremes | None]:
-        """The revolution and, quasi-static, its TE extremes refined between the positions (:mod:`.extremes`)."""
+    def rig_terms(self, x) -> np.ndarray:
+        """The measurement chain's TE terms (rows ``(n, a, b)``, rad) of a row ``x`` (none without a rig)."""
+        if self.rig is None:
+            return np.zeros((0, 3))
+        x = np.asarray(x, dtype=float)
+        v = {n: float(x[k]) for n, k in self._rig_cols.items()}
+        g = lambda n: v.get(n, 0.0)  # noqa: E731
+        return self.rig.terms(self.geometry.ratio, (g(RIG_INPUTS[0]), g(RIG_INPUTS[1])),
+                              (g(RIG_INPUTS[2]), g(RIG_INPUTS[3])))
+
+    def _sweep(self, st: ErrorState, terms=None) -> tuple[SweepResult, Extremes | None, Extremes | None]:
+        """The revolution and, quasi-static, its TE extremes refined between the positions (:mod:`.extremes`), and
+        those of the TE a rig reads with the measurement chain's ``terms`` (:mod:`.rig`; None without a rig)."""
         if self.mode == "quasistatic":
             solver = QuasiStaticSolver(self.geometry, st, **self.solver_options)
             r = solver.rotation(self.load_torque, self.per_crank_rev)
-            return r, (te_extremes(solver, r) if r.ok else None)
+            if not r.ok:
+                return r, None, None
+            ext = te_extremes(solver, r)
+            rig = None
+            if terms is not None:
+                rig = te_extremes(solver, r, meas=terms) if len(terms) else ext
+            return r, ext, rig
         return NewmarkSolver(self.geometry, st, load_torque=self.load_torque, **self.dynamic_options,
-                             **self.solver_options).run(), None
+                             **self.solver_options).run(), None, None
 
-    def _row(self, x) -> tuple[np.ndarray, int, SweepResult | None, Extremes | None]:
+    def _row(self, x) -> tuple[np.ndarray, int, SweepResult | None, Extremes | None, Extremes | None]:
         y = np.full(len(self.outputs), np.nan)
         if not np.all(np.isfinite(x)):
-            return y, STATUS_NONFINITE, None, None
+            return y, STATUS_NONFINITE, None, None, None
         st = self.state(x)
         clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
                                 st.err[L.DELTA_CA:L.DELTA_CA + 1]])
         if np.any(clear < 0):
-            return y, ST_BAD_CLEARANCE, None, None
-        r, ext = self._sweep(st)
+            return y, ST_BAD_CLEARANCE, None, None, None
+        terms = self.rig_terms(x) if self.rig is not None else None
+        r, ext, ext_rig = self._sweep(st, terms)
         if not r.ok:
-            return y, r.failure, r, None
-        if ext is not None and not ext.ok:
-            return y, ext.status, r, ext
+            return y, r.failure, r, None, None
+        for e in (ext, ext_rig):
+            if e is not None and not e.ok:
+                return y, e.status, r, ext, ext_rig
         te = r.te
         rec = r.rec
         npins = rec[:, [K.R_NPIN0, K.R_NPIN1]]
         pp = ext.pp if ext is not None else te.max() - te.min()
-        y[:] = (pp, te.mean(), rec[:, K.R_PIN_MAX].max(), rec[:, K.R_CAM_MAX].max(), npins.min(), npins.mean())
-        return y, 0, r, ext
+        y[:len(OUTPUTS)] = (pp, te.mean(), rec[:, K.R_PIN_MAX].max(), rec[:, K.R_CAM_MAX].max(), npins.min(),
+                            npins.mean())
+        if ext_rig is not None:
+            y[len(OUTPUTS)] = ext_rig.pp
+        return y, 0, r, ext, ext_rig
 
     def evaluate_with_status(self, X):
         X = self.check_input(X)
         Y = np.full((X.shape[0], len(self.outputs)), np.nan)
         status = np.zeros(X.shape[0], np.int16)
         for n, x in enumerate(X):
-            Y[n], status[n], _, _ = self._row(x)
+            Y[n], status[n], *_ = self._row(x)
         return Y, status
 
     def evaluate(self, X):
         return self.evaluate_with_status(X)[0]
 
-    def order_table(self, result: TEResult, top: int = 12, min_fraction: float = 0.01) -> pd.DataFrame:
-        """The largest orders of ``result``'s TE, each with the error families expected there (:mod:`.orders`)."""
-        x = [result.factors[n] for n in self.inputs]
-        return order_table(result.te, self.geometry, self.factors.bindings, x, top, min_fraction)
+    def order_table(self, result: TEResult, top: int = 12, min_fraction: float = 0.01,
+                    rig: bool = False) -> pd.DataFrame:
+        """The largest orders of ``result``'s TE (``rig``: of the TE the rig reads), each with the error families
+        expected there (:mod:`.orders`; the measurement chain's terms among them)."""
+        x = [result.factors[n] for n in self.factors.names]
+        use_rig = rig and result.te_rig is not None
+        chain = result.rig_terms if use_rig else None
+        return order_table(result.te_rig if use_rig else result.te, self.geometry, self.factors.bindings, x, top,
+                           min_fraction, measurement=chain)
 
     def run(self, values: dict | np.ndarray | None = None) -> TEResult:
         """One reducer in full. ``values``: ``{factor: value in base units}`` (missing: 0) or a row."""
@@ -223,12 +291,15 @@ class TransmissionErrorModel(Model):
             x = np.array([float(values.get(n, 0.0)) for n in self.inputs])
         else:
             x = np.asarray(values, dtype=float).reshape(len(self.inputs))
-        y, status, r, ext = self._row(x)
+        y, status, r, ext, ext_rig = self._row(x)
         reason = self.status_reasons.get(status, "") if status else ""
         if r is None:
             return TEResult(self.mode, np.zeros(0), np.zeros(0), None, status, reason, dict(zip(self.inputs, x)))
         te = units.from_base(r.te, "arcsec")
-        return TEResult(self.mode, r.theta_c, te, r, status, reason, dict(zip(self.inputs, x)), ext)
+        terms = self.rig_terms(x) if self.rig is not None else None
+        te_rig = None if terms is None else units.from_base(r.te + measurement_terms(terms, r.theta_c), "arcsec")
+        return TEResult(self.mode, r.theta_c, te, r, status, reason, dict(zip(self.inputs, x)), ext, te_rig,
+                        ext_rig, terms)
 
 
 def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
@@ -238,7 +309,8 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     fewest positions that resolve it, :func:`.orders.positions_for_order`), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
     ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
     ``tol_force`` (N, 1e-5), ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance
-    elements in series with the contacts, :mod:`.compliance`; false: doc 000's rigid chain)."""
+    elements in series with the contacts, :mod:`.compliance`; false: doc 000's rigid chain), ``rig`` (a test rig's
+    description, :mod:`.rig`: the measurement chain's inputs and the output ``te_pp_rig``)."""
     if design is None:
         raise params.error("kind", "the transmission-error model needs [study] design = ...")
     mode = params.str("mode", "quasistatic", choices=MODES)
@@ -256,8 +328,15 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     tol = params.float("tol_force", 1e-5, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
     chain = params.bool("compliance_chain", True)
+    rig_path = params.path_value("rig", Path(params.file).parent if params.file else Path("."), None)
+    rig = None
+    if rig_path is not None:
+        try:
+            rig = load_rig(rig_path)
+        except InputError as exc:
+            raise exc.located(file=str(rig_path)) from None
     params.finish()
     return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
                                   per_crank_rev=per, max_order=max_order, harmonic=harmonic, output_speed=speed,
                                   steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
-                                  tol_f=tol, maxit=maxit, compliance_chain=chain)
+                                  tol_f=tol, maxit=maxit, compliance_chain=chain, rig=rig)

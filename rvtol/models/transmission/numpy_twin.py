@@ -31,6 +31,11 @@ contact undeformed — where the printed formulas differ, see the notes):
    (as printed);
 6. carrier–housing ``d = (X_ca − A_c cos γ_c, Y_ca − A_c sin γ_c)``.
 
+Coulomb friction (:mod:`.friction`, the torsion curve) — the friction torque at the output ``Σ m_c |J_c v|/|v_θ|`` (:meth:`ReferenceModel.friction_torque`) from the
+twin's own slip rows: a pin's tangential slip ``−sin α η + e cos α θ_do + (R_d cos α + R_p √S − r_rp) θ_d``
+(α, φ and S from the pin angles, as in 4.), a bearing's relative rotation (crank − disc for the needles,
+crank − carrier for the tapered pair), and its own tangent.
+
 With a compliance chain (:mod:`.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
 (:func:`scipy.optimize.brentq`), each ``δ_i`` evaluated here apart from the kernels: the kind's power
 law, linear springs, the pin–groove log law, the crank-support pair's table by SciPy's
@@ -44,6 +49,7 @@ from scipy.optimize import brentq
 
 from ...elements import chain as springs
 from . import layout as L
+from .friction import Friction
 from .compliance import log_law, table_law
 from .factors import ErrorState
 from .geometry import RVGeometry
@@ -289,3 +295,46 @@ class ReferenceModel:
                 raise RuntimeError(f"reference Newton failed at position {n}")
             out[n] = q
         return out
+
+    # -- Coulomb friction ------------------------------------------------------------------------
+    def friction_rows(self, theta_c: float, fric: Friction) -> list[tuple[str, tuple, float, float, np.ndarray]]:
+        """Per friction contact ``(group, index, μ·arm, P0, J)`` with ``J`` its slip row over the 20 DOFs."""
+        g = self.g
+        th_p = (1 - g.z_b) * theta_c
+        K1 = g.K1
+        rows = []
+        for j in range(2):
+            phi = self.theta_k - (th_p + self.psi[j])
+            S = 1.0 + K1 ** 2 - 2.0 * K1 * np.cos(phi)
+            alpha = np.arctan2(np.sin(phi), np.cos(phi) - K1)
+            lam = g.r_pin_circle * np.sqrt(S) - g.r_pin
+            d = L.disc(j)
+            for k in range(g.z_b):
+                J = np.zeros(L.NDOF)
+                J[d] = -np.sin(alpha[k])
+                J[d + 1] = g.ecc * np.cos(alpha[k])
+                J[d + 2] = g.r_disc_pitch * np.cos(alpha[k]) + lam[k]
+                rows.append(("pin", (j, k), fric.pin, 0.0, J))
+            for i in range(3):
+                J = np.zeros(L.NDOF)
+                J[L.planet(i) + 2], J[d + 2] = 1.0, -1.0
+                rows.append(("cam", (j, i), fric.needle * fric.needle_bore / 2.0, 0.0, J))
+        for i in range(3):
+            J = np.zeros(L.NDOF)
+            J[L.planet(i) + 2], J[L.THCA] = 1.0, -1.0
+            rows.append(("crank", (i,), fric.crank_support * fric.crank_support_bore / 2.0, fric.crank_support_p0, J))
+        return rows
+
+    def friction_torque(self, theta_c: float, q, fric: Friction) -> tuple[float, dict]:
+        """The friction torque at the output of the equilibrium ``q`` (:func:`._kernels.friction_torque`, written
+        apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
+        here and ``v`` the solution of the regularised tangent ``K v = e_θ``.  Returns ``(T_f, {group: share})``."""
+        _, K, parts = self.forces(theta_c, q)
+        xs = self.g.arc_radii()
+        e = np.zeros(L.NDOF)
+        e[L.THCA] = 1.0
+        v = np.linalg.solve(K + 1e-9 * 1e5 * np.diag(xs * xs), e)
+        out = {"pin": 0.0, "cam": 0.0, "crank": 0.0}
+        for group, ix, m, p0, J in self.friction_rows(theta_c, fric):
+            out[group] += m * (parts[group][ix] + p0) * abs(J @ v) / abs(v[L.THCA])
+        return sum(out.values()), out

@@ -248,8 +248,25 @@ def active_families(bindings, values) -> dict[str, list[str]]:
     return out
 
 
+def measurement_orders(measurement, g: RVGeometry, n_positions: int) -> dict[int, str]:
+    """The orders a test rig's measurement chain adds (rows ``(n, a, b)`` of :mod:`.rig`), each with what
+    makes it: order 1 the output encoder's graduation turning eccentric about the carrier's axis (flange pilot,
+    main-bearing runout, the rig's centring), order i the input encoder's divided by the ratio."""
+    out: dict[int, str] = {}
+    for n, a, b in np.asarray(measurement, dtype=float).reshape(-1, 3):
+        if a == 0.0 and b == 0.0:
+            continue
+        k = alias(int(round(n)), n_positions)
+        if round(n) == 1:
+            out[k] = "rig: output encoder eccentricity (flange pilot, main-bearing runout, centring), 1"
+        else:
+            out[k] = f"rig: input encoder eccentricity ÷ ratio, i = {g.ratio:g}" + (
+                f" aliased from {int(round(n))}" if k != round(n) else "")
+    return out
+
+
 def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, min_fraction: float = 0.01,
-                interactions: int = 4) -> pd.DataFrame:
+                interactions: int = 4, measurement=None) -> pd.DataFrame:
     """The largest orders of a TE curve (uniform over one output revolution) with the families expected there.
 
     Rows: the ``top`` largest orders ≥ ``min_fraction`` × the largest.  ``expected from``: the active
@@ -257,10 +274,12 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
     "pin ring: 2·z_c"), or the nominal ripple where none does; ``interaction`` (for orders no family
     explains alone): active families of two sides (housing: base orders z_c, 3; carrier: z_b) and the
     simplest p·b1 ± q·b2 (p, q ≤ ``interactions``) equal to it — e.g. order 1 = z_b − z_c from a
-    housing-fixed and a disc-fixed error.
+    housing-fixed and a disc-fixed error.  ``measurement``: the rows of a test rig's measurement chain when ``te``
+    is the TE the rig reads (:func:`measurement_orders`: order 1 and order i).
     """
     k, a = order_spectrum(np.asarray(te, dtype=float))
     n_pos = np.asarray(te).size
+    rig = measurement_orders(measurement, g, n_pos) if measurement is not None else {}
     fams = active_families(bindings, values)
     expected = {f: expected_orders(g, f, n_pos) for f in fams}
     sides: dict[str, list[str]] = {}
@@ -276,6 +295,8 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
         if biggest <= 0 or a[o] < min_fraction * biggest:
             break
         hits = [f"{_label(f, fams[f])}: {expected[f][o]}" for f in fams if f != "nominal" and o in expected[f]]
+        if o in rig:
+            hits.insert(0, rig[o])
         if not hits and o in expected["nominal"]:
             hits = [f"{_short('nominal')}: {expected['nominal'][o]}"]
         pairs = []

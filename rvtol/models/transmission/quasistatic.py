@@ -31,6 +31,7 @@ from . import layout as L
 from .compliance import family_work
 from .contacts import pin_cos_sin, static_table
 from .factors import ErrorState
+from .friction import friction_table
 from .geometry import RVGeometry
 
 
@@ -89,14 +90,16 @@ class QuasiStaticSolver:
     (:func:`._kernels.record`; keep it far below the pin forces: with a
     large ``tol_f`` near zero torque no pin may count, ``ST_LOST_CONTACT``);
     ``maxit``: Newton iterations per position;
-    ``maxstep`` (mm): longest Newton step (arc length).
+    ``maxstep`` (mm): longest Newton step (arc length);
+    ``friction``: the geometry's Coulomb friction for :meth:`friction_torques` (:mod:`.friction`; False or a
+    geometry without it: none).  The equilibria themselves are frictionless.
     """
 
     #: the kernel module the sweep runs on (the benchmarks set an earlier commit's to compare)
     kernels = K
 
     def __init__(self, geometry: RVGeometry, errors: ErrorState | None = None, *, tol_f: float = 1e-5,
-                 maxit: int = 200, maxstep: float = 0.02):
+                 maxit: int = 200, maxstep: float = 0.02, friction: bool = True):
         self.g = geometry
         self.errors = errors if errors is not None else ErrorState.zero(geometry.z_b)
         if self.errors.pin_err.shape != (3, L.N_DISC, geometry.z_b):
@@ -107,6 +110,7 @@ class QuasiStaticSolver:
         self.table = static_table(geometry, self.errors.err)
         self.pin_cs = pin_cos_sin(geometry)
         self.xs = geometry.arc_radii()
+        self.friction = friction_table(geometry.friction, geometry.z_b) if friction else None
 
     # -- the general entry point --------------------------------------------------------------
     def sweep(self, theta_c, torque, dth_s=0.0, q_start=None, load=None, period: int = 0) -> SweepResult:
@@ -139,6 +143,21 @@ class QuasiStaticSolver:
                                           cold, self.tol_f, self.maxit, self.maxstep, int(period), out_q,
                                           out_status, out_iter, out_rec)
         return SweepResult(theta_c, torque, out_q, out_status, out_iter, out_rec, int(failed))
+
+    def friction_torques(self, sweep: SweepResult) -> tuple[np.ndarray, np.ndarray]:
+        """``(T_f, parts)``: the friction torque at the output (N·mm) of every equilibrium of ``sweep``
+        (:func:`._kernels.friction_torques`, :mod:`.friction`) and its share per group ``[n, 3]`` (pins, needle
+        rows, crank-support pairs); zeros without friction."""
+        n = sweep.theta_c.size
+        tf, parts = np.zeros(n), np.zeros((n, 3))
+        if self.friction is None:
+            return tf, parts
+        e, t = self.errors, self.table
+        dth = np.zeros(n)
+        K.friction_torques(np.ascontiguousarray(sweep.theta_c), dth, np.ascontiguousarray(sweep.q), self.prm, e.err,
+                           e.pin_err, e.disc_h, self.pin_cs, t.kind, t.idx, t.k0, t.pw, t.gap, t.ser, t.tab,
+                           self.friction, self.xs, tf, parts)
+        return tf, parts
 
     def equilibrium(self, theta_c: float, torque: float, dth_s: float = 0.0, q_start=None) -> SweepResult:
         return self.sweep([theta_c], [torque], dth_s, q_start)
@@ -195,6 +214,7 @@ class QuasiStaticSolver:
         return self.sweep(theta, -T, period=int(per_crank_rev) if exact else 0)
 
     def torsion(self, torques, theta_c: float = 0.0, q_start=None) -> SweepResult:
-        """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn."""
+        """Input locked at the nominal position of ``theta_c``; carrier torques applied in turn (frictionless: the
+        friction of a hysteresis loop is referred to the output afterwards, :meth:`friction_torques`)."""
         torques = np.asarray(torques, dtype=float).ravel()
         return self.sweep(np.full(torques.size, float(theta_c)), torques, 0.0, q_start)

@@ -36,6 +36,10 @@ def mesh_order_note(mesh: int, n: int) -> str:
             f"revolution and shows aliased at order {alias}")
 
 
+ON_RIG = ("The TE the test rig ({rig}) reads, Δθ_er {pp:.4g}″: its largest orders, the measurement chain's (order 1: "
+          "output encoder; order i: input encoder) named first")
+
+
 def curve(res, o) -> list:
     m, g = res.model, res.model.geometry
     blocks = [Text(CURVE.format(how=res.how, load=m.load_torque / 1e3, share=100 * m.load_torque / g.rated_torque,
@@ -54,7 +58,8 @@ def curve(res, o) -> list:
                                                                  mesh=mesh_order_note(g.z_c * g.z_b, first.te.size))),
         Table(res.attributed, ORDERS.format(z_b=g.z_b, z_c=g.z_c, Z=g.z_b * g.z_c), "{:.4g}"),
         Table(res.families(), "Error families and their base orders per output revolution"),
-    ]
+    ] + ([] if res.on_rig is None else [
+        Table(res.on_rig, ON_RIG.format(rig=m.rig.name, pp=first.te_pp_rig), "{:.4g}")])
 
 
 def ranking_caption(s_ref: float) -> str:

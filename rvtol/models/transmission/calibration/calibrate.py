@@ -142,7 +142,7 @@ class Calibration:
         f = self.fit
         params = dict(self.design.params)
         for j, p in enumerate(f.parameters):
-            if p.kind == "compliance":
+            if p.kind in ("compliance", "friction"):
                 c = f.x[j]
                 for key, acts in zip(p.targets, p.acts):
                     old = params.get(key) or DesignParam(key, 1.0, "1", "as derived from first principles (scale 1)")
@@ -150,7 +150,7 @@ class Calibration:
                     value = (tuple(v / c for v in old.value) if isinstance(old.value, tuple) else old.value / c) \
                         if stiff else (tuple(v * c for v in old.value) if isinstance(old.value, tuple)
                                        else old.value * c)
-                    note = (self._note(j, "compliance scale ") + f"; applied to the design value {old.value!r} "
+                    note = (self._note(j, f"{p.kind} scale ") + f"; applied to the design value {old.value!r} "
                             f"{old.unit} ({'÷' if stiff else '×'} c), whose source was: {old.source}"
                             + (f" — {old.note}" if old.note else ""))
                     params[key] = DesignParam(key, value, old.unit, self.source, note)

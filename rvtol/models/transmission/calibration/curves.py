@@ -4,11 +4,18 @@
 factors; :mod:`.parameters`) into the 20-DOF model's values **at the measured abscissae**:
 
 * **torsion curve** — the input locked at its nominal position, the output torque set to each
-  measured torque (:meth:`QuasiStaticSolver.torsion`, doc 000's 20-DOF model).  Doc 000's model has
-  no friction, so away from zero torque its angle depends on the torque alone, not on the branch
+  measured torque (:meth:`QuasiStaticSolver.torsion`, doc 000's 20-DOF model).  Without friction the
+  angle away from zero torque depends on the torque alone, not on the branch
   (:mod:`rvtol.models.torsion_curve.model`): the positive torques are solved in increasing order
   from zero and the negative ones in decreasing order, each equilibrium warm-started from the
-  previous one, and the results put back in the file's order.
+  previous one, and the results put back in the file's order.  **With friction** (the design's
+  ``[friction]`` coefficients, :mod:`rvtol.models.transmission.friction`) the file's order is the
+  test's loading path: each point's branch moves the way the torque moved to it (d = ±1), and the model's
+  angle there is the frictionless angle at the elastic torque ``T_e`` with ``T_e + d T_f(T_e) = T``
+  (passes of the fixed point, each a frictionless solve of all points, until ``T_e`` moves by less than 1e-9
+  of the largest torque: three or four); after a turning point of
+  the load the angle keeps the turning point's until the branch reaches it (the contacts stick).  So a
+  fit sees the loop's width where the measured loop has it and does not read it as clearance.
 * **TE curve** — the input turned to each measured position under the measurement's resisting
   load torque (:meth:`QuasiStaticSolver.sweep`, the quasi-static TE of
   :mod:`rvtol.models.transmission`), positions solved in increasing order.
@@ -27,6 +34,7 @@ on the study's executor.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from types import MappingProxyType
 
 import numpy as np
@@ -36,6 +44,7 @@ from ....errors import InputError
 from ....model import STATUS_NONFINITE, Model, Quantity
 from .. import layout as L
 from ..factors import ErrorFactors
+from ..friction import friction_from_design
 from ..geometry import geometry_from_design
 from ..model import ST_BAD_CLEARANCE
 from ..quasistatic import QuasiStaticSolver
@@ -122,9 +131,17 @@ class CurveModel(Model):
             return nan, ST_BAD_CLEARANCE
         has_scale = any(p.kind == "compliance" for p in self.parameters)
         g = geometry_from_design(self.design_at(x)) if has_scale else self.geometry
+        if not has_scale and any(p.kind == "friction" for p in self.parameters):
+            g = replace(g, friction=friction_from_design(self.design_at(x)))
         solver = QuasiStaticSolver(g, st, **self.solver_options)
         out = []
         for m in self.measurements:
+            if m.kind == TORSION and solver.friction is not None:
+                y, status = _torsion_with_friction(solver, m)
+                if status:
+                    return nan, status
+                out.append(y)
+                continue
             y = np.full(m.n, np.nan)
             runs = _torsion_runs(m) if m.kind == TORSION else [np.argsort(m.x, kind="stable")]
             for idx in runs:
@@ -162,9 +179,62 @@ def defined(m: Measurement) -> np.ndarray:
     return m.x != 0.0 if m.kind == TORSION else np.ones(m.n, bool)
 
 
-def _torsion_runs(m: Measurement) -> list[np.ndarray]:
-    """Indices of the positive torques in increasing order and of the negative ones in decreasing order."""
-    pos = np.flatnonzero(m.x > 0)
-    neg = np.flatnonzero(m.x < 0)
-    return [a for a in (pos[np.argsort(m.x[pos], kind="stable")], neg[np.argsort(-m.x[neg], kind="stable")])
+def _torsion_runs(m: Measurement, x=None) -> list[np.ndarray]:
+    """Indices of the positive torques in increasing order and of the negative ones in decreasing order
+    (of ``x``, default the measured torques)."""
+    x = m.x if x is None else x
+    pos = np.flatnonzero(x > 0)
+    neg = np.flatnonzero(x < 0)
+    return [a for a in (pos[np.argsort(x[pos], kind="stable")], neg[np.argsort(-x[neg], kind="stable")])
             if a.size]
+
+
+#: fixed-point passes of the elastic torques of a torsion curve with friction, at most, and their tolerance (fraction
+#: of the largest measured torque), as the torsion-curve model's reading points
+FRICTION_PASSES, FRICTION_TOL = 12, 1e-9
+
+
+def path_directions(x) -> np.ndarray:
+    """Per point of a measured loading path, the direction the torque moved to it: +1 rising, −1 falling (the
+    first point from zero, or towards the second where it is zero; a repeated torque keeps the one before)."""
+    x = np.asarray(x, dtype=float)
+    d = np.sign(np.diff(x, prepend=0.0))
+    if d.size > 1 and d[0] == 0.0:
+        d[0] = np.sign(x[1] - x[0])
+    for k in range(d.size):
+        if d[k] == 0.0:
+            d[k] = d[k - 1] if k else 1.0
+    return d
+
+
+def _torsion_with_friction(solver: QuasiStaticSolver, m: Measurement) -> tuple[np.ndarray, int]:
+    """The model's angles at a measured torsion path with friction (module doc): ``(angles, status)``."""
+    x = m.x
+    d = path_directions(x)
+    te = x.copy()
+    y = np.full(m.n, np.nan)
+    scale = float(np.max(np.abs(x))) if x.size else 0.0
+    for _ in range(FRICTION_PASSES):
+        tf = np.zeros(m.n)
+        for idx in _torsion_runs(m, te):
+            r = solver.torsion(np.concatenate([[0.0], te[idx]]))
+            if not r.ok:
+                return y, r.failure
+            y[idx] = r.te[1:]
+            tf[idx] = solver.friction_torques(r)[0][1:]
+        if not np.all(np.isfinite(tf)):
+            return y, STATUS_NONFINITE
+        new = np.where(x != 0.0, x - d * tf, 0.0)
+        done = np.max(np.abs(new - te)) <= FRICTION_TOL * scale
+        te = new
+        if done:
+            break
+    # stick after a turning point: the angle stays the turning point's until the branch reaches it
+    for k in range(1, m.n):
+        if d[k] != d[k - 1]:
+            tip = y[k - 1]
+            j = k
+            while j < m.n and d[j] == d[k]:
+                y[j] = np.fmin(y[j], tip) if d[k] < 0 else np.fmax(y[j], tip)
+                j += 1
+    return y, 0

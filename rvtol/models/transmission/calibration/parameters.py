@@ -20,6 +20,14 @@ Four kinds, named by a prefix:
 ``factor.<name>``
     any single error factor of the 20-DOF model as it is named in a spec
     (:mod:`rvtol.models.transmission.factors`, e.g. ``factor.E_c`` or ``factor.delta_b[1,2]``).
+``friction.<group>``
+    a **friction scale** ``c`` (dimensionless, ≥ 0) of one friction group of the torsion curve
+    (:data:`rvtol.models.transmission.friction.KEYS`: ``pin``, ``needle``, ``crank_support``): it multiplies
+    the design's coefficient (``friction.pin_sliding`` …; the design must give it).  ``friction.all`` scales
+    every coefficient the design gives.  Friction widens the hysteresis loop in proportion to the torque (the
+    mid-line stays), a clearance opens it at zero torque only, a compliance changes the mid-line's slope: a
+    curve measured on both branches over a wide torque range tells them apart, so a calibration with a
+    friction parameter does not read the friction loop as clearance.
 ``offset.<measurement>``
     a constant added to one measured curve: the zero of a rig's angle encoder is arbitrary.  It
     enters the model linearly (its Jacobian column is exact) and costs no 20-DOF evaluation.
@@ -39,6 +47,8 @@ from ....errors import InputError
 from ....elements.reducer_chain import BASE_FAMILIES, scale_key
 from ....elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
 from ..factors import ErrorFactors
+from ..friction import KEYS as FRICTION_KEYS
+from ..friction import LABELS as FRICTION_LABELS
 
 STIFFNESS = "stiffness"     # the design key is a stiffness or k0: key / c
 COMPLIANCE = "compliance"   # the design key is a compliance or a compliance multiplier: key · c
@@ -108,9 +118,12 @@ CLEARANCES: dict[str, Clearance] = {
                      "pin-diameter and pin-circle measurements"),
 }
 
-KINDS = ("compliance", "clearance", "factor", "offset")
+KINDS = ("compliance", "friction", "clearance", "factor", "offset")
+FRICTION_SEPARATED_BY = ("the loop's width away from zero torque, both branches measured over a wide torque range "
+                         "(friction widens it in proportion to the torque; a clearance opens it at zero torque only)")
 DEFAULTS = {  # (start, lower, upper) as written in the display unit, display unit
     "compliance": ((1.0, 0.1, 10.0), "1"),
+    "friction": ((1.0, 0.0, 10.0), "1"),
     "clearance": ((1.0, 0.0, 50.0), "um"),
     "factor_length": ((0.0, -50.0, 50.0), "um"),
     "factor_angle": ((0.0, -180.0, 180.0), "deg"),
@@ -144,7 +157,7 @@ class Parameter:
         return units.from_base(v, self.unit)
 
     def acts_on(self) -> str:
-        if self.kind == "compliance":
+        if self.kind in ("compliance", "friction"):
             return ", ".join(f"{k} {'÷' if a == STIFFNESS else '×'} c" for k, a in zip(self.targets, self.acts))
         if self.kind == "offset":
             return f"added to every point of {self.targets[0]}"
@@ -156,8 +169,8 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
     """A :class:`Parameter` from its name (module docstring); ``start``/``bounds`` as written in ``unit``
     (default: the kind's display unit, :data:`DEFAULTS`).  Raises :class:`InputError` (key ``name`` etc.)."""
     if not isinstance(name, str) or "." not in name:
-        raise InputError(f"unknown parameter {name!r}: expected compliance.<family>, clearance.<name>, "
-                         f"factor.<factor> or offset.<measurement>", key="name")
+        raise InputError(f"unknown parameter {name!r}: expected compliance.<family>, friction.<group>, "
+                         f"clearance.<name>, factor.<factor> or offset.<measurement>", key="name")
     kind, _, what = name.partition(".")
     separated_by = ""
     acts: tuple[str, ...] = ()
@@ -178,6 +191,23 @@ def make_parameter(name: str, design: Design, *, start=None, bounds=None, unit: 
         if not targets:
             raise InputError("the design has none of the element families' keys", file=design.file, key="name")
         (s0, lo0, hi0), u0 = DEFAULTS["compliance"]
+    elif kind == "friction":
+        given = [g for g, key in FRICTION_KEYS.items() if key in design and float(design[key]) > 0.0]
+        if what == "all":
+            groups, label = given, "every friction coefficient of the design"
+        elif what in FRICTION_KEYS:
+            if what not in given:
+                raise InputError(f"the design gives no friction coefficient {FRICTION_KEYS[what]} (> 0) to scale",
+                                 file=design.file, key="name")
+            groups, label = [what], f"friction of the {FRICTION_LABELS[what]}"
+        else:
+            raise InputError(f"unknown friction group {what!r} (known: all, {', '.join(FRICTION_KEYS)})", key="name")
+        if not groups:
+            raise InputError("the design gives no friction coefficient ([friction] keys)", file=design.file,
+                             key="name")
+        targets = tuple(FRICTION_KEYS[g] for g in groups)
+        acts, separated_by = (COMPLIANCE,) * len(targets), FRICTION_SEPARATED_BY
+        (s0, lo0, hi0), u0 = DEFAULTS["friction"]
     elif kind == "clearance":
         if what not in CLEARANCES:
             raise InputError(f"unknown clearance {what!r} (known: {', '.join(CLEARANCES)})", key="name")
@@ -250,10 +280,11 @@ def check_parameters(params: list[Parameter], z_b: int = 40) -> None:
 
 
 def scaled_design_values(design: Design, params: list[Parameter], x) -> dict[str, float]:
-    """``{design key: base value}`` of the compliance parameters at ``x`` (base values, params' order)."""
+    """``{design key: base value}`` of the compliance and friction parameters at ``x`` (base values, params'
+    order)."""
     out = {}
     for p, v in zip(params, x):
-        if p.kind != "compliance":
+        if p.kind not in ("compliance", "friction"):
             continue
         for k, a in zip(p.targets, p.acts):
             old = design[k] if k in design else 1.0          # a compliance scale the design leaves at 1
