@@ -52,7 +52,9 @@ class _ParallelClock:
 
 
 def parallel_seconds() -> float:
-    """Wall time (s) this process has spent so far in parallel evaluation (:func:`evaluate`, :func:`map_chunks`)."""
+    """Wall time (s) this process has spent so far in parallel evaluation (:func:`evaluate`, :func:`map_chunks`):
+    the work the executor spreads over its workers (with one worker, the same work done in one process — the
+    part of a phase that more workers can speed up)."""
     return _PARALLEL["seconds"]
 
 
