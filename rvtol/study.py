@@ -65,6 +65,7 @@ import os
 import secrets
 import shutil
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -557,7 +558,8 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
             parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
 
     try:
-        with deferred_figures():    # figures are pickled as they are made and rendered together on the workers
+        # with several workers, figures are pickled as they are made and rendered together on the workers
+        with deferred_figures() if ex.workers > 1 else nullcontext():
             mc = timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
                                                               study.requirements, ex, o.chunk_size, o.progress,
                                                               o.confidence, store=store))
