@@ -8,9 +8,8 @@ is the best of its repeats and the load average is printed beside the table.
 
 Per phase: the best wall time at each W, the speed-up against W = 1, and the serial share ``s`` of
 Amdahl's law ``T(W) = T(1) (s + (1 − s)/W)`` fitted by least squares on ``T(W)/T(1) − 1/W = s (1 − 1/W)``.
-Beside it the CPU accounting of the one-worker run, which the load of other users does not distort: the
-main process's CPU time against the worker processes' (``main CPU share``: an upper bound of what can
-not run in parallel; the main process also pickles the chunks).
+Beside it the CPU time of the main process in the first configuration, which the load of other users does
+not inflate (with one worker it includes the work ``Evaluator.map`` then does in-process).
 
 ``--code DIR`` (repeatable) runs the same studies with ``PYTHONPATH=DIR`` — e.g. a pristine checkout of
 main beside this worktree, in the same session, for a before/after table.
@@ -38,7 +37,7 @@ from _timing import print_table
 ROOT = Path(__file__).resolve().parents[2]
 STUDIES = {"signoff": "rv80e_signoff.toml", "te": "transmission_error_rv80e.toml"}
 
-#: run the CLI in this process and report its own CPU time and that of its (reaped) worker processes
+#: run the CLI in this process and report its own CPU time
 _RUNNER = """
 import json, resource, sys
 from rvtol.cli import main
@@ -48,7 +47,6 @@ try:
 except SystemExit as e:
     code = e.code
 own = resource.getrusage(resource.RUSAGE_SELF)
-kids = resource.getrusage(resource.RUSAGE_CHILDREN)
 json.dump({"code": code, "main_cpu": own.ru_utime + own.ru_stime, "workers_cpu": kids.ru_utime + kids.ru_stime},
           open(out, "w"))
 """
@@ -74,10 +72,10 @@ def run_once(code_dir: Path, study: str, n: int, executor: str, workers: int, ou
 def amdahl(workers, times) -> float | None:
     """Serial share ``s`` from wall times at several worker counts (least squares; None below two counts)."""
     w = np.asarray(workers, float)
-    r = np.asarray(times, float) / times[0]
     a = 1.0 - 1.0 / w
-    if len(w) < 2 or not np.any(a > 0):
+    if len(w) < 2 or not np.any(a > 0) or not times[0] > 0:
         return None
+    r = np.asarray(times, float) / times[0]
     return float(np.clip(np.sum((r - 1.0 / w) * a) / np.sum(a * a), 0.0, 1.0))
 
 
@@ -115,17 +113,17 @@ def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
                 proc = [c for c in cfgs if c.startswith("process")]
                 s = amdahl([int(c.split()[1]) for c in proc], [t[c] for c in proc])
                 par = None if ph == "whole run" else first["phases"][ph].get("parallel")
-                cells = "  ".join(f"{c}: {t[c]:7.1f} s ({t[cfgs[0]] / t[c]:.2f}×)" for c in cfgs)
+                cells = "  ".join(f"{c}: {t[c]:7.1f} s ("
+                                  + (f"{t[cfgs[0]] / t[c]:.2f}×)" if t[c] > 0 else "—)") for c in cfgs)
                 extra = f"  Amdahl s = {s:.0%}" if s is not None else ""
                 if par is not None and t[cfgs[0]] > 0:
                     extra += f"  in parallel evaluation at 1 worker: {par / t[cfgs[0]]:.0%}"
                 rows.append((ph, cells, extra))
             loads = [r["load"] for c in cfgs for r in runs[(str(code), st, c)]]
-            cpu = first["main_cpu"] / max(first["main_cpu"] + first["workers_cpu"], 1e-9)
             print(f"\n{STUDIES[st]} --n {ns[st]} — code {code}; best of "
                   f"{len(runs[(str(code), st, cfgs[0])])}; load average {min(loads):.1f}–{max(loads):.1f} "
-                  f"on {os.cpu_count()} cores; main CPU share at 1 worker {cpu:.0%} "
-                  f"({first['main_cpu']:.1f} s main, {first['workers_cpu']:.1f} s workers)")
+                  f"on {os.cpu_count()} cores; CPU time of the main process at {cfgs[0]}: "
+                  f"{first['main_cpu']:.1f} s")
             print_table(rows, headers=("phase", "wall time (speed-up against the first column)", ""))
 
 
