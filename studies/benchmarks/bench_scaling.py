@@ -47,7 +47,7 @@ try:
 except SystemExit as e:
     code = e.code
 own = resource.getrusage(resource.RUSAGE_SELF)
-json.dump({"code": code, "main_cpu": own.ru_utime + own.ru_stime, "workers_cpu": kids.ru_utime + kids.ru_stime},
+json.dump({"code": code, "main_cpu": own.ru_utime + own.ru_stime},
           open(out, "w"))
 """
 
