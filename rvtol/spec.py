@@ -82,8 +82,11 @@ Requirements (in a study or ``data/requirements/*.toml``)::
 """
 from __future__ import annotations
 
+from collections import Counter
+
 import re
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -190,7 +193,7 @@ class ToleranceSpec:
 
     def __post_init__(self):
         names = [f.name for f in self.factors]
-        dup = {n for n in names if names.count(n) > 1}
+        dup = {n for n, c in Counter(names).items() if c > 1}
         if dup:
             raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
         check_zones(self.factors, self.file)
@@ -205,9 +208,13 @@ class ToleranceSpec:
     def __iter__(self):
         return iter(self.factors)
 
-    @property
+    @cached_property
     def names(self) -> tuple[str, ...]:
         return tuple(f.name for f in self.factors)
+
+    @cached_property
+    def _positions(self) -> dict[str, int]:
+        return {n: i for i, n in enumerate(self.names)}
 
     @property
     def units(self) -> tuple[str, ...]:
@@ -215,8 +222,8 @@ class ToleranceSpec:
 
     def index(self, name: str) -> int:
         try:
-            return self.names.index(name)
-        except ValueError:
+            return self._positions[name]
+        except KeyError:
             raise InputError(f"unknown factor name {name!r}{did_you_mean(name, self.names)} "
                              f"(spec has: {', '.join(self.names)})",
                              file=self.file, key="factor") from None
@@ -382,9 +389,11 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
     factors = [f for t in tables for f in factors_from_params(t)]
     names = [f.name for f in factors]
     origin = [t for t in tables for _ in range(_multiplicity(t))]
+    seen: set[str] = set()
     for i, n in enumerate(names):
-        if names.index(n) != i:
+        if n in seen:
             raise origin[i].error("name", f"duplicate factor name {n!r}")
+        seen.add(n)
     corr = correlation_from_tables(root.tables("correlation"), names)
     root.raw("rig", None)       # a test rig's description holds its parameters beside its tolerances (models.transmission.rig)
     root.finish()
@@ -476,6 +485,7 @@ def factor_from_params(p: Params) -> Factor:
     zone = position_zone(p, drawing)
     gdt = material_condition(p, drawing, zone)
     p.finish(allow=("multiplicity",))
+    _nominal_stated(p, drawing)
     limits = drawing.limits if drawing is not None else None
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
                   limits=limits, measured=measured, zone=zone, **gdt)
@@ -518,9 +528,21 @@ def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
     p.raw("tolerance")
     nominal = p.float("nominal", None)
     try:
-        return parse_tolerance(text, nominal=nominal, unit=unit)
+        tol = parse_tolerance(text, nominal=nominal, unit=unit)
     except NotationError as exc:
         raise p.error("tolerance", exc.reason) from None
+    return tol
+
+
+def _nominal_stated(p: Params, drawing: Tolerance | None) -> None:
+    """Deviations from a nominal the table does not give (``±0.1``, ``+0/-0.12`` without ``nominal``): read about 0
+    they would invent one — refused, as a spreadsheet's missing nominal cell is (:mod:`rvtol.inputs.table_spec`)."""
+    if drawing is None or "nominal" in p.data or drawing.nominal is not None \
+            or drawing.form not in ("symmetric", "deviations") or any(k in p.data for k in ("mean", "median", "mode")):
+        return
+    raise p.error("nominal", f"missing nominal: the tolerance {p.data['tolerance']!r} is a deviation from it (write "
+                             "nominal = 0 for a factor that is itself a deviation from its nominal, e.g. a position "
+                             "or form error)")
 
 
 def band_distribution(p: Params, tol: Tolerance) -> Distribution:

@@ -33,8 +33,8 @@ from rvtol.study import load_study
 ROOT = Path(__file__).resolve().parents[1]
 N = int(sys.argv[1]) if len(sys.argv) > 1 else 600
 SEED = 20261123
-OUTS = ["reducer.lost_motion", "reducer.backlash", "stackup.pin_ring_1_misfit.margin",
-        "stackup.pin_ring_2_misfit.margin", "torsion.torsional_rigidity", "build.pins.clearance"]
+MARGINS = ["pin_ring.disc_1.margin", "pin_ring.disc_2.margin"]
+OUTS = ["reducer.lost_motion", "reducer.backlash", *MARGINS, "torsion.torsional_rigidity", "build.pins.clearance"]
 
 
 def with_fits(model, rules, **minimum_um):
@@ -54,8 +54,8 @@ def replace_build(model, rules):
 def trial_fit(st, rules, X):
     """X with the needles and shims as built and the pin set chosen by a TRIAL fit in the assembled reducer: the
     largest gauge with which both discs, where their cranks put them, keep the pins' minimum clearance in the pin
-    ring — margin_j = n0_j + ḡ − offset_j ≥ minimum (the stack-up's pin-ring KC, mapping.md §6), read on the true
-    parts (a trial, no gauge)."""
+    ring — the per-pin fit margin of each disc ≥ minimum (stage pin_ring, mapping.md §6), read on the true parts (a
+    trial, no gauge)."""
     from rvtol.production.selective import Classes
 
     drawn = st.model.without_build()
@@ -64,11 +64,11 @@ def trial_fit(st, rules, X):
     Xb = X.copy()
     for name, v in changed.items():
         Xb[:, st.spec.index(name)] = v
-    su = drawn.restricted(["stackup.pin_ring_1_misfit.margin", "stackup.pin_ring_2_misfit.margin"])
+    su = drawn.restricted(MARGINS)
     margin = su.evaluate(Xb).min(axis=1)                  # the tighter disc's margin with the build's pin set
     pins = next(f for f in rules.fits if f.name == "pins")
     lot = Xb[:, st.spec.index("pins.diameter_lot")]
-    target = lot + margin - pins.minimum                  # the margin moves 1:1 with −δd (ḡ = δD_g/2 − δd − w̄)
+    target = lot + margin - pins.minimum                  # the margin moves 1:1 with −δd (every g_k = δD_g/2 − δd − w_k)
     Xt = Xb.copy()
     Xt[:, st.spec.index("pins.diameter_lot")] = pins.sizes[Classes(np.append(pins.sizes, np.inf)).of(target)]
     return Xt
@@ -78,7 +78,7 @@ def table_row(label, Y, status, model):
     ok = status == 0
     col = lambda o: units.from_base(Y[:, model.output_index(o)], model.output(o).shown_unit)  # noqa: E731
     lm, bl = col("reducer.lost_motion"), col("reducer.backlash")
-    m1, m2 = col("stackup.pin_ring_1_misfit.margin"), col("stackup.pin_ring_2_misfit.margin")
+    m1, m2 = (col(o) for o in MARGINS)
     fits = lambda y, lo, hi: int(((y >= lo) & (y <= hi) & ok).sum())  # noqa: E731
     n = len(ok)
     row = {"case": label, "failed": int((~ok).sum()),

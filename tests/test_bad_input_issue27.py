@@ -387,3 +387,30 @@ def test_a_magnitude_with_a_nonzero_nominal_must_say_where_it_starts(tmp_path):
 
     with pytest.raises(InputError, match=r"factor\[0\]\.nominal: a rayleigh factor is a magnitude"):
         _one_factor_spec(tmp_path, 'nominal = 0.01\ndist = "rayleigh"\ntolerance = 0.02\n')
+
+
+@pytest.mark.parametrize("tolerance", ["+0/-0.12", "±0.1"])
+def test_a_toml_factor_in_deviations_needs_its_nominal(tmp_path, tolerance):
+    """As a spreadsheet's missing nominal cell: deviations read about an unstated nominal would invent 0."""
+    from rvtol.errors import InputError
+
+    with pytest.raises(InputError, match=r"factor\[0\]\.nominal: missing nominal"):
+        _one_factor_spec(tmp_path, f'tolerance = "{tolerance}"\n')
+    assert _one_factor_spec(tmp_path, f'nominal = 0\ntolerance = "{tolerance}"\n').factors[0].nominal == 0
+    assert _one_factor_spec(tmp_path, f'nominal = 5\ntolerance = "{tolerance}"\n').factors[0].dist.mean > 4.8
+
+
+def test_a_measured_files_header_is_not_echoed(tmp_path):
+    """The first line of a file a study names may hold anything (a credential pasted by mistake): an error names a
+    close column only, never the line."""
+    from rvtol.errors import InputError
+    from rvtol.inputs.measured import read_measurements
+
+    p = tmp_path / "m.csv"
+    p.write_text("AWS_SECRET_ACCESS_KEY=wJalrEXAMPLEKEY\n1.0\n2.0\n")
+    with pytest.raises(InputError) as e:
+        read_measurements(p, "bore")
+    assert "wJalr" not in str(e.value) and "no column 'bore'" in str(e.value)
+    p.write_text("bore_d,x\n1.0,2\n2.0,3\n")
+    with pytest.raises(InputError, match="did you mean 'bore_d'"):
+        read_measurements(p, "bore_dd")

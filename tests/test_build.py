@@ -261,8 +261,8 @@ def test_the_composition_sees_the_parts_as_built(product):
     """model(X) = model without the build on X with every set factor at its as-built value (here the stages up to
     the stack-up and doc 001's screening: the build acts on the inputs, not on the physics)."""
     st, rules = product
-    outs = ["stackup.pin_ring_1_misfit.margin", "screening.lost_motion", "screening.crank_bearing",
-            "build.pins.clearance"]
+    outs = ["pin_ring.disc_1.margin", "screening.lost_motion", "screening.crank_bearing",
+            "build.pins.clearance", "pin_ring.disc_1.clearance_min"]
     m = st.model.restricted(outs)
     from rvtol.sampling import sample
 
@@ -278,9 +278,21 @@ def test_the_composition_sees_the_parts_as_built(product):
     for o in outs[:3]:
         np.testing.assert_array_equal(Y[:, m.output_index(o)], Y0[:, m0.output_index(o)], err_msg=o)
     np.testing.assert_array_equal(Y[:, m.output_index(outs[3])], named["build.pins.clearance"])
-    # the disc's play in its pin ring is the fitted pin-stage clearance at the tighter disc (mapping.md §6: n0_j + ḡ)
-    y = m.evaluate(st.spec.nominal_base()[None])[0]
-    assert y[m.output_index(outs[0])] == pytest.approx(y[m.output_index(outs[3])], abs=1e-12)
+    # the disc's clearance in its pin ring is the fitted pin-stage clearance at the tighter disc, n0 + g at φ0, plus
+    # n(φ_k) − n0 at the pin nearest φ0 (mapping.md §6): here the nominal reducer without its pattern amplitudes
+    # (all pins alike) and with no disc offset, whose margin is that pin's clearance (a symmetric ring: no turn)
+    x = st.spec.nominal_base()
+    for n in ("housing.pin_grooves.radial_harmonic", "housing.pin_grooves.cumulative_pitch", "disc_1.profile.form",
+              "disc_1.profile.cumulative_pitch", "disc_2.profile.form", "disc_2.profile.cumulative_pitch"):
+        x[st.spec.index(n)] = 0.0
+    y = m.evaluate(x[None])[0]
+    zb, e, rp = st.design["pin.count"], st.design["cycloid.eccentricity"], st.design["pin.circle_radius"]
+    k1 = zb * e / rp
+    phi = 2 * np.pi * np.arange(int(zb)) / zb
+    n = -22.11 - (-30.0) * (1 - k1 * np.cos(phi)) / np.sqrt(1 + k1 * k1 - 2 * k1 * np.cos(phi))   # n(φ_k), µm
+    n0 = -22.11 + c1_of(st.design) * 30.0
+    assert y[m.output_index(outs[4])] / UM == pytest.approx(y[m.output_index(outs[3])] / UM + n.min() - n0, abs=1e-9)
+    assert y[m.output_index(outs[0])] == pytest.approx(y[m.output_index(outs[4])], abs=1e-15)
 
 
 def test_the_signoff_nominal_lost_motion_is_the_hand_sum_of_its_parts(product):

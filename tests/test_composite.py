@@ -288,6 +288,16 @@ def test_design_numbers_and_a_shared_mapping(tmp_path):
     with pytest.raises(InputError) as exc:
         load_study(write(tmp_path / "b.toml", bad))
     assert exc.value.key == "model[2].same_inputs_as"
+    # [model.inputs] beside same_inputs_as adds inputs of the model's own; it cannot remap the shared ones
+    more = text.replace('same_inputs_as = "lm"', 'same_inputs_as = "lm"\n[model.inputs]\n"Delta_r_c" = "c3"')
+    m2 = load_study(write(tmp_path / "d.toml", more), progress=False).model
+    assert m2.stage("lm2").model.inputs == ("Delta_b", "Delta_r_c")
+    assert m2.stage("lm2").inputs[0] == m2.stage("lm").inputs[0] and m2.stage("lm2").inputs[1].text == "c3"
+    env2, _ = m2.environment(np.array([[0.001, 0.0005, 0.002]]))
+    assert env2["lm2.lost_motion"][0] > env2["lm.lost_motion"][0]         # 2 µm more profile clearance
+    with pytest.raises(InputError) as exc:
+        load_study(write(tmp_path / "e.toml", more.replace('"Delta_r_c" = "c3"', '"Delta_b" = "c3"')))
+    assert exc.value.key == "model[2].inputs.Delta_b" and "already mapped by same_inputs_as" in exc.value.reason
     bad = text.replace("design.cycloid.eccentricity", "design.cycloid.nothing")
     with pytest.raises(InputError) as exc:
         load_study(write(tmp_path / "c.toml", bad))

@@ -169,13 +169,26 @@ def test_report_html_carries_the_baseline_comparison(tmp_path):
     assert rc2 == 1
 
 
-def test_study_descriptions_carry_no_development_references():
-    """A customer-facing report shows the study's description: no 'Issue 11.'-style references to the tracker."""
+def test_study_and_data_files_carry_no_development_references():
+    """A customer-facing report shows the study's title and description and the data's sources and reasons: no
+    'Issue 11.'-style references to the tracker in any value of a study or data file (comments may keep them)."""
     import tomllib
 
-    for p in (ROOT / "studies").glob("*.toml"):
-        desc = tomllib.loads(p.read_text(encoding="utf-8")).get("study", {}).get("description", "")
-        assert not re.search(r"\b[Ii]ssue \d+", desc), p.name
+    def strings(v, path):
+        if isinstance(v, dict):
+            for k, x in v.items():
+                yield from strings(x, f"{path}.{k}")
+        elif isinstance(v, list):
+            for i, x in enumerate(v):
+                yield from strings(x, f"{path}[{i}]")
+        elif isinstance(v, str):
+            yield path, v
+
+    files = [*(ROOT / "studies").rglob("*.toml"), *(ROOT / "data").rglob("*.toml")]
+    bad = [(f"{p.relative_to(ROOT)}{where}", v[:60]) for p in files if p.name != "pyproject.toml"
+           for where, v in strings(tomllib.loads(p.read_text(encoding="utf-8")), "")
+           if re.search(r"\b[Ii]ssues? \d+", v)]
+    assert bad == []
 
 
 def test_spread_scale_reads_the_tail_of_the_samples():
@@ -215,3 +228,19 @@ def test_a_drawing_tolerance_reads_short_in_a_cell():
                        "circle ø153 js3 (±4 µm on the diameter)") == "pin housing: pin-groove circle: groove-centre circle ø153 js3"
     assert short_label("a (b (c) d) e") == "a e"
     assert short_label("x" * 80, width=10) == "x" * 9 + "…"
+
+
+def test_requirements_more_samples_would_decide_share_one_row():
+    """Eleven undecided requirements are one line of the first page, with the largest n (each is demonstrated by it
+    if its figures hold), not eleven."""
+    from rvtol.report.signoff import _one_more_samples_row
+
+    rows = [{"requirement": "a", "fix": "more samples", "what to do": "run n = 2,000 samples", "what it gives": "",
+             "evidence": "estimate"},
+            {"requirement": "a", "fix": "tighten", "what to do": "scale x", "what it gives": "", "evidence": ""},
+            {"requirement": "b", "fix": "more samples", "what to do": "run n = 12,345 samples", "what it gives": "",
+             "evidence": "estimate"}]
+    out = _one_more_samples_row(rows)
+    assert [r["fix"] for r in out] == ["more samples", "tighten"]
+    assert out[0]["requirement"] == "a; b" and out[0]["what to do"] == "run n = 12,345 samples"
+    assert _one_more_samples_row(rows[:2]) == rows[:2]

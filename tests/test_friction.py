@@ -342,3 +342,16 @@ def test_reading_point_stuck_at_the_far_edge_of_the_free_play():
     # a root on the negative one too (T1 > p)
     got = m._reading(_SpringSolver(k, c, 10.0, 40.0), r, np.where(torque > 0, 10.0, 40.0), branch, 0, p)
     assert got[3] == pytest.approx(p - 10.0, rel=1e-9) and got[2] == pytest.approx(c + (p - 10.0) / k, rel=1e-9)
+
+
+def test_a_clearance_free_reducer_with_friction_has_its_loop(product):
+    """The clearance-free, error-free reducer (the torsion-curve report's first curve): no free play, so a reading
+    that sticks at the edge of the play is solved at a small load its contacts can carry (their laws k0·P^0.1 have
+    no stiffness at zero load) — a curve, not 'contact lost everywhere' — and its readings are the frictionless
+    ones moved by the friction as on a reducer with play."""
+    with_, without = (TorsionCurveModel(product, (), friction=f).curve() for f in (True, False))
+    assert with_.ok and without.ok, with_.reason
+    w, wo = with_.metrics(3.0), without.metrics(3.0)
+    assert w.friction_width > 0.1 * math.pi / 180 / 3600 and wo.friction_width < 1e-9 * w.friction_width
+    assert abs(w.lost_motion - wo.lost_motion) < 0.1 * w.friction_width
+    assert wo.rigidity < w.rigidity < 1.1 * wo.rigidity

@@ -44,20 +44,50 @@ def _stackup_matrix(model: CompositeModel, X):
     return st.model, CompositeModel.stage_matrix(st, env, len(X))
 
 
-def test_the_study_composes_five_models_on_the_drawing_spec(study):
+def test_the_study_composes_six_models_on_the_drawing_spec(study):
     m = study.model
     # 281 drawing factors (tolerances.toml), the TE rig's 4 (data/rigs/te_rig_single_head.toml) and the 19 gauge
     # errors of the build (build.toml)
     assert len(study.spec) == 281 + 4 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
     assert sum(n.startswith("rig.") for n in m.inputs) == 4
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer"]
-    torsion, te = m.stage("torsion"), m.stage("te")
+    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer", "pin_ring"]
+    torsion, te, ring = m.stage("torsion"), m.stage("te"), m.stage("pin_ring")
     n = len(torsion.model.inputs)          # same_inputs_as, and the rig's measurement chain beside it
     assert te.model.inputs[:n] == torsion.model.inputs and te.inputs[:n] == torsion.inputs
     assert te.model.inputs[n:] == RIG_INPUTS
+    # the pin-ring fit: the torsion curve's mapping (the pins' clearances) and the stack-up's disc places
+    assert ring.model.inputs[:n] == torsion.model.inputs and ring.inputs[:n] == torsion.inputs
+    assert [e.text for e in ring.inputs[n:]] == [f"stackup.disc_{j}_in_pin_ring.{c}" for j in (1, 2)
+                                                 for c in ("u", "v", "alpha", "beta")]
     assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
     assert {r.output for r in study.requirements} <= set(m.output_names)
+
+
+def test_the_discs_place_in_the_pin_ring_is_the_chain_through_crank_1(drawn, study):
+    """disc_j_in_pin_ring (u, v) at the disc's mid-plane z_j, housing axes: the carrier's axis in the housing
+    H(z_j) + crank 1's axis in the carrier a_1(z_j) + cam j on crank 1 c_1j − the disc's hole 1 h_j1 (the disc goes
+    onto crank 1's cam, centred; at the reference position every part's axes are the housing's) — exactly to first
+    order (the analytic linearisation); the exact-rotation chain differs by second-order terms only (products of
+    the parts' tilts, ~3e-4 rad, with lever arms up to the 42-mm crank circle: nanometres), which the same sample
+    at half its deviations shows: the difference falls by 4."""
+    X, v = drawn
+    su, Xs = _stackup_matrix(study.model, X)
+    J = su.jacobian()
+    rest = []
+    for scale in (1.0, 0.5):
+        devs, status = su.kc_deviations(scale * Xs)
+        assert (status == 0).all()
+        r = []
+        for j in (1, 2):
+            z = ref.Z_DISC[j]
+            uv = (ref.axis_at(v, "housing.main_raceways.coaxiality", z) + ref.a(v, 1, z) + ref.cam(v, 1, j)
+                  - ref.hole(v, j, 1)) * UM * scale
+            name = f"disc_{j}_in_pin_ring"
+            np.testing.assert_allclose(scale * (Xs @ J[name].T)[:, :2], uv, rtol=0, atol=1e-12, err_msg=name)
+            r.append(np.abs(devs[name][:, :2] - uv).max())
+        rest.append(max(r))
+    assert rest[0] < 5e-6 and rest[1] == pytest.approx(rest[0] / 4, rel=0.1)
 
 
 def test_stackup_kcs_equal_the_direct_formulas(drawn, study):
@@ -183,7 +213,10 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
     a full revolution, sees every pin).  And the sizes the needle sets are fitted to: at the nominal every set
     is fitted to 1 µm two-point clearance, less than the nominal cylindricities (0.73 + 0.55 µm), so it is
     slightly preloaded (zero clearance in the 20-DOF model, mapping.md §3); a bore or eccentric step moves the
-    gauge chosen and the fitted clearance, not the physics."""
+    gauge chosen and the fitted clearance, not the physics.  The discs' per-pin fit in the pin ring is a minimum
+    over the pins too: a pin's own factor moves it only if the step can make that pin one of the tightest — a pin
+    whose clearance against a disc is within the 5-µm step of that disc's tightest (the pins along the eccentric
+    have 12.9 µm, those near φ0 = 38.3° from it 1.8 µm, mapping.md §6)."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -195,7 +228,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         Y, status = m.evaluate_with_status(X)
         assert (status == 0).all()
         runs.append(Y)
-    unused, inactive = [], set()
+    unused, inactive, ring_pins = [], set(), set()
     for j, f in enumerate(study.spec.factors):
         moved = {o for i, o in enumerate(m.output_names) if any(Y[0, i] != Y[j + 1, i] for Y in runs)}
         want = {o for o, d in deps.items() if f.name in d}
@@ -209,9 +242,15 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                 (f.name, missing)
             assert f.name in NEEDLE_FORMS or any(o.startswith("build.needles.") for o in moved), f.name
             continue
-        assert all(o.startswith(("torsion.", "reducer.")) for o in missing) and (not missing or f.family), (f.name, missing)
-        inactive |= {f.name} if missing else set()
+        assert all(o.startswith(("torsion.", "reducer.", "pin_ring.")) for o in missing) and (not missing or f.family), (f.name, missing)
+        inactive |= {f.name} if any(not o.startswith("pin_ring.") for o in missing) else set()
+        if f.family and any(o.startswith("pin_ring.") for o in moved):
+            ring_pins.add(int(f.name.split("[")[1].split("]")[0]))
         unused += [] if moved else [f.name]
+    # the per-pin factors that move the pin-ring fit belong to pins a 5-µm step can make the tightest against a disc
+    C = m.stage("pin_ring").model.clearances(m.stage_inputs("pin_ring", x0[None]))[0]
+    near = {k + 1 for k in range(C.shape[1]) if any(C[j, k] - C[j].min() <= 5e-3 * (1 + 1e-3) for j in (0, 1))}
+    assert ring_pins and ring_pins <= near and not {1, 21} & near, sorted(ring_pins - near)
     # a minority of the 120 per-pin factors: 43 at the built nominal, where the needle sets are fitted to zero play
     # and the cranks hold each disc, so the backlash (a minimum over the pins) sees only the pins that close first;
     # 4 on the same parts as drawn (needle play 2.7 µm lets the disc find more pins); 26 before issue 23
@@ -237,10 +276,11 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
     # which crank 1 locates
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
                                           "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
-    # the groove size: every pin's clearance g_k, their mean ḡ (doc 001's ξ, the pin-ring play) and, through the
-    # pin set the build chooses from it, the fitted pin-stage clearance
-    ("housing.pin_groove.diameter", {"pin_clearance_mean", "stackup.pin_ring_1_misfit.margin",
-                                     "stackup.pin_ring_2_misfit.margin", "screening.lost_motion",
+    # the groove size: every pin's clearance g_k (the 20-DOF stages and the discs' per-pin fit in the pin ring), their
+    # mean ḡ (doc 001's ξ) and, through the pin set the build chooses from it, the fitted pin-stage clearance
+    ("housing.pin_groove.diameter", {"pin_clearance_mean", "pin_ring.disc_1.margin", "pin_ring.disc_2.margin",
+                                     "pin_ring.disc_1.clearance_min", "pin_ring.disc_2.clearance_min",
+                                     "screening.lost_motion",
                                      "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF),
     # the end play of crank 1's bearing stack sets the preload its shim leaves
     ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),

@@ -111,8 +111,8 @@ def test_an_undefined_derivative_is_an_error_not_a_zero():
 
 
 def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
-    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm"},
-                                       {"name": "w", "tolerance": "±0.05", "unit": "mm"}]})
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0},
+                                       {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}]})
     m = FormulaModel.from_spec(spec, {"y": ("abs(u) + 2*w", "mm")})
     x0 = spec.nominal_base()
     sl = one_sided_slopes(m, spec, "y")

@@ -53,7 +53,7 @@ import numpy as np
 from scipy import special, stats
 
 from ..distributions import Distribution, coverage
-from ..errors import InputError, SpecError
+from ..errors import did_you_mean, InputError, SpecError
 from .sheets import byte_progress, stream_rows
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
@@ -763,7 +763,9 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         hits = [i for i, h in enumerate(header) if h == str(column)] or \
                [i for i, h in enumerate(header) if h.lower() == str(column).lower()]
         if not hits:
-            raise SpecError(f"no column {column!r} (columns: {', '.join(h for h in header if h)})",
+            # the header's cells are not echoed (a file's first line may hold anything): a close name only
+            raise SpecError(f"no column {column!r} in the header row"
+                            f"{did_you_mean(str(column), [h for h in header if h and len(h) <= 64])}",
                             file=file, key=f"{where_sheet}row {r0}")
         if len(hits) > 1:
             raise SpecError(f"column {column!r} appears {len(hits)} times", file=file, key=f"{where_sheet}row {r0}")

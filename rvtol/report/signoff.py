@@ -6,6 +6,8 @@ the same section opens report.html, report.pdf and the one-page summary.pdf.
 """
 from __future__ import annotations
 
+import re
+
 import pandas as pd
 
 from ..callouts import short_label
@@ -109,10 +111,26 @@ def _fixes(sec: Section, result, digests) -> None:
                 sources.append(f.source)
     if not rows:
         return
+    rows = _one_more_samples_row(rows)
     sec.add_table(pd.DataFrame(rows), caption="What to change, cheapest kind first (more samples, re-centre a "
                   "nominal, tighten tolerances, redesign)", text=True)
     if sources:
         sec.blocks.append(Links([(k, titles[k]) for k in dict.fromkeys(sources)], "Details"))
+
+
+def _one_more_samples_row(rows: list[dict]) -> list[dict]:
+    """The requirements more samples would decide, in one row: the largest n demonstrates each (the page stays one
+    page when many requirements are undecided)."""
+    more = [r for r in rows if r["fix"] == "more samples"]
+    if len(more) < 2:
+        return rows
+    n = lambda r: int(re.sub(r"\D", "", r["what to do"]) or 0)  # noqa: E731  ("run n = 12,345 samples")
+    top = max(more, key=n)
+    one = {**top, "requirement": "; ".join(r["requirement"] for r in more),
+           "what it gives": "the estimates already meet these requirements; this n would demonstrate each if the "
+                            "figures hold"}
+    first = rows.index(more[0])
+    return [one if i == first else r for i, r in enumerate(rows) if r["fix"] != "more samples" or i == first]
 
 
 def _baseline(sec: Section, cmp) -> None:

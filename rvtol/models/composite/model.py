@@ -32,8 +32,8 @@ Study file (several ``[[model]]`` tables instead of one ``[model]``)::
     [[model]]
     name = "te"
     kind = "transmission_error"
-    same_inputs_as = "torsion"         # the mapping of an earlier model ([model.inputs] beside it: added to it,
-                                       # or overriding its entries)
+    same_inputs_as = "torsion"         # the mapping of an earlier model; a [model.inputs] beside it adds
+                                       # inputs of this model's own (it cannot remap the earlier model's)
 
 Every expression (:mod:`rvtol.expressions`) reads names in base units: factors, quantities
 declared before it, outputs of stages declared before it (``stage.output``) and numbers of the
@@ -411,6 +411,9 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
             exprs = dict(zip(src.model.inputs, src.inputs))
         inp = t.sub("inputs", {})
         for k in inp.keys():
+            if k in exprs:
+                raise inp.error(k, f"already mapped by same_inputs_as = {t.str('same_inputs_as')!r} ([model.inputs] "
+                                   "beside same_inputs_as adds inputs; it does not remap them)")
             try:
                 exprs[k] = Expression.parse(inp.raw(k))
             except InputError as exc:

@@ -417,6 +417,17 @@ class TorsionCurveModel(Model):
             _, angle, f, q = point(te)
             return b, tau, angle, te, f, q
 
+        def edge(side):
+            """The elastic torque just past the free play on ``side``: EDGE of rated, or EPSILON where no contact
+            carries so small a load (a clearance-free reducer: its contact laws have no stiffness at zero load)."""
+            for frac in (EDGE, EPSILON):
+                try:
+                    point(side * frac * T)
+                    return side * frac * T
+                except _Failed as exc:
+                    failed = exc
+            raise failed
+
         sides = (-d, d) if b > 0 else (d,)
         on = np.flatnonzero(branch == b)
         try:
@@ -434,13 +445,13 @@ class TorsionCurveModel(Model):
             for side in sides:
                 if fixed is not None and np.sign(fixed) == side:
                     return found(fixed)
-                lo, hi = sorted((side * EDGE * T, side * reach))
+                lo, hi = sorted((edge(side), side * reach))
                 glo, ghi = point(lo)[0] - tau, point(hi)[0] - tau
                 if glo * ghi <= 0.0:
                     te = optimize.brentq(lambda t: point(t)[0] - tau, lo, hi, xtol=READING_TOL * T, rtol=1e-15,
                                          maxiter=200)
                     return found(te)
-            return found(d * EDGE * T)
+            return found(edge(d))
         except _Failed as exc:
             return exc.status
 

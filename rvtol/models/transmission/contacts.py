@@ -1,7 +1,8 @@
 """The static part of the contact table: which DOFs each contact touches and its force law.
 
 The time-dependent coefficients and the error offsets are written by
-:func:`._kernels.update_table` at every position.  With a compliance chain (:mod:`.compliance`) a
+:func:`._kernels.update_table` at every position (:func:`pin_contacts` reads the cycloid–pin rows of that
+table at one position: the geometry a fit check of the discs in the pin ring needs).  With a compliance chain (:mod:`.compliance`) a
 contact's law becomes a series law (``ser``, ``tab``; layout in :mod:`.layout`): linear terms of the
 meshes are folded into their stiffness, the others are evaluated by :func:`._kernels.series_law`.
 """
@@ -11,7 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _kernels as K
 from . import layout as L
+from .factors import ErrorState
 from .geometry import RVGeometry
 
 
@@ -106,3 +109,38 @@ def pin_angles(g: RVGeometry) -> np.ndarray:
 def pin_cos_sin(g: RVGeometry) -> np.ndarray:
     th = pin_angles(g)
     return np.ascontiguousarray(np.stack([np.cos(th), np.sin(th)]))
+
+
+@dataclass(frozen=True)
+class PinContacts:
+    """The cycloid–pin contacts of both discs at one position, as the kernel's contact table writes them.
+
+    Disc j's frame is its eccentric frame (x along the eccentric u_e, at the absolute angle ``eccentric[j]``).
+    A disc displaced by ``d`` (its centre, in that frame) and turned by ``ψ`` about its centre approaches pin
+    k by ``normal[j, k]·d + arm[j, k]·ψ`` (doc 000 §1.3, contact 4: η cos α + e Δθ_do sin α + R_d Δθ_d sin α,
+    with d = (η, e Δθ_do)); the pin touches when the approach reaches ``clearance[j, k]``.
+    """
+
+    normal: np.ndarray      # [N_DISC, z_b, 2] contact normal (cos α, sin α): from the pitch point P to pin k
+    arm: np.ndarray         # [N_DISC, z_b] moment arm about the disc centre, R_d sin α = z_c e sin α (mm)
+    clearance: np.ndarray   # [N_DISC, z_b] normal clearance (mm): −(the table's offset), every error included
+    eccentric: np.ndarray   # [N_DISC] absolute angle of disc j's eccentric direction u_e (rad)
+
+
+def pin_contacts(g: RVGeometry, errors: ErrorState, theta_c: float = 0.0) -> PinContacts:
+    """The pin rows of :func:`._kernels.update_table` at the nominal carrier angle ``theta_c``.
+
+    The normal clearance is the kernel's: n_j(φ) of the profile modification, the pin's own clearance δ_jk,
+    the pin's radial and tangential position errors projected on the normal and the disc's profile fields at
+    the contact point — so a fit check reads exactly the clearances the 20-DOF model loads.
+    """
+    nc = L.n_contacts(g.z_b)
+    coef = np.zeros((nc, 2, L.NZ))
+    off = np.zeros((nc, 2))
+    K.update_table(float(theta_c), 0.0, g.prm(), errors.err, errors.pin_err, errors.disc_h, pin_cos_sin(g),
+                   coef, off)
+    rows = slice(L.C_PIN, L.C_PIN + L.N_DISC * g.z_b)
+    c = coef[rows, 0, :3].reshape(L.N_DISC, g.z_b, 3)
+    normal = np.stack([c[..., 0], c[..., 1] / g.ecc], axis=-1)      # coef: (cos α, e sin α, R_d sin α)
+    eccentric = (1.0 - g.z_b) * float(theta_c) + np.pi * np.arange(L.N_DISC)
+    return PinContacts(normal, c[..., 2].copy(), -off[rows, 0].reshape(L.N_DISC, g.z_b), eccentric)
