@@ -4,11 +4,14 @@ Every analysis returns Sections (its capability's ``texts`` layout makes the blo
 report (:mod:`rvtol.report`) renders them generically, and ``Section.summary`` (JSON-able) goes into
 ``summary.json`` under ``analyses.<key>``.  A base module: the capabilities lay their results out
 with it, and the report package renders it, so neither imports the other.  Figures are rendered to PNG as soon as they are
-added (and the matplotlib figure closed), so Sections are cheap to keep.
+added (and the matplotlib figure closed), so Sections are cheap to keep — or, inside :func:`deferred_figures` (a
+study run), pickled when added and rendered together by :func:`render_deferred` on the study's workers.
 """
 from __future__ import annotations
 
 import io
+import pickle
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -84,7 +87,70 @@ class Section:
         return self
 
 
+class PendingFigure(bytes):
+    """Stands for a figure's PNG inside :func:`deferred_figures` (empty bytes; ``data``: the pickled figure)."""
+
+    data: bytes
+    dpi: int
+    rc: dict         # matplotlib's settings where the figure was made (sizes given relative to the font resolve at draw)
+
+
+#: figures rendered inside :func:`deferred_figures` wait here (None: render at once)
+_DEFERRED: list | None = None
+
+
+@contextmanager
+def deferred_figures():
+    """Within the block, :func:`figure_png` pickles its figure (and closes it) and returns a :class:`PendingFigure`;
+    :func:`render_deferred` then renders them all at once, e.g. on a study's workers.  A figure that cannot be
+    pickled is rendered at once."""
+    global _DEFERRED
+    outer, _DEFERRED = _DEFERRED, []
+    try:
+        yield
+    finally:
+        _DEFERRED = outer
+
+
+def render_deferred(sections, map=None) -> int:
+    """Render every :class:`PendingFigure` of ``sections``' figures with ``map(fn, tasks) -> results in order``
+    (:meth:`rvtol.mc.Evaluator.map`: on the workers; default in this process); the number rendered."""
+    blocks = [b for sec in sections for b in sec.blocks if isinstance(b, Figure) and isinstance(b.png, PendingFigure)]
+    tasks = [(b.png.data, b.png.dpi, b.png.rc) for b in blocks]
+    pngs = map(_render_pickled, tasks) if map is not None else [_render_pickled(*t) for t in tasks]
+    for b, png in zip(blocks, pngs):
+        b.png = png
+    return len(blocks)
+
+
+def _render_pickled(data: bytes, dpi: int, rc: dict) -> bytes:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    with matplotlib.rc_context(rc):
+        return _png(pickle.loads(data), dpi)
+
+
 def figure_png(fig, dpi: int = 130) -> bytes:
+    """The figure as PNG bytes (and closed); inside :func:`deferred_figures`, a :class:`PendingFigure`."""
+    if _DEFERRED is not None:
+        try:
+            data = pickle.dumps(fig)
+        except Exception:        # an artist that does not pickle: render it here
+            data = None
+        if data is not None:
+            import matplotlib
+            import matplotlib.pyplot as plt
+
+            plt.close(fig)
+            out = PendingFigure()
+            out.data, out.dpi = data, dpi
+            out.rc = {k: v for k, v in matplotlib.rcParams.items() if not k.startswith("backend")}
+            return out
+    return _png(fig, dpi)
+
+
+def _png(fig, dpi: int) -> bytes:
     import matplotlib.pyplot as plt
 
     buf = io.BytesIO()

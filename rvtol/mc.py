@@ -32,6 +32,32 @@ def _eval_chunk(model: Model, X: np.ndarray):
     return np.asarray(Y, dtype=float), np.asarray(status, dtype=np.int16), time.perf_counter() - t0
 
 
+#: wall time this process has spent inside :func:`evaluate` and :func:`map_chunks` (outermost calls only): the
+#: study's phase profile subtracts two readings (:func:`parallel_seconds`) to get a phase's parallel share
+_PARALLEL = {"seconds": 0.0, "depth": 0}
+
+
+class _ParallelClock:
+    """Adds the wall time of the outermost ``with`` block to ``_PARALLEL`` (nested blocks count once)."""
+
+    def __enter__(self):
+        _PARALLEL["depth"] += 1
+        if _PARALLEL["depth"] == 1:
+            self.t0 = time.perf_counter()
+
+    def __exit__(self, *exc):
+        _PARALLEL["depth"] -= 1
+        if _PARALLEL["depth"] == 0:
+            _PARALLEL["seconds"] += time.perf_counter() - self.t0
+
+
+def parallel_seconds() -> float:
+    """Wall time (s) this process has spent so far in parallel evaluation (:func:`evaluate`, :func:`map_chunks`):
+    the work the executor spreads over its workers (with one worker, the same work done in one process — the
+    part of a phase that more workers can speed up)."""
+    return _PARALLEL["seconds"]
+
+
 def auto_chunk_size(n: int, workers: int) -> int:
     """Enough chunks to balance the workers and move the progress bar, not so many that overhead shows."""
     return int(max(1, min(8192, math.ceil(n / (4 * max(1, workers))))))
@@ -60,6 +86,11 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     or only the ``"costly"`` ones, cheaper to keep than to recompute — and
     chunks the store already holds are not evaluated again (resume).
     """
+    with _ParallelClock():
+        return _evaluate(model, X, executor, chunk_size, progress, desc, store, persist)
+
+
+def _evaluate(model, X, executor, chunk_size, progress, desc, store, persist) -> Evaluation:
     X = model.check_input(X)
     n = X.shape[0]
     executor = executor or SerialExecutor()
@@ -97,6 +128,21 @@ def evaluate(model: Model, X: np.ndarray, executor: Executor | None = None, chun
     status[(status == STATUS_OK) & ~np.all(np.isfinite(Y), axis=1)] = STATUS_NONFINITE
     Y[status != STATUS_OK] = np.nan
     return Evaluation(Y, status)
+
+
+def map_chunks(fn, tasks, executor: Executor | None = None) -> list:
+    """``[fn(*t) for t in tasks]`` on ``executor`` (results in task order; timed as parallel evaluation).
+
+    For work that is not a model evaluation — a solver run per reducer, a fit per output —: each task
+    should be large enough to amortise the scheduling (tens of ms at least)."""
+    tasks = list(tasks)
+    with _ParallelClock():
+        if executor is None or executor.workers <= 1 or len(tasks) <= 1:
+            return [fn(*t) for t in tasks]
+        out = [None] * len(tasks)
+        for i, r in executor.imap(fn, tasks):
+            out[i] = r
+        return out
 
 
 class EvaluationCache:
@@ -156,6 +202,14 @@ class Evaluator:
         self.progress = progress
         self.cache = cache
         self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
+
+    def map(self, fn, tasks) -> list:
+        """``[fn(*t) for t in tasks]`` on the evaluator's executor (:func:`map_chunks`)."""
+        return map_chunks(fn, tasks, self.executor)
+
+    @property
+    def workers(self) -> int:
+        return self.executor.workers if self.executor is not None else 1
 
     def __call__(self, model: Model, X: np.ndarray, desc: str = "evaluating") -> Evaluation:
         run = lambda Xm: evaluate(model, Xm, self.executor, self.chunk_size, self.progress, desc, self.store)  # noqa: E731

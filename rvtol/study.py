@@ -65,6 +65,7 @@ import os
 import secrets
 import shutil
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -75,11 +76,11 @@ from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import EvaluationCache, Evaluator, MonteCarloResult, run_monte_carlo
+from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
 from .registry import analysis_function, model_factory
-from .blocks import Section
+from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, merge_specs, read_requirements_file,
                    requirements_from_tables, spec_from_table)
@@ -507,6 +508,7 @@ class StudyResult:
     standard_sections: list[Section] = field(default_factory=list)   # the report's own sections (verdict, inputs...)
     comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
     build_usage: object = None    # pandas.DataFrame: per build rule, what it did on the Monte Carlo's reducers
+    parallel: dict = field(default_factory=dict)  # per phase of ``timings``: the wall time (s) spent in parallel evaluation
     measured_evidence: dict = field(default_factory=dict)   # measured factor -> rvtol.inputs.measured.evidence
 
     @property
@@ -533,10 +535,14 @@ class StudyResult:
 
 def run_study(study: Study, executor: Executor | None = None, store=None, baseline=None) -> StudyResult:
     """Monte Carlo, the analyses, then what the report shows (timed phases: ``monte_carlo``, each analysis' key,
-    ``signoff`` — the per-requirement digest —, ``measured_factors`` — the measured factors' fits and their
-    goodness-of-fit bootstrap, when a factor is measured —, ``comparison`` — with the ``baseline`` run
-    (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's own sections and figures);
-    ``store`` (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation."""
+    ``build_usage`` — what the build rules did —, ``signoff`` — the per-requirement digest —,
+    ``measured_factors`` — the measured factors' fits and their goodness-of-fit bootstrap, when a factor is
+    measured —, ``comparison`` —
+    with the ``baseline`` run (:class:`rvtol.ci.compare.RunData`) if one is given —, ``report`` — the report's
+    own sections —, ``figures`` — every figure of the run rendered, on the workers); ``store``
+    (:class:`rvtol.checkpoint.ChunkStore`) checkpoints every evaluation.
+    Each phase's wall time goes to ``result.timings``, the part of it spent in parallel evaluation
+    (:func:`rvtol.mc.parallel_seconds`) to ``result.parallel``."""
     from .report.standard import standard_sections
     from .signoff import digest
 
@@ -544,51 +550,62 @@ def run_study(study: Study, executor: Executor | None = None, store=None, baseli
     own = executor is None
     ex = executor or make_executor(o.executor, o.workers, o.scheduler)
     t0 = time.perf_counter()
-    timings = {}
-    try:
-        mc = run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed, study.requirements, ex,
-                             o.chunk_size, o.progress, o.confidence, store=store)
-        timings["monte_carlo"] = time.perf_counter() - t0
-        ctx = StudyContext(study, ex, mc, store=store)
-        sections: list[Section] = []
-        for i, a in enumerate(study.analyses):
-            ta = time.perf_counter()
-            res = a.run(ctx)
-            res = res if isinstance(res, list) else [res]
-            sections.extend(res)
-            name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
+    timings, parallel = {}, {}
+
+    def timed(name, f):
+        ta, pa = time.perf_counter(), parallel_seconds()
+        try:
+            return f()
+        finally:
             timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
-        desc = ex.describe()
+            parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
+
+    try:
+        # with several workers, figures are pickled as they are made and rendered together on the workers
+        with deferred_figures() if ex.workers > 1 else nullcontext():
+            mc = timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
+                                                              study.requirements, ex, o.chunk_size, o.progress,
+                                                              o.confidence, store=store))
+            ctx = StudyContext(study, ex, mc, store=store)
+            sections: list[Section] = []
+            for i, a in enumerate(study.analyses):
+                ta, pa = time.perf_counter(), parallel_seconds()
+                res = a.run(ctx)
+                res = res if isinstance(res, list) else [res]
+                sections.extend(res)
+                name = getattr(a, "key", None) or (res[0].key if res else f"analysis[{i}]")
+                timings[name] = timings.get(name, 0.0) + time.perf_counter() - ta
+                parallel[name] = parallel.get(name, 0.0) + parallel_seconds() - pa
+            result = StudyResult(study, mc, sections, 0.0, ex.describe(), timings, parallel=parallel)
+            if study.build is not None:    # what the build rules did on the Monte Carlo's reducers (report, summary)
+                from .production.build import usage
+
+                def build_usage():
+                    env, _ = study.model.without_build().environment(mc.samples.values, set())
+                    return usage(study.build, env, mc.n)
+
+                result.build_usage = timed("build_usage", build_usage)
+            result.signoff = timed("signoff", lambda: digest(mc, study.model, study.spec, o.seed))
+            if any(f.measured is not None for f in study.spec.factors):   # the fits' goodness-of-fit bootstrap
+                from .inputs.measured import evidence
+                from .sampling import substream_seed
+
+                result.measured_evidence = timed("measured_factors", lambda: {
+                    f.name: evidence(f.measured, f.dist, seed=substream_seed(o.seed, "measured_gof", i))
+                    for i, f in enumerate(study.spec.factors) if f.measured is not None})
+            if baseline is not None:
+                from .ci.compare import RunData, compare
+
+                def comparison():
+                    result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
+                    result.__dict__.pop("_summary", None)   # built for the comparison; rebuilt with every phase's time
+
+                timed("comparison", comparison)
+            result.standard_sections = timed("report", lambda: standard_sections(result))
+        timed("figures", lambda: render_deferred([*result.sections, *result.standard_sections], ctx.evaluator.map))
     finally:
         if own:
             ex.close()
-    result = StudyResult(study, mc, sections, 0.0, desc, timings)
-    if study.build is not None:        # what the build rules did on the Monte Carlo's reducers (report, summary)
-        from .production.build import usage
-
-        env, _ = study.model.without_build().environment(mc.samples.values, set())
-        result.build_usage = usage(study.build, env, mc.n)
-    ta = time.perf_counter()
-    result.signoff = digest(mc, study.model, study.spec, o.seed)
-    timings["signoff"] = time.perf_counter() - ta
-    if any(f.measured is not None for f in study.spec.factors):   # the fits' goodness-of-fit bootstrap
-        from .inputs.measured import evidence
-        from .sampling import substream_seed
-
-        ta = time.perf_counter()
-        result.measured_evidence = {f.name: evidence(f.measured, f.dist, seed=substream_seed(o.seed, "measured_gof", i))
-                                    for i, f in enumerate(study.spec.factors) if f.measured is not None}
-        timings["measured_factors"] = time.perf_counter() - ta
-    if baseline is not None:
-        from .ci.compare import RunData, compare
-
-        ta = time.perf_counter()
-        result.comparison = compare(baseline, RunData.from_result(result), seed=o.seed)
-        result.__dict__.pop("_summary", None)       # built for the comparison; rebuilt with every phase's time
-        timings["comparison"] = time.perf_counter() - ta
-    ta = time.perf_counter()
-    result.standard_sections = standard_sections(result)
-    timings["report"] = time.perf_counter() - ta
     result.elapsed = time.perf_counter() - t0
     return result
 

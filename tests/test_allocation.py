@@ -197,6 +197,26 @@ def test_monte_carlo_constraint_scales_like_the_spine(dist):
         np.testing.assert_allclose(mc.samples(t), to_factors(p.spec_at(t), mc.U), rtol=1e-12, atol=1e-15)
 
 
+def test_monte_carlo_constraint_outputs_built_in_workers_equal_the_samples_evaluated():
+    """The candidates' outputs built from chunks of the design (in the workers of a process pool, or in-process)
+    are bit for bit the model evaluated on :meth:`MonteCarloConstraint.samples` (the reference path); a repeated
+    candidate is answered without a new evaluation and still counts its rows."""
+    from rvtol.executors import make_executor
+    from rvtol.mc import Evaluator, evaluate
+
+    p = linear_problem(K, B, limit=1.0)
+    T = p.t0[None, :] * np.array([[0.3], [1.0], [0.3], [2.2]])
+    ref = [evaluate(p.model, MonteCarloConstraint(p, 700, "lhs", 4).samples(t), progress=False).Y for t in T]
+    with make_executor("process", 2) as ex:
+        for ev in (None, Evaluator(), Evaluator(ex, chunk_size=100)):
+            mc = MonteCarloConstraint(p, 700, "lhs", 4, ev)
+            got = mc.outputs(T)
+            assert mc.evaluations == 4 * 700
+            for g, r in zip(got, ref):
+                np.testing.assert_array_equal(g, r)
+            assert got[0] is got[2]            # the repeated candidate: one evaluation
+
+
 def test_pattern_requirements_expand_and_unknown_pattern_fails():
     model = LinearModel(["a"], ["mm"], [Quantity("d_1", "mm"), Quantity("d_2", "mm"), Quantity("e", "mm")],
                         [[1.0], [2.0], [3.0]])

@@ -147,6 +147,26 @@ def test_pce_ishigami_first_total_and_second_order_within_intervals(method):
     assert list(d.columns[:7]) == ["output", "unit", "factor", "S1", "S1_conf", "ST", "ST_conf"]
 
 
+@pytest.mark.parametrize("method", ["omp", "ols"])
+def test_degrees_fitted_side_by_side_on_workers_give_the_serial_selection(method):
+    """The degree search with the next degrees fitted on a 2-worker process pool is the serial search: the
+    same selection table, terms and coefficients bit for bit (the serial run is the reference)."""
+    from rvtol.executors import make_executor
+    from rvtol.mc import Evaluator
+
+    s = sample(ISH_SPEC, 400, "lhs", 7)
+    U = uniform_design(400, 3, "lhs", 7)
+    y = evaluate_display(ISH, s)[:, 0]
+    ref = fit_pce(U, y, "legendre", method=method, max_degree=9)
+    with make_executor("process", 2) as ex:
+        for workers in (2, 3):
+            got = fit_pce(U, y, "legendre", method=method, max_degree=9, map=Evaluator(ex).map, workers=workers)
+            assert got.selection.equals(ref.selection) and got.stop_reason == ref.stop_reason
+            np.testing.assert_array_equal(got.alpha, ref.alpha)
+            np.testing.assert_array_equal(got.coef, ref.coef)
+    assert len(ref.selection) >= 3          # several degrees were searched
+
+
 def test_pce_sobol_g_function_within_intervals_plus_bias_bound():
     S1, ST = g_indices()
     s = sample(G_SPEC, 1000, "lhs", 77)

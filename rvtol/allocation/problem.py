@@ -36,7 +36,7 @@ from .. import stats as st
 from ..stats import rss
 from .. import units
 from ..errors import InputError
-from ..mc import Evaluator
+from ..mc import Evaluator, auto_chunk_size, evaluate, map_chunks
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
 from ..spec import Requirement, ToleranceSpec
@@ -368,6 +368,8 @@ class MonteCarloConstraint:
         self.X0 = to_factors(problem.spec, self.U)
         self.centre = affine_centres(problem)
         self.evaluations = 0
+        self._seen: dict[bytes, np.ndarray] = {}     # candidate (its tolerances' bytes) -> its outputs
+        self.keep = max(1, int(2e8 // max(8 * self.n * len(problem.model.outputs), 1)))   # ≈ 200 MB of them
 
     def samples(self, t) -> np.ndarray:
         """The design's factor values (base units) with the allocated tolerances set to ``t``."""
@@ -382,12 +384,33 @@ class MonteCarloConstraint:
         return X
 
     def outputs(self, T) -> list[np.ndarray]:
-        """Model outputs (base units) for each candidate of ``T[p, m]`` (one batch through the executor)."""
-        T = np.atleast_2d(T)
-        X = np.vstack([self.samples(t) for t in T])
-        Y = self.evaluate(self.problem.model, X, "allocation").Y
-        self.evaluations += len(X)
-        return [Y[i * self.n:(i + 1) * self.n] for i in range(len(T))]
+        """Model outputs (base units) for each candidate of ``T[p, m]`` (one batch through the executor).
+
+        Where every allocated factor scales affinely, the workers build the candidates' samples themselves
+        from chunks of the fixed design (:func:`_candidate_outputs`: the design travels once per batch, not
+        once per candidate), and a candidate seen before is not evaluated again (common random numbers: the
+        same tolerances give the same samples, so the same outputs)."""
+        T = np.atleast_2d(np.asarray(T, float))
+        self.evaluations += len(T) * self.n
+        if np.isnan(self.centre).any():     # a factor that does not scale affinely: the spine's path, in the parent
+            X = np.vstack([self.samples(t) for t in T])
+            Y = self.evaluate(self.problem.model, X, "allocation").Y
+            return [Y[i * self.n:(i + 1) * self.n] for i in range(len(T))]
+        keys = [t.tobytes() for t in T]
+        todo = list(dict.fromkeys(k for k in keys if k not in self._seen))
+        if todo:
+            Tn = np.array([np.frombuffer(k) for k in todo]).reshape(len(todo), T.shape[1])
+            f = Tn / self.problem.t0
+            workers = self.evaluate.workers if isinstance(self.evaluate, Evaluator) else 1
+            cs = auto_chunk_size(self.n, workers)
+            tasks = [(self.problem.model, self.X0[a:a + cs], f, np.asarray(self.problem.idx), self.centre)
+                     for a in range(0, self.n, cs)]
+            mapper = self.evaluate.map if isinstance(self.evaluate, Evaluator) else map_chunks
+            Y = np.concatenate(mapper(_candidate_outputs, tasks), axis=1)
+            if len(self._seen) + len(todo) > self.keep:
+                self._seen.clear()
+            self._seen.update(zip(todo, Y))
+        return [self._seen[k] for k in keys]
 
     def measures(self, T) -> list[list[dict]]:
         """Per candidate, per requirement: yield and Cpk (estimates and lower confidence bounds).
@@ -438,6 +461,20 @@ class MonteCarloConstraint:
 
     def describe(self) -> str:
         return f"Monte Carlo ({self.method}, n = {self.n}, fixed design: common random numbers)"
+
+
+def _candidate_outputs(model: Model, X0: np.ndarray, f: np.ndarray, idx: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """``Y[candidate, row, output]`` (base units, NaN where the model failed) of the design rows ``X0`` with
+    each allocated factor ``idx[c]`` scaled by ``f[candidate, c]`` about its centre (as
+    :meth:`MonteCarloConstraint.samples`): one task of :meth:`MonteCarloConstraint.outputs`."""
+    blocks = []
+    for fc in f:
+        X = X0.copy()
+        for c, i in enumerate(idx):
+            X[:, i] = centre[c] + fc[c] * (X0[:, i] - centre[c])
+        blocks.append(X)
+    Y = evaluate(model, np.vstack(blocks), progress=False).Y
+    return Y.reshape(len(f), len(X0), -1)
 
 
 def affine_centres(problem: AllocationProblem) -> np.ndarray:

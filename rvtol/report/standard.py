@@ -214,6 +214,10 @@ def standard_sections(result) -> list[Section]:
     return out
 
 
+def _parallel_share(parallel: float | None, wall: float) -> str:
+    return f" ({min(parallel / wall, 1.0):.0%} in parallel evaluation)" if parallel and wall > 0 else ""
+
+
 def run_table(result) -> Table:
     """The run: model, samples, executor, wall time and the time of every phase."""
     st, m, o = result.study, result.mc, result.study.options
@@ -224,7 +228,8 @@ def run_table(result) -> Table:
         {"item": "executor", "value": result.executor},
         {"item": "wall time", "value": f"{result.elapsed:.1f} s (Monte Carlo, analyses and the report's figures; "
                                        "writing the files after)"},
-    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s"} for phase, seconds in result.timings.items()])
+    ] + [{"item": f"  {phase}", "value": f"{seconds:.1f} s" + _parallel_share(result.parallel.get(phase), seconds)}
+         for phase, seconds in result.timings.items()])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
     return Table(run, "Run")

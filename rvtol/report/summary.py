@@ -45,6 +45,11 @@ def clean(obj):
     return _num(obj)
 
 
+def phase_profile(timings: dict, parallel: dict) -> dict:
+    """Per phase of the run: its wall time and the part of it spent inside parallel evaluation (s)."""
+    return {k: {"wall": round(v, 3), "parallel": round(min(parallel.get(k, 0.0), v), 3)} for k, v in timings.items()}
+
+
 def build_summary(result) -> dict:
     from ..stats import PERCENTILES
 
@@ -79,6 +84,7 @@ def build_summary(result) -> dict:
         "executor": result.executor,
         "wall_time_s": result.elapsed,
         "timings_s": {k: round(v, 3) for k, v in result.timings.items()},
+        "phase_time_s": phase_profile(result.timings, result.parallel),
         "confidence": mc.confidence,
         "inputs": st.inputs,
         "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),

@@ -251,6 +251,7 @@ class PCE(_Sensitivity):
     def compute(self, ctx):
         o = self.options
         fit = {k: getattr(o, k) for k in ("max_degree", "q", "max_interaction", "method") if getattr(o, k) is not None}
+        fit.update(map=ctx.evaluator.map, workers=ctx.evaluator.workers)     # the degrees side by side
         return pce_given(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, o.n or None, o.factors, o.outputs,
                          self.seed(ctx), germs=o.germs, holdout=o.holdout, ci=o.ci, num_resamples=o.num_resamples,
                          confidence=self.confidence(ctx), min_q2=o.min_q2, on_poor_fit=o.on_poor_fit,

@@ -44,7 +44,7 @@ from ..model import Model
 from ..records import frame_records
 from ..sampling import SampleSet, sample, substream, substream_seed
 from ..spec import ToleranceSpec
-from ..mc import Evaluator
+from ..mc import Evaluator, map_chunks
 from .common import (FrameResult, correlation_note, factor_indices, output_indices, to_display)
 from . import notes as N
 
@@ -422,7 +422,7 @@ def delta(model: Model, spec: ToleranceSpec, n: int = 2048, factors: Sequence[st
     def analyse(y):
         tasks = [(name, X[:, c], y, num_resamples, confidence, int(seeds[c]))
                  for c, name in enumerate(problem["names"])]
-        res = dict(executor.imap(_delta_one, tasks))
+        res = dict(enumerate(map_chunks(_delta_one, tasks, executor)))
         return {col: np.array([res[c][col] for c in range(len(tasks))]) for col in res[0]}
 
     frame = _analyse_each("delta", model, oidx, problem["names"], Yd, analyse, notes)

@@ -390,50 +390,78 @@ class _Candidate:
     n_candidates: int
 
 
-def _select(G, y, families, *, max_degree, q, max_interaction, method, oversampling, max_terms, max_steps):
-    """Degree-adaptive selection; returns (best candidate, selection table rows, stop reason)."""
+def _degree(G, y, families, p, *, q, max_interaction, method, oversampling, cap, max_terms, max_steps, var_y):
+    """The candidate expansion of total degree ``p`` (or None) and, when there is none, why: one step of
+    :func:`_select` (module level: an executor can run it)."""
+    A = multi_indices(G.shape[1], p, q, max_interaction, max_terms=cap if method == "ols" else max_terms)
+    if A is None:
+        return None, None, (f"degree {p} would need more than n/{oversampling:g} = {cap} terms" if method == "ols"
+                            else f"degree {p} would need more than max_terms = {max_terms} candidates")
+    if method == "ols":
+        fit = _ols(design_matrix(G, families, A), y, var_y)
+        cand = None if fit is None else _Candidate(p, A, fit, len(A))
+    elif method == "lars":
+        sel = _lars(G, y, families, p, q, len(A))
+        fit = _ols(design_matrix(G, families, sel), y, var_y)
+        cand = None if fit is None else _Candidate(p, sel, fit, len(A))
+    else:
+        sel, fit = _omp(design_matrix(G, families, A), y, var_y, min(len(A) - 1, cap - 1, max_steps))
+        cand = None if fit is None else _Candidate(p, A[sel], fit, len(A))
+    return len(A), cand, None if cand is not None else f"degree {p}: the least-squares design is rank deficient"
+
+
+def _degree_task(G, y, families, p, kw):
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _degree(G, y, families, p, **kw)
+
+
+def _select(G, y, families, *, max_degree, q, max_interaction, method, oversampling, max_terms, max_steps,
+            map=None, workers: int = 1):
+    """Degree-adaptive selection; returns (best candidate, selection table rows, stop reason).
+
+    ``map`` (``map(fn, tasks) -> results in order``, e.g. :meth:`rvtol.mc.Evaluator.map`) with ``workers`` > 1:
+    the next ``workers`` degrees are fitted side by side (each is independent of the others), then judged in
+    order as the serial search does — the same selection; a degree beyond the stop is fitted for nothing."""
     n, k = G.shape
     var_y = float(np.var(y, ddof=1))
+    if method == "lars" and max_interaction is not None:
+        raise InputError("max_interaction needs method 'omp' or 'ols': OpenTURNS' enumeration (LARS) caps the "
+                         "hyperbolic norm, not the interaction order", key="max_interaction")
     best: _Candidate | None = None
     rows, rises, last, why = [], 0, np.inf, f"max_degree = {max_degree} reached"
     cap = int(n / oversampling)
     if max_terms is None:
         max_terms = max(cap, OMP_MAX_ENTRIES // n)
-    for p in range(1, max_degree + 1):
-        A = multi_indices(k, p, q, max_interaction, max_terms=cap if method == "ols" else max_terms)
-        if method == "lars" and max_interaction is not None:
-            raise InputError("max_interaction needs method 'omp' or 'ols': OpenTURNS' enumeration (LARS) caps the "
-                             "hyperbolic norm, not the interaction order", key="max_interaction")
-        if A is None:
-            why = (f"degree {p} would need more than n/{oversampling:g} = {cap} terms" if method == "ols"
-                   else f"degree {p} would need more than max_terms = {max_terms} candidates")
-            break
-        if method == "ols":
-            fit = _ols(design_matrix(G, families, A), y, var_y)
-            cand = None if fit is None else _Candidate(p, A, fit, len(A))
-        elif method == "lars":
-            sel = _lars(G, y, families, p, q, len(A))
-            fit = _ols(design_matrix(G, families, sel), y, var_y)
-            cand = None if fit is None else _Candidate(p, sel, fit, len(A))
+    kw = dict(q=q, max_interaction=max_interaction, method=method, oversampling=oversampling, cap=cap, max_terms=max_terms,
+              max_steps=max_steps, var_y=var_y)
+    batch = max(1, int(workers)) if map is not None else 1
+    p, stop = 1, False
+    while p <= max_degree and not stop:
+        degrees = range(p, min(p + batch, max_degree + 1))
+        if len(degrees) > 1:
+            results = map(_degree_task, [(G, y, families, d, kw) for d in degrees])
         else:
-            sel, fit = _omp(design_matrix(G, families, A), y, var_y, min(len(A) - 1, cap - 1, max_steps))
-            cand = None if fit is None else _Candidate(p, A[sel], fit, len(A))
-        if cand is None:
-            why = f"degree {p}: the least-squares design is rank deficient"
-            break
-        err = cand.fit.loo_corrected
-        rows.append({"degree": p, "candidates": len(A), "terms": len(cand.alpha), "loo_error": cand.fit.loo,
-                     "loo_error_corrected": err})
-        if best is None or err < best.fit.loo_corrected:
-            best = cand
-        rises = rises + 1 if err >= last else 0
-        last = err
-        if rises >= 2:
-            why = f"the corrected LOO error rose at degrees {p - 1} and {p}"
-            break
-        if err < 1e-12:
-            why = "the expansion interpolates the data (LOO error < 1e-12)"
-            break
+            results = [_degree(G, y, families, p, **kw)]
+        for d, (n_cand, cand, failed) in zip(degrees, results):
+            if cand is None:
+                why, stop = failed, True
+                break
+            err = cand.fit.loo_corrected
+            rows.append({"degree": d, "candidates": n_cand, "terms": len(cand.alpha), "loo_error": cand.fit.loo,
+                         "loo_error_corrected": err})
+            if best is None or err < best.fit.loo_corrected:
+                best = cand
+            rises = rises + 1 if err >= last else 0
+            last = err
+            if rises >= 2:
+                why, stop = f"the corrected LOO error rose at degrees {d - 1} and {d}", True
+                break
+            if err < 1e-12:
+                why, stop = "the expansion interpolates the data (LOO error < 1e-12)", True
+                break
+        p += len(degrees)
     if best is None:
         raise InputError(f"no polynomial chaos expansion can be fitted on {n} samples of {k} factors "
                          f"({why}); give more samples", key="samples")
@@ -523,7 +551,7 @@ def sobol_from_coefficients(alpha: np.ndarray, coefs: np.ndarray):
 def fit_pce(U: np.ndarray, y: np.ndarray, families: str | Sequence[str] = "legendre", *,
             max_degree: int = MAX_DEGREE, q: float = Q_NORM, max_interaction: int | None = None,
             method: str = "omp", oversampling: float = 2.0, max_terms: int | None = None,
-            max_steps: int = OMP_MAX_STEPS) -> PolynomialChaos:
+            max_steps: int = OMP_MAX_STEPS, map=None, workers: int = 1) -> PolynomialChaos:
     """Fit a PCE on the uniform design ``U`` (n × k, in (0, 1)) and outputs ``y`` (n).
 
     ``families``: one family for all factors or one per factor (see module notes).  The degree
@@ -555,7 +583,7 @@ def fit_pce(U: np.ndarray, y: np.ndarray, families: str | Sequence[str] = "legen
     z = (y - mu) / sd  # fit on the standardised output (conditioning); coefficients rescaled below
     best, rows, why = _select(germ(U, fams), z, fams, max_degree=max_degree, q=q, max_interaction=max_interaction,
                               method=method, oversampling=oversampling, max_terms=max_terms,
-                              max_steps=max_steps)
+                              max_steps=max_steps, map=map, workers=workers)
     coef = best.fit.coef * sd
     coef[0] += mu
     return PolynomialChaos(fams, best.alpha, coef, best.degree, q, method, len(y), best.fit.loo,
@@ -817,8 +845,15 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
         s2 = pd.DataFrame(s2rows, columns=["output", "factor_i", "factor_j", "S2", "S2_conf"])
         if on_poor_fit == "withhold":
             s2.loc[s2["output"].isin(bad), ["S2", "S2_conf"]] = np.nan
+<<<<<<< HEAD
     notes.append(N.PCE_INTERVALS.format(ci=ci, resamples=num_resamples, n=len(X)))
     settings = {"n": len(X), "samples": "given", "germs": dict(zip(spec.names, fams)), **fit_options,
+=======
+    notes.append(f"Intervals ({ci}, {num_resamples} resamples) cover the sampling of the {len(X)} Monte Carlo "
+                 "points given the selected terms, not the surrogate's truncation error (see bias_bound).")
+    shown = {k: v for k, v in fit_options.items() if k not in ("map", "workers")}     # where it ran: not a setting
+    settings = {"n": len(X), "samples": "given", "germs": dict(zip(spec.names, fams)), **shown,
+>>>>>>> main
                 "holdout": holdout, "ci": ci, "num_resamples": num_resamples, "min_q2": min_q2,
                 "on_poor_fit": on_poor_fit}
     return SurrogateSensitivityResult("pce", frame, 0, confidence, settings, s2, n_failed, notes,

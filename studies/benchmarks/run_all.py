@@ -11,6 +11,8 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
 * ``bench_mc``, ``bench_scale`` — the engine's overhead, and 10⁴ … 10⁶ samples of the cheap models: time per
   sample by phase, peak memory, report size (linear = 1.0);
 * ``bench_dask`` — process pool against Dask (LocalCluster, scheduler address);
+* ``bench_scaling`` — the sign-off and the TE study at 1 … cores workers (and a Dask LocalCluster), phase by
+  phase, with Amdahl's serial share;
 * ``bench_openturns`` — rvtol against OpenTURNS on the same Monte Carlo and Sobol work (benchmark extra);
 * ``bench_stackup``, ``bench_stiffness``, ``bench_sensitivity``, ``bench_allocation`` — the other models'
   building blocks.
@@ -29,7 +31,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "stackup", "stiffness", "sensitivity",
-         "allocation")
+         "allocation", "scaling")
 
 
 def main(full: bool, only: list[str]) -> int:

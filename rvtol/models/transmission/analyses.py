@@ -71,7 +71,7 @@ class TECurve(Analysis):
             names, shown = ctx.spec.names, [f.unit for f in ctx.spec.factors]
         else:                       # a stage of a composed study: its inputs as the mapping gives them
             names, shown = t.model.inputs, shown_units(t.model.input_units)
-        return reducer_curve(t.model, t.inputs(x)[0], how, names, shown, t.stage, o.newmark)
+        return reducer_curve(t.model, t.inputs(x)[0], how, names, shown, t.stage, o.newmark, ctx.evaluator)
 
 
 @dataclass

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 
 from ... import units
+from ...mc import map_chunks
 from ...records import frame_records
 from .model import TransmissionErrorModel
 from .orders import families_frame
@@ -104,14 +105,21 @@ def _solver_row(mode: str, r) -> dict:
             "loaded pins per disc (min-max)": f"{int(pins.min().min())}–{int(pins.max().max())}"}
 
 
+def _run(model: TransmissionErrorModel, x):
+    return model.run(x)
+
+
 def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units, stage: str | None = None,
-                  newmark: bool = False) -> ReducerCurve:
+                  newmark: bool = False, evaluate=None) -> ReducerCurve:
     """``model`` at its input row ``x`` (base units) over one output revolution; ``names`` and
     ``shown_units``: the factors as the report lists them (``x``'s order); ``newmark``: also the Newmark-β
-    solver."""
-    res = {model.mode: model.run(x)}
+    solver (``evaluate``: an :class:`rvtol.mc.Evaluator` — the two solvers then run side by side on its
+    workers)."""
+    models = {model.mode: model}
     if newmark and model.mode != "newmark":
-        res["newmark"] = model.variant(mode="newmark").run(x)
+        models["newmark"] = model.variant(mode="newmark")
+    mapper = evaluate.map if evaluate is not None else map_chunks
+    res = dict(zip(models, mapper(_run, [(m, x) for m in models.values()])))
     factors = pd.DataFrame({"factor": names, "value": [float(units.from_base(v, u)) for v, u in zip(x, shown_units)],
                             "unit": [units.label(u) for u in shown_units]})
     rows = [_solver_row(m, r) for m, r in res.items() if r.ok]

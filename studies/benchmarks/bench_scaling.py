@@ -1,0 +1,159 @@
+"""How the sign-off and the TE study scale with workers, phase by phase, with Amdahl's serial share.
+
+Each run is ``rvtol run STUDY --no-pdf --workers W`` in a fresh process (its phases' wall times from
+summary.json's ``phase_time_s``, or ``timings_s`` for code that has no profile), at W = 1, 2, … up to the
+machine's cores (and on a Dask LocalCluster of the largest W, where Dask is installed).  The worker counts
+are interleaved and repeated (``--repeat``): the machines are shared and their load varies, so each figure
+is the best of its repeats and the load average is printed beside the table.
+
+Per phase: the best wall time at each W, the speed-up against W = 1, and the serial share ``s`` of
+Amdahl's law ``T(W) = T(1) (s + (1 − s)/W)`` fitted by least squares on ``T(W)/T(1) − 1/W = s (1 − 1/W)``.
+Beside it the CPU time of the main process in the first configuration, which the load of other users does
+not inflate (with one worker it includes the work ``Evaluator.map`` then does in-process).
+
+``--code DIR`` (repeatable) runs the same studies with ``PYTHONPATH=DIR`` — e.g. a pristine checkout of
+main beside this worktree, in the same session, for a before/after table.
+
+    python studies/benchmarks/bench_scaling.py                       # sign-off at --n 300, TE at --n 1000
+    python studies/benchmarks/bench_scaling.py --quick               # --n 100 / 300, 1 and 2 workers, once
+    python studies/benchmarks/bench_scaling.py --signoff-n 1500 --te-n 10000 --repeat 2
+    python studies/benchmarks/bench_scaling.py --code /work/main --code . --only te --workers 1,2
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from _timing import print_table
+
+ROOT = Path(__file__).resolve().parents[2]
+STUDIES = {"signoff": "rv80e_signoff.toml", "te": "transmission_error_rv80e.toml"}
+
+#: run the CLI in this process and report its own CPU time
+_RUNNER = """
+import json, resource, sys
+from rvtol.cli import main
+argv, out = sys.argv[1:-1], sys.argv[-1]
+try:
+    code = main(argv)
+except SystemExit as e:
+    code = e.code
+own = resource.getrusage(resource.RUSAGE_SELF)
+json.dump({"code": code, "main_cpu": own.ru_utime + own.ru_stime},
+          open(out, "w"))
+"""
+
+
+def run_once(code_dir: Path, study: str, n: int, executor: str, workers: int, out: Path) -> dict:
+    """One run of ``study``: wall time, per-phase wall and parallel time, CPU of the main process and workers."""
+    env = {**os.environ, "PYTHONPATH": str(code_dir)}
+    cpu_file = out.with_suffix(".cpu.json")
+    cmd = [sys.executable, "-c", _RUNNER, "run", str(code_dir / "studies" / study), "--no-pdf", "--quiet",
+           "--n", str(n), "--executor", executor, "--workers", str(workers), "--out", str(out), str(cpu_file)]
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, env=env, cwd=code_dir, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if not cpu_file.exists():
+        raise RuntimeError(f"{' '.join(cmd[3:])} failed:\n{p.stderr[-2000:]}")
+    cpu = json.loads(cpu_file.read_text())
+    s = json.loads((out / "summary.json").read_text())
+    prof = s.get("phase_time_s") or {k: {"wall": v, "parallel": None} for k, v in s["timings_s"].items()}
+    return {"process": wall, "run": s["wall_time_s"], "phases": prof, **cpu}
+
+
+def amdahl(workers, times) -> float | None:
+    """Serial share ``s`` from wall times at several worker counts (least squares; None below two counts)."""
+    w = np.asarray(workers, float)
+    a = 1.0 - 1.0 / w
+    if len(w) < 2 or not np.any(a > 0) or not times[0] > 0:
+        return None
+    r = np.asarray(times, float) / times[0]
+    return float(np.clip(np.sum((r - 1.0 / w) * a) / np.sum(a * a), 0.0, 1.0))
+
+
+def measure(code_dirs, studies, ns, worker_counts, repeat, dask: bool, tmp: Path) -> dict:
+    """``{(code, study, config): [runs]}``, configurations interleaved inside each repeat."""
+    configs = [("process", w) for w in worker_counts] + ([("dask", max(worker_counts))] if dask else [])
+    runs: dict = {}
+    for rep in range(repeat):
+        for st in studies:
+            for executor, w in configs:
+                for code in code_dirs:      # the code versions side by side at each configuration
+                    key = (str(code), st, f"{executor} {w}")
+                    out = tmp / f"{abs(hash(key))}_{rep}"
+                    r = run_once(code, STUDIES[st], ns[st], executor, w, out)
+                    r["load"] = os.getloadavg()[0]
+                    runs.setdefault(key, []).append(r)
+                    print(f"  [{rep + 1}/{repeat}] {code} {st} {executor} {w}: {r['run']:.1f} s "
+                          f"(load {r['load']:.1f})", file=sys.stderr, flush=True)
+    return runs
+
+
+def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
+    for st in studies:
+        for code in code_dirs:
+            cfgs = [c for (cd, s, c) in runs if cd == str(code) and s == st]
+            best = {c: min(runs[(str(code), st, c)], key=lambda r: r["run"]) for c in cfgs}
+            first = best[cfgs[0]]
+            phases = list(first["phases"]) + ["whole run"]
+            rows = []
+            for ph in phases:
+                t = {c: (best[c]["run"] if ph == "whole run" else best[c]["phases"].get(ph, {}).get("wall"))
+                     for c in cfgs}
+                if any(v is None for v in t.values()):
+                    continue
+                proc = [c for c in cfgs if c.startswith("process")]
+                s = amdahl([int(c.split()[1]) for c in proc], [t[c] for c in proc])
+                par = None if ph == "whole run" else first["phases"][ph].get("parallel")
+                cells = "  ".join(f"{c}: {t[c]:7.1f} s ("
+                                  + (f"{t[cfgs[0]] / t[c]:.2f}×)" if t[c] > 0 else "—)") for c in cfgs)
+                extra = f"  Amdahl s = {s:.0%}" if s is not None else ""
+                if par is not None and t[cfgs[0]] > 0:
+                    extra += f"  in parallel evaluation at 1 worker: {par / t[cfgs[0]]:.0%}"
+                rows.append((ph, cells, extra))
+            loads = [r["load"] for c in cfgs for r in runs[(str(code), st, c)]]
+            print(f"\n{STUDIES[st]} --n {ns[st]} — code {code}; best of "
+                  f"{len(runs[(str(code), st, cfgs[0])])}; load average {min(loads):.1f}–{max(loads):.1f} "
+                  f"on {os.cpu_count()} cores; CPU time of the main process at {cfgs[0]}: "
+                  f"{first['main_cpu']:.1f} s")
+            print_table(rows, headers=("phase", "wall time (speed-up against the first column)", ""))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", default="signoff,te", help="studies: signoff, te (comma-separated)")
+    ap.add_argument("--signoff-n", type=int, default=300, help="sign-off samples (the study's own: 1500)")
+    ap.add_argument("--te-n", type=int, default=1000, help="TE study samples (the study's own: 10000)")
+    ap.add_argument("--workers", default=None, help="worker counts, e.g. 1,2,4 (default 1 … cores)")
+    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--code", action="append", default=None, help="a checkout to run (repeatable; default: this one)")
+    ap.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster")
+    ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
+    a = ap.parse_args()
+    if a.quick:
+        a.signoff_n, a.te_n, a.repeat, a.workers = 100, 300, 1, a.workers or "1,2"
+    counts = ([int(w) for w in a.workers.split(",")] if a.workers
+              else list(range(1, (os.cpu_count() or 1) + 1)))
+    try:
+        import dask.distributed  # noqa: F401
+        dask = not a.no_dask
+    except ImportError:
+        dask = False
+    code_dirs = [Path(c).resolve() for c in (a.code or [ROOT])]
+    studies = [s for s in a.only.split(",") if s]
+    ns = {"signoff": a.signoff_n, "te": a.te_n}
+    with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
+        runs = measure(code_dirs, studies, ns, counts, a.repeat, dask, Path(tmp))
+    report(runs, code_dirs, studies, counts, ns)
+
+
+if __name__ == "__main__":
+    main()
