@@ -845,15 +845,9 @@ def pce(model: Model, spec: ToleranceSpec, samples: SampleSet, Y: np.ndarray, fa
         s2 = pd.DataFrame(s2rows, columns=["output", "factor_i", "factor_j", "S2", "S2_conf"])
         if on_poor_fit == "withhold":
             s2.loc[s2["output"].isin(bad), ["S2", "S2_conf"]] = np.nan
-<<<<<<< HEAD
     notes.append(N.PCE_INTERVALS.format(ci=ci, resamples=num_resamples, n=len(X)))
-    settings = {"n": len(X), "samples": "given", "germs": dict(zip(spec.names, fams)), **fit_options,
-=======
-    notes.append(f"Intervals ({ci}, {num_resamples} resamples) cover the sampling of the {len(X)} Monte Carlo "
-                 "points given the selected terms, not the surrogate's truncation error (see bias_bound).")
     shown = {k: v for k, v in fit_options.items() if k not in ("map", "workers")}     # where it ran: not a setting
     settings = {"n": len(X), "samples": "given", "germs": dict(zip(spec.names, fams)), **shown,
->>>>>>> main
                 "holdout": holdout, "ci": ci, "num_resamples": num_resamples, "min_q2": min_q2,
                 "on_poor_fit": on_poor_fit}
     return SurrogateSensitivityResult("pce", frame, 0, confidence, settings, s2, n_failed, notes,
