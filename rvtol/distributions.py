@@ -69,6 +69,24 @@ def coverage(sigma_level: float) -> float:
     return float(2.0 * stats.norm.cdf(sigma_level) - 1.0)
 
 
+#: how :meth:`Distribution.describe` writes each kind (its parameters formatted to 4 significant digits)
+_DESCRIBE = {
+    "normal": "normal(μ={mean}, σ={sigma})",
+    "uniform": "uniform[{lower}, {upper}]",
+    "truncnorm": "truncnorm(μ={mean}, σ={sigma}; [{lower}, {upper}])",
+    "triangular": "triangular({lower}, {mode}, {upper})",
+    "rayleigh": "rayleigh(σ={sigma})",
+    "lognormal": "lognormal(median={median}, s={shape})",
+    "weibull": "weibull(k={shape}, λ={scale})",
+    "beta": "beta(α={alpha}, β={beta}; [{lower}, {upper}])",
+    "gamma": "gamma(k={shape}, θ={scale})",
+    "gumbel": "gumbel(mode={mode}, β={scale})",
+    "johnsonsu": "{kind}(γ={gamma}, δ={delta}, ξ={location}, λ={scale})",
+    "johnsonsb": "{kind}(γ={gamma}, δ={delta}, ξ={location}, λ={scale})",
+    "pearson3": "pearson3(μ={mean}, σ={sigma}, skew={skewness})",
+}
+
+
 @dataclass(frozen=True)
 class Distribution:
     """One factor distribution.  ``params`` are canonical (see ``_frozen``)."""
@@ -232,31 +250,8 @@ class Distribution:
         """Short human description for tables, e.g. ``normal(μ=0, σ=1.667) µm``."""
         p = self.p
         g = lambda x: f"{x:.4g}"  # noqa: E731
-        if self.kind == "normal":
-            s = f"normal(μ={g(p['mean'])}, σ={g(p['sigma'])})"
-        elif self.kind == "uniform":
-            s = f"uniform[{g(p['lower'])}, {g(p['upper'])}]"
-        elif self.kind == "truncnorm":
-            s = f"truncnorm(μ={g(p['mean'])}, σ={g(p['sigma'])}; [{g(p['lower'])}, {g(p['upper'])}])"
-        elif self.kind == "triangular":
-            s = f"triangular({g(p['lower'])}, {g(p['mode'])}, {g(p['upper'])})"
-        elif self.kind == "rayleigh":
-            s = f"rayleigh(σ={g(p['sigma'])})"
-        elif self.kind == "lognormal":
-            s = f"lognormal(median={g(p['median'])}, s={g(p['shape'])})"
-        elif self.kind == "weibull":
-            s = f"weibull(k={g(p['shape'])}, λ={g(p['scale'])})"
-        elif self.kind == "beta":
-            s = f"beta(α={g(p['alpha'])}, β={g(p['beta'])}; [{g(p['lower'])}, {g(p['upper'])}])"
-        elif self.kind == "gamma":
-            s = f"gamma(k={g(p['shape'])}, θ={g(p['scale'])})"
-        elif self.kind == "gumbel":
-            s = f"gumbel(mode={g(p['mode'])}, β={g(p['scale'])})"
-        elif self.kind in ("johnsonsu", "johnsonsb"):
-            s = (f"{self.kind}(γ={g(p['gamma'])}, δ={g(p['delta'])}, ξ={g(p['location'])}, "
-                 f"λ={g(p['scale'])})")
-        elif self.kind == "pearson3":
-            s = f"pearson3(μ={g(p['mean'])}, σ={g(p['sigma'])}, skew={g(p['skewness'])})"
+        if self.kind in _DESCRIBE:
+            s = _DESCRIBE[self.kind].format(kind=self.kind, **{k: g(v) for k, v in p.items()})
         else:
             s = (f"pearson {pearson_type(p['skewness'], p['kurtosis'])}(μ={g(p['mean'])}, σ={g(p['sigma'])}, "
                  f"skew={g(p['skewness'])}, β₂={g(p['kurtosis'])})")

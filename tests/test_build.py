@@ -343,15 +343,15 @@ def test_the_signoff_nominal_lost_motion_is_the_hand_sum_of_its_parts(product):
     assert pins * 60 * 180 / math.pi < 0.2
 
 
-def test_the_study_reports_the_build_rules(tmp_path):
-    """A small composed study with a build: the stage reads the as-built clearance, summary.json and the inputs
-    page say which rules were applied and what they did."""
+def _built_study(tmp_path, rest: str):
+    """A composed study of one fit with the roller build (spec, build file and study in ``tmp_path``); ``rest``:
+    the study's tables after the model."""
     spec = write(tmp_path / "spec.toml", "\n".join(
         f'[[factor]]\nname = "{f["name"]}"\nunit = "um"\ndist = "{f["dist"]}"\n'
         + "".join(f"{k} = {v}\n" for k, v in f.items() if k not in ("name", "unit", "dist"))
         for f in SPEC["factor"]))
     _fit_file(tmp_path)
-    study = write(tmp_path / "s.toml", f"""
+    return write(tmp_path / "s.toml", f"""
 [study]
 name = "built"
 spec = "{spec.as_posix()}"
@@ -365,7 +365,13 @@ c = "bore - shaft - 2 * roller"
 name = "play"
 unit = "um"
 coefficients = {{ c = 1.0 }}
-[[requirement]]
+""" + rest)
+
+
+def test_the_study_reports_the_build_rules(tmp_path):
+    """A small composed study with a build: the stage reads the as-built clearance, summary.json and the inputs
+    page say which rules were applied and what they did."""
+    study = _built_study(tmp_path, """[[requirement]]
 output = "fit.play"
 lower = 0
 upper = 4
@@ -413,26 +419,7 @@ def test_a_build_needs_a_composed_study(tmp_path):
 def test_production_analyses_refuse_a_study_that_builds_its_own_parts(tmp_path):
     """per_unit_prediction (built units, measured) and selective_assembly (its own grading) would be overruled by
     the study's build: one error naming the analysis."""
-    spec = write(tmp_path / "spec.toml", "\n".join(
-        f'[[factor]]\nname = "{f["name"]}"\nunit = "um"\ndist = "{f["dist"]}"\n'
-        + "".join(f"{k} = {v}\n" for k, v in f.items() if k not in ("name", "unit", "dist"))
-        for f in SPEC["factor"]))
-    _fit_file(tmp_path)
-    p = write(tmp_path / "s.toml", f"""
-[study]
-name = "built"
-spec = "{spec.as_posix()}"
-build = "build.toml"
-[[model]]
-name = "fit"
-kind = "linear"
-[model.inputs]
-c = "bore - shaft - 2 * roller"
-[[model.output]]
-name = "play"
-unit = "um"
-coefficients = {{ c = 1.0 }}
-[[analysis]]
+    p = _built_study(tmp_path, """[[analysis]]
 kind = "selective_assembly"
 factor = "roller"
 target = "bore"

@@ -203,8 +203,8 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
                                                      updating="deferred", init=init)
                 if np.isfinite(de.fun):
                     found["differential evolution"] = (float(de.fun), de.x)
-            except ValueError:
-                pass
+            except ValueError as exc:       # scipy refuses the box (e.g. a degenerate bound): said, not hidden
+                notes.append(f"differential evolution not run ({exc}): corners and L-BFGS-B starts only")
         cands = [(m + " → L-BFGS-B", v) for m, (_, v) in sorted(found.items(), key=lambda t: t[1][0])]
         cands += [("L-BFGS-B", v) for v in [centre, box.corner(a, sgn)] + [lo_b + u * (hi_b - lo_b) for u in halton]]
         for origin, v0 in cands:

@@ -692,6 +692,14 @@ def workspace(nd, nc):
 
 
 @njit(**_JIT)
+def sweep_arrays(prm, err, pin_cs, idx, nd, nc):
+    """What every sweep over crank positions allocates once: the contact table (``coef``, ``off``), the table's
+    constants of this reducer, the pin work array and the Newton solver's :func:`workspace`."""
+    return (np.zeros((nc, 2, idx.shape[2])), np.zeros((nc, 2)), table_constants(prm, err),
+            np.empty((NPINW, pin_cs.shape[1])), workspace(nd, nc))
+
+
+@njit(**_JIT)
 def _merit(q, kind, idx, coef, off, k0, pw, gap, ser, tab, npin, Q, D, gv, dyn, qpred, F, fc, kt, R, dlt):
     """Total potential Π(q) and its gradient R = ∂Π/∂q (the residual).
 
@@ -916,11 +924,7 @@ def qs_sequence(theta_c, dth_s, torque, load, prm, err, pin_err, disc_h, pin_cs,
     n = theta_c.size
     nd = q_start.size
     nc = kind.size
-    coef = np.zeros((nc, 2, idx.shape[2]))
-    off = np.zeros((nc, 2))
-    aux = table_constants(prm, err)
-    w = np.empty((NPINW, pin_cs.shape[1]))
-    ws = workspace(nd, nc)
+    coef, off, aux, w, ws = sweep_arrays(prm, err, pin_cs, idx, nd, nc)
     Q = np.zeros(nd)
     D = np.zeros((1, 1))
     npin = nc - C_PIN
@@ -1039,11 +1043,7 @@ def friction_torques(theta_c, dth_s, q_path, prm, err, pin_err, disc_h, pin_cs, 
     n = theta_c.size
     nd = q_path.shape[1]
     nc = kind.size
-    coef = np.zeros((nc, 2, idx.shape[2]))
-    off = np.zeros((nc, 2))
-    aux = table_constants(prm, err)
-    w = np.empty((NPINW, pin_cs.shape[1]))
-    ws = workspace(nd, nc)
+    coef, off, aux, w, ws = sweep_arrays(prm, err, pin_cs, idx, nd, nc)
     v = np.zeros(nd)
     parts = np.zeros(3)
     npin = nc - C_PIN
@@ -1137,11 +1137,7 @@ def qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_
     """
     n, nd = q_sweep.shape
     nc = kind.size
-    coef = np.zeros((nc, 2, idx.shape[2]))
-    off = np.zeros((nc, 2))
-    aux = table_constants(prm, err)
-    w = np.empty((NPINW, pin_cs.shape[1]))
-    ws = workspace(nd, nc)
+    coef, off, aux, w, ws = sweep_arrays(prm, err, pin_cs, idx, nd, nc)
     Q = np.zeros(nd)
     Q[:] = load
     Q[THCA] += torque

@@ -261,10 +261,7 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
         out.pin["contact_roughness"] = s("contact_roughness") * el.roughness_compliance
         notes["contact_roughness"] = "GW rough layer of the groove contact, energy-weighted over the rated pin loads"
     if el.carrier_joint_compliance is not None:
-        if cr is None:
-            raise SpecError("the carrier joints need the crank layout (the end plate's share)", key="carrier_joints")
-        zA, zB = cr.support
-        rho = zB / (zB - zA)
+        rho = _input_end_share(cr, "carrier_joints", "the end plate's share")
         out.crank["carrier_joints"] = s("carrier_joints") * 3.0 * a_w ** 2 * rho ** 2 * el.carrier_joint_compliance
         notes["carrier_joints"] = "3 a'² ρ_A² (1/K_carrier with the joints − 1/K_carrier without)"
     if el.housing_ring_compliance is not None:
@@ -275,10 +272,7 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
             out.cam[j]["disc_seats"] = s("disc_seats") * el.disc_seat_compliance
         notes["disc_seats"] = "energy-equivalent per crank hole under doc 004's statics at rated (FE disc less the web)"
     if el.carrier_seat_compliance is not None:
-        if cr is None:
-            raise SpecError("the carrier seats need the crank layout (their bearing shares)", key="carrier_seats")
-        zA, zB = cr.support
-        rho = zB / (zB - zA)
+        rho = _input_end_share(cr, "carrier_seats", "their bearing shares")
         cA, cB = el.carrier_seat_compliance
         out.crank["carrier_seats"] = s("carrier_seats") * (rho ** 2 * cA + (1.0 - rho) ** 2 * cB)
         notes["carrier_seats"] = (f"ρ_A² c_A + ρ_B² c_B on the crank resultant (c per cup, FE end plate / flange), "
@@ -422,3 +416,12 @@ def family_work(chain: ContactChain | None, work, forces) -> dict[str, float]:
             out[fam] += w
         out[GROUPS[group]] += total - sum(series.values())
     return out
+
+
+def _input_end_share(cr, key: str, what: str) -> float:
+    """ρ_A = z_B/(z_B − z_A): the share of a crank's resultant its input-side support carries (statics of the crank
+    on its two supports), for the element ``key`` that needs it (``what``: why, for the error)."""
+    if cr is None:
+        raise SpecError(f"the {key.replace('_', ' ')} need the crank layout ({what})", key=key)
+    zA, zB = cr.support
+    return zB / (zB - zA)
