@@ -286,11 +286,45 @@ def _analysis_keys(cls, kind: str) -> int:
 
 
 def _run(args) -> int:
+    from .executors import discard_early
+
+    ov = _overrides(args)
+    _start_workers_early(args)
+    try:
+        return _run_study(args, ov)
+    finally:
+        discard_early()
+
+
+def _start_workers_early(args) -> None:
+    """Start the run's process pool while the study loads (:func:`rvtol.executors.start_early`), when the command
+    line or the study file's ``[execution]`` table asks for one (a study whose file cannot be read gets none: its
+    loading reports why)."""
+    import tomllib
+
+    from .executors import start_early
+
+    if args.executor not in (None, "process") or args.scheduler:
+        return
+    workers = args.workers
+    if workers is None:
+        try:
+            e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
+        except (OSError, ValueError):
+            return
+        if not isinstance(e, dict) or e.get("executor", "process") != "process" or e.get("scheduler"):
+            return
+        workers = e.get("workers")
+        workers = workers if isinstance(workers, int) and not isinstance(workers, bool) and workers >= 1 else None
+    start_early(workers)
+
+
+def _run_study(args, ov: dict) -> int:
     from .checkpoint import run_key
     from .runguard import RunFolder, check_resources, check_writable, estimate_run, time_pilot
     from .study import check_out_dir, load_study, result_files, run_study, write_outputs
 
-    study = load_study(args.study, **_overrides(args))
+    study = load_study(args.study, **ov)
     # everything that can be checked is checked before computing (exit 2, nothing written)
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)
     check_writable(out, "--out")

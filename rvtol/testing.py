@@ -59,3 +59,26 @@ class TrivialModel(Model):
 
     def evaluate(self, X):
         return self.check_input(X)[:, :1].copy()
+
+
+#: how many :class:`UnpickleCountingModel` objects this process has unpickled
+UNPICKLED = {"count": 0}
+
+
+class UnpickleCountingModel(Model):
+    """``y = `` how many of these models the evaluating process had unpickled when it evaluated the row:
+    tells whether a worker unpacks a model once or with every chunk."""
+
+    def __init__(self, tag: int = 0):
+        self.tag = tag                   # models that differ in content are different models to a worker
+        self.inputs = ("x",)
+        self.input_units = ("1",)
+        self.outputs = (Quantity("unpickled"),)
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        UNPICKLED["count"] += 1
+
+    def evaluate(self, X):
+        X = self.check_input(X)
+        return np.full((len(X), 1), float(UNPICKLED["count"]))

@@ -230,6 +230,10 @@ class GrooveContact:
 
 
 # ------------------------------------------------------------------------------------------------ all
+#: ChainElements.from_design's results by (id of the design, crank circle), the last few
+_MADE: dict = {}
+
+
 @dataclass(frozen=True)
 class ChainElements:
     """The design's compliance elements (None where the design does not give an element's data).
@@ -281,7 +285,22 @@ class ChainElements:
 
     @classmethod
     def from_design(cls, design, crank_radius: float) -> "ChainElements":
-        """Every element whose data the design gives (module doc); bad numbers name their key."""
+        """Every element whose data the design gives (module doc); bad numbers name their key.
+
+        Made once per design (an immutable :class:`rvtol.design.Design`) and crank circle: a study's models —
+        the 20-DOF geometry, the torsion angle, the torsion curve — share one set of elements."""
+        key = (id(design), float(crank_radius))
+        kept = _MADE.get(key)
+        if kept is not None and kept[0] is design:
+            return kept[1]
+        made = cls._from_design(design, crank_radius)
+        _MADE[key] = (design, made)            # the design is kept with it, so its id is not reused meanwhile
+        while len(_MADE) > 8:
+            _MADE.pop(next(iter(_MADE)))
+        return made
+
+    @classmethod
+    def _from_design(cls, design, crank_radius: float) -> "ChainElements":
         _check_scales(design)
         scales = {f: compliance_scale(design, f) for f in FAMILIES}
         has = lambda *keys: all(k in design for k in keys)   # noqa: E731

@@ -6,7 +6,9 @@ machine's cores (and on a Dask LocalCluster of the largest W, where Dask is inst
 are interleaved and repeated (``--repeat``): the machines are shared and their load varies, so each figure
 is the best of its repeats and the load average is printed beside the table.
 
-Per phase: the best wall time at each W, the speed-up against W = 1, and the serial share ``s`` of
+Per phase: the best wall time at each W (``whole run``: the run's phases together, summary.json's
+``wall_time_s``; ``command``: the whole ``rvtol run`` process — Python's start, loading the study, the run and
+writing the outputs), the speed-up against W = 1, and the serial share ``s`` of
 Amdahl's law ``T(W) = T(1) (s + (1 − s)/W)`` fitted by least squares on ``T(W)/T(1) − 1/W = s (1 − 1/W)``.
 Beside it the CPU time of the main process in the first configuration, which the load of other users does
 not inflate (with one worker it includes the work ``Evaluator.map`` then does in-process).
@@ -103,16 +105,17 @@ def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
             cfgs = [c for (cd, s, c) in runs if cd == str(code) and s == st]
             best = {c: min(runs[(str(code), st, c)], key=lambda r: r["run"]) for c in cfgs}
             first = best[cfgs[0]]
-            phases = list(first["phases"]) + ["whole run"]
+            phases = list(first["phases"]) + ["whole run", "command"]
+            whole = {"whole run": "run", "command": "process"}
             rows = []
             for ph in phases:
-                t = {c: (best[c]["run"] if ph == "whole run" else best[c]["phases"].get(ph, {}).get("wall"))
+                t = {c: (best[c][whole[ph]] if ph in whole else best[c]["phases"].get(ph, {}).get("wall"))
                      for c in cfgs}
                 if any(v is None for v in t.values()):
                     continue
                 proc = [c for c in cfgs if c.startswith("process")]
                 s = amdahl([int(c.split()[1]) for c in proc], [t[c] for c in proc])
-                par = None if ph == "whole run" else first["phases"][ph].get("parallel")
+                par = None if ph in whole else first["phases"][ph].get("parallel")
                 cells = "  ".join(f"{c}: {t[c]:7.1f} s ("
                                   + (f"{t[cfgs[0]] / t[c]:.2f}×)" if t[c] > 0 else "—)") for c in cfgs)
                 extra = f"  Amdahl s = {s:.0%}" if s is not None else ""
@@ -136,6 +139,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--code", action="append", default=None, help="a checkout to run (repeatable; default: this one)")
     ap.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster")
+    ap.add_argument("--save", type=Path, help="also write every run's figures to this JSON file")
     ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
     a = ap.parse_args()
     if a.quick:
@@ -152,6 +156,8 @@ def main() -> None:
     ns = {"signoff": a.signoff_n, "te": a.te_n}
     with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
         runs = measure(code_dirs, studies, ns, counts, a.repeat, dask, Path(tmp))
+    if a.save:
+        a.save.write_text(json.dumps({" | ".join(k): v for k, v in runs.items()}, indent=1))
     report(runs, code_dirs, studies, counts, ns)
 
 

@@ -262,7 +262,10 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
         return v
 
     r_bs, r_bp, rated = m * z_s * math.cos(alpha) / 2.0, m * z_p * math.cos(alpha) / 2.0, pos("reducer.rated_torque")
-    elements = ChainElements.from_design(design, a_w)
+    # the compliance elements sit on the crank circle as the design writes it (the value every other model
+    # reads: one set of elements, one finite-element solve per design); a' where the design leaves it out
+    circle = float(design["crank_bearing.centre_radius"]) if "crank_bearing.centre_radius" in design else a_w
+    elements = ChainElements.from_design(design, circle)
     contact_chain = None
     if chain:
         try:

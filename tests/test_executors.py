@@ -1,0 +1,66 @@
+"""Process pools: a model travels to each worker once, not with every chunk; a pool started early (while a study
+loads) is the one the run then uses; the crank circle is one value for every model (one finite-element solve)."""
+import numpy as np
+
+from rvtol import executors
+from rvtol.executors import ProcessExecutor, make_executor, start_early
+from rvtol.mc import evaluate
+from rvtol.testing import UnpickleCountingModel
+
+
+def test_a_worker_unpickles_a_model_once_for_all_its_chunks():
+    m = UnpickleCountingModel()
+    with ProcessExecutor(1) as ex:
+        first = evaluate(m, np.zeros((6, 1)), ex, chunk_size=1, progress=False).Y
+        again = evaluate(m, np.zeros((3, 1)), ex, chunk_size=1, progress=False).Y   # a second call: kept
+        same = evaluate(UnpickleCountingModel(), np.zeros((2, 1)), ex, chunk_size=1, progress=False).Y
+        other = evaluate(UnpickleCountingModel(tag=1), np.zeros((2, 1)), ex, chunk_size=1, progress=False).Y
+    assert first.ravel().tolist() == [1.0] * 6          # one unpickling for six chunks (was 1, 2, …, 6)
+    assert again.ravel().tolist() == [1.0] * 3
+    assert same.ravel().tolist() == [1.0] * 2           # an equal model (the same pickle) is the kept one
+    assert other.ravel().tolist() == [2.0] * 2          # a different model is unpacked once in its turn
+
+
+def test_a_pool_started_early_is_the_one_the_run_gets():
+    start_early(2)
+    early = executors._EARLY[0]
+    try:
+        got = make_executor("process", 2)
+        assert got is early and not executors._EARLY
+        assert got.workers == 2
+        got.close()
+        start_early(1)
+        other = make_executor("process", 2)        # another worker count: the early pool is closed, a new one made
+        assert not executors._EARLY and isinstance(other, ProcessExecutor) and other.workers == 2
+        other.close()
+        start_early(1)
+        assert make_executor("serial").kind == "serial" and not executors._EARLY
+    finally:
+        executors.discard_early()
+
+
+def test_every_model_of_the_product_puts_the_crank_on_one_circle():
+    """The 20-DOF geometry and the torsion-angle model read the crank circle as the design writes it, so their
+    finite-element seats are one solve (they differed by the design's rounding of a', 0.4 µm, and solved twice)."""
+    from rvtol.design import load_design
+    from rvtol.elements import fe_seats
+    from rvtol.models.stiffness.torsion_angle import ReducerStiffness
+    from rvtol.models.transmission.geometry import geometry_from_design
+
+    d = load_design("data/products/rv80e/design.toml")
+    fe_seats.disc_work.cache_clear()
+    g = geometry_from_design(d)
+    ReducerStiffness.from_design(d)
+    assert fe_seats.disc_work.cache_info().misses == 1
+    assert abs(g.a_w - float(d["crank_bearing.centre_radius"])) < 5e-4     # the design's value is a' rounded
+
+
+def test_a_dask_cluster_receives_a_model_once_for_all_calls():
+    from rvtol.executors import DaskExecutor
+
+    m = UnpickleCountingModel(tag=2)
+    with DaskExecutor(1) as ex:
+        first = evaluate(m, np.zeros((4, 1)), ex, chunk_size=1, progress=False).Y
+        again = evaluate(m, np.zeros((3, 1)), ex, chunk_size=1, progress=False).Y   # not scattered again
+        assert len(ex._scattered) == 1
+    assert first.ravel().tolist() == [1.0] * 4 and again.ravel().tolist() == [1.0] * 3
