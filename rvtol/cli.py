@@ -297,26 +297,24 @@ def _run(args) -> int:
 
 
 def _start_workers_early(args) -> None:
-    """Start the run's process pool while the study loads (:func:`rvtol.executors.start_early`), when the command
-    line or the study file's ``[execution]`` table asks for one (a study whose file cannot be read gets none: its
-    loading reports why)."""
+    """Start the run's executor while the study loads (:func:`rvtol.executors.start_early`): the one the command line
+    or the study file's ``[execution]`` table asks for (a study whose file cannot be read gets none: its loading
+    reports why; one the loaded study then contradicts is closed unused)."""
     import tomllib
 
-    from .executors import start_early
+    from .executors import KINDS, start_early
 
-    if args.executor not in (None, "process") or args.scheduler:
+    try:
+        e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
+    except (OSError, ValueError):
         return
-    workers = args.workers
-    if workers is None:
-        try:
-            e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
-        except (OSError, ValueError):
-            return
-        if not isinstance(e, dict) or e.get("executor", "process") != "process" or e.get("scheduler"):
-            return
-        workers = e.get("workers")
-        workers = workers if isinstance(workers, int) and not isinstance(workers, bool) and workers >= 1 else None
-    start_early(workers)
+    e = e if isinstance(e, dict) else {}
+    scheduler = args.scheduler or (e.get("scheduler") if isinstance(e.get("scheduler"), str) else None)
+    kind = "dask" if scheduler else (args.executor or e.get("executor", "process"))
+    workers = args.workers or e.get("workers")
+    if kind not in KINDS or not (workers is None or (type(workers) is int and workers >= 1)):
+        return
+    start_early(kind, workers, scheduler)
 
 
 def _run_study(args, ov: dict) -> int:

@@ -123,6 +123,9 @@ class _Shipped:
 #: models a pool worker keeps unpickled (by digest), least recently used first
 _KEPT: dict = {}
 KEEP_MODELS = 4
+#: a Dask executor scatters arrays from this size on, and keeps scattered models and arrays up to this many bytes
+SCATTER_BYTES = 1 << 18
+KEEP_SCATTERED_BYTES = 256 << 20
 
 
 def _call_shipped(fn: Callable, *args):
@@ -253,16 +256,43 @@ class DaskExecutor(Executor):
 
     kind = "dask"
 
-    def __init__(self, workers: int | None = None, scheduler: str | None = None, connect_timeout: float = 10.0):
+    #: seconds to wait for a scheduler given by address
+    CONNECT_TIMEOUT = 10.0
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, connect_timeout: float | None = None):
         self.scheduler = scheduler
-        self.connect_timeout = connect_timeout
+        self.connect_timeout = connect_timeout or self.CONNECT_TIMEOUT
         self._want = workers or os.cpu_count() or 1
         self._client = None
         self._cluster = None
-        self._scattered: dict = {}      # model digest -> its future on the workers
+        self._scattered: dict = {}      # digest of a model or array -> (its future on the cluster, its size)
+        self._starting: threading.Thread | None = None
+        self._start_error: BaseException | None = None
+
+    def start(self) -> None:
+        """Start the cluster (or connect) in the background; :attr:`client` waits for it."""
+        def connect():
+            try:
+                self._connect()
+            except BaseException as exc:     # handed to the thread that asks for the client
+                self._start_error = exc
+
+        self._starting = threading.Thread(target=connect, name="rvtol-dask-start", daemon=True)
+        self._starting.start()
 
     @property
     def client(self):
+        if self._starting is not None:
+            self._starting.join()
+            self._starting = None
+            if self._start_error is not None:
+                err, self._start_error = self._start_error, None
+                raise err
+        if self._client is None:
+            self._connect()
+        return self._client
+
+    def _connect(self) -> None:
         if self._client is None:
             from dask.distributed import Client, LocalCluster
 
@@ -281,18 +311,6 @@ class DaskExecutor(Executor):
                 self._client.run(_ignore_sigint, nanny=True)
                 self._client.run(_ignore_sigint)
             self._client.run(_single_thread_worker)
-        return self._client
-
-    def _scatter(self, model) -> bytes:
-        """The model's digest; scattered to every worker unless an equal model already is (the last few kept)."""
-        shipped = _Shipped(model)
-        if shipped.key in self._scattered:
-            self._scattered[shipped.key] = self._scattered.pop(shipped.key)      # most recently used last
-        else:
-            self._scattered[shipped.key] = self.client.scatter(model, broadcast=True, hash=False)
-            while len(self._scattered) > KEEP_MODELS:
-                self._scattered.pop(next(iter(self._scattered))).release()
-        return shipped.key
 
     @property
     def workers(self) -> int:  # type: ignore[override]
@@ -304,21 +322,11 @@ class DaskExecutor(Executor):
         from dask.distributed import as_completed as dask_as_completed
 
         c = self.client
-        # each distinct model is scattered (broadcast to every worker) once per executor, not once per call: the
-        # sensitivity stencils and the allocation's generations call with the same model hundreds of times
-        digests: dict[int, bytes] = {}
-        prepared = []
-        for t in tasks:
-            args = []
-            for a in t:
-                if _is_model(a):
-                    if id(a) not in digests:
-                        digests[id(a)] = self._scatter(a)
-                    args.append(self._scattered[digests[id(a)]])
-                else:
-                    args.append(a)
-            prepared.append(args)
-        futs = [c.submit(fn, *a, pure=False) for a in prepared]
+        # models (broadcast to every worker) and large arrays (to one) travel once, outside the task graph, and stay
+        # there while calls reuse them: the sensitivity stencils and the allocation's generations call with the same
+        # model, and the allocation with the same chunks of its fixed design, hundreds of times
+        args = [[self._shared(a) for a in t] for t in tasks]
+        futs = c.map(fn, *zip(*args), pure=False) if args else []
         index = {f.key: i for i, f in enumerate(futs)}
         try:
             for f in dask_as_completed(futs):
@@ -326,7 +334,28 @@ class DaskExecutor(Executor):
         finally:
             c.cancel(futs)
 
+    def _shared(self, a):
+        """``a`` as the task will get it: a model or a large array as its future on the cluster, else itself."""
+        import numpy as np
+
+        if _is_model(a):
+            blob, broadcast = _Shipped(a), True
+        elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
+            blob, broadcast = _Shipped(a), False
+        else:
+            return a
+        got = self._scattered.pop(blob.key, None)
+        if got is None:
+            got = (self.client.scatter(a, broadcast=broadcast, hash=False), len(blob.blob))
+        self._scattered[blob.key] = got                    # most recently used last
+        while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_SCATTERED_BYTES:
+            self._scattered.pop(next(iter(self._scattered)))[0].release()
+        return got[0]
+
     def close(self):
+        if self._starting is not None:
+            self._starting.join()
+            self._starting = None
         self._scattered.clear()
         if self._client is not None:
             self._client.close()
@@ -346,30 +375,52 @@ def _warm() -> None:
     """A first task for a pool started early: its worker starts (the fork server's imports, the initializer)."""
 
 
-#: a process pool started ahead of need (:func:`start_early`), until :func:`make_executor` takes it
-_EARLY: list[ProcessExecutor] = []
+#: an executor started ahead of need (:func:`start_early`), until :func:`make_executor` takes it
+_EARLY: list[Executor] = []
 
 
-def start_early(workers: int | None = None) -> None:
-    """Start a process pool of ``workers`` now, in the background — e.g. while a study loads on the main process:
-    the fork server's imports and the workers' start then overlap the loading instead of following it (≈ 1–2 s of
-    a run's serial part).  The next :func:`make_executor` ``("process", workers)`` takes this pool; one asking for
-    something else closes it (:func:`discard_early`)."""
+def start_early(kind: str = "process", workers: int | None = None, scheduler: str | None = None) -> None:
+    """Start the executor a run will ask for now, in the background — e.g. while a study loads on the main process:
+    a process pool's fork server imports and its workers start, a Dask LocalCluster starts (or the scheduler is
+    reached), and that overlaps the loading instead of following it (1–3 s of a run's serial part).  The next
+    :func:`make_executor` with the same kind, workers and scheduler takes it; one asking for something else closes it
+    (:func:`discard_early`)."""
     discard_early()
-    ex = ProcessExecutor(workers)
-    for _ in range(ex.workers):
-        ex.pool.submit(_warm)
+    if kind == "process":
+        ex = ProcessExecutor(workers)
+        for _ in range(ex.workers):
+            ex.pool.submit(_warm)
+    elif kind == "dask":
+        ex = DaskExecutor(workers, scheduler)
+        ex.start()
+    else:
+        return
     _EARLY.append(ex)
 
 
+def _take_early(kind: str, workers: int | None, scheduler: str | None) -> Executor | None:
+    """The executor :func:`start_early` made, if it is the one asked for; else it is closed."""
+    if _EARLY:
+        ex = _EARLY[0]
+        same = (ex.kind == kind and getattr(ex, "_want", ex.workers) == (workers or os.cpu_count() or 1)
+                and getattr(ex, "scheduler", None) == scheduler)
+        if same:
+            return _EARLY.pop()
+    discard_early()
+    return None
+
+
 def discard_early() -> None:
-    """Close a pool :func:`start_early` made and nobody took (its workers exit by themselves; no wait)."""
+    """Close an executor :func:`start_early` made and nobody took (a pool's workers exit by themselves; no wait)."""
     while _EARLY:
         ex = _EARLY.pop()
-        pool, ex._pool = ex._pool, None
-        _LIVE.discard(ex)
-        if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
+        if isinstance(ex, ProcessExecutor):
+            pool, ex._pool = ex._pool, None
+            _LIVE.discard(ex)
+            if pool is not None:
+                pool.shutdown(wait=False, cancel_futures=True)
+        else:
+            ex.close()
 
 
 def make_executor(kind: str = "process", workers: int | None = None, scheduler: str | None = None) -> Executor:
@@ -377,13 +428,11 @@ def make_executor(kind: str = "process", workers: int | None = None, scheduler: 
         raise InputError(f"unknown executor {kind!r} (expected one of: {', '.join(KINDS)})", key="executor")
     if workers is not None and workers < 1:
         raise InputError(f"workers must be >= 1, got {workers}", key="workers")
+    early = _take_early(kind, workers, scheduler if kind == "dask" else None)
+    if early is not None:
+        return early
     if kind == "serial":
-        discard_early()
         return SerialExecutor()
     if kind == "process":
-        if _EARLY and _EARLY[0].workers == (workers or os.cpu_count() or 1):
-            return _EARLY.pop()
-        discard_early()
         return ProcessExecutor(workers)
-    discard_early()
     return DaskExecutor(workers, scheduler)

@@ -22,19 +22,53 @@ def test_a_worker_unpickles_a_model_once_for_all_its_chunks():
 
 
 def test_a_pool_started_early_is_the_one_the_run_gets():
-    start_early(2)
+    start_early("process", 2)
     early = executors._EARLY[0]
     try:
         got = make_executor("process", 2)
         assert got is early and not executors._EARLY
         assert got.workers == 2
         got.close()
-        start_early(1)
+        start_early("process", 1)
         other = make_executor("process", 2)        # another worker count: the early pool is closed, a new one made
         assert not executors._EARLY and isinstance(other, ProcessExecutor) and other.workers == 2
         other.close()
-        start_early(1)
+        start_early("process", 1)
         assert make_executor("serial").kind == "serial" and not executors._EARLY
+        start_early("serial")
+        assert not executors._EARLY
+    finally:
+        executors.discard_early()
+
+
+def test_a_dask_cluster_started_early_is_the_one_the_run_gets_and_evaluates_the_same():
+    from rvtol.executors import SerialExecutor
+
+    start_early("dask", 1)
+    early = executors._EARLY[0]
+    try:
+        got = make_executor("dask", 1)
+        assert got is early and not executors._EARLY
+        with got:
+            m = UnpickleCountingModel(tag=3)
+            y = evaluate(m, np.zeros((3, 1)), got, chunk_size=1, progress=False).Y
+        assert y.ravel().tolist() == [1.0] * 3
+        assert evaluate(m, np.zeros((3, 1)), SerialExecutor(), progress=False).Y.shape == (3, 1)
+    finally:
+        executors.discard_early()
+
+
+def test_an_unreachable_scheduler_found_in_the_background_is_still_an_input_error(monkeypatch):
+    import pytest
+
+    from rvtol.errors import InputError
+
+    monkeypatch.setattr(executors.DaskExecutor, "CONNECT_TIMEOUT", 1.0)
+    start_early("dask", 1, "tcp://127.0.0.1:9")
+    try:
+        ex = make_executor("dask", 1, "tcp://127.0.0.1:9")
+        with pytest.raises(InputError, match="cannot reach Dask scheduler"):
+            ex.client
     finally:
         executors.discard_early()
 
@@ -64,3 +98,20 @@ def test_a_dask_cluster_receives_a_model_once_for_all_calls():
         again = evaluate(m, np.zeros((3, 1)), ex, chunk_size=1, progress=False).Y   # not scattered again
         assert len(ex._scattered) == 1
     assert first.ravel().tolist() == [1.0] * 4 and again.ravel().tolist() == [1.0] * 3
+
+
+def test_a_dask_cluster_receives_a_large_array_once_and_results_are_the_serial_ones():
+    from rvtol.executors import SCATTER_BYTES, DaskExecutor, SerialExecutor
+    from rvtol.mc import map_chunks
+
+    rng = np.random.default_rng(1)
+    big = [rng.normal(size=(SCATTER_BYTES // 8 + 10,)) for _ in range(3)]     # each over the scatter size
+    tasks = [(b, k) for k in (1.0, 2.0) for b in big]                          # each array in two tasks
+    want = map_chunks(np.multiply, tasks, SerialExecutor())
+    with DaskExecutor(2) as ex:
+        got = map_chunks(np.multiply, tasks, ex)
+        got_again = map_chunks(np.multiply, tasks, ex)
+        assert len(ex._scattered) == 3                                           # three arrays, each sent once
+    for w, g, g2 in zip(want, got, got_again):
+        np.testing.assert_array_equal(g, w)
+        np.testing.assert_array_equal(g2, w)

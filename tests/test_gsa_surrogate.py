@@ -148,11 +148,14 @@ def test_pce_ishigami_first_total_and_second_order_within_intervals(method):
 
 
 @pytest.mark.parametrize("method", ["omp", "ols"])
-def test_degrees_fitted_side_by_side_on_workers_give_the_serial_selection(method):
+def test_degrees_fitted_side_by_side_on_workers_give_the_serial_selection(method, monkeypatch):
     """The degree search with the next degrees fitted on a 2-worker process pool is the serial search: the
     same selection table, terms and coefficients bit for bit (the serial run is the reference)."""
     from rvtol.executors import make_executor
     from rvtol.mc import Evaluator
+    from rvtol.sensitivity import surrogate
+
+    monkeypatch.setattr(surrogate, "_blas_threads", lambda: 1)     # side by side whatever this machine's BLAS
 
     s = sample(ISH_SPEC, 400, "lhs", 7)
     U = uniform_design(400, 3, "lhs", 7)
@@ -314,3 +317,19 @@ def test_correlated_copula_sample_helper_consistency():
                                        for n in "ab"], "correlation": [{"pair": ["a", "b"], "rho": 0.9}]})
     u = apply_copula(uniform_design(300, 2, "random", 1), spec.correlation)
     np.testing.assert_allclose(u_from_samples(spec, to_factors(spec, u)), u, atol=1e-9)
+
+
+def test_degrees_are_fitted_one_by_one_when_blas_threads_already_cover_the_workers(monkeypatch):
+    """With no more workers than this process's BLAS threads the serial search is as fast (its least squares use
+    those threads) and never fits a degree for nothing: the map is not used."""
+    from rvtol.sensitivity import surrogate
+
+    def refuse(fn, tasks):
+        raise AssertionError("the degrees were sent to workers")
+
+    monkeypatch.setattr(surrogate, "_blas_threads", lambda: 2)
+    U = uniform_design(300, 3, "lhs", 5)
+    y = evaluate_display(ISH, sample(ISH_SPEC, 300, "lhs", 5))[:, 0]
+    got = fit_pce(U, y, "legendre", max_degree=6, map=refuse, workers=2)
+    ref = fit_pce(U, y, "legendre", max_degree=6)
+    assert got.selection.equals(ref.selection)

@@ -368,8 +368,11 @@ class MonteCarloConstraint:
         self.X0 = to_factors(problem.spec, self.U)
         self.centre = affine_centres(problem)
         self.evaluations = 0
-        self._seen: dict[bytes, np.ndarray] = {}     # candidate (its tolerances' bytes) -> its outputs
-        self.keep = max(1, int(2e8 // max(8 * self.n * len(problem.model.outputs), 1)))   # ≈ 200 MB of them
+        # the outputs the requirements judge: only these come back from the workers (the sign-off's model has 44
+        # outputs, its allocation judges a few — the rest would cross the process boundary for nothing)
+        self.columns = np.array(sorted({problem.model.output_index(r.output) for r in problem.requirements}), int)
+        self._seen: dict[bytes, np.ndarray] = {}     # candidate (its tolerances' bytes) -> its judged outputs
+        self.keep = max(1, int(2e8 // max(8 * self.n * len(self.columns), 1)))   # ≈ 200 MB of them
 
     def samples(self, t) -> np.ndarray:
         """The design's factor values (base units) with the allocated tolerances set to ``t``."""
@@ -384,7 +387,8 @@ class MonteCarloConstraint:
         return X
 
     def outputs(self, T) -> list[np.ndarray]:
-        """Model outputs (base units) for each candidate of ``T[p, m]`` (one batch through the executor).
+        """The judged model outputs (base units; the columns :attr:`columns`) for each candidate of ``T[p, m]``
+        (one batch through the executor).
 
         Where every allocated factor scales affinely, the workers build the candidates' samples themselves
         from chunks of the fixed design (:func:`_candidate_outputs`: the design travels once per batch, not
@@ -394,7 +398,7 @@ class MonteCarloConstraint:
         self.evaluations += len(T) * self.n
         if np.isnan(self.centre).any():     # a factor that does not scale affinely: the spine's path, in the parent
             X = np.vstack([self.samples(t) for t in T])
-            Y = self.evaluate(self.problem.model, X, "allocation").Y
+            Y = self.evaluate(self.problem.model, X, "allocation").Y[:, self.columns]
             return [Y[i * self.n:(i + 1) * self.n] for i in range(len(T))]
         keys = [t.tobytes() for t in T]
         todo = list(dict.fromkeys(k for k in keys if k not in self._seen))
@@ -403,8 +407,8 @@ class MonteCarloConstraint:
             f = Tn / self.problem.t0
             workers = self.evaluate.workers if isinstance(self.evaluate, Evaluator) else 1
             cs = auto_chunk_size(self.n, workers)
-            tasks = [(self.problem.model, self.X0[a:a + cs], f, np.asarray(self.problem.idx), self.centre)
-                     for a in range(0, self.n, cs)]
+            tasks = [(self.problem.model, self.X0[a:a + cs], f, np.asarray(self.problem.idx), self.centre,
+                      self.columns) for a in range(0, self.n, cs)]
             mapper = self.evaluate.map if isinstance(self.evaluate, Evaluator) else map_chunks
             Y = np.concatenate(mapper(_candidate_outputs, tasks), axis=1)
             if len(self._seen) + len(todo) > self.keep:
@@ -421,11 +425,12 @@ class MonteCarloConstraint:
         """
         m = self.problem.model
         out = []
+        where = {int(c): k for k, c in enumerate(self.columns)}     # model output index -> column of outputs()
         for Y in self.outputs(T):
             rows = []
             for r in self.problem.requirements:
                 j = m.output_index(r.output)
-                y = m.outputs[j].to_display(Y[:, j])
+                y = m.outputs[j].to_display(Y[:, where[j]])
                 ok = np.isfinite(y)
                 row = {}
                 if r.min_yield is not None:
@@ -463,9 +468,10 @@ class MonteCarloConstraint:
         return f"Monte Carlo ({self.method}, n = {self.n}, fixed design: common random numbers)"
 
 
-def _candidate_outputs(model: Model, X0: np.ndarray, f: np.ndarray, idx: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """``Y[candidate, row, output]`` (base units, NaN where the model failed) of the design rows ``X0`` with
-    each allocated factor ``idx[c]`` scaled by ``f[candidate, c]`` about its centre (as
+def _candidate_outputs(model: Model, X0: np.ndarray, f: np.ndarray, idx: np.ndarray, centre: np.ndarray,
+                       columns: np.ndarray) -> np.ndarray:
+    """``Y[candidate, row, output]`` (base units, NaN where the model failed; the outputs ``columns``) of the design
+    rows ``X0`` with each allocated factor ``idx[c]`` scaled by ``f[candidate, c]`` about its centre (as
     :meth:`MonteCarloConstraint.samples`): one task of :meth:`MonteCarloConstraint.outputs`."""
     blocks = []
     for fc in f:
@@ -473,7 +479,7 @@ def _candidate_outputs(model: Model, X0: np.ndarray, f: np.ndarray, idx: np.ndar
         for c, i in enumerate(idx):
             X[:, i] = centre[c] + fc[c] * (X0[:, i] - centre[c])
         blocks.append(X)
-    Y = evaluate(model, np.vstack(blocks), progress=False).Y
+    Y = evaluate(model, np.vstack(blocks), progress=False).Y[:, columns]
     return Y.reshape(len(f), len(X0), -1)
 
 
