@@ -148,8 +148,8 @@ class Executor:
     def imap(self, fn: Callable, tasks: Sequence[tuple]) -> Iterator[tuple[int, object]]:
         raise NotImplementedError  # pragma: no cover - abstract
 
-    def close(self) -> None:
-        pass
+    def close(self, wait: bool = True) -> None:
+        """Release the workers (``wait=False``: do not wait for them to exit)."""
 
     def __enter__(self):
         return self
@@ -242,13 +242,13 @@ class ProcessExecutor(Executor):
                 for f in futs:
                     f.cancel()
 
-    def close(self):
+    def close(self, wait: bool = True):
         if self._pool is not None:
             pool, self._pool = self._pool, None
             _LIVE.discard(self)
             # after kill_workers the pool finds itself broken at once; waiting lets it clean up in order
             killed = getattr(self, "_killed", False)
-            pool.shutdown(wait=True, cancel_futures=not killed)
+            pool.shutdown(wait=wait or killed, cancel_futures=not killed)
 
 
 class DaskExecutor(Executor):
@@ -361,7 +361,7 @@ class DaskExecutor(Executor):
             self._scattered.pop(next(iter(self._scattered)))[0].release()
         return got[0]
 
-    def close(self):
+    def close(self, wait: bool = True):
         if self._starting is not None:
             self._starting.join()
             self._starting = None
@@ -422,14 +422,7 @@ def _take_early(kind: str, workers: int | None, scheduler: str | None) -> Execut
 def discard_early() -> None:
     """Close an executor :func:`start_early` made and nobody took (a pool's workers exit by themselves; no wait)."""
     while _EARLY:
-        ex = _EARLY.pop()
-        if isinstance(ex, ProcessExecutor):
-            pool, ex._pool = ex._pool, None
-            _LIVE.discard(ex)
-            if pool is not None:
-                pool.shutdown(wait=False, cancel_futures=True)
-        else:
-            ex.close()
+        _EARLY.pop().close(wait=False)
 
 
 def make_executor(kind: str = "process", workers: int | None = None, scheduler: str | None = None) -> Executor:

@@ -1,6 +1,7 @@
 """Process pools: a model travels to each worker once, not with every chunk; a pool started early (while a study
 loads) is the one the run then uses; the crank circle is one value for every model (one finite-element solve)."""
 import numpy as np
+import pytest
 
 from rvtol import executors
 from rvtol.executors import ProcessExecutor, make_executor, start_early
@@ -21,56 +22,53 @@ def test_a_worker_unpickles_a_model_once_for_all_its_chunks():
     assert other.ravel().tolist() == [2.0] * 2          # a different model is unpacked once in its turn
 
 
-def test_a_pool_started_early_is_the_one_the_run_gets():
-    start_early("process", 2)
+@pytest.fixture
+def no_early_executor():
+    """Whatever a test starts early is closed after it."""
+    yield
+    executors.discard_early()
+
+
+def _taken_early(kind, workers, scheduler=None):
+    """An executor started early, then asked for: the same object, taken from the early slot."""
+    start_early(kind, workers, scheduler)
     early = executors._EARLY[0]
-    try:
-        got = make_executor("process", 2)
-        assert got is early and not executors._EARLY
-        assert got.workers == 2
-        got.close()
-        start_early("process", 1)
-        other = make_executor("process", 2)        # another worker count: the early pool is closed, a new one made
-        assert not executors._EARLY and isinstance(other, ProcessExecutor) and other.workers == 2
-        other.close()
-        start_early("process", 1)
-        assert make_executor("serial").kind == "serial" and not executors._EARLY
-        start_early("serial")
-        assert not executors._EARLY
-    finally:
-        executors.discard_early()
+    got = make_executor(kind, workers, scheduler)
+    assert got is early and not executors._EARLY
+    return got
 
 
-def test_a_dask_cluster_started_early_is_the_one_the_run_gets_and_evaluates_the_same():
+def test_a_pool_started_early_is_the_one_the_run_gets(no_early_executor):
+    got = _taken_early("process", 2)
+    assert got.workers == 2
+    got.close()
+    start_early("process", 1)
+    other = make_executor("process", 2)        # another worker count: the early pool is closed, a new one made
+    assert not executors._EARLY and isinstance(other, ProcessExecutor) and other.workers == 2
+    other.close()
+    start_early("process", 1)
+    assert make_executor("serial").kind == "serial" and not executors._EARLY
+    start_early("serial")
+    assert not executors._EARLY
+
+
+def test_a_dask_cluster_started_early_is_the_one_the_run_gets_and_evaluates_the_same(no_early_executor):
     from rvtol.executors import SerialExecutor
 
-    start_early("dask", 1)
-    early = executors._EARLY[0]
-    try:
-        got = make_executor("dask", 1)
-        assert got is early and not executors._EARLY
-        with got:
-            m = UnpickleCountingModel(tag=3)
-            y = evaluate(m, np.zeros((3, 1)), got, chunk_size=1, progress=False).Y
-        assert y.ravel().tolist() == [1.0] * 3
-        assert evaluate(m, np.zeros((3, 1)), SerialExecutor(), progress=False).Y.shape == (3, 1)
-    finally:
-        executors.discard_early()
+    with _taken_early("dask", 1) as got:
+        m = UnpickleCountingModel(tag=3)
+        y = evaluate(m, np.zeros((3, 1)), got, chunk_size=1, progress=False).Y
+    assert y.ravel().tolist() == [1.0] * 3
+    assert evaluate(m, np.zeros((3, 1)), SerialExecutor(), progress=False).Y.shape == (3, 1)
 
 
-def test_an_unreachable_scheduler_found_in_the_background_is_still_an_input_error(monkeypatch):
-    import pytest
-
+def test_an_unreachable_scheduler_found_in_the_background_is_still_an_input_error(monkeypatch, no_early_executor):
     from rvtol.errors import InputError
 
     monkeypatch.setattr(executors.DaskExecutor, "CONNECT_TIMEOUT", 1.0)
-    start_early("dask", 1, "tcp://127.0.0.1:9")
-    try:
-        ex = make_executor("dask", 1, "tcp://127.0.0.1:9")
-        with pytest.raises(InputError, match="cannot reach Dask scheduler"):
-            ex.client
-    finally:
-        executors.discard_early()
+    ex = _taken_early("dask", 1, "tcp://127.0.0.1:9")
+    with pytest.raises(InputError, match="cannot reach Dask scheduler"):
+        ex.client
 
 
 def test_every_model_of_the_product_puts_the_crank_on_one_circle():
