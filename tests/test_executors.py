@@ -113,3 +113,20 @@ def test_a_dask_cluster_receives_a_large_array_once_and_results_are_the_serial_o
     for w, g, g2 in zip(want, got, got_again):
         np.testing.assert_array_equal(g, w)
         np.testing.assert_array_equal(g2, w)
+
+
+def _worker_settings():
+    import dask
+
+    return {k: dask.config.get(k) for k in executors.QUIET_WORKERS}
+
+
+def test_our_dask_workers_keep_their_housekeeping_rare_and_a_users_config_is_left_alone():
+    import dask
+
+    from rvtol.executors import QUIET_WORKERS, DaskExecutor
+
+    with DaskExecutor(1) as ex:
+        seen = list(ex.client.run(_worker_settings).values())
+    assert seen == [QUIET_WORKERS]
+    assert dask.config.get("distributed.admin.tick.interval") != QUIET_WORKERS["distributed.admin.tick.interval"]

@@ -2,7 +2,7 @@
 
 Each run is ``rvtol run STUDY --no-pdf --workers W`` in a fresh process (its phases' wall times from
 summary.json's ``phase_time_s``, or ``timings_s`` for code that has no profile), at W = 1, 2, … up to the
-machine's cores (and on a Dask LocalCluster of the largest W, where Dask is installed).  The worker counts
+machine's cores (and on a Dask LocalCluster of 1 and the largest W, where Dask is installed).  The worker counts
 are interleaved and repeated (``--repeat``): the machines are shared and their load varies, so each figure
 is the best of its repeats and the load average is printed beside the table.
 
@@ -81,9 +81,9 @@ def amdahl(workers, times) -> float | None:
     return float(np.clip(np.sum((r - 1.0 / w) * a) / np.sum(a * a), 0.0, 1.0))
 
 
-def measure(code_dirs, studies, ns, worker_counts, repeat, dask: bool, tmp: Path) -> dict:
+def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Path) -> dict:
     """``{(code, study, config): [runs]}``, configurations interleaved inside each repeat."""
-    configs = [("process", w) for w in worker_counts] + ([("dask", max(worker_counts))] if dask else [])
+    configs = [("process", w) for w in worker_counts] + [("dask", w) for w in dask_counts]
     runs: dict = {}
     for rep in range(repeat):
         for st in studies:
@@ -113,12 +113,16 @@ def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
                      for c in cfgs}
                 if any(v is None for v in t.values()):
                     continue
-                proc = [c for c in cfgs if c.startswith("process")]
-                s = amdahl([int(c.split()[1]) for c in proc], [t[c] for c in proc])
+                fits = {}
+                for kind in ("process", "dask"):
+                    own = [c for c in cfgs if c.startswith(kind)]
+                    fits[kind] = amdahl([int(c.split()[1]) for c in own], [t[c] for c in own]) if own else None
                 par = None if ph in whole else first["phases"][ph].get("parallel")
-                cells = "  ".join(f"{c}: {t[c]:7.1f} s ("
-                                  + (f"{t[cfgs[0]] / t[c]:.2f}×)" if t[c] > 0 else "—)") for c in cfgs)
-                extra = f"  Amdahl s = {s:.0%}" if s is not None else ""
+                cells = "  ".join(f"{c}: {t[c]:7.1f} s (" + (f"{t[cfgs[0]] / t[c]:.2f}×" if t[c] > 0 else "—")
+                                  + (f"; {t['dask 1'] / t[c]:.2f}× Dask 1" if c.startswith("dask") and c != "dask 1"
+                                     and "dask 1" in t and t[c] > 0 else "") + ")" for c in cfgs)
+                extra = "".join(f"  Amdahl s = {v:.0%}" + (" (Dask)" if k == "dask" else "")
+                                for k, v in fits.items() if v is not None)
                 if par is not None and t[cfgs[0]] > 0:
                     extra += f"  in parallel evaluation at 1 worker: {par / t[cfgs[0]]:.0%}"
                 rows.append((ph, cells, extra))
@@ -139,6 +143,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--code", action="append", default=None, help="a checkout to run (repeatable; default: this one)")
     ap.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster")
+    ap.add_argument("--dask-workers", default=None,
+                    help="Dask LocalCluster worker counts (default: 1 and the largest of --workers)")
     ap.add_argument("--save", type=Path, help="also write every run's figures to this JSON file")
     ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
     a = ap.parse_args()
@@ -151,11 +157,13 @@ def main() -> None:
         dask = not a.no_dask
     except ImportError:
         dask = False
+    dask_counts = ([int(w) for w in a.dask_workers.split(",")] if a.dask_workers
+                   else sorted({1, max(counts)})) if dask else []
     code_dirs = [Path(c).resolve() for c in (a.code or [ROOT])]
     studies = [s for s in a.only.split(",") if s]
     ns = {"signoff": a.signoff_n, "te": a.te_n}
     with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
-        runs = measure(code_dirs, studies, ns, counts, a.repeat, dask, Path(tmp))
+        runs = measure(code_dirs, studies, ns, counts, a.repeat, dask_counts, Path(tmp))
     if a.save:
         a.save.write_text(json.dumps({" | ".join(k): v for k, v in runs.items()}, indent=1))
     report(runs, code_dirs, studies, counts, ns)
