@@ -58,9 +58,9 @@ def parallel_seconds() -> float:
     return _PARALLEL["seconds"]
 
 
-def auto_chunk_size(n: int, workers: int) -> int:
+def auto_chunk_size(n: int, workers: int, per_worker: int = 4) -> int:
     """Enough chunks to balance the workers and move the progress bar, not so many that overhead shows."""
-    return int(max(1, min(8192, math.ceil(n / (4 * max(1, workers))))))
+    return int(max(1, min(8192, math.ceil(n / (per_worker * max(1, workers))))))
 
 
 @dataclass
@@ -130,14 +130,16 @@ def _evaluate(model, X, executor, chunk_size, progress, desc, store, persist) ->
     return Evaluation(Y, status)
 
 
-def map_chunks(fn, tasks, executor: Executor | None = None) -> list:
+def map_chunks(fn, tasks, executor: Executor | None = None, single_inline: bool = True) -> list:
     """``[fn(*t) for t in tasks]`` on ``executor`` (results in task order; timed as parallel evaluation).
 
     For work that is not a model evaluation — a solver run per reducer, a fit per output —: each task
-    should be large enough to amortise the scheduling (tens of ms at least)."""
+    should be large enough to amortise the scheduling (tens of ms at least).  A single task runs in this
+    process unless ``single_inline`` is False: a task whose code the workers have already loaded (a compiled
+    kernel, a model they keep) runs there without this process loading it first."""
     tasks = list(tasks)
     with _ParallelClock():
-        if executor is None or executor.workers <= 1 or len(tasks) <= 1:
+        if executor is None or executor.workers <= 1 or (len(tasks) <= 1 and single_inline):
             return [fn(*t) for t in tasks]
         out = [None] * len(tasks)
         for i, r in executor.imap(fn, tasks):
@@ -203,9 +205,9 @@ class Evaluator:
         self.cache = cache
         self.store = store  # rvtol.checkpoint.ChunkStore: persist chunks, reuse them on resume
 
-    def map(self, fn, tasks) -> list:
+    def map(self, fn, tasks, single_inline: bool = True) -> list:
         """``[fn(*t) for t in tasks]`` on the evaluator's executor (:func:`map_chunks`)."""
-        return map_chunks(fn, tasks, self.executor)
+        return map_chunks(fn, tasks, self.executor, single_inline)
 
     @property
     def workers(self) -> int:

@@ -130,3 +130,14 @@ def test_our_dask_workers_keep_their_housekeeping_rare_and_a_users_config_is_lef
         seen = list(ex.client.run(_worker_settings).values())
     assert seen == [QUIET_WORKERS]
     assert dask.config.get("distributed.admin.tick.interval") != QUIET_WORKERS["distributed.admin.tick.interval"]
+
+
+def test_a_single_task_runs_here_unless_asked_to_go_to_the_workers():
+    import os
+
+    from rvtol.mc import map_chunks
+
+    with ProcessExecutor(2) as ex:
+        here = map_chunks(os.getpid, [()], ex)
+        there = map_chunks(os.getpid, [()], ex, single_inline=False)
+    assert here == [os.getpid()] and there != [os.getpid()]

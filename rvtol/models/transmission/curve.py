@@ -119,7 +119,9 @@ def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units
     if newmark and model.mode != "newmark":
         models["newmark"] = model.variant(mode="newmark")
     mapper = evaluate.map if evaluate is not None else map_chunks
-    res = dict(zip(models, mapper(_run, [(m, x) for m in models.values()])))
+    # on the workers even alone: they have run the model in the Monte Carlo (its kernels loaded, the model kept),
+    # where this process would first load the compiled kernels (0.2 s, more than the solve)
+    res = dict(zip(models, mapper(_run, [(m, x) for m in models.values()], single_inline=False)))
     factors = pd.DataFrame({"factor": names, "value": [float(units.from_base(v, u)) for v, u in zip(x, shown_units)],
                             "unit": [units.label(u) for u in shown_units]})
     rows = [_solver_row(m, r) for m, r in res.items() if r.ok]
