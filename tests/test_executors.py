@@ -141,3 +141,19 @@ def test_a_single_task_runs_here_unless_asked_to_go_to_the_workers():
         here = map_chunks(os.getpid, [()], ex)
         there = map_chunks(os.getpid, [()], ex, single_inline=False)
     assert here == [os.getpid()] and there != [os.getpid()]
+
+
+def _has_agg() -> bool:
+    import sys
+
+    return {"matplotlib.pyplot", "matplotlib.backends.backend_agg"} <= set(sys.modules)
+
+
+def test_pool_and_dask_workers_have_the_plotting_backend_before_their_first_figure():
+    from rvtol.executors import DaskExecutor
+    from rvtol.mc import map_chunks
+
+    with ProcessExecutor(2) as ex:
+        assert map_chunks(_has_agg, [(), ()], ex) == [True, True]
+    with DaskExecutor(1) as ex:
+        assert list(ex.client.run(_has_agg).values()) == [True]
