@@ -141,6 +141,19 @@ SCATTER_BYTES = 1 << 18
 KEEP_SCATTERED_BYTES = 256 << 20
 
 
+def _once_per_call(convert: Callable) -> Callable:
+    """``convert`` memoised by object for one executor call: the model (or array) every chunk of a call carries is
+    pickled and digested once, not once per chunk."""
+    seen: dict[int, tuple] = {}
+
+    def get(a):
+        if id(a) not in seen:
+            seen[id(a)] = (a, convert(a))     # ``a`` kept with it, so its id is not reused during the call
+        return seen[id(a)][1]
+
+    return get
+
+
 def _call_shipped(fn: Callable, *args):
     """Worker side of :meth:`ProcessExecutor.imap`: ``fn`` on the arguments with shipped models unpacked."""
     return fn(*(a.get() if isinstance(a, _Shipped) else a for a in args))
@@ -229,15 +242,7 @@ class ProcessExecutor(Executor):
     def imap(self, fn, tasks):
         from concurrent.futures.process import BrokenProcessPool
 
-        shipped: dict[int, _Shipped] = {}       # one pickle per distinct model in this call
-
-        def ship(a):
-            if not _is_model(a):
-                return a
-            if id(a) not in shipped:
-                shipped[id(a)] = _Shipped(a)
-            return shipped[id(a)]
-
+        ship = _once_per_call(lambda a: _Shipped(a) if _is_model(a) else a)
         futs = {self.pool.submit(_call_shipped, fn, *map(ship, t)): i for i, t in enumerate(tasks)}
         try:
             for f in as_completed(futs):
@@ -344,7 +349,8 @@ class DaskExecutor(Executor):
         # model, and the allocation with the same chunks of its fixed design, hundreds of times.  Results come back
         # with their futures (no round trip per result) and finished futures are simply dropped (a cancel is one
         # more): a call of 8 small chunks 34 → 24 ms on a 2-worker LocalCluster (a process pool: 2–3 ms)
-        args = [[self._shared(a) for a in t] for t in tasks]
+        share = _once_per_call(self._shared)
+        args = [[share(a) for a in t] for t in tasks]
         futs = c.map(fn, *zip(*args), pure=False) if args else []
         index = {f.key: i for i, f in enumerate(futs)}
         done = False
@@ -391,8 +397,8 @@ class DaskExecutor(Executor):
 #: (the tick that watches for a blocked loop), reads its memory every 100 ms (and its nanny too), samples system
 #: figures every 500 ms and its own stack every 10 ms (the statistical profiler, for a dashboard nobody opens).
 #: On a machine whose cores all compute, each wake takes the GIL and a core from the task: a chunk of the
-#: RV-80E sign-off's composite took 6–7 % longer on a 2-worker LocalCluster than on a 2-process pool; with these
-#: settings the same (``studies/benchmarks/bench_scaling.py``).  A tick of 1 s still reports a loop blocked for
+#: RV-80E sign-off's composite took 6–7 % longer on a 2-worker LocalCluster than on a 2-process pool (timed inside
+#: the tasks); with these settings the same.  A tick of 1 s still reports a loop blocked for
 #: the warning's 3 s; memory is still checked every second against the kill limit.
 QUIET_WORKERS = {
     "distributed.worker.profile.enabled": False,

@@ -157,3 +157,20 @@ def test_pool_and_dask_workers_have_the_plotting_backend_before_their_first_figu
         assert map_chunks(_has_agg, [(), ()], ex) == [True, True]
     with DaskExecutor(1) as ex:
         assert list(ex.client.run(_has_agg).values()) == [True]
+
+
+def test_a_dask_call_pickles_its_model_once_for_all_its_chunks(monkeypatch):
+    from rvtol.executors import DaskExecutor
+
+    made = []
+    real = executors._Shipped.__init__
+
+    def counting(self, obj):
+        made.append(type(obj).__name__)
+        real(self, obj)
+
+    monkeypatch.setattr(executors._Shipped, "__init__", counting)
+    m = UnpickleCountingModel(tag=3)
+    with DaskExecutor(1) as ex:
+        y = evaluate(m, np.zeros((5, 1)), ex, chunk_size=1, progress=False).Y
+    assert made == ["UnpickleCountingModel"] and y.ravel().tolist() == [1.0] * 5

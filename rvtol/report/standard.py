@@ -8,13 +8,13 @@ from ..units import label
 from ..blocks import RunTable, Section, Table
 
 
-
 def correlated_pairs(names, corr) -> pd.DataFrame:
     """One row per correlated pair of factors (ρ ≠ 0 off the diagonal) — not the k × k matrix, which for the
     sign-off's 304 factors is 92 416 cells holding 14 pairs."""
     corr = np.asarray(corr, float)
     i, j = np.nonzero(np.triu(corr, 1))
     return pd.DataFrame({"factor": [names[a] for a in i], "with": [names[b] for b in j], "ρ": corr[i, j]})
+
 
 def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:
     if v is None or (isinstance(v, float) and not np.isfinite(v)):
