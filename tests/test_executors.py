@@ -132,6 +132,29 @@ def test_our_dask_workers_keep_their_housekeeping_rare_and_a_users_config_is_lef
     assert dask.config.get("distributed.admin.tick.interval") != QUIET_WORKERS["distributed.admin.tick.interval"]
 
 
+def _malloc_trim():
+    import os
+
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+def test_our_dask_workers_keep_glibcs_memory_policy_as_pool_workers_do():
+    """Dask's nanny would start each worker with MALLOC_TRIM_THRESHOLD_=65536 (every large temporary array a fresh
+    mmap): our cluster's workers get the environment of the process that starts them, as pool workers do."""
+    import os
+
+    import dask
+
+    from rvtol.executors import DaskExecutor
+
+    here = os.environ.get("MALLOC_TRIM_THRESHOLD_")
+    with DaskExecutor(1) as ex:
+        seen = list(ex.client.run(_malloc_trim).values())
+        assert os.environ.get("MALLOC_TRIM_THRESHOLD_") == here          # nor set here by the nanny
+    assert seen == [here]
+    assert dask.config.get("distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_") == 65536   # Dask's own
+
+
 def test_a_single_task_runs_here_unless_asked_to_go_to_the_workers():
     import os
 
