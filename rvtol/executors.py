@@ -101,44 +101,76 @@ def _pool_worker(owner: int) -> None:
 _LIVE: "weakref.WeakSet[ProcessExecutor]" = weakref.WeakSet()
 
 
-class _Shipped:
-    """A model on its way to a pool worker: its pickle and the pickle's digest.
+class Shared:
+    """An argument that many executor calls pass unchanged — a model, the chunks of a fixed design —, pickled and
+    digested once, here (:attr:`value` is the object itself, for a call that runs in this process).
 
-    A process pool pickles every task's arguments, so a model passed with each chunk used to be
-    unpickled once per chunk in the worker (0.1–0.3 s for the RV-80E sign-off's composite, the same
-    wall time at any worker count: a cost more workers cannot share).  The owner pickles the model once
-    per :meth:`ProcessExecutor.imap`; each worker unpickles a digest once and keeps the last few models
-    (:data:`_KEPT`), so repeated calls on the same model — the allocation's generations, the sensitivity
-    stencils — reuse the worker's copy.  Models are row-deterministic, so a kept copy answers as a fresh one.
+    A process pool pickles every task's arguments, so an argument sent with each chunk of each call was pickled,
+    piped and unpickled every time: a model unpickled once per chunk in the worker (0.1–0.3 s for the RV-80E
+    sign-off's composite, the same wall time at any worker count), and the allocation's 3.6 MB chunks of its fixed
+    design sent with each of its 64 GA and bisection batches (19–21 ms a batch of two chunks with a no-op task;
+    0.5 ms with small arguments).  Instead a pool worker keeps what it received by digest (up to
+    :data:`KEEP_BYTES`, least recently used dropped first) and the calls after the first send the digest alone; a
+    worker that does not have it answers so and the chunk is sent again with the bytes.  A Dask cluster holds it
+    scattered, found by the same digest.  Models are row-deterministic, so a kept copy answers as a fresh one;
+    an array is read-only, here and on the workers (a task that wrote into it would change the next call's input).
+    Models need no wrapping: every call ships its models as Shared; a caller wraps the data it repeats.
     """
 
-    __slots__ = ("key", "blob")
+    __slots__ = ("value", "key", "blob")
 
-    def __init__(self, obj) -> None:
+    def __init__(self, value) -> None:
         import hashlib
         import pickle
 
-        self.blob = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+        if hasattr(value, "setflags"):          # an array: read-only here too (a read-only view of the caller's)
+            value = value.view()
+            value.setflags(write=False)
+        self.value = value
+        self.blob = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
         self.key = hashlib.blake2b(self.blob, digest_size=16).digest()
+
+    def __reduce__(self):                   # travels as its digest and bytes (the task side: _Ref)
+        return _Ref, (self.key, self.blob)
+
+
+class _NotKept(Exception):
+    """A task carried a Shared argument's digest alone, and this worker does not keep it."""
+
+
+class _Ref:
+    """A :class:`Shared` argument as a pool task carries it: the digest, and the bytes unless workers have them."""
+
+    __slots__ = ("key", "blob")
+
+    def __init__(self, key: bytes, blob: bytes | None) -> None:
+        self.key, self.blob = key, blob
 
     def get(self):
         import pickle
 
         got = _KEPT.pop(self.key, None)
         if got is None:
-            got = pickle.loads(self.blob)
+            if self.blob is None:
+                raise _NotKept
+            value = pickle.loads(self.blob)
+            if hasattr(value, "setflags"):
+                value.setflags(write=False)
+            got = (value, len(self.blob))
         _KEPT[self.key] = got                      # most recently used last
-        while len(_KEPT) > KEEP_MODELS:
+        while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
             _KEPT.pop(next(iter(_KEPT)))
-        return got
+        return got[0]
 
 
-#: models a pool worker keeps unpickled (by digest), least recently used first
+#: what a pool worker keeps of the Shared arguments it received (by digest: value and size), least recently used first
 _KEPT: dict = {}
-KEEP_MODELS = 4
-#: a Dask executor scatters arrays from this size on, and keeps scattered models and arrays up to this many bytes
+#: a worker keeps Shared arguments up to this many pickled bytes, and a Dask executor its scattered ones
+KEEP_BYTES = 256 << 20
+#: a Dask executor scatters arrays from this size on
 SCATTER_BYTES = 1 << 18
-KEEP_SCATTERED_BYTES = 256 << 20
+class _Missing:
+    """A pool task's answer when it carried a digest its worker does not keep."""
 
 
 def _once_per_call(convert: Callable) -> Callable:
@@ -154,9 +186,18 @@ def _once_per_call(convert: Callable) -> Callable:
     return get
 
 
+def plain(args: tuple) -> tuple:
+    """A task's arguments as the function takes them in this process (each :class:`Shared` as its value)."""
+    return tuple(a.value if isinstance(a, Shared) else a for a in args)
+
+
 def _call_shipped(fn: Callable, *args):
-    """Worker side of :meth:`ProcessExecutor.imap`: ``fn`` on the arguments with shipped models unpacked."""
-    return fn(*(a.get() if isinstance(a, _Shipped) else a for a in args))
+    """Worker side of :meth:`ProcessExecutor.imap`: ``fn`` on the arguments with shared ones unpacked."""
+    try:
+        args = tuple(a.get() if isinstance(a, _Ref) else a for a in args)
+    except _NotKept:
+        return _Missing()
+    return fn(*args)
 
 
 def stop_workers() -> None:
@@ -192,7 +233,7 @@ class SerialExecutor(Executor):
 
     def imap(self, fn, tasks):
         for i, t in enumerate(tasks):
-            yield i, fn(*t)
+            yield i, fn(*plain(t))
 
 
 class ProcessExecutor(Executor):
@@ -240,21 +281,39 @@ class ProcessExecutor(Executor):
             pass
 
     def imap(self, fn, tasks):
+        from concurrent.futures import FIRST_COMPLETED, wait
         from concurrent.futures.process import BrokenProcessPool
 
-        ship = _once_per_call(lambda a: _Shipped(a) if _is_model(a) else a)
-        futs = {self.pool.submit(_call_shipped, fn, *map(ship, t)): i for i, t in enumerate(tasks)}
+        share = _once_per_call(lambda a: Shared(a) if _is_model(a) else a)
+        tasks = [tuple(map(share, t)) for t in tasks]
+        sent = getattr(self, "_sent", set())        # digests this pool's workers have been sent the bytes of
+
+        def submit(i: int, digest_only: bool):
+            args = (_Ref(a.key, None if digest_only and a.key in sent else a.blob) if isinstance(a, Shared) else a
+                    for a in tasks[i])
+            futs[self.pool.submit(_call_shipped, fn, *args)] = i
+
+        futs: dict = {}
+        for i in range(len(tasks)):
+            submit(i, True)
+        self._sent = sent | {a.key for t in tasks for a in t if isinstance(a, Shared)}
         try:
-            for f in as_completed(futs):
-                try:
-                    res = f.result()
-                except BrokenProcessPool:
-                    raise RvtolError(
-                        "the worker processes stopped before finishing. If you call rvtol from a script, "
-                        "put the calls under `if __name__ == \"__main__\":` (worker processes import the "
-                        "script), or use make_executor(\"serial\"); otherwise a worker ran out of memory "
-                        "or crashed") from None
-                yield futs[f], res
+            while futs:
+                done, _ = wait(futs, return_when=FIRST_COMPLETED)
+                for f in done:
+                    i = futs.pop(f)
+                    try:
+                        res = f.result()
+                    except BrokenProcessPool:
+                        raise RvtolError(
+                            "the worker processes stopped before finishing. If you call rvtol from a script, "
+                            "put the calls under `if __name__ == \"__main__\":` (worker processes import the "
+                            "script), or use make_executor(\"serial\"); otherwise a worker ran out of memory "
+                            "or crashed") from None
+                    if isinstance(res, _Missing):           # that worker does not keep it: send the bytes too
+                        submit(i, False)
+                        continue
+                    yield i, res
         finally:
             if not getattr(self, "_killed", False):  # killed: the broken pool fails its futures itself
                 for f in futs:
@@ -366,17 +425,19 @@ class DaskExecutor(Executor):
         """``a`` as the task will get it: a model or a large array as its future on the cluster, else itself."""
         import numpy as np
 
-        if _is_model(a):
-            blob, broadcast = _Shipped(a), True
+        if isinstance(a, Shared):
+            blob, broadcast = a, _is_model(a.value)
+        elif _is_model(a):
+            blob, broadcast = Shared(a), True
         elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
-            blob, broadcast = _Shipped(a), False
+            blob, broadcast = Shared(a), False
         else:
             return a
         got = self._scattered.pop(blob.key, None)
         if got is None:
-            got = (self.client.scatter(a, broadcast=broadcast, hash=False), len(blob.blob))
+            got = (self.client.scatter(blob.value, broadcast=broadcast, hash=False), len(blob.blob))
         self._scattered[blob.key] = got                    # most recently used last
-        while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_SCATTERED_BYTES:
+        while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_BYTES:
             self._scattered.pop(next(iter(self._scattered)))[0].release()
         return got[0]
 

@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from . import stats as st
-from .executors import Executor, SerialExecutor
+from .executors import Executor, SerialExecutor, plain
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
@@ -140,7 +140,7 @@ def map_chunks(fn, tasks, executor: Executor | None = None, single_inline: bool 
     tasks = list(tasks)
     with _ParallelClock():
         if executor is None or executor.workers <= 1 or (len(tasks) <= 1 and single_inline):
-            return [fn(*t) for t in tasks]
+            return [fn(*plain(t)) for t in tasks]
         out = [None] * len(tasks)
         for i, r in executor.imap(fn, tasks):
             out[i] = r

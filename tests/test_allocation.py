@@ -217,6 +217,9 @@ def test_monte_carlo_constraint_outputs_built_in_workers_equal_the_samples_evalu
             for g, r in zip(got, ref):
                 np.testing.assert_array_equal(g, r[:, mc.columns])
             assert got[0] is got[2]            # the repeated candidate: one evaluation
+            later = mc.outputs(T[:2] * 1.1)    # a later batch: the workers keep the design's chunks
+            for g, t in zip(later, T[:2] * 1.1):
+                np.testing.assert_array_equal(g, evaluate(p.model, mc.samples(t), progress=False).Y[:, mc.columns])
 
 
 def test_pattern_requirements_expand_and_unknown_pattern_fails():

@@ -87,6 +87,61 @@ def test_every_model_of_the_product_puts_the_crank_on_one_circle():
     assert abs(g.a_w - float(d["crank_bearing.centre_radius"])) < 5e-4     # the design's value is a' rounded
 
 
+def _unpickled(m) -> float:
+    from rvtol.testing import UNPICKLED
+
+    return float(UNPICKLED["count"])
+
+
+def _forget_kept() -> None:
+    executors._KEPT.clear()
+
+
+def test_a_shared_argument_travels_once_and_again_only_to_a_worker_that_lost_it(monkeypatch):
+    """After a call has sent a Shared argument's bytes, the next calls send its digest alone; a worker that no
+    longer keeps it answers so and gets the bytes again — the results are the same throughout."""
+    from rvtol.executors import Shared
+
+    m = Shared(UnpickleCountingModel(tag=5))
+    with ProcessExecutor(1) as ex:
+        carried = []
+        submit = ex.pool.submit
+
+        def recording(fn, f, *args):
+            carried.append(["bytes" if a.blob is not None else "digest" for a in args if isinstance(a, executors._Ref)])
+            return submit(fn, f, *args)
+
+        monkeypatch.setattr(ex.pool, "submit", recording)
+        run = lambda fn, tasks: [r for _, r in sorted(ex.imap(fn, tasks), key=lambda ir: ir[0])]  # noqa: E731
+        first = run(_unpickled, [(m,)] * 3)
+        again = run(_unpickled, [(m,)] * 2)
+        run(_forget_kept, [()])
+        lost = run(_unpickled, [(m,), (m,)])
+    assert first == [1.0] * 3 and again == [1.0] * 2 and lost == [2.0] * 2   # unpickled once, then once more
+    assert carried[:5] == [["bytes"]] * 3 + [["digest"]] * 2
+    assert carried[6:8] == [["digest"]] * 2 and ["bytes"] in carried[8:]      # lost: sent again with the bytes
+
+
+def _write_into(a):
+    a[0] = 1.0
+
+
+def test_a_shared_array_is_read_only_on_the_workers_and_in_this_process():
+    from rvtol.executors import SerialExecutor, Shared
+    from rvtol.errors import RvtolError
+    from rvtol.mc import map_chunks
+
+    a = Shared(np.arange(4.0))
+    assert map_chunks(np.sum, [(a,)], SerialExecutor()) == [6.0] and map_chunks(np.sum, [(a,)]) == [6.0]
+    with pytest.raises(ValueError, match="read-only"):
+        map_chunks(_write_into, [(a,)])
+    with ProcessExecutor(2) as ex:
+        assert map_chunks(np.sum, [(a,), (a,)], ex) == [6.0, 6.0]
+        with pytest.raises((ValueError, RvtolError), match="read-only"):
+            map_chunks(_write_into, [(a,), (a,)], ex)
+    assert a.value[0] == 0.0
+
+
 def test_a_dask_cluster_receives_a_model_once_for_all_calls():
     from rvtol.executors import DaskExecutor
 
@@ -106,13 +161,16 @@ def test_a_dask_cluster_receives_a_large_array_once_and_results_are_the_serial_o
     big = [rng.normal(size=(SCATTER_BYTES // 8 + 10,)) for _ in range(3)]     # each over the scatter size
     tasks = [(b, k) for k in (1.0, 2.0) for b in big]                          # each array in two tasks
     want = map_chunks(np.multiply, tasks, SerialExecutor())
+    shared = [executors.Shared(b) for b in big]                                 # the same arrays, digested once
     with DaskExecutor(2) as ex:
         got = map_chunks(np.multiply, tasks, ex)
         got_again = map_chunks(np.multiply, tasks, ex)
+        got_shared = map_chunks(np.multiply, [(b, k) for k in (1.0, 2.0) for b in shared], ex)
         assert len(ex._scattered) == 3                                           # three arrays, each sent once
-    for w, g, g2 in zip(want, got, got_again):
+    for w, g, g2, g3 in zip(want, got, got_again, got_shared):
         np.testing.assert_array_equal(g, w)
         np.testing.assert_array_equal(g2, w)
+        np.testing.assert_array_equal(g3, w)
 
 
 def _worker_settings():
@@ -186,13 +244,13 @@ def test_a_dask_call_pickles_its_model_once_for_all_its_chunks(monkeypatch):
     from rvtol.executors import DaskExecutor
 
     made = []
-    real = executors._Shipped.__init__
+    real = executors.Shared.__init__
 
     def counting(self, obj):
         made.append(type(obj).__name__)
         real(self, obj)
 
-    monkeypatch.setattr(executors._Shipped, "__init__", counting)
+    monkeypatch.setattr(executors.Shared, "__init__", counting)
     m = UnpickleCountingModel(tag=3)
     with DaskExecutor(1) as ex:
         y = evaluate(m, np.zeros((5, 1)), ex, chunk_size=1, progress=False).Y
