@@ -27,6 +27,9 @@ class Table:
     float_format: str = "{:.4g}"
     index: bool = False
     text: bool = False          # a table of words: every cell left-aligned
+    #: columns the PDF leaves out (an A4 page holds about ten columns of a factor table): report.html and
+    #: summary.json keep them
+    pdf_omit: tuple[str, ...] = ()
 
 
 @dataclass
@@ -70,8 +73,8 @@ class Section:
         return self
 
     def add_table(self, frame: pd.DataFrame, caption: str = "", float_format: str = "{:.4g}",
-                  index: bool = False, text: bool = False) -> "Section":
-        self.blocks.append(Table(frame, caption, float_format, index, text))
+                  index: bool = False, text: bool = False, pdf_omit: tuple[str, ...] = ()) -> "Section":
+        self.blocks.append(Table(frame, caption, float_format, index, text, tuple(pdf_omit)))
         return self
 
     def add_file(self, name: str, content: bytes | str) -> "Section":

@@ -18,6 +18,16 @@ def test_a_long_table_is_cut_in_the_pdf_view_only():
     assert f"f{PDF_MAX_ROWS - 1}<" in pdf["html"] and f"f{PDF_MAX_ROWS}<" not in pdf["html"]
 
 
+def test_columns_too_wide_for_a4_are_left_out_of_the_pdf_view_only():
+    t = Table(pd.DataFrame({"factor": ["f0", "f1"], "value": [1.0, 2.0], "source": ["drawing RV-80E-001 rev C", "x"],
+                            "feature": ["bore Ø40 H6", "y"]}), "Factors", pdf_omit=("feature", "source", "absent"))
+    full, pdf = _block_view(t), _block_view(t, PDF_MAX_ROWS)
+    assert "drawing RV-80E-001 rev C" in full["html"] and "bore Ø40 H6" in full["html"] and full["caption"] == "Factors"
+    assert "drawing RV-80E-001" not in pdf["html"] and "bore Ø40" not in pdf["html"] and ">f1<" in pdf["html"]
+    assert "<th>value</th>" in pdf["html"] and "<th>source</th>" not in pdf["html"]
+    assert "without the columns feature, source" in pdf["caption"] and "absent" not in pdf["caption"]
+
+
 def test_a_short_table_is_whole_in_both():
     t = Table(pd.DataFrame({"a": range(PDF_MAX_ROWS)}), "Short")
     assert _block_view(t, PDF_MAX_ROWS) == _block_view(t)

@@ -22,9 +22,9 @@ _ENV = Environment(loader=PackageLoader("rvtol.report", "templates"), autoescape
 PDF_MAX_ROWS = 40
 
 
-def _table_html(t: Table, max_rows: int | None = None) -> Markup:
+def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = ()) -> Markup:
     df = t.frame if max_rows is None else t.frame.iloc[:max_rows]
-    df = df.copy()
+    df = df.drop(columns=list(omit))
 
     def fmt(v):
         if v is None:
@@ -52,11 +52,14 @@ def _block_view(b, max_rows: int | None = None, result=None, keys=()) -> dict:
         return {"type": "links", "lead": b.lead, "items": [(k, t) for k, t in b.items if k in keys]}
     if isinstance(b, Text):
         return {"type": "text", "paragraphs": [p.strip() for p in b.text.split("\n\n") if p.strip()]}
-    if isinstance(b, Table):
+    if isinstance(b, Table):          # max_rows given: the PDF's view
         cut = max_rows is not None and len(b.frame) > max_rows
-        caption = b.caption + (f" (the first {max_rows} of {len(b.frame)} rows: every row is in report.html and "
-                               "summary.json)" if cut else "")
-        return {"type": "table", "html": _table_html(b, max_rows if cut else None), "caption": caption}
+        omit = [c for c in b.pdf_omit if c in b.frame.columns] if max_rows is not None else []
+        left = [f"the first {max_rows} of {len(b.frame)} rows"] if cut else []
+        left += [f"without the column{'s' if len(omit) > 1 else ''} {', '.join(omit)}"] if omit else []
+        caption = b.caption + (f" ({'; '.join(left)}: every row and column is in report.html and summary.json)"
+                               if left else "")
+        return {"type": "table", "html": _table_html(b, max_rows if cut else None, omit), "caption": caption}
     if isinstance(b, Figure):
         return {"type": "figure", "src": "data:image/png;base64," + base64.b64encode(b.png).decode("ascii"),
                 "caption": b.caption, "width": b.width}

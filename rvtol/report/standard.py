@@ -108,7 +108,7 @@ def inputs_section(result) -> Section:
                 for f in st.spec.factors])
     fac["source"] = [f.source for f in st.spec.factors]
     sec.add_table(fac, caption="Tolerance factors (values in each factor's own unit; "
-                               "T: tolerance band the distribution stands for)")
+                               "T: tolerance band the distribution stands for)", pdf_omit=("feature", "group", "source"))
     pairs = correlated_pairs(st.spec.names, st.spec.correlation) if st.spec.correlation is not None else None
     if pairs is not None and len(pairs):
         sec.add_table(pairs,
