@@ -28,6 +28,27 @@ def test_columns_too_wide_for_a4_are_left_out_of_the_pdf_view_only():
     assert "without the columns feature, source" in pdf["caption"] and "absent" not in pdf["caption"]
 
 
+def test_a_table_wider_than_the_page_comes_in_parts_of_columns_in_the_pdf_each_led_by_the_row_names():
+    from rvtol.report.render import PDF_WIDTH_CHARS
+
+    outputs = [f"stackup.disc_{i}_axis.tilt" for i in range(40)]           # 40 columns: no A4 page holds them
+    frame = pd.DataFrame({"tolerance": ["cycloid disc 1: pitch", "all other"],
+                          **{o: [0.04 * i, 0.5] for i, o in enumerate(outputs)}})
+    t = Table(frame, "Sobol indices")
+    full, pdf = _block_view(t), _block_view(t, PDF_MAX_ROWS)
+    assert full["html"].count("<table") == 1 and "stackup.disc_3_axis.tilt" in full["html"]
+    parts = pdf["html"].split("</table>")[:-1]
+    assert len(parts) > 1 and f"columns in {len(parts)} parts" in pdf["caption"]
+    heads = [[h for h in part.split("<thead>")[1].split("</thead>")[0].split("<th>")[1:]] for part in parts]
+    names = [h.split("</th>")[0].replace("\u200b", "") for hs in heads for h in hs]
+    assert all(hs[0].startswith("tolerance") for hs in heads)                          # each part names its rows
+    assert sorted(n for n in names if n != "tolerance") == sorted(outputs)             # every column, once
+    # by hand: an output column is 10 characters wide (its longest piece "stackup." and the padding), the lead 23
+    # (its 21-character text and the padding): (118 - 23) // 10 = 9 outputs a part, so parts of 9, 9, 9, 9, 4
+    assert PDF_WIDTH_CHARS == 118 and [len(hs) - 1 for hs in heads] == [9, 9, 9, 9, 4]
+    assert "stackup.\u200bdisc_\u200b3_\u200baxis.\u200btilt" in pdf["html"]          # names wrap at . and _
+
+
 def test_a_short_table_is_whole_in_both():
     t = Table(pd.DataFrame({"a": range(PDF_MAX_ROWS)}), "Short")
     assert _block_view(t, PDF_MAX_ROWS) == _block_view(t)

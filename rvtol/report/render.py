@@ -22,7 +22,45 @@ _ENV = Environment(loader=PackageLoader("rvtol.report", "templates"), autoescape
 PDF_MAX_ROWS = 40
 
 
-def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = ()) -> Markup:
+#: how many characters of table text an A4 portrait page holds across (the PDF's 7.5 pt DejaVu Sans, 182 mm between
+#: the margins: about 1.45 mm a character), a column's padding counted as 2
+PDF_WIDTH_CHARS = 118
+#: the width (characters) a column of long text is given in the PDF before it wraps at its spaces
+PDF_WRAP_CHARS = 28
+
+
+def _breakable(name: str) -> str:
+    """A column name that may wrap after its dots and underscores (zero-width spaces): output names such as
+    ``stackup.disc_1_axis.tilt`` would otherwise set a column's width."""
+    return re.sub(r"([._])", "\\1\u200b", name)
+
+
+def _pdf_width(name: str, values) -> int:
+    """A column's width in the PDF (characters): its longest unbreakable word, its text up to
+    :data:`PDF_WRAP_CHARS`, and the padding."""
+    words = [w for v in (_breakable(name), *values) for w in re.split(r"[\s\u200b]+", v)]
+    return 2 + max(max(len(w) for w in words), min(max((len(v) for v in values), default=0), PDF_WRAP_CHARS))
+
+
+def _pdf_column_parts(df, index: bool) -> list[list]:
+    """The columns in parts that each fit the PDF's page width, each part led by the column that names the rows
+    (the first, or the index)."""
+    cols = list(df.columns)
+    lead = [] if index else cols[:1]
+    width = {c: _pdf_width(str(c), list(df[c])) for c in cols}
+    budget = PDF_WIDTH_CHARS - (_pdf_width("", list(df.index)) if index else sum(width[c] for c in lead))
+    parts, cur, used = [], [], 0
+    for c in cols[len(lead):]:
+        if cur and used + width[c] > budget:
+            parts.append(cur)
+            cur, used = [], 0
+        cur.append(c)
+        used += width[c]
+    return [lead + p for p in parts + [cur]] if cur or not parts else [lead + p for p in parts]
+
+
+def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf: bool = False) -> tuple[Markup, int]:
+    """The table as HTML and in how many parts of columns (the PDF's view, ``pdf``: in parts that fit the page)."""
     df = t.frame if max_rows is None else t.frame.iloc[:max_rows]
     df = df.drop(columns=list(omit))
 
@@ -37,8 +75,15 @@ def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = ()) -> 
         df[c] = df[c].map(fmt).astype(object)
     if t.index:
         df.index = [fmt(i) for i in df.index]
-    html = df.to_html(index=t.index, escape=True, border=0, classes="data" + (" text" if t.text else ""), na_rep="—")
-    return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html))
+    parts = _pdf_column_parts(df, t.index) if pdf and len(df.columns) else [list(df.columns)]
+    html = ""
+    for cols in parts:
+        part = df[cols]
+        if pdf:
+            part = part.set_axis([_breakable(str(c)) for c in cols], axis=1)
+        html += part.to_html(index=t.index, escape=True, border=0, classes="data" + (" text" if t.text else ""),
+                             na_rep="—")
+    return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html)), len(parts)
 
 
 #: a requirement's traffic light in a table cell (rvtol.report.signoff): coloured by the template's CSS
@@ -57,9 +102,13 @@ def _block_view(b, max_rows: int | None = None, result=None, keys=()) -> dict:
         omit = [c for c in b.pdf_omit if c in b.frame.columns] if max_rows is not None else []
         left = [f"the first {max_rows} of {len(b.frame)} rows"] if cut else []
         left += [f"without the column{'s' if len(omit) > 1 else ''} {', '.join(omit)}"] if omit else []
+        html, parts = _table_html(b, max_rows if cut else None, omit, pdf=max_rows is not None)
+        if parts > 1:
+            left += [f"its columns in {parts} parts across the page, each led by the "
+                     + ("row names" if b.index else f"column {b.frame.columns[0]}")]
         caption = b.caption + (f" ({'; '.join(left)}: every row and column is in report.html and summary.json)"
                                if left else "")
-        return {"type": "table", "html": _table_html(b, max_rows if cut else None, omit), "caption": caption}
+        return {"type": "table", "html": html, "caption": caption}
     if isinstance(b, Figure):
         return {"type": "figure", "src": "data:image/png;base64," + base64.b64encode(b.png).decode("ascii"),
                 "caption": b.caption, "width": b.width}

@@ -134,7 +134,8 @@ def build_tables(sec: Section, rules, used) -> None:
                  "shim rule takes the shim nearest to the measured end play plus the target preload's "
                  "interference; a design choice is a drawing value chosen for these rules (checked against the "
                  "drawing spec and the design when the study loads).")
-    sec.add_table(rules.to_frame(), caption="Build rules applied (rvtol.production.build)")
+    sec.add_table(rules.to_frame(), caption="Build rules applied (rvtol.production.build)", text=True,
+                  pdf_omit=("source",))
     if used is not None:
         sec.add_table(used, caption="What each rule did on the Monte Carlo's reducers: the fitted clearance (true "
                                     "sizes) or preload; the share of reducers for which the supply had no part small "
