@@ -113,7 +113,8 @@ class Shared:
     :data:`KEEP_BYTES`, least recently used dropped first) and the calls after the first send the digest alone; a
     worker that does not have it answers so and the chunk is sent again with the bytes.  A Dask cluster holds it
     scattered, found by the same digest.  Models are row-deterministic, so a kept copy answers as a fresh one;
-    an array is read-only, here and on the workers (a task that wrote into it would change the next call's input).
+    an array is copied once and read-only, here and on the workers (a task that wrote into it would change the next
+    call's input).  Only a task's own arguments are unpacked, not a Shared inside a list or dict.
     Models need no wrapping: every call ships its models as Shared; a caller wraps the data it repeats.
     """
 
@@ -123,8 +124,8 @@ class Shared:
         import hashlib
         import pickle
 
-        if hasattr(value, "setflags"):          # an array: read-only here too (a read-only view of the caller's)
-            value = value.view()
+        if hasattr(value, "setflags"):          # an array: a read-only copy (the caller may change its own later)
+            value = value.copy()
             value.setflags(write=False)
         self.value = value
         self.blob = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
@@ -132,6 +133,12 @@ class Shared:
 
     def __reduce__(self):                   # travels as its digest and bytes (the task side: _Ref)
         return _Ref, (self.key, self.blob)
+
+    def __copy__(self):                     # immutable: a copy is itself (not the _Ref it pickles to)
+        return self
+
+    def __deepcopy__(self, memo):
+        return self
 
 
 class _NotKept(Exception):
@@ -169,6 +176,8 @@ _KEPT: dict = {}
 KEEP_BYTES = 256 << 20
 #: a Dask executor scatters arrays from this size on
 SCATTER_BYTES = 1 << 18
+
+
 class _Missing:
     """A pool task's answer when it carried a digest its worker does not keep."""
 
@@ -255,6 +264,7 @@ class ProcessExecutor(Executor):
             self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx, initializer=_pool_worker,
                                              initargs=(os.getpid(),))
             self._killed = False
+            self._sent: set[bytes] = set()      # digests of the Shared arguments whose bytes tasks have carried
             _LIVE.add(self)
         return self._pool
 
@@ -286,34 +296,35 @@ class ProcessExecutor(Executor):
 
         share = _once_per_call(lambda a: Shared(a) if _is_model(a) else a)
         tasks = [tuple(map(share, t)) for t in tasks]
-        sent = getattr(self, "_sent", set())        # digests this pool's workers have been sent the bytes of
+        pool = self.pool
+        sent = self._sent           # carried by an earlier call's tasks: this call's carry the digest alone
+        futs: dict = {}
 
         def submit(i: int, digest_only: bool):
             args = (_Ref(a.key, None if digest_only and a.key in sent else a.blob) if isinstance(a, Shared) else a
                     for a in tasks[i])
-            futs[self.pool.submit(_call_shipped, fn, *args)] = i
+            futs[pool.submit(_call_shipped, fn, *args)] = i
 
-        futs: dict = {}
-        for i in range(len(tasks)):
-            submit(i, True)
-        self._sent = sent | {a.key for t in tasks for a in t if isinstance(a, Shared)}
         try:
-            while futs:
-                done, _ = wait(futs, return_when=FIRST_COMPLETED)
-                for f in done:
-                    i = futs.pop(f)
-                    try:
+            try:
+                for i in range(len(tasks)):
+                    submit(i, True)
+                self._sent = sent | {a.key for t in tasks for a in t if isinstance(a, Shared)}
+                while futs:
+                    done, _ = wait(futs, return_when=FIRST_COMPLETED)
+                    for f in done:
+                        i = futs.pop(f)
                         res = f.result()
-                    except BrokenProcessPool:
-                        raise RvtolError(
-                            "the worker processes stopped before finishing. If you call rvtol from a script, "
-                            "put the calls under `if __name__ == \"__main__\":` (worker processes import the "
-                            "script), or use make_executor(\"serial\"); otherwise a worker ran out of memory "
-                            "or crashed") from None
-                    if isinstance(res, _Missing):           # that worker does not keep it: send the bytes too
-                        submit(i, False)
-                        continue
-                    yield i, res
+                        if isinstance(res, _Missing):           # that worker does not keep it: send the bytes too
+                            submit(i, False)
+                            continue
+                        yield i, res
+            except BrokenProcessPool:
+                raise RvtolError(
+                    "the worker processes stopped before finishing. If you call rvtol from a script, "
+                    "put the calls under `if __name__ == \"__main__\":` (worker processes import the "
+                    "script), or use make_executor(\"serial\"); otherwise a worker ran out of memory "
+                    "or crashed") from None
         finally:
             if not getattr(self, "_killed", False):  # killed: the broken pool fails its futures itself
                 for f in futs:

@@ -131,7 +131,13 @@ def test_a_shared_array_is_read_only_on_the_workers_and_in_this_process():
     from rvtol.errors import RvtolError
     from rvtol.mc import map_chunks
 
-    a = Shared(np.arange(4.0))
+    mine = np.arange(4.0)
+    a = Shared(mine)
+    mine[0] = 9.0                                   # the caller's own array: not what was shared
+    assert a.value[0] == 0.0 and executors.plain((a,))[0] is a.value
+    import copy
+
+    assert copy.deepcopy([a])[0] is a
     assert map_chunks(np.sum, [(a,)], SerialExecutor()) == [6.0] and map_chunks(np.sum, [(a,)]) == [6.0]
     with pytest.raises(ValueError, match="read-only"):
         map_chunks(_write_into, [(a,)])

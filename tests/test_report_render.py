@@ -38,7 +38,7 @@ def test_a_table_wider_than_the_page_comes_in_parts_of_columns_in_the_pdf_each_l
     full, pdf = _block_view(t), _block_view(t, PDF_MAX_ROWS)
     assert full["html"].count("<table") == 1 and "stackup.disc_3_axis.tilt" in full["html"]
     parts = pdf["html"].split("</table>")[:-1]
-    assert len(parts) > 1 and f"columns in {len(parts)} parts" in pdf["caption"]
+    assert len(parts) > 1 and f"columns in {len(parts)} parts across the page, each led by column tolerance" in pdf["caption"]
     heads = [[h for h in part.split("<thead>")[1].split("</thead>")[0].split("<th>")[1:]] for part in parts]
     names = [h.split("</th>")[0].replace("\u200b", "") for hs in heads for h in hs]
     assert all(hs[0].startswith("tolerance") for hs in heads)                          # each part names its rows
@@ -47,6 +47,12 @@ def test_a_table_wider_than_the_page_comes_in_parts_of_columns_in_the_pdf_each_l
     # (its 21-character text and the padding): (118 - 23) // 10 = 9 outputs a part, so parts of 9, 9, 9, 9, 4
     assert PDF_WIDTH_CHARS == 118 and [len(hs) - 1 for hs in heads] == [9, 9, 9, 9, 4]
     assert "stackup.\u200bdisc_\u200b3_\u200baxis.\u200btilt" in pdf["html"]          # names wrap at . and _
+
+
+def test_the_pdf_view_keeps_duplicate_column_names_and_names_the_lead_left_after_omitting():
+    frame = pd.DataFrame([["x", "note", *range(30)]], columns=["name", "label", *(["same.value"] * 30)])
+    pdf = _block_view(Table(frame, "Dup", pdf_omit=("name",)), PDF_MAX_ROWS)
+    assert pdf["html"].count("same.\u200bvalue") == 30 and "each led by column label" in pdf["caption"]
 
 
 def test_a_short_table_is_whole_in_both():

@@ -424,7 +424,8 @@ class MonteCarloConstraint:
     def _shared(self, cs: int) -> tuple:
         """The model and the design's chunks of ``cs`` rows as :class:`rvtol.executors.Shared`: every batch passes
         them unchanged, so the workers receive them once (the RV-80E sign-off's 64 batches each sent its two 3.6 MB
-        chunks and the model: about 20 ms a batch on two pool workers)."""
+        chunks and the model: about 20 ms a batch on two pool workers).  Kept for the constraint's life: a copy of
+        the design and its pickle (2 × 3.6 MB per chunk for the sign-off), and as much on each worker."""
         if getattr(self, "_chunks", (None,))[0] != cs:
             self._chunks = (cs, Shared(self.problem.model),
                             [Shared(self.X0[a:a + cs]) for a in range(0, self.n, cs)])

@@ -42,25 +42,26 @@ def _pdf_width(name: str, values) -> int:
     return 2 + max(max(len(w) for w in words), min(max((len(v) for v in values), default=0), PDF_WRAP_CHARS))
 
 
-def _pdf_column_parts(df, index: bool) -> list[list]:
-    """The columns in parts that each fit the PDF's page width, each part led by the column that names the rows
-    (the first, or the index)."""
-    cols = list(df.columns)
-    lead = [] if index else cols[:1]
-    width = {c: _pdf_width(str(c), list(df[c])) for c in cols}
-    budget = PDF_WIDTH_CHARS - (_pdf_width("", list(df.index)) if index else sum(width[c] for c in lead))
+def _pdf_column_parts(df, index: bool) -> list[list[int]]:
+    """The columns (by position) in parts that each fit the PDF's page width, each part led by the column that
+    names the rows (the first, or the index)."""
+    n = df.shape[1]
+    lead = [] if index else [0]
+    width = [_pdf_width(str(df.columns[k]), list(df.iloc[:, k])) for k in range(n)]
+    budget = PDF_WIDTH_CHARS - (_pdf_width("", list(df.index)) if index else sum(width[k] for k in lead))
     parts, cur, used = [], [], 0
-    for c in cols[len(lead):]:
-        if cur and used + width[c] > budget:
+    for k in range(len(lead), n):
+        if cur and used + width[k] > budget:
             parts.append(cur)
             cur, used = [], 0
-        cur.append(c)
-        used += width[c]
+        cur.append(k)
+        used += width[k]
     return [lead + p for p in parts + [cur]] if cur or not parts else [lead + p for p in parts]
 
 
-def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf: bool = False) -> tuple[Markup, int]:
-    """The table as HTML and in how many parts of columns (the PDF's view, ``pdf``: in parts that fit the page)."""
+def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf: bool = False) -> tuple[Markup, int, str]:
+    """The table as HTML, in how many parts of columns and the column that leads each part (the PDF's view,
+    ``pdf``: in parts that fit the page)."""
     df = t.frame if max_rows is None else t.frame.iloc[:max_rows]
     df = df.drop(columns=list(omit))
 
@@ -71,19 +72,19 @@ def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf
             return "—" if not np.isfinite(v) else t.float_format.format(v)
         return str(v)
 
-    for c in df.columns:
-        df[c] = df[c].map(fmt).astype(object)
+    df = df.apply(lambda col: col.map(fmt).astype(object)) if df.shape[1] else df
     if t.index:
         df.index = [fmt(i) for i in df.index]
-    parts = _pdf_column_parts(df, t.index) if pdf and len(df.columns) else [list(df.columns)]
+    parts = _pdf_column_parts(df, t.index) if pdf and df.shape[1] else [list(range(df.shape[1]))]
     html = ""
     for cols in parts:
-        part = df[cols]
+        part = df.iloc[:, cols]
         if pdf:
-            part = part.set_axis([_breakable(str(c)) for c in cols], axis=1)
+            part = part.set_axis([_breakable(str(c)) for c in part.columns], axis=1)
         html += part.to_html(index=t.index, escape=True, border=0, classes="data" + (" text" if t.text else ""),
                              na_rep="—")
-    return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html)), len(parts)
+    lead = "the row names" if t.index or not df.shape[1] else f"column {df.columns[0]}"
+    return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html)), len(parts), lead
 
 
 #: a requirement's traffic light in a table cell (rvtol.report.signoff): coloured by the template's CSS
@@ -102,10 +103,9 @@ def _block_view(b, max_rows: int | None = None, result=None, keys=()) -> dict:
         omit = [c for c in b.pdf_omit if c in b.frame.columns] if max_rows is not None else []
         left = [f"the first {max_rows} of {len(b.frame)} rows"] if cut else []
         left += [f"without the column{'s' if len(omit) > 1 else ''} {', '.join(omit)}"] if omit else []
-        html, parts = _table_html(b, max_rows if cut else None, omit, pdf=max_rows is not None)
+        html, parts, lead = _table_html(b, max_rows if cut else None, omit, pdf=max_rows is not None)
         if parts > 1:
-            left += [f"its columns in {parts} parts across the page, each led by the "
-                     + ("row names" if b.index else f"column {b.frame.columns[0]}")]
+            left += [f"its columns in {parts} parts across the page, each led by {lead}"]
         caption = b.caption + (f" ({'; '.join(left)}: every row and column is in report.html and summary.json)"
                                if left else "")
         return {"type": "table", "html": html, "caption": caption}
