@@ -121,15 +121,10 @@ class Shared:
     __slots__ = ("value", "key", "blob")
 
     def __init__(self, value) -> None:
-        import hashlib
-        import pickle
-
         if hasattr(value, "setflags"):          # an array: a read-only copy (the caller may change its own later)
-            value = value.copy()
-            value.setflags(write=False)
+            value = _read_only(value.copy())
         self.value = value
-        self.blob = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
-        self.key = hashlib.blake2b(self.blob, digest_size=16).digest()
+        self.blob, self.key = _pickled(value)
 
     def __reduce__(self):                   # travels as its digest and bytes (the task side: _Ref)
         return _Ref, (self.key, self.blob)
@@ -139,6 +134,23 @@ class Shared:
 
     def __deepcopy__(self, memo):
         return self
+
+
+def _read_only(a):
+    """A read-only view of array ``a`` (its pickle, and so its digest, is that of any read-only array of its
+    content: pickle protocol 5 marks a writable buffer apart)."""
+    v = a.view()
+    v.setflags(write=False)
+    return v
+
+
+def _pickled(value) -> tuple[bytes, bytes]:
+    """``value``'s pickle and the pickle's 128-bit digest (what identifies it on the workers)."""
+    import hashlib
+    import pickle
+
+    blob = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
+    return blob, hashlib.blake2b(blob, digest_size=16).digest()
 
 
 class _NotKept(Exception):
@@ -162,7 +174,7 @@ class _Ref:
                 raise _NotKept
             value = pickle.loads(self.blob)
             if hasattr(value, "setflags"):
-                value.setflags(write=False)
+                value = _read_only(value)
             got = (value, len(self.blob))
         _KEPT[self.key] = got                      # most recently used last
         while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
@@ -436,18 +448,19 @@ class DaskExecutor(Executor):
         """``a`` as the task will get it: a model or a large array as its future on the cluster, else itself."""
         import numpy as np
 
+        if _is_model(a):
+            a = Shared(a)
         if isinstance(a, Shared):
-            blob, broadcast = a, _is_model(a.value)
-        elif _is_model(a):
-            blob, broadcast = Shared(a), True
+            value, (blob, key), broadcast = a.value, (a.blob, a.key), _is_model(a.value)
         elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
-            blob, broadcast = Shared(a), False
+            # scattered at once, so no later change of the caller's reaches it: digested, not copied as a Shared is
+            value, (blob, key), broadcast = a, _pickled(_read_only(a)), False
         else:
             return a
-        got = self._scattered.pop(blob.key, None)
+        got = self._scattered.pop(key, None)
         if got is None:
-            got = (self.client.scatter(blob.value, broadcast=broadcast, hash=False), len(blob.blob))
-        self._scattered[blob.key] = got                    # most recently used last
+            got = (self.client.scatter(value, broadcast=broadcast, hash=False), len(blob))
+        self._scattered[key] = got                         # most recently used last
         while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_BYTES:
             self._scattered.pop(next(iter(self._scattered)))[0].release()
         return got[0]

@@ -374,6 +374,7 @@ class MonteCarloConstraint:
         self.columns = np.array(sorted({problem.model.output_index(r.output) for r in problem.requirements}), int)
         self._seen: dict[bytes, np.ndarray] = {}     # candidate (its tolerances' bytes) -> its judged outputs
         self.keep = max(1, int(2e8 // max(8 * self.n * len(self.columns), 1)))   # ≈ 200 MB of them
+        self._chunks: tuple = (None, None, [])         # chunk size, the model and the chunks as Shared (_shared)
 
     def samples(self, t) -> np.ndarray:
         """The design's factor values (base units) with the allocated tolerances set to ``t``."""
@@ -426,7 +427,7 @@ class MonteCarloConstraint:
         them unchanged, so the workers receive them once (the RV-80E sign-off's 64 batches each sent its two 3.6 MB
         chunks and the model: about 20 ms a batch on two pool workers).  Kept for the constraint's life: a copy of
         the design and its pickle (2 × 3.6 MB per chunk for the sign-off), and as much on each worker."""
-        if getattr(self, "_chunks", (None,))[0] != cs:
+        if self._chunks[0] != cs:
             self._chunks = (cs, Shared(self.problem.model),
                             [Shared(self.X0[a:a + cs]) for a in range(0, self.n, cs)])
         return self._chunks[1], self._chunks[2]

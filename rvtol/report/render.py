@@ -49,14 +49,14 @@ def _pdf_column_parts(df, index: bool) -> list[list[int]]:
     lead = [] if index else [0]
     width = [_pdf_width(str(df.columns[k]), list(df.iloc[:, k])) for k in range(n)]
     budget = PDF_WIDTH_CHARS - (_pdf_width("", list(df.index)) if index else sum(width[k] for k in lead))
-    parts, cur, used = [], [], 0
+    parts, used = [[]], 0
     for k in range(len(lead), n):
-        if cur and used + width[k] > budget:
-            parts.append(cur)
-            cur, used = [], 0
-        cur.append(k)
+        if parts[-1] and used + width[k] > budget:
+            parts.append([])
+            used = 0
+        parts[-1].append(k)
         used += width[k]
-    return [lead + p for p in parts + [cur]] if cur or not parts else [lead + p for p in parts]
+    return [lead + p for p in parts]
 
 
 def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf: bool = False) -> tuple[Markup, int, str]:
