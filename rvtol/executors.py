@@ -227,14 +227,49 @@ def stop_workers() -> None:
         ex.kill_workers()
 
 
+class _Background:
+    """``fn()`` on a daemon thread; :meth:`wait` joins it and raises what it raised."""
+
+    def __init__(self, fn: Callable, name: str):
+        self._error: BaseException | None = None
+
+        def run():
+            try:
+                fn()
+            except BaseException as exc:     # handed to the thread that waits
+                self._error = exc
+
+        self._thread = threading.Thread(target=run, name=name, daemon=True)
+        self._thread.start()
+
+    def wait(self, raise_error: bool = True) -> None:
+        self._thread.join()
+        if raise_error and self._error is not None:
+            raise self._error
+
+
 class Executor:
     """Maps ``fn(*args)`` over task argument tuples; yields ``(index, result)`` as tasks finish."""
 
     kind = "base"
     workers = 1
+    _starting: _Background | None = None
 
     def imap(self, fn: Callable, tasks: Sequence[tuple]) -> Iterator[tuple[int, object]]:
         raise NotImplementedError  # pragma: no cover - abstract
+
+    def start(self) -> None:
+        """Start the workers now, in the background (:meth:`_start`); their first use waits for them."""
+        self._starting = _Background(self._start, f"rvtol-{self.kind}-start")
+
+    def _start(self) -> None:
+        """What :meth:`start` does on its thread (nothing to start by default)."""
+
+    def _started(self, raise_error: bool = True) -> None:
+        """Wait for :meth:`start` (if it ran), raising what it raised unless ``raise_error`` is false."""
+        starting, self._starting = self._starting, None
+        if starting is not None:
+            starting.wait(raise_error)
 
     def close(self, wait: bool = True) -> None:
         """Release the workers (``wait=False``: do not wait for them to exit)."""
@@ -268,6 +303,16 @@ class ProcessExecutor(Executor):
 
     @property
     def pool(self) -> ProcessPoolExecutor:
+        self._started()
+        return self._pool or self._make_pool()
+
+    def _start(self) -> None:
+        """The pool and its workers: starting the fork server waits for its imports (about 1 s)."""
+        pool = self._make_pool()
+        for _ in range(self.workers):
+            pool.submit(_warm)
+
+    def _make_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
             method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
             ctx = multiprocessing.get_context(method)
@@ -343,6 +388,7 @@ class ProcessExecutor(Executor):
                     f.cancel()
 
     def close(self, wait: bool = True):
+        self._started(raise_error=False)
         if self._pool is not None:
             pool, self._pool = self._pool, None
             _LIVE.discard(self)
@@ -366,31 +412,16 @@ class DaskExecutor(Executor):
         self._client = None
         self._cluster = None
         self._scattered: dict = {}      # digest of a model or array -> (its future on the cluster, its size)
-        self._starting: threading.Thread | None = None
-        self._start_error: BaseException | None = None
-
-    def start(self) -> None:
-        """Start the cluster (or connect) in the background; :attr:`client` waits for it."""
-        def connect():
-            try:
-                self._connect()
-            except BaseException as exc:     # handed to the thread that asks for the client
-                self._start_error = exc
-
-        self._starting = threading.Thread(target=connect, name="rvtol-dask-start", daemon=True)
-        self._starting.start()
 
     @property
     def client(self):
-        if self._starting is not None:
-            self._starting.join()
-            self._starting = None
-            if self._start_error is not None:
-                err, self._start_error = self._start_error, None
-                raise err
+        self._started()
         if self._client is None:
             self._connect()
         return self._client
+
+    def _start(self) -> None:
+        self._connect()
 
     def _connect(self) -> None:
         if self._client is None:
@@ -466,9 +497,7 @@ class DaskExecutor(Executor):
         return got[0]
 
     def close(self, wait: bool = True):
-        if self._starting is not None:
-            self._starting.join()
-            self._starting = None
+        self._started(raise_error=False)
         self._scattered.clear()
         if self._client is not None:
             self._client.close()
@@ -524,13 +553,11 @@ def start_early(kind: str = "process", workers: int | None = None, scheduler: st
     discard_early()
     if kind == "process":
         ex = ProcessExecutor(workers)
-        for _ in range(ex.workers):
-            ex.pool.submit(_warm)
     elif kind == "dask":
         ex = DaskExecutor(workers, scheduler)
-        ex.start()
     else:
         return
+    ex.start()
     _EARLY.append(ex)
 
 

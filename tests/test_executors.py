@@ -52,6 +52,39 @@ def test_a_pool_started_early_is_the_one_the_run_gets(no_early_executor):
     assert not executors._EARLY
 
 
+def test_a_pool_starts_in_the_background_and_its_first_use_waits_for_it(monkeypatch):
+    """Starting the fork server waits for its imports (about 1 s of a run's serial part): the caller goes on while
+    it starts, the pool's first use waits for it, and an error while starting reaches that first use."""
+    import threading
+
+    go, made = threading.Event(), []
+    real = ProcessExecutor._make_pool
+
+    def slow(self):
+        go.wait(30)
+        made.append(self)
+        return real(self)
+
+    monkeypatch.setattr(ProcessExecutor, "_make_pool", slow)
+    ex = ProcessExecutor(1)
+    ex.start()                                       # returns while the pool is still to be made
+    assert made == [] and ex._pool is None
+    go.set()
+    with ex:
+        assert ex.pool is not None and made == [ex]
+        assert [r for _, r in ex.imap(abs, [(-2,), (3,)])] in ([2, 3], [3, 2])
+
+    def broken(self):
+        raise OSError("no fork server")
+
+    monkeypatch.setattr(ProcessExecutor, "_make_pool", broken)
+    ex = ProcessExecutor(1)
+    ex.start()
+    with pytest.raises(OSError, match="no fork server"):
+        ex.pool
+    ex.close()
+
+
 def test_a_dask_cluster_started_early_is_the_one_the_run_gets_and_evaluates_the_same(no_early_executor):
     from rvtol.executors import SerialExecutor
 
