@@ -158,28 +158,40 @@ class _NotKept(Exception):
 
 
 class _Ref:
-    """A :class:`Shared` argument as a pool task carries it: the digest, and the bytes unless workers have them."""
+    """A :class:`Shared` argument as a pool task carries it: the digest, and the bytes unless workers have them (as
+    a Dask task finds it scattered: always with the bytes).  ``keep``: the worker keeps the value by digest (a Dask
+    call's own large array is used once: not kept)."""
 
-    __slots__ = ("key", "blob")
+    __slots__ = ("key", "blob", "keep")
 
-    def __init__(self, key: bytes, blob: bytes | None) -> None:
-        self.key, self.blob = key, blob
+    def __init__(self, key: bytes, blob: bytes | None, keep: bool = True) -> None:
+        self.key, self.blob, self.keep = key, blob, keep
 
     def get(self):
-        import pickle
-
+        if not self.keep:                   # a call's own array: the task's to use, as a pool task's is
+            return _unpickled(self.blob, read_only=False)
         got = _KEPT.pop(self.key, None)
         if got is None:
             if self.blob is None:
                 raise _NotKept
-            value = pickle.loads(self.blob)
-            if hasattr(value, "setflags"):
-                value = _read_only(value)
-            got = (value, len(self.blob))
+            got = (_unpickled(self.blob), len(self.blob))
         _KEPT[self.key] = got                      # most recently used last
         while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
             _KEPT.pop(next(iter(_KEPT)))
         return got[0]
+
+
+def _unpickled(blob: bytes, read_only: bool = True):
+    """A value from its pickle (:func:`_pickled`); an array in its own aligned memory, read-only or a writable
+    copy.  (An array that Dask scatters itself arrives as a view into the received message at any byte offset:
+    unaligned, and an allocation task — its GA's candidates built from a chunk of the design — took 8–15 % more
+    CPU on it.)"""
+    import pickle
+
+    value = pickle.loads(blob)
+    if not hasattr(value, "setflags"):
+        return value
+    return _read_only(value) if read_only else value.copy()
 
 
 #: what a pool worker keeps of the Shared arguments it received (by digest: value and size), least recently used first
@@ -213,7 +225,7 @@ def plain(args: tuple) -> tuple:
 
 
 def _call_shipped(fn: Callable, *args):
-    """Worker side of :meth:`ProcessExecutor.imap`: ``fn`` on the arguments with shared ones unpacked."""
+    """Worker side of the process pool's and Dask's ``imap``: ``fn`` on the arguments with shared ones unpacked."""
     try:
         args = tuple(a.get() if isinstance(a, _Ref) else a for a in args)
     except _NotKept:
@@ -411,7 +423,8 @@ class DaskExecutor(Executor):
         self._want = workers or os.cpu_count() or 1
         self._client = None
         self._cluster = None
-        self._scattered: dict = {}      # digest of a model or array -> (its future on the cluster, its size)
+        # (digest, kept on the workers) of a scattered model or array -> (its future on the cluster, its size)
+        self._scattered: dict = {}
 
     @property
     def client(self):
@@ -463,8 +476,8 @@ class DaskExecutor(Executor):
         # with their futures (no round trip per result) and finished futures are simply dropped (a cancel is one
         # more): a call of 8 small chunks 34 → 24 ms on a 2-worker LocalCluster (a process pool: 2–3 ms)
         share = _once_per_call(self._shared)
-        args = [[share(a) for a in t] for t in tasks]
-        futs = c.map(fn, *zip(*args), pure=False) if args else []
+        args = [[fn] + [share(a) for a in t] for t in tasks]
+        futs = c.map(_call_shipped, *zip(*args), pure=False) if args else []
         index = {f.key: i for i, f in enumerate(futs)}
         done = False
         try:
@@ -476,21 +489,25 @@ class DaskExecutor(Executor):
                 c.cancel(futs)
 
     def _shared(self, a):
-        """``a`` as the task will get it: a model or a large array as its future on the cluster, else itself."""
+        """``a`` as the task will get it: a model, a :class:`Shared` or a large array as the future of its
+        :class:`_Ref` (digest and pickle) scattered on the cluster, else itself.  Scattered as its pickle, not
+        as itself: Dask would hand an array to the task unaligned (:func:`_unpickled`)."""
         import numpy as np
 
         if _is_model(a):
             a = Shared(a)
         if isinstance(a, Shared):
-            value, (blob, key), broadcast = a.value, (a.blob, a.key), _is_model(a.value)
+            ref, broadcast = _Ref(a.key, a.blob), _is_model(a.value)
         elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
             # scattered at once, so no later change of the caller's reaches it: digested, not copied as a Shared is
-            value, (blob, key), broadcast = a, _pickled(_read_only(a)), False
+            blob, key = _pickled(_read_only(a))
+            ref, broadcast = _Ref(key, blob, keep=False), False
         else:
             return a
+        key = (ref.key, ref.keep)     # the same content as a Shared (kept, read-only) and a call's own array
         got = self._scattered.pop(key, None)
         if got is None:
-            got = (self.client.scatter(value, broadcast=broadcast, hash=False), len(blob))
+            got = (self.client.scatter(ref, broadcast=broadcast, hash=False), len(ref.blob))
         self._scattered[key] = got                         # most recently used last
         while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_BYTES:
             self._scattered.pop(next(iter(self._scattered)))[0].release()
