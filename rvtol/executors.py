@@ -170,15 +170,19 @@ class _Ref:
     def get(self):
         if not self.keep:                   # a call's own array: the task's to use, as a pool task's is
             return _unpickled(self.blob, read_only=False)
-        got = _KEPT.pop(self.key, None)
-        if got is None:
-            if self.blob is None:
-                raise _NotKept
-            got = (_unpickled(self.blob), len(self.blob))
-        _KEPT[self.key] = got                      # most recently used last
-        while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
-            _KEPT.pop(next(iter(_KEPT)))
-        return got[0]
+        with _KEPT_LOCK:                    # a Dask worker may run several tasks at once
+            got = _KEPT.pop(self.key, None)
+            if got is None:
+                if self.blob is None:
+                    raise _NotKept
+                got = (_unpickled(self.blob), len(self.blob))
+            _KEPT[self.key] = got                      # most recently used last
+            while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
+                _KEPT.pop(next(iter(_KEPT)))
+            return got[0]
+
+    def __sizeof__(self) -> int:            # what Dask weighs a scattered one by (its placement, its memory)
+        return object.__sizeof__(self) + len(self.blob or b"")
 
 
 def _unpickled(blob: bytes, read_only: bool = True):
@@ -196,6 +200,7 @@ def _unpickled(blob: bytes, read_only: bool = True):
 
 #: what a pool worker keeps of the Shared arguments it received (by digest: value and size), least recently used first
 _KEPT: dict = {}
+_KEPT_LOCK = threading.Lock()
 #: a worker keeps Shared arguments up to this many pickled bytes, and a Dask executor its scattered ones
 KEEP_BYTES = 256 << 20
 #: a Dask executor scatters arrays from this size on
@@ -222,6 +227,12 @@ def _once_per_call(convert: Callable) -> Callable:
 def plain(args: tuple) -> tuple:
     """A task's arguments as the function takes them in this process (each :class:`Shared` as its value)."""
     return tuple(a.value if isinstance(a, Shared) else a for a in args)
+
+
+def _forget_kept() -> None:
+    """A worker lets go of what it keeps (a Dask cluster the run does not own outlives it)."""
+    with _KEPT_LOCK:
+        _KEPT.clear()
 
 
 def _call_shipped(fn: Callable, *args):
@@ -272,16 +283,20 @@ class Executor:
 
     def start(self) -> None:
         """Start the workers now, in the background (:meth:`_start`); their first use waits for them."""
-        self._starting = _Background(self._start, f"rvtol-{self.kind}-start")
+        if self._starting is None:
+            self._starting = _Background(self._start, f"rvtol-{self.kind}-start")
 
     def _start(self) -> None:
         """What :meth:`start` does on its thread (nothing to start by default)."""
 
     def _started(self, raise_error: bool = True) -> None:
         """Wait for :meth:`start` (if it ran), raising what it raised unless ``raise_error`` is false."""
-        starting, self._starting = self._starting, None
+        starting = self._starting
         if starting is not None:
+            # let go only once joined and its error raised: a wait interrupted (Ctrl-C) leaves it for close() to
+            # wait on, and every later use raises the same error
             starting.wait(raise_error)
+            self._starting = None
 
     def close(self, wait: bool = True) -> None:
         """Release the workers (``wait=False``: do not wait for them to exit)."""
@@ -516,6 +531,11 @@ class DaskExecutor(Executor):
     def close(self, wait: bool = True):
         self._started(raise_error=False)
         self._scattered.clear()
+        if self._client is not None and self._cluster is None:      # a scheduler's workers live on
+            try:
+                self._client.run(_forget_kept)
+            except Exception:  # noqa: BLE001 - workers gone or unreachable: nothing kept to let go
+                pass
         if self._client is not None:
             self._client.close()
             self._client = None
@@ -591,7 +611,8 @@ def _take_early(kind: str, workers: int | None, scheduler: str | None) -> Execut
 
 
 def discard_early() -> None:
-    """Close an executor :func:`start_early` made and nobody took (a pool's workers exit by themselves; no wait)."""
+    """Close an executor :func:`start_early` made and nobody took (a pool's workers exit by themselves; only a start
+    still under way is waited for, ≈ 1 s for a pool's fork server)."""
     while _EARLY:
         _EARLY.pop().close(wait=False)
 

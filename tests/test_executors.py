@@ -62,7 +62,7 @@ def test_a_pool_starts_in_the_background_and_its_first_use_waits_for_it(monkeypa
 
     def slow(self):
         go.wait(30)
-        made.append(self)
+        made.append(threading.current_thread().name)
         return real(self)
 
     monkeypatch.setattr(ProcessExecutor, "_make_pool", slow)
@@ -71,18 +71,23 @@ def test_a_pool_starts_in_the_background_and_its_first_use_waits_for_it(monkeypa
     assert made == [] and ex._pool is None
     go.set()
     with ex:
-        assert ex.pool is not None and made == [ex]
+        assert ex.pool is not None and made == ["rvtol-process-start"]      # made by the start, once
         assert [r for _, r in ex.imap(abs, [(-2,), (3,)])] in ([2, 3], [3, 2])
 
+    tried = []
+
     def broken(self):
+        tried.append(threading.current_thread().name)
         raise OSError("no fork server")
 
     monkeypatch.setattr(ProcessExecutor, "_make_pool", broken)
     ex = ProcessExecutor(1)
     ex.start()
-    with pytest.raises(OSError, match="no fork server"):
-        ex.pool
+    for _ in range(2):                               # the start's own error, every time: not a new attempt
+        with pytest.raises(OSError, match="no fork server"):
+            ex.pool
     ex.close()
+    assert tried == ["rvtol-process-start"]
 
 
 def test_a_dask_cluster_started_early_is_the_one_the_run_gets_and_evaluates_the_same(no_early_executor):
@@ -232,6 +237,36 @@ def test_a_dask_task_gets_a_large_array_aligned_and_read_only_as_a_pool_task_doe
     with DaskExecutor(2) as ex:
         dask = map_chunks(_layout, tasks, ex)
     assert dask == pool == [(True, True, 0), (True, False, 0)]     # a call's own array writable, a Shared not
+
+
+def _kept_count():
+    return len(executors._KEPT)
+
+
+def test_dask_weighs_a_scattered_reference_by_its_bytes():
+    """A Dask cluster places tasks near their data and counts memory by ``sizeof``: a reference that weighed its
+    60 bytes of object would let a 3.6 MB chunk of the design move for free."""
+    from dask.sizeof import sizeof
+
+    ref = executors._Ref(b"k" * 16, b"x" * 1_000_000)
+    assert 1_000_000 <= sizeof(ref) < 1_001_000
+
+
+def test_the_workers_of_a_scheduler_let_go_of_what_they_kept_when_the_run_closes():
+    """A cluster given by address outlives the run: its workers drop the Shared values they kept for it."""
+    from dask.distributed import Client, LocalCluster
+
+    from rvtol.executors import DaskExecutor
+    from rvtol.mc import map_chunks
+
+    a = executors.Shared(np.arange(40_000.0))
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as lc, \
+            Client(lc) as c:
+        ex = DaskExecutor(scheduler=lc.scheduler_address)
+        assert map_chunks(np.sum, [(a,), (a,)], ex) == [float(np.arange(40_000.0).sum())] * 2
+        assert sum(c.run(_kept_count).values()) >= 1
+        ex.close()
+        assert sum(c.run(_kept_count).values()) == 0
 
 
 def _worker_settings():
