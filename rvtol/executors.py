@@ -485,9 +485,10 @@ class DaskExecutor(Executor):
         from dask.distributed import as_completed as dask_as_completed
 
         c = self.client
-        # models (broadcast to every worker) and large arrays (to one) travel once, outside the task graph, and stay
-        # there while calls reuse them: the sensitivity stencils and the allocation's generations call with the same
-        # model, and the allocation with the same chunks of its fixed design, hundreds of times.  Results come back
+        # models and Shared arrays (broadcast to every worker) and a call's own large arrays (to one worker) travel
+        # once, outside the task graph, and stay there while calls reuse them: the sensitivity stencils and the
+        # allocation's generations call with the same model, and the allocation with the same chunks of its fixed
+        # design, hundreds of times.  Results come back
         # with their futures (no round trip per result) and finished futures are simply dropped (a cancel is one
         # more): a call of 8 small chunks 34 → 24 ms on a 2-worker LocalCluster (a process pool: 2–3 ms)
         share = _once_per_call(self._shared)
@@ -511,8 +512,8 @@ class DaskExecutor(Executor):
 
         if _is_model(a):
             a = Shared(a)
-        if isinstance(a, Shared):
-            ref, broadcast = _Ref(a.key, a.blob), _is_model(a.value)
+        if isinstance(a, Shared):           # used by many calls, so by every worker (as a pool's workers keep it)
+            ref, broadcast = _Ref(a.key, a.blob), True
         elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
             # scattered at once, so no later change of the caller's reaches it: digested, not copied as a Shared is
             blob, key = _pickled(_read_only(a))
