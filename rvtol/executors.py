@@ -15,6 +15,7 @@ of the run): no orphan keeps computing.
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 import multiprocessing
 import os
@@ -168,34 +169,35 @@ class _Ref:
         self.key, self.blob, self.keep = key, blob, keep
 
     def get(self):
-        if not self.keep:                   # a call's own array: the task's to use, as a pool task's is
-            return _unpickled(self.blob, read_only=False)
+        import pickle
+
+        if not self.keep:       # a call's own array, writable as pickled, in memory of its own (aligned)
+            return pickle.loads(self.blob)
+
+        def unpickled():
+            if self.blob is None:
+                raise _NotKept
+            value = pickle.loads(self.blob)
+            return (_read_only(value) if hasattr(value, "setflags") else value), len(self.blob)
+
         with _KEPT_LOCK:                    # a Dask worker may run several tasks at once
-            got = _KEPT.pop(self.key, None)
-            if got is None:
-                if self.blob is None:
-                    raise _NotKept
-                got = (_unpickled(self.blob), len(self.blob))
-            _KEPT[self.key] = got                      # most recently used last
-            while len(_KEPT) > 1 and sum(v[1] for v in _KEPT.values()) > KEEP_BYTES:
-                _KEPT.pop(next(iter(_KEPT)))
-            return got[0]
+            return _recently_used(_KEPT, self.key, unpickled)
 
     def __sizeof__(self) -> int:            # what Dask weighs a scattered one by (its placement, its memory)
         return object.__sizeof__(self) + len(self.blob or b"")
 
 
-def _unpickled(blob: bytes, read_only: bool = True):
-    """A value from its pickle (:func:`_pickled`); an array in its own aligned memory, read-only or a writable
-    copy.  (An array that Dask scatters itself arrives as a view into the received message at any byte offset:
-    unaligned, and an allocation task — its GA's candidates built from a chunk of the design — took 8–15 % more
-    CPU on it.)"""
-    import pickle
-
-    value = pickle.loads(blob)
-    if not hasattr(value, "setflags"):
-        return value
-    return _read_only(value) if read_only else value.copy()
+def _recently_used(store: dict, key, make: Callable, drop: Callable = lambda value: None):
+    """``store[key]``'s value, made by ``make() -> (value, size)`` if missing, as the most recently used entry; the
+    least recently used are dropped (``drop(value)``) while the sizes sum over :data:`KEEP_BYTES` and more than one
+    is left.  What a worker keeps of the Shared arguments and what a Dask executor keeps scattered."""
+    got = store.pop(key, None)
+    if got is None:
+        got = make()
+    store[key] = got                                   # most recently used last
+    while len(store) > 1 and sum(v[1] for v in store.values()) > KEEP_BYTES:
+        drop(store.pop(next(iter(store)))[0])
+    return got[0]
 
 
 #: what a pool worker keeps of the Shared arguments it received (by digest: value and size), least recently used first
@@ -488,9 +490,9 @@ class DaskExecutor(Executor):
         # models and Shared arrays (broadcast to every worker) and a call's own large arrays (to one worker) travel
         # once, outside the task graph, and stay there while calls reuse them: the sensitivity stencils and the
         # allocation's generations call with the same model, and the allocation with the same chunks of its fixed
-        # design, hundreds of times.  Results come back
-        # with their futures (no round trip per result) and finished futures are simply dropped (a cancel is one
-        # more): a call of 8 small chunks 34 → 24 ms on a 2-worker LocalCluster (a process pool: 2–3 ms)
+        # design, hundreds of times.  Results come back with their futures (no round trip per result) and finished
+        # futures are simply dropped (a cancel is one more): a call of 8 small chunks 34 → 24 ms on a 2-worker
+        # LocalCluster (a process pool: 2–3 ms)
         share = _once_per_call(self._shared)
         args = [[fn] + [share(a) for a in t] for t in tasks]
         futs = c.map(_call_shipped, *zip(*args), pure=False) if args else []
@@ -507,7 +509,9 @@ class DaskExecutor(Executor):
     def _shared(self, a):
         """``a`` as the task will get it: a model, a :class:`Shared` or a large array as the future of its
         :class:`_Ref` (digest and pickle) scattered on the cluster, else itself.  Scattered as its pickle, not
-        as itself: Dask would hand an array to the task unaligned (:func:`_unpickled`)."""
+        as itself: an array Dask scatters itself reaches the task as a view into the received message at any byte
+        offset — unaligned, and an allocation task (its GA's candidates built from a chunk of the design) took
+        8–15 % more CPU on it; unpickled, it is in memory of its own."""
         import numpy as np
 
         if _is_model(a):
@@ -515,28 +519,22 @@ class DaskExecutor(Executor):
         if isinstance(a, Shared):           # used by many calls, so by every worker (as a pool's workers keep it)
             ref, broadcast = _Ref(a.key, a.blob), True
         elif isinstance(a, np.ndarray) and a.nbytes >= SCATTER_BYTES:
-            # scattered at once, so no later change of the caller's reaches it: digested, not copied as a Shared is
-            blob, key = _pickled(_read_only(a))
+            # pickled at once, so no later change of the caller's reaches it (not copied as a Shared is)
+            blob, key = _pickled(a)
             ref, broadcast = _Ref(key, blob, keep=False), False
         else:
             return a
-        key = (ref.key, ref.keep)     # the same content as a Shared (kept, read-only) and a call's own array
-        got = self._scattered.pop(key, None)
-        if got is None:
-            got = (self.client.scatter(ref, broadcast=broadcast, hash=False), len(ref.blob))
-        self._scattered[key] = got                         # most recently used last
-        while len(self._scattered) > 1 and sum(v[1] for v in self._scattered.values()) > KEEP_BYTES:
-            self._scattered.pop(next(iter(self._scattered)))[0].release()
-        return got[0]
+        # the same content as a Shared (kept, read-only) and as a call's own array (writable): two scatters
+        return _recently_used(self._scattered, (ref.key, ref.keep),
+                              lambda: (self.client.scatter(ref, broadcast=broadcast, hash=False), len(ref.blob)),
+                              lambda future: future.release())
 
     def close(self, wait: bool = True):
         self._started(raise_error=False)
         self._scattered.clear()
         if self._client is not None and self._cluster is None:      # a scheduler's workers live on
-            try:
+            with contextlib.suppress(Exception):    # workers gone or unreachable: nothing kept to let go
                 self._client.run(_forget_kept)
-            except Exception:  # noqa: BLE001 - workers gone or unreachable: nothing kept to let go
-                pass
         if self._client is not None:
             self._client.close()
             self._client = None
