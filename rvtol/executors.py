@@ -466,7 +466,7 @@ class DaskExecutor(Executor):
             else:
                 import dask
 
-                with dask.config.set(QUIET_WORKERS):
+                with dask.config.set(LOCAL_CLUSTER):
                     self._cluster = LocalCluster(n_workers=self._want, threads_per_worker=1, processes=True,
                                                  dashboard_address=None, silence_logs=logging.ERROR)
                 self._client = Client(self._cluster)
@@ -543,7 +543,7 @@ class DaskExecutor(Executor):
             self._cluster = None
 
 
-#: our own LocalCluster's worker settings.  Housekeeping made rarer: by default each worker process wakes its event
+#: our own LocalCluster's settings.  The workers' housekeeping made rarer: by default each worker process wakes its event
 #: loop every 20 ms (the tick that watches for a blocked loop), reads its memory every 100 ms (and its nanny too),
 #: samples system figures every 500 ms and its own stack every 10 ms (the statistical profiler, for a dashboard
 #: nobody opens).  On a machine whose cores all compute, each wake takes the GIL and a core from the task: a chunk of
@@ -557,12 +557,22 @@ class DaskExecutor(Executor):
 #: RV-80E sign-off (its GA's candidates on a chunk of the design) took 10–12 % more CPU in its own thread on a Dask
 #: worker than on a pool worker (31.4 against 25.3 ms, 523 against 468 ms); without the variable 25.1 and 469 ms.  A
 #: run's cluster lives for the run, so the memory it keeps is returned when it ends.
-QUIET_WORKERS = {
+#:
+#: And every worker keeps its copy of a model or a Shared array.  Dask's active memory manager drops, every 2 s, the
+#: copies of a key that no task waiting on that worker needs — the broadcast copies of a model and of a Shared array
+#: among them — so a later call found its model on one worker only, and the scheduler put all of that call's tasks
+#: there; work stealing then moved them over one a second.  The RV-80E sign-off's independent check of its
+#: allocation (8 chunks of 2 s on 2 workers) ran its first 5 chunks on one worker: 9.5–10.4 s instead of 8.2 s
+#: (Dask's task stream and the key's story).  Without the manager the copies stay until the run lets go of them
+#: (:meth:`DaskExecutor.close`).  A scheduler given by address keeps its own settings: there the tasks of such a call
+#: still finish, later.
+LOCAL_CLUSTER = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    "distributed.scheduler.active-memory-manager.start": False,
 }
 
 

@@ -218,6 +218,27 @@ def test_a_dask_cluster_receives_a_large_array_once_and_results_are_the_serial_o
         np.testing.assert_array_equal(g3, w)
 
 
+def _pid(*_):
+    import os
+
+    return os.getpid()
+
+
+def test_every_dask_worker_keeps_its_copy_of_a_model_between_calls():
+    """Dask's active memory manager (every 2 s by default) would drop the broadcast copies no waiting task needs; a
+    later call then found its model on one worker, and the scheduler ran all its chunks there."""
+    import time
+
+    from rvtol.executors import DaskExecutor
+
+    m = UnpickleCountingModel(tag=3)
+    with DaskExecutor(2) as ex:
+        evaluate(m, np.zeros((2, 1)), ex, chunk_size=1, progress=False)
+        (future, _), = ex._scattered.values()
+        time.sleep(2.5)                     # longer than the manager's interval
+        assert len(ex.client.who_has([future])[future.key]) == 2
+
+
 def _layout(a, _):
     return bool(a.flags.aligned), bool(a.flags.writeable), a.ctypes.data % 8
 
@@ -272,18 +293,18 @@ def test_the_workers_of_a_scheduler_let_go_of_what_they_kept_when_the_run_closes
 def _worker_settings():
     import dask
 
-    return {k: dask.config.get(k) for k in executors.QUIET_WORKERS}
+    return {k: dask.config.get(k) for k in executors.LOCAL_CLUSTER}
 
 
 def test_our_dask_workers_keep_their_housekeeping_rare_and_a_users_config_is_left_alone():
     import dask
 
-    from rvtol.executors import QUIET_WORKERS, DaskExecutor
+    from rvtol.executors import LOCAL_CLUSTER, DaskExecutor
 
     with DaskExecutor(1) as ex:
         seen = list(ex.client.run(_worker_settings).values())
-    assert seen == [QUIET_WORKERS]
-    assert dask.config.get("distributed.admin.tick.interval") != QUIET_WORKERS["distributed.admin.tick.interval"]
+    assert seen == [LOCAL_CLUSTER]
+    assert dask.config.get("distributed.admin.tick.interval") != LOCAL_CLUSTER["distributed.admin.tick.interval"]
 
 
 def _malloc_trim():
