@@ -38,6 +38,8 @@ from _timing import print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDIES = {"signoff": "rv80e_signoff.toml", "te": "transmission_error_rv80e.toml"}
+#: a phase shorter than this (s) at a configuration is taken as absent there
+ABSENT_S = 0.01
 
 #: run the CLI in this process and report its own CPU time
 _RUNNER = """
@@ -113,16 +115,22 @@ def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
                      for c in cfgs}
                 if any(v is None for v in t.values()):
                     continue
+                # a phase some configurations do not have (the figures: one worker renders each as it is made,
+                # inside the other phases) has no speed-up and no fit
+                absent = [c for c in cfgs if t[c] < ABSENT_S]
                 fits = {}
                 for kind in ("process", "dask"):
                     own = [c for c in cfgs if c.startswith(kind)]
-                    fits[kind] = amdahl([int(c.split()[1]) for c in own], [t[c] for c in own]) if own else None
+                    fits[kind] = (amdahl([int(c.split()[1]) for c in own], [t[c] for c in own])
+                                  if own and not absent else None)
                 par = None if ph in whole else first["phases"][ph].get("parallel")
-                cells = "  ".join(f"{c}: {t[c]:7.1f} s (" + (f"{t[cfgs[0]] / t[c]:.2f}×" if t[c] > 0 else "—")
+                cells = "  ".join(f"{c}: {t[c]:7.1f} s (" + (f"{t[cfgs[0]] / t[c]:.2f}×" if not absent else "—")
                                   + (f"; {t['dask 1'] / t[c]:.2f}× Dask 1" if c.startswith("dask") and c != "dask 1"
-                                     and "dask 1" in t and t[c] > 0 else "") + ")" for c in cfgs)
+                                     and "dask 1" in t and not absent else "") + ")" for c in cfgs)
                 extra = "".join(f"  Amdahl s = {v:.0%}" + (" (Dask)" if k == "dask" else "")
                                 for k, v in fits.items() if v is not None)
+                if absent and len(absent) < len(cfgs):
+                    extra += f"  none at {', '.join(absent)}: done inside the other phases there"
                 if par is not None and t[cfgs[0]] > 0:
                     extra += f"  in parallel evaluation at 1 worker: {par / t[cfgs[0]]:.0%}"
                 rows.append((ph, cells, extra))
