@@ -19,3 +19,22 @@ def test_amdahl_two_points_by_hand_and_one_point_none():
     # T(2)/T(1) = 1/1.8: s = 2 r - 1 = 0.111...
     assert amdahl([1, 2], [180.0, 100.0]) == pytest.approx(2 * 100 / 180 - 1)
     assert amdahl([1], [5.0]) is None
+
+
+def _run(phases: dict, run: float) -> dict:
+    return {"process": run + 5.0, "run": run, "main_cpu": 1.0, "load": 1.0,
+            "phases": {k: {"wall": v, "parallel": v} for k, v in phases.items()}}
+
+
+def test_a_phase_absent_at_one_worker_has_no_speed_up_and_no_fit(capsys):
+    """The figures: one worker renders each figure inside the phase that makes it, so the phase reads 0 s there —
+    no ratio against 0 ("0.00×") and no Amdahl fit on it; the phase present everywhere keeps both."""
+    from bench_scaling import report
+
+    runs = {("c", "signoff", "process 1"): [_run({"mc": 100.0, "figures": 0.0}, 100.0)],
+            ("c", "signoff", "process 2"): [_run({"mc": 50.0, "figures": 2.0}, 52.0)]}
+    report(runs, ["c"], ["signoff"], [1, 2], {"signoff": 300})
+    lines = {ln.split()[0]: ln for ln in capsys.readouterr().out.splitlines() if ln.strip()}
+    assert "0.00×" not in lines["figures"] and "Amdahl" not in lines["figures"]
+    assert "none at process 1" in lines["figures"]
+    assert "2.00×" in lines["mc"] and "Amdahl s = 0%" in lines["mc"]
