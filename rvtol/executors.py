@@ -543,29 +543,28 @@ class DaskExecutor(Executor):
             self._cluster = None
 
 
-#: our own LocalCluster's settings.  The workers' housekeeping made rarer: by default each worker process wakes its event
-#: loop every 20 ms (the tick that watches for a blocked loop), reads its memory every 100 ms (and its nanny too),
-#: samples system figures every 500 ms and its own stack every 10 ms (the statistical profiler, for a dashboard
-#: nobody opens).  On a machine whose cores all compute, each wake takes the GIL and a core from the task: a chunk of
-#: the RV-80E sign-off's composite took 6–7 % longer on a 2-worker LocalCluster than on a 2-process pool (timed
-#: inside the tasks); with these settings the same.  A tick of 1 s still reports a loop blocked for the warning's
-#: 3 s; memory is still checked every second against the kill limit.
+#: our own LocalCluster's settings.  The workers' housekeeping made rarer: by default each worker process wakes its
+#: event loop every 20 ms (the tick that watches for a blocked loop), reads its memory every 100 ms (and its nanny too),
+#: samples system figures every 500 ms and its own stack every 10 ms (the statistical profiler, for a dashboard nobody
+#: opens).  On a machine whose cores all compute, each wake takes the GIL and a core from the task: a chunk of the
+#: RV-80E sign-off's composite took 6–7 % longer on a 2-worker LocalCluster than on a 2-process pool (timed inside the
+#: tasks); with these settings the same.  A tick of 1 s still reports a loop blocked for the warning's 3 s; memory is
+#: still checked every second against the kill limit.
 #:
 #: And glibc's own memory policy, as in a process pool: Dask's nanny starts each worker with
-#: ``MALLOC_TRIM_THRESHOLD_=65536``, which (any explicit threshold does) switches off glibc's dynamic mmap threshold,
-#: so every temporary array above 128 kB is a fresh ``mmap`` whose pages fault in again.  An allocation task of the
-#: RV-80E sign-off (its GA's candidates on a chunk of the design) took 10–12 % more CPU in its own thread on a Dask
-#: worker than on a pool worker (31.4 against 25.3 ms, 523 against 468 ms); without the variable 25.1 and 469 ms.  A
-#: run's cluster lives for the run, so the memory it keeps is returned when it ends.
+#: ``MALLOC_TRIM_THRESHOLD_=65536``, which (any explicit threshold does) switches off glibc's dynamic mmap threshold, so
+#: every temporary array above 128 kB is a fresh ``mmap`` whose pages fault in again.  An allocation task of the RV-80E
+#: sign-off (its GA's candidates on a chunk of the design) took 10–12 % more CPU in its own thread on a Dask worker than
+#: on a pool worker (31.4 against 25.3 ms, 523 against 468 ms); without the variable 25.1 and 469 ms.  A run's cluster
+#: lives for the run, so the memory it keeps is returned when it ends.
 #:
 #: And every worker keeps its copy of a model or a Shared array.  Dask's active memory manager drops, every 2 s, the
 #: copies of a key that no task waiting on that worker needs — the broadcast copies of a model and of a Shared array
 #: among them — so a later call found its model on one worker only, and the scheduler put all of that call's tasks
-#: there; work stealing then moved them over one a second.  The RV-80E sign-off's independent check of its
-#: allocation (8 chunks of 2 s on 2 workers) ran its first 5 chunks on one worker: 9.5–10.4 s instead of 8.2 s
-#: (Dask's task stream and the key's story).  Without the manager the copies stay until the run lets go of them
-#: (:meth:`DaskExecutor.close`).  A scheduler given by address keeps its own settings: there the tasks of such a call
-#: still finish, later.
+#: there; work stealing then moved them over one a second.  The RV-80E sign-off's independent check of its allocation (8
+#: chunks of 2 s on 2 workers) ran its first 5 chunks on one worker: 9.5–10.4 s instead of 8.2 s (Dask's task stream and
+#: the key's story).  Without the manager the copies stay until the run lets go of them (:meth:`DaskExecutor.close`).  A
+#: scheduler given by address keeps its own settings: there the tasks of such a call still finish, later.
 LOCAL_CLUSTER = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",

@@ -218,12 +218,6 @@ def test_a_dask_cluster_receives_a_large_array_once_and_results_are_the_serial_o
         np.testing.assert_array_equal(g3, w)
 
 
-def _pid(*_):
-    import os
-
-    return os.getpid()
-
-
 def test_every_dask_worker_keeps_its_copy_of_a_model_between_calls():
     """Dask's active memory manager (every 2 s by default) would drop the broadcast copies no waiting task needs; a
     later call then found its model on one worker, and the scheduler ran all its chunks there."""
