@@ -16,9 +16,11 @@ of the run): no orphan keeps computing.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import logging
 import multiprocessing
 import os
+import pickle
 import signal
 import threading
 import time
@@ -147,9 +149,6 @@ def _read_only(a):
 
 def _pickled(value) -> tuple[bytes, bytes]:
     """``value``'s pickle and the pickle's 128-bit digest (what identifies it on the workers)."""
-    import hashlib
-    import pickle
-
     blob = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
     return blob, hashlib.blake2b(blob, digest_size=16).digest()
 
@@ -169,8 +168,6 @@ class _Ref:
         self.key, self.blob, self.keep = key, blob, keep
 
     def get(self):
-        import pickle
-
         if not self.keep:       # a call's own array, writable as pickled, in memory of its own (aligned)
             return pickle.loads(self.blob)
 
