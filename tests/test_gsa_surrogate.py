@@ -29,6 +29,33 @@ def _within(est, true, conf, extra=0.0):
 
 
 # --------------------------------------------------------------------------- building blocks
+def test_the_float32_scan_picks_the_float64_maximum_even_among_near_ties():
+    """OMP's candidate scan in float32 plus a float64 look at what its error bound cannot separate: the column
+    is the plain float64 argmax (first of ties), including columns that differ below float32's resolution —
+    where a float32 argmax alone does pick another column (checked, so the float64 look is what decides)."""
+    from rvtol.sensitivity.surrogate import _most_correlated
+
+    rng = np.random.default_rng(11)
+    n, P = 400, 300
+    f32_wrong = 0
+    for trial in range(40):
+        Psi = rng.standard_normal((n, P))
+        r = rng.standard_normal(n)
+        top = int(np.argmax(np.abs(Psi.T @ r)))
+        for k in range(1, 6):      # near-copies of the best column: apart by 1e-9 … 1e-7 relative
+            Psi[:, k * 37] = Psi[:, top] * (1.0 + rng.uniform(-1e-7, 1e-7)) + 1e-9 * rng.standard_normal(n)
+        Psi = np.asfortranarray(Psi)
+        norms = np.sqrt(np.einsum("ij,ij->j", Psi, Psi))
+        avail = rng.random(P) > 0.1
+        exact = np.abs(Psi.T @ r) / norms
+        exact[~avail] = -1.0
+        c32 = np.abs(Psi.astype(np.float32).T @ r.astype(np.float32)) / norms
+        c32[~avail] = -1.0
+        f32_wrong += int(np.argmax(c32) != np.argmax(exact))
+        assert _most_correlated(Psi, Psi.astype(np.float32), r, norms, avail) == int(np.argmax(exact))
+    assert f32_wrong > 0
+
+
 @pytest.mark.parametrize("family", ["legendre", "hermite"])
 def test_polynomials_are_orthonormal_under_the_germ_law(family):
     deg = 12

@@ -252,16 +252,17 @@ def multi_indices(k: int, degree: int, q: float = 1.0, max_interaction: int | No
 
 
 def design_matrix(G: np.ndarray, families: Sequence[str], alpha: np.ndarray) -> np.ndarray:
-    """:math:`\\Psi_{i,a} = \\prod_j \\psi^{(j)}_{\\alpha_{a,j}}(g_{ij})` for germ values ``G`` (n × k)."""
+    """:math:`\\Psi_{i,a} = \\prod_j \\psi^{(j)}_{\\alpha_{a,j}}(g_{ij})` for germ values ``G`` (n × k); built
+    term by term (a term's column is contiguous in memory: Fortran order), which OMP's scans also read fastest."""
     n = len(G)
-    Psi = np.ones((n, len(alpha)))
+    PsiT = np.ones((len(alpha), n))
     for j, fam in enumerate(families):
         cols = np.flatnonzero(alpha[:, j])
         if cols.size:
             deg = alpha[cols, j]
             table = orthonormal_1d(fam, G[:, j], int(deg.max()))
-            Psi[:, cols] *= table[:, deg]
-    return Psi
+            PsiT[cols] *= table.T[deg]
+    return PsiT.T
 
 
 # --------------------------------------------------------------------------- least squares
@@ -320,11 +321,10 @@ def _omp(Psi: np.ndarray, y: np.ndarray, var_y: float, max_steps: int, patience:
     cols, avail = [0], np.ones(P, dtype=bool)
     avail[0] = False
     best, best_err = 1, np.inf
+    Psi32 = Psi.astype(np.float32)
     while len(cols) <= max_steps and avail.any():
         s = len(cols)
-        c = np.abs(Psi.T @ r) / norms
-        c[~avail] = -1.0
-        j = int(np.argmax(c))
+        j = _most_correlated(Psi, Psi32, r, norms, avail)
         avail[j] = False
         v = Psi[:, j].copy()
         a = Q[:, :s].T @ v
@@ -354,6 +354,28 @@ def _omp(Psi: np.ndarray, y: np.ndarray, var_y: float, max_steps: int, patience:
             break
     sel = np.array(cols[:best])
     return sel, _ols(Psi[:, sel], y, var_y)
+
+
+def _most_correlated(Psi: np.ndarray, Psi32: np.ndarray, r: np.ndarray, norms: np.ndarray, avail: np.ndarray) -> int:
+    r"""The available column of largest :math:`|\Psi_j \cdot r| / \|\Psi_j\|` — the float64 scan's choice (the
+    first of exact ties), found by a float32 scan and a float64 look at the columns that scan cannot tell apart.
+
+    OMP reads all of Ψ once per step and that read is its cost: float32 halves it (RV-80E TE study, 1600 × 9696
+    candidates: 2.7 against 8.5 ms a scan).  The float32 product's error is at most
+    :math:`\gamma_{n+2} \|\Psi_j\| \|r\|` with :math:`\gamma_m = m u / (1 - m u)`, ``u`` float32's unit
+    round-off (the dot product's forward error bound, Higham, *Accuracy and Stability of Numerical Algorithms*,
+    2nd ed., §3.1, with the rounding of Ψ and r to float32 as two more factors ``1 + δ``; Cauchy–Schwarz for the
+    sum of the terms' magnitudes).  So every column within twice that of the float32 maximum, and only those, can be
+    the float64 maximum; they are compared in float64."""
+    n = Psi.shape[0]
+    mu = (n + 2) * float(np.finfo(np.float32).eps) / 2.0
+    width = 2.0 * mu / (1.0 - mu) * float(np.linalg.norm(r))
+    c = np.abs(Psi32.T @ r.astype(np.float32)) / norms
+    c[~avail] = -np.inf
+    near = np.flatnonzero(c >= c.max() - width)
+    if near.size == 1:
+        return int(near[0])
+    return int(near[np.argmax(np.abs(Psi[:, near].T @ r) / norms[near])])
 
 
 def _lars(G: np.ndarray, y: np.ndarray, families, degree: int, q: float, size: int) -> np.ndarray:

@@ -5,6 +5,8 @@ process: time and the largest error of S1 and ST against the closed form (Sobol'
 * rvtol OMP, BLAS threads as the machine gives them (the code before issue 25);
 * rvtol OMP, BLAS limited to one thread inside the PCE (issue 25: the small factorisations of the bootstrap
   and the selection no longer fight over threads);
+* the same with OMP's candidate scan in float64 alone (before issue 24's float32 scan; the selection must be the
+  same, so the indices are too);
 * OpenTURNS functional chaos with LARS and the corrected leave-one-out (``method="lars"``), the candidate set
   capped at degree ``--ot-degree`` (its LARS grows about as P³ on this machine: 229 candidates on 1 024 samples
   took 40 s), so it finishes;
@@ -36,6 +38,13 @@ def reference():
     return Vi / V, Vi * np.array([np.prod(np.delete(1 + Vi, i)) for i in range(len(A))]) / V
 
 
+def float64_scan(Psi, Psi32, r, norms, avail):
+    """OMP's candidate scan before the float32 one: every correlation in float64."""
+    c = np.abs(Psi.T @ r) / norms
+    c[~avail] = -1.0
+    return int(np.argmax(c))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=4096)
@@ -63,6 +72,14 @@ def main() -> None:
                                              confidence=0.95, min_q2=0.95, seed=1))
     t_after = record("rvtol OMP, one BLAS thread (after)", lambda: S.pce_indices(U, y, "legendre", seed=1))
     rows.append(("  ratio before/after", f"{t_before / t_after:.2f}", "same process, same data"))
+    scan = S._most_correlated
+    S._most_correlated = float64_scan
+    try:
+        t64 = record("rvtol OMP, one BLAS thread, float64 scan (before the float32 scan)",
+                     lambda: S.pce_indices(U, y, "legendre", seed=1))
+    finally:
+        S._most_correlated = scan
+    rows.append(("  ratio float64 scan / float32 scan", f"{t64 / t_after:.2f}", "same process, same data"))
     record(f"OpenTURNS LARS, degree ≤ {args.ot_degree}",
            lambda: S.pce_indices(U, y, "legendre", seed=1, method="lars", max_degree=args.ot_degree))
     record(f"rvtol OMP, degree ≤ {args.ot_degree} (the same candidates)",
