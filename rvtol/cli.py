@@ -18,6 +18,7 @@ Exit codes (README, "Command line"):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import json
 import os
@@ -57,6 +58,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="random seed")
     run.add_argument("--method", choices=("random", "lhs", "sobol"), help="sampling method")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
+    run.add_argument("--task-log", metavar="FILE", help="write every parallel call's tasks and their CPU seconds "
+                     "(JSON) with the run projected on as many dedicated cores as it had workers: run with "
+                     "--workers 16 to see the run on 16 cores from a smaller machine")
     run.add_argument("--resume", action="store_true",
                      help="continue an interrupted run of the same --out from its finished chunks")
     run.add_argument("--baseline", metavar="DIR", help="compare with this accepted report folder (or summary.json) "
@@ -243,12 +247,8 @@ def _spec(args) -> int:
     if out.exists() and not args.force:
         raise InputError("exists; give --force to replace it", file=str(out), key="--out")
     spec = load_spec(args.spec, sheet=args.sheet)
-    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
-    try:
+    with _replacing(out) as tmp:
         write_table_spec(spec, tmp)
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
     print(f"rvtol: wrote {out} ({len(spec)} factors of spec {spec.name!r})")
     return EXIT_PASS
 
@@ -326,9 +326,9 @@ def _run_study(args, ov: dict) -> int:
     # everything that can be checked is checked before computing (exit 2, nothing written)
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)
     check_writable(out, "--out")
-    for flag in ("junit", "markdown"):
+    for flag in ("junit", "markdown", "task_log"):
         if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag}")
+            _check_file_target(getattr(args, flag), f"--{flag.replace('_', '-')}")
     baseline = None
     if args.baseline:
         from .ci.compare import load_run
@@ -350,7 +350,7 @@ def _run_study(args, ov: dict) -> int:
         store, note = folder.open_store(key, args.resume)
         if note:
             print(f"rvtol: {note}", file=sys.stderr)
-        result = run_study(study, store=store, baseline=baseline)
+        result = run_study(study, store=store, baseline=baseline, record_calls=bool(args.task_log))
         comparison = result.comparison
         extra = {}
         if comparison is not None:
@@ -368,6 +368,13 @@ def _run_study(args, ov: dict) -> int:
         if comparison is not None:
             print(comparison.text())
     _write_ci_outputs(args, result.summary(), comparison)
+    if args.task_log:
+        from .scaling import task_log
+
+        out_log = Path(args.task_log)
+        out_log.parent.mkdir(parents=True, exist_ok=True)
+        with _replacing(out_log) as tmp:
+            tmp.write_text(json.dumps(task_log(result), indent=1, allow_nan=False), encoding="utf-8")
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
           + f" (+ {', '.join(result_files(study.options, bool(study.requirements)))})")
@@ -376,6 +383,18 @@ def _run_study(args, ov: dict) -> int:
         if not comparison.passed:
             return EXIT_FAIL
     return VERDICT_EXIT[verdict]
+
+
+@contextlib.contextmanager
+def _replacing(out: Path):
+    """A temporary file beside ``out`` that replaces it when the block ends without an error: ``out`` is never
+    half-written."""
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _check_file_target(path: str, key: str) -> None:

@@ -25,8 +25,8 @@ import signal
 import threading
 import time
 import weakref
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from typing import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from typing import Callable, Iterator, NamedTuple, Sequence
 
 from .errors import InputError, RvtolError
 
@@ -234,13 +234,45 @@ def _forget_kept() -> None:
         _KEPT.clear()
 
 
+class _Done(NamedTuple):
+    """A task's result and the CPU seconds its worker thread spent on it."""
+
+    value: object
+    cpu: float
+
+
+#: while a caller records them (:func:`recording_task_cpu`): the CPU seconds of each task a pool or Dask finished
+_TASK_CPU: list | None = None
+
+
+@contextlib.contextmanager
+def recording_task_cpu():
+    """The CPU seconds (worker thread) of every task the process pool or Dask finishes inside the block, in the
+    order they finish: the list the block gets."""
+    global _TASK_CPU
+    outer, _TASK_CPU = _TASK_CPU, []
+    try:
+        yield _TASK_CPU
+    finally:
+        _TASK_CPU = outer
+
+
+def _finished(res: _Done):
+    if _TASK_CPU is not None:
+        _TASK_CPU.append(res.cpu)
+    return res.value
+
+
 def _call_shipped(fn: Callable, *args):
-    """Worker side of the process pool's and Dask's ``imap``: ``fn`` on the arguments with shared ones unpacked."""
+    """Worker side of the process pool's and Dask's ``imap``: ``fn`` on the arguments with shared ones unpacked,
+    timed by its thread's CPU clock (a worker's task is its thread's: one BLAS thread, no other work)."""
     try:
         args = tuple(a.get() if isinstance(a, _Ref) else a for a in args)
     except _NotKept:
         return _Missing()
-    return fn(*args)
+    t0 = time.thread_time()
+    value = fn(*args)
+    return _Done(value, time.thread_time() - t0)
 
 
 def stop_workers() -> None:
@@ -401,7 +433,7 @@ class ProcessExecutor(Executor):
                         if isinstance(res, _Missing):           # that worker does not keep it: send the bytes too
                             submit(i, False)
                             continue
-                        yield i, res
+                        yield i, _finished(res)
             except BrokenProcessPool:
                 raise RvtolError(
                     "the worker processes stopped before finishing. If you call rvtol from a script, "
@@ -497,7 +529,7 @@ class DaskExecutor(Executor):
         done = False
         try:
             for f, res in dask_as_completed(futs, with_results=True):
-                yield index[f.key], res
+                yield index[f.key], _finished(res)
             done = True
         finally:
             if not done:             # stopped early (an error, a cancelled run): the rest need not run

@@ -9,6 +9,7 @@ convergence and failures.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import sys
 import time
@@ -19,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from . import stats as st
-from .executors import Executor, SerialExecutor, plain
+from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
@@ -33,8 +34,9 @@ def _eval_chunk(model: Model, X: np.ndarray):
 
 
 #: wall time this process has spent inside :func:`evaluate` and :func:`map_chunks` (outermost calls only): the
-#: study's phase profile subtracts two readings (:func:`parallel_seconds`) to get a phase's parallel share
-_PARALLEL = {"seconds": 0.0, "depth": 0}
+#: study's phase profile subtracts two readings (:func:`parallel_seconds`) to get a phase's parallel share; and,
+#: while a caller records them (:func:`recording_calls`), each of those calls
+_PARALLEL = {"seconds": 0.0, "depth": 0, "calls": None}
 
 
 class _ParallelClock:
@@ -43,12 +45,31 @@ class _ParallelClock:
     def __enter__(self):
         _PARALLEL["depth"] += 1
         if _PARALLEL["depth"] == 1:
+            self.log = contextlib.ExitStack()
+            self.cpu = None if _PARALLEL["calls"] is None else self.log.enter_context(recording_task_cpu())
             self.t0 = time.perf_counter()
 
     def __exit__(self, *exc):
         _PARALLEL["depth"] -= 1
         if _PARALLEL["depth"] == 0:
-            _PARALLEL["seconds"] += time.perf_counter() - self.t0
+            wall = time.perf_counter() - self.t0
+            _PARALLEL["seconds"] += wall
+            self.log.close()
+            if self.cpu is not None and _PARALLEL["calls"] is not None:
+                _PARALLEL["calls"].append({"wall": wall, "tasks": self.cpu})
+
+
+@contextlib.contextmanager
+def recording_calls():
+    """Each parallel call (outermost :func:`evaluate` or :func:`map_chunks`) made inside the block, in the list the
+    block gets: ``{"wall": s, "tasks": [CPU s of each task the workers ran, in finishing order]}`` — tasks run in
+    this process (a serial executor, one worker, a single inline task) are not listed: such a call is this process's
+    own time (:mod:`rvtol.scaling`)."""
+    outer, _PARALLEL["calls"] = _PARALLEL["calls"], []
+    try:
+        yield _PARALLEL["calls"]
+    finally:
+        _PARALLEL["calls"] = outer
 
 
 def parallel_seconds() -> float:

@@ -38,3 +38,19 @@ def test_a_phase_absent_at_one_worker_has_no_speed_up_and_no_fit(capsys):
     assert "0.00×" not in lines["figures"] and "Amdahl" not in lines["figures"]
     assert "none at process 1" in lines["figures"]
     assert "2.00×" in lines["mc"] and "Amdahl s = 0%" in lines["mc"]
+
+
+def test_the_projection_table_puts_the_measured_run_beside_its_projection_and_the_speed_up_against_it(capsys):
+    """Made-up projections: at 2 workers 40 s projected (42 s measured), at 16 workers 10 s — 4.00× against the
+    2-worker projection, per phase and for the whole run."""
+    from bench_scaling import report_projections
+
+    def proj(run, phases):
+        return {**_run(phases, run), "projected": {"run_s": run - 2.0, "phases_s": {k: v - 1.0 for k, v in phases.items()}}}
+
+    by_w = {2: proj(42.0, {"mc": 41.0}), 16: proj(12.0, {"mc": 11.0})}
+    report_projections({("c", "signoff"): by_w}, {("c", "signoff", "process 2"): [_run({"mc": 41.0}, 42.0)]},
+                       {"signoff": 300})
+    lines = {ln.split()[0]: ln for ln in capsys.readouterr().out.splitlines() if ln.strip()}
+    assert "41.0 s" in lines["mc"] and "40.0 s" in lines["mc"] and "10.0 s (4.00×)" in lines["mc"]
+    assert lines["whole"].split()[2:] == ["42.0", "s", "40.0", "s", "10.0", "s", "(4.00×)"]

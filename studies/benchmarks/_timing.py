@@ -24,9 +24,10 @@ def best_time(f, repeat: int = 3) -> float:
 
 
 def print_table(rows, headers=("measurement", "value", "ratio")) -> None:
-    """Print ``(name, value, ratio/notes)`` rows as an aligned three-column table."""
-    w0 = max(len(str(r[0])) for r in [headers, *rows])
-    w1 = max(len(str(r[1])) for r in [headers, *rows])
-    print(f"{headers[0]:<{w0}}  {headers[1]:>{w1}}  {headers[2]}")
-    for a, b, c in rows:
-        print(f"{a:<{w0}}  {b:>{w1}}  {c}")
+    """Print ``(name, value, …, ratio/notes)`` rows as an aligned table: the name left-aligned, the values right-aligned,
+    the last column as it is."""
+    cols = len(headers)
+    widths = [max(len(str(r[i])) for r in [headers, *rows]) for i in range(cols - 1)]
+    for r in [headers, *rows]:
+        cells = [f"{r[0]!s:<{widths[0]}}", *(f"{r[i]!s:>{widths[i]}}" for i in range(1, cols - 1))]
+        print("  ".join([*cells, str(r[-1])]))

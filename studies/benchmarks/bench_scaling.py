@@ -20,6 +20,12 @@ main beside this worktree, in the same session, for a before/after table.
     python studies/benchmarks/bench_scaling.py --quick               # --n 100 / 300, 1 and 2 workers, once
     python studies/benchmarks/bench_scaling.py --signoff-n 1500 --te-n 10000 --repeat 2
     python studies/benchmarks/bench_scaling.py --code /work/main --code . --only te --workers 1,2
+    python studies/benchmarks/bench_scaling.py --only signoff --workers 1,2 --repeat 1 --no-dask --project 16
+
+``--project 16`` adds, per study, a process-pool run at 16 workers and one at the largest measured count, each with
+``rvtol run --task-log``: the CPU seconds of every task of every parallel call.  Scheduled on 16 dedicated cores
+(:mod:`rvtol.scaling`), they give the run on a machine this one is not; the same projection of the run at the
+measured count sits beside that count's measured time, as the check of the method.
 """
 from __future__ import annotations
 
@@ -56,12 +62,17 @@ json.dump({"code": code, "main_cpu": own.ru_utime + own.ru_stime},
 """
 
 
-def run_once(code_dir: Path, study: str, n: int, executor: str, workers: int, out: Path) -> dict:
-    """One run of ``study``: wall time, per-phase wall and parallel time, CPU of the main process and workers."""
+def run_once(code_dir: Path, study: str, n: int, executor: str, workers: int, out: Path,
+             task_log: bool = False) -> dict:
+    """One run of ``study``: wall time, per-phase wall and parallel time, CPU of the main process and workers;
+    with ``task_log``, also the run projected on as many dedicated cores as it had workers (``rvtol run
+    --task-log``, :mod:`rvtol.scaling`)."""
     env = {**os.environ, "PYTHONPATH": str(code_dir)}
     cpu_file = out.with_suffix(".cpu.json")
+    log = out.with_suffix(".tasks.json")
     cmd = [sys.executable, "-c", _RUNNER, "run", str(code_dir / "studies" / study), "--no-pdf", "--quiet",
-           "--n", str(n), "--executor", executor, "--workers", str(workers), "--out", str(out), str(cpu_file)]
+           "--n", str(n), "--executor", executor, "--workers", str(workers), "--out", str(out),
+           *(["--task-log", str(log)] if task_log else []), str(cpu_file)]
     t0 = time.perf_counter()
     p = subprocess.run(cmd, env=env, cwd=code_dir, capture_output=True, text=True)
     wall = time.perf_counter() - t0
@@ -70,7 +81,8 @@ def run_once(code_dir: Path, study: str, n: int, executor: str, workers: int, ou
     cpu = json.loads(cpu_file.read_text())
     s = json.loads((out / "summary.json").read_text())
     prof = s.get("phase_time_s") or {k: {"wall": v, "parallel": None} for k, v in s["timings_s"].items()}
-    return {"process": wall, "run": s["wall_time_s"], "phases": prof, **cpu}
+    projected = json.loads(log.read_text())["projected"] if task_log else None
+    return {"process": wall, "run": s["wall_time_s"], "phases": prof, "projected": projected, **cpu}
 
 
 def amdahl(workers, times) -> float | None:
@@ -99,6 +111,46 @@ def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Pat
                     print(f"  [{rep + 1}/{repeat}] {code} {st} {executor} {w}: {r['run']:.1f} s "
                           f"(load {r['load']:.1f})", file=sys.stderr, flush=True)
     return runs
+
+
+def projections(code_dirs, studies, ns, worker_counts, project_counts, tmp: Path) -> dict:
+    """``{(code, study): {W: run}}``: one process-pool run with its task log at each count to project and at the
+    largest measured count (where the projection can be checked against the measured runs)."""
+    out: dict = {}
+    for st in studies:
+        for w in sorted({max(worker_counts), *project_counts}):
+            for code in code_dirs:
+                r = run_once(code, STUDIES[st], ns[st], "process", w, tmp / f"{abs(hash((str(code), st, w)))}_p",
+                             task_log=True)
+                out.setdefault((str(code), st), {})[w] = r
+                print(f"  [projection] {code} {st} process {w}: {r['run']:.1f} s run here, "
+                      f"{r['projected']['run_s']:.1f} s on {w} dedicated cores", file=sys.stderr, flush=True)
+    return out
+
+
+def report_projections(proj: dict, runs: dict, ns) -> None:
+    """Per phase: the measured best at the largest measured count, the projection of a run at that count, and the
+    projection at each count to project with its speed-up against the projection at the measured count."""
+    for (code, st), by_w in proj.items():
+        ws = sorted(by_w)
+        base, targets = ws[0], ws[1:]
+        measured = min(runs.get((code, st, f"process {base}"), [by_w[base]]), key=lambda r: r["run"])
+        rows = []
+        for ph in [*by_w[base]["projected"]["phases_s"], "whole run"]:
+            def get(r):
+                return r["projected"]["run_s"] if ph == "whole run" else r["projected"]["phases_s"].get(ph)
+            m = measured["run"] if ph == "whole run" else measured["phases"].get(ph, {}).get("wall")
+            p0 = get(by_w[base])
+            cells = [f"{m:7.1f} s" if m is not None else "", f"{p0:7.1f} s"]
+            for w in targets:
+                p = get(by_w[w])
+                cells.append(f"{p:7.1f} s ({p0 / p:.2f}×)" if p else "—")
+            rows.append((ph, *cells))
+        print(f"\n{STUDIES[st]} --n {ns[st]} — code {code}: projected on dedicated cores (each call's tasks by "
+              f"their CPU seconds in a run with that many workers, handed out in turn; the rest as it ran: "
+              f"rvtol.scaling)")
+        print_table(rows, headers=("phase", f"process {base} here", f"projected at {base}",
+                                   *(f"projected at {w} (against {base})" for w in targets)))
 
 
 def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
@@ -155,6 +207,8 @@ def main() -> None:
                     help="Dask LocalCluster worker counts (default: 1 and the largest of --workers)")
     ap.add_argument("--save", type=Path, help="also write every run's figures to this JSON file")
     ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
+    ap.add_argument("--project", default=None, help="worker counts to project the run on, e.g. 16 (rvtol.scaling: "
+                    "a run with that many workers on this machine, its tasks' CPU times scheduled on as many cores)")
     a = ap.parse_args()
     if a.quick:
         a.signoff_n, a.te_n, a.repeat, a.workers = 100, 300, 1, a.workers or "1,2"
@@ -170,11 +224,15 @@ def main() -> None:
     code_dirs = [Path(c).resolve() for c in (a.code or [ROOT])]
     studies = [s for s in a.only.split(",") if s]
     ns = {"signoff": a.signoff_n, "te": a.te_n}
+    project_counts = [int(w) for w in a.project.split(",")] if a.project else []
     with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
         runs = measure(code_dirs, studies, ns, counts, a.repeat, dask_counts, Path(tmp))
+        proj = projections(code_dirs, studies, ns, counts, project_counts, Path(tmp)) if project_counts else {}
     if a.save:
-        a.save.write_text(json.dumps({" | ".join(k): v for k, v in runs.items()}, indent=1))
+        a.save.write_text(json.dumps({**{" | ".join(k): v for k, v in runs.items()},
+                                      **{f"{c} | {st} | projection": v for (c, st), v in proj.items()}}, indent=1))
     report(runs, code_dirs, studies, counts, ns)
+    report_projections(proj, runs, ns)
 
 
 if __name__ == "__main__":
