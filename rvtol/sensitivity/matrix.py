@@ -100,12 +100,15 @@ def sensitivity_matrix(model: Model, spec: ToleranceSpec, outputs: Sequence[str]
     order = list(dict.fromkeys(tol[n_] for n_ in names))
     fp = five_point(model, spec, names, outputs, percent, None, evaluate)
     sd = spec.std_base()[idx]
-    share = pd.DataFrame(0.0, index=order, columns=outputs)
-    for o in outputs:
+    pos = {t: r for r, t in enumerate(order)}
+    row = np.array([pos[tol[n_]] for n_ in names])
+    shares = np.zeros((len(order), len(outputs)))
+    for k, o in enumerate(outputs):
         c = (np.asarray(fp.gradient(o, names), dtype=float) * sd) ** 2
         total = np.nansum(c)
-        for n_, v in zip(names, c):
-            share.loc[tol[n_], o] += (v / total) if total > 0 and np.isfinite(v) else np.nan
+        v = c / total if total > 0 else np.full_like(c, np.nan)
+        np.add.at(shares[:, k], row, np.where(np.isfinite(c), v, np.nan))   # in the factors' order; NaN stays NaN
+    share = pd.DataFrame(shares, index=order, columns=outputs)
     rank = share.max(axis=1, skipna=True).sort_values(ascending=False)
     chosen, by_mc = top_tolerances(share, outputs, order, top, mc, model, spec, seed)
     groups = [tol[n_] if tol[n_] in chosen else REST for n_ in names]
