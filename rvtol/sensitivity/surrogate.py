@@ -365,11 +365,16 @@ def _most_correlated(Psi: np.ndarray, Psi32: np.ndarray, r: np.ndarray, norms: n
     :math:`\gamma_{n+2} \|\Psi_j\| \|r\|` with :math:`\gamma_m = m u / (1 - m u)`, ``u`` float32's unit
     round-off (the dot product's forward error bound, Higham, *Accuracy and Stability of Numerical Algorithms*,
     2nd ed., §3.1, with the rounding of Ψ and r to float32 as two more factors ``1 + δ``; Cauchy–Schwarz for the
-    sum of the terms' magnitudes).  So every column within twice that of the float32 maximum, and only those, can be
-    the float64 maximum; they are compared in float64."""
+    sum of the terms' magnitudes).  The float64 scan's own error, :math:`\gamma_n` in float64's round-off, is
+    added to it.  So every column within twice that of the float32 maximum, and only those, can be the float64
+    maximum; they are compared in float64."""
     n = Psi.shape[0]
-    mu = (n + 2) * float(np.finfo(np.float32).eps) / 2.0
-    width = 2.0 * mu / (1.0 - mu) * float(np.linalg.norm(r))
+
+    def gamma(m: int, dtype) -> float:
+        mu = m * float(np.finfo(dtype).eps) / 2.0
+        return mu / (1.0 - mu)
+
+    width = 2.0 * (gamma(n + 2, np.float32) + gamma(n, np.float64)) * float(np.linalg.norm(r))
     c = np.abs(Psi32.T @ r.astype(np.float32)) / norms
     c[~avail] = -np.inf
     near = np.flatnonzero(c >= c.max() - width)
