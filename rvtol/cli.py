@@ -328,7 +328,7 @@ def _run_study(args, ov: dict) -> int:
     check_writable(out, "--out")
     for flag in ("junit", "markdown", "task_log"):
         if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag.replace('_', '-')}")
+            _check_file_target(getattr(args, flag), f"--{flag.replace('_', '-')}", out)
     baseline = None
     if args.baseline:
         from .ci.compare import load_run
@@ -397,12 +397,17 @@ def _replacing(out: Path):
         tmp.unlink(missing_ok=True)
 
 
-def _check_file_target(path: str, key: str) -> None:
+def _check_file_target(path: str, key: str, out: Path | None = None) -> None:
+    """``path`` can be written as a file, and is not the report folder ``out`` nor in it (the run replaces that
+    folder whole)."""
     from .runguard import check_writable
 
     p = Path(path)
     if p.is_dir():
         raise InputError("is a folder, expected a file name", file=path, key=key)
+    if out is not None and (p.resolve() == out.resolve() or out.resolve() in p.resolve().parents):
+        raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
+                         "elsewhere", file=path, key=key)
     check_writable(p, key)
 
 

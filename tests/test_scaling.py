@@ -23,6 +23,14 @@ def test_tasks_are_handed_out_in_turn_to_the_first_free_worker(workers, expected
     assert makespan([3, 3, 2, 2, 2], workers) == expected
 
 
+def test_a_free_worker_takes_the_next_task_not_the_next_in_a_round():
+    """[5, 1, 1, 1, 1, 1] on 2 workers: the second worker takes every 1-s task while the first runs the 5-s one (5 s);
+    handed out in rounds (1, 3, 5 to the first) it would take 7 s, sorted longest first 5 s as well — and
+    [1, 1, 1, 1, 1, 5] in turn ends with the 5-s task on a worker free at 2 s (7 s): the order counts."""
+    assert makespan([5, 1, 1, 1, 1, 1], 2) == 5.0
+    assert makespan([1, 1, 1, 1, 1, 5], 2) == 7.0
+
+
 def test_a_projection_replaces_each_call_by_its_schedule_and_keeps_the_rest():
     """A 10 s phase with a 4 s call of four 2-s tasks and a 1 s call run in this process (no tasks): on 2 cores
     6 + 4 + 0 = 10 s, on 4 cores 6 + 2 = 8 s, and 0.5 s more with a per-call cost (one call has tasks)."""
@@ -70,6 +78,18 @@ def test_the_task_log_lists_each_phases_calls_and_projects_the_run(tmp_path):
     calls = [{"wall": c["wall_s"], "tasks": c["tasks_cpu_s"]} for ph in d["phases"].values() for c in ph["calls"]]
     assert d["projected"]["run_s"] == pytest.approx(projected(d["run_s"], calls, 2), rel=1e-5)
     assert not list(log.parent.glob(".*"))             # no temporary file left beside it
+
+
+@pytest.mark.parametrize("flag", ["--task-log", "--junit"])
+@pytest.mark.parametrize("where", ["the folder", "inside"])
+def test_a_file_the_report_folder_would_replace_is_refused_before_the_run(tmp_path, capsys, flag, where):
+    out = tmp_path / "r"
+    target = out if where == "the folder" else out / "summary.json"
+    rc = main(["run", str(ROOT / "studies" / "linear_stackup.toml"), "--out", str(out), "--n", "100", "--quiet",
+               flag, str(target)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and flag in err[0] and "report folder" in err[0]
+    assert not out.exists()
 
 
 def test_a_task_log_that_cannot_be_written_stops_the_run_before_it_starts(tmp_path, capsys):
