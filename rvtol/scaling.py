@@ -8,8 +8,9 @@ took.  So a run made with ``--workers 16`` on a 2-core machine (the tasks share 
 its own) gives the run on 16 cores (:func:`projected`).
 
 What it leaves out: each call's cost of handing tasks out and taking results back (a process pool's 1–2 ms a call, a
-Dask cluster's 10–16 ms on the machines this was measured on: :func:`projected`'s ``per_call``), the memory bandwidth
-the tasks would share on a larger machine, and tasks that finish in another order there.  The tasks are this run's:
+Dask cluster's 10–16 ms on the machines this was measured on: :func:`projected`'s ``per_call``), a first call's wait
+for the workers to start (a run whose study loads for a while hides it), the memory bandwidth the tasks would share
+on a larger machine, and tasks that finish in another order there.  The tasks are this run's:
 their number follows its worker count (:func:`rvtol.mc.auto_chunk_size`), so project a run made with the worker
 count to project.
 """
