@@ -232,8 +232,6 @@ def _formula_failures(st) -> list[tuple[str, str]]:
 
 
 def _spec(args) -> int:
-    import os
-
     from .inputs.sheets import WRITE_SUFFIXES
     from .inputs.table_spec import write_table_spec
     from .spec import load_spec
@@ -405,7 +403,7 @@ def _check_file_target(path: str, key: str, out: Path | None = None) -> None:
     p = Path(path)
     if p.is_dir():
         raise InputError("is a folder, expected a file name", file=path, key=key)
-    if out is not None and (p.resolve() == out.resolve() or out.resolve() in p.resolve().parents):
+    if out is not None and out.resolve() in (p.resolve(), *p.resolve().parents):
         raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
                          "elsewhere", file=path, key=key)
     check_writable(p, key)

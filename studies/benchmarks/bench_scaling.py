@@ -22,8 +22,8 @@ main beside this worktree, in the same session, for a before/after table.
     python studies/benchmarks/bench_scaling.py --code /work/main --code . --only te --workers 1,2
     python studies/benchmarks/bench_scaling.py --only signoff --workers 1,2 --repeat 1 --no-dask --project 16
 
-``--project 16`` adds, per study, a process-pool run at 16 workers and one at the largest measured count, each with
-``rvtol run --task-log``: the CPU seconds of every task of every parallel call.  Scheduled on 16 dedicated cores
+``--project 16`` runs the process-pool configurations with ``rvtol run --task-log`` (the CPU seconds of every task of
+every parallel call) and adds, per study, a process-pool run at 16 workers with its task log.  Scheduled on 16 dedicated cores
 (:mod:`rvtol.scaling`), they give the run on a machine this one is not; the same projection of the run at the
 measured count sits beside that count's measured time, as the check of the method.
 """
@@ -95,8 +95,9 @@ def amdahl(workers, times) -> float | None:
     return float(np.clip(np.sum((r - 1.0 / w) * a) / np.sum(a * a), 0.0, 1.0))
 
 
-def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Path) -> dict:
-    """``{(code, study, config): [runs]}``, configurations interleaved inside each repeat."""
+def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Path, task_log: bool = False) -> dict:
+    """``{(code, study, config): [runs]}``, configurations interleaved inside each repeat; with ``task_log``, the
+    process-pool runs also projected on their own worker count of dedicated cores."""
     configs = [("process", w) for w in worker_counts] + [("dask", w) for w in dask_counts]
     runs: dict = {}
     for rep in range(repeat):
@@ -105,7 +106,7 @@ def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Pat
                 for code in code_dirs:      # the code versions side by side at each configuration
                     key = (str(code), st, f"{executor} {w}")
                     out = tmp / f"{abs(hash(key))}_{rep}"
-                    r = run_once(code, STUDIES[st], ns[st], executor, w, out)
+                    r = run_once(code, STUDIES[st], ns[st], executor, w, out, task_log and executor == "process")
                     r["load"] = os.getloadavg()[0]
                     runs.setdefault(key, []).append(r)
                     print(f"  [{rep + 1}/{repeat}] {code} {st} {executor} {w}: {r['run']:.1f} s "
@@ -113,12 +114,16 @@ def measure(code_dirs, studies, ns, worker_counts, repeat, dask_counts, tmp: Pat
     return runs
 
 
-def projections(code_dirs, studies, ns, worker_counts, project_counts, tmp: Path) -> dict:
-    """``{(code, study): {W: run}}``: one process-pool run with its task log at each count to project and at the
-    largest measured count (where the projection can be checked against the measured runs)."""
+def projections(runs: dict, code_dirs, studies, ns, worker_counts, project_counts, tmp: Path) -> dict:
+    """``{(code, study): {W: run}}``: at the largest measured count its best measured run (measured with its task
+    log: where the projection is checked against the measurement), and one process-pool run with its task log at
+    each other count to project."""
     out: dict = {}
+    base = max(worker_counts)
     for st in studies:
-        for w in sorted({max(worker_counts), *project_counts}):
+        for code in code_dirs:
+            out[(str(code), st)] = {base: min(runs[(str(code), st, f"process {base}")], key=lambda r: r["run"])}
+        for w in sorted(set(project_counts) - {base}):
             for code in code_dirs:
                 r = run_once(code, STUDIES[st], ns[st], "process", w, tmp / f"{abs(hash((str(code), st, w)))}_p",
                              task_log=True)
@@ -226,8 +231,8 @@ def main() -> None:
     ns = {"signoff": a.signoff_n, "te": a.te_n}
     project_counts = [int(w) for w in a.project.split(",")] if a.project else []
     with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
-        runs = measure(code_dirs, studies, ns, counts, a.repeat, dask_counts, Path(tmp))
-        proj = projections(code_dirs, studies, ns, counts, project_counts, Path(tmp)) if project_counts else {}
+        runs = measure(code_dirs, studies, ns, counts, a.repeat, dask_counts, Path(tmp), bool(project_counts))
+        proj = projections(runs, code_dirs, studies, ns, counts, project_counts, Path(tmp)) if project_counts else {}
     if a.save:
         a.save.write_text(json.dumps({**{" | ".join(k): v for k, v in runs.items()},
                                       **{f"{c} | {st} | projection": v for (c, st), v in proj.items()}}, indent=1))
