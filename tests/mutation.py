@@ -67,12 +67,11 @@ class Module:
 
     def prepare(self) -> None:
         """A fresh copy and session unless this commit's exist; the baseline; the filters."""
-        stamp = self.dir / "commit"
-        if stamp.exists() and stamp.read_text().strip() != self.commit:
-            print(f"{self.key}: the tree moved on since the last run ({stamp.read_text().strip()[:10]}): afresh")
-            shutil.rmtree(self.dir)
-        if self.session.exists():
+        stamp = self.dir / "commit"                 # written last: the setup of this commit is complete
+        if stamp.exists() and stamp.read_text().strip() == self.commit:
             return
+        if stamp.exists():
+            print(f"{self.key}: the tree moved on since the last run ({stamp.read_text().strip()[:10]}): afresh")
         shutil.rmtree(self.dir, ignore_errors=True)
         self.src.mkdir(parents=True)
         archive = subprocess.run(["git", "-C", str(ROOT), "archive", self.commit], check=True, capture_output=True)
@@ -145,7 +144,7 @@ class Module:
                 counts[kind] += 1
         detected = counts["killed"] + counts["timeout"]
         rated = detected + counts["survived"]
-        return {"module": self.path, "tests": self.tests, "commit": self.commit,
+        return {"module": self.path, "tests": self.tests, "commit": (self.dir / "commit").read_text().strip(),
                 "mutants": sum(counts.values()) - counts["skipped"], **counts,
                 "kill_rate": detected / rated if rated else None,
                 "survivors": sorted(survivors, key=lambda s: s["line"]),
@@ -177,9 +176,10 @@ def _rate(r: dict) -> str:
 def markdown(report: list[dict]) -> str:
     """The report: a table of the modules, then each module's survivors."""
     cols = ("mutants", "killed", "timeout", "survived", "equivalent", "errors", "pending")
-    out = [f"# Mutation run (cosmic-ray) at {report[0]['commit'][:10]}\n\n",
-           "| module | " + " | ".join(cols) + " | kill rate |\n", "|---" * (len(cols) + 2) + "|\n"]
-    out += [f"| {r['module']} | " + " | ".join(str(r[c]) for c in cols) + f" | {_rate(r)} |\n" for r in report]
+    out = ["# Mutation run (cosmic-ray, tests/mutation.py)\n\n",
+           "| module | commit | " + " | ".join(cols) + " | kill rate |\n", "|---" * (len(cols) + 3) + "|\n"]
+    out += [f"| {r['module']} | {r['commit'][:10]} | " + " | ".join(str(r[c]) for c in cols) + f" | {_rate(r)} |\n"
+            for r in report]
     for r in report:
         out.append(f"\n## {r['module']}\n\ntests: {', '.join(r['tests'])}\n\n")
         out += [f"- line {s['line']} `{s['mutant']}`: `{s['code']}` → " + "; ".join(f"`{c}`" for c in s["change"])
@@ -217,7 +217,7 @@ def main(argv=None) -> int:
     equivalent: dict[str, dict] = {}
     for e in cfg.get("equivalent", []):
         equivalent.setdefault(e["module"], {})[e["mutant"]] = e
-    report = [m.results(equivalent.get(m.key, {})) for m in mods if m.session.exists()]
+    report = [m.results(equivalent.get(m.key, {})) for m in mods if (m.dir / "commit").exists()]
     if not report:
         print("no module has run yet")
         return 1
