@@ -66,3 +66,9 @@ def test_a_unit_of_another_dimension_is_named_with_its_own():
     with pytest.raises(UnitError, match=r"unit 'deg' is an? angle, expected length or force"):
         units.require_dimension("deg", ("length", "force"))
     assert units.require_dimension("µm", "length") == "um"
+
+
+def test_labels_and_an_unknown_unit_printed_as_written():
+    assert [units.label(u) for u in ("um", "µm", "deg", "N*m/arcmin", "kg*m^2", "1", "mm")] == [
+        "µm", "µm", "°", "N·m/arcmin", "kg·m²", "–", "mm"]
+    assert units.label("furlong") == "furlong" and units.label(3) == "3"      # a label never raises
