@@ -202,6 +202,9 @@ def main(argv=None) -> int:
         ap.error(f"unknown module {unknown[0]!r} (tests/mutation.toml has: {', '.join(cfg['module'])})")
     commit = git("rev-parse", "HEAD").strip()
     mods = [Module(k, cfg["module"][k], cfg["run"], args.work, commit) for k in (args.modules or cfg["module"])]
+    missing = [p for m in mods for p in (m.path, *m.tests) if not (ROOT / p).is_file()]
+    if missing:
+        ap.error(f"tests/mutation.toml names {missing[0]!r}, which is not a file of the repository")
     if not args.report:
         dirty = git("status", "--porcelain", "--", *{p for m in mods for p in (m.path, *m.tests)}).strip()
         if dirty:
