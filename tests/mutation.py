@@ -15,7 +15,9 @@ with the reason, and left out of the kill rate)::
 Each module runs in its own copy of the committed tree (``git archive HEAD``: uncommitted changes are not
 tested) under ``--work`` (default ``reports/mutation/work/<module>``): cosmic-ray writes each mutant into that
 copy's file, so the working tree is never touched.  The session (``session.sqlite``, cosmic-ray's) keeps every
-result: an interrupted run continues with the mutants not yet run; a new commit starts the module afresh.
+result: an interrupted run continues with the mutants not yet run; a change of what the tests can read (the
+package, the tests, data, studies, pyproject.toml) or of the module's entry in the config starts it afresh — not
+a change of README or of the equivalent mutants listed.
 Before the first mutant the module's tests run on the unmutated copy (they must pass; their time sets the
 timeout).  Mutants in annotations (never evaluated under ``from __future__ import annotations``) and the
 operators the config excludes are skipped.  The report (``reports/mutation/mutation.md`` and ``.json``) gives per
@@ -27,6 +29,7 @@ from __future__ import annotations
 import argparse
 import ast
 import compileall
+import hashlib
 import json
 import os
 import re
@@ -41,6 +44,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "tests" / "mutation.toml"
 OUT = ROOT / "reports" / "mutation"
+#: what the tests can read: a change here (not in README, docs or this harness) starts a module afresh
+READ_PATHS = ("rvtol", "tests", "data", "studies", "pyproject.toml")
+HARNESS = ("tests/mutation.py", "tests/mutation.toml")
 
 
 def git(*args: str) -> str:
@@ -55,6 +61,13 @@ class Module:
         self.run, self.commit = run, commit
         self.dir = work / key
         self.src, self.session, self.config = self.dir / "src", self.dir / "session.sqlite", self.dir / "cosmic-ray.toml"
+        self.stamp = self.dir / "stamp.json"        # written last: the setup of a session is complete
+        listing = [x for x in git("ls-tree", "-r", commit, "--", *READ_PATHS).splitlines() if not x.endswith(HARNESS)]
+        self.fingerprint = hashlib.sha256(json.dumps([listing, spec, run], sort_keys=True).encode()).hexdigest()
+
+    def session_commit(self) -> str | None:
+        """The commit the session's copy was taken from (None: no complete setup)."""
+        return json.loads(self.stamp.read_text())["commit"] if self.stamp.exists() else None
 
     @property
     def env(self) -> dict:
@@ -67,11 +80,11 @@ class Module:
 
     def prepare(self) -> None:
         """A fresh copy and session unless this commit's exist; the baseline; the filters."""
-        stamp = self.dir / "commit"                 # written last: the setup of this commit is complete
-        if stamp.exists() and stamp.read_text().strip() == self.commit:
-            return
-        if stamp.exists():
-            print(f"{self.key}: the tree moved on since the last run ({stamp.read_text().strip()[:10]}): afresh")
+        if self.stamp.exists():
+            old = json.loads(self.stamp.read_text())
+            if old["fingerprint"] == self.fingerprint:
+                return
+            print(f"{self.key}: the code or tests changed since the run of {old['commit'][:10]}: afresh")
         shutil.rmtree(self.dir, ignore_errors=True)
         self.src.mkdir(parents=True)
         archive = subprocess.run(["git", "-C", str(ROOT), "archive", self.commit], check=True, capture_output=True)
@@ -88,7 +101,7 @@ class Module:
                                '[cosmic-ray.distributor]\nname = "local"\n', encoding="utf-8")
         subprocess.run(["cosmic-ray", "init", str(self.config), str(self.session)], cwd=self.src, check=True)
         self.skip_filtered()
-        stamp.write_text(self.commit + "\n")
+        self.stamp.write_text(json.dumps({"commit": self.commit, "fingerprint": self.fingerprint}))
 
     def skip_filtered(self) -> None:
         """Mark skipped: the excluded operators, and every mutant inside an annotation of a module whose annotations
@@ -108,7 +121,7 @@ class Module:
 
     def execute(self) -> None:
         """Run every pending mutant (the module's file restored first: a killed run may have left a mutant in it)."""
-        (self.src / self.path).write_text(git("show", f"{self.commit}:{self.path}"), encoding="utf-8")
+        (self.src / self.path).write_text(git("show", f"{self.session_commit()}:{self.path}"), encoding="utf-8")
         with open(self.dir / "exec.log", "a", encoding="utf-8") as log:
             subprocess.run(["cosmic-ray", "exec", str(self.config), str(self.session)], cwd=self.src, env=self.env,
                            stdout=log, stderr=subprocess.STDOUT, check=True)
@@ -144,7 +157,7 @@ class Module:
                 counts[kind] += 1
         detected = counts["killed"] + counts["timeout"]
         rated = detected + counts["survived"]
-        return {"module": self.path, "tests": self.tests, "commit": (self.dir / "commit").read_text().strip(),
+        return {"module": self.path, "tests": self.tests, "commit": self.session_commit(),
                 "mutants": sum(counts.values()) - counts["skipped"], **counts,
                 "kill_rate": detected / rated if rated else None,
                 "survivors": sorted(survivors, key=lambda s: s["line"]),
@@ -220,7 +233,7 @@ def main(argv=None) -> int:
     equivalent: dict[str, dict] = {}
     for e in cfg.get("equivalent", []):
         equivalent.setdefault(e["module"], {})[e["mutant"]] = e
-    report = [m.results(equivalent.get(m.key, {})) for m in mods if (m.dir / "commit").exists()]
+    report = [m.results(equivalent.get(m.key, {})) for m in mods if m.stamp.exists()]
     if not report:
         print("no module has run yet")
         return 1
