@@ -71,7 +71,8 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     output = "lost_motion"
     upper = 1.0
     unit = "arcmin"            # default: the output's display unit
-    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD)
+    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD); in (0, 1):
+                               # 1 itself cannot be demonstrated by a finite sample and is refused
     confidence = 0.95          # of the bound the verdict uses
     basis = "lower_bound"      # pass on the lower confidence bound (default) or the "estimate"
     bound = "one-sided"        # the bound: one-sided at `confidence` (default), or "two-sided": the
@@ -759,6 +760,12 @@ def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
     return reqs, sha
 
 
+#: why a requirement may not ask for a yield of exactly 1
+YIELD_OF_ONE = ("a yield of exactly 1 cannot be demonstrated by any finite sample (with every sample conforming the "
+                "one-sided lower bound is (1 − c)^(1/n), below 1 at every n): write the yield you need, e.g. "
+                "0.999999 (1 ppm out)")
+
+
 def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
     out = []
     for t in tables:
@@ -771,8 +778,10 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
             raise t.error("upper", f"limits in the wrong order: lower {lower} >= upper {upper}")
         unit = t.unit("unit", None)
         min_yield = t.float("min_yield", None)
-        if min_yield is not None and not 0.0 < min_yield <= 1.0:
-            raise t.error("min_yield", f"must lie in (0, 1], got {min_yield}")
+        if min_yield == 1.0:
+            raise t.error("min_yield", YIELD_OF_ONE)
+        if min_yield is not None and not 0.0 < min_yield < 1.0:
+            raise t.error("min_yield", f"must lie in (0, 1), got {min_yield}")
         min_cpk = t.float("min_cpk", None, positive=True)
         confidence = t.float("confidence", 0.95)
         if not 0.5 <= confidence < 1.0:
