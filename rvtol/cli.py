@@ -483,6 +483,8 @@ def _print_result(result) -> None:
         print(line)
         for why in v.reasons:
             print(f"        {why}")
+        for note in v.notes:
+            print(f"        note: {note}")
     if not mc.verdicts():
         print("  no requirement checked" + (" (exploratory study)" if st.exploratory else
                                             ": nothing is demonstrated (exit 4)"))

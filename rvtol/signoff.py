@@ -17,7 +17,9 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
   the allocation analysis gives cost-optimal tolerances that are checked by Monte Carlo;
 * **a traffic light** — green: demonstrated; amber: not demonstrated, but the estimate meets the
-  requirement (more samples would decide); red: the estimate itself misses it;
+  requirement (more samples, or more measured parts of a fitted factor, would decide:
+  :attr:`rvtol.verdict.Judgement.undecided`); red: the estimate itself misses it (or, for a constant
+  output, a Cpk cannot be defined);
 * **fixes by kind**, cheapest first (:data:`FIX_KINDS`): more samples (amber), re-centre (a two-sided
   band the present spread fits when the mean sits in its middle: a nominal moves, no tolerance
   changes), tighten (the first-order scaling above), redesign (the mean on or beyond a limit: no
@@ -43,7 +45,7 @@ from .spec import ToleranceSpec
 FIX_KINDS = ("more samples", "re-centre", "tighten", "redesign")
 #: the traffic light of a requirement and what it means
 LIGHTS = {"green": "demonstrated at its confidence",
-          "amber": "not demonstrated: the estimate meets it, more samples would decide",
+          "amber": "not demonstrated: the estimate meets it, more samples (or measured parts) would decide",
           "red": "the estimate itself misses it"}
 
 
@@ -115,10 +117,11 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
         d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
-        d.light = "green" if v.passed else ("amber" if v.n_to_demonstrate else "red")
+        d.light = "green" if v.passed else ("amber" if v.undecided else "red")
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
-            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output))
+            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
+                                        v.parts_to_demonstrate)
         out.append(d)
     return out
 
@@ -207,7 +210,7 @@ def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> T
     """``σ² → σ² (1 − Σ S1 (1 − f²))`` solved for the scale ``f`` of the fewest largest drivers that can reach the
     target σ of :func:`required_sigma` (``y``: the evaluated samples, for a yield)."""
     t = Tightening(sigma, required_sigma(r, mean, sigma, y))
-    if t.target is None or not drivers:
+    if t.target is None or not drivers or not sigma > 0:     # a constant output: no tolerance moves it
         return t
     t.need = 1.0 - (t.target / sigma) ** 2
     if t.need <= 0:
@@ -226,8 +229,10 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     if mean is None or sigma is None:
         return T.NOTHING_EVALUATED
-    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
+    if sigma == 0:
+        return T.CONSTANT.format(mean=mean, unit=unit) + (T.CONSTANT_CPK if r.min_cpk is not None else "")
+    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     if t.target is None:
         return T.MEAN_BEYOND.format(mean=mean, unit=unit)
     if not drivers:
@@ -247,16 +252,20 @@ def _evaluated(mc, output: str):
     return mc.column(output)[mc.ok]
 
 
-def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None) -> list[Fix]:
+def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None,
+                      parts: dict[str, int] | None = None) -> list[Fix]:
     """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked; the
-    sentences of :mod:`.signoff_texts`)."""
+    sentences of :mod:`.signoff_texts`); ``parts``: the measured parts per fitted factor that would demonstrate it."""
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
 
     def fix(kind, template, **numbers):
         return Fix(r.label, kind, *(part.format(**numbers) for part in template))
 
-    if n_to_demonstrate:
-        return [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)]
+    if n_to_demonstrate or parts:
+        out = [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)] if n_to_demonstrate else []
+        if parts:
+            out.append(fix("more samples", T.MORE_PARTS, parts=", ".join(f"{m:,} of {f}" for f, m in parts.items())))
+        return out
     if mean is None or sigma is None:
         return []
     out = []
@@ -265,6 +274,8 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
                   if lim is not None and (mean >= lim if side == "below" else mean <= lim)]
         lim, side = beyond[0] if beyond else (r.upper if r.upper is not None else r.lower, "inside")
         out.append(fix("redesign", T.REDESIGN, mean=mean, unit=unit, side=side, limit=lim))
+        return out
+    if not sigma > 0:                   # a constant output inside the limits: no tolerance moves it
         return out
     if r.lower is not None and r.upper is not None:
         mid = 0.5 * (r.lower + r.upper)

@@ -611,6 +611,29 @@ def _shape_names(dist) -> list[str]:
     return [s.strip() for s in dist.shapes.split(",")] if dist.shapes else []
 
 
+def fit_family(x: np.ndarray, family: str, location: float | None = 0.0, start: dict | None = None) -> tuple[dict, int]:
+    """``(parameters, k)``: the maximum-likelihood parameters of one family (scipy's names: shape(s), loc, scale;
+    ``scipy.stats`` ``fit``) and the number fitted — a positive family's location fixed at ``location`` unless it
+    is None; ``start``: starting values for the optimiser (e.g. an earlier fit's parameters).  An
+    :class:`InputError` says why the family cannot be fitted."""
+    dist, positive = FAMILIES[family]
+    fixed = {}
+    if positive and location is not None:
+        if not np.all(x > location):
+            raise InputError(f"needs every value above its location {location:g}")
+        fixed["floc"] = float(location)
+    names = _shape_names(dist) + ["loc", "scale"]
+    guess = {} if start is None else {k: v for k, v in start.items() if k in ("loc", "scale") and f"f{k}" not in fixed}
+    shapes = () if start is None else tuple(start[k] for k in names[:-2])
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        try:
+            est = dist.fit(x, *shapes, **guess, **fixed)
+        except Exception as exc:   # an optimiser failure: said so
+            raise InputError(f"fit failed ({type(exc).__name__}: {exc})") from None
+    return {k: float(v) for k, v in zip(names, est)}, len(names) - len(fixed)
+
+
 def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
         measurement_sigma: float | None = None, gof: str | None = "best", n_mc: int = 499,
         seed: int = 0, origin: str = "") -> FitReport:
@@ -631,29 +654,18 @@ def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
     for name in fams:
         if name not in FAMILIES:
             raise InputError(f"unknown family {name!r} (known: {', '.join(FAMILIES)})")
-        dist, positive = FAMILIES[name]
-        fixed = {}
-        if positive and location is not None:
-            if not np.all(x > location):
-                skipped[name] = f"needs every value above its location {location:g}"
-                continue
-            fixed["floc"] = float(location)
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore")
-            try:
-                est = dist.fit(x, **fixed)
-            except Exception as exc:   # an optimiser failure is a skipped candidate, said so
-                skipped[name] = f"fit failed ({type(exc).__name__}: {exc})"
-                continue
-        names = _shape_names(dist) + ["loc", "scale"]
-        params = {k: float(v) for k, v in zip(names, est)}
+        dist, _ = FAMILIES[name]
+        try:
+            params, k = fit_family(x, name, location)
+        except InputError as exc:   # a family that cannot be fitted is a skipped candidate, said so
+            skipped[name] = exc.reason
+            continue
         frozen = dist(**params)
         with np.errstate(all="ignore"):
             ll = float(np.sum(frozen.logpdf(x)))
         if not math.isfinite(ll):
             skipped[name] = "the fitted density is zero at some values"
             continue
-        k = len(names) - len(fixed)
         ks = stats.kstest(x, frozen.cdf)
         cands.append(Candidate(name, params, k, ll, 2 * k - 2 * ll, float(ks.statistic), float(ks.pvalue)))
     if not cands:

@@ -66,11 +66,15 @@ def verdict_section(result) -> Section:
             "result": "PASS" if v.passed else "FAIL",
             "n to demonstrate": f"{v.n_to_demonstrate:,}" if v.n_to_demonstrate else "",
             "why": "; ".join(v.reasons),
+            "notes": "; ".join(v.notes),
         })
     methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
                       for v in verdicts})
     sec.add_text(policy_text([v.requirement for v in verdicts]))
-    sec.add_table(pd.DataFrame(rows), caption=f"Requirements: intervals [in brackets] two-sided at {mc.confidence:.0%};"
+    frame = pd.DataFrame(rows)
+    if not any(v.notes for v in verdicts):
+        frame = frame.drop(columns="notes")
+    sec.add_table(frame, caption=f"Requirements: intervals [in brackets] two-sided at {mc.confidence:.0%};"
                   f" the bound column is what is judged (yield: {' / '.join(methods)}; Cpk: Bissell; percentile "
                   "Cpk: ISO 22514-2 with bootstrap CI)")
     return sec
