@@ -24,7 +24,7 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
+from .verdict import bound_level, cpk_figures, judge, other_cpk, percentile_cpk_confidence, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -404,7 +404,7 @@ class MonteCarloResult:
                   if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
             cpk, cb = cpk_figures(r, cap, len(good), pj)
             constant = float(good[0]) if len(good) >= 2 and not np.ptp(good) > 0 else None
-            shape, other = self._other_cpk(r, good, cap) if r.min_cpk is not None and constant is None else (None, None)
+            shape, other = other_cpk(r, good, cap) if r.min_cpk is not None and constant is None else (None, None)
             fit, record = fits.get(r.label), None
             if fit is not None:
                 from .inputs.fit_uncertainty import to_record
@@ -419,20 +419,6 @@ class MonteCarloResult:
             out.append(Verdict(r, yr, cap, pci, jd.passed, jd.reasons, yb, cb, jd.n_to_demonstrate, jd.notes,
                                jd.parts_to_demonstrate, jd.undecided, shape, record))
         return out
-
-    @staticmethod
-    def _other_cpk(r: Requirement, good: np.ndarray, cap: dict):
-        """``(shape, (estimate, bound))``: the output's :class:`rvtol.stats.Shape` and the Cpk ``r`` is not judged on
-        (the percentile one for normal theory and the other way round; its bound at the requirement's level) — the
-        non-normal rule of :func:`rvtol.verdict.judge` (None below 100 evaluated samples: no percentile bound)."""
-        if len(good) < 100:
-            return None, None
-        if r.cpk_method == "normal":
-            lo = st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, percentile_cpk_confidence(r))[0]
-            other = (cap.get("cpk_percentile"), lo)
-        else:
-            other = (cap.get("cpk"), st.cpk_lower_bound(cap.get("cpk"), len(good), bound_level(r)))
-        return st.normality(good), other
 
     @cached_property
     def _fit_effects(self) -> dict:

@@ -86,6 +86,7 @@ class RequirementDigest:
     yield_: float | None = None                          # the yield estimate
     cpk: float | None = None                             # the Cpk estimate (the one the requirement is judged on)
     fixes: list[Fix] = field(default_factory=list)       # the digest's own, first-order (analyses add theirs)
+    notes: list[str] = field(default_factory=list)       # what the verdict rests on (rvtol.verdict.Judgement.notes)
 
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
@@ -94,7 +95,8 @@ class RequirementDigest:
                 "reasons": self.reasons,
                 "drivers": [{"tolerance": d.tolerance, "S1": d.s1, "factors": d.factors} for d in self.drivers],
                 "what_to_change": self.change, "correlated_drivers": self.overlaps, "light": self.light,
-                "yield": self.yield_, "cpk": self.cpk, "fixes": [f.to_dict() for f in self.fixes]}
+                "yield": self.yield_, "cpk": self.cpk, "fixes": [f.to_dict() for f in self.fixes],
+                "notes": self.notes}
 
 
 def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | None = None,
@@ -113,7 +115,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         stage = r.output.split(".", 1)[0] if "." in r.output and hasattr(model, "stages") else ""
         d = RequirementDigest(r.label, r.output, stage, r.unit or mc.unit_of(r.output), v.passed,
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
-                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
+                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons), notes=list(v.notes))
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
         d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
@@ -264,7 +266,7 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
     if n_to_demonstrate or parts:
         out = [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)] if n_to_demonstrate else []
         if parts:
-            out.append(fix("more samples", T.MORE_PARTS, parts=", ".join(f"{m:,} of {f}" for f, m in parts.items())))
+            out.append(fix("more samples", T.MORE_PARTS, parts=", ".join(f"{m:,} parts of {f}" for f, m in parts.items())))
         return out
     if mean is None or sigma is None:
         return []

@@ -25,7 +25,7 @@ SCALE = ("The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit}: sca
 # first_order_fixes: (action, reason) of each kind of fix
 MORE_SAMPLES = ("run n = {n:,} samples",
                 "the estimate already meets the requirement; this n would demonstrate it if the figures hold")
-MORE_PARTS = ("measure about {parts} parts",
+MORE_PARTS = ("measure about {parts}",
               "the fitted laws of the measured factors are too uncertain to demonstrate it — more Monte Carlo samples "
               "cannot; these would, if the fitted laws held (the fit's deviation shrinks as 1/√parts)")
 REDESIGN = ("move the mean ({mean:.4g} {unit}) {side} the limit {limit:g} {unit}: a nominal of the design",

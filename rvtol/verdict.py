@@ -125,6 +125,23 @@ def cpk_figures(r: Requirement, capability: dict, n: int,
     return c, cpk_bound(r, c, n)
 
 
+def other_cpk(r: Requirement, good, capability: dict):
+    """``(shape, (estimate, bound))`` for :func:`judge`'s non-normal rule: the :class:`rvtol.stats.Shape` of the
+    evaluated output ``good`` and the Cpk ``r`` is *not* judged on — the percentile one (its bootstrap bound at
+    :func:`bound_level`) for normal theory, Bissell's for a percentile requirement; ``(None, None)`` below 100
+    evaluated samples (no percentile bound)."""
+    import numpy as np
+
+    if len(good) < 100:
+        return None, None
+    if r.cpk_method == "normal":
+        lo = st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, percentile_cpk_confidence(r))[0]
+        other = (capability.get("cpk_percentile"), lo)
+    else:
+        other = (capability.get("cpk"), st.cpk_lower_bound(capability.get("cpk"), len(good), bound_level(r)))
+    return st.normality(good), other
+
+
 def percentile_cpk_confidence(r: Requirement) -> float:
     """The two-sided bootstrap confidence whose lower end is the one-sided bound :func:`bound_level` of ``r``."""
     return 2.0 * bound_level(r) - 1.0
@@ -184,6 +201,10 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
             j.reasons.append("Cpk is not demonstrated while samples fail (it only describes the evaluated ones)")
     if fit is not None:
         j.notes.extend(fit.notes)
+        for name, why in fit.unavailable:
+            j.passed = False
+            j.reasons.append(f"the uncertainty of {name}'s fitted law could not be estimated ({why}): nothing that "
+                             "depends on it is demonstrated")
     if not j.passed and lb and n is not None and not (constant is not None and r.min_cpk is not None):
         _plan(r, j, yield_, plan_cpk, n, n_failed, fit)
     return j
@@ -276,9 +297,10 @@ def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None,
                          f" held")
     if grow:
         j.parts_to_demonstrate = {f: math.ceil(m * max(grow)) for f, m in fit.parts.items()}
-        parts = ", ".join(f"{m:,} of {f} (now {fit.parts[f]:,})" for f, m in j.parts_to_demonstrate.items())
+        parts = ", ".join(f"{m:,} measured parts of {f} (now {fit.parts[f]:,})"
+                          for f, m in j.parts_to_demonstrate.items())
         j.reasons.append("the fitted law of the measured factors is too uncertain to demonstrate it: more Monte Carlo "
-                         f"samples cannot; about {parts} measured parts would, if the fitted law held")
+                         f"samples cannot; about {parts} would, if the fitted law held")
 
 
 def _pct(c: float) -> str:

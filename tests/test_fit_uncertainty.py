@@ -191,3 +191,90 @@ def test_the_fast_refits_are_the_fits_own_maximum_likelihood(family, law):
         assert got.keys() == want.keys()
         for k in want:
             assert got[k] == pytest.approx(want[k], rel=2e-4, abs=1e-12), k
+
+
+# --------------------------------------------------------------------------- what is not carried is said
+def _one_factor_run(f: Factor, upper: float, n: int = 4000):
+    model = FunctionModel(lambda X: X, [f.name], [Quantity("y", "mm")], ["mm"])
+    req = Requirement("y", upper=upper, unit="mm", min_yield=0.9)
+    return run_monte_carlo(model, ToleranceSpec("s", (f,)), n, "lhs", seed=1, requirements=[req],
+                           progress=False).verdicts()[0]
+
+
+def test_a_resampled_factor_says_its_data_uncertainty_is_not_in_the_bound():
+    x = np.random.default_rng(3).normal(5.0, 0.1, 80)
+    m = M.Measured(values=x, data="parts.csv", column=None, sheet=None, method="empirical")
+    v = _one_factor_run(Factor("d", "mm", M.empirical(x), measured=m), 5.2)
+    assert v.fit["not_carried"] == [{"factor": "d", "method": "empirical", "values": 80}]
+    assert any("d is taken from 80 measured values by empirical" in n and "not in the bound" in n for n in v.notes)
+
+
+def test_a_fit_whose_uncertainty_cannot_be_estimated_demonstrates_nothing(monkeypatch):
+    def fail(*a, **k):
+        raise M.InputError("fit failed (no convergence)")
+
+    f = measured("d", np.random.default_rng(3).gamma(4.0, 1.0, 100), "gamma")
+    monkeypatch.setattr(FU, "fit_family", fail)
+    v = _one_factor_run(f, 30.0)
+    assert v.yield_.estimate == 1.0 and not v.passed
+    assert any("the uncertainty of d's fitted law could not be estimated" in w for w in v.reasons)
+
+
+def test_a_rescaled_fitted_law_is_not_taken_for_the_fit():
+    """An allocation scales a factor's law: the draws of the measured fit no longer describe it."""
+    f = measured("d", np.random.default_rng(3).normal(5.0, 0.1, 80), "normal")
+    v = _one_factor_run(f.scaled(0.5), 5.2)
+    assert v.fit["factors"] == {} and v.fit["not_carried"][0]["method"] == "fit, rescaled"
+
+
+def test_the_gauges_error_widens_the_laws_drawn():
+    """With a measurement uncertainty the bootstrap repeats the deconvolution on each sample: the part law's σ is
+    less certain than the same σ measured without gauge error."""
+    x = np.random.default_rng(6).normal(5.0, 0.1, 100)
+    plain = FU.law_draws("d", measured("d", x, "normal").measured, 400, np.random.default_rng(1))
+    gauged = FU.law_draws("d", measured("d", x, "normal", measurement_sigma=0.07).measured, 400,
+                          np.random.default_rng(1))
+    assert gauged.fitted["scale"] == pytest.approx(math.sqrt(0.1 ** 2 - 0.07 ** 2), rel=0.15)
+    rel = lambda laws: np.std(np.log(laws.draws["scale"]))  # noqa: E731
+    assert rel(gauged) > 1.3 * rel(plain)
+
+
+# --------------------------------------------------------------------------- what would decide it
+def _fake_fit(yield_dev: float, parts: int = 250):
+    from types import SimpleNamespace
+
+    return SimpleNamespace(yield_dev=yield_dev, cpk_dev=0.0, parts={"d": parts}, notes=[], unavailable=[])
+
+
+def _cp_dev(est: float, n: int) -> float:
+    """The Monte Carlo's one-sided 95 % deviation at n samples and the observed rate: est − Beta quantile."""
+    return est - stats.beta.ppf(0.05, est * n, n * (1 - est) + 1)
+
+
+def test_the_parts_that_would_decide_a_requirement_the_fit_keeps_undecided():
+    """Margin M = estimate − required; the fit's deviation d_fit ≥ M: no n of samples helps, the parts must grow
+    by d_fit²/(M² − d_MC²) (d_fit ∝ 1/√parts)."""
+    from rvtol.verdict import judge
+
+    est, n, d_fit = 0.9955, 20000, 0.004
+    r = Requirement("y", upper=1.0, min_yield=0.993)
+    mc_bound = est - _cp_dev(est, n)
+    bound = est - math.hypot(est - mc_bound, d_fit)
+    j = judge(r, yield_=est, yield_lo=bound, n=n, fit=_fake_fit(d_fit))
+    margin = est - 0.993
+    assert not j.passed and j.undecided and j.n_to_demonstrate is None
+    assert j.parts_to_demonstrate == {"d": math.ceil(250 * d_fit ** 2 / (margin ** 2 - _cp_dev(est, n) ** 2))}
+
+
+def test_a_fit_deviation_below_the_margin_leaves_it_to_more_samples():
+    """d_fit < M: the n whose Monte Carlo deviation reaches √(M² − d_fit²) decides it (no parts asked)."""
+    from rvtol.verdict import judge
+
+    est, n, d_fit = 0.9955, 1500, 0.0015
+    r = Requirement("y", upper=1.0, min_yield=0.993)
+    bound = est - math.hypot(_cp_dev(est, n), d_fit)
+    j = judge(r, yield_=est, yield_lo=bound, n=n, fit=_fake_fit(d_fit))
+    room = math.sqrt((est - 0.993) ** 2 - d_fit ** 2)
+    need = j.n_to_demonstrate
+    assert not j.passed and j.undecided and j.parts_to_demonstrate is None
+    assert _cp_dev(est, need) <= room < _cp_dev(est, need - 1)

@@ -72,6 +72,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import InputError
+from ..units import label as unit_label
 from .measured import FAMILIES, deconvolve, fit_family
 
 #: parameter draws per measured factor
@@ -117,6 +118,7 @@ class Laws:
     parts: int                    # the measured values the law was fitted to
     data_range: tuple[float, float]   # the smallest and largest measured value (as read)
     failed: int = 0               # bootstrap refits that failed (left out)
+    unit: str = ""                # the factor's unit (of its values and of data_range)
 
     @property
     def dist(self):
@@ -299,6 +301,7 @@ class FitEffect:
     beyond: dict = field(default_factory=dict)     # factor -> (share beyond its data, "above"/"below", the limit value)
     out: int = 0                                   # samples outside the limits (failed ones included)
     unfitted: list = field(default_factory=list)   # (name, method, n) of measured factors not carried
+    unavailable: list = field(default_factory=list)    # (name, why) of fitted factors whose draws failed
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -333,7 +336,7 @@ class FitEffect:
         a = 0.5 * (1.0 - confidence)
         return float(np.nanquantile(self.cpk_draws, a)), float(np.nanquantile(self.cpk_draws, 1.0 - a))
 
-    def describe(self, confidence: float, yield_bound: float | None, mc_bound: float | None, unit: str = "") -> None:
+    def describe(self, confidence: float, yield_bound: float | None, mc_bound: float | None) -> None:
         """Fill :attr:`notes`: the fit's interval beside the bound judged, where the data end, the weights' quality."""
         self.notes = []
         if self.laws:
@@ -349,7 +352,8 @@ class FitEffect:
                 if share >= EXTRAPOLATED:
                     self.notes.append(
                         f"the limit lies beyond the measured data: {100 * share:.0f} % of the non-conforming samples "
-                        f"have {law.factor} {side} {edge:.6g}, the {'largest' if side == 'above' else 'smallest'} of its "
+                        f"have {law.factor} {side} {edge:.6g} {unit_label(law.unit)}, the "
+                        f"{'largest' if side == 'above' else 'smallest'} of its "
                         f"{law.parts} measured values — there the yield is the fitted {law.family} tail, extrapolated")
             if self.out == 0:
                 self.notes.append("no sample lies outside the limits: how the fitted laws' uncertainty moves the yield "
@@ -378,8 +382,13 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
     N = len(ok)
     laws: dict[str, Laws] = {}
     columns: dict[str, np.ndarray] = {}
+    unavailable: dict[str, str] = {}
     for i, (j, name, unit, m) in enumerate(mf.fitted):
-        laws[name] = law_draws(name, m, DRAWS, substream(seed, "fit_uncertainty", 0, i))
+        try:
+            laws[name] = law_draws(name, m, DRAWS, substream(seed, "fit_uncertainty", 0, i))
+            laws[name].unit = unit
+        except InputError as exc:       # its uncertainty cannot be estimated: the verdict says so, nothing passes on it
+            unavailable[name] = exc.reason
         columns[name] = np.asarray(units.from_base(values[:, j], unit), dtype=float)
     size = SUBSAMPLE if any(r.min_cpk is not None for r in requirements) else ESS_SUBSAMPLE
     sub = np.arange(N) if N <= size else np.sort(substream(seed, "fit_uncertainty", 1).choice(N, size, replace=False))
@@ -390,10 +399,11 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
         if not used and not unfitted:
             out[r.label] = None
             continue
-        if not used:
-            out[r.label] = FitEffect([], level, math.nan, np.array([]), unfitted=unfitted)
+        missing = [(f[1], unavailable[f[1]]) for f in used if f[1] in unavailable]
+        names = [f[1] for f in used if f[1] not in unavailable]
+        if not names:
+            out[r.label] = FitEffect([], level, math.nan, np.array([]), unfitted=unfitted, unavailable=missing)
             continue
-        names = [f[1] for f in used]
         y = Y[:, list(output_names).index(r.output)]
         inside = ok.copy()
         if r.lower is not None:
@@ -406,7 +416,8 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
             yields = 1.0 - miss - weights.sum(names, np.flatnonzero(~inside)) / N
         else:
             yields = weights.sum(names, np.flatnonzero(inside)) / N
-        e = FitEffect([laws[n] for n in names], level, float(inside.sum()) / N, yields, out=n_out, unfitted=unfitted)
+        e = FitEffect([laws[n] for n in names], level, float(inside.sum()) / N, yields, out=n_out, unfitted=unfitted,
+                      unavailable=missing)
         w = weights.at(names, sub)
         e.ess_draws = w.sum(axis=0) ** 2 / np.maximum((w * w).sum(axis=0), 1e-300) / len(sub)
         if r.min_cpk is not None:
@@ -516,6 +527,7 @@ def to_record(e: FitEffect, confidence: float, mc_yield_bound: float | None, mc_
                                  "failed_refits": law.failed, "measured_range": list(law.data_range),
                                  "beyond_data": e.beyond.get(law.factor, (0.0,))[0]} for law in e.laws},
         "not_carried": [{"factor": n, "method": m, "values": k} for n, m, k in e.unfitted],
+        "unavailable": [{"factor": n, "reason": why} for n, why in e.unavailable],
         "confidence": confidence,
         "yield_interval": [lo, hi], "ppm_interval": [None if hi is None else (1 - hi) * 1e6,
                                                      None if lo is None else (1 - lo) * 1e6],
