@@ -278,3 +278,22 @@ def test_a_fit_deviation_below_the_margin_leaves_it_to_more_samples():
     need = j.n_to_demonstrate
     assert not j.passed and j.undecided and j.parts_to_demonstrate is None
     assert _cp_dev(est, need) <= room < _cp_dev(est, need - 1)
+
+
+def test_the_copies_of_a_measured_family_share_one_law():
+    """pins[1..3] from one set of measured pins: one unknown law for all three (each draw moves them together), so
+    the sum's yield spreads more than three independently uncertain laws would let it."""
+    x = np.random.default_rng(4).normal(0.0, 1.0, 100)
+    f = measured("pins[k]", x, "normal")
+    copies = tuple(Factor(f"pins[{k}]", "mm", f.dist, measured=f.measured, family="pins[k]") for k in (1, 2, 3))
+    model = FunctionModel(lambda X: X.sum(axis=1, keepdims=True), [c.name for c in copies], [Quantity("s", "mm")],
+                          ["mm"] * 3)
+    req = Requirement("s", upper=4.0, unit="mm", min_yield=0.9)
+    mc = run_monte_carlo(model, ToleranceSpec("s", copies), 20000, "lhs", seed=2, requirements=[req], progress=False)
+    e = mc._fit_effects[req.label]
+    assert len(e.laws) == 1 and e.laws[0].factor == "pins[k]" and list(e.parts) == ["pins[k]"]
+    mu, sd = e.laws[0].draws["loc"], e.laws[0].draws["scale"]
+    exact = stats.norm.cdf((4.0 - 3 * mu) / (math.sqrt(3) * sd))       # the sum of three copies of one drawn law
+    p = exact.mean()
+    assert np.max(np.abs(e.yield_draws - exact)) < 5 * math.sqrt(p * (1 - p) / 20000)
+    assert any(n.startswith("fitted to measured parts: pins[k] (normal, 100 parts)") for n in mc.verdicts()[0].notes)

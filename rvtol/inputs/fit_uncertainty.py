@@ -31,7 +31,8 @@ of the parameter's distribution given the data:
   Application*, Cambridge 1997, §5.2) — which is the fiducial draw above to first order.
 
 The draws are conditional on the family the fit chose (AIC): a family's own tail is taken as given, and the
-report's Anderson–Darling test and Q–Q plot are what judge it.
+report's Anderson–Darling test and Q–Q plot are what judge it.  The copies of a family (``multiplicity``)
+drawn from one set of measured values share one unknown law: one set of draws moves them together.
 
 **Their effect on the Monte Carlo** (:func:`effects`).  The samples of the study were drawn from θ̂; the
 same samples, weighted by the likelihood ratio w = f_θ*(x)/f_θ̂(x) of the measured factors (times the ratio
@@ -243,8 +244,8 @@ class MeasuredFactors:
     """The measured factors of a Monte Carlo: those fitted by family (their column and unit), the others by method,
     which outputs depend on which (None: every output on every factor), and the spec (its correlation)."""
 
-    fitted: list[tuple[int, str, str, object]]       # (column, name, unit, Measured)
-    unfitted: list[tuple[str, str, int]]             # (name, method, measured values)
+    fitted: list[tuple[int, str, str, object, str]]  # (column, name, unit, Measured, label: a family's template)
+    unfitted: list[tuple[str, str, int, str]]        # (name, method, measured values, label)
     dependencies: dict | None
     spec: object
 
@@ -260,18 +261,20 @@ class MeasuredFactors:
             if m is None:
                 continue
             if m.fit is not None and _is_fitted_law(f.dist, m):
-                fitted.append((j, f.name, f.unit, m))
+                fitted.append((j, f.name, f.unit, m, f.family or f.name))
             else:
-                unfitted.append((f.name, m.method if m.fit is None else "fit, rescaled", m.n))
+                unfitted.append((f.name, m.method if m.fit is None else "fit, rescaled", m.n, f.family or f.name))
         if not fitted and not unfitted:
             return None
         return cls(fitted, unfitted, dependencies(model) if model is not None else None, spec)
 
     def used_by(self, output: str) -> tuple[list, list]:
-        """The fitted and the other measured factors ``output`` can depend on."""
+        """The fitted factors ``output`` can depend on, and the other measured ones as ``(label, method, values)``
+        (a family once)."""
         deps = None if self.dependencies is None else self.dependencies.get(output)
         keep = (lambda name: True) if deps is None else (lambda name: name in deps)
-        return [f for f in self.fitted if keep(f[1])], [f for f in self.unfitted if keep(f[0])]
+        other = {f[3]: (f[3], f[1], f[2]) for f in self.unfitted if keep(f[0])}
+        return [f for f in self.fitted if keep(f[1])], list(other.values())
 
 
 def _is_fitted_law(dist, m) -> bool:
@@ -383,12 +386,18 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
     laws: dict[str, Laws] = {}
     columns: dict[str, np.ndarray] = {}
     unavailable: dict[str, str] = {}
-    for i, (j, name, unit, m) in enumerate(mf.fitted):
-        try:
-            laws[name] = law_draws(name, m, DRAWS, substream(seed, "fit_uncertainty", 0, i))
-            laws[name].unit = unit
-        except InputError as exc:       # its uncertainty cannot be estimated: the verdict says so, nothing passes on it
-            unavailable[name] = exc.reason
+    drawn: dict[int, Laws | str] = {}     # one set of laws per measured data set: a family's copies share it
+    for i, (j, name, unit, m, label) in enumerate(mf.fitted):
+        if id(m) not in drawn:
+            try:
+                drawn[id(m)] = law_draws(label, m, DRAWS, substream(seed, "fit_uncertainty", 0, i))
+                drawn[id(m)].unit = unit
+            except InputError as exc:   # its uncertainty cannot be estimated: the verdict says so, nothing passes on it
+                drawn[id(m)] = exc.reason
+        if isinstance(drawn[id(m)], str):
+            unavailable[name] = drawn[id(m)]
+        else:
+            laws[name] = drawn[id(m)]
         columns[name] = np.asarray(units.from_base(values[:, j], unit), dtype=float)
     size = SUBSAMPLE if any(r.min_cpk is not None for r in requirements) else ESS_SUBSAMPLE
     sub = np.arange(N) if N <= size else np.sort(substream(seed, "fit_uncertainty", 1).choice(N, size, replace=False))
@@ -399,7 +408,7 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
         if not used and not unfitted:
             out[r.label] = None
             continue
-        missing = [(f[1], unavailable[f[1]]) for f in used if f[1] in unavailable]
+        missing = list({f[4]: (f[4], unavailable[f[1]]) for f in used if f[1] in unavailable}.values())
         names = [f[1] for f in used if f[1] not in unavailable]
         if not names:
             out[r.label] = FitEffect([], level, math.nan, np.array([]), unfitted=unfitted, unavailable=missing)
@@ -416,18 +425,21 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
             yields = 1.0 - miss - weights.sum(names, np.flatnonzero(~inside)) / N
         else:
             yields = weights.sum(names, np.flatnonzero(inside)) / N
-        e = FitEffect([laws[n] for n in names], level, float(inside.sum()) / N, yields, out=n_out, unfitted=unfitted,
+        distinct = list({id(laws[n]): laws[n] for n in names}.values())
+        e = FitEffect(distinct, level, float(inside.sum()) / N, yields, out=n_out, unfitted=unfitted,
                       unavailable=missing)
         w = weights.at(names, sub)
         e.ess_draws = w.sum(axis=0) ** 2 / np.maximum((w * w).sum(axis=0), 1e-300) / len(sub)
         if r.min_cpk is not None:
             good = ok[sub]
             e.cpk_centre, e.cpk_draws = _cpk_draws(r, y[sub][good], w[good])
-        for n in names:
+        for n in names:                 # a family: its copy most often beyond the data
             x = columns[n][~inside]
             lo, hi = laws[n].data_range
             above, below = (float(np.mean(x > hi)), float(np.mean(x < lo))) if x.size else (0.0, 0.0)
-            e.beyond[n] = (above, "above", hi) if above >= below else (below, "below", lo)
+            share = (above, "above", hi) if above >= below else (below, "below", lo)
+            if share[0] >= e.beyond.get(laws[n].factor, (-1.0,))[0]:
+                e.beyond[laws[n].factor] = share
         out[r.label] = e
     return out
 
@@ -437,7 +449,7 @@ class _Weights:
 
     def __init__(self, mf: MeasuredFactors, laws: dict, columns: dict, values: np.ndarray):
         self.laws, self.columns, self.values, self.spec = laws, columns, values, mf.spec
-        self.index = {name: j for j, name, _, _ in mf.fitted}
+        self.index = {name: j for j, name, *_ in mf.fitted}
 
     def _log(self, names: list[str], rows: np.ndarray) -> np.ndarray:
         lw = sum(self.laws[n].log_ratio(self.columns[n][rows]) for n in names)
