@@ -466,7 +466,7 @@ class MonteCarloConstraint:
                            if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
                     row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, int(ok.sum()), pci)
                     if cap.get("cpk") is not None:       # the sign-off's non-normal rule (rvtol.verdict.judge)
-                        row["shape"], row["other_cpk"] = other_cpk(r, good, cap)
+                        row["shape"], row["other_cpk"] = other_cpk(r, good, cap, (row["cpk"], row["cpk_lo"]))
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
