@@ -130,23 +130,26 @@ def other_cpk(r: Requirement, good, capability: dict, judged: tuple | None = Non
     evaluated output ``good`` and the Cpk ``r`` is *not* judged on — the percentile one (its bootstrap bound at
     :func:`bound_level`) for normal theory, Bissell's for a percentile requirement; ``(None, None)`` below 100
     evaluated samples (no percentile bound).  Given the ``judged`` ``(Cpk, bound)`` (an optimiser's many
-    candidates, which need the verdict, not its notes), only what can refute a pass is computed: nothing unless
-    the judged normal-theory Cpk passes and the percentile one does not."""
+    candidates, which need the verdict, not its notes), only what can refute a pass is computed: the shape when
+    the judged normal-theory Cpk passes, the percentile bound when the output is demonstrably not normal."""
     import numpy as np
 
     if len(good) < 100:
         return None, None
     i = 1 if r.basis == "lower_bound" else 0
-    if judged is not None and (r.cpk_method != "normal" or judged[i] is None or not judged[i] >= r.min_cpk):
-        return None, None
+    shape = None
+    if judged is not None:
+        if r.cpk_method != "normal" or judged[i] is None or not judged[i] >= r.min_cpk:
+            return None, None
+        shape = st.normality(good)
+        if shape is None or not shape.non_normal:
+            return None, None
     if r.cpk_method == "normal":
         lo = st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, percentile_cpk_confidence(r))[0]
         other = (capability.get("cpk_percentile"), lo)
     else:
         other = (capability.get("cpk"), st.cpk_lower_bound(capability.get("cpk"), len(good), bound_level(r)))
-    if judged is not None and not (other[i] is not None and other[i] < r.min_cpk):
-        return None, None
-    return st.normality(good), other
+    return shape or st.normality(good), other
 
 
 def percentile_cpk_confidence(r: Requirement) -> float:

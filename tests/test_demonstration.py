@@ -138,3 +138,23 @@ def test_a_normal_output_keeps_its_normal_theory_verdict():
     assert not v.shape.non_normal
     assert v.cpk_bound > 1.33 and v.passed
     assert any("would fail" in n and "no departure from normality" in n for n in v.notes), v.notes
+
+
+def test_the_optimisers_constraint_applies_the_same_rule():
+    """The allocation's Monte Carlo constraint judges with the sign-off's rule (rvtol.verdict.other_cpk in its lazy
+    form: only what can refute a pass): the skewed output's normal-theory pass is refuted there too."""
+    from rvtol import stats as st
+    from rvtol.verdict import cpk_figures, other_cpk
+
+    y = GAMMA.rvs(4000, random_state=np.random.default_rng(5))
+    r = Requirement("y", upper=USL, min_cpk=1.33)
+    cap = st.capability(y, None, USL)
+    cpk, lo = cpk_figures(r, cap, y.size)
+    shape, other = other_cpk(r, y, cap, (cpk, lo))
+    assert lo > 1.33 and shape.non_normal and other[1] < 1.33
+    j = judge(r, cpk=cpk, cpk_lo=lo, shape=shape, other_cpk=other)
+    assert not j.passed and j.violation > 0
+    z = np.random.default_rng(5).normal(0.0, 1.0, 4000)                # a normal output: nothing computed
+    cap = st.capability(z, -4.5, 4.5)
+    assert other_cpk(Requirement("y", lower=-4.5, upper=4.5, min_cpk=1.33), z, cap,
+                     cpk_figures(Requirement("y", lower=-4.5, upper=4.5, min_cpk=1.33), cap, z.size)) == (None, None)
