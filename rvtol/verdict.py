@@ -215,7 +215,8 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
             j.passed = False
             j.reasons.append(f"the uncertainty of {name}'s fitted law could not be estimated ({why}): nothing that "
                              "depends on it is demonstrated")
-    if not j.passed and lb and n is not None and not (constant is not None and r.min_cpk is not None):
+    unplannable = (constant is not None and r.min_cpk is not None) or (fit is not None and fit.unavailable)
+    if not j.passed and lb and n is not None and not unplannable:
         _plan(r, j, yield_, plan_cpk, n, n_failed, fit)
     return j
 
@@ -305,6 +306,9 @@ def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None,
                          f"n = {need} samples would demonstrate it if the observed "
                          f"{'yield' if r.min_cpk is None else 'Cpk' if r.min_yield is None else 'yield and Cpk'}"
                          f" held")
+    elif not grow:     # e.g. a percentile Cpk whose bootstrap bound misses where Bissell's rule says n suffices
+        j.reasons.append(f"not demonstrated at n = {n}: the estimates meet the requirement, their bounds do not — more "
+                         "samples would decide")
     if grow:
         j.parts_to_demonstrate = {f: math.ceil(m * max(grow)) for f, m in fit.parts.items()}
         parts = ", ".join(f"{m:,} measured parts of {f} (now {fit.parts[f]:,})"
