@@ -265,7 +265,7 @@ class Verdict:
     parts_to_demonstrate: dict[str, int] | None = None
     undecided: bool = False
     shape: st.Shape | None = None          # the output's departure from normality (a requirement with a min_cpk)
-    fit: dict | None = None                # the measured factors' fit uncertainty (rvtol.inputs.fit_uncertainty)
+    fit: dict | None = None                # the measured factors' fit uncertainty (rvtol.fit_uncertainty)
 
     @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
@@ -312,7 +312,7 @@ class MonteCarloResult:
     requirements: list[Requirement] = field(default_factory=list)  # limits in display units
     confidence: float = 0.95
     executor: str = "serial"
-    #: the spec's measured factors (rvtol.inputs.fit_uncertainty.MeasuredFactors): their fits' uncertainty is judged
+    #: the spec's measured factors (rvtol.fit_uncertainty.MeasuredFactors): their fits' uncertainty is judged
     measured: object = None
 
     @property
@@ -407,7 +407,7 @@ class MonteCarloResult:
             shape, other = other_cpk(r, good, cap) if r.min_cpk is not None and constant is None else (None, None)
             fit, record = fits.get(r.label), None
             if fit is not None:
-                from .inputs.fit_uncertainty import to_record
+                from .fit_uncertainty import to_record
 
                 yb_mc, cb_mc = yb, cb
                 yb = st.combined_lower_bound(yr.estimate, yb, fit.yield_dev)
@@ -422,10 +422,10 @@ class MonteCarloResult:
 
     @cached_property
     def _fit_effects(self) -> dict:
-        """Requirement label -> its measured factors' fit uncertainty (:func:`rvtol.inputs.fit_uncertainty.effects`)."""
+        """Requirement label -> its measured factors' fit uncertainty (:func:`rvtol.fit_uncertainty.effects`)."""
         if self.measured is None or not self.requirements:
             return {}
-        from .inputs.fit_uncertainty import effects
+        from .fit_uncertainty import effects
 
         out = effects(self.measured, self.samples.values, self.Y, self.ok, [q.name for q in self.outputs],
                       self.requirements, [bound_level(r) for r in self.requirements], self.samples.seed)
@@ -481,7 +481,7 @@ def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(),
               executor: str = "serial", spec: ToleranceSpec | None = None) -> MonteCarloResult:
     """The :class:`MonteCarloResult` of an evaluation ``ev`` of ``samples`` (outputs to display units;
     a value that overflows there fails its sample); with the ``spec`` the samples were drawn from, its measured
-    factors' fit uncertainty enters the verdicts (:mod:`rvtol.inputs.fit_uncertainty`)."""
+    factors' fit uncertainty enters the verdicts (:mod:`rvtol.fit_uncertainty`)."""
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):
@@ -493,7 +493,7 @@ def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(),
     reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
     measured = None
     if spec is not None and reqs:
-        from .inputs.fit_uncertainty import MeasuredFactors
+        from .fit_uncertainty import MeasuredFactors
 
         measured = MeasuredFactors.of(spec, model)
     return MonteCarloResult(tuple(model.outputs), samples, Yd, ev.status, dict(model.status_reasons), reqs,

@@ -266,7 +266,8 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
     if n_to_demonstrate or parts:
         out = [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)] if n_to_demonstrate else []
         if parts:
-            out.append(fix("more samples", T.MORE_PARTS, parts=", ".join(f"{m:,} parts of {f}" for f, m in parts.items())))
+            out.append(fix("more samples", T.MORE_PARTS,
+                           parts=", ".join(f"{m:,} parts of {f}" for f, m in parts.items())))
         return out
     if mean is None or sigma is None:
         return []

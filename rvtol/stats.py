@@ -13,7 +13,7 @@ a requirement is judged on, :mod:`rvtol.verdict`) is one-sided at a level ℓ:
 two-sided interval at confidence c is the one-sided bound at ℓ = (1 + c)/2.
 :func:`n_for_yield` and :func:`n_for_cpk` invert them: the sample size at
 which the observed yield or Cpk would be demonstrated.  :func:`combined_lower_bound` adds an
-independent error (a fitted law's, :mod:`rvtol.inputs.fit_uncertainty`) to a bound; :func:`normality`
+independent error (a fitted law's, :mod:`rvtol.fit_uncertainty`) to a bound; :func:`normality`
 gives an output's :class:`Shape` (skewness, kurtosis, Anderson–Darling) for the non-normal Cpk rule of
 :mod:`rvtol.verdict`.
 

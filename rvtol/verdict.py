@@ -44,7 +44,7 @@ tolerance the optimiser calls feasible is one the sign-off passes:
   A disagreement is always stated in the requirement's notes; with a normal-looking output it
   changes nothing (the percentile bound is merely the less efficient one);
 * a yield or Cpk measured on factors **fitted to measured parts** carries the fit's own uncertainty
-  (:mod:`rvtol.inputs.fit_uncertainty`): the bound judged combines the Monte Carlo's bound with the
+  (:mod:`rvtol.fit_uncertainty`): the bound judged combines the Monte Carlo's bound with the
   spread of the figure under the laws the measured data allow, and a requirement that the fit's
   uncertainty alone keeps from being demonstrated gets the number of measured parts that would (more
   Monte Carlo samples cannot);
@@ -176,7 +176,7 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
     requirement is *not* judged on (percentile for ``cpk_method = "normal"``, normal theory for
     ``"percentile"``) and ``shape`` the output's :class:`Shape` — together the non-normal rule of the module
     docstring; ``fit``: the measured factors' fit uncertainty of this requirement
-    (:class:`rvtol.inputs.fit_uncertainty.FitEffect`: ``yield_dev``, ``cpk_dev``, ``parts``, ``notes``).
+    (:class:`rvtol.fit_uncertainty.FitEffect`: ``yield_dev``, ``cpk_dev``, ``parts``, ``notes``).
     """
     lb = r.basis == "lower_bound"
     j = Judgement(True)
@@ -247,8 +247,8 @@ def _non_normal_rule(r: Requirement, j: Judgement, judged: tuple, other: tuple, 
         j.passed = False
         j.reasons.append(f"the output is not normal ({shape.describe()}): its normal-theory Cpk {what}"
                          f"{judged[i]:.3f} passes but its percentile Cpk (ISO 22514-2) {what}{other[i]:.3f} < required "
-                         f"{r.min_cpk:g} — normal theory misstates the tail of this shape; not demonstrated unless both "
-                         'pass (cpk_method = "percentile" judges on the percentile Cpk alone)')
+                         f"{r.min_cpk:g} — normal theory misstates the tail of this shape; not demonstrated unless "
+                         'both pass (cpk_method = "percentile" judges on the percentile Cpk alone)')
         j.violation += max(0.0, r.min_cpk - other[i]) / r.min_cpk
         return True
     how = (f"the output is not normal ({shape.describe()})" if shape.non_normal else
@@ -256,8 +256,8 @@ def _non_normal_rule(r: Requirement, j: Judgement, judged: tuple, other: tuple, 
     then = ('cpk_method = "percentile" judges a non-normal output by its own tails' if normal and shape.non_normal
             else "normal theory judges it (the percentile bound is the less efficient one)" if normal
             else "the percentile Cpk judges it")
-    j.notes.append(f"the {other_name} {what}{other[i]:.3f} would {'pass' if theirs else 'fail'} where the {judged_name} "
-                   f"{'passes' if mine else 'fails'}: {how}; {then}")
+    j.notes.append(f"the {other_name} {what}{other[i]:.3f} would {'pass' if theirs else 'fail'} where the "
+                   f"{judged_name} {'passes' if mine else 'fails'}: {how}; {then}")
     return False
 
 

@@ -91,7 +91,7 @@ def test_a_constant_output_with_a_min_cpk_is_stated_not_a_crash():
     assert "no tolerance of the spec moves it" in digest["yield"].change
 
 
-# --------------------------------------------------------------------------- a skewed output against a normal-theory Cpk
+# ------------------------------------------------------------------------- a skewed output, a normal-theory Cpk
 SHAPE = 16 / 9                                       # gamma: skewness 2/√k = 1.5
 GAMMA = stats.gamma(SHAPE)
 USL = float(GAMMA.mean() + 3 * 1.41 * GAMMA.std())   # normal-theory Cpk 1.41

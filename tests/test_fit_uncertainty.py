@@ -1,5 +1,5 @@
 """A law fitted to measured parts carries its own uncertainty into the verdict (issue 37,
-:mod:`rvtol.inputs.fit_uncertainty`).
+:mod:`rvtol.fit_uncertainty`).
 
 Independent references: the exact lower confidence bound of a normal yield P(X ≤ U) from (x̄, s, n) through the
 noncentral t distribution (``scipy.stats.nct``: Owen 1968), the closed-form yield and Cpk of a sum of normals under
@@ -12,7 +12,7 @@ import pytest
 from scipy import optimize, stats
 
 from rvtol.distributions import Distribution
-from rvtol.inputs import fit_uncertainty as FU
+from rvtol import fit_uncertainty as FU
 from rvtol.inputs import measured as M
 from rvtol.mc import run_monte_carlo
 from rvtol.model import FunctionModel, Quantity

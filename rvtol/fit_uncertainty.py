@@ -72,9 +72,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from ..errors import InputError
-from ..units import label as unit_label
-from .measured import FAMILIES, deconvolve, fit_family
+from .errors import InputError
+from .inputs.measured import FAMILIES, deconvolve, fit_family
+from .units import label as unit_label
 
 #: parameter draws per measured factor
 DRAWS = 400
@@ -169,7 +169,8 @@ def law_draws(factor: str, measured, draws: int = DRAWS, rng: np.random.Generato
     sims = c.frozen.rvs(size=(draws, n), random_state=g)
     if u:
         sims = sims + g.normal(0.0, u, size=sims.shape)
-    refits, failed = _closed_form_refits(sims, family, rep.location) if not u else None, 0
+    failed = 0
+    refits = None if u else _closed_form_refits(sims, family, rep.location)
     if refits is None:
         refits = []
         for x in sims:
@@ -253,7 +254,7 @@ class MeasuredFactors:
     def of(cls, spec, model=None) -> "MeasuredFactors | None":
         """The measured factors of ``spec`` (None when it has none); a fitted factor whose distribution is no longer
         its fitted law (a scaled copy) counts as not fitted."""
-        from ..model import dependencies
+        from .model import dependencies
 
         fitted, unfitted = [], []
         for j, f in enumerate(spec.factors):
@@ -379,8 +380,8 @@ def effects(mf: MeasuredFactors, values: np.ndarray, Y: np.ndarray, ok: np.ndarr
 
     ``values``: the samples (base units, one column per factor of ``mf.spec``); ``Y`` the outputs in the
     requirements' units with ``ok`` the evaluated rows; ``levels``: each requirement's one-sided level."""
-    from .. import units
-    from ..sampling import substream
+    from . import units
+    from .sampling import substream
 
     N = len(ok)
     laws: dict[str, Laws] = {}
@@ -461,7 +462,7 @@ class _Weights:
     def _copula(self, names: list[str], rows: np.ndarray, R: np.ndarray) -> np.ndarray:
         """ln c(u*) − ln c(û) of the Gaussian copula: −½ (2 δᵀQẑ + δᵀQδ), Q = R⁻¹ − I, δ = z* − ẑ on the measured
         factors' scores (the others' do not change)."""
-        from .. import units
+        from . import units
 
         Q = np.linalg.inv(R) - np.eye(len(R))
         m = [self.index[n] for n in names]
@@ -503,7 +504,7 @@ class _Weights:
 
 def _cpk_draws(r, y: np.ndarray, w: np.ndarray) -> tuple[float | None, np.ndarray | None]:
     """The judged Cpk of ``r`` on the evaluated subsample ``y``: unweighted, and under each draw's weights ``w``."""
-    from ..stats import CPK_QUANTILES, _cpk_from_quantiles
+    from .stats import CPK_QUANTILES, _cpk_from_quantiles
 
     if y.size < 2 or not np.ptp(y) > 0:
         return None, None
