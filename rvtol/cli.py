@@ -97,7 +97,8 @@ def _parser() -> argparse.ArgumentParser:
     exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
     exp.add_argument("spec", help="spec file (.toml, .csv, .tsv or .xlsx)")
     exp.add_argument("--out", required=True, help="the table to write (.csv, .tsv or .xlsx)")
-    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: the first)")
+    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: its only visible sheet, or the "
+                                      "one it opens on when that is also its first)")
     exp.add_argument("--force", action="store_true", help="replace --out if it exists")
     return p
 
@@ -215,6 +216,8 @@ def _check(args) -> int:
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
           f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
           f"{len(st.analyses)} analyses")
+    for note in st.notes:
+        print(f"rvtol: note: {note}")
     if not st.requirements:
         print("rvtol: note: " + ("an exploratory study: it checks no requirement (verdict EXPLORATORY, exit 0)"
                                  if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "

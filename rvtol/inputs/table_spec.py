@@ -61,7 +61,8 @@ from pathlib import Path
 from ..distributions import KINDS
 from ..errors import InputError, SpecError
 from .notation import fmt, format_deviations, format_limits, zone_level
-from .sheets import Location, blank, col_letter, read_rows, write_rows
+from .sheets import (EITHER, Location, NumberFormError, blank, cell_number, col_letter, comma_role, read_rows,
+                     write_rows)
 
 COLUMNS = ("name", "part", "feature", "nominal", "tolerance", "distribution", "unit", "direction", "source")
 _ALIASES = {
@@ -113,6 +114,10 @@ class SpecTable:
     factor_rows: list[int] = field(default_factory=list)
     factor_columns: list[dict] = field(default_factory=list)   # per factor: key -> (column label, letter)
     correlation_rows: list[int] = field(default_factory=list)
+    # what the spec does not hold and an export keeps (:func:`write_table_spec`'s ``keep``):
+    comments: list[tuple[int, list]] = field(default_factory=list)   # (factor rows above it, -1: above the header;
+    #                                                                    its cells)
+    extra: dict[str, dict[str, object]] = field(default_factory=dict)   # notes column label -> factor name -> cell
 
     _KEY = re.compile(r"^(factor|correlation)\[(\d+)\](?:\.([A-Za-z_]+))?")
 
@@ -131,39 +136,43 @@ class SpecTable:
         return SpecError(exc.reason, file=self.file, key=exc.key)
 
 
+def _trimmed(cells: list) -> list:
+    """A row's cells without its trailing blank ones."""
+    cells = list(cells)
+    while cells and blank(cells[-1]):
+        cells.pop()
+    return cells
+
+
 def _text(v) -> str:
     if isinstance(v, float) and v.is_integer():
         return str(int(v))
     return str(v).strip()
 
 
-def _number(v, where) -> float | None:
-    """A number cell (blank → None); ``where(reason)`` builds the error."""
-    if blank(v):
+def _number(v, where, comma: str = EITHER) -> float | None:
+    """A number cell (blank → None; text as :func:`~rvtol.inputs.sheets.read_number` reads it, ``comma``: how the
+    file uses the comma, :func:`~rvtol.inputs.sheets.comma_role`); ``where(reason)`` builds the error."""
+    if isinstance(v, str):
+        v = v.strip().lstrip("Ø⌀")
+    try:
+        x = cell_number(v, comma)
+    except NumberFormError as exc:
+        raise where(str(exc) if exc.advice else f"expected a number, got {str(v)!r}") from None
+    if x is None:
         return None
-    if isinstance(v, bool):
-        raise where(f"expected a number, got {v}")
-    if isinstance(v, (int, float)):
-        x = float(v)
-    elif isinstance(v, (_dt.date, _dt.time)):
-        raise where("the spreadsheet turned this cell into a date; format the column as number or text")
-    else:
-        s = str(v).strip().lstrip("Ø⌀").strip().replace("\u2212", "-")
-        if not _NUMBER.match(s):
-            raise where(f"expected a number, got {str(v)!r}")
-        x = float(s.replace(",", "."))
     if not math.isfinite(x):
         raise where(f"must be a finite number, got {v}")
     return x
 
 
-def _direction(v, where) -> float | None:
+def _direction(v, where, comma: str = EITHER) -> float | None:
     if blank(v):
         return None
     if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
         return 1.0 if v.strip() == "+" else -1.0
     try:
-        return _number(v, where)
+        return _number(v, where, comma)
     except SpecError:
         raise where(f"expected a direction (+, -) or a number, got {str(v).strip()!r}") from None
 
@@ -226,6 +235,7 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
     path = Path(path)
     sh = read_rows(path, sheet)
     lettered = sh.lettered
+    comma = comma_role(sh.delimiter, (c for _, cells in sh.rows for c in cells))
     loc = sh.location(str(path))
     meta: dict[str, object] = {}
     corr: list[dict] = []
@@ -241,8 +251,9 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
         first = _text(cells[0]) if cells and not blank(cells[0]) else ""
         if first.startswith("#"):
             word = first[1:].strip().lower()
-            if first[1:2].isspace() or not word:
-                continue  # a comment
+            if first[1:2].isspace() or not word:   # a comment: kept by an export
+                table.comments.append((-1 if header is None else len(factors), _trimmed(cells)))
+                continue
             word = word.rstrip(":")
             if word not in _DIRECTIVES:
                 raise loc.error(f"unknown directive {first!r} (known: {', '.join('#' + d for d in _DIRECTIVES)};"
@@ -252,7 +263,7 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
                 if len(rest) != 3:
                     raise loc.error("#correlation takes two factor names and a correlation: #correlation a b 0.5",
                                     r)
-                rho = _number(rest[2], lambda why, r=r: loc.error(f"#correlation: {why}", r))
+                rho = _number(rest[2], lambda why, r=r: loc.error(f"#correlation: {why}", r), comma)
                 corr.append({"pair": [_text(rest[0]), _text(rest[1])], "rho": rho})
                 table.correlation_rows.append(r)
             else:
@@ -265,12 +276,17 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
         if header is None:
             header, header_row = _header(cells, loc, r, lettered), r
             _refuse_merged(sh, header, header_row, loc)
+            ignored = [(i, _text(c)) for i, (c, h) in enumerate(zip(cells, header)) if h is None]
+            table.extra = {label: {} for _, label in ignored}
             continue
-        f, cols = _row(cells, header, loc, r, lettered)
+        f, cols = _row(cells, header, loc, r, lettered, comma)
         n = f["name"]
         if n in names_seen:
             raise loc.error(f"duplicate factor name {n!r} (first in row {names_seen[n]})", r, *cols["name"])
         names_seen[n] = r
+        for i, label in ignored:
+            if i < len(cells) and not blank(cells[i]):
+                table.extra[label][n] = cells[i]
         factors.append(f)
         table.factor_rows.append(r)
         table.factor_columns.append(cols)
@@ -324,8 +340,9 @@ def _header(cells: list, loc: Location, r: int, lettered: bool) -> list[str | No
 _LABEL = {"upper": "+tol", "lower": "-tol"}
 
 
-def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tuple[dict, dict]:
-    """One factor row → (its ``[[factor]]`` table, key → (column label, letter))."""
+def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma: str) -> tuple[dict, dict]:
+    """One factor row → (its ``[[factor]]`` table, key → (column label, letter)); ``comma``: how the file's numbers
+    use the comma (:func:`~rvtol.inputs.sheets.comma_role`)."""
     cell: dict[str, object] = {}
     col: dict[str, tuple[str, str | None]] = {}
     for i, h in enumerate(cells):
@@ -355,7 +372,7 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         table["unit"] = _text(cell["unit"]).replace('"', "in")
     keycol["unit"] = col.get("unit", col["name"])
     if "nominal" in cell:
-        nominal = _number(cell["nominal"], where("nominal"))
+        nominal = _number(cell["nominal"], where("nominal"), comma)
         if nominal is not None:
             table["nominal"] = nominal
         keycol["nominal"] = col["nominal"]
@@ -369,10 +386,13 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         table["tolerance"] = _text(v)
         keycol["tolerance"] = col["tolerance"]
     elif "upper" in cell and not (blank(cell["upper"]) and blank(cell["lower"])):
-        up = _number(cell["upper"], where("upper"))
-        lo = _number(cell["lower"], where("lower"))
+        up = _number(cell["upper"], where("upper"), comma)
+        lo = _number(cell["lower"], where("lower"), comma)
         if up is None or lo is None:
             raise where("upper" if up is None else "lower")("+tol and -tol go together (write 0 for none)")
+        if up < -abs(lo):
+            raise where("upper")(f"the upper deviation (+tol {fmt(up)}) is below the lower one (-tol, taken below the "
+                                 f"nominal: {fmt(-abs(lo))}): the columns are swapped or a sign is wrong")
         table["tolerance"] = format_deviations(-abs(lo), up)
         keycol["tolerance"] = col["upper"]
     dcol = col.get("distribution", col["name"])
@@ -393,13 +413,13 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
             table[key] = _text(cell[h])
             keycol[key] = col[h]
     if not blank(cell.get("multiplicity")):
-        m = _number(cell["multiplicity"], where("multiplicity"))
+        m = _number(cell["multiplicity"], where("multiplicity"), comma)
         if not float(m).is_integer():
             raise where("multiplicity")(f"expected a whole number of copies, got {_text(cell['multiplicity'])}")
         table["multiplicity"] = int(m)
         keycol["multiplicity"] = col["multiplicity"]
     if "direction" in cell:
-        d = _direction(cell["direction"], where("direction"))
+        d = _direction(cell["direction"], where("direction"), comma)
         if d is not None:
             table["direction"] = d
         keycol["direction"] = col["direction"]
@@ -487,7 +507,9 @@ def _band_cells(f) -> tuple[float | None, str, str]:
         return nominal, text(*f.limits) if f.limits is not None else "", cell
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
-        tol = f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi)
+        # a magnitude's band says where its values start: from 0, from the nominal (+x/0) or from a (a..b)
+        tol = (f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi) if lo == base
+               else format_limits(lo, hi))
         if differs(hi - lo, d.tolerance) or differs(lo, d.shift):   # the limits do not give the distribution
             extra["sigma" if d.kind == "rayleigh" else "scale"] = p["sigma" if d.kind == "rayleigh" else "scale"]
             extra["shift"] = d.shift
