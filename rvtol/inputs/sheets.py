@@ -673,17 +673,40 @@ def check_suffix(path: str | Path, what: str = "table") -> Path:
     return path
 
 
+#: the first characters that make a spreadsheet read a cell as a formula (OWASP: CSV injection)
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+#: signed numbers, deviations and limits as rvtol writes them (+0.1/-0.05, -0.5, -0.1..0.2, a "+"/"-" direction): no
+#: function call in them, and they must read back as written
+_SIGNED = re.compile(r"[+-](?:\d*\.?\d+(?:/[+-]?\d*\.?\d+|\.\.[+-]?\d*\.?\d+)?)?")
+
+
+def formula_like(v) -> bool:
+    """Whether a spreadsheet would run text as a formula: it starts with ``=``, ``@``, a tab or a carriage return,
+    or with ``+``/``-`` and is not a signed number or deviation (:data:`_SIGNED`)."""
+    return isinstance(v, str) and v.startswith(FORMULA_START) and not _SIGNED.fullmatch(v)
+
+
 def write_rows(path: str | Path, rows: list[list], *, sheet: str = "Sheet1", header_row: int | None = None,
-               text_columns: tuple[int, ...] = (), widths: tuple[float, ...] = (), number=str) -> Path:
+               text_columns: tuple[int, ...] = (), widths: tuple[float, ...] = (), number=str,
+               shown: str | None = None) -> Path:
     """Write rows of cells as CSV/TSV (UTF-8 with BOM) or XLSX.
 
     ``header_row`` (1-based) is set bold and frozen in XLSX; ``text_columns`` (0-based) are
     formatted as text in XLSX (a tolerance like ``1/2`` must not become a date); ``number``
     writes a float into CSV (default ``str``: the shortest repr that reads back exactly).
+    Text is never written as a formula: XLSX cells hold it as text (a text cell, marked with a quote prefix
+    when it starts like a formula); a CSV cannot mark it, so :func:`formula_like` text is refused there
+    (``shown``: the file named in that error, default ``path``).
     """
     path = check_suffix(path)
     suffix = path.suffix.lower()
     if suffix in (".csv", ".tsv"):
+        for r, row in enumerate(rows, start=1):
+            for j, v in enumerate(row):
+                if formula_like(v):
+                    raise SpecError(f"{str(v)[:40]!r} would run as a formula when a spreadsheet opens the file, and "
+                                    "a CSV cannot say it is text: write .xlsx (its cells are written as text) or "
+                                    "change the text", file=shown or str(path), key=f"row {r}, column {col_letter(j)}")
         with open(path, "w", encoding="utf-8-sig", newline="") as fh:
             w = csv.writer(fh, delimiter="\t" if suffix == ".tsv" else ",")
             for row in rows:
@@ -697,6 +720,11 @@ def write_rows(path: str | Path, rows: list[list], *, sheet: str = "Sheet1", hea
     ws.title = sheet[:31]
     for row in rows:
         ws.append([None if v is None else v for v in row])
+        for c in ws[ws.max_row]:
+            if isinstance(c.value, str):
+                c.data_type = "s"                       # text, never a formula (openpyxl makes "=…" one)
+                if c.value.startswith(FORMULA_START):
+                    c.quotePrefix = True                # and a spreadsheet keeps it text when it is edited
     if header_row is not None:
         for c in ws[header_row]:
             c.font = Font(bold=True)

@@ -555,16 +555,20 @@ def _measured_cell(m) -> str:
                                    if v is not None) + ")"
 
 
-def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
-    """The rows of a spec table: metadata, header, one row per factor (numbers as floats).
+def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTable | None = None) -> list[list]:
+    """The rows of a spec table: metadata, header, one row per factor (numbers as floats) — a family's copies one
+    row with its ``multiplicity`` when they are written alike.
 
-    ``coefficients`` (factor → number) override the factors' own ``direction``.
+    ``coefficients`` (factor → number) override the factors' own ``direction``.  ``keep``: the table the spec was
+    read from, whose comment rows (in their place among the factor rows) and notes columns are written back.
     """
     coefficients = coefficients or {}
     unknown = sorted(set(coefficients) - set(spec.names))
     if unknown:
         raise SpecError(f"coefficient for unknown factor {unknown[0]!r}", file=spec.file, key="direction")
-    rows: list[list] = [["#spec", spec.name]]
+    comments = list(keep.comments) if keep is not None else []
+    notes = keep.extra if keep is not None else {}
+    rows: list[list] = [c for at, c in comments if at < 0] + [["#spec", spec.name]]
     if spec.description:
         rows.append(["#description", spec.description])
     if spec.correlation is not None:
@@ -573,30 +577,60 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
+    body = _factor_rows(spec, coefficients)
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
     needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
               "description": any(f.description for f in spec.factors)}
     needed.update({c: any(getattr(f, c, "") for f in spec.factors) for c in _OPTIONAL[2:]})
-    extra = [c for c in _OPTIONAL if needed[c]]
-    rows.append(list(COLUMNS) + extra)
-    for f in spec.factors:
-        nominal, tol, cell = _band_cells(f)
-        direction = coefficients.get(f.name, getattr(f, "direction", None))
-        direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
-        rows.append([f.name, getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction,
-                     f.source] + [value[c](f) or None for c in extra])
+    extra = [c for c in _OPTIONAL if needed[c]] + (["multiplicity"] if any(n > 1 for _, _, n in body) else [])
+    rows.append(list(COLUMNS) + extra + list(notes))
+    value["multiplicity"] = lambda f: None
+    for k, (name, cells, n) in enumerate(body):
+        rows += [c for at, c in comments if at == k]
+        f = spec.factor(name) if n == 1 else spec.families()[name][0]
+        rows.append([name] + cells + [n if c == "multiplicity" and n > 1 else value[c](f) or None for c in extra]
+                    + [notes[label].get(name) for label in notes])
+    rows += [c for at, c in comments if at >= len(body)]
     return rows
 
 
+def _factor_rows(spec, coefficients: dict[str, float]) -> list[tuple[str, list, int]]:
+    """``(name, the row's cells after the name, multiplicity)`` per row: a factor, or a family whose copies are
+    written alike as its template with their number."""
+    out: list[tuple[str, list, int]] = []
+    families = spec.families()
+    done: set[str] = set()
+    for f in spec.factors:
+        if f.family in done:
+            continue
+        copies = families.get(f.family, (f,)) if f.family else (f,)
+        cells = [_row_cells(g, coefficients) for g in copies]
+        if len(copies) > 1 and all(c == cells[0] for c in cells):
+            out.append((f.family, cells[0], len(copies)))
+            done.add(f.family)
+        else:
+            out.append((f.name, cells[0], 1))
+    return out
+
+
+def _row_cells(f, coefficients: dict[str, float]) -> list:
+    nominal, tol, cell = _band_cells(f)
+    direction = coefficients.get(f.name, getattr(f, "direction", None))
+    direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
+    return [getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction, f.source]
+
+
 def write_table_spec(spec, path: str | Path, *, coefficients: dict[str, float] | None = None,
-                     sheet: str = "spec") -> Path:
-    """Write ``spec`` as a table: ``.csv`` / ``.tsv`` (UTF-8 with BOM) or ``.xlsx``.
+                     sheet: str = "spec", keep: SpecTable | None = None, shown: str | None = None) -> Path:
+    """Write ``spec`` as a table: ``.csv`` / ``.tsv`` (UTF-8 with BOM) or ``.xlsx``; ``keep``: the table it was
+    read from (:func:`read_spec_table`), whose comment rows and notes columns are written too.
 
     Measured factors name their data file as the spec did (relative to the spec): export next to the
-    spec, or copy the data files along.
+    spec, or copy the data files along.  Text a spreadsheet would run as a formula (``=…``, ``@…``) is written
+    as text in XLSX and refused in CSV (:func:`rvtol.inputs.sheets.write_rows`).
     """
-    rows = spec_rows(spec, coefficients)
+    rows = spec_rows(spec, coefficients, keep)
     header = next(i for i, r in enumerate(rows, start=1) if r and r[0] == COLUMNS[0])
     return write_rows(path, rows, sheet=sheet, header_row=header, text_columns=(COLUMNS.index("tolerance"),),
-                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40, 16, 30, 12), number=fmt)
+                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40, 16, 30, 12), number=fmt, shown=shown)
