@@ -707,9 +707,12 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     The rows come through the one table reader (:mod:`rvtol.inputs.sheets`) with its rules: comment
     rows (``# …``) and blank rows skipped, a header cell ``name`` or ``name [unit]``
     (:func:`~rvtol.inputs.sheets.split_header`: ``column = "d"`` finds ``d [mm]``; the name as
-    written, and then any case, are tried), decimal commas in semicolon-, tab- or space-separated
-    text (:func:`~rvtol.inputs.sheets.cell_number`).  Unlike a spec table the header is optional: a
-    first row that is all numbers is data.  With a unit in the column's header and ``unit`` (the
+    written, and then any case, are tried), numbers read one way only
+    (:func:`~rvtol.inputs.sheets.read_number`: a decimal comma outside comma-separated files, thousands
+    separators; an ambiguous ``1,250`` decided by the column's other numbers,
+    :class:`~rvtol.inputs.sheets.CommaColumn`, or refused).  Unlike a spec table the header is optional: a
+    first row that is all numbers is data; a value beyond the header's (or the first row's) columns is refused
+    (a decimal comma read as the delimiter splits a number in two).  With a unit in the column's header and ``unit`` (the
     factor's) given, the values are converted to ``unit`` (another dimension is an error at the
     header cell).  Blank cells are skipped (columns of different lengths); anything else that is not
     a number is an error naming row and column.  The rows are read one at a time (only the column's

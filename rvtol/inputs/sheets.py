@@ -8,6 +8,11 @@ column 'tolerance' (E): …``.  :func:`read_table` reads a table with a header r
 cell starts with ``#`` are comments, blank rows are skipped, and a header cell is ``name`` or
 ``name [unit]`` (:func:`split_header`: the unit is a bracket group after a space, so a name may hold
 brackets itself, ``E_c[1,2] [um]``).
+
+Nothing is guessed: a workbook is read from the sheet named, else its only visible sheet, else the one it
+opens on if that is its first (:func:`_pick_sheet`); hidden rows are refused; a number written as text is
+read one way only (:func:`read_number`), an ambiguous ``1,250`` decided by the file's other numbers or
+refused.  Nothing is written as a formula (:func:`write_rows`).
 """
 from __future__ import annotations
 

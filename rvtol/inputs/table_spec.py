@@ -18,7 +18,8 @@ The layout a quality engineer keeps in a spreadsheet::
   (lower; its size is taken below the nominal, ``0.05`` and ``-0.05`` both mean −0.05),
   ``distribution`` (dist; default ``normal``), ``unit`` (units), ``direction`` (coefficient,
   sign, dir: ``+``, ``-``, ``+1``, ``-0.5``… for a linear stack: ``[model] kind = "linear"`` with
-  ``coefficients = "spec"``), ``source`` (reference); ``notes``/``comment`` columns are ignored.
+  ``coefficients = "spec"``), ``source`` (reference); ``notes``/``comment`` columns are ignored
+  (an export writes them back, :func:`write_table_spec`'s ``keep``).
   ``name`` is required, and ``unit`` unless the tolerance has one (``25 H7`` is in mm).
   ``multiplicity`` (count, qty) makes a row with ``[k]`` in its name a family of N identical
   factors (:mod:`rvtol.spec`).
@@ -48,7 +49,10 @@ and the column: ``stack.xlsx: sheet 'spec', row 7, column 'tolerance' (E): canno
 UTF-8 with a byte-order mark, so Excel shows ``±`` and ``µ``; XLSX with openpyxl); reading it
 back gives the same spec to 12 significant digits (the numbers are written that way).  A factor
 written in drawing notation is written with its drawing limits; measured factors are written
-with the file they were read from.
+with the file they were read from; a family whose copies are alike as one row with its
+``multiplicity``; with ``keep`` (the table the spec was read from) its comment rows, each in its
+place, and its notes columns.  Text a spreadsheet would run as a formula is written as text (XLSX)
+or refused (CSV).
 """
 from __future__ import annotations
 
