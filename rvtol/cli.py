@@ -22,8 +22,9 @@ import contextlib
 import errno
 import json
 import os
-import time
+import secrets
 import sys
+import time
 from pathlib import Path
 
 from . import __version__
@@ -317,24 +318,25 @@ def _start_workers_early(args) -> None:
 
 def _run_study(args, ov: dict) -> int:
     from .checkpoint import run_key
-    from .runguard import RunFolder, check_resources, check_writable, estimate_run, time_pilot
+    from .params import recording_reads
+    from .runguard import RunFolder, check_not_input, check_resources, check_writable, estimate_run, time_pilot
     from .study import check_out_dir, load_study, result_files, run_study, write_outputs
 
-    study = load_study(args.study, **ov)
+    with recording_reads() as inputs:       # every file the run reads: nothing it writes may replace one
+        study = load_study(args.study, **ov)
+        baseline = None
+        if args.baseline:
+            from .ci.compare import load_run
+
+            baseline = load_run(args.baseline, key="--baseline")
+            if baseline.summary.get("study") != study.name:
+                raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
+                                 f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
     # everything that can be checked is checked before computing (exit 2, nothing written)
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)
+    check_not_input(out, inputs, "--out")
     check_writable(out, "--out")
-    for flag in ("junit", "markdown", "task_log"):
-        if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag.replace('_', '-')}", out)
-    baseline = None
-    if args.baseline:
-        from .ci.compare import load_run
-
-        baseline = load_run(args.baseline, key="--baseline")
-        if baseline.summary.get("study") != study.name:
-            raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
-                             f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
+    _check_file_targets(args, ("junit", "markdown", "task_log"), inputs, out)
     est = estimate_run(study)
     check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
     if not args.quiet:
@@ -369,9 +371,7 @@ def _run_study(args, ov: dict) -> int:
     if args.task_log:
         from .scaling import task_log
 
-        out_log = Path(args.task_log)
-        out_log.parent.mkdir(parents=True, exist_ok=True)
-        with _replacing(out_log) as tmp:
+        with _replacing(Path(args.task_log)) as tmp:
             tmp.write_text(json.dumps(task_log(result), indent=1, allow_nan=False), encoding="utf-8")
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
@@ -387,7 +387,8 @@ def _run_study(args, ov: dict) -> int:
 def _replacing(out: Path):
     """A temporary file beside ``out`` that replaces it when the block ends without an error: ``out`` is never
     half-written."""
-    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.rvtol-tmp-{secrets.token_hex(6)}")
     try:
         yield tmp
         os.replace(tmp, out)
@@ -395,18 +396,19 @@ def _replacing(out: Path):
         tmp.unlink(missing_ok=True)
 
 
-def _check_file_target(path: str, key: str, out: Path | None = None) -> None:
-    """``path`` can be written as a file, and is not the report folder ``out`` nor in it (the run replaces that
-    folder whole)."""
-    from .runguard import check_writable
+#: the kind of file each flag writes (rvtol.runguard.OWN_FILES)
+_FILE_KINDS = {"junit": "junit", "markdown": "markdown", "task_log": "task_log", "out": "comparison"}
 
-    p = Path(path)
-    if p.is_dir():
-        raise InputError("is a folder, expected a file name", file=path, key=key)
-    if out is not None and out.resolve() in (p.resolve(), *p.resolve().parents):
-        raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
-                         "elsewhere", file=path, key=key)
-    check_writable(p, key)
+
+def _check_file_targets(args, flags, inputs, out: Path | None = None) -> None:
+    """The files the flags name can be written (:func:`rvtol.runguard.check_output_file`: none replaces an input of
+    the run, a file rvtol did not write, or the report folder ``out``), and no two flags name one file."""
+    from .runguard import check_distinct_targets, check_output_file
+
+    given = {f"--{flag.replace('_', '-')}": (flag, getattr(args, flag)) for flag in flags if getattr(args, flag)}
+    for key, (flag, path) in given.items():
+        check_output_file(path, _FILE_KINDS[flag], key, inputs, out)
+    check_distinct_targets({key: path for key, (_, path) in given.items()})
 
 
 def _write_ci_outputs(args, summary: dict, comparison) -> None:
@@ -414,16 +416,16 @@ def _write_ci_outputs(args, summary: dict, comparison) -> None:
     if args.junit:
         from .ci.junit import write_junit
 
-        Path(args.junit).parent.mkdir(parents=True, exist_ok=True)
-        write_junit(args.junit, summary, comparison)
+        with _replacing(Path(args.junit)) as tmp:
+            write_junit(tmp, summary, comparison)
     md = None
     if args.markdown or os.environ.get("GITHUB_STEP_SUMMARY"):
         from .ci.markdown import render_markdown
 
         md = render_markdown(summary, comparison)
     if args.markdown:
-        Path(args.markdown).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.markdown).write_text(md, encoding="utf-8")
+        with _replacing(Path(args.markdown)) as tmp:
+            tmp.write_text(md, encoding="utf-8")
     step = os.environ.get("GITHUB_STEP_SUMMARY")
     if step:
         with open(step, "a", encoding="utf-8") as f:
@@ -433,19 +435,19 @@ def _write_ci_outputs(args, summary: dict, comparison) -> None:
 def _compare(args) -> int:
     from .ci.compare import compare, load_run
 
-    for flag in ("junit", "markdown", "out"):
-        if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag}")
     from .ci.compare import same_study
+    from .params import recording_reads
 
-    base = load_run(args.base, key="BASE")
-    new = load_run(args.new, key="NEW")
+    with recording_reads() as inputs:
+        base = load_run(args.base, key="BASE")
+        new = load_run(args.new, key="NEW")
+    _check_file_targets(args, ("junit", "markdown", "out"), inputs)
     same_study(base, new, key="BASE", file=args.base)
     comparison = compare(base, new, seed=new.summary.get("seed"))
     if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False),
-                                  encoding="utf-8")
+        with _replacing(Path(args.out)) as tmp:
+            tmp.write_text(json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False),
+                           encoding="utf-8")
     print(comparison.text())
     _write_ci_outputs(args, new.summary, comparison)
     print(f"gates: {comparison.verdict} — {comparison.one_line()}")

@@ -11,6 +11,7 @@ looked for (``tolerence``), the error names ``tolerence`` and suggests
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
@@ -64,11 +65,35 @@ def check_input_file(path: str | Path, expected: str = "a file") -> int:
     return st.st_size
 
 
+#: the sets :func:`recording_reads` fills (nested recordings each see every read)
+_RECORDINGS: list[set[Path]] = []
+
+
+@contextlib.contextmanager
+def recording_reads():
+    """Within the block, every input file rvtol reads (:func:`read_bytes`, :func:`note_read`) is added, as an
+    absolute path, to the set the block receives: the inputs of a run, which nothing the run writes may replace."""
+    seen: set[Path] = set()
+    _RECORDINGS.append(seen)
+    try:
+        yield seen
+    finally:
+        _RECORDINGS.remove(seen)
+
+
+def note_read(path: str | Path) -> None:
+    """Record ``path`` as an input read (:func:`recording_reads`): for files read other than by :func:`read_bytes`
+    (a Python model's module, imported)."""
+    for seen in _RECORDINGS:
+        seen.add(Path(path).absolute())
+
+
 def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
     """The bytes of an input file (:func:`check_input_file` first); one-line errors (:class:`SpecError`, key
     ``-``) naming the file."""
     p = Path(path)
     check_input_file(p, expected)
+    note_read(p)
     try:
         with open(p, "rb") as fh:
             return fh.read(max_input_bytes() + 1)

@@ -8,7 +8,8 @@
 * :class:`RunFolder` — ``.NAME.rvtol-run/`` beside the output folder ``NAME``:
   an exclusive lock (two runs never write one folder; the lock dies with its
   process, ``kill -9`` included), the removal of temporary folders that killed
-  runs left behind, and the checkpoint (:class:`rvtol.checkpoint.ChunkStore`)
+  runs left behind (a previous report folder a run killed between its final
+  renames left aside is put back in place), and the checkpoint (:class:`rvtol.checkpoint.ChunkStore`)
   that ``--resume`` continues from.  A finished run removes it; an
   interrupted or killed one leaves the checkpoint for ``--resume``.
 * :func:`check_writable`, :func:`estimate_run`, :func:`check_resources` —
@@ -25,6 +26,7 @@ import json
 import logging
 import math
 import os
+import re
 import shutil
 import signal
 import tempfile
@@ -136,11 +138,15 @@ class RunFolder:
         self._remove_stale()
 
     def _remove_stale(self) -> None:
-        """Temporary and replaced report folders of runs that were killed (we hold the lock: none is live)."""
+        """Temporary and replaced report folders of runs that were killed (we hold the lock: none is live).  A run
+        killed between its two final renames (:func:`rvtol.study.write_outputs`) left the output folder missing
+        and the previous one under its temporary name: that one is put back in place, not deleted."""
         stem = glob.escape(f".{self.out.name}")
-        for pattern in (f"{stem}.tmp-*", f"{stem}.old-*"):
-            for p in self.out.parent.glob(pattern):
-                shutil.rmtree(p, ignore_errors=True)
+        replaced = sorted(self.out.parent.glob(f"{stem}.old-*"), key=lambda p: p.stat().st_ctime)
+        if replaced and not self.out.exists() and not self.out.is_symlink():
+            os.replace(replaced.pop(), self.out)    # the newest: renamed last
+        for p in [*self.out.parent.glob(f"{stem}.tmp-*"), *replaced]:
+            shutil.rmtree(p, ignore_errors=True)
 
     def release(self, keep_checkpoint: bool = False) -> None:
         if self._fd is None:
@@ -208,6 +214,115 @@ def check_writable(target: str | Path, key: str) -> Path:
     except OSError as exc:
         raise InputError(f"cannot write in {where} ({exc.strerror or exc})", file=str(target), key=key) from None
     return where
+
+
+# --------------------------------------------------------------------------- what a run may replace
+def _head(path: Path, size: int) -> bytes:
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(size)
+    except OSError:
+        return b""
+
+
+def _is_junit(path: Path) -> bool:
+    """JUnit XML rvtol wrote (:mod:`rvtol.ci.junit`): its root element is ``<testsuites name="rvtol">``."""
+    import xml.etree.ElementTree as ET
+
+    parser = ET.XMLPullParser(events=("start",))
+    try:
+        parser.feed(_head(path, 1 << 16))
+        for _, element in parser.read_events():
+            return element.tag == "testsuites" and element.get("name") == "rvtol"
+    except ET.ParseError:
+        return False
+    return False
+
+
+#: the first line of the Markdown summary (:func:`rvtol.ci.markdown.render_markdown`)
+_MARKDOWN_HEAD = re.compile(r"### \S* ?rvtol · .*: \*\*[A-Z ]+\*\*")
+
+
+def _is_markdown(path: Path) -> bool:
+    line = _head(path, 4096).split(b"\n", 1)[0].decode("utf-8", errors="replace")
+    return bool(_MARKDOWN_HEAD.fullmatch(line.strip()))
+
+
+def _json_object(path: Path) -> dict:
+    try:
+        if path.stat().st_size > 1 << 28:
+            return {}
+        data = json.loads(path.read_bytes())
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def _is_task_log(path: Path) -> bool:
+    """``--task-log``'s JSON (:func:`rvtol.scaling.task_log`; written before its format tag with these keys)."""
+    d = _json_object(path)
+    return str(d.get("format", "")).startswith("rvtol-task-log/") or \
+        {"study", "executor", "workers", "run_s", "projected", "phases"} <= d.keys()
+
+
+def _is_comparison(path: Path) -> bool:
+    return str(_json_object(path).get("format", "")).startswith("rvtol-comparison/")
+
+
+#: per kind of file a run or a comparison writes: what it is, and how an earlier one rvtol wrote is recognised
+OWN_FILES = {"junit": ("a JUnit report", _is_junit), "markdown": ("a Markdown summary", _is_markdown),
+             "task_log": ("a task log", _is_task_log), "comparison": ("a comparison (JSON)", _is_comparison)}
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_not_input(path: Path, inputs, key: str) -> None:
+    """InputError unless ``path`` is none of ``inputs`` (the files the run read: the study, every file it names,
+    a Python model's module, a baseline) nor a folder that holds one (a report folder is replaced whole)."""
+    full = path.resolve()
+    for f in sorted(inputs):
+        if _same_file(path, f):
+            raise InputError(f"is an input of this run ({f}); rvtol never replaces its own inputs: write elsewhere",
+                             file=str(path), key=key)
+        if full in Path(f).resolve().parents:
+            raise InputError(f"holds an input of this run ({f}), and the run replaces the whole folder: choose "
+                             "another --out", file=str(path), key=key)
+
+
+def check_output_file(path: str | Path, kind: str, key: str, inputs=(), out: Path | None = None) -> Path:
+    """Raise InputError (file ``path``, key ``key``) unless the run may write its ``kind`` of file
+    (:data:`OWN_FILES`) at ``path``: not a folder, not the report folder ``out`` or in it (the run replaces that
+    folder whole), none of the run's ``inputs`` (:func:`check_not_input`), not an existing file rvtol did not
+    write — only an earlier file of the same kind is replaced —, and in a folder that can be written."""
+    p = Path(path)
+    what, ours = OWN_FILES[kind]
+    if p.is_dir():
+        raise InputError("is a folder, expected a file name", file=str(path), key=key)
+    if out is not None and out.resolve() in (p.resolve(), *p.resolve().parents):
+        raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
+                         "elsewhere", file=str(path), key=key)
+    check_not_input(p, inputs, key)
+    if p.exists() and not ours(p):
+        raise InputError(f"exists and is not {what} rvtol wrote: rvtol replaces only its own files; choose another "
+                         "name or move that file", file=str(path), key=key)
+    check_writable(p, key)
+    return p
+
+
+def check_distinct_targets(targets: dict[str, str]) -> None:
+    """InputError when two flags name one file (the second would replace the first): ``targets`` flag -> path."""
+    seen: dict[Path, str] = {}
+    for key, path in targets.items():
+        full = Path(path).absolute().resolve()
+        if full in seen:
+            raise InputError(f"names the same file as {seen[full]}: give each output its own file", file=str(path),
+                             key=key)
+        seen[full] = key
 
 
 @dataclass

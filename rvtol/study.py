@@ -750,13 +750,16 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
         (tmp / MANIFEST).write_text("\n".join(sorted([MANIFEST, *(p.name for p in tmp.iterdir())])), encoding="utf-8")
-        old = None
-        if out.exists():
-            old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
-            os.replace(out, old)
-        os.replace(tmp, out)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
+        try:
+            if out.exists():
+                os.replace(out, old)
+            os.replace(tmp, out)
+        except BaseException:   # stopped between the two renames: the previous folder goes back in place
+            if old.exists() and not out.exists():
+                os.replace(old, out)
+            raise
+        shutil.rmtree(old, ignore_errors=True)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
