@@ -36,7 +36,7 @@ EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2,
 VERDICT_EXIT = {"PASS": EXIT_PASS, "FAIL": EXIT_FAIL, "NO REQUIREMENTS": EXIT_NO_REQUIREMENTS, "EXPLORATORY": EXIT_PASS}
 
 #: errors of the machine, not of rvtol: reported as bad input (exit 2), never as an internal error
-_ENVIRONMENT_ERRNOS = {errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EDQUOT, errno.EPERM}
+_ENVIRONMENT_ERRNOS = {errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EDQUOT, errno.EPERM, errno.ENAMETOOLONG}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -305,7 +305,7 @@ def _start_workers_early(args) -> None:
 
     try:
         e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):    # the study's loading says what is wrong
         return
     e = e if isinstance(e, dict) else {}
     scheduler = args.scheduler or (e.get("scheduler") if isinstance(e.get("scheduler"), str) else None)
@@ -388,7 +388,9 @@ def _replacing(out: Path):
     """A temporary file beside ``out`` that replaces it when the block ends without an error: ``out`` is never
     half-written."""
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.rvtol-tmp-{secrets.token_hex(6)}")
+    from .runguard import TMP_SUFFIX
+
+    tmp = out.with_name(f".{out.name}{TMP_SUFFIX}{secrets.token_hex(6)}")
     try:
         yield tmp
         os.replace(tmp, out)

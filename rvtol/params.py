@@ -146,7 +146,13 @@ def read_toml(path: str | Path) -> tuple[dict, str]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"invalid TOML ({exc})", file=str(path), key="-") from None
+    except RecursionError:
+        raise SpecError(TOO_DEEP, file=str(path), key="-") from None
     return data, sha
+
+
+#: the reason of a file whose arrays or tables nest deeper than a parser can follow
+TOO_DEEP = "too deeply nested (arrays or tables within each other, deeper than rvtol's parser follows)"
 
 
 class Params:

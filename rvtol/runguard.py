@@ -253,7 +253,7 @@ def _json_object(path: Path) -> dict:
         if path.stat().st_size > 1 << 28:
             return {}
         data = json.loads(path.read_bytes())
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return {}
     return data if isinstance(data, dict) else {}
 
@@ -272,6 +272,12 @@ def _is_comparison(path: Path) -> bool:
 #: per kind of file a run or a comparison writes: what it is, and how an earlier one rvtol wrote is recognised
 OWN_FILES = {"junit": ("a JUnit report", _is_junit), "markdown": ("a Markdown summary", _is_markdown),
              "task_log": ("a task log", _is_task_log), "comparison": ("a comparison (JSON)", _is_comparison)}
+
+
+#: the longest file name most file systems take (ext4, XFS, Btrfs, APFS: 255 bytes; NTFS: 255 characters)
+NAME_MAX_BYTES = 255
+#: a file rvtol writes is written first as ``.NAME`` + this + 12 hex digits beside it, then renamed
+TMP_SUFFIX = ".rvtol-tmp-"
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -307,6 +313,11 @@ def check_output_file(path: str | Path, kind: str, key: str, inputs=(), out: Pat
         raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
                          "elsewhere", file=str(path), key=key)
     check_not_input(p, inputs, key)
+    longest = NAME_MAX_BYTES - len(".") - len(TMP_SUFFIX) - 12
+    if len(p.name.encode()) > longest:
+        raise InputError(f"the file's name is {len(p.name.encode())} bytes long: at most {longest} (a file name's "
+                         f"{NAME_MAX_BYTES}, less the temporary name rvtol writes it under first)", file=str(path),
+                         key=key)
     if p.exists() and not ours(p):
         raise InputError(f"exists and is not {what} rvtol wrote: rvtol replaces only its own files; choose another "
                          "name or move that file", file=str(path), key=key)

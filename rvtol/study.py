@@ -79,11 +79,16 @@ from .executors import Executor, make_executor
 from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, recording_calls, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
+from .runguard import NAME_MAX_BYTES
 from .registry import analysis_function, model_factory
 from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, merge_specs, read_requirements_file,
                    requirements_from_tables, spec_from_table)
+
+#: the longest report folder name: ``.NAME.tmp-<12 hex>`` and ``.NAME.old-<12 hex>`` are made beside it
+MAX_FOLDER_NAME_BYTES = NAME_MAX_BYTES - len(".") - len(".tmp-") - 12
+
 
 @dataclass
 class RunOptions:
@@ -204,6 +209,10 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     name = head.str("name", path.stem)
     if not name or any(c in name for c in "/\\") or name.startswith("."):
         raise head.error("name", f"invalid study name {name!r} (used as a folder name)")
+    if len(name.encode()) > MAX_FOLDER_NAME_BYTES:
+        raise head.error("name", f"the study name is {len(name.encode())} bytes long, and it names the report folder: "
+                                 f"at most {MAX_FOLDER_NAME_BYTES} (a file name's {NAME_MAX_BYTES}, less the temporary "
+                                 "names rvtol gives beside it); give a shorter name")
     title = head.str("title", name)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
@@ -654,6 +663,10 @@ def check_out_dir(out_dir: str | Path) -> Path:
     if full == cwd or full in cwd.parents:
         raise InputError("refusing to replace the current folder or one of its parents; name a subfolder",
                          file=where, key="--out")
+    if len(out.name.encode()) > MAX_FOLDER_NAME_BYTES:
+        raise InputError(f"the folder's name is {len(out.name.encode())} bytes long: at most {MAX_FOLDER_NAME_BYTES} "
+                         f"(a file name's {NAME_MAX_BYTES}, less the temporary names rvtol gives beside it)",
+                         file=where, key="--out")
     if out.exists():
         if not out.is_dir():
             raise InputError("exists and is not a folder", file=where, key="--out")
@@ -687,7 +700,7 @@ def foreign_files(folder: Path) -> list[str]:
 def _is_report_folder(path: Path) -> bool:
     try:
         return json.loads((path / "summary.json").read_text()).get("format", "").startswith("rvtol-summary/")
-    except (OSError, ValueError, AttributeError):
+    except (OSError, ValueError, AttributeError, RecursionError):
         return False
 
 

@@ -103,7 +103,7 @@ def load_run(path: str | Path, key: str = "-") -> RunData:
     if not summary_path.exists():
         raise InputError("no such report folder or summary.json" if not p.exists() else
                          "no summary.json in this folder: not an rvtol report", file=str(path), key=key)
-    from ..params import note_read, read_text
+    from ..params import TOO_DEEP, note_read, read_text
 
     try:
         summary = json.loads(read_text(summary_path, "a summary.json file")[0])
@@ -111,6 +111,8 @@ def load_run(path: str | Path, key: str = "-") -> RunData:
         raise InputError(f"cannot read summary.json ({exc.reason})", file=str(summary_path), key=key) from None
     except ValueError as exc:
         raise InputError(f"cannot read summary.json ({exc})", file=str(summary_path), key=key) from None
+    except RecursionError:
+        raise InputError(f"cannot read summary.json ({TOO_DEEP})", file=str(summary_path), key=key) from None
     validate_summary(summary, str(summary_path))
     samples = summary_path.parent / "samples.parquet"
     if samples.exists():
