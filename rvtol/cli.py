@@ -390,7 +390,7 @@ def _replacing(out: Path):
     out.parent.mkdir(parents=True, exist_ok=True)
     from .runguard import TMP_SUFFIX
 
-    tmp = out.with_name(f".{out.name}{TMP_SUFFIX}{secrets.token_hex(6)}")
+    tmp = out.with_name(f".{out.stem}{TMP_SUFFIX}{secrets.token_hex(6)}{out.suffix}")   # the suffix: its format
     try:
         yield tmp
         os.replace(tmp, out)

@@ -22,6 +22,7 @@ from typing import Any, Iterable
 
 from . import units
 from .errors import InputError, SpecError, did_you_mean
+from .safetext import control_character
 
 _MISSING = object()
 
@@ -249,12 +250,18 @@ class Params:
                             key=self.path(extra[0]))
 
     # -- typed getters -----------------------------------------------------
-    def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None) -> str:
+    def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None,
+            single_line: bool = False) -> str:
+        """A string: never with a control character (:mod:`rvtol.safetext`: no file rvtol writes could hold it
+        safely); ``single_line`` (a name: one line, one cell), nor a line break or a tab."""
         v = self.raw(name, default)
         if v is default and default is not _MISSING:
             return v
         if not isinstance(v, str):
             raise self.error(name, f"expected a string, got {_typename(v)}")
+        bad = control_character(v, name=single_line)
+        if bad:
+            raise self.error(name, f"{bad}: {'a name' if single_line else 'text in a study'} may hold none")
         if choices is not None:
             ch = list(choices)
             if v not in ch:

@@ -778,7 +778,7 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         if not 0.5 <= confidence < 1.0:
             raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
-        name = t.str("name", "")
+        name = t.str("name", "", single_line=True)
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         bound = t.str("bound", "one-sided", choices=BOUNDS)

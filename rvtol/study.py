@@ -206,14 +206,14 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
-    name = head.str("name", path.stem)
+    name = head.str("name", path.stem, single_line=True)
     if not name or any(c in name for c in "/\\") or name.startswith("."):
         raise head.error("name", f"invalid study name {name!r} (used as a folder name)")
     if len(name.encode()) > MAX_FOLDER_NAME_BYTES:
         raise head.error("name", f"the study name is {len(name.encode())} bytes long, and it names the report folder: "
                                  f"at most {MAX_FOLDER_NAME_BYTES} (a file name's {NAME_MAX_BYTES}, less the temporary "
                                  "names rvtol gives beside it); give a shorter name")
-    title = head.str("title", name)
+    title = head.str("title", name, single_line=True)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
     if parent is not None:
@@ -282,6 +282,11 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         model.check_spec(spec)
     except InputError as exc:
         raise exc.located(file=spec.file or file) from None
+    check_output_names(model, spec, data, file)
+    columns = len(spec) + len(model.outputs) + 1       # samples.xlsx: factors, outputs, status
+    if "xlsx" in options.tables and columns > XLSX_MAX_COLUMNS:
+        raise InputError(f"{columns} columns (factors, outputs, status) do not fit an XLSX sheet "
+                         f"({XLSX_MAX_COLUMNS}): write the samples as csv", file=file, key="report.tables")
     check_requirement_names(reqs)
     for r in reqs:
         if r.output not in model.output_names:
@@ -316,6 +321,25 @@ def _spec_paths(head: Params, base: Path) -> list[Path]:
             raise head.error("spec", "expected a file name or a list of file names")
         return [Path(x) if Path(x).is_absolute() else base / x for x in v]
     return [head.path_value("spec", base)]
+
+
+def check_output_names(model: Model, spec: ToleranceSpec, data: dict, file: str) -> None:
+    """Every output's name is one line without control characters (a model made by code names its own), and no
+    output shares its name with a factor: samples.parquet, the statistics and the report could not tell the two
+    apart (one column replaced the other).  Blamed at ``[[model.output]]``'s name where the study gives it."""
+    from .safetext import control_character
+
+    factors = set(spec.names)
+    tables = data.get("model", {}).get("output", []) if isinstance(data.get("model"), dict) else []
+    for q in model.outputs:
+        at = [i for i, t in enumerate(tables) if isinstance(t, dict) and t.get("name") == q.name]
+        key = f"model.output[{at[0]}].name" if at else "model"
+        bad = control_character(q.name, name=True)
+        if bad:
+            raise SpecError(f"the model's output {q.name!r} {bad}: a name may hold none", file=file, key=key)
+        if q.name in factors:
+            raise SpecError(f"an output and a factor share the name {q.name!r}: the samples, statistics and report "
+                            "could not tell them apart; rename the output", file=file, key=key)
 
 
 def check_requirement_names(reqs: list[Requirement]) -> None:
@@ -713,8 +737,8 @@ def _write_section_files(sections: list[Section], folder: Path) -> None:
             (folder / name).write_bytes(content)
 
 
-#: the most rows an XLSX sheet holds (Excel's limit, header included)
-XLSX_MAX_ROWS = 1_048_576
+#: the most rows and columns an XLSX sheet holds (Excel's limits, header included)
+XLSX_MAX_ROWS, XLSX_MAX_COLUMNS = 1_048_576, 16_384
 
 
 def write_tables(result: StudyResult, samples, folder: Path) -> None:

@@ -11,6 +11,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from ..safetext import visible
+
 
 def _fmt(v, f=".5g") -> str:
     return "—" if v is None else format(v, f)
@@ -82,6 +84,10 @@ def junit_tree(summary: dict, comparison=None) -> ET.ElementTree:
     root = ET.Element("testsuites", name="rvtol", tests=str(cases), failures=str(failures), errors="0",
                       skipped=str(skipped))
     root.append(suite)
+    for e in root.iter():       # XML 1.0 holds no control character: each shown as its escape (rvtol.safetext)
+        e.attrib.update({k: visible(v) for k, v in e.attrib.items()})
+        if e.text:
+            e.text = visible(e.text)
     ET.indent(root)
     return ET.ElementTree(root)
 

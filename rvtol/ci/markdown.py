@@ -8,6 +8,7 @@ from __future__ import annotations
 import html
 
 from .. import units
+from ..safetext import visible
 
 _ICON = {"PASS": "✅", "FAIL": "❌", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
 
@@ -25,12 +26,12 @@ def _ci(ci, fmt: str = ".4g") -> str:
 def _cell(s: str) -> str:
     """Text from the study (names, titles, reasons) in a Markdown table or heading: raw HTML escaped (a
     ``<script>`` in a requirement's name shows as text), pipes escaped, one line."""
-    return html.escape(str(s), quote=False).replace("|", "\\|").replace("\n", " ")
+    return html.escape(visible(str(s)), quote=False).replace("|", "\\|").replace("\n", " ")
 
 
 def _code(s) -> str:
     """Text in a code span: backticks cannot close it early."""
-    return "`" + str(s).replace("`", "'") + "`"
+    return "`" + visible(str(s)).replace("`", "'") + "`"
 
 
 def _table(head: list[str], rows: list[list]) -> list[str]:
