@@ -7,8 +7,10 @@ Exit codes (README, "Command line"):
       ``compare``: every gate holds
 1     a requirement fails (FAIL), or a gate of the baseline comparison fails
 2     bad input: one line ``rvtol: error: FILE: KEY: reason``, nothing written
-      (also: ``--out`` not writable, not enough memory or disk for n, the
-      output folder locked by another run)
+      (also: ``--out`` not writable, not enough memory or disk for n, more
+      workers than the machine holds, contradicting execution flags, an
+      output file that is an input or not rvtol's, the output folder locked
+      by another run)
 3     internal error — a bug: please report it with the ``--debug`` output
 4     no requirement checked (verdict NO REQUIREMENTS): nothing is demonstrated
 130   interrupted (SIGINT, Ctrl-C); 143 terminated (SIGTERM, a CI cancel):
@@ -301,17 +303,19 @@ def _start_workers_early(args) -> None:
     reports why; one the loaded study then contradicts is closed unused)."""
     import tomllib
 
-    from .executors import KINDS, start_early
+    from .executors import start_early
+    from .params import Params
+    from .runguard import workers_problem
+    from .study import execution_keys
 
     try:
         e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
-    except (OSError, ValueError, RecursionError):    # the study's loading says what is wrong
+        v = execution_keys(Params(e if isinstance(e, dict) else {}, file=args.study, key="execution"),
+                           {k: getattr(args, k) for k in ("executor", "workers", "scheduler")})
+    except (OSError, ValueError, RecursionError):    # the study's loading says what is wrong (InputError included)
         return
-    e = e if isinstance(e, dict) else {}
-    scheduler = args.scheduler or (e.get("scheduler") if isinstance(e.get("scheduler"), str) else None)
-    kind = "dask" if scheduler else (args.executor or e.get("executor", "process"))
-    workers = args.workers or e.get("workers")
-    if kind not in KINDS or not (workers is None or (type(workers) is int and workers >= 1)):
+    kind, workers, scheduler = v["executor"], v["workers"], v["scheduler"]
+    if workers_problem(kind, workers, scheduler):    # more than the machine holds: the checks refuse it, unstarted
         return
     start_early(kind, workers, scheduler)
 
@@ -338,9 +342,12 @@ def _run_study(args, ov: dict) -> int:
     check_writable(out, "--out")
     _check_file_targets(args, ("junit", "markdown", "task_log"), inputs, out)
     est = estimate_run(study)
-    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
+    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")),
+                    study.options, ("<command line>", "--workers") if args.workers is not None else
+                    (study.file, "execution.workers"))
     if not args.quiet:
         print(f"rvtol: {time_pilot(est, study).describe()}", file=sys.stderr)
+        _note_shared_cores(study.options)
 
     o = study.options
     key = run_key({"rvtol": __version__, "inputs": {r: v["sha256"] for r, v in study.inputs.items()},
@@ -381,6 +388,16 @@ def _run_study(args, ov: dict) -> int:
         if not comparison.passed:
             return EXIT_FAIL
     return VERDICT_EXIT[verdict]
+
+
+def _note_shared_cores(o) -> None:
+    """A note when the local workers outnumber the cores: they share them (what ``--task-log`` is run so for)."""
+    from .runguard import local_workers
+
+    w, cores = local_workers(o.executor, o.workers, o.scheduler), os.cpu_count() or 1
+    if w > cores:
+        print(f"rvtol: note: {w} workers share {cores} cores: the run is no faster than on {cores} (--task-log "
+              f"projects it on {w} dedicated cores)", file=sys.stderr)
 
 
 @contextlib.contextmanager

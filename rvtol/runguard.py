@@ -442,22 +442,114 @@ def time_pilot(est: RunEstimate, study, rows: int = 64) -> RunEstimate:
     return est
 
 
+#: where the kernel describes this process's control groups, and where their files are
+PROC_CGROUP, CGROUP_ROOT = Path("/proc/self/cgroup"), Path("/sys/fs/cgroup")
+#: a cgroup v1 limit at or above this is "no limit" (the kernel writes 2⁶³ rounded down to a page)
+_NO_LIMIT = 1 << 60
+
+
+def _read_int(path: Path) -> int | None:
+    try:
+        text = path.read_text().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None       # v2 writes "max" for no limit
+
+
+def cgroup_memory_left(proc_cgroup: Path | None = None, root: Path | None = None) -> int | None:
+    """Bytes the memory limits of this process's control groups still allow (a container's limit, which the
+    machine's free memory does not show): the least of limit − usage over its group and the groups above it —
+    cgroup v2 ``memory.max`` − ``memory.current``, v1 ``memory.limit_in_bytes`` − ``memory.usage_in_bytes``
+    (Linux's Documentation/admin-guide/cgroup-v2.rst and cgroup-v1/memory.rst); None without a limit."""
+    proc_cgroup, root = proc_cgroup or PROC_CGROUP, root or CGROUP_ROOT
+    try:
+        lines = proc_cgroup.read_text().splitlines()
+    except OSError:
+        return None
+    left = []
+    for line in lines:
+        _, controllers, path = line.split(":", 2)
+        if controllers == "":                                           # v2: "0::/path"
+            base, files = root / "unified" if (root / "unified").is_dir() else root, ("memory.max", "memory.current")
+        elif "memory" in controllers.split(","):                        # v1: "4:memory:/path"
+            base, files = root / "memory", ("memory.limit_in_bytes", "memory.usage_in_bytes")
+        else:
+            continue
+        d = base / path.lstrip("/")
+        for g in (d, *d.parents):
+            limit, used = _read_int(g / files[0]), _read_int(g / files[1])
+            if limit is not None and limit < _NO_LIMIT:
+                left.append(max(0, limit - (used or 0)))
+            if g == base:
+                break
+    return min(left) if left else None
+
+
 def available_memory() -> int | None:
+    """Memory the run may still take: the machine's available memory, or less under a control group's limit."""
     try:
         import psutil
 
-        return int(psutil.virtual_memory().available)
+        avail = int(psutil.virtual_memory().available)
     except Exception:  # pragma: no cover - psutil missing or unsupported platform
         return None
+    left = cgroup_memory_left()
+    return avail if left is None else min(avail, left)
 
 
-def check_resources(est: RunEstimate, out: Path, n_file: str, n_key: str) -> None:
-    """InputError when the Monte Carlo cannot fit in memory (key ``n_key``) or on disk (``--out``)."""
+#: private memory of one local worker at its peak (measured on linear_stackup, figures rendered on the workers: a
+#: process-pool worker, forked from the preloaded fork server, 26–36 MB; a Dask LocalCluster worker, an interpreter
+#: of its own, 152–159 MB)
+WORKER_MEMORY = {"process": 36_000_000, "dask": 160_000_000}
+#: open files the run holds per local worker (its pipe and its process sentinel: measured 2 each) and besides them
+FILES_PER_WORKER, FILES_BESIDE = 2, 64
+
+
+def local_workers(executor: str, workers: int | None, scheduler: str | None) -> int:
+    """The worker processes a run starts on this machine: none for the serial executor or a running Dask cluster."""
+    if executor == "serial" or scheduler:
+        return 0
+    return workers or os.cpu_count() or 1
+
+
+def open_files_limit() -> int | None:
+    import resource
+
+    soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    return None if soft == resource.RLIM_INFINITY else soft
+
+
+def workers_problem(executor: str, workers: int | None, scheduler: str | None, beside: int = 0) -> str | None:
+    """Why this machine cannot hold the run's local workers — more open files than ``ulimit -n`` allows, or more
+    memory than is available beside ``beside`` bytes (the Monte Carlo's) —, or None."""
+    w = local_workers(executor, workers, scheduler)
+    if not w:
+        return None
+    soft = open_files_limit()
+    if soft is not None and FILES_BESIDE + FILES_PER_WORKER * w > soft:
+        return (f"{w} workers need about {FILES_BESIDE + FILES_PER_WORKER * w} open files and this process may open "
+                f"{soft} (ulimit -n): at most {max(0, (soft - FILES_BESIDE) // FILES_PER_WORKER)} workers")
+    avail, each = available_memory(), WORKER_MEMORY[executor]
+    if avail is not None and beside + w * each > avail:
+        with_mc = f", beside the Monte Carlo's {human_bytes(beside)}" if beside else ""
+        return (f"{w} workers need about {human_bytes(w * each)} of memory ({human_bytes(each)} each{with_mc}) and "
+                f"{human_bytes(avail)} are available: at most {max(0, (avail - beside) // each)} workers fit")
+    return None
+
+
+def check_resources(est: RunEstimate, out: Path, n_file: str, n_key: str, options=None,
+                    workers_at: tuple[str, str] = ("<command line>", "--workers")) -> None:
+    """InputError when the Monte Carlo cannot fit in memory (key ``n_key``) or on disk (``--out``), or this machine
+    cannot hold the local workers of ``options`` (:func:`workers_problem`, at ``workers_at``: file and key)."""
     avail = available_memory()
     if avail is not None and est.memory > avail:
         raise InputError(f"n = {est.n:,} needs about {human_bytes(est.memory)} of memory for the Monte Carlo "
                          f"({est.factors} factors, {est.outputs} outputs) and {human_bytes(avail)} are available; "
                          f"lower n (about {max(2, int(est.n * avail / est.memory)):,} fit)", file=n_file, key=n_key)
+    if options is not None:
+        why = workers_problem(options.executor, options.workers, options.scheduler, est.memory)
+        if why:
+            raise InputError(why, file=workers_at[0], key=workers_at[1])
     where = _existing_ancestor(out.parent)
     free = shutil.disk_usage(where).free
     if est.disk > free:

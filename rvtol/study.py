@@ -472,9 +472,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
         n=s.int("n", 10000, min=2),
         method=s.str("method", "lhs", choices=METHODS),
         seed=s.int("seed", 12345, min=0),
-        executor=e.str("executor", "process", choices=EXECUTOR_KINDS),
-        workers=e.int("workers", None, min=1),
-        scheduler=e.str("scheduler", None),
+        **execution_keys(e, ov),
         chunk_size=e.int("chunk_size", 0, min=0) or None,
         pdf=r.bool("pdf", True),
         confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
@@ -483,7 +481,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
     for p in (s, e, r):
         p.finish()
     for k, v in ov.items():
-        if v is None:
+        if v is None or k in _EXECUTION:
             continue
         if not hasattr(o, k):
             raise InputError(f"unknown option {k!r}", key=k)
@@ -495,9 +493,47 @@ def _options(root: Params, ov: dict) -> RunOptions:
     if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
         raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
                          file=root.file, key="report.tables")
-    if o.scheduler and o.executor != "dask":
-        o.executor = "dask"
     return o
+
+
+#: the keys that choose where the model runs ([execution] and the command line's flags)
+_EXECUTION = ("executor", "workers", "scheduler")
+
+
+def _contradiction(v: dict) -> tuple[str, str, str] | None:
+    """Two execution keys that cannot both hold: ``(key, other key, why)`` — ``why`` names the other as ``{other}``
+    —, or None."""
+    if v["executor"] == "serial" and v["workers"] is not None and v["workers"] > 1:
+        return "workers", "executor", (f"{v['workers']} workers with {{other}}, which evaluates everything in this "
+                                       "process: ask for the process or dask executor")
+    if v["scheduler"] is not None and v["executor"] in ("serial", "process"):
+        return "scheduler", "executor", "a Dask scheduler with {other}, which does not use one"
+    if v["scheduler"] is not None and v["workers"] is not None:
+        return "workers", "scheduler", "workers with {other}: a running Dask cluster has its own (workers start a " \
+                                       "local one)"
+    return None
+
+
+def execution_keys(e: Params, ov: dict) -> dict:
+    """``executor``, ``workers``, ``scheduler``: the command line's values over ``[execution]``'s.  Two that contradict
+    each other (:func:`_contradiction`) are refused when one source gives both; when the command line gives one and
+    the study file the other, the command line's wins and the file's is dropped (``--workers 4`` runs a study written
+    serial on a process pool; ``--scheduler`` one written for a process pool on Dask, as ``--executor`` would)."""
+    given = {"file": {"executor": e.str("executor", None, choices=EXECUTOR_KINDS),
+                      "workers": e.int("workers", None, min=1), "scheduler": e.str("scheduler", None)},
+             "cli": {k: ov.get(k) for k in _EXECUTION}}
+    src = {k: "cli" if given["cli"][k] is not None else "file" for k in _EXECUTION}
+    v = {k: given[src[k]][k] for k in _EXECUTION}
+    while (c := _contradiction(v)) is not None:
+        key, other, why = c
+        if src[key] != src[other]:            # the file's yields to the command line's
+            v[key if src[key] == "file" else other] = None
+            continue
+        if src[key] == "cli":
+            raise InputError(why.format(other=f"--{other} {v[other]}"), file="<command line>", key=f"--{key}")
+        raise e.error(key, why.format(other=f"{other} = {v[other]!r}"))
+    v["executor"] = v["executor"] or ("dask" if v["scheduler"] else "process")
+    return v
 
 
 #: table formats a report folder can hold beside samples.parquet
