@@ -15,7 +15,8 @@ from typing import Iterable
 
 #: what a suggestion may be: a name (at most 64 characters, no character a line of a configuration or credential
 #: file is made of — ``=``, ``:``, ``$``, ... —, no control character, single spaces)
-_SUGGESTIBLE = re.compile(r"(?=.{1,64}$)[^\s=:$;{}<>|!?~&@#`\\\x00-\x1f\x7f-\x9f]+(?: [^\s=:$;{}<>|!?~&@#`\\\x00-\x1f\x7f-\x9f]+)*")
+_WORD = r"[^\s=:$;{}<>|!?~&@#`\\\x00-\x1f\x7f-\x9f]+"
+_SUGGESTIBLE = re.compile(rf"(?=.{{1,64}}$){_WORD}(?: {_WORD})*")
 
 
 def did_you_mean(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str:

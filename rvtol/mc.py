@@ -24,7 +24,7 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
+from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, requirement_state, yield_bound
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -263,6 +263,11 @@ class Verdict:
     n_to_demonstrate: int | None = None
 
     @property
+    def state(self) -> str:
+        """PASS, UNDECIDED or FAIL (:func:`rvtol.verdict.requirement_state`): the word every output gives it."""
+        return requirement_state(self.passed, self.n_to_demonstrate)
+
+    @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
         """The Cpk and lower bound the requirement is judged on (its ``cpk_method``)."""
         method = "cpk_percentile" if self.requirement.cpk_method == "percentile" else "cpk"
@@ -282,7 +287,8 @@ class Verdict:
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
             "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
+            "passed": self.passed, "state": self.state, "reasons": self.reasons,
+            "n_to_demonstrate": self.n_to_demonstrate,
         }
 
 

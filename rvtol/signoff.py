@@ -16,8 +16,9 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   reach and the tightening of its largest driver that would give it, to first order
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
   the allocation analysis gives cost-optimal tolerances that are checked by Monte Carlo;
-* **a traffic light** — green: demonstrated; amber: not demonstrated, but the estimate meets the
-  requirement (more samples would decide); red: the estimate itself misses it;
+* **a traffic light** — the requirement's state (:func:`rvtol.verdict.requirement_state`, the word every output
+  gives it): green PASS, demonstrated; amber UNDECIDED, not demonstrated, but the estimate meets the
+  requirement (more samples would decide); red FAIL, the estimate itself misses it;
 * **fixes by kind**, cheapest first (:data:`FIX_KINDS`): more samples (amber), re-centre (a two-sided
   band the present spread fits when the mean sits in its middle: a nominal moves, no tolerance
   changes), tighten (the first-order scaling above), redesign (the mean on or beyond a limit: no
@@ -37,14 +38,13 @@ from .mc import MonteCarloResult
 from .model import Model
 from .sensitivity.drivers import Driver, first_order_drivers
 from .spec import ToleranceSpec
+from .verdict import FAIL, PASS, STATE_UNDECIDED
 
 
 #: the kinds of fix, cheapest first: what a quality engineer tries in this order
 FIX_KINDS = ("more samples", "re-centre", "tighten", "redesign")
-#: the traffic light of a requirement and what it means
-LIGHTS = {"green": "demonstrated at its confidence",
-          "amber": "not demonstrated: the estimate meets it, more samples would decide",
-          "red": "the estimate itself misses it"}
+#: the colour of a requirement's state (:data:`rvtol.verdict.REQUIREMENT_STATES`) on the first page
+LIGHTS = {PASS: "green", STATE_UNDECIDED: "amber", FAIL: "red"}
 
 
 @dataclass
@@ -80,14 +80,19 @@ class RequirementDigest:
     drivers: list[Driver] = field(default_factory=list)
     change: str = ""
     overlaps: list[str] = field(default_factory=list)   # pairs of drivers correlated in the spec
-    light: str = "green"                                 # :data:`LIGHTS`
+    state: str = PASS                                    # :func:`rvtol.verdict.requirement_state`
     yield_: float | None = None                          # the yield estimate
     cpk: float | None = None                             # the Cpk estimate (the one the requirement is judged on)
     fixes: list[Fix] = field(default_factory=list)       # the digest's own, first-order (analyses add theirs)
 
+    @property
+    def light(self) -> str:
+        """green, amber or red: the colour of its state (:data:`LIGHTS`)."""
+        return LIGHTS[self.state]
+
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
-                "verdict": "PASS" if self.passed else "FAIL", "mean": self.mean, "P99.865": self.p99865,
+                "verdict": self.state, "mean": self.mean, "P99.865": self.p99865,
                 "P0.135": self.p00135, "yield_lower_bound": self.yield_lo, "cpk_lower_bound": self.cpk_lo,
                 "reasons": self.reasons,
                 "drivers": [{"tolerance": d.tolerance, "S1": d.s1, "factors": d.factors} for d in self.drivers],
@@ -115,7 +120,7 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
         d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
-        d.light = "green" if v.passed else ("amber" if v.n_to_demonstrate else "red")
+        d.state = v.state
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
             d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output))

@@ -257,3 +257,27 @@ def study_verdict(passed: list[bool], exploratory: bool = False) -> str:
     if not passed:
         return EXPLORATORY if exploratory else NO_REQUIREMENTS
     return PASS if all(passed) else FAIL
+
+
+# --------------------------------------------------------------------------- a requirement's state
+#: the state of a requirement more samples would decide (:func:`requirement_state`)
+STATE_UNDECIDED = "UNDECIDED"
+#: a requirement's state — the one word the CLI, summary.json, JUnit, Markdown, the report and the one-page summary
+#: give it — and what it means; the run's verdict is PASS only when every requirement's state is PASS
+REQUIREMENT_STATES = {PASS: "demonstrated at its confidence",
+                      STATE_UNDECIDED: "not demonstrated: the estimate meets it, more samples would decide",
+                      FAIL: "not demonstrated: the estimate itself misses it"}
+
+
+def requirement_state(passed: bool, n_to_demonstrate: int | None = None) -> str:
+    """PASS (demonstrated), UNDECIDED (not demonstrated at this n, but the estimate meets it: :func:`judge` gave the
+    n that would demonstrate it) or FAIL — :data:`REQUIREMENT_STATES`."""
+    if passed:
+        return PASS
+    return STATE_UNDECIDED if n_to_demonstrate else FAIL
+
+
+def state_of(record: dict) -> str:
+    """The state of a requirement as summary.json records it: its ``state`` (from ``passed`` and
+    ``n_to_demonstrate`` in a summary written before it had one)."""
+    return record.get("state") or requirement_state(bool(record.get("passed")), record.get("n_to_demonstrate"))

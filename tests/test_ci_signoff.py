@@ -139,7 +139,7 @@ def test_junit_of_a_failing_requirement_and_of_a_study_that_checks_nothing(tmp_p
     assert run(tmp_path, study, "f", "--junit", str(tmp_path / "f.xml")) == 1
     case = ET.parse(tmp_path / "f.xml").getroot().find("testsuite/testcase")
     assert case.get("name") == "gap ≤ 6 µm"
-    assert case.find("failure").get("message").startswith("yield lower bound ") and "ppm" in case.find("failure").text
+    assert case.find("failure").get("message").startswith("FAIL: yield lower bound ") and "ppm" in case.find("failure").text
 
     bare = make(tmp_path, "bare", 30.0, gates="")
     bare.write_text(bare.read_text().split("[[requirement]]")[0])

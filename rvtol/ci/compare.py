@@ -11,7 +11,8 @@ a run in memory.  :func:`compare` then gives a :class:`Comparison`:
   (same seed, n, method and factors) the interval is the *paired* one on
   common random numbers, shown beside the unpaired one with the gain (how
   many times narrower) — see :mod:`rvtol.ci.differences`;
-* per requirement the verdict before and after and the change of its
+* per requirement its state before and after (PASS, UNDECIDED, FAIL:
+  :func:`rvtol.verdict.requirement_state`) and the change of its
   non-conforming ppm with its interval;
 * the gates of the new run (:mod:`rvtol.ci.gates`; by default: no requirement
   may get worse) and the comparison's verdict, PASS or FAIL.
@@ -32,6 +33,7 @@ import numpy as np
 from .. import units
 from ..errors import InputError
 from ..sampling import substream
+from ..verdict import state_of
 from . import differences as df
 from .gates import DEFAULT_GATES, Gate
 
@@ -424,7 +426,7 @@ def _flags(ppm: float | None, n: int) -> np.ndarray:
 
 
 def _v(r: dict | None) -> str:
-    return "—" if r is None else ("PASS" if r["passed"] else "FAIL")
+    return "—" if r is None else state_of(r)
 
 
 def _judge_gate(g: Gate, cmp: Comparison) -> GateResult:
@@ -434,8 +436,8 @@ def _judge_gate(g: Gate, cmp: Comparison) -> GateResult:
             label, ppm = r["requirement"], r["ppm"]
             if r["base_verdict"] != "—" and r["new_verdict"] == "—":
                 res.reasons.append(f"requirement {label!r} of the baseline is gone")
-            elif r["base_verdict"] == "PASS" and r["new_verdict"] == "FAIL":
-                res.reasons.append(f"{label}: PASS → FAIL")
+            elif r["base_verdict"] == "PASS" and r["new_verdict"] != "PASS":
+                res.reasons.append(f"{label}: PASS → {r['new_verdict']}")
             elif ppm["ci"][0] is not None and ppm["ci"][0] > g.max_ppm_increase:
                 res.reasons.append(f"{label}: non-conforming ppm rose by {ppm['change']:.4g} "
                                    f"[{ppm['ci'][0]:.4g}, {ppm['ci'][1]:.4g}]"

@@ -9,8 +9,9 @@ import html
 
 from .. import units
 from ..safetext import visible
+from ..verdict import state_of
 
-_ICON = {"PASS": "✅", "FAIL": "❌", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
+_ICON = {"PASS": "✅", "FAIL": "❌", "UNDECIDED": "🟡", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
 
 
 def _f(v, fmt: str = ".4g") -> str:
@@ -27,6 +28,11 @@ def _cell(s: str) -> str:
     """Text from the study (names, titles, reasons) in a Markdown table or heading: raw HTML escaped (a
     ``<script>`` in a requirement's name shows as text), pipes escaped, one line."""
     return html.escape(visible(str(s)), quote=False).replace("|", "\\|").replace("\n", " ")
+
+
+def _state(word: str) -> str:
+    """A requirement's or a gate's state with its icon."""
+    return f"{_ICON[word]} {word}"
 
 
 def _code(s) -> str:
@@ -62,7 +68,7 @@ def render_markdown(summary: dict, comparison=None) -> str:
                          f"{_f(r['cpk'], '.3f')} (bound {_f(r.get('cpk_bound'), '.3f')})" if r.get("cpk") is not None
                          else "—",
                          f"{r['n_to_demonstrate']:,}" if r.get("n_to_demonstrate") else "",
-                         ("✅ PASS" if r["passed"] else "❌ FAIL") + ("" if r["passed"] else f" — {r['reasons'][0]}")])
+                         _state(state_of(r)) + ("" if r["passed"] else f" — {r['reasons'][0]}")])
         lines += _table(["requirement", "needs", "judged on (lower bound)", "yield [two-sided CI]", "yield bound",
                          "ppm", "Cpk", "n to demonstrate", "result"], rows)
         if any(r.get("min_yield_default") for r in reqs):
@@ -106,6 +112,6 @@ def comparison_markdown(c) -> list[str]:
                           f"{_f(r['ppm']['change'], '.4g')} {_ci(r['ppm']['ci'])}"] for r in c.requirements])
         lines.append("")
     lines += _table(["gate", "result", "why"],
-                    [[g.gate.name, "✅ PASS" if g.passed else "❌ FAIL", "; ".join(g.reasons or g.figures)]
+                    [[g.gate.name, _state("PASS" if g.passed else "FAIL"), "; ".join(g.reasons or g.figures)]
                      for g in c.gates])
     return lines

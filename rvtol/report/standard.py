@@ -63,7 +63,7 @@ def verdict_section(result) -> Section:
             "Cpk [CI]": _fmt_ci(c["cpk"], c["cpk_lo"], c["cpk_hi"], "{:.3f}"),
             "Cpk bound": _fmt_ci(v.cpk_bound, None, None, "{:.3f}"),
             "Cpk percentile [CI]": _fmt_ci(c["cpk_percentile"], *v.cpk_percentile_ci, "{:.3f}"),
-            "result": "PASS" if v.passed else "FAIL",
+            "result": v.state,
             "n to demonstrate": f"{v.n_to_demonstrate:,}" if v.n_to_demonstrate else "",
             "why": "; ".join(v.reasons),
         })
