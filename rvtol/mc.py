@@ -265,7 +265,7 @@ class Verdict:
     @property
     def state(self) -> str:
         """PASS, UNDECIDED or FAIL (:func:`rvtol.verdict.requirement_state`): the word every output gives it."""
-        return requirement_state(self.passed, self.n_to_demonstrate)
+        return requirement_state(self.passed, bool(self.n_to_demonstrate))
 
     @property
     def judged_cpk(self) -> tuple[float | None, float | None]:

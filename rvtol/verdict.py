@@ -269,15 +269,15 @@ REQUIREMENT_STATES = {PASS: "demonstrated at its confidence",
                       FAIL: "not demonstrated: the estimate itself misses it"}
 
 
-def requirement_state(passed: bool, n_to_demonstrate: int | None = None) -> str:
-    """PASS (demonstrated), UNDECIDED (not demonstrated at this n, but the estimate meets it: :func:`judge` gave the
-    n that would demonstrate it) or FAIL — :data:`REQUIREMENT_STATES`."""
+def requirement_state(passed: bool, more_would_decide: bool = False) -> str:
+    """PASS (demonstrated), UNDECIDED (not demonstrated, but the estimate meets it and more samples would decide:
+    :func:`judge` gave the n that would demonstrate it) or FAIL — :data:`REQUIREMENT_STATES`."""
     if passed:
         return PASS
-    return STATE_UNDECIDED if n_to_demonstrate else FAIL
+    return STATE_UNDECIDED if more_would_decide else FAIL
 
 
 def state_of(record: dict) -> str:
     """The state of a requirement as summary.json records it: its ``state`` (from ``passed`` and
     ``n_to_demonstrate`` in a summary written before it had one)."""
-    return record.get("state") or requirement_state(bool(record.get("passed")), record.get("n_to_demonstrate"))
+    return record.get("state") or requirement_state(bool(record.get("passed")), bool(record.get("n_to_demonstrate")))
