@@ -474,19 +474,18 @@ def _compare(args) -> int:
 
 
 def _print_result(result) -> None:
+    from .precision import requirements_scale, shown
+    from .verdict import describe_bound
+
     mc, st = result.mc, result.study
     print(f"rvtol {__version__} · study {st.name} · {mc.n} samples ({st.options.method}, seed {st.options.seed})"
           f" · {result.executor} · {result.elapsed:.1f} s")
     stt = mc.statistics()
-    print(f"{'output':<28}{'unit':>8}{'mean':>12}{'std':>12}{'P99.865':>12}{'failed':>8}")
-    for name, r in stt.iterrows():
-        if r.get("n", 0):
-            print(f"{name:<28}{r['unit']:>8}{r['mean']:>12.4g}{r['std']:>12.4g}{r['P99.865']:>12.4g}"
-                  f"{int(r['failed']):>8}")
-        else:
-            print(f"{name:<28}{r['unit']:>8}{'—':>12}{'—':>12}{'—':>12}{int(r['failed']):>8}")
-    from .verdict import describe_bound
-
+    print(f"{'output':<28}{'unit':>8}{'mean':>14}{'std':>14}{'P99.865':>14}{'failed':>8}")
+    for name, r in stt.iterrows():      # the decimals resolve the output's band (rvtol.precision)
+        scale = requirements_scale(mc.requirements, name, r.get("std"))
+        cells = [shown(r[k], scale) if r.get("n", 0) else "—" for k in ("mean", "std", "P99.865")]
+        print(f"{name:<28}{r['unit']:>8}" + "".join(f"{c:>14}" for c in cells) + f"{int(r['failed']):>8}")
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]

@@ -233,6 +233,7 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
         return T.NOTHING_EVALUATED
     t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
+    mean, sigma, t.target = _in_unit(r, sigma, mean, sigma, t.target)
     if t.target is None:
         return T.MEAN_BEYOND.format(mean=mean, unit=unit)
     if not drivers:
@@ -247,6 +248,15 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
                           explained=t.explained)
 
 
+def _in_unit(r, sigma: float | None, *values) -> list:
+    """``values`` in ``r``'s unit as numbers that show the decimals resolving its limit interval, else the output's
+    σ (:class:`rvtol.precision.Scaled`: the sentences' ``{mean:.4g}`` resolve the band)."""
+    from .precision import Scaled, output_scale
+
+    scale = output_scale([(r.lower, r.upper)], sigma)
+    return [None if v is None else Scaled(v, scale) for v in values]
+
+
 def _evaluated(mc, output: str):
     """The output's evaluated samples, in the requirement's unit (the Monte Carlo's display unit)."""
     return mc.column(output)[mc.ok]
@@ -258,6 +268,8 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
 
     def fix(kind, template, **numbers):
+        names = [k for k in numbers if k in ("mean", "sigma", "target", "mid", "shift", "centred", "limit")]
+        numbers.update(zip(names, _in_unit(r, sigma, *(numbers[k] for k in names))))
         return Fix(r.label, kind, *(part.format(**numbers) for part in template))
 
     if n_to_demonstrate:

@@ -6,8 +6,10 @@ the same text is appended there and shows on the run's page.
 from __future__ import annotations
 
 import html
+from functools import partial
 
 from .. import units
+from ..precision import shown
 from ..safetext import visible
 from ..verdict import state_of
 
@@ -18,10 +20,12 @@ def _f(v, fmt: str = ".4g") -> str:
     return "—" if v is None else format(v, fmt)
 
 
-def _ci(ci, fmt: str = ".4g") -> str:
+def _ci(ci, fmt=".4g") -> str:
+    """``[lo, hi]``; ``fmt`` a format spec or a function of the number."""
     if not ci or None in ci:
         return "—"
-    return f"[{format(ci[0], fmt)}, {format(ci[1], fmt)}]"
+    form = fmt if callable(fmt) else (lambda v: format(v, fmt))
+    return f"[{form(ci[0])}, {form(ci[1])}]"
 
 
 def _cell(s: str) -> str:
@@ -96,10 +100,11 @@ def comparison_markdown(c) -> list[str]:
     else:
         lines += ["No change of the tolerance spec.", ""]
     rows = []
-    for name, o in c.outputs.items():
+    for name, o in c.outputs.items():       # in the output's unit: the decimals resolve its band (rvtol.precision)
+        num = partial(shown, scale=o.get("scale"))
         for ch in o["changes"]:
-            rows.append([name, ch.statistic, f"{_f(ch.base)} → {_f(ch.new)} {units.label(o['unit'])}", _f(ch.change),
-                         _ci(ch.ci), _ci(ch.unpaired_ci) if ch.unpaired_ci else "—",
+            rows.append([name, ch.statistic, f"{num(ch.base)} → {num(ch.new)} {units.label(o['unit'])}",
+                         num(ch.change), _ci(ch.ci, num), _ci(ch.unpaired_ci, num) if ch.unpaired_ci else "—",
                          f"{ch.gain:.3g}×" if ch.gain else "—"])
     if rows:
         lines += _table(["output", "statistic", "baseline → new", "change", f"{pct} interval",

@@ -11,6 +11,7 @@ import re
 import pandas as pd
 
 from ..callouts import short_label
+from ..precision import output_scale, shown
 from ..signoff import FIX_KINDS
 from ..units import label
 from ..blocks import Links, Section
@@ -44,8 +45,10 @@ def signoff_section(result) -> Section:
                  + " ".join(f"{k}: {v}." for k, v in REQUIREMENT_STATES.items()))
     rows, staged = [], any(d.model for d in digests)
     cpk_asked = any(reqs[d.label].min_cpk is not None for d in digests)
+    stt = result.mc.statistics()
     for d in digests:
         r = reqs[d.label]
+        scale = output_scale([(r.lower, r.upper)], stt.loc[d.output].get("std"))   # the decimals resolve its band
         needs = " and ".join(x for x in (f"yield ≥ {r.min_yield:g}" if r.min_yield is not None else "",
                                          f"Cpk ≥ {r.min_cpk:g}" if r.min_cpk is not None else "") if x)
         row = {"": f"● {d.state}", "requirement": short_label(d.label, 90)}
@@ -55,7 +58,8 @@ def signoff_section(result) -> Section:
                     "Cpk": _num(d.cpk, "{:.2f}")})
         if cpk_asked:
             row["Cpk bound"] = _num(d.cpk_lo, "{:.2f}")
-        row.update({"mean": _num(d.mean), "P0.135 … P99.865": f"{_num(d.p00135)} … {_num(d.p99865)}",
+        row.update({"mean": shown(d.mean, scale), "P0.135 … P99.865": f"{shown(d.p00135, scale)} … "
+                                                                       f"{shown(d.p99865, scale)}",
                     "unit": label(d.unit)})
         rows.append(row)
     sec.add_table(pd.DataFrame(rows), caption="Every requirement (its full name, intervals and reasons in the "
@@ -64,8 +68,8 @@ def signoff_section(result) -> Section:
     drows = []
     watched = [d for d in digests if d.state != PASS] or digests    # the failures' drivers; all when all pass
     for d in watched:
-        shown = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
-        for drv in shown:
+        listed = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
+        for drv in listed:
             drows.append({"requirement": d.label, "drawing tolerance": short_label(drv.tolerance),
                           "share of variance (S1)": f"{100 * drv.s1:.0f} %",
                           "factors": ", ".join(drv.factors[:2]) + (f" (+{len(drv.factors) - 2})"
