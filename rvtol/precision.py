@@ -4,8 +4,9 @@ Four significant digits hide what a tolerance engineer reads a report for: a mea
 reads 19.99 (half the band gone), a 5-µm mean shift of a 42-mm part reads ``μ=42.01 → μ=42``.  Every number in a
 unit — a mean, σ, a percentile, a limit, a change — is shown in fixed point with the decimals that resolve
 1/:data:`RESOLUTION` of its **scale** (:func:`decimals`): the requirement's limit interval (upper − lower) for an
-output, a factor's drawing band, else the output's σ (:func:`output_scale`) — and never with fewer than four
-significant digits (what the writers showed before); a number with no scale keeps four significant digits.
+output, a factor's drawing band, else the output's σ (:func:`output_scale`) — and with four significant digits
+where that needs more (what the writers showed before, to 1/100 000 of the scale at most); a number with no scale
+keeps four significant digits.
 """
 from __future__ import annotations
 
@@ -14,8 +15,10 @@ import re
 
 #: a scale is resolved to 1/RESOLUTION of itself (a 12-µm band to 0.12 µm: four decimals in mm)
 RESOLUTION = 100
-#: and a number never shows fewer significant digits than before (what the writers' ``.4g`` gave)
+#: and a number shows at least this many significant digits (what the writers' ``.4g`` gave) ...
 SIGNIFICANT = 4
+#: ... with at most this many decimals more than the scale needs (to 1/100 000 of it)
+FINER = 3
 
 
 def decimals(scale: float | None) -> int | None:
@@ -27,9 +30,9 @@ def decimals(scale: float | None) -> int | None:
 
 
 def shown(value, scale: float | None = None, sig: int = SIGNIFICANT) -> str:
-    """``value`` in fixed point with the :func:`decimals` of ``scale`` — and at least ``sig`` significant digits
-    when it is not below that resolution (a σ of 0.01667 on a 0.1 band stays 0.01667, not 0.017) —; ``sig``
-    significant digits without a scale; ``—`` for no number."""
+    """``value`` in fixed point with the :func:`decimals` of ``scale`` — and at least ``sig`` significant digits (a σ
+    of 0.01667 on a 0.1 band stays 0.01667, not 0.017), but at most :data:`FINER` decimals more (round-off such
+    as 1e-17 reads 0.00000) —; ``sig`` significant digits without a scale; ``—`` for no number."""
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -39,8 +42,8 @@ def shown(value, scale: float | None = None, sig: int = SIGNIFICANT) -> str:
     d = decimals(scale)
     if d is None:
         return f"{v:.{sig}g}"
-    if v != 0 and abs(v) >= 10.0 ** -d:
-        d = max(d, sig - 1 - math.floor(math.log10(abs(v))))
+    if v != 0:
+        d = max(d, min(sig - 1 - math.floor(math.log10(abs(v))), d + FINER))
     s = f"{v:.{d}f}"
     return s[1:] if s.startswith("-") and float(s) == 0 else s        # no "-0.000"
 

@@ -268,7 +268,8 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
 
     def fix(kind, template, **numbers):
-        names = [k for k in numbers if k in ("mean", "sigma", "target", "mid", "shift", "centred", "limit")]
+        names = [k for k in numbers if k in ("mean", "sigma", "target", "mid", "shift", "centred")]   # not a limit:
+        # it reads as the requirement writes it
         numbers.update(zip(names, _in_unit(r, sigma, *(numbers[k] for k in names))))
         return Fix(r.label, kind, *(part.format(**numbers) for part in template))
 

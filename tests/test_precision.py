@@ -22,7 +22,8 @@ def test_decimals_resolve_a_hundredth_of_the_scale(scale, d):
 def test_shown_resolves_the_band_and_never_shows_fewer_than_four_digits():
     assert shown(19.994, 0.012) == "19.9940" and f"{19.994:.4g}" == "19.99"       # what 4 digits gave
     assert shown(0.01667, 0.1) == "0.01667"                       # σ keeps its four digits (0.017 would lose some)
-    assert shown(60.0, 0.1) == "60.000" and shown(-1e-15, 0.1) == "0.000"        # below the resolution: zero
+    assert shown(60.0, 0.1) == "60.000" and shown(0.0031, 5.8) == "0.00310"        # 4 digits, 3 decimals more...
+    assert shown(-1e-15, 0.1) == "0.000000"                                      # ... at most: round-off reads 0
     assert shown(123456.7, None) == "1.235e+05" and shown(None, 1.0) == "—" and shown(float("inf"), 1) == "—"
     assert output_scale([(19.988, 20.0), (None, 20.5), (19.9, 20.1)], 0.5) == pytest.approx(0.012)
     assert output_scale([(None, 20.5)], 0.0007) == 0.0007 and output_scale([], 0.0) is None
