@@ -404,9 +404,9 @@ def _note_shared_cores(o) -> None:
 def _replacing(out: Path):
     """A temporary file beside ``out`` that replaces it when the block ends without an error: ``out`` is never
     half-written."""
-    out.parent.mkdir(parents=True, exist_ok=True)
     from .runguard import TMP_SUFFIX
 
+    out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.stem}{TMP_SUFFIX}{secrets.token_hex(6)}{out.suffix}")   # the suffix: its format
     try:
         yield tmp
