@@ -100,7 +100,8 @@ def _parser() -> argparse.ArgumentParser:
     exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
     exp.add_argument("spec", help="spec file (.toml, .csv, .tsv or .xlsx)")
     exp.add_argument("--out", required=True, help="the table to write (.csv, .tsv or .xlsx)")
-    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: the first)")
+    exp.add_argument("--sheet", help="the sheet to read from an .xlsx spec (default: its only visible sheet, or the "
+                                      "one it opens on when that is also its first)")
     exp.add_argument("--force", action="store_true", help="replace --out if it exists")
     return p
 
@@ -218,6 +219,8 @@ def _check(args) -> int:
     print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
           f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
           f"{len(st.analyses)} analyses")
+    for note in st.notes:
+        print(f"rvtol: note: {note}")
     if not st.requirements:
         print("rvtol: note: " + ("an exploratory study: it checks no requirement (verdict EXPLORATORY, exit 0)"
                                  if st.exploratory else "no requirement: a run's verdict will be NO REQUIREMENTS "
@@ -236,8 +239,8 @@ def _formula_failures(st) -> list[tuple[str, str]]:
 
 def _spec(args) -> int:
     from .inputs.sheets import WRITE_SUFFIXES
-    from .inputs.table_spec import write_table_spec
-    from .spec import load_spec
+    from .inputs.table_spec import read_spec_table, write_table_spec
+    from .spec import TABLE_SUFFIXES, load_spec
 
     if args.spec_command != "export":
         _parser().parse_args(["spec", "--help"])
@@ -248,10 +251,29 @@ def _spec(args) -> int:
     if out.exists() and not args.force:
         raise InputError("exists; give --force to replace it", file=str(out), key="--out")
     spec = load_spec(args.spec, sheet=args.sheet)
+    _refuse_spec_inputs(out, spec, Path(args.spec))
+    # a table's comment rows and notes columns are not part of the spec: carried over from the table itself
+    keep = read_spec_table(args.spec, sheet=spec.sheet) if Path(args.spec).suffix.lower() in TABLE_SUFFIXES else None
     with _replacing(out) as tmp:
-        write_table_spec(spec, tmp)
-    print(f"rvtol: wrote {out} ({len(spec)} factors of spec {spec.name!r})")
+        write_table_spec(spec, tmp, keep=keep, shown=str(out))
+    print(f"rvtol: wrote {out} ({len(spec)} factors of spec {spec.name!r}"
+          + (f", sheet {spec.sheet!r}" if spec.sheet else "") + ")")
     return EXIT_PASS
+
+
+def _refuse_spec_inputs(out: Path, spec, source: Path) -> None:
+    """``spec export --out`` is never a file the spec is read from — the spec itself (by any name: a symlink, a
+    hard link) or a measured factor's data: replacing it, even with --force, would lose what only it holds."""
+    if not out.exists():
+        return
+    inputs = [source] + [Path(f.measured.data) if Path(f.measured.data).is_absolute()
+                         else source.parent / f.measured.data
+                         for f in spec.factors if getattr(f, "measured", None) is not None]
+    for p in inputs:
+        if p.exists() and os.path.samefile(p, out):
+            what = "the spec being exported" if p == source else f"the measured data of the spec ({p.name})"
+            raise InputError(f"is {what}: write the table to another file (--force replaces only files the spec "
+                             "is not read from)", file=str(out), key="--out")
 
 
 def _kinds(kind: str | None = None) -> int:

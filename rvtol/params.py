@@ -327,7 +327,7 @@ class Params:
         if v is None:
             return None
         try:
-            u = units.canonical(v)
+            u = units.canonical(v, dimension)
             if dimension is not None:
                 units.require_dimension(u, dimension)
         except InputError as exc:

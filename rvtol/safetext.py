@@ -10,8 +10,10 @@ HTML, XLSX and CSV.  Two kinds of text are never safe everywhere:
   the writers show any that reach them as ``\\x1b`` (:func:`visible`);
 * **formulas** — a spreadsheet evaluates a cell that starts with ``=`` (and, in a CSV it opens, ``+``,
   ``-``, ``@``, a tab or a carriage return: OWASP's "CSV injection"), so a requirement named
-  ``=HYPERLINK(...)`` would become a live link.  XLSX text cells are written as text (:func:`xlsx_as_text`);
-  a CSV's text cells that start so get a leading ``'`` (:func:`csv_text`), what spreadsheets show as text.
+  ``=HYPERLINK(...)`` would become a live link (:func:`formula_like`).  XLSX text cells are written as
+  text, quote-prefixed when they start like a formula (:func:`xlsx_as_text`; ``rvtol spec export`` too); a
+  report's CSV text cells that would run get a leading ``'`` (:func:`csv_text`: a run never fails after
+  computing; ``spec export`` refuses such text in a CSV instead, it must read back as written).
 """
 from __future__ import annotations
 
@@ -22,8 +24,17 @@ import re
 CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
 #: what may not break a name (one line, one cell): line breaks and tabs besides :data:`CONTROL`
 LINE_BREAKS = re.compile("[\t\n\r\x85\u2028\u2029]")
-#: the first characters a spreadsheet reads as the start of a formula in a CSV it opens
+#: the first characters that make a spreadsheet read a cell as a formula (OWASP: CSV injection)
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+#: signed numbers, deviations and limits as rvtol writes them (+0.1/-0.05, -0.5, -0.1..0.2, a "+"/"-" direction): no
+#: function call in them, and they must read back as written
+_SIGNED = re.compile(r"[+-](?:\d*\.?\d+(?:/[+-]?\d*\.?\d+|\.\.[+-]?\d*\.?\d+)?)?")
+
+
+def formula_like(v) -> bool:
+    """Whether a spreadsheet would run text as a formula: it starts with ``=``, ``@``, a tab or a carriage return,
+    or with ``+``/``-`` and is not a signed number or deviation (:data:`_SIGNED`)."""
+    return isinstance(v, str) and v.startswith(FORMULA_START) and not _SIGNED.fullmatch(v)
 
 
 def _code(ch: str) -> str:
@@ -47,11 +58,12 @@ def visible(text: str) -> str:
 
 
 def csv_text(value):
-    """A CSV cell's value: text made :func:`visible`, and a leading ``'`` when it starts like a formula."""
+    """A CSV cell's value: text made :func:`visible`, and a leading ``'`` when a spreadsheet would run it
+    (:func:`formula_like`: a signed number such as -0.5 stays as it is)."""
     if not isinstance(value, str):
         return value
     value = visible(value)
-    return "'" + value if value.startswith(FORMULA_START) else value
+    return "'" + value if formula_like(value) else value
 
 
 #: the most characters an XLSX cell holds (Excel's limit: a longer one makes the file one Excel must repair)
@@ -73,3 +85,5 @@ def xlsx_as_text(worksheet, columns=()) -> None:
     for cell in cells:
         if cell.data_type == "f":
             cell.data_type = "s"
+        if isinstance(cell.value, str) and cell.value.startswith(FORMULA_START):
+            cell.quotePrefix = True            # and a spreadsheet keeps it text when it is edited

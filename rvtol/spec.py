@@ -198,6 +198,7 @@ class ToleranceSpec:
     description: str = ""
     file: str | None = None
     sha256: str | None = None
+    sheet: str | None = None    # the worksheet read, for a spec read from a workbook
 
     def __post_init__(self):
         names = [f.name for f in self.factors]
@@ -359,12 +360,16 @@ class Requirement:
 
 # --------------------------------------------------------------------------- loaders
 def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
-    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`; ``sheet``: the
+    worksheet of a workbook, by default the one :func:`rvtol.inputs.sheets.read_rows` can tell without guessing)."""
     if Path(path).suffix.lower() == ".txt":     # a TOML spec saved as text, or a table: say which to name it
         raise SpecError("a spec is a TOML file (.toml) or a table (.csv, .tsv or .xlsx), not .txt: rename it after "
                         "what it holds (a tab-separated table: .tsv)", file=str(path), key="-")
     if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
         return load_table_spec(path, sheet=sheet)
+    if sheet is not None:
+        raise SpecError(f"a sheet ({sheet!r}) is named, but a {Path(path).suffix or 'TOML'} spec has no sheets",
+                        file=str(path), key="sheet")
     data, sha = read_toml(path)
     spec = spec_from_table(data, file=str(path))
     return replace(spec, sha256=sha)
@@ -380,7 +385,7 @@ def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceS
         spec = spec_from_table(table.document, file=str(path))
     except InputError as exc:
         raise table.locate(exc) from None
-    return replace(spec, sha256=table.sha256)
+    return replace(spec, sha256=table.sha256, sheet=table.location.sheet)
 
 
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
@@ -569,11 +574,19 @@ def band_distribution(p: Params, tol: Tolerance) -> Distribution:
         table.pop("tolerance", None)
     table.update(given)
     try:
-        return from_params(Params(table, file=p.file, key=p.key))
+        dist = from_params(Params(table, file=p.file, key=p.key))
     except InputError as exc:
         if (exc.key or "").rsplit(".", 1)[-1] not in given:   # a number the tolerance gave
             exc.key = p.path("tolerance")
         raise
+    lo, hi = tol.limits
+    slack = 1e-9 * max(abs(lo), abs(hi), hi - lo)
+    if given and not lo - slack <= dist.mean <= hi + slack:
+        key = next(iter(given))
+        raise p.error(key, f"{key} = {given[key]!r} puts the {kind} distribution's mean at {dist.mean:.6g}, outside the "
+                           f"drawing's limits {lo:.6g}..{hi:.6g} ({tol.text!r}): the parts it describes would not meet "
+                           "the drawing — check the value (shift and mean are in the factor's unit)")
+    return dist
 
 
 def measured_distribution(p: Params):

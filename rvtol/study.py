@@ -122,6 +122,7 @@ class Study:
     exploratory: bool = False  # checks no requirement on purpose ([study] exploratory)
     gates: list = field(default_factory=list)  # rvtol.ci.gates.Gate: [[gate]] tables, for --baseline
     build: object = None  # rvtol.production.build.BuildRules of a composed study's [study] build, or None
+    notes: list = field(default_factory=list)  # what the inputs' reading noticed: the report's run table, summary.json
 
 
 @dataclass
@@ -229,14 +230,25 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     if spaths:
         if "factor" in root:
             raise root.error("factor", "give the factors either in the spec file or here, not both")
-        parts = [load_spec(sp) for sp in spaths]
+        sheets = _spec_sheets(head, spaths)
+        parts = []
+        for sp, sheet in zip(spaths, sheets):
+            try:
+                parts.append(load_spec(sp, sheet=sheet))
+            except InputError as exc:
+                if exc.key == "sheet" and sheet is not None:    # the study's key named a sheet the file lacks
+                    raise head.error("spec_sheet", f"{sp}: {exc.reason}") from None
+                raise
         for k, (sp, part) in enumerate(zip(spaths, parts)):
-            inputs["spec" if k == 0 else f"spec_{k + 1}"] = {"path": str(sp), "sha256": part.sha256}
+            inputs["spec" if k == 0 else f"spec_{k + 1}"] = {"path": str(sp), "sha256": part.sha256,
+                                                               **({"sheet": part.sheet} if part.sheet else {})}
         try:
             spec = merge_specs(parts)
         except InputError as exc:
             raise exc.located(file=file) from None
     else:
+        if "spec_sheet" in head.data:
+            raise head.error("spec_sheet", "names the worksheet of [study] spec, and there is no spec file")
         if "factor" not in root:
             raise head.error("spec", "missing required key (or give [[factor]] tables in the study file)")
         spec = spec_from_table({k: data[k] for k in ("factor", "correlation") if k in data}, file=file, name=name)
@@ -297,6 +309,7 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
 
     study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
     study.build = rules
+    study.notes = model_warnings(model)
     study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     for t in root.tables("analysis"):
         akind = t.str("kind")
@@ -308,6 +321,15 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         t.finish()
     root.finish()
     return study
+
+
+def model_warnings(model) -> list[str]:
+    """What a model (or the stages of a composed one) found worth a note in its inputs (``Model.warnings``: a
+    formula that sums factors of different units under units = "factor")."""
+    out = list(getattr(model, "warnings", ()))
+    for stage in getattr(model, "stages", ()):
+        out += [f"model {stage.name!r}: {w}" for w in getattr(stage.model, "warnings", ())]
+    return out
 
 
 def _spec_paths(head: Params, base: Path) -> list[Path]:
@@ -340,6 +362,24 @@ def check_output_names(model: Model, spec: ToleranceSpec, data: dict, file: str)
         if q.name in factors:
             raise SpecError(f"an output and a factor share the name {q.name!r}: the samples, statistics and report "
                             "could not tell them apart; rename the output", file=file, key=key)
+
+
+def _spec_sheets(head: Params, spaths: list[Path]) -> list[str | None]:
+    """``[study] spec_sheet``: the worksheet of a workbook spec (a list beside a list of specs, ``""`` for a file
+    read as by default); without it each workbook is read from the sheet :func:`rvtol.inputs.sheets.read_rows`
+    can tell without guessing."""
+    v = head.raw("spec_sheet", None)
+    if v is None:
+        return [None] * len(spaths)
+    listed = isinstance(head.data.get("spec"), list)
+    sheets = head.strs("spec_sheet") if listed else [head.str("spec_sheet")]
+    if len(sheets) != len(spaths):
+        raise head.error("spec_sheet", f"{len(spaths)} spec files but {len(sheets)} sheets: give one per file (\"\" "
+                                       "for a file read as by default)")
+    for sp, sh in zip(spaths, sheets):
+        if sh and sp.suffix.lower() not in (".xlsx", ".xlsm"):
+            raise head.error("spec_sheet", f"{sp.name} is not a workbook (.xlsx): it has no sheet {sh!r}")
+    return [sh or None for sh in sheets]
 
 
 def check_requirement_names(reqs: list[Requirement]) -> None:

@@ -134,21 +134,23 @@ def test_junit_and_markdown_show_a_control_character_that_reaches_them_as_its_es
 def test_spreadsheet_text_is_never_a_formula_and_never_crashes(tmp_path):
     from rvtol.inputs.sheets import write_frames
 
-    df = pd.DataFrame({"name": ['=HYPERLINK("http://x.example","click")', "+1", "-2 um", "@SUM(A1)", "bad\x1b"],
-                       "=cmd|' /C calc'!A0": [1.0, 2.0, 3.0, 4.0, 5.0]})
+    df = pd.DataFrame({"name": ['=HYPERLINK("http://x.example","click")', "+A1*2", "-2 um", "@SUM(A1)", "bad\x1b",
+                                "-0.5"],
+                       "=cmd|' /C calc'!A0": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]})
     write_frames(tmp_path / "t.xlsx", {"t": df})
     ws = openpyxl.load_workbook(tmp_path / "t.xlsx")["t"]
     cells = [c for row in ws.iter_rows() for c in row]
     assert all(c.data_type in ("s", "n") for c in cells)                  # text or a number: no formula
-    assert [c.value for c in cells[::2]] == ["name", '=HYPERLINK("http://x.example","click")', "+1", "-2 um",
-                                            "@SUM(A1)", "bad\\x1b"]
+    assert [c.value for c in cells[::2]] == ["name", '=HYPERLINK("http://x.example","click")', "+A1*2", "-2 um",
+                                            "@SUM(A1)", "bad\\x1b", "-0.5"]
+    assert [c.quotePrefix for c in cells[2::2]] == [True, True, True, True, False, True]   # text when edited
     assert ws["B1"].value == "=cmd|' /C calc'!A0" and ws["B1"].data_type == "s"
     write_frames(tmp_path / "t.csv", {"t": df})
     back = pd.read_csv(tmp_path / "t.csv", encoding="utf-8-sig")
     assert back.columns.tolist() == ["name", "'=cmd|' /C calc'!A0"]
-    assert back["name"].tolist() == ["'=HYPERLINK(\"http://x.example\",\"click\")", "'+1", "'-2 um", "'@SUM(A1)",
-                                     "bad\\x1b"]
-    assert back.iloc[:, 1].tolist() == [1.0, 2.0, 3.0, 4.0, 5.0]          # numbers stay numbers
+    assert back["name"].tolist() == ["'=HYPERLINK(\"http://x.example\",\"click\")", "'+A1*2", "'-2 um", "'@SUM(A1)",
+                                     "bad\\x1b", "-0.5"]                  # a signed number runs nothing: as it is
+    assert back.iloc[:, 1].tolist() == [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]     # numbers stay numbers
 
 
 def test_a_requirement_named_like_a_formula_is_text_in_statistics_xlsx(tmp_path, capsys):

@@ -102,8 +102,8 @@ def policy_text(reqs) -> str:
 def inputs_section(result) -> Section:
     st = result.study
     sec = Section("inputs", "Inputs")
-    files = pd.DataFrame([{"role": k, "file": v["path"], "sha256": (v["sha256"] or "")[:16]}
-                          for k, v in st.inputs.items()])
+    files = pd.DataFrame([{"role": k, "file": v["path"] + (f" (sheet {v['sheet']!r})" if v.get("sheet") else ""),
+                           "sha256": (v["sha256"] or "")[:16]} for k, v in st.inputs.items()])
     sec.add_table(files, caption="Input files (first 16 hex digits of SHA-256)")
     sec.blocks.append(RunTable())      # the run's timings: they end with the run, so the renderer fills them in
     fac = st.spec.to_frame()
@@ -251,4 +251,6 @@ def run_table(result) -> Table:
          for phase, seconds in result.timings.items()])
     if m.samples.note:
         run.loc[len(run)] = {"item": "note", "value": m.samples.note}
+    for note in getattr(st, "notes", ()):
+        run.loc[len(run)] = {"item": "note", "value": note}
     return Table(run, "Run")
