@@ -24,7 +24,8 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import bound_level, cpk_figures, judge, other_cpk, percentile_cpk_confidence, yield_bound
+from .verdict import (bound_level, cpk_figures, judge, other_cpk, percentile_cpk_confidence, requirement_state,
+                      yield_bound)
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -268,6 +269,11 @@ class Verdict:
     fit: dict | None = None                # the measured factors' fit uncertainty (rvtol.fit_uncertainty)
 
     @property
+    def state(self) -> str:
+        """PASS, UNDECIDED or FAIL (:func:`rvtol.verdict.requirement_state`): the word every output gives it."""
+        return requirement_state(self.passed, self.undecided)
+
+    @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
         """The Cpk and lower bound the requirement is judged on (its ``cpk_method``)."""
         method = "cpk_percentile" if self.requirement.cpk_method == "percentile" else "cpk"
@@ -287,7 +293,8 @@ class Verdict:
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
             "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
+            "passed": self.passed, "state": self.state, "reasons": self.reasons,
+            "n_to_demonstrate": self.n_to_demonstrate,
             "undecided": self.undecided, "notes": self.notes, "parts_to_demonstrate": self.parts_to_demonstrate,
             "shape": None if self.shape is None else {
                 "skewness": self.shape.skewness, "excess_kurtosis": self.shape.excess_kurtosis,

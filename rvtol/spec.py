@@ -178,7 +178,15 @@ class Factor:
         return replace(self, dist=self.dist.scaled(f), limits=limits)
 
     def describe(self) -> str:
-        return self.dist.describe(self.unit)
+        """The distribution with its unit, its numbers resolving the band (:meth:`shown`)."""
+        return self.dist.describe(self.unit, self.shown)
+
+    def shown(self, value) -> str:
+        """A number in the factor's unit with the decimals that resolve its band (:func:`rvtol.precision.shown`)."""
+        from .precision import shown
+
+        lo, hi = self.band
+        return shown(value, hi - lo)
 
 
 @dataclass(frozen=True)
@@ -272,7 +280,7 @@ class ToleranceSpec:
         frame = pd.DataFrame({
             "factor": [f.name for f in fs],
             "unit": [f.unit for f in fs],
-            "distribution": [f.dist.describe() for f in fs],
+            "distribution": [f.dist.describe(number=f.shown) for f in fs],
             "nominal": [f.nominal_value for f in fs],
             "mean": [f.dist.mean for f in fs],
             "std": [f.dist.std for f in fs],
@@ -800,7 +808,7 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         if not 0.5 <= confidence < 1.0:
             raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
-        name = t.str("name", "")
+        name = t.str("name", "", single_line=True)
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         bound = t.str("bound", "one-sided", choices=BOUNDS)

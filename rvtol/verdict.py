@@ -406,3 +406,30 @@ def study_verdict(passed: list[bool], exploratory: bool = False) -> str:
     if not passed:
         return EXPLORATORY if exploratory else NO_REQUIREMENTS
     return PASS if all(passed) else FAIL
+
+
+# --------------------------------------------------------------------------- a requirement's state
+#: the state of a requirement more samples would decide (:func:`requirement_state`)
+STATE_UNDECIDED = "UNDECIDED"
+#: a requirement's state — the one word the CLI, summary.json, JUnit, Markdown, the report and the one-page summary
+#: give it — and what it means; the run's verdict is PASS only when every requirement's state is PASS
+REQUIREMENT_STATES = {PASS: "demonstrated at its confidence",
+                      STATE_UNDECIDED: "not demonstrated: the estimate meets it, more samples (or more measured parts) "
+                                       "would decide",
+                      FAIL: "not demonstrated: the estimate itself misses it"}
+
+
+def requirement_state(passed: bool, more_would_decide: bool = False) -> str:
+    """PASS (demonstrated), UNDECIDED (not demonstrated, but the estimate meets it and more samples or more measured
+    parts would decide: :attr:`Judgement.undecided`) or FAIL — :data:`REQUIREMENT_STATES`."""
+    if passed:
+        return PASS
+    return STATE_UNDECIDED if more_would_decide else FAIL
+
+
+def state_of(record: dict) -> str:
+    """The state of a requirement as summary.json records it: its ``state`` (from ``passed`` and ``undecided``, or
+    ``n_to_demonstrate``, in a summary written before it had one)."""
+    more = record.get("undecided")
+    return record.get("state") or requirement_state(bool(record.get("passed")),
+                                                    bool(record.get("n_to_demonstrate") if more is None else more))

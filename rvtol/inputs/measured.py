@@ -253,9 +253,11 @@ class EmpiricalDistribution(_DataDistribution):
         return EmpiricalDistribution(self._scaled_data(f), self.interpolate, self.gauge_fraction,
                                      f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
         how = "interpolated" if self.interpolate else "resampled"
-        return f"empirical({how}, n={self.n}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+        return f"empirical({how}, n={self.n}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def _interp_moments(x: np.ndarray, p: np.ndarray) -> tuple[float, float]:
@@ -387,8 +389,10 @@ class KDEDistribution(_DataDistribution):
         return KDEDistribution(self._scaled_data(f), self.bandwidth * f, self.gauge_fraction,
                                f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
-        return f"kde(n={self.n}, h={self.bandwidth:.4g}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
+        return f"kde(n={self.n}, h={g(self.bandwidth)}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def kde(values, *, bandwidth: str | float = "scott", measurement_sigma: float | None = None,
@@ -476,8 +480,10 @@ class FrozenDistribution:
         kw["scale"] = kw.get("scale", 1.0) * f
         return FrozenDistribution(self.kind, d.dist(*d.args, **kw), self.one_sided, self.origin)
 
-    def describe(self, unit: str = "") -> str:
-        ps = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats loc and scale, in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = lambda x: f"{x:.4g}"  # noqa: E731
+        ps = ", ".join(f"{k}={(number or g)(v) if k in ('loc', 'scale') else g(v)}" for k, v in self.params)
         return f"{self.kind}({ps}) {unit}".strip()
 
 
