@@ -346,7 +346,7 @@ def _run_study(args, ov: dict) -> int:
     from .checkpoint import run_key
     from .params import recording_reads
     from .runguard import RunFolder, check_not_input, check_resources, check_writable, estimate_run, time_pilot
-    from .study import check_out_dir, load_study, result_files, run_study, write_outputs
+    from .study import check_out_dir, load_study, run_study, write_outputs, written_files
 
     with recording_reads() as inputs:       # every file the run reads: nothing it writes may replace one
         study = load_study(args.study, **ov)
@@ -404,7 +404,7 @@ def _run_study(args, ov: dict) -> int:
             tmp.write_text(json.dumps(task_log(result), indent=1, allow_nan=False), encoding="utf-8")
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
-          + f" (+ {', '.join(result_files(study.options, bool(study.requirements)))})")
+          + f" (+ {', '.join(written_files(out))})")
     if comparison is not None:
         print(f"gates: {comparison.verdict} — {comparison.one_line()}")
         if not comparison.passed:

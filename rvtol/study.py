@@ -591,14 +591,11 @@ def _table_formats(r: Params) -> tuple[str, ...]:
     return tuple(dict.fromkeys(v))
 
 
-def result_files(options: RunOptions, requirements: bool = True) -> list[str]:
-    """The files a report folder holds besides report.html, for these options (summary.pdf: the first page alone,
-    for a study with requirements)."""
-    pdfs = ["report.pdf"] + (["summary.pdf"] if requirements else [])
-    out = (pdfs if options.pdf else []) + ["summary.json", "samples.parquet"]
-    for ext in options.tables:
-        out += [f"samples.{ext}", f"statistics.{ext}"]
-    return out
+def written_files(folder: Path) -> list[str]:
+    """The files a written report folder holds besides report.html, as its manifest lists them (what the run wrote:
+    the PDFs, tables, the requirements' CSV, comparison.json and every analysis' own files)."""
+    names = (Path(folder) / MANIFEST).read_text(encoding="utf-8").split("\n")
+    return sorted(n for n in names if n and n not in ("report.html", MANIFEST))
 
 
 # --------------------------------------------------------------------------- running
