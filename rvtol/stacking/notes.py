@@ -56,6 +56,15 @@ SUBSET_LEVELS = ", {levels} levels"
 DIRECTIONAL = "{n} directions, root by Brent (safe and slow)"
 FAILED_EVALUATIONS = "{n} evaluations could not be made and count as failures"
 COULD_NOT_RUN = "could not run: {why}"
+NOT_ESTIMATED = "not estimated: {why}"
+NOT_A_PROBABILITY = "the method returned {shown}, not a probability"
+ABOVE_THE_BALL = ("the method returned {shown}, more than the whole space beyond the sphere of radius β = {beta:.4g} "
+                  "(P(χ²_{k} > β²) = {ball:.3g} ppm), which holds every failure domain whose nearest point lies at β")
+SE_UNDEFINED = "the method returned {shown}: its standard error is undefined (negative or NaN)"
+NO_FAILURE_SEEN = "no sample reached the limit ({shown}): that bounds the probability, it does not estimate it"
+SE_ZERO = "the method returned {shown}: a standard error of 0 (degenerate weights: no spread to state an error from)"
+COV_TOO_LARGE = ("the method returned {shown}: its coefficient of variation {cov:.2g} exceeds {max:.2g} (its ±{k:g} "
+                 "standard errors reach 0: it cannot tell the probability from 0)")
 DISAGREE = ("{a} {a_ppm:.4g} ± {a_se:.2g} ppm and {b} {b_ppm:.4g} ± {b_se:.2g} ppm differ by more than {k:g} combined "
             "standard errors")
 OUTSIDE_REFERENCE = ("{method} {ppm:.4g} ppm lies outside {k:g} standard errors of the reference ({ref} {ref_ppm:.4g} ± "
