@@ -149,10 +149,11 @@ def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate) -> None:
         sc.add(f"second order (moments) ±{z:g}σ", d(so.mean - z * so.sigma), d(so.mean + z * so.sigma),
                centre=d(so.mean), sigma=d(so.mean + so.sigma) - d(so.mean),
                note=f"mean shift {d(so.mean) - d(so.y_at_means):+.4g} from curvature, skewness {so.skewness:.3g}, "
-                    f"kurtosis {so.kurtosis:.3g}", source="Glancy & Chase 1999 (method of moments)")
+                    f"kurtosis {so.kurtosis:.3g}" + "".join("; " + n for n in so.notes),
+               source="Glancy & Chase 1999 (method of moments)")
         lo, hi = so.interval(z)
         sc.add(f"second order, {so.law} tails ({z:g}σ coverage)", d(lo), d(hi), centre=d(so.mean),
-               note="quantiles of the curve with the four moments" + ("; " + "; ".join(so.notes) if so.notes else ""),
+               note="quantiles of the curve with the four moments" + "".join("; " + n for n in so.notes + so.tail_notes),
                source="Pearson 1895 / Johnson 1949")
 
 

@@ -9,19 +9,29 @@ distribution, and the linearised value at the band centres y_c = y0 + Σ a_i (c_
 convention                   interval                                                    source
 ===========================  ==========================================================  =====================
 worst case (arithmetic)      y_c ± Σ |a_i| t_i                                           [Fortini 1967]
-RSS                          y_c ± √Σ (a_i s_i)², every band read as ±3σ (s_i = t_i)     [Scholz 1995 §4.1]
+RSS                          y_c ± √(sᵀ R s), s_i = a_i t_i: every band read as ±3σ       [Scholz 1995 §4.1]
 MRSS, Bender                 y_c ± 1.5 · RSS                                             [Bender 1968]
 MRSS, handbook               y_c ± C_f · RSS, C_f = 1 + ½ (T_wc − T_rss) / (T_rss (√n − 1))  [Drake 1999 ch. 9]
 MRSS, given factor           y_c ± C · RSS (``mrss_factor``)
-statistical, distributions   μ_y ± z σ_y, μ_y = y0 + Σ a_i (μ_i − x0_i), σ_y = √(aᵀ C a)    [Scholz 1995 §4.2]
-6σ static                    y_c ± (Σ |a_i| |μ_i − c_i| + z √Σ (a_i σ_i)²)                [Harry & Stewart 1988]
-6σ dynamic RSS               y_c ± z √Σ (a_i σ_i / (1 − k_i))², k_i = |μ_i − c_i| / t_i    [Harry & Stewart 1988]
-6σ dynamic, 1.5σ shift       y_c ± z √Σ (a_i t_i / (3 Cpk))², Cpk = Cp − 1.5/3 (Cp = 2:     [Harry & Stewart 1988]
-                             Cpk = 1.5): every band read as a ±Cp·3σ process shifted 1.5σ
+statistical, distributions   μ_y ± z σ_y, μ_y = y0 + Σ a_i (μ_i − x0_i), σ_y = √(vᵀ P v),   [Scholz 1995 §4.2]
+                             v_i = a_i σ_i
+6σ static                    y_c ± (Σ |a_i| |μ_i − c_i| + z √(vᵀ P v))                      [Harry & Stewart 1988]
+6σ dynamic RSS               y_c ± z √(wᵀ P w), w_i = a_i σ_i / (1 − k_i),                  [Harry & Stewart 1988]
+                             k_i = |μ_i − c_i| / t_i
+6σ dynamic, 1.5σ shift       y_c ± z √(eᵀ R e), e_i = a_i t_i / (3 Cpk), Cpk = Cp − 1.5/3   [Harry & Stewart 1988]
+                             (Cp = 2: Cpk = 1.5): every band read as a ±Cp·3σ process
+                             shifted 1.5σ
 ===========================  ==========================================================  =====================
 
-(n: the contributors with a ≠ 0; C: the normal-score correlation of the spec, as Pearson's;
-``z``: the sigma levels of the user's choice, 3 by default.)  The dynamic RSS turns each mean shift
+(n: the contributors with a ≠ 0; ``z``: the sigma levels of the user's choice, 3 by default.)
+
+Correlation.  Every row that adds variances honours the spec's correlation (σ² = cᵀ Σ c, the variance of a
+linear function of correlated factors): the rows that read each band as a normal (RSS, MRSS, the 1.5σ shift)
+with R, the spec's normal-score correlation, which is the correlation of those normals; the rows of the
+factors' own distributions (statistical, 6σ static and dynamic) with P, the Pearson correlation that the
+Gaussian copula gives those distributions (:func:`factor_correlation`; P = R for two normal factors, |P| < |R|
+otherwise).  Each row's note says so.  A one-sided contributor (below) has no sign to correlate: its
+correlation, if the spec gives one, is left out and the row's note names it.  The dynamic RSS turns each mean shift
 into a wider σ (σ·Cp/Cpk = σ/(1 − k)), the static form adds the shifts arithmetically; both centre
 on y_c.  MRSS can exceed the worst case for few contributors (n = 2 with Bender's 1.5): the table
 says so rather than capping it.
@@ -75,6 +85,8 @@ import numpy as np
 import pandas as pd
 from .. import units
 from ..errors import InputError
+from scipy import stats
+
 from ..spec import ToleranceSpec, zone_bonus
 from ..stats import rss
 from . import notes as N
@@ -84,6 +96,48 @@ from ..sensitivity.common import derivative_to_display, ratio_unit
 BENDER = 1.5
 #: the Six Sigma convention: every band a ±Cp·3σ process (Cp = 2) with its mean shifted by 1.5σ
 SIX_SIGMA_CP, SIX_SIGMA_SHIFT = 2.0, 1.5
+
+
+#: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
+#: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``)
+HERMITE_NODES = 64
+#: the clip of the copula's uniforms (:mod:`rvtol.sampling`): the quadrature reads the margins as the sampling does
+_U_EPS = 2.0 ** -53
+
+
+def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
+    """The Pearson correlation of the factors under the spec's Gaussian copula (None: independent factors).
+
+    For a pair of normal-score correlation ρ, x_i = F_i⁻¹(Φ(u)) and x_j = F_j⁻¹(Φ(ρu + √(1 − ρ²) v)) with u, v
+    independent standard normals, and corr(x_i, x_j) = E[(x_i − μ_i)(x_j − μ_j)] / (σ_i σ_j) by a tensor
+    Gauss–Hermite rule of ``HERMITE_NODES`` per dimension (its own μ and σ of each margin, so a perfectly
+    correlated pair gives exactly 1).  Two normal factors keep ρ (their copula is the bivariate normal); for
+    others |corr| < |ρ| — two uniforms (6/π) asin(ρ/2) [K. Pearson 1904; W. Kruskal, "Ordinal measures of
+    association", JASA 53 (1958) 814–861], two lognormals of log-σ s_i, s_j (e^{ρ s_i s_j} − 1) /
+    √((e^{s_i²} − 1)(e^{s_j²} − 1)).
+    """
+    R = spec.correlation
+    if R is None:
+        return None
+    R = np.asarray(R, dtype=float)
+    P = R.copy()
+    z, w = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)
+    w = w / math.sqrt(2.0 * math.pi)
+
+    def margin(i, u):
+        x = spec.factors[i].ppf_base(np.clip(stats.norm.cdf(u), _U_EPS, 1.0 - _U_EPS))
+        m = float(w @ spec.factors[i].ppf_base(np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)))
+        return x - m
+
+    for i, j in zip(*np.nonzero(np.triu(R, 1))):
+        if spec.factors[i].dist.kind == "normal" and spec.factors[j].dist.kind == "normal":
+            continue
+        rho = R[i, j]
+        gi = margin(i, z)
+        gj = margin(j, rho * z[:, None] + math.sqrt(max(0.0, 1.0 - rho * rho)) * z[None, :])
+        si, sj = math.sqrt(float(w @ gi ** 2)), math.sqrt(float(w @ margin(j, z) ** 2))
+        P[i, j] = P[j, i] = float(w @ (gi[:, None] * gj) @ w) / (si * sj)
+    return P
 
 
 def handbook_mrss_factor(t_wc: float, t_rss: float, n: int) -> float | None:
@@ -289,7 +343,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     plain_in_sided = {spec.names.index(o.name) for o in sided if not o.zone}
     yc = y0 + float(a @ (con.c - x0))
     mu_y = y0 + float(a @ (con.mu - x0))
-    C = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
+    # the correlations (module docstring): R of the normals the bands are read as, P of the distributions
+    R, P = spec.correlation, factor_correlation(spec)
     # the statistical rows: the produced parts (no bonus); kinked contributors as ±(largest slope)·σ
     a_stat = a.copy()
     for o in sided:
@@ -297,25 +352,35 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             ix, iy = [m for m, zz in enumerate(con.zone) if zz == o.zone]
             a_stat[ix], a_stat[iy] = a[ix], a[iy]
     extra_sig2 = rss([max(o.hi, o.lo) * o.sigma for o in sided if o.kinked], squared=True)
-    sig_y = math.sqrt(rss(a_stat * con.sigma, C, squared=True) + extra_sig2)
+    sig_y = math.sqrt(rss(a_stat * con.sigma, P, squared=True) + extra_sig2)
+    zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
     if not sided:
         t_wc = con.worst_half_width()
         wc_low, wc_high = yc - t_wc, yc + t_wc
-        t_rss = rss(a * con.s)
+        t_rss = rss(a * con.s, R)
     else:
         wc_low, wc_high = _worst_sided(con, a, sided, yc)
         t_wc = 0.5 * (wc_high - wc_low)
         a_rss = a.copy()
-        zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
         for o in sided:
             down = o.lo >= o.hi
             for m, kap in o.bonus:
                 a_rss[m] += -o.lo * kap if down else o.hi * kap
-        terms = [a_rss[m] * con.s[m] for m in range(len(spec)) if m not in zone_idx and m not in plain_in_sided]
-        terms += [max(o.hi, o.lo) * o.unit for o in sided]
-        smooth_zone_idx = [m for m in zone_idx if con.zone[m] not in {o.zone for o in sided}]
-        terms += [a[m] * con.s[m] for m in smooth_zone_idx]
-        t_rss = rss(terms)
+        signed = np.array([a_rss[m] * con.s[m] if m not in zone_idx and m not in plain_in_sided else 0.0
+                           for m in range(len(spec))])
+        t_rss = math.sqrt(rss(signed, R, squared=True) + rss([max(o.hi, o.lo) * o.unit for o in sided], squared=True))
+    # one-sided contributors have no sign to correlate: name those the spec correlates
+    unsigned = sorted(zone_idx | plain_in_sided)
+    uncorrelated = "" if R is None else ", ".join(
+        spec.names[m] for m in unsigned if np.any(np.delete(np.asarray(R)[m], m) != 0.0))
+    kinked_idx = [m for m in unsigned if m in plain_in_sided or any(o.kinked and o.zone == con.zone[m] for o in sided)]
+    stat_uncorrelated = "" if R is None else ", ".join(
+        spec.names[m] for m in kinked_idx if np.any(np.delete(np.asarray(R)[m], m) != 0.0))
+
+    def correlation_note(template, left_out):
+        if R is None:
+            return ""
+        return template + (N.CORRELATION_LEFT_OUT.format(names=left_out) if left_out else "")
     n = con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
     rows = []
 
@@ -332,7 +397,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         zone_note += N.ZONES_WITH_BONUS
     add("worst case (arithmetic)", 0.5 * (wc_low + wc_high) if sided else yc, t_wc,
         note=N.WORST_CASE.format(zones=zone_note), source="Fortini 1967", low=wc_low, high=wc_high)
-    add("RSS", yc, t_rss, sigma=t_rss / 3, note=N.RSS.format(sided=N.RSS_SIDED if sided else ""),
+    rss_corr = correlation_note(N.CORRELATION_OF_NORMALS, uncorrelated)
+    add("RSS", yc, t_rss, sigma=t_rss / 3, note=N.RSS.format(sided=N.RSS_SIDED if sided else "", correlation=rss_corr),
         source="Scholz 1995 §4.1")
     for name, cf, src in (("MRSS, Bender", BENDER, "Bender 1968 (SAE 680490)"),
                           ("MRSS, handbook", handbook_mrss_factor(t_wc, t_rss, n), "Drake 1999, ch. 9"),
@@ -342,34 +408,35 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                 notes.append(N.MRSS_FEW)
             continue
         half = cf * t_rss
-        add(name, yc, half, note=N.MRSS.format(cf=cf, wider=N.MRSS_WIDER if half > t_wc else ""), source=src)
+        add(name, yc, half, note=N.MRSS.format(cf=cf, wider=N.MRSS_WIDER if half > t_wc else "") + rss_corr,
+            source=src)
     k = con.k
+    stat_corr = correlation_note(N.CORRELATION_OF_DISTRIBUTIONS, stat_uncorrelated)
     for z in sigma_levels:
         add(f"statistical ±{z:g}σ (the distributions)", mu_y, z * sig_y, sigma=sig_y,
-            note=N.STATISTICAL.format(correlation=N.STATISTICAL_CORRELATION if spec.correlation is not None else "",
-                                      kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
+            note=N.STATISTICAL.format(correlation=stat_corr, kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    sig_plain = math.sqrt(rss(a_stat * con.sigma, squared=True) + extra_sig2)
     with np.errstate(divide="ignore", invalid="ignore"):
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    sig_dyn = math.sqrt(rss(a_stat * con.sigma * infl, squared=True) + extra_sig2)
+    inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
+    sig_dyn = math.sqrt(rss(inflated, P, squared=True) + extra_sig2) if np.all(np.isfinite(inflated)) else math.inf
     if not math.isfinite(sig_dyn):
         notes.append(N.DYNAMIC_UNDEFINED)
     for z in sigma_levels:
-        add(f"6σ static ±{z:g}σ", yc, shift + z * sig_plain, sigma=sig_plain,
-            note=N.SIX_SIGMA_STATIC, source="Harry & Stewart 1988")
+        add(f"6σ static ±{z:g}σ", yc, shift + z * sig_y, sigma=sig_y,
+            note=N.SIX_SIGMA_STATIC + stat_corr, source="Harry & Stewart 1988")
         add(f"6σ dynamic RSS ±{z:g}σ", yc, z * sig_dyn, sigma=sig_dyn,
-            note=N.SIX_SIGMA_DYNAMIC, source="Harry & Stewart 1988")
+            note=N.SIX_SIGMA_DYNAMIC + stat_corr, source="Harry & Stewart 1988")
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
-        sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), squared=True)
+        sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), R, squared=True)   # kinked contributors: a = 0, below
                           + rss([max(o.hi, o.lo) * o.s / (3.0 * cpk) for o in sided if o.kinked], squared=True))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
-                note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk),
-                source="Harry & Stewart 1988")
+                note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk)
+                + correlation_note(N.CORRELATION_OF_NORMALS, stat_uncorrelated), source="Harry & Stewart 1988")
     frame = pd.DataFrame(rows)
     # per factor
     fac = []

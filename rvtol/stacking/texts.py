@@ -14,8 +14,10 @@ CONVENTIONS = ("The conventions engineers and peer tools quote, beside this stud
                "optimisation). RSS reads every band as ±3σ of a centred normal; MRSS inflates it (Bender's 1.5; the "
                "handbook's C_f = 1 + ½(T_wc − T_rss)/(T_rss(√n − 1))); the statistical rows use each factor's own "
                "distribution; the 6σ rows treat mean shifts arithmetically (static) or as a wider σ (dynamic, "
-               "σ/(1 − k)), and the 1.5σ-shift convention reads every band as a ±6σ process shifted 1.5σ. Only the "
-               "Monte Carlo enters the verdict.")
+               "σ/(1 − k)), and the 1.5σ-shift convention reads every band as a ±6σ process shifted 1.5σ. Every row "
+               "that adds variances takes the spec's correlation (of the normals a band is read as, or Pearson's of "
+               "the distributions under the copula), and each row's note says what it leaves out. Only the Monte "
+               "Carlo enters the verdict.")
 CONTRIBUTORS = ("{output}: contributors (a: sensitivity; k = |μ − band centre|/t; Cp, Cpk of each factor's distribution "
                 "against its band; shares of the worst case and of the RSS)")
 PERCENTILES = "{output}: Monte Carlo percentiles of the study's choice with {confidence:.0%} order-statistic intervals"
