@@ -87,7 +87,7 @@ from .. import units
 from ..errors import InputError
 from scipy import stats
 
-from ..spec import ToleranceSpec, zone_bonus
+from ..spec import ToleranceSpec, datum_shifts, zone_bonus
 from ..stats import rss
 from . import notes as N
 from ..sensitivity.common import derivative_to_display, ratio_unit
@@ -253,6 +253,13 @@ class _OneSided:
     zone: str = ""
     kinked: bool = False
     bonus: list = field(default_factory=list)   # [(factor index, κ)] of a zone's radius
+    datum: str = ""      # a datum-feature shift: the datum's size factor (the pattern's one translation)
+    zones: tuple = ()    # a datum-feature shift: the zones it moves together
+
+    @property
+    def plain(self) -> bool:
+        """A plain factor (kinked), not a zone or a datum-feature shift."""
+        return not self.zone and not self.datum
 
 
 def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list) -> tuple[np.ndarray, list, dict]:
@@ -314,7 +321,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     a = con.a
     ob = out_base_unit or units.base_unit(out_unit)
     d = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731
-    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC
+    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC, datum-feature shifts
+    a_smooth = a.copy()   # the zones' gradients before the kinked ones are taken by their sides
     sided: list[_OneSided] = []
     for i, (up, dn) in kinked_plain.items():
         sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
@@ -335,12 +343,11 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
                                kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
         if bonus:
-            mods = spec.factors[ix]
-            notes.append(N.ZONE_BONUS.format(zone=z, modifier=mods.modifier or "RFS", radius=d(r0),
-                                             datum=N.ZONE_DATUM.format(datum=mods.datum_size) if mods.datum_size else "",
+            notes.append(N.ZONE_BONUS.format(zone=z, modifier=spec.factors[ix].modifier, radius=d(r0),
                                              sizes=", ".join(spec.names[m] for m, _, _ in bonus)))
-    bonus_zone = {o.zone for o in sided if o.bonus}
-    plain_in_sided = {spec.names.index(o.name) for o in sided if not o.zone}
+    sided += _pattern_shifts(spec, con, a_smooth, kinked_zones, slopes, notes, d)
+    bonus_zone = {o.zone for o in sided if o.bonus and o.zone}
+    plain_in_sided = {spec.names.index(o.name) for o in sided if o.plain}
     yc = y0 + float(a @ (con.c - x0))
     mu_y = y0 + float(a @ (con.mu - x0))
     # the correlations (module docstring): R of the normals the bands are read as, P of the distributions
@@ -381,7 +388,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         if R is None:
             return ""
         return template + (N.CORRELATION_LEFT_OUT.format(names=left_out) if left_out else "")
-    n = con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
+    n = (con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
+         + sum(1 for o in sided if o.datum and max(o.hi, o.lo) > 0))
     rows = []
 
     def add(name, centre, half, sigma=None, note="", source="", low=None, high=None):
@@ -395,6 +403,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         zone_note += N.KINKED_ONE_SIDED
     if bonus_zone:
         zone_note += N.ZONES_WITH_BONUS
+    if any(o.datum for o in sided):
+        zone_note += N.PATTERN_SHIFTS
     add("worst case (arithmetic)", 0.5 * (wc_low + wc_high) if sided else yc, t_wc,
         note=N.WORST_CASE.format(zones=zone_note), source="Fortini 1967", low=wc_low, high=wc_high)
     rss_corr = correlation_note(N.CORRELATION_OF_NORMALS, uncorrelated)
@@ -442,7 +452,9 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     fac = []
     wc_terms = np.abs(a) * con.t
     for o in sided:
-        if not o.zone:
+        if o.datum:      # the shift its departure from MMB allows, beside the datum feature's own effect
+            wc_terms[spec.names.index(o.datum)] += max(o.hi, o.lo) * o.unit
+        elif not o.zone:
             wc_terms[spec.names.index(o.name)] = max(o.hi, o.lo) * o.unit
         else:
             ix = [m for m, zz in enumerate(con.zone) if zz == o.zone]
@@ -455,16 +467,19 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                 rss_terms[[m for m, zz in enumerate(con.zone) if zz == o.zone]] = 0.5 * w
             else:
                 rss_terms[spec.names.index(o.name)] = w
-    side_of = {o.name: o for o in sided if not o.zone}
+    side_of = {o.name: o for o in sided if o.plain}
+    side_of.update({o.datum: o for o in sided if o.datum})
     side_of.update({spec.names[m]: o for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone})
     for i, f in enumerate(spec.factors):
         cp_i = con.t[i] / (3 * con.sigma[i]) if con.sigma[i] > 0 else math.nan
         o = side_of.get(f.name)
         how = ""
-        if o is not None and o.kinked:
+        if o is not None and o.datum:
+            how = f"datum feature at MMB: shifts {', '.join(o.zones)} together (per unit up {o.hi:.4g}, down {o.lo:.4g})"
+        elif o is not None and o.kinked:
             how = f"kink: per unit {'radius' if o.zone else 'of band'} up {o.hi:.4g}, down {o.lo:.4g}"
         elif o is not None:
-            how = f"zone at {f.modifier or 'RFS'} (datum shift)" if not f.modifier else f"zone at {f.modifier}"
+            how = f"zone at {f.modifier}"
         fac.append({"factor": f.name, "a": float(derivative_to_display(a[i], out_unit, f.unit)) * units.factor(ob),
                     "a_unit": ratio_unit(out_unit, f.unit), "band": f"{f.band[0]:.6g} … {f.band[1]:.6g}",
                     "unit": f.unit, "sigma": f.dist.std, "k": float(k[i]), "Cp": cp_i, "Cpk": cp_i * (1 - k[i]),
@@ -474,12 +489,36 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     return StackConventions(output, out_unit, d(yc), frame, pd.DataFrame(fac), notes)
 
 
+def _pattern_shifts(spec: ToleranceSpec, con: Contributors, a: np.ndarray, kinked_zones, slopes, notes: list,
+                    d) -> list[_OneSided]:
+    """The datum-feature shifts (:func:`rvtol.spec.datum_shifts`) as one-sided contributors: a disc of radius
+    κ (x_d − reference) (at the datum's band centre) that moves every zone it locates by the same vector; per unit
+    of shift the output changes by |Σ_z ∇_z y| (smooth zones: the gradients of the pattern's zones added), or by the
+    extremes of the model's slopes with the pattern moved as one (:func:`rvtol.stacking.slopes.one_sided_slopes`)
+    where a zone is kinked.  ``a``: the gradient before kinked zones are zeroed; ``d``: base → display unit."""
+    out = []
+    for ds in datum_shifts(spec):
+        pairs = [[m for m, zz in enumerate(con.zone) if zz == z] for z in ds.zones]
+        r0 = ds.kappa * (float(con.c[ds.index]) - ds.reference)
+        if any(z in kinked_zones for z in ds.zones):
+            if slopes is None or ds.datum not in slopes.pattern_max:
+                raise InputError(f"the model cannot be evaluated with the pattern located by datum feature {ds.datum} "
+                                 f"({', '.join(ds.zones)}) shifted: no linearised stack", key="gradient")
+            hi, lo = max(0.0, float(slopes.pattern_max[ds.datum])), max(0.0, -float(slopes.pattern_min[ds.datum]))
+        else:
+            hi = lo = float(np.hypot(sum(a[ix] for ix, _ in pairs), sum(a[iy] for _, iy in pairs)))
+        out.append(_OneSided(ds.datum, r0, hi, lo, 0.0, 0.0, datum=ds.datum, zones=ds.zones,
+                             bonus=[(ds.index, ds.kappa)]))
+        notes.append(N.DATUM_SHIFT.format(datum=ds.datum, zones=", ".join(ds.zones), radius=d(r0), hi=hi, lo=lo))
+    return out
+
+
 def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: float) -> tuple[float, float]:
     """The linearised worst case with one-sided contributors and zones whose radius grows with sizes (module
     docstring): (low, high) in base units."""
     k = len(a)
     zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
-    plain_sided = {o.name: o for o in sided if not o.zone}
+    plain_sided = {o.name: o for o in sided if o.plain}
     up = a.astype(float).copy()   # D⁺ per factor (kinked ones: their hi/lo below)
     dn = -up                      # D⁻
     low = high = yc
@@ -493,8 +532,8 @@ def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: f
             w = float(con.t[m]) * float(np.hypot(*a[j]))
             low, high = low - w, high + w
     up_hi, dn_hi, up_lo, dn_lo = up.copy(), dn.copy(), up.copy(), dn.copy()
-    for o in sided:
-        if not o.zone:
+    for o in sided:      # zones and datum-feature shifts: a disc of radius ``unit`` growing with sizes
+        if o.plain:
             continue
         low -= o.lo * o.unit
         high += o.hi * o.unit

@@ -13,20 +13,26 @@ KINKED_FACTOR = ("{name}: the output has a kink at the nominal point (one-sided 
 KINKED_ZONE = ("position zone {zone}: the output has a kink at the zone's centre (a norm: per unit radius it rises at "
                "most {hi:.4g} and falls at most {lo:.4g}); it is taken by its radius in the direction that hurts (worst "
                "case), as ±radius × the larger slope (RSS, statistical rows: an approximation of a one-sided effect)")
-ZONE_BONUS = "position zone {zone} at {modifier}{datum}: radius {radius:.6g} at the sizes' band centres, growing with " \
+ZONE_BONUS = "position zone {zone} at {modifier}: radius {radius:.6g} at the sizes' band centres, growing with " \
              "the bonus of {sizes}"
-ZONE_DATUM = " (datum {datum} at MMB)"
+DATUM_SHIFT = ("datum feature {datum} at MMB: its departure from MMB shifts {zones} together — one translation of the "
+               "pattern (ASME Y14.5 simultaneous requirement; SEP REQT is not modelled), radius {radius:.6g} at its band "
+               "centre growing with that departure, not a bonus of each zone (the distances within the pattern do not "
+               "change with it); per unit of shift the output rises at most {hi:.4g} and falls at most {lo:.4g}")
+PATTERN_SHIFT = ("datum feature {datum} at MMB shifts {zones} together: one translation of the pattern, anywhere within "
+                 "half the datum's departure from MMB (ASME Y14.5 simultaneous requirement)")
 MRSS_FEW = "MRSS (handbook) needs at least two contributors"
 DYNAMIC_UNDEFINED = "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined"
 
 # ---------------------------------------------------------------- conventions: the note of each row
 ZONES_AS_DISCS = " (position zones as discs)"
 KINKED_ONE_SIDED = "; kinked contributors by the side that hurts (one-sided)"
-ZONES_WITH_BONUS = "; zones at MMC/LMC with their bonus (and datum shift)"
+ZONES_WITH_BONUS = "; zones at MMC/LMC with their bonus"
+PATTERN_SHIFTS = "; each datum-feature shift as one translation of its pattern"
 WORST_CASE = "every factor at the end of its band{zones}"
 RSS = "every band read as ±3σ of a centred normal{sided}{correlation}"
-RSS_SIDED = ("; kinked contributors and zones at MMC/LMC as equal-bilateral ±(radius or half band) × the slope that "
-             "hurts (handbook)")
+RSS_SIDED = ("; kinked contributors, zones at MMC/LMC and datum-feature shifts as equal-bilateral ±(radius or half "
+             "band) × the slope that hurts (handbook)")
 MRSS = "C_f = {cf:.4g} × RSS{wider}"
 MRSS_WIDER = " — wider than the worst case (few contributors)"
 STATISTICAL = "mean and σ of each factor's own distribution{correlation}{kinked}"
