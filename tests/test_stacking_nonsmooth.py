@@ -299,3 +299,14 @@ def test_a_floating_fastener_pair_on_a_shifted_datum():
                            slopes=sl)
     assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
     assert true_worst_case(m, spec, "margin", max_evaluations=3000).low == pytest.approx(0.0, abs=1e-6)
+
+
+def test_one_datum_feature_has_one_type():
+    """Two zones naming datum feature B, one as a bore and one as a boss: refused (each would shift the pattern the
+    other way), with the key."""
+    z = lambda name, t: [{"name": f"{c}{name}", "tolerance": "⌀0.2", "unit": "mm", "zone": name, "datum_size": "B",  # noqa: E731
+                          "datum_type": t} for c in "xy"]
+    with pytest.raises(InputError, match="one feature has one type") as e:
+        spec_from_table({"factor": [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+                                    *z("h1", "internal"), *z("h2", "external")]}, file="s.toml")
+    assert e.value.key == "factor.datum_type"

@@ -57,3 +57,19 @@ def test_a_uniform_factor_under_curvature():
     mu = E(2)
     m3 = E(6) - 3 * E(4) * mu + 2 * mu ** 3
     assert res.skewness == pytest.approx(m3 / res.sigma ** 3, rel=1e-6)
+
+
+def test_the_linearised_rows_say_they_leave_a_curvature_out():
+    """y = x + 0.2 x², x ~ N(0, 0.5): every row read from the gradient at the nominal point misses the mean shift
+    0.2σ² = 0.05 and says so in its own note (issue 37); the second-order and Monte Carlo rows do not need to."""
+    from rvtol.mc import Evaluator, run_monte_carlo
+    from rvtol.stacking.compare import compare_conventions
+
+    spec = ToleranceSpec("q", (normal("x", 0.0, 0.5),))
+    m = FormulaModel.from_spec(spec, {"y": ("x + 0.2*x**2", "1")})
+    mc = run_monte_carlo(m, spec, 500, "random", 1, progress=False)
+    frame = compare_conventions(m, spec, ["y"], mc, Evaluator(), true_wc=False).outputs["y"].conventions.frame
+    said = frame["note"].str.contains("linearised at the nominal point: the output's curvature is left out "
+                                      r"\(its mean shift \+0.05", regex=True)
+    linear = ~frame["convention"].str.startswith(("second order", "Monte Carlo"))
+    assert said[linear].all() and not said[~linear].any() and linear.sum() == 6   # WC, RSS, Bender, stat., 6σ ×2

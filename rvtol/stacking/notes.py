@@ -43,6 +43,8 @@ CORRELATION_LEFT_OUT = " — except for the one-sided {names}, taken as independ
 STATISTICAL_KINKED = "; kinked contributors as ±(largest one-sided slope)·σ, no mean shift (an approximation)"
 SIX_SIGMA_STATIC = "the factors' mean shifts added arithmetically"
 SIX_SIGMA_DYNAMIC = "each σ inflated by Cp/Cpk = 1/(1 − k)"
+LINEARISED = ("; linearised at the nominal point: the output's curvature is left out (its mean shift {shift:+.4g} and "
+              "skewness: the second-order rows)")
 SIX_SIGMA_SHIFT = "every band a ±{width:g}σ process (Cp {cp:g}) shifted {shift:g}σ (Cpk {cpk:g})"
 
 # ---------------------------------------------------------------- tail: the estimates' notes
