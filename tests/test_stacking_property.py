@@ -194,15 +194,16 @@ def exact_moments(records, R, nominal, a, c, prod):
         W = np.prod(np.array(np.meshgrid(*[wt] * n, indexing="ij")).reshape(n, -1), axis=0)
         block = (grid @ np.linalg.cholesky(R[np.ix_(linked, linked)]).T) * np.array([records[i][2] for i in linked])
 
-    def expect(expr):
+    def expect(poly):
         total = 0.0
-        for mon, coef in sympy.Poly(sympy.expand(expr), *w).terms():
+        for mon, coef in poly.terms():
             term = float(coef) * math.prod(cm[m][e] for m, e in enumerate(mon) if m not in linked)
             if linked:
                 term *= float(W @ np.prod([block[:, q] ** mon[m] for q, m in enumerate(linked)], axis=0))
             total += term
         return total
 
+    y = sympy.Poly(y, *w, domain="RR")
     mean = expect(y)
     m2, m3 = expect((y - mean) ** 2), expect((y - mean) ** 3)
     return mean, math.sqrt(m2), m3 / m2 ** 1.5
