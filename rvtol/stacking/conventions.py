@@ -55,13 +55,18 @@ the second-order rows are the reference).  A derivative that is NaN or infinite 
 with slopes it is replaced by their central difference (noted), without them it is an error.
 
 Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC grows with the bonus of its
-feature's actual size and with a datum-feature shift (:func:`rvtol.spec.zone_bonus`: the radius
-r = t/2 + Σ κ (x_s − ref_s), κ = ±½).  The worst-case rows take it exactly for the linearised output:
-the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z lo_z κ_z), −(D⁻_i + Σ_z lo_z κ_z)),
-the upper end likewise with hi_z — each size factor's effect through the zone it enlarges added to its
-own.  The RSS reads the zone at its radius at the size's band centre and the size with that coupled
-sensitivity; the statistical rows describe the produced parts, whose deviations the bonus does not
-change (it widens acceptance, not the process).
+feature's actual size (:func:`rvtol.spec.zone_bonus`: the radius r = t/2 + κ (x_s − ref_s), κ = ±½).  A
+datum feature of size referenced at MMB adds one more disc, shared: its departure from MMB lets the whole
+pattern of zones that reference it translate by one vector s, |s| ≤ r_d = κ (x_d − ref_d)
+(:func:`rvtol.spec.datum_shifts`, the simultaneous requirement), whose effect per unit of shift is
+|Σ_z ∇_z y| — the zones' gradients added (0 for a distance within the pattern) — or, where a zone is
+kinked, the model's one-sided slopes with the pattern moved as one.  The worst-case rows take these discs
+exactly for the linearised output: the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z
+lo_z κ_z), −(D⁻_i + Σ_z lo_z κ_z)), the upper end likewise with hi_z (z over the zones and the datum
+shifts) — each size factor's effect through the disc it enlarges added to its own.  The RSS reads each disc
+at its radius at the size's band centre and the size with that coupled sensitivity; the statistical rows
+describe the produced parts, whose deviations the bonus and the shift do not change (they widen
+acceptance, not the process).
 
 The worst case that is the true extreme of a non-linear model is :mod:`rvtol.stacking.worst_case`.
 
