@@ -71,7 +71,8 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     output = "lost_motion"
     upper = 1.0
     unit = "arcmin"            # default: the output's display unit
-    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD)
+    min_yield = 0.9973         # and/or min_cpk = 1.33; neither: yield >= 0.9973 (DEFAULT_MIN_YIELD); in (0, 1):
+                               # 1 itself cannot be demonstrated by a finite sample and is refused
     confidence = 0.95          # of the bound the verdict uses
     basis = "lower_bound"      # pass on the lower confidence bound (default) or the "estimate"
     bound = "one-sided"        # the bound: one-sided at `confidence` (default), or "two-sided": the
@@ -177,7 +178,15 @@ class Factor:
         return replace(self, dist=self.dist.scaled(f), limits=limits)
 
     def describe(self) -> str:
-        return self.dist.describe(self.unit)
+        """The distribution with its unit, its numbers resolving the band (:meth:`shown`)."""
+        return self.dist.describe(self.unit, self.shown)
+
+    def shown(self, value) -> str:
+        """A number in the factor's unit with the decimals that resolve its band (:func:`rvtol.precision.shown`)."""
+        from .precision import shown
+
+        lo, hi = self.band
+        return shown(value, hi - lo)
 
 
 @dataclass(frozen=True)
@@ -190,6 +199,7 @@ class ToleranceSpec:
     description: str = ""
     file: str | None = None
     sha256: str | None = None
+    sheet: str | None = None    # the worksheet read, for a spec read from a workbook
 
     def __post_init__(self):
         names = [f.name for f in self.factors]
@@ -270,7 +280,7 @@ class ToleranceSpec:
         frame = pd.DataFrame({
             "factor": [f.name for f in fs],
             "unit": [f.unit for f in fs],
-            "distribution": [f.dist.describe() for f in fs],
+            "distribution": [f.dist.describe(number=f.shown) for f in fs],
             "nominal": [f.nominal_value for f in fs],
             "mean": [f.dist.mean for f in fs],
             "std": [f.dist.std for f in fs],
@@ -351,12 +361,16 @@ class Requirement:
 
 # --------------------------------------------------------------------------- loaders
 def load_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceSpec:
-    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`)."""
+    """A spec file: TOML, or a table (``.csv``/``.tsv``/``.xlsx``, see :func:`load_table_spec`; ``sheet``: the
+    worksheet of a workbook, by default the one :func:`rvtol.inputs.sheets.read_rows` can tell without guessing)."""
     if Path(path).suffix.lower() == ".txt":     # a TOML spec saved as text, or a table: say which to name it
         raise SpecError("a spec is a TOML file (.toml) or a table (.csv, .tsv or .xlsx), not .txt: rename it after "
                         "what it holds (a tab-separated table: .tsv)", file=str(path), key="-")
     if Path(path).suffix.lower() in TABLE_SUFFIXES + (".ods", ".xls"):   # the last two: "save as .xlsx"
         return load_table_spec(path, sheet=sheet)
+    if sheet is not None:
+        raise SpecError(f"a sheet ({sheet!r}) is named, but a {Path(path).suffix or 'TOML'} spec has no sheets",
+                        file=str(path), key="sheet")
     data, sha = read_toml(path)
     spec = spec_from_table(data, file=str(path))
     return replace(spec, sha256=sha)
@@ -372,7 +386,7 @@ def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceS
         spec = spec_from_table(table.document, file=str(path))
     except InputError as exc:
         raise table.locate(exc) from None
-    return replace(spec, sha256=table.sha256)
+    return replace(spec, sha256=table.sha256, sheet=table.location.sheet)
 
 
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
@@ -561,11 +575,19 @@ def band_distribution(p: Params, tol: Tolerance) -> Distribution:
         table.pop("tolerance", None)
     table.update(given)
     try:
-        return from_params(Params(table, file=p.file, key=p.key))
+        dist = from_params(Params(table, file=p.file, key=p.key))
     except InputError as exc:
         if (exc.key or "").rsplit(".", 1)[-1] not in given:   # a number the tolerance gave
             exc.key = p.path("tolerance")
         raise
+    lo, hi = tol.limits
+    slack = 1e-9 * max(abs(lo), abs(hi), hi - lo)
+    if given and not lo - slack <= dist.mean <= hi + slack:
+        key = next(iter(given))
+        raise p.error(key, f"{key} = {given[key]!r} puts the {kind} distribution's mean at {dist.mean:.6g}, outside the "
+                           f"drawing's limits {lo:.6g}..{hi:.6g} ({tol.text!r}): the parts it describes would not meet "
+                           "the drawing — check the value (shift and mean are in the factor's unit)")
+    return dist
 
 
 def measured_distribution(p: Params):
@@ -799,6 +821,12 @@ def read_requirements_file(path: str | Path) -> tuple[list[Requirement], str]:
     return reqs, sha
 
 
+#: why a requirement may not ask for a yield of exactly 1
+YIELD_OF_ONE = ("a yield of exactly 1 cannot be demonstrated by any finite sample (with every sample conforming the "
+                "one-sided lower bound is (1 − c)^(1/n), below 1 at every n): write the yield you need, e.g. "
+                "0.999999 (1 ppm out)")
+
+
 def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
     out = []
     for t in tables:
@@ -811,14 +839,16 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
             raise t.error("upper", f"limits in the wrong order: lower {lower} >= upper {upper}")
         unit = t.unit("unit", None)
         min_yield = t.float("min_yield", None)
-        if min_yield is not None and not 0.0 < min_yield <= 1.0:
-            raise t.error("min_yield", f"must lie in (0, 1], got {min_yield}")
+        if min_yield == 1.0:
+            raise t.error("min_yield", YIELD_OF_ONE)
+        if min_yield is not None and not 0.0 < min_yield < 1.0:
+            raise t.error("min_yield", f"must lie in (0, 1), got {min_yield}")
         min_cpk = t.float("min_cpk", None, positive=True)
         confidence = t.float("confidence", 0.95)
         if not 0.5 <= confidence < 1.0:
             raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
         basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
-        name = t.str("name", "")
+        name = t.str("name", "", single_line=True)
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         bound = t.str("bound", "one-sided", choices=BOUNDS)

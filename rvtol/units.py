@@ -100,6 +100,8 @@ _ALIASES = {
     "micron": "um",
     "inch": "in",
     "inches": "in",
+    "mil": "thou",                   # a thou: 0.001 in, as US drawings write it (not the millimetre)
+    "mils": "thou",
     '"': "in",
     "µrad": "urad",
     "μrad": "urad",
@@ -139,15 +141,21 @@ BASE_UNITS = {dim: name for name, (dim, f) in _TABLE.items() if f == 1.0 and nam
 BASE_UNITS["dimensionless"] = "1"
 
 
-def canonical(unit: str) -> str:
-    """The canonical spelling of ``unit``; raises :class:`UnitError` if unknown."""
+def canonical(unit: str, dimension: str | tuple[str, ...] | None = None) -> str:
+    """The canonical spelling of ``unit``; raises :class:`UnitError` if unknown.  ``dimension`` (one or several):
+    what the unit is expected to measure — an unknown unit's "did you mean" and list of known units then hold only
+    units of that dimension (``mils`` for a length is never answered with ``min``, a time)."""
     if not isinstance(unit, str):
         raise UnitError(f"unit must be a string, got {type(unit).__name__}")
     u = unit.strip()
     u = _ALIASES.get(u, u)
     if u not in _TABLE:
-        raise UnitError(f"unknown unit {unit!r}{did_you_mean(u, [*_TABLE, *_ALIASES])} "
-                        f"(known: {', '.join(sorted(_TABLE))})")
+        dims = None if dimension is None else ((dimension,) if isinstance(dimension, str) else tuple(dimension))
+        known = [n for n, (d, _) in _TABLE.items() if dims is None or d in dims]
+        spellings = known + [a for a, n in _ALIASES.items() if n in known]
+        what = "" if dims is None else f" {' or '.join(d.replace('_', ' ') for d in dims)}"
+        raise UnitError(f"unknown{what} unit {unit!r}{did_you_mean(u, spellings)} "
+                        f"(known: {', '.join(sorted(known))})")
     return u
 
 
@@ -187,8 +195,8 @@ def convert(value, src: str, dst: str):
 
 def require_dimension(unit: str, expected: str | tuple[str, ...]) -> str:
     """Check that ``unit`` has the ``expected`` dimension; return its canonical name."""
-    u = canonical(unit)
     exp = (expected,) if isinstance(expected, str) else tuple(expected)
+    u = canonical(unit, exp)
     if _TABLE[u][0] not in exp:
         raise UnitError(f"unit {unit!r} is a {_TABLE[u][0]}, expected {' or '.join(exp)}")
     return u

@@ -251,8 +251,12 @@ def test_read_measurements(tmp_path):
     q.write_text("25,011\n25,008\n25,013\n", encoding="utf-8")
     with pytest.raises(SpecError, match="several columns"):
         M.read_measurements(q)   # a comma is read as the delimiter, never guessed as a decimal comma
-    q.write_text("x;y\n25,011;1\n25,008;2\n", encoding="utf-8")
-    np.testing.assert_array_equal(M.read_measurements(q, "x"), [25.011, 25.008])
+    q.write_text("x;y\n25,011;1\n25,0085;2\n", encoding="utf-8")   # 25,0085: this column writes decimal commas
+    np.testing.assert_array_equal(M.read_measurements(q, "x"), [25.011, 25.0085])
+    q.write_text("x;y\n25,011;1\n25,008;2\n", encoding="utf-8")    # 25.011 or 25011: nothing says which
+    with pytest.raises(SpecError, match=r"row 2, column 'x': '25,011' is ambiguous: 25.011 with a decimal comma or "
+                                        r"25011 with a thousands separator.* write 25.011 or 25011"):
+        M.read_measurements(q, "x")
     b = tmp_path / "bad.csv"
     b.write_text("bore\n25.01\nn/a\n", encoding="utf-8")
     with pytest.raises(SpecError) as e:
@@ -281,8 +285,8 @@ def test_read_measurements_goes_through_the_table_reader(tmp_path):
     with pytest.raises(SpecError, match="row 2, column 'd \\[mm\\]': cannot convert 'mm' \\(length\\)"):
         M.read_measurements(p, "d", unit="deg")
     t = tmp_path / "cmm.tsv"
-    t.write_text("# exported with a German locale\nbore [mm]\truns\n25,011\t1\n25,008\t2\n", encoding="utf-8")
-    np.testing.assert_array_equal(M.read_measurements(t, "bore"), [25.011, 25.008])
+    t.write_text("# exported with a German locale\nbore [mm]\truns\n25,011\t1\n25,01\t2\n", encoding="utf-8")
+    np.testing.assert_array_equal(M.read_measurements(t, "bore"), [25.011, 25.01])
     from openpyxl import Workbook
 
     wb = Workbook()

@@ -424,3 +424,35 @@ def fit(hole: str | ToleranceClass, shaft: str | ToleranceClass, nominal: float)
     if s.is_hole:
         raise InputError(f"a fit is written hole/shaft: {s} is a hole class (shafts are lower case, e.g. g6)")
     return Fit(limits(h, nominal), limits(s, nominal))
+
+
+def farthest_band(nominal: float) -> float:
+    """How far (µm) the farthest band of any ISO 286 tolerance class at ``nominal`` (mm) lies from the nominal:
+    the largest fundamental deviation over every letter and grade the tables define there (0 outside the
+    standard's sizes).  300 µm at 25 mm (a, es = −300 µm), 2100 µm at 400 mm (zc)."""
+    try:
+        d = _check_size(nominal)
+    except InputError:
+        return 0.0
+    return _farthest_band_in_step((_index(INTERMEDIATE_STEPS, d), d <= 1.0), d)
+
+
+_FARTHEST: dict[tuple[int, bool], float] = {}
+
+
+def _farthest_band_in_step(step: tuple[int, bool], d: float) -> float:
+    """:func:`farthest_band` for ``step`` = (the intermediate size step, at or below 1 mm): every size there has
+    the same classes and deviations (a, b, N above IT8 and IT14 … IT18 are not used at or below 1 mm); ``d`` a
+    size in it."""
+    if step not in _FARTHEST:
+        far = 0.0
+        for letter in SHAFT_LETTERS + HOLE_LETTERS:
+            for g in GRADES:
+                try:
+                    lim = limits(ToleranceClass(letter, g), d)
+                except InputError:
+                    continue
+                if not lim.lower <= 0.0 <= lim.upper:
+                    far = max(far, min(abs(lim.lower), abs(lim.upper)))
+        _FARTHEST[step] = far
+    return _FARTHEST[step]

@@ -53,8 +53,8 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import did_you_mean, InputError, SpecError
-from .sheets import (blank, byte_progress, cell_number, col_letter, decimal_comma, skipped, split_header,
-                     stream_rows)
+from .sheets import (CommaColumn, blank, byte_progress, col_letter, is_number, skipped, split_number_hint,
+                     split_header, stream_rows)
 
 #: candidate families: name -> scipy distribution, whether the support is x > location
 FAMILIES: dict[str, tuple[object, bool]] = {
@@ -253,9 +253,11 @@ class EmpiricalDistribution(_DataDistribution):
         return EmpiricalDistribution(self._scaled_data(f), self.interpolate, self.gauge_fraction,
                                      f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
         how = "interpolated" if self.interpolate else "resampled"
-        return f"empirical({how}, n={self.n}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+        return f"empirical({how}, n={self.n}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def _interp_moments(x: np.ndarray, p: np.ndarray) -> tuple[float, float]:
@@ -387,8 +389,10 @@ class KDEDistribution(_DataDistribution):
         return KDEDistribution(self._scaled_data(f), self.bandwidth * f, self.gauge_fraction,
                                f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
-        return f"kde(n={self.n}, h={self.bandwidth:.4g}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
+        return f"kde(n={self.n}, h={g(self.bandwidth)}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def kde(values, *, bandwidth: str | float = "scott", measurement_sigma: float | None = None,
@@ -476,8 +480,10 @@ class FrozenDistribution:
         kw["scale"] = kw.get("scale", 1.0) * f
         return FrozenDistribution(self.kind, d.dist(*d.args, **kw), self.one_sided, self.origin)
 
-    def describe(self, unit: str = "") -> str:
-        ps = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats loc and scale, in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = lambda x: f"{x:.4g}"  # noqa: E731
+        ps = ", ".join(f"{k}={(number or g)(v) if k in ('loc', 'scale') else g(v)}" for k, v in self.params)
         return f"{self.kind}({ps}) {unit}".strip()
 
 
@@ -611,6 +617,29 @@ def _shape_names(dist) -> list[str]:
     return [s.strip() for s in dist.shapes.split(",")] if dist.shapes else []
 
 
+def fit_family(x: np.ndarray, family: str, location: float | None = 0.0, start: dict | None = None) -> tuple[dict, int]:
+    """``(parameters, k)``: the maximum-likelihood parameters of one family (scipy's names: shape(s), loc, scale;
+    ``scipy.stats`` ``fit``) and the number fitted — a positive family's location fixed at ``location`` unless it
+    is None; ``start``: starting values for the optimiser (e.g. an earlier fit's parameters).  An
+    :class:`InputError` says why the family cannot be fitted."""
+    dist, positive = FAMILIES[family]
+    fixed = {}
+    if positive and location is not None:
+        if not np.all(x > location):
+            raise InputError(f"needs every value above its location {location:g}")
+        fixed["floc"] = float(location)
+    names = _shape_names(dist) + ["loc", "scale"]
+    guess = {} if start is None else {k: v for k, v in start.items() if k in ("loc", "scale") and f"f{k}" not in fixed}
+    shapes = () if start is None else tuple(start[k] for k in names[:-2])
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        try:
+            est = dist.fit(x, *shapes, **guess, **fixed)
+        except Exception as exc:   # an optimiser failure: said so
+            raise InputError(f"fit failed ({type(exc).__name__}: {exc})") from None
+    return {k: float(v) for k, v in zip(names, est)}, len(names) - len(fixed)
+
+
 def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
         measurement_sigma: float | None = None, gof: str | None = "best", n_mc: int = 499,
         seed: int = 0, origin: str = "") -> FitReport:
@@ -631,29 +660,18 @@ def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
     for name in fams:
         if name not in FAMILIES:
             raise InputError(f"unknown family {name!r} (known: {', '.join(FAMILIES)})")
-        dist, positive = FAMILIES[name]
-        fixed = {}
-        if positive and location is not None:
-            if not np.all(x > location):
-                skipped[name] = f"needs every value above its location {location:g}"
-                continue
-            fixed["floc"] = float(location)
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore")
-            try:
-                est = dist.fit(x, **fixed)
-            except Exception as exc:   # an optimiser failure is a skipped candidate, said so
-                skipped[name] = f"fit failed ({type(exc).__name__}: {exc})"
-                continue
-        names = _shape_names(dist) + ["loc", "scale"]
-        params = {k: float(v) for k, v in zip(names, est)}
+        dist, _ = FAMILIES[name]
+        try:
+            params, k = fit_family(x, name, location)
+        except InputError as exc:   # a family that cannot be fitted is a skipped candidate, said so
+            skipped[name] = exc.reason
+            continue
         frozen = dist(**params)
         with np.errstate(all="ignore"):
             ll = float(np.sum(frozen.logpdf(x)))
         if not math.isfinite(ll):
             skipped[name] = "the fitted density is zero at some values"
             continue
-        k = len(names) - len(fixed)
         ks = stats.kstest(x, frozen.cdf)
         cands.append(Candidate(name, params, k, ll, 2 * k - 2 * ll, float(ks.statistic), float(ks.pvalue)))
     if not cands:
@@ -707,9 +725,12 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     The rows come through the one table reader (:mod:`rvtol.inputs.sheets`) with its rules: comment
     rows (``# …``) and blank rows skipped, a header cell ``name`` or ``name [unit]``
     (:func:`~rvtol.inputs.sheets.split_header`: ``column = "d"`` finds ``d [mm]``; the name as
-    written, and then any case, are tried), decimal commas in semicolon-, tab- or space-separated
-    text (:func:`~rvtol.inputs.sheets.cell_number`).  Unlike a spec table the header is optional: a
-    first row that is all numbers is data.  With a unit in the column's header and ``unit`` (the
+    written, and then any case, are tried), numbers read one way only
+    (:func:`~rvtol.inputs.sheets.read_number`: a decimal comma outside comma-separated files, thousands
+    separators; an ambiguous ``1,250`` decided by the column's other numbers,
+    :class:`~rvtol.inputs.sheets.CommaColumn`, or refused).  Unlike a spec table the header is optional: a
+    first row that is all numbers is data; a value beyond the header's (or the first row's) columns is refused
+    (a decimal comma read as the delimiter splits a number in two).  With a unit in the column's header and ``unit`` (the
     factor's) given, the values are converted to ``unit`` (another dimension is an error at the
     header cell).  Blank cells are skipped (columns of different lengths); anything else that is not
     a number is an error naming row and column.  The rows are read one at a time (only the column's
@@ -722,20 +743,13 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
                      what="a file of measured values")
     loc = rs.location(file)
     where_sheet = f"sheet {rs.title!r}, " if rs.title is not None else ""
-    comma = decimal_comma(rs.delimiter)
     rows = ((r, c) for r, c in rs.rows if not skipped(c))
     first_row = next(rows, None)
     if first_row is None:
         raise SpecError("no values", file=file, key="-")
     r0, first = first_row
 
-    def is_num(v):
-        try:
-            return cell_number(v, comma) is not None
-        except ValueError:
-            return False
-
-    has_header = not all(is_num(v) for v in first if not blank(v))
+    has_header = not all(is_number(v) for v in first if not blank(v))
     header, names, col_units = None, None, None
     if has_header:
         header = [("" if v is None else str(v).strip()) for v in first]
@@ -743,6 +757,7 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         names, col_units = [n for n, _ in parsed], [u for _, u in parsed]
     body = rows if has_header else itertools.chain([first_row], rows)
     width = len(first)
+    ncols = len(first) - next((k for k, v in enumerate(reversed(first)) if not blank(v)), len(first))
     j = None
     if isinstance(column, int) and not isinstance(column, bool):
         j = column - 1
@@ -763,10 +778,15 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         j = hits[0]
     # the values of column j — or, without a column, of every column (exactly one may be used)
     vals: dict[int, array.array] = {}
+    commas: dict[int, CommaColumn] = {}     # per column: a 1,250 decided by the column's other numbers
 
     with byte_progress(rs.size, f"reading {path.name}") as bar:
         step = 0
         for r, cells in body:
+            if len(cells) > ncols and any(not blank(c) for c in cells[ncols:]):
+                # a value where the first row has none: a decimal comma taken for the delimiter splits "0,1" in two
+                raise SpecError(f"{len(cells)} fields, the {'header' if has_header else 'first row'} has {ncols}"
+                                + split_number_hint(rs.delimiter), file=file, key=f"{where_sheet}row {r}")
             width = max(width, len(cells))
             cols = (j,) if j is not None else range(len(cells))
             for i in cols:
@@ -774,16 +794,18 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
                 if blank(v):
                     continue
                 try:
-                    x = cell_number(v, comma)
-                except ValueError:
+                    col = vals.setdefault(i, array.array("d"))
+                    x = commas.setdefault(i, CommaColumn(rs.delimiter)).read(v, len(col), r)
+                except ValueError as exc:
                     label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
-                    raise SpecError("expected a number" + (f", got {str(v).strip()!r}" if len(str(v)) <= 24 else ""),
-                                    file=file, key=f"{where_sheet}row {r}, column {label!r}") from None
+                    why = str(exc) if getattr(exc, "advice", False) and len(str(v)) <= 24 else (
+                        "expected a number" + (f", got {str(v).strip()!r}" if len(str(v)) <= 24 else ""))
+                    raise SpecError(why, file=file, key=f"{where_sheet}row {r}, column {label!r}") from None
                 if not math.isfinite(x):
                     label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
                     raise SpecError(f"not a finite number: {v!r}", file=file,
                                     key=f"{where_sheet}row {r}, column {label!r}")
-                vals.setdefault(i, array.array("d")).append(x)
+                col.append(x)
             step += 1
             if step == 4096:
                 bar.advance(4096 * (sum(len(str(c)) + 1 for c in cells)))
@@ -798,6 +820,9 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         j = next(iter(vals))
     label = header[j] if header and j < len(header) and header[j] else f"{j + 1}"
     got = vals.get(j, array.array("d"))
+    undecided = commas[j].settle(got) if j in commas else None
+    if undecided is not None:
+        raise SpecError(str(undecided), file=file, key=f"{where_sheet}row {undecided.where}, column {label!r}")
     if len(got) < 2:
         raise SpecError(f"column {label!r} holds {len(got)} value(s); need at least 2", file=file,
                         key=f"{where_sheet}column {label!r}")
@@ -807,7 +832,7 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
         from .. import units
 
         try:
-            out = units.convert(out, units.canonical(written), units.canonical(unit))
+            out = units.convert(out, units.canonical(written, units.dimension(unit)), units.canonical(unit))
         except InputError as exc:
             raise loc.error(exc.reason, r0, header[j], col_letter(j) if rs.lettered else None) from None
     return out

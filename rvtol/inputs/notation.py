@@ -204,6 +204,11 @@ class Tolerance:
         elif dist == "truncnorm":
             out.update(mean=c, sigma=T / (2.0 * level), lower=lo, upper=hi)
         elif dist in MAGNITUDE_KINDS:
+            if not (self.form in ("max", "limits") or (self.form in ("deviations", "percent") and self.lower == 0.0)):
+                raise NotationError(
+                    f"a {dist} factor is a magnitude (its values start at a point and go up): {self.text!r} is a band "
+                    "about the nominal and does not say where they start — write 'max x' (from 0), 'a..b' (from a) "
+                    "or '+x/0' (from the nominal)")
             out.update(tolerance=T)
             if lo != 0.0:
                 out["shift"] = lo
@@ -247,10 +252,43 @@ class _Tok:
     signed: bool = False
 
 
+@dataclass(frozen=True)
+class _Num:
+    """A number of a tolerance's body: its value, whether it is a percentage, the unit written with it."""
+
+    value: float
+    pct: bool
+    unit: str | None
+
+
+#: a number as a drawing writes it, with its separators (a decimal comma, thousands separators)
+_NUMBER_RUN = re.compile(r"(?<!\d)\d+(?:[.,]\d+)*")
+
+
+def _decimal_points(s: str, text: str) -> str:
+    """``s`` with every number written with a decimal point and no thousands separators: a decimal comma read as
+    one, an ambiguous ``1,250`` (1.25 or 1250?) decided by the text's other numbers (``25,011 ±0,005`` writes
+    decimal commas) or refused (:func:`rvtol.inputs.sheets.read_number`)."""
+    from .sheets import EITHER, NumberFormError, comma_role, fmt_plain, read_number
+
+    runs = _NUMBER_RUN.findall(s)
+    if not any("," in r or r.count(".") > 1 for r in runs):
+        return s
+    role = comma_role(None, runs)
+
+    def plain(m: re.Match) -> str:
+        try:
+            return fmt_plain(read_number(m.group(), role or EITHER))
+        except NumberFormError as exc:
+            raise _err(text, str(exc)) from None
+
+    return _NUMBER_RUN.sub(plain, s)
+
+
 def _normalise(text: str) -> tuple[str, bool]:
     s = text.translate(_DASHES).replace("＋", "+").strip()
     s = re.sub(r"\+\s*/\s*-|\+-", "±", s)
-    s = re.sub(r"(?<=\d),(?=\d)", ".", s)
+    s = _decimal_points(s, text)
     s = s.replace("…", "..")
     diameter = False
     if s[:1] in _DIAMETER:
@@ -457,18 +495,17 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
     t = p.peek()
     if t is None:
         raise p.unexpected("a tolerance after the nominal")
-    nums: list[tuple[float, bool]] = []   # (value, is_percent)
+    nums: list[_Num] = []   # the body's two numbers (deviations or limits), each with its own unit
     form: str
     iso_cls: list[str] = []
-    body_units: list[str | None] = []
     if t.kind == "pm":
         p.take()
         x = p.number("a number after ±")
         if x.signed:
             raise p.err("write ±x with an unsigned x")
         pct = p.take("pct") is not None
-        body_units.append(p.unit())
-        nums = [(-x.value, pct), (x.value, pct)]
+        u = p.unit()
+        nums = [_Num(-x.value, pct, u), _Num(x.value, pct, u)]
         form = "percent" if pct else "symmetric"
     elif t.kind == "iso":
         iso_cls.append(p.take().text)
@@ -483,8 +520,8 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
         x = p.number("a number after 'max'")
         if x.signed:
             raise p.err("'max x' takes an unsigned x (a magnitude)")
-        body_units.append(p.unit())
-        nums, form = [(0.0, False), (x.value, False)], "max"
+        u = p.unit()
+        nums, form = [_Num(0.0, False, u), _Num(x.value, False, u)], "max"
     elif t.kind == "num":
         a = p.take()
         a_pct = p.take("pct") is not None
@@ -495,15 +532,13 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
             p.take()
             b = p.number("the upper limit after '..'")
             b_unit = p.unit()
-            nums, form = [(a.value, False), (b.value, False)], "limits"
-            body_units = [a_unit or b_unit, b_unit or a_unit]
+            nums, form = [_Num(a.value, False, a_unit or b_unit), _Num(b.value, False, b_unit or a_unit)], "limits"
         else:
             slash = p.take("slash") is not None
             b = p.take("num")
             if b is None:
                 if a_pct and not a.signed and not slash:
-                    nums, form = [(-a.value, True), (a.value, True)], "percent"
-                    body_units = [a_unit]
+                    nums, form = [_Num(-a.value, True, a_unit), _Num(a.value, True, a_unit)], "percent"
                 elif a.signed or slash:
                     raise p.err("write both deviations, e.g. +0.05/0 or 0/-0.02 (or ±x)")
                 else:
@@ -518,14 +553,14 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
                                     "for limits write a..b")
                 if not slash and not (a.signed and b.signed) and 0.0 not in (a.value, b.value):
                     raise p.unexpected()
-                nums = [(a.value, a_pct), (b.value, b_pct)]
+                nums = [_Num(a.value, a_pct, a_unit or b_unit), _Num(b.value, b_pct, b_unit or a_unit)]
                 form = "percent" if (a_pct or b_pct) else "deviations"
-                body_units = [a_unit or b_unit, b_unit or a_unit]
     else:
         raise p.unexpected("a tolerance")
-    tail_unit = p.unit()
-    if tail_unit is not None:
-        body_units = [u or tail_unit for u in body_units] or [tail_unit]
+    tail_unit = p.unit()            # "+10/-5 um", "±0.05 mm": a unit after the body is every number's
+    nums = [replace(n, unit=n.unit or tail_unit) for n in nums]
+    if iso_cls and tail_unit is not None:
+        nom_u = nom_u or tail_unit
 
     # ---- process -------------------------------------------------------------------------
     proc: dict[str, float] = {}
@@ -543,8 +578,14 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
         proc[key] = x.value
 
     # ---- units and nominal ---------------------------------------------------------------
-    body_units = [u or nom_u for u in body_units]   # "1 in +0.002/-0.001": the nominal's unit
-    written = [u for u in [nom_u, *body_units] if u is not None]
+    body_written = sorted({n.unit for n in nums if n.unit is not None and not n.pct})
+    if nom_t is not None and nom_u is None and out_unit is not None and any(u != out_unit for u in body_written):
+        shown = " and ".join(units.label(u) for u in body_written)
+        raise _err(text, f"the nominal {fmt(nom_t)} has no unit and the tolerance is in {shown} while the factor is "
+                         f"in {units.label(out_unit)}: write the nominal's unit (e.g. {fmt(nom_t)} "
+                         f"{units.label(out_unit)} or {fmt(nom_t)} {units.label(body_written[0])})")
+    nums = [replace(n, unit=n.unit or nom_u) for n in nums]   # "1 in +0.002/-0.001": the nominal's unit
+    written = [u for u in [nom_u, *(n.unit for n in nums)] if u is not None]
     out = out_unit or (written[0] if written else ("mm" if iso_cls else None))
 
     def conv(v: float, u: str | None) -> float:
@@ -581,30 +622,49 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
         lower, upper = conv(lo_um / 1000.0, "mm"), conv(hi_um / 1000.0, "mm")
         if form == "fit":   # a clearance: nominal 0 (hole and shaft share the nominal)
             nom = None
-    elif form == "limits":
-        la, lb = conv(nums[0][0], body_units[0]), conv(nums[1][0], body_units[1])
-        lo_lim, hi_lim = min(la, lb), max(la, lb)
-        base = 0.0 if nom is None else nom
-        lower, upper = lo_lim - base, hi_lim - base
-    elif form == "max":
-        base = 0.0 if nom is None else nom
-        lower, upper = -base, conv(nums[1][0], body_units[0]) - base
     else:
-        devs = []
-        for (v, pct), u in zip(nums, body_units + [None] * (2 - len(body_units))):
-            if pct:
-                if nom is None or nom == 0.0:
-                    raise _err(text, "a percentage needs a nonzero nominal")
-                devs.append(v / 100.0 * abs(nom))
-            else:
-                devs.append(conv(v, u))
-        lower, upper = min(devs), max(devs)
+        for n in nums:
+            if n.pct and (nom is None or nom == 0.0):
+                raise _err(text, "a percentage needs a nonzero nominal")
+        vals = [n.value / 100.0 * abs(nom) if n.pct else conv(n.value, n.unit) for n in nums]
+        base = 0.0 if nom is None else nom
+        if form in ("limits", "max"):    # absolute limits: the deviations from the nominal (or 0)
+            vals = [v - base for v in vals]
+            _check_nominal_near_limits(text, nom, vals, out)
+        lower, upper = min(vals), max(vals)
     lower, upper = lower + 0.0, upper + 0.0   # no negative zeros (-0.00 on drawings)
     if not upper > lower:
         raise _err(text, "the tolerance band has zero width")
 
     process = _process(proc, text, form) if proc else None
     return Tolerance(text, form, nom, lower, upper, out, diameter, iso_lim, fit, process)
+
+
+def _check_nominal_near_limits(text: str, nominal: float | None, devs: list[float], unit: str | None) -> None:
+    """A nominal beside absolute limits (``24.95..25.05``, ``max x``) that cannot be theirs is refused: one of the two
+    is mistyped (nominal 10 with 9.1..9.3).  A band may lie off its nominal (25 g6 is 24.980..24.993) — up to its
+    own width, and for a length up to the farthest band of any ISO 286 class at that size
+    (:func:`rvtol.inputs.iso286.farthest_band`: 0.3 mm at 25 mm, the a/A fundamental deviation)."""
+    if nominal is None:
+        return
+    lo, hi = min(devs), max(devs)
+    off = max(lo, -hi, 0.0)              # how far the nominal lies outside the band (deviations: from 0)
+    if off <= hi - lo:
+        return
+    reach, why = hi - lo, "the band's own width"
+    if unit is not None and units.dimension(unit) == "length":
+        iso = float(units.convert(iso286.farthest_band(float(units.convert(abs(nominal), unit, "mm"))) / 1000.0,
+                                  "mm", unit))
+        if iso > reach:
+            reach, why = iso, (f"any ISO 286 tolerance class puts a band at this size ({fmt(iso, 6)}"
+                               f"{' ' + units.label(unit) if unit else ''})")
+        if off <= reach * (1 + 1e-9):
+            return
+    side = "below" if lo > 0 else "above"
+    u = f" {units.label(unit)}" if unit else ""
+    raise _err(text, f"the nominal {fmt(nominal)} lies {fmt(off, 6)}{u} {side} its limits "
+                     f"{format_limits(nominal + lo, nominal + hi)}, farther than {why}: one of them is mistyped "
+                     "(give the nominal the limits deviate from, or none)")
 
 
 def zone_level(sigma_level: float = 3.0) -> float:

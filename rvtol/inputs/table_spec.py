@@ -18,7 +18,8 @@ The layout a quality engineer keeps in a spreadsheet::
   (lower; its size is taken below the nominal, ``0.05`` and ``-0.05`` both mean −0.05),
   ``distribution`` (dist; default ``normal``), ``unit`` (units), ``direction`` (coefficient,
   sign, dir: ``+``, ``-``, ``+1``, ``-0.5``… for a linear stack: ``[model] kind = "linear"`` with
-  ``coefficients = "spec"``), ``source`` (reference); ``notes``/``comment`` columns are ignored.
+  ``coefficients = "spec"``), ``source`` (reference); ``notes``/``comment`` columns are ignored
+  (an export writes them back, :func:`write_table_spec`'s ``keep``).
   ``name`` is required, and ``unit`` unless the tolerance has one (``25 H7`` is in mm).
   ``multiplicity`` (count, qty) makes a row with ``[k]`` in its name a family of N identical
   factors (:mod:`rvtol.spec`).
@@ -48,7 +49,10 @@ and the column: ``stack.xlsx: sheet 'spec', row 7, column 'tolerance' (E): canno
 UTF-8 with a byte-order mark, so Excel shows ``±`` and ``µ``; XLSX with openpyxl); reading it
 back gives the same spec to 12 significant digits (the numbers are written that way).  A factor
 written in drawing notation is written with its drawing limits; measured factors are written
-with the file they were read from.
+with the file they were read from; a family whose copies are alike as one row with its
+``multiplicity``; with ``keep`` (the table the spec was read from) its comment rows, each in its
+place, and its notes columns.  Text a spreadsheet would run as a formula is written as text (XLSX)
+or refused (CSV).
 """
 from __future__ import annotations
 
@@ -61,7 +65,8 @@ from pathlib import Path
 from ..distributions import KINDS
 from ..errors import InputError, SpecError
 from .notation import fmt, format_deviations, format_limits, zone_level
-from .sheets import Location, blank, col_letter, read_rows, write_rows
+from .sheets import (EITHER, Location, NumberFormError, blank, cell_number, col_letter, comma_role, read_rows,
+                     write_rows)
 
 COLUMNS = ("name", "part", "feature", "nominal", "tolerance", "distribution", "unit", "direction", "source")
 _ALIASES = {
@@ -113,6 +118,10 @@ class SpecTable:
     factor_rows: list[int] = field(default_factory=list)
     factor_columns: list[dict] = field(default_factory=list)   # per factor: key -> (column label, letter)
     correlation_rows: list[int] = field(default_factory=list)
+    # what the spec does not hold and an export keeps (:func:`write_table_spec`'s ``keep``):
+    comments: list[tuple[int, list]] = field(default_factory=list)   # (factor rows above it, -1: above the header;
+    #                                                                    its cells)
+    extra: dict[str, dict[str, object]] = field(default_factory=dict)   # notes column label -> factor name -> cell
 
     _KEY = re.compile(r"^(factor|correlation)\[(\d+)\](?:\.([A-Za-z_]+))?")
 
@@ -131,39 +140,43 @@ class SpecTable:
         return SpecError(exc.reason, file=self.file, key=exc.key)
 
 
+def _trimmed(cells: list) -> list:
+    """A row's cells without its trailing blank ones."""
+    cells = list(cells)
+    while cells and blank(cells[-1]):
+        cells.pop()
+    return cells
+
+
 def _text(v) -> str:
     if isinstance(v, float) and v.is_integer():
         return str(int(v))
     return str(v).strip()
 
 
-def _number(v, where) -> float | None:
-    """A number cell (blank → None); ``where(reason)`` builds the error."""
-    if blank(v):
+def _number(v, where, comma: str = EITHER) -> float | None:
+    """A number cell (blank → None; text as :func:`~rvtol.inputs.sheets.read_number` reads it, ``comma``: how the
+    file uses the comma, :func:`~rvtol.inputs.sheets.comma_role`); ``where(reason)`` builds the error."""
+    if isinstance(v, str):
+        v = v.strip().lstrip("Ø⌀")
+    try:
+        x = cell_number(v, comma)
+    except NumberFormError as exc:
+        raise where(str(exc) if exc.advice else f"expected a number, got {str(v)!r}") from None
+    if x is None:
         return None
-    if isinstance(v, bool):
-        raise where(f"expected a number, got {v}")
-    if isinstance(v, (int, float)):
-        x = float(v)
-    elif isinstance(v, (_dt.date, _dt.time)):
-        raise where("the spreadsheet turned this cell into a date; format the column as number or text")
-    else:
-        s = str(v).strip().lstrip("Ø⌀").strip().replace("\u2212", "-")
-        if not _NUMBER.match(s):
-            raise where(f"expected a number, got {str(v)!r}")
-        x = float(s.replace(",", "."))
     if not math.isfinite(x):
         raise where(f"must be a finite number, got {v}")
     return x
 
 
-def _direction(v, where) -> float | None:
+def _direction(v, where, comma: str = EITHER) -> float | None:
     if blank(v):
         return None
     if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
         return 1.0 if v.strip() == "+" else -1.0
     try:
-        return _number(v, where)
+        return _number(v, where, comma)
     except SpecError:
         raise where(f"expected a direction (+, -) or a number, got {str(v).strip()!r}") from None
 
@@ -226,6 +239,7 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
     path = Path(path)
     sh = read_rows(path, sheet)
     lettered = sh.lettered
+    comma = comma_role(sh.delimiter, (c for _, cells in sh.rows for c in cells))
     loc = sh.location(str(path))
     meta: dict[str, object] = {}
     corr: list[dict] = []
@@ -241,8 +255,9 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
         first = _text(cells[0]) if cells and not blank(cells[0]) else ""
         if first.startswith("#"):
             word = first[1:].strip().lower()
-            if first[1:2].isspace() or not word:
-                continue  # a comment
+            if first[1:2].isspace() or not word:   # a comment: kept by an export
+                table.comments.append((-1 if header is None else len(factors), _trimmed(cells)))
+                continue
             word = word.rstrip(":")
             if word not in _DIRECTIVES:
                 raise loc.error(f"unknown directive {first!r} (known: {', '.join('#' + d for d in _DIRECTIVES)};"
@@ -252,7 +267,7 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
                 if len(rest) != 3:
                     raise loc.error("#correlation takes two factor names and a correlation: #correlation a b 0.5",
                                     r)
-                rho = _number(rest[2], lambda why, r=r: loc.error(f"#correlation: {why}", r))
+                rho = _number(rest[2], lambda why, r=r: loc.error(f"#correlation: {why}", r), comma)
                 corr.append({"pair": [_text(rest[0]), _text(rest[1])], "rho": rho})
                 table.correlation_rows.append(r)
             else:
@@ -265,12 +280,17 @@ def read_spec_table(path: str | Path, *, sheet: str | None = None, name: str | N
         if header is None:
             header, header_row = _header(cells, loc, r, lettered), r
             _refuse_merged(sh, header, header_row, loc)
+            ignored = [(i, _text(c)) for i, (c, h) in enumerate(zip(cells, header)) if h is None]
+            table.extra = {label: {} for _, label in ignored}
             continue
-        f, cols = _row(cells, header, loc, r, lettered)
+        f, cols = _row(cells, header, loc, r, lettered, comma)
         n = f["name"]
         if n in names_seen:
             raise loc.error(f"duplicate factor name {n!r} (first in row {names_seen[n]})", r, *cols["name"])
         names_seen[n] = r
+        for i, label in ignored:
+            if i < len(cells) and not blank(cells[i]):
+                table.extra[label][n] = cells[i]
         factors.append(f)
         table.factor_rows.append(r)
         table.factor_columns.append(cols)
@@ -324,8 +344,9 @@ def _header(cells: list, loc: Location, r: int, lettered: bool) -> list[str | No
 _LABEL = {"upper": "+tol", "lower": "-tol"}
 
 
-def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tuple[dict, dict]:
-    """One factor row → (its ``[[factor]]`` table, key → (column label, letter))."""
+def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma: str) -> tuple[dict, dict]:
+    """One factor row → (its ``[[factor]]`` table, key → (column label, letter)); ``comma``: how the file's numbers
+    use the comma (:func:`~rvtol.inputs.sheets.comma_role`)."""
     cell: dict[str, object] = {}
     col: dict[str, tuple[str, str | None]] = {}
     for i, h in enumerate(cells):
@@ -355,7 +376,7 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         table["unit"] = _text(cell["unit"]).replace('"', "in")
     keycol["unit"] = col.get("unit", col["name"])
     if "nominal" in cell:
-        nominal = _number(cell["nominal"], where("nominal"))
+        nominal = _number(cell["nominal"], where("nominal"), comma)
         if nominal is not None:
             table["nominal"] = nominal
         keycol["nominal"] = col["nominal"]
@@ -369,10 +390,13 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
         table["tolerance"] = _text(v)
         keycol["tolerance"] = col["tolerance"]
     elif "upper" in cell and not (blank(cell["upper"]) and blank(cell["lower"])):
-        up = _number(cell["upper"], where("upper"))
-        lo = _number(cell["lower"], where("lower"))
+        up = _number(cell["upper"], where("upper"), comma)
+        lo = _number(cell["lower"], where("lower"), comma)
         if up is None or lo is None:
             raise where("upper" if up is None else "lower")("+tol and -tol go together (write 0 for none)")
+        if up < -abs(lo):
+            raise where("upper")(f"the upper deviation (+tol {fmt(up)}) is below the lower one (-tol, taken below the "
+                                 f"nominal: {fmt(-abs(lo))}): the columns are swapped or a sign is wrong")
         table["tolerance"] = format_deviations(-abs(lo), up)
         keycol["tolerance"] = col["upper"]
     dcol = col.get("distribution", col["name"])
@@ -393,13 +417,13 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool) -> tu
             table[key] = _text(cell[h])
             keycol[key] = col[h]
     if not blank(cell.get("multiplicity")):
-        m = _number(cell["multiplicity"], where("multiplicity"))
+        m = _number(cell["multiplicity"], where("multiplicity"), comma)
         if not float(m).is_integer():
             raise where("multiplicity")(f"expected a whole number of copies, got {_text(cell['multiplicity'])}")
         table["multiplicity"] = int(m)
         keycol["multiplicity"] = col["multiplicity"]
     if "direction" in cell:
-        d = _direction(cell["direction"], where("direction"))
+        d = _direction(cell["direction"], where("direction"), comma)
         if d is not None:
             table["direction"] = d
         keycol["direction"] = col["direction"]
@@ -487,7 +511,9 @@ def _band_cells(f) -> tuple[float | None, str, str]:
         return nominal, text(*f.limits) if f.limits is not None else "", cell
     if d.kind in ("rayleigh", "weibull"):
         lo, hi = f.limits if f.limits is not None else (d.shift, d.shift + d.tolerance)
-        tol = f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi)
+        # a magnitude's band says where its values start: from 0, from the nominal (+x/0) or from a (a..b)
+        tol = (f"max {fmt(hi)}" if lo == 0.0 and nominal is None else text(lo, hi) if lo == base
+               else format_limits(lo, hi))
         if differs(hi - lo, d.tolerance) or differs(lo, d.shift):   # the limits do not give the distribution
             extra["sigma" if d.kind == "rayleigh" else "scale"] = p["sigma" if d.kind == "rayleigh" else "scale"]
             extra["shift"] = d.shift
@@ -533,16 +559,20 @@ def _measured_cell(m) -> str:
                                    if v is not None) + ")"
 
 
-def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
-    """The rows of a spec table: metadata, header, one row per factor (numbers as floats).
+def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTable | None = None) -> list[list]:
+    """The rows of a spec table: metadata, header, one row per factor (numbers as floats) — a family's copies one
+    row with its ``multiplicity`` when they are written alike.
 
-    ``coefficients`` (factor → number) override the factors' own ``direction``.
+    ``coefficients`` (factor → number) override the factors' own ``direction``.  ``keep``: the table the spec was
+    read from, whose comment rows (in their place among the factor rows) and notes columns are written back.
     """
     coefficients = coefficients or {}
     unknown = sorted(set(coefficients) - set(spec.names))
     if unknown:
         raise SpecError(f"coefficient for unknown factor {unknown[0]!r}", file=spec.file, key="direction")
-    rows: list[list] = [["#spec", spec.name]]
+    comments = list(keep.comments) if keep is not None else []
+    notes = keep.extra if keep is not None else {}
+    rows: list[list] = [c for at, c in comments if at < 0] + [["#spec", spec.name]]
     if spec.description:
         rows.append(["#description", spec.description])
     if spec.correlation is not None:
@@ -551,30 +581,60 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None) -> list[list]:
             for j in range(i + 1, len(spec)):
                 if c[i, j] != 0.0:
                     rows.append(["#correlation", spec.names[i], spec.names[j], float(c[i, j])])
+    body = _factor_rows(spec, coefficients)
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
     needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
               "description": any(f.description for f in spec.factors)}
     needed.update({c: any(getattr(f, c, "") for f in spec.factors) for c in _OPTIONAL[2:]})
-    extra = [c for c in _OPTIONAL if needed[c]]
-    rows.append(list(COLUMNS) + extra)
-    for f in spec.factors:
-        nominal, tol, cell = _band_cells(f)
-        direction = coefficients.get(f.name, getattr(f, "direction", None))
-        direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
-        rows.append([f.name, getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction,
-                     f.source] + [value[c](f) or None for c in extra])
+    extra = [c for c in _OPTIONAL if needed[c]] + (["multiplicity"] if any(n > 1 for _, _, n in body) else [])
+    rows.append(list(COLUMNS) + extra + list(notes))
+    value["multiplicity"] = lambda f: None
+    for k, (name, cells, n) in enumerate(body):
+        rows += [c for at, c in comments if at == k]
+        f = spec.factor(name) if n == 1 else spec.families()[name][0]
+        rows.append([name] + cells + [n if c == "multiplicity" and n > 1 else value[c](f) or None for c in extra]
+                    + [notes[label].get(name) for label in notes])
+    rows += [c for at, c in comments if at >= len(body)]
     return rows
 
 
+def _factor_rows(spec, coefficients: dict[str, float]) -> list[tuple[str, list, int]]:
+    """``(name, the row's cells after the name, multiplicity)`` per row: a factor, or a family whose copies are
+    written alike as its template with their number."""
+    out: list[tuple[str, list, int]] = []
+    families = spec.families()
+    done: set[str] = set()
+    for f in spec.factors:
+        if f.family in done:
+            continue
+        copies = families.get(f.family, (f,)) if f.family else (f,)
+        cells = [_row_cells(g, coefficients) for g in copies]
+        if len(copies) > 1 and all(c == cells[0] for c in cells):
+            out.append((f.family, cells[0], len(copies)))
+            done.add(f.family)
+        else:
+            out.append((f.name, cells[0], 1))
+    return out
+
+
+def _row_cells(f, coefficients: dict[str, float]) -> list:
+    nominal, tol, cell = _band_cells(f)
+    direction = coefficients.get(f.name, getattr(f, "direction", None))
+    direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
+    return [getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction, f.source]
+
+
 def write_table_spec(spec, path: str | Path, *, coefficients: dict[str, float] | None = None,
-                     sheet: str = "spec") -> Path:
-    """Write ``spec`` as a table: ``.csv`` / ``.tsv`` (UTF-8 with BOM) or ``.xlsx``.
+                     sheet: str = "spec", keep: SpecTable | None = None, shown: str | None = None) -> Path:
+    """Write ``spec`` as a table: ``.csv`` / ``.tsv`` (UTF-8 with BOM) or ``.xlsx``; ``keep``: the table it was
+    read from (:func:`read_spec_table`), whose comment rows and notes columns are written too.
 
     Measured factors name their data file as the spec did (relative to the spec): export next to the
-    spec, or copy the data files along.
+    spec, or copy the data files along.  Text a spreadsheet would run as a formula (``=…``, ``@…``) is written
+    as text in XLSX and refused in CSV (:func:`rvtol.inputs.sheets.write_rows`).
     """
-    rows = spec_rows(spec, coefficients)
+    rows = spec_rows(spec, coefficients, keep)
     header = next(i for i, r in enumerate(rows, start=1) if r and r[0] == COLUMNS[0])
     return write_rows(path, rows, sheet=sheet, header_row=header, text_columns=(COLUMNS.index("tolerance"),),
-                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40, 16, 30, 12), number=fmt)
+                      widths=(22, 16, 30, 12, 22, 26, 8, 10, 40, 16, 30, 12), number=fmt, shown=shown)

@@ -87,6 +87,7 @@ def build_summary(result) -> dict:
         "phase_time_s": phase_profile(result.timings, result.parallel),
         "confidence": mc.confidence,
         "inputs": st.inputs,
+        "notes": list(getattr(st, "notes", ())),
         "model": {"class": type(st.model).__name__, "inputs": list(st.model.inputs),
                   "outputs": {q.name: q.shown_unit for q in st.model.outputs}},
         "spec": spec_record(st.spec),

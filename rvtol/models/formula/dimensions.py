@@ -268,6 +268,34 @@ def unchecked_trig(expr, angle_names: dict, what: str) -> None:
     return walk(expr.tree)
 
 
+def mixed_units(expr, unit_of: dict, what: str) -> list[str]:
+    """``units = "factor"``: the sums and differences of factors written in different units of one dimension (a 1-D
+    stack ``gap - w_mm - w_um`` adds 1 µm as if it were 1 mm) — one sentence each, for the run's notes.  Only plain
+    sums of factors are looked at (a factor times a number may be converted by hand: ``0.001 * w_um``)."""
+    found: list[tuple[str, str, str, str]] = []
+
+    def unit(t):
+        """The unit of a plain sum of factors (None: anything else)."""
+        if t[0] == "var":
+            return unit_of.get(t[1]), t[1]
+        if t[0] == "neg":
+            return unit(t[1])
+        if t[0] in ("add", "sub"):
+            (ua, na), (ub, nb) = unit(t[1]), unit(t[2])
+            if ua is not None and ub is not None and ua != ub and _units.dimension(ua) == _units.dimension(ub):
+                found.append((na, ua, nb, ub))
+            return (ua, na) if ua is not None else (ub, nb)
+        for a in (t[2] if t[0] == "call" else t[1:]):
+            if isinstance(a, tuple):
+                unit(a)
+        return None, None
+
+    unit(expr.tree)
+    return [f"{what}: with units = \"factor\" the formula sums {a!r} ({_units.label(ua)}) and {b!r} "
+            f"({_units.label(ub)}) as the numbers written — 1 {_units.label(ub)} counts as 1 {_units.label(ua)}; "
+            f"units = \"checked\" (the default) converts them" for a, ua, b, ub in dict.fromkeys(found)]
+
+
 def check_unit(unit: str) -> str:
     try:
         return _units.canonical(unit)

@@ -115,6 +115,8 @@ class FormulaModel(Model):
             raise ExpressionError(exc.reason) from None
         self._in_factor = np.array([_units.factor(u) for u in self.formula_units])
         self.checked = bool(checked)
+        #: what the run's notes say about the formulas (units = "factor": a sum of factors in different units)
+        self.warnings: list[str] = []
         known = list(self.inputs)
         scale = {n: _dim.quantity(u) for n, u in zip(self.inputs, self.formula_units)} if checked else {}
         angles = {n: {(n, u)} for n, u in zip(self.inputs, self.formula_units)
@@ -138,6 +140,7 @@ class FormulaModel(Model):
                 if unit is not None:
                     raise ExpressionError(f"{what}: a unit for a definition needs units = \"checked\"")
                 angles[name] = _dim.unchecked_trig(expr, angles, what)
+                self.warnings += _dim.mixed_units(expr, dict(zip(self.inputs, self.formula_units)), what)
             self.definitions.append((name, expr))
             known.append(name)
         specs = _outputs(outputs)
@@ -162,6 +165,7 @@ class FormulaModel(Model):
                 expr = replace(expr, tree=_dim.output_conversion(expr, tree, q, number, u, what))
             else:
                 _dim.unchecked_trig(expr, angles, what)
+                self.warnings += _dim.mixed_units(expr, dict(zip(self.inputs, self.formula_units)), what)
             self.formulas.append(expr)
             outs.append(Quantity(o.name, _units.base_unit(u), disp, o.description))
             self._out_factor.append(_units.factor(u))
