@@ -449,14 +449,17 @@ def pearson_frozen(mean: float, sigma: float, skewness: float, kurtosis: float):
         from scipy import optimize
 
         def res(v):   # the beta prime's skewness and excess kurtosis in closed form (its moments E[X^r] = B(α+r, β−r)/B(α, β))
-            a, b = math.exp(v[0]), 4.0 + math.exp(v[1])
+            a, e = math.exp(v[0]), math.exp(v[1])      # α and β − 4 (> 0: the fourth moment exists)
+            b = 4.0 + e
             s_ = 2.0 * (2.0 * a + b - 1.0) / (b - 3.0) * math.sqrt((b - 2.0) / (a * (a + b - 1.0)))
             k_ = 6.0 * (a * (a + b - 1.0) * (5.0 * b - 11.0) + (b - 1.0) ** 2 * (b - 2.0)) / (
-                a * (a + b - 1.0) * (b - 3.0) * (b - 4.0))
+                a * (a + b - 1.0) * (b - 3.0) * e)
             return [s_ - abs(g), k_ + 3.0 - b2]
         best = None
         for start in ([0.0, 1.0], [1.0, 2.0], [2.0, 3.0], [3.0, 5.0], [-1.0, 0.0], [4.0, 6.0]):
-            sol = optimize.least_squares(res, start, xtol=1e-14, ftol=1e-14, gtol=1e-14)
+            # α and β − 4 within e^±30: the search cannot step to β − 4 = 0 in floating point (a division by zero)
+            sol = optimize.least_squares(res, start, bounds=([-30.0, -30.0], [30.0, 30.0]), xtol=1e-14, ftol=1e-14,
+                                         gtol=1e-14)
             if best is None or sol.cost < best.cost:
                 best = sol
         sol = best

@@ -133,7 +133,7 @@ class Factor:
     size: str = ""                                 # the feature-of-size factor whose departure gives the bonus
     feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
     datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
-    datum_type: str = ""                           # shifts the zone (datum-feature shift); its feature type
+    datum_type: str = ""                           # shifts the zones that name it, together; its feature type
 
     @property
     def base_unit(self) -> str:
@@ -616,7 +616,8 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     """A position zone's material condition (``⌀0.4 (M)``: MMC, ``(L)``: LMC) and the features of size it
     depends on: ``size`` (the toleranced feature's size factor; its departure from MMC/LMC is the bonus) with
     ``feature_type`` (internal: a hole, external: a pin), and ``datum_size``/``datum_type`` (a datum feature of
-    size referenced at MMB: its departure from MMB shifts the pattern, :func:`zone_bonus`)."""
+    size referenced at MMB: its departure from MMB shifts every zone that references it together, one pattern,
+    :func:`datum_shifts`)."""
     modifier = tol.modifier if tol is not None and tol.form == "zone" else ""
     size = p.str("size", "")
     ftype = p.str("feature_type", "", choices=("",) + FEATURE_TYPES)
@@ -641,31 +642,65 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
 
 
 def zone_bonus(spec: "ToleranceSpec", zone: str) -> list[tuple[int, float, float]]:
-    """How the radius of ``zone`` grows with features of size: ``[(factor index, κ, reference)]`` in base units, the
-    radius being r = t/2 + Σ κ (x − reference) ≥ t/2 over the bands (ASME Y14.5-2018 §7.3.3 bonus, §7.11 datum
-    shift; ISO 2692).
+    """How the radius of ``zone`` grows with its feature's size: ``[(factor index, κ, reference)]`` in base units (at
+    most one), the radius being r = t/2 + κ (x − reference) ≥ t/2 over the band (ASME Y14.5-2018 §7.3.3 bonus;
+    ISO 2692): the toleranced feature at MMC, bonus = the departure of its actual size from MMC (internal: MMC =
+    the smallest size, κ = +½ per unit of diameter; external: MMC = the largest, κ = −½); at LMC from LMC
+    (internal: the largest, κ = −½; external: the smallest, κ = +½).  Radii are half the diametral bonus.
 
-    * the toleranced feature at MMC: bonus = departure of its actual size from MMC (internal: MMC = the smallest
-      size, κ = +½ per unit of diameter; external: MMC = the largest, κ = −½); at LMC from LMC (internal: the
-      largest, κ = −½; external: the smallest, κ = +½);
-    * a datum feature of size referenced at MMB: the datum-feature shift, its departure from its MMB (taken as its
-      MMC size: a datum feature without a geometric tolerance of its own), κ as at MMC.
-
-    Radii are half the diametral bonus.  The datum shift moves the whole pattern; per zone it is the shift
-    available to that feature alone (for a pattern of several features, conservative)."""
-    out = []
+    A datum-feature shift is not a bonus of one zone: it moves the whole pattern (:func:`datum_shifts`)."""
     fs = [f for f in spec.factors if f.zone == zone]
-    if not fs:
-        return out
+    if not fs or not fs[0].size or not fs[0].modifier:
+        return []
     f = fs[0]
-    for name, ftype, mod in ((f.size, f.feature_type, f.modifier), (f.datum_size, f.datum_type, "MMC")):
-        if not name or not mod:
-            continue
-        i = spec.index(name)
-        lo, hi = (float(units.to_base(v, spec.factors[i].unit)) for v in spec.factors[i].band)
-        at_small = (ftype == "internal") == (mod == "MMC")     # the reference is the smallest size
-        out.append((i, 0.5 if at_small else -0.5, lo if at_small else hi))
+    return [_departure(spec, f.size, f.feature_type, f.modifier)]
+
+
+@dataclass(frozen=True)
+class DatumShift:
+    """A datum feature of size referenced at MMB and the position zones it locates: one pattern, shifted together.
+
+    The datum feature may depart from its MMB (taken as its MMC size: a datum feature without a geometric tolerance
+    of its own) by d = |x − reference|; the part may then translate on the datum feature simulator by up to d/2 in
+    any direction, r = κ (x − reference) ≥ 0 with κ = +½ (an internal datum feature, a bore: reference its smallest
+    size) or −½ (external, a boss: its largest).  Every zone that references it moves by the *same* vector s,
+    |s| ≤ r — the features of a pattern located from common datum features at MMB are one pattern (the simultaneous
+    requirement, ASME Y14.5 — the default unless SEP REQT is written beneath the frames; P. J. Drake Jr. (ed.),
+    *Dimensioning and Tolerancing Handbook*, McGraw-Hill 1999, ch. 5; Tec-Ease GD&T tip 223: "the pattern could
+    shift as much as 0.6 total").  The shift therefore moves the pattern as a whole: the distance between two of its
+    features does not change with it.  Each zone's own tolerance (and bonus) still varies feature by feature."""
+
+    datum: str                 # the datum feature's size factor
+    index: int
+    kappa: float
+    reference: float           # base units
+    zones: tuple[str, ...]
+
+
+def datum_shifts(spec: "ToleranceSpec") -> list[DatumShift]:
+    """The datum-feature shifts of the spec's position zones, one per datum feature of size (``datum_size``) with the
+    zones that reference it, in the order the zones are written (:class:`DatumShift`)."""
+    groups: dict[str, list[str]] = {}
+    types: dict[str, str] = {}
+    for f in spec.factors:
+        if f.zone and f.datum_size:
+            zs = groups.setdefault(f.datum_size, [])
+            if f.zone not in zs:
+                zs.append(f.zone)
+            types[f.datum_size] = f.datum_type
+    out = []
+    for name, zones in groups.items():
+        i, kappa, ref = _departure(spec, name, types[name], "MMC")
+        out.append(DatumShift(name, i, kappa, ref, tuple(zones)))
     return out
+
+
+def _departure(spec: "ToleranceSpec", name: str, feature_type: str, modifier: str) -> tuple[int, float, float]:
+    """``(index, κ, reference)`` of a feature of size's departure from its MMC or LMC size (:func:`zone_bonus`)."""
+    i = spec.index(name)
+    lo, hi = (float(units.to_base(v, spec.factors[i].unit)) for v in spec.factors[i].band)
+    at_small = (feature_type == "internal") == (modifier == "MMC")     # the reference is the smallest size
+    return i, 0.5 if at_small else -0.5, lo if at_small else hi
 
 
 def check_zones(factors, file: str | None) -> None:
@@ -687,6 +722,11 @@ def check_zones(factors, file: str | None) -> None:
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same "
                             "modifier, size, feature_type, datum_size and datum_type", file=file, key="factor.zone")
         names = {f.name: f for f in factors}
+        other = next((g for g in factors if g.datum_size and g.datum_size == a.datum_size
+                      and g.datum_type != a.datum_type), None)
+        if other is not None:
+            raise SpecError(f"datum feature {a.datum_size!r} is {a.datum_type} for zone {z!r} and {other.datum_type} "
+                            f"for zone {other.zone!r}: one feature has one type", file=file, key="factor.datum_type")
         for key in ("size", "datum_size"):
             ref = getattr(a, key)
             if not ref:

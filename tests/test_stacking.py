@@ -38,7 +38,7 @@ def test_conventions_equal_the_formulas_by_hand():
     sd = np.array([0.05 / 4.5, 0.04 / math.sqrt(12), 0.01, 0.02])
     k = np.array([0.2, 0.0, 0.0, 0.0])
     wc = float(np.sum(np.abs(a) * t))
-    rss = float(np.sqrt(np.sum((a * t) ** 2)))
+    rss = float(np.sqrt((a * t) @ corr @ (a * t)))      # the correlated pair's normals: the spec's ρ (issue 37)
     cf = 1 + 0.5 * (wc - rss) / (rss * (2 - 1))         # n = 4: √n − 1 = 1
     cov = np.outer(sd, sd) * corr
     sig = math.sqrt(a @ cov @ a)
@@ -53,11 +53,15 @@ def test_conventions_equal_the_formulas_by_hand():
     assert row("MRSS, given factor")["half_width"] == pytest.approx(1.6 * rss * um)
     r = row("statistical ±4.5σ (the distributions)")
     assert r["centre"] == pytest.approx((y0 + a @ (mu - x0)) * um) and r["half_width"] == pytest.approx(4.5 * sig * um)
-    plain = math.sqrt(np.sum((a * sd) ** 2))
-    assert row("6σ static ±3σ")["half_width"] == pytest.approx((0.01 + 3 * plain) * um)
-    dyn = math.sqrt(np.sum((a * sd / (1 - k)) ** 2))
-    assert row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * dyn * um)
-    conv = math.sqrt(np.sum((a * t / (3 * 1.5)) ** 2))   # Cp 2, 1.5σ shift: Cpk 1.5
+    # the 6σ rows with the correlation too (c and d normal: Pearson's ρ is the spec's)
+    assert row("6σ static ±3σ")["half_width"] == pytest.approx((0.01 + 3 * sig) * um)
+    dyn = a * sd / (1 - k)
+    assert row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * math.sqrt(dyn @ corr @ dyn) * um)
+    e = a * t / (3 * 1.5)                                 # Cp 2, 1.5σ shift: Cpk 1.5
+    conv = math.sqrt(e @ corr @ e)
+    for name in ("RSS", "MRSS, Bender", "statistical ±3σ (the distributions)", "6σ static ±3σ", "6σ dynamic RSS ±3σ",
+                 "6σ dynamic, 1.5σ shift ±3σ"):
+        assert "correlation included" in row(name)["note"], name
     assert row("6σ dynamic, 1.5σ shift ±3σ")["half_width"] == pytest.approx(3 * conv * um)
     f = sc.factors.set_index("factor")
     assert f.loc["a", "Cp"] == pytest.approx(1.5) and f.loc["a", "Cpk"] == pytest.approx(1.2)

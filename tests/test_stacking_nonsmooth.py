@@ -166,8 +166,9 @@ def test_a_datum_feature_shift_adds_to_the_zone():
     spec = spec_from_table({"factor": [
         {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
         {"name": "x", **common}, {"name": "y", **common}]})
-    from rvtol.spec import zone_bonus
-    assert zone_bonus(spec, "h") == [(0, 0.5, pytest.approx(10.4)), (1, 0.5, pytest.approx(20.0))]
+    from rvtol.spec import DatumShift, datum_shifts, zone_bonus
+    assert zone_bonus(spec, "h") == [(0, 0.5, pytest.approx(10.4))]            # the hole's own bonus
+    assert datum_shifts(spec) == [DatumShift("B", 1, 0.5, pytest.approx(20.0), ("h",))]   # the pattern's shift
     m = FormulaModel.from_spec(spec, {"r": ("hypot(x, y)", "mm")})
     true = true_worst_case(m, spec, "r")
     assert true.high == pytest.approx(0.2, abs=1e-6) and true.x_high["D"] == pytest.approx(10.5)
@@ -180,7 +181,7 @@ def test_a_datum_feature_shift_adds_to_the_zone():
     spec2 = spec_from_table({"factor": [
         {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 0/-0.1", "unit": "mm"},
         {"name": "x", **common, "datum_type": "external"}, {"name": "y", **common, "datum_type": "external"}]})
-    assert zone_bonus(spec2, "h")[1] == (1, -0.5, pytest.approx(20.0))
+    assert (datum_shifts(spec2)[0].kappa, datum_shifts(spec2)[0].reference) == (-0.5, pytest.approx(20.0))
 
 
 def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
@@ -249,3 +250,76 @@ def test_the_datum_shift_of_tec_ease_tip_223():
     assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.4, abs=1e-9)
     # the shift, total: twice the largest radial displacement the datum's departure from MMB adds (0.6, the tip's)
     assert 2 * (true.high - 0.1) == pytest.approx(0.6, abs=2e-6)
+
+
+def two_hole_pattern(modifier=""):
+    """Two holes ⌀10.4 +0.1/0 of a pattern, each positioned ⌀0.2 (at RFS, or Ⓜ with its own size), 50 mm apart along x,
+    both to datum bore B ⌀20 +0.1/0 referenced at MMB; the coordinates are the holes' deviations from true position."""
+    def zone(z, size):
+        own = {"size": size, "feature_type": "internal"} if modifier else {}
+        return {"tolerance": f"⌀0.2{modifier}", "unit": "mm", "zone": z, "datum_size": "B", "datum_type": "internal",
+                **own}
+    return spec_from_table({"factor": [
+        {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+        {"name": "D1", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "D2", "tolerance": "10.4 +0.1/0", "unit": "mm"},
+        {"name": "x1", **zone("h1", "D1")}, {"name": "y1", **zone("h1", "D1")},
+        {"name": "x2", **zone("h2", "D2")}, {"name": "y2", **zone("h2", "D2")}]})
+
+
+@pytest.mark.parametrize("modifier", ["", " (M)"], ids=["RFS", "MMC"])
+def test_a_datum_shift_moves_the_pattern_as_one(modifier):
+    """Issue 37: the distance between two holes of a pattern located from datum bore B at MMB does not change with
+    B's departure from MMB — the datum-feature shift translates the whole pattern (ASME Y14.5 simultaneous
+    requirement; Drake 1999 ch. 5).  By hand: the spacing's deviation x₂ − x₁ (true spacing 50 along x), each hole
+    within its own ⌀0.2 zone (+ its bonus (D − 10.4)/2 at MMC, at most 0.05): ±(0.1 + 0.1) at RFS, ±(0.15 + 0.15)
+    at MMC; the datum's up-to-0.05 shift adds 0.  Each zone's own share of the datum shift gave ±0.3 at RFS (−0.1
+    too low).  The
+    location of one hole from the datum axis still takes the shift: x₁ ∈ ±(0.1 + 0.05) at RFS."""
+    spec = two_hole_pattern(modifier)
+    own = 0.1 + (0.05 if modifier else 0.0)
+    for formula, half in (("x2 - x1", 2 * own), ("x1", own + 0.05), ("x1 + x2", 2 * own + 2 * 0.05)):
+        m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
+        x0 = spec.nominal_base()
+        y0 = float(m.evaluate(x0[None])[0, 0])
+        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], y0, x0, out_unit="mm",
+                               slopes=one_sided_slopes(m, spec, "y"))
+        wc = sc.row("worst case (arithmetic)")
+        assert (wc["low"], wc["high"]) == (pytest.approx(y0 - half, abs=1e-9), pytest.approx(y0 + half, abs=1e-9)), formula
+        true = true_worst_case(m, spec, "y", max_evaluations=1000)
+        assert (true.low, true.high) == (pytest.approx(y0 - half, abs=1e-6), pytest.approx(y0 + half, abs=1e-6)), formula
+        # the run's notes say how the datum shift was applied
+        assert any("shifts h1, h2 together" in n and "one translation of the pattern" in n for n in sc.notes)
+        assert any("shifts h1, h2 together" in n for n in true.notes)
+
+
+def test_a_floating_fastener_pair_on_a_shifted_datum():
+    """The floating fastener's two holes (fastener_spec, at RFS) both located from datum bore B ⌀20 +0.1/0 at MMB:
+    the margin depends on |p₁ − p₂| only, which a common shift does not change — worst case 0 still (the kinked
+    pattern's slopes taken with the pattern moved as one; each zone's own shift gave −0.1)."""
+    base = fastener_spec()
+    from dataclasses import replace
+
+    from rvtol.spec import Factor, ToleranceSpec
+    from rvtol.distributions import Distribution
+    B = Factor("B", "mm", Distribution.make("uniform", lower=20.0, upper=20.1))
+    fs = tuple(replace(f, datum_size="B", datum_type="internal") if f.zone else f for f in base.factors) + (B,)
+    spec = ToleranceSpec("ff", fs)
+    m = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "margin")
+    assert sl.pattern_max["B"] == pytest.approx(0.0, abs=1e-9) and sl.pattern_min["B"] == pytest.approx(0.0, abs=1e-9)
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
+                           slopes=sl)
+    assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
+    assert true_worst_case(m, spec, "margin", max_evaluations=3000).low == pytest.approx(0.0, abs=1e-6)
+
+
+def test_one_datum_feature_has_one_type():
+    """Two zones naming datum feature B, one as a bore and one as a boss: refused (each would shift the pattern the
+    other way), with the key."""
+    z = lambda name, t: [{"name": f"{c}{name}", "tolerance": "⌀0.2", "unit": "mm", "zone": name, "datum_size": "B",  # noqa: E731
+                          "datum_type": t} for c in "xy"]
+    with pytest.raises(InputError, match="one feature has one type") as e:
+        spec_from_table({"factor": [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+                                    *z("h1", "internal"), *z("h2", "external")]}, file="s.toml")
+    assert e.value.key == "factor.datum_type"

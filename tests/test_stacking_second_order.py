@@ -57,3 +57,48 @@ def test_a_uniform_factor_under_curvature():
     mu = E(2)
     m3 = E(6) - 3 * E(4) * mu + 2 * mu ** 3
     assert res.skewness == pytest.approx(m3 / res.sigma ** 3, rel=1e-6)
+
+
+def test_the_linearised_rows_say_they_leave_a_curvature_out():
+    """y = x + 0.2 x², x ~ N(0, 0.5): every row read from the gradient at the nominal point misses the mean shift
+    0.2σ² = 0.05 and says so in its own note (issue 37); the second-order and Monte Carlo rows do not need to."""
+    from rvtol.mc import Evaluator, run_monte_carlo
+    from rvtol.stacking.compare import compare_conventions
+
+    spec = ToleranceSpec("q", (normal("x", 0.0, 0.5),))
+    m = FormulaModel.from_spec(spec, {"y": ("x + 0.2*x**2", "1")})
+    mc = run_monte_carlo(m, spec, 500, "random", 1, progress=False)
+    frame = compare_conventions(m, spec, ["y"], mc, Evaluator(), true_wc=False).outputs["y"].conventions.frame
+    said = frame["note"].str.contains("linearised at the nominal point: the output's curvature is left out "
+                                      r"\(its mean shift \+0.05", regex=True)
+    linear = ~frame["convention"].str.startswith(("second order", "Monte Carlo"))
+    assert said[linear].all() and not said[~linear].any() and linear.sum() == 6   # WC, RSS, Bender, stat., 6σ ×2
+
+
+def test_a_stack_of_two_lognormals_gets_its_pearson_vi_curve():
+    """Found by the property test (tests/test_stacking_property.py): y = −0.2 x₁ − 1.046875 x₂, lognormals of
+    median 0.95 and 0.3113, log-σ 0.1565 and 0.3042 — skewness −0.8675, kurtosis 4.4546, Pearson VI.  The beta
+    prime's search stepped to β − 4 = e⁻⁶⁸, 0 in floating point, and the second order (and a spec's
+    ``dist = "pearson"`` with those moments) stopped on a ZeroDivisionError; now the curve has the four moments
+    (scipy's own betaprime.stats)."""
+    from rvtol.distributions import pearson_frozen
+
+    fs = (Factor("x1", "1", Distribution.make("lognormal", median=0.95, shape=0.1565168525905048)),
+          Factor("x2", "1", Distribution.make("lognormal", median=0.311302979623293, shape=0.3041955319219173)))
+    res = run(ToleranceSpec("l", fs), "-0.2*x1 - 1.046875*x2", "1")
+    # the linear stack's exact skewness and kurtosis from the lognormals' cumulants (scipy), κ_r(cX) = c^r κ_r(X)
+    k = np.zeros(4)
+    for c, f in zip((-0.2, -1.046875), fs):
+        m, v, s, e = (float(t) for t in stats.lognorm(f.dist.p["shape"], scale=f.dist.p["median"]).stats(moments="mvsk"))
+        k += [c * m, c ** 2 * v, c ** 3 * s * v ** 1.5, c ** 4 * e * v ** 2]
+    assert res.skewness == pytest.approx(k[2] / k[1] ** 1.5, rel=1e-7)
+    assert res.law == "Pearson VI"
+    mean, var, skew, excess = (float(t) for t in res.frozen.stats(moments="mvsk"))
+    assert (mean, math.sqrt(var)) == (pytest.approx(res.mean, rel=1e-9), pytest.approx(res.sigma, rel=1e-9))
+    assert (skew, excess + 3) == (pytest.approx(res.skewness, rel=1e-7), pytest.approx(res.kurtosis, rel=1e-7))
+    # the moments the property test met (from scipy's lognormal cumulants), where the search divided by zero
+    skew, kurt = -0.8675098856573679, 4.45455674365578
+    assert (skew, kurt) == (pytest.approx(res.skewness, rel=1e-9), pytest.approx(res.kurtosis, rel=1e-9))
+    t, law = pearson_frozen(0.0, 1.0, skew, kurt)
+    m = [float(v) for v in law.stats(moments="mvsk")]
+    assert t == "VI" and m[2] == pytest.approx(skew, rel=1e-7) and m[3] + 3 == pytest.approx(kurt, rel=1e-7)

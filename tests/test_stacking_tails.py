@@ -15,7 +15,10 @@ bounded margins' transforms (2.1 ppm); SORM, importance sampling, subset and dir
 the exact value."""
 import math
 
+import numpy as np
+
 import pytest
+from scipy import stats
 
 from rvtol.distributions import Distribution
 from rvtol.model import LinearModel, Quantity
@@ -71,3 +74,90 @@ def test_the_uniform_plus_triangular_tail():
         assert abs(e.pf - exact) < 4 * e.se, (name, e.pf, e.se)
     ref = est.get(est.reference)
     assert est.reference not in APPROXIMATIONS and abs(ref.pf - exact) < 4 * ref.se
+
+
+# ----------------------------------------------------------------------------- estimates that are no estimates
+def linear_normals(k=2):
+    spec = ToleranceSpec("n", tuple(Factor(f"x{i}", "mm", Distribution.make("normal", mean=0.0, sigma=1.0))
+                                    for i in range(k)))
+    return spec, LinearModel(spec.names, ["mm"] * k, [Quantity("y", "mm")], [[1.0] * k])
+
+
+def test_an_estimate_without_a_meaning_is_not_shown_as_a_number():
+    """y = x₁ + x₂ of standard normals beyond 9√2 (β = 9, P = Φ(−9) = 1.1e-19, FORM exact): OpenTURNS' directional
+    sampling finds no root within its search distance and returns 0 ± −1 (shown as "0 ± −1e+06 ppm"), subset
+    simulation with 100 samples per level 6.5e-28 ± 1.8e-27 (c.o.v. 2.8) — which then became the reference and
+    flagged the exact FORM.  Both are now "not estimated: …" and out of every comparison."""
+    spec, m = linear_normals()
+    est = tail_probability(m, spec, "y", 9.0 * math.sqrt(2), "upper", seed=1, samples=100,
+                           methods=("FORM", "subset", "directional"))
+    for name, why in (("directional", "standard error is undefined"), ("subset", "coefficient of variation")):
+        e = est.get(name)
+        assert e.pf is None and e.se is None and e.note.startswith("not estimated:") and why in e.note, e
+        assert e.to_dict()["ppm"] is None
+    assert est.reference == "FORM" and est.disagreements == []
+    assert est.pf_form == pytest.approx(stats.norm.sf(9.0), rel=1e-6)
+
+
+def test_not_estimated_rules():
+    """The rules one by one, on the estimates themselves (module docstring of rvtol.stacking.tail)."""
+    from rvtol.stacking.tail import MAX_COV, Estimate, _not_an_estimate
+
+    assert MAX_COV == pytest.approx(1 / 3)
+    ok = lambda e: _not_an_estimate(e, 2, 5.0) is None  # noqa: E731
+    assert ok(Estimate("subset", 1e-6, 0.3e-6)) and not ok(Estimate("subset", 1e-6, 0.34e-6))   # c.o.v. 1/3
+    assert not ok(Estimate("directional", 0.0, -1.0)) and not ok(Estimate("directional", 1e-6, math.nan))
+    assert not ok(Estimate("subset", 0.0, 0.0))                        # no failure seen: a bound, not an estimate
+    assert not ok(Estimate("importance sampling", 1e-6, 0.0))           # degenerate weights
+    assert not ok(Estimate("importance sampling", 1.5, 0.1))            # not a probability
+    assert ok(Estimate("FORM", 0.0)) and ok(Estimate("FORM", stats.norm.sf(5.0)))
+    # SORM / multi-FORM above P(χ²₂ > β²) = exp(−β²/2): more than the whole space beyond the sphere of radius β
+    ball = math.exp(-12.5)
+    assert ok(Estimate("SORM", 0.99 * ball)) and not ok(Estimate("SORM", 1.01 * ball))
+    assert not ok(Estimate("multi-FORM", 1.01 * math.exp(-8.0), beta=4.0)) and ok(Estimate("multi-FORM", 1e-9, beta=4.0))
+
+
+def test_sorm_of_a_circle_of_design_points_is_not_estimated():
+    """The radius tail (a curvature −1/β at u*): Breitung's formula returned 15 ppm where the whole space beyond the
+    sphere of radius β holds 0.5 ppm."""
+    spec, m = radius_case()
+    est = tail_probability(m, spec, "r", L_RADIUS, "upper", seed=3, methods=("FORM", "SORM"))
+    s = est.get("SORM")
+    assert s.pf is None and s.note.startswith("not estimated:"), s
+
+
+def test_failed_evaluations_count_as_failures_in_the_tails():
+    """A model that cannot be evaluated where x₁ > 3 (standard normals), its values never beyond the limit 100: the
+    probability of a failure (failed evaluations count, as in the yield) is Φ(−3) = 1.35e-3."""
+    from rvtol.mc import run_monte_carlo
+    from rvtol.model import FunctionModel
+    from rvtol.spec import Requirement
+    from rvtol.stacking.compare import tail_probabilities
+
+    spec, _ = linear_normals()
+    m = FunctionModel(lambda X: np.where(X[:, 0] > 3.0, np.nan, X[:, 0] + 0.0 * X[:, 1])[:, None], spec.names,
+                      [Quantity("y", "mm")], ["mm", "mm"])
+    exact = stats.norm.sf(3.0)
+    est = tail_probability(m, spec, "y", 100.0, "upper", seed=1, samples=1000, methods=("subset", "directional"))
+    for name in ("subset", "directional"):
+        e = est.get(name)
+        assert e.pf is not None and abs(e.pf - exact) < 4 * e.se, (name, e.pf, e.se)
+    assert est.failed_samples > 0 and any("count as failures" in n for n in est.notes)
+    # the Monte Carlo's count beside them counts them too
+    mc = run_monte_carlo(m, spec, 4000, "random", 5, requirements=[Requirement("y", upper=100.0)], progress=False)
+    t = tail_probabilities(m, spec, mc, ["y"], None, samples=0, methods=("FORM",)).limits[0]
+    assert t.k == int((mc.samples.values[:, 0] > 3.0).sum()) > 0
+
+
+def test_the_out_of_reach_test_takes_the_supports_ends():
+    """Two U(−1, 1), y = x₁ + x₂: P(y > 1.9999) = (0.0001/2)²/2 = 1.25e-9 is reachable only within 1e-4 of the
+    supports' ends (normal scores beyond 3.7); FORM finds no point there, and that is what it must say — not
+    "out of reach, P = 0", which a box of corners at ±3 (x = ±0.9973) would conclude (beyond the worst case: out of
+    reach, ``tests/test_stacking.py``)."""
+    from rvtol.stacking.tail import REACH
+
+    assert stats.norm.sf(REACH) < 1e-16
+    spec = ToleranceSpec("u", tuple(Factor(n, "mm", Distribution.make("uniform", lower=-1.0, upper=1.0)) for n in "ab"))
+    m = LinearModel(spec.names, ["mm"] * 2, [Quantity("y", "mm")], [[1.0, 1.0]])
+    near = tail_probability(m, spec, "y", 1.9999, "upper", methods=("FORM",))
+    assert near.beta != math.inf and near.pf_form != 0.0 and "out of reach" not in near.get("FORM").note

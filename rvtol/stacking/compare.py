@@ -24,6 +24,7 @@ from ..mc import Evaluator
 from ..records import frame_records
 from ..sensitivity.common import model_gradient
 from ..units import label
+from . import notes as N
 from .conventions import StackConventions, stack_conventions
 from .slopes import one_sided_slopes
 from .tail import METHODS, TailEstimate, tail_probability
@@ -110,6 +111,7 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
         sc = stack_conventions(spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
                                sigma_levels=sigma_levels, mrss_factor=mrss_factor, six_sigma=six_sigma,
                                slopes=one_sided_slopes(model, spec, o, evaluate=search))
+        linearised = len(sc.frame)   # the rows so far read the output by its gradient at the nominal point
         wc = None
         if true_wc:
             wc = true_worst_case(model, spec, o, search, starts=starts, max_evaluations=max_evaluations, gradient=g)
@@ -117,7 +119,7 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
                                                                                 if wc.notes else ""),
                    source="corners, differential evolution, L-BFGS-B (scipy)")
         if second_order:
-            _second_order_rows(model, spec, o, sc, sigma_levels, search)
+            _second_order_rows(model, spec, o, sc, sigma_levels, search, linearised)
         pct = _monte_carlo(mc, o, sc, sigma_levels, percentiles)
         rq = [r for r in mc.requirements if r.output == o]
         inside = None
@@ -130,8 +132,9 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
     return ConventionsComparison(out, mc.confidence)
 
 
-def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate) -> None:
-    """The second-order rows (:mod:`rvtol.stacking.second_order`) beside the linearised ones, or a note why not."""
+def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate, linearised: int) -> None:
+    """The second-order rows (:mod:`rvtol.stacking.second_order`) beside the linearised ones, or a note why not; where
+    the output is curved, each of the first ``linearised`` rows says that it leaves the curvature out."""
     from .second_order import curvature, second_order
 
     q = model.output(o)
@@ -145,14 +148,19 @@ def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate) -> None:
     except ValueError as exc:
         sc.notes.append(f"second order: {exc}")
         return
+    if so.curved:
+        rows = sc.frame.index[:linearised]
+        sc.frame.loc[rows, "note"] = sc.frame.loc[rows, "note"] + N.LINEARISED.format(
+            shift=d(so.mean) - d(so.y_at_means))
     for z in sigma_levels:
         sc.add(f"second order (moments) ±{z:g}σ", d(so.mean - z * so.sigma), d(so.mean + z * so.sigma),
                centre=d(so.mean), sigma=d(so.mean + so.sigma) - d(so.mean),
                note=f"mean shift {d(so.mean) - d(so.y_at_means):+.4g} from curvature, skewness {so.skewness:.3g}, "
-                    f"kurtosis {so.kurtosis:.3g}", source="Glancy & Chase 1999 (method of moments)")
+                    f"kurtosis {so.kurtosis:.3g}" + "".join("; " + n for n in so.notes),
+               source="Glancy & Chase 1999 (method of moments)")
         lo, hi = so.interval(z)
         sc.add(f"second order, {so.law} tails ({z:g}σ coverage)", d(lo), d(hi), centre=d(so.mean),
-               note="quantiles of the curve with the four moments" + ("; " + "; ".join(so.notes) if so.notes else ""),
+               note="quantiles of the curve with the four moments" + "".join("; " + n for n in so.notes + so.tail_notes),
                source="Pearson 1895 / Johnson 1949")
 
 

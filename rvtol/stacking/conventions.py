@@ -9,19 +9,29 @@ distribution, and the linearised value at the band centres y_c = y0 + Σ a_i (c_
 convention                   interval                                                    source
 ===========================  ==========================================================  =====================
 worst case (arithmetic)      y_c ± Σ |a_i| t_i                                           [Fortini 1967]
-RSS                          y_c ± √Σ (a_i s_i)², every band read as ±3σ (s_i = t_i)     [Scholz 1995 §4.1]
+RSS                          y_c ± √(sᵀ R s), s_i = a_i t_i: every band read as ±3σ       [Scholz 1995 §4.1]
 MRSS, Bender                 y_c ± 1.5 · RSS                                             [Bender 1968]
 MRSS, handbook               y_c ± C_f · RSS, C_f = 1 + ½ (T_wc − T_rss) / (T_rss (√n − 1))  [Drake 1999 ch. 9]
 MRSS, given factor           y_c ± C · RSS (``mrss_factor``)
-statistical, distributions   μ_y ± z σ_y, μ_y = y0 + Σ a_i (μ_i − x0_i), σ_y = √(aᵀ C a)    [Scholz 1995 §4.2]
-6σ static                    y_c ± (Σ |a_i| |μ_i − c_i| + z √Σ (a_i σ_i)²)                [Harry & Stewart 1988]
-6σ dynamic RSS               y_c ± z √Σ (a_i σ_i / (1 − k_i))², k_i = |μ_i − c_i| / t_i    [Harry & Stewart 1988]
-6σ dynamic, 1.5σ shift       y_c ± z √Σ (a_i t_i / (3 Cpk))², Cpk = Cp − 1.5/3 (Cp = 2:     [Harry & Stewart 1988]
-                             Cpk = 1.5): every band read as a ±Cp·3σ process shifted 1.5σ
+statistical, distributions   μ_y ± z σ_y, μ_y = y0 + Σ a_i (μ_i − x0_i), σ_y = √(vᵀ P v),   [Scholz 1995 §4.2]
+                             v_i = a_i σ_i
+6σ static                    y_c ± (Σ |a_i| |μ_i − c_i| + z √(vᵀ P v))                      [Harry & Stewart 1988]
+6σ dynamic RSS               y_c ± z √(wᵀ P w), w_i = a_i σ_i / (1 − k_i),                  [Harry & Stewart 1988]
+                             k_i = |μ_i − c_i| / t_i
+6σ dynamic, 1.5σ shift       y_c ± z √(eᵀ R e), e_i = a_i t_i / (3 Cpk), Cpk = Cp − 1.5/3   [Harry & Stewart 1988]
+                             (Cp = 2: Cpk = 1.5): every band read as a ±Cp·3σ process
+                             shifted 1.5σ
 ===========================  ==========================================================  =====================
 
-(n: the contributors with a ≠ 0; C: the normal-score correlation of the spec, as Pearson's;
-``z``: the sigma levels of the user's choice, 3 by default.)  The dynamic RSS turns each mean shift
+(n: the contributors with a ≠ 0; ``z``: the sigma levels of the user's choice, 3 by default.)
+
+Correlation.  Every row that adds variances honours the spec's correlation (σ² = cᵀ Σ c, the variance of a
+linear function of correlated factors): the rows that read each band as a normal (RSS, MRSS, the 1.5σ shift)
+with R, the spec's normal-score correlation, which is the correlation of those normals; the rows of the
+factors' own distributions (statistical, 6σ static and dynamic) with P, the Pearson correlation that the
+Gaussian copula gives those distributions (:func:`factor_correlation`; P = R for two normal factors, |P| < |R|
+otherwise).  Each row's note says so.  A one-sided contributor (below) has no sign to correlate: its
+correlation, if the spec gives one, is left out and the row's note names it.  The dynamic RSS turns each mean shift
 into a wider σ (σ·Cp/Cpk = σ/(1 − k)), the static form adds the shifts arithmetically; both centre
 on y_c.  MRSS can exceed the worst case for few contributors (n = 2 with Bender's 1.5): the table
 says so rather than capping it.
@@ -45,13 +55,18 @@ the second-order rows are the reference).  A derivative that is NaN or infinite 
 with slopes it is replaced by their central difference (noted), without them it is an error.
 
 Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC grows with the bonus of its
-feature's actual size and with a datum-feature shift (:func:`rvtol.spec.zone_bonus`: the radius
-r = t/2 + Σ κ (x_s − ref_s), κ = ±½).  The worst-case rows take it exactly for the linearised output:
-the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z lo_z κ_z), −(D⁻_i + Σ_z lo_z κ_z)),
-the upper end likewise with hi_z — each size factor's effect through the zone it enlarges added to its
-own.  The RSS reads the zone at its radius at the size's band centre and the size with that coupled
-sensitivity; the statistical rows describe the produced parts, whose deviations the bonus does not
-change (it widens acceptance, not the process).
+feature's actual size (:func:`rvtol.spec.zone_bonus`: the radius r = t/2 + κ (x_s − ref_s), κ = ±½).  A
+datum feature of size referenced at MMB adds one more disc, shared: its departure from MMB lets the whole
+pattern of zones that reference it translate by one vector s, |s| ≤ r_d = κ (x_d − ref_d)
+(:func:`rvtol.spec.datum_shifts`, the simultaneous requirement), whose effect per unit of shift is
+|Σ_z ∇_z y| — the zones' gradients added (0 for a distance within the pattern) — or, where a zone is
+kinked, the model's one-sided slopes with the pattern moved as one.  The worst-case rows take these discs
+exactly for the linearised output: the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z
+lo_z κ_z), −(D⁻_i + Σ_z lo_z κ_z)), the upper end likewise with hi_z (z over the zones and the datum
+shifts) — each size factor's effect through the disc it enlarges added to its own.  The RSS reads each disc
+at its radius at the size's band centre and the size with that coupled sensitivity; the statistical rows
+describe the produced parts, whose deviations the bonus and the shift do not change (they widen
+acceptance, not the process).
 
 The worst case that is the true extreme of a non-linear model is :mod:`rvtol.stacking.worst_case`.
 
@@ -75,7 +90,9 @@ import numpy as np
 import pandas as pd
 from .. import units
 from ..errors import InputError
-from ..spec import ToleranceSpec, zone_bonus
+from scipy import stats
+
+from ..spec import ToleranceSpec, datum_shifts, zone_bonus
 from ..stats import rss
 from . import notes as N
 from ..sensitivity.common import derivative_to_display, ratio_unit
@@ -84,6 +101,48 @@ from ..sensitivity.common import derivative_to_display, ratio_unit
 BENDER = 1.5
 #: the Six Sigma convention: every band a ±Cp·3σ process (Cp = 2) with its mean shifted by 1.5σ
 SIX_SIGMA_CP, SIX_SIGMA_SHIFT = 2.0, 1.5
+
+
+#: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
+#: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``)
+HERMITE_NODES = 64
+#: the clip of the copula's uniforms (:mod:`rvtol.sampling`): the quadrature reads the margins as the sampling does
+_U_EPS = 2.0 ** -53
+
+
+def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
+    """The Pearson correlation of the factors under the spec's Gaussian copula (None: independent factors).
+
+    For a pair of normal-score correlation ρ, x_i = F_i⁻¹(Φ(u)) and x_j = F_j⁻¹(Φ(ρu + √(1 − ρ²) v)) with u, v
+    independent standard normals, and corr(x_i, x_j) = E[(x_i − μ_i)(x_j − μ_j)] / (σ_i σ_j) by a tensor
+    Gauss–Hermite rule of ``HERMITE_NODES`` per dimension (its own μ and σ of each margin, so a perfectly
+    correlated pair gives exactly 1).  Two normal factors keep ρ (their copula is the bivariate normal); for
+    others |corr| < |ρ| — two uniforms (6/π) asin(ρ/2) [K. Pearson 1904; W. Kruskal, "Ordinal measures of
+    association", JASA 53 (1958) 814–861], two lognormals of log-σ s_i, s_j (e^{ρ s_i s_j} − 1) /
+    √((e^{s_i²} − 1)(e^{s_j²} − 1)).
+    """
+    R = spec.correlation
+    if R is None:
+        return None
+    R = np.asarray(R, dtype=float)
+    P = R.copy()
+    z, w = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)
+    w = w / math.sqrt(2.0 * math.pi)
+
+    def margin(i, u):
+        x = spec.factors[i].ppf_base(np.clip(stats.norm.cdf(u), _U_EPS, 1.0 - _U_EPS))
+        m = float(w @ spec.factors[i].ppf_base(np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)))
+        return x - m
+
+    for i, j in zip(*np.nonzero(np.triu(R, 1))):
+        if spec.factors[i].dist.kind == "normal" and spec.factors[j].dist.kind == "normal":
+            continue
+        rho = R[i, j]
+        gi = margin(i, z)
+        gj = margin(j, rho * z[:, None] + math.sqrt(max(0.0, 1.0 - rho * rho)) * z[None, :])
+        si, sj = math.sqrt(float(w @ gi ** 2)), math.sqrt(float(w @ margin(j, z) ** 2))
+        P[i, j] = P[j, i] = float(w @ (gi[:, None] * gj) @ w) / (si * sj)
+    return P
 
 
 def handbook_mrss_factor(t_wc: float, t_rss: float, n: int) -> float | None:
@@ -199,6 +258,13 @@ class _OneSided:
     zone: str = ""
     kinked: bool = False
     bonus: list = field(default_factory=list)   # [(factor index, κ)] of a zone's radius
+    datum: str = ""      # a datum-feature shift: the datum's size factor (the pattern's one translation)
+    zones: tuple = ()    # a datum-feature shift: the zones it moves together
+
+    @property
+    def plain(self) -> bool:
+        """A plain factor (kinked), not a zone or a datum-feature shift."""
+        return not self.zone and not self.datum
 
 
 def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list) -> tuple[np.ndarray, list, dict]:
@@ -260,7 +326,8 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     a = con.a
     ob = out_base_unit or units.base_unit(out_unit)
     d = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731
-    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC
+    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC, datum-feature shifts
+    a_smooth = a.copy()   # the zones' gradients before the kinked ones are taken by their sides
     sided: list[_OneSided] = []
     for i, (up, dn) in kinked_plain.items():
         sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
@@ -281,15 +348,15 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
                                kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
         if bonus:
-            mods = spec.factors[ix]
-            notes.append(N.ZONE_BONUS.format(zone=z, modifier=mods.modifier or "RFS", radius=d(r0),
-                                             datum=N.ZONE_DATUM.format(datum=mods.datum_size) if mods.datum_size else "",
+            notes.append(N.ZONE_BONUS.format(zone=z, modifier=spec.factors[ix].modifier, radius=d(r0),
                                              sizes=", ".join(spec.names[m] for m, _, _ in bonus)))
-    bonus_zone = {o.zone for o in sided if o.bonus}
-    plain_in_sided = {spec.names.index(o.name) for o in sided if not o.zone}
+    sided += _pattern_shifts(spec, con, a_smooth, kinked_zones, slopes, notes, d)
+    bonus_zone = {o.zone for o in sided if o.bonus and o.zone}
+    plain_in_sided = {spec.names.index(o.name) for o in sided if o.plain}
     yc = y0 + float(a @ (con.c - x0))
     mu_y = y0 + float(a @ (con.mu - x0))
-    C = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
+    # the correlations (module docstring): R of the normals the bands are read as, P of the distributions
+    R, P = spec.correlation, factor_correlation(spec)
     # the statistical rows: the produced parts (no bonus); kinked contributors as ±(largest slope)·σ
     a_stat = a.copy()
     for o in sided:
@@ -297,26 +364,37 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             ix, iy = [m for m, zz in enumerate(con.zone) if zz == o.zone]
             a_stat[ix], a_stat[iy] = a[ix], a[iy]
     extra_sig2 = rss([max(o.hi, o.lo) * o.sigma for o in sided if o.kinked], squared=True)
-    sig_y = math.sqrt(rss(a_stat * con.sigma, C, squared=True) + extra_sig2)
+    sig_y = math.sqrt(rss(a_stat * con.sigma, P, squared=True) + extra_sig2)
+    zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
     if not sided:
         t_wc = con.worst_half_width()
         wc_low, wc_high = yc - t_wc, yc + t_wc
-        t_rss = rss(a * con.s)
+        t_rss = rss(a * con.s, R)
     else:
         wc_low, wc_high = _worst_sided(con, a, sided, yc)
         t_wc = 0.5 * (wc_high - wc_low)
         a_rss = a.copy()
-        zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
         for o in sided:
             down = o.lo >= o.hi
             for m, kap in o.bonus:
                 a_rss[m] += -o.lo * kap if down else o.hi * kap
-        terms = [a_rss[m] * con.s[m] for m in range(len(spec)) if m not in zone_idx and m not in plain_in_sided]
-        terms += [max(o.hi, o.lo) * o.unit for o in sided]
-        smooth_zone_idx = [m for m in zone_idx if con.zone[m] not in {o.zone for o in sided}]
-        terms += [a[m] * con.s[m] for m in smooth_zone_idx]
-        t_rss = rss(terms)
-    n = con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
+        signed = np.array([a_rss[m] * con.s[m] if m not in zone_idx and m not in plain_in_sided else 0.0
+                           for m in range(len(spec))])
+        t_rss = math.sqrt(rss(signed, R, squared=True) + rss([max(o.hi, o.lo) * o.unit for o in sided], squared=True))
+    # one-sided contributors have no sign to correlate: name those the spec correlates
+    unsigned = sorted(zone_idx | plain_in_sided)
+    uncorrelated = "" if R is None else ", ".join(
+        spec.names[m] for m in unsigned if np.any(np.delete(np.asarray(R)[m], m) != 0.0))
+    kinked_idx = [m for m in unsigned if m in plain_in_sided or any(o.kinked and o.zone == con.zone[m] for o in sided)]
+    stat_uncorrelated = "" if R is None else ", ".join(
+        spec.names[m] for m in kinked_idx if np.any(np.delete(np.asarray(R)[m], m) != 0.0))
+
+    def correlation_note(template, left_out):
+        if R is None:
+            return ""
+        return template + (N.CORRELATION_LEFT_OUT.format(names=left_out) if left_out else "")
+    n = (con.n_active + len(kinked_plain) + sum(2 for o in sided if o.kinked and o.zone)
+         + sum(1 for o in sided if o.datum and max(o.hi, o.lo) > 0))
     rows = []
 
     def add(name, centre, half, sigma=None, note="", source="", low=None, high=None):
@@ -330,9 +408,12 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
         zone_note += N.KINKED_ONE_SIDED
     if bonus_zone:
         zone_note += N.ZONES_WITH_BONUS
+    if any(o.datum for o in sided):
+        zone_note += N.PATTERN_SHIFTS
     add("worst case (arithmetic)", 0.5 * (wc_low + wc_high) if sided else yc, t_wc,
         note=N.WORST_CASE.format(zones=zone_note), source="Fortini 1967", low=wc_low, high=wc_high)
-    add("RSS", yc, t_rss, sigma=t_rss / 3, note=N.RSS.format(sided=N.RSS_SIDED if sided else ""),
+    rss_corr = correlation_note(N.CORRELATION_OF_NORMALS, uncorrelated)
+    add("RSS", yc, t_rss, sigma=t_rss / 3, note=N.RSS.format(sided=N.RSS_SIDED if sided else "", correlation=rss_corr),
         source="Scholz 1995 §4.1")
     for name, cf, src in (("MRSS, Bender", BENDER, "Bender 1968 (SAE 680490)"),
                           ("MRSS, handbook", handbook_mrss_factor(t_wc, t_rss, n), "Drake 1999, ch. 9"),
@@ -342,40 +423,43 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                 notes.append(N.MRSS_FEW)
             continue
         half = cf * t_rss
-        add(name, yc, half, note=N.MRSS.format(cf=cf, wider=N.MRSS_WIDER if half > t_wc else ""), source=src)
+        add(name, yc, half, note=N.MRSS.format(cf=cf, wider=N.MRSS_WIDER if half > t_wc else "") + rss_corr,
+            source=src)
     k = con.k
+    stat_corr = correlation_note(N.CORRELATION_OF_DISTRIBUTIONS, stat_uncorrelated)
     for z in sigma_levels:
         add(f"statistical ±{z:g}σ (the distributions)", mu_y, z * sig_y, sigma=sig_y,
-            note=N.STATISTICAL.format(correlation=N.STATISTICAL_CORRELATION if spec.correlation is not None else "",
-                                      kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
+            note=N.STATISTICAL.format(correlation=stat_corr, kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    sig_plain = math.sqrt(rss(a_stat * con.sigma, squared=True) + extra_sig2)
     with np.errstate(divide="ignore", invalid="ignore"):
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    sig_dyn = math.sqrt(rss(a_stat * con.sigma * infl, squared=True) + extra_sig2)
+    inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
+    sig_dyn = math.sqrt(rss(inflated, P, squared=True) + extra_sig2) if np.all(np.isfinite(inflated)) else math.inf
     if not math.isfinite(sig_dyn):
         notes.append(N.DYNAMIC_UNDEFINED)
     for z in sigma_levels:
-        add(f"6σ static ±{z:g}σ", yc, shift + z * sig_plain, sigma=sig_plain,
-            note=N.SIX_SIGMA_STATIC, source="Harry & Stewart 1988")
+        add(f"6σ static ±{z:g}σ", yc, shift + z * sig_y, sigma=sig_y,
+            note=N.SIX_SIGMA_STATIC + stat_corr, source="Harry & Stewart 1988")
         add(f"6σ dynamic RSS ±{z:g}σ", yc, z * sig_dyn, sigma=sig_dyn,
-            note=N.SIX_SIGMA_DYNAMIC, source="Harry & Stewart 1988")
+            note=N.SIX_SIGMA_DYNAMIC + stat_corr, source="Harry & Stewart 1988")
     if six_sigma is not None:
         cp, sh = six_sigma
         cpk = cp - sh / 3.0
-        sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), squared=True)
+        sig_c = math.sqrt(rss(a * con.s / (3.0 * cpk), R, squared=True)   # kinked contributors: a = 0, below
                           + rss([max(o.hi, o.lo) * o.s / (3.0 * cpk) for o in sided if o.kinked], squared=True))
         for z in sigma_levels:
             add(f"6σ dynamic, {sh:g}σ shift ±{z:g}σ", yc, z * sig_c, sigma=sig_c,
-                note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk),
-                source="Harry & Stewart 1988")
+                note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk)
+                + correlation_note(N.CORRELATION_OF_NORMALS, stat_uncorrelated), source="Harry & Stewart 1988")
     frame = pd.DataFrame(rows)
     # per factor
     fac = []
     wc_terms = np.abs(a) * con.t
     for o in sided:
-        if not o.zone:
+        if o.datum:      # the shift its departure from MMB allows, beside the datum feature's own effect
+            wc_terms[spec.names.index(o.datum)] += max(o.hi, o.lo) * o.unit
+        elif not o.zone:
             wc_terms[spec.names.index(o.name)] = max(o.hi, o.lo) * o.unit
         else:
             ix = [m for m, zz in enumerate(con.zone) if zz == o.zone]
@@ -388,16 +472,19 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                 rss_terms[[m for m, zz in enumerate(con.zone) if zz == o.zone]] = 0.5 * w
             else:
                 rss_terms[spec.names.index(o.name)] = w
-    side_of = {o.name: o for o in sided if not o.zone}
+    side_of = {o.name: o for o in sided if o.plain}
+    side_of.update({o.datum: o for o in sided if o.datum})
     side_of.update({spec.names[m]: o for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone})
     for i, f in enumerate(spec.factors):
         cp_i = con.t[i] / (3 * con.sigma[i]) if con.sigma[i] > 0 else math.nan
         o = side_of.get(f.name)
         how = ""
-        if o is not None and o.kinked:
+        if o is not None and o.datum:
+            how = f"datum feature at MMB: shifts {', '.join(o.zones)} together (per unit up {o.hi:.4g}, down {o.lo:.4g})"
+        elif o is not None and o.kinked:
             how = f"kink: per unit {'radius' if o.zone else 'of band'} up {o.hi:.4g}, down {o.lo:.4g}"
         elif o is not None:
-            how = f"zone at {f.modifier or 'RFS'} (datum shift)" if not f.modifier else f"zone at {f.modifier}"
+            how = f"zone at {f.modifier}"
         fac.append({"factor": f.name, "a": float(derivative_to_display(a[i], out_unit, f.unit)) * units.factor(ob),
                     "a_unit": ratio_unit(out_unit, f.unit), "band": f"{f.band[0]:.6g} … {f.band[1]:.6g}",
                     "unit": f.unit, "sigma": f.dist.std, "k": float(k[i]), "Cp": cp_i, "Cpk": cp_i * (1 - k[i]),
@@ -407,12 +494,36 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     return StackConventions(output, out_unit, d(yc), frame, pd.DataFrame(fac), notes)
 
 
+def _pattern_shifts(spec: ToleranceSpec, con: Contributors, a: np.ndarray, kinked_zones, slopes, notes: list,
+                    d) -> list[_OneSided]:
+    """The datum-feature shifts (:func:`rvtol.spec.datum_shifts`) as one-sided contributors: a disc of radius
+    κ (x_d − reference) (at the datum's band centre) that moves every zone it locates by the same vector; per unit
+    of shift the output changes by |Σ_z ∇_z y| (smooth zones: the gradients of the pattern's zones added), or by the
+    extremes of the model's slopes with the pattern moved as one (:func:`rvtol.stacking.slopes.one_sided_slopes`)
+    where a zone is kinked.  ``a``: the gradient before kinked zones are zeroed; ``d``: base → display unit."""
+    out = []
+    for ds in datum_shifts(spec):
+        pairs = [[m for m, zz in enumerate(con.zone) if zz == z] for z in ds.zones]
+        r0 = ds.kappa * (float(con.c[ds.index]) - ds.reference)
+        if any(z in kinked_zones for z in ds.zones):
+            if slopes is None or ds.datum not in slopes.pattern_max:
+                raise InputError(f"the model cannot be evaluated with the pattern located by datum feature {ds.datum} "
+                                 f"({', '.join(ds.zones)}) shifted: no linearised stack", key="gradient")
+            hi, lo = max(0.0, float(slopes.pattern_max[ds.datum])), max(0.0, -float(slopes.pattern_min[ds.datum]))
+        else:
+            hi = lo = float(np.hypot(sum(a[ix] for ix, _ in pairs), sum(a[iy] for _, iy in pairs)))
+        out.append(_OneSided(ds.datum, r0, hi, lo, 0.0, 0.0, datum=ds.datum, zones=ds.zones,
+                             bonus=[(ds.index, ds.kappa)]))
+        notes.append(N.DATUM_SHIFT.format(datum=ds.datum, zones=", ".join(ds.zones), radius=d(r0), hi=hi, lo=lo))
+    return out
+
+
 def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: float) -> tuple[float, float]:
     """The linearised worst case with one-sided contributors and zones whose radius grows with sizes (module
     docstring): (low, high) in base units."""
     k = len(a)
     zone_idx = {m for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone}
-    plain_sided = {o.name: o for o in sided if not o.zone}
+    plain_sided = {o.name: o for o in sided if o.plain}
     up = a.astype(float).copy()   # D⁺ per factor (kinked ones: their hi/lo below)
     dn = -up                      # D⁻
     low = high = yc
@@ -426,8 +537,8 @@ def _worst_sided(con: Contributors, a: np.ndarray, sided: list[_OneSided], yc: f
             w = float(con.t[m]) * float(np.hypot(*a[j]))
             low, high = low - w, high + w
     up_hi, dn_hi, up_lo, dn_lo = up.copy(), dn.copy(), up.copy(), dn.copy()
-    for o in sided:
-        if not o.zone:
+    for o in sided:      # zones and datum-feature shifts: a disc of radius ``unit`` growing with sizes
+        if o.plain:
             continue
         low -= o.lo * o.unit
         high += o.hi * o.unit

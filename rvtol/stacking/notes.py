@@ -13,27 +13,38 @@ KINKED_FACTOR = ("{name}: the output has a kink at the nominal point (one-sided 
 KINKED_ZONE = ("position zone {zone}: the output has a kink at the zone's centre (a norm: per unit radius it rises at "
                "most {hi:.4g} and falls at most {lo:.4g}); it is taken by its radius in the direction that hurts (worst "
                "case), as ±radius × the larger slope (RSS, statistical rows: an approximation of a one-sided effect)")
-ZONE_BONUS = "position zone {zone} at {modifier}{datum}: radius {radius:.6g} at the sizes' band centres, growing with " \
+ZONE_BONUS = "position zone {zone} at {modifier}: radius {radius:.6g} at the sizes' band centres, growing with " \
              "the bonus of {sizes}"
-ZONE_DATUM = " (datum {datum} at MMB)"
+DATUM_SHIFT = ("datum feature {datum} at MMB: its departure from MMB shifts {zones} together — one translation of the "
+               "pattern (ASME Y14.5 simultaneous requirement; SEP REQT is not modelled), radius {radius:.6g} at its band "
+               "centre growing with that departure, not a bonus of each zone (the distances within the pattern do not "
+               "change with it); per unit of shift the output rises at most {hi:.4g} and falls at most {lo:.4g}")
+PATTERN_SHIFT = ("datum feature {datum} at MMB shifts {zones} together: one translation of the pattern, anywhere within "
+                 "half the datum's departure from MMB (ASME Y14.5 simultaneous requirement)")
 MRSS_FEW = "MRSS (handbook) needs at least two contributors"
 DYNAMIC_UNDEFINED = "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined"
 
 # ---------------------------------------------------------------- conventions: the note of each row
 ZONES_AS_DISCS = " (position zones as discs)"
 KINKED_ONE_SIDED = "; kinked contributors by the side that hurts (one-sided)"
-ZONES_WITH_BONUS = "; zones at MMC/LMC with their bonus (and datum shift)"
+ZONES_WITH_BONUS = "; zones at MMC/LMC with their bonus"
+PATTERN_SHIFTS = "; each datum-feature shift as one translation of its pattern"
 WORST_CASE = "every factor at the end of its band{zones}"
-RSS = "every band read as ±3σ of a centred normal{sided}"
-RSS_SIDED = ("; kinked contributors and zones at MMC/LMC as equal-bilateral ±(radius or half band) × the slope that "
-             "hurts (handbook)")
+RSS = "every band read as ±3σ of a centred normal{sided}{correlation}"
+RSS_SIDED = ("; kinked contributors, zones at MMC/LMC and datum-feature shifts as equal-bilateral ±(radius or half "
+             "band) × the slope that hurts (handbook)")
 MRSS = "C_f = {cf:.4g} × RSS{wider}"
 MRSS_WIDER = " — wider than the worst case (few contributors)"
 STATISTICAL = "mean and σ of each factor's own distribution{correlation}{kinked}"
-STATISTICAL_CORRELATION = ", correlation included"
+CORRELATION_OF_NORMALS = "; the spec's correlation included (of the normals the bands are read as)"
+CORRELATION_OF_DISTRIBUTIONS = ("; the spec's correlation included (Pearson's, of the distributions under the "
+                                "Gaussian copula)")
+CORRELATION_LEFT_OUT = " — except for the one-sided {names}, taken as independent (no sign to correlate)"
 STATISTICAL_KINKED = "; kinked contributors as ±(largest one-sided slope)·σ, no mean shift (an approximation)"
 SIX_SIGMA_STATIC = "the factors' mean shifts added arithmetically"
 SIX_SIGMA_DYNAMIC = "each σ inflated by Cp/Cpk = 1/(1 − k)"
+LINEARISED = ("; linearised at the nominal point: the output's curvature is left out (its mean shift {shift:+.4g} and "
+              "skewness: the second-order rows)")
 SIX_SIGMA_SHIFT = "every band a ±{width:g}σ process (Cp {cp:g}) shifted {shift:g}σ (Cpk {cpk:g})"
 
 # ---------------------------------------------------------------- tail: the estimates' notes
@@ -56,6 +67,15 @@ SUBSET_LEVELS = ", {levels} levels"
 DIRECTIONAL = "{n} directions, root by Brent (safe and slow)"
 FAILED_EVALUATIONS = "{n} evaluations could not be made and count as failures"
 COULD_NOT_RUN = "could not run: {why}"
+NOT_ESTIMATED = "not estimated: {why}"
+NOT_A_PROBABILITY = "the method returned {shown}, not a probability"
+ABOVE_THE_BALL = ("the method returned {shown}, more than the whole space beyond the sphere of radius β = {beta:.4g} "
+                  "(P(χ²_{k} > β²) = {ball:.3g} ppm), which holds every failure domain whose nearest point lies at β")
+SE_UNDEFINED = "the method returned {shown}: its standard error is undefined (negative or NaN)"
+NO_FAILURE_SEEN = "no sample reached the limit ({shown}): that bounds the probability, it does not estimate it"
+SE_ZERO = "the method returned {shown}: a standard error of 0 (degenerate weights: no spread to state an error from)"
+COV_TOO_LARGE = ("the method returned {shown}: its coefficient of variation {cov:.2g} exceeds {max:.2g} (its ±{k:g} "
+                 "standard errors reach 0: it cannot tell the probability from 0)")
 DISAGREE = ("{a} {a_ppm:.4g} ± {a_se:.2g} ppm and {b} {b_ppm:.4g} ± {b_se:.2g} ppm differ by more than {k:g} combined "
             "standard errors")
 OUTSIDE_REFERENCE = ("{method} {ppm:.4g} ppm lies outside {k:g} standard errors of the reference ({ref} {ref_ppm:.4g} ± "

@@ -10,21 +10,33 @@ output is expanded to second order about the factors' means,
 
 with a and H by central differences of the model (steps of σᵢ/2: a curvature read over the factors' own
 spread), and its first four moments taken from each factor's standardised moments μₙ = E[zⁿ], n ≤ 8
-(scipy, or quadrature of the factor's inverse CDF), for independent factors:
+(quadrature of the factor's inverse CDF over its normal score, :func:`standard_moments`), for independent
+factors:
 
 * each separable term gᵢ(z) = Aᵢ z + Bᵢ z² (Aᵢ = aᵢσᵢ, Bᵢ = ½Hᵢᵢσᵢ²) has raw moments
   E g = B, E g² = A² + 2ABμ₃ + B²μ₄, E g³ = A³μ₃ + 3A²Bμ₄ + 3AB²μ₅ + B³μ₆,
   E g⁴ = A⁴μ₄ + 4A³Bμ₅ + 6A²B²μ₆ + 4AB³μ₇ + B⁴μ₈, whose cumulants add over the factors;
 * the cross terms add Σ Hᵢⱼ² σᵢ²σⱼ² to the variance (exactly) and 6 Σ Hᵢⱼ cᵢ cⱼ to the third cumulant
   (cᵢ = E[gᵢ dᵢ] = σᵢ(Aᵢ + Bᵢμ₃ᵢ)), the leading term; their other contributions to the third and fourth
-  cumulants (quadratic and cubic in Hᵢⱼ) are left out — exact for separable outputs and for a product of
-  two normal factors, an approximation otherwise (said in the result).
+  cumulants (quadratic and cubic in Hᵢⱼ) are left out — exact for separable outputs, an approximation
+  otherwise (said in the result);
+* where every factor the output depends on is normal, the expansion is a quadratic form of normals and its
+  cumulants are exact, cross terms included: with w the standardised factors, y = y(μ) + bᵀw + wᵀQw
+  (b = σ∘a, Q = ½ diag(σ) H diag(σ)), κ₁ = tr Q and κ_r = 2^(r−1)(r−1)! tr Q^r + 2^(r−3) r! bᵀQ^(r−2)b
+  (A. M. Mathai and S. B. Provost, *Quadratic Forms in Random Variables*, Dekker 1992, ch. 3).
+
+Correlation.  Correlated normal factors are written as independent standard normals v through the Cholesky
+factor of their correlation, w = L v (b → Lᵀb, 2Q → Lᵀ(2Q)L): the moments stay exact.  Correlated factors that
+are not all normal have no closed form under the Gaussian copula: their covariance (Pearson's, from the copula:
+:func:`rvtol.stacking.conventions.factor_correlation`) enters the mean (½ Σ Hᵢⱼ Cov ᵢⱼ, exact) and the linear
+part of the variance (aᵀ Cov a), the rest takes them as independent — exact mean and σ for an output linear in
+them; the row's note says which.
 
 The mean, σ, skewness √β₁ and kurtosis β₂ select a member of Pearson's system
 (:func:`rvtol.distributions.pearson_frozen`; Pearson type IV, which no library here implements, by a
 Johnson SU curve with the same four moments instead), whose quantiles give the interval at ±z σ-coverage
-and the fraction beyond a limit.  Correlated factors are read as independent here (said); a kink at the
-means (a centred position zone) has no second-order expansion: the method says so and gives nothing.
+and the fraction beyond a limit.  A kink at the means (a centred position zone) has no second-order
+expansion: the method says so and gives nothing.
 
 References.  D. H. Evans, "Statistical tolerancing: the state of the art, part II. Methods for estimating
 moments", J. Quality Technology 7 (1975) 1–12; C. G. Glancy and K. W. Chase, "A second-order method for
@@ -33,17 +45,19 @@ Interchangeable Manufacture*, Industrial Press 1967 (the one-way clutch example 
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import integrate, optimize, stats
+from scipy import integrate, optimize, special, stats
 
 from ..distributions import coverage, pearson_frozen
 from ..mc import Evaluator
 from ..model import Model
 from ..spec import ToleranceSpec
 from ..stats import rss
+from .conventions import factor_correlation
 
 
 @dataclass
@@ -58,7 +72,9 @@ class SecondOrder:
     law: str                   # "Pearson I" … "Johnson SU"
     frozen: object = None      # scipy-like frozen law of the output
     evaluations: int = 0
-    notes: list = field(default_factory=list)
+    notes: list = field(default_factory=list)          # what the moments take as they are (read with them)
+    tail_notes: list = field(default_factory=list)     # what the fitted curve changed
+    curved: bool = False       # the expansion has curvature (a Hessian entry above the differences' noise)
 
     @property
     def mean_shift(self) -> float:
@@ -79,20 +95,43 @@ class SecondOrder:
         return p
 
 
+def factor_moments(dist) -> dict[int, float]:
+    """:func:`standard_moments` of orders 3…8, kept per distribution (one quadrature per factor, however many outputs
+    are expanded)."""
+    try:
+        return dict(_kept_moments(dist))
+    except TypeError:             # a law that cannot be a key (unhashable): computed each time
+        return standard_moments(dist)
+
+
+@functools.lru_cache(maxsize=1024)
+def _kept_moments(dist) -> tuple:
+    return tuple(standard_moments(dist).items())
+
+
 def standard_moments(dist, orders=range(3, 9)) -> dict[int, float]:
-    """E[zⁿ] of z = (x − μ)/σ for a factor's distribution: scipy's ``expect`` where it has one, else quadrature of
-    the inverse CDF over u ∈ (0, 1)."""
+    """E[zⁿ] of z = (x − μ)/σ for a factor's distribution, every order from one adaptive Gauss–Kronrod quadrature
+    (:func:`scipy.integrate.quad_vec`, relative tolerance 1e-12) over its normal score s:
+    E[zⁿ] = ∫ ((x(s) − μ)/σ)ⁿ φ(s) ds, x(s) = F⁻¹(Φ(s)) (by the survival function's inverse above the median, so
+    the upper tail keeps its digits) — the transform the sampling uses, smooth where F is; a weight φ(s) below
+    1e-300 (|s| > 37) adds nothing."""
     mu, sd = float(dist.mean), float(dist.std)
     fr = getattr(dist, "frozen", dist)
-    out = {}
-    for n in orders:
-        f = lambda x, n=n: ((x - mu) / sd) ** n  # noqa: E731
-        if hasattr(fr, "expect"):
-            v = float(fr.expect(f))
-        else:
-            v = integrate.quad(lambda u: f(float(dist.ppf(u))), 0.0, 1.0, limit=200)[0]
-        out[n] = v
-    return out
+    n = np.array(list(orders), dtype=float)
+    isf = getattr(fr, "isf", None)
+
+    def x_of(s):
+        if s > 0 and isf is not None:
+            return float(isf(special.ndtr(-s)))
+        return float(fr.ppf(special.ndtr(s)))
+
+    def integrand(s):
+        if abs(s) > 37.0:
+            return np.zeros(len(n))
+        return ((x_of(s) - mu) / sd) ** n * (math.exp(-0.5 * s * s) / math.sqrt(2.0 * math.pi))
+
+    values, _ = integrate.quad_vec(integrand, -np.inf, np.inf, epsabs=0.0, epsrel=1e-12, limit=500)
+    return {int(k): float(v) for k, v in zip(n, values)}
 
 
 def curvature(model: Model, spec: ToleranceSpec, output: str, x0: np.ndarray | None = None,
@@ -134,6 +173,10 @@ def curvature(model: Model, spec: ToleranceSpec, output: str, x0: np.ndarray | N
     return float(y0), g, H, len(rows)
 
 
+#: E[zⁿ], n = 3 … 8, of a standard normal
+NORMAL_MOMENTS = {3: 0.0, 4: 3.0, 5: 0.0, 6: 15.0, 7: 0.0, 8: 105.0}
+
+
 def second_order(spec: ToleranceSpec, y0: float, gradient: np.ndarray, hessian: np.ndarray) -> SecondOrder:
     """The four moments and the tail law of the expansion about the means (module docstring); base units."""
     a = np.asarray(gradient, dtype=float)
@@ -146,13 +189,83 @@ def second_order(spec: ToleranceSpec, y0: float, gradient: np.ndarray, hessian: 
     # curvature below the differences' rounding (1e-9 of the linear spread) is noise, not curvature
     lin = rss(a * sd) or 1.0
     H = np.where(np.abs(H) * np.outer(sd, sd) <= 1e-9 * lin, 0.0, H)
-    K = np.zeros(5)    # cumulants 1..4
+    # the expansion in the standardised factors w = (x − μ)/σ: y = y(μ) + bᵀw + ½ wᵀMw
+    b, M = a * sd, H * np.outer(sd, sd)
+    normal = [f.dist.kind == "normal" for f in spec.factors]
+    R = spec.correlation
+    correlated = [] if R is None else [i for i in range(k) if np.any(np.delete(np.asarray(R)[i], i) != 0.0)]
+    pearson = None
+    if correlated and all(normal[i] for i in correlated):
+        # correlated normals: w_N = L v_N (L L^T = R_NN), v_N independent standard normals
+        T = np.eye(k)
+        T[np.ix_(correlated, correlated)] = np.linalg.cholesky(np.asarray(R)[np.ix_(correlated, correlated)])
+        b, M = T.T @ b, T.T @ M @ T
+        notes.append(NOTE_CORRELATED_NORMALS)
+    elif correlated:
+        pearson = factor_correlation(spec)
+    active = [i for i in range(k) if b[i] != 0.0 or np.any(M[i] != 0.0)]
+    if all(normal[i] for i in active):
+        K = _normal_quadratic_cumulants(b, M)
+    else:
+        K, cross = _independent_cumulants(b, M, [None if normal[i] else spec.factors[i].dist for i in range(k)])
+        if cross:
+            notes.append("off-diagonal curvature enters the variance exactly and the third cumulant to leading order; "
+                         "its other third- and fourth-order terms are left out")
+    if pearson is not None:
+        # their covariance (Pearson's, of the copula) in the mean ½ Σ M_ij P_ij and the linear variance bᵀPb
+        off = pearson - np.eye(k)
+        K[1] += 0.5 * float(np.sum(M * off))
+        K[2] += float(b @ off @ b)
+        curved = [i for i in correlated if np.any(M[i] != 0.0)]
+        names = ", ".join(spec.names[i] for i in correlated)
+        notes.append(NOTE_CORRELATED_OTHERS.format(names=names) + (
+            NOTE_CORRELATED_CURVED.format(names=", ".join(spec.names[i] for i in curved)) if curved
+            else NOTE_CORRELATED_LINEAR))
+    mean, var = y0 + K[1], K[2]
+    if not var > 0:
+        raise ValueError("the output does not vary to second order")
+    s = math.sqrt(var)
+    skew, kurt = K[3] / s ** 3, 3.0 + K[4] / var ** 2
+    tail_notes: list[str] = []
+    law, frozen = _tail_law(mean, s, skew, kurt, tail_notes)
+    return SecondOrder(y0, mean, s, skew, kurt, law, frozen, notes=notes, tail_notes=tail_notes,
+                       curved=bool(np.any(H != 0.0)))
+
+
+NOTE_CORRELATED_NORMALS = "the spec's correlation included (correlated normal factors: exact)"
+NOTE_CORRELATED_OTHERS = ("correlated factors not all normal ({names}): their covariance (Pearson's, of the Gaussian "
+                          "copula) enters the mean and the linear part of the variance")
+NOTE_CORRELATED_LINEAR = "; the skewness and kurtosis take them as independent"
+NOTE_CORRELATED_CURVED = ("; the curvature's share of the variance, the skewness and the kurtosis take them as "
+                          "independent (σ approximate: {names} curved)")
+
+
+def _normal_quadratic_cumulants(b: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """Cumulants 1…4 of bᵀv + vᵀQv (Q = ½M) for independent standard normals v, exact:
+    κ₁ = tr Q, κ_r = 2^(r−1) (r−1)! tr Q^r + 2^(r−3) r! bᵀQ^(r−2) b (r ≥ 2) [Mathai & Provost 1992, ch. 3]."""
+    Q = 0.5 * M
+    K = np.zeros(5)
+    K[1] = float(np.trace(Q))
+    Qp = np.eye(len(b))      # Q^(r−2)
+    for r in (2, 3, 4):
+        K[r] = (2 ** (r - 1) * math.factorial(r - 1) * float(np.trace(np.linalg.matrix_power(Q, r)))
+                + 2.0 ** (r - 3) * math.factorial(r) * float(b @ Qp @ b))
+        Qp = Qp @ Q
+    return K
+
+
+def _independent_cumulants(b: np.ndarray, M: np.ndarray, dists) -> tuple[np.ndarray, bool]:
+    """Cumulants 1…4 of bᵀw + ½ wᵀMw for independent standardised factors w (``dists[i]``: the factor's law, None for
+    a standard normal), separable terms exact, cross terms to leading order (module docstring); and whether there
+    were cross terms."""
+    k = len(b)
+    K = np.zeros(5)
     c = np.zeros(k)
     for i in range(k):
-        A, B = a[i] * sd[i], 0.5 * H[i, i] * sd[i] ** 2
+        A, B = b[i], 0.5 * M[i, i]
         if A == 0.0 and B == 0.0:
             continue
-        mu = {1: 0.0, 2: 1.0, **standard_moments(spec.factors[i].dist)}
+        mu = {1: 0.0, 2: 1.0, **(NORMAL_MOMENTS if dists[i] is None else factor_moments(dists[i]))}
         m1 = B
         m2 = A * A + 2 * A * B * mu[3] + B * B * mu[4]
         m3 = A ** 3 * mu[3] + 3 * A * A * B * mu[4] + 3 * A * B * B * mu[5] + B ** 3 * mu[6]
@@ -162,26 +275,15 @@ def second_order(spec: ToleranceSpec, y0: float, gradient: np.ndarray, hessian: 
         K[2] += m2 - m1 ** 2
         K[3] += m3 - 3 * m2 * m1 + 2 * m1 ** 3
         K[4] += m4 - 4 * m3 * m1 - 3 * m2 ** 2 + 12 * m2 * m1 ** 2 - 6 * m1 ** 4
-        c[i] = sd[i] * (A + B * mu[3])
+        c[i] = A + B * mu[3]
     cross = False
     for i in range(k):
         for m in range(i + 1, k):
-            if H[i, m] != 0.0:
+            if M[i, m] != 0.0:
                 cross = True
-                K[2] += H[i, m] ** 2 * sd[i] ** 2 * sd[m] ** 2
-                K[3] += 6.0 * H[i, m] * c[i] * c[m]
-    if cross:
-        notes.append("off-diagonal curvature enters the variance exactly and the third cumulant to leading order; "
-                     "its other third- and fourth-order terms are left out")
-    if spec.correlation is not None:
-        notes.append("the spec's correlation is not used: the moments assume independent factors")
-    mean, var = y0 + K[1], K[2]
-    if not var > 0:
-        raise ValueError("the output does not vary to second order")
-    s = math.sqrt(var)
-    skew, kurt = K[3] / s ** 3, 3.0 + K[4] / var ** 2
-    law, frozen = _tail_law(mean, s, skew, kurt, notes)
-    return SecondOrder(y0, mean, s, skew, kurt, law, frozen, notes=notes)
+                K[2] += M[i, m] ** 2
+                K[3] += 6.0 * M[i, m] * c[i] * c[m]
+    return K, cross
 
 
 def _tail_law(mean, sd, skew, kurt, notes):

@@ -11,7 +11,9 @@ and where the derivative is undefined (NaN, ∞).  :func:`one_sided_slopes` asks
 * per circular position zone, the directional derivative along a ring of directions u_φ,
   D(φ) = (y(x₀ + h u_φ) − y₀)/h, and its extremes (each polished by a bounded scalar search in φ):
   a smooth output has max D = −min D = |∇_zone y|; a cone (−|p₁ − p₂| of a floating fastener) has
-  max D = min D = −1: every direction lowers it.
+  max D = min D = −1: every direction lowers it;
+* per datum-feature shift (:func:`rvtol.spec.datum_shifts`), the same ring with every zone it locates moved by
+  the same vector — the pattern translated as a whole (the distance between two of its features: D = 0).
 
 A contributor is *kinked* when the two sides disagree by more than ``kink_tolerance`` of their size and
 (for a factor) its one-sided slopes stay as the step doubles — a smooth extremum's double with it.
@@ -31,7 +33,7 @@ from scipy import optimize
 
 from ..mc import Evaluator
 from ..model import Model
-from ..spec import ToleranceSpec
+from ..spec import ToleranceSpec, datum_shifts
 
 #: relative step (of the half band / zone radius) of the one-sided differences
 STEP = 1e-4
@@ -50,6 +52,8 @@ class Slopes:
     zone_max: dict = field(default_factory=dict)   # zone -> max over directions of D(φ)
     zone_min: dict = field(default_factory=dict)   # zone -> min over directions of D(φ)
     zone_grad: dict = field(default_factory=dict)  # zone -> (D_x, D_y) by central differences
+    pattern_max: dict = field(default_factory=dict)  # datum feature -> max D(φ) of its zones moved together
+    pattern_min: dict = field(default_factory=dict)  # datum feature -> min D(φ)
     kinked: list = field(default_factory=list)     # factor and zone names with a kink at x0
     undefined: list = field(default_factory=list)  # names whose slopes the model could not give
     evaluations: int = 0
@@ -87,6 +91,9 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
     zones = {}
     for z in dict.fromkeys(z for z in con.zone if z):
         zones[z] = [m for m in range(k) if con.zone[m] == z]
+    # a datum-feature shift moves every zone it locates by one vector: its ring moves them together
+    rings = {z: [tuple(p)] for z, p in zones.items()}
+    patterns = {d.datum: [tuple(zones[z]) for z in d.zones] for d in datum_shifts(spec)}
     count = [0]
 
     def y(X) -> np.ndarray:
@@ -97,18 +104,22 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
 
     h = {i: step * max(float(con.t[i]), 1e-300) for i in range(k)}
     phis = 2 * np.pi * np.arange(directions) / directions
+
+    def moved(pairs, p):
+        x = x0.copy()
+        for ix, iy in pairs:
+            x[ix] += h[pairs[0][0]] * math.cos(p)
+            x[iy] += h[pairs[0][0]] * math.sin(p)
+        return x
+
     rows = [x0]
     for i in plain:
         for s in (1.0, -1.0, 2.0, -2.0):   # the doubled steps tell a kink (slopes that stay) from a smooth extremum
             x = x0.copy()
             x[i] += s * h[i]
             rows.append(x)
-    for z, (ix, iy) in zones.items():
-        for p in phis:
-            x = x0.copy()
-            x[ix] += h[ix] * math.cos(p)
-            x[iy] += h[ix] * math.sin(p)
-            rows.append(x)
+    for pairs in list(rings.values()) + list(patterns.values()):
+        rows += [moved(pairs, p) for p in phis]
     v = y(np.array(rows))
     y0 = v[0]
     up = np.full(k, np.nan)
@@ -123,18 +134,16 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
             out.undefined.append(spec.names[i])
         elif _kink(up[i], down[i], kink_tolerance) and not _stationary(up[i], down[i], up2, down2):
             out.kinked.append(spec.names[i])
-    for z, (ix, iy) in zones.items():
-        d = (v[r:r + directions] - y0) / h[ix]
+    for name, pairs, pattern in [(z, p, False) for z, p in rings.items()] + [(d, p, True) for d, p in patterns.items()]:
+        d = (v[r:r + directions] - y0) / h[pairs[0][0]]
         r += directions
         if not np.all(np.isfinite(d)):
-            out.undefined.append(z)
+            if not pattern:       # a pattern the model cannot shift: absent from pattern_max (the caller says so)
+                out.undefined.append(name)
             continue
 
-        def dphi(p, ix=ix, iy=iy):
-            x = x0.copy()
-            x[ix] += h[ix] * math.cos(p)
-            x[iy] += h[ix] * math.sin(p)
-            return float((y(x)[0] - y0) / h[ix])
+        def dphi(p, pairs=pairs):
+            return float((y(moved(pairs, p))[0] - y0) / h[pairs[0][0]])
 
         ext = []
         for sign in (1.0, -1.0):   # polish the best ring direction within its neighbours
@@ -146,11 +155,14 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
             if np.isfinite(res.fun) and -res.fun > best:
                 best = float(-res.fun)
             ext.append(sign * best)
-        out.zone_max[z], out.zone_min[z] = ext
+        if pattern:
+            out.pattern_max[name], out.pattern_min[name] = ext
+            continue
+        out.zone_max[name], out.zone_min[name] = ext
         # the gradient of a smooth zone: D(0) = D_x, D(π/2) = D_y (central over the ring's opposite points)
         q = directions // 4
-        out.zone_grad[z] = (0.5 * (d[0] - d[2 * q]), 0.5 * (d[q] - d[3 * q]))
-        if _kink(out.zone_max[z], out.zone_min[z], kink_tolerance):
-            out.kinked.append(z)
+        out.zone_grad[name] = (0.5 * (d[0] - d[2 * q]), 0.5 * (d[q] - d[3 * q]))
+        if _kink(out.zone_max[name], out.zone_min[name], kink_tolerance):
+            out.kinked.append(name)
     out.evaluations = count[0]
     return out

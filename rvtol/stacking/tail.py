@@ -32,6 +32,16 @@ sampling           χ² tail along it (Bjerager 1988; ``ot.DirectionalSampling``
                    failure domain outside a sphere about the origin
 =================  ===========================================================================  ===========
 
+An estimate that is no estimate is shown as "not estimated: <why>" and enters no comparison: a method that
+could not run or found no design point; a probability outside [0, 1]; a sampling estimate whose standard
+error is negative, NaN or 0 (OpenTURNS' directional sampling returns 0 ± −1 when no direction reaches the
+limit; a weighted estimate with no spread has no error to state), that saw no failure (0 bounds P, it does
+not estimate it), or whose coefficient of variation exceeds ``MAX_COV`` = 1/3 (its ±3 standard errors, the
+rule the estimates are compared by, reach 0: it cannot tell P from 0); and a SORM or multi-FORM value above
+P(χ²ₖ > β²), the probability of the whole space beyond the sphere of radius β about the origin — a failure
+domain whose nearest point lies at β holds no more (Breitung's formula blows up as a curvature nears −1/β;
+a curvature ≤ −1/β leaves it undefined).
+
 The estimates are compared: two sampling estimates **disagree** when they differ by more than three
 of their combined standard errors; FORM / SORM / multi-FORM (approximations without an error) when
 they lie outside three standard errors of the reference.  Of two disagreeing sampling estimates the
@@ -45,7 +55,9 @@ distributions (their tails extrapolated, not measured): **the verdict stays the 
 
 Samples the model cannot evaluate count as failures (as in the yield) and are reported.
 Distributions with bounded support (uniform, triangular, truncated normal) cannot reach a limit
-beyond their worst case: then no point of the limit state exists, β = ∞ and P = 0.
+beyond their worst case: then no point of the limit state exists, β = ∞ and P = 0 — decided on the
+corners of the supports, u = ±``REACH`` (Φ(−8.3) = 5·10⁻¹⁷: every bounded margin at its end to
+double precision), not on a wider or narrower box.
 
 References.  A. M. Hasofer and N. C. Lind, J. Eng. Mech. Div. ASCE 100 (1974) 111–121 (FORM);
 K. Breitung, "Asymptotic approximations for multinormal integrals", J. Eng. Mech. 110 (1984) 357–366
@@ -62,6 +74,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 
 from .. import units
 from ..mc import Evaluator
@@ -79,6 +92,12 @@ DISAGREE_SE = 3.0
 #: blind to failure regions far from it (its standard error does not see them); subset and directional
 #: simulation explore the whole space
 ROBUSTNESS = {"importance sampling": 0, "directional": 1, "subset": 1}
+#: the largest coefficient of variation of a sampling estimate: beyond it the estimate's ±DISAGREE_SE standard
+#: errors reach 0 (it cannot tell P from 0 by the rule the estimates are compared by)
+MAX_COV = 1.0 / DISAGREE_SE
+#: the normal score of a bounded support's end for the out-of-reach test: Φ(−REACH) = 5e-17, below the last bit
+#: of 1 in double precision, so every bounded margin's inverse CDF is at its end
+REACH = 8.3
 
 
 @dataclass
@@ -90,6 +109,7 @@ class Estimate:
     se: float | None = None          # standard error (sampling methods)
     evaluations: int = 0
     note: str = ""
+    beta: float | None = None        # the nearest design point's distance (multi-FORM's; None: FORM's)
 
     @property
     def cov(self) -> float | None:
@@ -214,6 +234,11 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             e = fn()
         except Exception as exc:   # OpenTURNS reports a method that cannot run as an exception: say why
             e = Estimate(method, None, note=_reason(exc))
+        why = None if e.pf is None else _not_an_estimate(e, k, est.beta)
+        if why is not None:
+            e = Estimate(method, None, note=why)
+        if e.pf is None:
+            e.note = N.NOT_ESTIMATED.format(why=e.note or "no result")
         e.evaluations = ls.count - c0
         est.estimates.append(e)
         return e
@@ -261,7 +286,8 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             algo.run()
             r = algo.getResult()
             pb = float(r.getEventProbabilityBreitung())
-            if not math.isfinite(pb):
+            beta = float(r.getHasoferReliabilityIndex())
+            if not math.isfinite(pb) or any(1.0 + beta * float(c) <= 0.0 for c in r.getSortedCurvatures()):
                 return Estimate("SORM", None, note=N.SORM_UNDEFINED)
             extra = []
             for name, get in (("Tvedt", r.getEventProbabilityTvedt), ("Hohenbichler", r.getEventProbabilityHohenbichler)):
@@ -284,7 +310,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             X = from_normal_scores(spec, np.array(pts))
             est.design_points = [{f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)}
                                  for x in X]
-            return Estimate("multi-FORM", pf,
+            return Estimate("multi-FORM", pf, beta=min(float(np.linalg.norm(p)) for p in pts),
                             note=N.MULTI_FORM.format(n=len(pts), betas=", ".join(f"{np.linalg.norm(p):.4g}" for p in pts)))
         counted("multi-FORM", run_multi)
     block = 100
@@ -340,7 +366,7 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
 
 
 def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
-    """True when every factor's support is bounded and none of the supports' corners (u = ±8.3, Φ = 1 − 5e-17;
+    """True when every factor's support is bounded and none of the supports' corners (u = ±``REACH``, Φ = 1 − 5e-17;
     at most 2¹² of them) lies beyond the limit."""
     k = len(spec)
     if k > 12:
@@ -349,8 +375,33 @@ def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
         lo, hi = (float(v) for v in f.dist.frozen.support())
         if not (math.isfinite(lo) and math.isfinite(hi)):
             return False
-    corners = 8.3 * (2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1) - 1.0)
+    corners = REACH * (2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1) - 1.0)
     return not np.any(beyond(ls.y(corners)))
+
+
+def _not_an_estimate(e: Estimate, k: int, beta: float | None) -> str | None:
+    """Why ``e`` (a number) is no estimate of the probability (module docstring), or None: ``k`` the dimension of
+    u-space, ``beta`` FORM's reliability index."""
+    pf, se, cov = e.pf, e.se, e.cov
+    shown = f"{1e6 * pf:.3g}" + ("" if se is None else f" ± {1e6 * se:.3g}") + " ppm"
+    if not (math.isfinite(pf) and 0.0 <= pf <= 1.0):
+        return N.NOT_A_PROBABILITY.format(shown=shown)
+    if e.method in APPROXIMATIONS:
+        b = e.beta if e.beta is not None else beta
+        if e.method != "FORM" and b is not None and math.isfinite(b) and b > 0:
+            ball = float(stats.chi2.sf(b * b, k))
+            if pf > ball * (1 + 1e-9):
+                return N.ABOVE_THE_BALL.format(shown=shown, beta=b, k=k, ball=1e6 * ball)
+        return None
+    if se is None or not math.isfinite(se) or se < 0:
+        return N.SE_UNDEFINED.format(shown=shown)
+    if pf == 0.0:
+        return N.NO_FAILURE_SEEN.format(shown=shown)
+    if se == 0.0:
+        return N.SE_ZERO.format(shown=shown)
+    if cov > MAX_COV:
+        return N.COV_TOO_LARGE.format(shown=shown, cov=cov, max=MAX_COV, k=DISAGREE_SE)
+    return None
 
 
 def _reason(exc: Exception) -> str:

@@ -14,8 +14,10 @@ CONVENTIONS = ("The conventions engineers and peer tools quote, beside this stud
                "optimisation). RSS reads every band as ±3σ of a centred normal; MRSS inflates it (Bender's 1.5; the "
                "handbook's C_f = 1 + ½(T_wc − T_rss)/(T_rss(√n − 1))); the statistical rows use each factor's own "
                "distribution; the 6σ rows treat mean shifts arithmetically (static) or as a wider σ (dynamic, "
-               "σ/(1 − k)), and the 1.5σ-shift convention reads every band as a ±6σ process shifted 1.5σ. Only the "
-               "Monte Carlo enters the verdict.")
+               "σ/(1 − k)), and the 1.5σ-shift convention reads every band as a ±6σ process shifted 1.5σ. Every row "
+               "that adds variances takes the spec's correlation (of the normals a band is read as, or Pearson's of "
+               "the distributions under the copula), and each row's note says what it leaves out. Only the Monte "
+               "Carlo enters the verdict.")
 CONTRIBUTORS = ("{output}: contributors (a: sensitivity; k = |μ − band centre|/t; Cp, Cpk of each factor's distribution "
                 "against its band; shares of the worst case and of the RSS)")
 PERCENTILES = "{output}: Monte Carlo percentiles of the study's choice with {confidence:.0%} order-statistic intervals"
@@ -25,7 +27,11 @@ TAILS = ("Estimates, not demonstrations, by OpenTURNS in the study's own standar
          "probable failure point u*, β = |u*|, P ≈ Φ(−β): exact for a linear output of normal factors), SORM "
          "(FORM corrected by the curvatures at u*), multi-FORM (several design points), importance sampling "
          "about u*, subset simulation and directional sampling (any shape of failure domain), each sampling "
-         "estimate with its standard error. Estimates that disagree beyond three standard errors are flagged; "
+         "estimate with its standard error. A result that is no estimate — a method that could not run, a "
+         "standard error negative, NaN or 0, no sample beyond the limit, a coefficient of variation above 1/3 (its "
+         "±3 standard errors reach 0), a SORM value above the probability of the whole space beyond its β — is "
+         "shown as \"not estimated\" with its reason and compared with nothing. Estimates that disagree beyond "
+         "three standard errors are flagged; "
          "the reference is the most precise sampling estimate not under suspicion (importance sampling about "
          "one point is blind to failure regions far from it). All rest on the factors' distributions (their "
          "tails extrapolated, not measured) and none enters the verdict, which is the Monte Carlo's: where it "

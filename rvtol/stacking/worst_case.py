@@ -2,7 +2,9 @@
 
 :func:`true_worst_case` finds the minimum and maximum of an output over the factors' bands
 (:attr:`rvtol.spec.Factor.band`; a circular position zone as its disc, not the square; a zone at MMC or
-LMC as the disc whose radius grows with its feature's size, :func:`rvtol.spec.zone_bonus`).  The
+LMC as the disc whose radius grows with its feature's size, :func:`rvtol.spec.zone_bonus`; a datum-feature
+shift as one more disc, of radius (the datum's departure from MMB)/2, that moves every zone of its pattern by
+the same vector, :func:`rvtol.spec.datum_shifts`).  The
 output may be non-smooth (a norm of centred zones, ``abs``, ``min``/``max``), so no single method is
 trusted:
 
@@ -36,7 +38,8 @@ from .. import units
 from ..mc import Evaluator
 from ..model import Model
 from ..model import LinearModel
-from ..spec import ToleranceSpec, zone_bonus
+from ..spec import ToleranceSpec, datum_shifts, zone_bonus
+from . import notes as N
 from .conventions import contributors
 
 
@@ -60,7 +63,8 @@ class WorstCase:
 
 class _Box:
     """The bands as a box of normalised variables v: [0, 1] per factor; a position zone as (ρ ∈ [0, 1], φ ∈ [−1, 1]),
-    its radius t/2 plus the bonus of the sizes it depends on (at the sizes of the same point)."""
+    its radius t/2 plus the bonus of its size (at the size of the same point); a datum-feature shift as one more
+    (ρ, φ), radius κ (x_d − reference), added to every zone of its pattern."""
 
     def __init__(self, spec: ToleranceSpec):
         con = contributors(spec, np.zeros(len(spec)))
@@ -70,8 +74,12 @@ class _Box:
         for z in dict.fromkeys(z for z in con.zone if z):
             i, j = [m for m, zz in enumerate(con.zone) if zz == z]
             self.zones.append((i, j, float(con.t[i]), zone_bonus(spec, z)))
-        self.dim = len(self.plain) + 2 * len(self.zones)
-        self.bounds = [(0.0, 1.0)] * len(self.plain) + [b for _ in self.zones for b in ((0.0, 1.0), (-1.0, 1.0))]
+        pair = {con.zone[i]: (i, j) for i, j, _, _ in self.zones}
+        self.datums = datum_shifts(spec)
+        self.shifts = [(ds.index, ds.kappa, ds.reference, [pair[z] for z in ds.zones]) for ds in self.datums]
+        self.discs = len(self.zones) + len(self.shifts)
+        self.dim = len(self.plain) + 2 * self.discs
+        self.bounds = [(0.0, 1.0)] * len(self.plain) + [b for _ in range(self.discs) for b in ((0.0, 1.0), (-1.0, 1.0))]
 
     def to_x(self, V: np.ndarray) -> np.ndarray:
         V = np.atleast_2d(V)
@@ -84,20 +92,27 @@ class _Box:
             cx, cy = 0.5 * (self.lo[i] + self.hi[i]), 0.5 * (self.lo[j] + self.hi[j])
             X[:, i] = cx + R * rho * np.cos(np.pi * phi)
             X[:, j] = cy + R * rho * np.sin(np.pi * phi)
+        for q, (m, kap, ref, pairs) in enumerate(self.shifts, start=len(self.zones)):
+            rho, phi = V[:, p + 2 * q], V[:, p + 2 * q + 1]
+            R = kap * (X[:, m] - ref)
+            for i, j in pairs:
+                X[:, i] += R * rho * np.cos(np.pi * phi)
+                X[:, j] += R * rho * np.sin(np.pi * phi)
         return X
 
     def corner(self, a: np.ndarray, sign: float) -> np.ndarray:
         """The linearised extreme for the gradient ``a`` (``sign`` +1: maximum, −1: minimum)."""
         v = [1.0 if sign * a[i] > 0 else 0.0 for i in self.plain]
-        for i, j, _, _ in self.zones:
-            ax, ay = sign * a[i], sign * a[j]
+        directions = [[(i, j)] for i, j, _, _ in self.zones] + [pairs for _, _, _, pairs in self.shifts]
+        for pairs in directions:
+            ax, ay = (sign * sum(a[i] for i, _ in pairs), sign * sum(a[j] for _, j in pairs))
             v += [1.0, math.atan2(ay, ax) / math.pi] if (ax or ay) else [0.0, 0.0]
         return np.array(v)
 
     def corners(self, directions: int, limit: int) -> np.ndarray | None:
         """Every corner of the plain factors × every zone on its boundary at ``directions`` angles (and at its
         centre), or None beyond ``limit`` points."""
-        p, nz = len(self.plain), len(self.zones)
+        p, nz = len(self.plain), self.discs
         count = 2 ** p * (directions + 1) ** nz
         if count > limit:
             return None
@@ -165,8 +180,9 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
             undefined_grad[0] = True
         return differences(v, sign)
 
+    notes += [N.PATTERN_SHIFT.format(datum=ds.datum, zones=", ".join(ds.zones)) for ds in box.datums]
     undefined_grad = [False]
-    centre = np.array([0.5] * len(box.plain) + [0.0, 0.0] * len(box.zones))
+    centre = np.array([0.5] * len(box.plain) + [0.0, 0.0] * box.discs)
     if gradient is None or not np.all(np.isfinite(gradient)):   # orient the corner by the box-variable gradient
         _, g0 = differences(centre, 1.0)
         a = np.zeros(box.k)
