@@ -9,6 +9,7 @@ measurement noise) that chance is a factor of the spec.
 """
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -182,3 +183,42 @@ def sample(spec: ToleranceSpec, n: int, method: str = "random", seed: int | None
     if method == "lhs" and spec.correlation is not None:
         note = "Latin hypercube stratification holds for the uncorrelated normal scores, not the margins"
     return SampleSet(to_factors(spec, u, out=u), spec.names, spec.units, method, seed, note)   # in place
+
+
+#: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
+#: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``); the quadrature clips the copula's uniforms as
+#: the sampling does (``_U_EPS``)
+HERMITE_NODES = 64
+def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
+    """The Pearson correlation of the factors under the spec's Gaussian copula (None: independent factors).
+
+    For a pair of normal-score correlation ρ, x_i = F_i⁻¹(Φ(u)) and x_j = F_j⁻¹(Φ(ρu + √(1 − ρ²) v)) with u, v
+    independent standard normals, and corr(x_i, x_j) = E[(x_i − μ_i)(x_j − μ_j)] / (σ_i σ_j) by a tensor
+    Gauss–Hermite rule of ``HERMITE_NODES`` per dimension (its own μ and σ of each margin, so a perfectly
+    correlated pair gives exactly 1).  Two normal factors keep ρ (their copula is the bivariate normal); for
+    others |corr| < |ρ| — two uniforms (6/π) asin(ρ/2) [K. Pearson 1904; W. Kruskal, "Ordinal measures of
+    association", JASA 53 (1958) 814–861], two lognormals of log-σ s_i, s_j (e^{ρ s_i s_j} − 1) /
+    √((e^{s_i²} − 1)(e^{s_j²} − 1)).
+    """
+    R = spec.correlation
+    if R is None:
+        return None
+    R = np.asarray(R, dtype=float)
+    P = R.copy()
+    z, w = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)
+    w = w / math.sqrt(2.0 * math.pi)
+
+    def margin(i, u):
+        x = spec.factors[i].ppf_base(np.clip(stats.norm.cdf(u), _U_EPS, 1.0 - _U_EPS))
+        m = float(w @ spec.factors[i].ppf_base(np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)))
+        return x - m
+
+    for i, j in zip(*np.nonzero(np.triu(R, 1))):
+        if spec.factors[i].dist.kind == "normal" and spec.factors[j].dist.kind == "normal":
+            continue
+        rho = R[i, j]
+        gi = margin(i, z)
+        gj = margin(j, rho * z[:, None] + math.sqrt(max(0.0, 1.0 - rho * rho)) * z[None, :])
+        si, sj = math.sqrt(float(w @ gi ** 2)), math.sqrt(float(w @ margin(j, z) ** 2))
+        P[i, j] = P[j, i] = float(w @ (gi[:, None] * gj) @ w) / (si * sj)
+    return P

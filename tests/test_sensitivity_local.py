@@ -182,7 +182,10 @@ def test_linear_prediction_matches_closed_form_rss_and_worst_case():
         "correlation": [{"pair": ["p", "q"], "rho": 0.4}]})
     pred = contributions(model, spec, "phi")
     sd = spec.std_base()
-    C = np.array([[1, 0.4, 0], [0.4, 1, 0], [0, 0, 1]]) * np.outer(sd, sd)
+    # the normal p and the uniform q at normal-score ρ = 0.4 have Pearson's correlation ρ √(3/π): with Stein's
+    # lemma cov(z₁, Φ(z₂)) = ρ E[φ(z₂)] = ρ / (2√π), and var Φ(z₂) = 1/12 (the margins' σ cancel)
+    r = 0.4 * math.sqrt(3.0 / math.pi)
+    C = np.array([[1, r, 0], [r, 1, 0], [0, 0, 1]]) * np.outer(sd, sd)
     sigma = math.sqrt(A[0] @ C @ A[0])
     assert pred.std == pytest.approx(units.convert(sigma, "rad", "arcmin"), rel=1e-9)
     assert pred.mean == pytest.approx(units.convert(A[0] @ spec.mean_base(), "rad", "arcmin"), rel=1e-9)

@@ -13,7 +13,7 @@ from rvtol.distributions import Distribution
 from rvtol.models.formula.model import FormulaModel
 from rvtol.spec import Factor, ToleranceSpec, spec_from_table
 from rvtol.stacking import stack_conventions
-from rvtol.stacking.conventions import factor_correlation
+from rvtol.sampling import factor_correlation
 from rvtol.stacking.second_order import curvature, second_order
 
 SIGMA_ROWS = ("RSS", "statistical ±3σ (the distributions)", "6σ static ±3σ", "6σ dynamic RSS ±3σ")

@@ -4,9 +4,9 @@ With the five-point gradient S (base units) at the nominal point x0 and each
 factor's mean μ_i, standard deviation σ_i and tolerance band [lo_i, hi_i]:
 
 * first-order mean:   y0 + Σ S_i (μ_i − x0_i)
-* RSS standard deviation (:func:`rvtol.stats.rss`): σ_y = √(Sᵀ C S), C_ij = ρ_ij σ_i σ_j (ρ: the spec's
-  normal-score correlation, used as the Pearson correlation — exact for
-  normal factors);
+* RSS standard deviation (:func:`rvtol.stats.rss`): σ_y = √(Sᵀ C S), C_ij = ρ_ij σ_i σ_j (ρ: the Pearson correlation the
+  spec's Gaussian copula gives the margins, :func:`rvtol.sampling.factor_correlation` — the normal-score
+  correlation itself for two normal factors, smaller in size for others);
 * % contribution to variance (independent factors): 100·(S_i σ_i)² / Σ_j (S_j σ_j)²;
 * worst case: y0 + Σ min/max(S_i (lo_i − x0_i), S_i (hi_i − x0_i)).
 
@@ -29,6 +29,7 @@ from ..model import Model
 from ..spec import ToleranceSpec
 from ..mc import Evaluator
 from ..records import frame_records
+from ..sampling import factor_correlation
 from ..stats import rss
 from .common import (derivative_to_display, factor_indices, model_gradient, output_indices,
                      ratio_unit)
@@ -81,8 +82,8 @@ def linear_prediction(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     lims = np.array([[units.to_base(v, f.unit) for v in f.band] for f in spec.factors])
     dlo, dhi = g * (lims[:, 0] - x0), g * (lims[:, 1] - x0)
     contrib = g * sd
-    corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
-    sd_y = rss(contrib, corr)
+    corr = factor_correlation(spec)          # the copula's Pearson correlation of the margins (None: independent)
+    sd_y = rss(contrib, np.eye(len(spec)) if corr is None else corr)
     var_indep = float(rss(contrib, squared=True))
     ob = out_base_unit or units.base_unit(out_unit)
     disp = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731

@@ -29,7 +29,7 @@ Correlation.  Every row that adds variances honours the spec's correlation (σ²
 linear function of correlated factors): the rows that read each band as a normal (RSS, MRSS, the 1.5σ shift)
 with R, the spec's normal-score correlation, which is the correlation of those normals; the rows of the
 factors' own distributions (statistical, 6σ static and dynamic) with P, the Pearson correlation that the
-Gaussian copula gives those distributions (:func:`factor_correlation`; P = R for two normal factors, |P| < |R|
+Gaussian copula gives those distributions (:func:`rvtol.sampling.factor_correlation`; P = R for two normal factors, |P| < |R|
 otherwise).  Each row's note says so.  A one-sided contributor (below) has no sign to correlate: its
 correlation, if the spec gives one, is left out and the row's note names it.  The dynamic RSS turns each mean shift
 into a wider σ (σ·Cp/Cpk = σ/(1 − k)), the static form adds the shifts arithmetically; both centre
@@ -90,8 +90,8 @@ import numpy as np
 import pandas as pd
 from .. import units
 from ..errors import InputError
-from scipy import stats
 
+from ..sampling import factor_correlation
 from ..spec import ToleranceSpec, datum_shifts, zone_bonus
 from ..stats import rss
 from . import notes as N
@@ -101,48 +101,6 @@ from ..sensitivity.common import derivative_to_display, ratio_unit
 BENDER = 1.5
 #: the Six Sigma convention: every band a ±Cp·3σ process (Cp = 2) with its mean shifted by 1.5σ
 SIX_SIGMA_CP, SIX_SIGMA_SHIFT = 2.0, 1.5
-
-
-#: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
-#: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``)
-HERMITE_NODES = 64
-#: the clip of the copula's uniforms (:mod:`rvtol.sampling`): the quadrature reads the margins as the sampling does
-_U_EPS = 2.0 ** -53
-
-
-def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
-    """The Pearson correlation of the factors under the spec's Gaussian copula (None: independent factors).
-
-    For a pair of normal-score correlation ρ, x_i = F_i⁻¹(Φ(u)) and x_j = F_j⁻¹(Φ(ρu + √(1 − ρ²) v)) with u, v
-    independent standard normals, and corr(x_i, x_j) = E[(x_i − μ_i)(x_j − μ_j)] / (σ_i σ_j) by a tensor
-    Gauss–Hermite rule of ``HERMITE_NODES`` per dimension (its own μ and σ of each margin, so a perfectly
-    correlated pair gives exactly 1).  Two normal factors keep ρ (their copula is the bivariate normal); for
-    others |corr| < |ρ| — two uniforms (6/π) asin(ρ/2) [K. Pearson 1904; W. Kruskal, "Ordinal measures of
-    association", JASA 53 (1958) 814–861], two lognormals of log-σ s_i, s_j (e^{ρ s_i s_j} − 1) /
-    √((e^{s_i²} − 1)(e^{s_j²} − 1)).
-    """
-    R = spec.correlation
-    if R is None:
-        return None
-    R = np.asarray(R, dtype=float)
-    P = R.copy()
-    z, w = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)
-    w = w / math.sqrt(2.0 * math.pi)
-
-    def margin(i, u):
-        x = spec.factors[i].ppf_base(np.clip(stats.norm.cdf(u), _U_EPS, 1.0 - _U_EPS))
-        m = float(w @ spec.factors[i].ppf_base(np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)))
-        return x - m
-
-    for i, j in zip(*np.nonzero(np.triu(R, 1))):
-        if spec.factors[i].dist.kind == "normal" and spec.factors[j].dist.kind == "normal":
-            continue
-        rho = R[i, j]
-        gi = margin(i, z)
-        gj = margin(j, rho * z[:, None] + math.sqrt(max(0.0, 1.0 - rho * rho)) * z[None, :])
-        si, sj = math.sqrt(float(w @ gi ** 2)), math.sqrt(float(w @ margin(j, z) ** 2))
-        P[i, j] = P[j, i] = float(w @ (gi[:, None] * gj) @ w) / (si * sj)
-    return P
 
 
 def handbook_mrss_factor(t_wc: float, t_rss: float, n: int) -> float | None:

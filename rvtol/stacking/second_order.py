@@ -28,7 +28,7 @@ factors:
 Correlation.  Correlated normal factors are written as independent standard normals v through the Cholesky
 factor of their correlation, w = L v (b → Lᵀb, 2Q → Lᵀ(2Q)L): the moments stay exact.  Correlated factors that
 are not all normal have no closed form under the Gaussian copula: their covariance (Pearson's, from the copula:
-:func:`rvtol.stacking.conventions.factor_correlation`) enters the mean (½ Σ Hᵢⱼ Cov ᵢⱼ, exact) and the linear
+:func:`rvtol.sampling.factor_correlation`) enters the mean (½ Σ Hᵢⱼ Cov ᵢⱼ, exact) and the linear
 part of the variance (aᵀ Cov a), the rest takes them as independent — exact mean and σ for an output linear in
 them; the row's note says which.
 
@@ -57,7 +57,7 @@ from ..mc import Evaluator
 from ..model import Model
 from ..spec import ToleranceSpec
 from ..stats import rss
-from .conventions import factor_correlation
+from ..sampling import factor_correlation
 
 
 @dataclass

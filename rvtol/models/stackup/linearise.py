@@ -23,8 +23,8 @@ differences if the spec's nominal values deviate).  For each output:
   norms): Monte Carlo only.
 
 Factor bands are :attr:`rvtol.distributions.Distribution.band`; the
-covariance uses the spec's normal-score correlation as Pearson correlation
-(exact for normal factors).  The clearance float enters through its
+covariance uses the Pearson correlation the spec's Gaussian copula gives the margins
+(:func:`rvtol.sampling.factor_correlation`: the normal-score ρ itself for normal factors).  The clearance float enters through its
 derivative at the nominal (centred) position, where it acts like a square
 [-1, 1]² scaled by c/2 — the disc's circumscribed square — so linear worst
 cases of floats are conservative by up to √2 and the float's size terms
@@ -40,6 +40,7 @@ from scipy import optimize
 from scipy.special import ndtr
 
 from ... import units
+from ...sampling import factor_correlation
 from ...sensitivity.linearisation import linear_prediction
 from ...stats import rss
 from ...units import label
@@ -145,7 +146,8 @@ class Factors:
     def of(cls, spec) -> "Factors":
         lims = np.array([[units.to_base(v, f.unit) for v in f.band] for f in spec.factors])
         sd = spec.std_base()
-        corr = np.eye(len(spec)) if spec.correlation is None else np.asarray(spec.correlation)
+        corr = factor_correlation(spec)      # the copula's Pearson correlation of the margins (None: independent)
+        corr = np.eye(len(spec)) if corr is None else corr
         return cls(spec.nominal_base(), lims[:, 0], lims[:, 1], spec.mean_base(), corr * np.outer(sd, sd))
 
     @property
