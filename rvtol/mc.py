@@ -24,7 +24,8 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
+from .verdict import (bound_level, cpk_figures, judge, judge_statistic, percentile_cpk_confidence, statistic_interval,
+                      yield_bound)
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -261,6 +262,9 @@ class Verdict:
     yield_bound: float | None = None
     cpk_bound: float | None = None
     n_to_demonstrate: int | None = None
+    #: a statistic requirement's (estimate, lower bound, upper bound) (:func:`rvtol.verdict.statistic_interval`)
+    statistic: tuple[float, float | None, float | None] | None = None
+    undecided: bool = False
 
     @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
@@ -282,7 +286,12 @@ class Verdict:
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
             "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
+            "passed": self.passed, "undecided": self.undecided, "reasons": self.reasons,
+            "n_to_demonstrate": self.n_to_demonstrate,
+            "statistic": r.statistic,
+            **({"statistic_estimate": self.statistic[0], "statistic_interval": list(self.statistic[1:])}
+               if self.statistic is not None else {}),
+            "reading": r.reading, "source": r.source, "status": r.status,
         }
 
 
@@ -382,6 +391,9 @@ class MonteCarloResult:
             y = self.Y[:, j]
             yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
             good = y[self.ok]
+            if not r.per_unit:
+                out.append(self._statistic_verdict(r, yr, good))
+                continue
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, r.confidence)
                    if len(good) >= 100 else (None, None))
@@ -394,6 +406,16 @@ class MonteCarloResult:
             out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons, yb, cb, j.n_to_demonstrate))
         return out
 
+    def _statistic_verdict(self, r: Requirement, yr: st.YieldResult, good: np.ndarray) -> Verdict:
+        """A population statistic's band (:func:`rvtol.verdict.judge_statistic`); ``yr``, the share of the units
+        inside the band, is kept for the tables that list every requirement's yield (not judged); no Cpk."""
+        failed = int(self.n - self.ok.sum())
+        est, lo, hi = statistic_interval(r, good, failed)
+        j = judge_statistic(r, est, lo, hi, self.n, failed)
+        cap = dict.fromkeys(("cp", "cpk", "cpk_lo", "cpk_hi", "cpk_percentile"))
+        return Verdict(r, yr, cap, (None, None), j.passed, j.reasons, None, None, j.n_to_demonstrate, (est, lo, hi),
+                       j.undecided)
+
     @property
     def passed(self) -> bool:
         return all(v.passed for v in self.verdicts())
@@ -405,7 +427,7 @@ class MonteCarloResult:
     def _convergence(self) -> pd.DataFrame:
         frames = []
         for j, q in enumerate(self.outputs):
-            lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name]
+            lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name and r.per_unit]
             tr = st.convergence_trace(self.Y[:, j], self.ok, lims, confidence=self.confidence)
             df = pd.DataFrame(tr)
             df.insert(0, "output", q.name)
