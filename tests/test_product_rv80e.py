@@ -51,7 +51,9 @@ def test_the_study_composes_six_models_on_the_drawing_spec(study):
     assert len(study.spec) == 281 + 4 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
     assert sum(n.startswith("rig.") for n in m.inputs) == 4
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer", "pin_ring"]
+    assert [s.name for s in m.stages] == ["stackup", "disc_location", "torsion", "te", "screening", "reducer",
+                                          "pin_ring", "pin_preload"]
+    assert m.stage("pin_preload").model.inputs == m.stage("torsion").model.inputs
     torsion, te, ring = m.stage("torsion"), m.stage("te"), m.stage("pin_ring")
     n = len(torsion.model.inputs)          # same_inputs_as, and the rig's measurement chain beside it
     assert te.model.inputs[:n] == torsion.model.inputs and te.inputs[:n] == torsion.inputs
@@ -88,6 +90,26 @@ def test_the_discs_place_in_the_pin_ring_is_the_chain_through_crank_1(drawn, stu
             r.append(np.abs(devs[name][:, :2] - uv).max())
         rest.append(max(r))
     assert rest[0] < 5e-6 and rest[1] == pytest.approx(rest[0] / 4, rel=0.1)
+
+
+def test_the_discs_tilt_on_three_cranks_is_the_mean_of_the_rows_and_reduces_to_the_single_crank_chain(drawn, study):
+    """disc_location.disc_j.tilt = |mean_i (cam i's tilt in the housing − hole i's tilt in the disc)| (issue 39: the
+    three needle rows' balance). Its crank-1 term alone is the stack-up's single-crank chain disc_j_in_pin_ring
+    (α, β) — the frames and signs the stage combines are the stack-up's own; and on three rows the tilt is smaller
+    than on one in the mean square (independent rows: the mean of three)."""
+    X, _ = drawn
+    m = study.model
+    env, status = m.environment(X, {"stackup", "disc_location"})
+    assert (status == 0).all()
+    for j in (1, 2):
+        one = {c: env[f"stackup.crank_1_cam_{j}_tilt.{c}"] - env[f"stackup.disc_{j}_hole_1.{c}"] for c in ("alpha", "beta")}
+        for c in ("alpha", "beta"):
+            np.testing.assert_allclose(one[c], env[f"stackup.disc_{j}_in_pin_ring.{c}"], rtol=0, atol=1e-10)
+        mean = [np.mean([env[f"stackup.crank_{i}_cam_{j}_tilt.{c}"] - env[f"stackup.disc_{j}_hole_{i}.{c}"]
+                         for i in (1, 2, 3)], axis=0) for c in ("alpha", "beta")]
+        three = env[f"disc_location.disc_{j}.tilt"]
+        np.testing.assert_allclose(three, np.hypot(*mean), rtol=1e-12)
+        assert np.mean(three ** 2) < np.mean(one["alpha"] ** 2 + one["beta"] ** 2)
 
 
 def test_stackup_kcs_equal_the_direct_formulas(drawn, study):
