@@ -518,6 +518,13 @@ def _print_result(result) -> None:
         if r.min_cpk is not None:
             need.append(f"Cpk ≥ {r.min_cpk:g}")
         need = " and ".join(need)
+        if v.statistic is not None:
+            est, lo, hi = (f"{x:.5g}" if x is not None else "…" for x in v.statistic)
+            print(f"  {v.state:<9}  {r.label} (needs the {r.statistic} within the limits, {describe_bound(r)}): "
+                  f"{r.statistic} {est} [{lo}, {hi}]")
+            for why in v.reasons:
+                print(f"        {why}")
+            continue
         line = f"  {v.state:<9}  {r.label} (needs {need}, {describe_bound(r)}): " \
                f"yield {y.estimate:.5f} [{y.lo:.5f}, {y.hi:.5f}] bound {v.yield_bound:.5f}, {y.ppm:.0f} ppm"
         if cpk is not None:

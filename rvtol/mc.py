@@ -24,7 +24,8 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import (bound_level, cpk_figures, judge, other_cpk, percentile_cpk_confidence, requirement_state,
+from .verdict import (bound_level, cpk_figures, judge, judge_statistic, other_cpk, percentile_cpk_confidence,
+                      requirement_state, statistic_interval,
                       yield_bound)
 
 
@@ -267,6 +268,8 @@ class Verdict:
     undecided: bool = False
     shape: st.Shape | None = None          # the output's departure from normality (a requirement with a min_cpk)
     fit: dict | None = None                # the measured factors' fit uncertainty (rvtol.fit_uncertainty)
+    #: a statistic requirement's (estimate, lower bound, upper bound) (:func:`rvtol.verdict.statistic_interval`)
+    statistic: tuple[float, float | None, float | None] | None = None
 
     @property
     def state(self) -> str:
@@ -301,6 +304,10 @@ class Verdict:
                 "anderson_darling": self.shape.ad_statistic, "anderson_darling_p": self.shape.ad_pvalue,
                 "non_normal": self.shape.non_normal},
             "fit_uncertainty": self.fit,
+            "statistic": r.statistic,
+            **({"statistic_estimate": self.statistic[0], "statistic_interval": list(self.statistic[1:])}
+               if self.statistic is not None else {}),
+            "reading": r.reading, "source": r.source, "status": r.status,
         }
 
 
@@ -403,6 +410,9 @@ class MonteCarloResult:
             y = self.Y[:, j]
             yr = st.yield_of(y, self.ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
             good = y[self.ok]
+            if not r.per_unit:
+                out.append(self._statistic_verdict(r, yr, good))
+                continue
             cap = st.capability(good, r.lower, r.upper, r.confidence)
             pci = (st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, r.confidence)
                    if len(good) >= 100 else (None, None))
@@ -427,15 +437,27 @@ class MonteCarloResult:
                                jd.parts_to_demonstrate, jd.undecided, shape, record))
         return out
 
+    def _statistic_verdict(self, r: Requirement, yr: st.YieldResult, good: np.ndarray) -> Verdict:
+        """A population statistic's band (:func:`rvtol.verdict.judge_statistic`); ``yr``, the share of the units
+        inside the band, is kept for the tables that list every requirement's yield (not judged); no Cpk."""
+        failed = int(self.n - self.ok.sum())
+        est, lo, hi = statistic_interval(r, good, failed)
+        j = judge_statistic(r, est, lo, hi, self.n, failed)
+        cap = dict.fromkeys(("cp", "cpk", "cpk_lo", "cpk_hi", "cpk_percentile"))
+        return Verdict(r, yr, cap, (None, None), j.passed, j.reasons, None, None, j.n_to_demonstrate,
+                       undecided=j.undecided, statistic=(est, lo, hi))
+
     @cached_property
     def _fit_effects(self) -> dict:
-        """Requirement label -> its measured factors' fit uncertainty (:func:`rvtol.fit_uncertainty.effects`)."""
-        if self.measured is None or not self.requirements:
+        """Requirement label -> its measured factors' fit uncertainty (:func:`rvtol.fit_uncertainty.effects`); per-unit
+        requirements only (a statistic's band judges no unit's yield)."""
+        reqs = [r for r in self.requirements if r.per_unit]
+        if self.measured is None or not reqs:
             return {}
         from .fit_uncertainty import effects
 
         out = effects(self.measured, self.samples.values, self.Y, self.ok, [q.name for q in self.outputs],
-                      self.requirements, [bound_level(r) for r in self.requirements], self.samples.seed)
+                      reqs, [bound_level(r) for r in reqs], self.samples.seed)
         return {k: v for k, v in out.items() if v is not None}
 
     @property
@@ -449,7 +471,7 @@ class MonteCarloResult:
     def _convergence(self) -> pd.DataFrame:
         frames = []
         for j, q in enumerate(self.outputs):
-            lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name]
+            lims = [(r.lower, r.upper) for r in self.requirements if r.output == q.name and r.per_unit]
             tr = st.convergence_trace(self.Y[:, j], self.ok, lims, confidence=self.confidence)
             df = pd.DataFrame(tr)
             df.insert(0, "output", q.name)

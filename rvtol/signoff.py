@@ -87,6 +87,11 @@ class RequirementDigest:
     cpk: float | None = None                             # the Cpk estimate (the one the requirement is judged on)
     fixes: list[Fix] = field(default_factory=list)       # the digest's own, first-order (analyses add theirs)
     notes: list[str] = field(default_factory=list)       # what the verdict rests on (rvtol.verdict.Judgement.notes)
+    #: a statistic requirement's (estimate, lower bound, upper bound), else None
+    statistic: tuple[float, float | None, float | None] | None = None
+    reading: str = ""
+    source: str = ""
+    status: str = ""
 
     @property
     def light(self) -> str:
@@ -95,6 +100,9 @@ class RequirementDigest:
 
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
+                "reading": self.reading, "source": self.source, "status": self.status,
+                **({"statistic": {"estimate": self.statistic[0], "interval": list(self.statistic[1:])}}
+                   if self.statistic is not None else {}),
                 "verdict": self.state, "mean": self.mean, "P99.865": self.p99865,
                 "P0.135": self.p00135, "yield_lower_bound": self.yield_lo, "cpk_lower_bound": self.cpk_lo,
                 "reasons": self.reasons,
@@ -120,17 +128,38 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         stage = r.output.split(".", 1)[0] if "." in r.output and hasattr(model, "stages") else ""
         d = RequirementDigest(r.label, r.output, stage, r.unit or mc.unit_of(r.output), v.passed,
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
-                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons), notes=list(v.notes))
+                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons), notes=list(v.notes),
+                              reading=r.reading, source=r.source, status=r.status)
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
         d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
         d.state = v.state
+        if v.statistic is not None:
+            d.statistic = v.statistic
+            d.yield_ = d.yield_lo = None          # the units' share in the band is not what is judged
         if not v.passed:
-            d.change = what_to_change(r, row, d.drivers, mc)
-            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
-                                        v.parts_to_demonstrate)
+            if v.statistic is not None:
+                d.change, d.fixes = statistic_fixes(r, v, d)
+            else:
+                d.change = what_to_change(r, row, d.drivers, mc)
+                d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
+                                            v.parts_to_demonstrate)
         out.append(d)
     return out
+
+
+def statistic_fixes(r, v, d: RequirementDigest) -> tuple[str, list[Fix]]:
+    """What to change, and the fix, of a statistic requirement not passed: more samples where its interval straddles
+    a limit (and a sample size would decide it), else the nominal design (a central value)."""
+    est = v.statistic[0]
+    numbers = dict(statistic=r.statistic, value=est, unit=r.unit or "",
+                   lower="−∞" if r.lower is None else f"{r.lower:g}", upper="+∞" if r.upper is None else f"{r.upper:g}")
+    if v.undecided:
+        fixes = ([Fix(r.label, "more samples", *(t.format(n=v.n_to_demonstrate, **numbers)
+                                                 for t in T.MORE_SAMPLES_STATISTIC))] if v.n_to_demonstrate else [])
+        return T.STATISTIC_UNDECIDED.format(**numbers), fixes
+    return (T.STATISTIC_OUTSIDE.format(**numbers),
+            [Fix(r.label, "redesign", *(t.format(**numbers) for t in T.REDESIGN_STATISTIC))])
 
 
 def correlated_drivers(drivers: list[Driver], spec: ToleranceSpec, threshold: float = 0.1) -> list[str]:

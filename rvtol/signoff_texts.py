@@ -42,6 +42,18 @@ TIGHTEN_SEVERAL = ("tighten several tolerances",
                    "({explained:.0f} %)")
 
 
+# a population statistic's band (rvtol.verdict.judge_statistic): tolerances do not move a central value
+STATISTIC_OUTSIDE = ("The {statistic} {value:.4g} {unit} lies outside the band [{lower}, {upper}] {unit}: a central "
+                     "value is the nominal design's (and the model's), not the tolerances' — tightening cannot move it.")
+STATISTIC_UNDECIDED = ("The {statistic}'s interval reaches both sides of a limit of the band: more samples decide it; "
+                       "tolerances do not move a central value.")
+MORE_SAMPLES_STATISTIC = ("run n = {n:,} samples",
+                          "the {statistic}'s interval straddles a limit; this n would decide it if the estimate held")
+REDESIGN_STATISTIC = ("move the {statistic} ({value:.4g} {unit}) into the band [{lower}, {upper}] {unit}: the nominal "
+                      "design, or the model, must change",
+                      "a central value: tightening tolerances narrows the units about it, it does not move it")
+
+
 def their(n: int) -> str:
     """The possessive for ``n`` tolerances."""
     return "its" if n == 1 else "their"

@@ -80,6 +80,24 @@ Requirements (in a study or ``data/requirements/*.toml``)::
     interval = "clopper-pearson"   # yield interval: "clopper-pearson" (exact) or "wilson"
     cpk_method = "normal"      # the Cpk min_cpk judges: "normal" (normal theory, Bissell's bound) or
                                # "percentile" (ISO 22514-2 from the 0.135/50/99.865 % points, bootstrap bound)
+    reading = "..."            # optional: how the figure is read (the maker's definition the output follows)
+    source = "..."             # optional: where the limit comes from
+    status = "assumed"         # optional: "confirmed" (read in the source), "recalled" (remembered, not
+                               # read), "assumed" (an engineering assumption, its reasoning in `source`)
+
+A requirement on a **population statistic** — a catalogue's typical (central) value, not a limit every
+unit must meet — names it (``statistic = "median"`` or ``"mean"``) and the band it must lie in
+(``lower``/``upper``); it takes no ``min_yield``/``min_cpk``.  It is judged on the statistic's confidence
+interval (each end a one-sided bound at ``confidence``, or the two-sided interval with ``bound =
+"two-sided"``): PASS when the interval lies inside the band, FAIL when it lies outside, UNDECIDED between
+(:func:`rvtol.verdict.judge_statistic`)::
+
+    [[requirement]]
+    output = "torsion.torsional_rigidity"
+    statistic = "median"
+    lower = 156.8
+    upper = 235.2
+    unit = "N*m/arcmin"
 """
 from __future__ import annotations
 
@@ -107,6 +125,10 @@ YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
 CPK_METHODS = ("normal", "percentile")
 #: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
 BOUNDS = ("one-sided", "two-sided")
+#: the population statistics a requirement can judge (policy: :func:`rvtol.verdict.judge_statistic`)
+STATISTICS = ("median", "mean")
+#: how firmly a requirement's limit is known: read in its source, remembered but not read, an engineering assumption
+STATUSES = ("confirmed", "recalled", "assumed")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
@@ -296,7 +318,8 @@ class ToleranceSpec:
 
 @dataclass(frozen=True)
 class Requirement:
-    """A limit on one output and the yield and/or Cpk it must reach."""
+    """A limit on one output and the yield and/or Cpk it must reach — or, with ``statistic``, the band a
+    population statistic of the output (its median or mean) must lie in (module docstring)."""
 
     output: str
     lower: float | None = None
@@ -314,14 +337,31 @@ class Requirement:
     bound: str = "one-sided"
     #: True when min_yield is DEFAULT_MIN_YIELD because the requirement named neither yield nor Cpk
     yield_defaulted: bool = field(default=False, compare=False)
+    #: a population statistic judged within [lower, upper] (:data:`STATISTICS`), None: a per-unit limit
+    statistic: str | None = None
+    reading: str = field(default="", compare=False)
+    source: str = field(default="", compare=False)
+    status: str = field(default="", compare=False)
 
     #: minimum yield assumed when a requirement names neither yield nor Cpk (±3σ coverage)
     DEFAULT_MIN_YIELD = 0.9973
 
     def __post_init__(self):
-        if self.min_yield is None and self.min_cpk is None:
+        key = lambda k: f"{self.key}.{k}" if self.key else k  # noqa: E731
+        if self.statistic is not None:
+            if self.statistic not in STATISTICS:
+                raise SpecError(f"unknown statistic {self.statistic!r} (expected one of: {', '.join(STATISTICS)})",
+                                file=self.file, key=key("statistic"))
+            if self.min_yield is not None or self.min_cpk is not None:
+                raise SpecError(f"a requirement on the {self.statistic} judges its confidence interval against the "
+                                "band, not a yield or a Cpk: drop min_yield / min_cpk (or the statistic)",
+                                file=self.file, key=key("min_yield" if self.min_yield is not None else "min_cpk"))
+        elif self.min_yield is None and self.min_cpk is None:
             object.__setattr__(self, "min_yield", self.DEFAULT_MIN_YIELD)
             object.__setattr__(self, "yield_defaulted", True)
+        if self.status and self.status not in STATUSES:
+            raise SpecError(f"unknown status {self.status!r} (expected one of: {', '.join(STATUSES)})",
+                            file=self.file, key=key("status"))
         if self.bound not in BOUNDS:
             raise SpecError(f"unknown bound {self.bound!r} (expected one of: {', '.join(BOUNDS)})", file=self.file,
                             key=f"{self.key}.bound" if self.key else "bound")
@@ -339,11 +379,17 @@ class Requirement:
         from .units import label as unit_label
 
         u = f" {unit_label(self.unit)}" if self.unit else ""
+        what = f"{self.statistic} of {self.output}" if self.statistic else self.output
         if self.lower is not None and self.upper is not None:
-            return f"{self.output} in [{self.lower:g}, {self.upper:g}]{u}"
+            return f"{what} in [{self.lower:g}, {self.upper:g}]{u}"
         if self.upper is not None:
-            return f"{self.output} ≤ {self.upper:g}{u}"
-        return f"{self.output} ≥ {self.lower:g}{u}"
+            return f"{what} ≤ {self.upper:g}{u}"
+        return f"{what} ≥ {self.lower:g}{u}"
+
+    @property
+    def per_unit(self) -> bool:
+        """True for a limit every unit must meet (a yield and/or Cpk), False for a population statistic's band."""
+        return self.statistic is None
 
     def in_unit(self, unit: str) -> "Requirement":
         """The same requirement with its limits converted to ``unit`` (the label keeps the written units)."""
@@ -852,7 +898,16 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
         bound = t.str("bound", "one-sided", choices=BOUNDS)
+        statistic = t.str("statistic", None, choices=STATISTICS)
+        if statistic is not None:
+            for k in ("interval", "cpk_method", "basis"):
+                if k in t.data:
+                    raise t.error(k, f"a requirement on the {statistic} is judged on its confidence interval: "
+                                     f"{k!r} does not apply")
+        reading, source = t.str("reading", ""), t.str("source", "")
+        status = t.str("status", "", choices=STATUSES)
         t.finish()
         out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method, bound=bound))
+                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method, bound=bound,
+                               statistic=statistic, reading=reading, source=source, status=status))
     return out

@@ -54,6 +54,14 @@ tolerance the optimiser calls feasible is one the sign-off passes:
 :func:`judge` also returns a *violation* ≥ 0, zero exactly when the
 requirement passes, for optimisers (normalised shortfall of each figure).
 
+A requirement on a **population statistic** (``statistic = "median"`` or ``"mean"``: a catalogue's typical
+value, which a unit may miss by design) is judged by :func:`judge_statistic` on the statistic's confidence
+interval (:func:`statistic_interval`, each end a one-sided bound at :func:`bound_level`): PASS when the
+interval lies inside the band, FAIL when it lies wholly outside, UNDECIDED when it reaches both sides of a
+limit (more samples decide; the sample size that would, if the estimate held, is given).  Both ends one-sided
+at c make the PASS the two one-sided tests of an equivalence claim (Schuirmann, J. Pharmacokin. Biopharm. 15
+(1987) 657: the (1 − 2α) interval inside the band; Berger's intersection–union principle keeps the level).
+
 One serial reducer (:mod:`rvtol.production.per_unit`) is judged by :func:`judge_unit` with the same
 figures read the other way round: its measured parts and the unmeasured factors give a probability
 ``P`` that *this* unit meets the requirement; the unit **conforms** when ``P`` reaches the yield
@@ -66,6 +74,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from . import stats as st
 from .stats import Shape
@@ -86,7 +96,8 @@ class Judgement:
     notes: list[str] = field(default_factory=list)
     #: per measured factor, the parts that would demonstrate a requirement its fit's uncertainty keeps undecided
     parts_to_demonstrate: dict[str, int] | None = None
-    #: not demonstrated, but the estimate meets it: more samples (or measured parts) would decide
+    #: not demonstrated, but the estimate meets it: more samples (or measured parts) would decide; for a statistic's
+    #: band, its interval reaches both sides of a limit (:func:`judge_statistic`)
     undecided: bool = False
 
 
@@ -97,6 +108,8 @@ def bound_level(r: Requirement) -> float:
 
 def describe_bound(r: Requirement) -> str:
     """The bound in words, for reports: e.g. ``95 % one-sided lower bound``."""
+    if r.statistic is not None:
+        return f"the {r.statistic}'s interval, {describe_statistic_bound(r)}"
     if r.basis == "estimate":
         return "point estimate"
     if r.bound == "one-sided":
@@ -319,6 +332,91 @@ def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None,
 
 def _pct(c: float) -> str:
     return f"{100 * c:.4g} %"
+
+
+# --------------------------------------------------------------------------- population statistics
+def statistic_interval(r: Requirement, y, n_failed: int = 0) -> tuple[float, float | None, float | None]:
+    """``(estimate, lower, upper)`` of ``r.statistic`` from the evaluated values ``y``, each end a one-sided bound
+    at :func:`bound_level` (None: no bound at this n).
+
+    * median — distribution-free, from order statistics: the number B of the n values below the population
+      median is Binomial(n, ½), so P(y_(l) ≤ m) = P(B ≥ l) ≥ level for l = F⁻¹(1 − level) and P(y_(u) ≥ m) =
+      P(B ≤ u − 1) ≥ level for u = F⁻¹(level) + 1 (F⁻¹ the binomial quantile; e.g. Hahn & Meeker, Statistical
+      Intervals, 1991, §5.2).  The ``n_failed`` samples the model could not evaluate may lie anywhere: they are
+      placed below the evaluated ones for the lower bound and above them for the upper (the ranks count all n);
+    * mean — Student's t: ȳ ∓ t(level, n − 1) s/√n; unbounded while samples fail (a failed sample's value
+      could move the mean by any amount).
+    """
+    from scipy import stats as sps
+
+    y = np.sort(np.asarray(y, dtype=float))
+    k, level = int(n_failed), bound_level(r)
+    if y.size == 0:
+        return math.nan, None, None
+    if r.statistic == "mean":
+        m = float(y.mean())
+        if k or y.size < 2:
+            return m, None, None
+        h = float(sps.t.ppf(level, y.size - 1)) * float(y.std(ddof=1)) / math.sqrt(y.size)
+        return m, m - h, m + h
+    n = y.size + k
+    lo_rank = int(sps.binom.ppf(1.0 - level, n, 0.5))          # 1-based rank of the lower bound in all n
+    hi_rank = int(sps.binom.ppf(level, n, 0.5)) + 1
+    lo = float(y[lo_rank - k - 1]) if lo_rank - k >= 1 else None   # the k failed below the evaluated
+    hi = float(y[hi_rank - 1]) if hi_rank <= y.size else None       # ... and above them
+    return float(np.median(y)), lo, hi
+
+
+def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float | None, n: int,
+                    n_failed: int = 0) -> Judgement:
+    """PASS / UNDECIDED / FAIL of a statistic requirement from its interval ``[lo, hi]`` (module docstring).
+
+    UNDECIDED gives ``n_to_demonstrate``: the samples whose interval would clear the nearer limit the interval
+    now straddles if the estimate held (the half-width shrinks as 1/√n), None when the estimate sits on it."""
+    name = f"{r.statistic} {_f(estimate, '.5g')}"
+    band = f"[{'−∞' if r.lower is None else format(r.lower, 'g')}, {'+∞' if r.upper is None else format(r.upper, 'g')}]"
+    ci = f"its interval [{_f(lo, '.5g')}, {_f(hi, '.5g')}] ({describe_statistic_bound(r)})"
+    above = r.upper is not None and lo is not None and lo > r.upper
+    below = r.lower is not None and hi is not None and hi < r.lower
+    inside = ((r.lower is None or (lo is not None and lo >= r.lower))
+              and (r.upper is None or (hi is not None and hi <= r.upper)))
+    scale = (r.upper - r.lower) if r.lower is not None and r.upper is not None else abs(r.lower or r.upper or 1.0)
+    if inside:
+        return Judgement(True)
+    if above or below:
+        gap = (lo - r.upper) if above else (r.lower - hi)
+        return Judgement(False, [f"{name}: {ci} lies wholly {'above' if above else 'below'} the band {band}"],
+                         violation=1.0 + gap / scale)
+    j = Judgement(False, [f"{name}: {ci} reaches both sides of a limit of the band {band}"], undecided=True)
+    if n_failed and (lo is None or hi is None):
+        j.reasons.append(f"{n_failed} sample(s) could not be evaluated: the {r.statistic} is not bounded while they "
+                         "fail" + (" (the median bounds them on either side)" if r.statistic == "mean" else ""))
+        j.violation = 1.0
+        return j
+    needs = []
+    for lim in (r.lower, r.upper):
+        if lim is None or lo is None or hi is None or not lo < lim < hi:
+            continue
+        d = abs(estimate - lim)
+        half = (estimate - lo) if estimate > lim else (hi - estimate)
+        needs.append(None if d == 0 else math.ceil(n * (half / d) ** 2))
+    j.violation = max([0.0] + [(r.lower - lo) / scale if r.lower is not None and lo is not None else 0.0,
+                               (hi - r.upper) / scale if r.upper is not None and hi is not None else 0.0])
+    if needs and None not in needs:
+        j.n_to_demonstrate = max(needs)
+        held = (r.lower is None or estimate >= r.lower) and (r.upper is None or estimate <= r.upper)
+        verdict = "PASS" if held else "FAIL"
+        j.reasons.append(f"about n = {j.n_to_demonstrate} samples would decide it ({verdict}, if the estimate held)")
+    else:
+        j.reasons.append("the estimate sits on a limit: more samples will not decide it")
+    return j
+
+
+def describe_statistic_bound(r: Requirement) -> str:
+    """A statistic's interval in words: each end a one-sided bound at c, or the two-sided interval."""
+    if r.bound == "one-sided":
+        return f"each end a {_pct(r.confidence)} one-sided bound"
+    return f"two-sided {_pct(r.confidence)}"
 
 
 #: the three states of a unit's verdict (:func:`judge_unit`)

@@ -238,6 +238,12 @@ def test_the_design_choices_follow_from_the_rules(product):
     assert choice["crank-hole band"].value == pytest.approx(
         2 * 0.5 * (needle.sizes[0] + needle.sizes[-1]) / UM + cam + needle.minimum / UM, abs=1e-9)
     assert choice["crank support preload"].value == pytest.approx(rules.shims[0].preload_target)
+    # the pins in their grooves as the nominal housing is built: its demand is the supply's middle (−3.5 µm, above),
+    # the fit takes the largest gauge at or below it (−4 µm); r_g = r_p + (δD̄_g − δd)/2 = 3 mm + (2 + 4)/2 µm
+    gauge = max(x for x in pins.sizes / UM if x <= middle + 1e-9)
+    assert gauge == pytest.approx(-4.0)
+    assert choice["pin-in-groove fit"].value == pytest.approx(3.0 + (groove - gauge) / 2 * 1e-3, abs=1e-12)
+    assert st.design.value("pin.groove_radius", "mm") == pytest.approx(3.003, abs=1e-12)
 
 
 def test_a_choice_the_drawing_does_not_hold_is_refused(tmp_path):
@@ -250,10 +256,34 @@ def test_a_choice_the_drawing_does_not_hold_is_refused(tmp_path):
     qs = quantities_from_tables(Params(read_toml(PRODUCT / "mapping.toml")[0]).tables("quantity"))
     qs = design_quantities([n for q in qs for n in q.expression.names], design) + qs
     spec = load_spec(PRODUCT / "tolerances.toml")
-    assert len(load_build(PRODUCT / "build.toml", spec, design, qs).choices) == 3
+    assert len(load_build(PRODUCT / "build.toml", spec, design, qs).choices) == 4
     with pytest.raises(InputError) as e:
         load_build(p, spec, design, qs)
     assert e.value.key == "choice[0].value" and "not the chosen -15" in e.value.reason
+
+
+def test_a_design_value_that_no_longer_follows_the_build_is_refused(tmp_path):
+    """Issue 39 item 5a: design.toml kept the pin-in-groove fit of the drawn pins (3.002 mm) after the build chose
+    the −4 µm gauge (3.003 mm); the choice's formula of the nominal build now refuses the stale value, and a pin
+    supply that moves the nominal gauge moves the value the design must hold."""
+    from rvtol.models.composite.model import design_quantities, quantities_from_tables
+    from rvtol.params import Params, read_toml
+
+    qs = quantities_from_tables(Params(read_toml(PRODUCT / "mapping.toml")[0]).tables("quantity"))
+    design = load_design(PRODUCT / "design.toml")
+    qs = design_quantities([n for q in qs for n in q.expression.names], design) + qs
+    spec = load_spec(PRODUCT / "tolerances.toml")
+    stale = write(tmp_path / "design.toml", (PRODUCT / "design.toml").read_text().replace(
+        "groove_radius = { value = 3.003", "groove_radius = { value = 3.002", 1))
+    with pytest.raises(InputError) as e:
+        load_build(PRODUCT / "build.toml", spec, load_design(stale), qs)
+    assert e.value.key == "choice[3].value"
+    assert "pin.groove_radius is 3.002 mm, not the chosen 3.003" in e.value.reason and "nominal build" in e.value.reason
+    # a supply one micrometre smaller at the middle: the nominal housing gets the −5 µm gauge → 3.5 µm radial
+    text = (PRODUCT / "build.toml").read_text().replace("sizes = [-6, -5, -4, -3, -2, -1]", "sizes = [-6, -5, -3, -2, -1]", 1)
+    with pytest.raises(InputError) as e:
+        load_build(write(tmp_path / "build.toml", text), spec, design, qs)
+    assert "not the chosen 3.0035" in e.value.reason
 
 
 # ---------------------------------------------------------------------------------------------- the composed model

@@ -203,3 +203,18 @@ def test_the_linearised_analyses_use_the_exact_gradient():
     ref = linear_prediction(spec, exact, g * w1 / w2 ** 2, output="ratio", out_unit="1")
     assert pred.std == pytest.approx(ref.std, rel=1e-13) and pred.worst_high == pytest.approx(ref.worst_high, rel=1e-13)
     assert any("exact" in n for n in pred.notes)
+
+
+def test_each_output_depends_on_the_inputs_its_formula_names():
+    """dependencies(): an output lists the inputs it names, through the definitions it uses — and the model's
+    exact derivatives are zero for every other input (at random points)."""
+    m = FormulaModel({"t1": "hypot(a1, b1)", "t2": "hypot(a2, s)", "k": "pi * c"}, ["a1", "b1", "a2", "b2", "c"],
+                     definitions={"s": "2 * b2 + c"}, checked=False)
+    deps = m.dependencies()
+    assert deps == {"t1": {"a1", "b1"}, "t2": {"a2", "b2", "c"}, "k": {"c"}}
+    X = np.random.default_rng(1).normal(size=(20, 5))
+    G = m.gradient(X)
+    for i, q in enumerate(m.outputs):
+        free = [j for j, n in enumerate(m.inputs) if n not in deps[q.name]]
+        assert np.all(G[:, i, free] == 0.0) and np.all(np.any(G[:, i, :] != 0.0, axis=0)[
+            [j for j, n in enumerate(m.inputs) if n in deps[q.name]]])

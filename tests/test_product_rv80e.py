@@ -12,6 +12,7 @@ from conftest import ROOT
 from rvtol.executors import make_executor
 from rvtol.mc import run_monte_carlo
 from rvtol.models.composite.model import CompositeModel
+from rvtol.models.pin_ring.preload import PinRingPreloadModel
 from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.model import TransmissionErrorModel
@@ -51,7 +52,9 @@ def test_the_study_composes_six_models_on_the_drawing_spec(study):
     assert len(study.spec) == 281 + 4 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
     assert sum(n.startswith("rig.") for n in m.inputs) == 4
-    assert [s.name for s in m.stages] == ["stackup", "torsion", "te", "screening", "reducer", "pin_ring"]
+    assert [s.name for s in m.stages] == ["stackup", "disc_location", "torsion", "te", "screening", "reducer",
+                                          "pin_ring", "pin_preload"]
+    assert m.stage("pin_preload").model.inputs == m.stage("torsion").model.inputs
     torsion, te, ring = m.stage("torsion"), m.stage("te"), m.stage("pin_ring")
     n = len(torsion.model.inputs)          # same_inputs_as, and the rig's measurement chain beside it
     assert te.model.inputs[:n] == torsion.model.inputs and te.inputs[:n] == torsion.inputs
@@ -88,6 +91,26 @@ def test_the_discs_place_in_the_pin_ring_is_the_chain_through_crank_1(drawn, stu
             r.append(np.abs(devs[name][:, :2] - uv).max())
         rest.append(max(r))
     assert rest[0] < 5e-6 and rest[1] == pytest.approx(rest[0] / 4, rel=0.1)
+
+
+def test_the_discs_tilt_on_three_cranks_is_the_mean_of_the_rows_and_reduces_to_the_single_crank_chain(drawn, study):
+    """disc_location.disc_j.tilt = |mean_i (cam i's tilt in the housing − hole i's tilt in the disc)| (issue 39: the
+    three needle rows' balance). Its crank-1 term alone is the stack-up's single-crank chain disc_j_in_pin_ring
+    (α, β) — the frames and signs the stage combines are the stack-up's own; and on three rows the tilt is smaller
+    than on one in the mean square (independent rows: the mean of three)."""
+    X, _ = drawn
+    m = study.model
+    env, status = m.environment(X, {"stackup", "disc_location"})
+    assert (status == 0).all()
+    for j in (1, 2):
+        one = {c: env[f"stackup.crank_1_cam_{j}_tilt.{c}"] - env[f"stackup.disc_{j}_hole_1.{c}"] for c in ("alpha", "beta")}
+        for c in ("alpha", "beta"):
+            np.testing.assert_allclose(one[c], env[f"stackup.disc_{j}_in_pin_ring.{c}"], rtol=0, atol=1e-10)
+        mean = [np.mean([env[f"stackup.crank_{i}_cam_{j}_tilt.{c}"] - env[f"stackup.disc_{j}_hole_{i}.{c}"]
+                         for i in (1, 2, 3)], axis=0) for c in ("alpha", "beta")]
+        three = env[f"disc_location.disc_{j}.tilt"]
+        np.testing.assert_allclose(three, np.hypot(*mean), rtol=1e-12)
+        assert np.mean(three ** 2) < np.mean(one["alpha"] ** 2 + one["beta"] ** 2)
 
 
 def test_stackup_kcs_equal_the_direct_formulas(drawn, study):
@@ -188,6 +211,8 @@ def _cheap(m: CompositeModel) -> CompositeModel:
         elif isinstance(st.model, TransmissionErrorModel):
             st = replace(st, model=TransmissionErrorModel(st.model.geometry, st.model.inputs, per_crank_rev=8,
                                                           rig=st.model.rig))
+        elif isinstance(st.model, PinRingPreloadModel):
+            st = replace(st, model=PinRingPreloadModel(st.model.geometry, st.model.inputs, per_crank_rev=8))
         stages.append(st)
     return CompositeModel(m.inputs, m.input_units, list(m.quantities), stages, m.build)
 
@@ -216,7 +241,9 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
     gauge chosen and the fitted clearance, not the physics.  The discs' per-pin fit in the pin ring is a minimum
     over the pins too: a pin's own factor moves it only if the step can make that pin one of the tightest — a pin
     whose clearance against a disc is within the 5-µm step of that disc's tightest (the pins along the eccentric
-    have 12.9 µm, those near φ0 = 38.3° from it 1.8 µm, mapping.md §6)."""
+    have 12.9 µm, those near φ0 = 38.3° from it 1.8 µm, mapping.md §6). The pins' no-load preload (stage
+    pin_preload) is zero at the nominal, where every pin keeps its fitted clearance: a step moves it only where it
+    closes a pin."""
     m = _cheap(study.model)
     deps = m.depends_on()
     x0 = study.spec.nominal_base()
@@ -234,6 +261,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
         want = {o for o, d in deps.items() if f.name in d}
         assert moved <= want, f.name
         missing = want - moved
+        missing -= {o for o in missing if o.startswith("pin_preload.")}      # no pin closed by the step (docstring)
         if f.name in FITTED_SIZES | NEEDLE_FORMS:
             # through a needle set fitted below its cylindricities (docstring): a step moves the physics only if
             # it opens the set (the fit absorbs most size steps: a gauge one class up or down), and doc 001's Δ,
@@ -262,8 +290,12 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
                                     + [f"needles.disc_{j}.crank_{i}.clearance" for j in (1, 2) for i in (1, 2, 3)])
 
 
-TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "torsion.friction_width",
-              "te.te_pp", "te.te_pp_rig", "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
+TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "torsion.rigidity_50_100",
+              "torsion.rigidity_clearance_free", "torsion.friction_width", "te.te_pp", "te.te_pp_rig",
+              "reducer.lost_motion", "reducer.backlash"}
+#: the pin ring's no-load turn (stage pin_preload): the same 20-DOF reducer, no load on the output
+PIN_PRELOAD = {f"pin_preload.{q}" for q in ("interference_max", "preload_max", "preloaded_pins_max", "pin_drag_max",
+                                           "no_load_torque_max")}          # stage 5 adds the first stage's play in series
 FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backlash", "reducer.first_stage_play"}
 
 
@@ -272,16 +304,17 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
     # first stage's play in the reducer stage
     ("sun.tooth_thickness", {"screening.lost_motion"} | FIRST_STAGE),
     ("disc_1.width", set()),                                      # axial: no model
-    # a carrier bore: crank 2's axis (stack-up KC), E_ca[2] of the 20-DOF, Δa of doc 001 — not the discs,
-    # which crank 1 locates
+    # a carrier bore: crank 2's axis (stack-up KC), E_ca[2] of the 20-DOF, Δa of doc 001 and, since the discs sit
+    # on all three cranks (issue 39), both discs' tilt where their needle rows locate them
     ("carrier.crank_bore_2.position.y1", {"stackup.crank_2_axis.radial", "stackup.crank_2_axis.tilt",
-                                          "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF),
+                                          "disc_location.disc_1.tilt", "disc_location.disc_2.tilt",
+                                          "screening.lost_motion"} | FIRST_STAGE | TWENTY_DOF | PIN_PRELOAD),
     # the groove size: every pin's clearance g_k (the 20-DOF stages and the discs' per-pin fit in the pin ring), their
     # mean ḡ (doc 001's ξ) and, through the pin set the build chooses from it, the fitted pin-stage clearance
     ("housing.pin_groove.diameter", {"pin_clearance_mean", "pin_ring.disc_1.margin", "pin_ring.disc_2.margin",
                                      "pin_ring.disc_1.clearance_min", "pin_ring.disc_2.clearance_min",
                                      "screening.lost_motion",
-                                     "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF),
+                                     "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF | PIN_PRELOAD),
     # the end play of crank 1's bearing stack sets the preload its shim leaves
     ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
     # the output pilot's position: only what a TE rig centred on it reads (issue 23 item 5), not the reducer

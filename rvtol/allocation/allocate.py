@@ -113,6 +113,11 @@ def allocation_problem(model, spec, names: list[str] | None, requirements, outpu
         reqs = [r for r in reqs if any(fnmatch.fnmatchcase(r.output, pat) for pat in outputs)]
         if not reqs:
             raise error("outputs", f"no requirement is on an output matching {outputs}")
+    central = [r for r in reqs if not r.per_unit]
+    if central:
+        raise error("outputs", f"{central[0].label!r} judges the {central[0].statistic} of its output: a central value "
+                               "is the nominal design's, which tolerances do not move — allocate for the per-unit "
+                               "requirements only (outputs = [...] without it; verify.all_requirements still checks it)")
     if names is None:
         deps = dependencies(model)
         if deps is None:

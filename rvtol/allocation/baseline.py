@@ -55,6 +55,7 @@ def verify(result: AllocationResult, n: int, seed: int, executor=None) -> Verifi
                      "yield": d["yield"], "yield_lo": d["yield_bound"],        # the bounds the verdict judges
                      "Cpk": d["cpk"], "Cpk_lo": d["cpk_bound"],
                      "required": (f"yield ≥ {d['min_yield']:g}" if d["min_yield"] is not None else "")
-                     + (f"Cpk ≥ {d['min_cpk']:g}" if d["min_cpk"] is not None else "") + f" ({d['basis']})",
+                     + (f"Cpk ≥ {d['min_cpk']:g}" if d["min_cpk"] is not None else "")
+                     + (f"{d['statistic']} within the limits (its interval)" if d["statistic"] else f" ({d['basis']})"),
                      "passed": d["passed"]})
     return Verification(result.method, n, seed, pd.DataFrame(rows))

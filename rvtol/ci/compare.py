@@ -416,9 +416,12 @@ def _requirement_changes(base: RunData, new: RunData, paired: bool, conf: float)
     rows = []
     for label in [*rb, *(k for k in rn if k not in rb)]:
         a, b = rb.get(label), rn.get(label)
+        statistic = bool((a or {}).get("statistic") or (b or {}).get("statistic"))
         row = {"requirement": label, "base_verdict": _v(a), "new_verdict": _v(b),
-               "ppm": {"base": a and a["ppm"], "new": b and b["ppm"], "change": None, "ci": [None, None]}}
-        if a is not None and b is not None:
+               "ppm": {"base": None if statistic else a and a["ppm"], "new": None if statistic else b and b["ppm"],
+                       "change": None, "ci": [None, None]}}
+        # a population statistic's band judges no unit: no non-conforming ppm to compare (its verdict still is)
+        if a is not None and b is not None and not statistic:
             xa = _out_of_spec(base, a) if base.has_samples else None
             xb = _out_of_spec(new, b) if new.has_samples else None
             if xa is None or xb is None:  # from the counts

@@ -23,6 +23,14 @@ def _fmt(v, f=".5g") -> str:
 
 def requirement_figures(r: dict) -> str:
     """A requirement's figures as text lines (JUnit failure text, Markdown details)."""
+    if r.get("statistic"):
+        lo, hi = r.get("statistic_interval") or [None, None]
+        lines = [f"needs the {r['statistic']} within [{_fmt(r.get('lower'))}, {_fmt(r.get('upper'))}]",
+                 f"{r['statistic']} {_fmt(r.get('statistic_estimate'))} [{_fmt(lo)}, {_fmt(hi)}] (each end a "
+                 f"{100 * r.get('bound_level', r['confidence']):g} % one-sided bound)"]
+        if r.get("n_to_demonstrate"):
+            lines.append(f"n to decide: {r['n_to_demonstrate']}")
+        return "\n".join(lines + list(r.get("reasons", [])))
     ci = r.get("yield_ci") or [None, None]
     lines = [f"yield {_fmt(r.get('yield'), '.6f')} [{_fmt(ci[0], '.6f')}, {_fmt(ci[1], '.6f')}] "
              f"(two-sided {100 * r['confidence']:g} %); judged on the {r.get('bound', 'two-sided')} lower bound "

@@ -66,7 +66,8 @@ class ProductionOptions(CommonOptions):
         if hasattr(model, "restricted") and set(self.outputs) != set(model.output_names):
             model = model.restricted(self.outputs)
         self.model = model
-        self.requirements = [r for r in study.requirements if r.output in self.outputs]
+        # a population statistic's band (a catalogue's typical value) judges no single unit: not here
+        self.requirements = [r for r in study.requirements if r.output in self.outputs and r.per_unit]
 
 
 @dataclass

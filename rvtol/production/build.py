@@ -29,7 +29,11 @@ reducer the models see is the one the build rules assemble from that sample's pa
 * **Design choice** (:class:`DesignChoice`, ``[[choice]]``) — a drawing or design value chosen for the
   build (e.g. the profile modification that puts the nominal demand in the middle of the pin supply).
   It is not applied per sample: the loader checks that the drawing spec's factor means and the design
-  hold the value the build file states, so the file and the drawing cannot drift apart.
+  hold the value the build file states, so the file and the drawing cannot drift apart.  ``value`` is a
+  number, or an expression of the **nominal build** — the reducer with every factor at its mean and no
+  gauge error, built by the fits above: the names of the fits' expressions and ``build.<fit>.part``,
+  ``build.<fit>.clearance`` (base units) — for a design value that follows from the build (the pins' fit
+  in their grooves follows from the pin gauge the nominal housing gets), written in one place.
 * **Gauges** (``[[gauge]]``) — each reading's measurement error, a factor table in the spec's format
   (normal, mean 0, σ = the gauge's standard uncertainty u) appended to the study's spec: the gauge
   errors are sampled with the parts, so sensitivity analyses see them like any tolerance.
@@ -248,11 +252,14 @@ class DesignChoice:
     design_keys: tuple[str, ...]  # design keys that hold it
     rule: str = ""
     source: str = ""
+    formula: str = ""            # the expression of the nominal build it follows from ('' for a number)
 
     def describe(self) -> dict:
         where = ", ".join([f"mean of {f}" for f in self.factors] + [f"design {k}" for k in self.design_keys])
-        return {"rule": self.name, "what": "design choice", "sets": where,
-                "how": f"{_fmt(self.value)} {units.label(self.unit)}", "reasoning": self.rule, "source": self.source}
+        how = f"{_fmt(self.value)} {units.label(self.unit)}" + (f" = {self.formula} (nominal build)" if self.formula
+                                                                 else "")
+        return {"rule": self.name, "what": "design choice", "sets": where, "how": how, "reasoning": self.rule,
+                "source": self.source}
 
 
 # --------------------------------------------------------------------------- the build
@@ -374,7 +381,8 @@ def load_build(path, spec: ToleranceSpec, design=None, quantities=()) -> BuildRu
     known = set(nominal)
     fits = [_fit(t, spec, known, nominal) for t in root.tables("fit")]
     shims = [_shim(t, known, design) for t in root.tables("shim")]
-    choices = [_choice(t, spec, design) for t in root.tables("choice")]
+    built = _nominal_build(fits, nominal)
+    choices = [_choice(t, spec, design, {**nominal, **built}) for t in root.tables("choice")]
     root.finish()
     if not fits and not shims and not choices:
         raise InputError("a build needs at least one [[fit]], [[shim]] or [[choice]]", file=file, key="fit")
@@ -507,14 +515,38 @@ def _shim(p: Params, known: set[str], design) -> ShimPreload:
                        source)
 
 
-def _choice(p: Params, spec: ToleranceSpec, design) -> DesignChoice:
+def _nominal_build(fits, nominal: dict) -> dict[str, np.ndarray]:
+    """``build.<fit>.part`` and ``build.<fit>.clearance`` of the nominal reducer (every factor at its mean, no
+    gauge error), each fit as :meth:`SelectiveFit.choose` makes it."""
+    out = {}
+    for f in fits:
+        r = f.choose(nominal, 1)
+        out[f"{PREFIX}{f.name}.part"], out[f"{PREFIX}{f.name}.clearance"] = r.part, r.clearance
+    return out
+
+
+def _choice_value(p: Params, unit: str, built: dict) -> tuple[float, str]:
+    """A choice's value in ``unit``: the number written, or its expression of the nominal build (base units)."""
+    raw = p.raw("value")
+    if not isinstance(raw, str):
+        return p.float("value"), ""
+    e = _expression(p, "value", set(built), ())
+    try:
+        v = float(np.ravel(e.evaluate(built))[0])
+        return float(units.from_base(v, unit)), e.text
+    except InputError as exc:
+        raise p.error("value", exc.reason) from None
+
+
+def _choice(p: Params, spec: ToleranceSpec, design, built: dict) -> DesignChoice:
     name = p.str("name")
     unit = p.unit("unit")
-    value = p.float("value")
+    value, formula = _choice_value(p, unit, built)
     factors = tuple(p.strs("factors", []))
     keys = tuple(p.strs("design", []))
     rule, source = p.str("rule"), p.str("source")
     p.finish()
+    what = f" = {formula}, the nominal build's" if formula else ""
     if not factors and not keys:
         raise p.error("factors", "a choice names the spec factors and/or design keys that hold its value")
     for f in factors:
@@ -522,14 +554,14 @@ def _choice(p: Params, spec: ToleranceSpec, design) -> DesignChoice:
             raise p.error("factors", f"{f!r} is not a factor of the spec")
         have = units.convert(spec.factor(f).dist.mean, spec.factor(f).unit, unit)
         if not np.isclose(have, value, rtol=CHOICE_RTOL, atol=1e-12):
-            raise p.error("value", f"the spec's {f} has the mean {have:.6g} {unit}, not the chosen {value:.6g}")
+            raise p.error("value", f"the spec's {f} has the mean {have:.6g} {unit}, not the chosen {value:.6g}{what}")
     for k in keys:
         if design is None or k not in design:
             raise p.error("design", f"the study's design has no {k!r}")
         have = float(design.value(k, unit))
         if not np.isclose(have, value, rtol=CHOICE_RTOL, atol=1e-12):
-            raise p.error("value", f"the design's {k} is {have:.6g} {unit}, not the chosen {value:.6g}")
-    return DesignChoice(name, value, unit, factors, keys, rule, source)
+            raise p.error("value", f"the design's {k} is {have:.6g} {unit}, not the chosen {value:.6g}{what}")
+    return DesignChoice(name, value, unit, factors, keys, rule, source, formula)
 
 
 def _column(v, n: int) -> np.ndarray:

@@ -45,7 +45,7 @@ class Case:
         mc = self.mc
         inside = mc.ok.copy()
         names = [q.name for q in mc.outputs]
-        for r in mc.requirements:
+        for r in (r for r in mc.requirements if r.per_unit):     # a statistic's band judges no unit
             y = mc.Y[:, names.index(r.output)]
             if r.lower is not None:
                 inside &= np.nan_to_num(y, nan=-np.inf) >= r.lower

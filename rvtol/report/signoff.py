@@ -45,12 +45,15 @@ def signoff_section(result) -> Section:
                  + " ".join(f"{k}: {v}." for k, v in REQUIREMENT_STATES.items()))
     rows, staged = [], any(d.model for d in digests)
     cpk_asked = any(reqs[d.label].min_cpk is not None for d in digests)
+    stat_asked = any(d.statistic is not None for d in digests)
     stt = result.mc.statistics()
     for d in digests:
         r = reqs[d.label]
         scale = output_scale([(r.lower, r.upper)], stt.loc[d.output].get("std"))   # the decimals resolve its band
         needs = " and ".join(x for x in (f"yield ≥ {r.min_yield:g}" if r.min_yield is not None else "",
                                          f"Cpk ≥ {r.min_cpk:g}" if r.min_cpk is not None else "") if x)
+        if r.statistic is not None:
+            needs = f"{r.statistic} in [{_num(r.lower, '{:g}')}, {_num(r.upper, '{:g}')}]"
         row = {"": f"● {d.state}", "requirement": short_label(d.label, 90)}
         if staged:
             row["model"] = d.model or "—"
@@ -58,13 +61,22 @@ def signoff_section(result) -> Section:
                     "Cpk": _num(d.cpk, "{:.2f}")})
         if cpk_asked:
             row["Cpk bound"] = _num(d.cpk_lo, "{:.2f}")
+        if stat_asked:
+            row["statistic [interval]"] = ("—" if d.statistic is None else " ".join(
+                (shown(d.statistic[0], scale), f"[{shown(d.statistic[1], scale)}, {shown(d.statistic[2], scale)}]")))
+        if any(x.status for x in digests):
+            row["status"] = d.status or "—"
         row.update({"mean": shown(d.mean, scale), "P0.135 … P99.865": f"{shown(d.p00135, scale)} … "
                                                                        f"{shown(d.p99865, scale)}",
                     "unit": label(d.unit)})
         rows.append(row)
-    sec.add_table(pd.DataFrame(rows), caption="Every requirement (its full name, intervals and reasons in the "
-                                              "requirements section): the bound — one-sided, at the requirement's "
-                                              "confidence — is what is judged against what it needs", text=True)
+    sec.add_table(pd.DataFrame(rows), caption="Every requirement (its full name, intervals, reading, source and "
+                                              "reasons in the requirements section): the bound — one-sided, at the "
+                                              "requirement's confidence — is what is judged against what it needs; a "
+                                              "statistic requirement (a catalogue's central value) judges the "
+                                              "statistic's interval against its band. Status: how firmly the limit is "
+                                              "known (confirmed: read in its source; recalled: remembered, not read; "
+                                              "assumed: an engineering assumption)", text=True)
     drows = []
     watched = [d for d in digests if d.state != PASS] or digests    # the failures' drivers; all when all pass
     for d in watched:

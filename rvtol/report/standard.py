@@ -47,6 +47,7 @@ def verdict_section(result) -> Section:
                          "or declare [study] exploratory = true if the study only describes.")
         return sec
     rows = []
+    stat_asked = any(v.statistic is not None for v in verdicts)
     for v in verdicts:
         r, y, c = v.requirement, v.yield_, v.capability
         lims = " … ".join(x for x in (f"{r.lower:g}" if r.lower is not None else "−∞",
@@ -57,22 +58,32 @@ def verdict_section(result) -> Section:
         if r.min_cpk is not None:
             need.append(f"Cpk ≥ {r.min_cpk:g}" + (" (percentile, ISO 22514-2)" if r.cpk_method == "percentile"
                                                    else " (normal theory)"))
-        rows.append({
+        if r.statistic is not None:
+            need.append(f"the {r.statistic} within the limits")
+        stat = v.statistic is not None
+        row = {
             "requirement": r.label,
             "limits": f"[{lims}] {label(r.unit)}",
             "needs": " and ".join(need),
             "judged on": describe_bound(r),
-            "yield [CI]": _fmt_ci(y.estimate, y.lo, y.hi, "{:.5f}"),
+            "yield [CI]": "—" if stat else _fmt_ci(y.estimate, y.lo, y.hi, "{:.5f}"),
             "yield bound": _fmt_ci(v.yield_bound, None, None, "{:.5f}"),
-            "ppm out [CI]": _fmt_ci(y.ppm, *y.ppm_ci, "{:.0f}"),
+            "ppm out [CI]": "—" if stat else _fmt_ci(y.ppm, *y.ppm_ci, "{:.0f}"),
             "Cpk [CI]": _fmt_ci(c["cpk"], c["cpk_lo"], c["cpk_hi"], "{:.3f}"),
             "Cpk bound": _fmt_ci(v.cpk_bound, None, None, "{:.3f}"),
             "Cpk percentile [CI]": _fmt_ci(c["cpk_percentile"], *v.cpk_percentile_ci, "{:.3f}"),
+        }
+        if stat_asked:
+            row["statistic [interval]"] = _fmt_ci(*v.statistic, "{:.4g}") if stat else "—"
+        row.update({
             "result": v.state,
             "n to demonstrate": f"{v.n_to_demonstrate:,}" if v.n_to_demonstrate else "",
             "why": "; ".join(v.reasons),
             "notes": "; ".join(v.notes),
         })
+        if any(x.requirement.reading or x.requirement.source or x.requirement.status for x in verdicts):
+            row.update({"reading": r.reading or "—", "source": r.source or "—", "status": r.status or "—"})
+        rows.append(row)
     methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
                       for v in verdicts})
     sec.add_text(policy_text([v.requirement for v in verdicts]))
@@ -89,12 +100,20 @@ def policy_text(reqs) -> str:
     """The pass/fail rule of these requirements in words (the report and the Markdown summary state it)."""
     from ..verdict import describe_bound
 
-    judged = sorted({describe_bound(r) for r in reqs})
+    judged = sorted({describe_bound(r) for r in reqs if r.per_unit}) or [describe_bound(reqs[0])]
     text = ("A requirement passes when its yield (the fraction of all samples within the limits; samples the model "
             "could not evaluate count as out) and its Cpk reach the required values on the "
             f"{' / '.join(judged)} — the figure is then demonstrated at that confidence. "
             "A requirement the estimate meets but the bound does not is not demonstrated at this n; "
             "'n to demonstrate' is the sample size that would demonstrate it if the observed yield and Cpk held.")
+    stats_ = [r for r in reqs if r.statistic is not None]
+    if stats_:
+        text += ("\n\nA requirement on a population statistic (a catalogue's typical value, which single units may "
+                 "miss by design) is judged on the statistic's confidence interval instead — the median's from order "
+                 "statistics (distribution-free; samples that failed count on either side), the mean's from Student's "
+                 "t: PASS when the interval lies inside the band, FAIL when it lies wholly outside, UNDECIDED when it "
+                 "reaches both sides of a limit ('n to demonstrate': the samples that would decide it if the estimate "
+                 "held): " + ", ".join(r.label for r in stats_) + ".")
     defaulted = [r for r in reqs if r.yield_defaulted]
     if defaulted:
         text += (f"\n\nA requirement that names neither a yield nor a Cpk asks for yield ≥ {defaulted[0].min_yield:g} "

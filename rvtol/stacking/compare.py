@@ -44,7 +44,8 @@ def search_evaluator(model, spec, evaluator):
 
 def limits_of(mc, output: str) -> list[float]:
     """The requirement limits on ``output`` (display units)."""
-    return [v for r in mc.requirements if r.output == output for v in (r.lower, r.upper) if v is not None]
+    return [v for r in mc.requirements if r.output == output and r.per_unit for v in (r.lower, r.upper)
+            if v is not None]
 
 
 # --------------------------------------------------------------------------- conventions
@@ -121,7 +122,7 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
         if second_order:
             _second_order_rows(model, spec, o, sc, sigma_levels, search, linearised)
         pct = _monte_carlo(mc, o, sc, sigma_levels, percentiles)
-        rq = [r for r in mc.requirements if r.output == o]
+        rq = [r for r in mc.requirements if r.output == o and r.per_unit]
         inside = None
         if rq:
             lo = max((r.lower for r in rq if r.lower is not None), default=None)
@@ -282,7 +283,7 @@ def tail_probabilities(model, spec, mc, outputs, evaluator, *, samples: int = 40
     search = search_evaluator(model, spec, evaluator)
     out, key = [], 0
     for r in mc.requirements:
-        if r.output not in outputs:
+        if r.output not in outputs or not r.per_unit:
             continue
         y = mc.column(r.output)
         for side, lim in (("lower", r.lower), ("upper", r.upper)):

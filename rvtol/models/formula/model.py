@@ -207,6 +207,15 @@ class FormulaModel(Model):
                 Y[:, i] = f.evaluate(env)
         return Y * self._out_factor
 
+    def dependencies(self) -> dict[str, frozenset[str]]:
+        """Each output depends on the inputs its formula names, directly or through the definitions it uses (a
+        composed study's ``depends_on``: an output of disc 2 does not list disc 1's factors)."""
+        reads: dict[str, frozenset[str]] = {n: frozenset([n]) for n in self.inputs}
+        for name, f in self.definitions:
+            reads[name] = frozenset().union(*(reads.get(m, frozenset()) for m in f.names))
+        return {q.name: frozenset().union(*(reads.get(m, frozenset()) for m in f.names))
+                for q, f in zip(self.outputs, self.formulas)}
+
     def gradient(self, X) -> np.ndarray:
         """Exact ∂Y/∂X, shape ``(n, outputs, inputs)``, in base units (forward-mode AD)."""
         return self.evaluate_with_gradient(X)[1]

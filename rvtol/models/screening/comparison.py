@@ -99,7 +99,7 @@ def screening_plan(study, design20, source: str, tc=None, lm=None, *, design_giv
         percent = 3.0
     if limit is None:
         out = tc.output("lost_motion") if source == "composed" else "lost_motion"
-        req = [r for r in study.requirements if r.output == out and r.upper is not None]
+        req = [r for r in study.requirements if r.output == out and r.upper is not None and r.per_unit]
         if req:
             q = next(q for q in m.outputs if q.name == out)
             limit = float(units.to_base(req[0].upper, req[0].unit or q.shown_unit))

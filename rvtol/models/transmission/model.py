@@ -73,6 +73,14 @@ OUTPUTS = (
 RIG_OUTPUT = Quantity("te_pp_rig", "rad", "arcsec", "TE peak-to-peak the test rig reads (reducer + measurement chain)")
 
 
+def negative_clearance(st: ErrorState) -> bool:
+    """True when a bearing clearance of the error state is negative (the needle rows δ_b, the crank supports
+    δ_oc, the main bearing δ_ca): the 20-DOF contacts take clearances ≥ 0 (a preload is a zero clearance)."""
+    clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
+                            st.err[L.DELTA_CA:L.DELTA_CA + 1]])
+    return bool(np.any(clear < 0))
+
+
 @dataclass
 class TEResult:
     """One reducer over one output revolution (TE in arcsec)."""
@@ -237,9 +245,7 @@ class TransmissionErrorModel(Model):
         if not np.all(np.isfinite(x)):
             return y, STATUS_NONFINITE, None, None, None
         st = self.state(x)
-        clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
-                                st.err[L.DELTA_CA:L.DELTA_CA + 1]])
-        if np.any(clear < 0):
+        if negative_clearance(st):
             return y, ST_BAD_CLEARANCE, None, None, None
         terms = self.rig_terms(x) if self.rig is not None else None
         r, ext, ext_rig = self._sweep(st, terms)

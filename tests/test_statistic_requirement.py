@@ -1,0 +1,150 @@
+"""Requirements on a population statistic (issue 39 item 1): a catalogue's typical value judged as the median's or
+mean's confidence interval against a band — PASS inside, FAIL wholly outside, UNDECIDED between — against hand
+computations of the order-statistic bounds (math.comb) and of Student's t interval (scipy)."""
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from rvtol.distributions import Distribution
+from rvtol.errors import SpecError
+from rvtol.mc import run_monte_carlo
+from rvtol.model import LinearModel, Quantity
+from rvtol.params import Params
+from rvtol.signoff import digest
+from rvtol.spec import Factor, Requirement, ToleranceSpec, requirements_from_tables
+from rvtol.verdict import judge_statistic, statistic_interval
+
+
+def _median_ranks(n: int, level: float) -> tuple[int, int]:
+    """By hand: the largest rank l with P(B ≤ l − 1) ≤ 1 − level and the smallest u with P(B ≤ u − 1) ≥ level,
+    B ~ Binomial(n, ½), from the binomial sums written out."""
+    cdf = np.cumsum([math.comb(n, i) for i in range(n + 1)]) / 2.0 ** n       # P(B ≤ i)
+    lo = max(l for l in range(0, n + 1) if l == 0 or cdf[l - 1] <= 1.0 - level)
+    hi = min(u for u in range(1, n + 2) if u == n + 1 or cdf[u - 1] >= level)
+    return lo, hi
+
+
+@pytest.mark.parametrize("n", [9, 20, 101])
+def test_median_bounds_are_the_order_statistics_of_the_binomial_ranks(n):
+    y = np.random.default_rng(n).normal(size=n)
+    r = Requirement("k", lower=-1.0, upper=1.0, statistic="median")
+    est, lo, hi = statistic_interval(r, y)
+    l, u = _median_ranks(n, 0.95)
+    s = np.sort(y)
+    assert est == pytest.approx(np.median(y))
+    assert lo == (s[l - 1] if l >= 1 else None)
+    assert hi == (s[u - 1] if u <= n else None)
+
+
+def test_median_bounds_with_failed_samples_count_them_on_either_side():
+    """4 of 30 samples failed: the ranks are those of all 30; the failed are taken below the evaluated for the
+    lower bound and above them for the upper."""
+    y = np.arange(26, dtype=float)
+    r = Requirement("k", lower=0.0, statistic="median")
+    l, u = _median_ranks(30, 0.95)
+    est, lo, hi = statistic_interval(r, y, n_failed=4)
+    assert lo == y[l - 4 - 1] and hi == y[u - 1]
+    assert est == np.median(y)
+
+
+def test_median_bounds_cover_at_their_level():
+    """The ranks above (which the bounds are, test before) cover: the one-sided 95 % bounds of the median of an
+    exponential (median ln 2) from samples of 25 hold it in ≥ 95 % of the samples — the exact coverage P(B ≥ l) by
+    hand, the simulated within 4 standard errors; and the function's bounds on a few of them are those ranks."""
+    n, reps = 25, 20000
+    ys = np.sort(np.random.default_rng(1).exponential(size=(reps, n)), axis=1)
+    l, u = _median_ranks(n, 0.95)
+    for got, rank in ((np.mean(ys[:, l - 1] <= math.log(2.0)), l), (np.mean(ys[:, u - 1] >= math.log(2.0)), n + 1 - u)):
+        exact = sum(math.comb(n, i) for i in range(rank, n + 1)) / 2.0 ** n
+        assert exact >= 0.95
+        assert abs(got - exact) < 4.0 * math.sqrt(exact * (1 - exact) / reps)
+    r = Requirement("k", lower=0.0, statistic="median")
+    for y in ys[:5]:
+        assert statistic_interval(r, y)[1:] == (y[l - 1], y[u - 1])
+
+
+def test_mean_interval_is_students_t_and_unbounded_while_samples_fail():
+    y = np.random.default_rng(2).normal(300.0, 20.0, 50)
+    r = Requirement("k", lower=250.0, upper=350.0, statistic="mean")
+    est, lo, hi = statistic_interval(r, y)
+    a, b = stats.t.interval(0.90, 49, loc=y.mean(), scale=stats.sem(y))      # each end one-sided 95 %
+    assert (est, lo, hi) == pytest.approx((y.mean(), a, b), rel=1e-12)
+    two = Requirement("k", lower=250.0, upper=350.0, statistic="mean", bound="two-sided")
+    a2, b2 = stats.t.interval(0.95, 49, loc=y.mean(), scale=stats.sem(y))
+    assert statistic_interval(two, y)[1:] == pytest.approx((a2, b2), rel=1e-12)
+    assert statistic_interval(r, y, n_failed=1)[1:] == (None, None)
+    j = judge_statistic(r, est, None, None, 51, 1)
+    assert not j.passed and j.undecided and "not bounded" in " ".join(j.reasons)
+
+
+def test_pass_fail_undecided_and_the_samples_that_would_decide():
+    r = Requirement("k", lower=156.8, upper=235.2, statistic="median")
+    assert judge_statistic(r, 200.0, 190.0, 210.0, 100).passed
+    f = judge_statistic(r, 349.0, 345.0, 353.0, 1500)                  # an over-stiff model: wholly above
+    assert not f.passed and not f.undecided and f.n_to_demonstrate is None and "above" in f.reasons[0]
+    assert f.violation > 1.0
+    # straddling the upper limit, the estimate inside: n (h/d)² with h = its upper half-width, d to the limit
+    u = judge_statistic(r, 230.0, 226.0, 240.0, 400)
+    assert u.undecided and not u.passed
+    assert u.n_to_demonstrate == math.ceil(400 * (10.0 / 5.2) ** 2)
+    assert "PASS, if the estimate held" in u.reasons[-1]
+    # the estimate outside, its interval reaching in: more samples would show the FAIL
+    w = judge_statistic(r, 240.0, 232.0, 248.0, 400)
+    assert w.undecided and w.n_to_demonstrate == math.ceil(400 * (8.0 / 4.8) ** 2)
+    assert "FAIL, if the estimate held" in w.reasons[-1]
+    # one-sided band: only a lower limit
+    one = Requirement("k", lower=196.0, statistic="median")
+    assert judge_statistic(one, 349.0, 345.0, 353.0, 1500).passed
+
+
+def test_a_statistic_requirement_is_read_and_refused_as_written():
+    t = lambda d: [Params({"requirement": [d]}, file="req.toml").tables("requirement")[0]]  # noqa: E731
+    r, = requirements_from_tables(t({"output": "k", "statistic": "median", "lower": 1.0, "upper": 2.0,
+                                     "reading": "b/a", "source": "catalogue", "status": "recalled"}))
+    assert (r.statistic, r.min_yield, r.min_cpk, r.reading, r.status) == ("median", None, None, "b/a", "recalled")
+    assert r.label == "median of k in [1, 2]" and not r.per_unit
+    with pytest.raises(SpecError) as e:
+        requirements_from_tables(t({"output": "k", "statistic": "median", "lower": 1.0, "min_yield": 0.99}))
+    assert e.value.key == "requirement[0].min_yield" and "confidence interval" in e.value.reason
+    with pytest.raises(SpecError) as e:
+        requirements_from_tables(t({"output": "k", "statistic": "mode", "lower": 1.0}))
+    assert e.value.key == "requirement[0].statistic"
+    with pytest.raises(SpecError) as e:
+        requirements_from_tables(t({"output": "k", "lower": 1.0, "status": "guessed"}))
+    assert e.value.key == "requirement[0].status"
+    with pytest.raises(SpecError) as e:
+        requirements_from_tables(t({"output": "k", "statistic": "mean", "lower": 1.0, "cpk_method": "normal"}))
+    assert e.value.key == "requirement[0].cpk_method"
+
+
+def _run(reqs, n=400, seed=7):
+    spec = ToleranceSpec("s", (Factor("x", "1", Distribution.make("normal", mean=0.0, sigma=1.0)),))
+    model = LinearModel(("x",), ("1",), [Quantity("k", "1")], [[20.0]], [300.0])
+    return spec, model, run_monte_carlo(model, spec, n, "lhs", seed, reqs, progress=False)
+
+
+def test_the_verdict_digest_and_summary_rows_of_a_statistic_requirement():
+    """k = 300 + 20 x: the median 300 judged against a band around 196 FAILs (an over-stiff model cannot pass), a
+    band around 300 PASSes, a band whose limit sits within the interval is UNDECIDED (amber, more samples)."""
+    reqs = [Requirement("k", lower=156.8, upper=235.2, statistic="median", name="far", source="catalogue",
+                        status="recalled", reading="b/a"),
+            Requirement("k", lower=280.0, upper=320.0, statistic="median", name="near"),
+            Requirement("k", lower=300.5, upper=400.0, statistic="median", name="edge")]
+    spec, model, mc = _run(reqs)
+    far, near, edge = mc.verdicts()
+    y = np.sort(mc.column("k"))
+    l, u = _median_ranks(400, 0.95)
+    assert far.statistic == pytest.approx((np.median(y), y[l - 1], y[u - 1]))
+    assert (far.passed, far.undecided, near.passed, edge.passed, edge.undecided) == (False, False, True, False, True)
+    d = {x.label: x for x in digest(mc, model, spec)}
+    assert (d["far"].light, d["near"].light, d["edge"].light) == ("red", "green", "amber")
+    assert [f.kind for f in d["far"].fixes] == ["redesign"] and [f.kind for f in d["edge"].fixes] == ["more samples"]
+    row = json.loads(json.dumps(d["far"].to_dict()))
+    assert row["status"] == "recalled" and row["source"] == "catalogue" and row["reading"] == "b/a"
+    assert row["statistic"]["estimate"] == pytest.approx(np.median(y)) and row["yield_lower_bound"] is None
+    v = far.to_dict()
+    assert v["statistic"] == "median" and v["statistic_interval"] == pytest.approx([y[l - 1], y[u - 1]])
+    assert v["undecided"] is False and edge.to_dict()["undecided"] is True
