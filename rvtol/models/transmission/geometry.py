@@ -140,6 +140,7 @@ class RVGeometry:
         p[L.P_K0DC], p[L.P_K0OC], p[L.P_K0PIN], p[L.P_K0CA] = self.k0_dc, self.k0_oc, self.k0_pin, self.k0_ca
         p[L.P_PW] = self.force_exponent
         p[L.P_OMEGA_C] = omega_c
+        p[L.P_COSA] = math.cos(self.alpha)
         return p
 
     def arc_radii(self) -> np.ndarray:
