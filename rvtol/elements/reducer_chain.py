@@ -185,7 +185,8 @@ class CrankGeometry:
         lo, hi = -0.5 * p - 0.5 * w, 0.5 * p + 0.5 * w
         if not (-0.5 * L < lo and hi < 0.5 * L):
             raise SpecError(f"the eccentrics (z = {lo:g} … {hi:g} mm, disc pitch ± half the disc width) must lie "
-                            f"between the support bearings (z = ±{0.5 * L:g} mm)", file=design.where("crank.support_span"),
+                            f"between the support bearings (z = ±{0.5 * L:g} mm)",
+                            file=design.where("crank.support_span"),
                             key="crank.support_span")
         with _located(design, "crank.journal_diameter"):
             sh = shafts.SteppedShaft((-0.5 * L - c, lo, hi, 0.5 * L), (dj, de, dj), (0.0, 0.0, 0.0), E, nu)
@@ -309,7 +310,8 @@ class ChainElements:
         E = _num(design, "material.youngs_modulus")
         nu = float(design["material.poisson_ratio"])
         if not 0.0 < nu < 0.5:
-            raise SpecError(f"must be > 0 and < 0.5, got {nu:g}", file=design.where("material.poisson_ratio"), key="material.poisson_ratio")
+            raise SpecError(f"must be > 0 and < 0.5, got {nu:g}",
+                            file=design.where("material.poisson_ratio"), key="material.poisson_ratio")
         G = E / (2.0 * (1.0 + nu))
         kw: dict = {}
         src: dict = {}
@@ -326,12 +328,15 @@ class ChainElements:
         if has(*keys):
             if crank is None:
                 raise SpecError("the crank support pair needs the crank layout (crank.support_span, disc_pitch, "
-                                "gear_overhang, journal_diameter, eccentric_diameter)", file=design.where("crank_support_bearing.preload"),
+                                "gear_overhang, journal_diameter, eccentric_diameter)",
+                                file=design.where("crank_support_bearing.preload"),
                                 key="crank_support_bearing.preload")
             arrangement = design.get("crank_support_bearing.arrangement", "X")
             if arrangement not in ("X", "O"):
                 raise SpecError(f"must be 'X' (face-to-face) or 'O' (back-to-back), got {arrangement!r}",
-                                file=design.where("crank_support_bearing.arrangement"), key="crank_support_bearing.arrangement")
+
+                                file=design.where("crank_support_bearing.arrangement"),
+                                key="crank_support_bearing.arrangement")
             with _located(design, "crank_support_bearing.cup_angle"):
                 brg = TaperedRollerBearing(
                     rollers=_num(design, keys[0]), alpha=_num(design, keys[3]),
@@ -349,7 +354,8 @@ class ChainElements:
             rp, rg = _num(design, "pin.radius"), _num(design, "pin.groove_radius")
             if not rg > rp:
                 raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
-                                "outside Hertz theory)", file=design.where("pin.groove_radius"), key="pin.groove_radius")
+                                "outside Hertz theory)",
+                                file=design.where("pin.groove_radius"), key="pin.groove_radius")
             kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
             src["pin_groove"] = S.PIN_GROOVE.format(rp=rp, rg=rg, clearance_um=(rg - rp) * 1e3)
         if has("input_shaft.diameter", "input_shaft.length"):

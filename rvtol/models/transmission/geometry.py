@@ -234,7 +234,8 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
         raise SpecError("sun and planet modules differ", file=design.where("planet.module"), key="planet.module")
     alpha = pos("sun.pressure_angle")
     if not alpha < 0.5 * math.pi:
-        raise SpecError(f"pressure angle must lie below 90°, got {math.degrees(alpha):g}°", file=design.where("sun.pressure_angle"),
+        raise SpecError(f"pressure angle must lie below 90°, got {math.degrees(alpha):g}°",
+                        file=design.where("sun.pressure_angle"),
                         key="sun.pressure_angle")
     x_s, x_p = float(design.get("sun.profile_shift", 0.0)), float(design.get("planet.profile_shift", 0.0))
     inv_w = involute(alpha) + 2.0 * math.tan(alpha) * (x_s + x_p) / (z_s + z_p)
@@ -253,7 +254,8 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
                         file=design.where("cycloid.eccentricity"), key="cycloid.eccentricity")
     hertz = float(design["stiffness.hertz_exponent"])
     if not 0.0 <= hertz < 0.5:
-        raise SpecError(f"Hertz exponent must lie in [0, 0.5), got {hertz}", file=design.where("stiffness.hertz_exponent"),
+        raise SpecError(f"Hertz exponent must lie in [0, 0.5), got {hertz}",
+                        file=design.where("stiffness.hertz_exponent"),
                         key="stiffness.hertz_exponent")
 
     def opt(name, nonnegative=False):
