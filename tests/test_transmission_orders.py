@@ -136,8 +136,8 @@ def test_uniform_errors_shift_the_mean_by_their_backlash(te_design, te_geom):
 # ----------------------------------------------------------------------------------- crank phase (issue 39 item 4)
 def kinematic_shift(g, phi):
     """The TE of a phase φ common to the three cranks, rigid kinematics of both stages: the eccentrics turn
-    φ ahead of the planets, θ_e = θ_p + φ with θ_p − θ_c = −(z_s/z_p)(θ_s − θ_c) and θ_e = (1 − z_b) θ_c give
-    θ_c = θ_s/i − φ z_p/(z_s i) (rad)."""
+    φ ahead of the planets, θ_e = θ_p + φ with θ_p − θ_c = −(z_s/z_p)(θ_s − θ_c) and θ_e = (1 − z_b) θ_c
+    give θ_c = θ_s/i − φ z_p/(z_s i) (rad)."""
     return -phi * g.z_p / (g.z_s * g.ratio)
 
 
