@@ -7,8 +7,10 @@ Exit codes (README, "Command line"):
       ``compare``: every gate holds
 1     a requirement fails (FAIL), or a gate of the baseline comparison fails
 2     bad input: one line ``rvtol: error: FILE: KEY: reason``, nothing written
-      (also: ``--out`` not writable, not enough memory or disk for n, the
-      output folder locked by another run)
+      (also: ``--out`` not writable, not enough memory or disk for n, more
+      workers than the machine holds, contradicting execution flags, an
+      output file that is an input or not rvtol's, the output folder locked
+      by another run)
 3     internal error — a bug: please report it with the ``--debug`` output
 4     no requirement checked (verdict NO REQUIREMENTS): nothing is demonstrated
 130   interrupted (SIGINT, Ctrl-C); 143 terminated (SIGTERM, a CI cancel):
@@ -22,8 +24,9 @@ import contextlib
 import errno
 import json
 import os
-import time
+import secrets
 import sys
+import time
 from pathlib import Path
 
 from . import __version__
@@ -35,7 +38,7 @@ EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2,
 VERDICT_EXIT = {"PASS": EXIT_PASS, "FAIL": EXIT_FAIL, "NO REQUIREMENTS": EXIT_NO_REQUIREMENTS, "EXPLORATORY": EXIT_PASS}
 
 #: errors of the machine, not of rvtol: reported as bad input (exit 2), never as an internal error
-_ENVIRONMENT_ERRNOS = {errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EDQUOT, errno.EPERM}
+_ENVIRONMENT_ERRNOS = {errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EDQUOT, errno.EPERM, errno.ENAMETOOLONG}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -322,45 +325,51 @@ def _start_workers_early(args) -> None:
     reports why; one the loaded study then contradicts is closed unused)."""
     import tomllib
 
-    from .executors import KINDS, start_early
+    from .executors import start_early
+    from .params import Params
+    from .runguard import workers_problem
+    from .study import execution_keys
 
     try:
         e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
-    except (OSError, ValueError):
+        v = execution_keys(Params(e if isinstance(e, dict) else {}, file=args.study, key="execution"),
+                           {k: getattr(args, k) for k in ("executor", "workers", "scheduler")})
+    except (OSError, ValueError, RecursionError):    # the study's loading says what is wrong (InputError included)
         return
-    e = e if isinstance(e, dict) else {}
-    scheduler = args.scheduler or (e.get("scheduler") if isinstance(e.get("scheduler"), str) else None)
-    kind = "dask" if scheduler else (args.executor or e.get("executor", "process"))
-    workers = args.workers or e.get("workers")
-    if kind not in KINDS or not (workers is None or (type(workers) is int and workers >= 1)):
+    kind, workers, scheduler = v["executor"], v["workers"], v["scheduler"]
+    if workers_problem(kind, workers, scheduler):    # more than the machine holds: the checks refuse it, unstarted
         return
     start_early(kind, workers, scheduler)
 
 
 def _run_study(args, ov: dict) -> int:
     from .checkpoint import run_key
-    from .runguard import RunFolder, check_resources, check_writable, estimate_run, time_pilot
-    from .study import check_out_dir, load_study, result_files, run_study, write_outputs
+    from .params import recording_reads
+    from .runguard import RunFolder, check_not_input, check_resources, check_writable, estimate_run, time_pilot
+    from .study import check_out_dir, load_study, run_study, write_outputs, written_files
 
-    study = load_study(args.study, **ov)
+    with recording_reads() as inputs:       # every file the run reads: nothing it writes may replace one
+        study = load_study(args.study, **ov)
+        baseline = None
+        if args.baseline:
+            from .ci.compare import load_run
+
+            baseline = load_run(args.baseline, key="--baseline")
+            if baseline.summary.get("study") != study.name:
+                raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
+                                 f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
     # everything that can be checked is checked before computing (exit 2, nothing written)
     out = check_out_dir(Path(args.out) if args.out else Path("reports") / study.name)
+    check_not_input(out, inputs, "--out")
     check_writable(out, "--out")
-    for flag in ("junit", "markdown", "task_log"):
-        if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag.replace('_', '-')}", out)
-    baseline = None
-    if args.baseline:
-        from .ci.compare import load_run
-
-        baseline = load_run(args.baseline, key="--baseline")
-        if baseline.summary.get("study") != study.name:
-            raise InputError(f"the baseline is a run of study {baseline.summary.get('study')!r}, this is study "
-                             f"{study.name!r}: compare runs of one study", file=args.baseline, key="--baseline")
+    _check_file_targets(args, ("junit", "markdown", "task_log"), inputs, out)
     est = estimate_run(study)
-    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")))
+    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")),
+                    study.options, ("<command line>", "--workers") if args.workers is not None else
+                    (study.file, "execution.workers"))
     if not args.quiet:
         print(f"rvtol: {time_pilot(est, study).describe()}", file=sys.stderr)
+        _note_shared_cores(study.options)
 
     o = study.options
     key = run_key({"rvtol": __version__, "inputs": {r: v["sha256"] for r, v in study.inputs.items()},
@@ -391,13 +400,11 @@ def _run_study(args, ov: dict) -> int:
     if args.task_log:
         from .scaling import task_log
 
-        out_log = Path(args.task_log)
-        out_log.parent.mkdir(parents=True, exist_ok=True)
-        with _replacing(out_log) as tmp:
+        with _replacing(Path(args.task_log)) as tmp:
             tmp.write_text(json.dumps(task_log(result), indent=1, allow_nan=False), encoding="utf-8")
     verdict = result.verdict
     print(f"verdict: {verdict} — report: {out / 'report.html'}"
-          + f" (+ {', '.join(result_files(study.options, bool(study.requirements)))})")
+          + f" (+ {', '.join(written_files(out))})")
     if comparison is not None:
         print(f"gates: {comparison.verdict} — {comparison.one_line()}")
         if not comparison.passed:
@@ -405,11 +412,24 @@ def _run_study(args, ov: dict) -> int:
     return VERDICT_EXIT[verdict]
 
 
+def _note_shared_cores(o) -> None:
+    """A note when the local workers outnumber the cores: they share them (what ``--task-log`` is run so for)."""
+    from .runguard import local_workers
+
+    w, cores = local_workers(o.executor, o.workers, o.scheduler), os.cpu_count() or 1
+    if w > cores:
+        print(f"rvtol: note: {w} workers share {cores} cores: the run is no faster than on {cores} (--task-log "
+              f"projects it on {w} dedicated cores)", file=sys.stderr)
+
+
 @contextlib.contextmanager
 def _replacing(out: Path):
     """A temporary file beside ``out`` that replaces it when the block ends without an error: ``out`` is never
     half-written."""
-    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    from .runguard import TMP_SUFFIX
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.stem}{TMP_SUFFIX}{secrets.token_hex(6)}{out.suffix}")   # the suffix: its format
     try:
         yield tmp
         os.replace(tmp, out)
@@ -417,18 +437,19 @@ def _replacing(out: Path):
         tmp.unlink(missing_ok=True)
 
 
-def _check_file_target(path: str, key: str, out: Path | None = None) -> None:
-    """``path`` can be written as a file, and is not the report folder ``out`` nor in it (the run replaces that
-    folder whole)."""
-    from .runguard import check_writable
+#: the kind of file each flag writes (rvtol.runguard.OWN_FILES)
+_FILE_KINDS = {"junit": "junit", "markdown": "markdown", "task_log": "task_log", "out": "comparison"}
 
-    p = Path(path)
-    if p.is_dir():
-        raise InputError("is a folder, expected a file name", file=path, key=key)
-    if out is not None and out.resolve() in (p.resolve(), *p.resolve().parents):
-        raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
-                         "elsewhere", file=path, key=key)
-    check_writable(p, key)
+
+def _check_file_targets(args, flags, inputs, out: Path | None = None) -> None:
+    """The files the flags name can be written (:func:`rvtol.runguard.check_output_file`: none replaces an input of
+    the run, a file rvtol did not write, or the report folder ``out``), and no two flags name one file."""
+    from .runguard import check_distinct_targets, check_output_file
+
+    given = {f"--{flag.replace('_', '-')}": (flag, getattr(args, flag)) for flag in flags if getattr(args, flag)}
+    for key, (flag, path) in given.items():
+        check_output_file(path, _FILE_KINDS[flag], key, inputs, out)
+    check_distinct_targets({key: path for key, (_, path) in given.items()})
 
 
 def _write_ci_outputs(args, summary: dict, comparison) -> None:
@@ -436,16 +457,16 @@ def _write_ci_outputs(args, summary: dict, comparison) -> None:
     if args.junit:
         from .ci.junit import write_junit
 
-        Path(args.junit).parent.mkdir(parents=True, exist_ok=True)
-        write_junit(args.junit, summary, comparison)
+        with _replacing(Path(args.junit)) as tmp:
+            write_junit(tmp, summary, comparison)
     md = None
     if args.markdown or os.environ.get("GITHUB_STEP_SUMMARY"):
         from .ci.markdown import render_markdown
 
         md = render_markdown(summary, comparison)
     if args.markdown:
-        Path(args.markdown).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.markdown).write_text(md, encoding="utf-8")
+        with _replacing(Path(args.markdown)) as tmp:
+            tmp.write_text(md, encoding="utf-8")
     step = os.environ.get("GITHUB_STEP_SUMMARY")
     if step:
         with open(step, "a", encoding="utf-8") as f:
@@ -455,19 +476,19 @@ def _write_ci_outputs(args, summary: dict, comparison) -> None:
 def _compare(args) -> int:
     from .ci.compare import compare, load_run
 
-    for flag in ("junit", "markdown", "out"):
-        if getattr(args, flag):
-            _check_file_target(getattr(args, flag), f"--{flag}")
     from .ci.compare import same_study
+    from .params import recording_reads
 
-    base = load_run(args.base, key="BASE")
-    new = load_run(args.new, key="NEW")
+    with recording_reads() as inputs:
+        base = load_run(args.base, key="BASE")
+        new = load_run(args.new, key="NEW")
+    _check_file_targets(args, ("junit", "markdown", "out"), inputs)
     same_study(base, new, key="BASE", file=args.base)
     comparison = compare(base, new, seed=new.summary.get("seed"))
     if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False),
-                                  encoding="utf-8")
+        with _replacing(Path(args.out)) as tmp:
+            tmp.write_text(json.dumps(comparison.to_dict(), indent=2, ensure_ascii=False, allow_nan=False),
+                           encoding="utf-8")
     print(comparison.text())
     _write_ci_outputs(args, new.summary, comparison)
     print(f"gates: {comparison.verdict} — {comparison.one_line()}")
@@ -475,19 +496,18 @@ def _compare(args) -> int:
 
 
 def _print_result(result) -> None:
+    from .precision import requirements_scale, shown
+    from .verdict import describe_bound
+
     mc, st = result.mc, result.study
     print(f"rvtol {__version__} · study {st.name} · {mc.n} samples ({st.options.method}, seed {st.options.seed})"
           f" · {result.executor} · {result.elapsed:.1f} s")
     stt = mc.statistics()
-    print(f"{'output':<28}{'unit':>8}{'mean':>12}{'std':>12}{'P99.865':>12}{'failed':>8}")
-    for name, r in stt.iterrows():
-        if r.get("n", 0):
-            print(f"{name:<28}{r['unit']:>8}{r['mean']:>12.4g}{r['std']:>12.4g}{r['P99.865']:>12.4g}"
-                  f"{int(r['failed']):>8}")
-        else:
-            print(f"{name:<28}{r['unit']:>8}{'—':>12}{'—':>12}{'—':>12}{int(r['failed']):>8}")
-    from .verdict import describe_bound
-
+    print(f"{'output':<28}{'unit':>8}{'mean':>14}{'std':>14}{'P99.865':>14}{'failed':>8}")
+    for name, r in stt.iterrows():      # the decimals resolve the output's band (rvtol.precision)
+        scale = requirements_scale(mc.requirements, name, r.get("std"))
+        cells = [shown(r[k], scale) if r.get("n", 0) else "—" for k in ("mean", "std", "P99.865")]
+        print(f"{name:<28}{r['unit']:>8}" + "".join(f"{c:>14}" for c in cells) + f"{int(r['failed']):>8}")
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]
@@ -498,13 +518,15 @@ def _print_result(result) -> None:
         if r.min_cpk is not None:
             need.append(f"Cpk ≥ {r.min_cpk:g}")
         need = " and ".join(need)
-        line = f"  {'PASS' if v.passed else 'FAIL'}  {r.label} (needs {need}, {describe_bound(r)}): " \
+        line = f"  {v.state:<9}  {r.label} (needs {need}, {describe_bound(r)}): " \
                f"yield {y.estimate:.5f} [{y.lo:.5f}, {y.hi:.5f}] bound {v.yield_bound:.5f}, {y.ppm:.0f} ppm"
         if cpk is not None:
             line += f", Cpk {cpk:.3f}" + (f" bound {v.cpk_bound:.3f}" if v.cpk_bound is not None else "")
         print(line)
         for why in v.reasons:
             print(f"        {why}")
+        for note in v.notes:
+            print(f"        note: {note}")
     if not mc.verdicts():
         print("  no requirement checked" + (" (exploratory study)" if st.exploratory else
                                             ": nothing is demonstrated (exit 4)"))

@@ -87,6 +87,10 @@ _DESCRIBE = {
 }
 
 
+#: the parameters in the factor's unit (the others — shapes, skewness — are numbers)
+_IN_UNIT = {"mean", "sigma", "lower", "upper", "mode", "median", "scale", "location"}
+
+
 @dataclass(frozen=True)
 class Distribution:
     """One factor distribution.  ``params`` are canonical (see ``_frozen``)."""
@@ -246,17 +250,21 @@ class Distribution:
         return Distribution.make(self.kind, shift=self.shift, sigma_level=self.sigma_level,
                                  origin=f"{self.origin} ×{f:.4g}" if self.origin else "", **q)
 
-    def describe(self, unit: str = "") -> str:
-        """Short human description for tables, e.g. ``normal(μ=0, σ=1.667) µm``."""
+    def describe(self, unit: str = "", number=None) -> str:
+        """Short human description for tables, e.g. ``normal(μ=0, σ=1.667) µm``; ``number`` formats the parameters
+        in the unit (location, scale, limits: e.g. to resolve the factor's band, :func:`rvtol.precision.shown`),
+        four significant digits by default and for the shape parameters."""
         p = self.p
         g = lambda x: f"{x:.4g}"  # noqa: E731
+        u = number or g
+        fmt = {k: (u if k in _IN_UNIT else g)(v) for k, v in p.items()}
         if self.kind in _DESCRIBE:
-            s = _DESCRIBE[self.kind].format(kind=self.kind, **{k: g(v) for k, v in p.items()})
+            s = _DESCRIBE[self.kind].format(kind=self.kind, **fmt)
         else:
-            s = (f"pearson {pearson_type(p['skewness'], p['kurtosis'])}(μ={g(p['mean'])}, σ={g(p['sigma'])}, "
-                 f"skew={g(p['skewness'])}, β₂={g(p['kurtosis'])})")
+            s = (f"pearson {pearson_type(p['skewness'], p['kurtosis'])}(μ={fmt['mean']}, σ={fmt['sigma']}, "
+                 f"skew={fmt['skewness']}, β₂={fmt['kurtosis']})")
         if self.shift:
-            s += f" + {g(self.shift)}"
+            s += f" + {u(self.shift)}"
         return f"{s} {unit}".strip()
 
 

@@ -9,18 +9,29 @@ codes (see :mod:`rvtol.model`).
 from __future__ import annotations
 
 import difflib
+import re
 from typing import Iterable
+
+
+#: what a suggestion may be: a name (at most 64 characters, no character a line of a configuration or credential
+#: file is made of — ``=``, ``:``, ``$``, ... —, no control character, single spaces)
+_WORD = r"[^\s=:$;{}<>|!?~&@#`\\\x00-\x1f\x7f-\x9f]+"
+_SUGGESTIBLE = re.compile(rf"(?=.{{1,64}}$){_WORD}(?: {_WORD})*")
 
 
 def did_you_mean(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str:
     """`` (did you mean 'x'?)`` for the closest of ``candidates`` to a misspelt ``word``, else ``""``.
 
-    Closeness is :mod:`difflib`'s ratio (case-insensitive) of at least ``cutoff``.
+    Closeness is :mod:`difflib`'s ratio (case-insensitive) of at least ``cutoff``.  Only a candidate that reads as a
+    name is suggested (:data:`_SUGGESTIBLE`): candidates can come from a file a study names (a measured file's
+    header), whose first line may hold anything — a hint never echoes ``password=…`` or a line of /etc/shadow.
 
     >>> did_you_mean("tolerence", ["sigma", "tolerance", "mean"])
     " (did you mean 'tolerance'?)"
+    >>> did_you_mean("password", ["password=hunter2"])
+    ''
     """
-    cands = [c for c in dict.fromkeys(candidates) if isinstance(c, str) and c != word]
+    cands = [c for c in dict.fromkeys(candidates) if isinstance(c, str) and c != word and _SUGGESTIBLE.fullmatch(c)]
     by_lower = {c.lower(): c for c in cands}
     hit = difflib.get_close_matches(str(word).lower(), list(by_lower), n=1, cutoff=cutoff)
     return f" (did you mean {by_lower[hit[0]]!r}?)" if hit else ""

@@ -24,7 +24,8 @@ from .executors import Executor, SerialExecutor, plain, recording_task_cpu
 from .model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 from .sampling import SampleSet, sample
 from .spec import YIELD_INTERVALS, Requirement, ToleranceSpec
-from .verdict import bound_level, cpk_figures, judge, percentile_cpk_confidence, yield_bound
+from .verdict import (bound_level, cpk_figures, judge, other_cpk, percentile_cpk_confidence, requirement_state,
+                      yield_bound)
 
 
 def _eval_chunk(model: Model, X: np.ndarray):
@@ -261,6 +262,16 @@ class Verdict:
     yield_bound: float | None = None
     cpk_bound: float | None = None
     n_to_demonstrate: int | None = None
+    notes: list[str] = field(default_factory=list)
+    parts_to_demonstrate: dict[str, int] | None = None
+    undecided: bool = False
+    shape: st.Shape | None = None          # the output's departure from normality (a requirement with a min_cpk)
+    fit: dict | None = None                # the measured factors' fit uncertainty (rvtol.fit_uncertainty)
+
+    @property
+    def state(self) -> str:
+        """PASS, UNDECIDED or FAIL (:func:`rvtol.verdict.requirement_state`): the word every output gives it."""
+        return requirement_state(self.passed, self.undecided)
 
     @property
     def judged_cpk(self) -> tuple[float | None, float | None]:
@@ -282,7 +293,14 @@ class Verdict:
             "ppm": self.yield_.ppm, "ppm_ci": list(self.yield_.ppm_ci),
             "cp": cap["cp"], "cpk": cap["cpk"], "cpk_ci": [cap["cpk_lo"], cap["cpk_hi"]], "cpk_bound": self.cpk_bound,
             "cpk_percentile": cap["cpk_percentile"], "cpk_percentile_ci": list(self.cpk_percentile_ci),
-            "passed": self.passed, "reasons": self.reasons, "n_to_demonstrate": self.n_to_demonstrate,
+            "passed": self.passed, "state": self.state, "reasons": self.reasons,
+            "n_to_demonstrate": self.n_to_demonstrate,
+            "undecided": self.undecided, "notes": self.notes, "parts_to_demonstrate": self.parts_to_demonstrate,
+            "shape": None if self.shape is None else {
+                "skewness": self.shape.skewness, "excess_kurtosis": self.shape.excess_kurtosis,
+                "anderson_darling": self.shape.ad_statistic, "anderson_darling_p": self.shape.ad_pvalue,
+                "non_normal": self.shape.non_normal},
+            "fit_uncertainty": self.fit,
         }
 
 
@@ -301,6 +319,8 @@ class MonteCarloResult:
     requirements: list[Requirement] = field(default_factory=list)  # limits in display units
     confidence: float = 0.95
     executor: str = "serial"
+    #: the spec's measured factors (rvtol.fit_uncertainty.MeasuredFactors): their fits' uncertainty is judged
+    measured: object = None
 
     @property
     def n(self) -> int:
@@ -377,6 +397,7 @@ class MonteCarloResult:
     @cached_property
     def _verdicts(self) -> list[Verdict]:
         out = []
+        fits = self._fit_effects
         for r in self.requirements:
             j = [q.name for q in self.outputs].index(r.output)
             y = self.Y[:, j]
@@ -389,10 +410,33 @@ class MonteCarloResult:
             pj = (st.bootstrap_ci(good, lambda s: st.percentile_cpk(s, r.lower, r.upper), percentile_cpk_confidence(r))
                   if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
             cpk, cb = cpk_figures(r, cap, len(good), pj)
-            j = judge(r, yield_=yr.estimate, yield_lo=yb, cpk=cpk, cpk_lo=cb,
-                      n_failed=int(self.n - self.ok.sum()), n=self.n)
-            out.append(Verdict(r, yr, cap, pci, j.passed, j.reasons, yb, cb, j.n_to_demonstrate))
+            constant = float(good[0]) if len(good) >= 2 and not np.ptp(good) > 0 else None
+            shape, other = other_cpk(r, good, cap) if r.min_cpk is not None and constant is None else (None, None)
+            fit, record = fits.get(r.label), None
+            if fit is not None:
+                from .fit_uncertainty import to_record
+
+                yb_mc, cb_mc = yb, cb
+                yb = st.combined_lower_bound(yr.estimate, yb, fit.yield_dev)
+                cb = st.combined_lower_bound(cpk, cb, fit.cpk_dev)
+                fit.describe(self.confidence, yb, yb_mc)
+                record = to_record(fit, self.confidence, yb_mc, cb_mc)
+            jd = judge(r, yield_=yr.estimate, yield_lo=yb, cpk=cpk, cpk_lo=cb, n_failed=int(self.n - self.ok.sum()),
+                       n=self.n, constant=constant, other_cpk=other, shape=shape, fit=fit)
+            out.append(Verdict(r, yr, cap, pci, jd.passed, jd.reasons, yb, cb, jd.n_to_demonstrate, jd.notes,
+                               jd.parts_to_demonstrate, jd.undecided, shape, record))
         return out
+
+    @cached_property
+    def _fit_effects(self) -> dict:
+        """Requirement label -> its measured factors' fit uncertainty (:func:`rvtol.fit_uncertainty.effects`)."""
+        if self.measured is None or not self.requirements:
+            return {}
+        from .fit_uncertainty import effects
+
+        out = effects(self.measured, self.samples.values, self.Y, self.ok, [q.name for q in self.outputs],
+                      self.requirements, [bound_level(r) for r in self.requirements], self.samples.seed)
+        return {k: v for k, v in out.items() if v is not None}
 
     @property
     def passed(self) -> bool:
@@ -437,13 +481,14 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
     model.check_spec(spec)
     s = samples if samples is not None else sample(spec, n, method, seed)
     ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
-    return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial")
+    return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial", spec)
 
 
 def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(), confidence: float = 0.95,
-              executor: str = "serial") -> MonteCarloResult:
+              executor: str = "serial", spec: ToleranceSpec | None = None) -> MonteCarloResult:
     """The :class:`MonteCarloResult` of an evaluation ``ev`` of ``samples`` (outputs to display units;
-    a value that overflows there fails its sample)."""
+    a value that overflows there fails its sample); with the ``spec`` the samples were drawn from, its measured
+    factors' fit uncertainty enters the verdicts (:mod:`rvtol.fit_uncertainty`)."""
     Yd = np.empty_like(ev.Y)
     with np.errstate(over="ignore", invalid="ignore"):
         for j, q in enumerate(model.outputs):
@@ -453,5 +498,10 @@ def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(),
         ev.status[overflow] = STATUS_NONFINITE
         Yd[overflow] = np.nan
     reqs = [r.in_unit(model.output(r.output).shown_unit) for r in requirements]
+    measured = None
+    if spec is not None and reqs:
+        from .fit_uncertainty import MeasuredFactors
+
+        measured = MeasuredFactors.of(spec, model)
     return MonteCarloResult(tuple(model.outputs), samples, Yd, ev.status, dict(model.status_reasons), reqs,
-                            confidence, executor)
+                            confidence, executor, measured)

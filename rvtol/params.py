@@ -11,6 +11,7 @@ looked for (``tolerence``), the error names ``tolerence`` and suggests
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
@@ -21,6 +22,7 @@ from typing import Any, Iterable
 
 from . import units
 from .errors import InputError, SpecError, did_you_mean
+from .safetext import control_character
 
 _MISSING = object()
 
@@ -64,11 +66,35 @@ def check_input_file(path: str | Path, expected: str = "a file") -> int:
     return st.st_size
 
 
+#: the sets :func:`recording_reads` fills (nested recordings each see every read)
+_RECORDINGS: list[set[Path]] = []
+
+
+@contextlib.contextmanager
+def recording_reads():
+    """Within the block, every input file rvtol reads (:func:`read_bytes`, :func:`note_read`) is added, as an
+    absolute path, to the set the block receives: the inputs of a run, which nothing the run writes may replace."""
+    seen: set[Path] = set()
+    _RECORDINGS.append(seen)
+    try:
+        yield seen
+    finally:
+        _RECORDINGS.remove(seen)
+
+
+def note_read(path: str | Path) -> None:
+    """Record ``path`` as an input read (:func:`recording_reads`): for files read other than by :func:`read_bytes`
+    (a Python model's module, imported)."""
+    for seen in _RECORDINGS:
+        seen.add(Path(path).absolute())
+
+
 def read_bytes(path: str | Path, expected: str = "a file") -> bytes:
     """The bytes of an input file (:func:`check_input_file` first); one-line errors (:class:`SpecError`, key
     ``-``) naming the file."""
     p = Path(path)
     check_input_file(p, expected)
+    note_read(p)
     try:
         with open(p, "rb") as fh:
             return fh.read(max_input_bytes() + 1)
@@ -121,7 +147,13 @@ def read_toml(path: str | Path) -> tuple[dict, str]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"invalid TOML ({exc})", file=str(path), key="-") from None
+    except RecursionError:
+        raise SpecError(TOO_DEEP, file=str(path), key="-") from None
     return data, sha
+
+
+#: the reason of a file whose arrays or tables nest deeper than a parser can follow
+TOO_DEEP = "too deeply nested (arrays or tables within each other, deeper than rvtol's parser follows)"
 
 
 class Params:
@@ -218,12 +250,18 @@ class Params:
                             key=self.path(extra[0]))
 
     # -- typed getters -----------------------------------------------------
-    def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None) -> str:
+    def str(self, name: str, default: Any = _MISSING, *, choices: Iterable[str] | None = None,
+            single_line: bool = False) -> str:
+        """A string: never with a control character (:mod:`rvtol.safetext`: no file rvtol writes could hold it
+        safely); ``single_line`` (a name: one line, one cell), nor a line break or a tab."""
         v = self.raw(name, default)
         if v is default and default is not _MISSING:
             return v
         if not isinstance(v, str):
             raise self.error(name, f"expected a string, got {_typename(v)}")
+        bad = control_character(v, name=single_line)
+        if bad:
+            raise self.error(name, f"{bad}: {'a name' if single_line else 'text in a study'} may hold none")
         if choices is not None:
             ch = list(choices)
             if v not in ch:

@@ -8,7 +8,8 @@
 * :class:`RunFolder` — ``.NAME.rvtol-run/`` beside the output folder ``NAME``:
   an exclusive lock (two runs never write one folder; the lock dies with its
   process, ``kill -9`` included), the removal of temporary folders that killed
-  runs left behind, and the checkpoint (:class:`rvtol.checkpoint.ChunkStore`)
+  runs left behind (a previous report folder a run killed between its final
+  renames left aside is put back in place), and the checkpoint (:class:`rvtol.checkpoint.ChunkStore`)
   that ``--resume`` continues from.  A finished run removes it; an
   interrupted or killed one leaves the checkpoint for ``--resume``.
 * :func:`check_writable`, :func:`estimate_run`, :func:`check_resources` —
@@ -25,6 +26,7 @@ import json
 import logging
 import math
 import os
+import re
 import shutil
 import signal
 import tempfile
@@ -136,11 +138,15 @@ class RunFolder:
         self._remove_stale()
 
     def _remove_stale(self) -> None:
-        """Temporary and replaced report folders of runs that were killed (we hold the lock: none is live)."""
+        """Temporary and replaced report folders of runs that were killed (we hold the lock: none is live).  A run
+        killed between its two final renames (:func:`rvtol.study.write_outputs`) left the output folder missing
+        and the previous one under its temporary name: that one is put back in place, not deleted."""
         stem = glob.escape(f".{self.out.name}")
-        for pattern in (f"{stem}.tmp-*", f"{stem}.old-*"):
-            for p in self.out.parent.glob(pattern):
-                shutil.rmtree(p, ignore_errors=True)
+        replaced = sorted(self.out.parent.glob(f"{stem}.old-*"), key=lambda p: p.stat().st_ctime)
+        if replaced and not self.out.exists() and not self.out.is_symlink():
+            os.replace(replaced.pop(), self.out)    # the newest: renamed last
+        for p in [*self.out.parent.glob(f"{stem}.tmp-*"), *replaced]:
+            shutil.rmtree(p, ignore_errors=True)
 
     def release(self, keep_checkpoint: bool = False) -> None:
         if self._fd is None:
@@ -210,6 +216,126 @@ def check_writable(target: str | Path, key: str) -> Path:
     return where
 
 
+# --------------------------------------------------------------------------- what a run may replace
+def _head(path: Path, size: int) -> bytes:
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(size)
+    except OSError:
+        return b""
+
+
+def _is_junit(path: Path) -> bool:
+    """JUnit XML rvtol wrote (:mod:`rvtol.ci.junit`): its root element is ``<testsuites name="rvtol">``."""
+    import xml.etree.ElementTree as ET
+
+    parser = ET.XMLPullParser(events=("start",))
+    try:
+        parser.feed(_head(path, 1 << 16))
+        for _, element in parser.read_events():
+            return element.tag == "testsuites" and element.get("name") == "rvtol"
+    except ET.ParseError:
+        return False
+    return False
+
+
+#: the first line of the Markdown summary (:func:`rvtol.ci.markdown.render_markdown`)
+_MARKDOWN_HEAD = re.compile(r"### \S* ?rvtol · .*: \*\*[A-Z ]+\*\*")
+
+
+def _is_markdown(path: Path) -> bool:
+    line = _head(path, 4096).split(b"\n", 1)[0].decode("utf-8", errors="replace")
+    return bool(_MARKDOWN_HEAD.fullmatch(line.strip()))
+
+
+def _json_object(path: Path) -> dict:
+    try:
+        if path.stat().st_size > 1 << 28:
+            return {}
+        data = json.loads(path.read_bytes())
+    except (OSError, ValueError, RecursionError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def _is_task_log(path: Path) -> bool:
+    """``--task-log``'s JSON (:func:`rvtol.scaling.task_log`; written before its format tag with these keys)."""
+    d = _json_object(path)
+    return str(d.get("format", "")).startswith("rvtol-task-log/") or \
+        {"study", "executor", "workers", "run_s", "projected", "phases"} <= d.keys()
+
+
+def _is_comparison(path: Path) -> bool:
+    return str(_json_object(path).get("format", "")).startswith("rvtol-comparison/")
+
+
+#: per kind of file a run or a comparison writes: what it is, and how an earlier one rvtol wrote is recognised
+OWN_FILES = {"junit": ("a JUnit report", _is_junit), "markdown": ("a Markdown summary", _is_markdown),
+             "task_log": ("a task log", _is_task_log), "comparison": ("a comparison (JSON)", _is_comparison)}
+
+
+#: the longest file name most file systems take (ext4, XFS, Btrfs, APFS: 255 bytes; NTFS: 255 characters)
+NAME_MAX_BYTES = 255
+#: a file rvtol writes is written first as ``.STEM`` + this + 12 hex digits + its suffix beside it, then renamed
+TMP_SUFFIX = ".rvtol-tmp-"
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_not_input(path: Path, inputs, key: str) -> None:
+    """InputError unless ``path`` is none of ``inputs`` (the files the run read: the study, every file it names,
+    a Python model's module, a baseline) nor a folder that holds one (a report folder is replaced whole)."""
+    full = path.resolve()
+    for f in sorted(inputs):
+        if _same_file(path, f):
+            raise InputError(f"is an input of this run ({f}); rvtol never replaces its own inputs: write elsewhere",
+                             file=str(path), key=key)
+        if full in Path(f).resolve().parents:
+            raise InputError(f"holds an input of this run ({f}), and the run replaces the whole folder: choose "
+                             "another --out", file=str(path), key=key)
+
+
+def check_output_file(path: str | Path, kind: str, key: str, inputs=(), out: Path | None = None) -> Path:
+    """Raise InputError (file ``path``, key ``key``) unless the run may write its ``kind`` of file
+    (:data:`OWN_FILES`) at ``path``: not a folder, not the report folder ``out`` or in it (the run replaces that
+    folder whole), none of the run's ``inputs`` (:func:`check_not_input`), not an existing file rvtol did not
+    write — only an earlier file of the same kind is replaced —, and in a folder that can be written."""
+    p = Path(path)
+    what, ours = OWN_FILES[kind]
+    if p.is_dir():
+        raise InputError("is a folder, expected a file name", file=str(path), key=key)
+    if out is not None and out.resolve() in (p.resolve(), *p.resolve().parents):
+        raise InputError(f"is the report folder or inside it ({out}), which the run replaces whole; write it "
+                         "elsewhere", file=str(path), key=key)
+    check_not_input(p, inputs, key)
+    longest = NAME_MAX_BYTES - len(".") - len(TMP_SUFFIX) - 12
+    if len(p.name.encode()) > longest:
+        raise InputError(f"the file's name is {len(p.name.encode())} bytes long: at most {longest} (a file name's "
+                         f"{NAME_MAX_BYTES}, less the temporary name rvtol writes it under first)", file=str(path),
+                         key=key)
+    if p.exists() and not ours(p):
+        raise InputError(f"exists and is not {what} rvtol wrote: rvtol replaces only its own files; choose another "
+                         "name or move that file", file=str(path), key=key)
+    check_writable(p, key)
+    return p
+
+
+def check_distinct_targets(targets: dict[str, str]) -> None:
+    """InputError when two flags name one file (the second would replace the first): ``targets`` flag -> path."""
+    seen: dict[Path, str] = {}
+    for key, path in targets.items():
+        full = Path(path).absolute().resolve()
+        if full in seen:
+            raise InputError(f"names the same file as {seen[full]}: give each output its own file", file=str(path),
+                             key=key)
+        seen[full] = key
+
+
 @dataclass
 class RunEstimate:
     """What the study's Monte Carlo and its report will need (analyses not included)."""
@@ -242,6 +368,9 @@ MEMORY_PER_SAMPLE = (40, 32, 32)
 #: disk bytes per sample: samples.parquet (8 B per value: random floats do not compress; measured 7.9 B for
 #: 20 000 samples of linear_stackup) and the checkpoint of the outputs during the run
 DISK_PER_SAMPLE = (8, 16, 10)
+#: ``--tables xlsx``: openpyxl holds every cell of a sheet until it saves — bytes per cell of samples.xlsx (measured:
+#: 400 B, 200 000 samples × 5 columns) and seconds per cell (57 µs on a loaded 2-core machine)
+XLSX_BYTES_PER_CELL, XLSX_SECONDS_PER_CELL = 400, 57e-6
 #: the report besides the samples: HTML (figures inlined) per part — the base, each output, each analysis —
 #: an envelope of the measured 146 kB (1 output, no analysis), 232 kB (1 output, 2 analyses), 448 kB (2, 2);
 #: a PDF about as much again
@@ -262,6 +391,8 @@ def estimate_run(study) -> RunEstimate:
     o = study.options
     n, k, m = o.n, len(study.spec), len(study.model.outputs)
     mem = n * (MEMORY_PER_SAMPLE[0] * k + MEMORY_PER_SAMPLE[1] * m + MEMORY_PER_SAMPLE[2])
+    if "xlsx" in o.tables:       # the samples sheet, written after the Monte Carlo it holds
+        mem += n * (k + m + 1) * XLSX_BYTES_PER_CELL
     parts = 1 + m + len(study.analyses)
     report = REPORT_BYTES_PER_PART * parts * (2 if o.pdf else 1)
     disk = n * (DISK_PER_SAMPLE[0] * k + DISK_PER_SAMPLE[1] * m + DISK_PER_SAMPLE[2]) + report
@@ -306,25 +437,119 @@ def time_pilot(est: RunEstimate, study, rows: int = 64) -> RunEstimate:
     est.seconds = (per_row * est.n + max(t1 - per_row, 0.0) * calls) / est.workers + engine \
         + (POOL_START_SECONDS if o.executor != "serial" and est.workers > 1 else 0.0)
     est.report_seconds = (REPORT_SECONDS[0] + REPORT_SECONDS[1] * est.outputs) * (REPORT_PDF_FACTOR if o.pdf else 1.0)
+    if "xlsx" in o.tables:
+        est.report_seconds += est.n * (est.factors + est.outputs + 1) * XLSX_SECONDS_PER_CELL
     return est
 
 
+#: where the kernel describes this process's control groups, and where their files are
+PROC_CGROUP, CGROUP_ROOT = Path("/proc/self/cgroup"), Path("/sys/fs/cgroup")
+#: a cgroup v1 limit at or above this is "no limit" (the kernel writes 2⁶³ rounded down to a page)
+_NO_LIMIT = 1 << 60
+
+
+def _read_int(path: Path) -> int | None:
+    try:
+        text = path.read_text().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None       # v2 writes "max" for no limit
+
+
+def cgroup_memory_left(proc_cgroup: Path | None = None, root: Path | None = None) -> int | None:
+    """Bytes the memory limits of this process's control groups still allow (a container's limit, which the
+    machine's free memory does not show): the least of limit − usage over its group and the groups above it —
+    cgroup v2 ``memory.max`` − ``memory.current``, v1 ``memory.limit_in_bytes`` − ``memory.usage_in_bytes``
+    (Linux's Documentation/admin-guide/cgroup-v2.rst and cgroup-v1/memory.rst); None without a limit."""
+    proc_cgroup, root = proc_cgroup or PROC_CGROUP, root or CGROUP_ROOT
+    try:
+        lines = proc_cgroup.read_text().splitlines()
+    except OSError:
+        return None
+    left = []
+    for line in lines:
+        _, controllers, path = line.split(":", 2)
+        if controllers == "":                                           # v2: "0::/path"
+            base, files = root / "unified" if (root / "unified").is_dir() else root, ("memory.max", "memory.current")
+        elif "memory" in controllers.split(","):                        # v1: "4:memory:/path"
+            base, files = root / "memory", ("memory.limit_in_bytes", "memory.usage_in_bytes")
+        else:
+            continue
+        d = base / path.lstrip("/")
+        for g in (d, *d.parents):
+            limit, used = _read_int(g / files[0]), _read_int(g / files[1])
+            if limit is not None and limit < _NO_LIMIT:
+                left.append(max(0, limit - (used or 0)))
+            if g == base:
+                break
+    return min(left) if left else None
+
+
 def available_memory() -> int | None:
+    """Memory the run may still take: the machine's available memory, or less under a control group's limit."""
     try:
         import psutil
 
-        return int(psutil.virtual_memory().available)
+        avail = int(psutil.virtual_memory().available)
     except Exception:  # pragma: no cover - psutil missing or unsupported platform
         return None
+    left = cgroup_memory_left()
+    return avail if left is None else min(avail, left)
 
 
-def check_resources(est: RunEstimate, out: Path, n_file: str, n_key: str) -> None:
-    """InputError when the Monte Carlo cannot fit in memory (key ``n_key``) or on disk (``--out``)."""
+#: private memory of one local worker at its peak (measured on linear_stackup, figures rendered on the workers: a
+#: process-pool worker, forked from the preloaded fork server, 26–36 MB; a Dask LocalCluster worker, an interpreter
+#: of its own, 152–159 MB)
+WORKER_MEMORY = {"process": 36_000_000, "dask": 160_000_000}
+#: open files the run holds per local worker (its pipe and its process sentinel: measured 2 each) and besides them
+FILES_PER_WORKER, FILES_BESIDE = 2, 64
+
+
+def local_workers(executor: str, workers: int | None, scheduler: str | None) -> int:
+    """The worker processes a run starts on this machine: none for the serial executor or a running Dask cluster."""
+    if executor == "serial" or scheduler:
+        return 0
+    return workers or os.cpu_count() or 1
+
+
+def open_files_limit() -> int | None:
+    import resource
+
+    soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    return None if soft == resource.RLIM_INFINITY else soft
+
+
+def workers_problem(executor: str, workers: int | None, scheduler: str | None, beside: int = 0) -> str | None:
+    """Why this machine cannot hold the run's local workers — more open files than ``ulimit -n`` allows, or more
+    memory than is available beside ``beside`` bytes (the Monte Carlo's) —, or None."""
+    w = local_workers(executor, workers, scheduler)
+    if not w:
+        return None
+    soft = open_files_limit()
+    if soft is not None and FILES_BESIDE + FILES_PER_WORKER * w > soft:
+        return (f"{w} workers need about {FILES_BESIDE + FILES_PER_WORKER * w} open files and this process may open "
+                f"{soft} (ulimit -n): at most {max(0, (soft - FILES_BESIDE) // FILES_PER_WORKER)} workers")
+    avail, each = available_memory(), WORKER_MEMORY[executor]
+    if avail is not None and beside + w * each > avail:
+        with_mc = f", beside the Monte Carlo's {human_bytes(beside)}" if beside else ""
+        return (f"{w} workers need about {human_bytes(w * each)} of memory ({human_bytes(each)} each{with_mc}) and "
+                f"{human_bytes(avail)} are available: at most {max(0, (avail - beside) // each)} workers fit")
+    return None
+
+
+def check_resources(est: RunEstimate, out: Path, n_file: str, n_key: str, options=None,
+                    workers_at: tuple[str, str] = ("<command line>", "--workers")) -> None:
+    """InputError when the Monte Carlo cannot fit in memory (key ``n_key``) or on disk (``--out``), or this machine
+    cannot hold the local workers of ``options`` (:func:`workers_problem`, at ``workers_at``: file and key)."""
     avail = available_memory()
     if avail is not None and est.memory > avail:
         raise InputError(f"n = {est.n:,} needs about {human_bytes(est.memory)} of memory for the Monte Carlo "
                          f"({est.factors} factors, {est.outputs} outputs) and {human_bytes(avail)} are available; "
                          f"lower n (about {max(2, int(est.n * avail / est.memory)):,} fit)", file=n_file, key=n_key)
+    if options is not None:
+        why = workers_problem(options.executor, options.workers, options.scheduler, est.memory)
+        if why:
+            raise InputError(why, file=workers_at[0], key=workers_at[1])
     where = _existing_ancestor(out.parent)
     free = shutil.disk_usage(where).free
     if est.disk > free:

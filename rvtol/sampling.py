@@ -50,6 +50,7 @@ STREAMS = {
     "allocation_levers": 74, "allocation_ga_confirm": 75,                                         # the shifted design of a design lever
     "calibration_noise": 81,                                          # noise of synthetic measured curves
     "measured_gof": 91,                                               # bootstrap of a measured factor's GoF test
+    "fit_uncertainty": 95,                                            # a fitted measured law's parameter draws
     "stacking_tail": 92,                                              # the tail methods of rvtol.stacking.tail (key: method)
     "compare_bootstrap": 93,                                          # baseline comparison: percentile bootstrap
     "check_corners": 94,                                              # rvtol check: corners of many bands

@@ -19,6 +19,9 @@ from __future__ import annotations
 import heapq
 from typing import Iterable, Sequence
 
+#: the version tag of ``--task-log``'s JSON (by which a later run recognises a file it may replace)
+TASK_LOG_FORMAT = "rvtol-task-log/1"
+
 
 def makespan(tasks: Sequence[float], workers: int) -> float:
     """Seconds for ``workers`` workers to run ``tasks`` (seconds each), each task to the first free worker in turn."""
@@ -51,7 +54,8 @@ def task_log(result) -> dict:
     w = result.workers
     every = [c for cs in calls.values() for c in cs]
     return {
-        "study": result.study.name, "executor": result.executor, "workers": w, "run_s": result.elapsed,
+        "format": TASK_LOG_FORMAT, "study": result.study.name, "executor": result.executor, "workers": w,
+        "run_s": result.elapsed,
         "projected": {
             "workers": w, "run_s": projected(result.elapsed, every, w),
             "phases_s": {name: projected(wall, calls.get(name, []), w) for name, wall in result.timings.items()},

@@ -16,8 +16,11 @@ Computed from the Monte Carlo alone (no further model run), for the first page o
   reach and the tightening of its largest driver that would give it, to first order
   (``σ² → σ² (1 − S1 (1 − f²))`` when that tolerance is scaled by ``f``); labelled an estimate —
   the allocation analysis gives cost-optimal tolerances that are checked by Monte Carlo;
-* **a traffic light** — green: demonstrated; amber: not demonstrated, but the estimate meets the
-  requirement (more samples would decide); red: the estimate itself misses it;
+* **a traffic light** — the requirement's state (:func:`rvtol.verdict.requirement_state`, the word every output
+  gives it): green PASS, demonstrated; amber UNDECIDED, not demonstrated, but the estimate meets the
+  requirement (more samples, or more measured parts of a fitted factor, would decide:
+  :attr:`rvtol.verdict.Judgement.undecided`); red FAIL, the estimate itself misses it (or, for a constant output,
+  a Cpk cannot be defined);
 * **fixes by kind**, cheapest first (:data:`FIX_KINDS`): more samples (amber), re-centre (a two-sided
   band the present spread fits when the mean sits in its middle: a nominal moves, no tolerance
   changes), tighten (the first-order scaling above), redesign (the mean on or beyond a limit: no
@@ -37,14 +40,13 @@ from .mc import MonteCarloResult
 from .model import Model
 from .sensitivity.drivers import Driver, first_order_drivers
 from .spec import ToleranceSpec
+from .verdict import FAIL, PASS, STATE_UNDECIDED
 
 
 #: the kinds of fix, cheapest first: what a quality engineer tries in this order
 FIX_KINDS = ("more samples", "re-centre", "tighten", "redesign")
-#: the traffic light of a requirement and what it means
-LIGHTS = {"green": "demonstrated at its confidence",
-          "amber": "not demonstrated: the estimate meets it, more samples would decide",
-          "red": "the estimate itself misses it"}
+#: the colour of a requirement's state (:data:`rvtol.verdict.REQUIREMENT_STATES`) on the first page
+LIGHTS = {PASS: "green", STATE_UNDECIDED: "amber", FAIL: "red"}
 
 
 @dataclass
@@ -80,19 +82,26 @@ class RequirementDigest:
     drivers: list[Driver] = field(default_factory=list)
     change: str = ""
     overlaps: list[str] = field(default_factory=list)   # pairs of drivers correlated in the spec
-    light: str = "green"                                 # :data:`LIGHTS`
+    state: str = PASS                                    # :func:`rvtol.verdict.requirement_state`
     yield_: float | None = None                          # the yield estimate
     cpk: float | None = None                             # the Cpk estimate (the one the requirement is judged on)
     fixes: list[Fix] = field(default_factory=list)       # the digest's own, first-order (analyses add theirs)
+    notes: list[str] = field(default_factory=list)       # what the verdict rests on (rvtol.verdict.Judgement.notes)
+
+    @property
+    def light(self) -> str:
+        """green, amber or red: the colour of its state (:data:`LIGHTS`)."""
+        return LIGHTS[self.state]
 
     def to_dict(self) -> dict:
         return {"requirement": self.label, "output": self.output, "model": self.model, "unit": self.unit,
-                "verdict": "PASS" if self.passed else "FAIL", "mean": self.mean, "P99.865": self.p99865,
+                "verdict": self.state, "mean": self.mean, "P99.865": self.p99865,
                 "P0.135": self.p00135, "yield_lower_bound": self.yield_lo, "cpk_lower_bound": self.cpk_lo,
                 "reasons": self.reasons,
                 "drivers": [{"tolerance": d.tolerance, "S1": d.s1, "factors": d.factors} for d in self.drivers],
                 "what_to_change": self.change, "correlated_drivers": self.overlaps, "light": self.light,
-                "yield": self.yield_, "cpk": self.cpk, "fixes": [f.to_dict() for f in self.fixes]}
+                "yield": self.yield_, "cpk": self.cpk, "fixes": [f.to_dict() for f in self.fixes],
+                "notes": self.notes}
 
 
 def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | None = None,
@@ -111,14 +120,15 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
         stage = r.output.split(".", 1)[0] if "." in r.output and hasattr(model, "stages") else ""
         d = RequirementDigest(r.label, r.output, stage, r.unit or mc.unit_of(r.output), v.passed,
                               _f(row.get("mean")), _f(row.get("P99.865")), _f(row.get("P0.135")),
-                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons))
+                              _f(v.yield_bound), _f(v.cpk_bound), list(v.reasons), notes=list(v.notes))
         d.drivers = s1.get(r.output, [])[:top]
         d.overlaps = correlated_drivers(d.drivers, spec)
         d.yield_, d.cpk = _f(v.yield_.estimate), _f(v.judged_cpk[0])
-        d.light = "green" if v.passed else ("amber" if v.n_to_demonstrate else "red")
+        d.state = v.state
         if not v.passed:
             d.change = what_to_change(r, row, d.drivers, mc)
-            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output))
+            d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
+                                        v.parts_to_demonstrate)
         out.append(d)
     return out
 
@@ -207,7 +217,7 @@ def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> T
     """``σ² → σ² (1 − Σ S1 (1 − f²))`` solved for the scale ``f`` of the fewest largest drivers that can reach the
     target σ of :func:`required_sigma` (``y``: the evaluated samples, for a yield)."""
     t = Tightening(sigma, required_sigma(r, mean, sigma, y))
-    if t.target is None or not drivers:
+    if t.target is None or not drivers or not sigma > 0:     # a constant output: no tolerance moves it
         return t
     t.need = 1.0 - (t.target / sigma) ** 2
     if t.need <= 0:
@@ -226,8 +236,11 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     if mean is None or sigma is None:
         return T.NOTHING_EVALUATED
-    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
     unit = r.unit or ""
+    if sigma == 0:
+        return T.CONSTANT.format(mean=mean, unit=unit) + (T.CONSTANT_CPK if r.min_cpk is not None else "")
+    t = tightening(r, mean, sigma, drivers, _evaluated(mc, r.output))
+    mean, sigma, t.target = _in_unit(r, sigma, mean, sigma, t.target)
     if t.target is None:
         return T.MEAN_BEYOND.format(mean=mean, unit=unit)
     if not drivers:
@@ -242,21 +255,38 @@ def what_to_change(r, row, drivers: list[Driver], mc) -> str:
                           explained=t.explained)
 
 
+def _in_unit(r, sigma: float | None, *values) -> list:
+    """``values`` in ``r``'s unit as numbers that show the decimals resolving its limit interval, else the output's
+    σ (:class:`rvtol.precision.Scaled`: the sentences' ``{mean:.4g}`` resolve the band)."""
+    from .precision import Scaled, output_scale
+
+    scale = output_scale([(r.lower, r.upper)], sigma)
+    return [None if v is None else Scaled(v, scale) for v in values]
+
+
 def _evaluated(mc, output: str):
     """The output's evaluated samples, in the requirement's unit (the Monte Carlo's display unit)."""
     return mc.column(output)[mc.ok]
 
 
-def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None) -> list[Fix]:
+def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None, y=None,
+                      parts: dict[str, int] | None = None) -> list[Fix]:
     """The digest's own fixes of a requirement that is not demonstrated, by kind (estimates, not checked; the
-    sentences of :mod:`.signoff_texts`)."""
+    sentences of :mod:`.signoff_texts`); ``parts``: the measured parts per fitted factor that would demonstrate it."""
     mean, sigma, unit = _f(row.get("mean")), _f(row.get("std")), r.unit or ""
 
     def fix(kind, template, **numbers):
+        names = [k for k in numbers if k in ("mean", "sigma", "target", "mid", "shift", "centred")]   # not a limit:
+        # it reads as the requirement writes it
+        numbers.update(zip(names, _in_unit(r, sigma, *(numbers[k] for k in names))))
         return Fix(r.label, kind, *(part.format(**numbers) for part in template))
 
-    if n_to_demonstrate:
-        return [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)]
+    if n_to_demonstrate or parts:
+        out = [fix("more samples", T.MORE_SAMPLES, n=n_to_demonstrate)] if n_to_demonstrate else []
+        if parts:
+            out.append(fix("more samples", T.MORE_PARTS,
+                           parts=", ".join(f"{m:,} parts of {f}" for f, m in parts.items())))
+        return out
     if mean is None or sigma is None:
         return []
     out = []
@@ -265,6 +295,8 @@ def first_order_fixes(r, row, d: RequirementDigest, n_to_demonstrate: int | None
                   if lim is not None and (mean >= lim if side == "below" else mean <= lim)]
         lim, side = beyond[0] if beyond else (r.upper if r.upper is not None else r.lower, "inside")
         out.append(fix("redesign", T.REDESIGN, mean=mean, unit=unit, side=side, limit=lim))
+        return out
+    if not sigma > 0:                   # a constant output inside the limits: no tolerance moves it
         return out
     if r.lower is not None and r.upper is not None:
         mid = 0.5 * (r.lower + r.upper)

@@ -9,6 +9,9 @@ summary.json); the report's layout of the digest is :mod:`rvtol.report.signoff`.
 NOTHING_EVALUATED = "No sample could be evaluated: nothing to estimate from."
 MEAN_BEYOND = ("The mean {mean:.4g} {unit} itself lies at or beyond the limit: tightening tolerances cannot fix it — "
                "the nominal design (or a mean shift of its largest drivers) must change.")
+CONSTANT = ("The output is constant ({mean:.6g} {unit} in every evaluated sample, σ = 0): no tolerance of the spec "
+            "moves it, so no tightening changes it.")
+CONSTANT_CPK = " Its Cpk is undefined (σ = 0): state the requirement as a min_yield."
 NO_DRIVER = "The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit}; no driver could be estimated."
 ONLY_CONFIDENCE = ("The point estimate already meets the requirement: the confidence bound does not — more samples "
                    "(a larger n) would demonstrate it, or a small tightening of the drivers below.")
@@ -22,6 +25,9 @@ SCALE = ("The spread must fall from σ = {sigma:.3g} to {target:.3g} {unit}: sca
 # first_order_fixes: (action, reason) of each kind of fix
 MORE_SAMPLES = ("run n = {n:,} samples",
                 "the estimate already meets the requirement; this n would demonstrate it if the figures hold")
+MORE_PARTS = ("measure about {parts}",
+              "the fitted laws of the measured factors are too uncertain to demonstrate it — more Monte Carlo samples "
+              "cannot; these would, if the fitted laws held (the fit's deviation shrinks as 1/√parts)")
 REDESIGN = ("move the mean ({mean:.4g} {unit}) {side} the limit {limit:g} {unit}: a nominal of the design",
             "tightening cannot help: as tolerances shrink, every unit approaches the nominal one")
 RECENTRE = ("move the mean from {mean:.4g} to {mid:.4g} {unit} (shift {shift:+.3g} {unit}: a nominal, no tolerance "

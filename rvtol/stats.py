@@ -12,7 +12,10 @@ a requirement is judged on, :mod:`rvtol.verdict`) is one-sided at a level ℓ:
 :func:`proportion_lower_bound` and :func:`cpk_lower_bound`; the lower end of a
 two-sided interval at confidence c is the one-sided bound at ℓ = (1 + c)/2.
 :func:`n_for_yield` and :func:`n_for_cpk` invert them: the sample size at
-which the observed yield or Cpk would be demonstrated.
+which the observed yield or Cpk would be demonstrated.  :func:`combined_lower_bound` adds an
+independent error (a fitted law's, :mod:`rvtol.fit_uncertainty`) to a bound; :func:`normality`
+gives an output's :class:`Shape` (skewness, kurtosis, Anderson–Darling) for the non-normal Cpk rule of
+:mod:`rvtol.verdict`.
 
 :func:`rss` is the root sum of squares of a linear stack — every RSS in rvtol (the linearised
 prediction, the stack-up conventions, the stack-up chain's linearisation, the allocation's
@@ -128,6 +131,63 @@ def cpk_lower_bound(cpk: float | None, n: float, level: float) -> float | None:
         return None
     z = float(stats.norm.ppf(level))
     return float(cpk - z * math.sqrt(1.0 / (9.0 * n) + cpk**2 / (2.0 * (n - 1.0))))
+
+
+#: an output is demonstrably not normal when the Anderson–Darling test rejects normality at this level
+NON_NORMAL_P = 0.01
+
+
+@dataclass(frozen=True)
+class Shape:
+    """How far an output departs from a normal distribution (:func:`normality`): sample skewness,
+    excess kurtosis and the Anderson–Darling test of normality (estimated mean and σ; p interpolated from
+    Stephens' tables, so 0.01 means ≤ 0.01 and 0.15 ≥ 0.15)."""
+
+    skewness: float
+    excess_kurtosis: float
+    ad_statistic: float
+    ad_pvalue: float
+
+    @property
+    def non_normal(self) -> bool:
+        return self.ad_pvalue <= NON_NORMAL_P
+
+    def describe(self) -> str:
+        p = (f"p ≤ {NON_NORMAL_P:g}" if self.non_normal else
+             f"p ≥ {self.ad_pvalue:.2g}" if self.ad_pvalue >= 0.15 else f"p = {self.ad_pvalue:.2g}")
+        return (f"skewness {self.skewness:.2f}, excess kurtosis {self.excess_kurtosis:.2f}, "
+                f"Anderson–Darling A² = {self.ad_statistic:.3g} ({p})")
+
+
+def normality(y: np.ndarray) -> Shape | None:
+    """The :class:`Shape` of a sample (None below 8 values or with no spread): skewness g₁ = m₃/m₂^1.5 and excess
+    kurtosis g₂ = m₄/m₂² − 3 from the central moments mₖ (the biased ratios ``scipy.stats.skew``/``kurtosis``
+    give, without their per-call overhead: an optimiser asks for thousands) and the Anderson–Darling test of
+    normality with estimated mean and σ (``scipy.stats.anderson``, p interpolated from Stephens' (1974) tables)."""
+    y = np.asarray(y, dtype=float)
+    if y.size < 8 or not np.ptp(y) > 0:
+        return None
+    ad = stats.anderson(y, "norm", method="interpolate")
+    d = y - y.mean()
+    d2 = d * d
+    m2 = float(d2.mean())
+    return Shape(float((d2 * d).mean()) / m2 ** 1.5, float((d2 * d2).mean()) / m2 ** 2 - 3.0, float(ad.statistic),
+                 float(ad.pvalue))
+
+
+def combined_lower_bound(estimate: float | None, bound: float | None, deviation: float) -> float | None:
+    """A lower bound that also carries an independent error whose one-sided deviation at the same level is
+    ``deviation``: estimate − √((estimate − bound)² + deviation²).
+
+    Two independent errors, each with its own one-sided deviation d₁ = z·σ₁ and d₂ = z·σ₂ at level ℓ (z = Φ⁻¹(ℓ)),
+    add to one of deviation z·√(σ₁² + σ₂²) = √(d₁² + d₂²) when both are normal — the root-sum-square of
+    deviations of the GUM (JCGM 100:2008, §5.1.2, uncorrelated inputs).  Each deviation keeps its own
+    (possibly skewed) form — the bound's own, e.g. Clopper–Pearson's; the result is the bound itself at
+    ``deviation = 0`` and estimate − ``deviation`` for an exact estimate."""
+    if estimate is None or bound is None or not math.isfinite(estimate) or not math.isfinite(bound):
+        return bound
+    d = max(0.0, estimate - bound)
+    return float(estimate - math.sqrt(d * d + max(0.0, deviation) ** 2))
 
 
 #: the largest sample size the planning functions look at

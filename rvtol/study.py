@@ -79,11 +79,16 @@ from .executors import Executor, make_executor
 from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, recording_calls, run_monte_carlo
 from .model import Model
 from .params import Params, read_toml
+from .runguard import NAME_MAX_BYTES
 from .registry import analysis_function, model_factory
 from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
 from .spec import (Requirement, ToleranceSpec, load_spec, merge_specs, read_requirements_file,
                    requirements_from_tables, spec_from_table)
+
+#: the longest report folder name: ``.NAME.tmp-<12 hex>`` and ``.NAME.old-<12 hex>`` are made beside it
+MAX_FOLDER_NAME_BYTES = NAME_MAX_BYTES - len(".") - len(".tmp-") - 12
+
 
 @dataclass
 class RunOptions:
@@ -202,10 +207,14 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
-    name = head.str("name", path.stem)
+    name = head.str("name", path.stem, single_line=True)
     if not name or any(c in name for c in "/\\") or name.startswith("."):
         raise head.error("name", f"invalid study name {name!r} (used as a folder name)")
-    title = head.str("title", name)
+    if len(name.encode()) > MAX_FOLDER_NAME_BYTES:
+        raise head.error("name", f"the study name is {len(name.encode())} bytes long, and it names the report folder: "
+                                 f"at most {MAX_FOLDER_NAME_BYTES} (a file name's {NAME_MAX_BYTES}, less the temporary "
+                                 "names rvtol gives beside it); give a shorter name")
+    title = head.str("title", name, single_line=True)
     desc = head.str("description", "")
     inputs = {"study": {"path": file, "sha256": sha}}
     if parent is not None:
@@ -290,6 +299,11 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
         model.check_spec(spec)
     except InputError as exc:
         raise exc.located(file=spec.file or file) from None
+    check_output_names(model, spec, data, file)
+    columns = len(spec) + len(model.outputs) + 1       # samples.xlsx: factors, outputs, status
+    if "xlsx" in options.tables and columns > XLSX_MAX_COLUMNS:
+        raise InputError(f"{columns} columns (factors, outputs, status) do not fit an XLSX sheet "
+                         f"({XLSX_MAX_COLUMNS}): write the samples as csv", file=file, key="report.tables")
     check_requirement_names(reqs)
     for r in reqs:
         if r.output not in model.output_names:
@@ -334,6 +348,25 @@ def _spec_paths(head: Params, base: Path) -> list[Path]:
             raise head.error("spec", "expected a file name or a list of file names")
         return [Path(x) if Path(x).is_absolute() else base / x for x in v]
     return [head.path_value("spec", base)]
+
+
+def check_output_names(model: Model, spec: ToleranceSpec, data: dict, file: str) -> None:
+    """Every output's name is one line without control characters (a model made by code names its own), and no
+    output shares its name with a factor: samples.parquet, the statistics and the report could not tell the two
+    apart (one column replaced the other).  Blamed at ``[[model.output]]``'s name where the study gives it."""
+    from .safetext import control_character
+
+    factors = set(spec.names)
+    tables = data.get("model", {}).get("output", []) if isinstance(data.get("model"), dict) else []
+    for q in model.outputs:
+        at = [i for i, t in enumerate(tables) if isinstance(t, dict) and t.get("name") == q.name]
+        key = f"model.output[{at[0]}].name" if at else "model"
+        bad = control_character(q.name, name=True)
+        if bad:
+            raise SpecError(f"the model's output {q.name!r} {bad}: a name may hold none", file=file, key=key)
+        if q.name in factors:
+            raise SpecError(f"an output and a factor share the name {q.name!r}: the samples, statistics and report "
+                            "could not tell them apart; rename the output", file=file, key=key)
 
 
 def _spec_sheets(head: Params, spaths: list[Path]) -> list[str | None]:
@@ -484,9 +517,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
         n=s.int("n", 10000, min=2),
         method=s.str("method", "lhs", choices=METHODS),
         seed=s.int("seed", 12345, min=0),
-        executor=e.str("executor", "process", choices=EXECUTOR_KINDS),
-        workers=e.int("workers", None, min=1),
-        scheduler=e.str("scheduler", None),
+        **execution_keys(e, ov),
         chunk_size=e.int("chunk_size", 0, min=0) or None,
         pdf=r.bool("pdf", True),
         confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
@@ -495,7 +526,7 @@ def _options(root: Params, ov: dict) -> RunOptions:
     for p in (s, e, r):
         p.finish()
     for k, v in ov.items():
-        if v is None:
+        if v is None or k in _EXECUTION:
             continue
         if not hasattr(o, k):
             raise InputError(f"unknown option {k!r}", key=k)
@@ -507,9 +538,47 @@ def _options(root: Params, ov: dict) -> RunOptions:
     if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
         raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
                          file=root.file, key="report.tables")
-    if o.scheduler and o.executor != "dask":
-        o.executor = "dask"
     return o
+
+
+#: the keys that choose where the model runs ([execution] and the command line's flags)
+_EXECUTION = ("executor", "workers", "scheduler")
+
+
+def _contradiction(v: dict) -> tuple[str, str, str] | None:
+    """Two execution keys that cannot both hold: ``(key, other key, why)`` — ``why`` names the other as ``{other}``
+    —, or None."""
+    if v["executor"] == "serial" and v["workers"] is not None and v["workers"] > 1:
+        return "workers", "executor", (f"{v['workers']} workers with {{other}}, which evaluates everything in this "
+                                       "process: ask for the process or dask executor")
+    if v["scheduler"] is not None and v["executor"] in ("serial", "process"):
+        return "scheduler", "executor", "a Dask scheduler with {other}, which does not use one"
+    if v["scheduler"] is not None and v["workers"] is not None:
+        return "workers", "scheduler", "workers with {other}: a running Dask cluster has its own (workers start a " \
+                                       "local one)"
+    return None
+
+
+def execution_keys(e: Params, ov: dict) -> dict:
+    """``executor``, ``workers``, ``scheduler``: the command line's values over ``[execution]``'s.  Two that contradict
+    each other (:func:`_contradiction`) are refused when one source gives both; when the command line gives one and
+    the study file the other, the command line's wins and the file's is dropped (``--workers 4`` runs a study written
+    serial on a process pool; ``--scheduler`` one written for a process pool on Dask, as ``--executor`` would)."""
+    given = {"file": {"executor": e.str("executor", None, choices=EXECUTOR_KINDS),
+                      "workers": e.int("workers", None, min=1), "scheduler": e.str("scheduler", None)},
+             "cli": {k: ov.get(k) for k in _EXECUTION}}
+    src = {k: "cli" if given["cli"][k] is not None else "file" for k in _EXECUTION}
+    v = {k: given[src[k]][k] for k in _EXECUTION}
+    while (c := _contradiction(v)) is not None:
+        key, other, why = c
+        if src[key] != src[other]:            # the file's yields to the command line's
+            v[key if src[key] == "file" else other] = None
+            continue
+        if src[key] == "cli":
+            raise InputError(why.format(other=f"--{other} {v[other]}"), file="<command line>", key=f"--{key}")
+        raise e.error(key, why.format(other=f"{other} = {v[other]!r}"))
+    v["executor"] = v["executor"] or ("dask" if v["scheduler"] else "process")
+    return v
 
 
 #: table formats a report folder can hold beside samples.parquet
@@ -527,14 +596,11 @@ def _table_formats(r: Params) -> tuple[str, ...]:
     return tuple(dict.fromkeys(v))
 
 
-def result_files(options: RunOptions, requirements: bool = True) -> list[str]:
-    """The files a report folder holds besides report.html, for these options (summary.pdf: the first page alone,
-    for a study with requirements)."""
-    pdfs = ["report.pdf"] + (["summary.pdf"] if requirements else [])
-    out = (pdfs if options.pdf else []) + ["summary.json", "samples.parquet"]
-    for ext in options.tables:
-        out += [f"samples.{ext}", f"statistics.{ext}"]
-    return out
+def written_files(folder: Path) -> list[str]:
+    """The files a written report folder holds besides report.html, as its manifest lists them (what the run wrote:
+    the PDFs, tables, the requirements' CSV, comparison.json and every analysis' own files)."""
+    names = (Path(folder) / MANIFEST).read_text(encoding="utf-8").split("\n")
+    return sorted(n for n in names if n and n not in ("report.html", MANIFEST))
 
 
 # --------------------------------------------------------------------------- running
@@ -699,6 +765,10 @@ def check_out_dir(out_dir: str | Path) -> Path:
     if full == cwd or full in cwd.parents:
         raise InputError("refusing to replace the current folder or one of its parents; name a subfolder",
                          file=where, key="--out")
+    if len(out.name.encode()) > MAX_FOLDER_NAME_BYTES:
+        raise InputError(f"the folder's name is {len(out.name.encode())} bytes long: at most {MAX_FOLDER_NAME_BYTES} "
+                         f"(a file name's {NAME_MAX_BYTES}, less the temporary names rvtol gives beside it)",
+                         file=where, key="--out")
     if out.exists():
         if not out.is_dir():
             raise InputError("exists and is not a folder", file=where, key="--out")
@@ -732,7 +802,7 @@ def foreign_files(folder: Path) -> list[str]:
 def _is_report_folder(path: Path) -> bool:
     try:
         return json.loads((path / "summary.json").read_text()).get("format", "").startswith("rvtol-summary/")
-    except (OSError, ValueError, AttributeError):
+    except (OSError, ValueError, AttributeError, RecursionError):
         return False
 
 
@@ -745,8 +815,8 @@ def _write_section_files(sections: list[Section], folder: Path) -> None:
             (folder / name).write_bytes(content)
 
 
-#: the most rows an XLSX sheet holds (Excel's limit, header included)
-XLSX_MAX_ROWS = 1_048_576
+#: the most rows and columns an XLSX sheet holds (Excel's limits, header included)
+XLSX_MAX_ROWS, XLSX_MAX_COLUMNS = 1_048_576, 16_384
 
 
 def write_tables(result: StudyResult, samples, folder: Path) -> None:
@@ -795,13 +865,16 @@ def write_outputs(result: StudyResult, out_dir: str | Path, extra_files: dict[st
             (tmp / fname).write_text(text, encoding="utf-8")
         _write_section_files(result.sections, tmp)
         (tmp / MANIFEST).write_text("\n".join(sorted([MANIFEST, *(p.name for p in tmp.iterdir())])), encoding="utf-8")
-        old = None
-        if out.exists():
-            old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
-            os.replace(out, old)
-        os.replace(tmp, out)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        old = out.parent / f".{out.name}.old-{secrets.token_hex(6)}"
+        try:
+            if out.exists():
+                os.replace(out, old)
+            os.replace(tmp, out)
+        except BaseException:   # stopped between the two renames: the previous folder goes back in place
+            if old.exists() and not out.exists():
+                os.replace(old, out)
+            raise
+        shutil.rmtree(old, ignore_errors=True)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

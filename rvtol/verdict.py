@@ -30,7 +30,26 @@ tolerance the optimiser calls feasible is one the sign-off passes:
   :func:`rvtol.stats.n_for_cpk`);
 * samples the model could not evaluate count as non-conforming in the
   yield, and while any sample fails a Cpk demonstrates nothing (it only
-  describes the evaluated samples).
+  describes the evaluated samples);
+* a **constant** output (σ = 0 over every evaluated sample: no factor of the spec moves it) has no Cpk —
+  (USL − μ)/3σ is 0/0 or ∞ — so a minimum Cpk is not demonstrated, and the reason says where the
+  constant lies against the limits (a ``min_yield`` requirement states that; a Cpk cannot);
+* a normal-theory Cpk describes a tail only when the output is normal: its ppm is Φ(−3·Cpk).  When the
+  output is **demonstrably not normal** (Anderson–Darling test of normality rejected at 1 %,
+  :class:`Shape`) and the two Cpk values — normal theory and ISO 22514-2 percentile — disagree on
+  the verdict, the requirement passes only if both pass: a skewed output (skewness 1.5) whose
+  normal-theory Cpk 1.4 passes while 3 400 ppm lie beyond the limit and its percentile Cpk is
+  0.86 is *not* demonstrated (the percentile Cpk is the one ISO 22514-2 gives for a non-normal
+  process; the normal one is kept as a second condition because the requirement asked for it).
+  A disagreement is always stated in the requirement's notes; with a normal-looking output it
+  changes nothing (the percentile bound is merely the less efficient one);
+* a yield or Cpk measured on factors **fitted to measured parts** carries the fit's own uncertainty
+  (:mod:`rvtol.fit_uncertainty`): the bound judged combines the Monte Carlo's bound with the
+  spread of the figure under the laws the measured data allow, and a requirement that the fit's
+  uncertainty alone keeps from being demonstrated gets the number of measured parts that would (more
+  Monte Carlo samples cannot);
+* a requirement not demonstrated whose estimate meets it is *undecided* (:attr:`Judgement.undecided`:
+  more samples or more measured parts would decide); one whose estimate misses is not.
 
 :func:`judge` also returns a *violation* ≥ 0, zero exactly when the
 requirement passes, for optimisers (normalised shortfall of each figure).
@@ -49,6 +68,7 @@ import math
 from dataclasses import dataclass, field
 
 from . import stats as st
+from .stats import Shape
 from .spec import YIELD_INTERVALS, Requirement
 
 #: violation charged for a Cpk that cannot be computed or demonstrated
@@ -62,6 +82,12 @@ class Judgement:
     violation: float = 0.0
     #: samples that would demonstrate a requirement the estimates meet but the bounds do not (else None)
     n_to_demonstrate: int | None = None
+    #: what the verdict rests on, whatever it is (a fitted law's uncertainty, an extrapolation, a disagreement)
+    notes: list[str] = field(default_factory=list)
+    #: per measured factor, the parts that would demonstrate a requirement its fit's uncertainty keeps undecided
+    parts_to_demonstrate: dict[str, int] | None = None
+    #: not demonstrated, but the estimate meets it: more samples (or measured parts) would decide
+    undecided: bool = False
 
 
 def bound_level(r: Requirement) -> float:
@@ -99,6 +125,33 @@ def cpk_figures(r: Requirement, capability: dict, n: int,
     return c, cpk_bound(r, c, n)
 
 
+def other_cpk(r: Requirement, good, capability: dict, judged: tuple | None = None):
+    """``(shape, (estimate, bound))`` for :func:`judge`'s non-normal rule: the :class:`rvtol.stats.Shape` of the
+    evaluated output ``good`` and the Cpk ``r`` is *not* judged on — the percentile one (its bootstrap bound at
+    :func:`bound_level`) for normal theory, Bissell's for a percentile requirement; ``(None, None)`` below 100
+    evaluated samples (no percentile bound).  Given the ``judged`` ``(Cpk, bound)`` (an optimiser's many
+    candidates, which need the verdict, not its notes), only what can refute a pass is computed: the shape when
+    the judged normal-theory Cpk passes, the percentile bound when the output is demonstrably not normal."""
+    import numpy as np
+
+    if len(good) < 100:
+        return None, None
+    i = 1 if r.basis == "lower_bound" else 0
+    shape = None
+    if judged is not None:
+        if r.cpk_method != "normal" or judged[i] is None or not judged[i] >= r.min_cpk:
+            return None, None
+        shape = st.normality(good)
+        if shape is None or not shape.non_normal:
+            return None, None
+    if r.cpk_method == "normal":
+        lo = st.percentile_cpk_ci(np.sort(good), r.lower, r.upper, percentile_cpk_confidence(r))[0]
+        other = (capability.get("cpk_percentile"), lo)
+    else:
+        other = (capability.get("cpk"), st.cpk_lower_bound(capability.get("cpk"), len(good), bound_level(r)))
+    return shape or st.normality(good), other
+
+
 def percentile_cpk_confidence(r: Requirement) -> float:
     """The two-sided bootstrap confidence whose lower end is the one-sided bound :func:`bound_level` of ``r``."""
     return 2.0 * bound_level(r) - 1.0
@@ -111,12 +164,19 @@ def cpk_name(r: Requirement) -> str:
 
 def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None = None,
           cpk: float | None = None, cpk_lo: float | None = None, n_failed: int = 0,
-          n: int | None = None) -> Judgement:
+          n: int | None = None, constant: float | None = None, other_cpk: tuple | None = None,
+          shape: Shape | None = None, fit=None) -> Judgement:
     """Pass/fail, reasons and violation of requirement ``r`` from its measured figures.
 
-    ``yield_lo`` and ``cpk_lo`` are the bounds of :func:`yield_bound` and :func:`cpk_bound`.  Given
-    the sample size ``n``, a requirement that fails only on its bounds gets the sample size that
-    would demonstrate it (``n_to_demonstrate`` and a reason).
+    ``yield_lo`` and ``cpk_lo`` are the bounds of :func:`yield_bound` and :func:`cpk_bound` (with a ``fit``,
+    combined with the fit's uncertainty: :func:`rvtol.stats.combined_lower_bound`).  Given the sample size
+    ``n``, a requirement that fails only on its bounds gets the sample size (or the measured parts) that would
+    demonstrate it (``n_to_demonstrate``, ``parts_to_demonstrate`` and a reason).  ``constant``: the output's
+    value when every evaluated sample has it (σ = 0); ``other_cpk``: ``(estimate, bound)`` of the Cpk the
+    requirement is *not* judged on (percentile for ``cpk_method = "normal"``, normal theory for
+    ``"percentile"``) and ``shape`` the output's :class:`Shape` — together the non-normal rule of the module
+    docstring; ``fit``: the measured factors' fit uncertainty of this requirement
+    (:class:`rvtol.fit_uncertainty.FitEffect`: ``yield_dev``, ``cpk_dev``, ``parts``, ``notes``).
     """
     lb = r.basis == "lower_bound"
     j = Judgement(True)
@@ -128,44 +188,133 @@ def judge(r: Requirement, *, yield_: float | None = None, yield_lo: float | None
             j.reasons.append(f"yield {what}{_f(v, '.5f')} < required {r.min_yield:g}")
             short = r.min_yield - v if v is not None and math.isfinite(v) else 1.0
             j.violation += max(0.0, short) / max(1.0 - r.min_yield, 1e-6)
+    plan_cpk = cpk
     if r.min_cpk is not None:
         c = cpk_lo if lb else cpk
-        if c is None or not c >= r.min_cpk:
+        if constant is not None:
+            j.passed = False
+            j.reasons.append(_constant(r, constant))
+        elif c is None or not c >= r.min_cpk:
             j.passed = False
             j.reasons.append(f"{cpk_name(r)} {what}{_f(c, '.3f')} < required {r.min_cpk:g}")
         if c is None or not math.isfinite(c) or n_failed:
             j.violation += CPK_UNAVAILABLE
         else:
             j.violation += max(0.0, r.min_cpk - c) / r.min_cpk
+        if other_cpk is not None and shape is not None and constant is None and _non_normal_rule(
+                r, j, (cpk, cpk_lo), other_cpk, shape):
+            plan_cpk = min(x for x in (cpk, other_cpk[0]) if x is not None) if other_cpk[0] is not None else None
     if n_failed:
         j.reasons.append(f"{n_failed} sample(s) could not be evaluated and count as non-conforming")
         if r.min_cpk is not None:
             j.passed = False
             j.reasons.append("Cpk is not demonstrated while samples fail (it only describes the evaluated ones)")
-    if not j.passed and lb and n is not None:
-        _plan(r, j, yield_, cpk, n, n_failed)
+    if fit is not None:
+        j.notes.extend(fit.notes)
+        for name, why in fit.unavailable:
+            j.passed = False
+            j.reasons.append(f"the uncertainty of {name}'s fitted law could not be estimated ({why}): nothing that "
+                             "depends on it is demonstrated")
+    unplannable = (constant is not None and r.min_cpk is not None) or (fit is not None and fit.unavailable)
+    if not j.passed and lb and n is not None and not unplannable:
+        _plan(r, j, yield_, plan_cpk, n, n_failed, fit)
     return j
 
 
-def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None, n: int, n_failed: int) -> None:
-    """Say whether more samples would demonstrate ``r``, and how many (the observed figures held)."""
+def _constant(r: Requirement, value: float) -> str:
+    """Why a minimum Cpk is not demonstrated on an output that does not vary."""
+    inside = (r.lower is None or value >= r.lower) and (r.upper is None or value <= r.upper)
+    return (f"Cpk is undefined for a constant output: {r.output} = {value:.6g} in every evaluated sample (σ = 0: no "
+            f"factor of the spec moves it), {'inside' if inside else 'outside'} the limits — a min_yield requirement "
+            "can state that, a Cpk cannot")
+
+
+def _non_normal_rule(r: Requirement, j: Judgement, judged: tuple, other: tuple, shape: Shape) -> bool:
+    """The normal-theory and percentile Cpk against ``r.min_cpk`` (module docstring): a disagreement is noted, and on
+    a demonstrably non-normal output a normal-theory pass the percentile Cpk refutes is not a pass.  True when the
+    rule failed the requirement."""
+    i = 1 if r.basis == "lower_bound" else 0
+    what = "lower bound " if i else ""
+    if judged[i] is None or other[i] is None:
+        return False
+    mine, theirs = judged[i] >= r.min_cpk, other[i] >= r.min_cpk
+    if mine == theirs:
+        return False
+    normal = r.cpk_method == "normal"
+    other_name = "percentile Cpk (ISO 22514-2)" if normal else "normal-theory Cpk"
+    judged_name = "normal-theory Cpk" if normal else "percentile Cpk"
+    if normal and mine and shape.non_normal:
+        j.passed = False
+        j.reasons.append(f"the output is not normal ({shape.describe()}): its normal-theory Cpk {what}"
+                         f"{judged[i]:.3f} passes but its percentile Cpk (ISO 22514-2) {what}{other[i]:.3f} < required "
+                         f"{r.min_cpk:g} — normal theory misstates the tail of this shape; not demonstrated unless "
+                         'both pass (cpk_method = "percentile" judges on the percentile Cpk alone)')
+        j.violation += max(0.0, r.min_cpk - other[i]) / r.min_cpk
+        return True
+    how = (f"the output is not normal ({shape.describe()})" if shape.non_normal else
+           f"the output shows no departure from normality ({shape.describe()})")
+    then = ('cpk_method = "percentile" judges a non-normal output by its own tails' if normal and shape.non_normal
+            else "normal theory judges it (the percentile bound is the less efficient one)" if normal
+            else "the percentile Cpk judges it")
+    j.notes.append(f"the {other_name} {what}{other[i]:.3f} would {'pass' if theirs else 'fail'} where the "
+                   f"{judged_name} {'passes' if mine else 'fails'}: {how}; {then}")
+    return False
+
+
+def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None, n: int, n_failed: int,
+          fit=None) -> None:
+    """Say whether more samples — or, with factors fitted to measured parts, more measured parts — would demonstrate
+    ``r``, and how many (the observed figures held).
+
+    A figure's bound is the estimate less √(d_MC² + d_fit²) (:func:`rvtol.stats.combined_lower_bound`), d_MC the
+    Monte Carlo's deviation (shrinking as 1/√n) and d_fit the fit's (as 1/√m, m measured parts: the MLE's
+    standard errors).  With the margin M = estimate − required: d_fit < M — samples alone decide, the n whose d_MC
+    reaches √(M² − d_fit²); d_fit ≥ M — no n does: the parts must grow by d_fit²/(M² − d_MC²) if the present
+    d_MC < M, else both, each deviation brought to M/√2 (parts × 2 d_fit²/M²).
+    """
     level = bound_level(r)
-    needs = []
+    needs, grow = [], []
+    cases = []
     if r.min_yield is not None:
-        needs.append(st.n_for_yield(yield_, r.min_yield, level, YIELD_INTERVALS[r.interval])
-                     if yield_ is not None else None)
+        mc_dev = None if yield_ is None else yield_ - yield_bound(r, yield_ * n, n)
+        cases.append((yield_, r.min_yield, mc_dev, fit.yield_dev if fit is not None else 0.0,
+                      lambda est, req: st.n_for_yield(est, req, level, YIELD_INTERVALS[r.interval])))
     if r.min_cpk is not None:
-        needs.append(st.n_for_cpk(cpk, r.min_cpk, level) if not n_failed else None)
+        mc_dev = None if cpk is None or n_failed else cpk - (cpk_bound(r, cpk, n) if n > 1 else -math.inf)
+        cases.append((None if n_failed else cpk, r.min_cpk, mc_dev, fit.cpk_dev if fit is not None else 0.0,
+                      lambda est, req: st.n_for_cpk(est, req, level)))
+    for est, req, mc_dev, fit_dev, n_for in cases:
+        if est is None or not math.isfinite(est) or not est > req:
+            j.reasons.append("the estimate itself misses the requirement: more samples will not demonstrate it")
+            return
+        margin = est - req
+        if fit_dev < margin:
+            needs.append(n_for(est, est - math.sqrt(margin * margin - fit_dev * fit_dev)))
+        elif mc_dev is not None and mc_dev < margin:
+            grow.append(fit_dev * fit_dev / (margin * margin - mc_dev * mc_dev))
+        else:
+            needs.append(n_for(est, est - margin / math.sqrt(2.0)))
+            grow.append(2.0 * fit_dev * fit_dev / (margin * margin))
     if any(m is None for m in needs):
         j.reasons.append("the estimate itself misses the requirement: more samples will not demonstrate it")
         return
-    need = max(needs)
+    j.undecided = True
+    need = max(needs, default=0)
     if need > n:
         j.n_to_demonstrate = need
         j.reasons.append(f"not demonstrated at n = {n}: the estimate meets the requirement, and about "
                          f"n = {need} samples would demonstrate it if the observed "
                          f"{'yield' if r.min_cpk is None else 'Cpk' if r.min_yield is None else 'yield and Cpk'}"
                          f" held")
+    elif not grow:     # e.g. a percentile Cpk whose bootstrap bound misses where Bissell's rule says n suffices
+        j.reasons.append(f"not demonstrated at n = {n}: the estimates meet the requirement, their bounds do not — more "
+                         "samples would decide")
+    if grow:
+        j.parts_to_demonstrate = {f: math.ceil(m * max(grow)) for f, m in fit.parts.items()}
+        parts = ", ".join(f"{m:,} measured parts of {f} (now {fit.parts[f]:,})"
+                          for f, m in j.parts_to_demonstrate.items())
+        j.reasons.append("the fitted law of the measured factors is too uncertain to demonstrate it: more Monte Carlo "
+                         f"samples cannot; about {parts} would, if the fitted law held")
 
 
 def _pct(c: float) -> str:
@@ -257,3 +406,30 @@ def study_verdict(passed: list[bool], exploratory: bool = False) -> str:
     if not passed:
         return EXPLORATORY if exploratory else NO_REQUIREMENTS
     return PASS if all(passed) else FAIL
+
+
+# --------------------------------------------------------------------------- a requirement's state
+#: the state of a requirement more samples would decide (:func:`requirement_state`)
+STATE_UNDECIDED = "UNDECIDED"
+#: a requirement's state — the one word the CLI, summary.json, JUnit, Markdown, the report and the one-page summary
+#: give it — and what it means; the run's verdict is PASS only when every requirement's state is PASS
+REQUIREMENT_STATES = {PASS: "demonstrated at its confidence",
+                      STATE_UNDECIDED: "not demonstrated: the estimate meets it, more samples (or more measured parts) "
+                                       "would decide",
+                      FAIL: "not demonstrated: the estimate itself misses it"}
+
+
+def requirement_state(passed: bool, more_would_decide: bool = False) -> str:
+    """PASS (demonstrated), UNDECIDED (not demonstrated, but the estimate meets it and more samples or more measured
+    parts would decide: :attr:`Judgement.undecided`) or FAIL — :data:`REQUIREMENT_STATES`."""
+    if passed:
+        return PASS
+    return STATE_UNDECIDED if more_would_decide else FAIL
+
+
+def state_of(record: dict) -> str:
+    """The state of a requirement as summary.json records it: its ``state`` (from ``passed`` and ``undecided``, or
+    ``n_to_demonstrate``, in a summary written before it had one)."""
+    more = record.get("undecided")
+    return record.get("state") or requirement_state(bool(record.get("passed")),
+                                                    bool(record.get("n_to_demonstrate") if more is None else more))

@@ -115,7 +115,7 @@ CASES = [
     ("requirement unit of wrong dimension", lambda s: {"req": REQ.replace('"um"', '"arcsec"')}, "req.toml",
      "requirement[0].unit", "does not fit"),
     ("min_yield above 1", lambda s: {"req": REQ + "min_yield = 1.5\n"}, "req.toml", "requirement[0].min_yield",
-     "(0, 1]"),
+     "(0, 1)"),
     ("unknown yield interval", lambda s: {"req": REQ + 'interval = "jeffreys"\n'}, "req.toml",
      "requirement[0].interval", "unknown value"),
     ("n of the wrong type", lambda s: {"study": STUDY.replace("n = 2000", 'n = "many"')}, "study.toml",

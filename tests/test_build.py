@@ -343,13 +343,13 @@ def test_the_signoff_nominal_lost_motion_is_the_hand_sum_of_its_parts(product):
     assert pins * 60 * 180 / math.pi < 0.2
 
 
-def _built_study(tmp_path, rest: str):
+def _built_study(tmp_path, rest: str, spec_tables: str = ""):
     """A composed study of one fit with the roller build (spec, build file and study in ``tmp_path``); ``rest``:
-    the study's tables after the model."""
+    the study's tables after the model; ``spec_tables``: more tables of the drawing spec (its correlation)."""
     spec = write(tmp_path / "spec.toml", "\n".join(
         f'[[factor]]\nname = "{f["name"]}"\nunit = "um"\ndist = "{f["dist"]}"\n'
         + "".join(f"{k} = {v}\n" for k, v in f.items() if k not in ("name", "unit", "dist"))
-        for f in SPEC["factor"]))
+        for f in SPEC["factor"]) + spec_tables)
     _fit_file(tmp_path)
     return write(tmp_path / "s.toml", f"""
 [study]
@@ -404,6 +404,48 @@ pdf = false
     p.write_text(p.read_text().replace('build = "build.toml"', "build = false"))
     st0 = load_study(p, progress=False)
     assert st0.build is None and "gauge.bore" not in st0.spec.names
+
+
+def _correlated_pairs(names, corr) -> dict:
+    """{(a, b): ρ} of every pair with ρ ≠ 0 above the diagonal of ``corr`` (the pair's names sorted)."""
+    c = np.asarray(corr, dtype=float)
+    i, j = np.nonzero(np.triu(c, 1))
+    return {tuple(sorted((names[a], names[b]))): float(c[a, b]) for a, b in zip(i, j)}
+
+
+def test_the_composed_spec_keeps_the_drawings_correlation(tmp_path):
+    """The build appends its gauge errors to the drawing spec (``extended_spec``): every correlated pair of the
+    drawing keeps its ρ (typed here: bore–shaft +0.6, shaft–roller −0.3), the gauge is independent of every factor
+    and the diagonal stays 1 — a composed spec that dropped the drawing's correlation would sample the parts
+    independently without a word."""
+    study = _built_study(tmp_path, '[execution]\nexecutor = "serial"\n', spec_tables="""
+[[correlation]]
+pair = ["bore", "shaft"]
+rho = 0.6
+[[correlation]]
+pair = ["shaft", "roller"]
+rho = -0.3
+""")
+    st = load_study(study, progress=False)
+    assert st.spec.names == ("bore", "shaft", "roller", "gauge.bore")
+    assert _correlated_pairs(st.spec.names, st.spec.correlation) == {("bore", "shaft"): 0.6,
+                                                                      ("roller", "shaft"): -0.3}
+    np.testing.assert_array_equal(np.diag(st.spec.correlation), 1.0)
+
+
+def test_the_signoff_composed_spec_keeps_every_correlated_pair_of_the_drawing(product):
+    """The RV-80E sign-off's composed spec (drawing + TE rig + the build's gauges) holds exactly the [[correlation]]
+    pairs of data/products/rv80e/tolerances.toml, read here with tomllib (names and ρ), and nothing else."""
+    import tomllib
+
+    st, _ = product
+    with open(PRODUCT / "tolerances.toml", "rb") as fh:
+        tables = tomllib.load(fh)["correlation"]
+    assert all(set(t) == {"pair", "rho"} for t in tables)           # the file states pairs one by one
+    drawn = {tuple(sorted(t["pair"])): float(t["rho"]) for t in tables}
+    assert len(drawn) == 14
+    assert _correlated_pairs(st.spec.names, st.spec.correlation) == drawn
+    assert any(n.startswith("gauge.") for n in st.spec.names)
 
 
 def test_a_build_needs_a_composed_study(tmp_path):

@@ -84,9 +84,10 @@ def test_compare_gives_the_sign_of_the_change_with_a_paired_interval_narrower_th
     assert main(["compare", str(runs / "base"), str(runs / tag), "--out", str(out)]) == rc
     c = json.loads(out.read_text())
     assert c["paired"] is True and c["format"] == "rvtol-comparison/1"
+    # numbers resolving the band (30 µm: 1 decimal) with four significant digits (rvtol.precision)
     assert c["spec_changes"] == [{"factor": "a", "change": "changed",
-                                  "old": "normal(μ=0, σ=5) um; band [-15, 15] µm",
-                                  "new": f"normal(μ=0, σ={T / 6:g}) um; band [{-T / 2:g}, {T / 2:g}] µm"}]
+                                  "old": "normal(μ=0.0, σ=5.000) um; band [-15, 15] µm",
+                                  "new": f"normal(μ=0.0, σ={T / 6:.3f}) um; band [{-T / 2:g}, {T / 2:g}] µm"}]
     ch = changes(c)
     for stat in ("std", "P99.865"):
         lo, hi = ch[stat]["ci"]
@@ -139,7 +140,7 @@ def test_junit_of_a_failing_requirement_and_of_a_study_that_checks_nothing(tmp_p
     assert run(tmp_path, study, "f", "--junit", str(tmp_path / "f.xml")) == 1
     case = ET.parse(tmp_path / "f.xml").getroot().find("testsuite/testcase")
     assert case.get("name") == "gap ≤ 6 µm"
-    assert case.find("failure").get("message").startswith("yield lower bound ") and "ppm" in case.find("failure").text
+    assert case.find("failure").get("message").startswith("FAIL: yield lower bound ") and "ppm" in case.find("failure").text
 
     bare = make(tmp_path, "bare", 30.0, gates="")
     bare.write_text(bare.read_text().split("[[requirement]]")[0])

@@ -218,7 +218,7 @@ def test_a_skewed_output_normal_theory_would_pass_still_gets_a_tightening_fix():
     assert required_sigma(r, 1.0, 1.0, y) == pytest.approx(4.5 / (-math.log(0.0027) - 1.0), abs=2e-3)
     d = type("D", (), {"drivers": [Driver("x", 1.0, ["x"])], "change": ""})()
     fixes = first_order_fixes(r, _row(1.0, 1.0), d, None, y)
-    assert [f.kind for f in fixes] == ["tighten"] and "σ from 1 to 0.91" in fixes[0].effect
+    assert [f.kind for f in fixes] == ["tighten"] and "σ from 1.00 to 0.91" in fixes[0].effect
 
 
 def test_a_drawing_tolerance_reads_short_in_a_cell():

@@ -148,9 +148,19 @@ def test_result_plots_and_serialises_like_the_saltelli_one():
 
     matplotlib.use("Agg")
     s = sample(ISH_SPEC, 300, "lhs", 1)
-    res = pce(ISH, ISH_SPEC, s, evaluate_display(ISH, s), seed=1)
-    json.dumps(res.summary())
-    assert res.summary()["validation"][0]["reliable"] in (True, False)
+    Y = evaluate_display(ISH, s)
+    res = pce(ISH, ISH_SPEC, s, Y, seed=1)
+    # the summary through JSON: the Ishigami function (smooth, analytic) is fitted at n = 300 with Q² ≈ 0.9998, above
+    # the default 0.95: reliable, a JSON true; the rule min(Q²_LOO, Q²_hold-out) ≥ min_q2 on its own numbers
+    v = json.loads(json.dumps(res.summary()))["validation"][0]
+    assert v["reliable"] is True and v["min_q2"] == 0.95
+    assert min(v["Q2_loo"], v["Q2_holdout"]) > 0.999
+    # the same fit asked for a Q² it does not reach: not reliable, a JSON false, its indices withheld
+    with pytest.warns(PoorSurrogateWarning):
+        strict = pce(ISH, ISH_SPEC, s, Y, seed=1, min_q2=0.99999, num_resamples=10)
+    w = json.loads(json.dumps(strict.summary()))["validation"][0]
+    assert w["reliable"] is False and w["Q2_loo"] == v["Q2_loo"]
+    assert all(r["S1"] is None for r in json.loads(json.dumps(strict.summary()))["indices"])
     assert res.plot("y") is not None
 
 

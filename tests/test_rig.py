@@ -18,6 +18,17 @@ ROOT = Path(__file__).resolve().parents[1]
 RIG = ROOT / "data/rigs/te_rig_single_head.toml"
 
 
+def graduation_radius(encoder: str) -> float:
+    """The graduation radius (mm) of ``encoder`` as the rig file states it, read here with tomllib (not the rig
+    loader under test): half the stated diameter."""
+    import tomllib
+
+    with open(RIG, "rb") as fh:
+        d = tomllib.load(fh)["rig"][encoder]["graduation_diameter"]
+    assert d["unit"] == "mm"
+    return d["value"] / 2
+
+
 def exact_reading(phi, e, r, head=0.0):
     """The angle a head at ``head`` (radius r) reads on a graduation centred at R(φ)e that turned by φ: the
     graduation mark under the head, arg(head point − centre) in the graduation's own frame, turned back."""
@@ -60,23 +71,25 @@ def test_error_free_reducer_on_the_rig_reads_the_closed_form(rig_model):
     """Error-free reducer (its own TE is a constant wind-up plus a ripple of about 0.001″): the rig reads
     (e_x sin θ + e_y cos θ)/r_out at order 1 and −(e_x sin iθ + e_y cos iθ)/(i r_in) at order i."""
     m = rig_model
-    rig, i = m.rig, m.geometry.ratio
+    i = 81.0                                                   # the RV-80E's ratio
+    r_out, r_in = graduation_radius("output_encoder"), graduation_radius("input_encoder")
+    assert (m.geometry.ratio, r_out, r_in) == (i, 75.0, 26.0)   # ⌀150 and ⌀52 mm
     e_out, e_in = (0.004, -0.0025), (0.003, 0.002)
     res = m.run(dict(zip(INPUTS, (*e_out, *e_in))))
     assert res.ok
     th = res.theta_c
-    want = (e_out[0] * np.sin(th) + e_out[1] * np.cos(th)) / rig.output.radius \
-        - (e_in[0] * np.sin(i * th) + e_in[1] * np.cos(i * th)) / (i * rig.input.radius)
+    want = (e_out[0] * np.sin(th) + e_out[1] * np.cos(th)) / r_out \
+        - (e_in[0] * np.sin(i * th) + e_in[1] * np.cos(i * th)) / (i * r_in)
     extra = units.to_base(res.te_rig - res.te, "arcsec")
     assert np.max(np.abs(extra - want)) < 1e-12
     k, a = order_spectrum(res.te_rig)
-    assert a[1] == pytest.approx(float(units.from_base(math.hypot(*e_out) / rig.output.radius, "arcsec")), rel=1e-6)
-    assert a[int(i)] == pytest.approx(float(units.from_base(math.hypot(*e_in) / (i * rig.input.radius), "arcsec")),
+    assert a[1] == pytest.approx(float(units.from_base(math.hypot(*e_out) / r_out, "arcsec")), rel=1e-6)
+    assert a[int(i)] == pytest.approx(float(units.from_base(math.hypot(*e_in) / (i * r_in), "arcsec")),
                                       rel=1e-3)
     # peak-to-peak: the two sinusoids' sum, its extremes refined, plus the reducer's ripple
     dense = np.linspace(0.0, 2 * np.pi, 200001)
-    sig = (e_out[0] * np.sin(dense) + e_out[1] * np.cos(dense)) / rig.output.radius \
-        - (e_in[0] * np.sin(i * dense) + e_in[1] * np.cos(i * dense)) / (i * rig.input.radius)
+    sig = (e_out[0] * np.sin(dense) + e_out[1] * np.cos(dense)) / r_out \
+        - (e_in[0] * np.sin(i * dense) + e_in[1] * np.cos(i * dense)) / (i * r_in)
     assert res.te_pp < 2e-3
     assert res.te_pp_rig == pytest.approx(float(units.from_base(np.ptp(sig), "arcsec")), abs=res.te_pp + 1e-4)
     y = m.evaluate(np.array([[*e_out, *e_in]]))[0]

@@ -153,6 +153,8 @@ def test_two_runs_never_write_one_folder(study, tmp_path, capsys):
 
 def test_stale_folders_of_killed_runs_are_removed(study, tmp_path):
     out = tmp_path / "out"
+    out.mkdir()   # killed after its last rename: the new folder is in place, the one it replaced is stale
+    (out / "summary.json").write_text('{"format": "rvtol-summary/1"}')
     for stale in (".out.tmp-0123456789ab", ".out.old-0123456789ab", ".out.rvtol-run/chunks"):
         (tmp_path / stale).mkdir(parents=True)
         (tmp_path / stale / "x").write_text("left by a killed run")

@@ -88,18 +88,31 @@ def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modi
 
 
 def test_the_mmc_bonus_pays_for_the_hole_size():
-    """At MMC the margin's worst case does not depend on the hole's size (bonus = H − H_MMC); at RFS it does."""
-    for modifier, expect in (("", 0.2 * 0.5 * 2), (" (M)", 0.0)):
+    """At MMC (⌀0.4 Ⓜ) a hole's zone grows with its departure from MMC: ⌀0.4 + (H − 6.4) (ASME Y14.5-2018 §7.3.3),
+    so with both holes at LMC (6.6) each axis may lie 0.3 from true position and the two axes 0.6 apart; at RFS 0.2
+    and 0.4 whatever the size.  The margin's worst case then does not depend on the hole's size at MMC (the
+    clearance the larger hole gains, ½ per hole per mm, is what its larger zone takes) and at RFS it does: with the
+    holes' clearance at LMC, (6.6 − F) − separation is 0.2 at worst at RFS and still 0 at MMC.  Hand numbers, by
+    the linearised conventions and the true worst case (its corners: these outputs are monotone in each factor)."""
+    separation = "hypot(x1 - x2, y1 - y2)"
+    for modifier, far, lmc_low in (("", 0.4, 0.2), (" (M)", 0.6, 0.0)):
         spec = fastener_spec(modifier)
-        m = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
         x0 = spec.nominal_base()
+        m = FormulaModel.from_spec(spec, {"margin": (MARGIN, "mm")})
         sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0,
                                out_unit="mm", slopes=one_sided_slopes(m, spec, "margin"))
-        f = sc.factors.set_index("factor")
-        # the holes' share of the lower worst case: ½ per hole per mm at RFS; 0 at MMC (½ − ½·1 from the bonus)
         assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-9)
-        assert f.loc["H1", "a"] == pytest.approx(0.5)
-        del expect
+        assert sc.factors.set_index("factor").loc["H1", "a"] == pytest.approx(0.5)
+        # the two axes' largest distance
+        sep = FormulaModel.from_spec(spec, {"sep": (separation, "mm")})
+        assert true_worst_case(sep, spec, "sep", max_evaluations=300).high == pytest.approx(far, abs=1e-9), modifier
+        sc = stack_conventions(spec, sep.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                               slopes=one_sided_slopes(sep, spec, "sep"))
+        assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(far, abs=1e-9), modifier
+        # the margin with the holes' clearance of the LMC size, their zones as the holes' sizes make them
+        lmc = FormulaModel.from_spec(spec, {"m": (f"(H_lmc - F) - {separation} + 0 * (H1 + H2)", "mm")},
+                                     definitions={"H_lmc": ("6.6", "mm")})
+        assert true_worst_case(lmc, spec, "m", max_evaluations=300).low == pytest.approx(lmc_low, abs=1e-9), modifier
 
 
 def test_an_undefined_derivative_is_an_error_not_a_zero():

@@ -1,6 +1,7 @@
 """TE peak-to-peak from the curve's extremes (issue 24): the slope bound of the refinement against closed
 forms, the refined extremes of spec reducers against a dense sweep and a fine local sweep at each extreme,
-the same extremes from coarser sweeps, the model's te_pp, bad input."""
+the same extremes from coarser sweeps, the model's te_pp, bad input, an unresolved search of either extreme
+reported (the extremes' status and the model's row)."""
 from pathlib import Path
 
 import numpy as np
@@ -176,3 +177,51 @@ def test_what_the_refinement_refuses(reducers):
                           solver.tol_f, solver.maxit, solver.maxstep, KAPPA, TOL_TE, 1)
     assert st == L.ST_UNRESOLVED and st in m.status_reasons
     assert MAX_LEVELS >= 40
+
+
+class OneLevelFor:
+    """The transmission kernels with the search of one sign (+1: the smallest TE, −1: the largest) cut to one level
+    of halvings: that search returns the kernel's own ST_UNRESOLVED, the other runs as usual."""
+
+    def __init__(self, sign: float):
+        self.sign = sign
+
+    def __getattr__(self, name):
+        return getattr(K, name)
+
+    def qs_extreme(self, sign, *args):
+        return K.qs_extreme(sign, *args[:-1], 1 if sign == self.sign else args[-1])
+
+    def qs_extreme_curve(self, sign, *args):
+        return K.qs_extreme_curve(sign, *args[:-2], 1 if sign == self.sign else args[-2], args[-1])
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_an_unresolved_search_of_either_extreme_is_reported(reducers, sign):
+    """The smallest and the largest TE are two searches with a status each: either one unresolved makes the
+    extremes not ok, with that status (not the other search's ST_OK) — a peak-to-peak from an unresolved extreme
+    would be a number that looks right."""
+    m, solvers = reducers
+    solver = solvers[0]
+    sweep = solver.rotation(m.load_torque, 12)
+    assert te_extremes(solver, sweep).ok
+    cut = QuasiStaticSolver(m.geometry, solver.errors)
+    cut.kernels = OneLevelFor(sign)
+    ext = te_extremes(cut, sweep)
+    assert ext.status == L.ST_UNRESOLVED and not ext.ok
+    terms = np.array([[1.0, 2e-6, -1e-6]])                      # a rig's measurement chain: the other kernel
+    assert te_extremes(cut, sweep, meas=terms).status == L.ST_UNRESOLVED
+
+
+def test_the_model_does_not_give_a_te_from_an_unresolved_minimum(reducers, monkeypatch):
+    """The model's row with an unresolved search for the smallest TE: NaN outputs and the search's status (a failed
+    evaluation the Monte Carlo counts as such), not a peak-to-peak taken as converged."""
+    m, _ = reducers
+    spec = load_spec(ROOT / "data/specs/rv80e_te.toml")
+    coarse = TransmissionErrorModel(m.geometry, m.inputs, per_crank_rev=12)
+    X = sample(spec, 1, "lhs", 3).values
+    Y, status = coarse.evaluate_with_status(X)
+    assert status[0] == 0 and np.all(np.isfinite(Y[0]))
+    monkeypatch.setattr(QuasiStaticSolver, "kernels", OneLevelFor(1.0))
+    Y, status = coarse.evaluate_with_status(X)
+    assert status[0] == L.ST_UNRESOLVED and np.all(np.isnan(Y[0]))

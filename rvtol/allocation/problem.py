@@ -41,7 +41,7 @@ from ..mc import Evaluator, auto_chunk_size, evaluate, map_chunks
 from ..model import Model
 from ..sampling import apply_copula, to_factors, uniform_design
 from ..spec import Requirement, ToleranceSpec
-from ..verdict import cpk_figures, judge, percentile_cpk_confidence, yield_bound
+from ..verdict import cpk_figures, judge, other_cpk, percentile_cpk_confidence, yield_bound
 from .cost import CostModel
 
 def expand_requirements(reqs: Sequence[Requirement], model: Model) -> list[Requirement]:
@@ -465,6 +465,8 @@ class MonteCarloConstraint:
                                            percentile_cpk_confidence(r))
                            if r.cpk_method == "percentile" and len(good) >= 100 else (None, None))
                     row["cpk"], row["cpk_lo"] = cpk_figures(r, cap, int(ok.sum()), pci)
+                    if cap.get("cpk") is not None:       # the sign-off's non-normal rule (rvtol.verdict.judge)
+                        row["shape"], row["other_cpk"] = other_cpk(r, good, cap, (row["cpk"], row["cpk_lo"]))
                 row["n_failed"] = int((~ok).sum())
                 rows.append(row)
             out.append(rows)
@@ -476,7 +478,8 @@ class MonteCarloConstraint:
             v = 0.0
             for r, mrow in zip(self.problem.requirements, rows):
                 v += judge(r, yield_=mrow.get("yield"), yield_lo=mrow.get("yield_lo"), cpk=mrow.get("cpk"),
-                           cpk_lo=mrow.get("cpk_lo"), n_failed=mrow["n_failed"]).violation
+                           cpk_lo=mrow.get("cpk_lo"), n_failed=mrow["n_failed"], shape=mrow.get("shape"),
+                           other_cpk=mrow.get("other_cpk")).violation
             res.append(v)
         return np.array(res)
 

@@ -11,7 +11,8 @@ a run in memory.  :func:`compare` then gives a :class:`Comparison`:
   (same seed, n, method and factors) the interval is the *paired* one on
   common random numbers, shown beside the unpaired one with the gain (how
   many times narrower) — see :mod:`rvtol.ci.differences`;
-* per requirement the verdict before and after and the change of its
+* per requirement its state before and after (PASS, UNDECIDED, FAIL:
+  :func:`rvtol.verdict.requirement_state`) and the change of its
   non-conforming ppm with its interval;
 * the gates of the new run (:mod:`rvtol.ci.gates`; by default: no requirement
   may get worse) and the comparison's verdict, PASS or FAIL.
@@ -24,6 +25,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,7 +33,9 @@ import numpy as np
 
 from .. import units
 from ..errors import InputError
+from ..precision import shown, summary_scale
 from ..sampling import substream
+from ..verdict import state_of
 from . import differences as df
 from .gates import DEFAULT_GATES, Gate
 
@@ -103,7 +107,7 @@ def load_run(path: str | Path, key: str = "-") -> RunData:
     if not summary_path.exists():
         raise InputError("no such report folder or summary.json" if not p.exists() else
                          "no summary.json in this folder: not an rvtol report", file=str(path), key=key)
-    from ..params import read_text
+    from ..params import TOO_DEEP, note_read, read_text
 
     try:
         summary = json.loads(read_text(summary_path, "a summary.json file")[0])
@@ -111,8 +115,12 @@ def load_run(path: str | Path, key: str = "-") -> RunData:
         raise InputError(f"cannot read summary.json ({exc.reason})", file=str(summary_path), key=key) from None
     except ValueError as exc:
         raise InputError(f"cannot read summary.json ({exc})", file=str(summary_path), key=key) from None
+    except RecursionError:
+        raise InputError(f"cannot read summary.json ({TOO_DEEP})", file=str(summary_path), key=key) from None
     validate_summary(summary, str(summary_path))
     samples = summary_path.parent / "samples.parquet"
+    if samples.exists():
+        note_read(samples)      # read when a comparison pairs the samples: an input all the same
     return RunData(summary, str(path), samples if samples.exists() else None)
 
 
@@ -164,7 +172,7 @@ class Comparison:
     pairing: str
     confidence: float
     spec_changes: list[dict]
-    outputs: dict[str, dict]               # name -> {"unit", "changes": [Change]}
+    outputs: dict[str, dict]               # name -> {"unit", "changes": [Change], "scale": rvtol.precision's}
     requirements: list[dict]
     gates: list[GateResult]
 
@@ -199,11 +207,12 @@ class Comparison:
         for c in self.spec_changes:
             lines.append(f"  spec: {c['factor']} {c['change']}: {c.get('old') or '—'} → {c.get('new') or '—'}")
         pct = f"{100 * self.confidence:g} %"
-        for name, o in self.outputs.items():
+        for name, o in self.outputs.items():       # in the output's unit: the decimals resolve its band
+            s = o.get("scale")
             for c in o["changes"]:
-                gain = f", {c.gain:.3g}× narrower than unpaired {_ci(c.unpaired_ci)}" if c.gain else ""
-                lines.append(f"  {name} {c.statistic}: {_g(c.base)} → {_g(c.new)} {units.label(o['unit'])}, "
-                             f"change {_g(c.change)} [{pct}: {_ci(c.ci)}]{gain}")
+                gain = f", {c.gain:.3g}× narrower than unpaired {_ci(c.unpaired_ci, s)}" if c.gain else ""
+                lines.append(f"  {name} {c.statistic}: {_g(c.base, s)} → {_g(c.new, s)} {units.label(o['unit'])}, "
+                             f"change {_g(c.change, s)} [{pct}: {_ci(c.ci, s)}]{gain}")
         for r in self.requirements:
             lines.append(f"  requirement {r['requirement']}: {r['base_verdict']} → {r['new_verdict']}, ppm "
                          f"{_g(r['ppm']['base'])} → {_g(r['ppm']['new'])} (change {_g(r['ppm']['change'])} "
@@ -214,14 +223,15 @@ class Comparison:
         return "\n".join(lines)
 
 
-def _g(v) -> str:
-    return "—" if v is None else f"{v:.4g}"
+def _g(v, scale: float | None = None) -> str:
+    """A number: with ``scale``, the decimals that resolve it (:func:`rvtol.precision.shown`), else 4 digits."""
+    return shown(v, scale)
 
 
-def _ci(ci) -> str:
+def _ci(ci, scale: float | None = None) -> str:
     if not ci or None in ci:
         return "—"
-    return f"{ci[0]:.4g}, {ci[1]:.4g}"
+    return f"{_g(ci[0], scale)}, {_g(ci[1], scale)}"
 
 
 def _clean(obj):
@@ -260,7 +270,7 @@ def compare(base: RunData, new: RunData, seed: int | None = None, gates: list[Ga
             wanted[g.output].append(g.statistic)
     for j, (name, stats_) in enumerate(wanted.items()):
         unit = ns["outputs"][name]["unit"]
-        cmp.outputs[name] = {"unit": unit, "changes": [
+        cmp.outputs[name] = {"unit": unit, "scale": summary_scale(ns["outputs"][name]), "changes": [
             _change(base, new, name, unit, s, paired, conf, substream(seed, "compare_bootstrap", j, k))
             for k, s in enumerate(stats_)]}
     cmp.requirements = _requirement_changes(base, new, paired, conf)
@@ -305,12 +315,24 @@ def spec_changes(bs: dict, ns: dict) -> list[dict]:
             out.append({"factor": name, "change": "added", "old": None, "new": text(b)})
         elif b is None:
             out.append({"factor": name, "change": "removed", "old": text(a), "new": None})
-        elif (a["unit"] != b["unit"] or a["distribution"] != b["distribution"]
+        elif (a["unit"] != b["unit"] or not _same_description(a["distribution"], b["distribution"])
               or not np.allclose(a["band"], b["band"], rtol=1e-12, atol=0)
               or not np.isclose(a["mean"], b["mean"], rtol=1e-12, atol=0)
               or not np.isclose(a["std"], b["std"], rtol=1e-12, atol=0)):
             out.append({"factor": name, "change": "changed", "old": text(a), "new": text(b)})
     return out
+
+
+#: a number in a factor's description (summary.json's ``distribution``)
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _same_description(a: str, b: str) -> bool:
+    """Two descriptions of one distribution: the same words, the same numbers to the four significant digits every
+    rvtol version shows at least (one wrote ``μ=42``, a later one resolves the band: ``μ=42.000``)."""
+    na, nb = _NUMBER.findall(a), _NUMBER.findall(b)
+    return (_NUMBER.sub("#", a) == _NUMBER.sub("#", b) and len(na) == len(nb)
+            and all(math.isclose(float(x), float(y), rel_tol=1e-3, abs_tol=0) for x, y in zip(na, nb)))
 
 
 def _arrays(base: RunData, new: RunData, name: str, unit: str, paired: bool):
@@ -420,7 +442,7 @@ def _flags(ppm: float | None, n: int) -> np.ndarray:
 
 
 def _v(r: dict | None) -> str:
-    return "—" if r is None else ("PASS" if r["passed"] else "FAIL")
+    return "—" if r is None else state_of(r)
 
 
 def _judge_gate(g: Gate, cmp: Comparison) -> GateResult:
@@ -430,8 +452,8 @@ def _judge_gate(g: Gate, cmp: Comparison) -> GateResult:
             label, ppm = r["requirement"], r["ppm"]
             if r["base_verdict"] != "—" and r["new_verdict"] == "—":
                 res.reasons.append(f"requirement {label!r} of the baseline is gone")
-            elif r["base_verdict"] == "PASS" and r["new_verdict"] == "FAIL":
-                res.reasons.append(f"{label}: PASS → FAIL")
+            elif r["base_verdict"] == "PASS" and r["new_verdict"] != "PASS":
+                res.reasons.append(f"{label}: PASS → {r['new_verdict']}")
             elif ppm["ci"][0] is not None and ppm["ci"][0] > g.max_ppm_increase:
                 res.reasons.append(f"{label}: non-conforming ppm rose by {ppm['change']:.4g} "
                                    f"[{ppm['ci'][0]:.4g}, {ppm['ci'][1]:.4g}]"
@@ -448,16 +470,17 @@ def _judge_gate(g: Gate, cmp: Comparison) -> GateResult:
     if c is None or c.change is None:
         return GateResult(g, False, [f"{g.statistic} of {g.output} is not in both runs"])
     lo, hi = (c.change, c.change) if g.basis == "estimate" else c.ci
-    fig = (f"{g.statistic} of {g.output}: {_g(c.base)} → {_g(c.new)} {units.label(g.unit)}, change {_g(c.change)} "
-           f"[{_ci(c.ci)}]")
+    s = out.get("scale")
+    fig = (f"{g.statistic} of {g.output}: {_g(c.base, s)} → {_g(c.new, s)} {units.label(g.unit)}, change "
+           f"{_g(c.change, s)} [{_ci(c.ci, s)}]")
     reasons = []
     if lo is None or hi is None:
         reasons.append(f"the change of {g.statistic} has no confidence interval (too few samples in the tail)")
     else:
         what = "the change" if g.basis == "estimate" else "the upper end of the change's interval"
         if g.max_increase is not None and hi > g.max_increase:
-            reasons.append(f"{what} {hi:.4g} {units.label(g.unit)} exceeds the allowed increase {g.max_increase:g}")
+            reasons.append(f"{what} {_g(hi, s)} {units.label(g.unit)} exceeds the allowed increase {g.max_increase:g}")
         what = "the change" if g.basis == "estimate" else "the lower end of the change's interval"
         if g.max_decrease is not None and lo < -g.max_decrease:
-            reasons.append(f"{what} {lo:.4g} {units.label(g.unit)} exceeds the allowed decrease {g.max_decrease:g}")
+            reasons.append(f"{what} {_g(lo, s)} {units.label(g.unit)} exceeds the allowed decrease {g.max_decrease:g}")
     return GateResult(g, not reasons, reasons, [fig])

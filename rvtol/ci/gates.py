@@ -71,8 +71,8 @@ def read_gates(tables: list[Params], model) -> list[Gate]:
         kind = t.str("kind", choices=KINDS)
         if kind == "requirements":
             ppm = t.float("max_ppm_increase", 0.0, nonnegative=True)
-            name = t.str("name", "no requirement may get worse"
-                         + (f" (beyond {ppm:g} ppm)" if ppm else ""))
+            name = t.str("name", "no requirement may get worse" + (f" (beyond {ppm:g} ppm)" if ppm else ""),
+                         single_line=True)
             t.finish()
             out.append(Gate("requirements", name, max_ppm_increase=ppm))
             continue
@@ -96,7 +96,7 @@ def read_gates(tables: list[Params], model) -> list[Gate]:
         limits = " and ".join(x for x in (f"grow by more than {inc:g} {units.label(unit)}" if inc is not None else "",
                                           f"fall by more than {dec:g} {units.label(unit)}" if dec is not None else "")
                               if x)
-        name = t.str("name", f"{stat} of {output} may not {limits}")
+        name = t.str("name", f"{stat} of {output} may not {limits}", single_line=True)
         t.finish()
         out.append(Gate("output", name, output, stat, conv(inc), conv(dec), shown, basis))
     return out

@@ -1,8 +1,10 @@
 """JUnit XML of a run (and of its baseline comparison): what CI systems show as test results.
 
 One test suite per run, one test case per requirement (``classname`` ``rvtol.<study>.requirements``)
-and per gate (``rvtol.<study>.gates``); a requirement or gate that fails is a ``<failure>`` whose
-``message`` is the first reason and whose text holds every reason and figure.  A run that checks no
+and per gate (``rvtol.<study>.gates``); a requirement that is not demonstrated — its state UNDECIDED or
+FAIL (:func:`rvtol.verdict.requirement_state`) — or a gate that fails is a ``<failure>`` whose ``message``
+is the state and the first reason and whose text holds the state, every reason and figure (a requirement
+that passes: PASS and its figures as the case's output).  A run that checks no
 requirement has one failing test case saying so (NO REQUIREMENTS), or a skipped one when the study is
 exploratory: a CI dashboard never shows "0 tests, all green" for a study that proved nothing.
 """
@@ -10,6 +12,9 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from pathlib import Path
+
+from ..safetext import visible
+from ..verdict import state_of
 
 
 def _fmt(v, f=".5g") -> str:
@@ -62,9 +67,11 @@ def junit_tree(summary: dict, comparison=None) -> ET.ElementTree:
         return c
 
     reqs = [r for o in summary["outputs"].values() for r in o.get("requirements", [])]
-    for r in reqs:
-        text = requirement_figures(r)
-        case("requirements", r["requirement"], None if r["passed"] else (r["reasons"] or ["fails"])[0], text)
+    for r in reqs:      # its state (PASS, UNDECIDED, FAIL) first: the word every output gives it
+        state = state_of(r)
+        text = f"{state}\n{requirement_figures(r)}"
+        case("requirements", r["requirement"], None if r["passed"] else f"{state}: {(r['reasons'] or ['fails'])[0]}",
+             text)
     if not reqs:
         if summary.get("verdict") == "EXPLORATORY":
             case("requirements", "requirements", skip="exploratory study: it checks no requirement by design")
@@ -82,6 +89,10 @@ def junit_tree(summary: dict, comparison=None) -> ET.ElementTree:
     root = ET.Element("testsuites", name="rvtol", tests=str(cases), failures=str(failures), errors="0",
                       skipped=str(skipped))
     root.append(suite)
+    for e in root.iter():       # XML 1.0 holds no control character: each shown as its escape (rvtol.safetext)
+        e.attrib.update({k: visible(v) for k, v in e.attrib.items()})
+        if e.text:
+            e.text = visible(e.text)
     ET.indent(root)
     return ET.ElementTree(root)
 

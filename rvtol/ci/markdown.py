@@ -6,31 +6,42 @@ the same text is appended there and shows on the run's page.
 from __future__ import annotations
 
 import html
+from functools import partial
 
 from .. import units
+from ..precision import shown
+from ..safetext import visible
+from ..verdict import state_of
 
-_ICON = {"PASS": "✅", "FAIL": "❌", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
+_ICON = {"PASS": "✅", "FAIL": "❌", "UNDECIDED": "🟡", "NO REQUIREMENTS": "⚠️", "EXPLORATORY": "ℹ️"}
 
 
 def _f(v, fmt: str = ".4g") -> str:
     return "—" if v is None else format(v, fmt)
 
 
-def _ci(ci, fmt: str = ".4g") -> str:
+def _ci(ci, fmt=".4g") -> str:
+    """``[lo, hi]``; ``fmt`` a format spec or a function of the number."""
     if not ci or None in ci:
         return "—"
-    return f"[{format(ci[0], fmt)}, {format(ci[1], fmt)}]"
+    form = fmt if callable(fmt) else (lambda v: format(v, fmt))
+    return f"[{form(ci[0])}, {form(ci[1])}]"
 
 
 def _cell(s: str) -> str:
     """Text from the study (names, titles, reasons) in a Markdown table or heading: raw HTML escaped (a
     ``<script>`` in a requirement's name shows as text), pipes escaped, one line."""
-    return html.escape(str(s), quote=False).replace("|", "\\|").replace("\n", " ")
+    return html.escape(visible(str(s)), quote=False).replace("|", "\\|").replace("\n", " ")
+
+
+def _state(word: str) -> str:
+    """A requirement's or a gate's state with its icon."""
+    return f"{_ICON[word]} {word}"
 
 
 def _code(s) -> str:
     """Text in a code span: backticks cannot close it early."""
-    return "`" + str(s).replace("`", "'") + "`"
+    return "`" + visible(str(s)).replace("`", "'") + "`"
 
 
 def _table(head: list[str], rows: list[list]) -> list[str]:
@@ -61,7 +72,7 @@ def render_markdown(summary: dict, comparison=None) -> str:
                          f"{_f(r['cpk'], '.3f')} (bound {_f(r.get('cpk_bound'), '.3f')})" if r.get("cpk") is not None
                          else "—",
                          f"{r['n_to_demonstrate']:,}" if r.get("n_to_demonstrate") else "",
-                         ("✅ PASS" if r["passed"] else "❌ FAIL") + ("" if r["passed"] else f" — {r['reasons'][0]}")])
+                         _state(state_of(r)) + ("" if r["passed"] else f" — {r['reasons'][0]}")])
         lines += _table(["requirement", "needs", "judged on (lower bound)", "yield [two-sided CI]", "yield bound",
                          "ppm", "Cpk", "n to demonstrate", "result"], rows)
         if any(r.get("min_yield_default") for r in reqs):
@@ -89,10 +100,11 @@ def comparison_markdown(c) -> list[str]:
     else:
         lines += ["No change of the tolerance spec.", ""]
     rows = []
-    for name, o in c.outputs.items():
+    for name, o in c.outputs.items():       # in the output's unit: the decimals resolve its band (rvtol.precision)
+        num = partial(shown, scale=o.get("scale"))
         for ch in o["changes"]:
-            rows.append([name, ch.statistic, f"{_f(ch.base)} → {_f(ch.new)} {units.label(o['unit'])}", _f(ch.change),
-                         _ci(ch.ci), _ci(ch.unpaired_ci) if ch.unpaired_ci else "—",
+            rows.append([name, ch.statistic, f"{num(ch.base)} → {num(ch.new)} {units.label(o['unit'])}",
+                         num(ch.change), _ci(ch.ci, num), _ci(ch.unpaired_ci, num) if ch.unpaired_ci else "—",
                          f"{ch.gain:.3g}×" if ch.gain else "—"])
     if rows:
         lines += _table(["output", "statistic", "baseline → new", "change", f"{pct} interval",
@@ -105,6 +117,6 @@ def comparison_markdown(c) -> list[str]:
                           f"{_f(r['ppm']['change'], '.4g')} {_ci(r['ppm']['ci'])}"] for r in c.requirements])
         lines.append("")
     lines += _table(["gate", "result", "why"],
-                    [[g.gate.name, "✅ PASS" if g.passed else "❌ FAIL", "; ".join(g.reasons or g.figures)]
+                    [[g.gate.name, _state("PASS" if g.passed else "FAIL"), "; ".join(g.reasons or g.figures)]
                      for g in c.gates])
     return lines

@@ -253,9 +253,11 @@ class EmpiricalDistribution(_DataDistribution):
         return EmpiricalDistribution(self._scaled_data(f), self.interpolate, self.gauge_fraction,
                                      f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
         how = "interpolated" if self.interpolate else "resampled"
-        return f"empirical({how}, n={self.n}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+        return f"empirical({how}, n={self.n}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def _interp_moments(x: np.ndarray, p: np.ndarray) -> tuple[float, float]:
@@ -387,8 +389,10 @@ class KDEDistribution(_DataDistribution):
         return KDEDistribution(self._scaled_data(f), self.bandwidth * f, self.gauge_fraction,
                                f"{self.origin} ×{f:.4g}" if self.origin else "")
 
-    def describe(self, unit: str = "") -> str:
-        return f"kde(n={self.n}, h={self.bandwidth:.4g}, x̄={self.mean:.4g}, s={self.std:.4g}) {unit}".strip()
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats the quantities in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = number or (lambda x: f"{x:.4g}")
+        return f"kde(n={self.n}, h={g(self.bandwidth)}, x̄={g(self.mean)}, s={g(self.std)}) {unit}".strip()
 
 
 def kde(values, *, bandwidth: str | float = "scott", measurement_sigma: float | None = None,
@@ -476,8 +480,10 @@ class FrozenDistribution:
         kw["scale"] = kw.get("scale", 1.0) * f
         return FrozenDistribution(self.kind, d.dist(*d.args, **kw), self.one_sided, self.origin)
 
-    def describe(self, unit: str = "") -> str:
-        ps = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
+    def describe(self, unit: str = "", number=None) -> str:
+        """``number`` formats loc and scale, in the unit (:meth:`rvtol.distributions.Distribution.describe`)."""
+        g = lambda x: f"{x:.4g}"  # noqa: E731
+        ps = ", ".join(f"{k}={(number or g)(v) if k in ('loc', 'scale') else g(v)}" for k, v in self.params)
         return f"{self.kind}({ps}) {unit}".strip()
 
 
@@ -611,6 +617,29 @@ def _shape_names(dist) -> list[str]:
     return [s.strip() for s in dist.shapes.split(",")] if dist.shapes else []
 
 
+def fit_family(x: np.ndarray, family: str, location: float | None = 0.0, start: dict | None = None) -> tuple[dict, int]:
+    """``(parameters, k)``: the maximum-likelihood parameters of one family (scipy's names: shape(s), loc, scale;
+    ``scipy.stats`` ``fit``) and the number fitted — a positive family's location fixed at ``location`` unless it
+    is None; ``start``: starting values for the optimiser (e.g. an earlier fit's parameters).  An
+    :class:`InputError` says why the family cannot be fitted."""
+    dist, positive = FAMILIES[family]
+    fixed = {}
+    if positive and location is not None:
+        if not np.all(x > location):
+            raise InputError(f"needs every value above its location {location:g}")
+        fixed["floc"] = float(location)
+    names = _shape_names(dist) + ["loc", "scale"]
+    guess = {} if start is None else {k: v for k, v in start.items() if k in ("loc", "scale") and f"f{k}" not in fixed}
+    shapes = () if start is None else tuple(start[k] for k in names[:-2])
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        try:
+            est = dist.fit(x, *shapes, **guess, **fixed)
+        except Exception as exc:   # an optimiser failure: said so
+            raise InputError(f"fit failed ({type(exc).__name__}: {exc})") from None
+    return {k: float(v) for k, v in zip(names, est)}, len(names) - len(fixed)
+
+
 def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
         measurement_sigma: float | None = None, gof: str | None = "best", n_mc: int = 499,
         seed: int = 0, origin: str = "") -> FitReport:
@@ -631,29 +660,18 @@ def fit(values, *, families=DEFAULT_FAMILIES, location: float | None = 0.0,
     for name in fams:
         if name not in FAMILIES:
             raise InputError(f"unknown family {name!r} (known: {', '.join(FAMILIES)})")
-        dist, positive = FAMILIES[name]
-        fixed = {}
-        if positive and location is not None:
-            if not np.all(x > location):
-                skipped[name] = f"needs every value above its location {location:g}"
-                continue
-            fixed["floc"] = float(location)
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore")
-            try:
-                est = dist.fit(x, **fixed)
-            except Exception as exc:   # an optimiser failure is a skipped candidate, said so
-                skipped[name] = f"fit failed ({type(exc).__name__}: {exc})"
-                continue
-        names = _shape_names(dist) + ["loc", "scale"]
-        params = {k: float(v) for k, v in zip(names, est)}
+        dist, _ = FAMILIES[name]
+        try:
+            params, k = fit_family(x, name, location)
+        except InputError as exc:   # a family that cannot be fitted is a skipped candidate, said so
+            skipped[name] = exc.reason
+            continue
         frozen = dist(**params)
         with np.errstate(all="ignore"):
             ll = float(np.sum(frozen.logpdf(x)))
         if not math.isfinite(ll):
             skipped[name] = "the fitted density is zero at some values"
             continue
-        k = len(names) - len(fixed)
         ks = stats.kstest(x, frozen.cdf)
         cands.append(Candidate(name, params, k, ll, 2 * k - 2 * ll, float(ks.statistic), float(ks.pvalue)))
     if not cands:

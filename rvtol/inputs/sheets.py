@@ -29,6 +29,7 @@ from typing import Iterator
 
 from ..params import decode_text, read_bytes
 from ..errors import InputError, SpecError
+from ..safetext import FORMULA_START, formula_like  # noqa: F401  (what a spreadsheet runs: one definition, for both)
 
 #: table formats rvtol reads and writes
 READ_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xlsm")
@@ -678,19 +679,6 @@ def check_suffix(path: str | Path, what: str = "table") -> Path:
     return path
 
 
-#: the first characters that make a spreadsheet read a cell as a formula (OWASP: CSV injection)
-FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
-#: signed numbers, deviations and limits as rvtol writes them (+0.1/-0.05, -0.5, -0.1..0.2, a "+"/"-" direction): no
-#: function call in them, and they must read back as written
-_SIGNED = re.compile(r"[+-](?:\d*\.?\d+(?:/[+-]?\d*\.?\d+|\.\.[+-]?\d*\.?\d+)?)?")
-
-
-def formula_like(v) -> bool:
-    """Whether a spreadsheet would run text as a formula: it starts with ``=``, ``@``, a tab or a carriage return,
-    or with ``+``/``-`` and is not a signed number or deviation (:data:`_SIGNED`)."""
-    return isinstance(v, str) and v.startswith(FORMULA_START) and not _SIGNED.fullmatch(v)
-
-
 def write_rows(path: str | Path, rows: list[list], *, sheet: str = "Sheet1", header_row: int | None = None,
                text_columns: tuple[int, ...] = (), widths: tuple[float, ...] = (), number=str,
                shown: str | None = None) -> Path:
@@ -745,17 +733,36 @@ def write_rows(path: str | Path, rows: list[list], *, sheet: str = "Sheet1", hea
 
 
 def write_frames(path: str | Path, frames: dict[str, "object"], *, index: bool = False) -> Path:
-    """pandas DataFrames as a table file: XLSX one sheet per frame; CSV/TSV the one frame (only one allowed)."""
+    """pandas DataFrames as a table file: XLSX one sheet per frame; CSV/TSV the one frame (only one allowed).  Text
+    is written as text, never as a formula, and control characters as their escapes (:mod:`rvtol.safetext`)."""
+    from ..safetext import csv_text, xlsx_as_text, xlsx_text
+
     path = check_suffix(path)
     if path.suffix.lower() == ".xlsx":
         import pandas as pd
 
         with pd.ExcelWriter(path, engine="openpyxl") as xw:
             for name, df in frames.items():
-                df.to_excel(xw, sheet_name=name[:31], index=index)
+                df, text = _text_cells(df.reset_index() if index else df, xlsx_text)
+                df.to_excel(xw, sheet_name=name[:31], index=False)
+                xlsx_as_text(xw.sheets[name[:31]], [c + 1 for c in text])
         return path
     if len(frames) != 1:
         raise ValueError("a CSV file holds one table")
     (df,) = frames.values()
-    df.to_csv(path, index=index, encoding="utf-8-sig", sep="\t" if path.suffix.lower() == ".tsv" else ",")
+    df, _ = _text_cells(df.reset_index() if index else df, csv_text)
+    df.to_csv(path, index=False, encoding="utf-8-sig", sep="\t" if path.suffix.lower() == ".tsv" else ",")
     return path
+
+
+def _text_cells(df, clean):
+    """``df`` with ``clean`` applied to its column names and its text cells, and the positions of its text columns."""
+    from pandas.api.types import is_object_dtype, is_string_dtype
+
+    text = [i for i, t in enumerate(df.dtypes) if is_object_dtype(t) or is_string_dtype(t)]
+    df = df.rename(columns=lambda c: clean(str(c)))
+    if text:
+        df = df.copy()
+        for i in text:
+            df.iloc[:, i] = df.iloc[:, i].map(lambda v: clean(v) if isinstance(v, str) else v)
+    return df, text

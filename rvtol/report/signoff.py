@@ -11,12 +11,11 @@ import re
 import pandas as pd
 
 from ..callouts import short_label
-from ..signoff import FIX_KINDS, LIGHTS
+from ..precision import output_scale, shown
+from ..signoff import FIX_KINDS
 from ..units import label
 from ..blocks import Links, Section
-
-#: the word in a requirement's light cell (the renderer colours ``● WORD``)
-LIGHT_WORD = {"green": "PASS", "amber": "UNDECIDED", "red": "FAIL"}
+from ..verdict import FAIL, PASS, REQUIREMENT_STATES, STATE_UNDECIDED
 #: a driver below this first-order share is not listed (it would read as 0 %)
 MIN_SHARE = 0.005
 #: drivers listed per requirement on the first page (summary.json holds the digest's three)
@@ -38,36 +37,39 @@ def signoff_section(result) -> Section:
         sec.add_text("This study states no requirements: nothing is signed off.")
         return sec
     reqs = {v.requirement.label: v.requirement for v in result.mc.verdicts()}
-    counts = {k: sum(d.light == k for d in digests) for k in LIGHTS}
-    head = (f"FAIL — {len(digests) - counts['green']} of {len(digests)} requirements are not demonstrated at their "
-            "stated confidence" if counts["green"] < len(digests) else
+    counts = {k: sum(d.state == k for d in digests) for k in REQUIREMENT_STATES}
+    head = (f"FAIL — {len(digests) - counts[PASS]} of {len(digests)} requirements are not demonstrated at their "
+            "stated confidence" if counts[PASS] < len(digests) else
             f"PASS — all {len(digests)} requirements are demonstrated at their stated confidence")
-    sec.add_text(head + f" ({counts['green']} PASS, {counts['amber']} UNDECIDED, {counts['red']} FAIL). "
-                 + " ".join(f"{LIGHT_WORD[k]}: {v}." for k, v in LIGHTS.items()))
+    sec.add_text(head + f" ({counts[PASS]} PASS, {counts[STATE_UNDECIDED]} UNDECIDED, {counts[FAIL]} FAIL). "
+                 + " ".join(f"{k}: {v}." for k, v in REQUIREMENT_STATES.items()))
     rows, staged = [], any(d.model for d in digests)
     cpk_asked = any(reqs[d.label].min_cpk is not None for d in digests)
+    stt = result.mc.statistics()
     for d in digests:
         r = reqs[d.label]
+        scale = output_scale([(r.lower, r.upper)], stt.loc[d.output].get("std"))   # the decimals resolve its band
         needs = " and ".join(x for x in (f"yield ≥ {r.min_yield:g}" if r.min_yield is not None else "",
                                          f"Cpk ≥ {r.min_cpk:g}" if r.min_cpk is not None else "") if x)
-        row = {"": f"● {LIGHT_WORD[d.light]}", "requirement": short_label(d.label, 90)}
+        row = {"": f"● {d.state}", "requirement": short_label(d.label, 90)}
         if staged:
             row["model"] = d.model or "—"
         row.update({"needs": needs, "yield": _num(d.yield_, "{:.5f}"), "yield bound": _num(d.yield_lo, "{:.5f}"),
                     "Cpk": _num(d.cpk, "{:.2f}")})
         if cpk_asked:
             row["Cpk bound"] = _num(d.cpk_lo, "{:.2f}")
-        row.update({"mean": _num(d.mean), "P0.135 … P99.865": f"{_num(d.p00135)} … {_num(d.p99865)}",
+        row.update({"mean": shown(d.mean, scale), "P0.135 … P99.865": f"{shown(d.p00135, scale)} … "
+                                                                       f"{shown(d.p99865, scale)}",
                     "unit": label(d.unit)})
         rows.append(row)
     sec.add_table(pd.DataFrame(rows), caption="Every requirement (its full name, intervals and reasons in the "
                                               "requirements section): the bound — one-sided, at the requirement's "
                                               "confidence — is what is judged against what it needs", text=True)
     drows = []
-    watched = [d for d in digests if d.light != "green"] or digests    # the failures' drivers; all when all pass
+    watched = [d for d in digests if d.state != PASS] or digests    # the failures' drivers; all when all pass
     for d in watched:
-        shown = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
-        for drv in shown:
+        listed = [x for x in d.drivers if x.s1 >= MIN_SHARE and x.significant][:FIRST_PAGE_DRIVERS]
+        for drv in listed:
             drows.append({"requirement": d.label, "drawing tolerance": short_label(drv.tolerance),
                           "share of variance (S1)": f"{100 * drv.s1:.0f} %",
                           "factors": ", ".join(drv.factors[:2]) + (f" (+{len(drv.factors) - 2})"
@@ -95,7 +97,7 @@ def _fixes(sec: Section, result, digests) -> None:
     extra = [f for s in result.sections for f in s.fixes]
     rows, sources = [], []
     for d in digests:
-        if d.light == "green":
+        if d.state == PASS:
             continue
         fixes = [f for f in extra if f.requirement == d.label] + list(d.fixes)
         for kind in FIX_KINDS:

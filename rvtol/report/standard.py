@@ -1,9 +1,12 @@
 """The sections every study report has: verdict, inputs, results, convergence, failures."""
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
+from ..precision import requirements_scale, shown
 from ..units import label
 from ..blocks import RunTable, Section, Table
 
@@ -17,12 +20,14 @@ def correlated_pairs(names, corr) -> pd.DataFrame:
 
 
 def _fmt_ci(v, lo, hi, fmt="{:.4g}") -> str:
+    """``v [lo, hi]``; ``fmt`` a format string or a function (:func:`rvtol.precision.shown` with a scale)."""
     if v is None or (isinstance(v, float) and not np.isfinite(v)):
         return "—"
-    s = fmt.format(v)
+    form = fmt if callable(fmt) else fmt.format
+    s = form(v)
     if lo is None and hi is None:
         return s
-    f = lambda x: "…" if x is None or not np.isfinite(x) else fmt.format(x)  # noqa: E731
+    f = lambda x: "…" if x is None or not np.isfinite(x) else form(x)  # noqa: E731
     return f"{s} [{f(lo)}, {f(hi)}]"
 
 
@@ -63,14 +68,18 @@ def verdict_section(result) -> Section:
             "Cpk [CI]": _fmt_ci(c["cpk"], c["cpk_lo"], c["cpk_hi"], "{:.3f}"),
             "Cpk bound": _fmt_ci(v.cpk_bound, None, None, "{:.3f}"),
             "Cpk percentile [CI]": _fmt_ci(c["cpk_percentile"], *v.cpk_percentile_ci, "{:.3f}"),
-            "result": "PASS" if v.passed else "FAIL",
+            "result": v.state,
             "n to demonstrate": f"{v.n_to_demonstrate:,}" if v.n_to_demonstrate else "",
             "why": "; ".join(v.reasons),
+            "notes": "; ".join(v.notes),
         })
     methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
                       for v in verdicts})
     sec.add_text(policy_text([v.requirement for v in verdicts]))
-    sec.add_table(pd.DataFrame(rows), caption=f"Requirements: intervals [in brackets] two-sided at {mc.confidence:.0%};"
+    frame = pd.DataFrame(rows)
+    if not any(v.notes for v in verdicts):
+        frame = frame.drop(columns="notes")
+    sec.add_table(frame, caption=f"Requirements: intervals [in brackets] two-sided at {mc.confidence:.0%};"
                   f" the bound column is what is judged (yield: {' / '.join(methods)}; Cpk: Bissell; percentile "
                   "Cpk: ISO 22514-2 with bootstrap CI)")
     return sec
@@ -103,6 +112,8 @@ def inputs_section(result) -> Section:
     sec.blocks.append(RunTable())      # the run's timings: they end with the run, so the renderer fills them in
     fac = st.spec.to_frame()
     fac["unit"] = [label(u) for u in fac["unit"]]
+    for col in ("nominal", "mean", "std", "tolerance T"):       # each factor's numbers resolve its band
+        fac[col] = [f.shown(v) if v is not None else "—" for f, v in zip(st.spec.factors, fac[col])]
     fac.insert(list(fac.columns).index("tolerance T") + 1, "band (worst case)",
                [f"{f.band[0]:.6g} … {f.band[1]:.6g}" + (" (drawing)" if f.limits is not None else "")
                 for f in st.spec.factors])
@@ -182,23 +193,24 @@ def results_section(result) -> Section:
         if r.get("n", 0) == 0:
             rows.append({"output": name, "unit": label(r["unit"]), "n": 0, "failed": r["failed"]})
             continue
+        num = partial(shown, scale=requirements_scale(mc.requirements, name, r["std"]))   # resolves its band
         rows.append({
             "output": name, "unit": label(r["unit"]), "n": int(r["n"]), "failed": int(r["failed"]),
-            "mean [CI]": _fmt_ci(r["mean"], r["mean_lo"], r["mean_hi"]),
-            "std [CI]": _fmt_ci(r["std"], r["std_lo"], r["std_hi"]),
-            "min": f"{r['min']:.4g}", "max": f"{r['max']:.4g}",
-            "P0.135 [CI]": _fmt_ci(r["P0.135"], r["P0.135_lo"], r["P0.135_hi"]),
-            "median": f"{r['P50']:.4g}",
-            "P99.865 [CI]": _fmt_ci(r["P99.865"], r["P99.865_lo"], r["P99.865_hi"]),
+            "mean [CI]": _fmt_ci(r["mean"], r["mean_lo"], r["mean_hi"], num),
+            "std [CI]": _fmt_ci(r["std"], r["std_lo"], r["std_hi"], num),
+            "min": num(r["min"]), "max": num(r["max"]),
+            "P0.135 [CI]": _fmt_ci(r["P0.135"], r["P0.135_lo"], r["P0.135_hi"], num),
+            "median": num(r["P50"]),
+            "P99.865 [CI]": _fmt_ci(r["P99.865"], r["P99.865_lo"], r["P99.865_hi"], num),
         })
     sec.add_table(pd.DataFrame(rows), caption=f"Statistics per output with {mc.confidence:.0%} confidence "
                   "intervals (mean: t; std: χ²; percentiles: order statistics, '…' = too few samples)")
     req_outputs = [r.output for r in mc.requirements]
-    shown = list(dict.fromkeys(req_outputs + [q.name for q in mc.outputs]))[:8]
-    for name in shown:
+    plotted = list(dict.fromkeys(req_outputs + [q.name for q in mc.outputs]))[:8]
+    for name in plotted:
         sec.add_figure(histogram(mc, name), caption=f"{name}: distribution, spec limits, fitted normal",
                        width="80%")
-    for name in (list(dict.fromkeys(req_outputs)) or shown[:1])[:4]:
+    for name in (list(dict.fromkeys(req_outputs)) or plotted[:1])[:4]:
         sec.add_figure(convergence(mc, name), caption=f"{name}: convergence of the mean and yield with n",
                        width="80%")
     return sec

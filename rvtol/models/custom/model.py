@@ -49,6 +49,10 @@ def resolve(reference: str, path: Path | None = None):
                          + ("" if path is not None else "; is it installed, or give 'path' to its folder?")) from None
     except (Exception, SystemExit) as exc:  # raised (or sys.exit) while the module's own code runs
         raise ModelCodeError(f"module {mod!r} {describe_exception(exc)} while imported", key="factory") from None
+    if getattr(m, "__file__", None):
+        from ...params import note_read
+
+        note_read(m.__file__)   # the model's own file: an input of the run, which no output may replace
     obj = m
     for part in attr.split("."):
         try:

@@ -1,0 +1,231 @@
+"""Declarative options (rvtol.options): each rule accepts what it should and refuses the rest with the key located.
+
+Every rule of the module's table is exercised at its bound (accepted) and one step beyond it (refused): choices
+and ``Literal``, ``min``/``max`` (inclusive), ``positive``, ``nonnegative``, ``power_of_two``, ``even``,
+``zero_or_min``, ``min_length`` on every list type, ``unit``, ``names`` and ``"all"``; a sub-table absent, ``true``,
+``false`` and with a bad key.  The expected values are typed here (a fake study holds the names)."""
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Literal
+
+import pytest
+
+from rvtol.errors import InputError
+from rvtol.options import REQUIRED, describe, option, read_options
+from rvtol.params import Params
+
+OUTPUTS = ("gap", "play", "tilt")
+STUDY = SimpleNamespace(
+    model=SimpleNamespace(output_names=OUTPUTS, stages=(SimpleNamespace(name="stackup"), SimpleNamespace(name="te"))),
+    spec=SimpleNamespace(names=("a", "b")),
+    requirements=(SimpleNamespace(label="gap ≤ 5"),),
+)
+
+
+def read(cls, table: dict, study=STUDY):
+    return read_options(cls, Params(table, file="s.toml", key="analysis[0]"), study)
+
+
+def refused(cls, table: dict, key: str, match: str, study=STUDY) -> None:
+    """``table`` is refused on ``analysis[0].<key>`` with a reason matching ``match``."""
+    with pytest.raises(InputError, match=match) as e:
+        read(cls, table, study)
+    assert (e.value.file, e.value.key) == ("s.toml", f"analysis[0].{key}")
+
+
+# ---------------------------------------------------------------------------------------------- names and "all"
+@dataclass
+class Named:
+    outputs: list[str] | None = option(None, "outputs", names="outputs", all_ok=True, min_length=1)
+    factors: list[str] | None = option(None, "factors", names="factors", min_length=1)
+    output: str | None = option(None, "one output", names="outputs")
+    stage: str | None = option(None, "a stage", names="stages")
+    requirement: str | None = option(None, "a requirement", names="requirements")
+    weights: dict[str, float] | None = option(None, "per factor", names="factors", positive=True)
+
+
+def test_all_expands_to_every_output_of_the_study():
+    assert read(Named, {"outputs": "all"}).outputs == list(OUTPUTS)
+    other = SimpleNamespace(model=SimpleNamespace(output_names=("x",)))
+    assert read(Named, {"outputs": "all"}, study=other).outputs == ["x"]
+
+
+def test_all_is_a_name_only_where_the_option_allows_it():
+    refused(Named, {"output": "all"}, "output", "unknown output name 'all'")
+    refused(Named, {"factors": "all"}, "factors", "expected an array of strings")
+
+
+def test_names_are_checked_against_the_study():
+    o = read(Named, {"outputs": ["tilt", "gap"], "factors": ["b"], "output": "play", "stage": "te",
+                     "requirement": "gap ≤ 5", "weights": {"a": 2.0}})
+    assert (o.outputs, o.factors, o.output, o.stage, o.requirement, o.weights) == (
+        ["tilt", "gap"], ["b"], "play", "te", "gap ≤ 5", {"a": 2.0})
+    refused(Named, {"outputs": ["gap", "gapp"]}, "outputs", r"unknown output name 'gapp'.*did you mean 'gap'")
+    refused(Named, {"factors": ["c"]}, "factors", r"unknown factor name 'c' \(spec has: a, b\)")
+    refused(Named, {"stage": "tee"}, "stage", "unknown model name 'tee'")
+    refused(Named, {"requirement": "gap < 5"}, "requirement", "unknown requirement name")
+    refused(Named, {"weights": {"c": 1.0}}, "weights.c", "unknown factor name 'c'")
+    refused(Named, {"weights": {"a": 0.0}}, "weights.a", "> 0")
+
+
+def test_an_empty_list_of_names_is_refused():
+    refused(Named, {"outputs": []}, "outputs", "at least 1 strings, got 0")
+    refused(Named, {"factors": []}, "factors", "at least 1 strings, got 0")
+
+
+# ---------------------------------------------------------------------------------------------- lists
+@dataclass
+class Leaf:
+    t: float = option(1.0, "a thickness", positive=True)
+
+
+@dataclass
+class Lists:
+    names: list[str] = option(["x", "y"], "strings", min_length=2)
+    values: list[float] = option([0.0, 1.0, 2.0], "numbers", min_length=3, nonnegative=True)
+    counts: list[int] = option([1, 2], "integers", min_length=2, min=1, max=9)
+    leaves: list[Leaf] = option([], "tables", min_length=2)
+    orders: list[int] = option([2], "even integers", even=True)
+
+
+@pytest.mark.parametrize("key, at_least, item", [("names", 2, "x"), ("values", 3, 1.0), ("counts", 2, 3)])
+def test_a_list_at_its_minimum_length_is_read_and_one_shorter_is_refused(key, at_least, item):
+    assert getattr(read(Lists, {key: [item] * at_least}), key) == [item] * at_least
+    refused(Lists, {key: [item] * (at_least - 1)}, key, f"at least {at_least} ")
+
+
+def test_an_array_of_tables_at_its_minimum_length():
+    o = read(Lists, {"leaves": [{"t": 2.0}, {}]})
+    assert [x.t for x in o.leaves] == [2.0, 1.0]
+    refused(Lists, {"leaves": [{"t": 2.0}]}, "leaves", r"at least 2 \[\[analysis\[0\]\.leaves\]\] tables")
+    refused(Lists, {"leaves": [{"t": 2.0}, {"t": -1.0}]}, "leaves[1].t", "> 0")
+    refused(Lists, {"leaves": [{"t": 2.0}, {"thickness": 1.0}]}, "leaves[1].thickness", "unknown key")
+
+
+def test_list_items_keep_their_bounds():
+    refused(Lists, {"values": [0.0, -0.5, 1.0]}, "values[1]", ">= 0")
+    assert read(Lists, {"counts": [1, 9]}).counts == [1, 9]
+    refused(Lists, {"counts": [0, 2]}, "counts", r"integers in \[1, 9\], got 0")
+    refused(Lists, {"counts": [1, 10]}, "counts", r"integers in \[1, 9\], got 10")
+    refused(Lists, {"counts": [1, 2.0]}, "counts", "expected an array of integers")
+    refused(Lists, {"counts": [1, True]}, "counts", "expected an array of integers")
+    assert read(Lists, {"orders": [2, 4, 0]}).orders == [2, 4, 0]
+    refused(Lists, {"orders": [2, 3]}, "orders", "must be even, got 3")
+
+
+def test_list_defaults_are_fresh_copies():
+    a, b = read(Lists, {}), read(Lists, {})
+    a.names.append("z")
+    assert b.names == ["x", "y"]
+
+
+# ---------------------------------------------------------------------------------------------- sub-tables
+@dataclass
+class Sub:
+    depth: int = option(3, "a depth", min=1)
+    label: str = option("x", "a label")
+
+
+@dataclass
+class WithSub:
+    sub: Sub = option(Sub, "a sub-table, every default when absent or true")
+    maybe: Sub | None = option(Sub, "a sub-table that false switches off")
+
+
+def test_a_sub_table_absent_or_true_takes_every_default():
+    for table in ({}, {"sub": True, "maybe": True}):
+        o = read(WithSub, table)
+        assert o.sub == Sub(depth=3, label="x") and o.maybe == Sub(depth=3, label="x")
+
+
+def test_a_sub_table_is_read_by_its_own_rules():
+    o = read(WithSub, {"sub": {"depth": 5}, "maybe": {"label": "y"}})
+    assert o.sub == Sub(depth=5, label="x") and o.maybe == Sub(depth=3, label="y")
+    refused(WithSub, {"sub": {"depth": 0}}, "sub.depth", ">= 1")
+    refused(WithSub, {"sub": {"dept": 5}}, "sub.dept", "unknown key")
+
+
+def test_false_switches_off_only_an_optional_sub_table():
+    assert read(WithSub, {"maybe": False}).maybe is None
+    refused(WithSub, {"sub": False}, "sub", "expected a table, got")
+    refused(WithSub, {"sub": 3}, "sub", "expected a table, got")
+
+
+# ---------------------------------------------------------------------------------------------- numbers, strings, units
+@dataclass
+class Numbers:
+    n: int = option(REQUIRED, "a required count", min=2, max=64)
+    x: float = option(0.5, "a fraction", min=0.0, max=1.0)
+    p: float = option(1.0, "positive", positive=True)
+    q: float = option(0.0, "nonnegative", nonnegative=True)
+    k: int = option(1, "a power of two", power_of_two=True)
+    levels: int = option(2, "even", even=True)
+    size: int = option(0, "0 or at least 100", zero_or_min=100)
+    method: str = option("lhs", "a method", choices=("lhs", "sobol"))
+    side: Literal["upper", "lower"] = option("upper", "a side")
+    length: float = option(1.0, "a length", unit="mm", positive=True)
+
+
+@pytest.mark.parametrize("key, accepted, refused_value, reason", [
+    ("n", [2, 64], [1, 65, 2.0, True], ["must be >= 2", "must be <= 64", "expected an integer", "expected an integer"]),
+    ("x", [0.0, 1.0], [-1e-9, 1.000001], ["must be >= 0", "must be <= 1"]),
+    ("p", [1e-12], [0.0, -1.0], ["> 0", "> 0"]),
+    ("q", [0.0], [-1e-12], [">= 0"]),
+    ("k", [1, 2, 64], [0, 3, 6, 96], ["power of 2"] * 4),
+    ("levels", [2, 0, 10], [3, 7], ["must be even"] * 2),
+    ("size", [0, 100, 5000], [1, 99], ["must be 0 or >= 100"] * 2),
+    ("method", ["lhs", "sobol"], ["LHS", "random"], ["expected one of: lhs, sobol"] * 2),
+    ("side", ["upper", "lower"], ["both"], ["expected one of: upper, lower"]),
+])
+def test_each_number_and_choice_rule(key, accepted, refused_value, reason):
+    for v in accepted:
+        assert getattr(read(Numbers, {"n": 8, key: v}), key) == v
+    for v, why in zip(refused_value, reason):
+        refused(Numbers, {"n": 8, key: v}, key, why)
+
+
+def test_a_required_option_must_be_given():
+    refused(Numbers, {}, "n", "missing required key")
+    assert read(Numbers, {"n": 8}).n == 8
+
+
+def test_a_quantity_is_held_in_base_units():
+    assert read(Numbers, {"n": 8, "length": 250}).length == pytest.approx(250.0)               # mm
+    assert read(Numbers, {"n": 8, "length": {"value": 25, "unit": "um"}}).length == pytest.approx(0.025)
+    assert read(Numbers, {"n": 8, "length": {"value": 2, "unit": "in"}}).length == pytest.approx(50.8)
+    refused(Numbers, {"n": 8, "length": {"value": 2, "unit": "deg"}}, "length.unit", "expected length")
+    refused(Numbers, {"n": 8, "length": 0}, "length", "> 0")
+
+
+# ---------------------------------------------------------------------------------------------- the class' own checks
+@dataclass
+class Related:
+    lo: float = option(0.0, "low")
+    hi: float = option(1.0, "high")
+
+    def complete(self, study, error):
+        if not self.hi > self.lo:
+            raise error("hi", f"must exceed lo ({self.lo:g})")
+
+
+def test_complete_checks_relations_between_keys():
+    assert read(Related, {"lo": 1.0, "hi": 2.0}).hi == 2.0
+    refused(Related, {"lo": 1.0, "hi": 1.0}, "hi", r"must exceed lo \(1\)")
+
+
+def test_an_unknown_rule_is_a_programming_error():
+    with pytest.raises(TypeError, match="unknown option rule"):
+        option(1, "x", minimum=0)
+
+
+def test_describe_lists_each_key_with_its_constraints():
+    d = {o.key: o for o in describe(Numbers)}
+    assert d["n"].required and d["n"].constraint == ">= 2, <= 64"
+    assert d["size"].constraint == "0 or >= 100" and d["k"].constraint == "a power of 2"
+    assert d["method"].constraint == "one of 'lhs', 'sobol'" and d["side"].type == "'upper' | 'lower'"
+    assert d["length"].constraint == "> 0, in mm (or {value, unit})"
+    n = {o.key: o for o in describe(Named)}
+    assert n["outputs"].constraint == 'at least 1, names of the study\'s outputs or "all"'
+    s = {o.key: o for o in describe(WithSub)}
+    assert s["sub"].type == "table" and s["sub.depth"].default == 3 and s["maybe.label"].default == "x"
+    assert {o.key: o for o in describe(Lists)}["leaves[].t"].constraint == "> 0"
