@@ -73,7 +73,7 @@ def test_error_free_reducer_on_the_rig_reads_the_closed_form(rig_model):
     m = rig_model
     i = 81.0                                                   # the RV-80E's ratio
     r_out, r_in = graduation_radius("output_encoder"), graduation_radius("input_encoder")
-    assert (m.geometry.ratio, r_out, r_in) == (i, 75.0, 26.0)   # ⌀150 and ⌀52 mm
+    assert (m.geometry.ratio, r_out, r_in) == (i, 100.0, 26.0)  # ⌀200 (issue 39: the middle of ⌀150–250), ⌀52 mm
     e_out, e_in = (0.004, -0.0025), (0.003, 0.002)
     res = m.run(dict(zip(INPUTS, (*e_out, *e_in))))
     assert res.ok
