@@ -275,15 +275,16 @@ def active_families(bindings, values) -> dict[str, list[str]]:
 
 def measurement_orders(measurement, g: RVGeometry, n_positions: int) -> dict[int, str]:
     """The orders a test rig's measurement chain adds (rows ``(n, a, b)`` of :mod:`.rig`), each with what
-    makes it: order 1 the output encoder's graduation turning eccentric about the carrier's axis (flange pilot,
-    main-bearing runout, the rig's centring), order i the input encoder's divided by the ratio."""
+    makes it: order 1 the output encoder's graduation turning eccentric about the carrier's axis (the rig's
+    centring; a ring centred by its fit on the pilot adds the pilot and the main-bearing runout, :mod:`.rig`),
+    order i the input encoder's divided by the ratio."""
     out: dict[int, str] = {}
     for n, a, b in np.asarray(measurement, dtype=float).reshape(-1, 3):
         if a == 0.0 and b == 0.0:
             continue
         k = alias(int(round(n)), n_positions)
         if round(n) == 1:
-            out[k] = "rig: output encoder eccentricity (flange pilot, main-bearing runout, centring), 1"
+            out[k] = "rig: output encoder eccentricity about the rotation axis (its centring), 1"
         else:
             out[k] = f"rig: input encoder eccentricity ÷ ratio, i = {g.ratio:g}" + (
                 f" aliased from {int(round(n))}" if k != round(n) else "")
