@@ -225,6 +225,8 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     if dpath is not None:
         design = load_design(dpath)
         inputs["design"] = {"path": str(dpath), "sha256": design.sha256}
+        if design.base is not None:           # a variant: the base design it changes
+            inputs["design_base"] = {"path": design.base[0], "sha256": design.base[1]}
 
     spaths = _spec_paths(head, base)
     if spaths:
@@ -279,17 +281,20 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
             root.raw(k, None)
         root.finish()
         return study
-    if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
-        model, spec, rules = _composite(root, mapping, design, spec, file, inputs, build_path)
-    else:
-        if mapping is not None or "quantity" in root:
-            raise head.error("mapping", "a mapping ([[quantity]] tables) needs several [[model]] tables")
-        if build_path is not None:
-            raise head.error("build", "a build (how the reducer is assembled) needs a composed study: several "
-                                      "[[model]] tables")
-        mp = root.sub("model")
-        model = build_model(mp, design, spec, file)
-        mp.finish()
+    try:
+        if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
+            model, spec, rules = _composite(root, mapping, design, spec, file, inputs, build_path)
+        else:
+            if mapping is not None or "quantity" in root:
+                raise head.error("mapping", "a mapping ([[quantity]] tables) needs several [[model]] tables")
+            if build_path is not None:
+                raise head.error("build", "a build (how the reducer is assembled) needs a composed study: "
+                                          "several [[model]] tables")
+            mp = root.sub("model")
+            model = build_model(mp, design, spec, file)
+            mp.finish()
+    except InputError as exc:
+        raise (design.relocate(exc) if design is not None else exc) from None   # a variant's base number: its file
     try:
         model.check_spec(spec)
     except InputError as exc:

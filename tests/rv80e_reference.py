@@ -137,10 +137,12 @@ def lm_inputs(v, design) -> dict[str, np.ndarray]:
 
 
 # ----------------------------------------------------------------------------- mapping.md §3
-def te_state(v, design, row: int):
+def te_state(v, design, row: int, te: bool = False):
     """The 20-DOF ErrorState (mm, rad) of sample ``row``, mapping.md §3 as written: the pin positions (circle
     radius + 2-lobe pattern + residual) and the pin-in-groove clearance g_k common to both discs; each disc its
-    own profile modification (Δr_j, ΔR_j: the kernel's n_j(φ)) and its own 2-lobe profile patterns."""
+    own profile modification (Δr_j, ΔR_j: the kernel's n_j(φ)) and its own 2-lobe profile patterns; each crank's
+    phase from its planet's clocking, φ_i = −c_i/(m z_p/2) (issue 39), and (``te``: the TE stage, which drives one
+    way) each planet's tooth thickness on its driving flank, s_i."""
     from rvtol.models.transmission import layout as L
     from rvtol.models.transmission.factors import ErrorState
 
@@ -156,7 +158,11 @@ def te_state(v, design, row: int):
 
     e[L.E_S], e[L.BETA_S] = at("sun.runout") / 2 * um, math.radians(at("sun.runout_phase"))
     put(L.A_C, L.GAMMA_C, axis_at(v, "housing.main_raceways.coaxiality", 0.0)[row])
+    r_ref = design["sun.module"] * design["planet.teeth"] / 2
     for i in (1, 2, 3):
+        e[L.PHI_P + i - 1] = -at(f"crank_{i}.planet_gear.clocking") * um / r_ref
+        if te:
+            e[L.S_P + i - 1] = at(f"crank_{i}.planet_gear.tooth_thickness") * um
         put(L.E_P + i - 1, L.BETA_P + i - 1, planet(v, i)[row])
         put(L.E_CA + i - 1, L.BETA_CA + i - 1, rot(a(v, i, 0.0)[row], -PHI[i - 1]))
         for j in (1, 2):

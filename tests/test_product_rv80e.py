@@ -47,23 +47,23 @@ def _stackup_matrix(model: CompositeModel, X):
 
 def test_the_study_composes_six_models_on_the_drawing_spec(study):
     m = study.model
-    # 281 drawing factors (tolerances.toml), the TE rig's 4 (data/rigs/te_rig_single_head.toml) and the 19 gauge
-    # errors of the build (build.toml)
-    assert len(study.spec) == 281 + 4 + 19 and m.inputs == study.spec.names
+    # 284 drawing factors (tolerances.toml: 281 and the three planets' clocking, issue 39), the TE rig's 4
+    # (data/rigs/te_rig_single_head.toml) and the 19 gauge errors of the build (build.toml)
+    assert len(study.spec) == 284 + 4 + 19 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
     assert sum(n.startswith("rig.") for n in m.inputs) == 4
     assert [s.name for s in m.stages] == ["stackup", "disc_location", "torsion", "te", "screening", "reducer",
                                           "pin_ring", "pin_preload"]
     assert m.stage("pin_preload").model.inputs == m.stage("torsion").model.inputs
     torsion, te, ring = m.stage("torsion"), m.stage("te"), m.stage("pin_ring")
-    n = len(torsion.model.inputs)          # same_inputs_as, and the rig's measurement chain beside it
+    n = len(torsion.model.inputs)          # same_inputs_as, the planets' driving flanks and the rig's chain beside it
     assert te.model.inputs[:n] == torsion.model.inputs and te.inputs[:n] == torsion.inputs
-    assert te.model.inputs[n:] == RIG_INPUTS
+    assert te.model.inputs[n:] == ("s_p[1]", "s_p[2]", "s_p[3]") + RIG_INPUTS
     # the pin-ring fit: the torsion curve's mapping (the pins' clearances) and the stack-up's disc places
     assert ring.model.inputs[:n] == torsion.model.inputs and ring.inputs[:n] == torsion.inputs
     assert [e.text for e in ring.inputs[n:]] == [f"stackup.disc_{j}_in_pin_ring.{c}" for j in (1, 2)
                                                  for c in ("u", "v", "alpha", "beta")]
-    assert len(torsion.model.inputs) == 183 and len(m.stage("screening").model.inputs) == 7
+    assert len(torsion.model.inputs) == 186 and len(m.stage("screening").model.inputs) == 7   # + phi_p[1..3]
     assert {r.output for r in study.requirements} <= set(m.output_names)
 
 
@@ -148,17 +148,18 @@ def test_torsion_te_and_screening_inputs_equal_the_direct_computation(drawn, stu
     Xt = m.stage_inputs("torsion", X)
     Xe = m.stage_inputs("te", X)
     np.testing.assert_array_equal(Xe[:, :Xt.shape[1]], Xt)
-    # the TE rig's output eccentricity (mapping.toml pilot_eccentricity): the pilot's position to datum C less the
-    # raceway axis at the flange face z_f = 12 + 20 mm, extrapolated from its end points at ±21 mm, plus the rig's
-    # centring; the input ring's centring alone
-    z, h = 32.0, 21.0
-    for c, col in (("x", 0), ("y", 1)):
-        m1, m2 = v[f"carrier.main_raceways.runout.{c}1"], v[f"carrier.main_raceways.runout.{c}2"]
-        want = v[f"carrier.output_pilot.position.{c}"] - (m1 * (h + z) + m2 * (h - z)) / (2 * h) \
-            + v[f"rig.output_encoder.centring.{c}"]
-        np.testing.assert_allclose(Xe[:, Xt.shape[1] + col], want * UM, rtol=1e-12, atol=1e-15)
-        np.testing.assert_allclose(Xe[:, Xt.shape[1] + 2 + col], v[f"rig.input_encoder.centring.{c}"] * UM,
+    te_in = list(m.stage("te").model.inputs)
+    # the planets' tooth thickness on the driving flank: the TE stage's own (issue 39)
+    for i in (1, 2, 3):
+        np.testing.assert_allclose(Xe[:, te_in.index(f"s_p[{i}]")], v[f"crank_{i}.planet_gear.tooth_thickness"] * UM,
                                    rtol=1e-12, atol=1e-15)
+    # the TE rig's rings are centred with a dial indicator on the turning shafts (data/rigs: centring = "indicated"):
+    # each is eccentric about its rotation axis by the rig's centring alone — the pilot's position and the raceways'
+    # runout are indicated away (adding them counted them twice, issue 39)
+    for c in ("x", "y"):
+        for side in ("output", "input"):
+            np.testing.assert_allclose(Xe[:, te_in.index(f"rig.{side}_eccentricity.{c}")],
+                                       v[f"rig.{side}_encoder.centring.{c}"] * UM, rtol=1e-12, atol=1e-15)
     torsion = m.stage("torsion").model
     for row in range(len(X)):
         got, want = torsion.state(Xt[row]), ref.te_state(v, design, row)
@@ -181,6 +182,7 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
     torsion, te = m.stage("torsion").model, m.stage("te").model
     for row in range(len(rows)):
         state = ref.te_state(v, study.design, row)
+        te_state = ref.te_state(v, study.design, row, te=True)
         curve = copy.copy(torsion)
         curve.state = lambda x, s=state: s
         metrics = curve.curve(np.zeros(len(torsion.inputs))).metrics(torsion.percent)
@@ -191,7 +193,7 @@ def test_a_sample_through_the_composition_equals_the_models_on_the_direct_state(
                                  ("torsional_rigidity", metrics.rigidity, 0.0)):
             assert Y[row, m.output_index(f"torsion.{name}")] == pytest.approx(value, rel=1e-5, abs=tol), name
         x_te = m.stage_inputs("te", rows)[row]
-        r, ext, ext_rig = te._sweep(state, te.rig_terms(x_te))
+        r, ext, ext_rig = te._sweep(te_state, te.rig_terms(x_te))
         assert Y[row, m.output_index("te.te_pp")] == pytest.approx(ext.pp, rel=1e-5, abs=1e-7)
         assert Y[row, m.output_index("te.te_pp_rig")] == pytest.approx(ext_rig.pp, rel=1e-5, abs=1e-7)
         # stage 5: the first stage's free play in series with the torsion curve (plays add; rigidity unchanged)
@@ -317,8 +319,13 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
                                      "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF | PIN_PRELOAD),
     # the end play of crank 1's bearing stack sets the preload its shim leaves
     ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
-    # the output pilot's position: only what a TE rig centred on it reads (issue 23 item 5), not the reducer
-    ("carrier.output_pilot.position.x", {"pilot_eccentricity.x", "te.te_pp_rig"}),
+    # the output pilot's position: not the reducer, and not a TE rig whose ring is centred by dial indicator on the
+    # turning flange (issue 39: the indicator takes the pilot's eccentricity out)
+    ("carrier.output_pilot.position.x", {"pilot_eccentricity.x"}),
+    # a planet's clocking on its crank: the crank's phase in both 20-DOF stages (issue 39)
+    ("crank_2.planet_gear.clocking", TWENTY_DOF),
+    # a planet's tooth thickness: doc 001's involute stage as before, and now the TE's driving flank (issue 39)
+    ("crank_1.planet_gear.tooth_thickness", {"screening.lost_motion", "te.te_pp", "te.te_pp_rig"} | FIRST_STAGE),
     # the rig's own centring of its input ring: the rig's TE alone
     ("rig.input_encoder.centring.y", {"te.te_pp_rig"}),
 ])
@@ -340,26 +347,30 @@ def _order_1(res) -> tuple[complex, complex]:
 
 
 def test_runout_sources_read_at_order_1_as_e_over_r_and_add_as_vectors(study):
-    """Issue 23 item 5 through the whole model (drawing factors → mapping → TE stage with its rig): the nominal
-    reducer, one runout source at a time and two together.  An eccentricity e of the output graduation about the
-    carrier's rotation axis reads (e_x sin θ + e_y cos θ)/R at order 1 (R = 75 mm, the rig's ⌀150 ring); the
-    flange pilot's position p adds directly, the main raceways' runout m (axis end points at z = ±21 mm) with its
-    sign reversed and extrapolated to the flange face z_f = 32 mm; two sources add as vectors.  The reducer's own
-    TE has no order 1 at the nominal, with or without the runout (the carrier's translation moves all crank bores
-    together: the two discs cancel it)."""
+    """Issue 23 item 5 through the whole model (drawing factors → mapping → TE stage with its rig), as issue 39
+    corrected it.  The assumed rig centres its output ring with a dial indicator on the turning flange: the ring is
+    eccentric about the rotation axis by the rig's centring alone, which reads (e_x sin θ + e_y cos θ)/R at order 1
+    (R = 100 mm, the rig's ⌀200 ring; two components add as vectors).  The flange pilot's position p and the main
+    raceways' runout m (axis end points at z = ±21 mm) — what a ring centred by its fit on the pilot would carry,
+    mapping.toml pilot_eccentricity = p − m(z_f) with m extrapolated to the flange face z_f = 32 mm (checked here by
+    the formula) — are indicated away: they reach neither the rig's reading nor the reducer's own TE (the carrier's
+    translation moves all crank bores together: the two discs cancel it)."""
     m = study.model.without_build()
     st = m.stage("te").model
     te = TransmissionErrorModel(st.geometry, st.inputs, per_crank_rev=8, rig=st.rig)
     R = st.rig.output.radius
-    assert R == 75.0
+    assert R == 100.0 and st.rig.output.centring == "indicated"
     x0, names = study.spec.nominal_base(), list(study.spec.names)
     arcsec = float(np.degrees(1.0) * 3600.0)
 
-    def run(**values):
+    def setx(**values):
         x = x0.copy()
         for k, v in values.items():
             x[names.index(k)] = v * UM
-        res = te.run(m.stage_inputs("te", x[None])[0])
+        return x
+
+    def run(**values):
+        res = te.run(m.stage_inputs("te", setx(**values)[None])[0])
         assert res.ok
         return _order_1(res)
 
@@ -371,19 +382,23 @@ def test_runout_sources_read_at_order_1_as_e_over_r_and_add_as_vectors(study):
     pilot = {"carrier.output_pilot.position.x": 4.0}
     runout = {"carrier.main_raceways.runout.y1": 3.0, "carrier.main_raceways.runout.y2": 3.0}
     tilted = {"carrier.main_raceways.runout.x1": 3.0, "carrier.main_raceways.runout.x2": -3.0}
-    cases = {"pilot": (pilot, (4.0, 0.0)), "runout": (runout, (0.0, -3.0)),
-             "tilted runout": (tilted, (-3.0 * (21 + 32) / 42 + 3.0 * (21 - 32) / 42, 0.0)),
-             "centring": ({"rig.output_encoder.centring.y": 2.0}, (0.0, 2.0))}
+    for label, (values, e) in {"pilot": (pilot, (4.0, 0.0)), "runout": (runout, (0.0, -3.0)),
+                               "tilted runout": (tilted, (-3.0 * (21 + 32) / 42 + 3.0 * (21 - 32) / 42, 0.0))}.items():
+        own, on_rig = run(**values)
+        assert abs(own) < 1e-6 and abs(on_rig) < 1e-6, label             # indicated away
+        Y, status = m.evaluate_with_status(setx(**values)[None])
+        got = [Y[0, m.output_index(f"pilot_eccentricity.{c}")] / UM for c in ("x", "y")]
+        assert got == pytest.approx(list(e), abs=1e-9), label            # what a pilot-centred ring would carry
     got = {}
-    for label, (values, e) in cases.items():
+    for label, (values, e) in {"x": ({"rig.output_encoder.centring.x": 4.0}, (4.0, 0.0)),
+                               "y": ({"rig.output_encoder.centring.y": -3.0}, (0.0, -3.0))}.items():
         own, on_rig = run(**values)
         assert abs(own) < 1e-6, label
         assert on_rig == pytest.approx(closed_form(*e), abs=1e-6), label
-        assert abs(on_rig) == pytest.approx(math.hypot(*e) * UM / R * arcsec, rel=1e-9), label
         got[label] = on_rig
-    # two sources of known phase: the vector sum, |(4, −3)| = 5 µm → 5 µm/75 mm = 13.75″ at atan2
-    own, both = run(**pilot, **runout)
+    # the two components of known phase: the vector sum, |(4, −3)| = 5 µm → 5 µm/100 mm = 10.31″
+    own, both = run(**{"rig.output_encoder.centring.x": 4.0, "rig.output_encoder.centring.y": -3.0})
     assert abs(own) < 1e-6
-    assert both == pytest.approx(got["pilot"] + got["runout"], abs=1e-6)
+    assert both == pytest.approx(got["x"] + got["y"], abs=1e-6)
     assert abs(both) == pytest.approx(5.0 * UM / R * arcsec, rel=1e-9)
-    assert abs(both) < abs(got["pilot"]) + abs(got["runout"]) - 1.0     # not the arithmetic sum
+    assert abs(both) < abs(got["x"]) + abs(got["y"]) - 1.0               # not the arithmetic sum

@@ -73,7 +73,7 @@ def test_error_free_reducer_on_the_rig_reads_the_closed_form(rig_model):
     m = rig_model
     i = 81.0                                                   # the RV-80E's ratio
     r_out, r_in = graduation_radius("output_encoder"), graduation_radius("input_encoder")
-    assert (m.geometry.ratio, r_out, r_in) == (i, 75.0, 26.0)   # ⌀150 and ⌀52 mm
+    assert (m.geometry.ratio, r_out, r_in) == (i, 100.0, 26.0)  # ⌀200 (issue 39: the middle of ⌀150–250), ⌀52 mm
     e_out, e_in = (0.004, -0.0025), (0.003, 0.002)
     res = m.run(dict(zip(INPUTS, (*e_out, *e_in))))
     assert res.ok
@@ -115,9 +115,14 @@ def test_rig_inputs_need_a_rig(te_design):
      "read_heads", "must be 1 or 2"),
     ('mounting = { value = "flange", unit = "1", source = "rig assumption: the ring is centred',
      "mounting", "must be one of flange, coupled"),
+    ('centring = { value = "indicated", unit = "1", source = "rig assumption: the ring is centred with',
+     "centring", "must be one of indicated, pilot"),
+    ('graduation_diameter = { value = 200, unit = "mm", range = [150, 250]', "graduation_diameter.range",
+     "around the value 200"),
 ])
 def test_bad_rig_file_is_one_line_naming_file_and_key(tmp_path, change, key, reason):
-    bad = change.replace('value = 1,', 'value = 3,').replace('value = "flange"', 'value = "glued"')
+    bad = change.replace('value = 1,', 'value = 3,').replace('value = "flange"', 'value = "glued"').replace(
+        'value = "indicated"', 'value = "glued"').replace("[150, 250]", "[210, 250]")
     text = RIG.read_text(encoding="utf-8").replace(change, bad, 1)
     p = tmp_path / "rig.toml"
     p.write_text(text, encoding="utf-8")
@@ -137,3 +142,18 @@ def test_a_spec_of_several_files_keeps_each_files_factors_and_correlation(tmp_pa
     assert s.correlation[0, 1] == 0.5 and s.correlation[0, 2] == 0.0 and s.correlation[2, 2] == 1.0
     with pytest.raises(SpecError, match="in one spec only"):
         merge_specs([rig, rig])
+
+
+def test_the_assumed_rig_is_a_central_value_with_its_range_and_centred_on_the_rotation_axis():
+    """Issue 39: the ring's diameter is the middle of its assumed range (not the end that maximises e/r), and a
+    ring centred by dial indicator is eccentric by its centring residual alone — the sign-off's mapping must not
+    add the pilot's eccentricity (which the indicator takes out) on top."""
+    import tomllib
+
+    rig = load_rig(RIG)
+    assert rig.output.centring == "indicated" and rig.output.radius_range == (75.0, 125.0)
+    assert rig.output.radius == pytest.approx(100.0)
+    study = tomllib.loads((ROOT / "studies/rv80e_signoff.toml").read_text(encoding="utf-8"))
+    te = next(m for m in study["model"] if m["name"] == "te")
+    for c in ("x", "y"):
+        assert te["inputs"][f"rig.output_eccentricity.{c}"] == f"rig.output_encoder.centring.{c}"

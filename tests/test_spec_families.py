@@ -46,12 +46,12 @@ def test_the_product_table_expands_its_three_families():
     spec = load_spec(ROOT / "data/products/rv80e/tolerances.toml")
     fams = spec.families()
     # 159 tables + 3 end plays of the crank-support stacks (the shims' input, build.toml) + the output pilot's two
-    # coordinates (the TE rig's order 1): 164 tables, 281 factors
-    assert len(spec) == 281 and sorted(fams) == ["housing.pin_groove[k].radial_residual",
+    # coordinates (the TE rig's order 1) + the three planets' clocking (issue 39): 167 tables, 284 factors
+    assert len(spec) == 284 and sorted(fams) == ["housing.pin_groove[k].radial_residual",
                                                  "housing.pin_groove[k].tangential_residual",
                                                  "pins[k].diameter_in_lot"]
     assert all(len(v) == 40 for v in fams.values())
-    assert len(spec.to_frame(families=True)) == 164
+    assert len(spec.to_frame(families=True)) == 167
     assert all(f.part and f.feature and f.group == f.part for f in spec.factors)
 
 

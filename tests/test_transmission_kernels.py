@@ -18,7 +18,9 @@ ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "g
        "AP_pin", "R_cyc", "R_cyc_phase", "AP_cyc", "delta_b", "delta_oc", "delta_ca", "delta_pin[3]", "delta_th[5]",
        # part errors of issue 12: pin circle, pin-ring and per-disc harmonics, per-disc profile modification
        "R_pc", "R_pin[7]", "R_pin_h[3]", "R_pin_h_phase[3]", "AP_pin_c[1]", "R_cyc_h[1,1]", "R_cyc_h_phase[1,1]",
-       "AP_cyc_s[2,3]", "R_cyc_c[2,4]", "equidistance_mod[1]", "equidistance_mod[2]", "moved_distance_mod"]
+       "AP_cyc_s[2,3]", "R_cyc_c[2,4]", "equidistance_mod[1]", "equidistance_mod[2]", "moved_distance_mod",
+       # issue 39: the cranks' phases and the planets' tooth thicknesses (mesh offsets)
+       "phi_p[1]", "phi_p[3]", "s_p"]
 
 
 @pytest.fixture(scope="module")
@@ -33,6 +35,8 @@ def random_errors(g, rng, scale=0.005):
     for i, n in enumerate(ALL):
         if n.startswith(("beta", "gamma")) or "phase" in n:
             x[i] = rng.uniform(0.0, 2 * np.pi)
+        elif n.startswith("phi_p"):         # a crank phase (rad): 0.2 mrad is 5 µm at the planet's base circle
+            x[i] = rng.uniform(0.0, 2e-4)
     return ErrorFactors(ALL, g.z_b).state(x)
 
 

@@ -48,7 +48,7 @@ def test_lattices_of_the_rv80e(te_geom):
     assert alias(1560, 1440) == 120
     assert "Z aliased from 1560" in expected_orders(te_geom, "uniform", 1440)[120]
     assert expected_orders(te_geom, "disc_profile", 3240)[80] == "2·z_b"
-    assert len(families_frame(te_geom)) == 10
+    assert len(families_frame(te_geom)) == 11          # with the crank phase (issue 39)
 
 
 # values, family, strongest order, derivation (module doc of rvtol.models.transmission.orders)
@@ -67,6 +67,8 @@ SINGLE = [
     ({"E_c[1,1]": 3 * UM}, "crank", 40, "one cam"),
     ({"delta_b[1,1]": 3 * UM}, "crank", 40, "one needle-bearing clearance"),
     ({"E_p[1]": 5 * UM}, "crank", 40, "one planet: turns its crank"),
+    ({"phi_p[1]": 2e-4}, "crank_phase", 80, "one crank's phase: z_b cancels between the discs, 2·z_b"),
+    ({"s_p[2]": 5 * UM}, "crank_phase", 80, "one planet's tooth thickness: the same as a phase"),
     ({"E_ca[1]": 3 * UM}, "carrier_bores", 80, "one carrier bore moves its crank under both discs: 2·z_b"),
     ({"E_s": 5 * UM}, "sun", 240, "sun eccentricity through three planets: 3(i − 1)"),
     ({"R_pc": 3 * UM}, "uniform", 1560, "pin-circle radius: only the mesh order Z"),
@@ -129,3 +131,72 @@ def test_uniform_errors_shift_the_mean_by_their_backlash(te_design, te_geom):
         shift = (r0.te.mean() - r.te.mean()) / 3600 * np.pi / 180        # arcsec -> rad, more wind-up
         assert shift == pytest.approx(n0 / te_geom.r_disc_pitch, rel=0.10)
         assert r.te_pp < 0.03 * abs(r.te.mean() - r0.te.mean())
+
+
+# ----------------------------------------------------------------------------------- crank phase (issue 39 item 4)
+def kinematic_shift(g, phi):
+    """The TE of a phase φ common to the three cranks, rigid kinematics of both stages: the eccentrics turn
+    φ ahead of the planets, θ_e = θ_p + φ with θ_p − θ_c = −(z_s/z_p)(θ_s − θ_c) and θ_e = (1 − z_b) θ_c
+    give θ_c = θ_s/i − φ z_p/(z_s i) (rad)."""
+    return -phi * g.z_p / (g.z_s * g.ratio)
+
+
+ARCSEC = np.pi / 180 / 3600
+
+
+def test_a_phase_common_to_the_three_cranks_shifts_the_te_by_the_kinematic_angle(te_design, te_geom):
+    """φ on every crank (or a tooth thickness s on every planet: φ = −(s/2) cos α / r_bp) moves the mean TE by
+    exactly the kinematic angle and adds no ripple below 3·z_b (the three cranks stay alike)."""
+    _, r0 = run(te_design, {"R_pc": 0.0})
+    g = te_geom
+    for values, phi in (({"phi_p": 1e-4}, 1e-4), ({"s_p": 5 * UM}, -0.5 * 5 * UM * np.cos(g.alpha) / g.r_bp)):
+        m, r = run(te_design, values)
+        shift = (r.te.mean() - r0.te.mean()) * ARCSEC
+        assert shift == pytest.approx(kinematic_shift(g, phi), rel=1e-6)
+        _, a = order_spectrum(r.te - r0.te)
+        off = [k for k in range(1, a.size) if k % (3 * g.z_b)]
+        assert np.sqrt(np.sum(a[off] ** 2)) < 1e-6 * abs(shift / ARCSEC)
+
+
+def test_one_crank_phase_gives_multiples_of_z_b_and_no_order_three(te_design, te_geom):
+    """One crank's phase is a carrier-side error: multiples of z_b only (an exact symmetry — no order 3, no order
+    1); z_b itself cancels between the discs (the rigid discs' compromise on three cams turns them by
+    ±e·φ·cos(z_b θ)/(3a'), opposite for the two discs), so 2·z_b is the strongest; its mean shift is a third of
+    the common phase's (first-order superposition: within 3 % at φ = 1e-4 rad, 1.8 % observed)."""
+    phi = 1e-4
+    _, r0 = run(te_design, {"R_pc": 0.0})
+    m, r = run(te_design, {"phi_p[1]": phi})
+    share, a = off_lattice_share(m, r)
+    assert share < OFF_LATTICE
+    assert a[3] < 1e-6 * a[1:].max() and a[1] < 1e-6 * a[1:].max()
+    assert a[40] < 0.01 * a[80]
+    shift = (r.te.mean() - r0.te.mean()) * ARCSEC
+    assert shift == pytest.approx(kinematic_shift(te_geom, phi) / 3, rel=0.03)
+
+
+def test_a_crank_phase_is_both_cams_moved_at_right_angles(te_design, te_geom):
+    """φ_i ahead of the planet is, to the model, both cams of crank i moved e·φ_i perpendicular to their
+    eccentrics (E_c[j,i] = eφ, β_c = 90°): the same TE to round-off."""
+    phi, e = 2e-4, te_geom.ecc
+    _, a = run(te_design, {"phi_p[2]": phi})
+    _, b = run(te_design, {"E_c[1,2]": e * phi, "beta_c[1,2]": np.pi / 2, "E_c[2,2]": e * phi,
+                           "beta_c[2,2]": np.pi / 2})
+    assert np.abs(a.te - b.te).max() < 1e-9 * np.ptp(a.te)
+
+
+def test_order_table_lists_order_three_and_the_input_orders_with_their_sources(te_design):
+    """Asked orders are listed whatever their size: order 3 from a carrier offset (the three cranks passing a
+    housing-fixed offset), the input orders i and 2·i from a sun-support offset; an order no active error gives
+    says what could."""
+    m, r = run(te_design, {"A_s": 5 * UM, "A_c": 5 * UM})
+    t = m.order_table(r, top=3, orders=[3, 81, 162]).set_index("order [1/rev]")
+    assert {3, 81, 162} <= set(t.index)
+    assert "carrier offset [A_c]: 3" in t.loc[3, "expected from"]
+    assert "sun support [A_s]: i;" in t.loc[81, "expected from"]
+    assert "sun support [A_s]: 2·i" in t.loc[162, "expected from"]
+    m, r = run(te_design, {"phi_p[1]": 2e-4})
+    t = m.order_table(r, top=3, orders=[3, 81]).set_index("order [1/rev]")
+    assert t.loc[3, "expected from"].startswith("— (no active error; could arise from: the three cranks passing "
+                                                "housing-fixed errors")
+    assert "sun-support offset A_s" in t.loc[81, "expected from"]
+    assert t.loc[3, "amplitude [arcsec]"] < 1e-6 * t["amplitude [arcsec]"].max()

@@ -12,6 +12,7 @@ from rvtol.sampling import sample
 from rvtol.spec import spec_from_table
 from rvtol.validation import (STATUSES, compare_limit, compare_orders, compare_value, load_published,
                               load_published_files, median_interval, validate)
+from rvtol.validation.compare import compare_shape
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = sorted((ROOT / "data" / "measurements" / "published").glob("*.toml"))
@@ -95,6 +96,14 @@ kind = "{kind}"
     (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "furlong"\nreading_uncertainty = 0.1'),
      "quantity[0].unit", "unknown unit"),
     (SOURCE + QTY.format(kind="orders", body="orders = [1, 0]"), "quantity[0].orders", "integer orders"),
+    (SOURCE + QTY.format(kind="order_amplitudes", body='orders = [1, 40]\namplitudes = [2.0]\nunit = "arcsec"\n'
+                                                       'relative_uncertainty = 0.1\npins = 40\nratio = 81'),
+     "quantity[0].amplitudes", "one number per order (2)"),
+    (SOURCE + QTY.format(kind="order_amplitudes", body='orders = [1, 40]\namplitudes = [2.0, 0.0]\nunit = "arcsec"\n'
+                                                       'relative_uncertainty = 0.1\npins = 40\nratio = 81'),
+     "quantity[0].amplitudes", "entry 2: must be > 0"),
+    (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "um"\nreading_uncertainty = 0.1\norigin = "guess"'),
+     "quantity[0].origin", "unknown value 'guess'"),
 ])
 def test_a_bad_published_file_is_one_error_naming_file_and_key(tmp_path, text, key, reason):
     p = write(tmp_path / "bad.toml", text)
@@ -290,3 +299,112 @@ def test_a_bad_validation_table_fails_when_the_study_loads(tmp_path, change, bad
     with pytest.raises(InputError) as e:
         load_study(write(tmp_path / "v.toml", STUDY.replace(change, bad)))
     assert e.value.key == key and reason in e.value.reason
+
+
+# --------------------------------------------------------------------------- hold-outs that can fail (issue 39)
+def _two_units(tmp_path, extra=""):
+    """Two measured units of one design (q: 2 µm, q2: 3 µm), a bound of another quantity, a published model's
+    own result."""
+    body = SOURCE + QTY.format(kind="value", body='value = 2.0\nunit = "um"\nreading_uncertainty = 0.0') + \
+        QTY.format(kind="value", body='value = 3.0\nunit = "um"\nreading_uncertainty = 0.0').replace(
+            'id = "q"', 'id = "q2"') + \
+        QTY.format(kind="value", body='value = 2.5\nunit = "um"\nreading_uncertainty = 0.0\norigin = "model"').replace(
+            'id = "q"', 'id = "sim"') + extra
+    return load_published_files([write(tmp_path / "s.toml", body)])
+
+
+class TwoOutputs(Magnitude):
+    """y = |x| and y_rig = |x| + 1 µm (a stand-in for the TE an assumed rig reads beside the reducer's own)."""
+
+    outputs = (Quantity("y", "mm", "um"), Quantity("y_rig", "mm", "um"))
+
+    def evaluate(self, X):
+        y = np.abs(np.asarray(X, dtype=float))
+        return np.column_stack([y[:, 0], y[:, 0] + 1e-3])
+
+
+def test_another_unit_of_the_calibrated_design_is_not_counted_as_a_hold_out(tmp_path):
+    """Calibrated on unit q, the model predicts unit q2 with the same distribution: its predicted / measured is
+    2/3 = the ratio of the two measurements by construction (it could never discriminate), so it is labelled and
+    not counted; the published model result is listed beside, never judged, and cannot be calibrated on."""
+    res = validate(Magnitude(), SPEC, _two_units(tmp_path), {"y": "y"}, reducer="RV-80E", n=200, seed=7,
+                   calibrate_on="s:q", rtol=1e-9)
+    after = res.stage(res.calibration.stage).set_index("quantity")
+    assert after.loc["q2", "role"] == "same predicted distribution as the calibration figure: not a hold-out"
+    assert after.loc["q2", "predicted / measured"] == pytest.approx(2.0 / 3.0, rel=1e-6)
+    before = res.stage("predicted (no calibration)").set_index("quantity")
+    assert before.loc["sim", "role"].startswith("published model result (not a measurement)")
+    assert "sim" not in set(res.misses()["quantity"])
+    with pytest.raises(InputError, match="of a published model is not a measured value"):
+        validate(Magnitude(), SPEC, _two_units(tmp_path), {"y": "y"}, reducer="RV-80E", n=16, seed=1,
+                 calibrate_on="s:sim")
+
+
+def test_a_sensitivity_output_is_a_row_beside_the_prediction_not_a_verdict(tmp_path):
+    res = validate(TwoOutputs(), SPEC, _two_units(tmp_path), {"y": "y"}, reducer="RV-80E", n=128, seed=5,
+                   sensitivity_outputs={"y": ["y_rig"]})
+    rows = res.comparison[res.comparison["quantity"] == "q"].set_index("role")
+    primary, rig = rows.loc[""], rows.loc["sensitivity: y_rig beside the prediction, not judged"]
+    assert rig["median"] == pytest.approx(primary["median"] + 1.0)          # µm
+    assert rig["nominal"] == pytest.approx(1.0)
+    assert not res.misses()["role"].astype(str).str.startswith("sensitivity").any()
+
+
+def test_a_measured_spectrum_is_compared_in_shape_by_hand():
+    """Measured 2, 4, 1″ at orders 1, 40, 80 (±10 % each): ratios to order 40 0.5 (±14.1 %) and 0.25. Predicted
+    reducers: order 1/order 40 = 0.4, 0.45, 0.5, 0.55, 0.6 → overlaps [0.429, 0.571]: consistent; order 80/40 =
+    0.01 … 0.05 → below 0.25·(1 − 0.141): misses by 0.03/0.25 = 0.12 (the median's)."""
+    spectra = []
+    for k, r1 in enumerate((0.4, 0.45, 0.5, 0.55, 0.6)):
+        a = np.zeros(100)
+        a[40], a[1], a[80] = 2.0, 2.0 * r1, 2.0 * (0.01 + 0.01 * k)
+        spectra.append(a)
+    rows = {r["order"]: r for r in compare_shape([1, 40, 80], [2.0, 4.0, 1.0], [0.1, 0.1, 0.1], spectra + [None],
+                                                 reference=40, interval=0.95)}
+    assert rows[40]["verdict"] == "reference order"
+    assert rows[1]["measured ratio"] == 0.5 and rows[1]["ratio uncertainty"] == pytest.approx(0.1 * np.sqrt(2))
+    assert rows[1]["predicted ratio"] == pytest.approx(0.5) and rows[1]["verdict"] == "consistent"
+    assert rows[80]["predicted ratio"] == pytest.approx(0.03) and rows[80]["n"] == 5
+    assert rows[80]["verdict"] == "misses: predicted / measured ratio 0.12"
+    assert compare_shape([1, 200], [1.0, 1.0], [0.1, 0.1], spectra, reference=1)[1]["verdict"].startswith(
+        "not resolved")
+
+
+SHAPE = """
+[[quantity]]
+id = "spectrum"
+quantity = "transmission_error_spectrum"
+description = "d"
+reducer = "RV-160N"
+unit_under_test = "one unit"
+figure = "Table 9"
+kind = "order_amplitudes"
+orders = [1, 40]
+amplitudes = [2.0, 4.0]
+relative_uncertainty = 0.1
+unit = "arcsec"
+pins = 40
+ratio = {ratio}
+"""
+
+
+def test_a_spectrum_of_another_reducer_is_compared_only_on_the_same_order_lattice(tmp_path):
+    def spectra(X):
+        out = []
+        for x in X:
+            a = np.zeros(60)
+            a[40], a[1] = 4.0, 2.0 * (1 + abs(x[0]) * 100)
+            out.append(a)
+        return out
+
+    for ratio, compared in ((81, True), (121, False)):
+        files = _two_units(tmp_path, SHAPE.format(ratio=ratio))
+        res = validate(Magnitude(), SPEC, files, {"y": "y"}, reducer="RV-80E", n=32, seed=2, te_spectra=spectra,
+                       shape_of=("s:spectrum",), lattice=(40, 81.0))
+        if compared:
+            row = res.shape.set_index("order [1/rev]").loc[1]
+            assert row["measured / order 40"] == 0.5 and row["verdict"] == "consistent"
+        else:
+            assert not len(res.shape)
+            why = res.comparison.set_index("quantity").loc["spectrum", "verdict"]
+            assert why == "not compared: its order lattice (pins 40, ratio 121) is not the design's (pins 40, ratio 81)"

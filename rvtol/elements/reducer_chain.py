@@ -131,7 +131,7 @@ def compliance_scale(design, family: str) -> float:
         return 1.0
     v = float(design[key])
     if not (math.isfinite(v) and v > 0):
-        raise SpecError(f"a compliance scale must be > 0, got {v:g}", file=design.file, key=key)
+        raise SpecError(f"a compliance scale must be > 0, got {v:g}", file=design.where(key), key=key)
     return v
 
 
@@ -139,14 +139,14 @@ def _check_scales(design) -> None:
     for name in design.params:
         if name.startswith(SCALE_PREFIX) and name[len(SCALE_PREFIX):] not in FAMILIES:
             raise SpecError(f"unknown compliance family {name[len(SCALE_PREFIX):]!r} "
-                            f"(known: {', '.join(FAMILIES)})", file=design.file, key=name)
+                            f"(known: {', '.join(FAMILIES)})", file=design.where(name), key=name)
 
 
 def _num(design, key, *, nonnegative=False):
     v = design[key]
     if isinstance(v, str) or not np.isfinite(v) or not (v >= 0 if nonnegative else v > 0):
         raise SpecError(f"must be {'>= 0' if nonnegative else '> 0'}, got {design.param(key).value!r}",
-                        file=design.file, key=key)
+                        file=design.where(key), key=key)
     return float(v)
 
 
@@ -158,7 +158,7 @@ def _located(design, key):
 
         def __exit__(self, et, ev, tb):
             if isinstance(ev, SpecError) and ev.file is None:
-                ev.file, ev.key = design.file, key
+                ev.file, ev.key = design.where(key), key
             return False
     return _Ctx()
 
@@ -185,7 +185,8 @@ class CrankGeometry:
         lo, hi = -0.5 * p - 0.5 * w, 0.5 * p + 0.5 * w
         if not (-0.5 * L < lo and hi < 0.5 * L):
             raise SpecError(f"the eccentrics (z = {lo:g} … {hi:g} mm, disc pitch ± half the disc width) must lie "
-                            f"between the support bearings (z = ±{0.5 * L:g} mm)", file=design.file,
+                            f"between the support bearings (z = ±{0.5 * L:g} mm)",
+                            file=design.where("crank.support_span"),
                             key="crank.support_span")
         with _located(design, "crank.journal_diameter"):
             sh = shafts.SteppedShaft((-0.5 * L - c, lo, hi, 0.5 * L), (dj, de, dj), (0.0, 0.0, 0.0), E, nu)
@@ -309,7 +310,8 @@ class ChainElements:
         E = _num(design, "material.youngs_modulus")
         nu = float(design["material.poisson_ratio"])
         if not 0.0 < nu < 0.5:
-            raise SpecError(f"must be > 0 and < 0.5, got {nu:g}", file=design.file, key="material.poisson_ratio")
+            raise SpecError(f"must be > 0 and < 0.5, got {nu:g}",
+                            file=design.where("material.poisson_ratio"), key="material.poisson_ratio")
         G = E / (2.0 * (1.0 + nu))
         kw: dict = {}
         src: dict = {}
@@ -326,12 +328,15 @@ class ChainElements:
         if has(*keys):
             if crank is None:
                 raise SpecError("the crank support pair needs the crank layout (crank.support_span, disc_pitch, "
-                                "gear_overhang, journal_diameter, eccentric_diameter)", file=design.file,
+                                "gear_overhang, journal_diameter, eccentric_diameter)",
+                                file=design.where("crank_support_bearing.preload"),
                                 key="crank_support_bearing.preload")
             arrangement = design.get("crank_support_bearing.arrangement", "X")
             if arrangement not in ("X", "O"):
                 raise SpecError(f"must be 'X' (face-to-face) or 'O' (back-to-back), got {arrangement!r}",
-                                file=design.file, key="crank_support_bearing.arrangement")
+
+                                file=design.where("crank_support_bearing.arrangement"),
+                                key="crank_support_bearing.arrangement")
             with _located(design, "crank_support_bearing.cup_angle"):
                 brg = TaperedRollerBearing(
                     rollers=_num(design, keys[0]), alpha=_num(design, keys[3]),
@@ -349,7 +354,8 @@ class ChainElements:
             rp, rg = _num(design, "pin.radius"), _num(design, "pin.groove_radius")
             if not rg > rp:
                 raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
-                                "outside Hertz theory)", file=design.file, key="pin.groove_radius")
+                                "outside Hertz theory)",
+                                file=design.where("pin.groove_radius"), key="pin.groove_radius")
             kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
             src["pin_groove"] = S.PIN_GROOVE.format(rp=rp, rg=rg, clearance_um=(rg - rp) * 1e3)
         if has("input_shaft.diameter", "input_shaft.length"):
@@ -385,7 +391,7 @@ class ChainElements:
                 if chk["opens"] or chk["slips"]:
                     raise SpecError(f"the end plate's bolted joint {'opens' if chk['opens'] else 'slips'} at rated "
                                     f"torque (VDI 2230: preload {joint.preload():.4g} N, pillar shear {FQ:.4g} N)",
-                                    file=design.file, key="carrier.joint_bolts")
+                                    file=design.where("carrier.joint_bolts"), key="carrier.joint_bolts")
                 k_j = 1.0 / (1.0 / carrier_structure.pillar_stiffness(
                     sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
                 K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))

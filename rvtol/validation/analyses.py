@@ -25,6 +25,17 @@ class ValidationOptions(CommonOptions):
                                             "(data/measurements/published/*.toml)", min_length=1)
     reducer: str = option(REQUIRED, "the reducer the study's design is (e.g. RV-80E): figures of other reducers are "
                                     "listed, not predicted")
+    stands_for: list[str] = option([], "other reducer names whose figures the design predicts (e.g. the \"RV-E "
+                                       "series\" of a catalogue bound)")
+    sensitivity_outputs: dict = option({}, "{published quantity = [other model outputs]}: the same figure against "
+                                           "each, beside the prediction and not judged (e.g. the TE an assumed test "
+                                           "rig reads, te.te_pp_rig)")
+    shape_of: list[str] = option([], "<source id>:<quantity id> of measured spectra (order_amplitudes) of another "
+                                     "reducer with the design's pins and ratio, compared in shape")
+    reference_order: int | None = option(None, "the order a spectrum's shape is relative to (default: the pin "
+                                               "count, the mesh order)", min=1)
+    spectrum_on_rig: bool = option(False, "predicted spectra of the TE the TE stage's test rig reads (default: the "
+                                          "reducer's own TE)")
     outputs: dict = option({}, "{published quantity = model output}: the output that predicts each quantity "
                                "(e.g. transmission_error_pp = \"te.te_pp\")")
     te_model: str | None = option(None, "the TE model (a stage of a composed study) whose curves give the predicted "
@@ -58,10 +69,28 @@ class ValidationOptions(CommonOptions):
                 study.model.output(out)
             except InputError as exc:
                 raise error("outputs", f"{name}: {exc.reason}") from None
+        for name, outs in self.sensitivity_outputs.items():
+            if not isinstance(outs, list) or not all(isinstance(o, str) for o in outs):
+                raise error("sensitivity_outputs", f"{name}: expected a list of model output names, got {outs!r}")
+            if name not in self.outputs:
+                raise error("sensitivity_outputs", f"{name}: not a quantity of outputs (its prediction comes first)")
+            for out in outs:
+                try:
+                    study.model.output(out)
+                except InputError as exc:
+                    raise error("sensitivity_outputs", f"{name}: {exc.reason}") from None
         if len(self.bounds) != 2 or not self.bounds[0] < self.bounds[1]:
             raise error("bounds", f"expected [low, high] with low < high, got {self.bounds}")
         if self.te_model is not None:
             self.te = _te_target(study, self.te_model, error)
+        known_shapes = {q.key for s in self.sources if s.status == "read" for q in s.quantities
+                        if q.kind == "order_amplitudes"}
+        for key in self.shape_of:
+            if key not in known_shapes:
+                raise error("shape_of", f"unknown measured spectrum {key!r} (order_amplitudes figures: "
+                                        f"{', '.join(sorted(known_shapes)) or 'none'})")
+        if self.shape_of and self.te is None:
+            raise error("shape_of", "a spectrum's shape needs the study's TE model (te_model)")
         if self.calibrate_on is not None:
             known = {q.key: q for s in self.sources if s.status == "read" for q in s.quantities}
             q = known.get(self.calibrate_on)
@@ -81,12 +110,12 @@ def _te_target(study, name: str, error) -> ModelTarget:
     return ModelTarget(study.model, stage.model, name)
 
 
-def te_spectra(target: ModelTarget):
+def te_spectra(target: ModelTarget, rig: bool = False):
     """``X -> [TE amplitude per order of one output revolution (arcsec), or None where the solver failed]``: each
-    row's TE curve by the TE stage's own ``run`` and its order spectrum (``TEResult.spectrum``) — of the TE its test
-    rig reads where the stage has one (a published spectrum is a rig's measurement)."""
+    row's TE curve by the TE stage's own ``run`` and its order spectrum (``TEResult.spectrum``) — the reducer's own
+    TE, or (``rig``) the TE its test rig reads where the stage has one."""
     def spectra(X):
-        return [r.spectrum(rig=True)["amplitude [arcsec]"].to_numpy() if r.ok else None
+        return [r.spectrum(rig=rig)["amplitude [arcsec]"].to_numpy() if r.ok else None
                 for r in (target.model.run(x) for x in target.inputs(X))]
     return spectra
 
@@ -98,9 +127,14 @@ class ValidationAnalysis(Analysis):
 
     def compute(self, ctx):
         o, mc = self.options, ctx.mc
-        known = (mc.samples.values, {out: mc.column(out) for out in set(o.outputs.values())}, mc.ok)
+        outs = set(o.outputs.values()) | {x for v in o.sensitivity_outputs.values() for x in v}
+        known = (mc.samples.values, {out: mc.column(out) for out in outs}, mc.ok)
+        g = getattr(o.te.model, "geometry", None) if o.te is not None else None
         return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
-                        te_spectra=te_spectra(o.te) if o.te is not None else None, calibrate_on=o.calibrate_on,
-                        parameter=o.parameter, bounds=tuple(o.bounds), interval=o.interval, confidence=o.confidence,
-                        order_threshold=o.order_threshold, spectrum_samples=o.spectrum_samples)
+                        te_spectra=te_spectra(o.te, o.spectrum_on_rig) if o.te is not None else None,
+                        calibrate_on=o.calibrate_on, parameter=o.parameter, bounds=tuple(o.bounds),
+                        interval=o.interval, confidence=o.confidence, order_threshold=o.order_threshold,
+                        spectrum_samples=o.spectrum_samples, stands_for=tuple(o.stands_for),
+                        sensitivity_outputs=o.sensitivity_outputs, shape_of=tuple(o.shape_of),
+                        lattice=(g.z_b, g.ratio) if g is not None else None, reference_order=o.reference_order)

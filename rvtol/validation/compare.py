@@ -14,7 +14,13 @@ built, so a measured value is judged against the predicted *spread*, never again
 * ``orders`` (the orders a measured TE spectrum shows as strong): per order the predicted amplitude
   (median over several predicted reducers) and its share of the largest order's; *present* when that
   share reaches ``threshold`` (default 10 %), else *absent* — a statement about the spectrum's shape only,
-  since the measured amplitudes are not known.
+  since the measured amplitudes are not known;
+* ``order_amplitudes`` (a measured spectrum's amplitude per order) against the predicted spectra in
+  *shape* (:func:`compare_shape`): each order's amplitude over a reference order's, measured (with its
+  relative reading uncertainty, the two orders' in quadrature) against the predicted units' central
+  interval of the same ratio; *consistent* when they overlap, else *misses* by the factor predicted
+  median / measured.  Shape, not size, because such a spectrum may be of another reducer with the same
+  order lattice (the same pins and ratio), and its test conditions (load, speed) are not the model's.
 
 The predicted median carries its own sampling uncertainty: the distribution-free interval of a median
 from two order statistics (:func:`median_interval`).
@@ -139,3 +145,53 @@ def largest_orders(spectra, top: int = 6) -> list[tuple[int, float]]:
     med = np.median(_shares(spectra)[0], axis=0)
     idx = np.argsort(med[1:])[::-1][:top] + 1
     return [(int(i), float(med[i])) for i in idx]
+
+
+CONSISTENT_SHAPE, REFERENCE = "consistent", "reference order"
+
+
+def compare_shape(orders, amplitudes, relative_uncertainty, spectra, reference: int,
+                  interval: float = 0.95) -> list[dict]:
+    """A measured spectrum's shape against the predicted ``spectra`` (module docstring): per order the measured
+    amplitude over the ``reference`` order's, m = A_k / A_ref with relative uncertainty u = √(u_k² + u_ref²),
+    and the predicted units' ratios a_k / a_ref (median, central ``interval``); *consistent* when
+    [m(1 − u), m(1 + u)] meets the predicted interval, else *misses*: predicted median / measured."""
+    spectra = [np.asarray(a, dtype=float) for a in spectra if a is not None and len(a) > 1]
+    amp = dict(zip(orders, amplitudes))
+    unc = dict(zip(orders, relative_uncertainty))
+    rows = []
+    n = min((len(a) for a in spectra), default=0)
+    if reference not in amp:
+        raise ValueError(f"the reference order {reference} is not among the measured orders")
+    lo_q, hi_q = 50.0 * (1.0 - interval), 50.0 * (1.0 + interval)
+    for o in orders:
+        m = amp[o] / amp[reference]
+        u = 0.0 if o == reference else float(np.hypot(unc[o], unc[reference]))
+        row = {"order": int(o), "measured": float(amp[o]), "relative uncertainty": float(unc[o]),
+               "measured ratio": float(m), "ratio uncertainty": u, "predicted": float("nan"),
+               "predicted ratio": float("nan"), "low": float("nan"), "high": float("nan"),
+               "predicted / measured": float("nan"), "n": len(spectra)}
+        if not spectra:
+            rows.append({**row, "verdict": "no successful prediction"})
+            continue
+        if max(o, reference) >= n:
+            rows.append({**row, "verdict": f"not resolved (highest order {n - 1})"})
+            continue
+        a = np.array([s[o] for s in spectra])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            r = a / np.array([s[reference] for s in spectra])
+        r = r[np.isfinite(r)]
+        med, lo, hi = (float(np.median(r)), float(np.percentile(r, lo_q)), float(np.percentile(r, hi_q))) \
+            if r.size else (float("nan"),) * 3
+        row.update({"predicted": float(np.median(a)), "predicted ratio": med, "low": lo, "high": hi,
+                    "predicted / measured": med / m if m > 0 else float("nan")})
+        if o == reference:
+            verdict = REFERENCE
+        elif not r.size:
+            verdict = "no successful prediction"
+        elif m * (1.0 + u) >= lo and m * (1.0 - u) <= hi:
+            verdict = CONSISTENT_SHAPE
+        else:
+            verdict = f"misses: predicted / measured ratio {med / m:.2g}"
+        rows.append({**row, "verdict": verdict})
+    return rows

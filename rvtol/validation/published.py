@@ -27,13 +27,22 @@ A file (``data/measurements/published/*.toml``; README there) holds::
     reducer = "RV-80E"                    # the model of the reducer measured
     unit_under_test = "prototype #1"
     figure = "..."                        # the figure or table it came from
-    kind = "range"                        # value | range | upper_limit | lower_limit | orders
+    kind = "range"                        # value | range | upper_limit | lower_limit | orders | order_amplitudes
+    origin = "measurement"                # or "model": a published model's result (listed beside, never judged)
     min = -29.68                          # range: the printed extremes (the compared value is max − min)
     max = 30.39
     value = 1.0                           # value, upper_limit, lower_limit
     orders = [1, 40]                      # orders: the orders (per output revolution) the source calls strong
     unit = "arcsec"                       # not for orders
     reading_uncertainty = 0.005           # in unit: half the printed digit, or the digitising error
+
+    # kind = "order_amplitudes": a measured spectrum's amplitude at each order, compared in SHAPE (each order's
+    # amplitude over the reference order's) with the study's design when their order lattices agree
+    orders = [1, 3, 39, 40]
+    amplitudes = [61.0, 3.0, 4.1, 2.9]    # in unit, one per order
+    relative_uncertainty = [0.05, 0.25, 0.2, 0.25]   # one per order (or one number): the reading's, relative
+    pins = 40                             # the measured reducer's pin count z_b and ratio i (its order lattice)
+    ratio = 81
 
     [[missing]]                           # what was looked for and not found / not read (a source not read has one)
     what = "..."
@@ -54,7 +63,9 @@ from ..errors import InputError
 from ..params import Params, read_toml
 
 #: how a published figure is compared with a prediction (:mod:`.compare`)
-KINDS = ("value", "range", "upper_limit", "lower_limit", "orders")
+KINDS = ("value", "range", "upper_limit", "lower_limit", "orders", "order_amplitudes")
+#: where a published figure comes from: a measurement, or a published model's result (listed beside the prediction)
+ORIGINS = ("measurement", "model")
 #: what became of a source
 STATUSES = ("read", "not read", "not found")
 READ_FROM = ("primary", "secondary")
@@ -78,6 +89,11 @@ class PublishedQuantity:
     high: float | None = None           # range: the printed maximum
     orders: tuple[int, ...] = ()
     reading_uncertainty: float = 0.0
+    origin: str = "measurement"
+    amplitudes: tuple[float, ...] = ()          # order_amplitudes: one per order (in unit)
+    relative_uncertainty: tuple[float, ...] = ()
+    pins: int | None = None                     # order_amplitudes: the measured reducer's z_b and ratio
+    ratio: float | None = None
 
     @property
     def key(self) -> str:
@@ -86,7 +102,11 @@ class PublishedQuantity:
 
     @property
     def numeric(self) -> bool:
-        return self.kind != "orders"
+        return self.kind not in ("orders", "order_amplitudes")
+
+    @property
+    def measured(self) -> bool:
+        return self.origin == "measurement"
 
 
 @dataclass(frozen=True)
@@ -136,22 +156,53 @@ def _text(p: Params, name: str, default=None) -> str:
     return v.strip()
 
 
+def _orders(t: Params) -> tuple[int, ...]:
+    orders = t.raw("orders")
+    if not isinstance(orders, list) or not orders or not all(
+            isinstance(o, int) and not isinstance(o, bool) and o >= 1 for o in orders):
+        raise t.error("orders", "expected a non-empty array of integer orders ≥ 1 (per output revolution)")
+    if len(set(orders)) != len(orders):
+        raise t.error("orders", "an order appears twice")
+    return tuple(orders)
+
+
+def _per_order(t: Params, name: str, n: int, *, positive: bool) -> tuple[float, ...]:
+    """An array of ``n`` numbers (one per order), or one number for every order."""
+    raw = t.raw(name)
+    vals = raw if isinstance(raw, list) else [raw] * n
+    if len(vals) != n:
+        raise t.error(name, f"expected one number per order ({n}), got {len(vals)}")
+    out = []
+    for i, v in enumerate(vals):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v == v or abs(v) == float("inf"):
+            raise t.error(name, f"entry {i + 1}: expected a number, got {v!r}")
+        if (v <= 0) if positive else (v < 0):
+            raise t.error(name, f"entry {i + 1}: must be {'> 0' if positive else '>= 0'}, got {v!r}")
+        out.append(float(v))
+    return tuple(out)
+
+
 def _quantity(t: Params, source: str) -> PublishedQuantity:
     qid = _text(t, "id")
     kind = t.str("kind", choices=KINDS)
     common = dict(source=source, id=qid, quantity=_text(t, "quantity"), description=_text(t, "description"),
                   reducer=_text(t, "reducer"), unit_under_test=_text(t, "unit_under_test"),
-                  figure=_text(t, "figure"), kind=kind)
+                  figure=_text(t, "figure"), kind=kind, origin=t.str("origin", "measurement", choices=ORIGINS))
     if kind == "orders":
-        orders = t.raw("orders")
-        if not isinstance(orders, list) or not orders or not all(
-                isinstance(o, int) and not isinstance(o, bool) and o >= 1 for o in orders):
-            raise t.error("orders", "expected a non-empty array of integer orders ≥ 1 (per output revolution)")
-        if len(set(orders)) != len(orders):
-            raise t.error("orders", "an order appears twice")
+        orders = _orders(t)
         t.str("unit", "")                 # "1/rev" may be written; orders carry no unit of rvtol's
         t.finish()
-        return PublishedQuantity(**common, orders=tuple(orders))
+        return PublishedQuantity(**common, orders=orders)
+    if kind == "order_amplitudes":
+        orders = _orders(t)
+        unit = t.unit("unit")
+        amps = _per_order(t, "amplitudes", len(orders), positive=True)
+        rel = _per_order(t, "relative_uncertainty", len(orders), positive=False)
+        pins = t.int("pins", min=2)
+        ratio = t.float("ratio", positive=True)
+        t.finish()
+        return PublishedQuantity(**common, unit=unit, orders=orders, amplitudes=amps, relative_uncertainty=rel,
+                                 pins=pins, ratio=ratio)
     unit = t.unit("unit")
     unc = t.float("reading_uncertainty", nonnegative=True)
     if kind == "range":

@@ -15,9 +15,13 @@ INTRODUCTION = (
     "'consistent' when the central {i:.0f} % of the predicted units meet it, 'partly' when only the median does, "
     "'contradicts' when the median does not. The median's interval is distribution-free (two order statistics). "
     "Measured strong orders of a TE spectrum are compared in shape only (their amplitudes are not known): 'present' "
-    "when the predicted order reaches {t:.0f} % of the largest predicted order. A figure of another reducer, or of a "
-    "quantity no model output is mapped to, is listed with the reason it is not predicted; sources found but not "
-    "read are listed at the end.")
+    "when the predicted order reaches {t:.0f} % of the largest predicted order. A measured spectrum with amplitudes "
+    "is compared in shape — each order's amplitude over the reference order's, against the predicted units' same "
+    "ratio — which also holds for another reducer of the same order lattice (pins, ratio). Rows with a role "
+    "'sensitivity' (the same figure against another output, e.g. with an assumed test rig) or 'published model "
+    "result' (the authors' own simulation) stand beside the prediction and are not judged. A figure of another "
+    "reducer, or of a quantity no model output is mapped to, is listed with the reason it is not predicted; sources "
+    "found but not read are listed at the end.")
 
 CALIBRATED = (
     "Calibration on one figure, {on} ({measured:.4g} {unit}): the published figures read are scalars, so one "
@@ -25,7 +29,9 @@ CALIBRATED = (
     "measured units' parts made to s × the drawing's bands), on the same uniform design for every s. s = {s:.4g} "
     "brings the predicted median to the measured value ({message}). Every other figure is then predicted with it "
     "(hold-out). A scale far from 1 says the drawing's tolerances do not explain the measurement; a hold-out the "
-    "calibrated model misses says the fitted parameter is not what differs.")
+    "calibrated model misses says the fitted parameter is not what differs. Another unit of the same design and "
+    "quantity is predicted by the same distribution the calibration centred, so its ratio is the two "
+    "measurements' ratio by construction: it is listed as 'not a hold-out'.")
 
 COLUMNS = ["source", "quantity", "unit under test", "kind", "measured", "± reading", "unit", "nominal", "median",
            "median CI low", "median CI high", "P low", "P high", "predicted / measured", "measured percentile [%]",
@@ -44,6 +50,13 @@ def misses(result) -> str:
     """One sentence per figure the model does not agree with, in each stage."""
     lines = []
     for _, r in result.misses().iterrows():
+        if isinstance(r.get("measured reducer"), str):           # a measured spectrum's shape
+            ratio = next(k for k in r.index if k.startswith("measured / order") and np.isfinite(r[k]))
+            pred = "predicted / order" + ratio[len("measured / order"):]
+            lines.append(f"{r['stage']}: order {int(r['order [1/rev]'])} of {r['source']}:{r['quantity']} "
+                         f"({r['measured reducer']}) is {r[ratio]:.3g} × the reference order's in the measurement "
+                         f"(±{r['± ratio [%]']:.0f} %), {r[pred]:.3g} in the prediction: {r['verdict']}.")
+            continue
         if np.isfinite(r.get("order [1/rev]", np.nan)):
             lines.append(f"{r['stage']}: order {int(r['order [1/rev]'])} of {r['source']}:{r['quantity']} is strong "
                          f"in the measurement; the model gives it {r['predicted amplitude [arcsec]']:.3g}″, "
@@ -77,6 +90,9 @@ def layout(res, o) -> list:
     if len(res.orders):
         blocks.append(Table(res.orders, "Orders the measured TE spectrum shows as strong, against the predicted "
                                         "spectrum (median over the predicted reducers)"))
+    if len(res.shape):
+        blocks.append(Table(res.shape.rename(columns=names), "Measured order amplitudes against the predicted "
+                                                            "spectra, in shape (relative to the reference order)"))
         for stage, top in res.largest.items():
             blocks.append(Text(f"Largest predicted TE orders, {stage}: "
                                + ", ".join(f"{k} ({a:.3g}″)" for k, a in top) + "."))

@@ -24,6 +24,27 @@
    by Brent's method (:func:`scipy.optimize.brentq`) in ``bounds``.  Every other figure is then predicted
    with the fitted ``s``.  A curve measurement (torsion or TE curve) would be calibrated with
    :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
+
+   A hold-out must be able to fail.  A figure of the same reducer and quantity as the calibration figure
+   (another unit of the same design, e.g. a second prototype) is predicted by the *same* distribution the
+   calibration just centred on the first: its ratio is the ratio of the two measurements by construction, so
+   it is listed with the role "same predicted distribution as the calibration figure: not a hold-out" and
+   never counted as one.  Hold-outs are figures of other quantities, or bounds (a catalogue bound, the strong
+   orders of the measured spectrum), each of which the calibrated model can miss.
+
+Beside the prediction, never judged:
+
+* ``sensitivity_outputs`` — ``{published quantity: [other model outputs]}``: the same figure against an
+  alternative output (e.g. the TE an assumed test rig would read, ``te.te_pp_rig``, beside the reducer's
+  own ``te.te_pp``), role "sensitivity";
+* figures with ``origin = "model"`` — a published model's own result (e.g. the authors' simulation of
+  their prototypes), role "published model result";
+* ``shape_of`` — measured spectra (``order_amplitudes``) of another reducer with the same order lattice
+  (``lattice`` = the design's pins and ratio), compared with the predicted spectra in shape
+  (:func:`.compare.compare_shape`, relative to ``reference_order``: default the pin count, the mesh order).
+
+``stands_for``: other reducer names whose figures the study's design predicts (e.g. the "RV-E series" of a
+catalogue bound).
 """
 from __future__ import annotations
 
@@ -37,11 +58,17 @@ from ..errors import InputError
 from ..mc import EvaluationCache, Evaluator
 from ..records import frame_records
 from ..sampling import sample
-from .compare import compare_limit, compare_orders, compare_value, largest_orders
+from .compare import compare_limit, compare_orders, compare_shape, compare_value, largest_orders
 from .published import PublishedQuantity, PublishedSource, display_value
 
 PARAMETERS = ("tolerance_scale",)
 BEFORE = "predicted (no calibration)"
+HOLD_OUT, CALIBRATED_ON = "hold-out", "calibrated on"
+SAME = "same predicted distribution as the calibration figure: not a hold-out"
+SENSITIVITY = "sensitivity: {output} beside the prediction, not judged"
+MODEL_RESULT = "published model result (not a measurement): beside the prediction, not judged"
+#: roles whose rows are never misses of the model
+NOT_JUDGED = ("sensitivity", "published model result")
 
 
 @dataclass
@@ -81,6 +108,7 @@ class ValidationResult:
     n: int
     interval: float
     largest: dict = field(default_factory=dict)     # stage -> [(order, amplitude)] of the predicted TE
+    shape: pd.DataFrame = field(default_factory=pd.DataFrame)   # measured spectra against the predicted, in shape
 
     def to_frame(self) -> pd.DataFrame:
         return self.comparison
@@ -94,12 +122,19 @@ class ValidationResult:
         return self.comparison[self.comparison["stage"] == name].reset_index(drop=True)
 
     def misses(self) -> pd.DataFrame:
-        """The predicted rows where the model does not agree with the publication (every stage)."""
+        """The predicted rows where the model does not agree with the publication (every stage; rows beside the
+        prediction — sensitivities, published model results — are not judged)."""
         bad = self.comparison["verdict"].isin(["above the predicted interval", "below the predicted interval",
                                                "partly", "contradicts"])
-        rows = self.comparison[bad]
-        o = self.orders[self.orders["verdict"] == "absent"] if len(self.orders) else self.orders
-        return pd.concat([rows, o], ignore_index=True) if len(o) else rows.reset_index(drop=True)
+        judged = ~self.comparison["role"].astype(str).str.startswith(NOT_JUDGED)
+        rows = self.comparison[bad & judged]
+        parts = [rows]
+        if len(self.orders):
+            parts.append(self.orders[self.orders["verdict"] == "absent"])
+        if len(self.shape):
+            parts.append(self.shape[self.shape["verdict"].str.startswith("misses")])
+        parts = [p for p in parts if len(p)]
+        return pd.concat(parts, ignore_index=True) if parts else rows.reset_index(drop=True)
 
     def plot(self, ax=None):
         from ..plotting.validation import ratio_chart
@@ -116,6 +151,7 @@ class ValidationResult:
         return {"n": self.n, "interval": self.interval,
                 "sources": frame_records(self.sources_frame()),
                 "comparison": frame_records(self.comparison), "orders": frame_records(self.orders),
+                "shape": frame_records(self.shape),
                 "missing": frame_records(self.missing), "calibration": cal,
                 "largest_predicted_orders": {k: [list(x) for x in v] for k, v in self.largest.items()}}
 
@@ -124,8 +160,16 @@ def _estimated(src: PublishedSource) -> str:
     return "; ".join(f"{k}: {v}" for k, v in src.estimated.items())
 
 
-def _not_predicted(src: PublishedSource, q: PublishedQuantity, reducer: str, outputs: dict, spectrum: bool) -> str:
-    if q.reducer != reducer:
+def _not_predicted(src: PublishedSource, q: PublishedQuantity, reducer: str, outputs: dict, spectrum: bool,
+                   stands_for=(), shape_of=(), lattice=None) -> str:
+    if q.kind == "order_amplitudes" and (q.key in shape_of or q.reducer in (reducer, *stands_for)):
+        if not spectrum:
+            return "not compared: the study gives no TE model for the spectrum"
+        if lattice is not None and (q.pins, q.ratio) != tuple(lattice):
+            return (f"not compared: its order lattice (pins {q.pins}, ratio {q.ratio:g}) is not the design's (pins "
+                    f"{lattice[0]}, ratio {lattice[1]:g})")
+        return ""
+    if q.reducer != reducer and q.reducer not in stands_for:
         why = src.estimated.get("design", f"rvtol has no {q.reducer} design")
         return f"not predicted: the study's design is an {reducer}; this figure's reducer: {q.reducer} ({why})"
     if q.kind == "orders":
@@ -198,17 +242,25 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
              seed: int | None = None, evaluator: Evaluator | None = None, known=None, te_spectra=None,
              calibrate_on: str | None = None, parameter: str = "tolerance_scale",
              bounds: tuple[float, float] = (0.25, 10.0), interval: float = 0.95, confidence: float = 0.95,
-             order_threshold: float = 0.10, spectrum_samples: int = 16, rtol: float = 0.02) -> ValidationResult:
+             order_threshold: float = 0.10, spectrum_samples: int = 16, rtol: float = 0.02, stands_for=(),
+             sensitivity_outputs: dict | None = None, shape_of=(), lattice=None,
+             reference_order: int | None = None) -> ValidationResult:
     """Predict every published figure of ``reducer`` (module docstring).
 
     ``outputs``: published quantity name -> the model output that predicts it; ``known``: ``(X, {output: display
     values}, ok)`` already evaluated on the unscaled sample (the study's Monte Carlo), used when ``X`` is that
     sample; ``te_spectra(X) -> [TE amplitude per order of one output revolution (arcsec; index = order) or None]``
-    for the measured TE orders.
+    for the measured TE orders and spectra; ``lattice``: ``(pins, ratio)`` of the design, which a spectrum of
+    another reducer must share to be compared in shape; ``reference_order``: the order a shape is relative to
+    (default: the pins).
     """
     sources = tuple(sources)
+    sens = {q: list(v) for q, v in (sensitivity_outputs or {}).items()}
     for qname, out in outputs.items():
         model.output(out)                       # InputError naming the output
+    for qname, outs in sens.items():
+        for out in outs:
+            model.output(out)
     if parameter not in PARAMETERS:
         raise InputError(f"unknown calibration parameter {parameter!r} (known: {', '.join(PARAMETERS)})",
                          key="calibration.parameter")
@@ -216,11 +268,19 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
         raise InputError(f"bounds must satisfy 0 < low < high, got {list(bounds)}", key="calibration.bounds")
     quantities = [(src, q) for src in sources if src.status == "read" for q in src.quantities]
     by_key = {q.key: (src, q) for src, q in quantities}
+    spectra_known = [k for k, (_, q) in by_key.items() if q.kind == "order_amplitudes"]
+    for key in shape_of:
+        if key not in spectra_known:
+            raise InputError(f"{key!r} is not a published order_amplitudes figure (known: "
+                             f"{', '.join(spectra_known) or 'none'})", key="shape_of")
     spectrum = te_spectra is not None
-    reason = {q.key: _not_predicted(src, q, reducer, outputs, spectrum) for src, q in quantities}
+    reason = {q.key: _not_predicted(src, q, reducer, outputs, spectrum, tuple(stands_for), tuple(shape_of), lattice)
+              for src, q in quantities}
     numeric = [(src, q) for src, q in quantities if q.numeric and not reason[q.key]]
-    order_qs = [(src, q) for src, q in quantities if not q.numeric and not reason[q.key]]
+    order_qs = [(src, q) for src, q in quantities if q.kind == "orders" and not reason[q.key]]
+    shape_qs = [(src, q) for src, q in quantities if q.kind == "order_amplitudes" and not reason[q.key]]
     needed = tuple(dict.fromkeys(outputs[q.quantity] for _, q in numeric))
+    extra = tuple(dict.fromkeys(o for _, q in numeric for o in sens.get(q.quantity, ()) if o not in needed))
     target = None
     if calibrate_on is not None:
         if calibrate_on not in by_key:
@@ -229,29 +289,44 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
         src, q = by_key[calibrate_on]
         if reason[q.key]:
             raise InputError(f"cannot calibrate on {calibrate_on!r}: {reason[q.key]}", key="calibration.on")
-        if q.kind not in ("value", "range"):
-            raise InputError(f"cannot calibrate on {calibrate_on!r}: a {q.kind} is not a measured value",
+        if q.kind not in ("value", "range") or not q.measured:
+            raise InputError(f"cannot calibrate on {calibrate_on!r}: a {q.kind} "
+                             f"{'' if q.measured else 'of a published model '}is not a measured value",
                              key="calibration.on")
         target = (src, q)
     pred = _Predictor(model, spec, n, method, seed, evaluator, known)
-    rows, order_rows, largest = [], [], {}
+    rows, order_rows, shape_rows, largest = [], [], [], {}
+
+    def role_of(stage: str, q: PublishedQuantity) -> str:
+        if not q.measured:
+            return MODEL_RESULT
+        if target is None or stage == BEFORE:
+            return ""
+        t = target[1]
+        if q.key == t.key:
+            return CALIBRATED_ON
+        if (q.reducer, q.quantity) == (t.reducer, t.quantity) and q.kind in ("value", "range"):
+            return SAME         # another unit of the same distribution: its ratio is the two measurements' ratio
+        return HOLD_OUT
+
+    def compared(q, out, v, stage, s, nom, src, role):
+        unit = model.output(out).shown_unit
+        meas, unc = display_value(q, unit)
+        if q.kind in ("value", "range"):
+            cmp = compare_value(meas, unc, v, interval, confidence)
+        else:
+            cmp = compare_limit(meas, q.kind == "upper_limit", v, interval, confidence)
+        return _row(stage, src, q, meas, unc, unit, nom.get(out, np.nan), cmp, int(np.sum(~np.isfinite(v))), role)
 
     def stage_rows(stage: str, s: float, values: dict, ok: np.ndarray, X: np.ndarray) -> None:
-        nom = pred.nominal(s, needed) if needed else {}
+        nom = pred.nominal(s, needed + (extra if stage == BEFORE else ())) if needed else {}
         for src, q in numeric:
             out = outputs[q.quantity]
-            unit = model.output(out).shown_unit
-            meas, unc = display_value(q, unit)
-            v = values[out]
-            if q.kind in ("value", "range"):
-                cmp = compare_value(meas, unc, v, interval, confidence)
-            else:
-                cmp = compare_limit(meas, q.kind == "upper_limit", v, interval, confidence)
-            role = ("" if target is None or stage == BEFORE else
-                    "calibrated on" if q.key == target[1].key else "hold-out")
-            rows.append(_row(stage, src, q, meas, unc, unit, nom.get(out, np.nan), cmp,
-                             int(np.sum(~np.isfinite(v))), role))
-        if order_qs:
+            rows.append(compared(q, out, values[out], stage, s, nom, src, role_of(stage, q)))
+            if stage == BEFORE and q.measured:
+                for alt in sens.get(q.quantity, ()):
+                    rows.append(compared(q, alt, values[alt], stage, s, nom, src, SENSITIVITY.format(output=alt)))
+        if order_qs or shape_qs:
             idx = np.flatnonzero(ok)[:spectrum_samples]
             spectra = te_spectra(X[idx]) if idx.size else []
             largest[stage] = largest_orders(spectra)
@@ -262,10 +337,24 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
                                        "predicted amplitude [arcsec]": r["amplitude"],
                                        "of the largest predicted order [%]": 100.0 * r["share"],
                                        "reducers": len([a for a in spectra if a is not None]),
-                                       "verdict": r["verdict"]})
+                                       "verdict": r["verdict"],
+                                       "role": "" if target is None or stage == BEFORE else HOLD_OUT})
+            for src, q in shape_qs:
+                ref = reference_order if reference_order is not None else (lattice[0] if lattice else q.pins)
+                unit = q.unit
+                for r in compare_shape(q.orders, q.amplitudes, q.relative_uncertainty, spectra, ref, interval):
+                    shape_rows.append({
+                        "stage": stage, "source": src.id, "quantity": q.id, "measured reducer": q.reducer,
+                        "order [1/rev]": r["order"], f"measured [{unit}]": r["measured"],
+                        "± reading [%]": 100.0 * r["relative uncertainty"],
+                        f"measured / order {ref}": r["measured ratio"], "± ratio [%]": 100.0 * r["ratio uncertainty"],
+                        "predicted median [arcsec]": r["predicted"], f"predicted / order {ref}": r["predicted ratio"],
+                        "P low": r["low"], "P high": r["high"], "predicted / measured ratio": r["predicted / measured"],
+                        "reducers": r["n"], "verdict": r["verdict"]})
 
-    values, X, ok = pred.predict(1.0, needed, "validation: prediction") if needed else ({}, pred.samples(1.0),
-                                                                                      np.ones(n, bool))
+    wanted = needed + extra
+    values, X, ok = pred.predict(1.0, wanted, "validation: prediction") if wanted else ({}, pred.samples(1.0),
+                                                                                     np.ones(n, bool))
     stage_rows(BEFORE, 1.0, values, ok, X)
     for src, q in quantities:
         if reason[q.key]:
@@ -293,7 +382,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
     orders = pd.DataFrame(order_rows)
     missing = pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
                              "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
-    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest)
+    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest, pd.DataFrame(shape_rows))
 
 
 def _fit_scale(pred: _Predictor, output: str, measured: float, unit: str, key: str, parameter: str,

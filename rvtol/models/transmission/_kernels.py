@@ -48,6 +48,7 @@ from numba import njit
 
 from .layout import (A_C, A_S, BETA_C, BETA_CA, BETA_H, BETA_P, BETA_S, C_CAM, C_CRANK, C_HOUSING, C_MESH,
                      C_PIN, C_SUN, E_C, E_CA, E_H, E_P, E_S, GAMMA_C, GAMMA_S, LINEAR, MOD_EQ, MOD_MOVED, NH, NZ,
+                     P_COSA, PHI_P, S_P,
                      N_CRANK, N_DISC, PIN_AP, PIN_GAP, PIN_R, P_ALPHAW, P_ECC, P_RATIO, P_RBP, P_RBS, P_RDC, P_RP,
                      P_RRP, P_ZB, P_ZC, RADIAL, ST_DIVERGED, ST_LOST_CONTACT, ST_MAXITER, ST_NONFINITE, ST_OK,
                      ST_SINGULAR, ST_UNRESOLVED, S_LIN, S_LOGA, S_LOGB, S_LOGCAP, S_ON, S_TAB, THCA, T_C, T_D, T_F,
@@ -164,7 +165,9 @@ def update_table_fast(theta_c, dth_s, prm, err, aux, pin_err, disc_h, pin_cs, co
         # ~500 rad: a product form would round differently in the last digits of these small terms)
         a = theta_c + TWO_PI * i / N_CRANK + 0.5 * math.pi - prm[P_ALPHAW]
         off[c, 0] = (rbs * dth_s + err[E_S] * math.cos(th_s + err[BETA_S] - a)
-                     - err[E_P + i] * math.cos(th_p + err[BETA_P + i] - a))
+                     - err[E_P + i] * math.cos(th_p + err[BETA_P + i] - a)
+                     # crank phase: the planet's teeth φ_i behind its eccentrics; a thicker driving flank closes
+                     - rbp * err[PHI_P + i] + 0.5 * prm[P_COSA] * err[S_P + i])
         # 5. crank - carrier bearing
         c = C_CRANK + i
         coef[c, 0, 0] = 1.0

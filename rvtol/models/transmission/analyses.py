@@ -5,7 +5,8 @@ output revolution, its order spectrum with the error families expected at each l
 (:mod:`.orders`), forces.  ``configuration`` = "nominal" (the spec's nominal values; default),
 "median" or "worst" (the Monte Carlo sample with the median / largest Δθ_er) or "values" (with
 ``[analysis.values]`` = {factor = value in the factor's unit}, others nominal); ``newmark`` (true: also
-run the Newmark-β solver and overlay it).
+run the Newmark-β solver and overlay it); ``orders`` (listed in the order table whatever their size, with
+what gives them: e.g. ``[3, 81, 162]``).
 
 ``transmission_error_sensitivity`` — doc 000 §3–4 (:func:`.sensitivity.te_sensitivity`): five-point
 sensitivities of Δθ_er to each error factor of Table 3 (one at a time, magnitude e, the others zero)
@@ -57,6 +58,9 @@ class TECurve(Analysis):
         values: dict[str, float] = option({}, "{factor = value in its unit} (configuration = \"values\"; the others "
                                               "nominal)", names="factors")
         newmark: bool = option(False, "also run the Newmark-β solver and overlay it")
+        orders: list[int] = option([], "orders (per output revolution) the order table lists whatever their size, "
+                                       "with what gives them (e.g. 3 and the input orders i, 2·i a measured "
+                                       "spectrum shows)", min=1)
 
         def complete(self, study, error):
             super().complete(study, error)
@@ -71,7 +75,8 @@ class TECurve(Analysis):
             names, shown = ctx.spec.names, [f.unit for f in ctx.spec.factors]
         else:                       # a stage of a composed study: its inputs as the mapping gives them
             names, shown = t.model.inputs, shown_units(t.model.input_units)
-        return reducer_curve(t.model, t.inputs(x)[0], how, names, shown, t.stage, o.newmark, ctx.evaluator)
+        return reducer_curve(t.model, t.inputs(x)[0], how, names, shown, t.stage, o.newmark, ctx.evaluator,
+                             orders=o.orders)
 
 
 @dataclass

@@ -110,11 +110,11 @@ def _run(model: TransmissionErrorModel, x):
 
 
 def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units, stage: str | None = None,
-                  newmark: bool = False, evaluate=None) -> ReducerCurve:
+                  newmark: bool = False, evaluate=None, orders=()) -> ReducerCurve:
     """``model`` at its input row ``x`` (base units) over one output revolution; ``names`` and
     ``shown_units``: the factors as the report lists them (``x``'s order); ``newmark``: also the Newmark-β
     solver (``evaluate``: an :class:`rvtol.mc.Evaluator` — the two solvers then run side by side on its
-    workers)."""
+    workers); ``orders``: listed in the order tables whatever their size (:func:`.orders.order_table`)."""
     models = {model.mode: model}
     if newmark and model.mode != "newmark":
         models["newmark"] = model.variant(mode="newmark")
@@ -130,7 +130,7 @@ def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units
     if good:
         first = next(iter(good.values()))
         out.top = first.top_orders(8)
-        out.attributed = model.order_table(first, top=12, min_fraction=0.01)
+        out.attributed = model.order_table(first, top=12, min_fraction=0.01, orders=orders)
         if first.te_rig is not None:          # the TE its test rig reads (rvtol/models/transmission/rig.py)
-            out.on_rig = model.order_table(first, top=12, min_fraction=0.01, rig=True)
+            out.on_rig = model.order_table(first, top=12, min_fraction=0.01, rig=True, orders=orders)
     return out

@@ -70,6 +70,19 @@ name                                meaning                                     
                                     S = 1 − 2 K1 cos φ + K1² (``stiffness.cycloid_contact``);
                                     e.g. −15 / −30 µm give n = 3.61 µm at φ0 = arccos K1 and
                                     15 µm at φ = 0, 180°
+``phi_p[i]``, ``phi_p``             crank phase (clocking) of crank i: its eccentrics turned     angle
+                                    φ_i counter-clockwise ahead of its planet's teeth (the
+                                    planet's timing on the crank's spline); all three without
+                                    the index.  Mesh i sees the planet's teeth −r_bp φ_i along
+                                    its line of action — the same as both cams of crank i moved
+                                    e·φ_i at right angles to the eccentric (E_c[j,i] with
+                                    β_c = 90°, to first order)
+``s_p[i]``, ``s_p``                 tooth-thickness deviation of planet i on its driving flank   length
+                                    (the flank the sun pushes when it drives forward, as in a
+                                    TE run; + = thicker): mesh i closes by (s_i/2)·cos α.  The
+                                    sun–planet mesh is bilateral (no first-stage backlash), so
+                                    this holds for one drive direction only: a torsion curve
+                                    (load reversed) must not take it
 ==================================  ===========================================================  ======
 
 Indices are 1-based as in the document (i crank/hole 1–3, j disc 1–2, k pin
@@ -142,7 +155,8 @@ _ARRAYS = {"E_p": (L.E_P, (3,), False), "beta_p": (L.BETA_P, (3,), True),
            "E_c": (L.E_C, (2, 3), False), "beta_c": (L.BETA_C, (2, 3), True),
            "E_ca": (L.E_CA, (3,), False), "beta_ca": (L.BETA_CA, (3,), True),
            "delta_b": (L.DELTA_B, (2, 3), False), "delta_oc": (L.DELTA_OC, (3,), False),
-           "equidistance_mod": (L.MOD_EQ, (2,), False), "moved_distance_mod": (L.MOD_MOVED, (2,), False)}
+           "equidistance_mod": (L.MOD_EQ, (2,), False), "moved_distance_mod": (L.MOD_MOVED, (2,), False),
+           "phi_p": (L.PHI_P, (3,), True), "s_p": (L.S_P, (3,), False)}
 # per-pin rows of pin_err (added): element [k] one pin; the uniform groups below all pins
 _PER_PIN = {"R_pin": L.PIN_R, "AP_pin": L.PIN_AP, "delta_pin": L.PIN_GAP, "delta_th": L.PIN_GAP}
 _UNIFORM_PIN = {"R_pc": L.PIN_R, "delta_pin": L.PIN_GAP, "delta_th": L.PIN_GAP}
@@ -223,9 +237,9 @@ class ErrorFactors:
         if n in _SCALARS:
             return _Binding(name, n, (), "rad" if n.startswith(("beta", "gamma")) else "mm")
         if n in _ARRAYS:
-            if _ARRAYS[n][2]:
+            if n.startswith("beta"):
                 raise InputError(f"phase factor {name!r} needs an index, e.g. {n}[1,2]", key="factor")
-            return _Binding(name, n, (), "mm")
+            return _Binding(name, n, (), "rad" if _ARRAYS[n][2] else "mm")
         if n in _PATTERNS or n in _UNIFORM_PIN:
             return _Binding(name, n, (), "mm")
         if _is_phase(n) and n[:-6] in _PATTERNS:

@@ -122,7 +122,7 @@ def _num(design, key: str, positive: bool = True) -> float:
     v = design[key]
     if isinstance(v, str) or not math.isfinite(v) or not (v > 0 if positive else v >= 0):
         raise SpecError(f"must be {'> 0' if positive else '>= 0'}, got {design.param(key).value!r}",
-                        file=design.file, key=key)
+                        file=design.where(key), key=key)
     return float(v)
 
 
@@ -133,7 +133,8 @@ def friction_from_design(design) -> Friction | None:
     mu = {name: (_num(design, key, positive=False) if key in design else 0.0) for name, key in KEYS.items()}
     for name, v in mu.items():
         if v >= 1.0:
-            raise SpecError(f"a friction coefficient must lie in [0, 1), got {v:g}", file=design.file, key=KEYS[name])
+            raise SpecError(f"a friction coefficient must lie in [0, 1), got {v:g}", file=design.where(KEYS[name]),
+                            key=KEYS[name])
     needle_bore = _num(design, "crank.eccentric_diameter") if mu["needle"] > 0 else 0.0
     bore = p0 = 0.0
     if mu["crank_support"] > 0:

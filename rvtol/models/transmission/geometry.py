@@ -49,6 +49,10 @@ from .compliance import ContactChain, reduce_chain
 from .friction import Friction, friction_from_design
 
 
+#: how far a written crank circle (crank_bearing.centre_radius) may lie from a' (mm): written to the µm
+CIRCLE_TOLERANCE = 1e-3
+
+
 def involute(a: float) -> float:
     return math.tan(a) - a
 
@@ -136,6 +140,7 @@ class RVGeometry:
         p[L.P_K0DC], p[L.P_K0OC], p[L.P_K0PIN], p[L.P_K0CA] = self.k0_dc, self.k0_oc, self.k0_pin, self.k0_ca
         p[L.P_PW] = self.force_exponent
         p[L.P_OMEGA_C] = omega_c
+        p[L.P_COSA] = math.cos(self.alpha)
         return p
 
     def arc_radii(self) -> np.ndarray:
@@ -203,7 +208,7 @@ def _written(design: Design, name: str) -> str:
 def _int(design: Design, name: str) -> int:
     v = design[name]
     if abs(v - round(v)) > 1e-9 or v < 1:
-        raise SpecError(f"expected a positive whole number, got {v}", file=design.file, key=name)
+        raise SpecError(f"expected a positive whole number, got {v}", file=design.where(name), key=name)
     return int(round(v))
 
 
@@ -217,38 +222,40 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
     def pos(name):
         v = float(design[name])
         if not v > 0:
-            raise SpecError(f"must be > 0, got {_written(design, name)}", file=design.file, key=name)
+            raise SpecError(f"must be > 0, got {_written(design, name)}", file=design.where(name), key=name)
         return v
 
     z_s, z_p, z_c, z_b = (_int(design, n) for n in ("sun.teeth", "planet.teeth", "cycloid.teeth", "pin.count"))
     if z_b != z_c + 1:
         raise SpecError(f"the model needs z_pins = z_cycloid + 1, got {z_b} and {z_c}",
-                        file=design.file, key="pin.count")
+                        file=design.where("pin.count"), key="pin.count")
     m = pos("sun.module")
     if "planet.module" in design and abs(design["planet.module"] - m) > 1e-12:
-        raise SpecError("sun and planet modules differ", file=design.file, key="planet.module")
+        raise SpecError("sun and planet modules differ", file=design.where("planet.module"), key="planet.module")
     alpha = pos("sun.pressure_angle")
     if not alpha < 0.5 * math.pi:
-        raise SpecError(f"pressure angle must lie below 90°, got {math.degrees(alpha):g}°", file=design.file,
+        raise SpecError(f"pressure angle must lie below 90°, got {math.degrees(alpha):g}°",
+                        file=design.where("sun.pressure_angle"),
                         key="sun.pressure_angle")
     x_s, x_p = float(design.get("sun.profile_shift", 0.0)), float(design.get("planet.profile_shift", 0.0))
     inv_w = involute(alpha) + 2.0 * math.tan(alpha) * (x_s + x_p) / (z_s + z_p)
     if inv_w <= 0:
         raise SpecError("profile shifts give a non-positive operating pressure angle",
-                        file=design.file, key="planet.profile_shift")
+                        file=design.where("planet.profile_shift"), key="planet.profile_shift")
     alpha_w = inverse_involute(inv_w)
     a_w = m * (z_s + z_p) / 2.0 * math.cos(alpha) / math.cos(alpha_w)
     ratio = 1.0 + z_b * z_p / z_s
     if "reducer.ratio" in design and abs(design["reducer.ratio"] - ratio) > 1e-9 * ratio:
         raise SpecError(f"ratio {design['reducer.ratio']:g} does not match 1 + z_b z_p / z_s = {ratio:g}",
-                        file=design.file, key="reducer.ratio")
+                        file=design.where("reducer.ratio"), key="reducer.ratio")
     ecc, r_pc, r_pin = pos("cycloid.eccentricity"), pos("pin.circle_radius"), pos("pin.radius")
     if not z_b * ecc < r_pc - r_pin:
         raise SpecError("pitch point outside the pin circle (need z_b·e < R_p − r_rp)",
-                        file=design.file, key="cycloid.eccentricity")
+                        file=design.where("cycloid.eccentricity"), key="cycloid.eccentricity")
     hertz = float(design["stiffness.hertz_exponent"])
     if not 0.0 <= hertz < 0.5:
-        raise SpecError(f"Hertz exponent must lie in [0, 0.5), got {hertz}", file=design.file,
+        raise SpecError(f"Hertz exponent must lie in [0, 0.5), got {hertz}",
+                        file=design.where("stiffness.hertz_exponent"),
                         key="stiffness.hertz_exponent")
 
     def opt(name, nonnegative=False):
@@ -258,13 +265,20 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
         v = float(design[name])
         if not (v >= 0 if nonnegative else v > 0) or not math.isfinite(v):
             raise SpecError(f"must be {'>= 0' if nonnegative else '> 0'}, got {_written(design, name)}",
-                            file=design.file, key=name)
+                            file=design.where(name), key=name)
         return v
 
     r_bs, r_bp, rated = m * z_s * math.cos(alpha) / 2.0, m * z_p * math.cos(alpha) / 2.0, pos("reducer.rated_torque")
     # the compliance elements sit on the crank circle as the design writes it (the value every other model
     # reads: one set of elements, one finite-element solve per design); a' where the design leaves it out
     circle = float(design["crank_bearing.centre_radius"]) if "crank_bearing.centre_radius" in design else a_w
+    if abs(circle - a_w) > CIRCLE_TOLERANCE:
+        # a crank circle written beside the gears must be theirs (a variant that changes z_s + z_p or the shifts
+        # and keeps its base's circle would put the cranks and their elements where the planets are not)
+        raise SpecError(f"crank circle {_written(design, 'crank_bearing.centre_radius')} is not the operating centre "
+                        f"distance a' = {a_w:.4f} mm of [sun] and [planet] (m (z_s + z_p)/2 · cos α / cos α'): "
+                        "write it to the µm or leave it out", file=design.where("crank_bearing.centre_radius"),
+                        key="crank_bearing.centre_radius")
     elements = ChainElements.from_design(design, circle)
     contact_chain = None
     if chain:
@@ -272,7 +286,7 @@ def geometry_from_design(design: Design, chain: bool = True) -> RVGeometry:
             contact_chain = reduce_chain(elements, a_w=a_w, r_bs=r_bs, r_bp=r_bp, ratio=ratio, z_c=z_c, z_b=z_b,
                                          ecc=ecc, rated_torque=rated)
         except SpecError as e:
-            raise e.located(file=design.file)
+            raise design.relocate(e.located(file=design.file))
 
     def scaled(key, family):
         """A doc 000 stiffness divided by its family's compliance scale (k0 / s scales the deflection by s)."""

@@ -58,7 +58,8 @@ P_KS, P_KSP = 12, 13                  # linear stiffnesses (N/mm)
 P_K0DC, P_K0OC, P_K0PIN, P_K0CA = 14, 15, 16, 17   # Hertz base coefficients (k = k0·P^h)
 P_PW = 18                             # force exponent 1/(1-h)
 P_OMEGA_C = 19                        # nominal carrier speed (rad/s), Newmark only
-NPRM = 20
+P_COSA = 20                           # cos α of the reference pressure angle (a tooth thickness → line of action)
+NPRM = 21
 
 # error vector `err` (base units mm, rad)
 E_S, BETA_S, A_S, GAMMA_S, A_C, GAMMA_C, DELTA_CA = 0, 1, 2, 3, 4, 5, 6
@@ -70,7 +71,10 @@ E_CA, BETA_CA = 43, 46                # [3]
 DELTA_OC = 49                         # [3]
 MOD_EQ, MOD_MOVED = 52, 54            # [2]: cycloid profile modification per disc, equidistance Δr_j and
                                       # moved distance ΔR_j (doc 004's normal clearance n(φ) at every pin)
-NERR = 56
+PHI_P, S_P = 56, 59                   # [3]: crank i's phase (clocking: its eccentrics ahead of its planet's teeth,
+                                      # rad) and planet i's tooth-thickness deviation on the driving flank (mm):
+                                      # an offset of mesh i along its line of action, −r_bp φ_i + (s_i/2) cos α
+NERR = 62
 
 # pin_err[3, N_DISC, z_b]: radial position (R_jk), tangential position (AP_jk), normal clearance
 # (δ_jk + δ_thjk) of pin k as seen by disc j

@@ -276,14 +276,15 @@ class TransmissionErrorModel(Model):
         return self.evaluate_with_status(X)[0]
 
     def order_table(self, result: TEResult, top: int = 12, min_fraction: float = 0.01,
-                    rig: bool = False) -> pd.DataFrame:
+                    rig: bool = False, orders=()) -> pd.DataFrame:
         """The largest orders of ``result``'s TE (``rig``: of the TE the rig reads), each with the error families
-        expected there (:mod:`.orders`; the measurement chain's terms among them)."""
+        expected there (:mod:`.orders`; the measurement chain's terms among them); ``orders``: listed too,
+        whatever their size."""
         x = [result.factors[n] for n in self.factors.names]
         use_rig = rig and result.te_rig is not None
         chain = result.rig_terms if use_rig else None
         return order_table(result.te_rig if use_rig else result.te, self.geometry, self.factors.bindings, x, top,
-                           min_fraction, measurement=chain)
+                           min_fraction, measurement=chain, orders=orders)
 
     def run(self, values: dict | np.ndarray | None = None) -> TEResult:
         """One reducer in full. ``values``: ``{factor: value in base units}`` (missing: 0) or a row."""

@@ -94,7 +94,8 @@ class ReferenceModel:
             G[i, [b, b + 1]] = -_u(A[i])
             G[i, b + 2] = g.r_bp
         h = (g.r_bs * dth_s + err[L.E_S] * np.cos(th_s + err[L.BETA_S] - A)
-             - err[L.E_P:L.E_P + 3] * np.cos(th_p + err[L.BETA_P:L.BETA_P + 3] - A))
+             - err[L.E_P:L.E_P + 3] * np.cos(th_p + err[L.BETA_P:L.BETA_P + 3] - A)
+             - g.r_bp * err[L.PHI_P:L.PHI_P + 3] + 0.5 * np.cos(g.alpha) * err[L.S_P:L.S_P + 3])
         out["mesh"] = (G, h)
         # 3. cycloid-crank bearings [j, i, xy]
         hole = theta_c + self.phi

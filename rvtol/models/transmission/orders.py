@@ -36,6 +36,17 @@ to first order and shows at 2n (a single pin: 2·z_c; A_c: 2·z_c; E_ca: 2·z_b)
 Errors of both sides together break both symmetries; their products in the
 nonlinear contacts give sums and differences of the families' orders, e.g.
 order z_b − z_c = 1 from a housing-fixed error with a disc- or crank-fixed one.
+
+**Crank phase and order 3.**  A crank's phase (its planet's clocking on the
+crank, a planet's tooth thickness: ``phi_p[i]``, ``s_p[i]``) turns with the
+crank: a carrier-side error, multiples of z_b only — it cannot give order 3.
+To first order it is both cams of the crank moved e·φ at right angles to the
+eccentric; the two discs' compromise rotations ±e·φ·cos(z_b θ_c)/(3a') cancel,
+so one crank's phase shows at 2·z_b; a phase common to the three cranks only
+shifts the TE by the kinematic angle −φ z_p/(z_s i).  Order 3 is a housing-side
+order: the three cranks passing a housing-fixed error (carrier offset A_c,
+pin-ring patterns); the input orders i and 2·i come from the input shaft's turn
+against the housing (a sun-support offset A_s; a test rig's input encoder).
 A spectrum of N positions per revolution shows an order t > N/2 aliased at
 |t − N·round(t/N)| (off the lattice unless N is a multiple of its step).
 """
@@ -75,6 +86,9 @@ FAMILIES = {f.key: f for f in (
     Family("disc_holes", "disc holes", "disc crank holes (disc-fixed)", "carrier", "z_b"),
     Family("crank", "cranks", "cranks: cams, planets, needle and crank-bearing clearances (crank-fixed)", "carrier",
            "z_b (3·z_b for a pattern identical on all three cranks)"),
+    Family("crank_phase", "crank phase",
+           "crank phase: a planet's clocking on its crank and its tooth thickness (crank-fixed)", "carrier",
+           "z_b, 2·z_b; a phase common to the three cranks only shifts the mean (and 3·z_b)"),
     Family("carrier_bores", "carrier bores", "carrier crank bores (carrier-fixed)", "carrier",
            "2·z_b (a bore moves the crank under both discs alike)"),
     Family("sun", "sun", "sun eccentricity (sun-fixed)", "sun", "3(i − 1): three planets on a floating sun"),
@@ -95,6 +109,7 @@ FAMILY_OF = {
                     "disc_profile"),
     "E_h": "disc_holes",
     **dict.fromkeys(("E_c", "E_p", "delta_b", "delta_oc"), "crank"),
+    **dict.fromkeys(("phi_p", "s_p"), "crank_phase"),
     "E_ca": "carrier_bores",
     "E_s": "sun",
 }
@@ -170,8 +185,18 @@ def lattice_step(g: RVGeometry, side: str) -> int:
     return g.z_b * housing // math.gcd(g.z_b, housing)      # uniform: both symmetries
 
 
-def _how(g: RVGeometry, side: str, t: int) -> str:
-    """The simplest way to write order ``t`` from the family's base orders."""
+def _input_multiple(g: RVGeometry, t: int) -> int | None:
+    """k where order ``t`` is k·i, the input shaft's k-th harmonic (a whole ratio), else None."""
+    i = int(round(g.ratio))
+    return t // i if abs(g.ratio - i) < 1e-9 and t % i == 0 else None
+
+
+def _how(g: RVGeometry, side: str, t: int, key: str | None = None) -> str:
+    """The simplest way to write order ``t`` from the family's base orders (the input support's: the input
+    shaft's turns, k·i)."""
+    if key == "input_support" and _input_multiple(g, t):
+        k = _input_multiple(g, t)
+        return "i" if k == 1 else f"{k}·i"
     Z = g.z_b * g.z_c
     if side == "housing":          # t = a·z_c ± 3b, smallest |b|
         best = min(((abs(t - a * g.z_c), a) for a in range(t // g.z_c + 2)
@@ -210,7 +235,7 @@ def expected_orders(g: RVGeometry, key: str, n_positions: int) -> dict[int, str]
     for t in range(step, Z + n_positions + 1, step):
         k = alias(t, n_positions)
         if 1 <= k <= half and k not in out:
-            out[k] = _how(g, side, t) + (f" aliased from {t}" if t > half else "")
+            out[k] = _how(g, side, t, key) + (f" aliased from {t}" if t > half else "")
     for m in (1, 2):
         k = alias(m * Z, n_positions)
         if m * Z > half and (m * Z) % step == 0 and k in out and "aliased" not in out[k]:
@@ -250,23 +275,43 @@ def active_families(bindings, values) -> dict[str, list[str]]:
 
 def measurement_orders(measurement, g: RVGeometry, n_positions: int) -> dict[int, str]:
     """The orders a test rig's measurement chain adds (rows ``(n, a, b)`` of :mod:`.rig`), each with what
-    makes it: order 1 the output encoder's graduation turning eccentric about the carrier's axis (flange pilot,
-    main-bearing runout, the rig's centring), order i the input encoder's divided by the ratio."""
+    makes it: order 1 the output encoder's graduation turning eccentric about the carrier's axis (the rig's
+    centring; a ring centred by its fit on the pilot adds the pilot and the main-bearing runout, :mod:`.rig`),
+    order i the input encoder's divided by the ratio."""
     out: dict[int, str] = {}
     for n, a, b in np.asarray(measurement, dtype=float).reshape(-1, 3):
         if a == 0.0 and b == 0.0:
             continue
         k = alias(int(round(n)), n_positions)
         if round(n) == 1:
-            out[k] = "rig: output encoder eccentricity (flange pilot, main-bearing runout, centring), 1"
+            out[k] = "rig: output encoder eccentricity about the rotation axis (its centring), 1"
         else:
             out[k] = f"rig: input encoder eccentricity ÷ ratio, i = {g.ratio:g}" + (
                 f" aliased from {int(round(n))}" if k != round(n) else "")
     return out
 
 
+def order_sources(g: RVGeometry, o: int) -> str:
+    """What can give order ``o`` at all in the 20-DOF model (the lattices of the module doc), for an order an
+    order table is asked to list that no active error explains."""
+    out = []
+    if o % lattice_step(g, "carrier") == 0:
+        out.append("carrier-side errors (discs, cranks, crank phase, carrier bores)")
+    if o % lattice_step(g, "housing") == 0:
+        out.append("the three cranks passing housing-fixed errors (carrier offset A_c, pin-ring patterns)"
+                   if o == L.N_CRANK else "housing-fixed errors (pin ring, carrier offset A_c)")
+    k = _input_multiple(g, o)
+    if k in (1, 2):
+        out.append(f"the input shaft's {'once' if k == 1 else 'twice'}-per-turn: a sun-support offset A_s (housing-"
+                   "fixed)" + (", a test rig's input encoder eccentricity" if k == 1 else
+                               "; a rig's input coupling or encoder ovality (not modelled)"))
+    if not out:
+        out.append("only beats of errors of two sides (e.g. z_b − z_c = 1)")
+    return "; ".join(out)
+
+
 def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, min_fraction: float = 0.01,
-                interactions: int = 4, measurement=None) -> pd.DataFrame:
+                interactions: int = 4, measurement=None, orders=()) -> pd.DataFrame:
     """The largest orders of a TE curve (uniform over one output revolution) with the families expected there.
 
     Rows: the ``top`` largest orders ≥ ``min_fraction`` × the largest.  ``expected from``: the active
@@ -275,7 +320,9 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
     explains alone): active families of two sides (housing: base orders z_c, 3; carrier: z_b) and the
     simplest p·b1 ± q·b2 (p, q ≤ ``interactions``) equal to it — e.g. order 1 = z_b − z_c from a
     housing-fixed and a disc-fixed error.  ``measurement``: the rows of a test rig's measurement chain when ``te``
-    is the TE the rig reads (:func:`measurement_orders`: order 1 and order i).
+    is the TE the rig reads (:func:`measurement_orders`: order 1 and order i).  ``orders``: orders listed
+    whatever their size (e.g. 3 and the input orders i, 2·i, which a measured spectrum shows), after the largest;
+    one no active error explains says what could give it (:func:`order_sources`).
     """
     k, a = order_spectrum(np.asarray(te, dtype=float))
     n_pos = np.asarray(te).size
@@ -291,9 +338,9 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
     amp = a[1:]
     biggest = amp.max() if amp.size else 0.0
     rows = []
-    for o in np.argsort(amp)[::-1][:top] + 1:
-        if biggest <= 0 or a[o] < min_fraction * biggest:
-            break
+    largest = [int(o) for o in np.argsort(amp)[::-1][:top] + 1 if biggest > 0 and a[o] >= min_fraction * biggest]
+    asked = [int(o) for o in orders if 1 <= int(o) < a.size and int(o) not in largest]
+    for o in largest + asked:
         hits = [f"{_label(f, fams[f])}: {expected[f][o]}" for f in fams if f != "nominal" and o in expected[f]]
         if o in rig:
             hits.insert(0, rig[o])
@@ -309,9 +356,12 @@ def order_table(te: np.ndarray, g: RVGeometry, bindings, values, top: int = 12, 
                                 for sgn in ("+", "−") if abs(p * b1 + (q if sgn == "+" else -q) * b2) == o)
                 if combos:
                     pairs.append(f"{', '.join(sides[s1])} × {', '.join(sides[s2])}: {combos[0][1]}")
+        shown = "; ".join(hits) if hits else "—"
+        if o in asked and not hits and not pairs:
+            shown = f"— (no active error; could arise from: {order_sources(g, o)})"
         rows.append({"order [1/rev]": int(o), "amplitude [arcsec]": float(a[o]),
-                     "of largest [%]": 100.0 * float(a[o] / biggest),
-                     "expected from": "; ".join(hits) if hits else "—",
+                     "of largest [%]": 100.0 * float(a[o] / biggest) if biggest > 0 else float("nan"),
+                     "expected from": shown,
                      "interaction": "; ".join(pairs) if pairs else "—"})
     return pd.DataFrame(rows, columns=["order [1/rev]", "amplitude [arcsec]", "of largest [%]", "expected from",
                                        "interaction"])

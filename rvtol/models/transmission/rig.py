@@ -32,7 +32,13 @@ output revolution; its eccentricity about the carrier's rotation axis is the sum
   (extrapolated linearly along the raceway axis): ``−m(z_f)``;
 * the rig's own **centring** of the graduation on the pilot (a rig tolerance).
 
-So ``e_out = p − m(z_f) + c_rig`` and the TE term is ``(e_x sin θ + e_y cos θ)/r_out`` at order 1 with one head.
+So a ring centred by its fit on the pilot (``centring = "pilot"``) is eccentric by ``e_out = p − m(z_f) + c_rig``.
+A ring centred with a dial indicator on its own periphery while the reducer turns (``centring = "indicated"``,
+the usual way to mount a modular ring) is centred on the *rotation axis* itself: the pilot's eccentricity and
+the main-bearing runout are indicated away, and ``e_out = c_rig``, the residual the indicator leaves (half its
+TIR).  Adding the pilot's eccentricity to an indicated ring counts it twice.  The TE term is
+``(e_x sin θ + e_y cos θ)/r_out`` at order 1 with one head; the study's mapping gives ``e_out`` as the rig's
+``centring`` says (:attr:`Encoder.centring`).
 Mounted on its own bearing and coupled to the flange (``mounting = "coupled"``: an encoder with an integral
 bearing and a homokinetic coupling), the graduation turns about the encoder's own axis and the flange's orbit
 goes into the coupling: no first-order term (the coupling's own kinematic error is not modelled).  The same
@@ -60,9 +66,10 @@ A rig description (``data/rigs/*.toml``) holds the rig's parameters in a ``[rig]
     [rig]
     name = "…"
     [rig.output_encoder]
-    graduation_diameter = { value = 115, unit = "mm", source = "…" }
+    graduation_diameter = { value = 200, unit = "mm", range = [150, 250], source = "…" }   # range: optional
     read_heads = { value = 1, unit = "1", source = "…" }
     mounting = { value = "flange", unit = "1", source = "…" }     # or "coupled"
+    centring = { value = "indicated", unit = "1", source = "…" }  # or "pilot"; optional, default "indicated"
     [rig.input_encoder]
     graduation_diameter = …
     read_heads = …
@@ -88,15 +95,20 @@ from ...params import Params, check_number, read_toml
 INPUTS = ("rig.output_eccentricity.x", "rig.output_eccentricity.y", "rig.input_eccentricity.x",
           "rig.input_eccentricity.y")
 MOUNTINGS = ("flange", "coupled")
+#: how a flange-mounted graduation is centred: on the rotation axis with a dial indicator, or by its fit on the pilot
+CENTRINGS = ("indicated", "pilot")
 
 
 @dataclass(frozen=True)
 class Encoder:
-    """One encoder of the rig: graduation radius (mm), read heads (1 or 2), how it is mounted."""
+    """One encoder of the rig: graduation radius (mm), read heads (1 or 2), how it is mounted and centred, and the
+    range of graduation radii the rig's assumption spans (mm; None: the radius is a fact of the rig)."""
 
     radius: float
     heads: int
     mounting: str = "flange"
+    centring: str = "indicated"
+    radius_range: tuple[float, float] | None = None
 
     @property
     def reads_eccentricity(self) -> bool:
@@ -130,8 +142,10 @@ class Rig:
 
         rows = []
         for side, enc in (("output", self.output), ("input", self.input)):
-            rows.append({"encoder": side, "graduation diameter (mm)": 2.0 * enc.radius, "read heads": enc.heads,
-                         "mounting": enc.mounting,
+            span = "" if enc.radius_range is None else f"{2 * enc.radius_range[0]:g}–{2 * enc.radius_range[1]:g}"
+            rows.append({"encoder": side, "graduation diameter (mm)": 2.0 * enc.radius,
+                         "assumed range (mm)": span, "read heads": enc.heads, "mounting": enc.mounting,
+                         "centring": enc.centring,
                          "first-order eccentricity error": "yes" if enc.reads_eccentricity else "no"})
         return pd.DataFrame(rows)
 
@@ -145,9 +159,12 @@ def measurement_terms(terms: np.ndarray, theta) -> np.ndarray:
     return out
 
 
-def _entry(t: Params, name: str):
-    """``(value, unit)`` of an entry written ``{ value = …, unit = "…", source = "…", note = "…" }`` (the source is
-    required: every number of a rig says where it comes from)."""
+def _entry(t: Params, name: str, default=None):
+    """``(value, unit, range)`` of an entry written ``{ value = …, unit = "…", source = "…", note = "…",
+    range = [low, high] }`` (the source is required: every number of a rig says where it comes from; the range,
+    optional, is the span an assumed value stands for).  ``default``: ``(value, unit)`` of an entry left out."""
+    if default is not None and name not in t:
+        return (*default, None)
     v = t.raw(name)
     if not isinstance(v, dict):
         raise t.error(name, "expected { value = …, unit = \"…\", source = \"…\" }")
@@ -156,26 +173,34 @@ def _entry(t: Params, name: str):
     unit = sub.str("unit", "1")
     sub.str("source")
     sub.str("note", "")
+    span = sub.floats("range", None, length=2) if "range" in v else None
+    if span is not None and not span[0] <= value <= span[1]:
+        raise sub.error("range", f"expected [low, high] around the value {value!r}, got {span}")
     sub.finish()
-    return value, unit
+    return value, unit, span
 
 
 def _encoder(p: Params, side: str) -> Encoder:
     t = p.sub(f"{side}_encoder")
-    d, unit = _entry(t, "graduation_diameter")
+    d, unit, span = _entry(t, "graduation_diameter")
     try:
-        d = float(units.to_base(check_number(d, t.error, "graduation_diameter", positive=True),
-                                units.require_dimension(units.canonical(unit), "length")))
+        base = units.require_dimension(units.canonical(unit), "length")
+        d = float(units.to_base(check_number(d, t.error, "graduation_diameter", positive=True), base))
+        span = None if span is None else tuple(float(units.to_base(x, base)) for x in span)
     except InputError as exc:
         raise t.error("graduation_diameter", exc.reason) from None
-    heads, _ = _entry(t, "read_heads")
+    heads, _, _ = _entry(t, "read_heads")
     if isinstance(heads, bool) or heads not in (1, 2):
         raise t.error("read_heads", f"must be 1 or 2 (one head, or two diametral heads averaged), got {heads!r}")
-    mounting, _ = _entry(t, "mounting")
+    mounting, _, _ = _entry(t, "mounting")
     if mounting not in MOUNTINGS:
         raise t.error("mounting", f"must be one of {', '.join(MOUNTINGS)}, got {mounting!r}")
+    centring, _, _ = _entry(t, "centring", ("indicated", "1"))
+    if centring not in CENTRINGS:
+        raise t.error("centring", f"must be one of {', '.join(CENTRINGS)}, got {centring!r}")
     t.finish()
-    return Encoder(0.5 * d, int(heads), str(mounting))
+    return Encoder(0.5 * d, int(heads), str(mounting), str(centring),
+                   None if span is None else (0.5 * span[0], 0.5 * span[1]))
 
 
 def load_rig(path: str | Path) -> Rig:

@@ -2,7 +2,7 @@
 
 :func:`design_toml` serialises a :class:`rvtol.design.Design` in the design format
 (:mod:`rvtol.design`: every number a table ``{value, unit, source, note}``), groups as written
-(``stiffness.sun_support`` → ``[stiffness] sun_support = {...}``), so that
+(``stiffness.sun_support`` → ``[stiffness] sun_support = {...}``; a derived number as its formula), so that
 :func:`rvtol.design.load_design` reads back exactly the same parameters.  Comments of the original
 file are not carried over; every number keeps its ``source`` and ``note``.
 
@@ -62,7 +62,8 @@ def design_toml(design: Design, *, source: str = "", comments=()) -> str:
     groups: dict[str, list[str]] = {}
     for name, p in design.params.items():
         group, key = _split(name)
-        fields = [f"value = {_value(p.value)}", f"unit = {_value(p.unit)}", f"source = {_value(p.source)}"]
+        fields = [f"formula = {_value(p.formula)}" if p.formula else f"value = {_value(p.value)}",
+                  f"unit = {_value(p.unit)}", f"source = {_value(p.source)}"]
         if p.note:
             fields.append(f"note = {_value(p.note)}")
         groups.setdefault(group, []).append(f"{_key(key)} = {{ {', '.join(fields)} }}")
