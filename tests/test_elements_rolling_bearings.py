@@ -216,3 +216,36 @@ def test_bad_input():
         BearingPair(TRB, TRB, (0.0, 38.0)).solve(np.zeros(3))
     with pytest.raises(ValueError):
         NeedleRollerBearing(rollers=18, length=-8.0)
+
+
+@pytest.mark.parametrize("length", [8.0, 9.0, 10.0, 12.0])
+def test_needle_row_converges_below_the_energy_rounding(length):
+    """Issue 39 item 5: an 8-mm needle row did not build (the 20-DOF chain tabulates the row over a load sequence,
+    each solve warm-started from the last). Armijo's test on the potential energy stalls once a step's decrease is
+    below Π's rounding: the residual stopped near 1e-7 N, above the 1e-10 × load the solver asks. Checked against
+    the roller statics solved independently: the load on the ψ = 0 axis of 18 rollers (symmetric, one unknown)."""
+    from rvtol.models.transmission.compliance import _knots
+
+    brg = NeedleRollerBearing(rollers=18, length=length)
+    f = _knots(1528.69311904)       # the chain's load sequence for the product's row at rated (8-mm design)
+    sol = brg.solve(f)
+    c, K = np.cos(brg.azimuths), brg.K
+    for F, u in zip(f[1:], sol.u[1:]):
+        ux = brentq(lambda x: K * np.sum(np.maximum(x * c, 0.0) ** (10 / 9) * c) - F, 0.0, 1.0, xtol=1e-16,
+                    rtol=1e-14)
+        assert u[0] == pytest.approx(ux, rel=1e-9)
+        assert abs(u[1]) < 1e-12
+        Q = sol.roller_load[list(f).index(F)]         # the solver's criterion: residual ≤ 1e-10 max(F, ΣQ)
+        assert np.hypot(Q @ c - F, Q @ np.sin(brg.azimuths)) <= 1e-10 * np.sqrt(2) * max(F, Q.sum())
+
+
+def test_step_acceptance_reads_the_slope_only_below_the_energy_rounding():
+    """Hager–Zhang's approximate Wolfe conditions apply only where Π's change is within its rounding error; above
+    it a step must decrease Π (Armijo)."""
+    slope = -1.0
+    assert rb._step_accepted(0.0, -1e-3, slope, -0.5, 1.0, 1e-12)            # Armijo
+    assert not rb._step_accepted(0.0, 1e-6, slope, 0.0, 1.0, 1e-12)          # an increase Π resolves
+    assert rb._step_accepted(0.0, 1e-13, slope, 0.0, 1.0, 1e-12)             # below rounding: the slope decides
+    assert not rb._step_accepted(0.0, 1e-13, slope, -0.95, 1.0, 1e-12)       # the slope barely changed: too short
+    assert not rb._step_accepted(0.0, 1e-13, slope, 0.99999, 1.0, 1e-12)    # overshot to the other side
+    assert rb._energy_rounding(2.0, 18) == pytest.approx(19 * np.finfo(float).eps * 2.0)

@@ -197,6 +197,25 @@ def _roller_loads(K, delta):
     return K * d ** LOAD_EXPONENT, LOAD_EXPONENT * K * d ** (LOAD_EXPONENT - 1.0)
 
 
+#: Armijo's sufficient-decrease constant δ and the Wolfe curvature constant σ of :func:`_step_accepted`
+ARMIJO, WOLFE = 1e-4, 0.9
+
+
+def _energy_rounding(size: float, terms: int) -> float:
+    """The rounding error of a sum of ``terms`` + 1 floating-point terms whose magnitudes add to ``size``:
+    (terms + 1)·u·size with u the unit round-off (Higham, Accuracy and Stability of Numerical Algorithms,
+    2nd ed., §4.2: |error| ≤ (n − 1) u Σ|x_i| to first order)."""
+    return (terms + 1) * np.finfo(float).eps * size
+
+
+def _step_accepted(E: float, En: float, slope: float, slope_new: float, t: float, eps_E: float) -> bool:
+    """Armijo's condition, or Hager–Zhang's approximate Wolfe conditions where Π's change is below its rounding
+    error ``eps_E`` (:func:`_equilibrium`): ``slope`` = φ'(0) = g·p < 0, ``slope_new`` = φ'(t) = g(q + tp)·p."""
+    if En <= E + ARMIJO * t * slope:
+        return True
+    return En <= E + eps_E and WOLFE * slope <= slope_new <= (2.0 * ARMIJO - 1.0) * slope
+
+
 def _equilibrium(parts, f, x0, scale, tol, what):
     """Solve ``Σ_k Q_k B_k = f`` for ``q`` by minimising the potential energy
 
@@ -206,19 +225,31 @@ def _equilibrium(parts, f, x0, scale, tol, what):
     (Levenberg–Marquardt) Newton method and a backtracking line search: globally convergent
     also when clearances leave rollers unloaded at the start (singular tangent stiffness).
     ``parts`` = [(B, K, δ0)], ``scale`` makes the components of ``q`` comparable (mm).
+
+    The line search accepts a step on Armijo's sufficient decrease of Π, or — once the decrease a step
+    can make (≈ r²/2k at residual r) is below the rounding error of Π itself (:func:`_energy_rounding`)
+    — on Hager and Zhang's *approximate Wolfe* conditions, which read the slope instead:
+    Π(q + tp) ≤ Π(q) + ε_Π and σ φ'(0) ≤ φ'(t) ≤ (2δ − 1) φ'(0), φ(t) = Π(q + tp) (W. W. Hager,
+    H. Zhang, SIAM J. Optim. 16 (2005) 170–192, eq. (23); δ = 1e-4 as the Armijo constant, σ = 0.9).
+    Armijo alone stalls there: Π no longer resolves the step, every trial reads as "no decrease", and
+    the residual stops some orders of magnitude above ``tol`` (a needle row of 8, 9 or 10 mm under a
+    few hundred newtons stopped at 1e-7 N against a tolerance of 1e-7 N).
     """
     m = LOAD_EXPONENT + 1.0
 
     def state(q):
         E, g, H, Qs = -f @ q, -f.copy(), np.zeros((len(q), len(q))), 0.0
+        size = abs(f @ q)
         for B, K, d0 in parts:
             d = np.maximum(B @ q + d0, 0.0)
             Q = K * d ** LOAD_EXPONENT
-            E += K / m * np.sum(d ** m)
+            work = K / m * np.sum(d ** m)
+            E += work
+            size += work
             g += B.T @ Q
             H += B.T @ ((LOAD_EXPONENT * K * d ** (LOAD_EXPONENT - 1.0))[:, None] * B)
             Qs += Q.sum()
-        return E, g, H, Qs
+        return E, g, H, Qs, _energy_rounding(size, sum(len(B) for B, _, _ in parts))
 
     ref = np.abs(f / scale).max()
     Dreg = np.zeros((len(x0), len(x0)))
@@ -227,7 +258,7 @@ def _equilibrium(parts, f, x0, scale, tol, what):
     dg = np.diag(Dreg)
     Dreg = np.diag(np.maximum(dg, 1e-9 * dg.max()))      # directions no roller resists (Z = 1): stay put
     q = np.array(x0, dtype=float)
-    E, g, H, Qs = state(q)
+    E, g, H, Qs, eps_E = state(q)
     mu = 1e-6
     for _ in range(500):
         res = np.abs(g / scale).max()
@@ -242,8 +273,8 @@ def _equilibrium(parts, f, x0, scale, tol, what):
         t, slope = 1.0, g @ p
         while True:
             qn = q + t * p
-            En, gn, Hn, Qn = state(qn)
-            if En <= E + 1e-4 * t * slope or t < 1e-12:
+            En, gn, Hn, Qn, eps_n = state(qn)
+            if _step_accepted(E, En, slope, gn @ p, t, max(eps_E, eps_n)) or t < 1e-12:
                 break
             t *= 0.5
         if t < 1e-12:
@@ -251,7 +282,7 @@ def _equilibrium(parts, f, x0, scale, tol, what):
             if mu > 1e12:
                 break
             continue
-        q, E, g, H, Qs = qn, En, gn, Hn, Qn
+        q, E, g, H, Qs, eps_E = qn, En, gn, Hn, Qn, eps_n
         mu = max(mu * (0.1 if t == 1.0 else 4.0), 1e-14)
     raise SolverError(f"{what}: no equilibrium for load {f} (residual {np.abs(g / scale).max():.3g} N after "
                       "500 Newton steps)")
