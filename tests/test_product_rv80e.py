@@ -264,6 +264,7 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
 
 
 TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "torsion.friction_width",
+              "torsion.rigidity_50_100", "torsion.rigidity_clearance_free",
               "te.te_pp", "te.te_pp_rig", "reducer.lost_motion", "reducer.backlash"}          # stage 5 adds the first stage's play in series
 FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backlash", "reducer.first_stage_play"}
 

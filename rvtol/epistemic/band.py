@@ -27,8 +27,8 @@ Each estimated number carries a plausible range and its basis (:mod:`rvtol.desig
    numbers: the spread that remains between designs is the design's, not the sampling's) — the tolerance band of
    each design and the combined band of design × units;
 4. the first-order index of each estimated number on each output from those same ``n`` designs
-   (:func:`rvtol.sensitivity.given_data.first_order_given_data`: the Kelley-corrected correlation ratio, bootstrap
-   intervals; or a sparse PCE, :func:`rvtol.sensitivity.surrogate.pce_indices`, with its Q² check) — no further
+   (:func:`rvtol.sensitivity.given_data.first_order_given_data`: the Kelley-corrected correlation ratio over classes of
+   at least 4 designs, bootstrap intervals — with a few dozen designs a ranking, not a measurement; or a sparse PCE, :func:`rvtol.sensitivity.surrogate.pce_indices`, with its Q² check) — no further
    model run: which estimated numbers could move an output, i.e. explain a validation miss.
 
 Nothing is fitted: the ranges come with the design file, each with its basis; the band is what they give.  A
@@ -198,6 +198,7 @@ class EpistemicResult:
             t = t[np.isfinite(t)]
             out["tolerance low"] = float(np.percentile(t, lo)) if t.size else np.nan
             out["tolerance high"] = float(np.percentile(t, hi)) if t.size else np.nan
+        if self.Y_tol is not None:
             c = self.Y_tol[self.ok][:, :, j].ravel()
             c = c[np.isfinite(c)]
             out["combined low"] = float(np.percentile(c, lo)) if c.size else np.nan
@@ -307,7 +308,7 @@ def epistemic_band(design, maker: Callable, outputs: Sequence[str], *, n: int = 
 
 def _indices(res: EpistemicResult, method: str, num_resamples: int, confidence: float, seed) -> pd.DataFrame:
     """S1 (and ST for a PCE) of each estimated number on each output, from the designs that succeeded."""
-    from ..sensitivity.given_data import first_order_given_data
+    from ..sensitivity.given_data import default_classes, first_order_given_data
 
     ok = res.ok
     U = res.U[ok]
@@ -326,7 +327,8 @@ def _indices(res: EpistemicResult, method: str, num_resamples: int, confidence: 
             if not r.reliable:
                 res.notes.append(f"{q.name}: the PCE's Q² is below its threshold — its indices are a rough ranking")
         else:
-            est = first_order_given_data(U, y, None, num_resamples, confidence, substream(seed, "epistemic_indices", j))
+            M = max(2, min(default_classes(y.size), y.size // 4))      # at least 4 designs per class
+            est = first_order_given_data(U, y, M, num_resamples, confidence, substream(seed, "epistemic_indices", j))
         for c, i in enumerate(res.inputs):
             rows.append({"output": q.name, "factor": i.name, **{k: float(v[c]) for k, v in est.items() if k != "M"}})
     return pd.DataFrame(rows)

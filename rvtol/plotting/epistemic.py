@@ -25,6 +25,7 @@ def band_chart(res, ax=None):
         if "tolerance low" in b:
             ax.plot([b["tolerance low"] / ref, b["tolerance high"] / ref], [y + 0.25, y + 0.25], "-", lw=2,
                     color=COLORS["fit"], label="tolerance band (design as written)" if i == 0 else None)
+        if "combined low" in b:
             ax.plot([b["combined low"] / ref, b["combined high"] / ref], [y - 0.25, y - 0.25], "-", lw=2,
                     color=COLORS["ci"], label="designs × units" if i == 0 else None)
     ax.axvline(1.0, color="k", lw=0.8)

@@ -11,6 +11,8 @@ import glob
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..analysis import Analysis, CommonOptions, ModelTarget
 from ..errors import InputError
 from ..options import REQUIRED, option
@@ -40,6 +42,14 @@ class ValidationOptions(CommonOptions):
     parameter: str = option("tolerance_scale", "the fitted parameter: tolerance_scale multiplies every tolerance "
                                                "of the spec about its middle", choices=PARAMETERS)
     bounds: list[float] = option([0.25, 10.0], "[low, high] of the fitted parameter", positive=True)
+    epistemic_n: int = option(0, "designs sampled over the design's estimated numbers (their ranges, rvtol.epistemic) "
+                                 "to put the epistemic band beside each prediction; 0: none", min=0)
+    epistemic_units: int = option(0, "units of the tolerance spec each of those designs is also evaluated on (the "
+                                     "designs × units band)", min=0)
+    epistemic_outputs: list[str] = option([], "further outputs banded beside the mapped ones (e.g. the rigidity under "
+                                              "each reading)", names="outputs")
+    epistemic_sensitivity: str = option("given_data", "how the estimated numbers' indices are estimated (given_data "
+                                                      "or pce)", choices=("given_data", "pce"))
     sources: list = field(default_factory=list, init=False)
     te: ModelTarget | None = field(default=None, init=False)
 
@@ -62,6 +72,11 @@ class ValidationOptions(CommonOptions):
             raise error("bounds", f"expected [low, high] with low < high, got {self.bounds}")
         if self.te_model is not None:
             self.te = _te_target(study, self.te_model, error)
+        if self.epistemic_n:
+            if self.epistemic_n < 4:
+                raise error("epistemic_n", f"must be 0 (no band) or >= 4 designs, got {self.epistemic_n}")
+            if study.design is None or not study.design.uncertain():
+                raise error("epistemic_n", "the study's design states no range for any number (range, basis)")
         if self.calibrate_on is not None:
             known = {q.key: q for s in self.sources if s.status == "read" for q in s.quantities}
             q = known.get(self.calibrate_on)
@@ -99,8 +114,20 @@ class ValidationAnalysis(Analysis):
     def compute(self, ctx):
         o, mc = self.options, ctx.mc
         known = (mc.samples.values, {out: mc.column(out) for out in set(o.outputs.values())}, mc.ok)
-        return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
+        band = None
+        if o.epistemic_n:
+            from ..epistemic import StudyVariants, epistemic_band
+
+            outs = list(dict.fromkeys(list(o.outputs.values()) + list(o.epistemic_outputs)))
+            band = epistemic_band(ctx.design, StudyVariants(ctx.study.file, ctx.study.inputs["design"]["path"]), outs,
+                                  n=o.epistemic_n, seed=ctx.seed, tolerance_samples=o.epistemic_units,
+                                  interval=o.interval, sensitivity=o.epistemic_sensitivity, executor=ctx.executor,
+                                  known_tolerance=np.column_stack([mc.column(out) for out in outs]),
+                                  output_quantities=[ctx.model.output(out) for out in outs])
+        result = validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
                         te_spectra=te_spectra(o.te) if o.te is not None else None, calibrate_on=o.calibrate_on,
                         parameter=o.parameter, bounds=tuple(o.bounds), interval=o.interval, confidence=o.confidence,
-                        order_threshold=o.order_threshold, spectrum_samples=o.spectrum_samples)
+                        order_threshold=o.order_threshold, spectrum_samples=o.spectrum_samples, epistemic=band)
+        result.epistemic = band
+        return result
