@@ -324,4 +324,4 @@ def test_the_estimated_designs_band_beside_each_prediction(tmp_path):
     assert rows.loc["far", "with the estimates"] == f"misses: above every design by ×{10.0 / hi:.3g} ({10.0 - hi:.4g} um)"
     assert rows.loc["limit", "with the estimates"] == f"{100 * np.mean(g <= 2.5):.3g} % of the designs meet it (nominal tolerances)"
     assert rows.loc["q", "estimated drivers (S1)"].startswith("a.g (")
-    assert res.summary()["epistemic"] is None          # the analysis keeps the band on the result; validate() alone not
+    assert res.summary()["epistemic"]["bands"][0]["output"] == "y"

@@ -12,7 +12,7 @@ The study analysis is ``[[analysis]] kind = "epistemic_band"`` (:mod:`.analyses`
 band beside each published figure (``epistemic_n``).  Notes: ``studies/epistemic_band.md``.
 """
 from .band import (SENSITIVITY_METHODS, EpistemicInput, EpistemicResult, StudyVariants, design_inputs, design_spec,
-                   epistemic_band, evaluate_variant)
+                   epistemic_band, evaluate_variant, study_band)
 
 __all__ = ["SENSITIVITY_METHODS", "EpistemicInput", "EpistemicResult", "StudyVariants", "design_inputs", "design_spec",
-           "epistemic_band", "evaluate_variant"]
+           "epistemic_band", "evaluate_variant", "study_band"]

@@ -10,12 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..analysis import Analysis, CommonOptions
 from ..options import REQUIRED, option
 from . import texts
-from .band import SENSITIVITY_METHODS, StudyVariants, design_inputs, epistemic_band
+from .band import SENSITIVITY_METHODS, design_inputs, study_band
 
 
 @dataclass
@@ -51,13 +49,6 @@ class EpistemicBand(Analysis):
 
     def compute(self, ctx):
         o = self.options
-        mc = ctx.mc
-        known = np.column_stack([mc.column(out) for out in o.outputs])
-        maker = StudyVariants(ctx.study.file, ctx.study.inputs["design"]["path"])
-        result = epistemic_band(ctx.design, maker, o.outputs, n=o.n,
-                                method=o.method, seed=o.seed if o.seed is not None else ctx.seed, keys=o.keys,
-                                tolerance_samples=o.tolerance_samples, interval=o.interval, sensitivity=o.sensitivity,
-                                executor=ctx.executor, known_tolerance=known,
-                                output_quantities=[ctx.model.output(out) for out in o.outputs])
-        result.requirements = [r for r in ctx.study.requirements if r.output in o.outputs]
-        return result
+        return study_band(ctx, o.outputs, n=o.n, method=o.method, keys=o.keys, tolerance_samples=o.tolerance_samples,
+                          interval=o.interval, sensitivity=o.sensitivity,
+                          **({"seed": o.seed} if o.seed is not None else {}))

@@ -306,6 +306,20 @@ def epistemic_band(design, maker: Callable, outputs: Sequence[str], *, n: int = 
     return res
 
 
+def study_band(ctx, outputs: Sequence[str], **options) -> EpistemicResult:
+    """:func:`epistemic_band` of a running study (an analysis' ``ctx``): its design and file rebuilt per design
+    (:class:`StudyVariants`), on the study's executor, the tolerance band of the design as written from the study's
+    Monte Carlo, the seed the study's unless given; ``options``: :func:`epistemic_band`'s keywords."""
+    outputs = list(outputs)
+    options.setdefault("seed", ctx.seed)
+    maker = StudyVariants(ctx.study.file, ctx.study.inputs["design"]["path"])
+    known = np.column_stack([ctx.mc.column(out) for out in outputs])
+    res = epistemic_band(ctx.design, maker, outputs, executor=ctx.executor, known_tolerance=known,
+                         output_quantities=[ctx.model.output(out) for out in outputs], **options)
+    res.requirements = [r for r in ctx.study.requirements if r.output in outputs]
+    return res
+
+
 def _indices(res: EpistemicResult, method: str, num_resamples: int, confidence: float, seed) -> pd.DataFrame:
     """S1 (and ST for a PCE) of each estimated number on each output, from the designs that succeeded."""
     from ..sensitivity.given_data import default_classes, first_order_given_data
@@ -335,4 +349,4 @@ def _indices(res: EpistemicResult, method: str, num_resamples: int, confidence: 
 
 
 __all__ = ["EpistemicInput", "EpistemicResult", "SENSITIVITY_METHODS", "StudyVariants", "design_inputs",
-           "design_spec", "epistemic_band", "evaluate_variant"]
+           "design_spec", "epistemic_band", "evaluate_variant", "study_band"]

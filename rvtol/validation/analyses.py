@@ -11,9 +11,8 @@ import glob
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from ..analysis import Analysis, CommonOptions, ModelTarget
+from ..epistemic import study_band
 from ..errors import InputError
 from ..options import REQUIRED, option
 from . import texts
@@ -114,20 +113,11 @@ class ValidationAnalysis(Analysis):
     def compute(self, ctx):
         o, mc = self.options, ctx.mc
         known = (mc.samples.values, {out: mc.column(out) for out in set(o.outputs.values())}, mc.ok)
-        band = None
-        if o.epistemic_n:
-            from ..epistemic import StudyVariants, epistemic_band
-
-            outs = list(dict.fromkeys(list(o.outputs.values()) + list(o.epistemic_outputs)))
-            band = epistemic_band(ctx.design, StudyVariants(ctx.study.file, ctx.study.inputs["design"]["path"]), outs,
-                                  n=o.epistemic_n, seed=ctx.seed, tolerance_samples=o.epistemic_units,
-                                  interval=o.interval, sensitivity=o.epistemic_sensitivity, executor=ctx.executor,
-                                  known_tolerance=np.column_stack([mc.column(out) for out in outs]),
-                                  output_quantities=[ctx.model.output(out) for out in outs])
-        result = validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
+        band = study_band(ctx, list(dict.fromkeys([*o.outputs.values(), *o.epistemic_outputs])), n=o.epistemic_n,
+                          tolerance_samples=o.epistemic_units, interval=o.interval,
+                          sensitivity=o.epistemic_sensitivity) if o.epistemic_n else None
+        return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
                         te_spectra=te_spectra(o.te) if o.te is not None else None, calibrate_on=o.calibrate_on,
                         parameter=o.parameter, bounds=tuple(o.bounds), interval=o.interval, confidence=o.confidence,
                         order_threshold=o.order_threshold, spectrum_samples=o.spectrum_samples, epistemic=band)
-        result.epistemic = band
-        return result

@@ -303,7 +303,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
     orders = pd.DataFrame(order_rows)
     missing = pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
                              "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
-    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest)
+    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest, epistemic)
 
 
 #: the columns the estimated design's band adds to the prediction's rows (module doc, item 3)
