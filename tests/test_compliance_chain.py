@@ -509,5 +509,10 @@ def test_a_cranks_own_preload_gives_the_pair_re_solved_at_that_preload():
         want = angles(exact)
         assert angles(G, P) == pytest.approx(want, rel=1e-3)
         assert np.max(np.abs(want / base - 1.0)) > 0.01
-    with pytest.raises(SpecError, match="outside the tabulated range"):
-        G.chain.crank_law(1e5)
+    # beyond the grid (a shim the supply could not match): the pair solved at that preload
+    top = G.chain.preload_grid()[0][-1]
+    beyond = G.chain.crank_law(2.0 * top)[0]
+    exact = reduced(replace(el, pair=el.pair_at(2.0 * top), pair_preload=2.0 * top), G).crank_table
+    assert np.allclose(beyond, exact, rtol=1e-12, atol=0.0)
+    with pytest.raises(SpecError, match=">= 0 N"):
+        G.chain.crank_law(-1.0)

@@ -44,8 +44,9 @@ on its own force (``w_j = F_12 (P_1 + P_2) + (F_jj − F_12) P_j``).  So:
   tabulated once per design at :data:`PRELOAD_GRID` preloads ``P_k = P_max (k/(n−1))²`` from 0 to
   ``P_max = max(PRELOAD_RANGE × the design preload, PRELOAD_FLOOR)`` and at the design preload itself; a crank's law at preload ``P`` is the
   linear interpolation in ``P`` of the two neighbouring laws (values, tangents and ``∫δ`` alike, so the
-  Hermite law, its tangent and its energy stay consistent).  ``tests/test_compliance_chain.py`` holds the
-  interpolated law to the pair re-solved at ``P``.
+  Hermite law, its tangent and its energy stay consistent); above the grid's top (a shim the supply could not
+  match) the pair is solved at ``P`` itself.  ``tests/test_compliance_chain.py`` holds the interpolated law to the
+  pair re-solved at ``P``.
 
 **Carrier and disc webs** (torque-path springs, in series with C_CRANK, isotropic)::
 
@@ -174,12 +175,18 @@ class ContactChain:
 
     def crank_law(self, preload: float) -> tuple[np.ndarray, tuple[float, float]]:
         """``(table, (tilt_1, tilt_2))`` of the crank–carrier law and the cams' pair-tilt terms at ``preload`` (N):
-        the linear interpolation of the tabulated laws (module doc)."""
+        the linear interpolation of the tabulated laws (module doc); beyond the grid's top (a unit whose shim the
+        supply could not match) the pair solved at that preload."""
         P, tables, tilts = self.preload_grid()
-        if not (np.isfinite(preload) and P[0] <= preload <= P[-1]):
-            raise SpecError(f"crank support preload {preload:.6g} N outside the tabulated range 0 … {P[-1]:.6g} N "
-                            f"({PRELOAD_RANGE:g} × the design preload, at least {PRELOAD_FLOOR:g} N)",
+        if not (np.isfinite(preload) and preload >= 0.0):
+            raise SpecError(f"a crank support preload must be a number >= 0 N, got {preload!r}",
                             key="crank_support_preload")
+        if preload > P[-1]:
+            R_rated, sc = self.pair_law_args
+            el = self.elements
+            table, tilt = _scaled(*_pair_law(el.pair_at(preload), el.crank, R_rated, TABLE_RANGE * R_rated), sc)
+            _check_crank_law(table, sum(self.crank.values()), TABLE_RANGE * R_rated)
+            return table, (float(tilt[0]), float(tilt[1]))
         k = int(min(np.searchsorted(P, preload, side="right") - 1, P.size - 2))
         w = (preload - P[k]) / (P[k + 1] - P[k])
         table = (1.0 - w) * tables[k] + w * tables[k + 1]
