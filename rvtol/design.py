@@ -40,6 +40,24 @@ base's formulas are evaluated with the variant's numbers, so every derived numbe
 copied.  Each number remembers the file it was written in (``DesignParam.file``, the ``file`` column of
 :meth:`Design.to_frame`, :meth:`Design.where`), and an error about a number names that file
 (:meth:`Design.relocate`).
+
+**What is known of a number** (issue 39: the estimated design carries its own uncertainty).  Optional keys:
+
+* ``status`` — one of :data:`STATUSES`: ``"document"`` (taken from a document or catalogue, the
+  ``source``), ``"computed"`` (from other numbers of the design: a ``formula``, whose status it is by
+  default), ``"choice"`` (a design choice made by a rule the ``note`` states: no uncertainty of its own) or
+  ``"estimate"`` (an engineering estimate);
+* ``range = [lo, hi]`` — the plausible range of the number, **in its own unit**, with ``basis`` (required
+  with a range) saying why: what a maker of this size would draw, the catalogue sizes, the physics that
+  bounds it.  An ``"estimate"`` needs both.  The loader checks lo < hi and lo ≤ value ≤ hi;
+* ``step`` — the number takes the values lo + k·step only (counts, standard sizes: ISO 3096 needle
+  diameters in 0.5 mm); a written value must be one of them, a formula's value is rounded to the nearest
+  (lo = 0 without a range: a count of rollers from their pitch circle).
+
+A formula's number follows the numbers it names wherever they change: in a variant and in
+:meth:`Design.with_values`, so a design drawn from the ranges stays consistent (the disc's crank hole = the
+eccentric + two needle diameters).  The numbers with a range and no formula are the design's uncertain inputs
+(:meth:`Design.uncertain`): the epistemic band of a prediction samples them (:mod:`rvtol.epistemic`).
 """
 from __future__ import annotations
 
@@ -55,6 +73,14 @@ from . import units
 from .errors import InputError, SpecError, did_you_mean
 from .params import Params, check_number, read_toml
 
+#: what is known of a design number (the ``status`` key; module docstring)
+STATUSES = {
+    "document": "taken from a document or catalogue (its source)",
+    "computed": "computed from other numbers of the design (a formula)",
+    "choice": "a design choice made by a rule the note states",
+    "estimate": "an engineering estimate: a plausible range and its basis",
+}
+
 
 @dataclass(frozen=True)
 class DesignParam:
@@ -65,6 +91,22 @@ class DesignParam:
     note: str = ""
     formula: str = ""                                   # a derived number: the expression it is computed by
     file: str | None = field(default=None, compare=False)   # the file the number (or formula) is written in
+    status: str = ""                                    # :data:`STATUSES` ("" = not stated)
+    range: tuple[float, float] | None = None            # plausible range, in ``unit``
+    basis: str = ""                                     # why that range
+    step: float | None = None                           # the values lo + k·step only (in ``unit``)
+
+    @property
+    def base_range(self) -> tuple[float, float] | None:
+        """The range in base units."""
+        if self.range is None:
+            return None
+        return (float(units.to_base(self.range[0], self.unit)), float(units.to_base(self.range[1], self.unit)))
+
+    @property
+    def uncertain(self) -> bool:
+        """A number with a plausible range that is not a formula of others: an input of the epistemic band."""
+        return self.range is not None and not self.formula
 
     @property
     def base(self):
@@ -118,7 +160,8 @@ class Design:
         return units.from_base(self[name], unit)
 
     def with_values(self, **base_values) -> "Design":
-        """A copy with some parameters replaced (values in base units)."""
+        """A copy with some parameters replaced (values in base units); every formula is evaluated again, so the
+        numbers that follow a replaced one follow it (a replaced formula's number keeps the value given)."""
         new = dict(self.params)
         for k, v in base_values.items():
             p = self.param(k)
@@ -126,6 +169,10 @@ class Design:
                        if np.ndim(v) else float(units.from_base(v, p.unit)))
             new[k] = replace(p, value=written, note=(p.note + " (overridden)").strip(), formula="")
         return replace(self, params=MappingProxyType(_evaluated(new)))
+
+    def uncertain(self) -> tuple[DesignParam, ...]:
+        """The numbers with a plausible range that are no formula (module docstring), in file order."""
+        return tuple(p for p in self.params.values() if p.uncertain)
 
     def to_frame(self):
         import pandas as pd
@@ -139,7 +186,19 @@ class Design:
             "note": [p.note for p in self.params.values()],
             "formula": [p.formula for p in self.params.values()],
             "file": [_short(p.file) for p in self.params.values()],
+            "status": [p.status for p in self.params.values()],
+            "range": [("" if p.range is None else f"{p.range[0]:g} … {p.range[1]:g}") for p in self.params.values()],
+            "basis": [p.basis for p in self.params.values()],
         })
+
+    def ranges_frame(self):
+        """The uncertain numbers: key, value, range, step, unit, basis (the report's table of estimates)."""
+        import pandas as pd
+
+        rows = [{"parameter": p.name, "value": p.value, "low": p.range[0], "high": p.range[1],
+                 "step": p.step if p.step is not None else np.nan, "unit": p.unit, "status": p.status,
+                 "basis": p.basis} for p in self.uncertain()]
+        return pd.DataFrame(rows, columns=["parameter", "value", "low", "high", "step", "unit", "status", "basis"])
 
 
 def _short(file: str | None) -> str:
@@ -259,8 +318,56 @@ def _param(p: Params, name: str) -> DesignParam:
         value = tuple(check_number(x, p.error, f"value[{i}]") for i, x in enumerate(raw))
     else:
         value = check_number(raw, p.error, "value")
+    status, rng, basis, step = _knowledge(p, value, unit, formula=False)
     p.finish()
-    return DesignParam(name, value, unit, source, note, file=p.file)
+    return DesignParam(name, value, unit, source, note, file=p.file, status=status, range=rng, basis=basis,
+                       step=step)
+
+
+def _knowledge(p: Params, value, unit: str, *, formula: bool):
+    """What is known of a number (module docstring): ``status``, ``range``, ``basis``, ``step``, checked."""
+    status = p.str("status", "")
+    if status:
+        status = p.str("status", choices=STATUSES)
+    if formula and status not in ("", "computed"):
+        raise p.error("status", "a number given by a formula is computed: status = \"computed\" (or leave it out)")
+    basis = p.str("basis", "")
+    rng = None if formula else _range(p, value, unit)
+    if formula and "range" in p:
+        raise p.error("range", "a formula's number follows the numbers it names: give their ranges instead")
+    step = None
+    if "step" in p:
+        step = p.float("step", positive=True)
+        if rng is None and not formula:
+            raise p.error("step", "a step needs the range it divides (range = [lo, hi])")
+    if rng is not None and not basis.strip():
+        raise p.error("basis", "a range needs its basis: why the number may lie there")
+    if status == "estimate" and rng is None:
+        raise p.error("range", "an estimate needs its plausible range (range = [lo, hi], in the value's unit) "
+                               "and its basis")
+    if step is not None and rng is not None and not all(_on_grid(x, rng[0], step) for x in (value, rng[1])):
+        raise p.error("step", f"the value {value:g} and the range's high end must be lo + k·step (lo {rng[0]:g}, "
+                              f"step {step:g})")
+    return status or ("computed" if formula else ""), rng, basis, step
+
+
+def _on_grid(x: float, lo: float, step: float) -> bool:
+    k = (x - lo) / step
+    return abs(k - round(k)) <= 1e-9 * max(1.0, abs(k))
+
+
+def _range(p: Params, value, unit: str) -> tuple[float, float] | None:
+    """``range = [lo, hi]`` in the value's unit, checked: lo < hi, lo ≤ value ≤ hi, a single number."""
+    if "range" not in p:
+        return None
+    lo, hi = p.floats("range", length=2)
+    if isinstance(value, (str, tuple)):
+        raise p.error("range", "a range is given for a single number only")
+    if not lo < hi:
+        raise p.error("range", f"expected [low, high] with low < high, got [{lo:g}, {hi:g}]")
+    if not lo <= value <= hi:
+        raise p.error("range", f"the value {value:g} {unit} lies outside its range [{lo:g}, {hi:g}] {unit}")
+    return (lo, hi)
 
 
 def _formula_param(p: Params, name: str) -> DesignParam:
@@ -277,8 +384,10 @@ def _formula_param(p: Params, name: str) -> DesignParam:
     if not source.strip():
         raise p.error("source", "every design number needs its source")
     note = p.str("note", "")
+    status, _, basis, step = _knowledge(p, None, unit, formula=True)
     p.finish()
-    return DesignParam(name, float("nan"), unit, source, note, formula=text.strip(), file=p.file)
+    return DesignParam(name, float("nan"), unit, source, note, formula=text.strip(), file=p.file, status=status,
+                       basis=basis, step=step)
 
 
 def _evaluated(params: dict[str, DesignParam]) -> dict[str, DesignParam]:
@@ -319,6 +428,9 @@ def _evaluated(params: dict[str, DesignParam]) -> dict[str, DesignParam]:
             v = float(expr.evaluate({n: env[n] for n in expr.names}))
         if not np.isfinite(v):
             raise error(k, f"evaluates to {v} with the design's numbers")
+        if p.step is not None:                    # a count or a standard size: the nearest lo + k·step (lo = 0)
+            st = float(units.to_base(p.step, p.unit))
+            v = st * round(v / st)
         env[k] = v
         out[k] = replace(p, value=float(units.from_base(v, p.unit)))
         state[k] = 2

@@ -80,6 +80,7 @@ ANALYSES: dict[str, str] = {
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
     "calibration": "rvtol.models.transmission.calibration.analyses:CalibrationAnalysis",
     "validation": "rvtol.validation.analyses:ValidationAnalysis",
+    "epistemic_band": "rvtol.epistemic.analyses:EpistemicBand",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
 }

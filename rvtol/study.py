@@ -195,11 +195,15 @@ def _user_code(root: Params) -> list[str] | None:
     return notes or None
 
 
-def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
+def load_study(path: str | Path, *, execute: bool = True, design: Design | None = None, analyses: bool = True,
+               **overrides) -> Study:
     """Read and validate a study file and everything it names. Raises :class:`InputError`.
 
     ``execute=False`` (``rvtol check`` without ``--execute``): a model made by the user's code is validated
-    without running that code (:class:`NotRunModel`), and what depends on its outputs is not checked."""
+    without running that code (:class:`NotRunModel`), and what depends on its outputs is not checked.
+    ``design``: a variant of the study's design to build everything on instead of the file's (the epistemic band,
+    :mod:`rvtol.epistemic`); ``analyses=False``: the study's analyses are not read (only its models)."""
+    variant = design
     path = Path(path)
     data, sha = read_toml(path)
     file = str(path)
@@ -222,7 +226,11 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
 
     design = None
     dpath = head.path_value("design", base, None)
-    if dpath is not None:
+    if variant is not None:
+        design = variant
+        inputs["design"] = {"path": str(dpath) if dpath is not None else variant.file, "sha256": None,
+                            "variant": True}
+    elif dpath is not None:
         design = load_design(dpath)
         inputs["design"] = {"path": str(dpath), "sha256": design.sha256}
         if design.base is not None:           # a variant: the base design it changes
@@ -316,7 +324,9 @@ def load_study(path: str | Path, *, execute: bool = True, **overrides) -> Study:
     study.build = rules
     study.notes = model_warnings(model)
     study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
-    for t in root.tables("analysis"):
+    if not analyses:
+        root.raw("analysis", None)
+    for t in (root.tables("analysis") if analyses else ()):
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
         try:

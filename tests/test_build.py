@@ -201,23 +201,28 @@ def test_the_preload_law_is_the_pairs_own_equilibrium(product):
 
 def test_the_shim_rule_by_hand_and_its_spread_in_closed_form(product):
     """Nominal end play 500 µm: target interference Δ* = 15.22 µm (1 kN); the nearest 5-µm shim to 515.22 is 515,
-    Δ = 15 µm.  Over end plays spread across many steps and a reading error u = 1 µm the interference is
-    Δ* + U(−s/2, s/2) − e: mean Δ*, variance s²/12 + u²."""
+    Δ = 15 µm as set, less the nominal run-in settling (the mean of U(0, 7.5 µm)) 3.75 µm: 11.25 µm in the unit.
+    Over end plays spread across many steps, a reading error u = 1 µm and a settling U(0, w) the interference is
+    Δ* + U(−s/2, s/2) − e − U(0, w): mean Δ* − w/2, variance s²/12 + u² + w²/12."""
     st, rules = product
     shim = rules.shims[0]
     assert shim.interference_target / UM == pytest.approx(15.22, abs=0.01)
     r = shim.choose(_env(st), 1)
-    assert r.shim[0] / UM == pytest.approx(515.0) and r.interference[0] / UM == pytest.approx(15.0)
-    assert r.preload[0] == pytest.approx(shim.law.force(15.0 * UM))
+    assert r.shim[0] / UM == pytest.approx(515.0) and r.interference[0] / UM == pytest.approx(15.0 - 3.75)
+    assert r.preload_as_set[0] == pytest.approx(shim.law.force(15.0 * UM))
+    assert r.preload[0] == pytest.approx(shim.law.force(11.25 * UM))
     n = 100_000
     rng = np.random.default_rng(3)
     name = shim.end_play.names[0]
-    env = {name: rng.uniform(200, 800, n) * UM, f"gauge.{name}": rng.normal(0, 1.0, n) * UM}
+    w = 7.5
+    env = {name: rng.uniform(200, 800, n) * UM, f"gauge.{name}": rng.normal(0, 1.0, n) * UM,
+           shim.settling.names[0]: rng.uniform(0, w, n) * UM}
     d = shim.choose(env, n).interference / UM
     s, u = shim.step / UM, 1.0
-    var = s ** 2 / 12 + u ** 2
-    mu4 = s ** 4 / 80 + 6 * s ** 2 / 12 * u ** 2 + 3 * u ** 4
-    assert abs(d.mean() - shim.interference_target / UM) < 4 * math.sqrt(var / n)
+    var = s ** 2 / 12 + u ** 2 + w ** 2 / 12
+    mu4 = (s ** 4 / 80 + 3 * u ** 4 + w ** 4 / 80
+           + 6 * (s ** 2 / 12 * u ** 2 + s ** 2 / 12 * w ** 2 / 12 + u ** 2 * w ** 2 / 12))
+    assert abs(d.mean() - (shim.interference_target / UM - w / 2)) < 4 * math.sqrt(var / n)
     assert abs(d.var(ddof=1) - var) < 4 * math.sqrt((mu4 - var ** 2) / n)
 
 
@@ -237,7 +242,9 @@ def test_the_design_choices_follow_from_the_rules(product):
     cam = spec.factor("crank_1.cam_1.diameter").dist.mean
     assert choice["crank-hole band"].value == pytest.approx(
         2 * 0.5 * (needle.sizes[0] + needle.sizes[-1]) / UM + cam + needle.minimum / UM, abs=1e-9)
-    assert choice["crank support preload"].value == pytest.approx(rules.shims[0].preload_target)
+    # the shims' target is the design's own preload (a variant of the design sets its own): no choice to drift
+    assert "crank support preload" not in choice
+    assert rules.shims[0].preload_target == pytest.approx(st.design.value("crank_support_bearing.preload", "N"))
     # the pins in their grooves as the nominal housing is built: its demand is the supply's middle (−3.5 µm, above),
     # the fit takes the largest gauge at or below it (−4 µm); r_g = r_p + (δD̄_g − δd)/2 = 3 mm + (2 + 4)/2 µm
     gauge = max(x for x in pins.sizes / UM if x <= middle + 1e-9)
@@ -256,7 +263,7 @@ def test_a_choice_the_drawing_does_not_hold_is_refused(tmp_path):
     qs = quantities_from_tables(Params(read_toml(PRODUCT / "mapping.toml")[0]).tables("quantity"))
     qs = design_quantities([n for q in qs for n in q.expression.names], design) + qs
     spec = load_spec(PRODUCT / "tolerances.toml")
-    assert len(load_build(PRODUCT / "build.toml", spec, design, qs).choices) == 4
+    assert len(load_build(PRODUCT / "build.toml", spec, design, qs).choices) == 3
     with pytest.raises(InputError) as e:
         load_build(p, spec, design, qs)
     assert e.value.key == "choice[0].value" and "not the chosen -15" in e.value.reason
@@ -274,10 +281,10 @@ def test_a_design_value_that_no_longer_follows_the_build_is_refused(tmp_path):
     qs = design_quantities([n for q in qs for n in q.expression.names], design) + qs
     spec = load_spec(PRODUCT / "tolerances.toml")
     stale = write(tmp_path / "design.toml", (PRODUCT / "design.toml").read_text().replace(
-        "groove_radius = { value = 3.003", "groove_radius = { value = 3.002", 1))
+        'groove_radius = { formula = "pin.radius + 0.003"', 'groove_radius = { formula = "pin.radius + 0.002"', 1))
     with pytest.raises(InputError) as e:
         load_build(PRODUCT / "build.toml", spec, load_design(stale), qs)
-    assert e.value.key == "choice[3].value"
+    assert e.value.key == "choice[2].value"
     assert "pin.groove_radius is 3.002 mm, not the chosen 3.003" in e.value.reason and "nominal build" in e.value.reason
     # a supply one micrometre smaller at the middle: the nominal housing gets the −5 µm gauge → 3.5 µm radial
     text = (PRODUCT / "build.toml").read_text().replace("sizes = [-6, -5, -4, -3, -2, -1]", "sizes = [-6, -5, -3, -2, -1]", 1)

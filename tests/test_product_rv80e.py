@@ -48,9 +48,11 @@ def _stackup_matrix(model: CompositeModel, X):
 def test_the_study_composes_six_models_on_the_drawing_spec(study):
     m = study.model
     # 284 drawing factors (tolerances.toml: 281 and the three planets' clocking, issue 39), the TE rig's 4
-    # (data/rigs/te_rig_single_head.toml) and the 19 gauge errors of the build (build.toml)
-    assert len(study.spec) == 284 + 4 + 19 and m.inputs == study.spec.names
+    # (data/rigs/te_rig_single_head.toml), the 19 gauge errors of the build and its 3 process factors (build.toml:
+    # the run-in settling of each crank's preloaded stack)
+    assert len(study.spec) == 284 + 4 + 19 + 3 and m.inputs == study.spec.names
     assert sum(n.startswith("gauge.") for n in m.inputs) == 19 and m.build is study.build
+    assert sum(n.startswith("process.") for n in m.inputs) == 3
     assert sum(n.startswith("rig.") for n in m.inputs) == 4
     assert [s.name for s in m.stages] == ["stackup", "disc_location", "torsion", "te", "screening", "reducer",
                                           "pin_ring", "pin_preload"]
@@ -317,8 +319,11 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
                                      "pin_ring.disc_1.clearance_min", "pin_ring.disc_2.clearance_min",
                                      "screening.lost_motion",
                                      "screening.cycloid_stage", "build.pins.clearance"} | TWENTY_DOF | PIN_PRELOAD),
-    # the end play of crank 1's bearing stack sets the preload its shim leaves
-    ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"}),
+    # the end play of crank 1's bearing stack sets the preload its shim leaves, which the 20-DOF chains read
+    # (crank_support_preload[1], issue 39)
+    ("crank_1.support_pair.end_play", {"build.crank_1.support_pair.preload"} | TWENTY_DOF | PIN_PRELOAD),
+    # and so does the stack's run-in settling
+    ("process.crank_2.support_pair.settling", {"build.crank_2.support_pair.preload"} | TWENTY_DOF | PIN_PRELOAD),
     # the output pilot's position: not the reducer, and not a TE rig whose ring is centred by dial indicator on the
     # turning flange (issue 39: the indicator takes the pilot's eccentricity out)
     ("carrier.output_pilot.position.x", {"pilot_eccentricity.x"}),

@@ -41,7 +41,7 @@ def random_errors(g, rng, scale=0.005):
 
 
 def numba_forces(g, st, theta_c, q, dth_s=0.0):
-    tab = static_table(g, st.err)
+    tab = static_table(g, st.err, st.preload)
     coef, off = np.zeros((tab.n, 2, L.NZ)), np.zeros((tab.n, 2))
     K.update_table(theta_c, dth_s, g.prm(), st.err, st.pin_err, st.disc_h, pin_cos_sin(g), coef, off)
     F, fc, kt, Km = np.zeros(L.NDOF), np.zeros(tab.n), np.zeros((tab.n, 3)), np.zeros((L.NDOF, L.NDOF))
@@ -99,6 +99,38 @@ def test_numba_and_numpy_agree_with_the_compliance_chain(product):
         assert 5 < np.count_nonzero(parts["pin"]) < 2 * product.z_b
         assert np.max(np.abs(F - Fr)) <= 1e-9 * np.max(np.abs(Fr))
         assert np.max(np.abs(Km - Kr)) <= 1e-9 * np.max(np.abs(Kr))
+
+
+def test_numba_and_numpy_agree_with_each_cranks_own_support_preload(product):
+    """Each crank's own preload (factor crank_support_preload[i], issue 39): its interpolated pair law and cam tilt
+    terms in the kernels' table against the twin's own evaluation of the same laws (brentq, SciPy's Hermite)."""
+    rng = np.random.default_rng(9)
+    st = random_errors(product, rng)
+    st.preload[:] = (400.0, 1000.0, 1700.0)
+    assert static_table(product, st.err, st.preload).tab.shape[0] == 3 + 3   # 3 own pair laws + the design's 3
+    ref = ReferenceModel(product, st)
+    theta_c = 1.1
+    q = rng.normal(0.0, 0.003, L.NDOF) / product.arc_radii()
+    F, Km, _ = numba_forces(product, st, theta_c, q, 1e-4)
+    Fr, Kr, _ = ref.forces(theta_c, q, 1e-4)
+    assert np.max(np.abs(F - Fr)) <= 1e-9 * np.max(np.abs(Fr))
+    assert np.max(np.abs(Km - Kr)) <= 1e-9 * np.max(np.abs(Kr))
+    st.preload[:] = np.nan                       # the design's preload: the crank rows differ
+    F0, _, _ = numba_forces(product, st, theta_c, q, 1e-4)
+    assert np.max(np.abs(F0 - F)) > 1e-3 * np.max(np.abs(F))
+
+
+def test_crank_support_preload_factors():
+    f = ErrorFactors(["crank_support_preload[2]", "delta_pin"], 40)
+    assert f.units == ("N", "mm")
+    assert np.isnan(f.state([0.0, 0.0]).preload[[0, 2]]).all() and f.state([800.0, 0.0]).preload[1] == 800.0
+    assert (ErrorFactors(["crank_support_preload"], 40).state([900.0]).preload == 900.0).all()
+    for bad, msg in ((["crank_support_preload[4]"], "bad index"),
+                     (["crank_support_preload", "crank_support_preload[1]"], "set the same error")):
+        with pytest.raises(InputError, match=msg):
+            ErrorFactors(bad, 40)
+    with pytest.raises(InputError, match=">= 0 N"):
+        ErrorFactors(["crank_support_preload[1]"], 40).state([-5.0])
 
 
 @pytest.mark.parametrize("which", ["geom", "product"])
@@ -187,7 +219,7 @@ def _exact_minus_linear(g, theta_c, q, st):
     circles along the ideal motion (independent of the kernel's α, arms and error projections)."""
     from scipy.optimize import minimize_scalar
 
-    tab = static_table(g, st.err)
+    tab = static_table(g, st.err, st.preload)
     coef, off = np.zeros((tab.n, 2, L.NZ)), np.zeros((tab.n, 2))
     K.update_table(theta_c, 0.0, g.prm(), st.err, st.pin_err, st.disc_h, pin_cos_sin(g), coef, off)
 

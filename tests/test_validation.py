@@ -408,3 +408,38 @@ def test_a_spectrum_of_another_reducer_is_compared_only_on_the_same_order_lattic
             assert not len(res.shape)
             why = res.comparison.set_index("quantity").loc["spectrum", "verdict"]
             assert why == "not compared: its order lattice (pins 40, ratio 121) is not the design's (pins 40, ratio 81)"
+
+
+def test_the_estimated_designs_band_beside_each_prediction(tmp_path):
+    """y = g·x (µm) with x ~ N(1, 0.1) µm and an estimated gain g ∈ [1, 3] (design range): at nominal tolerances the
+    designs give y = g, so the band is [min g, max g] of the drawn designs; a measured 2 µm lies within it, a
+    measured 10 µm above every design by ×10/max(g·x units); a bound of 2.5 µm is met by the designs with g ≤ 2.5."""
+    from rvtol.design import design_from_table
+    from rvtol.epistemic import epistemic_band
+    from rvtol.model import FunctionModel
+
+    design = design_from_table({"design": {"name": "d"}, "a": {"g": {
+        "value": 2.0, "unit": "1", "source": "s", "status": "estimate", "range": [1.0, 3.0], "basis": "b"}}})
+    spec = spec_from_table({"factor": [{"name": "x", "unit": "um", "dist": "normal", "mean": 1.0, "sigma": 0.1}]})
+
+    def maker(values):
+        g = design.with_values(**values)["a.g"]
+        return FunctionModel(lambda X: g * X, ["x"], [Quantity("y", "mm", "um")], ["mm"]), spec
+
+    band = epistemic_band(design, maker, ["y"], n=40, seed=4, tolerance_samples=30)
+    body = SOURCE + QTY.format(kind="value", body='value = 2.0\nunit = "um"\nreading_uncertainty = 0.0') + \
+        QTY.format(kind="value", body='value = 10.0\nunit = "um"\nreading_uncertainty = 0.0').replace(
+            'id = "q"', 'id = "far"') + \
+        QTY.format(kind="upper_limit", body='value = 2.5\nunit = "um"\nreading_uncertainty = 0.0').replace(
+            'id = "q"', 'id = "limit"')
+    res = validate(maker({})[0], spec, load_published_files([write(tmp_path / "s.toml", body)]), {"y": "y"},
+                   reducer="RV-80E", n=64, seed=1, epistemic=band)
+    rows = res.stage("predicted (no calibration)").set_index("quantity")
+    g = band.values[:, 0]
+    assert rows.loc["q", "epistemic min"] == pytest.approx(g.min()) and rows.loc["q", "epistemic max"] == pytest.approx(g.max())
+    assert rows.loc["q", "with the estimates"] == "within the estimates' reach"
+    hi = band.band("y")["combined high"]
+    assert rows.loc["far", "with the estimates"] == f"misses: above every design by ×{10.0 / hi:.3g} ({10.0 - hi:.4g} um)"
+    assert rows.loc["limit", "with the estimates"] == f"{100 * np.mean(g <= 2.5):.3g} % of the designs meet it (nominal tolerances)"
+    assert rows.loc["q", "estimated drivers (S1)"].startswith("a.g (")
+    assert res.summary()["epistemic"]["bands"][0]["output"] == "y"

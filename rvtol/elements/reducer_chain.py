@@ -284,6 +284,14 @@ class ChainElements:
     def scale(self, family: str) -> float:
         return float(self.scales.get(family, 1.0))
 
+    def pair_at(self, preload: float) -> BearingPair:
+        """The crank support pair set to the axial ``preload`` (N; 0: mounted line-to-line) instead of the
+        design's (a unit's own, as its shims and run-in set it)."""
+        if self.pair is None:
+            raise SpecError("the design has no crank support pair", key="crank_support_bearing.preload")
+        free = BearingPair(self.pair.bearing_a, self.pair.bearing_b, self.pair.positions, self.pair.arrangement)
+        return free.with_preload_force(preload) if preload > 0 else free
+
     @classmethod
     def from_design(cls, design, crank_radius: float) -> "ChainElements":
         """Every element whose data the design gives (module doc); bad numbers name their key.

@@ -22,9 +22,11 @@ reducer the models see is the one the build rules assemble from that sample's pa
   ``clearance``): the chosen part size, or the fitted clearance where the drawing spec carries it.
 * **Shim-set preload** (:class:`ShimPreload`, ``[[shim]]``) — a tapered roller pair is mounted with a
   shim (``from``/``to``/``step``) chosen from the measured axial end play of its stack so that the
-  interference is the one of the target preload (the pair's law, from the study's design); the nearest
-  shim leaves the interference within ± step/2 of its target, plus the gauge's error, and the preload
-  follows the pair's law ``F = Z K sin α (Δ sin α / 2)^(10/9)``
+  interference is the one of the target preload (``preload``: a value, or ``{ design = "key" }`` — the
+  design's own, so a variant of the design sets its own target; the pair's law, from the study's design);
+  the nearest shim leaves the interference within ± step/2 of its target, plus the gauge's error, less the
+  stack's ``settling`` during run-in (optional: an expression, e.g. a process factor, base units) — and the
+  preload follows the pair's law ``F = Z K sin α (Δ sin α / 2)^(10/9)``
   (:class:`PreloadLaw`; rigid rings, :mod:`rvtol.elements.rolling_bearings`).
 * **Design choice** (:class:`DesignChoice`, ``[[choice]]``) — a drawing or design value chosen for the
   build (e.g. the profile modification that puts the nominal demand in the middle of the pin supply).
@@ -37,6 +39,9 @@ reducer the models see is the one the build rules assemble from that sample's pa
 * **Gauges** (``[[gauge]]``) — each reading's measurement error, a factor table in the spec's format
   (normal, mean 0, σ = the gauge's standard uncertainty u) appended to the study's spec: the gauge
   errors are sampled with the parts, so sensitivity analyses see them like any tolerance.
+* **Process spread** (``[[process]]``) — what the build does to a unit beyond its parts and readings (the run-in
+  settling of a preloaded stack), factor tables in the spec's format appended to the study's spec like the
+  gauges: sampled per unit, seen by sensitivity analyses like any tolerance.
 
 Every rule reads the *as-drawn* values (factors, gauge errors, the composition's quantities that do not
 depend on a factor a rule sets); the composition then recomputes its quantities from the as-built
@@ -183,10 +188,11 @@ class PreloadLaw:
 @dataclass(frozen=True)
 class ShimResult:
     shim: np.ndarray
-    interference: np.ndarray
-    preload: np.ndarray
+    interference: np.ndarray     # after run-in (less the settling)
+    preload: np.ndarray          # after run-in: what the unit runs with
     short: np.ndarray            # the end play needs a shim thinner than the thinnest
     loose: np.ndarray            # … thicker than the thickest
+    preload_as_set: np.ndarray | None = None   # at assembly, before the run-in settling
 
 
 @dataclass(frozen=True)
@@ -204,6 +210,7 @@ class ShimPreload:
     unit: str = "um"
     rule: str = ""
     source: str = ""
+    settling: Expression | None = None   # axial settling of the stack during run-in (base units)
 
     @property
     def step(self) -> float:
@@ -220,15 +227,17 @@ class ShimPreload:
 
     @property
     def reads(self) -> set[str]:
-        return set(self.end_play.names) | set(self.measured.names)
+        return set(self.end_play.names) | set(self.measured.names) | set(
+            self.settling.names if self.settling is not None else ())
 
     def choose(self, env: dict, n: int) -> ShimResult:
         classes = Classes(np.append(self.shims, np.inf))
         cls, target = self.target.wanted(env, classes, None, n)
         shim = self.shims[cls]
         delta = shim - _column(self.end_play.evaluate(env), n)
-        return ShimResult(shim, delta, self.law.force(delta), target < self.shims[0],
-                          target >= self.shims[-1] + self.step)
+        run = delta - (_column(self.settling.evaluate(env), n) if self.settling is not None else 0.0)
+        return ShimResult(shim, run, self.law.force(run), target < self.shims[0], target >= self.shims[-1] + self.step,
+                          self.law.force(delta))
 
     def describe(self) -> dict:
         u = self.unit
@@ -236,7 +245,8 @@ class ShimPreload:
                 "how": (f"the shim nearest to the measured end play + {_fmt(units.from_base(self.interference_target, u))} "
                         f"{units.label(u)} (interference of the {_fmt(self.preload_target)} N target preload), shims "
                         f"{_fmt(units.from_base(self.shims[0], u))} … {_fmt(units.from_base(self.shims[-1], u))} "
-                        f"{units.label(u)} in {_fmt(units.from_base(self.step, u))}-{units.label(u)} steps"),
+                        f"{units.label(u)} in {_fmt(units.from_base(self.step, u))}-{units.label(u)} steps"
+                        + (f"; less the run-in settling {self.settling.text}" if self.settling is not None else "")),
                 "reasoning": self.rule, "source": self.source}
 
 
@@ -275,6 +285,7 @@ class BuildRules:
     choices: tuple[DesignChoice, ...] = ()
     file: str | None = None
     sha256: str | None = None
+    process: tuple[Factor, ...] = ()     # the build's process spread (run-in settling), factors of the spec
 
     @property
     def sets(self) -> tuple[str, ...]:
@@ -288,6 +299,14 @@ class BuildRules:
         out += [Quantity(f"{PREFIX}{s.name}.preload", "N", "N", f"{s.title}: preload set by the shim")
                 for s in self.shims]
         return tuple(out)
+
+    def as_drawn(self) -> dict[str, float]:
+        """The build's named values a unit has with no build rule applied (the parts as drawn): each shim-set
+        preload at its target (base units, N)."""
+        out = {}
+        for s in self.shims:
+            out[f"{PREFIX}{s.name}.preload"] = out[f"{PREFIX}{s.name}.preload_as_set"] = float(s.preload_target)
+        return out
 
     def reads(self) -> dict[str, set[str]]:
         """Each set factor and build output -> the composition's names its rule reads."""
@@ -313,6 +332,7 @@ class BuildRules:
         for s in self.shims:
             r = s.choose(env, n)
             named[f"{PREFIX}{s.name}.preload"] = r.preload
+            named[f"{PREFIX}{s.name}.preload_as_set"] = r.preload_as_set
             named[f"{PREFIX}{s.name}.interference"] = r.interference
         return changed, named
 
@@ -331,7 +351,9 @@ class BuildRules:
         """summary.json's ``build``: the rules and the gauges."""
         return {"name": self.name, "file": self.file, "sha256": self.sha256,
                 "rules": self.to_frame().to_dict(orient="records"),
-                "gauges": [{"name": g.name, "unit": g.unit, "u": g.dist.std, "source": g.source} for g in self.gauges]}
+                "gauges": [{"name": g.name, "unit": g.unit, "u": g.dist.std, "source": g.source} for g in self.gauges],
+                "process": [{"name": f.name, "unit": f.unit, "distribution": f.dist.describe() if hasattr(f.dist, "describe")
+                             else f.dist.kind, "source": f.source} for f in self.process]}
 
 
 def usage(rules: BuildRules, env: dict, n: int) -> pd.DataFrame:
@@ -373,11 +395,16 @@ def load_build(path, spec: ToleranceSpec, design=None, quantities=()) -> BuildRu
     desc = head.str("description", "")
     head.finish()
     gauges = [g for t in root.tables("gauge") for g in factors_from_params(t)]
-    gnames = {g.name for g in gauges}
-    clash = gnames & set(spec.names)
-    if clash:
-        raise InputError(f"gauge {sorted(clash)[0]!r} has the name of a factor of the spec", file=file, key="gauge")
-    nominal, deps = _nominal(spec, gauges, quantities, design)
+    process = [f for t in root.tables("process") for f in factors_from_params(t)]
+    for kind, added in (("gauge", gauges), ("process", process)):
+        clash = {g.name for g in added} & set(spec.names)
+        if clash:
+            raise InputError(f"{kind} {sorted(clash)[0]!r} has the name of a factor of the spec", file=file, key=kind)
+    both = [g.name for g in gauges + process]
+    if len(set(both)) != len(both):
+        raise InputError(f"{sorted({n for n in both if both.count(n) > 1})[0]!r} is given twice among the gauges and "
+                         "process factors", file=file, key="process")
+    nominal, deps = _nominal(spec, gauges + process, quantities, design)
     known = set(nominal)
     fits = [_fit(t, spec, known, nominal) for t in root.tables("fit")]
     shims = [_shim(t, known, design) for t in root.tables("shim")]
@@ -401,14 +428,15 @@ def load_build(path, spec: ToleranceSpec, design=None, quantities=()) -> BuildRu
                 what = "a factor a fit sets" if m in sets else f"a quantity that depends on {sorted(bad)[0]!r}"
                 raise InputError(f"rule {r.name!r} reads {m!r}, {what} (rules read the parts as drawn)",
                                  file=file, key=key)
-    return BuildRules(name, desc, tuple(gauges), tuple(fits), tuple(shims), tuple(choices), file, sha)
+    return BuildRules(name, desc, tuple(gauges), tuple(fits), tuple(shims), tuple(choices), file, sha, tuple(process))
 
 
 def _nominal(spec: ToleranceSpec, gauges, quantities, design) -> tuple[dict, dict]:
-    """Every name a rule may read at the spec's means (gauge errors 0), and the factors each depends on:
-    factors, gauges, the design's numbers (``design.<key>``, base units) and the quantities."""
+    """Every name a rule may read at the spec's means (gauge and process factors at their nominal), and the factors
+    each depends on: factors, gauges, process factors, the design's numbers (``design.<key>``, base units) and the
+    quantities."""
     env = {f.name: np.atleast_1d(f.nominal_base) for f in spec.factors}
-    env.update({g.name: np.zeros(1) for g in gauges})
+    env.update({g.name: np.atleast_1d(g.nominal_base) for g in gauges})
     deps = {n: {n} for n in env}
     for k in (design.params if design is not None else ()):
         v = design[k]
@@ -422,16 +450,17 @@ def _nominal(spec: ToleranceSpec, gauges, quantities, design) -> tuple[dict, dic
 
 
 def extended_spec(spec: ToleranceSpec, rules: BuildRules) -> ToleranceSpec:
-    """The spec with the build's gauge errors appended (independent of every factor)."""
-    if not rules.gauges:
+    """The spec with the build's gauge errors and process factors appended (independent of every factor)."""
+    added = tuple(rules.gauges) + tuple(rules.process)
+    if not added:
         return spec
     corr = spec.correlation
     if corr is not None:
-        k, g = len(spec), len(rules.gauges)
+        k, g = len(spec), len(added)
         c = np.eye(k + g)
         c[:k, :k] = corr
         corr = c
-    return replace(spec, factors=spec.factors + rules.gauges, correlation=corr)
+    return replace(spec, factors=spec.factors + added, correlation=corr)
 
 
 def _expression(p: Params, key: str, known: set[str], local: tuple[str, ...]) -> Expression:
@@ -503,7 +532,8 @@ def _shim(p: Params, known: set[str], design) -> ShimPreload:
     steps = np.diff(shims)
     if not np.allclose(steps, steps[0], rtol=1e-9, atol=0.0):
         raise p.error("shims", "a shim rule needs shims in equal steps (give from, to, step)")
-    preload = p.quantity("preload", "N", positive=True)
+    preload = _preload_target(p, design)
+    settling = _expression(p, "settling", known, ()) if "settling" in p else None
     rule, source = p.str("rule"), p.str("source")
     key = p.str("bearing", "crank_support_bearing")
     p.finish()
@@ -512,7 +542,23 @@ def _shim(p: Params, known: set[str], design) -> ShimPreload:
     except InputError as exc:
         raise p.error("bearing", exc.reason) from None
     return ShimPreload(name, title, end_play, measured, shims, preload, law.interference(preload), law, unit, rule,
-                       source)
+                       source, settling)
+
+
+def _preload_target(p: Params, design) -> float:
+    """``preload``: ``{ value, unit }`` or ``{ design = "key" }`` (the design's number, N) — positive."""
+    raw = p.raw("preload")
+    if isinstance(raw, dict) and "design" in raw:
+        sub = p.sub("preload")
+        key = sub.str("design")
+        sub.finish()
+        if design is None or key not in design:
+            raise p.error("preload", f"the study's design has no {key!r}")
+        v = float(design.value(key, "N"))
+        if not v > 0:
+            raise p.error("preload", f"the design's {key} is {v:g} N: a preload target must be > 0")
+        return v
+    return p.quantity("preload", "N", positive=True)
 
 
 def _nominal_build(fits, nominal: dict) -> dict[str, np.ndarray]:

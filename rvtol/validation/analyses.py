@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..analysis import Analysis, CommonOptions, ModelTarget
+from ..epistemic import study_band
 from ..errors import InputError
 from ..options import REQUIRED, option
 from . import texts
@@ -51,6 +52,14 @@ class ValidationOptions(CommonOptions):
     parameter: str = option("tolerance_scale", "the fitted parameter: tolerance_scale multiplies every tolerance "
                                                "of the spec about its middle", choices=PARAMETERS)
     bounds: list[float] = option([0.25, 10.0], "[low, high] of the fitted parameter", positive=True)
+    epistemic_n: int = option(0, "designs sampled over the design's estimated numbers (their ranges, rvtol.epistemic) "
+                                 "to put the epistemic band beside each prediction; 0: none", min=0)
+    epistemic_units: int = option(0, "units of the tolerance spec each of those designs is also evaluated on (the "
+                                     "designs × units band)", min=0)
+    epistemic_outputs: list[str] = option([], "further outputs banded beside the mapped ones (e.g. the rigidity under "
+                                              "each reading)", names="outputs")
+    epistemic_sensitivity: str = option("given_data", "how the estimated numbers' indices are estimated (given_data "
+                                                      "or pce)", choices=("given_data", "pce"))
     sources: list = field(default_factory=list, init=False)
     te: ModelTarget | None = field(default=None, init=False)
 
@@ -91,6 +100,11 @@ class ValidationOptions(CommonOptions):
                                         f"{', '.join(sorted(known_shapes)) or 'none'})")
         if self.shape_of and self.te is None:
             raise error("shape_of", "a spectrum's shape needs the study's TE model (te_model)")
+        if self.epistemic_n:
+            if self.epistemic_n < 4:
+                raise error("epistemic_n", f"must be 0 (no band) or >= 4 designs, got {self.epistemic_n}")
+            if study.design is None or not study.design.uncertain():
+                raise error("epistemic_n", "the study's design states no range for any number (range, basis)")
         if self.calibrate_on is not None:
             known = {q.key: q for s in self.sources if s.status == "read" for q in s.quantities}
             q = known.get(self.calibrate_on)
@@ -130,6 +144,9 @@ class ValidationAnalysis(Analysis):
         outs = set(o.outputs.values()) | {x for v in o.sensitivity_outputs.values() for x in v}
         known = (mc.samples.values, {out: mc.column(out) for out in outs}, mc.ok)
         g = getattr(o.te.model, "geometry", None) if o.te is not None else None
+        band = study_band(ctx, list(dict.fromkeys([*o.outputs.values(), *o.epistemic_outputs])), n=o.epistemic_n,
+                          tolerance_samples=o.epistemic_units, interval=o.interval,
+                          sensitivity=o.epistemic_sensitivity) if o.epistemic_n else None
         return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
                         te_spectra=te_spectra(o.te, o.spectrum_on_rig) if o.te is not None else None,
@@ -137,4 +154,5 @@ class ValidationAnalysis(Analysis):
                         interval=o.interval, confidence=o.confidence, order_threshold=o.order_threshold,
                         spectrum_samples=o.spectrum_samples, stands_for=tuple(o.stands_for),
                         sensitivity_outputs=o.sensitivity_outputs, shape_of=tuple(o.shape_of),
-                        lattice=(g.z_b, g.ratio) if g is not None else None, reference_order=o.reference_order)
+                        lattice=(g.z_b, g.ratio) if g is not None else None, reference_order=o.reference_order,
+                        epistemic=band)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..blocks import Figure, Table, Text, figure_png
+from .validate import EPISTEMIC_COLUMNS
 
 INTRODUCTION = (
     "Each published figure of an {reducer} is predicted by the model as it is — its nominal point and a Monte Carlo "
@@ -32,6 +33,14 @@ CALIBRATED = (
     "calibrated model misses says the fitted parameter is not what differs. Another unit of the same design and "
     "quantity is predicted by the same distribution the calibration centred, so its ratio is the two "
     "measurements' ratio by construction: it is listed as 'not a hold-out'.")
+
+EPISTEMIC = (
+    "Beside the tolerance band, the estimated design's own band: {n} designs drawn over the ranges of its {k} estimated "
+    "numbers (design file: range, basis), each rebuilt into the whole model ({ok} gave a prediction) and evaluated at "
+    "nominal tolerances{u_text} — 'epistemic min/max' over the designs, 'designs × units' the central band of the "
+    "designs' units. 'With the estimates' says whether a measured figure lies within what the estimates admit and by "
+    "how much it misses otherwise; the estimated numbers with the largest first-order index on the output are the ones "
+    "that could explain a miss. Nothing is fitted: the ranges are the design file's.")
 
 COLUMNS = ["source", "quantity", "unit under test", "kind", "measured", "± reading", "unit", "nominal", "median",
            "median CI low", "median CI high", "P low", "P high", "predicted / measured", "measured percentile [%]",
@@ -85,6 +94,8 @@ def layout(res, o) -> list:
     for stage in dict.fromkeys(res.comparison["stage"]):
         frame = res.stage(stage)
         cols = COLUMNS + (["role"] if frame["role"].any() else [])
+        if "with the estimates" in frame and (frame["with the estimates"] != "").any():
+            cols += [c for c in EPISTEMIC_COLUMNS if c in frame and frame[c].notna().any() and (frame[c] != "").any()]
         blocks.append(Table(frame[cols].rename(columns=names), f"{stage[0].upper()}{stage[1:]}: published figures "
                                                                 "against the model"))
     if len(res.orders):
@@ -106,6 +117,12 @@ def layout(res, o) -> list:
         blocks.append(Table(res.calibration.to_frame(), "Calibration: the tolerance scales evaluated"))
     if np.isfinite(res.comparison["predicted / measured"].astype(float)).any():
         blocks.append(Figure(figure_png(res.plot()), "Predicted / measured per published figure (log scale)"))
+    if res.epistemic is not None:
+        e = res.epistemic
+        units = e.settings.get("tolerance_samples", 0)
+        blocks.append(Text(EPISTEMIC.format(n=e.n, k=len(e.inputs), ok=int(e.ok.sum()),
+                                            u_text=f" and over {units} units of the tolerance spec each" if units else "")))
+        blocks.append(Table(e.to_frame(), "The estimated design's band of each mapped output"))
     blocks.append(Text(misses(res)))
     if len(res.missing):
         blocks.append(Table(res.missing, "Looked for and not found, or found and not read"))

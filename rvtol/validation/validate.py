@@ -22,7 +22,12 @@
    bands) and is fitted so that the predicted median equals the figure ``calibrate_on`` — on the same
    uniform design for every ``s`` (common random numbers: the median is a continuous function of ``s``),
    by Brent's method (:func:`scipy.optimize.brentq`) in ``bounds``.  Every other figure is then predicted
-   with the fitted ``s``.  A curve measurement (torsion or TE curve) would be calibrated with
+   with the fitted ``s``.
+3. **The estimated design's own band** (``epistemic``: an :class:`rvtol.epistemic.EpistemicResult` of the mapped
+   outputs): beside each prediction's tolerance band, the band over the designs the estimated numbers' ranges admit
+   (at nominal tolerances, and designs × units where computed), whether the measured figure lies within the
+   estimates' reach, by how much it misses otherwise, and the estimated numbers that drive it most (first-order
+   index) — which of them could explain a miss.  Nothing is fitted by it.  A curve measurement (torsion or TE curve) would be calibrated with
    :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
 
    A hold-out must be able to fail.  A figure of the same reducer and quantity as the calibration figure
@@ -109,6 +114,7 @@ class ValidationResult:
     interval: float
     largest: dict = field(default_factory=dict)     # stage -> [(order, amplitude)] of the predicted TE
     shape: pd.DataFrame = field(default_factory=pd.DataFrame)   # measured spectra against the predicted, in shape
+    epistemic: object = None                        # the estimated design's band (rvtol.epistemic), when computed
 
     def to_frame(self) -> pd.DataFrame:
         return self.comparison
@@ -153,7 +159,8 @@ class ValidationResult:
                 "comparison": frame_records(self.comparison), "orders": frame_records(self.orders),
                 "shape": frame_records(self.shape),
                 "missing": frame_records(self.missing), "calibration": cal,
-                "largest_predicted_orders": {k: [list(x) for x in v] for k, v in self.largest.items()}}
+                "largest_predicted_orders": {k: [list(x) for x in v] for k, v in self.largest.items()},
+                "epistemic": self.epistemic.summary() if self.epistemic is not None else None}
 
 
 def _estimated(src: PublishedSource) -> str:
@@ -244,7 +251,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
              bounds: tuple[float, float] = (0.25, 10.0), interval: float = 0.95, confidence: float = 0.95,
              order_threshold: float = 0.10, spectrum_samples: int = 16, rtol: float = 0.02, stands_for=(),
              sensitivity_outputs: dict | None = None, shape_of=(), lattice=None,
-             reference_order: int | None = None) -> ValidationResult:
+             reference_order: int | None = None, epistemic=None) -> ValidationResult:
     """Predict every published figure of ``reducer`` (module docstring).
 
     ``outputs``: published quantity name -> the model output that predicts it; ``known``: ``(X, {output: display
@@ -379,10 +386,57 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
                 v2, ok2 = {**v2, **v3}, ok2 & ok3
             stage_rows(fit.stage, s, v2, ok2, X2)
     comparison = pd.DataFrame(rows)
+    if epistemic is not None and len(comparison):
+        comparison = _with_epistemic(comparison, epistemic, outputs)
     orders = pd.DataFrame(order_rows)
     missing = pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
                              "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
-    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest, pd.DataFrame(shape_rows))
+    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest, pd.DataFrame(shape_rows),
+                            epistemic)
+
+
+#: the columns the estimated design's band adds to the prediction's rows (module doc, item 3)
+EPISTEMIC_COLUMNS = ["epistemic min", "epistemic max", "designs × units low", "designs × units high",
+                     "with the estimates", "estimated drivers (S1)"]
+
+
+def _with_epistemic(frame: pd.DataFrame, band, outputs: dict) -> pd.DataFrame:
+    """The prediction rows (no calibration) of the mapped outputs with the epistemic band beside them."""
+    names = [q.name for q in band.outputs]
+    extra = {c: [] for c in EPISTEMIC_COLUMNS}
+    for _, r in frame.iterrows():
+        out = outputs.get(r["what"])
+        if r["stage"] != BEFORE or out not in names or not r["n"]:
+            for c in EPISTEMIC_COLUMNS:
+                extra[c].append(np.nan if c not in ("with the estimates", "estimated drivers (S1)") else "")
+            continue
+        b = band.band(out)
+        lo = b.get("combined low", b["epistemic min"])
+        hi = b.get("combined high", b["epistemic max"])
+        for c, v in zip(EPISTEMIC_COLUMNS[:4], (b["epistemic min"], b["epistemic max"], b.get("combined low", np.nan),
+                                                b.get("combined high", np.nan))):
+            extra[c].append(v)
+        extra["with the estimates"].append(_reach(r, lo, hi, band.Y[band.ok, names.index(out)]))
+        extra["estimated drivers (S1)"].append(band.drivers_text(out))
+    return frame.assign(**extra)
+
+
+def _reach(r, lo: float, hi: float, designs: np.ndarray) -> str:
+    """Whether the measured figure lies within what the estimated numbers' ranges admit, and by how much it misses."""
+    m, u = float(r["measured"]), float(r["± reading"]) if np.isfinite(r["± reading"]) else 0.0
+    if r["kind"] in ("value", "range"):
+        if m - u > hi:
+            return f"misses: above every design by ×{m / hi:.3g} ({m - hi:.4g} {r['unit']})"
+        if m + u < lo:
+            return f"misses: below every design by ×{m / lo:.3g} ({lo - m:.4g} {r['unit']})"
+        return "within the estimates' reach"
+    meets = designs <= m if r["kind"] == "upper_limit" else designs >= m
+    share = 100.0 * float(np.mean(meets)) if designs.size else np.nan
+    if share == 100.0:
+        return "every design meets it (nominal tolerances)"
+    if share == 0.0:
+        return "no design meets it (nominal tolerances)"
+    return f"{share:.3g} % of the designs meet it (nominal tolerances)"
 
 
 def _fit_scale(pred: _Predictor, output: str, measured: float, unit: str, key: str, parameter: str,

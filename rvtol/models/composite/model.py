@@ -134,8 +134,9 @@ class CompositeModel(Model):
     """Factors -> quantities -> stages, evaluated in declaration order (see the module docstring)."""
 
     def __init__(self, inputs, input_units, quantities: list[MappedQuantity], stages: list[Stage], build=None,
-                 build_outputs: tuple[str, ...] | None = None):
+                 build_outputs: tuple[str, ...] | None = None, constants: dict[str, float] | None = None):
         self.inputs = tuple(inputs)
+        self.constants = dict(constants or {})     # named values fixed for every row (a build's values as drawn)
         self.input_units = tuple(input_units)
         self.quantities = tuple(quantities)
         self.stages = tuple(stages)
@@ -146,7 +147,7 @@ class CompositeModel(Model):
                 raise InputError(f"the build sets {unknown[0]!r}, which is not a factor", key="build")
         own = tuple(build.outputs) if build is not None else ()
         self.build_outputs = tuple(q.name for q in own) if build_outputs is None else tuple(build_outputs)
-        known = set(self.inputs)
+        known = set(self.inputs) | set(self.constants)
         seen_outputs: list[str] = []
         for q in self.quantities:
             _check_names(q.expression, known, f"quantity {q.name!r}", key=f"quantity.{q.name}")
@@ -180,6 +181,7 @@ class CompositeModel(Model):
         X = self.check_input(X)
         n = len(X)
         env: dict[str, np.ndarray] = {name: X[:, j] for j, name in enumerate(self.inputs)}
+        env.update({name: np.full(n, float(v)) for name, v in self.constants.items()})
         status = np.zeros(n, dtype=np.int16)
         self._quantities(env, n)
         if self.build is not None:                  # the reducer as built from this sample's parts
@@ -212,8 +214,11 @@ class CompositeModel(Model):
             env[q.name] = _column(q.expression.evaluate(env), n)
 
     def without_build(self) -> "CompositeModel":
-        """The same composition on the parts as drawn (no build rules applied)."""
-        return CompositeModel(self.inputs, self.input_units, list(self.quantities), list(self.stages))
+        """The same composition on the parts as drawn (no build rules applied); a build value a stage reads takes
+        its value as drawn (a shim-set preload: its target, :meth:`rvtol.production.build.BuildRules.as_drawn`)."""
+        drawn = self.build.as_drawn() if self.build is not None and hasattr(self.build, "as_drawn") else {}
+        return CompositeModel(self.inputs, self.input_units, list(self.quantities), list(self.stages),
+                              constants={**self.constants, **drawn})
 
     @staticmethod
     def stage_matrix(st: Stage, env: dict, n: int) -> np.ndarray:
@@ -278,7 +283,7 @@ class CompositeModel(Model):
                   for st in self.stages if st.name in need]
         quantities = [replace(q, output=q.output and q.name in outputs) for q in self.quantities]
         return CompositeModel(self.inputs, self.input_units, quantities, stages, self.build,
-                              tuple(o for o in self.build_outputs if o in outputs))
+                              tuple(o for o in self.build_outputs if o in outputs), self.constants)
 
     def mapping_table(self) -> list[dict]:
         """Every stage input and quantity with the expression that feeds it (for the report)."""

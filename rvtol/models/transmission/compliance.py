@@ -39,6 +39,14 @@ on its own force (``w_j = F_12 (P_1 + P_2) + (F_jj − F_12) P_j``).  So:
   ``u(R) − (c_1 + c_2) R / 4`` so that the symmetric response stays exactly ``u(R)``.
 * The planet-gear force (≈ 4 % of a crank's load at rated) is taken at the mid-plane: its overhang
   moment on beam and bearings is left out (``studies/compliance_chain.md`` measures the effect).
+* **Each crank's own preload** (issue 39: the preload a unit is built with — shims, end-play reading, run-in
+  — is a sampled input, ``crank_support_preload[i]`` of :mod:`.factors`): the pair's law and tilt terms are
+  tabulated once per design at :data:`PRELOAD_GRID` preloads ``P_k = P_max (k/(n−1))²`` from 0 to
+  ``P_max = max(PRELOAD_RANGE × the design preload, PRELOAD_FLOOR)`` and at the design preload itself; a crank's law at preload ``P`` is the
+  linear interpolation in ``P`` of the two neighbouring laws (values, tangents and ``∫δ`` alike, so the
+  Hermite law, its tangent and its energy stay consistent); above the grid's top (a shim the supply could not
+  match) the pair is solved at ``P`` itself.  ``tests/test_compliance_chain.py`` holds the interpolated law to the
+  pair re-solved at ``P``.
 
 **Carrier and disc webs** (torque-path springs, in series with C_CRANK, isotropic)::
 
@@ -80,6 +88,11 @@ from .layout import T_C, T_D, T_F, T_M
 TABLE_POINTS = 128
 TABLE_SPACING = 1.5
 TABLE_RANGE = 4.0
+#: preloads at which the pair's law is tabulated for per-crank preloads (module doc): their number, the range
+#: as a multiple of the design preload and its least top (N)
+PRELOAD_GRID = 17
+PRELOAD_RANGE = 2.5
+PRELOAD_FLOOR = 2500.0
 
 
 def hermite_integrals(f, d, m) -> np.ndarray:
@@ -138,6 +151,47 @@ class ContactChain:
     pin_table: np.ndarray | None = None         # (4, TABLE_POINTS): the conforming groove law (in series)
     cam_table: np.ndarray | None = None         # (4, TABLE_POINTS): the needle row (replaces doc 000's law)
     notes: dict = field(default_factory=dict)   # family -> reduction as text (reports)
+    design_preload: float = 0.0                 # N: the preload of ``crank_table`` and of the cam terms
+    pair_law_args: tuple | None = None          # (rated crank resultant, family scale) of the pair's laws
+    _grid: tuple | None = field(default=None, repr=False)   # (preloads, tables, tilts), made on first use
+
+    def preload_grid(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(preloads (N), tables (n, 4, TABLE_POINTS), tilts (n, 2))``: the pair's law at each preload of the
+        grid (module doc), made once on first use."""
+        if self._grid is None:
+            if self.pair_law_args is None:
+                raise SpecError("this design's crank support has no preloaded pair: its preload cannot be set",
+                                key="crank_support_preload")
+            R_rated, sc = self.pair_law_args
+            el = self.elements
+            grid = max(PRELOAD_RANGE * el.pair_preload, PRELOAD_FLOOR) * (
+                np.arange(PRELOAD_GRID) / (PRELOAD_GRID - 1)) ** 2
+            P = np.unique(np.append(grid, el.pair_preload))     # the design preload is a node: exact there
+            laws = [_scaled(*_pair_law(el.pair_at(p), el.crank, R_rated, TABLE_RANGE * R_rated), sc) for p in P]
+            for t, _ in laws:
+                _check_crank_law(t, sum(self.crank.values()), TABLE_RANGE * R_rated)
+            self._grid = (P, np.stack([t for t, _ in laws]), np.array([tl for _, tl in laws]))
+        return self._grid
+
+    def crank_law(self, preload: float) -> tuple[np.ndarray, tuple[float, float]]:
+        """``(table, (tilt_1, tilt_2))`` of the crank–carrier law and the cams' pair-tilt terms at ``preload`` (N):
+        the linear interpolation of the tabulated laws (module doc); beyond the grid's top (a unit whose shim the
+        supply could not match) the pair solved at that preload."""
+        P, tables, tilts = self.preload_grid()
+        if not (np.isfinite(preload) and preload >= 0.0):
+            raise SpecError(f"a crank support preload must be a number >= 0 N, got {preload!r}",
+                            key="crank_support_preload")
+        if preload > P[-1]:
+            R_rated, sc = self.pair_law_args
+            el = self.elements
+            table, tilt = _scaled(*_pair_law(el.pair_at(preload), el.crank, R_rated, TABLE_RANGE * R_rated), sc)
+            _check_crank_law(table, sum(self.crank.values()), TABLE_RANGE * R_rated)
+            return table, (float(tilt[0]), float(tilt[1]))
+        k = int(min(np.searchsorted(P, preload, side="right") - 1, P.size - 2))
+        w = (preload - P[k]) / (P[k + 1] - P[k])
+        table = (1.0 - w) * tables[k] + w * tables[k + 1]
+        tilt = (1.0 - w) * tilts[k] + w * tilts[k + 1]
+        return table, (float(tilt[0]), float(tilt[1]))
 
     @property
     def families(self) -> tuple[str, ...]:
@@ -226,14 +280,13 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
         out.mesh["input_shaft"] = s("input_shaft") * 3.0 * r_bs ** 2 / el.input_shaft_stiffness
         notes["input_shaft"] = "3 r_bs² / K_in (three equal mesh forces)"
     if el.pair is not None:
-        table, tilt = _pair_law(el, R_rated, TABLE_RANGE * R_rated)
         sc = s("crank_support_bearings")
+        table, tilt = _scaled(*_pair_law(el.pair, cr, R_rated, TABLE_RANGE * R_rated), sc)
         for j in range(2):
-            out.cam[j]["crank_support_bearings"] = sc * tilt[j]
-        table[T_D] *= sc
-        table[T_M] *= sc
-        table[T_C] *= sc
+            out.cam[j]["crank_support_bearings"] = tilt[j]
         out.crank_table = table
+        out.design_preload = el.pair_preload
+        out.pair_law_args = (R_rated, sc)
         notes["crank_support_bearings"] = ("pair tilt at the eccentrics, F^pair_jj − F^pair_12, tangent at the rated "
                                            "symmetric crank load %.0f N" % R_rated)
         notes["crank_support_table"] = ("pair translation u(R) under the crank resultant at the mid-plane (roller "
@@ -302,7 +355,7 @@ def reduce_chain(el: ChainElements, *, a_w: float, r_bs: float, r_bp: float, rat
                                          f"roller load distribution (zero clearance: the 20-DOF gap carries δ_b), "
                                          f"tabulated to {f[-1]:.3g} N")
     if out.crank_table is not None:
-        _check_crank_law(out, TABLE_RANGE * R_rated)
+        _check_crank_law(out.crank_table, sum(out.crank.values()), TABLE_RANGE * R_rated)
     return out
 
 
@@ -346,9 +399,17 @@ def _tabulate(delta, f) -> np.ndarray:
     return np.stack([f, d, m, hermite_integrals(f, d, m)])
 
 
-def _pair_law(el: ChainElements, R_lin: float, R_max: float):
+def _scaled(table: np.ndarray, tilt, sc: float):
+    """A pair law and its tilt terms times the family's compliance scale ``sc``."""
+    table = table.copy()
+    table[T_D] *= sc
+    table[T_M] *= sc
+    table[T_C] *= sc
+    return table, (sc * tilt[0], sc * tilt[1])
+
+
+def _pair_law(pair, cr, R_lin: float, R_max: float):
     """The pair's symmetric law (table) and the tilt terms of the two cams (module doc)."""
-    pair, cr = el.pair, el.crank
     z = cr.eccentrics
     Ks = pair.solve(np.array([R_lin, 0.0, 0.0, 0.0, 0.0]), tol=1e-8).stiffness[0]
     B = np.array([[1.0, 0.0, 0.0, 0.0, zj] for zj in z])          # u_x + θ_y z at the eccentrics
@@ -369,14 +430,13 @@ def _pair_law(el: ChainElements, R_lin: float, R_max: float):
     return np.stack([f, d, m, hermite_integrals(f, d, m)]), tilt
 
 
-def _check_crank_law(out: ContactChain, R_max: float) -> None:
-    """The crank–carrier law (pair table + linear terms) must increase: the star's centre compliance
+def _check_crank_law(table: np.ndarray, lin: float, R_max: float) -> None:
+    """The crank–carrier law (pair table + linear terms ``lin``) must increase: the star's centre compliance
     ``F_12`` is the pair's mutual flexibility plus the beam's and the torque-path springs'; a pair whose
     tilt flexibility dwarfs its translation (no preload, X arrangement) can make the pair's own share
     decrease, which the others must make up."""
-    lin = sum(out.crank.values())
     fine = np.linspace(0.0, R_max, 20 * TABLE_POINTS)
-    d, m, _ = table_law(out.crank_table, fine)
+    d, m, _ = table_law(table, fine)
     if not (np.all(m + lin > 0) and np.all(np.diff(d + lin * fine) > 0)):
         raise SpecError("the crank support law (pair translation less its tilt share, plus the crank's mutual "
                         "flexibility) is not increasing: the pair's tilt flexibility is larger than the star "

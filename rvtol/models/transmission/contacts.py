@@ -33,8 +33,10 @@ class ContactTable:
         return self.kind.size
 
 
-def static_table(g: RVGeometry, err: np.ndarray) -> ContactTable:
-    """Contact kinds, DOF maps, stiffness laws and bearing clearances (from ``err``)."""
+def static_table(g: RVGeometry, err: np.ndarray, preload: np.ndarray | None = None) -> ContactTable:
+    """Contact kinds, DOF maps, stiffness laws and bearing clearances (from ``err``); ``preload``: each crank's
+    support preload (N, NaN or None: the design's), which gives each crank its own pair law and cam tilt terms
+    (:meth:`.compliance.ContactChain.crank_law`)."""
     nc = L.n_contacts(g.z_b)
     kind = np.zeros(nc, np.int64)
     idx = np.full((nc, 2, L.NZ), -1, np.int64)
@@ -53,16 +55,30 @@ def static_table(g: RVGeometry, err: np.ndarray) -> ContactTable:
     ser = np.zeros((nc, L.NSER))
     tab = np.zeros((1, 4, 2))
     k_mesh, k0_oc, k0_dc = g.k_sp, g.k0_oc, g.k0_dc
-    t_crank = t_cam = t_pin = -1
+    t_crank = [-1] * L.N_CRANK
+    t_cam = t_pin = -1
+    # the cams' linear series terms per crank (the pair's tilt share depends on that crank's preload)
+    cam_lin = [[sum(ch.cam[j].values()) if ch is not None else 0.0 for _ in range(L.N_CRANK)] for j in range(L.N_DISC)]
     if ch is not None:
         k_mesh = 1.0 / (1.0 / g.k_sp + sum(ch.mesh.values()))
         tables = []
-        for name in ("crank_table", "cam_table", "pin_table"):
+        own = preload is not None and np.any(np.isfinite(preload)) and ch.crank_table is not None
+        if ch.crank_table is not None:                 # the pair's table replaces doc 000's law
+            k0_oc = 0.0
+            tables.append(ch.crank_table)
+            t_crank = [0] * L.N_CRANK
+            if own:
+                for i in range(L.N_CRANK):
+                    if np.isfinite(preload[i]):
+                        law, tilt = ch.crank_law(float(preload[i]))
+                        tables.append(law)
+                        t_crank[i] = len(tables) - 1
+                        for j in range(L.N_DISC):
+                            cam_lin[j][i] += tilt[j] - ch.cam[j].get("crank_support_bearings", 0.0)
+        for name in ("cam_table", "pin_table"):
             if getattr(ch, name) is not None:
                 tables.append(getattr(ch, name))
-                if name == "crank_table":
-                    t_crank, k0_oc = len(tables) - 1, 0.0     # the pair's table replaces doc 000's law
-                elif name == "cam_table":
+                if name == "cam_table":
                     t_cam, k0_dc = len(tables) - 1, 0.0       # the needle row replaces doc 000's law
                 else:
                     t_pin = len(tables) - 1
@@ -84,13 +100,13 @@ def static_table(g: RVGeometry, err: np.ndarray) -> ContactTable:
         put(L.C_CRANK + i, L.RADIAL, [[b, L.XCA, L.THCA], [b + 1, L.YCA, L.THCA]], k0_oc, p,
             err[L.DELTA_OC + i])
         if ch is not None and (ch.crank or ch.crank_table is not None):
-            series(L.C_CRANK + i, sum(ch.crank.values()), table=t_crank)
+            series(L.C_CRANK + i, sum(ch.crank.values()), table=t_crank[i])
         for j in range(L.N_DISC):
             d = L.disc(j)
             put(L.C_CAM + 3 * j + i, L.RADIAL, [[b, b + 2, d, d + 1, d + 2], [b + 1, b + 2, d, d + 1, d + 2]],
                 k0_dc, p, err[L.DELTA_B + 3 * j + i])
             if ch is not None and (ch.cam[j] or ch.cam_table is not None):
-                series(L.C_CAM + 3 * j + i, sum(ch.cam[j].values()), table=t_cam)
+                series(L.C_CAM + 3 * j + i, cam_lin[j][i], table=t_cam)
     put(L.C_HOUSING, L.RADIAL, [[L.XCA], [L.YCA]], g.k0_ca, p, err[L.DELTA_CA])
     for j in range(L.N_DISC):
         d = L.disc(j)

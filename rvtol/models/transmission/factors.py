@@ -83,6 +83,10 @@ name                                meaning                                     
                                     sun–planet mesh is bilateral (no first-stage backlash), so
                                     this holds for one drive direction only: a torsion curve
                                     (load reversed) must not take it
+``crank_support_preload``,          axial preload of crank i's tapered support pair as this unit  force
+``crank_support_preload[i]``        was built (shims, end-play reading, run-in: build.toml), N;
+                                    without it the design's preload.  Each crank's pair law is
+                                    then its own (:meth:`.compliance.ContactChain.crank_law`)
 ==================================  ===========================================================  ======
 
 Indices are 1-based as in the document (i crank/hole 1–3, j disc 1–2, k pin
@@ -166,6 +170,8 @@ for _pre, _pin_row, _disc_row in (("R", L.PIN_R, L.DISC_R), ("AP", L.PIN_AP, L.D
     for _suffix, _form in (("_h", "amp"), ("_h_phase", "phase"), ("_c", "cos"), ("_s", "sin")):
         _HARMONIC[f"{_pre}_pin{_suffix}"] = ("pin", _pin_row, _form)
         _HARMONIC[f"{_pre}_cyc{_suffix}"] = ("disc", _disc_row, _form)
+#: crank support preloads (N, set): the group sets all three cranks
+_PRELOAD = "crank_support_preload"
 _ELEMENT = re.compile(r"^([A-Za-z_]+)\[(\d+)(?:,\s*(\d+))?\]$")
 
 
@@ -176,10 +182,20 @@ class ErrorState:
     err: np.ndarray       # [NERR]
     pin_err: np.ndarray   # [3, N_DISC, z_b]
     disc_h: np.ndarray    # [N_DISC, 2, NH, 2]
+    preload: np.ndarray = None   # [N_CRANK] crank support preloads (N); NaN: the design's
+
+    def __post_init__(self):
+        if self.preload is None:
+            self.preload = np.full(L.N_CRANK, np.nan)
 
     @classmethod
     def zero(cls, z_b: int) -> "ErrorState":
         return cls(np.zeros(L.NERR), np.zeros((3, L.N_DISC, z_b)), np.zeros((L.N_DISC, 2, L.NH, 2)))
+
+    @property
+    def own_preload(self) -> bool:
+        """True when a crank's support preload is set (not the design's)."""
+        return bool(np.any(np.isfinite(self.preload)))
 
 
 @dataclass(frozen=True)
@@ -211,7 +227,8 @@ class ErrorFactors:
         groups = {b.base for b in self.bindings if not b.index}
         keys = {(b.base, b.index) for b in self.bindings}
         for b in self.bindings:
-            if b.index and b.base in groups and b.base in _ARRAYS and not b.base.startswith(("beta", "gamma")):
+            if b.index and b.base in groups and (b.base in _ARRAYS or b.base == _PRELOAD) and \
+                    not b.base.startswith(("beta", "gamma")):
                 raise InputError(f"factor {b.name!r} and the group factor {b.base!r} set the same error; "
                                  f"give one or the other", key="factor")
             if _is_phase(b.base) and (b.base[:-6], b.index) not in keys:
@@ -242,11 +259,18 @@ class ErrorFactors:
             return _Binding(name, n, (), "rad" if _ARRAYS[n][2] else "mm")
         if n in _PATTERNS or n in _UNIFORM_PIN:
             return _Binding(name, n, (), "mm")
+        if n == _PRELOAD:
+            return _Binding(name, n, (), "N")
         if _is_phase(n) and n[:-6] in _PATTERNS:
             return _Binding(name, n, (), "rad")
         m = _ELEMENT.match(n)
         if m:
             base, a, b = m.group(1), int(m.group(2)), m.group(3)
+            if base == _PRELOAD:
+                if b is not None or not 1 <= a <= L.N_CRANK:
+                    raise InputError(f"bad index in factor {name!r} (expected {base}[i] with i = 1..{L.N_CRANK})",
+                                     key="factor")
+                return _Binding(name, base, (a - 1,), "N")
             if base in _ARRAYS:
                 off, shape, is_angle = _ARRAYS[base]
                 ix = (a - 1,) if b is None else (a - 1, int(b) - 1)
@@ -289,7 +313,11 @@ class ErrorFactors:
         th = 2.0 * np.pi * np.arange(self.z_b) / self.z_b
         for b, v in zip(self.bindings, np.asarray(x, dtype=float)):
             base = b.base
-            if base in _SCALARS:
+            if base == _PRELOAD:
+                if not (math.isfinite(v) and v >= 0):
+                    raise InputError(f"factor {b.name!r}: a preload must be >= 0 N, got {v!r}", key="factor")
+                s.preload[b.index[0] if b.index else slice(None)] = v
+            elif base in _SCALARS:
                 err[_SCALARS[base]] = v
             elif base in _ARRAYS:
                 off, shape, _ = _ARRAYS[base]

@@ -106,6 +106,7 @@ class Friction:
     needle_bore: float = 0.0             # d of the needle rows (mm)
     crank_support_bore: float = 0.0      # d of the tapered pair (mm)
     crank_support_p0: float = 0.0        # preload's equivalent load of the pair, 2 Y F_a0 (N)
+    crank_support_p0_per_newton: float = 0.0   # 2 Y: P0 per newton of preload (a crank's own preload)
 
     @property
     def active(self) -> bool:
@@ -136,17 +137,19 @@ def friction_from_design(design) -> Friction | None:
             raise SpecError(f"a friction coefficient must lie in [0, 1), got {v:g}", file=design.where(KEYS[name]),
                             key=KEYS[name])
     needle_bore = _num(design, "crank.eccentric_diameter") if mu["needle"] > 0 else 0.0
-    bore = p0 = 0.0
+    bore = p0 = two_y = 0.0
     if mu["crank_support"] > 0:
         bore = _num(design, "crank_support_bearing.bore")
         preload = _num(design, "crank_support_bearing.preload", positive=False)
         alpha = _num(design, "crank_support_bearing.cup_angle")
-        p0 = 2.0 * 0.4 / math.tan(alpha) * preload
-    return Friction(mu["pin"], mu["needle"], mu["crank_support"], needle_bore, bore, p0)
+        two_y = 2.0 * 0.4 / math.tan(alpha)
+        p0 = two_y * preload
+    return Friction(mu["pin"], mu["needle"], mu["crank_support"], needle_bore, bore, p0, two_y)
 
 
-def friction_table(fric: Friction | None, z_b: int) -> np.ndarray | None:
-    """``fr[nc, NFR]`` of the contact table (:mod:`.layout`), or None without friction."""
+def friction_table(fric: Friction | None, z_b: int, preload=None) -> np.ndarray | None:
+    """``fr[nc, NFR]`` of the contact table (:mod:`.layout`), or None without friction; ``preload``: each crank's
+    support preload (N, NaN or None: the design's), whose equivalent load ``2 Y F_a0`` is the pair's P0."""
     if fric is None or not fric.active:
         return None
     fr = np.zeros((L.n_contacts(z_b), L.NFR))
@@ -161,9 +164,11 @@ def friction_table(fric: Friction | None, z_b: int) -> np.ndarray | None:
                                                                      L.planet(i) + 2, L.disc(j) + 2)
     for i in range(L.N_CRANK):
         c = L.C_CRANK + i
+        p0 = fric.crank_support_p0
+        if preload is not None and np.isfinite(preload[i]):
+            p0 = fric.crank_support_p0_per_newton * float(preload[i])
         fr[c, [L.FR_KIND, L.FR_MU, L.FR_ARM, L.FR_P0, L.FR_A, L.FR_B]] = (
-            L.FR_ROTATION, fric.crank_support, 0.5 * fric.crank_support_bore, fric.crank_support_p0,
-            L.planet(i) + 2, L.THCA)
+            L.FR_ROTATION, fric.crank_support, 0.5 * fric.crank_support_bore, p0, L.planet(i) + 2, L.THCA)
     fr[fr[:, L.FR_MU] == 0.0, L.FR_KIND] = L.FR_NONE
     return fr
 

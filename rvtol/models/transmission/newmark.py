@@ -106,7 +106,7 @@ class NewmarkSolver:
 
     def tangent(self, theta_c: float, q: np.ndarray) -> np.ndarray:
         g, e = self.g, self.errors
-        tab = static_table(g, e.err)
+        tab = static_table(g, e.err, e.preload)
         coef = np.zeros((tab.n, 2, L.NZ))
         off = np.zeros((tab.n, 2))
         K.update_table(theta_c, 0.0, g.prm(), e.err, e.pin_err, e.disc_h, pin_cos_sin(g), coef, off)

@@ -158,17 +158,24 @@ class ReferenceModel:
         return out
 
     # -- laws -----------------------------------------------------------------------------
-    def _series_terms(self, group: str, disc: int = 0):
+    def _series_terms(self, group: str, disc: int = 0, crank: int | None = None):
         """The deflection terms ``δ_i(f) -> (δ, dδ/df)`` of a contact group's series law, or None (the
-        kind's power law alone)."""
+        kind's power law alone); ``crank``: the crank whose own support preload sets the law (cams, cranks)."""
         ch = self.g.chain
         if ch is None:
             return None
         p = self.p
         k0 = {"cam": self.g.k0_dc, "crank": self.g.k0_oc, "pin": self.g.k0_pin}[group]
         terms = []
-        lin = {"cam": ch.cam[disc], "crank": ch.crank, "pin": ch.pin}.get(group, {})
+        lin = dict({"cam": ch.cam[disc], "crank": ch.crank, "pin": ch.pin}.get(group, {}))
         own = {"crank": ch.crank_table, "cam": ch.cam_table}.get(group)     # a table replacing doc 000's law
+        pre = self.e.preload[crank] if crank is not None else np.nan
+        if np.isfinite(pre) and ch.crank_table is not None:                  # this crank's own preload
+            law, tilt = ch.crank_law(float(pre))
+            if group == "crank":
+                own = law
+            elif "crank_support_bearings" in lin:
+                lin["crank_support_bearings"] = tilt[disc]
         table = own is not None
         if table:
             terms.append(lambda f: table_law(own, f)[:2])
@@ -248,7 +255,16 @@ class ReferenceModel:
         for name, k0 in (("cam", g.k0_dc), ("crank", g.k0_oc), ("housing", g.k0_ca)):
             G, h = P[name]
             d = G @ q + h
-            if name == "cam" and g.chain is not None:     # the discs may differ in their series terms
+            per_crank = g.chain is not None and self.e.own_preload and name in ("cam", "crank")
+            if per_crank:                                  # each crank's own support preload
+                if name == "cam":
+                    out = [[self._radial(k0, d[j, i], gaps[name][j, i], self._series_terms("cam", j, i))
+                            for i in range(3)] for j in range(2)]
+                    fv, Kc, fmag = (np.stack([np.stack([o[m] for o in row]) for row in out]) for m in range(3))
+                else:
+                    out = [self._radial(k0, d[i], gaps[name][i], self._series_terms("crank", crank=i)) for i in range(3)]
+                    fv, Kc, fmag = (np.stack([o[m] for o in out]) for m in range(3))
+            elif name == "cam" and g.chain is not None:     # the discs may differ in their series terms
                 out = [self._radial(k0, d[j], gaps[name][j], self._series_terms("cam", j)) for j in range(2)]
                 fv, Kc, fmag = (np.stack([o[m] for o in out]) for m in range(3))
             else:

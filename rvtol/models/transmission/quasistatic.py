@@ -107,10 +107,10 @@ class QuasiStaticSolver:
                              f"expected {(3, L.N_DISC, geometry.z_b)}")
         self.tol_f, self.maxit, self.maxstep = float(tol_f), int(maxit), float(maxstep)
         self.prm = geometry.prm()
-        self.table = static_table(geometry, self.errors.err)
+        self.table = static_table(geometry, self.errors.err, self.errors.preload)
         self.pin_cs = pin_cos_sin(geometry)
         self.xs = geometry.arc_radii()
-        self.friction = friction_table(geometry.friction, geometry.z_b) if friction else None
+        self.friction = friction_table(geometry.friction, geometry.z_b, self.errors.preload) if friction else None
 
     # -- the general entry point --------------------------------------------------------------
     def sweep(self, theta_c, torque, dth_s=0.0, q_start=None, load=None, period: int = 0) -> SweepResult:
