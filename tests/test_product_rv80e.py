@@ -65,7 +65,7 @@ def test_the_study_composes_six_models_on_the_drawing_spec(study):
     assert ring.model.inputs[:n] == torsion.model.inputs and ring.inputs[:n] == torsion.inputs
     assert [e.text for e in ring.inputs[n:]] == [f"stackup.disc_{j}_in_pin_ring.{c}" for j in (1, 2)
                                                  for c in ("u", "v", "alpha", "beta")]
-    assert len(torsion.model.inputs) == 186 and len(m.stage("screening").model.inputs) == 7   # + phi_p[1..3]
+    assert len(torsion.model.inputs) == 189 and len(m.stage("screening").model.inputs) == 7   # + phi_p[1..3], the preloads
     assert {r.output for r in study.requirements} <= set(m.output_names)
 
 
@@ -297,6 +297,8 @@ def test_each_drawing_factor_moves_exactly_the_outputs_that_depend_on_it(study):
 TWENTY_DOF = {"torsion.lost_motion", "torsion.backlash", "torsion.torsional_rigidity", "torsion.rigidity_50_100",
               "torsion.rigidity_clearance_free", "torsion.friction_width", "te.te_pp", "te.te_pp_rig",
               "reducer.lost_motion", "reducer.backlash"}
+#: outputs that count something (whole numbers): a small step need not change them
+COUNTS = {"pin_preload.preloaded_pins_max"}
 #: the pin ring's no-load turn (stage pin_preload): the same 20-DOF reducer, no load on the output
 PIN_PRELOAD = {f"pin_preload.{q}" for q in ("interference_max", "preload_max", "preloaded_pins_max", "pin_drag_max",
                                            "no_load_torque_max")}          # stage 5 adds the first stage's play in series
@@ -328,7 +330,7 @@ FIRST_STAGE = {"screening.involute_stage", "reducer.lost_motion", "reducer.backl
     # turning flange (issue 39: the indicator takes the pilot's eccentricity out)
     ("carrier.output_pilot.position.x", {"pilot_eccentricity.x"}),
     # a planet's clocking on its crank: the crank's phase in both 20-DOF stages (issue 39)
-    ("crank_2.planet_gear.clocking", TWENTY_DOF),
+    ("crank_2.planet_gear.clocking", TWENTY_DOF | PIN_PRELOAD),
     # a planet's tooth thickness: doc 001's involute stage as before, and now the TE's driving flank (issue 39)
     ("crank_1.planet_gear.tooth_thickness", {"screening.lost_motion", "te.te_pp", "te.te_pp_rig"} | FIRST_STAGE),
     # the rig's own centring of its input ring: the rig's TE alone
@@ -341,7 +343,9 @@ def test_changing_one_drawing_tolerance_moves_exactly_its_outputs(study, factor,
         runs = [run_monte_carlo(study.model, spec, 3, "lhs", 11, executor=ex, progress=False)
                 for spec in (study.spec, study.spec.scaled({factor: 2.0}))]
     moved = {o for o in study.model.output_names if not np.array_equal(runs[0].column(o), runs[1].column(o))}
-    assert moved == outputs == {o for o, d in deps.items() if factor in d}
+    assert outputs == {o for o, d in deps.items() if factor in d}
+    # a count (of preloaded pins) moves only where the step closes or opens a pin: in 3 units it need not
+    assert outputs - COUNTS <= moved <= outputs
 
 
 def _order_1(res) -> tuple[complex, complex]:
