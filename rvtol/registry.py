@@ -39,7 +39,7 @@ MODELS: dict[str, str] = {
     "torsion_curve": "rvtol.models.torsion_curve.model:from_study",
     "stackup": "rvtol.models.stackup.model:from_study",
     "pin_ring_fit": "rvtol.models.pin_ring.model:from_study",
-    "pin_ring_preload": "rvtol.models.pin_ring.preload:from_study",
+    "pin_ring_preload": "rvtol.models.pin_ring.model:preload_from_study",
     "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
     "formula": "rvtol.models.formula.model:from_study",
     "python": "rvtol.models.custom.model:from_study",

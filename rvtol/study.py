@@ -291,7 +291,8 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
         return study
     try:
         if isinstance(data.get("model"), list):          # [[model]] tables: a composed study
-            model, spec, rules = _composite(root, mapping, design, spec, file, inputs, build_path)
+            drawn = Path(parent["build_as_drawn"]) if build_path is None and "build_as_drawn" in (parent or {}) else None
+            model, spec, rules = _composite(root, mapping, design, spec, file, inputs, build_path, drawn)
         else:
             if mapping is not None or "quantity" in root:
                 raise head.error("mapping", "a mapping ([[quantity]] tables) needs several [[model]] tables")
@@ -441,6 +442,9 @@ def _extended(data: dict, path: Path) -> tuple[dict, dict | None]:
     merged = {k: v for k, v in base.items() if k != "analysis"}
     bstudy = {k: v for k, v in base.get("study", {}).items() if k not in _OWN}
     merged["study"] = {**bstudy, **{k: v for k, v in head.items() if k != "extends"}}
+    drawn = None
+    if head.get("build", None) is False and isinstance(bstudy.get("build"), str):   # the base's build, not applied
+        drawn = Params(bstudy, file=str(bpath), key="study").path_value("build", bpath.parent)
     merged["study"].setdefault("name", path.stem)
     for k in ("sampling", "execution", "report"):
         if k in data:
@@ -450,7 +454,7 @@ def _extended(data: dict, path: Path) -> tuple[dict, dict | None]:
     for k, v in data.items():
         if k not in merged or k == "analysis":
             merged[k] = v
-    return merged, {"path": str(bpath), "sha256": bsha}
+    return merged, {"path": str(bpath), "sha256": bsha, **({"build_as_drawn": str(drawn)} if drawn is not None else {})}
 
 
 def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: str) -> Model:
@@ -479,9 +483,11 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
 
 
 def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs: dict,
-               build_path: Path | None = None) -> tuple[Model, ToleranceSpec, object]:
+               build_path: Path | None = None, drawn_build: Path | None = None) -> tuple[Model, ToleranceSpec, object]:
     """Several ``[[model]]`` tables on the same samples (:mod:`rvtol.models.composite`); with a build file,
-    its rules (:mod:`rvtol.production.build`) and the spec with its gauge errors."""
+    its rules (:mod:`rvtol.production.build`) and the spec with its gauge errors.  ``drawn_build``: the build
+    of the base study that a study with ``build = false`` does not apply — the values its models read from it
+    take their value as drawn (:meth:`rvtol.production.build.BuildRules.as_drawn`: a shim's preload, its target)."""
     from .models.composite.model import design_quantities, from_study_tables, quantities_from_tables
 
     tables = root.tables("quantity")
@@ -501,7 +507,12 @@ def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs
     except InputError as exc:
         raise exc.located(file=file) from None
 
-    rules = None
+    rules, constants = None, None
+    if drawn_build is not None:
+        from .production.build import load_build
+
+        used = [n for q in quantities for n in q.expression.names]
+        constants = load_build(drawn_build, spec, design, design_quantities(used, design) + list(quantities)).as_drawn()
     if build_path is not None:
         from .production.build import extended_spec, load_build
 
@@ -514,7 +525,7 @@ def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs
         return build_model(params, design_, stage_inputs, file)
 
     try:
-        return from_study_tables(root.tables("model"), quantities, design, spec, build, rules), spec, rules
+        return from_study_tables(root.tables("model"), quantities, design, spec, build, rules, constants), spec, rules
     except InputError as exc:
         raise exc.located(file=file) from None
 

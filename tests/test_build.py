@@ -506,3 +506,14 @@ target = "bore"
     with pytest.raises(InputError) as e:
         load_study(p)
     assert e.value.key == "analysis[0].kind" and "build = false" in e.value.reason
+
+
+def test_a_study_that_does_not_apply_the_build_reads_its_values_as_drawn():
+    """rv80e_production.toml extends the sign-off with build = false (its kits are built units): the models that
+    read a build value (each crank's support preload) get it as drawn — the shim's target, the design's preload —
+    and no gauge or process factor is sampled."""
+    st = load_study(ROOT / "studies/rv80e_production.toml", analyses=False, progress=False)
+    target = load_design(PRODUCT / "design.toml").value("crank_support_bearing.preload", "N")
+    assert st.build is None and not any(n.startswith("process.") for n in st.spec.names)
+    assert {k: v for k, v in st.model.constants.items() if k.endswith(".support_pair.preload")} == {
+        f"build.crank_{i}.support_pair.preload": pytest.approx(target) for i in (1, 2, 3)}

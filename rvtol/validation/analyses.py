@@ -144,9 +144,6 @@ class ValidationAnalysis(Analysis):
         outs = set(o.outputs.values()) | {x for v in o.sensitivity_outputs.values() for x in v}
         known = (mc.samples.values, {out: mc.column(out) for out in outs}, mc.ok)
         g = getattr(o.te.model, "geometry", None) if o.te is not None else None
-        band = study_band(ctx, list(dict.fromkeys([*o.outputs.values(), *o.epistemic_outputs])), n=o.epistemic_n,
-                          tolerance_samples=o.epistemic_units, interval=o.interval,
-                          sensitivity=o.epistemic_sensitivity) if o.epistemic_n else None
         return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
                         te_spectra=te_spectra(o.te, o.spectrum_on_rig) if o.te is not None else None,
@@ -155,4 +152,12 @@ class ValidationAnalysis(Analysis):
                         spectrum_samples=o.spectrum_samples, stands_for=tuple(o.stands_for),
                         sensitivity_outputs=o.sensitivity_outputs, shape_of=tuple(o.shape_of),
                         lattice=(g.z_b, g.ratio) if g is not None else None, reference_order=o.reference_order,
-                        epistemic=band)
+                        epistemic=_epistemic_band(ctx, o))
+
+
+def _epistemic_band(ctx, o):
+    """The estimated design's band of the mapped outputs and the extra ones (``epistemic_n`` designs), or None."""
+    if not o.epistemic_n:
+        return None
+    return study_band(ctx, list(dict.fromkeys([*o.outputs.values(), *o.epistemic_outputs])), n=o.epistemic_n,
+                      tolerance_samples=o.epistemic_units, interval=o.interval, sensitivity=o.epistemic_sensitivity)

@@ -378,13 +378,14 @@ def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:
 
 
 def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantity], design, spec,
-                      build: Callable, rules=None) -> CompositeModel:
+                      build: Callable, rules=None, constants: dict | None = None) -> CompositeModel:
     """A CompositeModel from the study's ``[[model]]`` tables.
 
     ``build(params, design, inputs)`` builds one model through its registered factory (the study's
     :func:`rvtol.study.build_model`, which also locates its errors); ``inputs`` is a
     :class:`StageInputs` standing in for the spec.  ``rules``: the reducer's build rules (module
-    docstring; ``spec`` then holds their gauge factors).
+    docstring; ``spec`` then holds their gauge factors).  ``constants``: named values every unit has (a build's
+    values as drawn, :meth:`CompositeModel.without_build`).
     """
     if not model_tables:
         raise InputError("a composed study needs at least one [[model]]", key="model")
@@ -399,6 +400,7 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
     known = set(spec.names) | {q.name for q in quantities}
     if rules is not None:
         known |= {q.name for q in rules.outputs}
+    known |= set(constants or {})
     qunits = {q.name: q.unit for q in quantities}
     stages: list[Stage] = []
     for t in model_tables:
@@ -457,4 +459,5 @@ def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantit
         stage = Stage(name, model, tuple(exprs.values()), keep, rest.data.get("kind", ""))
         stages.append(stage)
         known |= {stage.output_name(j) for j in range(len(outs))}
-    return CompositeModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, stages, rules)
+    return CompositeModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, stages, rules,
+                          constants=constants or {})

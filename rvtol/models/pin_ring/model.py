@@ -171,3 +171,23 @@ def from_study(params, design, spec) -> PinRingFitModel:
     harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
     params.finish()
     return PinRingFitModel(design, spec.names, width, harmonic)
+
+
+def preload_from_study(params, design, spec):
+    """``[[model]] kind = "pin_ring_preload"``; keys: ``per_crank_rev`` (positions per crank revolution of the no-load
+    sweep, 12), ``harmonic`` (2), ``compliance_chain`` (true), ``tol_force`` (N, 1e-5), ``max_iterations`` (200)."""
+    from .preload import DEFAULT_PER_CRANK_REV, MIN_PER_CRANK_REV, PinRingPreloadModel
+
+    if design is None:
+        raise params.error("kind", "the pin-ring preload needs the reducer's design ([study] design = ...)")
+    per = params.int("per_crank_rev", DEFAULT_PER_CRANK_REV, min=MIN_PER_CRANK_REV)
+    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
+    chain = params.bool("compliance_chain", True)
+    tol = params.float("tol_force", 1e-5, positive=True)
+    maxit = params.int("max_iterations", 200, min=2)
+    params.finish()
+    try:
+        return PinRingPreloadModel(design, spec.names, per_crank_rev=per, harmonic=harmonic, tol_f=tol, maxit=maxit,
+                                   compliance_chain=chain)
+    except InputError as exc:
+        raise params.error(exc.key or "kind", exc.reason) from None

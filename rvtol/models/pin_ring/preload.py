@@ -159,21 +159,3 @@ class PinRingPreloadModel(Model):
 
     def evaluate(self, X):
         return self.evaluate_with_status(X)[0]
-
-
-def from_study(params, design, spec) -> PinRingPreloadModel:
-    """``[[model]] kind = "pin_ring_preload"``; keys: ``per_crank_rev`` (positions per crank revolution of the no-load
-    sweep, 12), ``harmonic`` (2), ``compliance_chain`` (true), ``tol_force`` (N, 1e-5), ``max_iterations`` (200)."""
-    if design is None:
-        raise params.error("kind", "the pin-ring preload needs the reducer's design ([study] design = ...)")
-    per = params.int("per_crank_rev", DEFAULT_PER_CRANK_REV, min=MIN_PER_CRANK_REV)
-    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
-    chain = params.bool("compliance_chain", True)
-    tol = params.float("tol_force", 1e-5, positive=True)
-    maxit = params.int("max_iterations", 200, min=2)
-    params.finish()
-    try:
-        return PinRingPreloadModel(design, spec.names, per_crank_rev=per, harmonic=harmonic, tol_f=tol, maxit=maxit,
-                                   compliance_chain=chain)
-    except InputError as exc:
-        raise params.error(exc.key or "kind", exc.reason) from None
