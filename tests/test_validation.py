@@ -207,7 +207,7 @@ def test_prediction_then_a_tolerance_scale_fitted_to_one_figure_and_the_others_h
     assert before.loc["q", "nominal"] == 0.0                              # |nominal x| = 0
     assert before.loc["q", "predicted / measured"] == pytest.approx(np.median(x1) / 2.0)
     assert before.loc["other", "verdict"] == ("not predicted: the study's design is an RV-80E; this figure's reducer: "
-                                               "RV-20E (rvtol has no RV-20E design)")
+                                               "RV-20E (a study whose design is an RV-20E predicts it)")
     assert before.loc["unmapped", "verdict"] == "not predicted: the study maps no model output to 'z'"
     # closed form: median(|s·x|) = s·median(|x|) on the same uniform design → s* = 2 / median(|x|)
     s_star = 2.0 / np.median(x1)

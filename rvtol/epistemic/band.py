@@ -206,13 +206,21 @@ class EpistemicResult:
         return out
 
     def drivers(self, output: str, top: int = 3) -> pd.DataFrame:
-        """The estimated numbers with the largest first-order index on ``output``."""
+        """The estimated numbers with the largest first-order index on ``output`` among those the designs resolve:
+        the index's lower confidence bound above zero (with few designs over many numbers the given-data index of
+        a number the output does not read is often 0.2 by chance: a ranking of those would look right and be noise)."""
         s = self.sensitivity[self.sensitivity["output"] == output]
+        if "S1_low" in s:
+            s = s[s["S1_low"] > 0.0]
         return s.sort_values("S1", ascending=False).head(top).reset_index(drop=True)
 
     def drivers_text(self, output: str, top: int = 3) -> str:
         d = self.drivers(output, top)
-        return ", ".join(f"{r.factor} ({r.S1:.2f})" for r in d.itertuples())
+        if not len(d):
+            return (f"none resolved by {int(self.ok.sum())} designs (every first-order index's confidence interval "
+                    "reaches 0: more designs would rank them)")
+        return ", ".join(f"{r.factor} ({r.S1:.2f}, CI {r.S1_low:.2f}…{r.S1_high:.2f})" if hasattr(r, "S1_low")
+                         else f"{r.factor} ({r.S1:.2f})" for r in d.itertuples())
 
     def to_frame(self) -> pd.DataFrame:
         rows = []

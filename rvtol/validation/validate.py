@@ -177,7 +177,7 @@ def _not_predicted(src: PublishedSource, q: PublishedQuantity, reducer: str, out
                     f"{lattice[0]}, ratio {lattice[1]:g})")
         return ""
     if q.reducer != reducer and q.reducer not in stands_for:
-        why = src.estimated.get("design", f"rvtol has no {q.reducer} design")
+        why = src.estimated.get("design", f"a study whose design is an {q.reducer} predicts it")
         return f"not predicted: the study's design is an {reducer}; this figure's reducer: {q.reducer} ({why})"
     if q.kind == "orders":
         return "" if spectrum else "not predicted: the study gives no TE model for the spectrum"
