@@ -102,3 +102,29 @@ def test_bad_requests_are_refused():
         epistemic_band(DESIGN, maker, ["tipp"], n=8)
     with pytest.raises(InputError, match="n must be"):
         epistemic_band(DESIGN, maker, ["tip"], n=2)
+
+
+def test_a_driver_is_listed_only_where_the_designs_resolve_it():
+    """The tip deflection does not read E's neighbours below: with 16 designs over the three numbers and eight dummy
+    numbers the tip never reads, the given-data index of a dummy is noise about 0 (its interval reaches 0) — only
+    the diameter (S1 ≈ 0.8 by the closed form above) is listed; an output that reads no estimate lists none."""
+    rows = {"E": (206, "GPa", [200, 212]), "d": (10, "mm", [8, 12]), "L": (100, "mm", [95, 105])}
+    rows.update({f"x{i}": (1.0, "1", [0.0, 2.0]) for i in range(8)})
+    table = {"design": {"name": "cantilever+"}}
+    table["beam"] = {k: {"value": v, "unit": u, "source": "s", "status": "estimate", "range": r, "basis": "b"}
+                     for k, (v, u, r) in rows.items()}
+    design = design_from_table(table, file="beam.toml")
+
+    def make(values):
+        d = design.with_values(**values)
+        E, dd, L = d["beam.E"], d["beam.d"], d["beam.L"]
+        return FunctionModel(lambda X: np.column_stack([deflection(X[:, 0], E, dd, L), 0.0 * X[:, 0] + 1.0]),
+                             ["F"], [Quantity("tip", "mm", "um"), Quantity("flat", "mm", "um")], ["N"]), SPEC
+
+    res = epistemic_band(design, make, ["tip", "flat"], n=32, seed=2, num_resamples=200)
+    s = res.sensitivity.set_index(["output", "factor"])
+    dummies = [f"beam.x{i}" for i in range(8)]
+    assert (s.loc[[("tip", x) for x in dummies], "S1_low"] <= 0.0).all()          # each dummy's interval reaches 0
+    assert list(res.drivers("tip")["factor"]) == ["beam.d"]
+    assert res.drivers_text("tip").startswith("beam.d (")
+    assert res.drivers_text("flat").startswith("none resolved by 32 designs")
