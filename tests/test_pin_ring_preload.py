@@ -47,6 +47,19 @@ def test_a_ring_with_clearance_everywhere_has_no_preload_and_only_the_supports_d
     assert y[3] == pytest.approx(hand, rel=1e-8)
 
 
+def test_each_cranks_support_drag_follows_its_own_preload(rigid, design):
+    """The unit's own preloads (crank_support_preload[i], as the build leaves them: here 400, 700, 1100 N) set each
+    pair's P0 = 2 Y F_a0 and so its drag: the no-load torque is 40 μ d/2 Σ_i 2 Y P_i / 81 with no pin closed (before,
+    every crank took the design's 1 kN whatever the unit's preload)."""
+    m = PinRingPreloadModel(rigid.geometry, ["delta_pin"] + [f"crank_support_preload[{i}]" for i in (1, 2, 3)],
+                            per_crank_rev=8)
+    y = m.evaluate(np.array([[CLEAR, 400.0, 700.0, 1100.0]]))[0]
+    cup = math.radians(design.value("crank_support_bearing.cup_angle", "deg"))
+    mu, d = design.value("friction.crank_support_bearing", "1"), design.value("crank_support_bearing.bore", "mm")
+    hand = 40 * mu * d / 2 * sum(2.0 * 0.4 / math.tan(cup) * p for p in (400.0, 700.0, 1100.0)) / 81
+    assert y[2] == 0.0 and y[3] == pytest.approx(hand, rel=1e-8)
+
+
 def test_the_preload_is_the_pin_law_at_the_interference(rigid):
     """delta_pin = −1 µm: 1 µm of interference at every pin of both discs. The most loaded pin's force and its
     approach beyond its clearance obey the rigid chain's pin law f = (k0 δ)^(10/9) (doc 000, Table 2). (Not bounded

@@ -48,6 +48,7 @@ from ...model import STATUS_NONFINITE, Model, Quantity
 from ..transmission import _kernels as K
 from ..transmission import layout as L
 from ..transmission.factors import ErrorFactors
+from ..transmission.friction import crank_support_p0
 from ..transmission.geometry import RVGeometry, geometry_from_design
 from ..transmission.model import ST_BAD_CLEARANCE, negative_clearance
 from ..transmission.orders import MIN_PER_CRANK_REV
@@ -115,19 +116,19 @@ class PinRingPreloadModel(Model):
         out["lam"] = -pe * out["cos"] + np.sqrt(g.r_pin_circle ** 2 - (pe * out["sin"]) ** 2) - g.r_pin
         return out
 
-    def drag(self, c: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    def drag(self, c: dict[str, np.ndarray], preload=None) -> tuple[np.ndarray, np.ndarray]:
         """``(pins, total)`` per position: the friction torque at the output (N·mm) of the contacts ``c``
         (:meth:`contacts`) as the unloaded reducer turns (module docstring). The disc rolls about the pitch point P,
         so pin k slides by λ_k per radian of the output (at the flank or in its groove: the free pin rolls on one,
         slides on the other) against μ_pin F_k; each eccentric and each crank turns by z_b radians against its disc
         and the carrier (the crank's rate relative to the carrier, (i − 1) z_s/z_p = z_b) against the bearing
         moments μ P d/2 (the needle row's radial load; the crank resultant plus the preload's equivalent load P0:
-        :mod:`rvtol.models.transmission.friction`'s estimates)."""
+        :mod:`rvtol.models.transmission.friction`'s estimates; each crank's P0 from its own ``preload``, N, where given)."""
         fr, zb = self.geometry.friction, self.geometry.z_b
         pins = fr.pin * np.sum(np.maximum(c["force"], 0.0) * c["lam"], axis=1)
         bearings = zb * (fr.needle * 0.5 * fr.needle_bore * np.abs(c["cams"]).sum(axis=1)
                          + fr.crank_support * 0.5 * fr.crank_support_bore
-                         * (np.abs(c["cranks"]) + fr.crank_support_p0).sum(axis=1))
+                         * (np.abs(c["cranks"]) + crank_support_p0(fr, preload)).sum(axis=1))
         return pins, pins + bearings
 
     def _row(self, x) -> tuple[np.ndarray, int]:
@@ -141,7 +142,7 @@ class PinRingPreloadModel(Model):
         if not r.ok:
             return y, r.failure
         c = self.contacts(s, r)
-        pins, total = self.drag(c)
+        pins, total = self.drag(c, s.errors.preload)
         p = int(np.argmax(r.rec[:, K.R_PIN_MAX]))
         loaded = r.rec[p, K.R_PIN_MAX] > 0.0
         interference = max(float(c["approach"][p].max()), 0.0) if loaded else 0.0

@@ -147,6 +147,16 @@ def friction_from_design(design) -> Friction | None:
     return Friction(mu["pin"], mu["needle"], mu["crank_support"], needle_bore, bore, p0, two_y)
 
 
+def crank_support_p0(fric: Friction, preload=None) -> np.ndarray:
+    """Each crank support pair's preload equivalent load ``P0 = 2 Y F_a0`` (N): from the crank's own preload
+    (``preload[i]``, N) where it is given and finite, else the design's."""
+    p0 = np.full(L.N_CRANK, fric.crank_support_p0)
+    if preload is not None:
+        own = np.isfinite(np.asarray(preload, dtype=float))
+        p0[own] = fric.crank_support_p0_per_newton * np.asarray(preload, dtype=float)[own]
+    return p0
+
+
 def friction_table(fric: Friction | None, z_b: int, preload=None) -> np.ndarray | None:
     """``fr[nc, NFR]`` of the contact table (:mod:`.layout`), or None without friction; ``preload``: each crank's
     support preload (N, NaN or None: the design's), whose equivalent load ``2 Y F_a0`` is the pair's P0."""
@@ -162,11 +172,8 @@ def friction_table(fric: Friction | None, z_b: int, preload=None) -> np.ndarray 
             c = L.C_CAM + 3 * j + i
             fr[c, [L.FR_KIND, L.FR_MU, L.FR_ARM, L.FR_A, L.FR_B]] = (L.FR_ROTATION, fric.needle, 0.5 * fric.needle_bore,
                                                                      L.planet(i) + 2, L.disc(j) + 2)
-    for i in range(L.N_CRANK):
+    for i, p0 in enumerate(crank_support_p0(fric, preload)):
         c = L.C_CRANK + i
-        p0 = fric.crank_support_p0
-        if preload is not None and np.isfinite(preload[i]):
-            p0 = fric.crank_support_p0_per_newton * float(preload[i])
         fr[c, [L.FR_KIND, L.FR_MU, L.FR_ARM, L.FR_P0, L.FR_A, L.FR_B]] = (
             L.FR_ROTATION, fric.crank_support, 0.5 * fric.crank_support_bore, p0, L.planet(i) + 2, L.THCA)
     fr[fr[:, L.FR_MU] == 0.0, L.FR_KIND] = L.FR_NONE
