@@ -30,6 +30,38 @@ coefficients = { a = 1.0, b = -1.0 }
 """
 
 
+# The a − b study of the input and output tests: two ±0.05-mm drawing tolerances, y = a − b (6 ± 0.2 mm holds for
+# every sample: σ_y = 0.0236 mm).
+AB_SPEC_CSV = "name,nominal,tolerance,unit\na,10,±0.05,mm\nb,4,±0.05,mm\n"
+AB_FACTORS = ('[[factor]]\nname = "a"\nunit = "mm"\nnominal = 10\ntolerance = "±0.05"\n'
+              '[[factor]]\nname = "b"\nunit = "mm"\nnominal = 4\ntolerance = "±0.05"\n')
+
+
+def ab_requirement(name: str = '"gap"', output: str = "y") -> str:
+    """A ``[[requirement]]`` on y within 6 ± 0.2 mm at yield 0.9 (``name`` as TOML: quoted)."""
+    return (f'[[requirement]]\nname = {name}\noutput = "{output}"\nlower = 5.8\nupper = 6.2\nunit = "mm"\n'
+            'min_yield = 0.9\n')
+
+
+def ab_study(name: str = "s", *, head: str = "", spec: str | None = None, output: str = "y", requirements: str = "",
+             n: int = 300, seed: int | None = None) -> str:
+    """The a − b study as TOML: its factors in the study (or ``spec``, a spec file beside it), ``head`` lines in its
+    [study] table, output ``output``, the ``requirements`` tables; serial, no PDF."""
+    study = f'[study]\nname = "{name}"\n' + (f'spec = "{spec}"\n' if spec else "") + (head + "\n" if head else "")
+    sampling = f"[sampling]\nn = {n}\n" + (f"seed = {seed}\n" if seed is not None else "")
+    return (study + ("" if spec else AB_FACTORS)
+            + f'[model]\nkind = "formula"\n[[model.output]]\nname = "{output}"\nformula = "a - b"\nunit = "mm"\n'
+            + requirements + sampling + '[execution]\nexecutor = "serial"\n[report]\npdf = false\n')
+
+
+def run_cli(args, capsys) -> tuple[int, list[str]]:
+    """``rvtol args``: its exit code and the lines it wrote to stderr."""
+    from rvtol.cli import main
+
+    rc = main([str(a) for a in args])
+    return rc, capsys.readouterr().err.strip().splitlines()
+
+
 @pytest.fixture
 def root() -> Path:
     return ROOT

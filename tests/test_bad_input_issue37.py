@@ -1,66 +1,31 @@
 """Issue 37's bad inputs that were an internal error (exit 3) or accepted without a word: each is now one line,
 exit 2, before anything is computed."""
-from pathlib import Path
-
 import pytest
 
-from rvtol.cli import main
-
-STUDY = """[study]
-name = "{name}"
-[[factor]]
-name = "a"
-unit = "mm"
-nominal = 10
-tolerance = "±0.05"
-[[factor]]
-name = "b"
-unit = "mm"
-nominal = 4
-tolerance = "±0.05"
-[model]
-kind = "formula"
-[[model.output]]
-name = "y"
-formula = "a - b"
-unit = "mm"
-[sampling]
-n = 200
-[execution]
-executor = "serial"
-[report]
-pdf = false
-"""
+from conftest import ab_study, run_cli, write
 
 
 def run(args, capsys):
-    rc = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return rc, cap.err.strip().splitlines()
-
-
-def write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
+    return run_cli(args, capsys)
 
 
 # --------------------------------------------------------------------------- exit 3 on bad input
 def test_a_study_name_too_long_for_a_folder_is_refused_at_its_key(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    p = write(tmp_path / "s.toml", STUDY.format(name="x" * 300))
+    p = write(tmp_path / "s.toml", ab_study("x" * 300, n=200))
     rc, err = run(["run", p, "--quiet"], capsys)
     assert rc == 2 and err == [f"rvtol: error: {p}: study.name: the study name is 300 bytes long, and it names the "
                                "report folder: at most 237 (a file name's 255, less the temporary names rvtol gives "
                                "beside it); give a shorter name"]
     assert run(["check", p], capsys)[0] == 2           # check says so too, before any run
     # 237 bytes (multi-byte characters counted as bytes) is the longest that runs, with its temporaries beside it
-    p = write(tmp_path / "s.toml", STUDY.format(name="é" * 118 + "x"))
+    p = write(tmp_path / "s.toml", ab_study("é" * 118 + "x", n=200))
     assert run(["run", p, "--quiet"], capsys)[0] == 4
     assert (tmp_path / "reports" / ("é" * 118 + "x") / "summary.json").exists()
 
 
 def test_output_names_too_long_are_refused_before_the_run(tmp_path, capsys):
-    p = write(tmp_path / "s.toml", STUDY.format(name="s"))
+    p = write(tmp_path / "s.toml", ab_study("s", n=200))
     long = tmp_path / ("y" * 250)
     rc, err = run(["run", p, "--quiet", "--out", long], capsys)
     assert rc == 2 and err == [f"rvtol: error: {long}: --out: the folder's name is 250 bytes long: at most 237 (a file "
@@ -82,7 +47,7 @@ def test_a_toml_nested_100000_deep_is_refused(tmp_path, capsys, value, command):
 
 
 def test_a_baseline_summary_nested_100000_deep_is_refused(tmp_path, capsys):
-    p = write(tmp_path / "s.toml", STUDY.format(name="s"))
+    p = write(tmp_path / "s.toml", ab_study("s", n=200))
     base = tmp_path / "base"
     base.mkdir()
     write(base / "summary.json", "[" * 100_000 + "]" * 100_000)
@@ -94,14 +59,14 @@ def test_a_baseline_summary_nested_100000_deep_is_refused(tmp_path, capsys):
 
 # --------------------------------------------------------------------------- run flags accepted without a word
 def test_serial_with_workers_is_a_contradiction(tmp_path, capsys):
-    p = write(tmp_path / "s.toml", STUDY.format(name="s"))
+    p = write(tmp_path / "s.toml", ab_study("s", n=200))
     rc, err = run(["run", p, "--quiet", "--executor", "serial", "--workers", "4"], capsys)
     assert rc == 2 and err == ["rvtol: error: <command line>: --workers: 4 workers with --executor serial, which "
                                "evaluates everything in this process: ask for the process or dask executor"]
     rc, err = run(["run", p, "--quiet", "--executor", "serial", "--scheduler", "tcp://127.0.0.1:1"], capsys)
     assert rc == 2 and err == ["rvtol: error: <command line>: --scheduler: a Dask scheduler with --executor serial, "
                                "which does not use one"]
-    q = write(tmp_path / "q.toml", STUDY.format(name="q").replace('executor = "serial"',
+    q = write(tmp_path / "q.toml", ab_study("q", n=200).replace('executor = "serial"',
                                                                   'executor = "serial"\nworkers = 4'))
     rc, err = run(["check", q], capsys)
     assert rc == 2 and err == [f"rvtol: error: {q}: execution.workers: 4 workers with executor = 'serial', which "
@@ -131,7 +96,7 @@ def test_more_workers_than_the_machine_holds_are_refused_before_any_starts(tmp_p
 
     import rvtol.runguard as rg
 
-    p = write(tmp_path / "s.toml", STUDY.format(name="s"))
+    p = write(tmp_path / "s.toml", ab_study("s", n=200))
     monkeypatch.setattr(rg, "available_memory", lambda: 4_000_000_000)
     before = len(psutil.Process().children(recursive=True))
     rc, err = run(["run", p, "--quiet", "--out", tmp_path / "r", "--executor", "process", "--workers", "1000"], capsys)
@@ -189,7 +154,7 @@ def test_a_container_s_memory_limit_is_the_memory_available(tmp_path, capsys, mo
     monkeypatch.setattr(rg, "PROC_CGROUP", tmp_path / "proc")
     monkeypatch.setattr(rg, "CGROUP_ROOT", cg)
     assert rg.cgroup_memory_left() == left and rg.available_memory() == left
-    p = write(tmp_path / "s.toml", STUDY.format(name="s"))
+    p = write(tmp_path / "s.toml", ab_study("s", n=200))
     n = 1_000_000                               # 1e6 × (2 × 40 + 32 + 32) B = 144 MB
     rc, err = run(["run", p, "--quiet", "--out", tmp_path / "r", "--n", str(n)], capsys)
     assert rc == 2 and err == [f"rvtol: error: <command line>: --n: n = 1,000,000 needs about 144 MB of memory for "

@@ -106,3 +106,15 @@ def test_every_estimate_of_the_rv80e_product_has_a_range_and_its_basis():
     # the carrier's centre bore follows the wall beside the cup seats (issue 39: was ⌀40, a 0.94-mm wall)
     wall = d.value("crank_bearing.centre_radius", "mm") - 21.0 - d.value("carrier.bore_diameter", "mm") / 2
     assert wall == pytest.approx(d.value("carrier.bore_ligament", "mm"), abs=1e-9) and wall >= 3.0
+
+
+def test_the_compliant_corner_is_the_end_of_each_range_it_changes():
+    """data/products/rv80e/compliant_corner.toml writes only ends of the base's stated ranges (a bound of what the
+    estimates admit, studies/epistemic_band.md §6): a range moved in design.toml must move the corner with it."""
+    corner = load_design(PRODUCT.parent / "compliant_corner.toml")
+    base = load_design(PRODUCT)
+    changed = [k for k, p in corner.params.items() if p.file and p.file.endswith("compliant_corner.toml")]
+    assert len(changed) > 20
+    for k in changed:
+        lo, hi = base.param(k).range
+        assert corner.param(k).value in (lo, hi), k

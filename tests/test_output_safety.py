@@ -9,54 +9,19 @@ import openpyxl
 import pandas as pd
 import pytest
 
-from rvtol.cli import main
+from conftest import ab_requirement, ab_study, run_cli
 
-BASE = """[study]
-name = "s"
-{head}
-[[factor]]
-name = "a"
-unit = "mm"
-nominal = 10
-tolerance = "±0.05"
-[[factor]]
-name = "b"
-unit = "mm"
-nominal = 4
-tolerance = "±0.05"
-[model]
-kind = "formula"
-[[model.output]]
-name = "{output}"
-formula = "a - b"
-unit = "mm"
-[[requirement]]
-name = {requirement}
-output = "{output}"
-lower = 5.8
-upper = 6.2
-unit = "mm"
-min_yield = 0.9
-[sampling]
-n = 300
-seed = 1
-[execution]
-executor = "serial"
-[report]
-pdf = false
-"""
 
 
 def study(tmp_path: Path, head="", output="y", requirement='"gap"') -> Path:
     p = tmp_path / "s.toml"
-    p.write_text(BASE.format(head=head, output=output, requirement=requirement), encoding="utf-8")
+    p.write_text(ab_study("s", head=head, output=output, requirements=ab_requirement(requirement, output), seed=1),
+                 encoding="utf-8")
     return p
 
 
 def run(args, capsys):
-    rc = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return rc, cap.err.strip().splitlines()
+    return run_cli(args, capsys)
 
 
 # --------------------------------------------------------------------------- refused where the study gives them

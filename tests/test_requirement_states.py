@@ -10,25 +10,9 @@ import xml.etree.ElementTree as ET
 import pytest
 from scipy import stats
 
-STUDY = """[study]
-name = "states"
-[[factor]]
-name = "a"
-unit = "mm"
-nominal = 10
-tolerance = "±0.05"
-[[factor]]
-name = "b"
-unit = "mm"
-nominal = 4
-tolerance = "±0.05"
-[model]
-kind = "formula"
-[[model.output]]
-name = "y"
-formula = "a - b"
-unit = "mm"
-[[requirement]]
+from conftest import ab_study
+
+REQUIREMENTS = """[[requirement]]
 name = "passes"
 output = "y"
 lower = 5.8
@@ -46,14 +30,8 @@ name = "fails"
 output = "y"
 upper = 6.0
 unit = "mm"
-[sampling]
-n = 300
-seed = 1
-[execution]
-executor = "serial"
-[report]
-pdf = false
 """
+STUDY = ab_study("states", requirements=REQUIREMENTS, n=300, seed=1)
 N = 300
 
 

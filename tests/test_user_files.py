@@ -8,33 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from rvtol.cli import main
+from conftest import AB_SPEC_CSV, ab_requirement, ab_study, run_cli
 
-SPEC = "name,nominal,tolerance,unit\na,10,±0.05,mm\nb,4,±0.05,mm\n"
-STUDY = """[study]
-name = "gap"
-spec = "spec.csv"
-[model]
-kind = "formula"
-[[model.output]]
-name = "y"
-formula = "a - b"
-unit = "mm"
-[[requirement]]
-name = "gap"
-output = "y"
-lower = 5.8
-upper = 6.2
-unit = "mm"
-min_yield = 0.9
-[sampling]
-n = 300
-seed = 1
-[execution]
-executor = "serial"
-[report]
-pdf = false
-"""
+SPEC = AB_SPEC_CSV
+STUDY = ab_study("gap", spec="spec.csv", requirements=ab_requirement(), seed=1)
 
 
 @pytest.fixture
@@ -46,9 +23,7 @@ def study(tmp_path) -> Path:
 
 
 def run(args, capsys):
-    rc = main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return rc, cap.err.strip().splitlines()
+    return run_cli(args, capsys)
 
 
 def contents(folder: Path) -> dict:
