@@ -79,15 +79,22 @@ class BaselineNewmark(NewmarkSolver):
 
 
 class BaselineTEModel(TransmissionErrorModel):
-    """The TE model on the baseline kernels, same options (quasi-static only); Δθ_er of the sweep's positions, as
-    at the baseline (no refinement of the extremes: the baseline kernels have none)."""
+    """The TE model on the baseline kernels, same options (quasi-static only, no test rig); Δθ_er of the sweep's
+    positions, as at the baseline (no refinement of the extremes: the baseline kernels have none).
 
-    def _sweep(self, st):
-        return BaselineSolver(self.geometry, st, **self.solver_options).rotation(self.load_torque,
-                                                                                 self.per_crank_rev), None
+    :meth:`_sweep` has today's signature (the error state and a rig's measurement ``terms``, always None here) and
+    returns no extremes, so ``_row`` takes Δθ_er as max − min of the positions' TE."""
+
+    def _sweep(self, st, terms=None):
+        sweep = BaselineSolver(self.geometry, st, **self.solver_options).rotation(self.load_torque,
+                                                                                  self.per_crank_rev)
+        return sweep, None, None
 
     @classmethod
     def of(cls, model: TransmissionErrorModel) -> "BaselineTEModel":
+        """The baseline twin of ``model`` (same geometry, inputs and options)."""
+        if model.mode != "quasistatic" or model.rig is not None:
+            raise ValueError("the baseline TE model is quasi-static, without a test rig")
         out = cls.__new__(cls)
         out.__dict__.update(model.__dict__)
         return out

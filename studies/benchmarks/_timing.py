@@ -1,11 +1,33 @@
-"""Timing and table helpers shared by the benchmark scripts.
+"""Timing, table and size helpers shared by the benchmark scripts.
 
 The scripts are run from the repository root as ``python studies/benchmarks/bench_<x>.py``;
 Python puts this folder on ``sys.path``, so they import these helpers as ``_timing``.
+
+Every script runs at one of :data:`SIZES`: ``--smoke`` (seconds: the smallest sizes that still run every code
+path; ``tests/test_benchmarks_smoke.py`` runs each script so, so a change that breaks one fails the tests — its
+figures mean nothing), ``--quick`` (minutes, what ``run_all.py`` runs by default) or the full sizes (no option).
 """
 from __future__ import annotations
 
+import argparse
 import time
+
+#: the sizes a benchmark runs at, smallest first
+SIZES = ("smoke", "quick", "full")
+
+
+def add_size_options(ap: argparse.ArgumentParser) -> None:
+    """``--smoke`` / ``--quick`` (exclusive) on ``ap``; the parsed ``size`` is one of :data:`SIZES` (default full)."""
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--quick", dest="size", action="store_const", const="quick", help="smaller sizes (minutes)")
+    g.add_argument("--smoke", dest="size", action="store_const", const="smoke",
+                   help="the smallest sizes that run every code path (seconds; the test suite runs these)")
+    ap.set_defaults(size="full")
+
+
+def by_size(size: str, smoke, quick, full):
+    """The value of ``smoke``, ``quick`` or ``full`` that ``size`` (one of :data:`SIZES`) names."""
+    return dict(zip(SIZES, (smoke, quick, full)))[size]
 
 
 def best_of(f, repeat: int = 3):

@@ -9,7 +9,7 @@ Measured side by side in one process (shared, noisy machines), reported as ratio
    and the model's closed-loop linear map against the step-by-step simulation (Kalman + LQR);
 3. one GA generation on the BX40E 3-D problem (40 candidates × n samples) and where its time goes.
 
-    python studies/benchmarks/bench_allocation.py [--quick]
+    python studies/benchmarks/bench_allocation.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from rvtol.allocation.problem import AllocationProblem, MonteCarloConstraint, ex
 from rvtol.sampling import rng, to_factors
 from rvtol.spec import Requirement, load_spec
 
-from _timing import best_time, print_table
+from _timing import add_size_options, best_time, by_size, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -40,8 +40,8 @@ def problem() -> AllocationProblem:
     return AllocationProblem(model, spec, names, [curve] * len(names), reqs)
 
 
-def main(quick: bool = False) -> None:
-    n = 1000 if quick else 4000
+def main(size: str = "full") -> None:
+    n = by_size(size, 20, 1000, 4000)
     p = problem()
     mc = MonteCarloConstraint(p, n, "lhs", 1)
     T = p.t0 * rng(2).uniform(0.05, 0.5, size=(40, len(p.factors)))
@@ -71,6 +71,6 @@ def main(quick: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    main(ap.parse_args().quick)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_size_options(ap)
+    main(ap.parse_args().size)

@@ -6,11 +6,15 @@ overhead alone) — evaluated through ``rvtol.mc.evaluate`` on each executor, si
 process; ratios against the process pool with the same number of workers.  Results are checked to be
 bit-identical across executors (the engine's contract).
 
-    python studies/benchmarks/bench_dask.py [--quick] [--workers 2]
+    python studies/benchmarks/bench_dask.py [--quick | --smoke] [--workers 2]
+
+``--smoke`` runs the process pool alone (the Dask clusters take tens of seconds to start on a loaded machine; the
+test suite's Dask tests cover the executor).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import time
 from pathlib import Path
 
@@ -22,7 +26,7 @@ from rvtol.sampling import sample
 from rvtol.study import load_study
 from rvtol.testing import TrivialModel
 
-from _timing import print_table
+from _timing import add_size_options, by_size, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -34,19 +38,25 @@ def timed(model, X, executor, chunk_size):
     return time.perf_counter() - t0, ev.Y
 
 
-def main(quick: bool = False, workers: int = 2) -> None:
+def main(size: str = "full", workers: int = 2) -> None:
     from dask.distributed import LocalCluster
 
     study = load_study(ROOT / "studies" / "transmission_error_rv80e.toml", executor="serial", progress=False)
-    n_te = 64 if quick else 400
+    n_te = by_size(size, 2 * workers, 64, 400)
+    n_lin = by_size(size, 1000, 200_000, 200_000)
     cases = [("20-DOF TE model", study.model, sample(study.spec, n_te, "lhs", seed=1).values, max(n_te // 16, 1)),
-             ("linear model (overhead)", TrivialModel(3), np.random.default_rng(0).random((200_000, 3)), 10_000)]
+             ("linear model (overhead)", TrivialModel(3), np.random.default_rng(0).random((n_lin, 3)), n_lin // 20)]
     rows = []
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    dask = size != "smoke"
+    with (LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) if dask
+          else contextlib.nullcontext()) as cluster:
         for label, model, X, cs in cases:
             times, results = {}, {}
-            for name, kind, sched in (("process pool", "process", None), ("Dask LocalCluster", "dask", None),
-                                      ("Dask scheduler address", "dask", cluster.scheduler_address)):
+            executors = [("process pool", "process", None)]
+            if dask:
+                executors += [("Dask LocalCluster", "dask", None),
+                              ("Dask scheduler address", "dask", cluster.scheduler_address)]
+            for name, kind, sched in executors:
                 with make_executor(kind, workers, sched) as ex:
                     times[name], results[name] = timed(model, X, ex, cs)
             ref = times["process pool"]
@@ -61,7 +71,7 @@ def main(quick: bool = False, workers: int = 2) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
+    add_size_options(ap)
     ap.add_argument("--workers", type=int, default=2)
     a = ap.parse_args()
-    main(a.quick, a.workers)
+    main(a.size, a.workers)

@@ -4,10 +4,13 @@ Prints, per study, the estimated and the measured Monte Carlo time, report time 
 their ratios (issue 27: within 2×).  The machines are shared: a loaded machine slows a process pool's start
 and its workers more than the in-process pilot; the load average is printed beside the figures.
 
-    PYTHONPATH=. python studies/benchmarks/bench_estimates.py
+    PYTHONPATH=. python studies/benchmarks/bench_estimates.py [--smoke]
+
+``--smoke``: the linear study alone, serial and on the process pool, at 2 000 samples (its own: 20 000).
 """
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import tempfile
@@ -17,6 +20,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from _timing import add_size_options, by_size, print_table  # noqa: E402
 from rvtol.runguard import estimate_run, time_pilot  # noqa: E402
 from rvtol.study import load_study, run_study, write_outputs  # noqa: E402
 
@@ -24,12 +28,12 @@ STUDIES = [("linear_stackup", "serial"), ("linear_stackup", "process"), ("stack_
            ("torsion_curve_rv80e", "serial")]
 
 
-def main() -> None:
+def main(size: str = "full") -> None:
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
-    print(f"{'study':<24}{'executor':<9}{'MC est':>8}{'MC run':>8}{'ratio':>7}{'rep est':>8}{'rep run':>8}"
-          f"{'ratio':>7}{'disk est':>10}{'disk':>10}{'ratio':>7}")
-    for name, ex in STUDIES:
-        st = load_study(ROOT / "studies" / f"{name}.toml", executor=ex, pdf=False, progress=False)
+    rows = []
+    for name, ex in by_size(size, STUDIES[:2], STUDIES, STUDIES):
+        st = load_study(ROOT / "studies" / f"{name}.toml", executor=ex, pdf=False, progress=False,
+                        n=by_size(size, 2000, None, None))
         st.analyses = []          # the estimate leaves the analyses out
         est = time_pilot(estimate_run(st), st)
         res = run_study(st)
@@ -39,10 +43,14 @@ def main() -> None:
             t_rep = time.perf_counter() - t0 + res.timings.get("report", 0.0)   # rendering + writing
             disk = sum(p.stat().st_size for p in out.rglob("*") if p.is_file())
         mc = res.timings["monte_carlo"]
-        print(f"{name:<24}{ex:<9}{est.seconds:>8.2f}{mc:>8.2f}{est.seconds / mc:>7.2f}{est.report_seconds:>8.1f}"
-              f"{t_rep:>8.1f}{est.report_seconds / t_rep:>7.2f}{est.disk / 1e6:>9.2f}M{disk / 1e6:>9.2f}M"
-              f"{est.disk / disk:>7.2f}")
+        rows.append((f"{name} ({ex}, n = {st.options.n})", f"{est.seconds:.2f} s / {mc:.2f} s",
+                     f"{est.report_seconds:.1f} s / {t_rep:.1f} s", f"{est.disk / 1e6:.2f} MB / {disk / 1e6:.2f} MB",
+                     f"{est.seconds / mc:.2f}×, {est.report_seconds / t_rep:.2f}×, {est.disk / disk:.2f}×"))
+    print_table(rows, ("study (executor)", "MC est / run", "report est / run", "disk est / run",
+                       "estimate / run: MC, report, disk"))
 
 
 if __name__ == "__main__":
-    main()
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_size_options(ap)
+    main(ap.parse_args().size)

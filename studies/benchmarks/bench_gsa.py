@@ -17,7 +17,7 @@ combined interval √(c_a² + c_b²), plus the PCE's bias bound).  Cases:
 3. optionally (``--te-samples DIR``) a saved study report: the fits on its ``samples.parquet``,
    compared with the Saltelli indices in its ``summary.json`` (e.g. the TE study, 10 000 runs).
 
-    python studies/benchmarks/bench_gsa.py [--quick] [--te-samples reports/transmission_error_rv80e]
+    python studies/benchmarks/bench_gsa.py [--quick | --smoke] [--te-samples reports/transmission_error_rv80e]
 """
 from __future__ import annotations
 
@@ -39,7 +39,7 @@ from rvtol.sensitivity.given_data import DELTA_DEFAULT_N, delta_given, given_dat
 from rvtol.sensitivity.surrogate import pce
 from rvtol.spec import load_spec, spec_from_table
 
-from _timing import best_of, print_table
+from _timing import add_size_options, best_of, by_size, print_table
 
 
 # --------------------------------------------------------------------------- models
@@ -199,13 +199,14 @@ def study_case(folder: Path, output: str, spec_path: Path):
     ]
 
 
-def main(quick: bool = False, te: str | None = None, te_output: str = "te_pp", te_spec: str | None = None) -> None:
+def main(size: str = "full", te: str | None = None, te_output: str = "te_pp", te_spec: str | None = None) -> None:
     rows = []
     model, spec, exact = ishigami_case()
-    rows += run_case("Ishigami", model, spec, n_base=512 if quick else 1024, n_mc=512 if quick else 1024,
-                     exact=exact, delta_too=not quick)
+    n = by_size(size, 128, 512, 1024)
+    rows += run_case("Ishigami", model, spec, n_base=n, n_mc=n, exact=exact, delta_too=size == "full")
     model, spec = synthetic_case()
-    rows += run_case("synthetic reducer", model, spec, n_base=128 if quick else 256, n_mc=1000 if quick else 2000)
+    rows += run_case("synthetic reducer", model, spec, n_base=by_size(size, 16, 128, 256),
+                     n_mc=by_size(size, 128, 1000, 2000))
     if te:
         folder = Path(te)
         rows += study_case(folder, te_output, Path(te_spec or "data/specs/rv80e_te.toml"))
@@ -216,10 +217,10 @@ if __name__ == "__main__":
     from threadpoolctl import threadpool_limits
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
+    add_size_options(ap)
     ap.add_argument("--te-samples", metavar="DIR", help="a saved study report folder (samples.parquet, summary.json)")
     ap.add_argument("--te-output", default="te_pp", help="output to analyse in that report (default te_pp)")
     ap.add_argument("--te-spec", help="the study's spec file (default data/specs/rv80e_te.toml)")
     a = ap.parse_args()
     with threadpool_limits(1):  # one BLAS thread, as in the executor's workers
-        main(a.quick, a.te_samples, a.te_output, a.te_spec)
+        main(a.size, a.te_samples, a.te_output, a.te_spec)

@@ -3,7 +3,7 @@
 Everything is measured side by side in one process (the machines are shared and noisy), and
 reported as ratios against a reference: the model called directly, and the serial executor.
 
-    python studies/benchmarks/bench_mc.py [--quick]
+    python studies/benchmarks/bench_mc.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -15,15 +15,15 @@ from rvtol.executors import make_executor
 from rvtol.mc import evaluate
 from rvtol.testing import CpuBoundModel, TrivialModel
 
-from _timing import best_time, print_table
+from _timing import add_size_options, best_time, by_size, print_table
 
 
 
 
-def main(quick: bool = False) -> None:
+def main(size: str = "full") -> None:
     rows = []
     # 1. overhead of the engine per sample: evaluate() in one chunk vs the model called directly
-    n = 200_000 if quick else 1_000_000
+    n = by_size(size, 2000, 200_000, 1_000_000)
     m = TrivialModel(3)
     X = np.random.default_rng(0).random((n, 3))
     t_direct, t_engine = float("inf"), float("inf")
@@ -33,23 +33,24 @@ def main(quick: bool = False) -> None:
     rows.append(("engine overhead per sample (serial, 1 chunk)", f"{(t_engine - t_direct) / n * 1e9:.1f} ns",
                  f"{t_engine / t_direct:.2f}× direct call"))
     # 2. overhead per chunk: many small chunks vs one chunk, serial and process pool
-    n2 = 100_000
+    n2 = by_size(size, 2000, 100_000, 100_000)
     X2 = X[:n2]
     t_one = best_time(lambda: evaluate(m, X2, chunk_size=n2, progress=False))
     t_many = best_time(lambda: evaluate(m, X2, chunk_size=100, progress=False))
     rows.append(("overhead per chunk (serial)", f"{(t_many - t_one) / (n2 / 100 - 1) * 1e6:.1f} µs",
-                 "1000 chunks of 100 vs 1 chunk"))
+                 f"{n2 // 100} chunks of 100 vs 1 chunk"))
     # per task in the pool: tiny payloads, so the difference is dispatch, not data transfer
-    X3 = X[:2000]
+    X3 = X[:by_size(size, 200, 2000, 2000)]
     with make_executor("process", 2) as ex:
         evaluate(m, X3, ex, chunk_size=10, progress=False)  # start and warm the pool outside the timing
-        t_p_few = best_time(lambda: evaluate(m, X3, ex, chunk_size=1000, progress=False), repeat=5)
+        t_p_few = best_time(lambda: evaluate(m, X3, ex, chunk_size=len(X3) // 2, progress=False), repeat=5)
         t_p_many = best_time(lambda: evaluate(m, X3, ex, chunk_size=1, progress=False), repeat=3)
     rows.append(("overhead per chunk (process pool, 2 workers)",
-                 f"{(t_p_many - t_p_few) / (len(X3) - 2) * 1e6:.0f} µs", "2000 chunks of 1 vs 2 chunks of 1000"))
+                 f"{(t_p_many - t_p_few) / (len(X3) - 2) * 1e6:.0f} µs",
+                 f"{len(X3)} chunks of 1 vs 2 chunks of {len(X3) // 2}"))
     # 3. parallel speed-up of a CPU-bound model: 2 workers vs 1 (same pool type, same chunking)
     cm = CpuBoundModel(3, work=50_000)
-    nc = 400 if quick else 1600
+    nc = by_size(size, 32, 400, 1600)
     Xc = np.random.default_rng(1).random((nc, 3))
     times = {}
     for w in (1, 2):
@@ -67,5 +68,5 @@ def main(quick: bool = False) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
-    main(ap.parse_args().quick)
+    add_size_options(ap)
+    main(ap.parse_args().size)

@@ -11,7 +11,7 @@
 OpenTURNS is a main dependency (reliability, functional chaos); without it this
 prints one line and exits.
 
-    python studies/benchmarks/bench_openturns.py [--quick]
+    python studies/benchmarks/bench_openturns.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from _timing import best_of, print_table
+from _timing import add_size_options, best_of, by_size, print_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
 from gsa_reference import ISH, ISH_SPEC, ishigami, ishigami_indices  # noqa: E402
@@ -31,7 +31,7 @@ from rvtol.mc import run_monte_carlo  # noqa: E402
 from rvtol.sensitivity.global_ import sobol  # noqa: E402
 
 
-def main(quick: bool = False) -> None:
+def main(size: str = "full") -> None:
     try:
         import openturns as ot
     except ImportError:
@@ -40,7 +40,7 @@ def main(quick: bool = False) -> None:
     ot.Log.Show(ot.Log.NONE)
     rows = []
     # 1. Monte Carlo and statistics
-    n = 100_000 if quick else 1_000_000
+    n = by_size(size, 1000, 100_000, 1_000_000)
     dist = ot.JointDistribution([ot.Uniform(-math.pi, math.pi)] * 3)
     f = ot.PythonFunction(3, 1, func_sample=lambda X: ishigami(np.asarray(X)))
 
@@ -61,7 +61,7 @@ def main(quick: bool = False) -> None:
     rows.append((f"Monte Carlo + statistics, n = {n:,}: rvtol", f"{t_rv:.3f} s",
                  f"{t_rv / t_ot:.2f}× OpenTURNS; mean {r_rv[0]:.4f}, std {r_rv[1]:.4f} (with CIs, verdicts, percentiles)"))
     # 2. Saltelli first and total indices
-    N = 4096 if quick else 32768
+    N = by_size(size, 256, 4096, 32768)
     S1, ST, _ = ishigami_indices()
 
     def ot_sobol():
@@ -88,5 +88,5 @@ def main(quick: bool = False) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
-    main(ap.parse_args().quick)
+    add_size_options(ap)
+    main(ap.parse_args().size)

@@ -12,7 +12,7 @@ process: time and the largest error of S1 and ST against the closed form (Sobol'
   took 40 s), so it finishes;
 * scikit-learn's ``lars_path`` on the degree-10 candidate set (one path, the selection step only).
 
-    python studies/benchmarks/bench_pce.py [--n 4096] [--ot-degree 3]
+    python studies/benchmarks/bench_pce.py [--quick | --smoke] [--n 4096] [--ot-degree 3]
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from _timing import print_table
+from _timing import add_size_options, by_size, print_table
 
 from rvtol.sensitivity import surrogate as S
 
@@ -46,10 +46,13 @@ def float64_scan(Psi, Psi32, r, norms, avail):
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--n", type=int, default=4096)
-    ap.add_argument("--ot-degree", type=int, default=3)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_size_options(ap)
+    ap.add_argument("--n", type=int, default=None, help="samples (default 4096; --quick 1024, --smoke 256)")
+    ap.add_argument("--ot-degree", type=int, default=None, help="OpenTURNS' candidate degree cap (default 3; --smoke 2)")
     args = ap.parse_args()
+    args.n = args.n or by_size(args.size, 256, 1024, 4096)
+    args.ot_degree = args.ot_degree or by_size(args.size, 2, 3, 3)
     rng = np.random.default_rng(20261127)
     U = rng.random((args.n, len(A)))
     y = g_function(U)
@@ -71,7 +74,7 @@ def main() -> None:
                       lambda: S._pce_indices(U, y, "legendre", holdout=0.2, ci="bootstrap", num_resamples=100,
                                              confidence=0.95, min_q2=0.95, seed=1))
     t_after = record("rvtol OMP, one BLAS thread (after)", lambda: S.pce_indices(U, y, "legendre", seed=1))
-    rows.append(("  ratio before/after", f"{t_before / t_after:.2f}", "same process, same data"))
+    rows.append(("  ratio before/after", f"{t_before / t_after:.2f}×", "same process, same data"))
     scan = S._most_correlated
     S._most_correlated = float64_scan
     try:
@@ -79,7 +82,7 @@ def main() -> None:
                      lambda: S.pce_indices(U, y, "legendre", seed=1))
     finally:
         S._most_correlated = scan
-    rows.append(("  ratio float64 scan / float32 scan", f"{t64 / t_after:.2f}", "same process, same data"))
+    rows.append(("  ratio float64 scan / float32 scan", f"{t64 / t_after:.2f}×", "same process, same data"))
     record(f"OpenTURNS LARS, degree ≤ {args.ot_degree}",
            lambda: S.pce_indices(U, y, "legendre", seed=1, method="lars", max_degree=args.ot_degree))
     record(f"rvtol OMP, degree ≤ {args.ot_degree} (the same candidates)",

@@ -11,7 +11,9 @@ gives each phase's time per sample as a ratio to the smallest n (1.0 = linear) a
 Side by side, the plain-NumPy reference: the same model's ``evaluate`` on the same samples in one call
 (no chunks, no executor, no statistics) — what the engine adds.
 
-    python studies/benchmarks/bench_scale.py [--quick] [--models linear,lost_motion,stackup] [--sizes 1e4,1e5,1e6]
+    python studies/benchmarks/bench_scale.py [--quick | --smoke] [--models linear,lost_motion,stackup] [--sizes 1e4,1e5,1e6]
+
+``--quick``: 10⁴ and 10⁵ only; ``--smoke``: the linear model at 10³ and 2·10³ on the serial executor.
 """
 from __future__ import annotations
 
@@ -26,14 +28,14 @@ import time
 import tracemalloc
 from pathlib import Path
 
-from _timing import print_table
+from _timing import add_size_options, by_size, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDIES = {"linear": "linear_stackup.toml", "lost_motion": "lost_motion_rv80e.toml",
            "stackup": "stackup_rv_crank_chain.toml"}
 
 
-def one(model: str, n: int, trace: bool) -> dict:
+def one(model: str, n: int, trace: bool, executor: str | None = None) -> dict:
     """Run one study in this process; the figures as a dict."""
     from rvtol.study import load_study, run_study, write_outputs
 
@@ -41,7 +43,7 @@ def one(model: str, n: int, trace: bool) -> dict:
         tracemalloc.start()
     t = {}
     t0 = time.perf_counter()
-    st = load_study(ROOT / "studies" / STUDIES[model], n=n, pdf=False, progress=False)
+    st = load_study(ROOT / "studies" / STUDIES[model], n=n, pdf=False, progress=False, executor=executor)
     st.analyses = []
     t["load"] = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -71,21 +73,22 @@ def one(model: str, n: int, trace: bool) -> dict:
             "executor": res.executor}
 
 
-def run_child(model: str, n: int, trace: bool) -> dict:
-    cmd = [sys.executable, __file__, "--one", model, str(n)] + (["--trace"] if trace else [])
+def run_child(model: str, n: int, trace: bool, executor: str | None) -> dict:
+    cmd = ([sys.executable, __file__, "--one", model, str(n)] + (["--trace"] if trace else [])
+           + (["--executor", executor] if executor else []))
     env = dict(os.environ)
     out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
-def main(quick: bool, models: list[str], sizes: list[int]) -> list:
+def main(models: list[str], sizes: list[int], executor: str | None = None) -> list:
     rows = []
     for m in models:
         base = None
         for n in sizes:
-            r = run_child(m, n, trace=True)
+            r = run_child(m, n, True, executor)
             # time without tracemalloc (it slows allocation-heavy code): a second child
-            r2 = run_child(m, n, trace=False)
+            r2 = run_child(m, n, False, executor)
             t = r2["times"]
             total = sum(v for k, v in t.items() if k not in ("load", "numpy_direct"))
             if base is None:
@@ -109,15 +112,17 @@ def main(quick: bool, models: list[str], sizes: list[int]) -> list:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="10⁴ and 10⁵ only")
-    ap.add_argument("--models", default=",".join(STUDIES))
+    add_size_options(ap)
+    ap.add_argument("--models", default=None, help=f"comma-separated subset of {', '.join(STUDIES)} (default all)")
     ap.add_argument("--sizes", default=None)
+    ap.add_argument("--executor", default=None, help="serial | process | dask (default: the study's; --smoke: serial)")
     ap.add_argument("--one", nargs=2, metavar=("MODEL", "N"), help=argparse.SUPPRESS)
     ap.add_argument("--trace", action="store_true", help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.one:
-        print(json.dumps(one(a.one[0], int(a.one[1]), a.trace)))
+        print(json.dumps(one(a.one[0], int(a.one[1]), a.trace, a.executor)))
     else:
-        sizes = [int(float(s)) for s in a.sizes.split(",")] if a.sizes else ([10**4, 10**5] if a.quick else
-                                                                             [10**4, 10**5, 10**6])
-        main(a.quick, a.models.split(","), sizes)
+        sizes = ([int(float(s)) for s in a.sizes.split(",")] if a.sizes else
+                 by_size(a.size, [1000, 2000], [10**4, 10**5], [10**4, 10**5, 10**6]))
+        models = a.models.split(",") if a.models else by_size(a.size, ["linear"], list(STUDIES), list(STUDIES))
+        main(models, sizes, a.executor or by_size(a.size, "serial", None, None))

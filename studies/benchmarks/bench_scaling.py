@@ -18,6 +18,7 @@ main beside this worktree, in the same session, for a before/after table.
 
     python studies/benchmarks/bench_scaling.py                       # sign-off at --n 300, TE at --n 1000
     python studies/benchmarks/bench_scaling.py --quick               # --n 100 / 300, 1 and 2 workers, once
+    python studies/benchmarks/bench_scaling.py --smoke               # the linear study (seconds), 2 workers, projected
     python studies/benchmarks/bench_scaling.py --signoff-n 1500 --te-n 10000 --repeat 2
     python studies/benchmarks/bench_scaling.py --code /work/main --code . --only te --workers 1,2
     python studies/benchmarks/bench_scaling.py --only signoff --workers 1,2 --repeat 1 --no-dask --project 16
@@ -40,10 +41,11 @@ from pathlib import Path
 
 import numpy as np
 
-from _timing import print_table
+from _timing import add_size_options, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
-STUDIES = {"signoff": "rv80e_signoff.toml", "te": "transmission_error_rv80e.toml"}
+#: the studies it runs: the sign-off, the TE study, and (``--smoke``) the linear stack-up (the engine alone: seconds)
+STUDIES = {"signoff": "rv80e_signoff.toml", "te": "transmission_error_rv80e.toml", "linear": "linear_stackup.toml"}
 #: a phase shorter than this (s) at a configuration is taken as absent there
 ABSENT_S = 0.01
 
@@ -201,9 +203,10 @@ def report(runs: dict, code_dirs, studies, worker_counts, ns) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--only", default="signoff,te", help="studies: signoff, te (comma-separated)")
+    ap.add_argument("--only", default="signoff,te", help="studies: signoff, te, linear (comma-separated)")
     ap.add_argument("--signoff-n", type=int, default=300, help="sign-off samples (the study's own: 1500)")
     ap.add_argument("--te-n", type=int, default=1000, help="TE study samples (the study's own: 10000)")
+    ap.add_argument("--linear-n", type=int, default=20000, help="linear stack-up samples (the study's own: 20000)")
     ap.add_argument("--workers", default=None, help="worker counts, e.g. 1,2,4 (default 1 … cores)")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--code", action="append", default=None, help="a checkout to run (repeatable; default: this one)")
@@ -211,12 +214,15 @@ def main() -> None:
     ap.add_argument("--dask-workers", default=None,
                     help="Dask LocalCluster worker counts (default: 1 and the largest of --workers)")
     ap.add_argument("--save", type=Path, help="also write every run's figures to this JSON file")
-    ap.add_argument("--quick", action="store_true", help="sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers")
+    add_size_options(ap)
     ap.add_argument("--project", default=None, help="worker counts to project the run on, e.g. 16 (rvtol.scaling: "
                     "a run with that many workers on this machine, its tasks' CPU times scheduled on as many cores)")
     a = ap.parse_args()
-    if a.quick:
+    if a.size == "quick":      # sign-off --n 100, TE --n 300, one repeat, 1 and 2 workers
         a.signoff_n, a.te_n, a.repeat, a.workers = 100, 300, 1, a.workers or "1,2"
+    elif a.size == "smoke":    # every code path (task log and projection too) on the linear study, no Dask
+        a.only, a.linear_n, a.repeat, a.workers, a.no_dask = "linear", 2000, 1, "2", True
+        a.project = a.project or "2"
     counts = ([int(w) for w in a.workers.split(",")] if a.workers
               else list(range(1, (os.cpu_count() or 1) + 1)))
     try:
@@ -228,7 +234,7 @@ def main() -> None:
                    else sorted({1, max(counts)})) if dask else []
     code_dirs = [Path(c).resolve() for c in (a.code or [ROOT])]
     studies = [s for s in a.only.split(",") if s]
-    ns = {"signoff": a.signoff_n, "te": a.te_n}
+    ns = {"signoff": a.signoff_n, "te": a.te_n, "linear": a.linear_n}
     project_counts = [int(w) for w in a.project.split(",")] if a.project else []
     with tempfile.TemporaryDirectory(prefix="bench_scaling_") as tmp:
         runs = measure(code_dirs, studies, ns, counts, a.repeat, dask_counts, Path(tmp), bool(project_counts))

@@ -9,7 +9,7 @@ Measured side by side in one process (the machines are shared and noisy) and rep
    the costly part, so they run on the executor);
 4. Sobol on a CPU-bound model through a 2-worker pool against serial.
 
-    python studies/benchmarks/bench_sensitivity.py [--quick]
+    python studies/benchmarks/bench_sensitivity.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ from rvtol.sensitivity import delta, five_point, morris, sobol
 from rvtol.spec import spec_from_table
 from rvtol.testing import CpuBoundModel
 
-from _timing import best_of, print_table
+from _timing import add_size_options, best_of, by_size, print_table
 
 
 
@@ -37,11 +37,11 @@ def linear_case(k: int = 6):
     return model, spec
 
 
-def main(quick: bool = False) -> None:
+def main(size: str = "full") -> None:
     rows = []
     model, spec = linear_case()
     # 1. method overhead vs the bare evaluations of the same number of rows
-    n_base = 256 if quick else 1024
+    n_base = by_size(size, 16, 256, 1024)
     counting = {"rows": 0}
     ev = Evaluator()
 
@@ -63,7 +63,7 @@ def main(quick: bool = False) -> None:
     rows.append(("five-point: rows evaluated / 5k", f"{counting['rows'] / (5 * len(spec)):.2f}",
                  f"{counting['rows']} rows for k = {len(spec)}"))
     # 3. delta on given samples: 2-worker pool vs serial
-    n = 1500 if quick else 4000
+    n = by_size(size, 100, 1500, 4000)
     s = sample(spec, n, "random", 5)
     Y = model.outputs[0].to_display(model.evaluate(s.values))
     delta(model, spec, samples=s, Y=Y, seed=2, num_resamples=2)  # imports and caches outside the timing
@@ -78,7 +78,7 @@ def main(quick: bool = False) -> None:
     cm = CpuBoundModel(3, work=200_000)
     cspec = spec_from_table({"factor": [{"name": f"x{i}", "unit": "1", "dist": "uniform", "lower": 0, "upper": 1}
                                         for i in range(3)]})
-    nb = 32 if quick else 128
+    nb = by_size(size, 4, 32, 128)
     t1, r1 = best_of(lambda: sobol(cm, cspec, nb, second_order=False, seed=4), repeat=1)
     with make_executor("process", 2) as ex:
         evaluate(cm, np.full((4, 3), 0.5), ex, progress=False)  # start the pool outside the timing
@@ -94,6 +94,6 @@ if __name__ == "__main__":
     from threadpoolctl import threadpool_limits
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
+    add_size_options(ap)
     with threadpool_limits(1):  # one BLAS thread here too, as in the executor's workers: a fair serial baseline
-        main(ap.parse_args().quick)
+        main(ap.parse_args().size)

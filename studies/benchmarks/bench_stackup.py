@@ -9,7 +9,7 @@ One core, one process, side by side (the machines are shared and noisy: compare 
   batched NumPy 4×4 matmuls; and NumPy matmul of pre-built matrices (composition alone);
 * the RV crank-chain Model (11 deviation slots, 49 operations) with either backend.
 
-    python studies/benchmarks/bench_stackup.py [--quick]
+    python studies/benchmarks/bench_stackup.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -21,15 +21,15 @@ import numpy as np
 from rvtol.models.stackup import transforms as tr
 from rvtol.models.stackup.program import chain_program, run_numba, run_numpy
 
-from _timing import best_time, print_table
+from _timing import add_size_options, best_time, by_size, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 
 
-def main(quick: bool = False) -> None:
-    n, m = (200_000, 8) if quick else (1_000_000, 8)
+def main(size: str = "full") -> None:
+    n, m = by_size(size, 2000, 200_000, 1_000_000), 8
     g = np.random.default_rng(0)
     E = np.ascontiguousarray(np.concatenate([g.normal(0, 0.01, (n, m, 3)), g.normal(0, 1e-3, (n, m, 3))], axis=2))
     p = chain_program(m)
@@ -60,7 +60,7 @@ def main(quick: bool = False) -> None:
 
     asm = load_assembly(ROOT / "data/assemblies/rv_crank_chain.toml", load_design(ROOT / "data/designs/rv80e_te.toml"))
     spec = load_spec(ROOT / "data/specs/stackup_rv_crank_chain.toml")
-    X = sample(spec, 50_000 if quick else 200_000, "random", seed=1).values
+    X = sample(spec, by_size(size, 1000, 50_000, 200_000), "random", seed=1).values
     mods = {b: StackupModel(asm, "carrier_first", spec.names, backend=b) for b in ("numba", "numpy")}
     mods["numba"].evaluate(X[:10])
     t = {b: best_time(lambda b=b: mods[b].evaluate(X), repeat=2) for b in mods}
@@ -74,5 +74,5 @@ def main(quick: bool = False) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
-    main(ap.parse_args().quick)
+    add_size_options(ap)
+    main(ap.parse_args().size)

@@ -8,7 +8,7 @@ Measured side by side in one process (the machines are shared and noisy); ratios
   against the NumPy reference implementation of the same 20-DOF equations (warm-started Newton),
   for a clearance-free reducer and one with 2 µm crank-bearing and pin clearances.
 
-    python studies/benchmarks/bench_stiffness.py [--quick]
+    python studies/benchmarks/bench_stiffness.py [--quick | --smoke]
 """
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ from rvtol.models.torsion_curve.model import TorsionCurveModel, torque_schedule
 from rvtol.models.torsion_curve.model import CAMS
 from rvtol.models.transmission.numpy_twin import ReferenceModel
 
-from _timing import best_time, print_table
+from _timing import add_size_options, best_time, by_size, print_table
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -42,12 +42,12 @@ def reference_curve(model: TorsionCurveModel, x) -> np.ndarray:
     return out
 
 
-def main(quick: bool = False) -> None:
+def main(size: str = "full") -> None:
     rows = []
     d = load_design(ROOT / "data/designs/rv80e_stiffness.toml")
     rs = ReducerStiffness.from_design(d)
     mods = (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"])
-    n = 200 if quick else 1000
+    n = by_size(size, 10, 200, 1000)
     rng = np.random.default_rng(0)
     errs = rng.normal(0.0, 0.0015, (n, 2))
     t_one = best_time(lambda: rs.evaluate(784e3, *mods, pin_circle_error=errs[:1, 0], pin_radius_error=errs[:1, 1]))
@@ -60,8 +60,8 @@ def main(quick: bool = False) -> None:
     m = TorsionCurveModel(te, CAMS + ("delta_pin",))
     for label, x in (("clearance-free", np.zeros(7)), ("2 µm clearances", np.full(7, 0.002))):
         m.curve(x)                                            # compile / warm the numba kernels
-        t_nb = best_time(lambda: m.curve(x), repeat=5)
-        t_np = best_time(lambda: reference_curve(m, x), repeat=1 if quick else 2)
+        t_nb = best_time(lambda: m.curve(x), repeat=by_size(size, 1, 5, 5))
+        t_np = best_time(lambda: reference_curve(m, x), repeat=by_size(size, 1, 1, 2))
         c = m.curve(x)
         loaded = c.torque != 0.0          # at exactly zero torque the equilibrium inside the clearances is not unique
         diff = np.abs(reference_curve(m, x) - c.angle)[loaded].max() / np.abs(c.angle).max()
@@ -74,5 +74,5 @@ def main(quick: bool = False) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true")
-    main(ap.parse_args().quick)
+    add_size_options(ap)
+    main(ap.parse_args().size)

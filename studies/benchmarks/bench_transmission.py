@@ -17,11 +17,12 @@ factor of 20×20 and two triangular solves; :func:`flops`) at this core's scalar
 (:func:`_machine.scalar_flop_rate`).  One iteration per equilibrium is what a perfect predictor would
 leave; the printed fraction is limit / measured.
 
-    python studies/benchmarks/bench_transmission.py [--quick]
+    python studies/benchmarks/bench_transmission.py [--quick | --smoke]
 """
 from __future__ import annotations
 
 import argparse
+import functools
 import time
 from pathlib import Path
 
@@ -29,7 +30,7 @@ import numpy as np
 
 import _baseline
 from _machine import scalar_flop_rate
-from _timing import print_table
+from _timing import add_size_options, by_size, print_table
 from rvtol.design import load_design
 from rvtol.executors import make_executor
 from rvtol.mc import evaluate
@@ -97,25 +98,28 @@ def flops(solver: QuasiStaticSolver, theta_c: float, q: np.ndarray, dynamic: boo
     return update + 2 * forces + tangent + chol + 10 * n + dyn
 
 
-def reducers(quick: bool):
-    """(name, geometry, error state, load torque) of the benchmark's reducers."""
+@functools.lru_cache
+def reducers(size: str):
+    """(name, geometry, error state, load torque) of the benchmark's reducers (smoke: doc 000's design alone, the
+    product's FE seats take seconds to build)."""
     out = []
     spec = load_spec(ROOT / "data/specs/rv80e_te.toml")
-    for label, path in (("RV-80E doc 000 design", "data/designs/rv80e_te.toml"),
-                        ("RV-80E product (compliance chain)", "data/products/rv80e/design.toml")):
+    designs = (("RV-80E doc 000 design", "data/designs/rv80e_te.toml"),
+               ("RV-80E product (compliance chain)", "data/products/rv80e/design.toml"))
+    for label, path in designs[:by_size(size, 1, 2, 2)]:
         model = TransmissionErrorModel(load_design(ROOT / path), spec.names)
         if not out:
             out.append(("error-free", model, None))
-        S = sample(spec, 8 if quick else 16, "lhs", 5)
+        S = sample(spec, by_size(size, 2, 8, 16), "lhs", 5)
         Y, _ = model.evaluate_with_status(S.values)
         out.append((f"spec sample, {label}", model, model.state(S.values[np.argsort(Y[:, 0])[len(Y) // 2]])))
     return out
 
 
-def solver_rows(quick: bool, base, rate: float) -> list:
+def solver_rows(size: str, base, rate: float) -> list:
     rows = []
-    rep = 3 if quick else 7
-    for name, model, st in reducers(quick):
+    rep = by_size(size, 1, 3, 7)
+    for name, model, st in reducers(size):
         g = model.geometry
         new = QuasiStaticSolver(g, st)
         pcr = model.per_crank_rev
@@ -143,23 +147,23 @@ def solver_rows(quick: bool, base, rate: float) -> list:
                          f"max |ΔTE| {d:.1e}″"))
         if st is not None and name.startswith("spec sample, RV-80E doc"):
             ref = ReferenceModel(g, st)
-            m = 20 if quick else 60
+            m = by_size(size, 4, 20, 60)
             t_ref, _ = cpu_best(lambda: ref.rotation(th[:m], T, r_new.q[0]), 1)
             rows.append(("  NumPy twin (same equations)", f"{t_ref / m * npos * 1e3:.0f} ms",
                          f"per revolution (from {m} positions); numba is {t_ref / m * npos / t_new:.0f}× faster"))
     return rows
 
 
-def newmark_rows(quick: bool, base, rate: float) -> list:
-    name, model, st = reducers(True)[1]
+def newmark_rows(size: str, base, rate: float) -> list:
+    name, model, st = reducers("smoke" if size == "smoke" else "quick")[1]
     g = model.geometry
-    new = NewmarkSolver(g, st, settle_periods=5.0 if quick else 50.0)
+    new = NewmarkSolver(g, st, settle_periods=by_size(size, 1.0, 5.0, 50.0))
     new.run()                                   # compile / load the kernels outside the timing
     rows = []
     if base is not None:
         old = _baseline.BaselineNewmark(g, st, settle_periods=new.settle_periods)
         old.run()
-        t_old, t_new, r_old, r_new = interleaved(old.run, new.run, 2 if quick else 3)
+        t_old, t_new, r_old, r_new = interleaved(old.run, new.run, by_size(size, 1, 2, 3))
     else:
         t_new, r_new = cpu_best(new.run, 2)
     n = len(r_new.te)
@@ -179,7 +183,7 @@ def newmark_rows(quick: bool, base, rate: float) -> list:
     return rows
 
 
-def mc_rows(quick: bool, base) -> list:
+def mc_rows(size: str, base) -> list:
     """Monte Carlo throughput of the TE study's model: before (the baseline kernels, Δθ_er of the 36 positions
     per crank revolution), after (36 positions, Δθ_er of the curve refined between them, :mod:`.extremes`) and
     after at :data:`COARSE` positions per crank revolution (the same Δθ_er within the refinement's tolerance; the
@@ -191,7 +195,7 @@ def mc_rows(quick: bool, base) -> list:
               f"after, {COARSE} per crank rev": TransmissionErrorModel(design, spec.names, per_crank_rev=COARSE)}
     if base is not None:
         models = {"before": _baseline.BaselineTEModel.of(model), **models}
-    n = 48 if quick else 160
+    n = by_size(size, 4, 48, 160)
     X = sample(spec, n, "lhs", 11).values
     rows = []
     for label, m in models.items():
@@ -237,7 +241,7 @@ def mc_rows(quick: bool, base) -> list:
     return rows
 
 
-def extremes_rows(quick: bool) -> list:
+def extremes_rows(size: str) -> list:
     """The refined extremes from the study's and coarser sweeps against a dense reference (288 positions per
     crank revolution, refined with a wider slope bound, κ = 4), and what the refinement costs; also with the
     band-limited bound κ = π/2, cheaper and not sound for a kink inside an interval (:mod:`.extremes`)."""
@@ -245,7 +249,7 @@ def extremes_rows(quick: bool) -> list:
     spec = load_spec(ROOT / "data/specs/rv80e_te.toml")
     model = TransmissionErrorModel(design, spec.names)
     T = model.load_torque
-    n = 24 if quick else 100
+    n = by_size(size, 2, 24, 100)
     X = sample(spec, n, "lhs", 23).values
     cases = [(36, KAPPA), (18, KAPPA), (COARSE, KAPPA), (36, np.pi / 2), (COARSE, np.pi / 2)]
     worst, evals, iters, secs, sweeps = ({c: 0.0 for c in cases}, {c: 0 for c in cases}, {c: 0 for c in cases},
@@ -283,22 +287,22 @@ def extremes_rows(quick: bool) -> list:
     return rows
 
 
-def main(quick: bool = False) -> list:
+def main(size: str = "full") -> list:
     base = _baseline.kernels()
     rate = scalar_flop_rate()
     rows = [("scalar multiply-add rate of this core", f"{rate / 1e9:.2f} GFlop/s",
              "the reference of the arithmetic limits (independent FMA chains)")]
     if base is None:
         rows.append(("before", "—", f"git revision {_baseline.BASELINE_REV} not available: no before rows"))
-    rows += solver_rows(quick, base, rate)
-    rows += newmark_rows(quick, base, rate)
-    rows += extremes_rows(quick)
-    rows += mc_rows(quick, base)
+    rows += solver_rows(size, base, rate)
+    rows += newmark_rows(size, base, rate)
+    rows += extremes_rows(size)
+    rows += mc_rows(size, base)
     print_table(rows, ("measurement", "value", "notes"))
     return rows
 
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="smaller sizes")
-    main(ap.parse_args().quick)
+    add_size_options(ap)
+    main(ap.parse_args().size)

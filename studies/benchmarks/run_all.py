@@ -14,12 +14,18 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
 * ``bench_scaling`` — the sign-off and the TE study at 1 … cores workers (and a Dask LocalCluster), phase by
   phase, with Amdahl's serial share;
 * ``bench_openturns`` — rvtol against OpenTURNS on the same Monte Carlo and Sobol work (benchmark extra);
+* ``bench_pce`` — the PCE's OMP before/after, against OpenTURNS' and scikit-learn's LARS;
+* ``bench_estimates`` — the run's printed estimate (time, disk) against the run;
 * ``bench_stackup``, ``bench_stiffness``, ``bench_sensitivity``, ``bench_allocation`` — the other models'
   building blocks.
+
+Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
 
     python studies/benchmarks/run_all.py            # quick sizes (about 10 minutes on 2 cores)
     python studies/benchmarks/run_all.py --full     # the sizes quoted in the notes (10⁶ samples: longer)
     python studies/benchmarks/run_all.py --only transmission,gsa
+    python studies/benchmarks/run_all.py --smoke    # every script at its smoke size
+    python studies/benchmarks/run_all.py --list     # the commands, without running them
 """
 from __future__ import annotations
 
@@ -30,15 +36,20 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "stackup", "stiffness", "sensitivity",
-         "allocation", "scaling")
+ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "pce", "stackup", "stiffness", "sensitivity",
+         "allocation", "estimates", "scaling")
 
 
-def main(full: bool, only: list[str]) -> int:
+def command(name: str, size: str) -> list[str]:
+    """The command line of ``bench_<name>.py`` at ``size`` (smoke, quick or full)."""
+    return [sys.executable, str(HERE / f"bench_{name}.py")] + ([] if size == "full" else [f"--{size}"])
+
+
+def main(size: str, only: list[str]) -> int:
     failed = []
     for name in only:
-        cmd = [sys.executable, str(HERE / f"bench_{name}.py")] + ([] if full else ["--quick"])
-        print(f"\n=== bench_{name} {'' if full else '--quick'}", flush=True)
+        cmd = command(name, size)
+        print(f"\n=== bench_{name} {' '.join(cmd[2:])}", flush=True)
         t0 = time.perf_counter()
         rc = subprocess.call(cmd, cwd=HERE.parents[1])
         print(f"--- bench_{name}: {time.perf_counter() - t0:.0f} s" + ("" if rc == 0 else f", exit code {rc}"), flush=True)
@@ -51,11 +62,20 @@ def main(full: bool, only: list[str]) -> int:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--full", action="store_true", help="the full sizes (default: --quick for every script)")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--full", dest="size", action="store_const", const="full",
+                   help="the full sizes (default: --quick for every script)")
+    g.add_argument("--smoke", dest="size", action="store_const", const="smoke",
+                   help="the smoke sizes (seconds each; what the test suite runs)")
+    ap.set_defaults(size="quick")
     ap.add_argument("--only", default=",".join(ORDER), help="comma-separated subset of: " + ", ".join(ORDER))
+    ap.add_argument("--list", action="store_true", help="print the commands, one a line, and run nothing")
     a = ap.parse_args()
     names = [s.strip() for s in a.only.split(",") if s.strip()]
     bad = [s for s in names if s not in ORDER]
     if bad:
         ap.error(f"unknown benchmark(s) {', '.join(bad)} (known: {', '.join(ORDER)})")
-    sys.exit(main(a.full, names))
+    if a.list:
+        print("\n".join(" ".join(command(n, a.size)) for n in names))
+        sys.exit(0)
+    sys.exit(main(a.size, names))
