@@ -238,3 +238,104 @@ def test_zone_material_condition_modifiers():
         assert (t.form, t.modifier, t.width) == ("zone", mod, pytest.approx(0.4))
     with pytest.raises(InputError, match="position zone"):
         parse_tolerance("25 ±0.1 (M)")
+
+
+# ------------------------------------------------------------------------------------------------ units, text, limits
+def test_in_unit_converts_every_number_whichever_way_the_unit_names_sort():
+    t = parse_tolerance("+10/-5 um").in_unit("mm")                  # "um" sorts after "mm"
+    assert (t.unit, t.nominal, t.lower, t.upper) == ("mm", None, pytest.approx(-0.005), pytest.approx(0.010))
+    t = parse_tolerance("25 +0.1/-0.2 mm").in_unit("um")            # a nominal too: 25 mm = 25000 µm
+    assert (t.unit, t.nominal, t.lower, t.upper) == ("um", pytest.approx(25000), pytest.approx(-200),
+                                                     pytest.approx(100))
+    assert parse_tolerance("±0.1 mm").in_unit("mm") == parse_tolerance("±0.1 mm")
+
+
+def test_describe_writes_each_form_back_as_a_drawing_does():
+    assert parse_tolerance("25 +0.1/-0.2 mm").describe() == "25 +0.1/-0.2 mm"
+    assert parse_tolerance("24.95..25.05").describe() == "24.95..25.05"
+    assert parse_tolerance("max 0.02").describe() == "0..0.02"
+    assert parse_tolerance("⌀0.4").describe() == "⌀0.4"
+
+
+def test_a_tolerance_sent_to_a_worker_process_reads_the_same():
+    # pickling (multiprocessing) rebuilds the form's string: a new object, equal but not the same
+    import pickle
+    for text in ("⌀0.4 mm (M)", "25 +0.1/-0.2 mm", "24.95..25.05"):
+        t = parse_tolerance(text)
+        back = pickle.loads(pickle.dumps(t))
+        assert back.describe() == t.describe()
+        assert back.factor_table() == t.factor_table()
+
+
+def test_sigma_level_zero_is_refused():
+    with pytest.raises(NotationError, match="sigma_level must be > 0, got 0"):
+        parse_tolerance("±0.1").factor_table(sigma_level=0)
+
+
+def test_a_symmetric_and_a_percent_tolerance_keep_their_form():
+    assert parse_tolerance("±0.1 mm").form == "symmetric"
+    assert parse_tolerance("100 ±5 %").form == "percent"
+
+
+def test_two_deviations_without_a_slash_one_of_them_zero():
+    t = parse_tolerance("25 +0.1 0")                                  # stacked on the drawing: +0.1 over 0
+    assert (t.nominal, t.lower, t.upper) == (25.0, 0.0, 0.1)
+
+
+def test_a_minus_zero_deviation_is_stored_and_written_as_zero():
+    t = parse_tolerance("+0.05/-0")
+    assert math.copysign(1.0, t.lower) == 1.0 and t.describe() == "+0.05/0"
+
+
+def test_200_characters_are_read_and_201_refused():
+    assert parse_tolerance("±0.1".ljust(200)).upper == 0.1
+    with pytest.raises(NotationError, match="longer than 200 characters"):
+        parse_tolerance("±0.1".ljust(201))
+
+
+def test_an_error_names_the_position_of_the_stray_character():
+    with pytest.raises(NotationError, match="unexpected '@' at position 6"):   # ±0.1 @: the 6th character
+        parse_tolerance("±0.1 @")
+
+
+def test_an_ambiguous_thousands_comma_is_a_located_notation_error():
+    with pytest.raises(NotationError, match=r"cannot read tolerance '25 ±1,250': '1,250' is ambiguous"):
+        parse_tolerance("25 ±1,250")
+
+
+def test_a_nominal_without_a_unit_beside_a_tolerance_in_another_unit_is_refused():
+    with pytest.raises(NotationError, match="the nominal 25 has no unit and the tolerance is in µm while the factor "
+                                            r"is in mm: write the nominal's unit \(e.g. 25 mm or 25 µm\)"):
+        parse_tolerance("25 +10/-5 um", unit="mm")
+    t = parse_tolerance("25 +0.1/-0.2", unit="mm")                    # no unit written: the factor's
+    assert (t.nominal, t.lower, t.upper, t.unit) == (25.0, -0.2, 0.1, "mm")
+
+
+# a nominal beside absolute limits: how far off its band it may lie (ISO 286-2, the a/A fundamental deviation:
+# −270 µm for 1–3 mm, −300 µm for 18–30 mm, −310 µm for 30–40 mm; below 1 mm there is no a, c gives −60 µm)
+def test_a_nominal_beside_its_limits_may_lie_as_far_off_as_iso_286_puts_a_band():
+    t = parse_tolerance("24.70..24.75 mm", nominal=25)                # 25 a: 300 µm below, accepted
+    assert (t.lower, t.upper) == (pytest.approx(-0.3), pytest.approx(-0.25))
+    # the reach is inclusive: exactly 270 µm (with its 1e-9 rounding allowance) off a 1.1 mm nominal is accepted,
+    # the next float beyond it refused
+    reach = 0.27 * (1 + 1e-9)
+    hi = 1.1 - reach
+    assert parse_tolerance(f"{hi - 0.01!r}..{hi!r} mm", nominal=1.1).upper == -reach
+    beyond = math.nextafter(hi, 0.0)
+    with pytest.raises(NotationError, match="farther than any ISO 286"):
+        parse_tolerance(f"{beyond - 0.01!r}..{beyond!r} mm", nominal=1.1)
+
+
+@pytest.mark.parametrize("text, nominal, why", [
+    ("24.0..24.1 mm", 25, "lies 0.9 mm above its limits 24..24.1, farther than any ISO 286 tolerance class puts a "
+                          r"band at this size \(0.3 mm\)"),
+    ("1.45..1.46 in", 1.5, "lies 0.04 in above its limits 1.45..1.46, farther than any ISO 286 tolerance class puts "
+                           r"a band at this size \(0.0122047 in\)"),       # 38.1 mm: 310 µm = 0.0122047 in
+    ("1..5 mm", 10, "lies 5 mm above its limits 1..5, farther than the band's own width"),
+    ("12..13 mm", 10, "lies 2 mm below its limits 12..13, farther than the band's own width"),
+    ("10..12 deg", 30, "lies 18 ° above its limits 10..12, farther than the band's own width"),
+    ("10..12", 30, "lies 18 above its limits 10..12, farther than the band's own width"),
+])
+def test_a_nominal_too_far_from_its_limits_is_refused_with_the_distance_and_side(text, nominal, why):
+    with pytest.raises(NotationError, match=f"the nominal {nominal} {why}: one of them is mistyped"):
+        parse_tolerance(text, nominal=nominal)
