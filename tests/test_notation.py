@@ -1,6 +1,7 @@
 """Drawing tolerance notation: limits by hand, ISO classes from the standard's tables, factor tables
 through the existing loader, process specs by their closed forms."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -339,3 +340,45 @@ def test_a_nominal_beside_its_limits_may_lie_as_far_off_as_iso_286_puts_a_band()
 def test_a_nominal_too_far_from_its_limits_is_refused_with_the_distance_and_side(text, nominal, why):
     with pytest.raises(NotationError, match=f"the nominal {nominal} {why}: one of them is mistyped"):
         parse_tolerance(text, nominal=nominal)
+
+
+def test_a_magnitude_factor_starts_where_the_band_says():
+    # max x: from 0; a..b: from a (shift a); +x/0: from the nominal (here none: 0)
+    assert parse_tolerance("max 0.02").factor_table("rayleigh") == {"dist": "rayleigh", "tolerance": 0.02}
+    assert parse_tolerance("0.02..0.05").factor_table("rayleigh") == {
+        "dist": "rayleigh", "tolerance": pytest.approx(0.03), "shift": 0.02}
+    assert parse_tolerance("+0.05/0").factor_table("rayleigh") == {"dist": "rayleigh", "tolerance": 0.05}
+    with pytest.raises(NotationError, match="a rayleigh factor is a magnitude"):   # does not start at the nominal
+        parse_tolerance("+0.1/+0.05").factor_table("rayleigh")
+
+
+def test_a_number_or_a_percent_sign_after_the_unit_place_is_not_a_unit():
+    # "1" and "%" are units of the table (dimensionless, percent) but never as tokens of their own kind
+    with pytest.raises(NotationError, match="unexpected '1' at position 6, expected a unit or a process spec"):
+        parse_tolerance("±0.1 1")
+    with pytest.raises(NotationError, match="unexpected '%' at position 10, expected a unit or a process spec"):
+        parse_tolerance("100 ±5 % %")
+
+
+def test_a_material_condition_on_anything_but_a_position_zone_is_refused_first():
+    for text in ("25 ±0.1 (M)", "±0.1 @ (M)"):       # the condition is named even where the rest cannot be read
+        with pytest.raises(NotationError, match=r"a material condition \(M\)/\(L\)/MMC/LMC belongs to a position "
+                                                r"zone: ⌀t \(M\)"):
+            parse_tolerance(text)
+
+
+def test_a_position_zone_is_converted_to_the_unit_asked_for():
+    t = parse_tolerance("⌀0.1 mm", unit="um")                        # ⌀0.1 mm: radius 50 µm
+    assert (t.form, t.unit, t.lower, t.upper) == ("zone", "um", pytest.approx(-50.0), pytest.approx(50.0))
+
+
+@pytest.mark.parametrize("unit", ["deg", "s", "N*mm"])
+def test_an_iso_class_in_a_unit_that_is_not_a_length_is_refused(unit):
+    with pytest.raises(NotationError, match=rf"an ISO 286 class is a length tolerance, not in {re.escape(unit)}"):
+        parse_tolerance("25 H7", unit=unit)
+
+
+@pytest.mark.parametrize("k", ["1", "1.5", "-1", "-1.5"])
+def test_a_mean_shift_outside_minus_one_to_one_is_refused(k):
+    with pytest.raises(NotationError, match=r"k \(the mean shift over the half tolerance\) must lie in \(-1, 1\)"):
+        parse_tolerance(f"±0.1 Cp 1.33 k {k}")
