@@ -382,3 +382,17 @@ def test_an_iso_class_in_a_unit_that_is_not_a_length_is_refused(unit):
 def test_a_mean_shift_outside_minus_one_to_one_is_refused(k):
     with pytest.raises(NotationError, match=r"k \(the mean shift over the half tolerance\) must lie in \(-1, 1\)"):
         parse_tolerance(f"±0.1 Cp 1.33 k {k}")
+
+
+@pytest.mark.parametrize("text, second, at", [
+    ("25 ±0.1 um mm", "mm", 12),          # the grammar's one unit after the body, written twice: was read as µm
+    ("±0.1 mm mm", "mm", 9),
+    ("24.95..25.05 mm in", "in", 17),
+    ("25 +10/-5 um mm", "mm", 14),
+    ("max 0.02 mm um", "um", 13),
+    ("25 mm H7 in", "in", 10),            # a class's unit is the nominal's or the one after it, not both
+])
+def test_a_second_unit_is_refused_not_ignored(text, second, at):
+    with pytest.raises(NotationError, match=f"a second unit '{second}' at position {at}: write the unit once"):
+        parse_tolerance(text)
+    assert parse_tolerance("25 H7 mm").unit == "mm" and parse_tolerance("25 mm H7").unit == "mm"
