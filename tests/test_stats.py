@@ -119,3 +119,46 @@ def test_order_statistic_bootstrap_has_the_resampling_bootstrap_distribution():
     lo_s, hi_s = st.bootstrap_ci(y, lambda s: st.percentile_cpk(s, None, 12.0), 0.9, n_boot=2000, seed=7)
     spread = hi_s - lo_s
     assert abs(lo_f - lo_s) < 0.1 * spread and abs(hi_f - hi_s) < 0.1 * spread
+
+
+def test_normality_of_a_sample_with_a_small_spread_is_scipys():
+    # skewness, kurtosis and A² do not depend on the scale: a spread of 1e-3 is measured like any other
+    y = 1e-3 * np.random.default_rng(5).gamma(4.0, size=400)
+    s = st.normality(y)
+    assert s.skewness == pytest.approx(stats.skew(y), rel=1e-9)
+    assert s.excess_kurtosis == pytest.approx(stats.kurtosis(y), rel=1e-9)
+    assert s.ad_statistic == pytest.approx(stats.anderson(y, "norm").statistic, rel=1e-9)
+    assert st.normality(np.full(20, 0.5)) is None and st.normality(y[:7]) is None
+
+
+def test_convergence_trace_mean_interval_is_the_running_normal_interval():
+    # at each n: the mean of the evaluated samples so far ± z·s/√m, s with Bessel's n − 1 (m evaluated samples)
+    g = np.random.default_rng(4)
+    y = g.normal(2.0, 0.5, 500)
+    ok = g.random(500) > 0.1
+    tr = st.convergence_trace(y, ok, [], confidence=0.90)
+    z = stats.norm.ppf(0.95)
+    for n, m, lo, hi in zip(tr["n"], tr["mean"], tr["mean_lo"], tr["mean_hi"]):
+        seen = y[:n][ok[:n]]
+        half = z * seen.std(ddof=1) / math.sqrt(seen.size)
+        assert (m, lo, hi) == (pytest.approx(seen.mean()), pytest.approx(seen.mean() - half),
+                               pytest.approx(seen.mean() + half))
+
+
+def test_rss_by_hand():
+    assert st.rss([3.0, 4.0]) == 5.0 and st.rss([3.0, 4.0], squared=True) == 25.0
+    assert st.rss([1.0, 2.0], [[1.0, 0.5], [0.5, 1.0]]) == pytest.approx(math.sqrt(1 + 4 + 2 * 0.5 * 2))
+    assert st.rss([3.0, 4.0], weights=np.array([1.0, 0.25])) == pytest.approx(math.sqrt(13.0))
+    assert st.rss([3.0, 4.0], variances=np.array([1.0, 0.0])) == pytest.approx(math.sqrt(26.0))
+    assert st.rss([[3.0, 4.0], [5.0, 12.0]], axis=1) == pytest.approx([5.0, 13.0])
+    assert st.rss([3.0, np.nan, 4.0], skip_nan=True) == 5.0
+
+
+@pytest.mark.parametrize("outliers, defined", [(1, False), (3, True)])
+def test_a_percentile_cpk_interval_needs_a_cpk_on_half_the_resamples(outliers, defined):
+    # 1000 values, all 0 but `outliers` ones: a resample's 99.865 % point (linear, between its 998th and 999th
+    # values) lies above its median only when it draws an outlier twice or more — K ~ Poisson(outliers):
+    # P(K ≥ 2) = 1 − 2/e = 0.26 for one (too few resamples have a Cpk: no interval), 1 − 4/e³ = 0.80 for three
+    y = np.sort(np.r_[np.zeros(1000 - outliers), np.ones(outliers)])
+    lo, hi = st.percentile_cpk_ci(y, -1.0, 2.0)
+    assert (lo is not None and hi is not None and lo <= hi) if defined else (lo, hi) == (None, None)
