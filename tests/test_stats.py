@@ -162,3 +162,16 @@ def test_a_percentile_cpk_interval_needs_a_cpk_on_half_the_resamples(outliers, d
     y = np.sort(np.r_[np.zeros(1000 - outliers), np.ones(outliers)])
     lo, hi = st.percentile_cpk_ci(y, -1.0, 2.0)
     assert (lo is not None and hi is not None and lo <= hi) if defined else (lo, hi) == (None, None)
+
+
+def test_normality_needs_eight_values():
+    y = np.array([0.1, 0.4, 0.2, 0.9, 0.5, 0.3, 0.8, 0.6])
+    assert st.normality(y[:7]) is None
+    assert st.normality(y).skewness == pytest.approx(stats.skew(y), rel=1e-9)
+
+
+def test_a_value_on_a_limit_conforms():
+    y = np.array([1.0, 1.5, 2.0, 0.999, 2.001])
+    r = st.yield_of(y, np.ones(5, bool), 1.0, 2.0)
+    assert (r.n, r.k) == (5, 3)
+    assert st.yield_of(y, np.ones(5, bool), None, 2.0).k == 4 and st.yield_of(y, np.ones(5, bool), 1.0, None).k == 4
