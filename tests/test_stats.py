@@ -173,5 +173,6 @@ def test_normality_needs_eight_values():
 def test_a_value_on_a_limit_conforms():
     y = np.array([1.0, 1.5, 2.0, 0.999, 2.001])
     r = st.yield_of(y, np.ones(5, bool), 1.0, 2.0)
-    assert (r.n, r.k) == (5, 3)
-    assert st.yield_of(y, np.ones(5, bool), None, 2.0).k == 4 and st.yield_of(y, np.ones(5, bool), 1.0, None).k == 4
+    assert (r.n, r.conforming, r.estimate) == (5, 3, 0.6)
+    assert st.yield_of(y, np.ones(5, bool), None, 2.0).conforming == 4
+    assert st.yield_of(y, np.ones(5, bool), 1.0, None).conforming == 4
