@@ -396,3 +396,24 @@ def test_a_second_unit_is_refused_not_ignored(text, second, at):
     with pytest.raises(NotationError, match=f"a second unit '{second}' at position {at}: write the unit once"):
         parse_tolerance(text)
     assert parse_tolerance("25 H7 mm").unit == "mm" and parse_tolerance("25 mm H7").unit == "mm"
+
+
+def test_a_fits_factor_table_is_the_same_for_a_dist_read_from_a_file():
+    import tomllib
+    dist = tomllib.loads('dist = "normal"')["dist"]          # a new string, equal to "normal" but not the constant
+    t = parse_tolerance("25 H7/g6")
+    assert t.factor_table(dist) == t.factor_table()
+    th, ts = t.fit.hole.width, t.fit.shaft.width               # RSS of the parts' σ at 3σ each, over the worst case
+    assert t.factor_table(dist)["sigma_level"] == pytest.approx(3.0 * (th + ts) / math.hypot(th, ts))
+
+
+def test_limits_written_in_two_units_convert_each_limit_by_its_own():
+    t = parse_tolerance("24.9 mm..1 in")                        # 1 in = 25.4 mm
+    assert (t.unit, t.lower_limit, t.upper_limit) == ("mm", 24.9, pytest.approx(25.4))
+    t = parse_tolerance("0.98 in..25 mm")
+    assert (t.unit, t.lower_limit, t.upper_limit) == ("in", 0.98, pytest.approx(25 / 25.4))
+
+
+def test_a_nominal_exactly_one_band_width_off_its_limits_is_accepted():
+    t = parse_tolerance("11..12", nominal=10)                  # off by 1, the band 1 wide: the bound is inclusive
+    assert (t.lower, t.upper) == (1.0, 2.0)
