@@ -417,3 +417,9 @@ def test_limits_written_in_two_units_convert_each_limit_by_its_own():
 def test_a_nominal_exactly_one_band_width_off_its_limits_is_accepted():
     t = parse_tolerance("11..12", nominal=10)                  # off by 1, the band 1 wide: the bound is inclusive
     assert (t.lower, t.upper) == (1.0, 2.0)
+
+
+@pytest.mark.parametrize("cp", ["0.5", "1", "1.33"])
+def test_a_centred_process_may_have_cpk_equal_to_cp_below_one_too(cp):
+    t = parse_tolerance(f"±0.1 Cp {cp} Cpk {cp}")
+    assert (t.process.cp, t.process.cpk, t.process.k) == (float(cp), float(cp), 0.0)

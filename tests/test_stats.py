@@ -176,3 +176,56 @@ def test_a_value_on_a_limit_conforms():
     assert (r.n, r.conforming, r.estimate) == (5, 3, 0.6)
     assert st.yield_of(y, np.ones(5, bool), None, 2.0).conforming == 4
     assert st.yield_of(y, np.ones(5, bool), 1.0, None).conforming == 4
+
+
+def test_the_reported_percentiles_pair_about_the_median_and_reach_three_sigma():
+    assert 50.0 in st.PERCENTILES
+    assert sorted(st.PERCENTILES) == sorted(round(100.0 - p, 6) for p in st.PERCENTILES)
+    assert min(st.PERCENTILES) == round(100.0 * stats.norm.cdf(-3.0), 3)          # 0.135 %: the −3σ point
+
+
+@pytest.mark.parametrize("confidence", [0.3, 0.95])
+def test_std_interval_is_the_chi_square_interval_at_any_level(confidence):
+    y = np.random.default_rng(6).normal(0.0, 2.0, 40)
+    s, lo, hi = st.std_ci(y, confidence)
+    a = 1.0 - confidence
+    assert s == pytest.approx(np.std(y, ddof=1))
+    assert lo == pytest.approx(s * math.sqrt(39 / stats.chi2.ppf(1 - a / 2, 39)))
+    assert hi == pytest.approx(s * math.sqrt(39 / stats.chi2.ppf(a / 2, 39)))
+
+
+def test_capability_gives_bissells_two_sided_cpk_interval():
+    y = np.random.default_rng(7).normal(10.0, 0.1, 60)
+    c = st.capability(y, 9.6, 10.5, confidence=0.90)
+    mu, s = y.mean(), y.std(ddof=1)
+    cpk = min(10.5 - mu, mu - 9.6) / (3 * s)
+    h = stats.norm.ppf(0.95) * math.sqrt(1 / (9 * 60) + cpk**2 / (2 * 59))
+    assert (c["cp"], c["cpk"], c["cpk_lo"], c["cpk_hi"]) == (
+        pytest.approx(0.9 / (6 * s)), pytest.approx(cpk), pytest.approx(cpk - h), pytest.approx(cpk + h))
+
+
+def test_percentile_cpk_interval_cuts_equal_tails_off_the_resamples():
+    y = np.sort(np.random.default_rng(8).gamma(5.0, size=300))
+    lo, hi = st.percentile_cpk_ci(y, 0.0, 20.0, confidence=0.5, n_boot=400, seed=3)
+    q = st.bootstrap_quantiles(y, st.CPK_QUANTILES, 400, 3)
+    vals = st._cpk_from_quantiles(q[:, 0], q[:, 1], q[:, 2], 0.0, 20.0)       # the resamples' Cpk
+    # a quarter of the 400 below and a quarter above, to the two resamples the linear interpolation spans
+    assert np.mean(vals < lo) == pytest.approx(0.25, abs=0.01) and np.mean(vals > hi) == pytest.approx(0.25, abs=0.01)
+
+
+def test_ppm_and_its_interval_from_the_clopper_pearson_yield_interval():
+    y = np.r_[np.zeros(997), np.full(3, 5.0)]                  # 3 of 1000 outside: 3000 ppm
+    r = st.yield_of(y, np.ones(1000, bool), None, 1.0)
+    lo, hi = stats.beta.ppf(0.025, 997, 4), stats.beta.ppf(0.975, 998, 3)
+    assert r.ppm == pytest.approx(3000.0, rel=1e-9)
+    assert r.ppm_ci == (pytest.approx((1 - hi) * 1e6, rel=1e-9), pytest.approx((1 - lo) * 1e6, rel=1e-9))
+
+
+def test_a_percentile_interval_narrows_with_its_confidence():
+    # order statistics y_(l), y_(u) with l, u the a/2 and 1 − a/2 points of Binomial(n, q): a 30 % interval lies
+    # strictly inside the 90 % one
+    y = np.sort(np.random.default_rng(9).normal(size=200))
+    _, lo30, hi30 = st.percentile_ci(y, 0.5, 0.30)
+    _, lo90, hi90 = st.percentile_ci(y, 0.5, 0.90)
+    assert lo90 < lo30 < hi30 < hi90
+    assert (lo30, hi30) == (y[int(stats.binom.ppf(0.35, 200, 0.5)) - 1], y[int(stats.binom.ppf(0.65, 200, 0.5))])
