@@ -423,3 +423,11 @@ def test_a_nominal_exactly_one_band_width_off_its_limits_is_accepted():
 def test_a_centred_process_may_have_cpk_equal_to_cp_below_one_too(cp):
     t = parse_tolerance(f"±0.1 Cp {cp} Cpk {cp}")
     assert (t.process.cp, t.process.cpk, t.process.k) == (float(cp), float(cp), 0.0)
+
+
+@pytest.mark.parametrize("text, stray", [("(M)", "("), ("≥ 0.02", "≥"), ("= 0.02", "=")])
+def test_a_tolerance_cannot_start_with_a_condition_or_a_lower_bound(text, stray):
+    # "≥ x" is no form of the notation (only "≤ x", "max x"); a lone "(M)" has no zone to belong to
+    with pytest.raises(NotationError, match=f"cannot read tolerance '{re.escape(text)}': unexpected "
+                                            f"'{re.escape(stray)}' at position 1"):
+        parse_tolerance(text)

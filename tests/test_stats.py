@@ -229,3 +229,31 @@ def test_a_percentile_interval_narrows_with_its_confidence():
     _, lo90, hi90 = st.percentile_ci(y, 0.5, 0.90)
     assert lo90 < lo30 < hi30 < hi90
     assert (lo30, hi30) == (y[int(stats.binom.ppf(0.35, 200, 0.5)) - 1], y[int(stats.binom.ppf(0.65, 200, 0.5))])
+
+
+def test_combined_lower_bound_adds_the_deviations_in_quadrature():
+    # 0.99 with its own bound 0.97 (deviation 0.02) and another error of deviation 0.01: 0.99 − √(0.02² + 0.01²)
+    assert st.combined_lower_bound(0.99, 0.97, 0.01) == pytest.approx(0.99 - math.sqrt(0.02**2 + 0.01**2))
+    assert st.combined_lower_bound(0.99, 0.97, 0.0) == pytest.approx(0.97)
+    assert st.combined_lower_bound(1.0, 1.0, 0.01) == pytest.approx(0.99)
+    assert st.combined_lower_bound(None, 0.97, 0.01) == 0.97 and st.combined_lower_bound(0.99, None, 0.01) is None
+    assert st.combined_lower_bound(math.inf, 0.97, 0.01) == 0.97
+    assert math.isnan(st.combined_lower_bound(0.99, math.nan, 0.01))
+
+
+def test_a_nan_output_is_outside_either_limit_even_where_marked_evaluated():
+    y = np.array([0.5, np.nan, 1.5, 0.7])
+    ok = np.ones(4, bool)
+    for limits, k in [((0.0, 1.0), 2), ((0.0, None), 3), ((None, 1.0), 2)]:
+        assert st.yield_of(y, ok, *limits).conforming == k
+        tr = st.convergence_trace(y, ok, [limits])
+        assert tr["yield_0"][-1] == k / 4
+
+
+def test_n_for_cpk_finds_a_plan_of_hundreds_of_millions_by_bisection():
+    # Cpk 1.3301 against 1.33: Bissell's bound reaches it only at n ≈ 2.7e8 (stepping one unit at a time never would)
+    cpk, req, c = 1.3301, 1.33, 0.95
+    z = stats.norm.ppf(c)
+    bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
+    n = st.n_for_cpk(cpk, req, c)
+    assert 2.6e8 < n < 2.8e8 and bissell(n) >= req > bissell(n - 1)
