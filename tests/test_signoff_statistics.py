@@ -59,6 +59,13 @@ def test_success_run_sample_size():
     # (1 − 1e-7 at 95 %: 29 957 322 units, found by bisection in n, not by stepping one unit at a time)
     for y, c in [(0.9973, 0.95), (0.99, 0.90), (0.999, 0.99), (1 - 1e-7, 0.95)]:
         assert st.n_for_yield(1.0, y, c) == math.ceil(math.log(1 - c) / math.log(y))
+    # the bound reaching the requirement exactly counts: (1 − 0.75)^(1/2) = 0.5, (1 − 0.19)^(1/2) = 0.9
+    assert st.n_for_yield(1.0, 0.5, 0.75) == 2 and st.n_for_yield(1.0, 0.9, 0.19) == 2
+
+
+def test_no_plan_when_even_the_largest_sample_cannot_demonstrate_it():
+    # 1e-12 above the requirement: at N_PLAN_MAX = 1e15 the bound still lies ~1.6·√(p(1−p)/1e15) ≈ 3e-9 below
+    assert st.n_for_yield(0.9973 + 1e-12, 0.9973, 0.95) is None
 
 
 def test_n_for_yield_is_the_smallest_n_at_the_observed_rate():

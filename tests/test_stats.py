@@ -137,6 +137,8 @@ def test_convergence_trace_mean_interval_is_the_running_normal_interval():
     y = g.normal(2.0, 0.5, 500)
     ok = g.random(500) > 0.1
     tr = st.convergence_trace(y, ok, [], confidence=0.90)
+    assert (tr["n"][0], tr["n"][-1]) == (10, 500)                     # from 10 samples on, to the last
+    assert list(st.convergence_trace(y[:6], ok[:6], [])["n"]) == [6]
     z = stats.norm.ppf(0.95)
     for n, m, lo, hi in zip(tr["n"], tr["mean"], tr["mean_lo"], tr["mean_hi"]):
         seen = y[:n][ok[:n]]
@@ -184,14 +186,15 @@ def test_the_reported_percentiles_pair_about_the_median_and_reach_three_sigma():
     assert min(st.PERCENTILES) == round(100.0 * stats.norm.cdf(-3.0), 3)          # 0.135 %: the −3σ point
 
 
-@pytest.mark.parametrize("confidence", [0.3, 0.95])
-def test_std_interval_is_the_chi_square_interval_at_any_level(confidence):
-    y = np.random.default_rng(6).normal(0.0, 2.0, 40)
+@pytest.mark.parametrize("confidence, n", [(0.3, 40), (0.95, 40), (0.95, 2)])
+def test_std_interval_is_the_chi_square_interval_at_any_level_from_two_values(confidence, n):
+    y = np.random.default_rng(6).normal(0.0, 2.0, n)
     s, lo, hi = st.std_ci(y, confidence)
     a = 1.0 - confidence
     assert s == pytest.approx(np.std(y, ddof=1))
-    assert lo == pytest.approx(s * math.sqrt(39 / stats.chi2.ppf(1 - a / 2, 39)))
-    assert hi == pytest.approx(s * math.sqrt(39 / stats.chi2.ppf(a / 2, 39)))
+    assert lo == pytest.approx(s * math.sqrt((n - 1) / stats.chi2.ppf(1 - a / 2, n - 1)))
+    assert hi == pytest.approx(s * math.sqrt((n - 1) / stats.chi2.ppf(a / 2, n - 1)))
+    assert all(math.isnan(v) for v in st.std_ci(y[:1], confidence))
 
 
 def test_capability_gives_bissells_two_sided_cpk_interval():
@@ -257,3 +260,23 @@ def test_n_for_cpk_finds_a_plan_of_hundreds_of_millions_by_bisection():
     bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
     n = st.n_for_cpk(cpk, req, c)
     assert 2.6e8 < n < 2.8e8 and bissell(n) >= req > bissell(n - 1)
+
+
+def test_rss_of_a_correlation_matrix_that_is_not_positive_semidefinite_is_clipped_at_zero():
+    r = [[1.0, 0.9, 0.9], [0.9, 1.0, -0.9], [0.9, -0.9, 1.0]]       # no valid correlation: cᵀRc < 0 for c below
+    c = [0.5, -0.5, -0.5]                                             # 0.25·(3 − 5.4) = −0.6
+    assert st.rss(c, r) == 0.0 and st.rss(c, r, squared=True) == 0.0
+
+
+def test_the_default_bootstrap_seed_is_reproducible():
+    y = np.sort(np.random.default_rng(10).normal(size=50))
+    a, b = st.bootstrap_quantiles(y, st.CPK_QUANTILES), st.bootstrap_quantiles(y, st.CPK_QUANTILES)
+    assert a.shape == (200, 3) and np.array_equal(a, b)
+
+
+def test_a_statistic_undefined_on_most_resamples_gives_no_bootstrap_interval():
+    y = np.random.default_rng(11).normal(size=30)
+    assert st.bootstrap_ci(y, lambda r: None) == (None, None)
+    assert st.bootstrap_ci(y, lambda r: r.mean() if r.max() > 2.5 else None) == (None, None)   # max > 2.5: rare
+    lo, hi = st.bootstrap_ci(y, np.mean)
+    assert lo < y.mean() < hi
