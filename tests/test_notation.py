@@ -431,3 +431,10 @@ def test_a_tolerance_cannot_start_with_a_condition_or_a_lower_bound(text, stray)
     with pytest.raises(NotationError, match=f"cannot read tolerance '{re.escape(text)}': unexpected "
                                             f"'{re.escape(stray)}' at position 1"):
         parse_tolerance(text)
+
+
+def test_a_cpk_above_cp_by_rounding_only_is_taken_as_equal():
+    t = parse_tolerance("±0.1 Cp 1.33 Cpk 1.3300000001")      # 7.5e-11 above: a rounding, not a contradiction
+    assert t.process.cp == 1.33 and abs(t.process.k) < 1e-9
+    with pytest.raises(NotationError, match=r"Cpk \(1.34\) cannot exceed Cp \(1.33\)"):
+        parse_tolerance("±0.1 Cp 1.33 Cpk 1.34")

@@ -87,6 +87,11 @@ def test_n_for_cpk_inverts_bissell():
 
 # --------------------------------------------------------------------------- through the CLI
 
+def test_no_cpk_plan_without_a_finite_cpk_above_the_requirement():
+    for cpk in (None, math.nan, math.inf, -math.inf, 1.33, 1.2):
+        assert st.n_for_cpk(cpk, 1.33, 0.95) is None
+
+
 def test_n_for_cpk_is_the_smallest_n_when_the_root_lies_a_hair_above_an_integer():
     # the requirement is Bissell's bound at 21 + 1e-11: n = 21 falls short by a hair, 22 is the answer
     cpk, c = 1.52, 0.95

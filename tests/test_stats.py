@@ -280,3 +280,13 @@ def test_a_statistic_undefined_on_most_resamples_gives_no_bootstrap_interval():
     assert st.bootstrap_ci(y, lambda r: r.mean() if r.max() > 2.5 else None) == (None, None)   # max > 2.5: rare
     lo, hi = st.bootstrap_ci(y, np.mean)
     assert lo < y.mean() < hi
+
+
+def test_no_capability_from_a_sample_holding_a_nan():
+    c = st.capability(np.array([1.0, 2.0, np.nan, 3.0]), 0.0, 5.0)
+    assert c == dict(cp=None, cpk=None, cpk_lo=None, cpk_hi=None, cpk_percentile=None)
+
+
+def test_the_default_proportion_interval_is_the_95_percent_clopper_pearson():
+    lo, hi = st.proportion_ci(7, 50)
+    assert (lo, hi) == (pytest.approx(stats.beta.ppf(0.025, 7, 44)), pytest.approx(stats.beta.ppf(0.975, 8, 43)))
