@@ -336,6 +336,7 @@ def test_a_nominal_beside_its_limits_may_lie_as_far_off_as_iso_286_puts_a_band()
     ("12..13 mm", 10, "lies 2 mm below its limits 12..13, farther than the band's own width"),
     ("10..12 deg", 30, "lies 18 ° above its limits 10..12, farther than the band's own width"),
     ("10..12", 30, "lies 18 above its limits 10..12, farther than the band's own width"),
+    ("1..1.234567", 10, "lies 8.76543 above its limits 1..1.234567, farther than the band's own width"),  # 6 digits
 ])
 def test_a_nominal_too_far_from_its_limits_is_refused_with_the_distance_and_side(text, nominal, why):
     with pytest.raises(NotationError, match=f"the nominal {nominal} {why}: one of them is mistyped"):
@@ -438,3 +439,34 @@ def test_a_cpk_above_cp_by_rounding_only_is_taken_as_equal():
     assert t.process.cp == 1.33 and abs(t.process.k) < 1e-9
     with pytest.raises(NotationError, match=r"Cpk \(1.34\) cannot exceed Cp \(1.33\)"):
         parse_tolerance("±0.1 Cp 1.33 Cpk 1.34")
+
+
+def test_a_number_with_three_decimals_and_no_comma_is_a_plain_decimal():
+    t = parse_tolerance("25 ±1.000")
+    assert (t.nominal, t.lower, t.upper) == (25.0, -1.0, 1.0)
+
+
+def test_parentheses_pair_only_a_class_with_its_deviations():
+    with pytest.raises(NotationError, match="a tolerance in parentheses must pair an ISO 286 class with its deviations"):
+        parse_tolerance("25 ±0.1 (24.9..25.1)")
+
+
+def test_deviations_beside_their_class_may_differ_by_half_a_micrometre():
+    # 50 h7 is 0/-25 µm; the written deviations are rounded to the micrometre: ±0.5 µm is allowed, 0.6 µm is not
+    assert parse_tolerance("50 h7 (+0.0005/-0.025)").limits == (49.975, 50.0)
+    assert parse_tolerance("50 h7 (0/-0.0255)").limits == (49.975, 50.0)
+    for text in ("50 h7 (+0.0006/-0.025)", "50 h7 (0/-0.0256)"):
+        with pytest.raises(NotationError, match="differ from ISO 286's h7 at 50"):
+            parse_tolerance(text)
+
+
+def test_a_word_other_than_max_does_not_start_a_tolerance():
+    with pytest.raises(NotationError, match="unexpected 'x' at position 1, expected a tolerance"):
+        parse_tolerance("x 0.02")
+
+
+def test_an_error_quotes_a_number_as_written_and_counts_positions_in_the_text():
+    with pytest.raises(NotationError, match=r"the deviation '0.100' needs a sign \(\+ or -\)"):
+        parse_tolerance("25 0.100/-0.05")
+    with pytest.raises(NotationError, match="unexpected '@' at position 8"):
+        parse_tolerance("±0.100 @")

@@ -139,6 +139,9 @@ def test_convergence_trace_mean_interval_is_the_running_normal_interval():
     tr = st.convergence_trace(y, ok, [], confidence=0.90)
     assert (tr["n"][0], tr["n"][-1]) == (10, 500)                     # from 10 samples on, to the last
     assert list(st.convergence_trace(y[:6], ok[:6], [])["n"]) == [6]
+    ns = st.convergence_trace(np.zeros(100_000), np.ones(100_000, bool), [])["n"]     # 60 log-spaced counts
+    assert len(ns) == 60 and (ns[0], ns[-1]) == (10, 100_000) and np.all(np.diff(ns) > 0)
+    assert ns[30] == int(np.geomspace(10, 100_000, 60)[30])                          # geometric, not linear
     z = stats.norm.ppf(0.95)
     for n, m, lo, hi in zip(tr["n"], tr["mean"], tr["mean_lo"], tr["mean_hi"]):
         seen = y[:n][ok[:n]]
@@ -153,7 +156,7 @@ def test_rss_by_hand():
     assert st.rss([3.0, 4.0], weights=np.array([1.0, 0.25])) == pytest.approx(math.sqrt(13.0))
     assert st.rss([3.0, 4.0], variances=np.array([1.0, 0.0])) == pytest.approx(math.sqrt(26.0))
     assert st.rss([[3.0, 4.0], [5.0, 12.0]], axis=1) == pytest.approx([5.0, 13.0])
-    assert st.rss([3.0, np.nan, 4.0], skip_nan=True) == 5.0
+    assert st.rss([3.0, np.nan, 4.0], skip_nan=True) == 5.0 and math.isnan(st.rss([3.0, np.nan, 4.0]))
 
 
 @pytest.mark.parametrize("outliers, defined", [(1, False), (3, True)])
@@ -231,6 +234,7 @@ def test_a_percentile_interval_narrows_with_its_confidence():
     _, lo30, hi30 = st.percentile_ci(y, 0.5, 0.30)
     _, lo90, hi90 = st.percentile_ci(y, 0.5, 0.90)
     assert lo90 < lo30 < hi30 < hi90
+    assert st.percentile_ci(y, 0.5) == st.percentile_ci(y, 0.5, 0.95)      # 95 % unless told
     assert (lo30, hi30) == (y[int(stats.binom.ppf(0.35, 200, 0.5)) - 1], y[int(stats.binom.ppf(0.65, 200, 0.5))])
 
 
