@@ -294,3 +294,16 @@ def test_no_capability_from_a_sample_holding_a_nan():
 def test_the_default_proportion_interval_is_the_95_percent_clopper_pearson():
     lo, hi = st.proportion_ci(7, 50)
     assert (lo, hi) == (pytest.approx(stats.beta.ppf(0.025, 7, 44)), pytest.approx(stats.beta.ppf(0.975, 8, 43)))
+
+
+def test_a_bootstrap_interval_narrows_with_its_confidence():
+    y = np.random.default_rng(12).normal(size=40)
+    lo30, hi30 = st.bootstrap_ci(y, np.mean, confidence=0.30)
+    lo90, hi90 = st.bootstrap_ci(y, np.mean, confidence=0.90)
+    assert lo90 < lo30 < hi30 < hi90
+
+
+def test_no_normality_from_a_sample_holding_a_nan():
+    y = np.random.default_rng(13).normal(size=20)
+    y[4] = np.nan
+    assert st.normality(y) is None
