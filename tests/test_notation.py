@@ -337,6 +337,8 @@ def test_a_nominal_beside_its_limits_may_lie_as_far_off_as_iso_286_puts_a_band()
     ("10..12 deg", 30, "lies 18 ° above its limits 10..12, farther than the band's own width"),
     ("10..12", 30, "lies 18 above its limits 10..12, farther than the band's own width"),
     ("1..1.234567", 10, "lies 8.76543 above its limits 1..1.234567, farther than the band's own width"),  # 6 digits
+    # a band as wide as ISO's farthest (300 µm at 25 mm) is named by its own width
+    ("20000..20300 um", 25000, "lies 4700 µm above its limits 20000..20300, farther than the band's own width"),
 ])
 def test_a_nominal_too_far_from_its_limits_is_refused_with_the_distance_and_side(text, nominal, why):
     with pytest.raises(NotationError, match=f"the nominal {nominal} {why}: one of them is mistyped"):
@@ -470,3 +472,27 @@ def test_an_error_quotes_a_number_as_written_and_counts_positions_in_the_text():
         parse_tolerance("25 0.100/-0.05")
     with pytest.raises(NotationError, match="unexpected '@' at position 8"):
         parse_tolerance("±0.100 @")
+
+
+def test_numbers_already_in_the_results_unit_are_taken_exactly_as_written():
+    # 1.7 in and 0.003 in do not survive a round trip through mm (×25.4, ÷25.4) bit for bit: none is made
+    for text in ("1.7 in +0.003/-0.0015", "1.7 in +0.003/-0.0015 in", '1.7" +0.003"/-0.0015"'):
+        t = parse_tolerance(text)
+        assert (t.unit, t.nominal, t.lower, t.upper) == ("in", 1.7, -0.0015, 0.003)
+
+
+def test_a_position_zone_in_micrometres_is_converted_to_millimetres():
+    t = parse_tolerance("⌀100 um", unit="mm")                     # "um" sorts after "mm": converted all the same
+    assert (t.unit, t.lower, t.upper) == ("mm", pytest.approx(-0.05), pytest.approx(0.05))
+
+
+def test_a_magnitude_from_below_zero_keeps_its_negative_start():
+    assert parse_tolerance("-0.01..0.05").factor_table("rayleigh") == {
+        "dist": "rayleigh", "tolerance": pytest.approx(0.06), "shift": -0.01}
+
+
+def test_a_unitless_nominal_beside_inches_is_refused_when_the_factor_is_in_mm():
+    # "in" sorts before "mm" (the µm case above sorts after): refused all the same
+    with pytest.raises(NotationError, match="the nominal 25 has no unit and the tolerance is in in while the factor "
+                                            "is in mm"):
+        parse_tolerance("25 +0.002/-0.001 in", unit="mm")
