@@ -496,3 +496,14 @@ def test_a_unitless_nominal_beside_inches_is_refused_when_the_factor_is_in_mm():
     with pytest.raises(NotationError, match="the nominal 25 has no unit and the tolerance is in in while the factor "
                                             "is in mm"):
         parse_tolerance("25 +0.002/-0.001 in", unit="mm")
+
+
+def test_a_single_signed_percentage_is_not_a_tolerance():
+    with pytest.raises(NotationError, match=r"write both deviations, e.g. \+0.05/0 or 0/-0.02 \(or ±x\)"):
+        parse_tolerance("100 +5%")
+
+
+@pytest.mark.parametrize("name", ["Cp", "Cpk"])
+def test_a_capability_of_zero_is_refused(name):
+    with pytest.raises(NotationError, match=f"{name} must be > 0"):
+        parse_tolerance(f"±0.1 {name} 0")
