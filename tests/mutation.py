@@ -11,18 +11,27 @@ with the reason, and left out of the kill rate)::
     python tests/mutation.py units verdict    # some of them
     python tests/mutation.py --jobs 2         # two modules at a time (one mutant at a time each)
     python tests/mutation.py --report         # only the report of what has run so far
+    python tests/mutation.py --rerun-survivors verdict   # after adding tests: only the survivors again
 
-Each module runs in its own copy of the committed tree (``git archive HEAD``: uncommitted changes are not
-tested) under ``--work`` (default ``reports/mutation/work/<module>``): cosmic-ray writes each mutant into that
-copy's file, so the working tree is never touched.  The session (``session.sqlite``, cosmic-ray's) keeps every
-result: an interrupted run continues with the mutants not yet run; a change of what the tests can read (the
-package, the tests, data, studies, pyproject.toml) or of the module's entry in the config starts it afresh — not
-a change of README or of the equivalent mutants listed.
-Before the first mutant the module's tests run on the unmutated copy (they must pass; their time sets the
-timeout).  Mutants in annotations (never evaluated under ``from __future__ import annotations``) and the
-operators the config excludes are skipped.  The report (``reports/mutation/mutation.md`` and ``.json``) gives per
-module the mutants, killed, survived, timeout, errors, equivalent and pending, the kill rate of the
-non-equivalent mutants, and every survivor with its line and change.
+Each module runs in its own copy of the committed tree (``git archive HEAD``: uncommitted changes are not tested) under
+``--work`` (default ``reports/mutation/work/<module>``): cosmic-ray writes each mutant into that copy's file, so the
+working tree is never touched.  The session (``session.sqlite``, cosmic-ray's) keeps every result: an interrupted run
+continues with the mutants not yet run; a change of what the tests can read (the package, the tests, data, studies,
+pyproject.toml) or of the module's entry in the config starts it afresh — not a change of README or of the
+equivalent mutants listed.  After tests were added, ``--rerun-survivors`` takes the new commit and runs again only
+the survivors, keeping every other result (the mutated module's own file must be unchanged: its mutants are the
+same).
+
+Before the first mutant the module's tests run on the unmutated copy under coverage (they must pass; their time
+sets the timeout), which records the tests that run each line.  The mutants then run in a test server forked from a
+process that has already imported the third-party libraries those tests use (numpy, scipy, pandas, pytest, ...:
+seconds a mutant): cosmic-ray's test command asks the server, which runs, in a fresh fork each, first the tests
+that ran the mutated lines and, if they all pass, the rest of the module's test files — so a mutant is judged by
+exactly the module's test files, and a killed one costs only the tests of its lines.  Mutants in annotations
+(never evaluated under ``from __future__ import annotations``) and the operators the config excludes are skipped.
+The report (``reports/mutation/mutation.md`` and ``.json``) gives per module the mutants, killed, survived, timeout,
+errors, equivalent and pending, the kill rate of the non-equivalent mutants, and every survivor with its line and
+change.
 """
 from __future__ import annotations
 
@@ -41,7 +50,8 @@ import tomllib
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve()
+ROOT = HERE.parents[1]
 CONFIG = ROOT / "tests" / "mutation.toml"
 OUT = ROOT / "reports" / "mutation"
 #: what the tests can read: a change here (not in README, docs or this harness) starts a module afresh
@@ -75,33 +85,53 @@ class Module:
         return {**os.environ, "PYTHONPATH": os.pathsep.join(paths), "OMP_NUM_THREADS": "1",
                 "OPENBLAS_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
 
-    def test_command(self) -> list[str]:
-        return [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *self.tests]
-
-    def prepare(self) -> None:
-        """A fresh copy and session unless this commit's exist; the baseline; the filters."""
+    def prepare(self, rerun_survivors: bool = False) -> None:
+        """A fresh copy and session unless this commit's exist; the baseline; the filters.  ``rerun_survivors``: a
+        session of a commit whose module file is the same takes this commit's copy and forgets its survivors."""
         if self.stamp.exists():
             old = json.loads(self.stamp.read_text())
             if old["fingerprint"] == self.fingerprint:
                 return
+            if rerun_survivors and git("rev-parse", f"{old['commit']}:{self.path}") == git(
+                    "rev-parse", f"{self.commit}:{self.path}"):
+                self.copy_tree()
+                forgotten = self.forget_survivors()
+                self.stamp.write_text(json.dumps({"commit": self.commit, "fingerprint": self.fingerprint}))
+                print(f"{self.key}: {forgotten} survivors of {old['commit'][:10]} run again on {self.commit[:10]}")
+                return
             print(f"{self.key}: the code or tests changed since the run of {old['commit'][:10]}: afresh")
         shutil.rmtree(self.dir, ignore_errors=True)
+        self.copy_tree()
+        subprocess.run(["cosmic-ray", "init", str(self.config), str(self.session)], cwd=self.src, check=True)
+        self.skip_filtered()
+        self.stamp.write_text(json.dumps({"commit": self.commit, "fingerprint": self.fingerprint}))
+
+    def copy_tree(self) -> None:
+        """This commit's tree in ``src``, its tests' baseline under coverage, the cosmic-ray config."""
+        shutil.rmtree(self.src, ignore_errors=True)
         self.src.mkdir(parents=True)
         archive = subprocess.run(["git", "-C", str(ROOT), "archive", self.commit], check=True, capture_output=True)
         subprocess.run(["tar", "-x", "-C", str(self.src)], input=archive.stdout, check=True)
         compileall.compile_dir(self.src / "rvtol", quiet=1)       # mutants recompile only the mutated module
-        t0 = time.perf_counter()
-        clean = subprocess.run(self.test_command(), cwd=self.src, env=self.env, capture_output=True, text=True)
+        (self.dir / "module.json").write_text(json.dumps({"path": self.path, "tests": self.tests}), encoding="utf-8")
+        clean = subprocess.run([sys.executable, str(HERE), "--baseline", str(self.dir)], cwd=self.src, env=self.env,
+                               capture_output=True, text=True)
         if clean.returncode != 0:
-            raise SystemExit(f"{self.key}: the tests fail on the unmutated code:\n{clean.stdout[-3000:]}")
-        timeout = self.run["timeout_factor"] * (time.perf_counter() - t0) + self.run["timeout_slack"]
-        command = " ".join(self.test_command())
-        self.config.write_text(f'[cosmic-ray]\nmodule-path = "{self.path}"\ntimeout = {timeout:.0f}\n'
+            raise SystemExit(f"{self.key}: the tests fail on the unmutated code:\n{clean.stdout[-3000:]}{clean.stderr}")
+        seconds = json.loads((self.dir / "baseline.json").read_text())["seconds"]
+        limit = self.run["timeout_factor"] * seconds + self.run["timeout_slack"]
+        (self.dir / "limit").write_text(f"{limit:.0f}")   # the server's: cosmic-ray's is a minute longer
+        command = f"{sys.executable} {HERE} --client {self.dir}"
+        self.config.write_text(f'[cosmic-ray]\nmodule-path = "{self.path}"\ntimeout = {limit + 60:.0f}\n'
                                f'excluded-modules = []\ntest-command = "{command}"\n\n'
                                '[cosmic-ray.distributor]\nname = "local"\n', encoding="utf-8")
-        subprocess.run(["cosmic-ray", "init", str(self.config), str(self.session)], cwd=self.src, check=True)
-        self.skip_filtered()
-        self.stamp.write_text(json.dumps({"commit": self.commit, "fingerprint": self.fingerprint}))
+
+    def forget_survivors(self) -> int:
+        """Delete the survivors' results from the session: they are pending again."""
+        import sqlite3
+        with sqlite3.connect(self.session) as db:
+            return db.execute("DELETE FROM work_results WHERE worker_outcome = 'NORMAL' "
+                              "AND test_outcome = 'SURVIVED'").rowcount
 
     def skip_filtered(self) -> None:
         """Mark skipped: the excluded operators, and every mutant inside an annotation of a module whose annotations
@@ -120,11 +150,24 @@ class Module:
                     db.set_result(item.job_id, WorkResult(output=why, worker_outcome=WorkerOutcome.SKIPPED))
 
     def execute(self) -> None:
-        """Run every pending mutant (the module's file restored first: a killed run may have left a mutant in it)."""
+        """Run every pending mutant (the module's file restored first: a killed run may have left a mutant in it),
+        through the test server."""
         (self.src / self.path).write_text(git("show", f"{self.session_commit()}:{self.path}"), encoding="utf-8")
+        socket_path = self.dir / "server.sock"
+        socket_path.unlink(missing_ok=True)
         with open(self.dir / "exec.log", "a", encoding="utf-8") as log:
-            subprocess.run(["cosmic-ray", "exec", str(self.config), str(self.session)], cwd=self.src, env=self.env,
-                           stdout=log, stderr=subprocess.STDOUT, check=True)
+            server = subprocess.Popen([sys.executable, str(HERE), "--serve", str(self.dir)], cwd=self.src,
+                                      env=self.env, stdout=log, stderr=subprocess.STDOUT)
+            try:
+                while not socket_path.exists():
+                    if server.poll() is not None:
+                        raise SystemExit(f"{self.key}: the test server stopped (see {self.dir / 'exec.log'})")
+                    time.sleep(0.5)
+                subprocess.run(["cosmic-ray", "exec", str(self.config), str(self.session)], cwd=self.src,
+                               env=self.env, stdout=log, stderr=subprocess.STDOUT, check=True)
+            finally:
+                server.terminate()
+                server.wait()
 
     def results(self, equivalent: dict) -> dict:
         """Counts, the kill rate of the non-equivalent mutants and the survivors (with their change)."""
@@ -182,6 +225,137 @@ def annotation_spans(source: str) -> list[tuple[tuple[int, int], tuple[int, int]
     return [((n.lineno, n.col_offset), (n.end_lineno, n.end_col_offset)) for n in found if n is not None]
 
 
+# The test server: ``--baseline`` (once per copy), ``--serve`` (for the run) and ``--client`` (cosmic-ray's test
+# command) run in the module's copy (cwd), with the paths of ``Module.env``.
+
+def _start(work: Path) -> tuple[dict, Path]:
+    sys.path[0] = os.getcwd()           # as ``python -m pytest`` run in the copy: not this file's folder
+    return json.loads((work / "module.json").read_text()), Path.cwd()
+
+
+def baseline(work: Path) -> int:
+    """The module's tests on the unmutated copy under coverage: ``baseline.json`` gets their time, for each line of
+    the module the tests that ran it (in their order), and the third-party modules they imported."""
+    import coverage
+    import pytest
+
+    spec, src = _start(work)
+    cov = coverage.Coverage(data_file=None, include=[str(src / spec["path"])])
+    order: list[str] = []
+
+    class Contexts:
+        @pytest.hookimpl(hookwrapper=True)
+        def pytest_runtest_protocol(self, item, nextitem):
+            order.append(item.nodeid)
+            cov.switch_context(item.nodeid)
+            yield
+            cov.switch_context("")
+
+    t0 = time.perf_counter()
+    cov.start()
+    rc = pytest.main(["-x", "-q", "-p", "no:cacheprovider", *spec["tests"]], plugins=[Contexts()])
+    cov.stop()
+    seconds = time.perf_counter() - t0
+    module = sys.modules.get(spec["path"].removesuffix(".py").replace("/", "."))
+    if rc != 0 or module is None or Path(module.__file__).resolve() != (src / spec["path"]).resolve():
+        print(f"tests: exit {rc}; module {getattr(module, '__file__', None)} (not the copy's?)")
+        return 1
+    rank = {n: i for i, n in enumerate(order)}
+    lines = {line: sorted((c for c in contexts if c in rank), key=rank.get) for line, contexts in
+             cov.get_data().contexts_by_lineno(str(src / spec["path"])).items()}
+    libs = sorted(name for name, m in list(sys.modules.items()) if (f := getattr(m, "__file__", None))
+                  and not Path(f).resolve().is_relative_to(src) and not Path(f).resolve().is_relative_to(ROOT)
+                  and name.split(".")[0] not in ("rvtol", "coverage", "__main__"))
+    (work / "baseline.json").write_text(json.dumps({"seconds": seconds, "lines": lines, "libs": libs}))
+    return 0
+
+
+def serve(work: Path) -> int:
+    """Answer each client with the outcome of the module's tests on the mutant now in the copy's file."""
+    import difflib
+    import importlib
+    import signal
+    import socket
+
+    spec, src = _start(work)
+    base = json.loads((work / "baseline.json").read_text())
+    for name in base["libs"]:
+        try:
+            importlib.import_module(name)
+        except Exception:               # a private or platform module that cannot be imported on its own
+            pass
+    sys.dont_write_bytecode = True      # each mutant is compiled from its source, never from a cache
+    limit = float((work / "limit").read_text())
+    original = (src / spec["path"]).read_text(encoding="utf-8").splitlines()
+    covering = {int(line): ids for line, ids in base["lines"].items()}
+
+    def pytest_fork(args: list[str], seconds: float) -> int | str:
+        pid = os.fork()
+        if pid == 0:
+            os.setpgid(0, 0)
+            out = os.open(work / "last.out", os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
+            os.dup2(out, 1)
+            os.dup2(out, 2)
+            signal.alarm(max(1, int(seconds)))
+            import pytest
+            rc = 3
+            try:
+                rc = pytest.main(["-x", "-q", "-p", "no:cacheprovider", *args])
+            finally:
+                sys.stdout.flush()
+                sys.stderr.flush()
+                os._exit(int(rc))
+        _, status = os.waitpid(pid, 0)
+        try:
+            os.killpg(pid, signal.SIGKILL)      # whatever the tests started and left
+        except ProcessLookupError:
+            pass
+        if os.WIFSIGNALED(status):
+            return "timeout" if os.WTERMSIG(status) == signal.SIGALRM else 128 + os.WTERMSIG(status)
+        return os.WEXITSTATUS(status)
+
+    def judge() -> str:
+        mutant = (src / spec["path"]).read_text(encoding="utf-8").splitlines()
+        changed = set()
+        for tag, i1, i2, _, _ in difflib.SequenceMatcher(None, original, mutant, autojunk=False).get_opcodes():
+            if tag != "equal":
+                changed.update(range(i1 + 1, max(i2, i1 + 1) + 1))
+        first = list(dict.fromkeys(n for line in sorted(changed) for n in covering.get(line, ())))
+        deadline = time.monotonic() + limit
+        if first:
+            rc = pytest_fork(first, limit)
+            if rc not in (0, 4, 5):     # 4, 5: a node id pytest could not find — the files will tell
+                return str(rc)
+            if rc != 0:
+                first = []
+        rest = [*spec["tests"], *(f"--deselect={n}" for n in first)]
+        return str(pytest_fork(rest, deadline - time.monotonic()))
+
+    server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    server.bind(str(work / "server.sock"))
+    server.listen(1)
+    print(f"serving {spec['path']} with {len(base['libs'])} modules imported", flush=True)
+    while True:
+        conn, _ = server.accept()
+        with conn:
+            conn.recv(16)
+            conn.sendall(judge().encode())
+
+
+def client(work: Path) -> int:
+    """cosmic-ray's test command: exit 0 if the tests pass on the mutant, 1 if one fails (``timeout`` printed if
+    they took too long)."""
+    import socket
+
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
+        conn.connect(str(work / "server.sock"))
+        conn.sendall(b"run")
+        answer = conn.recv(64).decode()
+    if answer == "timeout":
+        print("timeout", end="")
+    return 0 if answer == "0" else 1
+
+
 def _rate(r: dict) -> str:
     return "—" if r["kill_rate"] is None else f"{100 * r['kill_rate']:.1f} %"
 
@@ -208,7 +382,14 @@ def main(argv=None) -> int:
     ap.add_argument("--work", type=Path, default=OUT / "work", help="where the copies and sessions live")
     ap.add_argument("--out", type=Path, default=OUT, help="where mutation.md and mutation.json are written")
     ap.add_argument("--report", action="store_true", help="only write the report of what has run")
+    ap.add_argument("--rerun-survivors", action="store_true",
+                    help="a module whose tests changed (not its file): run only its survivors again")
+    for role in ("--baseline", "--serve", "--client"):      # the test server's parts (see above)
+        ap.add_argument(role, type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    for role in (baseline, serve, client):
+        if getattr(args, role.__name__) is not None:
+            return role(getattr(args, role.__name__))
     cfg = tomllib.loads(CONFIG.read_text(encoding="utf-8"))
     unknown = [k for k in args.modules if k not in cfg["module"]]
     if unknown:
@@ -224,7 +405,7 @@ def main(argv=None) -> int:
             print(f"note: uncommitted changes are not tested (the run takes the commit {commit[:10]}):\n{dirty}")
 
         def one(m: Module) -> None:
-            m.prepare()
+            m.prepare(args.rerun_survivors)
             m.execute()
             print(f"{m.key}: done")
 

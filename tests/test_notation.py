@@ -1,6 +1,7 @@
 """Drawing tolerance notation: limits by hand, ISO classes from the standard's tables, factor tables
 through the existing loader, process specs by their closed forms."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -238,3 +239,271 @@ def test_zone_material_condition_modifiers():
         assert (t.form, t.modifier, t.width) == ("zone", mod, pytest.approx(0.4))
     with pytest.raises(InputError, match="position zone"):
         parse_tolerance("25 ±0.1 (M)")
+
+
+# ------------------------------------------------------------------------------------------------ units, text, limits
+def test_in_unit_converts_every_number_whichever_way_the_unit_names_sort():
+    t = parse_tolerance("+10/-5 um").in_unit("mm")                  # "um" sorts after "mm"
+    assert (t.unit, t.nominal, t.lower, t.upper) == ("mm", None, pytest.approx(-0.005), pytest.approx(0.010))
+    t = parse_tolerance("25 +0.1/-0.2 mm").in_unit("um")            # a nominal too: 25 mm = 25000 µm
+    assert (t.unit, t.nominal, t.lower, t.upper) == ("um", pytest.approx(25000), pytest.approx(-200),
+                                                     pytest.approx(100))
+    assert parse_tolerance("±0.1 mm").in_unit("mm") == parse_tolerance("±0.1 mm")
+
+
+def test_describe_writes_each_form_back_as_a_drawing_does():
+    assert parse_tolerance("25 +0.1/-0.2 mm").describe() == "25 +0.1/-0.2 mm"
+    assert parse_tolerance("24.95..25.05").describe() == "24.95..25.05"
+    assert parse_tolerance("max 0.02").describe() == "0..0.02"
+    assert parse_tolerance("⌀0.4").describe() == "⌀0.4"
+
+
+def test_a_tolerance_sent_to_a_worker_process_reads_the_same():
+    # pickling (multiprocessing) rebuilds the form's string: a new object, equal but not the same
+    import pickle
+    for text in ("⌀0.4 mm (M)", "25 +0.1/-0.2 mm", "24.95..25.05"):
+        t = parse_tolerance(text)
+        back = pickle.loads(pickle.dumps(t))
+        assert back.describe() == t.describe()
+        assert back.factor_table() == t.factor_table()
+
+
+def test_sigma_level_zero_is_refused():
+    with pytest.raises(NotationError, match="sigma_level must be > 0, got 0"):
+        parse_tolerance("±0.1").factor_table(sigma_level=0)
+
+
+def test_a_symmetric_and_a_percent_tolerance_keep_their_form():
+    assert parse_tolerance("±0.1 mm").form == "symmetric"
+    assert parse_tolerance("100 ±5 %").form == "percent"
+
+
+def test_two_deviations_without_a_slash_one_of_them_zero():
+    t = parse_tolerance("25 +0.1 0")                                  # stacked on the drawing: +0.1 over 0
+    assert (t.nominal, t.lower, t.upper) == (25.0, 0.0, 0.1)
+
+
+def test_a_minus_zero_deviation_is_stored_and_written_as_zero():
+    t = parse_tolerance("+0.05/-0")
+    assert math.copysign(1.0, t.lower) == 1.0 and t.describe() == "+0.05/0"
+
+
+def test_200_characters_are_read_and_201_refused():
+    assert parse_tolerance("±0.1".ljust(200)).upper == 0.1
+    with pytest.raises(NotationError, match="longer than 200 characters"):
+        parse_tolerance("±0.1".ljust(201))
+
+
+def test_an_error_names_the_position_of_the_stray_character():
+    with pytest.raises(NotationError, match="unexpected '@' at position 6"):   # ±0.1 @: the 6th character
+        parse_tolerance("±0.1 @")
+
+
+def test_an_ambiguous_thousands_comma_is_a_located_notation_error():
+    with pytest.raises(NotationError, match=r"cannot read tolerance '25 ±1,250': '1,250' is ambiguous"):
+        parse_tolerance("25 ±1,250")
+
+
+def test_a_nominal_without_a_unit_beside_a_tolerance_in_another_unit_is_refused():
+    with pytest.raises(NotationError, match="the nominal 25 has no unit and the tolerance is in µm while the factor "
+                                            r"is in mm: write the nominal's unit \(e.g. 25 mm or 25 µm\)"):
+        parse_tolerance("25 +10/-5 um", unit="mm")
+    t = parse_tolerance("25 +0.1/-0.2", unit="mm")                    # no unit written: the factor's
+    assert (t.nominal, t.lower, t.upper, t.unit) == (25.0, -0.2, 0.1, "mm")
+
+
+# a nominal beside absolute limits: how far off its band it may lie (ISO 286-2, the a/A fundamental deviation:
+# −270 µm for 1–3 mm, −300 µm for 18–30 mm, −310 µm for 30–40 mm; below 1 mm there is no a, c gives −60 µm)
+def test_a_nominal_beside_its_limits_may_lie_as_far_off_as_iso_286_puts_a_band():
+    t = parse_tolerance("24.70..24.75 mm", nominal=25)                # 25 a: 300 µm below, accepted
+    assert (t.lower, t.upper) == (pytest.approx(-0.3), pytest.approx(-0.25))
+    # the reach is inclusive: exactly 270 µm (with its 1e-9 rounding allowance) off a 1.1 mm nominal is accepted,
+    # the next float beyond it refused
+    reach = 0.27 * (1 + 1e-9)
+    hi = 1.1 - reach
+    assert parse_tolerance(f"{hi - 0.01!r}..{hi!r} mm", nominal=1.1).upper == -reach
+    beyond = math.nextafter(hi, 0.0)
+    with pytest.raises(NotationError, match="farther than any ISO 286"):
+        parse_tolerance(f"{beyond - 0.01!r}..{beyond!r} mm", nominal=1.1)
+
+
+@pytest.mark.parametrize("text, nominal, why", [
+    ("24.0..24.1 mm", 25, "lies 0.9 mm above its limits 24..24.1, farther than any ISO 286 tolerance class puts a "
+                          r"band at this size \(0.3 mm\)"),
+    ("1.45..1.46 in", 1.5, "lies 0.04 in above its limits 1.45..1.46, farther than any ISO 286 tolerance class puts "
+                           r"a band at this size \(0.0122047 in\)"),       # 38.1 mm: 310 µm = 0.0122047 in
+    ("1..5 mm", 10, "lies 5 mm above its limits 1..5, farther than the band's own width"),
+    ("12..13 mm", 10, "lies 2 mm below its limits 12..13, farther than the band's own width"),
+    ("10..12 deg", 30, "lies 18 ° above its limits 10..12, farther than the band's own width"),
+    ("10..12", 30, "lies 18 above its limits 10..12, farther than the band's own width"),
+    ("1..1.234567", 10, "lies 8.76543 above its limits 1..1.234567, farther than the band's own width"),  # 6 digits
+    # a band as wide as ISO's farthest (300 µm at 25 mm) is named by its own width
+    ("20000..20300 um", 25000, "lies 4700 µm above its limits 20000..20300, farther than the band's own width"),
+])
+def test_a_nominal_too_far_from_its_limits_is_refused_with_the_distance_and_side(text, nominal, why):
+    with pytest.raises(NotationError, match=f"the nominal {nominal} {why}: one of them is mistyped"):
+        parse_tolerance(text, nominal=nominal)
+
+
+def test_a_magnitude_factor_starts_where_the_band_says():
+    # max x: from 0; a..b: from a (shift a); +x/0: from the nominal (here none: 0)
+    assert parse_tolerance("max 0.02").factor_table("rayleigh") == {"dist": "rayleigh", "tolerance": 0.02}
+    assert parse_tolerance("0.02..0.05").factor_table("rayleigh") == {
+        "dist": "rayleigh", "tolerance": pytest.approx(0.03), "shift": 0.02}
+    assert parse_tolerance("+0.05/0").factor_table("rayleigh") == {"dist": "rayleigh", "tolerance": 0.05}
+    with pytest.raises(NotationError, match="a rayleigh factor is a magnitude"):   # does not start at the nominal
+        parse_tolerance("+0.1/+0.05").factor_table("rayleigh")
+
+
+def test_a_number_or_a_percent_sign_after_the_unit_place_is_not_a_unit():
+    # "1" and "%" are units of the table (dimensionless, percent) but never as tokens of their own kind
+    with pytest.raises(NotationError, match="unexpected '1' at position 6, expected a unit or a process spec"):
+        parse_tolerance("±0.1 1")
+    with pytest.raises(NotationError, match="unexpected '%' at position 10, expected a unit or a process spec"):
+        parse_tolerance("100 ±5 % %")
+
+
+def test_a_material_condition_on_anything_but_a_position_zone_is_refused_first():
+    for text in ("25 ±0.1 (M)", "±0.1 @ (M)"):       # the condition is named even where the rest cannot be read
+        with pytest.raises(NotationError, match=r"a material condition \(M\)/\(L\)/MMC/LMC belongs to a position "
+                                                r"zone: ⌀t \(M\)"):
+            parse_tolerance(text)
+
+
+def test_a_position_zone_is_converted_to_the_unit_asked_for():
+    t = parse_tolerance("⌀0.1 mm", unit="um")                        # ⌀0.1 mm: radius 50 µm
+    assert (t.form, t.unit, t.lower, t.upper) == ("zone", "um", pytest.approx(-50.0), pytest.approx(50.0))
+
+
+@pytest.mark.parametrize("unit", ["deg", "s", "N*mm"])
+def test_an_iso_class_in_a_unit_that_is_not_a_length_is_refused(unit):
+    with pytest.raises(NotationError, match=rf"an ISO 286 class is a length tolerance, not in {re.escape(unit)}"):
+        parse_tolerance("25 H7", unit=unit)
+
+
+@pytest.mark.parametrize("k", ["1", "1.5", "-1", "-1.5"])
+def test_a_mean_shift_outside_minus_one_to_one_is_refused(k):
+    with pytest.raises(NotationError, match=r"k \(the mean shift over the half tolerance\) must lie in \(-1, 1\)"):
+        parse_tolerance(f"±0.1 Cp 1.33 k {k}")
+
+
+@pytest.mark.parametrize("text, second, at", [
+    ("25 ±0.1 um mm", "mm", 12),          # the grammar's one unit after the body, written twice: was read as µm
+    ("±0.1 mm mm", "mm", 9),
+    ("24.95..25.05 mm in", "in", 17),
+    ("25 +10/-5 um mm", "mm", 14),
+    ("max 0.02 mm um", "um", 13),
+    ("25 mm H7 in", "in", 10),            # a class's unit is the nominal's or the one after it, not both
+])
+def test_a_second_unit_is_refused_not_ignored(text, second, at):
+    with pytest.raises(NotationError, match=f"a second unit '{second}' at position {at}: write the unit once"):
+        parse_tolerance(text)
+    assert parse_tolerance("25 H7 mm").unit == "mm" and parse_tolerance("25 mm H7").unit == "mm"
+
+
+def test_a_fits_factor_table_is_the_same_for_a_dist_read_from_a_file():
+    import tomllib
+    dist = tomllib.loads('dist = "normal"')["dist"]          # a new string, equal to "normal" but not the constant
+    t = parse_tolerance("25 H7/g6")
+    assert t.factor_table(dist) == t.factor_table()
+    th, ts = t.fit.hole.width, t.fit.shaft.width               # RSS of the parts' σ at 3σ each, over the worst case
+    assert t.factor_table(dist)["sigma_level"] == pytest.approx(3.0 * (th + ts) / math.hypot(th, ts))
+
+
+def test_limits_written_in_two_units_convert_each_limit_by_its_own():
+    t = parse_tolerance("24.9 mm..1 in")                        # 1 in = 25.4 mm
+    assert (t.unit, t.lower_limit, t.upper_limit) == ("mm", 24.9, pytest.approx(25.4))
+    t = parse_tolerance("0.98 in..25 mm")
+    assert (t.unit, t.lower_limit, t.upper_limit) == ("in", 0.98, pytest.approx(25 / 25.4))
+
+
+def test_a_nominal_exactly_one_band_width_off_its_limits_is_accepted():
+    t = parse_tolerance("11..12", nominal=10)                  # off by 1, the band 1 wide: the bound is inclusive
+    assert (t.lower, t.upper) == (1.0, 2.0)
+
+
+@pytest.mark.parametrize("cp", ["0.5", "1", "1.33"])
+def test_a_centred_process_may_have_cpk_equal_to_cp_below_one_too(cp):
+    t = parse_tolerance(f"±0.1 Cp {cp} Cpk {cp}")
+    assert (t.process.cp, t.process.cpk, t.process.k) == (float(cp), float(cp), 0.0)
+
+
+@pytest.mark.parametrize("text, stray", [("(M)", "("), ("≥ 0.02", "≥"), ("= 0.02", "=")])
+def test_a_tolerance_cannot_start_with_a_condition_or_a_lower_bound(text, stray):
+    # "≥ x" is no form of the notation (only "≤ x", "max x"); a lone "(M)" has no zone to belong to
+    with pytest.raises(NotationError, match=f"cannot read tolerance '{re.escape(text)}': unexpected "
+                                            f"'{re.escape(stray)}' at position 1"):
+        parse_tolerance(text)
+
+
+def test_a_cpk_above_cp_by_rounding_only_is_taken_as_equal():
+    t = parse_tolerance("±0.1 Cp 1.33 Cpk 1.3300000001")      # 7.5e-11 above: a rounding, not a contradiction
+    assert t.process.cp == 1.33 and abs(t.process.k) < 1e-9
+    with pytest.raises(NotationError, match=r"Cpk \(1.34\) cannot exceed Cp \(1.33\)"):
+        parse_tolerance("±0.1 Cp 1.33 Cpk 1.34")
+
+
+def test_a_number_with_three_decimals_and_no_comma_is_a_plain_decimal():
+    t = parse_tolerance("25 ±1.000")
+    assert (t.nominal, t.lower, t.upper) == (25.0, -1.0, 1.0)
+
+
+def test_parentheses_pair_only_a_class_with_its_deviations():
+    with pytest.raises(NotationError, match="a tolerance in parentheses must pair an ISO 286 class with its deviations"):
+        parse_tolerance("25 ±0.1 (24.9..25.1)")
+
+
+def test_deviations_beside_their_class_may_differ_by_half_a_micrometre():
+    # 50 h7 is 0/-25 µm; the written deviations are rounded to the micrometre: ±0.5 µm is allowed, 0.6 µm is not
+    assert parse_tolerance("50 h7 (+0.0005/-0.025)").limits == (49.975, 50.0)
+    assert parse_tolerance("50 h7 (0/-0.0255)").limits == (49.975, 50.0)
+    for text in ("50 h7 (+0.0006/-0.025)", "50 h7 (0/-0.0256)"):
+        with pytest.raises(NotationError, match="differ from ISO 286's h7 at 50"):
+            parse_tolerance(text)
+
+
+def test_a_word_other_than_max_does_not_start_a_tolerance():
+    with pytest.raises(NotationError, match="unexpected 'x' at position 1, expected a tolerance"):
+        parse_tolerance("x 0.02")
+
+
+def test_an_error_quotes_a_number_as_written_and_counts_positions_in_the_text():
+    with pytest.raises(NotationError, match=r"the deviation '0.100' needs a sign \(\+ or -\)"):
+        parse_tolerance("25 0.100/-0.05")
+    with pytest.raises(NotationError, match="unexpected '@' at position 8"):
+        parse_tolerance("±0.100 @")
+
+
+def test_numbers_already_in_the_results_unit_are_taken_exactly_as_written():
+    # 1.7 in and 0.003 in do not survive a round trip through mm (×25.4, ÷25.4) bit for bit: none is made
+    for text in ("1.7 in +0.003/-0.0015", "1.7 in +0.003/-0.0015 in", '1.7" +0.003"/-0.0015"'):
+        t = parse_tolerance(text)
+        assert (t.unit, t.nominal, t.lower, t.upper) == ("in", 1.7, -0.0015, 0.003)
+
+
+def test_a_position_zone_in_micrometres_is_converted_to_millimetres():
+    t = parse_tolerance("⌀100 um", unit="mm")                     # "um" sorts after "mm": converted all the same
+    assert (t.unit, t.lower, t.upper) == ("mm", pytest.approx(-0.05), pytest.approx(0.05))
+
+
+def test_a_magnitude_from_below_zero_keeps_its_negative_start():
+    assert parse_tolerance("-0.01..0.05").factor_table("rayleigh") == {
+        "dist": "rayleigh", "tolerance": pytest.approx(0.06), "shift": -0.01}
+
+
+def test_a_unitless_nominal_beside_inches_is_refused_when_the_factor_is_in_mm():
+    # "in" sorts before "mm" (the µm case above sorts after): refused all the same
+    with pytest.raises(NotationError, match="the nominal 25 has no unit and the tolerance is in in while the factor "
+                                            "is in mm"):
+        parse_tolerance("25 +0.002/-0.001 in", unit="mm")
+
+
+def test_a_single_signed_percentage_is_not_a_tolerance():
+    with pytest.raises(NotationError, match=r"write both deviations, e.g. \+0.05/0 or 0/-0.02 \(or ±x\)"):
+        parse_tolerance("100 +5%")
+
+
+@pytest.mark.parametrize("name", ["Cp", "Cpk"])
+def test_a_capability_of_zero_is_refused(name):
+    with pytest.raises(NotationError, match=f"{name} must be > 0"):
+        parse_tolerance(f"±0.1 {name} 0")

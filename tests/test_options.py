@@ -4,7 +4,9 @@ Every rule of the module's table is exercised at its bound (accepted) and one st
 and ``Literal``, ``min``/``max`` (inclusive), ``positive``, ``nonnegative``, ``power_of_two``, ``even``,
 ``zero_or_min``, ``min_length`` on every list type, ``unit``, ``names`` and ``"all"``; a sub-table absent, ``true``,
 ``false`` and with a bad key.  The expected values are typed here (a fake study holds the names)."""
-from dataclasses import dataclass
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
 from types import SimpleNamespace
 from typing import Literal
 
@@ -48,6 +50,11 @@ def test_all_expands_to_every_output_of_the_study():
     assert read(Named, {"outputs": "all"}).outputs == list(OUTPUTS)
     other = SimpleNamespace(model=SimpleNamespace(output_names=("x",)))
     assert read(Named, {"outputs": "all"}, study=other).outputs == ["x"]
+
+
+def test_all_read_from_a_study_file_expands_too():
+    # a string parsed from TOML is a new object, not the interned constant "all"
+    assert read(Named, tomllib.loads('outputs = "all"')).outputs == list(OUTPUTS)
 
 
 def test_all_is_a_name_only_where_the_option_allows_it():
@@ -97,9 +104,18 @@ def test_a_list_at_its_minimum_length_is_read_and_one_shorter_is_refused(key, at
 def test_an_array_of_tables_at_its_minimum_length():
     o = read(Lists, {"leaves": [{"t": 2.0}, {}]})
     assert [x.t for x in o.leaves] == [2.0, 1.0]
+    assert [x.t for x in read(Lists, {"leaves": [{}, {"t": 3.0}, {}]}).leaves] == [1.0, 3.0, 1.0]   # more is fine
     refused(Lists, {"leaves": [{"t": 2.0}]}, "leaves", r"at least 2 \[\[analysis\[0\]\.leaves\]\] tables")
     refused(Lists, {"leaves": [{"t": 2.0}, {"t": -1.0}]}, "leaves[1].t", "> 0")
     refused(Lists, {"leaves": [{"t": 2.0}, {"thickness": 1.0}]}, "leaves[1].thickness", "unknown key")
+
+
+def test_one_missing_table_is_named_in_the_singular():
+    @dataclass
+    class One:
+        leaves: list[Leaf] = option([], "at least one table", min_length=1)
+
+    refused(One, {"leaves": []}, "leaves", r"give at least 1 \[\[analysis\[0\]\.leaves\]\] table$")
 
 
 def test_list_items_keep_their_bounds():
@@ -151,6 +167,24 @@ def test_false_switches_off_only_an_optional_sub_table():
     refused(WithSub, {"sub": 3}, "sub", "expected a table, got")
 
 
+def test_the_numbers_0_and_1_are_not_false_and_true_for_a_sub_table():
+    refused(WithSub, {"maybe": 0}, "maybe", "expected a table, got int")
+    refused(WithSub, {"sub": 1}, "sub", "expected a table, got int")
+    refused(WithSub, {"maybe": 1.0}, "maybe", "expected a table, got")
+
+
+@dataclass
+class OffByDefault:
+    extra: Sub | None = option(None, "a sub-table that is off unless given")
+
+
+def test_a_sub_table_with_the_default_none_is_none_unless_given():
+    assert read(OffByDefault, {}).extra is None
+    assert read(OffByDefault, {"extra": {"depth": 7}}).extra == Sub(depth=7, label="x")
+    assert read(OffByDefault, {"extra": True}).extra == Sub(depth=3, label="x")
+    assert read(OffByDefault, {"extra": False}).extra is None
+
+
 # ---------------------------------------------------------------------------------------------- numbers, strings, units
 @dataclass
 class Numbers:
@@ -182,6 +216,30 @@ def test_each_number_and_choice_rule(key, accepted, refused_value, reason):
         assert getattr(read(Numbers, {"n": 8, key: v}), key) == v
     for v, why in zip(refused_value, reason):
         refused(Numbers, {"n": 8, key: v}, key, why)
+
+
+@dataclass
+class Counts:
+    count: int = option(1, "a positive integer", positive=True)
+    offset: int = option(0, "a nonnegative integer", nonnegative=True)
+    shift: int = option(0, "any integer")
+
+
+@pytest.mark.parametrize("key, accepted, refused_value, reason", [
+    ("count", [1, 7], [0, -1], ["must be > 0"] * 2),
+    ("offset", [0, 7], [-1, -2], ["must be >= 0"] * 2),
+    ("shift", [-3, 0, 3], [], []),
+])
+def test_each_integer_sign_rule(key, accepted, refused_value, reason):
+    for v in accepted:
+        assert getattr(read(Counts, {key: v}), key) == v
+    for v, why in zip(refused_value, reason):
+        refused(Counts, {key: v}, key, why)
+
+
+def test_zero_or_min_refuses_a_negative_number():
+    refused(Numbers, {"n": 8, "size": -1}, "size", "must be 0 or >= 100")
+    refused(Numbers, {"n": 8, "size": -500}, "size", "must be 0 or >= 100")
 
 
 def test_a_required_option_must_be_given():
@@ -229,3 +287,133 @@ def test_describe_lists_each_key_with_its_constraints():
     s = {o.key: o for o in describe(WithSub)}
     assert s["sub"].type == "table" and s["sub.depth"].default == 3 and s["maybe.label"].default == "x"
     assert {o.key: o for o in describe(Lists)}["leaves[].t"].constraint == "> 0"
+
+
+# ---------------------------------------------------------------------------------------------- tables of values
+@dataclass
+class Mappings:
+    labels: dict[str, str] = option({}, "a label per name")
+    table: dict = option({}, "a table read as it is")
+    series: dict[str, list] = option({}, "an array per name, read as it is")
+
+
+def test_a_table_of_strings_takes_only_strings():
+    assert read(Mappings, {"labels": {"a": "x", "b": "y"}}).labels == {"a": "x", "b": "y"}
+    refused(Mappings, {"labels": {"a": 1}}, "labels.a", "expected a string")
+    refused(Mappings, {"labels": "x"}, "labels", "expected a table, got")
+
+
+def test_a_plain_table_and_a_table_of_other_values_are_read_as_they_are():
+    raw = {"a": [1, 2], "b": {"c": 2.5}, "d": "x"}
+    assert read(Mappings, {"table": raw}).table == raw
+    assert read(Mappings, {"series": {"a": [1.0, 2.0], "b": []}}).series == {"a": [1.0, 2.0], "b": []}
+    refused(Mappings, {"table": 3}, "table", "expected a table, got int")
+    refused(Mappings, {"series": [1.0]}, "series", "expected a table, got")
+
+
+# ---------------------------------------------------------------------------------------------- files, other types
+@dataclass
+class Files:
+    data: Path = option(Path("data.csv"), "a file")
+
+
+def test_a_file_is_relative_to_the_studys_folder_unless_absolute():
+    study = SimpleNamespace(base_dir="/studies/gearbox")
+    assert read(Files, {"data": "runs/a.csv"}, study=study).data == Path("/studies/gearbox/runs/a.csv")
+    assert read(Files, {"data": "/srv/b.csv"}, study=study).data == Path("/srv/b.csv")
+    assert read(Files, {"data": "runs/a.csv"}, study=None).data == Path("runs/a.csv")    # no study: the cwd
+
+
+#: classes named Params from elsewhere than rvtol.params: not the sub-table handed on
+ForeignParams = type("Params", (), {})
+LibParams = type("Params", (), {"__module__": "lib.params"})
+
+
+@dataclass
+class Others:
+    foreign: ForeignParams | None = option(None, "a value of another library's Params type")
+    lib: LibParams | None = option(None, "the same, from a module that sorts before rvtol's")
+    either: int | str | None = option(None, "a count or a word: a union rvtol does not unpick, read as it is")
+    kind: type = option(float, "a default that is a class but not an options class is the default itself")
+
+
+def test_types_rvtol_does_not_read_are_handed_on_as_written():
+    o = read(Others, {"foreign": {"k": 1}, "lib": 3, "either": "many"})
+    assert (o.foreign, o.lib, o.either, o.kind) == ({"k": 1}, 3, "many", float)
+    assert read(Others, {"either": 4}).either == 4
+    d = {o.key: o.type for o in describe(Others)}
+    assert d == {"foreign": "Params, optional", "lib": "Params, optional", "either": "int | str | None",
+                 "kind": "type"}
+
+
+# ---------------------------------------------------------------------------------------------- the class itself
+def test_options_are_keyword_only_and_a_required_one_may_follow_a_default():
+    @dataclass
+    class Late:
+        a: float = option(1.0, "a default first")
+        b: int = option(REQUIRED, "then a required one")
+
+    assert Late(b=2) == Late(a=1.0, b=2)
+    for call in (lambda: Late(1.0, 2), lambda: Numbers(8), lambda: Lists(["a", "b"]), lambda: WithSub(Sub())):
+        with pytest.raises(TypeError, match="positional argument"):
+            call()
+
+
+def test_an_options_class_built_in_code_holds_its_defaults():
+    assert WithSub().sub == Sub(depth=3, label="x") and WithSub().maybe == Sub(depth=3, label="x")
+    assert WithSub().sub is not WithSub().sub and Lists().names is not Lists().names      # fresh each time
+    assert Lists().names == ["x", "y"] and Others().kind is float and OffByDefault().extra is None
+
+
+@dataclass
+class Derived:
+    a: float = option(1.0, "read first")
+    total: float = field(init=False, default=0.0)
+    b: float = option(2.0, "read after the field the class computes")
+
+    def complete(self, study, error):
+        self.total = self.a + self.b
+
+
+def test_a_field_the_class_computes_is_neither_read_nor_listed():
+    o = read(Derived, {"a": 3.0, "b": 4.0})
+    assert (o.a, o.b, o.total) == (3.0, 4.0, 7.0)
+    assert [x.key for x in describe(Derived)] == ["a", "b"]
+
+
+def test_describe_gives_defaults_and_types():
+    d = {o.key: o for o in describe(Numbers)}
+    assert not d["x"].required and d["x"].default == 0.5 and d["n"].default is None
+    assert {k: d[k].type for k in ("n", "x", "method", "length")} == {
+        "n": "int", "x": "float", "method": "str", "length": "float"}
+    lists = {o.key: o for o in describe(Lists)}
+    assert not lists["names"].required and lists["names"].default == ["x", "y"] and lists["leaves"].default == []
+    assert {k: lists[k].type for k in ("names", "values", "counts", "leaves")} == {
+        "names": "list of str", "values": "list of float", "counts": "list of int", "leaves": "array of tables"}
+    s = {o.key: o for o in describe(WithSub)}
+    assert s["sub"].default == {} and s["maybe"].default == {} and s["maybe"].type == "table, optional"
+    assert {o.key: o.type for o in describe(Named)}["weights"] == "table, optional"
+    assert {o.key: o.type for o in describe(Mappings)} == {"labels": "table", "table": "table", "series": "table"}
+    assert describe(Files)[0].type == "file"
+
+
+@pytest.mark.parametrize("kind", ["factor", "output", "stage", "steps"])
+def test_a_names_kind_rvtol_does_not_know_is_a_programming_error(kind):
+    @dataclass
+    class Misnamed:
+        name: str | None = option(None, "a name", names=kind)
+
+    with pytest.raises(ValueError, match=f"unknown name kind '{kind}'"):
+        read(Misnamed, {"name": "gap"})
+
+
+@pytest.mark.parametrize("kind, value", [("output", "tilt"), ("factor", "b"), ("requirement", "gap ≤ 5"),
+                                         ("stage", "te")])
+def test_a_names_kind_built_at_run_time_names_the_same_things(kind, value):
+    @dataclass
+    class Built:                    # e.g. options declared in a loop over kinds: the string is made, not written
+        name: str | None = option(None, "a name", names="".join([kind, "s"]))
+
+    assert read(Built, {"name": value}).name == value
+    with pytest.raises(InputError, match=f"unknown {'model' if kind == 'stage' else kind} name 'zz'"):
+        read(Built, {"name": "zz"})

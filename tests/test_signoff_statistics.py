@@ -56,8 +56,16 @@ def test_a_two_sided_lower_end_is_the_one_sided_bound_at_one_plus_c_over_two(met
 
 def test_success_run_sample_size():
     # zero failures: the smallest n with (1 − c)^(1/n) >= Y, i.e. n >= ln(1 − c)/ln(Y)
-    for y, c in [(0.9973, 0.95), (0.99, 0.90), (0.999, 0.99)]:
+    # (1 − 1e-7 at 95 %: 29 957 322 units, found by bisection in n, not by stepping one unit at a time)
+    for y, c in [(0.9973, 0.95), (0.99, 0.90), (0.999, 0.99), (1 - 1e-7, 0.95)]:
         assert st.n_for_yield(1.0, y, c) == math.ceil(math.log(1 - c) / math.log(y))
+    # the bound reaching the requirement exactly counts: (1 − 0.75)^(1/2) = 0.5, (1 − 0.19)^(1/2) = 0.9
+    assert st.n_for_yield(1.0, 0.5, 0.75) == 2 and st.n_for_yield(1.0, 0.9, 0.19) == 2
+
+
+def test_no_plan_when_even_the_largest_sample_cannot_demonstrate_it():
+    # 1e-12 above the requirement: at N_PLAN_MAX = 1e15 the bound still lies ~1.6·√(p(1−p)/1e15) ≈ 3e-9 below
+    assert st.n_for_yield(0.9973 + 1e-12, 0.9973, 0.95) is None
 
 
 def test_n_for_yield_is_the_smallest_n_at_the_observed_rate():
@@ -78,6 +86,22 @@ def test_n_for_cpk_inverts_bissell():
 
 
 # --------------------------------------------------------------------------- through the CLI
+
+def test_no_cpk_plan_without_a_finite_cpk_above_the_requirement():
+    for cpk in (None, math.nan, math.inf, -math.inf, 1.33, 1.2):
+        assert st.n_for_cpk(cpk, 1.33, 0.95) is None
+
+
+def test_n_for_cpk_is_the_smallest_n_when_the_root_lies_a_hair_above_an_integer():
+    # the requirement is Bissell's bound at 21 + 1e-11: n = 21 falls short by a hair, 22 is the answer
+    cpk, c = 1.52, 0.95
+    z = stats.norm.ppf(c)
+    bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
+    req = bissell(21 + 1e-11)
+    assert bissell(21) < req <= bissell(22)
+    assert st.n_for_cpk(cpk, req, c) == 22
+
+
 def test_one_sided_is_the_default_and_two_sided_is_stricter(tmp_path):
     rc, s, _ = run(tmp_path, study(tmp_path, '[[requirement]]\noutput = "y"\nupper = 2.8\nmin_yield = 0.5\n'))
     r = reqs(s)[0]

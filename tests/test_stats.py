@@ -119,3 +119,191 @@ def test_order_statistic_bootstrap_has_the_resampling_bootstrap_distribution():
     lo_s, hi_s = st.bootstrap_ci(y, lambda s: st.percentile_cpk(s, None, 12.0), 0.9, n_boot=2000, seed=7)
     spread = hi_s - lo_s
     assert abs(lo_f - lo_s) < 0.1 * spread and abs(hi_f - hi_s) < 0.1 * spread
+
+
+def test_normality_of_a_sample_with_a_small_spread_is_scipys():
+    # skewness, kurtosis and A² do not depend on the scale: a spread of 1e-3 is measured like any other
+    y = 1e-3 * np.random.default_rng(5).gamma(4.0, size=400)
+    s = st.normality(y)
+    assert s.skewness == pytest.approx(stats.skew(y), rel=1e-9)
+    assert s.excess_kurtosis == pytest.approx(stats.kurtosis(y), rel=1e-9)
+    assert s.ad_statistic == pytest.approx(stats.anderson(y, "norm", method="interpolate").statistic, rel=1e-9)
+    assert st.normality(np.full(20, 0.5)) is None and st.normality(y[:7]) is None
+
+
+def test_convergence_trace_mean_interval_is_the_running_normal_interval():
+    # at each n: the mean of the evaluated samples so far ± z·s/√m, s with Bessel's n − 1 (m evaluated samples)
+    g = np.random.default_rng(4)
+    y = g.normal(2.0, 0.5, 500)
+    ok = g.random(500) > 0.1
+    tr = st.convergence_trace(y, ok, [], confidence=0.90)
+    assert (tr["n"][0], tr["n"][-1]) == (10, 500)                     # from 10 samples on, to the last
+    assert list(st.convergence_trace(y[:6], ok[:6], [])["n"]) == [6]
+    ns = st.convergence_trace(np.zeros(100_000), np.ones(100_000, bool), [])["n"]     # 60 log-spaced counts
+    assert len(ns) == 60 and (ns[0], ns[-1]) == (10, 100_000) and np.all(np.diff(ns) > 0)
+    assert ns[30] == int(np.geomspace(10, 100_000, 60)[30])                          # geometric, not linear
+    z = stats.norm.ppf(0.95)
+    for n, m, lo, hi in zip(tr["n"], tr["mean"], tr["mean_lo"], tr["mean_hi"]):
+        seen = y[:n][ok[:n]]
+        half = z * seen.std(ddof=1) / math.sqrt(seen.size)
+        assert (m, lo, hi) == (pytest.approx(seen.mean()), pytest.approx(seen.mean() - half),
+                               pytest.approx(seen.mean() + half))
+
+
+def test_rss_by_hand():
+    assert st.rss([3.0, 4.0]) == 5.0 and st.rss([3.0, 4.0], squared=True) == 25.0
+    assert st.rss([1.0, 2.0], [[1.0, 0.5], [0.5, 1.0]]) == pytest.approx(math.sqrt(1 + 4 + 2 * 0.5 * 2))
+    assert st.rss([3.0, 4.0], weights=np.array([1.0, 0.25])) == pytest.approx(math.sqrt(13.0))
+    assert st.rss([3.0, 4.0], variances=np.array([1.0, 0.0])) == pytest.approx(math.sqrt(26.0))
+    assert st.rss([[3.0, 4.0], [5.0, 12.0]], axis=1) == pytest.approx([5.0, 13.0])
+    assert st.rss([3.0, np.nan, 4.0], skip_nan=True) == 5.0 and math.isnan(st.rss([3.0, np.nan, 4.0]))
+
+
+@pytest.mark.parametrize("outliers, defined", [(1, False), (3, True)])
+def test_a_percentile_cpk_interval_needs_a_cpk_on_half_the_resamples(outliers, defined):
+    # 1000 values, all 0 but `outliers` ones: a resample's 99.865 % point (linear, between its 998th and 999th
+    # values) lies above its median only when it draws an outlier twice or more — K ~ Poisson(outliers):
+    # P(K ≥ 2) = 1 − 2/e = 0.26 for one (too few resamples have a Cpk: no interval), 1 − 4/e³ = 0.80 for three
+    y = np.sort(np.r_[np.zeros(1000 - outliers), np.ones(outliers)])
+    lo, hi = st.percentile_cpk_ci(y, -1.0, 2.0)
+    assert (lo is not None and hi is not None and lo <= hi) if defined else (lo, hi) == (None, None)
+
+
+def test_normality_needs_eight_values():
+    y = np.array([0.1, 0.4, 0.2, 0.9, 0.5, 0.3, 0.8, 0.6])
+    assert st.normality(y[:7]) is None
+    assert st.normality(y).skewness == pytest.approx(stats.skew(y), rel=1e-9)
+
+
+def test_a_value_on_a_limit_conforms():
+    y = np.array([1.0, 1.5, 2.0, 0.999, 2.001])
+    r = st.yield_of(y, np.ones(5, bool), 1.0, 2.0)
+    assert (r.n, r.conforming, r.estimate) == (5, 3, 0.6)
+    assert st.yield_of(y, np.ones(5, bool), None, 2.0).conforming == 4
+    assert st.yield_of(y, np.ones(5, bool), 1.0, None).conforming == 4
+
+
+def test_the_reported_percentiles_pair_about_the_median_and_reach_three_sigma():
+    assert 50.0 in st.PERCENTILES
+    assert sorted(st.PERCENTILES) == sorted(round(100.0 - p, 6) for p in st.PERCENTILES)
+    assert min(st.PERCENTILES) == round(100.0 * stats.norm.cdf(-3.0), 3)          # 0.135 %: the −3σ point
+
+
+@pytest.mark.parametrize("confidence, n", [(0.3, 40), (0.95, 40), (0.95, 2)])
+def test_std_interval_is_the_chi_square_interval_at_any_level_from_two_values(confidence, n):
+    y = np.random.default_rng(6).normal(0.0, 2.0, n)
+    s, lo, hi = st.std_ci(y, confidence)
+    a = 1.0 - confidence
+    assert s == pytest.approx(np.std(y, ddof=1))
+    assert lo == pytest.approx(s * math.sqrt((n - 1) / stats.chi2.ppf(1 - a / 2, n - 1)))
+    assert hi == pytest.approx(s * math.sqrt((n - 1) / stats.chi2.ppf(a / 2, n - 1)))
+    assert all(math.isnan(v) for v in st.std_ci(y[:1], confidence))
+
+
+def test_capability_gives_bissells_two_sided_cpk_interval():
+    y = np.random.default_rng(7).normal(10.0, 0.1, 60)
+    c = st.capability(y, 9.6, 10.5, confidence=0.90)
+    mu, s = y.mean(), y.std(ddof=1)
+    cpk = min(10.5 - mu, mu - 9.6) / (3 * s)
+    h = stats.norm.ppf(0.95) * math.sqrt(1 / (9 * 60) + cpk**2 / (2 * 59))
+    assert (c["cp"], c["cpk"], c["cpk_lo"], c["cpk_hi"]) == (
+        pytest.approx(0.9 / (6 * s)), pytest.approx(cpk), pytest.approx(cpk - h), pytest.approx(cpk + h))
+
+
+def test_percentile_cpk_interval_cuts_equal_tails_off_the_resamples():
+    y = np.sort(np.random.default_rng(8).gamma(5.0, size=300))
+    lo, hi = st.percentile_cpk_ci(y, 0.0, 20.0, confidence=0.5, n_boot=400, seed=3)
+    q = st.bootstrap_quantiles(y, st.CPK_QUANTILES, 400, 3)
+    vals = st._cpk_from_quantiles(q[:, 0], q[:, 1], q[:, 2], 0.0, 20.0)       # the resamples' Cpk
+    # a quarter of the 400 below and a quarter above, to the two resamples the linear interpolation spans
+    assert np.mean(vals < lo) == pytest.approx(0.25, abs=0.01) and np.mean(vals > hi) == pytest.approx(0.25, abs=0.01)
+
+
+def test_ppm_and_its_interval_from_the_clopper_pearson_yield_interval():
+    y = np.r_[np.zeros(997), np.full(3, 5.0)]                  # 3 of 1000 outside: 3000 ppm
+    r = st.yield_of(y, np.ones(1000, bool), None, 1.0)
+    lo, hi = stats.beta.ppf(0.025, 997, 4), stats.beta.ppf(0.975, 998, 3)
+    assert r.ppm == pytest.approx(3000.0, rel=1e-9)
+    assert r.ppm_ci == (pytest.approx((1 - hi) * 1e6, rel=1e-9), pytest.approx((1 - lo) * 1e6, rel=1e-9))
+
+
+def test_a_percentile_interval_narrows_with_its_confidence():
+    # order statistics y_(l), y_(u) with l, u the a/2 and 1 − a/2 points of Binomial(n, q): a 30 % interval lies
+    # strictly inside the 90 % one
+    y = np.sort(np.random.default_rng(9).normal(size=200))
+    _, lo30, hi30 = st.percentile_ci(y, 0.5, 0.30)
+    _, lo90, hi90 = st.percentile_ci(y, 0.5, 0.90)
+    assert lo90 < lo30 < hi30 < hi90
+    assert st.percentile_ci(y, 0.5) == st.percentile_ci(y, 0.5, 0.95)      # 95 % unless told
+    assert (lo30, hi30) == (y[int(stats.binom.ppf(0.35, 200, 0.5)) - 1], y[int(stats.binom.ppf(0.65, 200, 0.5))])
+
+
+def test_combined_lower_bound_adds_the_deviations_in_quadrature():
+    # 0.99 with its own bound 0.97 (deviation 0.02) and another error of deviation 0.01: 0.99 − √(0.02² + 0.01²)
+    assert st.combined_lower_bound(0.99, 0.97, 0.01) == pytest.approx(0.99 - math.sqrt(0.02**2 + 0.01**2))
+    assert st.combined_lower_bound(0.99, 0.97, 0.0) == pytest.approx(0.97)
+    assert st.combined_lower_bound(1.0, 1.0, 0.01) == pytest.approx(0.99)
+    assert st.combined_lower_bound(None, 0.97, 0.01) == 0.97 and st.combined_lower_bound(0.99, None, 0.01) is None
+    assert st.combined_lower_bound(math.inf, 0.97, 0.01) == 0.97
+    assert math.isnan(st.combined_lower_bound(0.99, math.nan, 0.01))
+
+
+def test_a_nan_output_is_outside_either_limit_even_where_marked_evaluated():
+    y = np.array([0.5, np.nan, 1.5, 0.7])
+    ok = np.ones(4, bool)
+    for limits, k in [((0.0, 1.0), 2), ((0.0, None), 3), ((None, 1.0), 2)]:
+        assert st.yield_of(y, ok, *limits).conforming == k
+        tr = st.convergence_trace(y, ok, [limits])
+        assert tr["yield_0"][-1] == k / 4
+
+
+def test_n_for_cpk_finds_a_plan_of_hundreds_of_millions_by_bisection():
+    # Cpk 1.3301 against 1.33: Bissell's bound reaches it only at n ≈ 2.7e8 (stepping one unit at a time never would)
+    cpk, req, c = 1.3301, 1.33, 0.95
+    z = stats.norm.ppf(c)
+    bissell = lambda m: cpk - z * math.sqrt(1 / (9 * m) + cpk**2 / (2 * (m - 1)))  # noqa: E731
+    n = st.n_for_cpk(cpk, req, c)
+    assert 2.6e8 < n < 2.8e8 and bissell(n) >= req > bissell(n - 1)
+
+
+def test_rss_of_a_correlation_matrix_that_is_not_positive_semidefinite_is_clipped_at_zero():
+    r = [[1.0, 0.9, 0.9], [0.9, 1.0, -0.9], [0.9, -0.9, 1.0]]       # no valid correlation: cᵀRc < 0 for c below
+    c = [0.5, -0.5, -0.5]                                             # 0.25·(3 − 5.4) = −0.6
+    assert st.rss(c, r) == 0.0 and st.rss(c, r, squared=True) == 0.0
+
+
+def test_the_default_bootstrap_seed_is_reproducible():
+    y = np.sort(np.random.default_rng(10).normal(size=50))
+    a, b = st.bootstrap_quantiles(y, st.CPK_QUANTILES), st.bootstrap_quantiles(y, st.CPK_QUANTILES)
+    assert a.shape == (200, 3) and np.array_equal(a, b)
+
+
+def test_a_statistic_undefined_on_most_resamples_gives_no_bootstrap_interval():
+    y = np.random.default_rng(11).normal(size=30)
+    assert st.bootstrap_ci(y, lambda r: None) == (None, None)
+    assert st.bootstrap_ci(y, lambda r: r.mean() if r.max() > 2.5 else None) == (None, None)   # max > 2.5: rare
+    lo, hi = st.bootstrap_ci(y, np.mean)
+    assert lo < y.mean() < hi
+
+
+def test_no_capability_from_a_sample_holding_a_nan():
+    c = st.capability(np.array([1.0, 2.0, np.nan, 3.0]), 0.0, 5.0)
+    assert c == dict(cp=None, cpk=None, cpk_lo=None, cpk_hi=None, cpk_percentile=None)
+
+
+def test_the_default_proportion_interval_is_the_95_percent_clopper_pearson():
+    lo, hi = st.proportion_ci(7, 50)
+    assert (lo, hi) == (pytest.approx(stats.beta.ppf(0.025, 7, 44)), pytest.approx(stats.beta.ppf(0.975, 8, 43)))
+
+
+def test_a_bootstrap_interval_narrows_with_its_confidence():
+    y = np.random.default_rng(12).normal(size=40)
+    lo30, hi30 = st.bootstrap_ci(y, np.mean, confidence=0.30)
+    lo90, hi90 = st.bootstrap_ci(y, np.mean, confidence=0.90)
+    assert lo90 < lo30 < hi30 < hi90
+
+
+def test_no_normality_from_a_sample_holding_a_nan():
+    y = np.random.default_rng(13).normal(size=20)
+    y[4] = np.nan
+    assert st.normality(y) is None

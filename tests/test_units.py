@@ -55,3 +55,18 @@ def test_inch_is_exactly_25_4_mm():
     assert units.canonical('"') == "in" and units.canonical("inch") == "in"
     assert units.convert(1.0, "thou", "um") == pytest.approx(25.4, rel=1e-15)
     assert units.dimension("in") == "length"
+
+
+def test_an_unknown_unit_of_one_named_dimension_lists_only_that_dimension():
+    with pytest.raises(UnitError) as e:
+        units.canonical("furlongs", "length")
+    assert e.value.reason == "unknown length unit 'furlongs' (known: cm, in, m, mm, nm, thou, um)"
+
+
+def test_a_value_in_its_base_unit_is_handed_back_untouched():
+    # no copy of a sample array, and an integer stays an integer (3 mm is written "3", not "3.0")
+    a = np.array([1.0, 2.0])
+    assert units.to_base(a, "mm") is a and units.from_base(a, "rad") is a and units.convert(a, "N", "N") is a
+    for unit in ("mm", "rad", "N", "N*mm", "s"):
+        assert type(units.to_base(3, unit)) is int and type(units.from_base(3, unit)) is int
+    assert repr(units.convert(3, "mm", "mm")) == "3"

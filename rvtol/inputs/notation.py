@@ -27,7 +27,7 @@ Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
     process   := ("Cp" | "Cpk" | "k") ["=" | "≥" | ">=" | ":"] number
 
 A unit or ``%`` written once after the second deviation applies to both (``+10/-5 um``,
-``+5/-2 %``).  Unicode minus signs and dashes, ``+/-``, ``+-`` and decimal commas are accepted; ``"`` is the
+``+5/-2 %``); a second unit where the grammar has one (``25 ±0.1 um mm``) is refused.  Unicode minus signs and dashes, ``+/-``, ``+-`` and decimal commas are accepted; ``"`` is the
 inch, ``in``, ``inch``, ``thou`` and every unit of :mod:`rvtol.units` are known.  Exponents
 are not (``25e8`` is the ISO class e8 on 25 mm, not 2.5·10⁹).
 
@@ -557,10 +557,13 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
                 form = "percent" if (a_pct or b_pct) else "deviations"
     else:
         raise p.unexpected("a tolerance")
-    tail_unit = p.unit()            # "+10/-5 um", "±0.05 mm": a unit after the body is every number's
-    nums = [replace(n, unit=n.unit or tail_unit) for n in nums]
-    if iso_cls and tail_unit is not None:
-        nom_u = nom_u or tail_unit
+    # the unit after the body: every body but a class has read it after its numbers ("±0.05 mm", "+10/-5 um"); a
+    # class's is this one ("25 H7 mm") or the nominal's ("25 mm H7") — one more is refused, not ignored
+    t = p.peek()
+    tail_unit = p.unit()
+    if tail_unit is not None and (not iso_cls or nom_u is not None):
+        raise p.err(f"a second unit {t.text!r} at position {t.pos + 1}: write the unit once")
+    nom_u = nom_u or tail_unit
 
     # ---- process -------------------------------------------------------------------------
     proc: dict[str, float] = {}
