@@ -23,12 +23,19 @@ the survivors, keeping every other result (the mutated module's own file must be
 same).
 
 Before the first mutant the module's tests run on the unmutated copy under coverage (they must pass; their time
-sets the timeout), which records the tests that run each line.  The mutants then run in a test server forked from a
-process that has already imported the third-party libraries those tests use (numpy, scipy, pandas, pytest, ...:
-seconds a mutant): cosmic-ray's test command asks the server, which runs, in a fresh fork each, first the tests
-that ran the mutated lines and, if they all pass, the rest of the module's test files — so a mutant is judged by
-exactly the module's test files, and a killed one costs only the tests of its lines.  Mutants in annotations
-(never evaluated under ``from __future__ import annotations``) and the operators the config excludes are skipped.
+sets the timeout), which records the tests that run each line — in the test process and in every Python process a
+test starts (the CLI as a subprocess, spawned workers: coverage's start-up hook, the test's id as that process's
+context).  The mutants then run in a test server forked from a process that has already imported the third-party
+libraries those tests use (numpy, scipy, pandas, pytest, ...: seconds a mutant): cosmic-ray's test command asks the
+server, which runs, in a fresh fork each, first the tests that ran the mutated lines.  One of them failing kills
+the mutant.  If they all pass and every mutated line is inside a function's body, the mutant survives: no other test
+runs those lines in any process, so none can fail.  A mutant elsewhere (a module constant, a default argument, a
+decorator, a class attribute: evaluated at import, seen by every test) or on a line no test ran is judged by all of
+the module's test files.  A line run only in a forked child that is not a fresh interpreter is not recorded: such a
+mutant may be judged by fewer tests than could kill it, never more — the kill rate is a lower bound.
+Mutants in annotations (never evaluated under ``from __future__ import annotations``) and the operators the config
+excludes are skipped.
+
 The report (``reports/mutation/mutation.md`` and ``.json``) gives per module the mutants, killed, survived, timeout,
 errors, equivalent and pending, the kill rate of the non-equivalent mutants, and every survivor with its line and
 change.
@@ -91,6 +98,10 @@ class Module:
         if self.stamp.exists():
             old = json.loads(self.stamp.read_text())
             if old["fingerprint"] == self.fingerprint:
+                if json.loads((self.dir / "baseline.json").read_text()).get("version") != BASELINE_VERSION:
+                    self.restore()
+                    self.run_baseline()
+                    print(f"{self.key}: its baseline taken again (version {BASELINE_VERSION})")
                 return
             if rerun_survivors and git("rev-parse", f"{old['commit']}:{self.path}") == git(
                     "rev-parse", f"{self.commit}:{self.path}"):
@@ -114,6 +125,10 @@ class Module:
         subprocess.run(["tar", "-x", "-C", str(self.src)], input=archive.stdout, check=True)
         compileall.compile_dir(self.src / "rvtol", quiet=1)       # mutants recompile only the mutated module
         (self.dir / "module.json").write_text(json.dumps({"path": self.path, "tests": self.tests}), encoding="utf-8")
+        self.run_baseline()
+
+    def run_baseline(self) -> None:
+        """The tests on the unmutated copy (``baseline``), the timeout they set, the cosmic-ray config."""
         clean = subprocess.run([sys.executable, str(HERE), "--baseline", str(self.dir)], cwd=self.src, env=self.env,
                                capture_output=True, text=True)
         if clean.returncode != 0:
@@ -149,10 +164,14 @@ class Module:
                 if why:
                     db.set_result(item.job_id, WorkResult(output=why, worker_outcome=WorkerOutcome.SKIPPED))
 
+    def restore(self) -> None:
+        """The module's own file back in the copy (a killed run may have left a mutant in it)."""
+        (self.src / self.path).write_text(git("show", f"{self.session_commit()}:{self.path}"), encoding="utf-8")
+
     def execute(self) -> None:
         """Run every pending mutant (the module's file restored first: a killed run may have left a mutant in it),
         through the test server."""
-        (self.src / self.path).write_text(git("show", f"{self.session_commit()}:{self.path}"), encoding="utf-8")
+        self.restore()
         socket_path = self.dir / "server.sock"
         socket_path.unlink(missing_ok=True)
         with open(self.dir / "exec.log", "a", encoding="utf-8") as log:
@@ -225,6 +244,17 @@ def annotation_spans(source: str) -> list[tuple[tuple[int, int], tuple[int, int]
     return [((n.lineno, n.col_offset), (n.end_lineno, n.end_col_offset)) for n in found if n is not None]
 
 
+def function_body_lines(source: str) -> set[int]:
+    """The lines inside a function's body: run when the function is called, never when the module is imported (a
+    mutant anywhere else — a constant, a default, a decorator, a class attribute — may change what every test sees)."""
+    found: set[int] = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            found.update(range(node.body[0].lineno, node.end_lineno + 1))
+            found.discard(node.lineno)          # a one-line def: its defaults are evaluated at import
+    return found
+
+
 # The test server: ``--baseline`` (once per copy), ``--serve`` (for the run) and ``--client`` (cosmic-ray's test
 # command) run in the module's copy (cwd), with the paths of ``Module.env``.
 
@@ -233,40 +263,65 @@ def _start(work: Path) -> tuple[dict, Path]:
     return json.loads((work / "module.json").read_text()), Path.cwd()
 
 
+BASELINE_VERSION = 2        # 2: the lines the tests ran in the processes they started are counted too
+
+
 def baseline(work: Path) -> int:
     """The module's tests on the unmutated copy under coverage: ``baseline.json`` gets their time, for each line of
-    the module the tests that ran it (in their order), and the third-party modules they imported."""
+    the module the tests that ran it (in their order) — in this process and in every Python process a test
+    started (the CLI run as a subprocess, spawned pool and dask workers: coverage's start-up hook, with the test's
+    id as the process's context) — and the third-party modules they imported."""
     import coverage
+    from coverage.data import CoverageData
     import pytest
 
     spec, src = _start(work)
-    cov = coverage.Coverage(data_file=None, include=[str(src / spec["path"])])
+    target = str(src / spec["path"])
+    cov = coverage.Coverage(data_file=None, include=[target])
     order: list[str] = []
+    sub = work / "subprocess-coverage"
+    shutil.rmtree(sub, ignore_errors=True)
+    sub.mkdir()
+    rc_file = work / "subprocess-coverage.rc"
+    rc_file.write_text(f"[run]\ndata_file = {sub / 'cov'}\nparallel = true\ninclude = {target}\n"
+                       "context = ${RVTOL_MUTATION_TEST}\n", encoding="utf-8")
+    os.environ["COVERAGE_PROCESS_START"] = str(rc_file)
 
     class Contexts:
         @pytest.hookimpl(hookwrapper=True)
         def pytest_runtest_protocol(self, item, nextitem):
             order.append(item.nodeid)
+            os.environ["RVTOL_MUTATION_TEST"] = item.nodeid
             cov.switch_context(item.nodeid)
             yield
             cov.switch_context("")
+            os.environ["RVTOL_MUTATION_TEST"] = ""
 
     t0 = time.perf_counter()
     cov.start()
     rc = pytest.main(["-x", "-q", "-p", "no:cacheprovider", *spec["tests"]], plugins=[Contexts()])
     cov.stop()
     seconds = time.perf_counter() - t0
+    del os.environ["COVERAGE_PROCESS_START"]
     module = sys.modules.get(spec["path"].removesuffix(".py").replace("/", "."))
     if rc != 0 or module is None or Path(module.__file__).resolve() != (src / spec["path"]).resolve():
         print(f"tests: exit {rc}; module {getattr(module, '__file__', None)} (not the copy's?)")
         return 1
     rank = {n: i for i, n in enumerate(order)}
-    lines = {line: sorted((c for c in contexts if c in rank), key=rank.get) for line, contexts in
-             cov.get_data().contexts_by_lineno(str(src / spec["path"])).items()}
+    ran = {line: set(contexts) for line, contexts in cov.get_data().contexts_by_lineno(target).items()}
+    # lines this process ran outside a test (the import, the collection): every test may depend on them
+    outside = sorted(line for line, contexts in ran.items() if any(c not in rank for c in contexts))
+    for f in sub.glob("cov.*"):
+        data = CoverageData(basename=str(f))
+        data.read()
+        for line, contexts in data.contexts_by_lineno(target).items():
+            ran.setdefault(line, set()).update(contexts)
+    lines = {line: sorted((c for c in contexts if c in rank), key=rank.get) for line, contexts in ran.items()}
     libs = sorted(name for name, m in list(sys.modules.items()) if (f := getattr(m, "__file__", None))
                   and not Path(f).resolve().is_relative_to(src) and not Path(f).resolve().is_relative_to(ROOT)
                   and name.split(".")[0] not in ("rvtol", "coverage", "__main__"))
-    (work / "baseline.json").write_text(json.dumps({"seconds": seconds, "lines": lines, "libs": libs}))
+    (work / "baseline.json").write_text(json.dumps({"version": BASELINE_VERSION, "seconds": seconds, "lines": lines,
+                                                    "outside": outside, "libs": libs, "subprocess_files": len(list(sub.glob("cov.*")))}))
     return 0
 
 
@@ -288,6 +343,7 @@ def serve(work: Path) -> int:
     limit = float((work / "limit").read_text())
     original = (src / spec["path"]).read_text(encoding="utf-8").splitlines()
     covering = {int(line): ids for line, ids in base["lines"].items()}
+    runtime = function_body_lines("\n".join(original)) - set(base["outside"])
 
     def pytest_fork(args: list[str], seconds: float) -> int | str:
         pid = os.fork()
@@ -326,6 +382,8 @@ def serve(work: Path) -> int:
             rc = pytest_fork(first, limit)
             if rc not in (0, 4, 5):     # 4, 5: a node id pytest could not find — the files will tell
                 return str(rc)
+            if rc == 0 and all(covering.get(line) and line in runtime for line in changed):
+                return "0"              # no other test runs a changed line, in any process: none can fail
             if rc != 0:
                 first = []
         rest = [*spec["tests"], *(f"--deselect={n}" for n in first)]
