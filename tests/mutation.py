@@ -263,7 +263,7 @@ def _start(work: Path) -> tuple[dict, Path]:
     return json.loads((work / "module.json").read_text()), Path.cwd()
 
 
-BASELINE_VERSION = 2        # 2: the lines the tests ran in the processes they started are counted too
+BASELINE_VERSION = 3        # 3: the lines the tests ran in the processes they started (and their forked workers) too
 
 
 def baseline(work: Path) -> int:
@@ -284,7 +284,7 @@ def baseline(work: Path) -> int:
     sub.mkdir()
     rc_file = work / "subprocess-coverage.rc"
     rc_file.write_text(f"[run]\ndata_file = {sub / 'cov'}\nparallel = true\ninclude = {target}\n"
-                       "context = ${RVTOL_MUTATION_TEST}\n", encoding="utf-8")
+                       "context = ${RVTOL_MUTATION_TEST}\npatch = fork, _exit\n", encoding="utf-8")
     os.environ["COVERAGE_PROCESS_START"] = str(rc_file)
 
     class Contexts:
@@ -303,6 +303,9 @@ def baseline(work: Path) -> int:
     cov.stop()
     seconds = time.perf_counter() - t0
     del os.environ["COVERAGE_PROCESS_START"]
+    from rvtol import executors         # the workers a run kept: their coverage is written when they stop
+    for live in list(getattr(executors, "_LIVE", ())):
+        live.close()
     module = sys.modules.get(spec["path"].removesuffix(".py").replace("/", "."))
     if rc != 0 or module is None or Path(module.__file__).resolve() != (src / spec["path"]).resolve():
         print(f"tests: exit {rc}; module {getattr(module, '__file__', None)} (not the copy's?)")
