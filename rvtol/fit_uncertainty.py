@@ -489,6 +489,10 @@ class _Weights:
         return -0.5 * out
 
     def at(self, names: list[str], rows: np.ndarray) -> np.ndarray:
+        """The weights p*(x)/p̂(x) of ``rows`` under each draw. Every sample was drawn from the fitted law, so p̂(x) > 0
+        and a draw whose support misses x gives exactly 0 (ln 0 − ln p̂ = −inf); a NaN or +inf can only come from a
+        sample on the fitted law's support boundary where its density rounds to 0 (−inf − −inf, finite − −inf) —
+        a point that law cannot draw, weighted 0 like one outside."""
         with np.errstate(all="ignore"):
             return np.nan_to_num(np.exp(self._log(names, rows)), nan=0.0, posinf=0.0)
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..analysis import Analysis, CommonOptions
+from ..errors import InputError
 from ..options import REQUIRED, option
 from . import texts
 from .band import SENSITIVITY_METHODS, design_inputs, study_band
@@ -38,8 +39,8 @@ class EpistemicOptions(CommonOptions):
             raise error("kind", "the epistemic band needs the study's design ([study] design) with ranges")
         try:
             design_inputs(study.design, self.keys)
-        except Exception as exc:                 # InputError naming the key
-            raise error("keys", getattr(exc, "reason", str(exc))) from None
+        except InputError as exc:                # a key that is no uncertain number of the design
+            raise error("keys", exc.reason) from None
 
 
 class EpistemicBand(Analysis):
