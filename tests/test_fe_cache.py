@@ -150,7 +150,7 @@ def test_the_folder_is_the_variables_else_the_users_cache_outside_the_repository
     assert fe_cache.cache_dir() == tmp_path / "fe-seats"
     monkeypatch.delenv(fe_cache.ENV)
     default = fe_cache.cache_dir().resolve()
-    assert ROOT.resolve() not in default.parents and default.parent.name.lower() == "rvtol"
+    assert ROOT.resolve() not in default.parents and "rvtol" in [part.lower() for part in default.parts]
 
 
 #: a value of about 40 kB: a write of it is many system calls, so a reader can meet a write half-done
