@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import write
 from scipy import stats
 
-from conftest import write
 from rvtol.errors import InputError
 from rvtol.production.msa import Gauge, acceptance, gauge_rr, read_gauge_study
 
@@ -198,8 +198,8 @@ GOOD = "".join(f"P{i}, {a}, {t}, {0.1 * i + 0.01 * t + (0.02 if a == 'B' else 0)
     (_body(GOOD, "part, operator, trial, value [um]"), "row 1", "no column 'appraiser'"),
     (_body(GOOD, "part, appraiser, trial, reading"), "row 1", "no column 'value'"),
     (_body(GOOD.replace("P2, B, 2, 0.24", "P2, B, 2, x")), "row 9, column 'value [um]'", "not a number: 'x'"),
-    (_body(GOOD.replace("P2, B, 2, 0.24\n", "")), "row 8", "part 'P2', appraiser 'B': 1 readings, part 'P1' by "
-                                                          "appraiser 'A' has 2"),
+    (_body(GOOD.replace("P2, B, 2, 0.24\n", "")), "row 8",
+     "part 'P2', appraiser 'B': 1 readings, part 'P1' by appraiser 'A' has 2"),
     (_body(GOOD.replace("P2, B, 2, 0.24", "P2, B, 1, 0.24")), "row 9, column 'trial'", "given twice"),
     (_body(GOOD.replace(", B,", ", A,")), "row 4, column 'trial'", "trial '1' is given twice (also on row 2)"),
     (_body("".join(f"P{i}, A, {t}, {0.1 * i + 0.01 * t}\n" for i in (1, 2) for t in (1, 2))),

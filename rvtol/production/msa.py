@@ -70,7 +70,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -154,7 +153,7 @@ class GaugeRR:
     @property
     def ndc(self) -> int:
         """Number of distinct categories ⌊1.41 σ_P / σ_GRR⌋ (AIAG)."""
-        return int(math.floor(1.41 * math.sqrt(self.var_part) / self.sigma_grr))
+        return math.floor(1.41 * math.sqrt(self.var_part) / self.sigma_grr)
 
     @property
     def percent_study_variation(self) -> float:
