@@ -30,22 +30,20 @@ def _aiag() -> np.ndarray:
 
 
 def test_the_aiag_worked_example_reproduces_the_published_anova_and_variance_components():
-    """Published figures for this data set: the AIAG manual's ANOVA table (SS 88.3619 parts, 3.1673 appraisers,
-    0.3590 interaction, 2.7589 equipment, 94.6471 total; MS 9.81799, 1.58363, 0.01994, 0.04598; F 492.29, 79.41,
-    0.434) as reproduced by McNeese, "Three Ways to Analyze a Gage R&R Study" (BPI Consulting, 2015), and the
-    interaction's p-value 0.974 of Minitab's Gageaiag example (Minitab blog, "Crossed Gage R&R: How are the
-    Variance Components Calculated?", 2015), which therefore pools it; pooled repeatability MS 0.0400 (SS 3.118,
-    df 78), variance components 0.0400 (EV), 0.0515 (AV), 0.0914 (GRR), 1.086 (PV), ndc 4."""
+    """Published figures for this data set, to the digits printed: the AIAG manual's ANOVA table as reproduced
+    by McNeese, "Three Ways to Analyze a Gage R&R Study" (BPI Consulting, 2015) — SS 88.362 parts, 3.167
+    appraisers, 0.359 interaction, 2.759 equipment (94.647 total); MS 9.818, 1.584, 0.01994, 0.04598; the
+    interaction pooled: repeatability SS 3.118 on 78 df, MS 0.0400; variance components 0.0400 (EV), 0.0515 (AV),
+    0.0914 (GRR), 1.086 (PV); ndc 4 — and the interaction's p-value 0.974 of Minitab's Gageaiag example (Minitab
+    blog, "Crossed Gage R&R: How are the Variance Components Calculated?", 2015)."""
     g = gauge_rr(_aiag())
     full = {r.source: r for r in g.anova}
-    for source, ss, ms in (("Part", 88.3619, 9.81799), ("Appraiser", 3.1673, 1.58363),
-                           ("Part × appraiser", 0.3590, 0.01994), ("Repeatability", 2.7589, 0.04598)):
-        assert full[source].ss == pytest.approx(ss, abs=5e-5)
-        assert full[source].ms == pytest.approx(ms, abs=5e-6)
-    assert full["Total"].ss == pytest.approx(94.6471, abs=5e-5)
-    assert full["Part"].f == pytest.approx(492.29, abs=5e-3)          # against MS interaction (random effects)
-    assert full["Appraiser"].f == pytest.approx(79.41, abs=5e-3)
-    assert full["Part × appraiser"].f == pytest.approx(0.434, abs=5e-4)
+    for source, ss, ms, ms_digits in (("Part", 88.362, 9.818, 5e-4), ("Appraiser", 3.167, 1.584, 5e-4),
+                                      ("Part × appraiser", 0.359, 0.01994, 5e-6),
+                                      ("Repeatability", 2.759, 0.04598, 5e-6)):
+        assert full[source].ss == pytest.approx(ss, abs=5e-4)
+        assert full[source].ms == pytest.approx(ms, abs=ms_digits)
+    assert full["Total"].ss == pytest.approx(94.647, abs=5e-4)
     assert round(g.interaction_p, 3) == 0.974 and g.pooled
     used = {r.source: r for r in g.anova_used}
     assert used["Repeatability"].df == 78 and used["Repeatability"].ss == pytest.approx(3.118, abs=5e-4)
@@ -103,6 +101,8 @@ def test_an_exactly_constructed_study_gives_the_hand_computed_components():
     assert ms == pytest.approx({"Part": 16.0, "Appraiser": 3.0, "Part × appraiser": 0.28, "Repeatability": 0.02,
                                 "Total": math.nan}, nan_ok=True)
     assert g.interaction_p == pytest.approx((1 + 2 * 14 / 6) ** -3, rel=1e-9) and not g.pooled
+    f = {r.source: r.f for r in g.anova}                            # random effects: P and A against MS_PA
+    assert (f["Part"], f["Appraiser"], f["Part × appraiser"]) == pytest.approx((16 / 0.28, 3 / 0.28, 14.0))
     assert (g.var_repeatability, g.var_interaction, g.var_appraiser, g.var_part) == pytest.approx(
         (0.02, 0.13, 2.72 / 6, 3.93), rel=1e-12)
     grr = 0.02 + 0.13 + 2.72 / 6

@@ -29,12 +29,12 @@ a negative estimate set to 0 (AIAG; Minitab "if a variance component is negative
 **Pooling the interaction.**  When the interaction's p-value exceeds ``interaction_alpha`` (default **0.25**)
 it is pooled into repeatability: the model is refitted without it, MS_E' = (SS_PA + SS_E) / (df_PA + df_E),
 σ²_E = MS_E', σ²_PA = 0, σ²_A = (MS_A − MS_E') / (p n), σ²_P = (MS_P − MS_E') / (a n), and the F tests use
-MS_E'.  0.25 is the classical "sometimes pool" level for a non-significant interaction (Bancroft, *Topics in
-Intermediate Statistical Methods*, 1968; Montgomery §13.3 and Burdick, Borror & Montgomery, *Design and
-Analysis of Gauge R&R Studies*, 2005) and was Minitab's "alpha to remove interaction term" before release 16;
-current Minitab uses 0.05 (its crossed gauge R&R help: "if the p-value for the operator and part interaction
-is 0.05 or higher, Minitab removes the interaction").  Give ``interaction_alpha = 0.05`` for Minitab's
-current reading.
+MS_E'.  0.25 is the level Bancroft recommended for such a preliminary test before pooling ("sometimes
+pool": Bancroft, *Biometrics* 20, 1964, 427–442; Montgomery, *Design and Analysis of Experiments*, on pooling
+a non-significant interaction) — a high level, so that an interaction that is there is kept.  Minitab's
+default is 0.05 (its gauge R&R settings: "Alpha to remove interaction term … The default value is 0.05. Use a
+higher significance level, such as 0.10 or 0.25, if you want to be more likely to keep the interaction in the
+model"); give ``interaction_alpha = 0.05`` for Minitab's reading.
 
 **The figures** (AIAG MSA ch. III; Minitab's crossed gauge R&R "Methods and formulas"):
 GRR = σ²_E + σ²_A + σ²_PA (reproducibility AV² = σ²_A + σ²_PA), TV = GRR + σ²_P;
