@@ -11,6 +11,9 @@ meaning; examples::
     [[analysis.parts]]              # one table per part family
     file = "measured/crankshafts.csv"
     slots = ["crank_1", "crank_2", "crank_3"]
+    [[analysis.parts.gauge]]        # optional: a feature's uncertainty from a gauge R&R study (rvtol.production.msa)
+    file = "measured/cmm_grr.csv"
+    features = ["cam_1.form"]
 
     [[analysis]]
     kind = "selective_assembly"
@@ -76,10 +79,10 @@ class GaugeOptions:
     file: Path = option(REQUIRED, "the gauge R&R study (part, appraiser, [trial,] value [unit]: one reading per row)")
     features: list[str] = option(REQUIRED, "the part family's feature columns it measures (their u = σ_GRR)",
                                  min_length=1)
-    calibration_u: float = option(0.0, "standard uncertainty (k = 1) of the gauge's calibration, in the study's unit: "
-                                       "u = √(σ²_GRR + calibration_u²)", nonnegative=True)
-    tolerance: float | None = option(None, "the features' tolerance width USL − LSL in the study's unit (%GRR of "
-                                           "the tolerance)", positive=True)
+    calibration_u: float = option(0.0, "standard uncertainty (k = 1) of the gauge's calibration, in the gauge "
+                                       "study's unit: u = √(σ²_GRR + calibration_u²)", nonnegative=True)
+    tolerance: float | None = option(None, "the features' tolerance width USL − LSL in the gauge study's unit "
+                                           "(%GRR of the tolerance)", positive=True)
     interaction_alpha: float = option(INTERACTION_ALPHA, "the part × appraiser interaction is pooled into "
                                                          "repeatability when its p-value exceeds this", min=0.001,
                                       max=0.999)
