@@ -10,10 +10,16 @@ from conftest import write
 
 from rvtol.errors import InputError
 from rvtol.mc import Evaluator
-from rvtol.model import LinearModel, Quantity
+from rvtol.model import STATUS_NONFINITE, STATUS_OK, LinearModel, Quantity
 from rvtol.production import FamilySource, load_measured_units, predict_units, texts
 from rvtol.production.msa import Gauge, read_gauge_study
-from rvtol.production.per_unit import CONFORMANCE_PROVEN, NONCONFORMANCE_PROVEN, NOT_PROVEN, guard_banded
+from rvtol.production.per_unit import (
+    CONFORMANCE_PROVEN,
+    NONCONFORMANCE_PROVEN,
+    NOT_PROVEN,
+    UnitPredictions,
+    guard_banded,
+)
 from rvtol.spec import Requirement, spec_from_table
 from rvtol.study import load_study
 
@@ -221,3 +227,13 @@ def test_a_bad_gauge_study_fails_the_study_at_load_time_in_its_own_file(tmp_path
         load_study(write(tmp_path / "s.toml", STUDY), progress=False)
     assert exc.value.file == str(g) and exc.value.key == "row 1, column 'appraiser'"
     assert "1 appraiser: a crossed gauge study needs at least 2 appraisers" in exc.value.reason
+
+
+def test_a_unit_with_fewer_than_two_evaluated_samples_is_undecided():
+    """One sample of two evaluated (the other failed): its spread is unknown, so nothing is proven either way —
+    even far inside the limits."""
+    pred = UnitPredictions(("R1",), (Quantity("y", "mm", "um"),), np.array([[[0.0], [np.nan]]]),
+                           np.array([[STATUS_OK, STATUS_NONFINITE]]), (Requirement("y", upper=100.0),), 0.95,
+                           np.array([1]), {})
+    row = pred.requirement_frame().iloc[0]
+    assert row["y"] == 0.0 and math.isnan(row["u"]) and row["ISO 14253-1"] == NOT_PROVEN

@@ -31,7 +31,7 @@ and expanded uncertainty U = k·u (``coverage_factor`` k, 2 by default) is
 * **conformance proven** when y lies in the tolerance zone reduced by U on each side:
   L + U ≤ y ≤ H − U (a one-sided requirement: only its limit; the zone is closed);
 * **non-conformance proven** when y lies outside the zone enlarged by U: y < L − U or y > H + U;
-* **undecided** otherwise (and when no sample could be evaluated).
+* **undecided** otherwise (and when fewer than two samples could be evaluated: no u to read).
 
 :func:`guard_banded` is the rule.  How it relates to the probability verdict: for a normal prediction,
 conformance proven means every limit is at least k·u from y, so P(conforms) ≥ 2Φ(k) − 1 (0.9545 at k = 2;
@@ -214,7 +214,7 @@ class UnitPredictions:
                                required=self.probability)
                 ok_y = y[ok]
                 est = float(ok_y.mean()) if ok_y.size else np.nan
-                u = float(ok_y.std(ddof=1)) if ok_y.size > 1 else (0.0 if ok_y.size else np.nan)
+                u = float(ok_y.std(ddof=1)) if ok_y.size > 1 else np.nan     # one sample has no spread to read
                 rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": j.p,
                              "P_lo": j.p_lo, "P_hi": j.p_hi, "required": j.required, "verdict": j.state,
                              "reasons": "; ".join(j.reasons), "y": est, "u": u, "U": self.coverage_factor * u,
