@@ -344,8 +344,8 @@ class ReferenceModel:
         return rows
 
     def friction_torque(self, theta_c: float, q, fric: Friction) -> tuple[float, dict]:
-        """The friction torque at the output of the equilibrium ``q`` (:func:`rvtol.models.transmission._kernels.friction_torque`, written
-        apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
+        """The friction torque at the output of the equilibrium ``q``
+        (:func:`rvtol.models.transmission._kernels.friction_torque`, written apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
         here and ``v`` the solution of the regularised tangent ``K v = e_θ``.  Returns ``(T_f, {group: share})``."""
         _, K, parts = self.forces(theta_c, q)
         xs = self.g.arc_radii()
