@@ -3,9 +3,9 @@ oracle, kept out of the package; ``studies/calibration_synthetic_data.py`` makes
 with it).
 
 ``synthetic_measurement`` evaluates the 20-DOF model
-(:class:`rvtol.models.transmission.calibration.curves.CurveModel`) with the true parameter values, adds an angle offset and independent normal noise of standard deviation ``sigma``
-drawn from the named sub-stream ``"calibration_noise"`` of ``seed``
-(:func:`rvtol.sampling.substream`), and returns it as a :class:`Measurement`;
+(:class:`rvtol.models.transmission.calibration.curves.CurveModel`) with the true parameter values, adds an angle
+offset and independent normal noise of standard deviation ``sigma`` drawn from the named sub-stream
+``"calibration_noise"`` of ``seed`` (:func:`rvtol.sampling.substream`), and returns it as a :class:`Measurement`;
 ``write_synthetic_csv`` writes the same as a CSV file whose header says, in words, that it is
 synthetic and which parameters made it.
 
