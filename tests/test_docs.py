@@ -2,9 +2,9 @@
 
 The reference check reads README.md, the shipped guides (``rvtol/docs/``) and every Markdown document of the
 repository they reach by relative links or by naming its path: every relative link must reach a file or folder of
-the repository (and its ``#anchor`` a heading of that file, as GitHub names it), and every code span that is a repository path
-(``studies/build.md``, ``data/products/rv80e/``, ``tests/test_cli.py``) must exist — relative to the repository or
-to the document's folder.  Illustrative paths (a user's own files, a run's output) are listed in
+the repository (and its ``#anchor`` a heading of that file, as GitHub names it), and every code span that is a
+repository path (``studies/build.md``, ``data/products/rv80e/``, ``tests/test_cli.py``) must exist — relative to
+the repository or to the document's folder.  Illustrative paths (a user's own files, a run's output) are listed in
 :data:`ILLUSTRATIVE`; the reference documents themselves are outside the repository (``../shared/``: the project's
 folder beside the checkout, which the write-ups cite the seeds and REFERENCE.md from).
 """
