@@ -1,6 +1,6 @@
 """``rvtol`` command line: ``main(argv) -> int``.
 
-Exit codes (README, "Command line"):
+Exit codes (``rvtol docs command-line``: rvtol/docs/command_line.md):
 
 ====  ==========================================================================
 0     every requirement demonstrated (verdict PASS), or an exploratory study;
@@ -95,6 +95,9 @@ def _parser() -> argparse.ArgumentParser:
                                          "that analysis kind (type, default, meaning)")
     kinds.add_argument("kind", nargs="?", help="an analysis kind: list its keys")
 
+    docs = sub.add_parser("docs", help="list the guides shipped with rvtol; with NAME, print one (Markdown)")
+    docs.add_argument("name", nargs="?", help="a document, e.g. writing-a-study")
+
     spec = sub.add_parser("spec", help="tolerance specs: convert between TOML and tables")
     ssub = spec.add_subparsers(dest="spec_command", metavar="SPEC_COMMAND")
     exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
@@ -123,6 +126,8 @@ def main(argv: list[str] | None = None) -> int:
         with stopping_on_signals():
             if args.command == "kinds":
                 return _kinds(args.kind)
+            if args.command == "docs":
+                return _docs(args.name)
             if args.command == "check":
                 return _check(args)
             if args.command == "init":
@@ -197,7 +202,7 @@ def _init(args) -> int:
     print(f"rvtol: wrote {', '.join(str(f) for f in files)} — a first study that runs as written:\n"
           f"  rvtol run {study}\n"
           "then replace the parts in spec.csv and the formulas in study.toml with your own "
-          "(every key: studies/WRITING_A_STUDY.md)")
+          "(every key: rvtol docs writing-a-study)")
     return EXIT_PASS
 
 
@@ -291,6 +296,21 @@ def _kinds(kind: str | None = None) -> int:
         print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
                                                                 sorted(plugins.items())))
     print("rvtol kinds KIND lists the keys of an analysis kind")
+    return EXIT_PASS
+
+
+def _docs(name: str | None) -> int:
+    """``rvtol docs``: the shipped documents, one a line; ``rvtol docs NAME``: that document's text."""
+    from . import docs
+
+    if name is not None:
+        sys.stdout.write(docs.text(name))
+        return EXIT_PASS
+    shipped = docs.documents()
+    width = max(map(len, shipped))
+    for doc, title in shipped.items():
+        print(f"{doc:<{width}}  {title}")
+    print("rvtol docs NAME prints one (Markdown); paths it names (studies/, data/, tests/) are in the rvtol repository")
     return EXIT_PASS
 
 
