@@ -11,6 +11,10 @@ meaning; examples::
     [[analysis.parts]]              # one table per part family
     file = "measured/crankshafts.csv"
     slots = ["crank_1", "crank_2", "crank_3"]
+    [[analysis.parts]]              # or the inspection room's QIF 3.0 / DFQ file with a mapping
+    file = "measured/discs.qif"
+    mapping = "measured/discs_map.csv"
+    slots = ["disc_1", "disc_2"]
 
     [[analysis]]
     kind = "selective_assembly"
@@ -75,6 +79,8 @@ class PartsOptions:
     file: Path = option(REQUIRED, "the part family's file (one row per serial number)")
     slots: list[str] = option(REQUIRED, "the places its parts take (factor = <slot>.<column>)", min_length=1)
     name: str | None = option(None, "the family's name (default: the file's stem)")
+    mapping: Path | None = option(None, "a QIF (.qif, .xml) or DFQ (.dfq) file's mapping: characteristic -> feature, "
+                                        "reading, unit, u (rvtol.inputs.inspection)")
 
 
 # --------------------------------------------------------------------------- per-unit prediction
@@ -99,8 +105,8 @@ class PerUnitPrediction(Analysis):
         def complete(self, study, error):
             super().complete(study, error)
             self.title = self.title or (f"{PerUnitPrediction.title}: {self.name}" if self.name else None)
-            self.units = load_measured_units(study.spec, self.kits, [FamilySource(p.file, tuple(p.slots), p.name)
-                                                                     for p in self.parts])
+            self.units = load_measured_units(study.spec, self.kits, [FamilySource(p.file, tuple(p.slots), p.name,
+                                                                                  p.mapping) for p in self.parts])
             study.inputs.update({f"{self.key}:{k}": v for k, v in self.units.files().items()})
             try:
                 self.needed = samples_to_demonstrate(self.requirements, self.conformance_probability)

@@ -36,6 +36,11 @@ header)::
 them), holding the serial of the part in that slot or ``-`` when that slot's part was not measured
 (its factors are then sampled from the spec).  A part belongs to one reducer, in one slot.
 
+**QIF and DFQ.**  A part family may come as the inspection room writes it — a QIF 3.0 file (``.qif``, ``.xml``:
+MeasurementResults, one per serial) or a Q-DAS DFQ file (``.dfq``: one value set per serial, K0014 the serial)
+— with a mapping file (characteristic → feature column, reading, unit, uncertainty): :mod:`rvtol.inputs.inspection`
+turns the two into the table above, read from then on as a CSV is.
+
 Every problem is one :class:`~rvtol.errors.InputError` naming the file and the row and column
 (``FILE: row 5, column 'cam_1.form [um]': not a number: 'x'``; in a workbook also the sheet).  Values
 are returned in base units (mm, rad).
@@ -100,9 +105,26 @@ class PartFamily:
         return tuple(factor_name(slot, c) for c in self.columns)
 
 
-def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) -> PartFamily:
-    """Read and check one part family file (module docstring) against ``spec``'s factors."""
-    t = read_table(path, what="serial, <feature> [unit], ...")
+def family_table(path, mapping=None) -> Table:
+    """The table of a part family file: rvtol's CSV/TSV/XLSX, or a QIF/DFQ file read through its ``mapping``
+    (:func:`rvtol.inputs.inspection.mapped_table`: the same table, so both take one code path after reading)."""
+    from ..inputs import inspection
+
+    if inspection.is_inspection_file(path):
+        if mapping is None:
+            raise InputError(f"a {Path(path).suffix} file needs a mapping file (characteristic -> feature)",
+                             file=str(path), key="mapping")
+        return inspection.mapped_table(path, mapping)
+    if mapping is not None:
+        raise InputError("a mapping is for a QIF (.qif, .xml) or DFQ (.dfq) file, not a table", file=str(path),
+                         key="mapping")
+    return read_table(path, what="serial, <feature> [unit], ...")
+
+
+def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, mapping=None) -> PartFamily:
+    """Read and check one part family file (module docstring) against ``spec``'s factors; a QIF or DFQ file
+    through its ``mapping`` file (:func:`family_table`)."""
+    t = family_table(path, mapping)
     slots = tuple(slots)
     if not slots:
         raise InputError("a part family needs at least one slot", file=t.file, key="slots")
@@ -257,6 +279,7 @@ class FamilySource:
     file: Path
     slots: tuple[str, ...]
     name: str | None = None
+    mapping: Path | None = None       # a QIF or DFQ file's mapping (rvtol.inputs.inspection)
 
 
 @dataclass(frozen=True)
@@ -301,7 +324,7 @@ class MeasuredUnits:
 
 def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> MeasuredUnits:
     """Read the part families and the kit list; every reducer's measured factors (module docstring)."""
-    fams = [read_part_family(f.file, f.slots, spec, f.name) for f in families]
+    fams = [read_part_family(f.file, f.slots, spec, f.name, f.mapping) for f in families]
     names = [f.name for f in fams]
     dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
     if dup is not None:
