@@ -211,6 +211,8 @@ def read_qif(path) -> InspectionFile:
     except ParseError as exc:
         raise f.error(f"not well-formed XML: {exc}", "-") from None
     except (ParserError, ValueError, TypeError) as exc:
+        if isinstance(exc.__cause__ or exc.__context__, ParseError):
+            raise f.error(f"not well-formed XML: {exc}", "-") from None
         raise f.error(f"not a QIF 3.0 document ({exc})", "QIFDocument") from None
     except Exception as exc:      # a converter warning turned error (a value that is not a number, …)
         if type(exc).__module__.startswith("xsdata"):
