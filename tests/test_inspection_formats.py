@@ -147,6 +147,7 @@ def test_bad_inspection_files_name_the_file_and_the_place(tmp_path, case, fmt, d
         read_part_family(path, ["crank_1"], SPEC, mapping=m)
     assert exc.value.file == str(m if where == "map" else path), (exc.value.file, exc.value.key, exc.value.reason)
     assert exc.value.key == key and words in exc.value.reason, (exc.value.key, exc.value.reason)
+    assert "\n" not in str(exc.value) and len(exc.value.reason) < 300      # one line for the CLI
 
 
 def test_a_qif_file_without_a_mapping_and_a_csv_with_one_are_refused(tmp_path):

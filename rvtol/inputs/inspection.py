@@ -191,6 +191,12 @@ def _qif_unit(factors, dim: str, value, f: InspectionFile, where: str) -> tuple[
     return got
 
 
+def _line(exc: Exception, limit: int = 200) -> str:
+    """The parser's message on one line, cut to ``limit`` characters (it may quote the file's text)."""
+    text = " ".join(str(exc).split())
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
 def read_qif(path) -> InspectionFile:
     """The characteristics and measured parts of a QIF 3.0 document (module docstring)."""
     from xml.etree.ElementTree import ParseError
@@ -209,14 +215,14 @@ def read_qif(path) -> InspectionFile:
     try:
         doc = parser.from_bytes(data, qif3.Qifdocument)
     except ParseError as exc:
-        raise f.error(f"not well-formed XML: {exc}", "-") from None
+        raise f.error(f"not well-formed XML: {_line(exc)}", "-") from None
     except (ParserError, ValueError, TypeError) as exc:
         if isinstance(exc.__cause__ or exc.__context__, ParseError):
-            raise f.error(f"not well-formed XML: {exc}", "-") from None
-        raise f.error(f"not a QIF 3.0 document ({exc})", "QIFDocument") from None
+            raise f.error(f"not well-formed XML: {_line(exc)}", "-") from None
+        raise f.error(f"not a QIF 3.0 document ({_line(exc)})", "QIFDocument") from None
     except Exception as exc:      # a converter warning turned error (a value that is not a number, …)
         if type(exc).__module__.startswith("xsdata"):
-            raise f.error(f"not a valid QIF 3.0 document: {exc}", "QIFDocument") from None
+            raise f.error(f"not a valid QIF 3.0 document: {_line(exc)}", "QIFDocument") from None
         raise
     factors = _qif_units(doc, f)
     ch = doc.characteristics
