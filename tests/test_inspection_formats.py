@@ -224,3 +224,12 @@ def test_a_study_names_a_qif_file_and_its_mapping_where_it_names_a_csv(tmp_path,
     rc, err = run_cli(["check", study], capsys)
     assert rc == 2 and len(err) == 1, err
     assert err[0].startswith(f"rvtol: error: {bad}: row 3, column 'characteristic': no characteristic 'CAM_Y'")
+
+
+def test_a_dfq_part_ident_written_before_the_values_is_the_first_value_sets(tmp_path):
+    # aqdef-tools' parser tests: a /0 entry written before the values applies to the first value set only
+    path = tmp_path / "p.dfq"
+    path.write_bytes("K0100 1\r\nK2001/1 1\r\nK2002/1 d\r\nK2142/1 mm\r\nK0014/0 A-1\r\nK0001/1 0.5\r\n"
+                     "K0001/1 -0,7\r\nK0014/1 A-2\r\n".encode("cp1252"))
+    f = read_dfq(path)
+    assert [(p.serial, p.readings["1"]) for p in f.parts] == [("A-1", [(0.5, None)]), ("A-2", [(-0.7, None)])]

@@ -53,7 +53,8 @@ here.  Key meanings as Diribet's ``aqdef-tools`` (MIT) documents them after the 
   K2142 unit as text (``MEEINHEITTEXT``);
 * measured values: K0001/i a value (``WVWERTNR``), each one opening characteristic i's next value set;
   K0014/i the part ident of characteristic i's current value set (``WV0014``; ``/0``: of every
-  characteristic's) — the serial; K0002 attribute, K0004 date/time (not used);
+  characteristic's; written before a characteristic's first value, of its first value set — as aqdef-tools'
+  parser tests have it) — the serial; K0002 attribute, K0004 date/time (not used);
 * a line that does not start with K holds one value set of every characteristic: the characteristics' portions
   separated by 0x0F (typeset ``¶`` in the specification; a literal ``¶`` is accepted too), the fields of a portion
   by 0x14 in the order value, attribute, date/time, events, batch number, nest, operator, machine, process
@@ -304,6 +305,12 @@ def read_dfq(path) -> InspectionFile:
     values: dict[int, list[list]] = {}            # index -> [[value, ident or None, line]]
     compact_sets: list[list] = []                 # value sets of compact lines: [line, {index: value}, {index: ident}]
     last_set: dict[int, list] = {}                # index -> the value set K0014 lines refer to
+    pending: dict[int, str] = {}                  # index (0: every one) -> a K0014 written before its first value
+
+    def opened(i: int, rec: list) -> None:        # a characteristic's next value set
+        rec[1] = pending.pop(i, None) or (pending.get(0) if i not in values else None)
+        values.setdefault(i, []).append(rec)
+        last_set[i] = rec
     for n, raw in enumerate(text.splitlines(), 1):
         line = raw.rstrip("\r\n")
         if not line.strip():
@@ -320,14 +327,11 @@ def read_dfq(path) -> InspectionFile:
             elif code == "K0001":
                 if not i:
                     raise f.error("K0001 needs a characteristic index (K0001/1 …)", where)
-                rec = [_dfq_number(value, f, where), None, n]
-                values.setdefault(i, []).append(rec)
-                last_set[i] = rec
+                opened(i, [_dfq_number(value, f, where), None, n])
             elif code == "K0014" and i is not None:
-                targets = list(last_set) if i == 0 else [i]
-                if not targets or any(t not in last_set for t in targets):
-                    raise f.error("K0014 (part ident) before any value of its characteristic", where)
-                for t in targets:
+                if i == 0 and not last_set or i and i not in last_set:
+                    pending[i] = value.strip()       # written before the values: the first value set's
+                for t in (list(last_set) if i == 0 else [i] if i in last_set else []):
                     last_set[t][1] = value.strip()
             continue
         if line[0] == "K":
@@ -339,9 +343,7 @@ def read_dfq(path) -> InspectionFile:
             first = portion.split(FIELD_SEP)[0]
             if not first.strip():
                 continue                               # no value of this characteristic in this set
-            rec = [_dfq_number(first, f, f"{where}, characteristic {i}"), None, n]
-            values.setdefault(i, []).append(rec)
-            last_set[i] = rec
+            opened(i, [_dfq_number(first, f, f"{where}, characteristic {i}"), None, n])
     for i, k in sorted(keys.items()):
         number, desc = k.get("K2001", ""), k.get("K2002", "")
         names = tuple(x for x in (desc, number) if x) or (str(i),)
