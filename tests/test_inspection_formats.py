@@ -127,6 +127,8 @@ BAD = [
      "does not fit"),
     ("dfq value not a number", "dfq", DFQ.replace("K0001/2 40.01204", "K0001/2 40.0x1204"), DFQ_MAP, "data",
      "line 28", "not a number"),
+    ("dfq text for a mapped value", "dfq", DFQ.replace("K0001/3 0.008333333333333333", "K0001/3 n.i.O."), DFQ_MAP,
+     "data", "line 30", "not a number: 'n.i.O.'"),
     ("dfq unit of another dimension", "dfq", DFQ, DFQ_MAP.replace("reading, u", "reading, unit, u").replace(
         "cam x, cam.x, value,", "cam x, cam.x, value, deg,").replace("20, bore.d, deviation,", "20, bore.d, deviation, ,")
      .replace("cam angle, cam.angle, value,", "cam angle, cam.angle, value, ,"), "map", "row 4, column 'unit'",
@@ -233,3 +235,13 @@ def test_a_dfq_part_ident_written_before_the_values_is_the_first_value_sets(tmp_
                      "K0001/1 -0,7\r\nK0014/1 A-2\r\n".encode("cp1252"))
     f = read_dfq(path)
     assert [(p.serial, p.readings["1"]) for p in f.parts] == [("A-1", [(0.5, None)]), ("A-2", [(-0.7, None)])]
+
+
+def test_a_dfq_characteristic_the_mapping_does_not_name_may_hold_anything(tmp_path, truth):
+    # an attribute's text, a unit rvtol does not know, a nominal that is not a number: not read unless mapped
+    path = tmp_path / "parts.dfq"
+    path.write_bytes(DFQ.replace("K0001/3 0.008333333333333333", "K0001/3 n.i.O.").replace("K2142/3 °", "K2142/3 bar")
+                     .replace("K2101/3 0.0", "K2101/3 OK").encode("cp1252"))
+    m = write(tmp_path / "map.csv", DFQ_MAP.replace("cam angle, cam.angle, value, 0.005\n", ""))
+    fam = read_part_family(path, ["crank_1"], SPEC, mapping=m)
+    np.testing.assert_allclose(fam.values, truth.values[:, :2], **TOL)

@@ -63,8 +63,10 @@ here.  Key meanings as Diribet's ``aqdef-tools`` (MIT) documents them after the 
 The file's bytes are read as UTF-8, or as Windows-1252 (the format's usual code page) when they are not UTF-8.
 Numbers are written with a decimal point (a decimal comma, which some writers use, is read when the number has
 no point).  A value set without a part ident is an error (a part without serial cannot be kitted); so are a
-characteristic a part was not measured on, a value that is not a number, and a characteristic the mapping names
-that the file does not declare.  The split formats (.dfd description + .dfx values) are not read.
+characteristic a part was not measured on, and a characteristic the mapping names that the file does not declare.
+A value that is not a number, a unit rvtol does not know (K2142) or a nominal that is not a number is an error
+only for a characteristic the mapping names: the file's other characteristics (an attribute, a temperature) are
+not read.  The split formats (.dfd description + .dfx values) are not read.
 
 Every problem is one :class:`~rvtol.errors.SpecError` naming the file — the mapping file and its row and column
 for a problem of the mapping, the QIF/DFQ file and the part (``MeasurementResults id=217``, ``line 40``) for a
@@ -75,7 +77,6 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass, field, fields
-from decimal import Decimal
 from pathlib import Path
 
 from .. import units
@@ -103,6 +104,8 @@ class Characteristic:
     where: str                       # how an error names it
     unit: str | None = None          # the canonical unit of its values (None: the file gives none)
     nominal: float | None = None     # in ``unit``
+    problem: tuple[str, str] | None = None   # (where, reason) of a unit or nominal that cannot be read: an error
+                                             # only if the characteristic is mapped
 
 
 @dataclass
@@ -113,6 +116,8 @@ class Part:
     serial: str | None
     where: str
     readings: dict[str, list[tuple[float, float | None]]] = field(default_factory=dict)
+    problems: dict[str, tuple[str, str]] = field(default_factory=dict)   # key -> (where, reason): a value that is
+                                                                         # not a number (an error if mapped)
 
 
 @dataclass
@@ -279,16 +284,17 @@ CHARACTERISTIC_SEP = ("\x0f", "\u00b6")     # 0x0F, or the ¶ the specification 
 FIELD_SEP = "\x14"
 
 
-def _dfq_number(text: str, f: InspectionFile, where: str) -> float:
+def _dfq_number(text: str) -> float:
+    """A DFQ number (a decimal comma read when there is no point); ValueError with the reason otherwise."""
     s = text.strip()
     if "." not in s and s.count(",") == 1:
         s = s.replace(",", ".")
     try:
         x = float(s)
     except ValueError:
-        raise f.error(f"not a number: {text.strip()[:24]!r}", where) from None
+        raise ValueError(f"not a number: {text.strip()[:24]!r}") from None
     if not math.isfinite(x):
-        raise f.error(f"not a finite number: {text.strip()[:24]!r}", where)
+        raise ValueError(f"not a finite number: {text.strip()[:24]!r}")
     return x
 
 
@@ -302,15 +308,19 @@ def read_dfq(path) -> InspectionFile:
         text = data.decode("cp1252", errors="replace")
     f = InspectionFile(str(path), sha, {}, [])
     keys: dict[int, dict[str, str]] = {}          # characteristic index -> K2xxx -> text
-    values: dict[int, list[list]] = {}            # index -> [[value, ident or None, line]]
-    compact_sets: list[list] = []                 # value sets of compact lines: [line, {index: value}, {index: ident}]
+    values: dict[int, list[list]] = {}            # index -> [[value or None, ident or None, line, problem]]
     last_set: dict[int, list] = {}                # index -> the value set K0014 lines refer to
     pending: dict[int, str] = {}                  # index (0: every one) -> a K0014 written before its first value
 
-    def opened(i: int, rec: list) -> None:        # a characteristic's next value set
+    def opened(i: int, text: str, line: int, where: str) -> None:     # a characteristic's next value set
+        try:
+            rec = [_dfq_number(text), None, line, None]
+        except ValueError as exc:
+            rec = [None, None, line, (where, str(exc))]
         rec[1] = pending.pop(i, None) or (pending.get(0) if i not in values else None)
         values.setdefault(i, []).append(rec)
         last_set[i] = rec
+
     for n, raw in enumerate(text.splitlines(), 1):
         line = raw.rstrip("\r\n")
         if not line.strip():
@@ -327,7 +337,7 @@ def read_dfq(path) -> InspectionFile:
             elif code == "K0001":
                 if not i:
                     raise f.error("K0001 needs a characteristic index (K0001/1 …)", where)
-                opened(i, [_dfq_number(value, f, where), None, n])
+                opened(i, value, n, where)
             elif code == "K0014" and i is not None:
                 if i == 0 and not last_set or i and i not in last_set:
                     pending[i] = value.strip()       # written before the values: the first value set's
@@ -343,19 +353,16 @@ def read_dfq(path) -> InspectionFile:
             first = portion.split(FIELD_SEP)[0]
             if not first.strip():
                 continue                               # no value of this characteristic in this set
-            opened(i, [_dfq_number(first, f, f"{where}, characteristic {i}"), None, n])
+            opened(i, first, n, f"{where}, characteristic {i}")
     for i, k in sorted(keys.items()):
         number, desc = k.get("K2001", ""), k.get("K2002", "")
         names = tuple(x for x in (desc, number) if x) or (str(i),)
         c = Characteristic(str(i), names, f"characteristic {i} (K2001/{i})")
-        unit_text = k.get("K2142")
-        if unit_text:
-            try:
-                c.unit = units.canonical(unit_text)
-            except InputError as exc:
-                raise f.error(exc.reason, f"K2142/{i}") from None
-        if k.get("K2101"):
-            c.nominal = _dfq_number(k["K2101"], f, f"K2101/{i}")
+        try:
+            c.unit = units.canonical(k["K2142"]) if k.get("K2142") else None
+            c.nominal = _dfq_number(k["K2101"]) if k.get("K2101") else None
+        except (InputError, ValueError) as exc:
+            c.problem = (f"K2142/{i}" if isinstance(exc, InputError) else f"K2101/{i}", getattr(exc, "reason", str(exc)))
         f.characteristics[str(i)] = c
     undeclared = sorted(set(values) - set(keys))
     if undeclared:
@@ -371,7 +378,8 @@ def read_dfq(path) -> InspectionFile:
             raise f.error(f"value set {j + 1} has different part idents (K0014): {', '.join(sorted(idents))}",
                           f"line {line}")
         part = Part(next(iter(idents), None), f"value set {j + 1} (line {line})")
-        part.readings = {str(i): [(r[0], None)] for i, r in recs.items()}
+        part.readings = {str(i): [(r[0], None)] for i, r in recs.items() if r[3] is None}
+        part.problems = {str(i): r[3] for i, r in recs.items() if r[3] is not None}
         f.parts.append(part)
     if not f.parts:
         raise f.error("no measured values (K0001 or value lines)", "-")
@@ -457,6 +465,8 @@ def mapped_table(path, mapping) -> MappedTable:
             raise t.error(f"{len(hits)} characteristics are called {name!r} in {source.file}: name one by its "
                           f"{'id (id:N)' if suffix in QIF_SUFFIXES else 'number (K2001)'}", r, col["characteristic"])
         c = hits[0]
+        if c.problem is not None:
+            raise source.error(c.problem[1], c.problem[0])
         reading = cell(cells, "reading") or "value"
         if reading not in READINGS:
             raise t.error(f"reading must be one of {', '.join(READINGS)}, got {reading!r}", r, col["reading"])
@@ -495,6 +505,8 @@ def mapped_table(path, mapping) -> MappedTable:
             raise source.error("no serial number (QIF: the ActualComponent's SerialNumber; DFQ: K0014)", part.where)
         cells: list = [part.serial]
         for m in mapped:
+            if m.characteristic.key in part.problems:
+                raise source.error(*reversed(part.problems[m.characteristic.key]))
             got = part.readings.get(m.characteristic.key, [])
             if len(got) != 1:
                 raise source.error(f"characteristic {m.characteristic.names[0]!r} (mapped to {m.feature!r}) is "
