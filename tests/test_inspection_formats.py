@@ -5,6 +5,7 @@ CSV reader, studies/make_inspection_fixtures.py); for the public QIF sample, the
 reading the same file independently of the xsdata bindings; for the public DFQ sample, its values as printed in
 the file.
 """
+import hashlib
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -220,6 +221,9 @@ def test_a_study_names_a_qif_file_and_its_mapping_where_it_names_a_csv(tmp_path,
                                                        DATA / "parts_qif_map.csv")])
     truth = read_part_family(DATA / "truth.csv", ["crank_1"], SPEC)
     np.testing.assert_allclose(mu.value, truth.values[[2, 0]], **TOL)
+    files = mu.files()                                  # the study's input record: the data file and its mapping
+    assert files["mapping:parts"]["path"] == str(DATA / "parts_qif_map.csv")
+    assert files["parts:parts"]["sha256"] == hashlib.sha256((DATA / "parts.qif").read_bytes()).hexdigest()
     # bad input through the CLI: one line naming the mapping's row, exit 2, no traceback
     bad = write(tmp_path / "bad_map.csv", QIF_MAP.replace("CAM_X,", "CAM_Y,"))
     study = write(tmp_path / "s.toml", _study(DATA / "parts.qif", bad))

@@ -97,6 +97,7 @@ class PartFamily:
     lines: tuple[int, ...]            # row of each part in the file
     values: np.ndarray                # [parts, columns], base units
     uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
+    mapping: tuple[str, str] | None = None   # (path, sha256) of a QIF/DFQ file's mapping
 
     def row(self, serial: str) -> int:
         return self.serials.index(serial)
@@ -219,8 +220,10 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                 unc[r, j] = units.to_base(_nonnegative(t, row, cells, ui), uunit)
             else:
                 unc[r, j] = row_u[j]
+    m = getattr(t, "mapping", None)
     return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
-                      tuple(col_units), tuple(serials), tuple(lines), values, unc)
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc,
+                      (m.file, m.sha256) if m is not None else None)
 
 
 # --------------------------------------------------------------------------- kit list
@@ -311,6 +314,8 @@ class MeasuredUnits:
         out = {"kit_list": {"path": self.kit_file, "sha256": self.kit_sha256}}
         for f in self.families:
             out[f"parts:{f.name}"] = {"path": f.file, "sha256": f.sha256}
+            if f.mapping is not None:
+                out[f"mapping:{f.name}"] = {"path": f.mapping[0], "sha256": f.mapping[1]}
         return out
 
     def to_frame(self) -> pd.DataFrame:
