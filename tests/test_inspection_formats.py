@@ -217,8 +217,8 @@ def test_a_study_names_a_qif_file_and_its_mapping_where_it_names_a_csv(tmp_path,
     study = write(tmp_path / "s.toml", _study(DATA / "parts.qif", DATA / "parts_qif_map.csv"))
     rc, err = run_cli(["check", study], capsys)
     assert rc == 0, err
-    mu = load_measured_units(SPEC, kits, [FamilySource(DATA / "parts.qif", ("crank_1",), None,
-                                                       DATA / "parts_qif_map.csv")])
+    mu = load_measured_units(SPEC, kits, [FamilySource(DATA / "parts.qif", ("crank_1",),
+                                                       mapping=DATA / "parts_qif_map.csv")])
     truth = read_part_family(DATA / "truth.csv", ["crank_1"], SPEC)
     np.testing.assert_allclose(mu.value, truth.values[[2, 0]], **TOL)
     files = mu.files()                                  # the study's input record: the data file and its mapping

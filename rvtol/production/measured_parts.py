@@ -22,7 +22,9 @@ header)::
 * **measurement uncertainty** of every feature column: the standard uncertainty u (k = 1, GUM) of
   one reading, in the column's unit — either in the row whose serial is ``uncertainty`` (one value
   for every part) or in a column ``<feature>.u`` (one per part; its own unit in brackets or the
-  feature's).  Exactly one of the two for each feature; 0 means exact;
+  feature's) — or from a **gauge study** the study names for the feature (``[[analysis.parts.gauge]]``,
+  :mod:`rvtol.production.msa`: u = √(σ²_GRR + u_cal²) of its crossed gauge R&R).  Exactly one of the three
+  for each feature; 0 means exact;
 * every cell of a part row holds a finite number (a feature measured on some parts only belongs
   in another file: one file per inspection plan).
 
@@ -55,8 +57,9 @@ import numpy as np
 import pandas as pd
 
 from .. import units
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..inputs.sheets import Table, read_table
+from .msa import Gauge
 
 SERIAL = "serial"
 REDUCER = "reducer"
@@ -97,6 +100,7 @@ class PartFamily:
     lines: tuple[int, ...]            # row of each part in the file
     values: np.ndarray                # [parts, columns], base units
     uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
+    gauges: tuple[Gauge, ...] = ()    # the gauge studies some columns' uncertainty comes from
     mapping: tuple[str, str] | None = None   # (path, sha256) of a QIF/DFQ file's mapping
 
     def row(self, serial: str) -> int:
@@ -122,9 +126,11 @@ def family_table(path, mapping=None) -> Table:
     return read_table(path, what="serial, <feature> [unit], ...")
 
 
-def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, mapping=None) -> PartFamily:
-    """Read and check one part family file (module docstring) against ``spec``'s factors; a QIF or DFQ file
-    through its ``mapping`` file (:func:`family_table`)."""
+def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, gauges: Sequence[Gauge] = (),
+                     mapping=None) -> PartFamily:
+    """Read and check one part family file (module docstring) against ``spec``'s factors; ``gauges``: gauge
+    studies giving the uncertainty of the features they name (:class:`~rvtol.production.msa.Gauge`); a QIF or
+    DFQ file through its ``mapping`` file (:func:`family_table`)."""
     t = family_table(path, mapping)
     slots = tuple(slots)
     if not slots:
@@ -166,6 +172,21 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
             raise t.error(f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}", col=i)
         u_cols[j] = (i, unit)
 
+    by_gauge: dict[int, Gauge] = {}                    # feature index -> the gauge study measuring it
+    for g in gauges:
+        for f in g.features:
+            if f not in names or names.index(f) not in features:
+                raise t.error(f"no feature column {f!r} for the gauge study {Path(g.result.file).name!r}"
+                              f"{did_you_mean(f, [names[i] for i in features])}")
+            j = features.index(names.index(f))
+            if j in by_gauge:
+                raise t.error(f"feature {f!r} has two gauge studies ({Path(by_gauge[j].result.file).name!r} and "
+                              f"{Path(g.result.file).name!r})", col=features[j])
+            if g.unit is not None and units.dimension(g.unit) != units.dimension(col_units[j]):
+                raise t.error(f"the gauge study {Path(g.result.file).name!r} reads in {g.unit!r}, which does not fit "
+                              f"the feature's unit {col_units[j]!r}", col=features[j])
+            by_gauge[j] = g
+
     ncols = len(names)
     u_row: tuple[int, list] | None = None
     parts: list[tuple[int, list]] = []
@@ -184,13 +205,21 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
     row_u = np.full(len(features), np.nan)
     for j, i in enumerate(features):
         cell = u_row[1][i] if u_row else ""
+        if j in by_gauge:
+            typed = (u_row[0], i) if cell != "" else ((None, u_cols[j][0]) if j in u_cols else None)
+            if typed is not None:
+                raise t.error(f"an uncertainty here and the gauge study {Path(by_gauge[j].result.file).name!r} for "
+                              "this feature: give one", *typed)
+            row_u[j] = units.to_base(by_gauge[j].u, by_gauge[j].unit or col_units[j])
+            continue
         if j in u_cols:
             if cell != "":
                 raise t.error(f"an uncertainty here and a column {t.cells[u_cols[j][0]]!r}: give one", u_row[0], i)
             continue
         if cell == "":
-            raise t.error(f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row or a column "
-                          f"'{names[i]}{U_SUFFIX}'", u_row[0] if u_row else None, i)
+            raise t.error(f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row, a column "
+                          f"'{names[i]}{U_SUFFIX}' or a gauge study ([[analysis.parts.gauge]])",
+                          u_row[0] if u_row else None, i)
         row_u[j] = units.to_base(_nonnegative(t, u_row[0], u_row[1], i), col_units[j])
     if u_row:
         for i, cell in enumerate(u_row[1]):
@@ -222,7 +251,7 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                 unc[r, j] = row_u[j]
     m = getattr(t, "mapping", None)
     return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
-                      tuple(col_units), tuple(serials), tuple(lines), values, unc,
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges),
                       (m.file, m.sha256) if m is not None else None)
 
 
@@ -282,6 +311,7 @@ class FamilySource:
     file: Path
     slots: tuple[str, ...]
     name: str | None = None
+    gauges: tuple[Gauge, ...] = ()                    # gauge studies giving features' uncertainty
     mapping: Path | None = None       # a QIF or DFQ file's mapping (rvtol.inputs.inspection)
 
 
@@ -316,7 +346,14 @@ class MeasuredUnits:
             out[f"parts:{f.name}"] = {"path": f.file, "sha256": f.sha256}
             if f.mapping is not None:
                 out[f"mapping:{f.name}"] = {"path": f.mapping[0], "sha256": f.mapping[1]}
+            for g in f.gauges:
+                out[f"gauge:{f.name}:{Path(g.result.file).name}"] = {"path": g.result.file, "sha256": g.result.sha256}
         return out
+
+    def gauge_frame(self) -> pd.DataFrame | None:
+        """One row per gauge study (family, features, the gauge R&R figures, u), None without gauge studies."""
+        rows = [{"family": f.name, **g.row()} for f in self.families for g in f.gauges]
+        return pd.DataFrame(rows) if rows else None
 
     def to_frame(self) -> pd.DataFrame:
         """One row per reducer: serial, number of measured factors, the part serial in every slot."""
@@ -329,7 +366,7 @@ class MeasuredUnits:
 
 def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> MeasuredUnits:
     """Read the part families and the kit list; every reducer's measured factors (module docstring)."""
-    fams = [read_part_family(f.file, f.slots, spec, f.name, f.mapping) for f in families]
+    fams = [read_part_family(f.file, f.slots, spec, f.name, f.gauges, f.mapping) for f in families]
     names = [f.name for f in fams]
     dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
     if dup is not None:
