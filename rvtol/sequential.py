@@ -1,0 +1,174 @@
+"""Sequential sign-off: decide a requirement from samples looked at batch after batch, at its confidence.
+
+A fixed-n bound (Clopper–Pearson, :func:`rvtol.stats.proportion_lower_bound`) holds at the one n it was
+planned for.  A run that looks after every batch and stops the first time that bound crosses the
+requirement makes a wrong PASS far more often than 1 − c (``studies/sequential.md``: 5 % becomes 20–30 %
+over 20 looks).  The rule here holds at every n at once, so the run may look as often as it likes and stop
+whenever it likes:
+
+**Evidence for a proportion above p₀** (a yield above the required one; a share of the units below a
+median's limit above ½).  With x₁, x₂, … ∈ {0, 1}, S successes and F failures in n, the mixture
+likelihood ratio of the alternatives q > p₀ against p₀ is
+
+    M_n(p₀) = ∫_{p₀}^1 (q/p₀)^S ((1 − q)/(1 − p₀))^F π(q) dq / ∫_{p₀}^1 π(q) dq,
+
+π the Beta(a, b) density.  Each integrand is a nonnegative supermartingale with initial value 1 under
+any true p ≤ p₀ (one step multiplies it by p q/p₀ + (1 − p)(1 − q)/(1 − p₀), which is 1 at p = p₀ and
+increases with p when q > p₀), so their fixed mixture M_n is one too, and by Ville's inequality
+
+    P(M_n(p₀) ≥ 1/α for some n) ≤ α        whenever p ≤ p₀
+
+(J. Ville, *Étude critique de la notion de collectif*, 1939; the mixture martingale of H. Robbins,
+"Statistical methods related to the law of the iterated logarithm", Ann. Math. Stat. 41 (1970)
+1397–1409; S. R. Howard, A. Ramdas, J. McAuliffe, J. Sekhon, "Time-uniform, nonparametric,
+nonasymptotic confidence sequences", Ann. Stat. 49 (2021) 1055–1080, §3 — their one-sided
+conjugate mixtures are this construction).  "M_n ≥ 1/α" is the sequential test of H₀: p ≤ p₀ at
+level α whatever the stopping rule, the number of looks or the batch sizes.  Conjugacy gives the
+closed form (B the beta function, I_x the regularised incomplete beta function):
+
+    M_n(p₀) = B(a + S, b + F)/B(a, b) · [1 − I_{p₀}(a + S, b + F)] / [1 − I_{p₀}(a, b)] / (p₀^S (1 − p₀)^F).
+
+The mixing prior decides *where* the rule is efficient, not whether it is valid.  It is the conjugate
+prior centred on p₀ with ``tune_n`` pseudo-observations, Beta(p₀ m, (1 − p₀) m), m = ``tune_n``: its
+spread above p₀ is the standard error of a proportion at n = m, so the alternatives it weighs are
+those the run can resolve near m samples (Howard et al. 2021, §3.5, tune the mixture to the sample size
+where the boundary should be tightest).  A run tunes it to the study's ``n``.
+
+The decisions of :func:`judge_yield` and :func:`judge_median` use this one function:
+
+* yield ≥ p₀: PASS when the evidence that the conforming share exceeds p₀ reaches 1/α, FAIL when the
+  evidence that the non-conforming share exceeds 1 − p₀ does (a sample the model could not evaluate
+  counts as non-conforming, as in :func:`rvtol.verdict.judge`), CONTINUE otherwise;
+* median in [L, U]: median ≤ U is demonstrated by evidence that P(Y ≤ U) > ½, median > U by evidence that
+  P(Y > U) > ½ (and likewise at L); a sample the model could not evaluate is counted against the claim
+  being made (it may lie anywhere), so each claim's error stays ≤ α.  PASS needs every limit's claim
+  (the intersection–union principle, as :func:`rvtol.verdict.judge_statistic`), FAIL any one limit's
+  opposite claim.
+
+α = 1 − :func:`rvtol.verdict.bound_level`: the same level a fixed-n verdict of the requirement uses.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import special
+
+#: the three outcomes of a look: demonstrated, demonstrated not to hold, not yet decided
+PASS, FAIL, CONTINUE = "PASS", "FAIL", "CONTINUE"
+
+
+def mixture_prior(p0: float, tune_n: float) -> tuple[float, float]:
+    """The mixing prior Beta(a, b) = Beta(p₀ m, (1 − p₀) m) of the evidence for a proportion above ``p0``, tuned to
+    ``m = tune_n`` samples (module docstring)."""
+    if not 0.0 < p0 < 1.0:
+        raise ValueError(f"p0 must lie in (0, 1), got {p0!r}")
+    if not tune_n > 0:
+        raise ValueError(f"tune_n must be > 0, got {tune_n!r}")
+    return p0 * tune_n, (1.0 - p0) * tune_n
+
+
+def log_evidence(successes, n, p0: float, tune_n: float):
+    """ln M_n(p₀): the log mixture likelihood ratio for "the success probability exceeds ``p0``" after ``successes``
+    in ``n`` trials (closed form of the module docstring; arrays broadcast).  Under any p ≤ p₀ the probability that
+    it *ever* reaches ln(1/α) is at most α."""
+    a, b = mixture_prior(p0, tune_n)
+    s = np.asarray(successes, dtype=float)
+    f = np.asarray(n, dtype=float) - s
+    return (special.betaln(a + s, b + f) - special.betaln(a, b)
+            + log_beta_sf(p0, a + s, b + f) - log_beta_sf(p0, a, b)
+            - s * math.log(p0) - f * math.log1p(-p0))
+
+
+#: below this, 1 − I_x(a, b) is taken from its series (:func:`log_beta_sf`): the regularised function loses digits
+#: as it nears the smallest double (and is 0 beyond it)
+_SF_SERIES_BELOW = 1e-250
+
+
+def log_beta_sf(x: float, a, b):
+    """ln(1 − I_x(a, b)), the log upper tail of Beta(a, b) at ``x`` (arrays ``a``, ``b`` broadcast), finite however
+    far the tail.
+
+    Where the tail is not tiny, the log of ``scipy.special.betaincc``; where it is (below 1e-250: then x lies far
+    above the mean a/(a + b)), the hypergeometric series of the tail (Abramowitz & Stegun 26.5.23 with 15.1.1,
+    written for the upper tail), summed in double precision:
+
+        1 − I_x(a, b) = x^a (1 − x)^b / (b B(a, b)) · Σ_k t_k,   t_0 = 1,   t_{k+1} = t_k (a + b + k)(1 − x)/(b + 1 + k),
+
+    whose ratio (a + b + k)(1 − x)/(b + 1 + k) stays below (a + b)(1 − x)/(b + 1) < 1 there: positive terms
+    falling at least geometrically (no cancellation)."""
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    sf = special.betaincc(a, b, x)
+    out = np.empty(a.shape)
+    far = sf < _SF_SERIES_BELOW
+    with np.errstate(divide="ignore"):
+        out[~far] = np.log(sf[~far])
+    if far.any():
+        af, bf = a[far], b[far]
+        z = 1.0 - x
+        total, term, k = np.ones_like(af), np.ones_like(af), 0
+        while True:
+            term = term * (af + bf + k) * z / (bf + 1.0 + k)
+            total += term
+            k += 1
+            if np.all(term <= 1e-17 * total):
+                break
+        out[far] = (af * math.log(x) + bf * math.log1p(-x) - np.log(bf) - special.betaln(af, bf) + np.log(total))
+    return out if out.ndim else float(out)
+
+
+def evidence_reached(successes, n, p0: float, alpha: float, tune_n: float):
+    """True where the evidence for "success probability > ``p0``" has reached 1/``alpha`` (arrays broadcast)."""
+    return log_evidence(successes, n, p0, tune_n) >= -math.log(alpha)
+
+
+@dataclass
+class Look:
+    """One requirement at one look: its state (PASS / FAIL / CONTINUE), the sample size, and the evidence of each
+    claim the rule weighs (the e-value M_n, to reach ``threshold`` = 1/α)."""
+
+    state: str
+    n: int
+    threshold: float
+    evidence: dict[str, float] = field(default_factory=dict)
+
+
+def _evidence(claims: dict[str, tuple[int, float]], n: int, alpha: float, tune_n: float) -> dict[str, float]:
+    """Each claim's e-value: ``claims`` maps its name to (successes, p₀)."""
+    return {name: float(np.exp(log_evidence(k, n, p0, tune_n))) for name, (k, p0) in claims.items()}
+
+
+def judge_yield(conforming: int, n: int, min_yield: float, alpha: float, tune_n: float) -> Look:
+    """PASS / FAIL / CONTINUE of "yield ≥ ``min_yield``" from ``conforming`` of ``n`` samples (a failed evaluation
+    counts as non-conforming): PASS when the evidence for yield > p₀ reaches 1/α, FAIL when the evidence for
+    non-conforming share > 1 − p₀ does (module docstring)."""
+    claims = {"yield above": (conforming, min_yield), "yield below": (n - conforming, 1.0 - min_yield)}
+    ev = _evidence(claims, n, alpha, tune_n)
+    state = PASS if ev["yield above"] >= 1 / alpha else FAIL if ev["yield below"] >= 1 / alpha else CONTINUE
+    return Look(state, n, 1.0 / alpha, ev)
+
+
+def judge_median(y, ok, lower: float | None, upper: float | None, alpha: float, tune_n: float) -> Look:
+    """PASS / FAIL / CONTINUE of "median in [``lower``, ``upper``]" from the outputs ``y`` (NaN allowed where ``ok``
+    is False: a failed evaluation) — module docstring.  Distribution-free: it needs only that the samples are
+    independent draws."""
+    y = np.asarray(y, dtype=float)
+    ok = np.asarray(ok, dtype=bool)
+    n = int(y.size)
+    claims = {}
+    with np.errstate(invalid="ignore"):
+        if upper is not None:
+            claims["median ≤ upper"] = (int(np.sum(ok & (y <= upper))), 0.5)
+            claims["median > upper"] = (int(np.sum(ok & (y > upper))), 0.5)
+        if lower is not None:
+            claims["median ≥ lower"] = (int(np.sum(ok & (y >= lower))), 0.5)
+            claims["median < lower"] = (int(np.sum(ok & (y < lower))), 0.5)
+    ev = _evidence(claims, n, alpha, tune_n)
+    t = 1.0 / alpha
+    inside = [k for k in ev if "≤" in k or "≥" in k]
+    if all(ev[k] >= t for k in inside):
+        return Look(PASS, n, t, ev)
+    if any(ev[k] >= t for k in ev if k not in inside):
+        return Look(FAIL, n, t, ev)
+    return Look(CONTINUE, n, t, ev)
