@@ -172,3 +172,107 @@ def judge_median(y, ok, lower: float | None, upper: float | None, alpha: float, 
     if any(ev[k] >= t for k in ev if k not in inside):
         return Look(FAIL, n, t, ev)
     return Look(CONTINUE, n, t, ev)
+
+
+# --------------------------------------------------------------------------- a requirement at a look, a run's stop
+def unsupported(r) -> str | None:
+    """Why the sequential rule cannot decide requirement ``r`` (None: it can) — a reason for an error line."""
+    if r.statistic == "mean":
+        return ("a mean's band has no distribution-free anytime-valid interval here (a median's has): judge the median, "
+                "or run a fixed n")
+    if r.min_cpk is not None:
+        return ("a minimum Cpk has no anytime-valid bound here: ask the yield it stands for (min_yield; Cpk c of a "
+                "normal output is the yield 2Φ(3c) − 1 between two limits), or run a fixed n")
+    return None
+
+
+def look_at(r, y, ok, tune_n: float) -> Look:
+    """Requirement ``r`` (limits in the units of ``y``) at one look: its outputs ``y`` so far and which were evaluated
+    (``ok``).  A yield or a median by the anytime-valid rule at α = 1 − :func:`rvtol.verdict.bound_level`; a yield
+    with ``basis = "estimate"`` (no confidence claimed) by its estimate, decided at once."""
+    from .stats import conforming
+    from .verdict import bound_level
+
+    alpha = 1.0 - bound_level(r)
+    if r.statistic == "median":
+        return judge_median(y, ok, r.lower, r.upper, alpha, tune_n)
+    n = len(y)
+    k = int(conforming(y, ok, r.lower, r.upper).sum())
+    if r.basis == "estimate":
+        return Look(PASS if k / n >= r.min_yield else FAIL, n, 1.0 / alpha, {})
+    return judge_yield(k, n, r.min_yield, alpha, tune_n)
+
+
+#: how the report names the rule
+RULE = ("anytime-valid sequential rule (beta-mixture likelihood ratio ≥ 1/α, Ville's inequality: the error rate holds "
+        "under any number of looks)")
+
+
+@dataclass
+class Stopping:
+    """How a sequential run (:func:`rvtol.mc.run_until_decided`) went: batches of ``batch`` samples up to ``max_n``,
+    the mixture tuned to ``tune_n``; the sample size at each look, each requirement's first decision (its look and
+    :class:`Look`: a decision is kept once made — Ville's inequality bounds the chance it is *ever* wrong) and each
+    requirement's last look."""
+
+    batch: int
+    max_n: int
+    tune_n: float
+    looks: list[int] = field(default_factory=list)
+    decided: dict[str, tuple[int, Look]] = field(default_factory=dict)
+    last: dict[str, Look] = field(default_factory=dict)
+
+    def look(self, n: int, states: dict[str, Look]) -> None:
+        """Record a look at ``n`` samples: each requirement label's :class:`Look`."""
+        self.looks.append(n)
+        self.last = dict(states)
+        for label, lk in states.items():
+            if label not in self.decided and lk.state != CONTINUE:
+                self.decided[label] = (len(self.looks), lk)
+
+    @property
+    def n(self) -> int:
+        return self.looks[-1] if self.looks else 0
+
+    @property
+    def all_decided(self) -> bool:
+        return len(self.decided) == len(self.last)
+
+    @property
+    def finished(self) -> bool:
+        return self.all_decided or self.n >= self.max_n
+
+    def describe(self) -> str:
+        """One sentence: when and why the run stopped."""
+        how = ("every requirement decided" if self.all_decided else
+               f"the budget max_n = {self.max_n:,} reached with {len(self.last) - len(self.decided)} requirement(s) "
+               "undecided")
+        return (f"sequential run: stopped at n = {self.n:,} after {len(self.looks)} look(s) (batches of "
+                f"{self.batch:,}, budget {self.max_n:,}): {how} — {RULE}")
+
+    def why(self, label: str) -> str:
+        """A requirement's sequential verdict in words."""
+        if label in self.decided:
+            i, lk = self.decided[label]
+            return (f"{'demonstrated' if lk.state == PASS else 'failure demonstrated'} at look {i} (n = {lk.n:,}) "
+                    f"by the sequential rule: {_evidence_text(lk)}")
+        lk = self.last[label]
+        return (f"not decided within the budget max_n = {self.max_n:,} ({len(self.looks)} looks): "
+                f"{_evidence_text(lk)} — a larger max_n would continue it")
+
+    def to_dict(self) -> dict:
+        return {"rule": RULE, "batch": self.batch, "max_n": self.max_n, "tune_n": self.tune_n, "n": self.n,
+                "looks": list(self.looks), "stopped": "decided" if self.all_decided else "budget",
+                "requirements": {label: {"state": (self.decided[label][1].state if label in self.decided
+                                                   else CONTINUE),
+                                         "look": self.decided[label][0] if label in self.decided else None,
+                                         "n": self.decided[label][1].n if label in self.decided else None,
+                                         "evidence": (self.decided.get(label, (0, lk))[1].evidence),
+                                         "threshold": lk.threshold}
+                                 for label, lk in self.last.items()}}
+
+
+def _evidence_text(lk: Look) -> str:
+    if not lk.evidence:
+        return "judged on its estimate (basis = \"estimate\")"
+    return ", ".join(f"evidence {k} {v:.3g}" for k, v in lk.evidence.items()) + f" (decides at 1/α = {lk.threshold:g})"

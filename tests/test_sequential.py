@@ -129,3 +129,70 @@ def test_judge_median_counts_failed_samples_against_each_claim():
     look = sq.judge_median(np.where(bad, y, np.nan), bad, None, 0.5, ALPHA, 400)
     assert look.state == sq.CONTINUE
     assert look.evidence["median ≤ upper"] < sq.judge_median(y, ok, None, 0.5, ALPHA, 400).evidence["median ≤ upper"]
+
+
+# --------------------------------------------------------------------------- the sequential run
+def _one_factor():
+    from rvtol.model import LinearModel, Quantity
+    from rvtol.spec import spec_from_table
+
+    spec = spec_from_table({"factor": [{"name": "a", "unit": "mm", "dist": "normal", "mean": 0.0, "sigma": 1.0},
+                                       {"name": "b", "unit": "mm", "dist": "uniform", "lower": -0.1, "upper": 0.1}]},
+                           file="t.toml")
+    return spec, LinearModel(spec.names, ["mm"] * 2, [Quantity("y", "mm", "mm")], [[1.0, 0.0]], [0.0])
+
+
+def test_run_until_decided_stops_when_every_requirement_is_decided():
+    """y = a ~ N(0, 1): y ≤ 4 (yield 0.99997) is demonstrated, y ≤ 2 (0.977) demonstrated to fail, both long before
+    the budget; the samples are the fixed-n random design's of the same seed bit for bit, and the sequential
+    verdicts replace the fixed-n ones."""
+    from rvtol.mc import run_monte_carlo, run_until_decided
+    from rvtol.spec import Requirement
+
+    spec, model = _one_factor()
+    reqs = [Requirement("y", upper=4.0, min_yield=0.9973, name="wide"),
+            Requirement("y", upper=2.0, min_yield=0.9973, name="narrow")]
+    r = run_until_decided(model, spec, 500, 50_000, seed=7, requirements=reqs, progress=False)
+    stop = r.stopping
+    assert stop.all_decided and stop.n == r.n < 50_000 and r.n % 500 == 0 and stop.looks == list(range(500, r.n + 1, 500))
+    assert {v.requirement.label: v.state for v in r.verdicts()} == {"wide": "PASS", "narrow": "FAIL"}
+    assert stop.decided["narrow"][0] < stop.decided["wide"][0]      # a 2 % shortfall shows before a clean pass
+    fixed = run_monte_carlo(model, spec, r.n, "random", seed=7, progress=False)
+    assert np.array_equal(r.samples.values, fixed.samples.values) and np.array_equal(r.Y, fixed.Y)
+    narrow = next(v for v in r.verdicts() if v.requirement.label == "narrow")
+    assert "failure demonstrated at look" in narrow.reasons[0]
+
+
+def test_run_until_decided_ends_undecided_at_the_budget():
+    """A yield on the requirement itself (Φ(2.7822) = 0.9973) is not decided by 4 looks of 500: UNDECIDED, and the
+    reason says the budget ended it."""
+    from rvtol.mc import run_until_decided
+    from rvtol.spec import Requirement
+
+    spec, model = _one_factor()
+    r = run_until_decided(model, spec, 500, 2000, seed=1, requirements=[Requirement("y", upper=2.7822)],
+                          progress=False)
+    (v,) = r.verdicts()
+    assert r.n == 2000 and r.stopping.looks == [500, 1000, 1500, 2000] and not r.stopping.all_decided
+    assert v.state == "UNDECIDED" and "not decided within the budget max_n = 2,000" in v.reasons[0]
+    assert r.stopping.to_dict()["stopped"] == "budget"
+
+
+def test_run_until_decided_is_bit_identical_across_chunkings_and_resumes_from_its_chunks(tmp_path):
+    """Another chunking (as another executor or worker count makes: :func:`rvtol.mc.evaluate` reassembles chunks by
+    index, ``tests/test_mc_engine.py``) gives the same bits and looks; a rerun on the same checkpoint folder redraws
+    the same batches and evaluates nothing."""
+    from rvtol.checkpoint import ChunkStore
+    from rvtol.mc import run_until_decided
+    from rvtol.spec import Requirement
+
+    spec, model = _one_factor()
+    reqs = [Requirement("y", upper=3.6, min_yield=0.999)]
+    first = ChunkStore(tmp_path)
+    ref = run_until_decided(model, spec, 400, 20_000, seed=3, requirements=reqs, progress=False, store=first)
+    other = run_until_decided(model, spec, 400, 20_000, seed=3, requirements=reqs, chunk_size=97, progress=False)
+    assert np.array_equal(other.Y, ref.Y) and other.stopping.looks == ref.stopping.looks
+    again = ChunkStore(tmp_path)
+    res = run_until_decided(model, spec, 400, 20_000, seed=3, requirements=reqs, progress=False, store=again)
+    assert first.saved > 0 and again.reused == first.saved and again.saved == 0
+    assert np.array_equal(res.Y, ref.Y) and res.stopping.looks == ref.stopping.looks
