@@ -134,9 +134,14 @@ class Look:
     evidence: dict[str, float] = field(default_factory=dict)
 
 
+#: the largest e-value recorded (a finite number for JSON; any e-value this large decides at any confidence)
+EVIDENCE_CAP = 1e300
+
+
 def _evidence(claims: dict[str, tuple[int, float]], n: int, alpha: float, tune_n: float) -> dict[str, float]:
-    """Each claim's e-value: ``claims`` maps its name to (successes, p₀)."""
-    return {name: float(np.exp(log_evidence(k, n, p0, tune_n))) for name, (k, p0) in claims.items()}
+    """Each claim's e-value (at most :data:`EVIDENCE_CAP`): ``claims`` maps its name to (successes, p₀)."""
+    return {name: float(np.exp(min(float(log_evidence(k, n, p0, tune_n)), math.log(EVIDENCE_CAP))))
+            for name, (k, p0) in claims.items()}
 
 
 def judge_yield(conforming: int, n: int, min_yield: float, alpha: float, tune_n: float) -> Look:

@@ -196,3 +196,76 @@ def test_run_until_decided_is_bit_identical_across_chunkings_and_resumes_from_it
     res = run_until_decided(model, spec, 400, 20_000, seed=3, requirements=reqs, progress=False, store=again)
     assert first.saved > 0 and again.reused == first.saved and again.saved == 0
     assert np.array_equal(res.Y, ref.Y) and res.stopping.looks == ref.stopping.looks
+
+
+# --------------------------------------------------------------------------- the study keys and the command line
+STUDY = """[study]
+name = "t"
+[sampling]
+n = 200
+seed = 1
+{sampling}
+[execution]
+executor = "serial"
+[[factor]]
+name = "a"
+unit = "mm"
+dist = "normal"
+mean = 1.0
+tolerance = 0.1
+[model]
+kind = "formula"
+[[model.output]]
+name = "y"
+formula = "a"
+unit = "mm"
+[[requirement]]
+name = "r"
+output = "y"
+upper = 1.2
+{requirement}
+"""
+
+
+def _cli(tmp_path, capsys, args, sampling="", requirement=""):
+    from rvtol.cli import main
+
+    p = tmp_path / "t.toml"
+    p.write_text(STUDY.format(sampling=sampling, requirement=requirement), encoding="utf-8")
+    rc = main([str(a) for a in [args[0], p, *args[1:]]])
+    return rc, capsys.readouterr().err, p
+
+
+@pytest.mark.parametrize("args,sampling,requirement,where,message", [
+    (["check"], "until_decided = true\nmethod = \"lhs\"", "", "sampling.method", "a sequential run draws independent "
+     "random samples, batch after batch (the anytime-valid rule assumes independent draws; a lhs design is neither "
+     "independent nor extendable): method = \"random\", or leave it out"),
+    (["run", "--until-decided", "--method", "sobol"], "", "", "--method", "a sequential run draws independent"),
+    (["check"], "max_n = 1000", "", "sampling.max_n", "max_n is the budget of a sequential run: set until_decided = "
+     "true (or --until-decided), or drop it"),
+    (["run", "--max-n", "1000"], "", "", "--max-n", "max_n is the budget of a sequential run"),
+    (["run", "--until-decided", "--max-n", "100"], "", "", "--max-n",
+     "the budget max_n = 100 is smaller than one batch (n = 200)"),
+    (["check"], "until_decided = true", "min_cpk = 1.33", "requirement[0]",
+     "until_decided: a minimum Cpk has no anytime-valid bound here"),
+    (["check"], "until_decided = true", "statistic = \"mean\"", "requirement[0]",
+     "until_decided: a mean's band has no distribution-free anytime-valid interval here"),
+])
+def test_a_sequential_run_it_cannot_do_is_refused_in_one_line(tmp_path, capsys, args, sampling, requirement, where,
+                                                                message):
+    rc, err, p = _cli(tmp_path, capsys, args, sampling, requirement)
+    file = "<command line>" if where.startswith("--") else str(p)
+    assert rc == 2 and err.startswith(f"rvtol: error: {file}: {where}: {message}") and err.count("\n") == 1
+
+
+def test_the_study_keys_and_the_flags_give_the_same_sequential_options(tmp_path):
+    from rvtol.study import MAX_N_PER_BATCH, load_study
+
+    p = tmp_path / "t.toml"
+    p.write_text(STUDY.format(sampling="until_decided = true\nmax_n = 5000", requirement=""), encoding="utf-8")
+    o = load_study(p).options
+    assert (o.until_decided, o.max_n, o.method) == (True, 5000, "random")
+    p.write_text(STUDY.format(sampling="", requirement=""), encoding="utf-8")
+    o = load_study(p, until_decided=True).options
+    assert (o.until_decided, o.max_n, o.method) == (True, MAX_N_PER_BATCH * 200, "random")
+    assert load_study(p).options.method == "lhs" and not load_study(p).options.until_decided
