@@ -269,3 +269,19 @@ def test_the_study_keys_and_the_flags_give_the_same_sequential_options(tmp_path)
     o = load_study(p, until_decided=True).options
     assert (o.until_decided, o.max_n, o.method) == (True, MAX_N_PER_BATCH * 200, "random")
     assert load_study(p).options.method == "lhs" and not load_study(p).options.until_decided
+
+
+def test_run_until_decided_judges_a_median_band():
+    """The median of N(0, 1) inside [-0.3, 0.3] is demonstrated (P(y ≤ 0.3) = 0.618 > ½), inside [0.2, 1] is
+    demonstrated not to be (P(y < 0.2) = 0.579 > ½), by the same rule at p₀ = ½."""
+    from rvtol.mc import run_until_decided
+    from rvtol.spec import Requirement
+
+    spec, model = _one_factor()
+    reqs = [Requirement("y", lower=-0.3, upper=0.3, statistic="median", name="centred"),
+            Requirement("y", lower=0.2, upper=1.0, statistic="median", name="shifted")]
+    r = run_until_decided(model, spec, 200, 20_000, seed=5, requirements=reqs, progress=False)
+    assert {v.requirement.label: v.state for v in r.verdicts()} == {"centred": "PASS", "shifted": "FAIL"}
+    assert r.stopping.all_decided and r.n < 20_000
+    assert set(r.stopping.decided["shifted"][1].evidence) == {"median ≤ upper", "median > upper", "median ≥ lower",
+                                                              "median < lower"}
