@@ -611,7 +611,7 @@ def check_sequential(study: "Study") -> None:
             raise SpecError(f"until_decided: {why}", file=r.file or study.file,
                             key=r.key or f"requirement {r.label!r}")
     for f in study.spec.factors:
-        if f.measured is not None:
+        if f.measured is not None and f.measured.fit is not None:
             raise SpecError("until_decided: a factor fitted to measured parts carries its fit's uncertainty, which more "
                             "samples cannot decide (the sequential rule judges the Monte Carlo's alone): run a fixed n",
                             file=study.spec.file or study.file, key=f"factor {f.name!r}")

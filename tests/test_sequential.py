@@ -285,3 +285,24 @@ def test_run_until_decided_judges_a_median_band():
     assert r.stopping.all_decided and r.n < 20_000
     assert set(r.stopping.decided["shifted"][1].evidence) == {"median ≤ upper", "median > upper", "median ≥ lower",
                                                               "median < lower"}
+
+
+@pytest.mark.parametrize("method,refused", [("fit", True), ("empirical", False)])
+def test_a_sequential_run_refuses_a_fitted_measured_factor(tmp_path, capsys, method, refused):
+    """A law fitted to measured parts carries the fit's uncertainty, which more samples cannot decide; the data's own
+    empirical law carries none (as in a fixed run) and is sampled like any factor."""
+    from rvtol.cli import main
+
+    (tmp_path / "cmm.csv").write_text("d\n" + "\n".join(f"{1 + 0.01 * math.sin(i):.5f}" for i in range(40)) + "\n",
+                                      encoding="utf-8")
+    study = STUDY.format(sampling="until_decided = true", requirement="").replace(
+        'dist = "normal"\nmean = 1.0\ntolerance = 0.1', f'dist = "measured"\ndata = "cmm.csv"\nmethod = "{method}"')
+    p = tmp_path / "t.toml"
+    p.write_text(study, encoding="utf-8")
+    rc = main(["check", str(p)])
+    err = capsys.readouterr().err
+    if refused:
+        assert rc == 2 and err.startswith(f"rvtol: error: {p}: factor 'a': until_decided: a factor fitted to measured "
+                                          "parts carries its fit's uncertainty")
+    else:
+        assert rc == 0, err
