@@ -34,11 +34,25 @@ spread above p₀ is the standard error of a proportion at n = m, so the alterna
 those the run can resolve near m samples (Howard et al. 2021, §3.5, tune the mixture to the sample size
 where the boundary should be tightest).  A run tunes it to the study's ``n``.
 
-The decisions of :func:`judge_yield` and :func:`judge_median` use this one function:
+The decisions of :func:`judge_yield` and :func:`judge_median` use this one function, :func:`judge_mean` a second mixture:
 
 * yield ≥ p₀: PASS when the evidence that the conforming share exceeds p₀ reaches 1/α, FAIL when the
   evidence that the non-conforming share exceeds 1 − p₀ does (a sample the model could not evaluate
   counts as non-conforming, as in :func:`rvtol.verdict.judge`), CONTINUE otherwise;
+* mean in [L, U] (a normal output, as the fixed-n verdict's Student t assumes): the scale-invariant mixture
+  Bayes factor of the one-sample t-test, δ = (μ − μ₀)/σ ~ N(0, g) against δ = 0 and σ under the right-Haar prior
+  dσ/σ on both, is a function of t alone (ν = n − 1),
+
+      BF_n(μ₀) = (1 + n g)^(−1/2) · [(1 + t²/ν) / (1 + t²/(ν(1 + n g)))]^(n/2),   t = √n (ȳ − μ₀)/s,
+
+  (J. N. Rouder et al., Psychon. Bull. Rev. 16 (2009) 225, eq. 1 at a fixed g) and a nonnegative martingale under
+  μ = μ₀ in the filtration of the scale-invariant statistics (T. L. Lai, "On confidence sequences", Ann. Stat. 4
+  (1976) 265–280; H. Wang & A. Ramdas, "Anytime-valid t-tests and confidence sequences for Gaussian means with
+  unknown variance", Sequential Analysis 2025), so {μ₀ : BF_n(μ₀) < 1/α} covers μ at every n at once with
+  probability ≥ 1 − α.  Solving BF_n = 1/α for t² gives the interval ȳ ± s √(ν u / n), u = (R − 1)/(1 − R/(1 + n g)),
+  R = (√(1 + n g)/α)^(2/n) (unbounded while R ≥ 1 + n g).  PASS when it lies inside the band, FAIL when it lies
+  wholly outside; g = x/m with x the root of x = 2 ln(1/α) + ln(1 + x), which makes the interval narrowest at n = m;
+  a sample the model could not evaluate leaves the mean unbounded (as in :func:`rvtol.verdict.statistic_interval`);
 * median in [L, U]: median ≤ U is demonstrated by evidence that P(Y ≤ U) > ½, median > U by evidence that
   P(Y > U) > ½ (and likewise at L); a sample the model could not evaluate is counted against the claim
   being made (it may lie anywhere), so each claim's error stays ≤ α.  PASS needs every limit's claim
@@ -126,12 +140,14 @@ def evidence_reached(successes, n, p0: float, alpha: float, tune_n: float):
 @dataclass
 class Look:
     """One requirement at one look: its state (PASS / FAIL / CONTINUE), the sample size, and the evidence of each
-    claim the rule weighs (the e-value M_n, to reach ``threshold`` = 1/α)."""
+    claim the rule weighs (the e-value M_n, to reach ``threshold`` = 1/α) — or, for a mean, its anytime-valid
+    ``interval`` (None: not bounded yet)."""
 
     state: str
     n: int
     threshold: float
     evidence: dict[str, float] = field(default_factory=dict)
+    interval: tuple[float, float] | None = None
 
 
 #: the largest e-value recorded (a finite number for JSON; any e-value this large decides at any confidence)
@@ -179,12 +195,55 @@ def judge_median(y, ok, lower: float | None, upper: float | None, alpha: float, 
     return Look(CONTINUE, n, t, ev)
 
 
+def effect_prior_variance(alpha: float, tune_n: float) -> float:
+    """g of the mean's mixture (module docstring): x/m, x the root of x = 2 ln(1/α) + ln(1 + x) — at n = m the
+    half-width ∝ √((1 + x)/x · (2 ln(1/α) + ln(1 + x))) is smallest there (its derivative in ln x vanishes)."""
+    x = 2.0 * math.log(1.0 / alpha)
+    for _ in range(60):
+        x = 2.0 * math.log(1.0 / alpha) + math.log1p(x)
+    return x / tune_n
+
+
+def log_t_evidence(t2, n, g):
+    """ln BF_n of the mean's mixture (module docstring) from t² and n ≥ 2 (arrays broadcast)."""
+    n = np.asarray(n, dtype=float)
+    nu = n - 1.0
+    return -0.5 * np.log1p(n * g) + 0.5 * n * (np.log1p(t2 / nu) - np.log1p(t2 / (nu * (1.0 + n * g))))
+
+
+def mean_halfwidth(s: float, n: int, alpha: float, tune_n: float) -> float | None:
+    """Half-width of the anytime-valid interval ȳ ± h of a normal mean from the standard deviation ``s`` of ``n``
+    values (module docstring); None while it is unbounded."""
+    if n < 2:
+        return None
+    g = effect_prior_variance(alpha, tune_n)
+    ng = n * g
+    log_r = (2.0 / n) * (0.5 * math.log1p(ng) - math.log(alpha))
+    if log_r >= math.log1p(ng):
+        return None
+    r = math.exp(log_r)
+    u = (r - 1.0) / (1.0 - r / (1.0 + ng))
+    return s * math.sqrt((n - 1) * u / n)
+
+
+def judge_mean(y, ok, lower: float | None, upper: float | None, alpha: float, tune_n: float) -> Look:
+    """PASS / FAIL / CONTINUE of "mean in [``lower``, ``upper``]" from the outputs ``y`` (``ok``: evaluated) — module
+    docstring; a failed evaluation leaves the mean unbounded (CONTINUE)."""
+    y = np.asarray(y, dtype=float)
+    n = int(y.size)
+    h = None if not np.all(ok) or n < 2 else mean_halfwidth(float(np.std(y, ddof=1)), n, alpha, tune_n)
+    if h is None:
+        return Look(CONTINUE, n, 1.0 / alpha)
+    m = float(np.mean(y))
+    lo, hi = m - h, m + h
+    inside = (lower is None or lo >= lower) and (upper is None or hi <= upper)
+    outside = (lower is not None and hi < lower) or (upper is not None and lo > upper)
+    return Look(PASS if inside else FAIL if outside else CONTINUE, n, 1.0 / alpha, interval=(lo, hi))
+
+
 # --------------------------------------------------------------------------- a requirement at a look, a run's stop
 def unsupported(r) -> str | None:
     """Why the sequential rule cannot decide requirement ``r`` (None: it can) — a reason for an error line."""
-    if r.statistic == "mean":
-        return ("a mean's band has no distribution-free anytime-valid interval here (a median's has): judge the median, "
-                "or run a fixed n")
     if r.min_cpk is not None:
         return ("a minimum Cpk has no anytime-valid bound here: ask the yield it stands for (min_yield; Cpk c of a "
                 "normal output is the yield 2Φ(3c) − 1 between two limits), or run a fixed n")
@@ -201,6 +260,8 @@ def look_at(r, y, ok, tune_n: float) -> Look:
     alpha = 1.0 - bound_level(r)
     if r.statistic == "median":
         return judge_median(y, ok, r.lower, r.upper, alpha, tune_n)
+    if r.statistic == "mean":
+        return judge_mean(y, ok, r.lower, r.upper, alpha, tune_n)
     n = len(y)
     k = int(conforming(y, ok, r.lower, r.upper).sum())
     if r.basis == "estimate":
@@ -273,11 +334,20 @@ class Stopping:
                                          "look": self.decided[label][0] if label in self.decided else None,
                                          "n": self.decided[label][1].n if label in self.decided else None,
                                          "evidence": (self.decided.get(label, (0, lk))[1].evidence),
+                                         "interval": _interval(self.decided.get(label, (0, lk))[1]),
                                          "threshold": lk.threshold}
                                  for label, lk in self.last.items()}}
 
 
+def _interval(lk: Look) -> list[float] | None:
+    return None if lk.interval is None else [float(v) for v in lk.interval]
+
+
 def _evidence_text(lk: Look) -> str:
+    if lk.interval is not None:
+        return f"the mean's anytime-valid interval [{lk.interval[0]:.5g}, {lk.interval[1]:.5g}] (at 1/α = {lk.threshold:g})"
+    if lk.threshold and not lk.evidence and lk.state == CONTINUE:
+        return "the mean is not bounded yet (too few samples, or samples the model could not evaluate)"
     if not lk.evidence:
         return "judged on its estimate (basis = \"estimate\")"
     return ", ".join(f"evidence {k} {v:.3g}" for k, v in lk.evidence.items()) + f" (decides at 1/α = {lk.threshold:g})"

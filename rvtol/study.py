@@ -589,9 +589,10 @@ def _sequential_options(o: RunOptions, file: str, ov: dict) -> None:
                              "or drop it", **where("max_n"))
         return
     if o.method != "random":
+        fix = "--method random" if cli["method"] else 'method = "random" (or --method random), or leave it out'
         raise InputError(f"a sequential run draws independent random samples, batch after batch (the anytime-valid "
                          f"rule assumes independent draws; a {o.method} design is neither independent nor extendable): "
-                         "method = \"random\", or leave it out", **where("method"))
+                         f"{fix}", **where("method"))
     if o.max_n is None:
         o.max_n = MAX_N_PER_BATCH * o.n
     if o.max_n < o.n:

@@ -239,8 +239,10 @@ def _cli(tmp_path, capsys, args, sampling="", requirement=""):
 @pytest.mark.parametrize("args,sampling,requirement,where,message", [
     (["check"], "until_decided = true\nmethod = \"lhs\"", "", "sampling.method", "a sequential run draws independent "
      "random samples, batch after batch (the anytime-valid rule assumes independent draws; a lhs design is neither "
-     "independent nor extendable): method = \"random\", or leave it out"),
-    (["run", "--until-decided", "--method", "sobol"], "", "", "--method", "a sequential run draws independent"),
+     "independent nor extendable): method = \"random\" (or --method random), or leave it out"),
+    (["run", "--until-decided", "--method", "sobol"], "", "", "--method", "a sequential run draws independent "
+     "random samples, batch after batch (the anytime-valid rule assumes independent draws; a sobol design is neither "
+     "independent nor extendable): --method random"),
     (["check"], "max_n = 1000", "", "sampling.max_n", "max_n is the budget of a sequential run: set until_decided = "
      "true (or --until-decided), or drop it"),
     (["run", "--max-n", "1000"], "", "", "--max-n", "max_n is the budget of a sequential run"),
@@ -248,8 +250,6 @@ def _cli(tmp_path, capsys, args, sampling="", requirement=""):
      "the budget max_n = 100 is smaller than one batch (n = 200)"),
     (["check"], "until_decided = true", "min_cpk = 1.33", "requirement[0]",
      "until_decided: a minimum Cpk has no anytime-valid bound here"),
-    (["check"], "until_decided = true", "statistic = \"mean\"", "requirement[0]",
-     "until_decided: a mean's band has no distribution-free anytime-valid interval here"),
 ])
 def test_a_sequential_run_it_cannot_do_is_refused_in_one_line(tmp_path, capsys, args, sampling, requirement, where,
                                                                 message):
@@ -271,17 +271,22 @@ def test_the_study_keys_and_the_flags_give_the_same_sequential_options(tmp_path)
     assert load_study(p).options.method == "lhs" and not load_study(p).options.until_decided
 
 
-def test_run_until_decided_judges_a_median_band():
+def test_run_until_decided_judges_median_and_mean_bands():
     """The median of N(0, 1) inside [-0.3, 0.3] is demonstrated (P(y ≤ 0.3) = 0.618 > ½), inside [0.2, 1] is
-    demonstrated not to be (P(y < 0.2) = 0.579 > ½), by the same rule at p₀ = ½."""
+    demonstrated not to be (P(y < 0.2) = 0.579 > ½), by the same rule at p₀ = ½; the mean inside [-0.3, 0.3] by its
+    anytime-valid t interval."""
     from rvtol.mc import run_until_decided
     from rvtol.spec import Requirement
 
     spec, model = _one_factor()
     reqs = [Requirement("y", lower=-0.3, upper=0.3, statistic="median", name="centred"),
-            Requirement("y", lower=0.2, upper=1.0, statistic="median", name="shifted")]
+            Requirement("y", lower=0.2, upper=1.0, statistic="median", name="shifted"),
+            Requirement("y", lower=-0.3, upper=0.3, statistic="mean", name="mean centred")]
     r = run_until_decided(model, spec, 200, 20_000, seed=5, requirements=reqs, progress=False)
-    assert {v.requirement.label: v.state for v in r.verdicts()} == {"centred": "PASS", "shifted": "FAIL"}
+    assert {v.requirement.label: v.state for v in r.verdicts()} == {"centred": "PASS", "shifted": "FAIL",
+                                                                   "mean centred": "PASS"}
+    lo, hi = r.stopping.decided["mean centred"][1].interval
+    assert -0.3 <= lo < 0 < hi <= 0.3
     assert r.stopping.all_decided and r.n < 20_000
     assert set(r.stopping.decided["shifted"][1].evidence) == {"median ≤ upper", "median > upper", "median ≥ lower",
                                                               "median < lower"}
@@ -306,3 +311,51 @@ def test_a_sequential_run_refuses_a_fitted_measured_factor(tmp_path, capsys, met
                                           "parts carries its fit's uncertainty")
     else:
         assert rc == 0, err
+
+
+# --------------------------------------------------------------------------- a mean's band
+@pytest.mark.parametrize("n,g", [(2, 0.05), (5, 1.0), (30, 0.02), (30, 0.5)])
+def test_t_mixture_has_expectation_one_under_the_null(n, g):
+    """E[BF_n] = ∫ BF_n(t) f_ν(t) dt = 1 with t Student's t of ν = n − 1 under μ = μ₀ (a test martingale's mean)."""
+    val, _ = integrate.quad(lambda x: math.exp(float(sq.log_t_evidence(x * x, n, g)) + stats.t.logpdf(x, n - 1)),
+                            -np.inf, np.inf, limit=400, epsabs=1e-13)
+    assert val == pytest.approx(1.0, abs=1e-8)
+
+
+def test_mean_interval_ends_are_where_the_evidence_reaches_one_over_alpha():
+    s, n, m = 0.7, 400, 400.0
+    h = sq.mean_halfwidth(s, n, ALPHA, m)
+    t2 = n * h * h / (s * s)
+    g = sq.effect_prior_variance(ALPHA, m)
+    assert float(sq.log_t_evidence(t2, n, g)) == pytest.approx(math.log(1 / ALPHA), abs=1e-9)
+    assert h > stats.t.ppf(1 - ALPHA / 2, n - 1) * s / math.sqrt(n)        # wider than the fixed-n interval
+    assert sq.mean_halfwidth(s, 2, ALPHA, m) is None                        # n = 2: not bounded yet
+
+
+def test_mean_interval_covers_under_repeated_looks_where_the_t_interval_does_not():
+    """2000 normal runs looked at after each of 25 batches of 20: the anytime interval ever misses the true mean in at
+    most α of them; the fixed-n 95 % t interval looked at as often misses far more often."""
+    g = np.random.default_rng(3)
+    runs, batch, looks = 2000, 20, 25
+    y = g.standard_normal((runs, batch * looks))
+    n = batch * np.arange(1, looks + 1)
+    s1 = np.cumsum(y, axis=1)[:, n - 1]
+    s2 = np.cumsum(y * y, axis=1)[:, n - 1]
+    mean = s1 / n
+    sd = np.sqrt((s2 - n * mean ** 2) / (n - 1))
+    t2 = n * mean ** 2 / sd ** 2
+    seq = (sq.log_t_evidence(t2, n, sq.effect_prior_variance(ALPHA, batch)) >= math.log(1 / ALPHA)).any(axis=1).mean()
+    naive = (np.sqrt(t2) > stats.t.ppf(1 - ALPHA / 2, n - 1)).any(axis=1).mean()
+    assert seq <= ALPHA + 3 * math.sqrt(ALPHA * (1 - ALPHA) / runs)
+    assert naive > 3 * ALPHA
+
+
+def test_judge_mean_states():
+    y = np.random.default_rng(4).normal(1.0, 0.1, 400)
+    ok = np.ones(400, dtype=bool)
+    assert sq.judge_mean(y, ok, 0.9, 1.1, ALPHA, 400).state == sq.PASS
+    assert sq.judge_mean(y, ok, 1.2, 2.0, ALPHA, 400).state == sq.FAIL
+    look = sq.judge_mean(y, ok, 1.0, 2.0, ALPHA, 400)
+    assert look.state == sq.CONTINUE and look.interval[0] < 1.0 < look.interval[1]
+    ok[0] = False
+    assert sq.judge_mean(y, ok, 0.9, 1.1, ALPHA, 400).interval is None

@@ -102,7 +102,7 @@ def sequential_text(stop) -> str:
     """How a sequential run stopped, and what its verdicts rest on (the report's verdict section)."""
     return (f"{stop.describe()[0].upper()}{stop.describe()[1:]}. In a sequential run the verdict of each requirement is "
             "the sequential rule's (rvtol.sequential): PASS when the evidence that the yield exceeds the required one "
-            "(for a median: that the share of units on the inside of each limit exceeds ½) reaches 1/α, α = 1 − the "
+            "(for a median: that the share of units on the inside of each limit exceeds ½; for a mean: its anytime-valid t interval lies inside the band) reaches 1/α, α = 1 − the "
             "bound's confidence, FAIL when the evidence of the opposite does — kept from the look that first reached "
             "it — and UNDECIDED when the budget ended first. The bounds in the table are the fixed-n ones at the final "
             "n: they describe the sample but hold for one look, not the run's many (studies/sequential.md).")
