@@ -212,6 +212,25 @@ def test_a_class_with_its_deviations_as_drawings_print_it():
     assert parse_tolerance("25 g6 (-0.007/-0.020)").limits == (pytest.approx(24.980), pytest.approx(24.993))
     with pytest.raises(InputError, match="mistyped"):
         parse_tolerance("50 H7 (+0.030/0)")
+    # a bore is drawn with its diameter sign: the same class and deviations, the feature marked a diameter
+    t = parse_tolerance("Ø50 H7 (+0.025/0)")
+    assert (t.form, t.nominal, t.lower, t.upper, t.diameter) == ("iso", 50.0, 0.0, pytest.approx(0.025), True)
+    assert parse_tolerance("⌀25 g6 (-0.007/-0.020)").limits == (pytest.approx(24.980), pytest.approx(24.993))
+    with pytest.raises(InputError, match="mistyped"):
+        parse_tolerance("Ø50 H7 (+0.030/0)")
+
+
+def test_a_percent_sign_on_one_deviation_only_is_refused():
+    """``50 +5 %/-2`` read the upper deviation as 5 % of 50 (2.5) and the lower as −2 mm: two units in one pair,
+    most likely a percent sign left off.  ``+5/-2 %`` (the sign after the pair) and ``+5 %/-2 %`` are both 5 % / 2 %
+    (2.5 / 1.0 at 50)."""
+    from rvtol.inputs.notation import parse_tolerance
+
+    for text in ("50 +5 %/-2", "50 +5 % -2", "50 +5 %/-2 mm", "50 +0.1 mm/-2 %"):
+        with pytest.raises(InputError, match="one deviation in percent"):
+            parse_tolerance(text, unit="mm")
+    for text in ("50 +5/-2 %", "50 +5 %/-2 %", "50 +5% -2%"):
+        assert parse_tolerance(text, unit="mm").limits == (pytest.approx(49.0), pytest.approx(52.5))
 
 
 def test_iso_2768_general_tolerances():

@@ -9,7 +9,7 @@
     ⌀0.05            Ø0.1 mm                                                 (a circular position zone)
     25 ±0.05 Cp 1.33                    25 ±0.05 Cpk 1.33 k 0.25            (process)
     1.000" ±0.002"   1 in +0.002/-0.001   25 mm +10/-5 um                   (units)
-    50 H7 (+0.025/0)                    50 +0.025/0 (H7)                    (class with its deviations)
+    50 H7 (+0.025/0)                    Ø50 H7 (+0.025/0)                   (class with its deviations)
     ⌀0.4 (M)         ⌀0.4 Ⓜ             ⌀0.4 MMC         ⌀0.4 (L)          (zone at MMC / LMC)
     50 ISO 2768-m    120 ISO 2768-mK                                        (general tolerance)
 
@@ -27,7 +27,9 @@ Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
     process   := ("Cp" | "Cpk" | "k") ["=" | "≥" | ">=" | ":"] number
 
 A unit or ``%`` written once after the second deviation applies to both (``+10/-5 um``,
-``+5/-2 %``); a second unit where the grammar has one (``25 ±0.1 um mm``) is refused.  Unicode minus signs and dashes, ``+/-``, ``+-`` and decimal commas are accepted; ``"`` is the
+``+5/-2 %``); a ``%`` on one deviation only (``+5 %/-2``) is refused, and so is a second unit
+where the grammar has one (``25 ±0.1 um mm``).  Unicode minus signs and dashes, ``+/-``, ``+-``
+and decimal commas are accepted; ``"`` is the
 inch, ``in``, ``inch``, ``thou`` and every unit of :mod:`rvtol.units` are known.  Exponents
 are not (``25e8`` is the ISO class e8 on 25 mm, not 2.5·10⁹).
 
@@ -418,7 +420,7 @@ def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None
             raise _err(text, exc.reason) from None
         return Tolerance(text, "symmetric", base.nominal, -dev, dev, u)
     m = _PAREN.match(s)
-    if m and s[:1] not in _DIAMETER:
+    if m:                       # "Ø50 H7 (+0.025/0)": the outer part keeps the diameter sign
         outer, inner = m.group(1), m.group(2)
         a = _parse_plain(outer, nominal=nominal, unit=unit)
         nom = a.nominal if a.nominal is not None else nominal
@@ -547,6 +549,9 @@ def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = 
                 b_pct = p.take("pct") is not None
                 a_pct = a_pct or (b_pct and a_unit is None)   # "+5/-2 %": the % belongs to both
                 b_unit = p.unit()
+                if a_pct != b_pct:
+                    raise p.err("one deviation in percent and the other not: write the % on both (+5%/-2%) or "
+                                "once after the pair (+5/-2 %)")
                 for x in (a, b):
                     if not x.signed and x.value != 0.0:
                         raise p.err(f"the deviation {x.text.strip()!r} needs a sign (+ or -); "
