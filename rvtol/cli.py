@@ -60,6 +60,10 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--n", type=int, help="number of Monte Carlo samples")
     run.add_argument("--seed", type=int, help="random seed")
     run.add_argument("--method", choices=("random", "lhs", "sobol"), help="sampling method")
+    run.add_argument("--until-decided", action="store_true",
+                     help="sample batches of n until every requirement is PASS or FAIL at its confidence by an "
+                          "anytime-valid rule, or --max-n samples are drawn (a sequential run; random sampling)")
+    run.add_argument("--max-n", type=int, help="the sample budget of --until-decided (default: 20 n)")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
     run.add_argument("--task-log", metavar="FILE", help="write every parallel call's tasks and their CPU seconds "
                      "(JSON) with the run projected on as many dedicated cores as it had workers: run with "
@@ -184,7 +188,8 @@ def _overrides(args) -> dict:
     if args.seed is not None and args.seed < 0:
         raise InputError(f"must be >= 0, got {args.seed}", file="<command line>", key="--seed")
     ov = dict(n=args.n, seed=args.seed, method=args.method, executor=args.executor, workers=args.workers,
-              scheduler=args.scheduler, chunk_size=args.chunk_size)
+              scheduler=args.scheduler, chunk_size=args.chunk_size, until_decided=args.until_decided or None,
+              max_n=args.max_n)
     if args.no_pdf:
         ov["pdf"] = False
     if args.tables:
@@ -384,7 +389,10 @@ def _run_study(args, ov: dict) -> int:
     check_writable(out, "--out")
     _check_file_targets(args, ("junit", "markdown", "task_log"), inputs, out)
     est = estimate_run(study)
-    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")),
+    n_at = (("<command line>", "--max-n") if args.max_n is not None else (study.file, "sampling.max_n")) \
+        if study.options.until_decided else \
+        (("<command line>", "--n") if args.n is not None else (study.file, "sampling.n"))
+    check_resources(est, out, *n_at,
                     study.options, ("<command line>", "--workers") if args.workers is not None else
                     (study.file, "execution.workers"))
     if not args.quiet:
@@ -394,6 +402,7 @@ def _run_study(args, ov: dict) -> int:
     o = study.options
     key = run_key({"rvtol": __version__, "inputs": {r: v["sha256"] for r, v in study.inputs.items()},
                    "n": o.n, "seed": o.seed, "method": o.method, "chunk_size": o.chunk_size,
+                   **({"until_decided": True, "max_n": o.max_n} if o.until_decided else {}),
                    "model": type(study.model).__name__})
     with RunFolder(out) as folder:
         store, note = folder.open_store(key, args.resume)
@@ -528,6 +537,8 @@ def _print_result(result) -> None:
         scale = requirements_scale(mc.requirements, name, r.get("std"))
         cells = [shown(r[k], scale) if r.get("n", 0) else "—" for k in ("mean", "std", "P99.865")]
         print(f"{name:<28}{r['unit']:>8}" + "".join(f"{c:>14}" for c in cells) + f"{int(r['failed']):>8}")
+    if mc.stopping is not None:
+        print(mc.stopping.describe())
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]

@@ -62,6 +62,10 @@ limit (more samples decide; the sample size that would, if the estimate held, is
 at c make the PASS the two one-sided tests of an equivalence claim (Schuirmann, J. Pharmacokin. Biopharm. 15
 (1987) 657: the (1 − 2α) interval inside the band; Berger's intersection–union principle keeps the level).
 
+A **sequential run** (``rvtol run --until-decided``) judges yields, medians and means after every batch by the anytime-valid
+rule of :mod:`rvtol.sequential` instead (the fixed-n bounds here hold for one look); its verdicts replace these
+(:meth:`rvtol.mc.MonteCarloResult._sequential_verdict`).
+
 One serial reducer (:mod:`rvtol.production.per_unit`) is judged by :func:`judge_unit` with the same
 figures read the other way round: its measured parts and the unmeasured factors give a probability
 ``P`` that *this* unit meets the requirement; the unit **conforms** when ``P`` reaches the yield
