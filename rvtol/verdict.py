@@ -372,7 +372,11 @@ def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float
     """PASS / UNDECIDED / FAIL of a statistic requirement from its interval ``[lo, hi]`` (module docstring).
 
     UNDECIDED gives ``n_to_demonstrate``: the samples whose interval would clear the nearer limit the interval
-    now straddles if the estimate held (the half-width shrinks as 1/√n), None when the estimate sits on it."""
+    now straddles if the estimate held (the half-width shrinks as 1/√n), None when the estimate sits on it.
+
+    ``violation`` (normalised as :func:`judge`'s, by the band's width, or by |limit| for a one-sided band): 0 inside,
+    1 + the gap between the interval and the band when it lies wholly outside, the interval's larger reach beyond a
+    limit when it straddles one (1 while failed samples leave it unbounded)."""
     name = f"{r.statistic} {_f(estimate, '.5g')}"
     band = f"[{'−∞' if r.lower is None else format(r.lower, 'g')}, {'+∞' if r.upper is None else format(r.upper, 'g')}]"
     ci = f"its interval [{_f(lo, '.5g')}, {_f(hi, '.5g')}] ({describe_statistic_bound(r)})"
