@@ -174,3 +174,19 @@ def test_failed_samples_leave_a_mean_unbounded_but_the_median_only_on_one_side()
     median = Requirement("k", lower=5.8, upper=6.2, statistic="median")
     j = judge_statistic(median, 6.0, None, 6.1, 12, n_failed=2)
     assert j.reasons[-1] == "2 sample(s) could not be evaluated: the median is not bounded while they fail"
+
+
+@pytest.mark.parametrize("statistic,n", [("median", 4), ("mean", 1)])
+def test_too_few_samples_for_a_bound_say_so_not_that_the_estimate_sits_on_a_limit(statistic, n):
+    """The median's lower bound needs P(B = 0) = 0.5ⁿ ≤ 5 %, i.e. n ≥ 5; the mean's t interval n ≥ 2.  With fewer the
+    interval is unbounded: more samples would bound it (the reason said the estimate, 0.18 inside the band, sat on a
+    limit and more samples would not decide it), and the violation is 1, not 0 (0 is a pass)."""
+    assert 0.5 ** 4 > 0.05 >= 0.5 ** 5
+    r = Requirement("k", lower=5.8, upper=6.2, statistic=statistic)
+    y = 6.0 + 0.01 * np.arange(n)
+    est, lo, hi = statistic_interval(r, y)
+    assert lo is None and hi is None
+    j = judge_statistic(r, est, lo, hi, n)
+    assert not j.passed and j.undecided and j.violation == 1.0 and j.n_to_demonstrate is None
+    assert j.reasons[-1] == f"the {statistic} is not bounded at n = {n} (too few samples for a bound at 95 %): more " \
+                            "samples would bound it"
