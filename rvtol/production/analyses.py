@@ -14,6 +14,10 @@ meaning; examples::
     [[analysis.parts.gauge]]        # optional: a feature's uncertainty from a gauge R&R study (rvtol.production.msa)
     file = "measured/cmm_grr.csv"
     features = ["cam_1.form"]
+    [[analysis.parts]]              # or the inspection room's QIF 3.0 / DFQ file with a mapping
+    file = "measured/discs.qif"
+    mapping = "measured/discs_map.csv"
+    slots = ["disc_1", "disc_2"]
 
     [[analysis]]
     kind = "selective_assembly"
@@ -98,6 +102,8 @@ class PartsOptions:
     file: Path = option(REQUIRED, "the part family's file (one row per serial number)")
     slots: list[str] = option(REQUIRED, "the places its parts take (factor = <slot>.<column>)", min_length=1)
     name: str | None = option(None, "the family's name (default: the file's stem)")
+    mapping: Path | None = option(None, "a QIF (.qif, .xml) or DFQ (.dfq) file's mapping: characteristic -> feature, "
+                                        "reading, unit, u (rvtol.inputs.inspection)")
     gauge: list[GaugeOptions] | None = option(None, "[[analysis.parts.gauge]]: gauge studies giving features' "
                                                     "measurement uncertainty", min_length=1)
 
@@ -128,7 +134,7 @@ class PerUnitPrediction(Analysis):
             super().complete(study, error)
             self.title = self.title or (f"{PerUnitPrediction.title}: {self.name}" if self.name else None)
             self.units = load_measured_units(study.spec, self.kits, [
-                FamilySource(p.file, tuple(p.slots), p.name, tuple(g.gauge for g in p.gauge or ()))
+                FamilySource(p.file, tuple(p.slots), p.name, tuple(g.gauge for g in p.gauge or ()), p.mapping)
                 for p in self.parts])
             study.inputs.update({f"{self.key}:{k}": v for k, v in self.units.files().items()})
             try:

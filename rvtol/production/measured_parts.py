@@ -38,6 +38,11 @@ header)::
 them), holding the serial of the part in that slot or ``-`` when that slot's part was not measured
 (its factors are then sampled from the spec).  A part belongs to one reducer, in one slot.
 
+**QIF and DFQ.**  A part family may come as the inspection room writes it — a QIF 3.0 file (``.qif``, ``.xml``:
+MeasurementResults, one per serial) or a Q-DAS DFQ file (``.dfq``: one value set per serial, K0014 the serial)
+— with a mapping file (characteristic → feature column, reading, unit, uncertainty): :mod:`rvtol.inputs.inspection`
+turns the two into the table above, read from then on as a CSV is.
+
 Every problem is one :class:`~rvtol.errors.InputError` naming the file and the row and column
 (``FILE: row 5, column 'cam_1.form [um]': not a number: 'x'``; in a workbook also the sheet).  Values
 are returned in base units (mm, rad).
@@ -96,6 +101,7 @@ class PartFamily:
     values: np.ndarray                # [parts, columns], base units
     uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
     gauges: tuple[Gauge, ...] = ()    # the gauge studies some columns' uncertainty comes from
+    mapping: tuple[str, str] | None = None   # (path, sha256) of a QIF/DFQ file's mapping
 
     def row(self, serial: str) -> int:
         return self.serials.index(serial)
@@ -104,11 +110,28 @@ class PartFamily:
         return tuple(factor_name(slot, c) for c in self.columns)
 
 
-def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, gauges: Sequence[Gauge] = ()
-                     ) -> PartFamily:
+def family_table(path, mapping=None) -> Table:
+    """The table of a part family file: rvtol's CSV/TSV/XLSX, or a QIF/DFQ file read through its ``mapping``
+    (:func:`rvtol.inputs.inspection.mapped_table`: the same table, so both take one code path after reading)."""
+    from ..inputs import inspection
+
+    if inspection.is_inspection_file(path):
+        if mapping is None:
+            raise InputError(f"a {Path(path).suffix} file needs a mapping file (characteristic -> feature)",
+                             file=str(path), key="mapping")
+        return inspection.mapped_table(path, mapping)
+    if mapping is not None:
+        raise InputError("a mapping is for a QIF (.qif, .xml) or DFQ (.dfq) file, not a table", file=str(path),
+                         key="mapping")
+    return read_table(path, what="serial, <feature> [unit], ...")
+
+
+def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, gauges: Sequence[Gauge] = (),
+                     mapping=None) -> PartFamily:
     """Read and check one part family file (module docstring) against ``spec``'s factors; ``gauges``: gauge
-    studies giving the uncertainty of the features they name (:class:`~rvtol.production.msa.Gauge`)."""
-    t = read_table(path, what="serial, <feature> [unit], ...")
+    studies giving the uncertainty of the features they name (:class:`~rvtol.production.msa.Gauge`); a QIF or
+    DFQ file through its ``mapping`` file (:func:`family_table`)."""
+    t = family_table(path, mapping)
     slots = tuple(slots)
     if not slots:
         raise InputError("a part family needs at least one slot", file=t.file, key="slots")
@@ -226,8 +249,10 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                 unc[r, j] = units.to_base(_nonnegative(t, row, cells, ui), uunit)
             else:
                 unc[r, j] = row_u[j]
+    m = getattr(t, "mapping", None)
     return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
-                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges))
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges),
+                      (m.file, m.sha256) if m is not None else None)
 
 
 # --------------------------------------------------------------------------- kit list
@@ -287,6 +312,7 @@ class FamilySource:
     slots: tuple[str, ...]
     name: str | None = None
     gauges: tuple[Gauge, ...] = ()                    # gauge studies giving features' uncertainty
+    mapping: Path | None = None       # a QIF or DFQ file's mapping (rvtol.inputs.inspection)
 
 
 @dataclass(frozen=True)
@@ -318,6 +344,8 @@ class MeasuredUnits:
         out = {"kit_list": {"path": self.kit_file, "sha256": self.kit_sha256}}
         for f in self.families:
             out[f"parts:{f.name}"] = {"path": f.file, "sha256": f.sha256}
+            if f.mapping is not None:
+                out[f"mapping:{f.name}"] = {"path": f.mapping[0], "sha256": f.mapping[1]}
             for g in f.gauges:
                 out[f"gauge:{f.name}:{Path(g.result.file).name}"] = {"path": g.result.file, "sha256": g.result.sha256}
         return out
@@ -338,7 +366,7 @@ class MeasuredUnits:
 
 def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> MeasuredUnits:
     """Read the part families and the kit list; every reducer's measured factors (module docstring)."""
-    fams = [read_part_family(f.file, f.slots, spec, f.name, f.gauges) for f in families]
+    fams = [read_part_family(f.file, f.slots, spec, f.name, f.gauges, f.mapping) for f in families]
     names = [f.name for f in fams]
     dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
     if dup is not None:
