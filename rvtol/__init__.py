@@ -1,7 +1,8 @@
 """rvtol — probabilistic tolerance and Monte Carlo assembly analysis of RV reducers.
 
 The public API: specs and designs in, Models evaluated by the Monte Carlo
-engine, analyses and reports out.  See README.md for a tour.
+engine, analyses and reports out.  The guides ship with the package: ``rvtol docs`` lists them
+(``rvtol docs api`` the API); README.md of the repository gives a tour.
 """
 __version__ = "0.1.0"
 

@@ -1,6 +1,6 @@
 """``rvtol`` command line: ``main(argv) -> int``.
 
-Exit codes (README, "Command line"):
+Exit codes (``rvtol docs command-line``: rvtol/docs/command_line.md):
 
 ====  ==========================================================================
 0     every requirement demonstrated (verdict PASS), or an exploratory study;
@@ -60,6 +60,10 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--n", type=int, help="number of Monte Carlo samples")
     run.add_argument("--seed", type=int, help="random seed")
     run.add_argument("--method", choices=("random", "lhs", "sobol"), help="sampling method")
+    run.add_argument("--until-decided", action="store_true",
+                     help="sample batches of n until every requirement is PASS or FAIL at its confidence by an "
+                          "anytime-valid rule, or --max-n samples are drawn (a sequential run; random sampling)")
+    run.add_argument("--max-n", type=int, help="the sample budget of --until-decided (default: 20 n)")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
     run.add_argument("--task-log", metavar="FILE", help="write every parallel call's tasks and their CPU seconds "
                      "(JSON) with the run projected on as many dedicated cores as it had workers: run with "
@@ -95,6 +99,9 @@ def _parser() -> argparse.ArgumentParser:
                                          "that analysis kind (type, default, meaning)")
     kinds.add_argument("kind", nargs="?", help="an analysis kind: list its keys")
 
+    docs = sub.add_parser("docs", help="list the guides shipped with rvtol; with NAME, print one (Markdown)")
+    docs.add_argument("name", nargs="?", help="a document, e.g. writing-a-study")
+
     spec = sub.add_parser("spec", help="tolerance specs: convert between TOML and tables")
     ssub = spec.add_subparsers(dest="spec_command", metavar="SPEC_COMMAND")
     exp = ssub.add_parser("export", help="write a spec (TOML, CSV or XLSX) as a CSV or XLSX table")
@@ -123,6 +130,8 @@ def main(argv: list[str] | None = None) -> int:
         with stopping_on_signals():
             if args.command == "kinds":
                 return _kinds(args.kind)
+            if args.command == "docs":
+                return _docs(args.name)
             if args.command == "check":
                 return _check(args)
             if args.command == "init":
@@ -179,7 +188,8 @@ def _overrides(args) -> dict:
     if args.seed is not None and args.seed < 0:
         raise InputError(f"must be >= 0, got {args.seed}", file="<command line>", key="--seed")
     ov = dict(n=args.n, seed=args.seed, method=args.method, executor=args.executor, workers=args.workers,
-              scheduler=args.scheduler, chunk_size=args.chunk_size)
+              scheduler=args.scheduler, chunk_size=args.chunk_size, until_decided=args.until_decided or None,
+              max_n=args.max_n)
     if args.no_pdf:
         ov["pdf"] = False
     if args.tables:
@@ -197,7 +207,7 @@ def _init(args) -> int:
     print(f"rvtol: wrote {', '.join(str(f) for f in files)} — a first study that runs as written:\n"
           f"  rvtol run {study}\n"
           "then replace the parts in spec.csv and the formulas in study.toml with your own "
-          "(every key: studies/WRITING_A_STUDY.md)")
+          "(every key: rvtol docs writing-a-study)")
     return EXIT_PASS
 
 
@@ -294,6 +304,21 @@ def _kinds(kind: str | None = None) -> int:
     return EXIT_PASS
 
 
+def _docs(name: str | None) -> int:
+    """``rvtol docs``: the shipped documents, one a line; ``rvtol docs NAME``: that document's text."""
+    from . import docs
+
+    if name is not None:
+        sys.stdout.write(docs.text(name))
+        return EXIT_PASS
+    shipped = docs.documents()
+    width = max(map(len, shipped))
+    for doc, title in shipped.items():
+        print(f"{doc:<{width}}  {title}")
+    print("rvtol docs NAME prints one (Markdown); paths it names (studies/, data/, tests/) are in the rvtol repository")
+    return EXIT_PASS
+
+
 def _analysis_keys(cls, kind: str) -> int:
     """The keys of one analysis kind: from its declared options."""
     from .options import describe
@@ -364,7 +389,10 @@ def _run_study(args, ov: dict) -> int:
     check_writable(out, "--out")
     _check_file_targets(args, ("junit", "markdown", "task_log"), inputs, out)
     est = estimate_run(study)
-    check_resources(est, out, *(("<command line>", "--n") if args.n is not None else (study.file, "sampling.n")),
+    n_at = (("<command line>", "--max-n") if args.max_n is not None else (study.file, "sampling.max_n")) \
+        if study.options.until_decided else \
+        (("<command line>", "--n") if args.n is not None else (study.file, "sampling.n"))
+    check_resources(est, out, *n_at,
                     study.options, ("<command line>", "--workers") if args.workers is not None else
                     (study.file, "execution.workers"))
     if not args.quiet:
@@ -374,6 +402,7 @@ def _run_study(args, ov: dict) -> int:
     o = study.options
     key = run_key({"rvtol": __version__, "inputs": {r: v["sha256"] for r, v in study.inputs.items()},
                    "n": o.n, "seed": o.seed, "method": o.method, "chunk_size": o.chunk_size,
+                   **({"until_decided": True, "max_n": o.max_n} if o.until_decided else {}),
                    "model": type(study.model).__name__})
     with RunFolder(out) as folder:
         store, note = folder.open_store(key, args.resume)
@@ -508,6 +537,8 @@ def _print_result(result) -> None:
         scale = requirements_scale(mc.requirements, name, r.get("std"))
         cells = [shown(r[k], scale) if r.get("n", 0) else "—" for k in ("mean", "std", "P99.865")]
         print(f"{name:<28}{r['unit']:>8}" + "".join(f"{c:>14}" for c in cells) + f"{int(r['failed']):>8}")
+    if mc.stopping is not None:
+        print(mc.stopping.describe())
     for v in mc.verdicts():
         y = v.yield_
         cpk = v.capability["cpk"]

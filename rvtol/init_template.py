@@ -2,7 +2,7 @@
 
 The template is a real (small) tolerance stack: the axial gap of a shaft between two bearings in a
 housing, plus the height of a gauge pin in a V-groove to show units through formulas.  Every key it
-uses is explained where it stands; ``studies/WRITING_A_STUDY.md`` covers every key a study takes.
+uses is explained where it stands; ``rvtol docs writing-a-study`` covers every key a study takes.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from .errors import InputError
 STUDY = '''\
 # A first rvtol study, written by `rvtol init`.  Run it:   rvtol run study.toml
 # Check it without running:                              rvtol check study.toml
-# Every key a study takes: studies/WRITING_A_STUDY.md in the rvtol repository.
+# Every key a study takes:                               rvtol docs writing-a-study
 
 [study]
 name = "my_first_study"              # the report goes to reports/my_first_study/

@@ -328,6 +328,8 @@ class MonteCarloResult:
     executor: str = "serial"
     #: the spec's measured factors (rvtol.fit_uncertainty.MeasuredFactors): their fits' uncertainty is judged
     measured: object = None
+    #: a sequential run's record (rvtol.sequential.Stopping): its rule, not the fixed-n bounds, gives the verdicts
+    stopping: object = None
 
     @property
     def n(self) -> int:
@@ -435,7 +437,27 @@ class MonteCarloResult:
                        n=self.n, constant=constant, other_cpk=other, shape=shape, fit=fit)
             out.append(Verdict(r, yr, cap, pci, jd.passed, jd.reasons, yb, cb, jd.n_to_demonstrate, jd.notes,
                                jd.parts_to_demonstrate, jd.undecided, shape, record))
-        return out
+        return out if self.stopping is None else [self._sequential_verdict(v) for v in out]
+
+    def _sequential_verdict(self, v: Verdict) -> Verdict:
+        """A sequential run's verdict of ``v``'s requirement (:mod:`rvtol.sequential`): PASS or FAIL as its first
+        decision made it, else UNDECIDED (the budget ended first) — the fixed-n bounds stay in the tables, and their
+        reasons beside it, but they hold for one look, not for the run's many."""
+        from dataclasses import replace
+
+        from .sequential import PASS as SEQ_PASS
+
+        stop = self.stopping
+        label = v.requirement.label
+        why = stop.why(label)
+        if label in stop.decided:
+            passed = stop.decided[label][1].state == SEQ_PASS
+            return replace(v, passed=passed, undecided=False, n_to_demonstrate=None, parts_to_demonstrate=None,
+                           reasons=[] if passed else [why] + v.reasons, notes=[why, *v.notes] if passed else v.notes)
+        fixed = (f"the fixed-n bound would pass at n = {self.n:,}, but it holds for one look, not for "
+                 f"{len(stop.looks)}" if v.passed else None)
+        return replace(v, passed=False, undecided=True, n_to_demonstrate=None, parts_to_demonstrate=None,
+                       reasons=[why, fixed] if fixed else [why] + [r for r in v.reasons if "would demonstrate" not in r])
 
     def _statistic_verdict(self, r: Requirement, yr: st.YieldResult, good: np.ndarray) -> Verdict:
         """A population statistic's band (:func:`rvtol.verdict.judge_statistic`); ``yr``, the share of the units
@@ -504,6 +526,41 @@ def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lh
     s = samples if samples is not None else sample(spec, n, method, seed)
     ev = evaluate(model, s.values, executor, chunk_size, progress, desc="Monte Carlo", store=store, persist="all")
     return result_of(model, s, ev, requirements, confidence, executor.describe() if executor else "serial", spec)
+
+
+def run_until_decided(model: Model, spec: ToleranceSpec, batch: int, max_n: int, seed: int | None = None,
+                      requirements=(), executor: Executor | None = None, chunk_size: int | None = None,
+                      progress: bool = True, confidence: float = 0.95, store=None) -> MonteCarloResult:
+    """A sequential Monte Carlo: independent random samples of ``spec`` in batches of ``batch``
+    (:class:`rvtol.sampling.SampleStream`, one seeded stream), every requirement looked at after each batch by the
+    anytime-valid rule (:func:`rvtol.sequential.look_at`, tuned to ``batch``) until each is decided or ``max_n``
+    samples are drawn.  The result is that of all the samples drawn, its verdicts the sequential ones
+    (``result.stopping``: :class:`rvtol.sequential.Stopping`).  Each batch is one :func:`evaluate` call (``store``:
+    checkpointed like a fixed run's, so a resumed run redraws the same batches and reuses their chunks); the rows and
+    verdicts are bit-identical whatever the executor, workers or chunk size."""
+    from .sampling import SampleStream
+    from .sequential import Stopping, look_at
+
+    model.check_spec(spec)
+    stream = SampleStream(spec, seed)
+    stop = Stopping(batch, max_n, float(batch))
+    xs, ys, statuses = [], [], []
+    described = executor.describe() if executor else "serial"
+    while True:
+        x = stream.next(min(batch, max_n - stream.drawn))
+        ev = evaluate(model, x, executor, chunk_size, progress, desc=f"Monte Carlo, look {len(stop.looks) + 1}",
+                      store=store, persist="all")
+        xs.append(x)
+        ys.append(ev.Y)
+        statuses.append(ev.status)
+        s = SampleSet(np.concatenate(xs), spec.names, spec.units, "random", seed)
+        res = result_of(model, s, Evaluation(np.concatenate(ys), np.concatenate(statuses)), requirements, confidence,
+                        described, spec)
+        stop.look(stream.drawn, {r.label: look_at(r, res.column(r.output), res.ok, stop.tune_n)
+                                 for r in res.requirements})
+        if stop.finished:
+            res.stopping = stop
+            return res
 
 
 def result_of(model: Model, samples: SampleSet, ev: Evaluation, requirements=(), confidence: float = 0.95,

@@ -349,9 +349,11 @@ class RunEstimate:
     per_sample: float | None = None   # s, from a pilot at the nominal point
     seconds: float | None = None      # Monte Carlo wall time
     report_seconds: float | None = None   # writing the report folder
+    budget: bool = False      # n is a sequential run's budget (max_n): the most it may draw
 
     def describe(self) -> str:
-        s = f"estimate: {self.n:,} samples × {self.factors} factors → {self.outputs} outputs; " \
+        s = f"estimate: {'up to ' if self.budget else ''}{self.n:,} samples × {self.factors} factors → " \
+            f"{self.outputs} outputs; " \
             f"memory ≈ {human_bytes(self.memory)}, disk ≈ {human_bytes(self.disk)}"
         if self.seconds is not None:
             s += (f", Monte Carlo ≈ {human_seconds(self.seconds)} on {self.workers} worker"
@@ -389,7 +391,7 @@ REPORT_PDF_FACTOR = 3.0
 def estimate_run(study) -> RunEstimate:
     """Memory and disk of the study's Monte Carlo and report (no computation; :func:`time_pilot` adds the time)."""
     o = study.options
-    n, k, m = o.n, len(study.spec), len(study.model.outputs)
+    n, k, m = o.max_n if o.until_decided else o.n, len(study.spec), len(study.model.outputs)
     mem = n * (MEMORY_PER_SAMPLE[0] * k + MEMORY_PER_SAMPLE[1] * m + MEMORY_PER_SAMPLE[2])
     if "xlsx" in o.tables:       # the samples sheet, written after the Monte Carlo it holds
         mem += n * (k + m + 1) * XLSX_BYTES_PER_CELL
@@ -397,7 +399,7 @@ def estimate_run(study) -> RunEstimate:
     report = REPORT_BYTES_PER_PART * parts * (2 if o.pdf else 1)
     disk = n * (DISK_PER_SAMPLE[0] * k + DISK_PER_SAMPLE[1] * m + DISK_PER_SAMPLE[2]) + report
     workers = 1 if o.executor == "serial" else (o.workers or os.cpu_count() or 1)
-    return RunEstimate(n, k, m, mem, disk, workers)
+    return RunEstimate(n, k, m, mem, disk, workers, budget=o.until_decided)
 
 
 def time_pilot(est: RunEstimate, study, rows: int = 64) -> RunEstimate:

@@ -187,6 +187,49 @@ def sample(spec: ToleranceSpec, n: int, method: str = "random", seed: int | None
     return SampleSet(to_factors(spec, u, out=u), spec.names, spec.units, method, seed, note)   # in place
 
 
+class SampleStream:
+    """Independent random draws of ``spec``, batch after batch, from one seeded stream (a sequential run,
+    :func:`rvtol.mc.run_until_decided`): each batch continues the stream where the last one ended, so a row's values
+    do not depend on how the rows were cut into batches — nor, then, on the executor or a resume.
+
+    The uniforms are those of ``uniform_design(N, k, "random", seed)`` row for row; without a correlation the factor
+    values are ``sample(spec, N, "random", seed)``'s bit for bit.  A Gaussian copula's matrix product is taken in
+    blocks of :attr:`COPULA_BLOCK` rows aligned on the row's index in the run (BLAS rounds a row differently in the
+    last bit by the shape of the product it is in: one row, or a long matrix split over threads), so a row gets the
+    same bits in any batching; they may differ in the last bit from the fixed-n design's single product."""
+
+    COPULA_BLOCK = 64
+
+    def __init__(self, spec: ToleranceSpec, seed: int | None):
+        self.spec = spec
+        self.seed = seed
+        self._g = rng(seed)
+        self.drawn = 0
+        self._cholesky_t = None if spec.correlation is None else np.linalg.cholesky(spec.correlation).T
+
+    def next(self, m: int) -> np.ndarray:
+        """The next ``m`` rows of factor values (base units)."""
+        u = np.clip(self._g.random((m, len(self.spec))), _U_EPS, 1.0 - _U_EPS)
+        if self._cholesky_t is not None:
+            u = self._copula(u)
+        self.drawn += m
+        return to_factors(self.spec, u, out=u)
+
+    def _copula(self, u: np.ndarray) -> np.ndarray:
+        """:func:`apply_copula`, its product taken block by block (class docstring)."""
+        b = self.COPULA_BLOCK
+        z = stats.norm.ppf(u)
+        block = np.zeros((b, u.shape[1]))
+        i = 0
+        while i < len(u):
+            at = (self.drawn + i) % b                  # the row's place in its block of the whole run
+            take = min(b - at, len(u) - i)
+            block[at:at + take] = z[i:i + take]
+            z[i:i + take] = (block @ self._cholesky_t)[at:at + take]
+            i += take
+        return np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)
+
+
 #: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
 #: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``); the quadrature clips the copula's uniforms as
 #: the sampling does (``_U_EPS``)

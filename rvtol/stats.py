@@ -375,15 +375,20 @@ class YieldResult:
         return (1 - self.hi) * 1e6, (1 - self.lo) * 1e6
 
 
-def yield_of(y: np.ndarray, ok: np.ndarray, lower: float | None, upper: float | None,
-             confidence: float = 0.95, method: str = "exact") -> YieldResult:
-    """Yield over *all* samples: a sample the model could not evaluate counts as non-conforming."""
-    inside = ok.copy()
+def conforming(y: np.ndarray, ok: np.ndarray, lower: float | None, upper: float | None) -> np.ndarray:
+    """Which samples conform: evaluated (``ok``) and within [``lower``, ``upper``] (a missing limit: no limit)."""
+    inside = np.array(ok, dtype=bool)
     if lower is not None:
         inside &= np.nan_to_num(y, nan=-np.inf) >= lower
     if upper is not None:
         inside &= np.nan_to_num(y, nan=np.inf) <= upper
-    k, n = int(inside.sum()), len(y)
+    return inside
+
+
+def yield_of(y: np.ndarray, ok: np.ndarray, lower: float | None, upper: float | None,
+             confidence: float = 0.95, method: str = "exact") -> YieldResult:
+    """Yield over *all* samples: a sample the model could not evaluate counts as non-conforming."""
+    k, n = int(conforming(y, ok, lower, upper).sum()), len(y)
     lo, hi = proportion_ci(k, n, confidence, method)
     return YieldResult(n, k, k / n if n else math.nan, lo, hi)
 

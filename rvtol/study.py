@@ -35,6 +35,8 @@
     n = 10000
     method = "lhs"                        # random | lhs | sobol
     seed = 20261121
+    # until_decided = true                # sample batches of n until every requirement is decided (rvtol.sequential)
+    # max_n = 200000                      # ... or this many samples are drawn (default 20 n)
 
     [execution]
     executor = "process"                  # serial | process | dask
@@ -76,7 +78,8 @@ from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
 from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
-from .mc import EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, recording_calls, run_monte_carlo
+from .mc import (EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, recording_calls, run_monte_carlo,
+                 run_until_decided)
 from .model import Model
 from .params import Params, read_toml
 from .runguard import NAME_MAX_BYTES
@@ -103,6 +106,8 @@ class RunOptions:
     confidence: float = 0.95
     progress: bool = True
     tables: tuple[str, ...] = ()       # also write samples/statistics as these table formats (csv, xlsx)
+    until_decided: bool = False        # sequential run: batches of n until every requirement is decided (or max_n)
+    max_n: int | None = None           # a sequential run's sample budget (default: MAX_N_PER_BATCH × n)
 
 
 @dataclass
@@ -322,6 +327,7 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
         r.in_unit(model.output(r.output).shown_unit)  # unit check now, not after the run
 
     study = Study(name, title, desc, file, base, design, spec, model, reqs, options, [], inputs, exploratory)
+    check_sequential(study)
     study.build = rules
     study.notes = model_warnings(model)
     study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
@@ -530,13 +536,20 @@ def _composite(root: Params, mpath: Path | None, design, spec, file: str, inputs
         raise exc.located(file=file) from None
 
 
+#: a sequential run's default budget, in batches (``max_n = MAX_N_PER_BATCH × n``)
+MAX_N_PER_BATCH = 20
+
+
 def _options(root: Params, ov: dict) -> RunOptions:
     s = root.sub("sampling", {})
     e = root.sub("execution", {})
     r = root.sub("report", {})
+    until = bool(ov.get("until_decided")) or s.bool("until_decided", False)
     o = RunOptions(
         n=s.int("n", 10000, min=2),
-        method=s.str("method", "lhs", choices=METHODS),
+        method=s.str("method", "random" if until else "lhs", choices=METHODS),
+        until_decided=until,
+        max_n=s.int("max_n", None, min=2),
         seed=s.int("seed", 12345, min=0),
         **execution_keys(e, ov),
         chunk_size=e.int("chunk_size", 0, min=0) or None,
@@ -556,10 +569,53 @@ def _options(root: Params, ov: dict) -> RunOptions:
         raise InputError(f"n must be >= 2, got {o.n}", file=root.file, key="sampling.n")
     if o.method not in METHODS:
         raise InputError(f"unknown sampling method {o.method!r}", file=root.file, key="sampling.method")
+    _sequential_options(o, root.file, ov)
     if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
         raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
                          file=root.file, key="report.tables")
     return o
+
+
+def _sequential_options(o: RunOptions, file: str, ov: dict) -> None:
+    """A sequential run's options checked (and its budget defaulted); ``max_n`` alone asks for nothing."""
+    cli = {k: ov.get(k) is not None for k in ("method", "max_n", "n")}
+    def where(k: str) -> dict:
+        return ({"file": "<command line>", "key": f"--{k.replace('_', '-')}"} if cli.get(k) else
+                {"file": file, "key": f"sampling.{k}"})
+
+    if not o.until_decided:
+        if o.max_n is not None:
+            raise InputError("max_n is the budget of a sequential run: set until_decided = true (or --until-decided), "
+                             "or drop it", **where("max_n"))
+        return
+    if o.method != "random":
+        fix = "--method random" if cli["method"] else 'method = "random" (or --method random), or leave it out'
+        raise InputError(f"a sequential run draws independent random samples, batch after batch (the anytime-valid "
+                         f"rule assumes independent draws; a {o.method} design is neither independent nor extendable): "
+                         f"{fix}", **where("method"))
+    if o.max_n is None:
+        o.max_n = MAX_N_PER_BATCH * o.n
+    if o.max_n < o.n:
+        raise InputError(f"the budget max_n = {o.max_n} is smaller than one batch (n = {o.n})", **where("max_n"))
+
+
+def check_sequential(study: "Study") -> None:
+    """Refuse a sequential run whose requirements or factors the anytime-valid rule cannot decide (InputError at the
+    requirement's key, or the spec's factor)."""
+    from .sequential import unsupported
+
+    if not study.options.until_decided:
+        return
+    for r in study.requirements:
+        why = unsupported(r)
+        if why is not None:
+            raise SpecError(f"until_decided: {why}", file=r.file or study.file,
+                            key=r.key or f"requirement {r.label!r}")
+    for f in study.spec.factors:
+        if f.measured is not None and f.measured.fit is not None:
+            raise SpecError("until_decided: a factor fitted to measured parts carries its fit's uncertainty, which more "
+                            "samples cannot decide (the sequential rule judges the Monte Carlo's alone): run a fixed n",
+                            file=study.spec.file or study.file, key=f"factor {f.name!r}")
 
 
 #: the keys that choose where the model runs ([execution] and the command line's flags)
@@ -703,9 +759,14 @@ def _phases(study: Study, ex: Executor, store, baseline, clock: "_PhaseClock") -
     o = study.options
     # with several workers, figures are pickled as they are made and rendered together on the workers
     with deferred_figures() if ex.workers > 1 else nullcontext():
-        mc = clock.timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
-                                                                study.requirements, ex, o.chunk_size, o.progress,
-                                                                o.confidence, store=store))
+        if o.until_decided:
+            mc = clock.timed("monte_carlo", lambda: run_until_decided(
+                study.model, study.spec, o.n, o.max_n, o.seed, study.requirements, ex, o.chunk_size, o.progress,
+                o.confidence, store=store))
+        else:
+            mc = clock.timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
+                                                                    study.requirements, ex, o.chunk_size, o.progress,
+                                                                    o.confidence, store=store))
         ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
         for i, a in enumerate(study.analyses):

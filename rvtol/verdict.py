@@ -62,6 +62,10 @@ limit (more samples decide; the sample size that would, if the estimate held, is
 at c make the PASS the two one-sided tests of an equivalence claim (Schuirmann, J. Pharmacokin. Biopharm. 15
 (1987) 657: the (1 − 2α) interval inside the band; Berger's intersection–union principle keeps the level).
 
+A **sequential run** (``rvtol run --until-decided``) judges yields, medians and means after every batch by the anytime-valid
+rule of :mod:`rvtol.sequential` instead (the fixed-n bounds here hold for one look); its verdicts replace these
+(:meth:`rvtol.mc.MonteCarloResult._sequential_verdict`).
+
 One serial reducer (:mod:`rvtol.production.per_unit`) is judged by :func:`judge_unit` with the same
 figures read the other way round: its measured parts and the unmeasured factors give a probability
 ``P`` that *this* unit meets the requirement; the unit **conforms** when ``P`` reaches the yield
@@ -372,7 +376,11 @@ def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float
     """PASS / UNDECIDED / FAIL of a statistic requirement from its interval ``[lo, hi]`` (module docstring).
 
     UNDECIDED gives ``n_to_demonstrate``: the samples whose interval would clear the nearer limit the interval
-    now straddles if the estimate held (the half-width shrinks as 1/√n), None when the estimate sits on it."""
+    now straddles if the estimate held (the half-width shrinks as 1/√n), None when the estimate sits on it.
+
+    ``violation`` (normalised as :func:`judge`'s, by the band's width, or by |limit| for a one-sided band): 0 inside,
+    1 + the gap between the interval and the band when it lies wholly outside, the interval's larger reach beyond a
+    limit when it straddles one (1 while it is unbounded: failed samples, or too few for a bound)."""
     name = f"{r.statistic} {_f(estimate, '.5g')}"
     band = f"[{'−∞' if r.lower is None else format(r.lower, 'g')}, {'+∞' if r.upper is None else format(r.upper, 'g')}]"
     ci = f"its interval [{_f(lo, '.5g')}, {_f(hi, '.5g')}] ({describe_statistic_bound(r)})"
@@ -388,9 +396,11 @@ def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float
         return Judgement(False, [f"{name}: {ci} lies wholly {'above' if above else 'below'} the band {band}"],
                          violation=1.0 + gap / scale)
     j = Judgement(False, [f"{name}: {ci} reaches both sides of a limit of the band {band}"], undecided=True)
-    if n_failed and (lo is None or hi is None):
+    if lo is None or hi is None:
         j.reasons.append(f"{n_failed} sample(s) could not be evaluated: the {r.statistic} is not bounded while they "
-                         "fail" + (" (the median bounds them on either side)" if r.statistic == "mean" else ""))
+                         "fail" + (" (the median bounds them on either side)" if r.statistic == "mean" else "")
+                         if n_failed else f"the {r.statistic} is not bounded at n = {n} (too few samples for a bound "
+                         f"at {_pct(bound_level(r))}): more samples would bound it")
         j.violation = 1.0
         return j
     needs = []

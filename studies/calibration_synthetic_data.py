@@ -1,17 +1,20 @@
 """Regenerate the SYNTHETIC measured curves in data/measurements/ (issue 12, item 4).
 
 They are made by the 20-DOF model of data/designs/rv80e_te.toml with the known parameters below plus
-seeded normal noise (rvtol.models.transmission.calibration.synthetic); they are NOT measurements of any reducer.  The
+seeded normal noise (tests/synthetic_curves.py); they are NOT measurements of any reducer.  The
 calibration study (studies/calibration_rv80e_synthetic.toml) and tests/test_calibration.py fit them
 and check that the fit finds these values within its intervals.
 
     PYTHONPATH=. python studies/calibration_synthetic_data.py        # a few seconds
 """
+import sys
 from pathlib import Path
 
 from rvtol import units
-from rvtol.models.transmission.calibration.synthetic import synthetic_measurement, write_synthetic_csv
 from rvtol.design import load_design
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))   # the test oracle synthetic_curves.py
+from synthetic_curves import synthetic_measurement, write_synthetic_csv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGN = ROOT / "data/designs/rv80e_te.toml"

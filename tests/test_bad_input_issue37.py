@@ -109,7 +109,7 @@ def test_more_workers_than_the_machine_holds_are_refused_before_any_starts(tmp_p
     assert rc == 2 and err == ["rvtol: error: <command line>: --workers: 500 workers need about 1064 open files and "
                                "this process may open 1024 (ulimit -n): at most 480 workers"]
     assert not (tmp_path / "r").exists()
-    # the README's --workers 16 on a small machine (a task log projected on 16 cores) holds, with a note
+    # rvtol/docs/command_line.md's --workers 16 on a small machine (a task log projected on 16 cores) holds, with a note
     assert rg.workers_problem("process", 16, None) is None
 
 

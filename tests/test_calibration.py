@@ -16,7 +16,7 @@ from rvtol.models.transmission.calibration.fit import collinear_groups, conditio
 from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
 from rvtol.models.transmission.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
                                           scaled_design_values)
-from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
+from synthetic_curves import synthetic_measurement
 from rvtol.cli import main
 from rvtol.design import load_design
 from rvtol.errors import InputError

@@ -22,7 +22,7 @@ from rvtol.models.transmission.compliance import (GROUPS, TABLE_RANGE, hermite_i
 from rvtol.models.transmission.contacts import pin_cos_sin, static_table
 from rvtol.models.transmission.factors import ErrorState
 from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.numpy_twin import ReferenceModel
+from numpy_twin import ReferenceModel
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]

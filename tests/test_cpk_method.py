@@ -58,3 +58,25 @@ def test_the_requirement_key_is_read_and_checked():
     t = Params({"output": "r", "upper": 1.0, "cpk_method": "median"}, file="s.toml", key="requirement[0]")
     with pytest.raises(SpecError, match="requirement\\[0\\].cpk_method: unknown value 'median'"):
         requirements_from_tables([t])
+
+
+def test_a_requirement_read_from_a_study_file_is_judged_on_the_cpk_it_names():
+    """cpk_figures on requirements parsed from TOML text (strings built at run time, not the source's literals): the
+    percentile one judges the percentile Cpk and its bootstrap bound, the default the normal-theory Cpk and Bissell's
+    bound Ĉ − z·√(1/(9n) + Ĉ²/(2(n − 1))) (written out)."""
+    import tomllib
+
+    from scipy.stats import norm
+
+    from rvtol.verdict import cpk_figures, cpk_name
+
+    tables = tomllib.loads('[[requirement]]\noutput = "r"\nupper = 4.2\nmin_cpk = 1.33\ncpk_method = "percentile"\n'
+                           '[[requirement]]\noutput = "r"\nupper = 4.2\nmin_cpk = 1.33\n')["requirement"]
+    pct, normal = requirements_from_tables([Params(t, file="s.toml", key=f"requirement[{i}]")
+                                            for i, t in enumerate(tables)])
+    cap, n = {"cpk": 1.5, "cpk_percentile": 1.2}, 1000
+    assert cpk_figures(pct, cap, n, (1.1, 1.3)) == (1.2, 1.1) and cpk_name(pct) == "percentile Cpk"
+    c, lo = cpk_figures(normal, cap, n, (1.1, 1.3))
+    z = norm.ppf(0.95)
+    assert c == 1.5 and lo == pytest.approx(1.5 - z * math.sqrt(1 / (9 * n) + 1.5 ** 2 / (2 * (n - 1))), rel=1e-12)
+    assert cpk_name(normal) == "Cpk"

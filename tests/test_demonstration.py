@@ -158,3 +158,61 @@ def test_the_optimisers_constraint_applies_the_same_rule():
     cap = st.capability(z, -4.5, 4.5)
     assert other_cpk(Requirement("y", lower=-4.5, upper=4.5, min_cpk=1.33), z, cap,
                      cpk_figures(Requirement("y", lower=-4.5, upper=4.5, min_cpk=1.33), cap, z.size)) == (None, None)
+
+
+@pytest.mark.parametrize("value,where", [(6.0, "inside"), (5.0, "outside"), (6.5, "outside"), (5.8, "inside")])
+def test_a_constant_output_is_placed_against_both_limits(value, where):
+    """The reason says where the constant lies against 5.8 ≤ y ≤ 6.2: inside only when it is within both limits (a
+    limit itself counts as inside, as for a yield)."""
+    r = Requirement("y", lower=5.8, upper=6.2, min_cpk=1.33)
+    j = judge(r, cpk=None, cpk_lo=None, constant=value, n=500)
+    assert not j.passed and any(f"{where} the limits" in w for w in j.reasons), j.reasons
+
+
+def _shape(non_normal: bool):
+    """An output's shape as judge is handed it: Anderson–Darling p ≤ 0.01 (Stephens' table's last row) rejects
+    normality."""
+    from rvtol.stats import Shape
+
+    return Shape(1.5, 3.0, 5.0, 0.01) if non_normal else Shape(0.05, 0.1, 0.3, 0.5)
+
+
+def test_the_percentile_cpk_that_refutes_a_normal_theory_pass_sets_the_violation():
+    """A non-normal output whose normal-theory Cpk passes (bound 1.5) and percentile Cpk misses (bound 1.0 < 1.33): not
+    demonstrated, and the violation is the percentile bound's relative shortfall (1.33 − 1.0)/1.33."""
+    r = Requirement("y", upper=1.0, min_cpk=1.33)
+    j = judge(r, cpk=1.6, cpk_lo=1.5, other_cpk=(1.1, 1.0), shape=_shape(True))
+    assert not j.passed and j.violation == pytest.approx((1.33 - 1.0) / 1.33)
+
+
+def test_a_normal_theory_miss_the_percentile_cpk_would_pass_is_a_note_and_plans_on_normal_theory():
+    """Normal theory judges (Ĉ = 1.5 from 100 samples, Bissell's bound 1.316 < 1.33) and the percentile Cpk (1.45,
+    bound 1.35) would pass on a non-normal output: the disagreement is a note that names the percentile method, the
+    verdict stays normal theory's (undecided), and the n that would demonstrate it is Bissell's for Ĉ = 1.5."""
+    n = 100
+    r = Requirement("y", upper=1.0, min_cpk=1.33)
+    assert _bissell(1.5, n) < 1.33
+    j = judge(r, cpk=1.5, cpk_lo=_bissell(1.5, n), other_cpk=(1.45, 1.35), shape=_shape(True), n=n)
+    assert not j.passed and j.undecided
+    assert j.n_to_demonstrate == _bissell_n(1.5, 1.33)
+    note, = j.notes
+    assert note.startswith("the percentile Cpk (ISO 22514-2) lower bound 1.350 would pass where the normal-theory Cpk "
+                           "fails: the output is not normal (")
+    assert note.endswith('; cpk_method = "percentile" judges a non-normal output by its own tails')
+
+
+def test_the_second_cpk_needs_a_hundred_samples_and_is_computed_only_when_it_can_refute_a_pass():
+    """other_cpk: no percentile Cpk below 100 evaluated samples; given the judged (Cpk, bound), the percentile one is
+    computed only when the figure judged — the bound, by default — passes on a non-normal output."""
+    from rvtol import stats as st
+    from rvtol.verdict import other_cpk
+
+    y = np.random.default_rng(1).exponential(1.0, 100)            # skewness 2: demonstrably not normal
+    r = Requirement("y", upper=6.0, min_cpk=1.33)
+    assert other_cpk(r, y[:99], st.capability(y[:99], None, 6.0)) == (None, None)
+    cap = st.capability(y, None, 6.0)
+    shape, other = other_cpk(r, y, cap)
+    assert shape.non_normal and other[0] == cap["cpk_percentile"] and other[1] is not None
+    assert other_cpk(r, y, cap, (2.0, 1.0)) == (None, None)       # the estimate passes, the bound judged does not
+    shape, other = other_cpk(r, y, cap, (2.0, 1.5))
+    assert shape.non_normal and other[0] == cap["cpk_percentile"]

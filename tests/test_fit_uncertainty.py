@@ -299,3 +299,45 @@ def test_the_copies_of_a_measured_family_share_one_law():
     p = exact.mean()
     assert np.max(np.abs(e.yield_draws - exact)) < 5 * math.sqrt(p * (1 - p) / 20000)
     assert any(n.startswith("fitted to measured parts: pins[k] (normal, 100 parts)") for n in mc.verdicts()[0].notes)
+
+
+def _fake_cpk_fit(cpk_dev: float, parts: int = 250):
+    from types import SimpleNamespace
+
+    return SimpleNamespace(yield_dev=0.0, cpk_dev=cpk_dev, parts={"d": parts}, notes=[], unavailable=[])
+
+
+def _bissell_dev(cpk: float, n: int) -> float:
+    """Bissell's one-sided 95 % deviation of Cpk at n samples, written out: z·√(1/(9n) + Cpk²/(2(n − 1)))."""
+    return stats.norm.ppf(0.95) * math.sqrt(1 / (9 * n) + cpk ** 2 / (2 * (n - 1)))
+
+
+def test_the_parts_that_would_decide_a_cpk_the_fit_keeps_undecided():
+    """The Cpk's margin M = Ĉ − required, d_fit ≥ M > d_MC (Bissell's deviation at n): the parts grow by
+    d_fit²/(M² − d_MC²); no n of samples is asked (Ĉ = 1.6 from 6 samples, required 0.5: Bissell's bound 0.74)."""
+    from rvtol.verdict import judge
+
+    cpk, req, n, d_fit = 1.6, 0.5, 6, 1.2
+    d_mc, margin = _bissell_dev(cpk, n), cpk - req
+    assert d_mc < margin <= d_fit and cpk - d_mc < cpk / 2
+    r = Requirement("y", upper=1.0, min_cpk=req)
+    j = judge(r, cpk=cpk, cpk_lo=cpk - math.hypot(d_mc, d_fit), n=n, fit=_fake_cpk_fit(d_fit))
+    assert not j.passed and j.undecided and j.n_to_demonstrate is None
+    assert j.parts_to_demonstrate == {"d": math.ceil(250 * d_fit ** 2 / (margin ** 2 - d_mc ** 2))}
+
+
+@pytest.mark.parametrize("n", [1, 40])
+def test_a_cpk_whose_monte_carlo_and_fit_deviations_both_reach_the_margin_needs_both(n):
+    """d_fit ≥ M and d_MC ≥ M (Bissell's deviation at n = 40; none at all from one sample): each deviation brought to
+    M/√2 — the n whose Bissell bound reaches Ĉ − M/√2 (found by stepping n, by hand) and the parts × 2 d_fit²/M²."""
+    from rvtol.verdict import judge
+
+    cpk, req, d_fit = 1.6, 1.33, 0.3
+    margin = cpk - req
+    lo = None if n == 1 else cpk - math.hypot(_bissell_dev(cpk, n), d_fit)
+    assert n == 1 or _bissell_dev(cpk, n) > margin
+    need = next(m for m in range(2, 10 ** 5) if cpk - _bissell_dev(cpk, m) >= cpk - margin / math.sqrt(2))
+    j = judge(Requirement("y", upper=1.0, min_cpk=req), cpk=cpk, cpk_lo=lo, n=n, fit=_fake_cpk_fit(d_fit))
+    assert not j.passed and j.undecided
+    assert j.n_to_demonstrate == need > n
+    assert j.parts_to_demonstrate == {"d": math.ceil(250 * 2 * d_fit ** 2 / margin ** 2)}

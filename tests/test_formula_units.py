@@ -103,7 +103,7 @@ def test_dimension_errors_name_the_formula(formula, unit, message):
     with pytest.raises(ExpressionError) as e:
         FormulaModel([FormulaOutput("y", formula, unit)], NAMES, UNITS)
     assert str(e.value) == (f"<input>: -: {message} (in {formula!r}; factors carry their units into the formula: "
-                            "README, \"Formula models\")")
+                            "rvtol docs writing-a-study, \"Units in formulas\")")
 
 
 def test_a_formula_whose_units_agree_is_evaluated_exactly_as_written():
@@ -129,7 +129,7 @@ def test_definitions_with_a_unit_and_the_study_factory():
         from_study(bad, None, spec)
     assert str(e.value) == ("study.toml: model.output[0].formula: output 'h': cannot add or subtract a length (mm) "
                             "and an angle (°) (alpha) (in 'd + alpha'; factors carry their units into the formula: "
-                            "README, \"Formula models\")")
+                            "rvtol docs writing-a-study, \"Units in formulas\")")
     bad = Params({"define": {"L": {"formula": "alpha", "unit": "mm"}},
                   "output": [{"name": "h", "formula": "L", "unit": "mm"}]}, file="study.toml", key="model")
     with pytest.raises(InputError, match=r"^study.toml: model.define.L: definition 'L': the formula gives an angle "

@@ -20,7 +20,7 @@ from rvtol.models.transmission import _kernels as K
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.contacts import pin_cos_sin
 from rvtol.models.transmission.friction import Friction, friction_from_design, friction_table
-from rvtol.models.transmission.numpy_twin import ReferenceModel
+from numpy_twin import ReferenceModel
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -253,7 +253,7 @@ def test_calibration_curve_follows_the_measured_path_through_the_loop(friction_d
     """The calibration's model of a measured loop (in file order: the test's path) is the torsion-curve model's
     loop with friction at every point the latter solves exactly (both solve T_e + d T_f(T_e) = T)."""
     from rvtol.models.transmission.calibration.curves import CurveModel
-    from rvtol.models.transmission.calibration.synthetic import _grid
+    from synthetic_curves import _grid
 
     T = float(friction_design["reducer.rated_torque"])
     p = 0.03 * T
@@ -277,7 +277,7 @@ def test_calibration_separates_the_friction_loop_from_the_clearance(friction_des
     (the width grows with the torque, the clearance opens the loop at zero torque, the compliance sets the
     mid-line's slope); without it the loop's width is left in the residuals."""
     from rvtol.models.transmission.calibration import calibrate
-    from rvtol.models.transmission.calibration.synthetic import synthetic_measurement
+    from synthetic_curves import synthetic_measurement
 
     truth = {"compliance.all": 1.2, "clearance.crank_bearing": 2.0, "friction.pin": 1.5}
     arcsec = float(np.radians(1 / 3600))

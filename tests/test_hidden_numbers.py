@@ -68,7 +68,7 @@ def test_a_unit_whose_probability_misses_but_whose_upper_bound_reaches_stays_und
 
 @pytest.mark.parametrize("basis", ["estimate", "lower_bound"])
 def test_a_figure_exactly_at_its_minimum_passes_and_a_hair_below_fails(basis):
-    """The README's rule: a requirement passes when the figure judged *reaches* the required value (≥)."""
+    """The rule (rvtol/docs/reports.md): a requirement passes when the figure judged *reaches* the required value."""
     from rvtol.spec import Requirement
     from rvtol.verdict import judge
 

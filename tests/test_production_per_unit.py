@@ -284,3 +284,64 @@ def test_a_bad_kit_file_fails_the_study_at_load_time(tmp_path):
     with pytest.raises(InputError) as exc:
         load_study(write(tmp_path / "s.toml", STUDY))
     assert exc.value.file == str(kits) and exc.value.key == "row 2, column 'crank_2'"
+
+
+def test_a_two_sided_cpk_asks_a_unit_for_the_yield_of_both_tails():
+    """Cpk-only, both limits: a normal process at Cpk 1.33 (centred) keeps 2Φ(3·1.33) − 1 inside, so one unit must
+    show that probability; its success run is ⌈ln 0.05 / ln(2Φ(3.99) − 1)⌉."""
+    from rvtol.verdict import unit_probability_required
+
+    rc = Requirement("y", lower=-1.0, upper=1.0, min_cpk=1.33)
+    p = 2 * stats.norm.cdf(3 * 1.33) - 1
+    assert unit_probability_required(rc) == pytest.approx(p, rel=1e-12)
+    assert samples_to_demonstrate([rc]) == math.ceil(math.log(0.05) / math.log(p))
+
+
+def _read(basis: str) -> Requirement:
+    """A requirement as a study file gives it (its strings built by the TOML parser, not the source's literals)."""
+    import tomllib
+
+    from rvtol.params import Params
+    from rvtol.spec import requirements_from_tables
+
+    t = tomllib.loads(f'output = "y"\nupper = 1.0\nmin_yield = 0.9\nbasis = "{basis}"\n')
+    return requirements_from_tables([Params(t, file="s.toml", key="requirement[0]")])[0]
+
+
+def test_a_unit_judged_on_its_estimate_has_no_guard_band():
+    """basis = "estimate": P = 56/59 = 0.949 < 0.95 does not conform, though the upper bound 0.99 would leave a
+    lower-bound verdict undecided; one conforming sample demonstrates conformance (P = 1)."""
+    from rvtol.verdict import judge_unit
+
+    est, lb = _read("estimate"), _read("lower_bound")
+    u = judge_unit(est, conforming=56, n=59, required=0.95)
+    assert u.state == DOES_NOT_CONFORM and u.reasons[0] == f"P(conforms) {56 / 59:.5f} < required 0.95"
+    assert judge_unit(lb, conforming=56, n=59, required=0.95).state == UNDECIDED
+    assert samples_to_demonstrate([est]) == 1 and judge_unit(est, conforming=1, n=1).state == CONFORMS
+
+
+def test_a_units_upper_bound_reaching_the_requirement_exactly_does_not_refute_it():
+    """ISO 14253-1 read as judge_unit does: non-conformance is shown only when even the upper bound stays *below* the
+    probability required; 56 of 59 conform, upper bound Beta(0.95; 57, 3) — required exactly that: undecided."""
+    from scipy.stats import beta
+
+    from rvtol.verdict import judge_unit
+
+    r = Requirement("y", upper=1.0)
+    p_hi = judge_unit(r, conforming=56, n=59, required=0.95).p_hi
+    assert p_hi == pytest.approx(beta.ppf(0.95, 57, 3), rel=1e-9)
+    assert judge_unit(r, conforming=56, n=59, required=p_hi).state == UNDECIDED
+    assert judge_unit(r, conforming=56, n=59, required=math.nextafter(p_hi, 1.0)).state == DOES_NOT_CONFORM
+
+
+def test_a_unit_that_does_not_conform_says_why_once():
+    """45 of 59: upper bound Beta(0.95; 46, 14) < 0.95 — the reason is the upper bound against the requirement (the
+    population verdict's 'yield lower bound …' line is replaced, not repeated), then that more samples will not help."""
+    from scipy.stats import beta
+
+    from rvtol.verdict import judge_unit
+
+    u = judge_unit(Requirement("y", upper=1.0), conforming=45, n=59, required=0.95)
+    assert u.state == DOES_NOT_CONFORM
+    assert u.reasons == [f"P(conforms) upper bound {beta.ppf(0.95, 46, 14):.5f} < required 0.95",
+                         "the estimate itself misses the requirement: more samples will not demonstrate it"]

@@ -178,3 +178,70 @@ def test_every_study_either_checks_a_requirement_or_declares_itself_exploratory(
     for p in sorted((root / "studies").glob("*.toml")):
         st_ = load_study(p)
         assert st_.requirements or st_.exploratory, p.name
+
+
+# --------------------------------------------------------------------------- judge's violation, failed samples, words
+def test_the_violation_is_each_figures_shortfall_normalised():
+    """The violation an optimiser minimises (rvtol.verdict module docstring): 0 exactly when the requirement passes,
+    else the yield's shortfall over what the requirement leaves for non-conformance, (Y_min − Y)/(1 − Y_min), plus
+    the Cpk's relative shortfall (Cpk_min − Cpk)/Cpk_min — the figure judged being the lower bound (the default
+    basis).  A yield that could not be measured falls short by the whole yield: 1/(1 − Y_min)."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    ry = Requirement("y", upper=1.0, min_yield=0.99)
+    assert judge(ry, yield_=0.999, yield_lo=0.995).violation == 0.0
+    j = judge(ry, yield_=0.999, yield_lo=0.985)
+    assert not j.passed and j.violation == pytest.approx((0.99 - 0.985) / (1 - 0.99))        # 0.5
+    for missing in (None, math.nan):
+        j = judge(ry, yield_=missing, yield_lo=missing)
+        assert not j.passed and j.violation == pytest.approx(1 / (1 - 0.99))                  # 100
+    rc = Requirement("y", upper=1.0, min_cpk=1.33)
+    assert judge(rc, cpk=1.5, cpk_lo=1.4).violation == 0.0
+    j = judge(rc, cpk=1.5, cpk_lo=1.0)
+    assert not j.passed and j.violation == pytest.approx((1.33 - 1.0) / 1.33)                # 0.248
+    both = Requirement("y", upper=1.0, min_yield=0.99, min_cpk=1.33)
+    assert judge(both, yield_=0.999, yield_lo=0.985, cpk=1.5, cpk_lo=1.0).violation == pytest.approx(
+        (0.99 - 0.985) / (1 - 0.99) + (1.33 - 1.0) / 1.33)
+
+
+def test_samples_that_fail_fail_a_cpk_but_not_a_yield_that_counts_them():
+    """While samples fail a Cpk demonstrates nothing (it describes only the evaluated ones); a yield already counts
+    them as non-conforming, so a yield bound that reaches its minimum still passes."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("y", upper=1.0, min_cpk=1.33), cpk=2.0, cpk_lo=1.8, n_failed=1)
+    assert not j.passed and any("Cpk is not demonstrated while samples fail" in w for w in j.reasons)
+    j = judge(Requirement("y", upper=1.0, min_yield=0.9), yield_=0.99, yield_lo=0.95, n_failed=1)
+    assert j.passed and j.violation == 0.0
+    assert j.reasons == ["1 sample(s) could not be evaluated and count as non-conforming"]
+
+
+def test_a_cpk_that_could_not_be_measured_says_more_samples_will_not_help():
+    """No Cpk at all (e.g. fewer than two evaluated samples): the estimate cannot meet the requirement."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("y", upper=1.0, min_cpk=1.33), cpk=None, cpk_lo=None, n=100)
+    assert not j.passed and not j.undecided and j.n_to_demonstrate is None
+    assert "the estimate itself misses the requirement: more samples will not demonstrate it" in j.reasons
+
+
+def test_the_point_estimate_basis_is_named_so():
+    from rvtol.spec import Requirement
+    from rvtol.verdict import describe_bound
+
+    assert describe_bound(Requirement("y", upper=1.0, basis="estimate")) == "point estimate"
+    assert describe_bound(Requirement("y", upper=1.0)) == "95 % one-sided lower bound"
+
+
+def test_a_summary_without_a_state_is_read_from_passed_and_undecided():
+    """summary.json written before it recorded ``state`` or ``undecided``: n_to_demonstrate stood for undecided."""
+    from rvtol.verdict import state_of
+
+    assert state_of({"passed": False, "n_to_demonstrate": 1109}) == "UNDECIDED"
+    assert state_of({"passed": False, "n_to_demonstrate": None}) == "FAIL"
+    assert state_of({"passed": False, "undecided": True, "n_to_demonstrate": None}) == "UNDECIDED"
+    assert state_of({"passed": False, "undecided": False, "n_to_demonstrate": 1109}) == "FAIL"
+    assert state_of({"passed": True}) == "PASS" and state_of({"state": "UNDECIDED", "passed": False}) == "UNDECIDED"

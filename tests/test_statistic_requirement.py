@@ -148,3 +148,45 @@ def test_the_verdict_digest_and_summary_rows_of_a_statistic_requirement():
     v = far.to_dict()
     assert v["statistic"] == "median" and v["statistic_interval"] == pytest.approx([y[l - 1], y[u - 1]])
     assert v["undecided"] is False and edge.to_dict()["undecided"] is True
+
+
+def test_the_violation_of_a_statistic_is_the_intervals_reach_beyond_the_band_over_its_width():
+    """judge_statistic's violation (its docstring), by hand on the band 5.8 … 6.2 (width 0.4): 0 inside, 1 + gap/0.4
+    wholly outside, the larger reach beyond a limit / 0.4 across one; a one-sided band scales by |limit|."""
+    r = Requirement("k", lower=5.8, upper=6.2, statistic="median")
+    assert judge_statistic(r, 6.0, 5.9, 6.1, 100).violation == 0.0
+    assert judge_statistic(r, 6.6, 6.5, 6.7, 100).violation == pytest.approx(1 + (6.5 - 6.2) / 0.4)     # above
+    assert judge_statistic(r, 5.5, 5.4, 5.6, 100).violation == pytest.approx(1 + (5.8 - 5.6) / 0.4)     # below
+    assert judge_statistic(r, 5.85, 5.7, 6.0, 100).violation == pytest.approx((5.8 - 5.7) / 0.4)       # across lower
+    assert judge_statistic(r, 6.15, 6.0, 6.3, 100).violation == pytest.approx((6.3 - 6.2) / 0.4)       # across upper
+    assert judge_statistic(r, 6.0, 5.7, 6.4, 100).violation == pytest.approx((6.4 - 6.2) / 0.4)        # both: larger
+    one = Requirement("k", upper=6.2, statistic="median")
+    assert judge_statistic(one, 6.6, 6.5, 6.7, 100).violation == pytest.approx(1 + (6.5 - 6.2) / 6.2)
+
+
+def test_failed_samples_leave_a_mean_unbounded_but_the_median_only_on_one_side():
+    """The reason says which: a failed sample can move the mean by any amount; the median's ranks bound them."""
+    mean = Requirement("k", lower=5.8, upper=6.2, statistic="mean")
+    j = judge_statistic(mean, 6.0, None, None, 12, n_failed=2)
+    assert j.undecided and j.violation == 1.0
+    assert j.reasons[-1] == ("2 sample(s) could not be evaluated: the mean is not bounded while they fail (the median "
+                             "bounds them on either side)")
+    median = Requirement("k", lower=5.8, upper=6.2, statistic="median")
+    j = judge_statistic(median, 6.0, None, 6.1, 12, n_failed=2)
+    assert j.reasons[-1] == "2 sample(s) could not be evaluated: the median is not bounded while they fail"
+
+
+@pytest.mark.parametrize("statistic,n", [("median", 4), ("mean", 1)])
+def test_too_few_samples_for_a_bound_say_so_not_that_the_estimate_sits_on_a_limit(statistic, n):
+    """The median's lower bound needs P(B = 0) = 0.5ⁿ ≤ 5 %, i.e. n ≥ 5; the mean's t interval n ≥ 2.  With fewer the
+    interval is unbounded: more samples would bound it (the reason said the estimate, 0.18 inside the band, sat on a
+    limit and more samples would not decide it), and the violation is 1, not 0 (0 is a pass)."""
+    assert 0.5 ** 4 > 0.05 >= 0.5 ** 5
+    r = Requirement("k", lower=5.8, upper=6.2, statistic=statistic)
+    y = 6.0 + 0.01 * np.arange(n)
+    est, lo, hi = statistic_interval(r, y)
+    assert lo is None and hi is None
+    j = judge_statistic(r, est, lo, hi, n)
+    assert not j.passed and j.undecided and j.violation == 1.0 and j.n_to_demonstrate is None
+    assert j.reasons[-1] == f"the {statistic} is not bounded at n = {n} (too few samples for a bound at 95 %): more " \
+                            "samples would bound it"

@@ -14,7 +14,7 @@ from rvtol.models.transmission.compliance import GROUPS
 from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import ST_BAD_CLEARANCE
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
-from rvtol.models.transmission.numpy_twin import ReferenceModel
+from numpy_twin import ReferenceModel
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
 

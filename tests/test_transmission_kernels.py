@@ -12,7 +12,7 @@ from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.contacts import pin_cos_sin, static_table
 from rvtol.models.transmission.factors import ErrorFactors, ErrorState
 from rvtol.models.transmission.geometry import geometry_from_design, inverse_involute, involute
-from rvtol.models.transmission.numpy_twin import ReferenceModel
+from numpy_twin import ReferenceModel
 
 ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "gamma_c", "R_pin", "R_pin_phase",
        "AP_pin", "R_cyc", "R_cyc_phase", "AP_cyc", "delta_b", "delta_oc", "delta_ca", "delta_pin[3]", "delta_th[5]",

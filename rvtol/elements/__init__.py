@@ -20,6 +20,7 @@ module states its formulas, symbols, units and literature sources:
 * :mod:`.disc_web` — in-plane torsion of the cycloid disc web;
 * :mod:`.plane_fe` — plane-stress finite elements with scikit-fem (meshes, tractions, plates);
 * :mod:`.fe_seats` — the disc and carrier seats round the bearings and the housing ring, by plane-stress FE;
+* :mod:`.fe_cache` — the FE seats kept on disk by the content of their inputs, across processes and runs;
 * :mod:`.conforming` — the pin in its groove as a conforming (pin-in-hole) contact;
 * :mod:`.roughness` — Greenwood–Williamson normal contact stiffness of rough surfaces;
 * :mod:`.bolted_joint` — bolted joint after VDI 2230 (preload, opening, slip, interface);

@@ -37,17 +37,20 @@ discs half a turn apart), each spread over one pin pitch.
 All three leave out: the axial (3-D) spreading of the load beyond the plate's own thickness, which makes the
 2-D plate a **soft** bound for a plate joined to thicker neighbours; stress concentrations at the roller
 ends; friction.  Units: mm, N, MPa.
+
+The three seats are kept on disk by their inputs and this code (:mod:`.fe_cache`) and memoised per process: a design
+computes each once, whatever the number of processes and runs.
 """
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from ..errors import SpecError
-from . import _checks, disc_web
+from . import _checks, disc_web, fe_cache, plane_fe
 from .plane_fe import Circle, PlateModel, annulus_mesh, arc_load, patch_load, perforated_disc_mesh
 
 #: default mesh sizes (mm): global and at the holes; crank-angle positions averaged over
@@ -65,6 +68,21 @@ class SeatResult:
     @property
     def compliance(self) -> float:
         return float(np.mean(self.work) / np.mean(self.force_sq))
+
+    def to_value(self) -> dict:
+        """The result as JSON (:mod:`.fe_cache`): its two tuples as lists of floats."""
+        return {"work": [float(w) for w in self.work], "force_sq": [float(f) for f in self.force_sq]}
+
+    @classmethod
+    def from_value(cls, value: dict) -> "SeatResult":
+        """The inverse of :meth:`to_value`."""
+        return cls(tuple(float(w) for w in value["work"]), tuple(float(f) for f in value["force_sq"]))
+
+
+#: a seat computed once per design, kept on disk by its inputs and this code (:mod:`.fe_cache`) and memoised per
+#: process
+_by_content = fe_cache.content_cached(to_value=SeatResult.to_value, from_value=SeatResult.from_value,
+                                      modules=(sys.modules[__name__], plane_fe, _checks, fe_cache))
 
 
 def pin_forces(torque: float, z_p: int, z_c: int, R_p: float, ecc: float, phase: float = 0.0):
@@ -89,13 +107,13 @@ def _crank_holes(a, n=3, start=0.0):
     return [start + 2.0 * np.pi * i / n for i in range(n)]
 
 
-@lru_cache(maxsize=16)
+@_by_content
 def disc_work(torque: float, *, r_root: float, bore: float, crank_radius: float, crank_hole: float,
               pillar_radius: float, pillar_hole: float, thickness: float, z_p: int, z_c: int, R_p: float,
               ecc: float, E: float, nu: float, angles: int = ANGLES, h: float = MESH_H,
               h_fine: float = MESH_H_FINE) -> SeatResult:
     """The disc under its pins and crank holes (module doc); ``Σ|F|²`` over the three crank-hole forces.
-    Cached per geometry (the chain is built once per design)."""
+    Cached by its inputs, on disk and per process (:mod:`.fe_cache`)."""
     beta = _crank_holes(crank_radius)
     holes = [Circle(crank_radius * math.cos(b), crank_radius * math.sin(b), 0.5 * crank_hole) for b in beta]
     holes += [Circle(pillar_radius * math.cos(b + math.pi / 3), pillar_radius * math.sin(b + math.pi / 3),
@@ -134,7 +152,7 @@ def disc_seat_compliance(result: SeatResult, torque: float, web_stiffness: float
     return extra / float(np.mean(result.force_sq))
 
 
-@lru_cache(maxsize=16)
+@_by_content
 def carrier_plate_work(torque: float, *, r_outer: float, bore: float, crank_radius: float, cup_diameter: float,
                        pillar_radius: float, pillar_root_radius: float, thickness: float, share: float,
                        E: float, nu: float, h: float = MESH_H, h_fine: float = MESH_H_FINE) -> SeatResult:
@@ -156,7 +174,7 @@ def carrier_plate_work(torque: float, *, r_outer: float, bore: float, crank_radi
     return SeatResult((sol.work,), (float(sum(np.dot(v, v) for v in Fc)),))
 
 
-@lru_cache(maxsize=16)
+@_by_content
 def housing_ring_work(torque: float, *, r_inner: float, r_outer: float, thickness: float, z_p: int, z_c: int,
                       R_p: float, ecc: float, E: float, nu: float, angles: int = ANGLES, n_r: int = 8,
                       per_pitch: int = 8) -> SeatResult:

@@ -11,6 +11,13 @@ meaning; examples::
     [[analysis.parts]]              # one table per part family
     file = "measured/crankshafts.csv"
     slots = ["crank_1", "crank_2", "crank_3"]
+    [[analysis.parts.gauge]]        # optional: a feature's uncertainty from a gauge R&R study (rvtol.production.msa)
+    file = "measured/cmm_grr.csv"
+    features = ["cam_1.form"]
+    [[analysis.parts]]              # or the inspection room's QIF 3.0 / DFQ file with a mapping
+    file = "measured/discs.qif"
+    mapping = "measured/discs_map.csv"
+    slots = ["disc_1", "disc_2"]
 
     [[analysis]]
     kind = "selective_assembly"
@@ -38,6 +45,7 @@ from ..spec import factor_from_params
 from . import texts
 from .grading import compare_grading
 from .measured_parts import FamilySource, load_measured_units
+from .msa import INTERACTION_ALPHA, Gauge, read_gauge_study
 from .per_unit import predict_units, samples_to_demonstrate
 from .selective import Classes, ClassToClassRule, GradedPart, Supply, TargetRule, known_names
 
@@ -71,10 +79,33 @@ class ProductionOptions(CommonOptions):
 
 
 @dataclass
+class GaugeOptions:
+    file: Path = option(REQUIRED, "the gauge R&R study (part, appraiser, [trial,] value [unit]: one reading per row)")
+    features: list[str] = option(REQUIRED, "the part family's feature columns it measures (their u = σ_GRR)",
+                                 min_length=1)
+    calibration_u: float = option(0.0, "standard uncertainty (k = 1) of the gauge's calibration, in the gauge "
+                                       "study's unit: u = √(σ²_GRR + calibration_u²)", nonnegative=True)
+    tolerance: float | None = option(None, "the features' tolerance width USL − LSL in the gauge study's unit "
+                                           "(%GRR of the tolerance)", positive=True)
+    interaction_alpha: float = option(INTERACTION_ALPHA, "the part × appraiser interaction is pooled into "
+                                                         "repeatability when its p-value exceeds this", min=0.001,
+                                      max=0.999)
+
+    def complete(self, study, error):
+        self.gauge = Gauge(read_gauge_study(self.file, tolerance=self.tolerance,
+                                            interaction_alpha=self.interaction_alpha),
+                           tuple(self.features), self.calibration_u)
+
+
+@dataclass
 class PartsOptions:
     file: Path = option(REQUIRED, "the part family's file (one row per serial number)")
     slots: list[str] = option(REQUIRED, "the places its parts take (factor = <slot>.<column>)", min_length=1)
     name: str | None = option(None, "the family's name (default: the file's stem)")
+    mapping: Path | None = option(None, "a QIF (.qif, .xml) or DFQ (.dfq) file's mapping: characteristic -> feature, "
+                                        "reading, unit, u (rvtol.inputs.inspection)")
+    gauge: list[GaugeOptions] | None = option(None, "[[analysis.parts.gauge]]: gauge studies giving features' "
+                                                    "measurement uncertainty", min_length=1)
 
 
 # --------------------------------------------------------------------------- per-unit prediction
@@ -95,12 +126,16 @@ class PerUnitPrediction(Analysis):
         n: int | None = option(None, "samples per unit (default: the n at which a unit can be shown to conform)",
                                min=2)
         interval: float = option(0.95, "central prediction interval shown per output", min=0.5, max=0.9999)
+        coverage_factor: float = option(2.0, "k of the expanded uncertainty U = k·u of the ISO 14253-1 decision "
+                                             "per unit (conformance / non-conformance proven / undecided)",
+                                        min=1.0, max=6.0)
 
         def complete(self, study, error):
             super().complete(study, error)
             self.title = self.title or (f"{PerUnitPrediction.title}: {self.name}" if self.name else None)
-            self.units = load_measured_units(study.spec, self.kits, [FamilySource(p.file, tuple(p.slots), p.name)
-                                                                     for p in self.parts])
+            self.units = load_measured_units(study.spec, self.kits, [
+                FamilySource(p.file, tuple(p.slots), p.name, tuple(g.gauge for g in p.gauge or ()), p.mapping)
+                for p in self.parts])
             study.inputs.update({f"{self.key}:{k}": v for k, v in self.units.files().items()})
             try:
                 self.needed = samples_to_demonstrate(self.requirements, self.conformance_probability)
@@ -113,10 +148,13 @@ class PerUnitPrediction(Analysis):
         o = self.options
         return predict_units(o.model, ctx.spec, o.units, o.n, evaluator=ctx.evaluator, requirements=o.requirements,
                              method=ctx.options.method, seed=ctx.seed, interval=o.interval,
-                             probability=o.conformance_probability)
+                             probability=o.conformance_probability, coverage_factor=o.coverage_factor)
 
     def summary(self, result):
-        return {**result.summary(), "n_to_demonstrate": self.options.needed, "file": self.options.file}
+        gauges = [{"family": f.name, "features": list(g.features), "u": g.u, "calibration_u": g.calibration_u,
+                   **g.result.summary()} for f in self.options.units.families for g in f.gauges]
+        return {**result.summary(), "n_to_demonstrate": self.options.needed, "file": self.options.file,
+                **({"gauges": gauges} if gauges else {})}
 
     def files(self, result):
         return {self.options.file: result.unit_frame().to_csv(index=False)}

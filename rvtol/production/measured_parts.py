@@ -22,7 +22,9 @@ header)::
 * **measurement uncertainty** of every feature column: the standard uncertainty u (k = 1, GUM) of
   one reading, in the column's unit — either in the row whose serial is ``uncertainty`` (one value
   for every part) or in a column ``<feature>.u`` (one per part; its own unit in brackets or the
-  feature's).  Exactly one of the two for each feature; 0 means exact;
+  feature's) — or from a **gauge study** the study names for the feature (``[[analysis.parts.gauge]]``,
+  :mod:`rvtol.production.msa`: u = √(σ²_GRR + u_cal²) of its crossed gauge R&R).  Exactly one of the three
+  for each feature; 0 means exact;
 * every cell of a part row holds a finite number (a feature measured on some parts only belongs
   in another file: one file per inspection plan).
 
@@ -35,6 +37,11 @@ header)::
 ``reducer`` is the reducer's serial number; one column per slot of the declared families (all of
 them), holding the serial of the part in that slot or ``-`` when that slot's part was not measured
 (its factors are then sampled from the spec).  A part belongs to one reducer, in one slot.
+
+**QIF and DFQ.**  A part family may come as the inspection room writes it — a QIF 3.0 file (``.qif``, ``.xml``:
+MeasurementResults, one per serial) or a Q-DAS DFQ file (``.dfq``: one value set per serial, K0014 the serial)
+— with a mapping file (characteristic → feature column, reading, unit, uncertainty): :mod:`rvtol.inputs.inspection`
+turns the two into the table above, read from then on as a CSV is.
 
 Every problem is one :class:`~rvtol.errors.InputError` naming the file and the row and column
 (``FILE: row 5, column 'cam_1.form [um]': not a number: 'x'``; in a workbook also the sheet).  Values
@@ -50,8 +57,9 @@ import numpy as np
 import pandas as pd
 
 from .. import units
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..inputs.sheets import Table, read_table
+from .msa import Gauge
 
 SERIAL = "serial"
 REDUCER = "reducer"
@@ -92,6 +100,8 @@ class PartFamily:
     lines: tuple[int, ...]            # row of each part in the file
     values: np.ndarray                # [parts, columns], base units
     uncertainty: np.ndarray           # [parts, columns], standard uncertainty, base units
+    gauges: tuple[Gauge, ...] = ()    # the gauge studies some columns' uncertainty comes from
+    mapping: tuple[str, str] | None = None   # (path, sha256) of a QIF/DFQ file's mapping
 
     def row(self, serial: str) -> int:
         return self.serials.index(serial)
@@ -100,9 +110,28 @@ class PartFamily:
         return tuple(factor_name(slot, c) for c in self.columns)
 
 
-def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) -> PartFamily:
-    """Read and check one part family file (module docstring) against ``spec``'s factors."""
-    t = read_table(path, what="serial, <feature> [unit], ...")
+def family_table(path, mapping=None) -> Table:
+    """The table of a part family file: rvtol's CSV/TSV/XLSX, or a QIF/DFQ file read through its ``mapping``
+    (:func:`rvtol.inputs.inspection.mapped_table`: the same table, so both take one code path after reading)."""
+    from ..inputs import inspection
+
+    if inspection.is_inspection_file(path):
+        if mapping is None:
+            raise InputError(f"a {Path(path).suffix} file needs a mapping file (characteristic -> feature)",
+                             file=str(path), key="mapping")
+        return inspection.mapped_table(path, mapping)
+    if mapping is not None:
+        raise InputError("a mapping is for a QIF (.qif, .xml) or DFQ (.dfq) file, not a table", file=str(path),
+                         key="mapping")
+    return read_table(path, what="serial, <feature> [unit], ...")
+
+
+def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, gauges: Sequence[Gauge] = (),
+                     mapping=None) -> PartFamily:
+    """Read and check one part family file (module docstring) against ``spec``'s factors; ``gauges``: gauge
+    studies giving the uncertainty of the features they name (:class:`~rvtol.production.msa.Gauge`); a QIF or
+    DFQ file through its ``mapping`` file (:func:`family_table`)."""
+    t = family_table(path, mapping)
     slots = tuple(slots)
     if not slots:
         raise InputError("a part family needs at least one slot", file=t.file, key="slots")
@@ -143,6 +172,21 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) 
             raise t.error(f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}", col=i)
         u_cols[j] = (i, unit)
 
+    by_gauge: dict[int, Gauge] = {}                    # feature index -> the gauge study measuring it
+    for g in gauges:
+        for f in g.features:
+            if f not in names or names.index(f) not in features:
+                raise t.error(f"no feature column {f!r} for the gauge study {Path(g.result.file).name!r}"
+                              f"{did_you_mean(f, [names[i] for i in features])}")
+            j = features.index(names.index(f))
+            if j in by_gauge:
+                raise t.error(f"feature {f!r} has two gauge studies ({Path(by_gauge[j].result.file).name!r} and "
+                              f"{Path(g.result.file).name!r})", col=features[j])
+            if g.unit is not None and units.dimension(g.unit) != units.dimension(col_units[j]):
+                raise t.error(f"the gauge study {Path(g.result.file).name!r} reads in {g.unit!r}, which does not fit "
+                              f"the feature's unit {col_units[j]!r}", col=features[j])
+            by_gauge[j] = g
+
     ncols = len(names)
     u_row: tuple[int, list] | None = None
     parts: list[tuple[int, list]] = []
@@ -161,13 +205,21 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) 
     row_u = np.full(len(features), np.nan)
     for j, i in enumerate(features):
         cell = u_row[1][i] if u_row else ""
+        if j in by_gauge:
+            typed = (u_row[0], i) if cell != "" else ((None, u_cols[j][0]) if j in u_cols else None)
+            if typed is not None:
+                raise t.error(f"an uncertainty here and the gauge study {Path(by_gauge[j].result.file).name!r} for "
+                              "this feature: give one", *typed)
+            row_u[j] = units.to_base(by_gauge[j].u, by_gauge[j].unit or col_units[j])
+            continue
         if j in u_cols:
             if cell != "":
                 raise t.error(f"an uncertainty here and a column {t.cells[u_cols[j][0]]!r}: give one", u_row[0], i)
             continue
         if cell == "":
-            raise t.error(f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row or a column "
-                          f"'{names[i]}{U_SUFFIX}'", u_row[0] if u_row else None, i)
+            raise t.error(f"no measurement uncertainty: give it in the {UNCERTAINTY_ROW!r} row, a column "
+                          f"'{names[i]}{U_SUFFIX}' or a gauge study ([[analysis.parts.gauge]])",
+                          u_row[0] if u_row else None, i)
         row_u[j] = units.to_base(_nonnegative(t, u_row[0], u_row[1], i), col_units[j])
     if u_row:
         for i, cell in enumerate(u_row[1]):
@@ -197,8 +249,10 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None) 
                 unc[r, j] = units.to_base(_nonnegative(t, row, cells, ui), uunit)
             else:
                 unc[r, j] = row_u[j]
+    m = getattr(t, "mapping", None)
     return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
-                      tuple(col_units), tuple(serials), tuple(lines), values, unc)
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges),
+                      (m.file, m.sha256) if m is not None else None)
 
 
 # --------------------------------------------------------------------------- kit list
@@ -257,6 +311,8 @@ class FamilySource:
     file: Path
     slots: tuple[str, ...]
     name: str | None = None
+    gauges: tuple[Gauge, ...] = ()                    # gauge studies giving features' uncertainty
+    mapping: Path | None = None       # a QIF or DFQ file's mapping (rvtol.inputs.inspection)
 
 
 @dataclass(frozen=True)
@@ -288,7 +344,16 @@ class MeasuredUnits:
         out = {"kit_list": {"path": self.kit_file, "sha256": self.kit_sha256}}
         for f in self.families:
             out[f"parts:{f.name}"] = {"path": f.file, "sha256": f.sha256}
+            if f.mapping is not None:
+                out[f"mapping:{f.name}"] = {"path": f.mapping[0], "sha256": f.mapping[1]}
+            for g in f.gauges:
+                out[f"gauge:{f.name}:{Path(g.result.file).name}"] = {"path": g.result.file, "sha256": g.result.sha256}
         return out
+
+    def gauge_frame(self) -> pd.DataFrame | None:
+        """One row per gauge study (family, features, the gauge R&R figures, u), None without gauge studies."""
+        rows = [{"family": f.name, **g.row()} for f in self.families for g in f.gauges]
+        return pd.DataFrame(rows) if rows else None
 
     def to_frame(self) -> pd.DataFrame:
         """One row per reducer: serial, number of measured factors, the part serial in every slot."""
@@ -301,7 +366,7 @@ class MeasuredUnits:
 
 def load_measured_units(spec, kit_list, families: Sequence[FamilySource]) -> MeasuredUnits:
     """Read the part families and the kit list; every reducer's measured factors (module docstring)."""
-    fams = [read_part_family(f.file, f.slots, spec, f.name) for f in families]
+    fams = [read_part_family(f.file, f.slots, spec, f.name, f.gauges, f.mapping) for f in families]
     names = [f.name for f in fams]
     dup = next((n for i, n in enumerate(names) if n in names[:i]), None)
     if dup is not None:

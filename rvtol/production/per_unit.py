@@ -22,6 +22,24 @@ limits; samples the model cannot evaluate count as non-conforming) with its lowe
 confidence bounds (one-sided at the requirement's bound level, :func:`rvtol.verdict.bound_level`),
 and the verdict of :func:`rvtol.verdict.judge_unit`: conforms / does not conform / undecided.
 
+Per unit and requirement also the **ISO 14253-1 decision rule** (ISO 14253-1:2017, *Decision rules for
+verifying conformity or nonconformity with specifications*, §5, the default rule of "proving
+conformance/non-conformance" with guard bands of the expanded uncertainty): the unit's predicted value y (the
+mean of its samples, GUM's best estimate) with standard uncertainty u (their standard deviation, ddof = 1)
+and expanded uncertainty U = k·u (``coverage_factor`` k, 2 by default) is
+
+* **conformance proven** when y lies in the tolerance zone reduced by U on each side:
+  L + U ≤ y ≤ H − U (a one-sided requirement: only its limit; the zone is closed);
+* **non-conformance proven** when y lies outside the zone enlarged by U: y < L − U or y > H + U;
+* **undecided** otherwise (and when fewer than two samples could be evaluated: no u to read).
+
+:func:`guard_banded` is the rule.  How it relates to the probability verdict: for a normal prediction,
+conformance proven means every limit is at least k·u from y, so P(conforms) ≥ 2Φ(k) − 1 (0.9545 at k = 2;
+Φ(k) = 0.9772 for one limit), and non-conformance proven means P ≤ Φ(−k) (0.0228).  The two agree whenever the
+probability a unit must show is at most 2Φ(k) − 1; with a stricter one (0.9973) a unit may be "conformance
+proven" by the guard band yet "undecided" on P — the guard band at k = 2 asks less than 3σ.  The P verdict
+also sees a skewed or bounded prediction as it is; the guard band reads only its mean and spread.
+
 For a linear model ``y = c + Σ a_i x_i`` the prediction is normal-equivalent with variance
 ``Σ_measured (a_i u_i)² + Σ_unmeasured a_j² σ_j²`` (independent factors) — the closed form the
 tests hold this module to.  :func:`samples_to_demonstrate` gives the ``n`` at which a unit can be
@@ -48,6 +66,23 @@ from .measured_parts import MeasuredUnits
 #: the order of the unit verdicts, worst last (a unit's overall verdict is its worst requirement's)
 STATES = (CONFORMS, UNDECIDED, DOES_NOT_CONFORM)
 _U_EPS = 2.0 ** -53
+#: the three outcomes of the ISO 14253-1 decision rule (module docstring)
+CONFORMANCE_PROVEN, NONCONFORMANCE_PROVEN, NOT_PROVEN = "conformance proven", "non-conformance proven", "undecided"
+COVERAGE_FACTOR = 2.0
+
+
+def guard_banded(y: float, u: float, lower: float | None, upper: float | None, k: float = COVERAGE_FACTOR) -> str:
+    """The ISO 14253-1 decision for a value ``y`` with standard uncertainty ``u`` against the limits
+    (``None``: no limit on that side): conformance proven when ``lower + k·u ≤ y ≤ upper − k·u``,
+    non-conformance proven when ``y < lower − k·u`` or ``y > upper + k·u``, else undecided (module docstring)."""
+    if not (np.isfinite(y) and np.isfinite(u)):
+        return NOT_PROVEN
+    U = k * u
+    if (lower is None or y >= lower + U) and (upper is None or y <= upper - U):
+        return CONFORMANCE_PROVEN
+    if (lower is not None and y < lower - U) or (upper is not None and y > upper + U):
+        return NONCONFORMANCE_PROVEN
+    return NOT_PROVEN
 
 
 def samples_to_demonstrate(requirements, probability: float | None = None) -> int:
@@ -130,6 +165,7 @@ class UnitPredictions:
     measured: np.ndarray               # [units] number of measured factors
     status_reasons: dict
     probability: float | None = None   # the probability of conformance a unit must show (None: each requirement's)
+    coverage_factor: float = COVERAGE_FACTOR   # k of the ISO 14253-1 guard band U = k·u
 
     @property
     def n(self) -> int:
@@ -176,11 +212,15 @@ class UnitPredictions:
                 yr = st.yield_of(y, ok, r.lower, r.upper, r.confidence, YIELD_INTERVALS[r.interval])
                 j = judge_unit(r, conforming=yr.conforming, n=yr.n, n_failed=int((~ok).sum()),
                                required=self.probability)
+                ok_y = y[ok]
+                est = float(ok_y.mean()) if ok_y.size else np.nan
+                u = float(ok_y.std(ddof=1)) if ok_y.size > 1 else np.nan     # one sample has no spread to read
                 rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": j.p,
                              "P_lo": j.p_lo, "P_hi": j.p_hi, "required": j.required, "verdict": j.state,
-                             "reasons": "; ".join(j.reasons)})
+                             "reasons": "; ".join(j.reasons), "y": est, "u": u, "U": self.coverage_factor * u,
+                             "ISO 14253-1": guard_banded(est, u, r.lower, r.upper, self.coverage_factor)})
         return pd.DataFrame(rows, columns=["reducer", "requirement", "output", "P", "P_lo", "P_hi", "required",
-                                           "verdict", "reasons"])
+                                           "verdict", "reasons", "y", "u", "U", "ISO 14253-1"])
 
     def verdicts(self) -> dict[str, str]:
         """Reducer -> its overall verdict: the worst of its requirements' (conforms without requirements)."""
@@ -202,6 +242,7 @@ class UnitPredictions:
                 row[f"{r['requirement']}: P"] = r["P"]
                 row[f"{r['requirement']}: P_lo"] = r["P_lo"]
                 row[f"{r['requirement']}: verdict"] = r["verdict"]
+                row[f"{r['requirement']}: ISO 14253-1 (k={self.coverage_factor:g})"] = r["ISO 14253-1"]
             for _, o in outs[outs["reducer"] == u].iterrows():
                 pct = f"{100 * self.interval:g}%"
                 row[f"{o['output']} median [{o['unit']}]"] = o["median"]
@@ -222,6 +263,8 @@ class UnitPredictions:
             sub = req[req["requirement"] == r.label].set_index("reducer")
             table[f"{r.label}: P [CI]"] = [f"{sub.loc[u, 'P']:.4f} [{sub.loc[u, 'P_lo']:.4f}, {sub.loc[u, 'P_hi']:.4f}]"
                                            for u in table["reducer"]]
+            table[f"{r.label}: ISO 14253-1 (y ± U, k={self.coverage_factor:g})"] = [
+                f"{sub.loc[u, 'ISO 14253-1']} ({sub.loc[u, 'y']:.4g} ± {sub.loc[u, 'U']:.3g})" for u in table["reducer"]]
         return table
 
     def plot(self, output: str, ax=None):
@@ -252,22 +295,27 @@ class UnitPredictions:
             units_.append({
                 "reducer": u, "verdict": verdicts[u],
                 "requirements": [{"requirement": r["requirement"], "P": r["P"], "P_ci": [r["P_lo"], r["P_hi"]],
-                                  "required": r["required"], "verdict": r["verdict"]} for _, r in rq.iterrows()],
+                                  "required": r["required"], "verdict": r["verdict"],
+                                  "iso14253": {"decision": r["ISO 14253-1"], "y": r["y"], "u": r["u"], "U": r["U"]}}
+                                 for _, r in rq.iterrows()],
                 "outputs": {o["output"]: {"unit": o["unit"], "median": o["median"], "interval": [o["lo"], o["hi"]],
                                           "failed": o["failed"]} for _, o in ou.iterrows()},
             })
         return {"n": self.n, "interval": self.interval, "counts": self.counts(),
-                "conformance_probability": self.probability, "units": units_}
+                "conformance_probability": self.probability, "coverage_factor": self.coverage_factor, "units": units_}
 
 
 def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n: int, *, evaluator,
                   requirements=(), method: str = "lhs", seed: int | None = None,
-                  interval: float = 0.95, probability: float | None = None) -> UnitPredictions:
+                  interval: float = 0.95, probability: float | None = None,
+                  coverage_factor: float = COVERAGE_FACTOR) -> UnitPredictions:
     """Predict every unit of ``measured`` (module docstring); ``evaluator``: an :class:`rvtol.mc.Evaluator`;
     ``probability``: the probability of conformance a unit must show (default: each requirement's own,
-    :func:`rvtol.verdict.unit_probability_required`)."""
+    :func:`rvtol.verdict.unit_probability_required`); ``coverage_factor``: k of the ISO 14253-1 guard band."""
     if not 0.0 < interval < 1.0:
         raise ValueError(f"interval must lie in (0, 1), got {interval}")
+    if not coverage_factor > 0:
+        raise ValueError(f"coverage_factor must be > 0, got {coverage_factor}")
     X = unit_design(spec, measured, n, method, seed)
     ev = evaluator(model, X, "per-unit prediction")
     res = result_of(model, SampleSet(X, spec.names, spec.units, method, seed), ev)
@@ -275,4 +323,4 @@ def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n:
     reqs = tuple(r.in_unit(model.output(r.output).shown_unit) for r in requirements)
     return UnitPredictions(tuple(measured.units), tuple(model.outputs), res.Y.reshape(U, n, -1),
                            res.status.reshape(U, n), reqs, float(interval), measured.measured.sum(axis=1),
-                           dict(model.status_reasons), probability)
+                           dict(model.status_reasons), probability, float(coverage_factor))

@@ -19,7 +19,14 @@ PER_UNIT = ("{units} reducers from the kit list {kits}; measured part families: 
             "meets the requirement reaches {probability} (on its lower confidence bound unless the requirement's "
             "basis is the estimate), does not conform when even the upper bound stays below, and is undecided in "
             "between; the unit's verdict is its worst. Result: {conforms} conform, {not_conform} do not conform, "
-            "{undecided} undecided. One row per reducer: {file} in the report folder.")
+            "{undecided} undecided. ISO 14253-1 decision per requirement: the unit's predicted value y (mean of its "
+            "samples) against the tolerance zone reduced (conformance proven) or enlarged (non-conformance proven) "
+            "by U = {k:g}·u, u the samples' standard deviation; undecided in between. One row per reducer: {file} "
+            "in the report folder.")
+GAUGES = ("Gauge studies (crossed gauge R&R, ANOVA method, AIAG MSA 4th ed.; rvtol.production.msa): the features' "
+          "standard uncertainty u = √(σ_GRR² + u_cal²), in the study's unit; interaction pooled into repeatability "
+          "when its p-value exceeds the study's interaction_alpha; AIAG: %GRR < 10 % acceptable, 10–30 % "
+          "conditionally, > 30 % unacceptable (of the tolerance when one is given); ndc = ⌊1.41·PV/GRR⌋")
 POPULATION = "the yield the requirement asks of the population"
 ONE_UNIT = "{p:g} (the study's conformance probability for one unit)"
 TOO_FEW = ("Note: with n = {n} samples per unit no unit can be shown to conform on every requirement (that needs n ≥ "
@@ -41,11 +48,14 @@ def per_unit(res, o) -> list:
         units=len(units), kits=Path(units.kit_file).name, families=fams, n=o.n,
         probability=POPULATION if o.conformance_probability is None else ONE_UNIT.format(p=o.conformance_probability),
         conforms=counts["conforms"], not_conform=counts["does not conform"], undecided=counts["undecided"],
-        file=o.file))]
+        k=res.coverage_factor, file=o.file))]
     if o.n < o.needed:
         blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
     outs = res.output_frame()
     outs = outs[outs["output"].isin(o.outputs)]
+    gauges = units.gauge_frame()
+    if gauges is not None:
+        blocks.append(Table(gauges, GAUGES))
     blocks += [Table(units.to_frame(), KITS),
                Table(res.verdict_table(), VERDICTS.format(
                    confidence=res.requirements[0].confidence if res.requirements else 0.95)),

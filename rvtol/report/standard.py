@@ -87,6 +87,8 @@ def verdict_section(result) -> Section:
     methods = sorted({"Clopper–Pearson" if v.requirement.interval == "clopper-pearson" else "Wilson"
                       for v in verdicts})
     sec.add_text(policy_text([v.requirement for v in verdicts]))
+    if mc.stopping is not None:
+        sec.add_text(sequential_text(mc.stopping))
     frame = pd.DataFrame(rows)
     if not any(v.notes for v in verdicts):
         frame = frame.drop(columns="notes")
@@ -94,6 +96,16 @@ def verdict_section(result) -> Section:
                   f" the bound column is what is judged (yield: {' / '.join(methods)}; Cpk: Bissell; percentile "
                   "Cpk: ISO 22514-2 with bootstrap CI)")
     return sec
+
+
+def sequential_text(stop) -> str:
+    """How a sequential run stopped, and what its verdicts rest on (the report's verdict section)."""
+    return (f"{stop.describe()[0].upper()}{stop.describe()[1:]}. In a sequential run the verdict of each requirement is "
+            "the sequential rule's (rvtol.sequential): PASS when the evidence that the yield exceeds the required one "
+            "(for a median: that the share of units on the inside of each limit exceeds ½; for a mean: its anytime-valid t interval lies inside the band) reaches 1/α, α = 1 − the "
+            "bound's confidence, FAIL when the evidence of the opposite does — kept from the look that first reached "
+            "it — and UNDECIDED when the budget ended first. The bounds in the table are the fixed-n ones at the final "
+            "n: they describe the sample but hold for one look, not the run's many (studies/sequential.md).")
 
 
 def policy_text(reqs) -> str:

@@ -81,6 +81,7 @@ def build_summary(result) -> dict:
         "seed": st.options.seed,
         "n": mc.n,
         "method": st.options.method,
+        **({"sequential": mc.stopping.to_dict()} if mc.stopping is not None else {}),
         "executor": result.executor,
         "wall_time_s": result.elapsed,
         "timings_s": {k: round(v, 3) for k, v in result.timings.items()},

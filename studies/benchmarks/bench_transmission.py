@@ -3,7 +3,7 @@
 Measured side by side in one process (the machine is shared and noisy: ratios are what counts, absolute
 times are indicative; CPU time, best of several interleaved runs).  "Before" is the kernels of the commit
 issue 15 started from (:mod:`_baseline`), run on the same reducers; "NumPy" is the twin
-(:mod:`rvtol.models.transmission.numpy_twin`).  One output revolution = z_b = 40 crank revolutions
+(``tests/numpy_twin.py``).  One output revolution = z_b = 40 crank revolutions
 relative to the carrier; at 36 positions per crank revolution that is 1440 static equilibria.
 
 Δθ_er after issue 24 is the curve's, refined between the positions (:mod:`rvtol.models.transmission.extremes`);
@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import sys
 import time
 from pathlib import Path
 
@@ -40,12 +41,13 @@ from rvtol.models.transmission.contacts import pin_cos_sin
 from rvtol.models.transmission.extremes import KAPPA, TOL_TE, te_extremes
 from rvtol.models.transmission.model import TransmissionErrorModel
 from rvtol.models.transmission.newmark import NewmarkSolver
-from rvtol.models.transmission.numpy_twin import ReferenceModel
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests"))     # the test oracle numpy_twin.py
+from numpy_twin import ReferenceModel  # noqa: E402
 ARCSEC = np.pi / 180 / 3600
 
 #: positions per crank revolution of the coarser Monte Carlo sweep (Δθ_er refined between them)

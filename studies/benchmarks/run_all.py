@@ -17,7 +17,9 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
 * ``bench_pce`` — the PCE's OMP before/after, against OpenTURNS' and scikit-learn's LARS;
 * ``bench_estimates`` — the run's printed estimate (time, disk) against the run;
 * ``bench_stackup``, ``bench_stiffness``, ``bench_sensitivity``, ``bench_allocation`` — the other models'
-  building blocks.
+  building blocks;
+* ``bench_fe_cache`` — the product's finite-element seats built in a fresh process with a cold cache against a
+  warm one.
 
 Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
 
@@ -37,7 +39,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "pce", "stackup", "stiffness", "sensitivity",
-         "allocation", "estimates", "scaling")
+         "allocation", "estimates", "scaling", "fe_cache")
 
 
 def command(name: str, size: str) -> list[str]:

@@ -129,7 +129,7 @@ class _Walk:
 
     def fail(self, reason: str) -> ExpressionError:
         return ExpressionError(f"{self.what}: {reason} (in {self.text!r}; factors carry their units into the "
-                               "formula: README, \"Formula models\")")
+                               "formula: rvtol docs writing-a-study, \"Units in formulas\")")
 
     def to_unit(self, node, want, where: str):
         """``node`` = (tree, q, is_number) converted to the unit ``want`` (of the same dimension)."""

@@ -6,7 +6,7 @@ Modules: :mod:`.geometry` (derived geometry, undefined symbols filled),
 (the design's compliance chain — crankshafts, crank support pairs, carrier,
 pin grooves, disc webs, input shaft — in series with the contacts),
 :mod:`._kernels` (numba: forces and series laws, Newton, sequences,
-Newmark-β), :mod:`.numpy_twin` (NumPy implementation of the same equations),
+Newmark-β; the tests hold them to a NumPy implementation of the same equations, ``tests/numpy_twin.py``),
 :mod:`.quasistatic`, :mod:`.extremes` (the TE curve's extremes refined between a
 sweep's positions: Δθ_er), :mod:`.newmark`, :mod:`.model` (:class:`TransmissionErrorModel`),
 :mod:`.curve` (one reducer in full), :mod:`.sensitivity` (Δθ_er against the error magnitudes),

@@ -2,8 +2,8 @@
 
 Pure array functions, ``@njit(cache=True, nogil=True)``, returning status codes
 (:mod:`.layout`).  Python wrappers (:mod:`.quasistatic`, :mod:`.newmark`)
-validate, convert and raise; :mod:`.numpy_twin` holds a NumPy implementation of
-the same equations for the tests and the benchmark ratio.
+validate, convert and raise; ``tests/numpy_twin.py`` (outside the package) holds a NumPy
+implementation of the same equations for the tests and the benchmark ratio.
 
 Structure: every contact is one row of a *contact table*.  A contact's relative
 displacement is affine in the coordinates q, ``d = G q + h``; ``G`` (``coef``

@@ -17,7 +17,7 @@ hidden factor: the design file says which numbers were fitted, to what, when, an
     cal.fit.to_frame(); cal.fit.identifiability.messages; cal.write_design(path)
 
 The study analysis is ``[[analysis]] kind = "calibration"`` (:mod:`.analyses`); synthetic test
-curves from known parameters: :mod:`.synthetic`.  Notes: ``studies/calibration.md``.
+curves from known parameters: ``tests/synthetic_curves.py`` (outside the package).  Notes: ``studies/calibration.md``.
 """
 from .calibrate import Calibration, CurveComparison, calibrate, reproduce
 from .design_file import calibrated_factors, design_toml, write_design

@@ -1,4 +1,5 @@
-"""NumPy implementation of the 20-DOF model: the same equations as :mod:`._kernels`, written apart.
+"""NumPy implementation of the 20-DOF model: the same equations as :mod:`rvtol.models.transmission._kernels`,
+written apart — a test oracle, kept out of the package (the library never runs it).
 
 Used by the tests (the numba kernels must agree with it to 1e-9 relative) and
 by the benchmark (speed ratio).  It computes each kind of contact from its own
@@ -31,12 +32,12 @@ contact undeformed — where the printed formulas differ, see the notes):
    (as printed);
 6. carrier–housing ``d = (X_ca − A_c cos γ_c, Y_ca − A_c sin γ_c)``.
 
-Coulomb friction (:mod:`.friction`, the torsion curve) — the friction torque at the output ``Σ m_c |J_c v|/|v_θ|`` (:meth:`ReferenceModel.friction_torque`) from the
+Coulomb friction (:mod:`rvtol.models.transmission.friction`, the torsion curve) — the friction torque at the output ``Σ m_c |J_c v|/|v_θ|`` (:meth:`ReferenceModel.friction_torque`) from the
 twin's own slip rows: a pin's tangential slip ``−sin α η + e cos α θ_do + (R_d cos α + R_p √S − r_rp) θ_d``
 (α, φ and S from the pin angles, as in 4.), a bearing's relative rotation (crank − disc for the needles,
 crank − carrier for the tapered pair), and its own tangent.
 
-With a compliance chain (:mod:`.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
+With a compliance chain (:mod:`rvtol.models.transmission.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
 (:func:`scipy.optimize.brentq`), each ``δ_i`` evaluated here apart from the kernels: the kind's power
 law, linear springs, the pin–groove log law, the crank-support pair's table by SciPy's
 :class:`~scipy.interpolate.CubicHermiteSpline`; the meshes' linear terms combined by
@@ -47,12 +48,12 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ...elements import chain as springs
-from . import layout as L
-from .friction import Friction
-from .compliance import log_law, table_law
-from .factors import ErrorState
-from .geometry import RVGeometry
+from rvtol.elements import chain as springs
+from rvtol.models.transmission import layout as L
+from rvtol.models.transmission.compliance import log_law, table_law
+from rvtol.models.transmission.factors import ErrorState
+from rvtol.models.transmission.friction import Friction
+from rvtol.models.transmission.geometry import RVGeometry
 
 
 def _u(a):
@@ -343,8 +344,8 @@ class ReferenceModel:
         return rows
 
     def friction_torque(self, theta_c: float, q, fric: Friction) -> tuple[float, dict]:
-        """The friction torque at the output of the equilibrium ``q`` (:func:`._kernels.friction_torque`, written
-        apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
+        """The friction torque at the output of the equilibrium ``q``
+        (:func:`rvtol.models.transmission._kernels.friction_torque`, written apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
         here and ``v`` the solution of the regularised tangent ``K v = e_θ``.  Returns ``(T_f, {group: share})``."""
         _, K, parts = self.forces(theta_c, q)
         xs = self.g.arc_radii()

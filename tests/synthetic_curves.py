@@ -1,9 +1,11 @@
-"""Synthetic measured curves from known parameters plus seeded noise — to test the calibration.
+"""Synthetic measured curves from known parameters plus seeded noise — to test the calibration (a test
+oracle, kept out of the package; ``studies/calibration_synthetic_data.py`` makes the repository's synthetic files
+with it).
 
-``synthetic_measurement`` evaluates the 20-DOF model (:class:`.curves.CurveModel`) with the true
-parameter values, adds an angle offset and independent normal noise of standard deviation ``sigma``
-drawn from the named sub-stream ``"calibration_noise"`` of ``seed``
-(:func:`rvtol.sampling.substream`), and returns it as a :class:`Measurement`;
+``synthetic_measurement`` evaluates the 20-DOF model
+(:class:`rvtol.models.transmission.calibration.curves.CurveModel`) with the true parameter values, adds an angle
+offset and independent normal noise of standard deviation ``sigma`` drawn from the named sub-stream
+``"calibration_noise"`` of ``seed`` (:func:`rvtol.sampling.substream`), and returns it as a :class:`Measurement`;
 ``write_synthetic_csv`` writes the same as a CSV file whose header says, in words, that it is
 synthetic and which parameters made it.
 
@@ -17,12 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .... import units
-from ....design import Design
-from ....sampling import substream
-from .curves import LOAD_FRACTION, CurveModel
-from .measurements import TE, TORSION, Measurement
-from .parameters import make_parameter
+from rvtol import units
+from rvtol.design import Design
+from rvtol.models.transmission.calibration.curves import LOAD_FRACTION, CurveModel
+from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
+from rvtol.models.transmission.calibration.parameters import make_parameter
+from rvtol.sampling import substream
 
 
 def torque_cycle(rated: float, points: int) -> np.ndarray:

@@ -1,0 +1,193 @@
+"""Write the round-trip fixtures of the QIF and DFQ readers from a known truth (rvtol.inputs.inspection).
+
+    python studies/make_inspection_fixtures.py [--validate QIF3_XSD_DIR]
+
+The truth is a part family in rvtol's own CSV (``truth.csv``: four crankshafts, a cam position in µm, a bore
+diameter's deviation from its 40 mm nominal in mm, a cam angle in arcmin, each with its standard uncertainty).
+The same parts are written
+
+* as a QIF 3.0 document (``parts.qif``) in **inches and degrees** (FileUnits with their UnitConversion factors
+  0.0254 m and π/180 rad), the bore as its measured *diameter* (nominal 40 mm + deviation) with the nominal's
+  TargetValue, the cam position's uncertainty as each value's ``combinedUncertainty``, the others' in the mapping
+  (``parts_qif_map.csv``);
+* as a Q-DAS DFQ file (``parts.dfq``) in **µm, mm and degrees** (K2142), the bore again as a diameter with its
+  nominal K2101, the first two parts as compact value lines (0x0F between characteristics, 0x14 between fields)
+  and the other two as coded K0001 lines, the serial as K0014; every uncertainty in the mapping
+  (``parts_dfq_map.csv``, each u in its characteristic's unit).
+
+The values are written with 17 significant digits, so reading a file back and converting to the truth's units
+gives the truth to a few units in the last place (``tests/test_inspection_formats.py``).  The QIF document is
+built with the standard library's ElementTree — the writer is independent of the reader's xsdata bindings — and,
+with ``--validate``, checked against the complete official QIF 3.0 schema (xmlschema; about 30 s to load).
+"""
+from __future__ import annotations
+
+import math
+import sys
+import uuid
+import xml.etree.ElementTree as ET
+from decimal import Decimal
+from pathlib import Path
+
+OUT = Path(__file__).resolve().parent.parent / "data" / "measurements" / "inspection"
+QIF = "http://qifstandards.org/xsd/qif3"
+NOMINAL_BORE_MM = 40.0
+INCH_M = 0.0254
+DEG_RAD = math.pi / 180.0
+
+#: the truth: serial, cam x [um], u [um], bore deviation [mm], u [um], cam angle [arcmin], u [arcmin]
+PARTS = [
+    ("C-0001", 0.4213, 0.15, 0.00712, 0.8, 1.25, 0.3),
+    ("C-0002", -1.0875, 0.15, -0.00431, 0.8, -0.75, 0.3),
+    ("C-0003", 2.3001, 0.25, 0.01204, 0.8, 0.5, 0.3),
+    ("C-0004", -0.0042, 0.15, -0.01518, 0.8, -2.125, 0.3),
+]
+
+
+def g(x: float) -> str:
+    """17 significant digits as an xs:decimal (no exponent)."""
+    return format(Decimal(repr(float(x))), "f")
+
+
+def truth_csv() -> str:
+    rows = ["# the truth the QIF and DFQ fixtures were written from (studies/make_inspection_fixtures.py)",
+            "serial, cam.x [um], cam.x.u [um], bore.d [mm], bore.d.u [um], cam.angle [arcmin], cam.angle.u [arcmin]"]
+    rows += [", ".join([s] + [g(v) for v in vals]) for s, *vals in PARTS]
+    return "\n".join(rows) + "\n"
+
+
+def _el(parent, tag, text=None, **attrs):
+    e = ET.SubElement(parent, f"{{{QIF}}}{tag}", {k: str(v) for k, v in attrs.items()})
+    if text is not None:
+        e.text = str(text)
+    return e
+
+
+def qif_document() -> bytes:
+    ET.register_namespace("", QIF)
+    ids = iter(range(1, 10_000))
+    root = ET.Element(f"{{{QIF}}}QIFDocument", {"versionQIF": "3.0.0"})
+    _el(root, "QPId", uuid.uuid5(uuid.NAMESPACE_URL, "rvtol/data/measurements/inspection/parts.qif"))
+    version = _el(root, "Version")
+    _el(version, "TimeCreated", "2026-11-29T00:00:00")
+    standard = _el(_el(root, "StandardsDefinitions", n=1), "Standard", id=next(ids))
+    _el(_el(standard, "Organization"), "StandardsOrganizationEnum", "ISO")
+    _el(standard, "Designator", "1101")
+    _el(standard, "Year", "2017")
+    units = _el(_el(root, "FileUnits"), "PrimaryUnits")
+    ang = _el(units, "AngularUnit")
+    _el(ang, "SIUnitName", "radian")
+    _el(ang, "UnitName", "degree")
+    _el(_el(ang, "UnitConversion"), "Factor", g(DEG_RAD))
+    lin = _el(units, "LinearUnit")
+    _el(lin, "SIUnitName", "meter")
+    _el(lin, "UnitName", "inch")
+    _el(_el(lin, "UnitConversion"), "Factor", g(INCH_M))
+    ch = _el(root, "Characteristics")
+    _el(ch, "FormalStandardId", standard.get("id"))
+    defs, noms, items = (_el(ch, t, n=3) for t in ("CharacteristicDefinitions", "CharacteristicNominals",
+                                                     "CharacteristicItems"))
+    kinds = {}          # name -> (kind, item id)
+    for name, kind, target, limits in (("CAM_X", "LinearCoordinate", 0.0, 0.002),
+                                       ("BORE_D", "Diameter", NOMINAL_BORE_MM / 25.4, 0.001),
+                                       ("CAM_ANGLE", "Angle", 0.0, 0.1)):
+        d = _el(defs, f"{kind}CharacteristicDefinition", id=next(ids))
+        tol = _el(d, "Tolerance")
+        _el(tol, "MaxValue", g(limits))
+        _el(tol, "MinValue", g(-limits))
+        _el(tol, "DefinedAsLimit", "false")
+        n = _el(noms, f"{kind}CharacteristicNominal", id=next(ids))
+        _el(n, "CharacteristicDefinitionId", d.get("id"))
+        _el(n, "TargetValue", g(target))
+        if kind == "LinearCoordinate":
+            _el(n, "Direction", "XAXIS")
+        it = _el(items, f"{kind}CharacteristicItem", id=next(ids))
+        _el(it, "Name", name)
+        _el(it, "CharacteristicNominalId", n.get("id"))
+        kinds[name] = (kind, it.get("id"))
+    results = _el(root, "Results")
+    mset = _el(results, "MeasurementResultsSet", n=len(PARTS))
+    components = []
+    for serial, cam_um, cam_u, bore_mm, _bu, ang_arcmin, ang_u in PARTS:
+        mr = _el(mset, "MeasurementResults", id=next(ids))
+        cms = _el(_el(mr, "MeasuredCharacteristics"), "CharacteristicMeasurements", n=3)
+        for name, value, u in (("CAM_X", cam_um / 1000 / 25.4, cam_u / 1000 / 25.4),
+                               ("BORE_D", (NOMINAL_BORE_MM + bore_mm) / 25.4, None),
+                               ("CAM_ANGLE", ang_arcmin / 60.0, ang_u / 60.0)):
+            kind, item = kinds[name]
+            m = _el(cms, f"{kind}CharacteristicMeasurement", id=next(ids))
+            _el(_el(m, "Status"), "CharacteristicStatusEnum", "PASS")
+            _el(m, "CharacteristicItemId", item)
+            if kind == "LinearCoordinate":
+                _el(_el(m, "TypeOfCoordinates"), "CoordinateEnum", "CARTESIAN_3D")
+            v = _el(m, "Value", g(value))
+            if u is not None:
+                v.set("combinedUncertainty", g(u))
+                v.set("meanError", "0")
+        _el(_el(mr, "InspectionStatus"), "InspectionStatusEnum", "PASS")
+        comp = str(next(ids))
+        _el(_el(mr, "ActualComponentIds", n=1), "Id", comp)
+        components.append((comp, serial))
+    sets = _el(results, "ActualComponentSets", n=len(components))
+    for comp, serial in components:
+        ac = _el(_el(sets, "ActualComponentSet", n=1), "ActualComponent", id=comp)
+        _el(ac, "SerialNumber", serial)
+        _el(_el(ac, "Status"), "InspectionStatusEnum", "PASS")
+    root.set("idMax", str(next(ids) - 1))
+    ET.indent(root)
+    return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8", xml_declaration=False) + b"\n"
+
+
+def dfq_file() -> bytes:
+    lines = ["K0100 3", "K1001/1 RV-CRANK", "K1002/1 crankshaft (rvtol round-trip fixture)"]
+    for i, (number, desc, nominal, unit, half) in enumerate((
+            ("10", "cam x", 0.0, "µm", 2.0), ("20", "bore diameter", NOMINAL_BORE_MM, "mm", 0.02),
+            ("30", "cam angle", 0.0, "°", 0.1)), 1):
+        lines += [f"K2001/{i} {number}", f"K2002/{i} {desc}", f"K2101/{i} {g(nominal)}",
+                  f"K2110/{i} {g(nominal - half)}", f"K2111/{i} {g(nominal + half)}", f"K2142/{i} {unit}"]
+    for j, (serial, cam_um, _cu, bore_mm, _bu, ang_arcmin, _au) in enumerate(PARTS):
+        values = (cam_um, NOMINAL_BORE_MM + bore_mm, ang_arcmin / 60.0)
+        if j < 2:       # compact: value 0x14 attribute 0x14 date/time, characteristics separated by 0x0F
+            lines.append("\x0f".join(f"{g(v)}\x140\x1401.11.2026/08:00:0{j}" for v in values))
+            lines.append(f"K0014/0 {serial}")
+        else:           # coded
+            for i, v in enumerate(values, 1):
+                lines += [f"K0001/{i} {g(v)}", f"K0014/{i} {serial}"]
+    return ("\r\n".join(lines) + "\r\n").encode("cp1252")
+
+
+QIF_MAP = """# parts.qif -> the crankshaft's features (the cam's uncertainties are in the file: combinedUncertainty)
+characteristic, feature, reading, u [um]
+CAM_X, cam.x, value,
+BORE_D, bore.d, deviation, 0.8
+CAM_ANGLE, cam.angle, value,
+"""
+DFQ_MAP = """# parts.dfq -> the crankshaft's features (K2002 descriptions; the bore by its number K2001);
+# u in each characteristic's unit (K2142: um, mm, degree)
+characteristic, feature, reading, u
+cam x, cam.x, value, 0.15
+20, bore.d, deviation, 0.0008
+cam angle, cam.angle, value, 0.005
+"""
+
+
+def main(argv: list[str]) -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / "truth.csv").write_text(truth_csv(), encoding="utf-8")
+    (OUT / "parts.qif").write_bytes(qif_document())
+    (OUT / "parts.dfq").write_bytes(dfq_file())
+    (OUT / "parts_qif_map.csv").write_text(QIF_MAP, encoding="utf-8")
+    (OUT / "parts_dfq_map.csv").write_text(DFQ_MAP, encoding="utf-8")
+    if "--validate" in argv:
+        import xmlschema
+
+        xsd = Path(argv[argv.index("--validate") + 1]) / "QIFApplications" / "QIFDocument.xsd"
+        schema = xmlschema.XMLSchema(str(xsd))
+        errors = list(schema.iter_errors(str(OUT / "parts.qif")))
+        for e in errors[:5]:
+            print("invalid:", e.reason, e.path, file=sys.stderr)
+        print(f"parts.qif against {xsd}: {'valid' if not errors else f'{len(errors)} errors'}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
