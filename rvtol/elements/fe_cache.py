@@ -135,7 +135,7 @@ def content_cached(*, to_value, from_value, modules, maxsize: int = 16):
                 try:
                     return from_value(value)
                 except (KeyError, TypeError, ValueError):
-                    pass
+                    pass                    # an entry of another shape: computed again below
             result = fn(*args, **kwargs)
             store(key, to_value(result))
             return result
