@@ -352,13 +352,15 @@ def test_random_truth_tables_read_back_from_qif_and_dfq_as_pint_converts_them(tm
         np.testing.assert_allclose(fam.uncertainty[:, k], _oracle(ch["u"], ch), rtol=1e-12, atol=0)
 
 
-def _one_characteristic_qif(tmp_path, linear, angular, value, u_cell):
+def _one_characteristic_qif(tmp_path, linear, angular, value, u_cell, nominal=None):
     """A QIF of one linear characteristic (two parts: ``value`` and -``value``) in the units ``linear``, mapped with
-    a u without a header unit."""
+    a u without a header unit (its deviation from ``nominal`` when one is given)."""
     path = tmp_path / "p.qif"
     parts = [("S-0", [(value, None)]), ("S-1", [(-value, None)])]
-    path.write_bytes(FIXTURES.qif_document([("CH0", "Diameter", linear[0][0], 0.0, 1.0)], parts, linear, angular))
-    mapping = write(tmp_path / "map.csv", f"characteristic, feature, u\nCH0, f0, {u_cell}\n")
+    path.write_bytes(FIXTURES.qif_document([("CH0", "Diameter", linear[0][0], nominal or 0.0, 1.0)], parts, linear,
+                                           angular))
+    reading = "value" if nominal is None else "deviation"
+    mapping = write(tmp_path / "map.csv", f"characteristic, feature, reading, u\nCH0, f0, {reading}, {u_cell}\n")
     spec = spec_from_table({"factor": [{"name": "p.f0", "unit": "mm", "dist": "normal", "sigma": 1.0}]})
     return read_part_family(path, ["p"], spec, mapping=mapping)
 
@@ -379,3 +381,11 @@ def test_a_mapping_u_for_a_qif_unit_rvtol_does_not_know_is_in_that_unit(tmp_path
     np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.25, -0.25]), "foot").to("mm").magnitude,
                                rtol=1e-12)
     np.testing.assert_allclose(fam.uncertainty[:, 0], UREG.Quantity(0.5, "foot").to("mm").magnitude, rtol=1e-12)
+
+
+def test_a_qif_deviation_in_a_unit_rvtol_does_not_know_subtracts_the_nominal_in_that_unit(tmp_path):
+    # found by the round trip above: a file in feet, value 0.25 ft on a nominal of 0.1 ft, read as a deviation, was
+    # 0.25 ft in mm less 0.1 (the nominal left in feet): 76.1 mm instead of 0.15 ft = 45.72 mm
+    fam = _one_characteristic_qif(tmp_path, [("foot", 0.3048)], [("degree", math.pi / 180)], 0.25, 0.5, nominal=0.1)
+    np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.15, -0.35]), "foot").to("mm").magnitude,
+                               rtol=1e-12)

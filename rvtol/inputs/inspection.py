@@ -277,7 +277,8 @@ def read_qif(path) -> InspectionFile:
                 c.scale = k / units.to_base(1.0, unit)
                 target = targets.get(key)
                 if target is not None:
-                    c.nominal = float(target.value) * _qif_unit(factors, dim, target, f, c.where)[1] / k
+                    c.nominal = (float(target.value) * _qif_unit(factors, dim, target, f, c.where)[1]
+                                 / units.to_base(1.0, unit))
             k /= units.to_base(1.0, c.unit)
             u = m.value.combined_uncertainty
             part.readings.setdefault(key, []).append((float(m.value.value) * k, None if u is None else float(u) * k))
