@@ -19,6 +19,8 @@ The values are written with 17 significant digits, so reading a file back and co
 gives the truth to a few units in the last place (``tests/test_inspection_formats.py``).  The QIF document is
 built with the standard library's ElementTree — the writer is independent of the reader's xsdata bindings — and,
 with ``--validate``, checked against the complete official QIF 3.0 schema (xmlschema; about 30 s to load).
+The writers take any table (:func:`qif_document`, :func:`dfq_file`): the readers' property-based round trip in
+``tests/test_inspection_formats.py`` writes random tables in random units with them.
 """
 from __future__ import annotations
 
@@ -63,7 +65,43 @@ def _el(parent, tag, text=None, **attrs):
     return e
 
 
-def qif_document() -> bytes:
+#: the fixture's QIF characteristics: (name, kind, unit name, nominal in that unit, tolerance half-width)
+QIF_CHARACTERISTICS = (("CAM_X", "LinearCoordinate", "inch", 0.0, 0.002),
+                       ("BORE_D", "Diameter", "inch", NOMINAL_BORE_MM / 25.4, 0.001),
+                       ("CAM_ANGLE", "Angle", "degree", 0.0, 0.1))
+#: the fixture's DFQ characteristics: (K2001 number, K2002 description, K2101 nominal, K2142 unit, tolerance half-width)
+DFQ_CHARACTERISTICS = (("10", "cam x", 0.0, "µm", 2.0), ("20", "bore diameter", NOMINAL_BORE_MM, "mm", 0.02),
+                       ("30", "cam angle", 0.0, "°", 0.1))
+
+
+def qif_parts() -> list:
+    """The truth as the QIF fixture's readings: (serial, [(value, combinedUncertainty or None)]) in inch and degree."""
+    return [(serial, [(cam_um / 1000 / 25.4, cam_u / 1000 / 25.4), ((NOMINAL_BORE_MM + bore_mm) / 25.4, None),
+                      (ang_arcmin / 60.0, ang_u / 60.0)])
+            for serial, cam_um, cam_u, bore_mm, _bu, ang_arcmin, ang_u in PARTS]
+
+
+def dfq_parts() -> list:
+    """The truth as the DFQ fixture's values: (serial, [value]) in µm, mm and degrees."""
+    return [(serial, [cam_um, NOMINAL_BORE_MM + bore_mm, ang_arcmin / 60.0])
+            for serial, cam_um, _cu, bore_mm, _bu, ang_arcmin, _au in PARTS]
+
+
+def _qif_unit(parent, tag, si_name, name, factor):
+    u = _el(parent, tag)
+    _el(u, "SIUnitName", si_name)
+    _el(u, "UnitName", name)
+    if factor is not None:
+        _el(_el(u, "UnitConversion"), "Factor", g(factor))
+
+
+def qif_document(characteristics=QIF_CHARACTERISTICS, parts=None, linear_units=(("inch", INCH_M),),
+                 angular_units=(("degree", DEG_RAD),)) -> bytes:
+    """A QIF 3.0 MeasurementResults document: ``characteristics`` as :data:`QIF_CHARACTERISTICS` (kind ``Angle``
+    in an angular unit, the others in a linear one), ``parts`` as :func:`qif_parts` (each value in its
+    characteristic's unit); units (UnitName, factor to m or rad, or None to write no UnitConversion), the first of
+    each the primary unit, the others OtherUnits named by the values' ``linearUnit`` / ``angularUnit``."""
+    parts = qif_parts() if parts is None else parts
     ET.register_namespace("", QIF)
     ids = iter(range(1, 10_000))
     root = ET.Element(f"{{{QIF}}}QIFDocument", {"versionQIF": "3.0.0"})
@@ -74,47 +112,51 @@ def qif_document() -> bytes:
     _el(_el(standard, "Organization"), "StandardsOrganizationEnum", "ISO")
     _el(standard, "Designator", "1101")
     _el(standard, "Year", "2017")
-    units = _el(_el(root, "FileUnits"), "PrimaryUnits")
-    ang = _el(units, "AngularUnit")
-    _el(ang, "SIUnitName", "radian")
-    _el(ang, "UnitName", "degree")
-    _el(_el(ang, "UnitConversion"), "Factor", g(DEG_RAD))
-    lin = _el(units, "LinearUnit")
-    _el(lin, "SIUnitName", "meter")
-    _el(lin, "UnitName", "inch")
-    _el(_el(lin, "UnitConversion"), "Factor", g(INCH_M))
+    file_units = _el(root, "FileUnits")
+    units = _el(file_units, "PrimaryUnits")
+    _qif_unit(units, "AngularUnit", "radian", *angular_units[0])
+    _qif_unit(units, "LinearUnit", "meter", *linear_units[0])
+    if len(linear_units) > 1 or len(angular_units) > 1:
+        others = _el(file_units, "OtherUnits", n=len(linear_units) + len(angular_units) - 2)
+        for u in angular_units[1:]:
+            _qif_unit(others, "AngularUnit", "radian", *u)
+        for u in linear_units[1:]:
+            _qif_unit(others, "LinearUnit", "meter", *u)
+    primary = {linear_units[0][0], angular_units[0][0]}
+
+    def in_unit(e, kind, unit):               # a value's unit attribute when it is not the primary unit
+        if unit not in primary:
+            e.set("angularUnit" if kind == "Angle" else "linearUnit", unit)
+        return e
+
     ch = _el(root, "Characteristics")
     _el(ch, "FormalStandardId", standard.get("id"))
-    defs, noms, items = (_el(ch, t, n=3) for t in ("CharacteristicDefinitions", "CharacteristicNominals",
-                                                     "CharacteristicItems"))
-    kinds = {}          # name -> (kind, item id)
-    for name, kind, target, limits in (("CAM_X", "LinearCoordinate", 0.0, 0.002),
-                                       ("BORE_D", "Diameter", NOMINAL_BORE_MM / 25.4, 0.001),
-                                       ("CAM_ANGLE", "Angle", 0.0, 0.1)):
+    defs, noms, items = (_el(ch, t, n=len(characteristics)) for t in ("CharacteristicDefinitions",
+                                                                       "CharacteristicNominals",
+                                                                       "CharacteristicItems"))
+    kinds = []          # (kind, unit, item id) of each characteristic
+    for name, kind, unit, target, limits in characteristics:
         d = _el(defs, f"{kind}CharacteristicDefinition", id=next(ids))
         tol = _el(d, "Tolerance")
-        _el(tol, "MaxValue", g(limits))
-        _el(tol, "MinValue", g(-limits))
+        in_unit(_el(tol, "MaxValue", g(limits)), kind, unit)
+        in_unit(_el(tol, "MinValue", g(-limits)), kind, unit)
         _el(tol, "DefinedAsLimit", "false")
         n = _el(noms, f"{kind}CharacteristicNominal", id=next(ids))
         _el(n, "CharacteristicDefinitionId", d.get("id"))
-        _el(n, "TargetValue", g(target))
+        in_unit(_el(n, "TargetValue", g(target)), kind, unit)
         if kind == "LinearCoordinate":
             _el(n, "Direction", "XAXIS")
         it = _el(items, f"{kind}CharacteristicItem", id=next(ids))
         _el(it, "Name", name)
         _el(it, "CharacteristicNominalId", n.get("id"))
-        kinds[name] = (kind, it.get("id"))
+        kinds.append((kind, unit, it.get("id")))
     results = _el(root, "Results")
-    mset = _el(results, "MeasurementResultsSet", n=len(PARTS))
+    mset = _el(results, "MeasurementResultsSet", n=len(parts))
     components = []
-    for serial, cam_um, cam_u, bore_mm, _bu, ang_arcmin, ang_u in PARTS:
+    for serial, readings in parts:
         mr = _el(mset, "MeasurementResults", id=next(ids))
-        cms = _el(_el(mr, "MeasuredCharacteristics"), "CharacteristicMeasurements", n=3)
-        for name, value, u in (("CAM_X", cam_um / 1000 / 25.4, cam_u / 1000 / 25.4),
-                               ("BORE_D", (NOMINAL_BORE_MM + bore_mm) / 25.4, None),
-                               ("CAM_ANGLE", ang_arcmin / 60.0, ang_u / 60.0)):
-            kind, item = kinds[name]
+        cms = _el(_el(mr, "MeasuredCharacteristics"), "CharacteristicMeasurements", n=len(readings))
+        for (kind, unit, item), (value, u) in zip(kinds, readings):
             m = _el(cms, f"{kind}CharacteristicMeasurement", id=next(ids))
             _el(_el(m, "Status"), "CharacteristicStatusEnum", "PASS")
             _el(m, "CharacteristicItemId", item)
@@ -124,6 +166,7 @@ def qif_document() -> bytes:
             if u is not None:
                 v.set("combinedUncertainty", g(u))
                 v.set("meanError", "0")
+            in_unit(v, kind, unit)
         _el(_el(mr, "InspectionStatus"), "InspectionStatusEnum", "PASS")
         comp = str(next(ids))
         _el(_el(mr, "ActualComponentIds", n=1), "Id", comp)
@@ -138,17 +181,19 @@ def qif_document() -> bytes:
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8", xml_declaration=False) + b"\n"
 
 
-def dfq_file() -> bytes:
-    lines = ["K0100 3", "K1001/1 RV-CRANK", "K1002/1 crankshaft (rvtol round-trip fixture)"]
-    for i, (number, desc, nominal, unit, half) in enumerate((
-            ("10", "cam x", 0.0, "µm", 2.0), ("20", "bore diameter", NOMINAL_BORE_MM, "mm", 0.02),
-            ("30", "cam angle", 0.0, "°", 0.1)), 1):
-        lines += [f"K2001/{i} {number}", f"K2002/{i} {desc}", f"K2101/{i} {g(nominal)}",
-                  f"K2110/{i} {g(nominal - half)}", f"K2111/{i} {g(nominal + half)}", f"K2142/{i} {unit}"]
-    for j, (serial, cam_um, _cu, bore_mm, _bu, ang_arcmin, _au) in enumerate(PARTS):
-        values = (cam_um, NOMINAL_BORE_MM + bore_mm, ang_arcmin / 60.0)
-        if j < 2:       # compact: value 0x14 attribute 0x14 date/time, characteristics separated by 0x0F
-            lines.append("\x0f".join(f"{g(v)}\x140\x1401.11.2026/08:00:0{j}" for v in values))
+def dfq_file(characteristics=DFQ_CHARACTERISTICS, parts=None, compact: int = 2) -> bytes:
+    """A DFQ file: ``characteristics`` as :data:`DFQ_CHARACTERISTICS` (a nominal None: no K2101, K2110, K2111),
+    ``parts`` as :func:`dfq_parts`; the first ``compact`` parts as value lines, the others as coded K0001 lines."""
+    parts = dfq_parts() if parts is None else parts
+    lines = [f"K0100 {len(characteristics)}", "K1001/1 RV-CRANK", "K1002/1 crankshaft (rvtol round-trip fixture)"]
+    for i, (number, desc, nominal, unit, half) in enumerate(characteristics, 1):
+        lines += [f"K2001/{i} {number}", f"K2002/{i} {desc}"]
+        if nominal is not None:
+            lines += [f"K2101/{i} {g(nominal)}", f"K2110/{i} {g(nominal - half)}", f"K2111/{i} {g(nominal + half)}"]
+        lines.append(f"K2142/{i} {unit}")
+    for j, (serial, values) in enumerate(parts):
+        if j < compact:     # compact: value 0x14 attribute 0x14 date/time, characteristics separated by 0x0F
+            lines.append("\x0f".join(f"{g(v)}\x140\x1401.11.2026/08:00:{j:02d}" for v in values))
             lines.append(f"K0014/0 {serial}")
         else:           # coded
             for i, v in enumerate(values, 1):

@@ -6,10 +6,14 @@ reading the same file independently of the xsdata bindings; for the public DFQ s
 the file.
 """
 import hashlib
+import math
 import xml.etree.ElementTree as ET
 
 import numpy as np
+import pint
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from conftest import ROOT, run_cli, write
 from rvtol.errors import InputError
@@ -249,3 +253,139 @@ def test_a_dfq_characteristic_the_mapping_does_not_name_may_hold_anything(tmp_pa
     m = write(tmp_path / "map.csv", DFQ_MAP.replace("cam angle, cam.angle, value, 0.005\n", ""))
     fam = read_part_family(path, ["crank_1"], SPEC, mapping=m)
     np.testing.assert_allclose(fam.values, truth.values[:, :2], **TOL)
+
+
+# --------------------------------------------------------------------------- round trip of random truth tables
+def _fixture_writers():
+    """The fixture generator's QIF and DFQ writers (studies/make_inspection_fixtures.py, not a package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_inspection_fixtures",
+                                                  ROOT / "studies" / "make_inspection_fixtures.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+FIXTURES = _fixture_writers()
+UREG = pint.UnitRegistry()
+#: per dimension: (QIF UnitName, its factor to m or rad as QIF's UnitConversion, DFQ K2142 text, pint's name);
+#: "foot" and "grad" are units rvtol does not know: QIF's reader converts them by their factor (DFQ: not offered)
+UNITS = {
+    "length": [("mm", 1e-3, "mm", "mm"), ("um", 1e-6, "µm", "micrometer"), ("inch", 0.0254, "in", "inch"),
+               ("thou", 2.54e-5, "thou", "thou"), ("cm", 1e-2, "cm", "cm"), ("foot", 0.3048, None, "foot")],
+    "angle": [("degree", math.pi / 180, "°", "degree"), ("radian", 1.0, "rad", "radian"),
+              ("arcmin", math.pi / 10800, "arcmin", "arcminute"), ("arcsec", math.pi / 648000, "arcsec", "arcsecond"),
+              ("mrad", 1e-3, "mrad", "milliradian"), ("grad", math.pi / 200, None, "gradian")],
+}
+BASE = {"length": "mm", "angle": "radian"}          # the spec's factor units below (rvtol's base: mm, rad)
+NUMBER = st.one_of(st.just(0.0), st.floats(-1e3, 1e3, allow_nan=False, allow_subnormal=False))
+
+
+@st.composite
+def truth_tables(draw):
+    """A few serials × a few characteristics: each a dimension, a unit, a nominal, a reading (value or deviation),
+    a mapping u, and one value per serial — every number as written in the file, in the characteristic's unit."""
+    n_parts = draw(st.integers(1, 4))
+    chars = []
+    for k in range(draw(st.integers(1, 3))):
+        dim = draw(st.sampled_from(sorted(UNITS)))
+        chars.append(dict(dim=dim, unit=draw(st.sampled_from(UNITS[dim])), nominal=draw(NUMBER),
+                          deviation=draw(st.booleans()), u=draw(st.floats(0.0, 10.0, allow_subnormal=False)),
+                          values=draw(st.lists(NUMBER, min_size=n_parts, max_size=n_parts)),
+                          conversion=draw(st.booleans())))
+    return n_parts, chars
+
+
+def _oracle(x, ch):
+    """pint: a number written in ``ch``'s unit, in the factor's unit."""
+    return UREG.Quantity(x, ch["unit"][3]).to(BASE[ch["dim"]]).magnitude
+
+
+def _write_qif(path, n_parts, chars):
+    linear, angular = [], []
+    for ch in chars:                # each unit once; a known name without UnitConversion when drawn so
+        name, factor = ch["unit"][:2]
+        factor = factor if ch["conversion"] or name in ("foot", "grad") else None
+        units = linear if ch["dim"] == "length" else angular
+        if name not in [u[0] for u in units]:
+            units.append((name, factor))
+    linear = linear or [("mm", 1e-3)]
+    angular = angular or [("radian", 1.0)]
+    characteristics = [(f"CH{k}", "Angle" if ch["dim"] == "angle" else ("Diameter", "LinearCoordinate")[k % 2],
+                        ch["unit"][0], ch["nominal"], 1.0) for k, ch in enumerate(chars)]
+    parts = [(f"S-{j}", [(ch["values"][j], None) for ch in chars]) for j in range(n_parts)]
+    path.write_bytes(FIXTURES.qif_document(characteristics, parts, linear, angular))
+    return [f"CH{k}" for k in range(len(chars))]
+
+
+def _write_dfq(path, n_parts, chars, compact):
+    characteristics = [(str(10 * (k + 1)), f"char {k}", ch["nominal"] if ch["deviation"] or ch["conversion"] else None,
+                        ch["unit"][2], 1.0) for k, ch in enumerate(chars)]
+    parts = [(f"S-{j}", [ch["values"][j] for ch in chars]) for j in range(n_parts)]
+    path.write_bytes(FIXTURES.dfq_file(characteristics, parts, compact))
+    return [f"char {k}" for k in range(len(chars))]
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(table=truth_tables(), fmt=st.sampled_from(["qif", "dfq"]), compact=st.integers(0, 4))
+def test_random_truth_tables_read_back_from_qif_and_dfq_as_pint_converts_them(tmp_path, table, fmt, compact):
+    n_parts, chars = table
+    if fmt == "dfq":
+        chars = [ch for ch in chars if ch["unit"][2] is not None] or [dict(chars[0], unit=UNITS[chars[0]["dim"]][0])]
+    path = tmp_path / f"parts.{fmt}"
+    names = _write_qif(path, n_parts, chars) if fmt == "qif" else _write_dfq(path, n_parts, chars, compact)
+    mapping = write(tmp_path / "map.csv", "characteristic, feature, reading, u\n" + "".join(
+        f"{n}, f{k}, {'deviation' if ch['deviation'] else 'value'}, {ch['u']!r}\n"
+        for k, (n, ch) in enumerate(zip(names, chars))))
+    spec = spec_from_table({"factor": [{"name": f"p.f{k}", "unit": "mm" if ch["dim"] == "length" else "rad",
+                                        "dist": "normal", "mean": 0.0, "sigma": 1.0} for k, ch in enumerate(chars)]})
+    fam = read_part_family(path, ["p"], spec, mapping=mapping)
+    assert fam.serials == tuple(f"S-{j}" for j in range(n_parts))
+    for k, ch in enumerate(chars):
+        nominal = ch["nominal"] if ch["deviation"] else 0.0
+        # the reader subtracts the nominal after scaling, the oracle before: they agree to the nominal's ulp
+        scale = abs(_oracle(nominal, ch))
+        for j, x in enumerate(ch["values"]):
+            ref = _oracle(x - nominal, ch)
+            assert abs(fam.values[j, k] - ref) <= 1e-12 * (abs(ref) + scale), (j, k, fam.values[j, k], ref)
+        np.testing.assert_allclose(fam.uncertainty[:, k], _oracle(ch["u"], ch), rtol=1e-12, atol=0)
+
+
+def _one_characteristic_qif(tmp_path, linear, angular, value, u_cell, nominal=None):
+    """A QIF of one linear characteristic (two parts: ``value`` and -``value``) in the units ``linear``, mapped with
+    a u without a header unit (its deviation from ``nominal`` when one is given)."""
+    path = tmp_path / "p.qif"
+    parts = [("S-0", [(value, None)]), ("S-1", [(-value, None)])]
+    path.write_bytes(FIXTURES.qif_document([("CH0", "Diameter", linear[0][0], nominal or 0.0, 1.0)], parts, linear,
+                                           angular))
+    reading = "value" if nominal is None else "deviation"
+    mapping = write(tmp_path / "map.csv", f"characteristic, feature, reading, u\nCH0, f0, {reading}, {u_cell}\n")
+    spec = spec_from_table({"factor": [{"name": "p.f0", "unit": "mm", "dist": "normal", "sigma": 1.0}]})
+    return read_part_family(path, ["p"], spec, mapping=mapping)
+
+
+def test_a_qif_unit_named_by_its_si_name_without_unitconversion_is_the_si_unit(tmp_path):
+    # found by the round trip above: <UnitName>meter</UnitName> (radian) with no UnitConversion — the schema's fixed
+    # SIUnitName, i.e. the SI unit itself — was refused as "unknown length unit 'meter'"
+    fam = _one_characteristic_qif(tmp_path, [("meter", None)], [("radian", None)], 0.0123, 2e-6)
+    np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.0123, -0.0123]), "m").to("mm").magnitude,
+                               rtol=1e-12)
+    np.testing.assert_allclose(fam.uncertainty[:, 0], UREG.Quantity(2e-6, "m").to("mm").magnitude, rtol=1e-12)
+
+
+def test_a_mapping_u_for_a_qif_unit_rvtol_does_not_know_is_in_that_unit(tmp_path):
+    # found by the round trip above: a file in feet (converted to mm by its factor 0.3048 m) with a mapping u of
+    # 0.5 (in the values' unit: feet) read the u as 0.5 mm
+    fam = _one_characteristic_qif(tmp_path, [("foot", 0.3048)], [("degree", math.pi / 180)], 0.25, 0.5)
+    np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.25, -0.25]), "foot").to("mm").magnitude,
+                               rtol=1e-12)
+    np.testing.assert_allclose(fam.uncertainty[:, 0], UREG.Quantity(0.5, "foot").to("mm").magnitude, rtol=1e-12)
+
+
+def test_a_qif_deviation_in_a_unit_rvtol_does_not_know_subtracts_the_nominal_in_that_unit(tmp_path):
+    # found by the round trip above: a file in feet, value 0.25 ft on a nominal of 0.1 ft, read as a deviation, was
+    # 0.25 ft in mm less 0.1 (the nominal left in feet): 76.1 mm instead of 0.15 ft = 45.72 mm
+    fam = _one_characteristic_qif(tmp_path, [("foot", 0.3048)], [("degree", math.pi / 180)], 0.25, 0.5, nominal=0.1)
+    np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.15, -0.35]), "foot").to("mm").magnitude,
+                               rtol=1e-12)
