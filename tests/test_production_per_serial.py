@@ -59,8 +59,9 @@ def test_posterior_of_a_linear_gaussian_unit_is_the_kalman_update():
     c = np.array([2.0, -1.0])
     R = np.array([0.3, 0.5])
     y = np.array([2.8, -2.0])
-    up, cols = update_unit("R1", Z, Z @ H.T + c, y, R, list("abcd"), ["o1", "o2"], hidden=4, seed=5)
-    Hc = H[:, cols]
+    up, coords = update_unit("R1", Z, Z @ H.T + c, y, R, list("abcd"), ["o1", "o2"], hidden=4, seed=5)
+    assert coords.Q.shape[1] == 0 and coords.d == 4          # every score is a hidden one: no direction left
+    Hc = H[:, coords.cols]
     S = np.linalg.inv(np.eye(4) + Hc.T @ np.diag(R ** -2) @ Hc)          # closed-form posterior covariance
     mu = S @ Hc.T @ np.diag(R ** -2) @ (y - c)
     post = up.posterior
@@ -74,8 +75,8 @@ def test_posterior_of_a_linear_gaussian_unit_is_the_kalman_update():
 
 
 def test_too_few_prior_samples_for_the_surrogate_is_refused():
-    Z = np.random.default_rng(0).standard_normal((min_samples(3) - 1, 6))
-    with pytest.raises(ValueError, match="needs at least 100"):
+    Z = np.random.default_rng(0).standard_normal((min_samples(4) - 1, 6))
+    with pytest.raises(ValueError, match="needs at least 75"):
         update_unit("R7", Z, Z[:, :1], np.zeros(1), np.ones(1), list("abcdef"), ["o"], hidden=3)
 
 

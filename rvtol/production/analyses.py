@@ -175,8 +175,9 @@ class PerSerialUpdate(PerUnitPrediction):
         KIND = "per_serial_update"
         end_of_line: Path = option(REQUIRED, "the end-of-line test records: reducer, <output> [unit], ...; a row "
                                              "'uncertainty' (rvtol.production.per_serial.read_end_of_line)")
-        hidden: int = option(HIDDEN, "hidden factors per unit: the scores with the largest share of the readings' "
-                                     "variance, inferred from the test (the others keep their prior)", min=1, max=10)
+        hidden: int = option(HIDDEN, "factors inferred one by one (the largest share of the readings' variance); the "
+                                     "others through the directions the readings see (rvtol.production.per_serial)",
+                             min=0, max=8)
         walkers: int = option(WALKERS, "walkers of each emcee ensemble (at least 2·hidden + 2)", min=4)
         steps: int = option(STEPS, "steps of each ensemble; the first half is discarded", min=100)
         chains: int = option(CHAINS, "independent ensembles (the split-R̂ compares them)", min=2, max=16)
@@ -193,10 +194,12 @@ class PerSerialUpdate(PerUnitPrediction):
                 self.outputs = self.outputs + extra
                 model = study.model
                 self.model = model.restricted(self.outputs) if hasattr(model, "restricted") else model
-            need = min_samples(min(self.hidden, len(study.spec)))
+            d = min(self.hidden, len(study.spec)) + len(self.eol.outputs)
+            need = min_samples(d)
             if given_n is not None and given_n < need:
-                raise error("n", f"{given_n} samples per unit: the surrogate of {self.hidden} hidden factors is fitted "
-                                 f"on the prior samples and needs n >= {need}")
+                raise error("n", f"{given_n} samples per unit: the surrogate in {d} coordinates ({self.hidden} hidden "
+                                 f"factors, {len(self.eol.outputs)} readings' directions) is fitted on the prior samples "
+                                 f"and needs n >= {need}")
             self.n = max(self.n, need)
 
     def compute(self, ctx):

@@ -14,18 +14,22 @@ rigidity from its hysteresis curve, TE where measured — as ``y_obs`` with stan
 
 The model's cost is kept bounded in three steps:
 
-1. **Hidden factors** (:func:`hidden_scores`).  On the unit's prior samples (its per-unit prediction, already
-   evaluated) each score's first-order linear share of an observed output's variance is ``b_j² / Var(y)`` with
+1. **Coordinates** (:func:`informed_coordinates`).  The readings see the scores through the model; on the units'
+   prior samples (their per-unit predictions, already evaluated; pooled over the batch, each unit centred on its
+   own means) a score's first-order linear share of a reading's variance is ``b_j² / Var(y)`` with
    ``b_j = Cov(z_j, y)`` (the scores are independent with ``Var(z_j) = 1``: the multiple regression's coefficient,
-   read without a regression on all k scores).  The ``hidden`` scores with the largest share,
-   summed over the observed outputs, are the hidden factors ``z_H`` the test can pin down; the others keep
-   their prior (a measured factor with a small uncertainty has a small share, and so has every factor the test
-   does not see).
-2. **Surrogate** (:class:`QuadraticSurrogate`).  Per observed output a full quadratic polynomial in ``z_H``,
-   least squares on the prior samples (scikit-learn's ``PolynomialFeatures`` and ``LinearRegression``).  Its
-   error is measured by 5-fold cross-validation: the residual standard deviation ``s_j`` — what the quadratic
-   misses, mostly the scores left at their prior — enters the likelihood as an independent error beside the
-   test's own, ``y_obs,j ~ N(g_j(z_H), u_obs,j² + s_j²)``, so what the surrogate cannot explain widens the
+   read without a regression on all k scores, which would need more samples than the RV-80E's 288 factors).  The
+   sampler's coordinates are ``w = (z_H, Qᵀz)``: the ``hidden`` scores of the largest share summed over the
+   readings (2 by default: what may act non-linearly), and the orthonormal directions ``Q`` spanned by the other
+   scores' covariances with the readings — a likelihood-informed subspace (Cui et al. 2014, *Inverse Problems*
+   30:114015): the combination of all the other factors each reading sees, however many they are.  ``w ~ N(0, I)``
+   a priori, independent of the rest of ``z``; every direction of ``z`` outside them keeps its prior.
+2. **Surrogate** (:class:`QuadraticSurrogate`).  Per unit and reading a full quadratic polynomial in ``w``, least
+   squares on the unit's prior samples (scikit-learn's ``PolynomialFeatures`` and ``LinearRegression``).  Its error
+   is measured by 5-fold cross-validation in which each fold re-estimates the coordinates and the quadratic on the
+   other folds alone (:func:`cross_validated_error`: the directions' own estimation error is in it): the residual
+   standard deviation ``s_j`` — what the quadratic misses — enters the likelihood as an independent error beside
+   the test's own, ``y_obs,j ~ N(g_j(w), u_obs,j² + s_j²)``, so what the surrogate cannot explain widens the
    posterior instead of being believed.  The cross-validated ``R²`` and ``s_j`` are reported beside ``u_obs``.
 3. **Sampler** (:func:`sample_posterior`).  emcee's affine-invariant ensemble sampler (Goodman & Weare 2010;
    Foreman-Mackey et al. 2013, PASP 125:306): no gradient and no proposal to tune — a posterior of a few
@@ -38,8 +42,9 @@ The model's cost is kept bounded in three steps:
    is **converged** when every R̂ ≤ 1.01 (Vehtari et al. 2021, *Bayesian Analysis* 16:667) and every ESS ≥ 400;
    a unit that is not keeps the verdict "undecided".
 
-**Posterior predictive.**  ``n`` draws of ``z_H`` from the pooled chains, the other scores from the unit's prior
-design (common random numbers: the prior and posterior differ only by what the test pinned down), mapped to
+**Posterior predictive.**  ``n`` draws of ``w`` from the pooled chains set into the unit's prior design
+(:meth:`Coordinates.replace`: common random numbers, the prior and posterior differ only by what the test pinned
+down), mapped to
 factor values and evaluated by the **study's model itself**, not the surrogate — every output, the ones
 measured (as the model now reproduces them) and the ones not measured (TE at another load, the rigidity the
 customer's test will read), with its median and interval, P(conforms) and the ISO 14253-1 decision per
@@ -75,7 +80,7 @@ from .per_unit import (COVERAGE_FACTOR, STATES, UnitPredictions, evaluate_units,
 
 #: convergence thresholds of the sampler's diagnostics (module docstring)
 R_HAT_MAX, ESS_MIN = 1.01, 400
-HIDDEN, WALKERS, STEPS, CHAINS, FOLDS = 5, 32, 1000, 4, 5
+HIDDEN, WALKERS, STEPS, CHAINS, FOLDS = 2, 32, 1000, 4, 5
 _U_EPS = 2.0 ** -53
 
 
@@ -187,6 +192,71 @@ def hidden_scores(Z: np.ndarray, Y: np.ndarray, h: int) -> tuple[np.ndarray, np.
     return order, share[order]
 
 
+@dataclass(frozen=True)
+class Coordinates:
+    """The sampler's coordinates ``w = (z_H, Qᵀz)`` of the scores ``z`` (module docstring, step 1): the ``h`` hidden
+    scores ``cols`` and the projections on the orthonormal directions ``Q[k, M]`` (zero on ``cols``) along which
+    the other scores move the readings.  ``w ~ N(0, I)`` a priori, independent of the rest of ``z``."""
+
+    cols: np.ndarray                  # [h]
+    Q: np.ndarray                     # [k, M]
+    labels: tuple[str, ...]           # [h + M]
+    share: np.ndarray                 # [h] the hidden scores' share of the readings' variance
+
+    @property
+    def d(self) -> int:
+        return len(self.cols) + self.Q.shape[1]
+
+    def __call__(self, Z: np.ndarray) -> np.ndarray:
+        return np.column_stack([Z[:, self.cols], Z @ self.Q])
+
+    def replace(self, Z: np.ndarray, W: np.ndarray) -> np.ndarray:
+        """``Z`` with its coordinates set to ``W`` and the rest of each row kept: ``z + Q(w_Q − Qᵀz)``, then the
+        hidden scores."""
+        h = len(self.cols)
+        out = Z + (W[:, h:] - Z @ self.Q) @ self.Q.T
+        out[:, self.cols] = W[:, :h]
+        return out
+
+
+def informed_coordinates(Zs, Ys, masks, h: int, factor_names, outputs) -> Coordinates:
+    """The :class:`Coordinates` from the units' prior samples pooled (``Zs``/``Ys``/``masks``: per unit its scores,
+    readings' outputs and the rows to use; each unit centred on its own means, so a unit's offset is no
+    sensitivity): the ``h`` scores of the largest share (:func:`hidden_scores`), then the directions spanned by the
+    other scores' covariances with the readings (each reading scaled to unit variance; the SVD's left vectors of
+    non-zero singular value)."""
+    Zc = np.concatenate([Z[m] - Z[m].mean(axis=0) for Z, m in zip(Zs, masks)])
+    Yc = np.concatenate([Y[m] - Y[m].mean(axis=0) for Y, m in zip(Ys, masks)])
+    cols, share = hidden_scores(Zc, Yc, min(h, Zc.shape[1]))
+    sd = Yc.std(axis=0, ddof=1)
+    b = Zc.T @ (Yc / np.where(sd > 0, sd, np.inf)) / (len(Zc) - 1)    # [k, m] correlations
+    b[cols] = 0.0
+    U, S, _ = np.linalg.svd(b, full_matrices=False)
+    Q = U[:, S > 1e-9 * max(S.max(initial=0.0), 1e-300)]
+    return Coordinates(cols, Q, tuple(factor_names[c] for c in cols)
+                       + tuple(f"direction {j + 1} of the other factors" for j in range(Q.shape[1])), share)
+
+
+def cross_validated_error(Zs, Ys, masks, h: int, factor_names, outputs, folds: int = FOLDS,
+                          seed: int = 0) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Per unit and reading, the surrogate's ``folds``-fold cross-validated residual standard deviation ``s`` and
+    ``R²``: every fold's coordinates (:func:`informed_coordinates`) and quadratic fitted on the other folds' rows
+    alone, so the directions' own estimation error is in ``s`` (module docstring, step 2)."""
+    n = len(Zs[0])
+    fold = np.random.default_rng(seed).permutation(n) % folds
+    pred = [np.full_like(Y, np.nan) for Y in Ys]
+    for f in range(folds):
+        train = [m & (fold != f) for m in masks]
+        coords = informed_coordinates(Zs, Ys, train, h, factor_names, outputs)
+        for i, (Z, Y, m) in enumerate(zip(Zs, Ys, masks)):
+            test = m & (fold == f)
+            if test.any():
+                pred[i][test] = QuadraticSurrogate(coords(Z[train[i]]), Y[train[i]], s=0.0)(coords(Z[test]))
+    s = [np.sqrt(np.mean((Y[m] - p[m]) ** 2, axis=0)) for Y, p, m in zip(Ys, pred, masks)]
+    var = [Y[m].var(axis=0) for Y, m in zip(Ys, masks)]
+    return s, [1.0 - si ** 2 / np.where(v > 0, v, np.inf) for si, v in zip(s, var)]
+
+
 class QuadraticSurrogate:
     """A full quadratic polynomial per output in the scores ``Z[n, h]``, least squares (scikit-learn), with its
     ``folds``-fold cross-validated residual standard deviation ``s`` and ``r2`` (module docstring, step 2).
@@ -194,7 +264,7 @@ class QuadraticSurrogate:
     ``__call__`` evaluates it as ``c + Z a + Σ_{i≤j} B_ij z_i z_j`` from the fitted coefficients: the same
     numbers as the scikit-learn pipeline, without its per-call overhead inside the sampler."""
 
-    def __init__(self, Z: np.ndarray, Y: np.ndarray, folds: int = FOLDS, seed: int = 0):
+    def __init__(self, Z: np.ndarray, Y: np.ndarray, folds: int = FOLDS, seed: int = 0, s=None):
         from sklearn.linear_model import LinearRegression
         from sklearn.model_selection import KFold, cross_val_predict
         from sklearn.pipeline import make_pipeline
@@ -202,10 +272,11 @@ class QuadraticSurrogate:
 
         self.h = Z.shape[1]
         self.pipeline = make_pipeline(PolynomialFeatures(2, include_bias=False), LinearRegression())
-        cv = cross_val_predict(self.pipeline, Z, Y, cv=KFold(folds, shuffle=True, random_state=seed))
-        res = (Y - cv).reshape(len(Y), -1)
-        self.s = np.sqrt(np.mean(res ** 2, axis=0))
         var = Y.reshape(len(Y), -1).var(axis=0)
+        if s is None:               # its own cross-validation (``s`` given: cross-validated by the caller)
+            cv = cross_val_predict(self.pipeline, Z, Y, cv=KFold(folds, shuffle=True, random_state=seed))
+            s = np.sqrt(np.mean((Y - cv).reshape(len(Y), -1) ** 2, axis=0))
+        self.s = np.broadcast_to(np.asarray(s, float), var.shape)
         self.r2 = 1.0 - self.s ** 2 / np.where(var > 0, var, np.inf)
         self.pipeline.fit(Z, Y)
         poly, lin = self.pipeline.steps[0][1], self.pipeline.steps[1][1]
@@ -287,42 +358,50 @@ def sample_posterior(surrogate: QuadraticSurrogate, y_obs: np.ndarray, sigma: np
 
 @dataclass(frozen=True)
 class SerialUpdate:
-    """What one unit's end-of-line record did: the readings, the hidden factors, the surrogate, the sampler."""
+    """What one unit's end-of-line record did: the readings, the coordinates, the surrogate, the sampler."""
 
     reducer: str
     observed: tuple[str, ...]
     y_obs: np.ndarray
     u_obs: np.ndarray
-    hidden: tuple[str, ...]           # the factors of the hidden scores
-    share: np.ndarray                 # their share of the observed outputs' variance (summed over outputs)
+    hidden: tuple[str, ...]           # the sampler's coordinates: hidden factors, then directions of the others
+    share: np.ndarray                 # the hidden factors' share of the readings' variance (summed over readings)
     surrogate_s: np.ndarray           # [observed] cross-validated residual standard deviation (display units)
     surrogate_r2: np.ndarray          # [observed]
     posterior: Posterior
     seconds: float
 
 
-def min_samples(h: int) -> int:
-    """The fewest prior samples the surrogate of ``h`` hidden factors is fitted on: ten per coefficient of the full
-    quadratic, (h + 1)(h + 2)/2."""
-    return 10 * (h + 1) * (h + 2) // 2
+def min_samples(d: int) -> int:
+    """The fewest prior samples the surrogate in ``d`` coordinates is fitted on: five per coefficient of the full
+    quadratic, (d + 1)(d + 2)/2 (its cross-validated error, not this count, is what guards against overfitting)."""
+    return 5 * (d + 1) * (d + 2) // 2
+
+
+def _sample_unit(reducer, coords: Coordinates, W, Y, y_obs, u_obs, s, r2, observed, *, walkers, steps, chains,
+                 seed, t0) -> SerialUpdate:
+    sur = QuadraticSurrogate(W, Y, s=s)
+    post = sample_posterior(sur, y_obs, np.sqrt(u_obs ** 2 + sur.s ** 2), walkers=walkers, steps=steps,
+                            chains=chains, seed=seed)
+    return SerialUpdate(reducer, tuple(observed), y_obs, u_obs, coords.labels, coords.share, np.asarray(s, float),
+                        np.asarray(r2, float), post, time.perf_counter() - t0)
 
 
 def update_unit(reducer: str, Z: np.ndarray, Y: np.ndarray, y_obs: np.ndarray, u_obs: np.ndarray,
                 factor_names, observed, *, hidden: int = HIDDEN, walkers: int = WALKERS, steps: int = STEPS,
-                chains: int = CHAINS, seed: int = 0) -> tuple[SerialUpdate, np.ndarray]:
-    """One unit's update from its prior scores ``Z[n, k]`` and the observed outputs' prior samples ``Y[n, m]``
-    (rows the model evaluated): ``(update, columns)`` with the hidden scores' column indices."""
+                chains: int = CHAINS, seed: int = 0) -> tuple[SerialUpdate, Coordinates]:
+    """One unit alone from its prior scores ``Z[n, k]`` and its readings' outputs on them ``Y[n, m]`` (rows the
+    model evaluated): ``(update, coordinates)``; :func:`update_serials` pools the units' samples instead."""
     t0 = time.perf_counter()
-    h = min(hidden, Z.shape[1])
-    if len(Z) < min_samples(h):
-        raise ValueError(f"{reducer}: {len(Z)} prior samples the model evaluated; the surrogate of {h} hidden factors "
-                         f"needs at least {min_samples(h)} (give a larger n)")
-    cols, share = hidden_scores(Z, Y, h)
-    sur = QuadraticSurrogate(Z[:, cols], Y, seed=seed)
-    post = sample_posterior(sur, y_obs, np.sqrt(u_obs ** 2 + sur.s ** 2), walkers=walkers, steps=steps,
-                            chains=chains, seed=seed)
-    return SerialUpdate(reducer, tuple(observed), y_obs, u_obs, tuple(factor_names[c] for c in cols), share, sur.s,
-                        sur.r2, post, time.perf_counter() - t0), cols
+    d = min(hidden, Z.shape[1]) + Y.shape[1]
+    if len(Z) < min_samples(d):
+        raise ValueError(f"{reducer}: {len(Z)} prior samples the model evaluated; the surrogate in {d} coordinates "
+                         f"needs at least {min_samples(d)} (give a larger n)")
+    ok = np.ones(len(Z), bool)
+    s, r2 = cross_validated_error([Z], [Y], [ok], hidden, factor_names, observed, seed=seed)
+    coords = informed_coordinates([Z], [Y], [ok], hidden, factor_names, observed)
+    return _sample_unit(reducer, coords, coords(Z), Y, y_obs, u_obs, s[0], r2[0], observed, walkers=walkers,
+                        steps=steps, chains=chains, seed=seed, t0=t0), coords
 
 
 # --------------------------------------------------------------------------- every unit of a study
@@ -334,7 +413,7 @@ class SerialUpdates:
     posterior: UnitPredictions
     eol: EndOfLine
     updates: dict[str, SerialUpdate]  # reducer -> its update (units with an end-of-line record)
-    factors: pd.DataFrame             # the hidden factors: prior and posterior median and interval
+    factors: pd.DataFrame             # per updated unit the factors its test narrowed most (:func:`_pinned_down`)
 
     @property
     def units(self) -> tuple[str, ...]:
@@ -388,13 +467,14 @@ class SerialUpdates:
             rows.append({"reducer": u, "read": ", ".join(up.observed),
                          "surrogate s / u_obs": ", ".join(f"{s:.3g}/{uo:.3g}" for s, uo in zip(up.surrogate_s, up.u_obs)),
                          "surrogate R²(CV)": ", ".join(f"{r:.3f}" for r in up.surrogate_r2),
-                         "hidden factors": len(up.hidden), "R-hat max": float(p.r_hat.max()),
+                         "coordinates": len(up.hidden), "R-hat max": float(p.r_hat.max()),
                          "ESS min": float(p.ess.min()), "acceptance": p.acceptance,
                          "converged": "yes" if p.converged else "no", "seconds": up.seconds})
         return pd.DataFrame(rows)
 
     def factor_frame(self) -> pd.DataFrame:
-        """One row per updated unit and hidden factor: its share, prior and posterior median and interval."""
+        """Per updated unit the factors its test narrowed most: prior and posterior median and interval, the ratio of
+        the interval widths."""
         return self.factors.copy()
 
     def to_frame(self) -> pd.DataFrame:
@@ -467,6 +547,26 @@ class SerialUpdates:
         return post
 
 
+PINNED = 5                            # the factors listed per unit: those whose interval the test narrowed most
+
+
+def _pinned_down(spec: ToleranceSpec, reducer: str, X0: np.ndarray, X1: np.ndarray, a: float) -> list[dict]:
+    """The :data:`PINNED` factors whose central interval (``a`` in each tail) the update narrowed most: prior and
+    posterior median and interval (the factor's unit) and the ratio of the widths."""
+    lo0, med0, hi0 = np.quantile(X0, [a, 0.5, 1 - a], axis=0)
+    lo1, med1, hi1 = np.quantile(X1, [a, 0.5, 1 - a], axis=0)
+    w0 = hi0 - lo0
+    ratio = np.where(w0 > 0, (hi1 - lo1) / np.where(w0 > 0, w0, 1.0), np.inf)
+    rows = []
+    for c in np.argsort(ratio, kind="stable")[:PINNED]:
+        f = spec.factors[c]
+        v = units.from_base(np.array([med0[c], lo0[c], hi0[c], med1[c], lo1[c], hi1[c]]), f.unit)
+        rows.append({"reducer": reducer, "factor": f.name, "unit": f.unit, "median prior": v[0], "lo prior": v[1],
+                     "hi prior": v[2], "median posterior": v[3], "lo posterior": v[4], "hi posterior": v[5],
+                     "width ratio": float(ratio[c])})
+    return rows
+
+
 def check_serials(eol: EndOfLine, measured: MeasuredUnits) -> None:
     """Every reducer of the end-of-line file is one of the kit list's (else an :class:`InputError` at its row)."""
     unknown = [s for s in eol.serials if s not in measured.units]
@@ -491,39 +591,40 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
     prior = evaluate_units(model, spec, measured, np.concatenate(X), what="per-serial update: prior", **kw)
     Z = stats.norm.ppf(u)
     names = [q.name for q in model.outputs]
+    # every unit's prior samples of the readings' outputs, pooled for the coordinates and their cross-validation
+    Ys = [prior.Y[i][:, [names.index(o) for o in eol.outputs]] for i in range(len(measured))]
+    masks = [(prior.status[i] == STATUS_OK) & np.all(np.isfinite(Y), axis=1) for i, Y in enumerate(Ys)]
+    cv_s, cv_r2 = cross_validated_error([Z] * len(Ys), Ys, masks, hidden, spec.names, eol.outputs,
+                                        seed=substream_seed(seed, "per_serial", len(measured)))
+    coords = informed_coordinates([Z] * len(Ys), Ys, masks, hidden, spec.names, eol.outputs)
     X_post = list(X)
     updates, rows = {}, []
     todo = [i for i, s in enumerate(measured.units) if eol.row(s) is not None]
     bar = _progress(len(todo), "per-serial update: sampler") if progress and todo else None
+    a = (1.0 - interval) / 2.0
     for i in todo:
+        t0 = time.perf_counter()
         reducer = measured.units[i]
         r = eol.row(reducer)
         read = np.flatnonzero(np.isfinite(eol.value[r]))
-        obs = [eol.outputs[j] for j in read]
-        Y = prior.Y[i][:, [names.index(o) for o in obs]]
-        ok = (prior.status[i] == STATUS_OK) & np.all(np.isfinite(Y), axis=1)
-        up, cols = update_unit(reducer, Z[ok], Y[ok], eol.value[r, read], eol.uncertainty[read], spec.names, obs,
-                               hidden=hidden, walkers=walkers, steps=steps, chains=chains,
-                               seed=substream_seed(seed, "per_serial", i))
+        m = masks[i]
+        if m.sum() < min_samples(coords.d):
+            raise ValueError(f"{reducer}: {int(m.sum())} prior samples the model evaluated; the surrogate in "
+                             f"{coords.d} coordinates needs at least {min_samples(coords.d)} (give a larger n)")
+        up = _sample_unit(reducer, coords, coords(Z[m]), Ys[i][m][:, read], eol.value[r, read], eol.uncertainty[read],
+                          cv_s[i][read], cv_r2[i][read], [eol.outputs[j] for j in read], walkers=walkers, steps=steps,
+                          chains=chains, seed=substream_seed(seed, "per_serial", i), t0=t0)
         pick = substream(seed, "per_serial", i, 1).choice(len(up.posterior.z), n, replace=False)
-        u_post = u.copy()
-        u_post[:, cols] = np.clip(stats.norm.cdf(up.posterior.z[pick]), _U_EPS, 1.0 - _U_EPS)
+        u_post = np.clip(stats.norm.cdf(coords.replace(Z, up.posterior.z[pick])), _U_EPS, 1.0 - _U_EPS)
         X_post[i] = unit_values(spec, measured, i, u_post, cache)
         updates[reducer] = up
-        a = (1.0 - interval) / 2.0
-        for c, name, sh in zip(cols, up.hidden, up.share):
-            f = spec.factors[c]
-            lo0, med0, hi0 = units.from_base(np.quantile(X[i][:, c], [a, 0.5, 1 - a]), f.unit)
-            lo1, med1, hi1 = units.from_base(np.quantile(X_post[i][:, c], [a, 0.5, 1 - a]), f.unit)
-            rows.append({"reducer": reducer, "factor": name, "unit": f.unit, "share": sh, "median prior": med0,
-                         "lo prior": lo0, "hi prior": hi0, "median posterior": med1, "lo posterior": lo1,
-                         "hi posterior": hi1, "width ratio": (hi1 - lo1) / (hi0 - lo0) if hi0 > lo0 else np.nan})
+        rows += _pinned_down(spec, reducer, X[i], X_post[i], a)
         if bar is not None:
             bar.update(1)
     if bar is not None:
         bar.close()
     posterior = evaluate_units(model, spec, measured, np.concatenate(X_post), what="per-serial update: posterior",
                                **kw)
-    factors = pd.DataFrame(rows, columns=["reducer", "factor", "unit", "share", "median prior", "lo prior", "hi prior",
+    factors = pd.DataFrame(rows, columns=["reducer", "factor", "unit", "median prior", "lo prior", "hi prior",
                                           "median posterior", "lo posterior", "hi posterior", "width ratio"])
     return SerialUpdates(prior, posterior, eol, updates, factors)
