@@ -193,6 +193,8 @@ def test_the_violation_is_each_figures_shortfall_normalised():
     assert judge(ry, yield_=0.999, yield_lo=0.995).violation == 0.0
     j = judge(ry, yield_=0.999, yield_lo=0.985)
     assert not j.passed and j.violation == pytest.approx((0.99 - 0.985) / (1 - 0.99))        # 0.5
+    low = Requirement("y", upper=1.0, min_yield=0.4)        # a minimum below ½: 1 − Y_min is 0.6, not 1 mod 0.4
+    assert judge(low, yield_=0.5, yield_lo=0.3).violation == pytest.approx((0.4 - 0.3) / (1 - 0.4))   # 1/6
     for missing in (None, math.nan):
         j = judge(ry, yield_=missing, yield_lo=missing)
         assert not j.passed and j.violation == pytest.approx(1 / (1 - 0.99))                  # 100
@@ -234,6 +236,19 @@ def test_the_point_estimate_basis_is_named_so():
 
     assert describe_bound(Requirement("y", upper=1.0, basis="estimate")) == "point estimate"
     assert describe_bound(Requirement("y", upper=1.0)) == "95 % one-sided lower bound"
+
+
+def test_a_requirement_built_in_code_with_an_unknown_basis_is_refused():
+    """basis is checked as bound and cpk_method are: a misspelt basis (the loader's "lower-bound") was judged
+    silently on the point estimate — judge reads anything but "lower_bound" as the estimate."""
+    from rvtol.errors import SpecError
+    from rvtol.spec import Requirement
+
+    with pytest.raises(SpecError, match="unknown basis 'lower-bound' \\(expected one of: lower_bound, estimate\\)"):
+        Requirement("y", upper=1.0, basis="lower-bound")
+    with pytest.raises(SpecError) as e:
+        Requirement("y", upper=1.0, basis="Estimate", file="s.toml", key="requirement[0]")
+    assert (e.value.file, e.value.key) == ("s.toml", "requirement[0].basis")
 
 
 def test_a_summary_without_a_state_is_read_from_passed_and_undecided():
