@@ -125,7 +125,7 @@ YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
 CPK_METHODS = ("normal", "percentile")
 #: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
 BOUNDS = ("one-sided", "two-sided")
-#: what a requirement's minimum is judged on: the lower confidence bound or the point estimate (:func:`rvtol.verdict.judge`)
+#: what a requirement's minimum is judged on: its lower confidence bound or its point estimate (rvtol.verdict.judge)
 BASES = ("lower_bound", "estimate")
 #: the population statistics a requirement can judge (policy: :func:`rvtol.verdict.judge_statistic`)
 STATISTICS = ("median", "mean")

@@ -154,3 +154,58 @@ def test_a_limit_beyond_the_bounded_worst_case_has_no_failure_point():
     est = tail_probability(m, spec, "y", 1.5, "upper", methods=("FORM", "importance sampling"))
     assert not est.x_star and est.pf_form == 0.0 and "out of reach" in est.get("FORM").note
     assert est.get("importance sampling").pf is None
+
+
+ZONE_SPEC = """
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "w"
+unit = "mm"
+tolerance = "±0.01"
+nominal = 0
+dist = "uniform"
+"""
+
+
+def test_a_position_zone_read_from_a_spec_file_is_a_disc_and_its_coordinates_3_sigma_in_the_rss():
+    """The zone's two coordinates as a spec file gives them (their zone names two strings the parser built): the worst
+    case takes the disc, 0.025·√(2² + 1²); the RSS reads each coordinate's tolerance as its own 3σ, σ the Rayleigh σ
+    whose 99.73 % radius is 0.025 (module docstring), and the uniform w's half band 0.01 as its 3σ.  Each factor's
+    share of the RSS is its (a·s)² over their sum."""
+    import tomllib
+
+    from rvtol.spec import spec_from_table
+
+    spec = spec_from_table(tomllib.loads(ZONE_SPEC))
+    assert spec.factors[0].zone == spec.factors[1].zone and spec.factors[0].zone is not spec.factors[1].zone
+    a = np.array([2.0, 1.0, 1.0])
+    sc = stack_conventions(spec, a, 0.0, np.zeros(3), out_unit="mm")
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
+    sigma = 0.025 / math.sqrt(-2 * math.log(1 - (stats.norm.cdf(3) - stats.norm.cdf(-3))))
+    terms = np.array([(2 * 3 * sigma) ** 2, (3 * sigma) ** 2, 0.01 ** 2])
+    assert sc.row("RSS")["half_width"] == pytest.approx(math.sqrt(terms.sum()))
+    assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist())
+
+
+def test_a_row_added_to_the_table_is_centred_between_its_ends_unless_told():
+    """StackConventions.add (the comparison's rows: true worst case, second order, Monte Carlo): half width ½(high −
+    low), centre ½(low + high), or the centre given (a Monte Carlo mean need not be the middle)."""
+    import pandas as pd
+
+    from rvtol.stacking.conventions import StackConventions
+
+    sc = StackConventions("y", "mm", 0.0, pd.DataFrame(), pd.DataFrame())
+    sc.add("range", 1.0, 4.0)
+    sc.add("mean ±3σ", -2.0, 4.0, centre=0.5, sigma=2.0)
+    assert (sc.row("range")["half_width"], sc.row("range")["centre"]) == (1.5, 2.5)
+    mean = sc.row("mean ±3σ")
+    assert (mean["half_width"], mean["centre"], mean["sigma"]) == (3.0, 0.5, 2.0)
