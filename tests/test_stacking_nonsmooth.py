@@ -323,3 +323,43 @@ def test_one_datum_feature_has_one_type():
         spec_from_table({"factor": [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
                                     *z("h1", "internal"), *z("h2", "external")]}, file="s.toml")
     assert e.value.key == "factor.datum_type"
+
+
+def _zone_and_w():
+    return spec_from_table({"factor": [
+        {"name": "h.x", "tolerance": "⌀0.05", "unit": "mm", "zone": "h"},
+        {"name": "h.y", "tolerance": "⌀0.05", "unit": "mm", "zone": "h"},
+        {"name": "w", "tolerance": "±0.01", "unit": "mm", "nominal": 0.0}]})
+
+
+def test_an_undefined_zone_derivative_is_the_zones_central_difference_coordinate_by_coordinate():
+    """The model's derivative is NaN for both coordinates of a smooth zone (e.g. atan2 off its cut): each is replaced
+    by its own component of the slopes' central difference (2 for h.x, 1 for h.y), noted; the worst case is then the
+    disc 0.025·√(2² + 1²) + 0.01."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _zone_and_w()
+    nan = math.nan
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"h": (2.0, 1.0)},
+                    zone_max={"h": math.sqrt(5)}, zone_min={"h": -math.sqrt(5)})
+    sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    assert sc.factors["a"].tolist() == pytest.approx([2.0, 1.0, 1.0])
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
+    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for h.x, h.y: the central difference of its "
+                        "one-sided slopes is used instead"]
+
+
+def test_an_undefined_derivative_of_a_kinked_zone_is_taken_by_its_sides():
+    """A cone at the zone's centre whose model gives NaN for the coordinates' derivative (the least-norm subgradient
+    not taken): the zone is kinked, so its sides decide — it rises 1 per unit radius, falls at most 0 — and the
+    output lies in [−0.01, 0.025 + 0.01]; no 'central difference used' note (none is), and no error (slopes given)."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _zone_and_w()
+    nan = math.nan
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"h": (0.0, 0.0)},
+                    zone_max={"h": 1.0}, zone_min={"h": 1.0}, kinked=["h"])
+    sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.01), pytest.approx(0.035))
+    assert not any("undefined" in n for n in sc.notes) and any(n.startswith("position zone h: ") for n in sc.notes)

@@ -52,7 +52,7 @@ and the effect per unit radius measured on the model.  The RSS and the statistic
 contributor as bilateral, ±(t/2)·(its largest one-sided slope) — the handbooks' equal-bilateral
 conversion — which is an approximation for a one-sided effect (said in the notes; the Monte Carlo and
 the second-order rows are the reference).  A derivative that is NaN or infinite is never read as 0:
-with slopes it is replaced by their central difference (noted), without them it is an error.
+with slopes it is replaced by their central difference (noted; a kinked zone's by its sides), else it is an error.
 
 Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC grows with the bonus of its
 feature's actual size (:func:`rvtol.spec.zone_bonus`: the radius r = t/2 + κ (x_s − ref_s), κ = ±½).  A
@@ -244,9 +244,9 @@ def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list
                              "no linearised stack", key="gradient")
         for i in range(len(g)):
             if zone_of[i]:
-                if not np.isfinite(g[i]) and zone_of[i] not in kinked_zones:
-                    g[i] = slopes.zone_grad[zone_of[i]][0 if spec.factors[i].name == _zone_pair(spec, zone_of[i])[0]
-                                                        else 1]
+                if not np.isfinite(g[i]):   # a kinked zone is taken by its sides (its gradient is zeroed below)
+                    g[i] = 0.0 if zone_of[i] in kinked_zones else slopes.zone_grad[zone_of[i]][
+                        0 if spec.factors[i].name == _zone_pair(spec, zone_of[i])[0] else 1]
                 continue
             if names[i] in slopes.kinked:
                 kinked_plain[i] = (float(slopes.up[i]), float(slopes.down[i]))
