@@ -363,3 +363,31 @@ def test_an_undefined_derivative_of_a_kinked_zone_is_taken_by_its_sides():
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.01), pytest.approx(0.035))
     assert not any("undefined" in n for n in sc.notes) and any(n.startswith("position zone h: ") for n in sc.notes)
+
+
+def test_a_kinked_factor_in_the_rss_statistical_and_six_sigma_rows_by_hand():
+    """y = |u| + 2w (u uniform ±0.3, kinked at 0: rises 1 per unit either side, so the larger slope is 1; w normal
+    ±0.05, σ_w = 0.05/3), u and w correlated −0.5.  The rows that read u as bilateral ±(larger slope)·(its reading):
+    RSS √((2·0.05)² + (1·0.3)²), statistical and dynamic RSS σ = √((2σ_w)² + (1·σ_u)²) with σ_u = 0.3/√3 (u at its
+    zero slope contributes nothing else, k = 0: no inflation), the Six Sigma row with Cp 2 and no shift (Cpk 2) σ =
+    √((2·0.05/6)² + (1·0.3/6)²).  The one-sided u has no sign to correlate — its negative correlation too is named as
+    left out — and the dynamic RSS is defined (no mean outside its band).  Each factor's RSS share: 0.09 and 0.01
+    of 0.1."""
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.3", "unit": "mm", "nominal": 0.0,
+                                        "dist": "uniform"},
+                                       {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}],
+                            "correlation": [{"pair": ["u", "w"], "rho": -0.5}]})
+    m = FormulaModel.from_spec(spec, {"y": ("abs(u) + 2*w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "y")
+    assert sl.kinked == ["u"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl, six_sigma=(2.0, 0.0))
+    rss = sc.row("RSS")
+    assert rss["half_width"] == pytest.approx(math.hypot(2 * 0.05, 0.3), rel=1e-6)
+    assert "except for the one-sided u, taken as independent" in rss["note"]
+    sigma = math.hypot(2 * 0.05 / 3, 0.3 / math.sqrt(3))
+    assert sc.row("statistical ±3σ (the distributions)")["sigma"] == pytest.approx(sigma, rel=1e-6)
+    assert sc.row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * sigma, rel=1e-6)
+    assert sc.row("6σ dynamic, 0σ shift ±3σ")["sigma"] == pytest.approx(math.hypot(2 * 0.05 / 6, 0.3 / 6), rel=1e-6)
+    assert not any("dynamic RSS is undefined" in n for n in sc.notes)
+    assert sc.factors["rss_pct"].tolist() == pytest.approx([90.0, 10.0], rel=1e-6)
