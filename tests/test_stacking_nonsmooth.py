@@ -66,6 +66,16 @@ def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modi
     # H_min − F_max − T = 6.4 − 6.0 − 0.4 = 0; the upper end: H_max − F_min with the axes aligned = 0.7
     assert wc["low"] == pytest.approx(0.0, abs=1e-9) and wc["high"] == pytest.approx(0.7, abs=1e-9)
     assert any("kink" in n for n in sc.notes)
+    # the RSS: each zone as ±(radius × its larger slope 1) — radius 0.2, at MMC 0.2 + ½(6.5 − 6.4) at the holes' band
+    # centre, where a hole's size then enters with its coupled sensitivity ½ − ½·1 = 0 (the bonus pays for it) — and
+    # F's ±0.05; the shares (a·s)² of H1, H2, F and the zones' ½(r·1)² per coordinate (RFS: 0.0025 each, 0.02 each)
+    rss = sc.row("RSS")["half_width"]
+    if modifier:
+        assert rss == pytest.approx(math.sqrt(0.05 ** 2 + 2 * 0.25 ** 2), rel=1e-6)
+    else:
+        assert rss == pytest.approx(math.sqrt(3 * 0.05 ** 2 + 2 * 0.2 ** 2), rel=1e-6)
+        terms = np.array([0.0025, 0.0025, 0.0025, 0.02, 0.02, 0.02, 0.02])
+        assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
     true = true_worst_case(model, spec, "margin", gradient=g, max_evaluations=20000)
     assert true.low == pytest.approx(0.0, abs=1e-6) and true.high == pytest.approx(0.7, abs=1e-6)
     assert "not guaranteed" in true.how and not any("could not be evaluated" in n for n in true.notes)
@@ -177,11 +187,31 @@ def test_a_datum_feature_shift_adds_to_the_zone():
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "r"))
     assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
     assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-12)   # a radius is never negative
+    # the handbook MRSS over n = 3 contributors (the zone's two coordinates, the datum shift): T_wc = 0.1, the RSS of
+    # the zone's radius 0.1 + ½·0.05 and the shift's ½·0.05 (each × its larger slope 1) and of D and B at their
+    # coupled sensitivity ½ over their half bands 0.05
+    t_rss = math.sqrt(0.125 ** 2 + 3 * 0.025 ** 2)
+    cf = 1 + 0.5 * (0.1 - t_rss) / (t_rss * (math.sqrt(3) - 1))
+    assert sc.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-6)
+    assert sc.row("MRSS, handbook")["half_width"] == pytest.approx(cf * t_rss, rel=1e-6)
+    # the axis's x alone (smooth: the zone and the shift each move it 1 per unit, exactly): ±0.2, and n = 2 (x and
+    # the datum shift; the zone's coordinates are the disc, not counted again), the same RSS
+    mx = FormulaModel.from_spec(spec, {"px": ("x", "mm")})
+    sc = stack_conventions(spec, mx.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(mx, spec, "px"))
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.2, abs=1e-12)
+    cf = 1 + 0.5 * (0.2 - t_rss) / (t_rss * (math.sqrt(2) - 1))
+    assert sc.row("MRSS, handbook")["half_width"] == pytest.approx(cf * t_rss, rel=1e-9)
     # an external datum feature (a boss) at MMB: its MMC is the largest size, the shift grows as it gets smaller
     spec2 = spec_from_table({"factor": [
         {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 0/-0.1", "unit": "mm"},
         {"name": "x", **common, "datum_type": "external"}, {"name": "y", **common, "datum_type": "external"}]})
     assert (datum_shifts(spec2)[0].kappa, datum_shifts(spec2)[0].reference) == (-0.5, pytest.approx(20.0))
+    # and the axis still lies up to 0.1 + 0.05 + 0.05 = 0.2 from true position, the boss at its smallest (19.9)
+    m2, x2 = FormulaModel.from_spec(spec2, {"r": ("hypot(x, y)", "mm")}), spec2.nominal_base()
+    sc2 = stack_conventions(spec2, m2.gradient(x2[None])[0, 0], 0.0, x2, out_unit="mm",
+                            slopes=one_sided_slopes(m2, spec2, "r"))
+    assert sc2.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
 
 
 def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
