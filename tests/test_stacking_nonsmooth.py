@@ -212,6 +212,9 @@ def test_a_datum_feature_shift_adds_to_the_zone():
     sc2 = stack_conventions(spec2, m2.gradient(x2[None])[0, 0], 0.0, x2, out_unit="mm",
                             slopes=one_sided_slopes(m2, spec2, "r"))
     assert sc2.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
+    # its RSS as the internal datum's: the boss's size enters at its coupled sensitivity −½ (the shift grows as it
+    # shrinks), the hole's at +½, the radii 0.125 and 0.025 as before
+    assert sc2.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-6)
 
 
 def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
