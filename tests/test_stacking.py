@@ -209,3 +209,25 @@ def test_a_row_added_to_the_table_is_centred_between_its_ends_unless_told():
     assert (sc.row("range")["half_width"], sc.row("range")["centre"]) == (1.5, 2.5)
     mean = sc.row("mean ±3σ")
     assert (mean["half_width"], mean["centre"], mean["sigma"]) == (3.0, 0.5, 2.0)
+
+
+def test_a_mean_outside_its_band_leaves_the_dynamic_rss_undefined_unless_the_factor_has_no_effect():
+    """k = |μ − c|/t = 0.06/0.05 = 1.2 ≥ 1: Cpk ≤ 0, the inflation σ/(1 − k) has no meaning — the dynamic RSS row is
+    NaN and a note says why; the same factor with zero sensitivity leaves it defined (σ_y of the other factor,
+    3 · 0.01).  An unknown row is a KeyError."""
+    import warnings
+
+    fs = (normal("a", 10.0, 0.01, shift=0.06, limits=(9.95, 10.05)), normal("b", 5.0, 0.01))
+    spec = ToleranceSpec("k", fs)
+    x0 = np.array([10.0, 5.0])
+    sc = stack_conventions(spec, np.array([1.0, 1.0]), 15.0, x0, out_unit="mm")
+    assert sc.factors.set_index("factor").loc["a", "k"] == pytest.approx(1.2)
+    assert math.isnan(sc.row("6σ dynamic RSS ±3σ")["half_width"])
+    assert "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined" in sc.notes
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # nor a RuntimeWarning for its 0·∞ on the user's terminal
+        sc = stack_conventions(spec, np.array([0.0, 1.0]), 5.0, x0, out_unit="mm")
+    assert sc.row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * 0.01)
+    assert not any("undefined" in n for n in sc.notes)
+    with pytest.raises(KeyError):
+        sc.row("worst case (geometric)")

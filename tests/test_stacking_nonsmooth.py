@@ -459,3 +459,57 @@ unit = "mm"
 tolerance = "±0.01"
 nominal = 0
 """
+
+
+def _hole_and_w():
+    return spec_from_table({"factor": [
+        {"name": "x", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "y", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}]})
+
+
+@pytest.mark.parametrize("expr,name", [("sqrt(x * L) + w", "hole"), ("sqrt(w * L) + x", "w")])
+def test_a_model_that_cannot_be_evaluated_beside_the_nominal_point_has_no_linearised_stack(expr, name):
+    """√(x·L) is undefined for x < 0: the ring of the zone's directions (or w's step below its nominal) leaves the
+    model's domain, so no one-sided slope exists there — a clear error naming the zone or the factor (a zone gave a
+    KeyError: its slopes were looked up as if it were kinked)."""
+    spec = _hole_and_w()
+    m = FormulaModel.from_spec(spec, {"r": (expr, "mm")}, definitions={"L": ("1", "mm")})
+    x0 = spec.nominal_base()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        g = m.gradient(x0[None])[0, 0]
+        sl = one_sided_slopes(m, spec, "r")
+    assert sl.undefined == [name]
+    with pytest.raises(InputError, match=f"cannot be evaluated next to the nominal point for {name}: no linearised"):
+        stack_conventions(spec, g, 0.0, x0, out_unit="mm", slopes=sl)
+
+
+def test_an_undefined_derivative_of_a_smooth_factor_is_its_central_difference():
+    """The model's derivative is ∞ for w, its one-sided slopes agree (D⁺ = 3, D⁻ = −3: smooth): w enters with the
+    central difference 3, noted — the worst case 0.1·1 (the disc ⌀0.2 of x) + 0.05·3."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _hole_and_w()
+    slopes = Slopes(up=np.array([math.nan, math.nan, 3.0]), down=np.array([math.nan, math.nan, -3.0]),
+                    zone_grad={"hole": (1.0, 0.0)}, zone_max={"hole": 1.0}, zone_min={"hole": -1.0})
+    sc = stack_conventions(spec, np.array([1.0, 0.0, math.inf]), 0.0, out_unit="mm", slopes=slopes)
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.1 + 0.15)
+    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for w: the central difference of its one-sided "
+                        "slopes is used instead"]
+
+
+def test_a_kinked_zone_on_a_datum_feature_needs_the_slopes_of_its_pattern():
+    """A kinked zone located by a datum feature at MMB: the shift's effect is measured by moving the pattern; slopes
+    that do not have it (the model could not be evaluated with the pattern moved) give a clear error, not a guess."""
+    from rvtol.stacking.slopes import Slopes
+
+    common = {"tolerance": "⌀0.2 (M)", "unit": "mm", "zone": "h", "size": "D", "feature_type": "internal",
+              "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+        {"name": "x", **common}, {"name": "y", **common}]})
+    nan = math.nan
+    slopes = Slopes(up=np.array([0.0, 0.0, nan, nan]), down=np.array([0.0, 0.0, nan, nan]), zone_grad={"h": (0, 0)},
+                    zone_max={"h": 1.0}, zone_min={"h": 1.0}, kinked=["h"])
+    with pytest.raises(InputError, match="with the pattern located by datum feature B \\(h\\) shifted"):
+        stack_conventions(spec, np.zeros(4), 0.0, out_unit="mm", slopes=slopes)

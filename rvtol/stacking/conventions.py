@@ -237,8 +237,8 @@ def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list
     kinked_plain: dict[int, tuple[float, float]] = {}
     kinked_zones = set()
     if slopes is not None:
-        kinked_zones = {z for z in slopes.kinked if z in zone_of} | {z for z in slopes.undefined if z in zone_of}
-        undefined = [n for n in slopes.undefined if n in names and not zone_of[names.index(n)]]
+        kinked_zones = {z for z in slopes.kinked if z in zone_of}
+        undefined = [n for n in slopes.undefined if n in names or n in zone_of]   # a plain factor or a zone
         if undefined:
             raise InputError(f"the model cannot be evaluated next to the nominal point for {', '.join(undefined)}: "
                              "no linearised stack", key="gradient")
@@ -390,9 +390,9 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             note=N.STATISTICAL.format(correlation=stat_corr, kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):   # 1/(1 − k) at k = 1; 0·∞ of a factor with no effect
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
+        inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
     sig_dyn = math.sqrt(rss(inflated, P, squared=True) + extra_sig2) if np.all(np.isfinite(inflated)) else math.inf
     if not math.isfinite(sig_dyn):
         notes.append(N.DYNAMIC_UNDEFINED)
