@@ -150,3 +150,13 @@ def test_a_disagreement_that_does_not_refute_the_verdict_says_which_cpk_judges(m
     j = judge(r, cpk=judged[0], cpk_lo=judged[1], other_cpk=other, shape=shape)
     assert j.passed == (method == "normal")
     assert len(j.notes) == 1 and j.notes[0].endswith(f"; {then}")
+
+
+def test_no_percentile_bound_leaves_the_normal_theory_verdict_alone():
+    """Fewer evaluated samples than a bootstrap bound needs: the other Cpk has an estimate but no bound, so the
+    non-normal rule has nothing to compare — the normal-theory bound 1.4 ≥ 1.33 passes, with no note."""
+    from rvtol.verdict import judge
+
+    r = Requirement("r", upper=4.2, min_cpk=1.33)
+    j = judge(r, cpk=1.5, cpk_lo=1.4, other_cpk=(1.0, None), shape=_skewed())
+    assert j.passed and j.notes == [] and j.violation == 0.0

@@ -244,3 +244,17 @@ def test_a_one_sided_band_straddled_by_its_interval_has_the_reach_beyond_its_lim
     upper = Requirement("k", upper=2.0, statistic="median")
     j = judge_statistic(upper, 1.5, 1.0, 3.0, 100)
     assert j.undecided and j.violation == pytest.approx((3.0 - 2.0) / 2.0) and j.n_to_demonstrate == 100 * 9
+
+
+def test_an_estimate_on_a_limit_says_more_samples_will_not_decide_and_the_bound_is_described():
+    """The median 235.2 sits on the upper limit: its interval straddles the limit at every n (d = 0), so no n is
+    given; the report names the interval — each end a one-sided 95 % bound, or the two-sided 95 % interval."""
+    from rvtol.verdict import describe_bound
+
+    r = Requirement("k", lower=156.8, upper=235.2, statistic="median")
+    j = judge_statistic(r, 235.2, 230.0, 240.0, 100)
+    assert j.undecided and j.n_to_demonstrate is None
+    assert j.reasons[-1] == "the estimate sits on a limit: more samples will not decide it"
+    assert describe_bound(r) == "the median's interval, each end a 95 % one-sided bound"
+    two = Requirement("k", lower=156.8, upper=235.2, statistic="mean", bound="two-sided", confidence=0.9)
+    assert describe_bound(two) == "the mean's interval, two-sided 90 %"
