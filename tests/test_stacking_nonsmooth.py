@@ -359,26 +359,26 @@ def test_one_datum_feature_has_one_type():
 
 
 def _zone_and_w():
-    return spec_from_table({"factor": [
-        {"name": "h.x", "tolerance": "⌀0.05", "unit": "mm", "zone": "h"},
-        {"name": "h.y", "tolerance": "⌀0.05", "unit": "mm", "zone": "h"},
-        {"name": "w", "tolerance": "±0.01", "unit": "mm", "nominal": 0.0}]})
+    """A zone ⌀0.05 and w ±0.01, read from TOML text (each coordinate's zone name a string of its own, as a study's)."""
+    import tomllib
+
+    return spec_from_table(tomllib.loads(ZONE_AND_W))
 
 
 def test_an_undefined_zone_derivative_is_the_zones_central_difference_coordinate_by_coordinate():
     """The model's derivative is NaN for both coordinates of a smooth zone (e.g. atan2 off its cut): each is replaced
-    by its own component of the slopes' central difference (2 for h.x, 1 for h.y), noted; the worst case is then the
+    by its own component of the slopes' central difference (2 for hole.x, 1 for hole.y), noted; the worst case is then the
     disc 0.025·√(2² + 1²) + 0.01."""
     from rvtol.stacking.slopes import Slopes
 
     spec = _zone_and_w()
     nan = math.nan
-    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"h": (2.0, 1.0)},
-                    zone_max={"h": math.sqrt(5)}, zone_min={"h": -math.sqrt(5)})
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"hole": (2.0, 1.0)},
+                    zone_max={"hole": math.sqrt(5)}, zone_min={"hole": -math.sqrt(5)})
     sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
     assert sc.factors["a"].tolist() == pytest.approx([2.0, 1.0, 1.0])
     assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
-    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for h.x, h.y: the central difference of its "
+    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for hole.x, hole.y: the central difference of its "
                         "one-sided slopes is used instead"]
 
 
@@ -390,12 +390,12 @@ def test_an_undefined_derivative_of_a_kinked_zone_is_taken_by_its_sides():
 
     spec = _zone_and_w()
     nan = math.nan
-    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"h": (0.0, 0.0)},
-                    zone_max={"h": 1.0}, zone_min={"h": 1.0}, kinked=["h"])
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"hole": (0.0, 0.0)},
+                    zone_max={"hole": 1.0}, zone_min={"hole": 1.0}, kinked=["hole"])
     sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.01), pytest.approx(0.035))
-    assert not any("undefined" in n for n in sc.notes) and any(n.startswith("position zone h: ") for n in sc.notes)
+    assert not any("undefined" in n for n in sc.notes) and any(n.startswith("position zone hole: ") for n in sc.notes)
 
 
 def test_a_kinked_factor_in_the_rss_statistical_and_six_sigma_rows_by_hand():
@@ -440,6 +440,10 @@ def test_a_kinked_zone_read_from_a_spec_file_names_its_correlated_coordinate_as_
     assert sl.kinked == ["hole"]
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
     assert "except for the one-sided hole.y, taken as independent" in sc.row("statistical ±3σ (the distributions)")["note"]
+    # both coordinates share the zone's worst-case term ½·(radius 0.025 × slope 1), w its 0.01; both are "kinked"
+    f = sc.factors
+    assert f["wc_pct"].tolist() == pytest.approx([100 * 0.0125 / 0.035, 100 * 0.0125 / 0.035, 100 * 0.01 / 0.035])
+    assert f["linearisation"].tolist() == ["kink: per unit radius up 1, down 0"] * 2 + [""]
 
 
 ZONE_AND_W = """
@@ -513,3 +517,59 @@ def test_a_kinked_zone_on_a_datum_feature_needs_the_slopes_of_its_pattern():
                     zone_max={"h": 1.0}, zone_min={"h": 1.0}, kinked=["h"])
     with pytest.raises(InputError, match="with the pattern located by datum feature B \\(h\\) shifted"):
         stack_conventions(spec, np.zeros(4), 0.0, out_unit="mm", slopes=slopes)
+
+
+DATUM_AND_PEG = """
+[[factor]]
+name = "D"
+unit = "mm"
+tolerance = "10.4 +0.1/0"
+[[factor]]
+name = "B"
+unit = "mm"
+tolerance = "20 +0.1/0"
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.2 (M)"
+zone = "hole"
+size = "D"
+feature_type = "internal"
+datum_size = "B"
+datum_type = "internal"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.2 (M)"
+zone = "hole"
+size = "D"
+feature_type = "internal"
+datum_size = "B"
+datum_type = "internal"
+[[factor]]
+name = "peg.x"
+unit = "mm"
+tolerance = "⌀0.1"
+zone = "peg"
+[[factor]]
+name = "peg.y"
+unit = "mm"
+tolerance = "⌀0.1"
+zone = "peg"
+"""
+
+
+def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
+    """The spec of test_a_datum_feature_shift_adds_to_the_zone plus a plain zone "peg" ⌀0.1, read from TOML text (each
+    coordinate's zone name a string of its own): hole.x + peg.x reaches ±(0.1 + 0.05 + 0.05) from the hole, its bonus
+    and the datum shift, and ±0.05 from the peg's disc — ±0.25."""
+    import tomllib
+
+    spec = spec_from_table(tomllib.loads(DATUM_AND_PEG))
+    assert spec.factors[2].zone is not spec.factors[3].zone
+    m = FormulaModel.from_spec(spec, {"s": ("hole.x + peg.x", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "s"))
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.25, abs=1e-12), pytest.approx(0.25, abs=1e-12))
