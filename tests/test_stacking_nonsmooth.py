@@ -426,20 +426,22 @@ def test_a_kinked_factor_in_the_rss_statistical_and_six_sigma_rows_by_hand():
     assert sc.factors["rss_pct"].tolist() == pytest.approx([90.0, 10.0], rel=1e-6)
 
 
-def test_a_kinked_zone_read_from_a_spec_file_names_its_correlated_coordinate_as_left_out():
+def test_a_kinked_zone_read_from_a_spec_file_names_its_correlated_coordinates_as_left_out():
     """r = |p| + w at the zone's centre (a cone: kinked), the spec read from TOML text (each coordinate's zone a string
-    of its own) with hole.y correlated to w: the statistical rows take the kinked zone as independent and say so for
-    hole.y — the coordinate that carries the correlation, whichever of the pair it is."""
+    of its own) with both coordinates correlated to w: the statistical rows take the kinked zone as independent and
+    say so for each of the pair."""
     import tomllib
 
-    spec = spec_from_table(tomllib.loads(ZONE_AND_W + '[[correlation]]\npair = ["hole.y", "w"]\nrho = 0.5\n'))
+    pairs = "".join(f'[[correlation]]\npair = ["{c}", "w"]\nrho = 0.5\n' for c in ("hole.x", "hole.y"))
+    spec = spec_from_table(tomllib.loads(ZONE_AND_W + pairs))
     assert spec.factors[0].zone is not spec.factors[1].zone
     m = FormulaModel.from_spec(spec, {"r": ("hypot(hole.x, hole.y) + w", "mm")})
     x0 = spec.nominal_base()
     sl = one_sided_slopes(m, spec, "r")
     assert sl.kinked == ["hole"]
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
-    assert "except for the one-sided hole.y, taken as independent" in sc.row("statistical ±3σ (the distributions)")["note"]
+    note = sc.row("statistical ±3σ (the distributions)")["note"]
+    assert "except for the one-sided hole.x, hole.y, taken as independent" in note
     # both coordinates share the zone's worst-case term ½·(radius 0.025 × slope 1), w its 0.01; both are "kinked"
     f = sc.factors
     assert f["wc_pct"].tolist() == pytest.approx([100 * 0.0125 / 0.035, 100 * 0.0125 / 0.035, 100 * 0.01 / 0.035])
