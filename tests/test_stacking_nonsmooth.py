@@ -133,6 +133,16 @@ def test_an_undefined_derivative_is_an_error_not_a_zero():
         stack_conventions(spec, g, 0.0, out_unit="mm")
 
 
+def test_many_undefined_derivatives_are_named_five_then_an_ellipsis():
+    """Six undefined derivatives and no slopes: the error names the first five and says there are more."""
+    spec = spec_from_table({"factor": [{"name": f"f{i}", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0}
+                                       for i in range(1, 7)]})
+    with pytest.raises(InputError, match="undefined \\(NaN or ∞\\) for f1, f2, f3, f4, f5 …: it cannot be read as 0"):
+        stack_conventions(spec, np.full(6, np.nan), 0.0, out_unit="mm")
+    with pytest.raises(InputError, match="undefined \\(NaN or ∞\\) for f1, f2, f3, f4, f5: it cannot be read as 0"):
+        stack_conventions(spec, np.r_[np.full(5, np.nan), 1.0], 0.0, out_unit="mm")
+
+
 def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
     spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0},
                                        {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}]})
