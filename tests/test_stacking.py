@@ -88,6 +88,16 @@ def test_a_position_zone_is_a_disc_in_the_worst_case():
     assert math.hypot(x, y) == pytest.approx(0.025) and y / x == pytest.approx(0.5)   # along the gradient
 
 
+def test_two_position_zones_are_two_discs_in_the_worst_case():
+    """Zones h and k (k later in the alphabet), each a disc: 0.025·√(2² + 1²) + 0.01·√(3² + 4²), plus w's 0.01."""
+    s = zone_spec().factors
+    sig = s[0].dist.std * 0.01 / 0.025
+    k = (normal("k.x", 0.0, sig, limits=(-0.01, 0.01), zone="k"), normal("k.y", 0.0, sig, limits=(-0.01, 0.01), zone="k"))
+    spec = ToleranceSpec("zk", s + k)
+    sc = stack_conventions(spec, np.array([2.0, 1.0, 1.0, 3.0, 4.0]), 0.0, np.zeros(5), out_unit="mm")
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01 + 0.01 * 5)
+
+
 def test_the_true_worst_case_finds_an_interior_extreme_and_uses_the_analytic_gradient():
     fs = (Factor("p", "1", Distribution.make("uniform", lower=1.0, upper=2.0)),
           Factor("q", "1", Distribution.make("uniform", lower=-3.0, upper=0.5)),

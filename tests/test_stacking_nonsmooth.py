@@ -392,6 +392,27 @@ def test_an_undefined_zone_derivative_is_the_zones_central_difference_coordinate
                         "one-sided slopes is used instead"]
 
 
+def test_undefined_derivatives_of_two_zones_are_each_their_own_zones():
+    """A plain factor w, then two zones with undefined derivatives, the one named later in the alphabet written first:
+    each coordinate takes its own zone's central difference (zb: 2, 1; za: 3, 4) — w's 0.01 and the disc of each,
+    0.025·√5 + 0.025·5."""
+    import tomllib
+
+    from rvtol.stacking.slopes import Slopes
+
+    text = '[[factor]]\nname = "w"\nunit = "mm"\ntolerance = "±0.01"\nnominal = 0\n' + "".join(
+        f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "⌀0.05"\nzone = "{z}"\n' for z in ("zb", "za")
+        for c in "xy")
+    spec = spec_from_table(tomllib.loads(text))
+    nan = math.nan
+    slopes = Slopes(up=np.r_[1.0, np.full(4, nan)], down=np.r_[-1.0, np.full(4, nan)],
+                    zone_grad={"zb": (2.0, 1.0), "za": (3.0, 4.0)},
+                    zone_max={"zb": math.sqrt(5), "za": 5.0}, zone_min={"zb": -math.sqrt(5), "za": -5.0})
+    sc = stack_conventions(spec, np.r_[1.0, np.full(4, nan)], 0.0, out_unit="mm", slopes=slopes)
+    assert sc.factors["a"].tolist() == pytest.approx([1.0, 2.0, 1.0, 3.0, 4.0])
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.01 + 0.025 * math.sqrt(5) + 0.025 * 5)
+
+
 def test_an_undefined_derivative_of_a_kinked_zone_is_taken_by_its_sides():
     """A cone at the zone's centre whose model gives NaN for the coordinates' derivative (the least-norm subgradient
     not taken): the zone is kinked, so its sides decide — it rises 1 per unit radius, falls at most 0 — and the
@@ -585,3 +606,33 @@ def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
                            slopes=one_sided_slopes(m, spec, "s"))
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.25, abs=1e-12), pytest.approx(0.25, abs=1e-12))
+    # the worst-case shares: B's shift 0.025, the hole's radius 0.125 halved over its coordinates, the peg's 0.05
+    f = sc.factors
+    assert f["wc_pct"].tolist() == pytest.approx([0.0, 12.5, 31.25, 31.25, 25.0, 0.0])
+    assert f["linearisation"].tolist() == ["", "datum feature at MMB: shifts hole together (per unit up 1, down 1)",
+                                           "zone at MMC", "zone at MMC", "", ""]
+    # the RSS: D and B at their coupled sensitivity −½ over ±0.05, the hole's radius 0.125 and the shift's 0.025, and
+    # peg.x as its own 3σ (the Rayleigh σ whose 99.73 % radius is 0.05)
+    from scipy.stats import norm
+
+    sigma_peg = 0.05 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
+    t_rss = math.sqrt(2 * 0.025 ** 2 + 0.125 ** 2 + 0.025 ** 2 + (3 * sigma_peg) ** 2)
+    assert sc.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-9)
+
+
+def test_a_kinked_zone_beside_a_plain_zone_keeps_their_rss_shares_apart():
+    """r = |hole| + w + pin.x (the hole's zone kinked, the pin's plain, read from TOML): the RSS shares are the hole's
+    ½(0.025 × slope 1)² per coordinate, w's 0.01², pin.x's (3σ)² with σ the Rayleigh σ of its ⌀0.02, pin.y's 0."""
+    import tomllib
+
+    from scipy.stats import norm
+
+    pin = "".join(f'[[factor]]\nname = "pin.{c}"\nunit = "mm"\ntolerance = "⌀0.02"\nzone = "pin"\n' for c in "xy")
+    spec = spec_from_table(tomllib.loads(ZONE_AND_W + pin))
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(hole.x, hole.y) + w + pin.x", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "r"))
+    sigma_pin = 0.01 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
+    terms = np.array([0.5 * 0.025 ** 2, 0.5 * 0.025 ** 2, 0.01 ** 2, (3 * sigma_pin) ** 2, 0.0])
+    assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
