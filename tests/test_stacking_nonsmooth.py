@@ -636,3 +636,27 @@ def test_a_kinked_zone_beside_a_plain_zone_keeps_their_rss_shares_apart():
     sigma_pin = 0.01 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
     terms = np.array([0.5 * 0.025 ** 2, 0.5 * 0.025 ** 2, 0.01 ** 2, (3 * sigma_pin) ** 2, 0.0])
     assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
+
+
+@pytest.mark.parametrize("mmc,kinked", [("amc", "zk"), ("zmc", "ak")])
+def test_only_a_kinked_zone_is_left_out_of_the_statistical_rows_correlation(mmc, kinked):
+    """A smooth zone at MMC whose x is correlated with w, beside a kinked zone (either name first in the alphabet): the
+    RSS reads the MMC zone as its disc, one-sided, and names its correlation as left out; the statistical rows describe
+    the produced parts with the MMC zone's coordinates as they are — its correlation kept, nothing named there."""
+    import tomllib
+
+    zone = lambda z, c, tol, extra="": (f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "{tol}"\n'  # noqa: E731
+                                        f'zone = "{z}"\n{extra}')
+    text = ('[[factor]]\nname = "D"\nunit = "mm"\ntolerance = "10.4 +0.1/0"\n'
+            '[[factor]]\nname = "w"\nunit = "mm"\ntolerance = "±0.01"\nnominal = 0\n'
+            + "".join(zone(mmc, c, "⌀0.2 (M)", 'size = "D"\nfeature_type = "internal"\n') for c in "xy")
+            + "".join(zone(kinked, c, "⌀0.05") for c in "xy")
+            + f'[[correlation]]\npair = ["{mmc}.x", "w"]\nrho = 0.5\n')
+    spec = spec_from_table(tomllib.loads(text))
+    m = FormulaModel.from_spec(spec, {"r": (f"{mmc}.x + hypot({kinked}.x, {kinked}.y) + w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "r")
+    assert sl.kinked == [kinked]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    assert f"except for the one-sided {mmc}.x, taken as independent" in sc.row("RSS")["note"]
+    assert "except for" not in sc.row("statistical ±3σ (the distributions)")["note"]
