@@ -388,8 +388,8 @@ def test_an_undefined_zone_derivative_is_the_zones_central_difference_coordinate
     sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
     assert sc.factors["a"].tolist() == pytest.approx([2.0, 1.0, 1.0])
     assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
-    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for hole.x, hole.y: the central difference of its "
-                        "one-sided slopes is used instead"]
+    assert sc.notes == [("the model's derivative is undefined (NaN/∞) for hole.x, hole.y: the central difference of "
+                         "its one-sided slopes is used instead")]
 
 
 def test_undefined_derivatives_of_two_zones_are_each_their_own_zones():
@@ -531,8 +531,8 @@ def test_an_undefined_derivative_of_a_smooth_factor_is_its_central_difference():
                     zone_grad={"hole": (1.0, 0.0)}, zone_max={"hole": 1.0}, zone_min={"hole": -1.0})
     sc = stack_conventions(spec, np.array([1.0, 0.0, math.inf]), 0.0, out_unit="mm", slopes=slopes)
     assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.1 + 0.15)
-    assert sc.notes == ["the model's derivative is undefined (NaN/∞) for w: the central difference of its one-sided "
-                        "slopes is used instead"]
+    assert sc.notes == [("the model's derivative is undefined (NaN/∞) for w: the central difference of its "
+                         "one-sided slopes is used instead")]
 
 
 def test_a_kinked_zone_on_a_datum_feature_needs_the_slopes_of_its_pattern():
@@ -645,8 +645,9 @@ def test_only_a_kinked_zone_is_left_out_of_the_statistical_rows_correlation(mmc,
     the produced parts with the MMC zone's coordinates as they are — its correlation kept, nothing named there."""
     import tomllib
 
-    zone = lambda z, c, tol, extra="": (f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "{tol}"\n'  # noqa: E731
-                                        f'zone = "{z}"\n{extra}')
+    def zone(z, c, tol, extra=""):
+        return f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "{tol}"\nzone = "{z}"\n{extra}'
+
     text = ('[[factor]]\nname = "D"\nunit = "mm"\ntolerance = "10.4 +0.1/0"\n'
             '[[factor]]\nname = "w"\nunit = "mm"\ntolerance = "±0.01"\nnominal = 0\n'
             + "".join(zone(mmc, c, "⌀0.2 (M)", 'size = "D"\nfeature_type = "internal"\n') for c in "xy")
