@@ -160,3 +160,16 @@ def test_no_percentile_bound_leaves_the_normal_theory_verdict_alone():
     r = Requirement("r", upper=4.2, min_cpk=1.33)
     j = judge(r, cpk=1.5, cpk_lo=1.4, other_cpk=(1.0, None), shape=_skewed())
     assert j.passed and j.notes == [] and j.violation == 0.0
+
+
+@pytest.mark.parametrize("judged,other,passed", [((1.5, 1.33), (1.45, 1.2), False), ((1.5, 1.4), (1.45, 1.33), True)])
+def test_a_cpk_bound_exactly_at_its_minimum_passes_in_the_non_normal_rule(judged, other, passed):
+    """Either Cpk's bound equal to min_cpk reaches it (≥, as judge's own check): the normal-theory bound 1.33 passes
+    and the percentile bound 1.2 refutes it on a skewed output; a percentile bound of 1.33 agrees with a passing 1.4
+    — no disagreement, no note."""
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("r", upper=4.2, min_cpk=1.33), cpk=judged[0], cpk_lo=judged[1], other_cpk=other,
+              shape=_skewed())
+    assert j.passed == passed
+    assert (j.notes == []) and (passed or any("normal theory misstates the tail" in w for w in j.reasons))

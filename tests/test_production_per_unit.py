@@ -321,6 +321,9 @@ def test_a_unit_judged_on_its_estimate_has_no_guard_band():
     assert u.state == DOES_NOT_CONFORM and u.reasons[0] == f"P(conforms) {56 / 59:.5f} < required 0.95"
     assert judge_unit(lb, conforming=56, n=59, required=0.95).state == UNDECIDED
     assert samples_to_demonstrate([est]) == 1 and judge_unit(est, conforming=1, n=1).state == CONFORMS
+    from rvtol.verdict import samples_for_unit
+
+    assert samples_for_unit(est) == 1               # one sample: P = 1/1, no bound to wait for (none has no P at all)
 
 
 def test_a_units_upper_bound_reaching_the_requirement_exactly_does_not_refute_it():
