@@ -661,3 +661,16 @@ def test_only_a_kinked_zone_is_left_out_of_the_statistical_rows_correlation(mmc,
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
     assert f"except for the one-sided {mmc}.x, taken as independent" in sc.row("RSS")["note"]
     assert "except for" not in sc.row("statistical ±3σ (the distributions)")["note"]
+
+
+def test_a_kink_flat_on_one_side_is_taken_by_its_falling_side_only():
+    """½·min(u, 0) at u = 0: flat above (D⁺ = 0), falling ½ per unit below (D⁻ = −½): u adds nothing to the upper worst
+    case and ½·0.1 to the lower — y ∈ [−0.05 − 0.01, 0 + 0.01] with w's ±0.01."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0},
+                                       {"name": "w", "tolerance": "±0.01", "unit": "mm", "nominal": 0.0}]})
+    slopes = Slopes(up=np.array([0.0, 1.0]), down=np.array([-0.5, -1.0]), kinked=["u"])
+    sc = stack_conventions(spec, np.array([0.25, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.06), pytest.approx(0.01))
