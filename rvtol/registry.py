@@ -82,6 +82,7 @@ ANALYSES: dict[str, str] = {
     "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "epistemic_band": "rvtol.epistemic.analyses:EpistemicBand",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",
+    "per_serial_update": "rvtol.production.analyses:PerSerialUpdate",
     "selective_assembly": "rvtol.production.analyses:SelectiveAssembly",
 }
 

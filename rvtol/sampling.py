@@ -58,6 +58,8 @@ STREAMS = {
     "per_unit": 101,                                                  # measurement noise + unmeasured factors per unit
     "selective_stock": 102, "selective_optimise": 103,                # graded batch; design of the class-limit search
     "synthetic_parts": 104,                                           # synthetic measured parts (studies/)
+    "synthetic_eol": 105,                                             # synthetic end-of-line batch (studies/)
+    "per_serial": 106,                                                # the per-serial update's sampler (key: unit)
     "epistemic_tolerance": 111, "epistemic_indices": 112,             # the epistemic band: units of each design; the
                                                                       # bootstrap of its indices (key: output)
 }

@@ -80,14 +80,21 @@ def _name(slot: str, column: str) -> str:
     return f"{slot}{column}" if column.startswith("[") else f"{slot}.{column}"
 
 
-def main() -> None:
+def main(write: bool = True, out: Path = OUT, seed: int = SEED, reducers: int = REDUCERS, serial_prefix: str = "RV80E-S"):
+    """Write the part families and the kit list (``write``) and return ``(spec, reducers, truth)``: each kitted
+    reducer's true factor values ``[reducers, k]`` (base units) — its sample of the spec, with the true values of
+    the parts the kit list gave it (exchangeable parts come from another sample) — for the end-of-line records
+    (studies/rv80e_synthetic_end_of_line.py)."""
     spec = load_spec(SPEC)
-    n_parts = {fam: REDUCERS + SPARES.get(fam, 0) for fam in INSPECTION}
+    n_units = reducers
+    n_parts = {fam: n_units + SPARES.get(fam, 0) for fam in INSPECTION}
     draws = max(n_parts.values())
-    truth = sample(spec, draws, "random", substream_seed(SEED, "synthetic_parts")).values   # base units
-    noise = substream(SEED, "synthetic_parts", 1)
-    OUT.mkdir(parents=True, exist_ok=True)
-    kits = {r: {} for r in range(REDUCERS)}
+    truth = sample(spec, draws, "random", substream_seed(seed, "synthetic_parts")).values   # base units
+    noise = substream(seed, "synthetic_parts", 1)
+    if write:
+        out.mkdir(parents=True, exist_ok=True)
+    kits = {r: {} for r in range(n_units)}
+    origin = {}                                      # serial -> (its sample, its slot, its family's columns)
     for fam, (stem, slots, plan, prefix) in INSPECTION.items():
         cols = list(plan)
         units_ = {c: spec.factor(_name(slots[0], c)).unit for c in cols}
@@ -112,29 +119,39 @@ def main() -> None:
                     m = x + u * noise.standard_normal()
                     values[c] = abs(m) if f.dist.one_sided else m
                 rows.append([sn] + [f"{values[c]:.3f}" for c in cols] + [f"{us[c]:.1f}" for c in with_u_col])
-                if r < REDUCERS:
+                origin[sn] = (r, s, cols)
+                if r < n_units:
                     kits[r][s] = sn
-        _write(OUT / f"{stem}.csv", header, rows, [f"family {fam}: slots {', '.join(slots)}; "
-                                                   f"{n_parts[fam] - REDUCERS} spare part set(s) not in a kit"
-                                                   if n_parts[fam] > REDUCERS else f"family {fam}: slots "
+        write and _write(out / f"{stem}.csv", seed, header, rows, [f"family {fam}: slots {', '.join(slots)}; "
+                                                   f"{n_parts[fam] - n_units} spare part set(s) not in a kit"
+                                                   if n_parts[fam] > n_units else f"family {fam}: slots "
                                                    f"{', '.join(slots)}"])
     for fam in SHUFFLED:                             # exchangeable parts: the fitter takes any from stock
         _, ss, _, _ = INSPECTION[fam]
-        used = [kits[r][s] for r in range(REDUCERS) for s in ss]
+        used = [kits[r][s] for r in range(n_units) for s in ss]
         order = noise.permutation(len(used))
-        for i, (r, s) in enumerate((r, s) for r in range(REDUCERS) for s in ss):
+        for i, (r, s) in enumerate((r, s) for r in range(n_units) for s in ss):
             kits[r][s] = used[order[i]]
     slots = [s for (_, ss, _, _) in INSPECTION.values() for s in ss]
-    _write(OUT / "synthetic_kits.csv", ["reducer"] + slots,
-           [[f"RV80E-S{r + 1:03d}"] + [kits[r][s] for s in slots] for r in range(REDUCERS)],
-           ["kit list: which serial parts form which reducer"])
-    print(f"wrote {REDUCERS} kits and {len(INSPECTION)} part families to {OUT}")
+    names = [f"{serial_prefix}{r + 1:03d}" for r in range(n_units)]
+    if write:
+        _write(out / "synthetic_kits.csv", seed, ["reducer"] + slots,
+               [[names[r]] + [kits[r][s] for s in slots] for r in range(n_units)],
+               ["kit list: which serial parts form which reducer"])
+        print(f"wrote {n_units} kits and {len(INSPECTION)} part families to {out}")
+    true = truth[:n_units].copy()
+    for r in range(n_units):
+        for s, sn in kits[r].items():
+            r0, s0, cols = origin[sn]
+            for c in cols:
+                true[r, spec.index(_name(s, c))] = truth[r0, spec.index(_name(s0, c))]
+    return spec, names, true
 
 
-def _write(path: Path, header, rows, extra) -> None:
+def _write(path: Path, seed: int, header, rows, extra) -> None:
     with path.open("w", newline="", encoding="utf-8") as fh:
         for line in HEADER + extra:
-            fh.write(f"# {line.format(seed=SEED)}\n")
+            fh.write(f"# {line.format(seed=seed)}\n")
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(header)
         w.writerows(rows)

@@ -294,6 +294,22 @@ def test_a_design_value_that_no_longer_follows_the_build_is_refused(tmp_path):
 
 
 # ---------------------------------------------------------------------------------------------- the composed model
+def test_the_composition_without_its_build_knows_what_each_output_depends_on(product):
+    """Without the build (a study with build = false) a stage reading a build value (the cranks' support preload)
+    reads its value as drawn, a constant: the outputs depend on factors only, and no longer on the shim rule's
+    readings. (Before: a KeyError on 'build.crank_1.support_pair.preload' in the sign-off's drivers.)"""
+    st, rules = product
+    deps = st.model.without_build().depends_on()
+    built = st.model.depends_on()
+    assert set(deps) == {o for o in built if not o.startswith("build.")}     # the build's own outputs go with it
+    factors = set(st.spec.names)
+    assert all(d <= factors for d in deps.values())
+    shim = set().union(*(r for f, r in rules.reads().items() if f.startswith("build.crank_1.support_pair")))
+    only_shim = shim - set().union(*(r for f, r in rules.reads().items() if not f.startswith("build.crank_")))
+    assert only_shim and only_shim <= built["torsion.lost_motion"]       # the end-play reading, the settling, ...
+    assert not only_shim & deps["torsion.lost_motion"]
+
+
 def test_the_composition_sees_the_parts_as_built(product):
     """model(X) = model without the build on X with every set factor at its as-built value (here the stages up to
     the stack-up and doc 001's screening: the build acts on the inputs, not on the physics)."""

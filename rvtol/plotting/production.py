@@ -96,3 +96,31 @@ def plot_stock_balance(classes, made, used, leftover, *, ax=None):
     ax.set_ylabel("parts")
     ax.legend(loc="best")
     return fig
+
+
+def plot_prior_posterior(units, frame, *, output: str, unit: str, lower=None, upper=None, interval: float = 0.95,
+                         ax=None):
+    """One row per reducer: the prior interval (light bar), the posterior interval after its end-of-line test
+    (dark bar, median dot) and the reading itself (cross); ``frame``: per reducer ``lo/median/hi prior``,
+    ``… posterior`` and ``measured``."""
+    n = len(units)
+    fig, ax = new_axes(ax, figsize=(6.4, max(2.0, 0.36 * n + 1.0)))
+    yy = np.arange(n)[::-1]
+    for y, (_, r) in zip(yy, frame.iterrows()):
+        ax.plot([r["lo prior"], r["hi prior"]], [y + 0.15] * 2, color=COLORS["ci"], lw=2.2, solid_capstyle="butt")
+        ax.plot([r["lo posterior"], r["hi posterior"]], [y - 0.15] * 2, color=COLORS["data"], lw=2.2,
+                solid_capstyle="butt")
+        ax.plot(r["median posterior"], y - 0.15, "o", color=COLORS["data"], ms=4)
+        if np.isfinite(r["measured"]):
+            ax.plot(r["measured"], y, "x", color=COLORS["fit"], ms=6, mew=1.6)
+    for v, name in ((lower, "LSL"), (upper, "USL")):
+        if v is not None:
+            ax.axvline(v, color=COLORS["limit"], ls="--", lw=1.2, label=f"{name} {v:g}")
+    ax.plot([], [], color=COLORS["ci"], lw=2.2, label="prior (measured parts)")
+    ax.plot([], [], color=COLORS["data"], lw=2.2, label="after the end-of-line test")
+    ax.plot([], [], "x", color=COLORS["fit"], label="end-of-line reading")
+    ax.set_yticks(yy, units, fontsize=7)
+    ax.set_xlabel(f"{output} [{label(unit)}] — {interval:.0%} prediction interval")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+    ax.grid(axis="y", visible=False)
+    return fig

@@ -1,4 +1,4 @@
-"""Study analyses ``per_unit_prediction`` and ``selective_assembly``.
+"""Study analyses ``per_unit_prediction``, ``per_serial_update`` and ``selective_assembly``.
 
 Thin adapters (:mod:`rvtol.analysis`): their options, one call of
 :func:`rvtol.production.per_unit.predict_units` or :func:`rvtol.production.grading.compare_grading`, the
@@ -18,6 +18,10 @@ meaning; examples::
     file = "measured/discs.qif"
     mapping = "measured/discs_map.csv"
     slots = ["disc_1", "disc_2"]
+
+    [[analysis]]
+    kind = "per_serial_update"      # the same keys, and each reducer's end-of-line test (rvtol.production.per_serial)
+    end_of_line = "measured/end_of_line.csv"
 
     [[analysis]]
     kind = "selective_assembly"
@@ -46,6 +50,7 @@ from . import texts
 from .grading import compare_grading
 from .measured_parts import FamilySource, load_measured_units
 from .msa import INTERACTION_ALPHA, Gauge, read_gauge_study
+from .per_serial import CHAINS, HIDDEN, STEPS, WALKERS, check_serials, min_samples, read_end_of_line, update_serials
 from .per_unit import predict_units, samples_to_demonstrate
 from .selective import Classes, ClassToClassRule, GradedPart, Supply, TargetRule, known_names
 
@@ -158,6 +163,52 @@ class PerUnitPrediction(Analysis):
 
     def files(self, result):
         return {self.options.file: result.unit_frame().to_csv(index=False)}
+
+
+# --------------------------------------------------------------------------- per-serial update
+class PerSerialUpdate(PerUnitPrediction):
+    kind, title = "per_serial_update", "Per-serial update from the end-of-line test"
+    layout = texts.per_serial
+
+    @dataclass
+    class Options(PerUnitPrediction.Options):
+        KIND = "per_serial_update"
+        end_of_line: Path = option(REQUIRED, "the end-of-line test records: reducer, <output> [unit], ...; a row "
+                                             "'uncertainty' (rvtol.production.per_serial.read_end_of_line)")
+        hidden: int = option(HIDDEN, "factors inferred one by one (the largest share of the readings' variance); the "
+                                     "others through the directions the readings see (rvtol.production.per_serial)",
+                             min=0, max=8)
+        walkers: int = option(WALKERS, "walkers of each emcee ensemble (at least 2·hidden + 2)", min=4)
+        steps: int = option(STEPS, "steps of each ensemble; the first half is discarded", min=100)
+        chains: int = option(CHAINS, "independent ensembles (the split-R̂ compares them)", min=2, max=16)
+
+        def complete(self, study, error):
+            given_n = self.n
+            super().complete(study, error)
+            self.title = self.title or (f"{PerSerialUpdate.title}: {self.name}" if self.name else None)
+            self.eol = read_end_of_line(self.end_of_line, study.model)
+            check_serials(self.eol, self.units)
+            study.inputs[f"{self.key}:end_of_line"] = {"path": self.eol.file, "sha256": self.eol.sha256}
+            extra = [o for o in self.eol.outputs if o not in self.outputs]
+            if extra:                                   # the readings' outputs are evaluated too
+                self.outputs = self.outputs + extra
+                model = study.model
+                self.model = model.restricted(self.outputs) if hasattr(model, "restricted") else model
+            d = min(self.hidden, len(study.spec)) + len(self.eol.outputs)
+            need = min_samples(d)
+            if given_n is not None and given_n < need:
+                raise error("n", f"{given_n} samples per unit: the surrogate in {d} coordinates ({self.hidden} hidden "
+                                 f"factors, {len(self.eol.outputs)} readings' directions) is fitted on the prior samples "
+                                 f"and needs n >= {need}")
+            self.n = max(self.n, need)
+
+    def compute(self, ctx):
+        o = self.options
+        return update_serials(o.model, ctx.spec, o.units, o.eol, o.n, evaluator=ctx.evaluator,
+                              requirements=o.requirements, method=ctx.options.method, seed=ctx.seed,
+                              interval=o.interval, probability=o.conformance_probability,
+                              coverage_factor=o.coverage_factor, hidden=o.hidden, walkers=o.walkers, steps=o.steps,
+                              chains=o.chains, progress=ctx.evaluator.progress)
 
 
 # --------------------------------------------------------------------------- selective assembly

@@ -103,35 +103,50 @@ def samples_to_demonstrate(requirements, probability: float | None = None) -> in
 def unit_design(spec: ToleranceSpec, measured: MeasuredUnits, n: int, method: str = "lhs",
                 seed: int | None = None) -> np.ndarray:
     """``[units·n, k]`` factor values (base units); rows ``i·n … (i+1)·n − 1`` are unit ``i`` (module doc)."""
+    u = unit_uniforms(spec, measured, n, method, seed)
+    cache: dict[bytes, tuple] = {}
+    return np.concatenate([unit_values(spec, measured, i, u, cache) for i in range(len(measured))]) \
+        if len(measured) else np.empty((0, len(spec)))
+
+
+def unit_uniforms(spec: ToleranceSpec, measured: MeasuredUnits, n: int, method: str = "lhs",
+                  seed: int | None = None) -> np.ndarray:
+    """The ``[n, k]`` uniform design every unit shares (sub-stream ``per_unit`` of ``seed``: common random
+    numbers); :func:`unit_values` turns it into one unit's factor values."""
     if tuple(measured.names) != tuple(spec.names):
         raise ValueError("the measured units were read against another spec")
-    k = len(spec)
-    u = uniform_design(n, k, method, substream_seed(seed, "per_unit"))
+    return uniform_design(n, len(spec), method, substream_seed(seed, "per_unit"))
+
+
+def unit_values(spec: ToleranceSpec, measured: MeasuredUnits, i: int, u: np.ndarray,
+                cache: dict | None = None) -> np.ndarray:
+    """Unit ``i``'s ``[n, k]`` factor values (base units) at the uniform coordinates ``u[n, k]``: a measured
+    factor ``m + u·Φ⁻¹(u_j)``, an unmeasured one from the spec, conditionally on the measured ones where the
+    spec correlates them (module doc).  Every factor is a function of its own independent coordinate, so a
+    coordinate's posterior (:mod:`rvtol.production.per_serial`) maps to values the same way."""
+    n, k = u.shape
     z = stats.norm.ppf(u)
     C = spec.correlation
-    out = np.empty((len(measured) * n, k))
-    cache: dict[bytes, tuple] = {}
-    for i in range(len(measured)):
-        m = measured.measured[i]
-        x = np.empty((n, k))
-        x[:, m] = measured.value[i, m] + measured.uncertainty[i, m] * z[:, m]
-        un = np.flatnonzero(~m)
-        if C is None:
-            for j in un:
-                x[:, j] = spec.factors[j].ppf_base(u[:, j])
-        else:
-            key = m.tobytes()
-            if key not in cache:
-                cache[key] = _conditional(C, m)
-            A, L = cache[key]
-            zm = np.column_stack([_score(spec.factors[j], x[:, j]) for j in np.flatnonzero(m)]) if m.any() \
-                else np.zeros((n, 0))
-            zu = zm @ A.T + z[:, un] @ L.T
-            uu = np.clip(stats.norm.cdf(zu), _U_EPS, 1.0 - _U_EPS)
-            for c, j in enumerate(un):
-                x[:, j] = spec.factors[j].ppf_base(uu[:, c])
-        out[i * n:(i + 1) * n] = x
-    return out
+    m = measured.measured[i]
+    x = np.empty((n, k))
+    x[:, m] = measured.value[i, m] + measured.uncertainty[i, m] * z[:, m]
+    un = np.flatnonzero(~m)
+    if C is None:
+        for j in un:
+            x[:, j] = spec.factors[j].ppf_base(u[:, j])
+        return x
+    cache = {} if cache is None else cache
+    key = m.tobytes()
+    if key not in cache:
+        cache[key] = _conditional(C, m)
+    A, L = cache[key]
+    zm = np.column_stack([_score(spec.factors[j], x[:, j]) for j in np.flatnonzero(m)]) if m.any() \
+        else np.zeros((n, 0))
+    zu = zm @ A.T + z[:, un] @ L.T
+    uu = np.clip(stats.norm.cdf(zu), _U_EPS, 1.0 - _U_EPS)
+    for c, j in enumerate(un):
+        x[:, j] = spec.factors[j].ppf_base(uu[:, c])
+    return x
 
 
 def _score(f, x_base: np.ndarray) -> np.ndarray:
@@ -317,9 +332,20 @@ def predict_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, n:
     if not coverage_factor > 0:
         raise ValueError(f"coverage_factor must be > 0, got {coverage_factor}")
     X = unit_design(spec, measured, n, method, seed)
-    ev = evaluator(model, X, "per-unit prediction")
-    res = result_of(model, SampleSet(X, spec.names, spec.units, method, seed), ev)
+    return evaluate_units(model, spec, measured, X, evaluator=evaluator, requirements=requirements, method=method,
+                          seed=seed, interval=interval, probability=probability, coverage_factor=coverage_factor)
+
+
+def evaluate_units(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, X: np.ndarray, *, evaluator,
+                   requirements=(), method: str = "lhs", seed: int | None = None, interval: float = 0.95,
+                   probability: float | None = None, coverage_factor: float = COVERAGE_FACTOR,
+                   what: str = "per-unit prediction") -> UnitPredictions:
+    """The :class:`UnitPredictions` of the factor values ``X[units·n, k]`` (rows ``i·n … (i+1)·n − 1``: unit
+    ``i``), all units in one call of ``evaluator``."""
     U = len(measured)
+    n = X.shape[0] // U
+    ev = evaluator(model, X, what)
+    res = result_of(model, SampleSet(X, spec.names, spec.units, method, seed), ev)
     reqs = tuple(r.in_unit(model.output(r.output).shown_unit) for r in requirements)
     return UnitPredictions(tuple(measured.units), tuple(model.outputs), res.Y.reshape(U, n, -1),
                            res.status.reshape(U, n), reqs, float(interval), measured.measured.sum(axis=1),

@@ -8,7 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ..report.sections import Figure, Table, Text, figure_png
+from .per_serial import ESS_MIN, R_HAT_MAX
 
 # --------------------------------------------------------------------------- per-unit prediction
 PER_UNIT = ("{units} reducers from the kit list {kits}; measured part families: {families}. Per reducer, {n} samples: "
@@ -62,6 +65,62 @@ def per_unit(res, o) -> list:
                Table(outs, PREDICTIONS.format(interval=o.interval))]
     blocks += [Figure(figure_png(res.plot(out)), UNIT_PLOT.format(output=out, interval=o.interval))
                for out in o.outputs]
+    return blocks
+
+
+# --------------------------------------------------------------------------- per-serial update
+PER_SERIAL = ("{units} reducers from the kit list {kits} ({families}); {updated} with an end-of-line record in {eol} "
+              "(read: {read}). The prior of each reducer is its per-unit prediction from its measured parts ({n} "
+              "samples, as in the per-unit prediction); its end-of-line readings update it by Bayes' rule "
+              "(rvtol.production.per_serial): the coordinates inferred are the {hidden} factors with the largest share "
+              "of the readings' variance and the directions along which all the other factors move the readings "
+              "(estimated on the batch's prior samples); a quadratic surrogate of each unit's readings in them, fitted "
+              "on its prior samples, carries its cross-validated error into the likelihood beside the readings' own "
+              "uncertainty; emcee's ensemble sampler ({chains} ensembles of {walkers} walkers, {steps} "
+              "steps, the first half discarded). The posterior prediction is the study's model itself at {n} "
+              "posterior draws (the other factors as in the prior: common random numbers). A unit is converged when "
+              "every split-R̂ ≤ {r_hat} and every effective sample size ≥ {ess}; a unit that is not is undecided.\n\n"
+              "Verdicts after the test (the probability of conformance as in the per-unit prediction; ISO 14253-1 "
+              "guard bands at k = {k:g}): {conforms} conform, {not_conform} do not conform, {undecided} undecided "
+              "(before the test: {before}). One row per reducer: {file} in the report folder.")
+UPDATES = ("Per updated reducer: the readings, the surrogate's cross-validated residual s against the reading's "
+           "uncertainty u_obs (the likelihood's σ = √(u_obs² + s²)) and its R², the sampler's diagnostics and time")
+FACTORS = ("The factors each test narrowed most: the prior and the posterior median and {interval:.0%} interval (the "
+           "factor's unit) and the ratio of the interval widths")
+WEAK_SURROGATE = ("Note: the surrogate explains at most {r2:.0%} of a reading's variance within a unit (cross-validated "
+                  "R², median over the readings and units {median:.0%}): the readings depend on more factors, or less "
+                  "smoothly, than a quadratic in {d} coordinates follows, so the test narrows the prediction little — "
+                  "the surrogate's error is in the likelihood, so the posterior stays calibrated, not sharp. The "
+                  "readings themselves (the 'measured' column) are the unit's best figures for what was read.")
+SERIAL_OUTPUTS = ("Per reducer and output: the end-of-line reading, the prior and the posterior median and "
+                  "{interval:.0%} prediction interval (display units), the ratio of the interval widths")
+SERIAL_PLOT = ("{output}: per reducer the prior interval (from its measured parts), the interval after its end-of-line "
+               "test and the reading")
+
+
+def per_serial(res, o) -> list:
+    units = o.units
+    fams = ", ".join(f"{f.name}: {len(f.serials)} parts" for f in units.families)
+    counts, before = res.counts(), res.prior.counts()
+    blocks = [Text(PER_SERIAL.format(
+        units=len(units), kits=Path(units.kit_file).name, families=fams, updated=len(res.updates),
+        eol=Path(res.eol.file).name, read=", ".join(f"{q} [{u}] ± {s:.3g}" for q, u, s in
+                                                    zip(res.eol.outputs, res.eol.units, res.eol.uncertainty)),
+        n=o.n, hidden=o.hidden, chains=o.chains, walkers=o.walkers, steps=o.steps, r_hat=R_HAT_MAX, ess=ESS_MIN,
+        k=res.posterior.coverage_factor, conforms=counts["conforms"], not_conform=counts["does not conform"],
+        undecided=counts["undecided"], before=", ".join(f"{v} {k}" for k, v in before.items()), file=o.file))]
+    if o.n < o.needed:
+        blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
+    r2 = [r for up in res.updates.values() for r in up.surrogate_r2]
+    if r2 and max(r2) < 0.5:
+        blocks.append(Text(WEAK_SURROGATE.format(r2=max(r2), median=float(np.median(r2)),
+                                                 d=len(next(iter(res.updates.values())).hidden))))
+    blocks += [Table(res.update_frame(), UPDATES),
+               Table(res.factor_frame(), FACTORS.format(interval=o.interval)),
+               Table(res.verdict_table(), VERDICTS.format(
+                   confidence=res.posterior.requirements[0].confidence if res.posterior.requirements else 0.95)),
+               Table(res.output_frame(), SERIAL_OUTPUTS.format(interval=o.interval))]
+    blocks += [Figure(figure_png(res.plot(out)), SERIAL_PLOT.format(output=out)) for out in o.outputs]
     return blocks
 
 

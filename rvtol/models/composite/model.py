@@ -299,6 +299,7 @@ class CompositeModel(Model):
         stage through :meth:`Model.dependencies` where the stage's model knows them, else on all its
         inputs)."""
         deps: dict[str, set[str]] = {n: {n} for n in self.inputs}
+        deps.update({c: set() for c in self.constants})     # a build value as drawn: the same for every unit
 
         def quantities():
             for q in self.quantities:

@@ -1,0 +1,282 @@
+"""Per-serial update from the end-of-line test (issue 41 item 3): the posterior against closed forms, its coverage on
+synthetic units with a known truth, the readers' error contract."""
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+from conftest import write
+from rvtol.errors import InputError
+from rvtol.mc import Evaluator
+from rvtol.model import FunctionModel, Quantity
+from rvtol.production import FamilySource, load_measured_units
+from rvtol.production.per_serial import (EndOfLine, QuadraticSurrogate, hidden_scores, min_samples, read_end_of_line,
+                                         split_rhat, update_serials, update_unit)
+from rvtol.production.per_unit import unit_uniforms, unit_values
+from rvtol.spec import spec_from_table
+from rvtol.study import load_study, run_study, write_outputs
+
+
+# --------------------------------------------------------------------------- the pieces
+def test_split_rhat_by_hand():
+    x = np.array([[0.0, 1.0, 2.0, 3.0], [1.0, 2.0, 3.0, 4.0]])
+    # halves [0,1] [1,2] [2,3] [3,4]: W = mean of the variances 0.5 = 0.5; means 0.5 1.5 2.5 3.5, var 5/3;
+    # var+ = (2-1)/2·0.5 + 5/3 = 23/12; R = sqrt(23/12 / 0.5)
+    assert split_rhat(x) == pytest.approx(np.sqrt(23 / 6), rel=1e-12)
+    rng = np.random.default_rng(0)
+    assert split_rhat(rng.standard_normal((8, 4000))) == pytest.approx(1.0, abs=0.005)
+    assert split_rhat(rng.standard_normal((8, 4000)) + np.arange(8)[:, None] * 0.5) > 1.1
+
+
+def test_hidden_scores_are_the_linear_shares_of_variance():
+    rng = np.random.default_rng(1)
+    Z = rng.standard_normal((20000, 5))
+    Y = np.column_stack([3 * Z[:, 1] + 1 * Z[:, 3], 2 * Z[:, 4] + 0.1 * rng.standard_normal(20000)])
+    cols, share = hidden_scores(Z, Y, 3)
+    assert list(cols) == [4, 1, 3]
+    # closed forms: 4/4.01 of y2 from z4, 9/10 of y1 from z1, 1/10 of y1 from z3
+    assert share == pytest.approx([4 / 4.01, 0.9, 0.1], abs=0.02)
+
+
+def test_surrogate_evaluates_as_the_fitted_pipeline_and_reports_its_cross_validated_error():
+    rng = np.random.default_rng(2)
+    Z = rng.standard_normal((300, 3))
+    Y = np.column_stack([1 + Z[:, 0] - 2 * Z[:, 1] * Z[:, 2] + 0.5 * Z[:, 2] ** 2,
+                         Z[:, 0] + 0.3 * rng.standard_normal(300)])
+    s = QuadraticSurrogate(Z, Y)
+    Zt = rng.standard_normal((50, 3))
+    np.testing.assert_allclose(s(Zt), s.pipeline.predict(Zt), rtol=1e-12, atol=1e-12)
+    assert s.s[0] < 1e-10 and s.r2[0] == pytest.approx(1.0)      # a quadratic is reproduced exactly
+    assert s.s[1] == pytest.approx(0.3, rel=0.15)                 # the noise it cannot explain, out of sample
+
+
+def test_posterior_of_a_linear_gaussian_unit_is_the_kalman_update():
+    rng = np.random.default_rng(3)
+    Z = rng.standard_normal((400, 4))
+    H = np.array([[1.0, 0.5, 0.0, 0.2], [0.3, -1.0, 0.8, 0.0]])
+    c = np.array([2.0, -1.0])
+    R = np.array([0.3, 0.5])
+    y = np.array([2.8, -2.0])
+    up, coords = update_unit("R1", Z, Z @ H.T + c, y, R, list("abcd"), ["o1", "o2"], hidden=4, seed=5)
+    assert coords.Q.shape[1] == 0 and coords.d == 4          # every score is a hidden one: no direction left
+    Hc = H[:, coords.cols]
+    S = np.linalg.inv(np.eye(4) + Hc.T @ np.diag(R ** -2) @ Hc)          # closed-form posterior covariance
+    mu = S @ Hc.T @ np.diag(R ** -2) @ (y - c)
+    post = up.posterior
+    assert post.converged, (post.r_hat, post.ess)
+    se = np.sqrt(np.diag(S) / post.ess)
+    np.testing.assert_allclose(post.z.mean(axis=0), mu, atol=5 * se.max())
+    np.testing.assert_allclose(post.z.std(axis=0), np.sqrt(np.diag(S)), rtol=0.05)
+    C = np.corrcoef(post.z.T)
+    D = S / np.sqrt(np.outer(np.diag(S), np.diag(S)))
+    np.testing.assert_allclose(C, D, atol=0.05)
+
+
+def test_too_few_prior_samples_for_the_surrogate_is_refused():
+    Z = np.random.default_rng(0).standard_normal((min_samples(4) - 1, 6))
+    with pytest.raises(ValueError, match="needs at least 75"):
+        update_unit("R7", Z, Z[:, :1], np.zeros(1), np.ones(1), list("abcdef"), ["o"], hidden=3)
+
+
+# --------------------------------------------------------------------------- coverage on units with a known truth
+SPEC = spec_from_table({"factor": [
+    {"name": "crank.a", "unit": "um", "dist": "normal", "mean": 0.0, "sigma": 1.0},
+    {"name": "disc.b", "unit": "um", "dist": "normal", "mean": 1.0, "sigma": 1.0},
+    {"name": "disc.c", "unit": "um", "dist": "uniform", "lower": -2.0, "upper": 2.0},
+    {"name": "pins.d", "unit": "um", "dist": "normal", "mean": 0.0, "sigma": 0.5},
+    {"name": "housing.e", "unit": "um", "dist": "normal", "mean": 0.0, "sigma": 1.0},
+]})
+
+
+def _model():
+    def f(X):
+        a, b, c, d, e = (X[:, j] * 1e3 for j in range(5))         # um
+        return np.column_stack([a + 0.5 * b + 0.1 * a ** 2,        # read on the rig
+                                b - 0.7 * c + 0.2 * e,              # read on the rig
+                                a + b + c + 0.6 * d,                # not read
+                                0.5 * a * b + e + d])               # not read
+    return FunctionModel(f, SPEC.names, [Quantity(q, "um") for q in ("lm", "rig", "te", "other")], ["mm"] * 5)
+
+
+def _units(tmp_path, n_units):
+    rng = np.random.default_rng(11)
+    rows = "\n".join(f"H{i}, {rng.normal(0, 1):.4f}" for i in range(n_units))
+    parts = write(tmp_path / "housings.csv", f"serial, e [um]\nuncertainty, 0.2\n{rows}\n")
+    kits = write(tmp_path / "kits.csv", "reducer, housing\n" + "\n".join(f"R{i}, H{i}" for i in range(n_units)) + "\n")
+    return load_measured_units(SPEC, kits, [FamilySource(parts, ("housing",))])
+
+
+def test_posterior_intervals_cover_the_truth_of_what_was_not_measured(tmp_path):
+    """40 synthetic reducers: each one's truth drawn from its own prior (its measured housing ± u, the rest from the
+    spec), its two rig readings = truth + N(0, u_obs²); the 95 % posterior intervals of the two outputs not read must
+    hold the truth about 95 % of the time (80 cases: 70 ≤ hits, P(hits ≤ 69 | p = 0.95) = 0.003) and be narrower
+    than the prior's."""
+    units_ = _units(tmp_path, 40)
+    model, n = _model(), 210
+    rng = np.random.default_rng(12)
+    u_obs = np.array([0.3, 0.3])
+    truth = np.empty((40, 4))
+    for i in range(40):
+        x = unit_values(SPEC, units_, i, stats.norm.cdf(rng.standard_normal((1, 5))))
+        truth[i] = model.evaluate(x)[0]
+    obs = truth[:, :2] + u_obs * rng.standard_normal((40, 2))
+    eol = EndOfLine("eol.csv", "", ("lm", "rig"), ("um", "um"), tuple(units_.units), tuple(range(40)), obs, u_obs)
+    res = update_serials(model, SPEC, units_, eol, n, evaluator=Evaluator(), seed=4, hidden=4, walkers=16, steps=400,
+                         chains=2)
+    out = res.output_frame().set_index(["reducer", "output"])
+    hits, ratio = 0, []
+    for i, r in enumerate(units_.units):
+        for j, q in ((2, "te"), (3, "other")):
+            row = out.loc[(r, q)]
+            hits += row["lo posterior"] <= truth[i, j] <= row["hi posterior"]
+            ratio.append(row["width ratio"])
+    assert 70 <= hits <= 80, hits
+    assert np.median(ratio) < 0.8
+    lm = out.xs("lm", level="output")             # the read output is pinned near its reading
+    assert np.all((lm["hi posterior"] - lm["lo posterior"]) < 0.5 * (lm["hi prior"] - lm["lo prior"]))
+
+
+# --------------------------------------------------------------------------- reader and study
+EOL = """# end-of-line test (test data)
+reducer, lm [mm], rig
+uncertainty, 0.0003, 0.3
+R0, 0.0011, 1.4
+R1, , 0.2
+"""
+
+
+def test_end_of_line_file_reads_into_display_units(tmp_path):
+    eol = read_end_of_line(write(tmp_path / "eol.csv", EOL), _model())
+    assert eol.outputs == ("lm", "rig") and eol.serials == ("R0", "R1")
+    np.testing.assert_allclose(eol.uncertainty, [0.3, 0.3])         # mm -> the output's display unit, um
+    assert np.isnan(eol.value[1, 0]) and eol.value[0, 0] == pytest.approx(1.1)
+
+
+@pytest.mark.parametrize("text, reason", [
+    ("reducer, lm\nuncertainty, 0\nR0, 1\n", "must be > 0"),
+    ("reducer, lm\nR0, 1\n", "no 'uncertainty' row"),
+    ("reducer, lm, lm\nuncertainty, 1, 1\nR0, 1, 1\n", "appears twice"),
+    ("reducer, lost\nuncertainty, 1\nR0, 1\n", "no output 'lost'"),
+    ("reducer, lm [N]\nuncertainty, 1\nR0, 1\n", "does not fit"),
+    ("reducer, lm, rig\nuncertainty, 1, 1\nR0, , \n", "no reading on this row"),
+    ("reducer, lm\nuncertainty, 1\nR0, 1\nR0, 2\n", "appears twice"),
+    ("serial, lm\nuncertainty, 1\nR0, 1\n", "first column must be 'reducer'"),
+    ("reducer, lm\nuncertainty, 1\nR0, x\n", "not a number"),
+])
+def test_bad_end_of_line_files_are_refused_with_the_place(tmp_path, text, reason):
+    with pytest.raises(InputError, match=reason) as e:
+        read_end_of_line(write(tmp_path / "eol.csv", text), _model())
+    assert "eol.csv" in str(e.value)
+
+
+STUDY = """
+[study]
+name = "serials"
+[[factor]]
+name = "crank_1.cam.x"
+unit = "um"
+dist = "normal"
+sigma = 1.0
+[[factor]]
+name = "crank_2.cam.x"
+unit = "um"
+dist = "normal"
+sigma = 1.0
+[[factor]]
+name = "housing.radius"
+unit = "um"
+dist = "normal"
+mean = 2.0
+sigma = 0.5
+[model]
+kind = "linear"
+[[model.output]]
+name = "play"
+unit = "um"
+coefficients = { "crank_1.cam.x" = 1.0, "crank_2.cam.x" = 1.0, "housing.radius" = 0.5 }
+[[model.output]]
+name = "radius"
+unit = "um"
+coefficients = { "housing.radius" = 1.0 }
+[[requirement]]
+output = "radius"
+upper = 4.0
+unit = "um"
+min_yield = 0.95
+[sampling]
+n = 200
+seed = 9
+[execution]
+executor = "serial"
+[report]
+pdf = false
+[[analysis]]
+kind = "per_serial_update"
+kits = "kits.csv"
+end_of_line = "eol.csv"
+n = 400
+[[analysis.parts]]
+file = "cranks.csv"
+slots = ["crank_1", "crank_2"]
+"""
+CRANKS = "serial, cam.x [um]\nuncertainty, 0\nC1, 0.5\nC2, -1.25\nC3, 2.0\nC4, 0.0\n"
+
+
+def _study_files(tmp_path, eol="reducer, play [um]\nuncertainty, 0.1\nR1, 1.0\n"):
+    write(tmp_path / "cranks.csv", CRANKS)
+    write(tmp_path / "kits.csv", "reducer, crank_1, crank_2\nR1, C1, C2\nR2, C3, C4\n")
+    write(tmp_path / "eol.csv", eol)
+    return write(tmp_path / "s.toml", STUDY)
+
+
+def test_the_study_updates_the_tested_reducer_as_the_kalman_filter_does(tmp_path):
+    """R1: play = 0.5 − 1.25 + 0.5·h (cranks measured exactly), h ~ N(2, 0.5²); read play = 1.0 ± 0.1 µm.  The
+    linear-normal posterior of h: var = 1/(1/0.25 + 0.25/0.01) = 1/29, mean = (2/0.25 + 0.5·1.75/0.01)/29 = 95.5/29;
+    the output 'radius' (= h, not read) has that posterior.  R2 has no record: its prior stays."""
+    study = load_study(_study_files(tmp_path), progress=False)
+    assert "per_serial_update:end_of_line" in study.inputs
+    out = write_outputs(run_study(study), tmp_path / "report")
+    table = pd.read_csv(out / "per_unit.csv").set_index("reducer")
+    mean, sd = 95.5 / 29, 29 ** -0.5
+    r1 = table.loc["R1"]
+    assert r1["end-of-line record"] == "yes" and r1["converged"] == "yes"
+    assert r1["radius posterior median [um]"] == pytest.approx(mean, abs=4 * 1.2533 * sd / np.sqrt(400))
+    assert r1["radius posterior hi [um]"] - r1["radius posterior lo [um]"] == pytest.approx(2 * 1.96 * sd, rel=0.15)
+    assert r1["radius prior hi [um]"] - r1["radius prior lo [um]"] == pytest.approx(2 * 1.96 * 0.5, rel=0.1)
+    assert r1["play measured [um]"] == 1.0 and "housing.radius" in r1["pinned down"]
+    # the requirement radius ≤ 4: P = Φ((4 − 3.293)/0.186) ≈ 0.99986 before any sampling error: conforms at 0.95
+    assert r1["verdict"] == "conforms"
+    r2 = table.loc["R2"]
+    assert r2["end-of-line record"] == "no"
+    assert r2["radius posterior median [um]"] == r2["radius prior median [um]"]
+    summary = json.loads((out / "summary.json").read_text())["analyses"]["per_serial_update"]
+    entry = {u["reducer"]: u for u in summary["units"]}
+    assert entry["R1"]["end_of_line"]["read"] == {"play": {"value": 1.0, "u": 0.1}}
+    assert "end_of_line" not in entry["R2"]
+
+
+def test_an_end_of_line_record_of_an_unknown_reducer_stops_the_cli_with_exit_2(tmp_path, capsys):
+    from conftest import run_cli
+
+    toml = _study_files(tmp_path, "reducer, play [um]\nuncertainty, 0.1\nR9, 1.0\n")
+    code, lines = run_cli(["run", str(toml), "--out", str(tmp_path / "report")], capsys)
+    assert code == 2 and len(lines) == 1 and "R9" in lines[0] and "eol.csv" in lines[0], lines
+    assert not (tmp_path / "report").exists()
+
+
+def test_the_synthetic_batch_crankshafts_read_from_qif_equal_their_csv(root):
+    """The per-serial study reads the crankshafts from the QIF document written from their CSV (studies/
+    rv80e_synthetic_serials.py, in mm with each value's combinedUncertainty): the same serials, values and u."""
+    from rvtol.production import read_part_family
+    from rvtol.spec import load_spec
+
+    spec = load_spec(root / "data/products/rv80e/tolerances.toml")
+    d = root / "data/measurements/rv80e_serials_synthetic"
+    slots = ("crank_1", "crank_2", "crank_3")
+    a = read_part_family(d / "synthetic_crankshafts.csv", slots, spec)
+    b = read_part_family(d / "synthetic_crankshafts.qif", slots, spec, mapping=d / "synthetic_crankshafts_qif_map.csv")
+    assert b.serials == a.serials and b.columns == a.columns
+    np.testing.assert_allclose(b.values, a.values, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(b.uncertainty, a.uncertainty, rtol=0, atol=1e-12)
