@@ -219,6 +219,7 @@ def test_a_row_added_to_the_table_is_centred_between_its_ends_unless_told():
     assert (sc.row("range")["half_width"], sc.row("range")["centre"]) == (1.5, 2.5)
     mean = sc.row("mean ±3σ")
     assert (mean["half_width"], mean["centre"], mean["sigma"]) == (3.0, 0.5, 2.0)
+    assert list(sc.frame.index) == [0, 1]          # each row the next of the table, as the conventions' own rows
 
 
 def test_a_mean_outside_its_band_leaves_the_dynamic_rss_undefined_unless_the_factor_has_no_effect():
@@ -241,3 +242,14 @@ def test_a_mean_outside_its_band_leaves_the_dynamic_rss_undefined_unless_the_fac
     assert not any("undefined" in n for n in sc.notes)
     with pytest.raises(KeyError):
         sc.row("worst case (geometric)")
+
+
+def test_one_contributor_has_no_handbook_mrss_but_keeps_the_given_factor():
+    """n = 1: the handbook's C_f divides by √n − 1 = 0 — no row, a note says why; the study's own mrss_factor 1.2
+    still gives its row, 1.2 × the RSS 0.05."""
+    spec = ToleranceSpec("one", (normal("a", 1.0, 0.05 / 3),))
+    sc = stack_conventions(spec, np.array([1.0]), 1.0, np.array([1.0]), out_unit="mm", mrss_factor=1.2)
+    assert sc.row("MRSS, given factor")["half_width"] == pytest.approx(1.2 * 0.05)
+    with pytest.raises(KeyError):
+        sc.row("MRSS, handbook")
+    assert "MRSS (handbook) needs at least two contributors" in sc.notes

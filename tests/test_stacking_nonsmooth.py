@@ -66,6 +66,7 @@ def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modi
     # H_min − F_max − T = 6.4 − 6.0 − 0.4 = 0; the upper end: H_max − F_min with the axes aligned = 0.7
     assert wc["low"] == pytest.approx(0.0, abs=1e-9) and wc["high"] == pytest.approx(0.7, abs=1e-9)
     assert any("kink" in n for n in sc.notes)
+    assert ("zones at MMC/LMC with their bonus" in wc["note"]) == bool(modifier)
     # the RSS: each zone as ±(radius × its larger slope 1) — radius 0.2, at MMC 0.2 + ½(6.5 − 6.4) at the holes' band
     # centre, where a hole's size then enters with its coupled sensitivity ½ − ½·1 = 0 (the bonus pays for it) — and
     # F's ±0.05; the shares (a·s)² of H1, H2, F and the zones' ½(r·1)² per coordinate (RFS: 0.0025 each, 0.02 each)
@@ -606,6 +607,7 @@ def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
                            slopes=one_sided_slopes(m, spec, "s"))
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.25, abs=1e-12), pytest.approx(0.25, abs=1e-12))
+    assert "datum-feature shift" in wc["note"] and "kinked" not in wc["note"]      # nothing here is kinked
     # the worst-case shares: B's shift 0.025, the hole's radius 0.125 halved over its coordinates, the peg's 0.05
     f = sc.factors
     assert f["wc_pct"].tolist() == pytest.approx([0.0, 12.5, 31.25, 31.25, 25.0, 0.0])
@@ -621,21 +623,24 @@ def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
 
 
 def test_a_kinked_zone_beside_a_plain_zone_keeps_their_rss_shares_apart():
-    """r = |hole| + w + pin.x (the hole's zone kinked, the pin's plain, read from TOML): the RSS shares are the hole's
-    ½(0.025 × slope 1)² per coordinate, w's 0.01², pin.x's (3σ)² with σ the Rayleigh σ of its ⌀0.02, pin.y's 0."""
+    """r = |hole| + w + pin.x (the hole's zone kinked, the pin's plain and written first, read from TOML): the RSS
+    shares are pin.x's (3σ)² with σ the Rayleigh σ of its ⌀0.02, pin.y's 0, the hole's ½(0.025 × slope 1)² per
+    coordinate, w's 0.01²; the worst case |hole| ∈ [0, 0.025], w ± 0.01, pin.x ± 0.01."""
     import tomllib
 
     from scipy.stats import norm
 
     pin = "".join(f'[[factor]]\nname = "pin.{c}"\nunit = "mm"\ntolerance = "⌀0.02"\nzone = "pin"\n' for c in "xy")
-    spec = spec_from_table(tomllib.loads(ZONE_AND_W + pin))
+    spec = spec_from_table(tomllib.loads(pin + ZONE_AND_W))
     m = FormulaModel.from_spec(spec, {"r": ("hypot(hole.x, hole.y) + w + pin.x", "mm")})
     x0 = spec.nominal_base()
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
                            slopes=one_sided_slopes(m, spec, "r"))
     sigma_pin = 0.01 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
-    terms = np.array([0.5 * 0.025 ** 2, 0.5 * 0.025 ** 2, 0.01 ** 2, (3 * sigma_pin) ** 2, 0.0])
+    terms = np.array([(3 * sigma_pin) ** 2, 0.0, 0.5 * 0.025 ** 2, 0.5 * 0.025 ** 2, 0.01 ** 2])
     assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.02, rel=1e-6), pytest.approx(0.045, rel=1e-6))
 
 
 @pytest.mark.parametrize("mmc,kinked", [("amc", "zk"), ("zmc", "ak")])
@@ -674,3 +679,16 @@ def test_a_kink_flat_on_one_side_is_taken_by_its_falling_side_only():
     sc = stack_conventions(spec, np.array([0.25, 1.0]), 0.0, out_unit="mm", slopes=slopes)
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.06), pytest.approx(0.01))
+
+
+def test_a_kinked_factor_and_a_kinked_zone_both_take_their_sides():
+    """|w| + |hole| (both kinked at the nominal point, the factor listed among the one-sided contributors before the
+    zone): each is ≥ 0, so the worst case is [0, 0.01 + 0.025]."""
+    spec = _zone_and_w()
+    m = FormulaModel.from_spec(spec, {"r": ("abs(w) + hypot(hole.x, hole.y)", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "r")
+    assert sorted(sl.kinked) == ["hole", "w"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(0.0, abs=1e-12), pytest.approx(0.035, rel=1e-6))
