@@ -452,6 +452,7 @@ def test_a_kinked_factor_in_the_rss_statistical_and_six_sigma_rows_by_hand():
     assert "except for the one-sided u, taken as independent" in rss["note"]
     sigma = math.hypot(2 * 0.05 / 3, 0.3 / math.sqrt(3))
     assert sc.row("statistical ±3σ (the distributions)")["sigma"] == pytest.approx(sigma, rel=1e-6)
+    assert "kinked contributors as ±(largest one-sided slope)·σ" in sc.row("statistical ±3σ (the distributions)")["note"]
     assert sc.row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * sigma, rel=1e-6)
     assert sc.row("6σ dynamic, 0σ shift ±3σ")["sigma"] == pytest.approx(math.hypot(2 * 0.05 / 6, 0.3 / 6), rel=1e-6)
     assert not any("dynamic RSS is undefined" in n for n in sc.notes)
@@ -608,6 +609,7 @@ def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(-0.25, abs=1e-12), pytest.approx(0.25, abs=1e-12))
     assert "datum-feature shift" in wc["note"] and "kinked" not in wc["note"]      # nothing here is kinked
+    assert "kinked" not in sc.row("statistical ±3σ (the distributions)")["note"]
     # the worst-case shares: B's shift 0.025, the hole's radius 0.125 halved over its coordinates, the peg's 0.05
     f = sc.factors
     assert f["wc_pct"].tolist() == pytest.approx([0.0, 12.5, 31.25, 31.25, 25.0, 0.0])

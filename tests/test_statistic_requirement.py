@@ -258,3 +258,18 @@ def test_an_estimate_on_a_limit_says_more_samples_will_not_decide_and_the_bound_
     assert describe_bound(r) == "the median's interval, each end a 95 % one-sided bound"
     two = Requirement("k", lower=156.8, upper=235.2, statistic="mean", bound="two-sided", confidence=0.9)
     assert describe_bound(two) == "the mean's interval, two-sided 90 %"
+
+
+def test_an_estimate_at_a_limit_or_below_it_is_judged_if_it_held():
+    """The median 5 equal to its own lower bound and to the lower limit (values computed, as a study's are), its
+    interval crossing the upper limit 10: only the upper limit is straddled — n (6/5)², PASS if it held (on the limit
+    is inside the closed band).  An estimate 4.5 below the lower limit 5, its interval [4, 5.5] reaching in: FAIL if it
+    held, n (1.0/0.5)² — the half-width toward the limit, hi − estimate, over the distance to it."""
+    r = Requirement("k", lower=5.0, upper=10.0, statistic="median")
+    five = float(np.float64(2.5) * 2)
+    j = judge_statistic(r, five, five, 11.0, 100)
+    assert j.undecided and j.n_to_demonstrate == math.ceil(100 * (6.0 / 5.0) ** 2)
+    assert j.reasons[-1] == f"about n = {j.n_to_demonstrate} samples would decide it (PASS, if the estimate held)"
+    j = judge_statistic(r, 4.5, 4.0, 5.5, 100)
+    assert j.undecided and j.n_to_demonstrate == 100 * 4
+    assert j.reasons[-1] == "about n = 400 samples would decide it (FAIL, if the estimate held)"
