@@ -16,6 +16,10 @@ NOT measurements of any reducer: a batch with a known truth, to show what the en
   normal error of the rig's uncertainty U_RIG (ESTIMATES, not a rig's data sheet: an output encoder of ±1″ class
   and the zero-torque readings' repeatability for the angles; the torque cell's 0.5 % and the angle span's
   reading for b/a; a TE rig's ±2″).
+* **End-of-line curves** (``curves/<reducer>.csv``) — each reducer's hysteresis test as the rig records it: the
+  20-DOF torsion stage's curve at its true factors (input locked, 0 → +T → −T → 0, with friction: the loop the
+  model reads its figures from), each angle plus a normal error of U_CURVE (an output encoder's ±1″ class: an
+  ESTIMATE) — torque, angle, sigma; what ``curves`` in the study reads by the maker's definitions.
 * **The truth** (``synthetic_truth.csv``) — every output the study shows, at each reducer's true factors,
   without rig error: what the posterior intervals can be checked against, which no real batch has.
 
@@ -44,11 +48,14 @@ SEED = 20261129
 REDUCERS = 8
 #: the rig's standard uncertainty (k = 1) per reading, in the output's display unit — ESTIMATES (module docstring)
 U_RIG = {"reducer.lost_motion": 0.02, "reducer.backlash": 0.02, "torsion.torsional_rigidity": 2.0, "te.te_pp": 1.0}
-#: the outputs of the per-serial study (studies/rv80e_per_serial.toml: the requirements' and the readings' outputs, the
-#: rigidity the customer's incoming test reads, 50-100 % of rated torque)
-OUTPUTS = ["reducer.lost_motion", "reducer.backlash", "torsion.torsional_rigidity", "torsion.rigidity_50_100",
+#: the outputs of the per-serial study (studies/rv80e_per_serial.toml: the requirements' and the readings' outputs —
+#: the reducer's figures read by the rig's software, the 20-DOF loop's (torsion.*) read from the curves —, the rigidity
+#: the customer's incoming test reads, 50-100 % of rated torque)
+OUTPUTS = ["reducer.lost_motion", "reducer.backlash", "torsion.lost_motion", "torsion.backlash",
+           "torsion.torsional_rigidity", "torsion.rigidity_50_100",
            "te.te_pp", "disc_location.disc_1.tilt", "disc_location.disc_2.tilt", "stackup.crank_1_axis.tilt",
            "stackup.crank_2_axis.tilt", "stackup.crank_3_axis.tilt", "pin_preload.pin_drag_max"]
+U_CURVE = 0.5                      # arcsec: standard uncertainty of each angle of a recorded hysteresis curve (ESTIMATE)
 TE_UNITS = 4                       # the reducers whose end-of-line test includes a TE run
 HEADER = "SYNTHETIC end-of-line batch of the RV-80E -- NOT measurements of any reducer (seed {seed})"
 
@@ -68,6 +75,28 @@ def crankshafts_as_qif(csv_path: Path) -> None:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(["characteristic", "feature", "reading", "u [um]"])
         w.writerows([n, f, "value", ""] for n, f in zip(names, features))
+
+
+def write_curves(model, X, names, rng) -> None:
+    """Each reducer's hysteresis curve (module docstring) from the composed model's torsion stage."""
+    from rvtol import units
+
+    env, _ = model.environment(X)
+    stage = next(st for st in model.stages if st.name == "torsion")
+    Xs = model.stage_matrix(stage, env, len(X))
+    folder = OUT / "curves"
+    folder.mkdir(exist_ok=True)
+    for r, name in enumerate(names):
+        c = stage.model.curve(Xs[r])
+        if not c.ok:
+            raise SystemExit(f"{name}: the torsion curve failed ({c.reason})")
+        angle = units.from_base(c.angle, "arcsec") + U_CURVE * rng.standard_normal(c.angle.size)
+        with (folder / f"{name}.csv").open("w", encoding="utf-8", newline="") as fh:
+            fh.write(f"# {HEADER.format(seed=SEED)}\n# hysteresis test of {name}: the 20-DOF torsion stage at the "
+                     f"reducer's true factors, each angle + N(0, {U_CURVE} arcsec) (studies/rv80e_synthetic_serials.py)\n")
+            w = csv.writer(fh, lineterminator="\n")
+            w.writerow(["torque [N*m]", "angle [arcsec]", "sigma [arcsec]"])
+            w.writerows([f"{t:.4f}", f"{a:.4f}", f"{U_CURVE:g}"] for t, a in zip(units.from_base(c.torque, "N*m"), angle))
 
 
 def main() -> None:
@@ -95,6 +124,7 @@ def main() -> None:
             if r >= TE_UNITS:
                 cells[reads.index("te.te_pp")] = ""
             w.writerow([name] + cells)
+    write_curves(study.model, X, names, rng)
     with (OUT / "synthetic_truth.csv").open("w", encoding="utf-8", newline="") as fh:
         fh.write(f"# {HEADER.format(seed=SEED)}\n# the TRUTH of every output at each reducer's true factors (no rig "
                  "error): for checking the per-serial posterior, which no real batch can\n")

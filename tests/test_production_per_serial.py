@@ -205,6 +205,11 @@ output = "radius"
 upper = 4.0
 unit = "um"
 min_yield = 0.95
+[[requirement]]
+output = "play"
+upper = 3.0
+unit = "um"
+min_yield = 0.95
 [sampling]
 n = 200
 seed = 9
@@ -251,10 +256,24 @@ def test_the_study_updates_the_tested_reducer_as_the_kalman_filter_does(tmp_path
     r2 = table.loc["R2"]
     assert r2["end-of-line record"] == "no"
     assert r2["radius posterior median [um]"] == r2["radius prior median [um]"]
-    summary = json.loads((out / "summary.json").read_text())["analyses"]["per_serial_update"]
+    assert r2["verdict"] == "does not conform"      # play = 2 + 0 + 0.5h: P(play <= 3) = Φ(0) = 0.5
+    full = json.loads((out / "summary.json").read_text())
+    summary = full["analyses"]["per_serial_update"]
     entry = {u["reducer"]: u for u in summary["units"]}
     assert entry["R1"]["end_of_line"]["read"] == {"play": {"value": 1.0, "u": 0.1}}
     assert "end_of_line" not in entry["R2"]
+    # CI: one JUnit test case per serial, failing unless the serial conforms
+    import xml.etree.ElementTree as ET
+    from rvtol.ci.junit import junit_tree
+
+    cases = {c.get("name"): c for c in junit_tree(full).getroot().iter("testcase")
+             if c.get("classname").endswith("serials.per_serial_update")}
+    assert set(cases) == {"R1", "R2"}
+    for name, c in cases.items():
+        failed = c.find("failure")
+        assert (failed is None) == (table.loc[name, "verdict"] == "conforms")
+        if failed is not None:
+            assert failed.get("message") == table.loc[name, "verdict"] and failed.get("type") == "serial"
 
 
 def test_an_end_of_line_record_of_an_unknown_reducer_stops_the_cli_with_exit_2(tmp_path, capsys):
@@ -280,3 +299,112 @@ def test_the_synthetic_batch_crankshafts_read_from_qif_equal_their_csv(root):
     assert b.serials == a.serials and b.columns == a.columns
     np.testing.assert_allclose(b.values, a.values, rtol=0, atol=1e-12)
     np.testing.assert_allclose(b.uncertainty, a.uncertainty, rtol=0, atol=1e-12)
+
+
+def test_the_ensemble_kalman_update_of_jointly_normal_outputs_is_the_kalman_posterior():
+    """update = "outputs": (y1, y2) jointly normal, y1 read with u: the posterior of y2 is normal with mean
+    μ2 + ρσ1σ2/(σ1² + u²)·(y_obs − μ1) and variance σ2² − (ρσ1σ2)²/(σ1² + u²); y1's own is the precision-weighted
+    mean of prior and reading."""
+    from rvtol.production.per_serial import ensemble_kalman
+
+    rng = np.random.default_rng(7)
+    mu, s1, s2, rho, u, y = np.array([1.0, -2.0]), 2.0, 1.5, 0.8, 0.5, 3.0
+    C = np.array([[s1 ** 2, rho * s1 * s2], [rho * s1 * s2, s2 ** 2]])
+    Y = rng.multivariate_normal(mu, C, 200_000)
+    Y1, X1 = ensemble_kalman(Y, Y[:, :1].copy(), [0], np.array([y]), np.array([u]), rng)
+    g = C[1, 0] / (s1 ** 2 + u ** 2)
+    assert Y1[:, 1].mean() == pytest.approx(mu[1] + g * (y - mu[0]), abs=0.01)
+    assert Y1[:, 1].std() == pytest.approx(np.sqrt(s2 ** 2 - g * C[1, 0]), rel=0.01)
+    w = (1 / s1 ** 2) / (1 / s1 ** 2 + 1 / u ** 2)
+    assert Y1[:, 0].mean() == pytest.approx(w * mu[0] + (1 - w) * y, abs=0.01)
+    assert Y1[:, 0].std() == pytest.approx((1 / s1 ** 2 + 1 / u ** 2) ** -0.5, rel=0.01)
+    np.testing.assert_allclose(X1[:, 0], Y1[:, 0])                 # the factors move by the same rule
+
+
+def test_the_study_updates_the_outputs_by_the_ensemble_kalman_rule(tmp_path):
+    """The same reducer R1 as above with update = "outputs": the output 'radius' (= h) after reading play = 1.0 ± 0.1
+    has the linear-normal posterior mean 95.5/29 and sd 29^-1/2 — from the prior samples alone, no sampler."""
+    toml = _study_files(tmp_path)
+    toml.write_text(toml.read_text().replace('n = 400\n', 'n = 400\nupdate = "outputs"\n'))
+    out = write_outputs(run_study(load_study(toml, progress=False)), tmp_path / "report")
+    r1 = pd.read_csv(out / "per_unit.csv").set_index("reducer").loc["R1"]
+    mean, sd = 95.5 / 29, 29 ** -0.5
+    assert r1["converged"] == "closed form"
+    assert r1["radius posterior median [um]"] == pytest.approx(mean, abs=4 * 1.2533 * sd / np.sqrt(400))
+    assert r1["radius posterior hi [um]"] - r1["radius posterior lo [um]"] == pytest.approx(2 * 1.96 * sd, rel=0.15)
+
+
+# --------------------------------------------------------------------------- end-of-line curves
+def _loop(tmp_path, name, k=2.0e7, b=2.0e-4, rated=784e3, sigma_arcsec=0.0, seed=0, steps=40):
+    """A linear reducer with play b held by friction at every torque (a parallelogram loop): descending
+    θ = T/k + b/2, ascending and first loading θ = T/k − b/2 (k N·mm/rad, b rad); torque 0 → +T → −T → 0."""
+    from rvtol import units
+
+    up = np.linspace(0, rated, steps + 1)
+    T = np.concatenate([up, up[::-1][1:], -up[1:], -up[::-1][1:]])
+    branch = np.concatenate([np.zeros(steps + 1), np.ones(2 * steps), 2 * np.ones(steps)])
+    theta = T / k + np.where(branch == 1, b / 2, -b / 2)
+    theta = theta + units.to_base(sigma_arcsec, "arcsec") * np.random.default_rng(seed).standard_normal(T.size)
+    rows = "\n".join(f"{t / 1e3:.6f}, {units.from_base(a, 'arcsec'):.9f}, {sigma_arcsec:g}" for t, a in zip(T, theta))
+    return write(tmp_path / name, f"# analytic loop\ntorque [N*m], angle [arcsec], sigma [arcsec]\n{rows}\n")
+
+
+def test_a_measured_loop_gives_the_makers_figures_by_hand(tmp_path):
+    """The parallelogram loop: lost motion = 2·0.03·T/k, backlash = b; its tips are read on the loading branches (as
+    the model's, where every contact sticks at a turning point: θ(±T) = ±(T/k − b/2)), so rigidity b/a =
+    2T/(2T/k − b) and the 50–100 % reading T/(T/k − b), by hand; with σ per angle the backlash (two readings at
+    zero torque) has u = σ√2 (Monte Carlo propagation)."""
+    from rvtol.production.per_serial import hysteresis_figures
+
+    k, b, rated = 2.0e7, 2.0e-4, 784e3
+    v, u = hysteresis_figures(_loop(tmp_path, "exact.csv", k, b, rated, sigma_arcsec=1e-9))
+    assert v["lost_motion"] == pytest.approx(2 * 0.03 * rated / k, rel=1e-6)
+    assert v["backlash"] == pytest.approx(b, rel=1e-6)
+    assert v["rigidity"] == pytest.approx(2 * rated / (2 * rated / k - b), rel=1e-6)
+    assert v["rigidity_50_100"] == pytest.approx(rated / (rated / k - b), rel=1e-6)
+    sigma = 0.5
+    _, u = hysteresis_figures(_loop(tmp_path, "noisy.csv", k, b, rated, sigma_arcsec=sigma, seed=3))
+    from rvtol import units
+    assert u["backlash"] == pytest.approx(np.sqrt(2) * units.to_base(sigma, "arcsec"), rel=0.12)
+
+
+def test_a_curve_that_misses_zero_torque_or_does_not_close_is_refused(tmp_path, root):
+    from rvtol.production.per_serial import hysteresis_figures
+
+    with pytest.raises(InputError, match="backlash is read at"):     # the calibration's curve skips |T| < 2.5 %
+        hysteresis_figures(root / "data/measurements/synthetic_rv80e_torsion_curve.csv")
+    half = write(tmp_path / "half.csv", "torque [N*m], angle [arcsec], sigma [arcsec]\n" + "".join(f"{t}, {t / 10}, 1\n" for t in range(0, 60, 10)))
+    with pytest.raises(InputError, match="0 → \\+T → −T → 0 once"):
+        hysteresis_figures(half)
+
+
+def test_the_study_reads_each_reducers_hysteresis_curve_by_the_makers_definitions(tmp_path):
+    """curves = a folder of <reducer>.csv: R1's loop has lost motion 2·0.03·T/k = 0.40′ (k chosen so), read with the
+    curve's own u (Monte Carlo from its σ); the output 'play' (arcmin here) is updated to it; a figure that is no
+    study output, or curves without curve_outputs, stop the study at load time."""
+    from rvtol import units
+    from rvtol.production.per_serial import hysteresis_figures
+
+    toml = _study_files(tmp_path)
+    text = toml.read_text().replace('name = "play"\nunit = "um"', 'name = "play"\nunit = "arcmin"')
+    text = text.replace('output = "play"\nupper = 3.0\nunit = "um"', 'output = "play"\nupper = 3.0\nunit = "arcmin"')
+    text = text.replace('end_of_line = "eol.csv"', 'curves = "curves"\ncurve_outputs = { lost_motion = "play" }')
+    toml.write_text(text)
+    rated, lm = 784e3, units.to_base(0.4, "arcmin")
+    curve = _loop(tmp_path / "curves", "R1.csv", k=2 * 0.03 * rated / lm, b=1e-4, rated=rated, sigma_arcsec=1.0,
+                  seed=5)
+    v, u = hysteresis_figures(curve)
+    study = load_study(toml, progress=False)
+    eol = study.analyses[0].options.eol
+    assert eol.serials == ("R1",) and eol.outputs == ("play",)
+    assert eol.value[0, 0] == pytest.approx(units.from_base(v["lost_motion"], "arcmin"), rel=1e-12)
+    assert eol.u(0)[0] == pytest.approx(units.from_base(u["lost_motion"], "arcmin"), rel=1e-12)
+    out = write_outputs(run_study(study), tmp_path / "report")
+    r1 = pd.read_csv(out / "per_unit.csv").set_index("reducer").loc["R1"]
+    assert r1["play posterior median [arcmin]"] == pytest.approx(eol.value[0, 0], abs=3 * eol.u(0)[0])
+    toml.write_text(text.replace('curve_outputs = { lost_motion = "play" }', 'curve_outputs = { lost_motion = "x" }'))
+    with pytest.raises(InputError, match="no output 'x'"):
+        load_study(toml, progress=False)
+    toml.write_text(text.replace('curve_outputs = { lost_motion = "play" }\n', ''))
+    with pytest.raises(InputError, match="curves need curve_outputs"):
+        load_study(toml, progress=False)

@@ -64,7 +64,7 @@ def junit_tree(summary: dict, comparison=None) -> ET.ElementTree:
         cases += 1
         if failure is not None:
             f = ET.SubElement(c, "failure", message=failure, type="requirement" if classname == "requirements"
-                              else "gate")
+                              else "serial" if classname.startswith("serials.") else "gate")
             f.text = text
             failures += 1
         elif skip is not None:
@@ -86,6 +86,14 @@ def junit_tree(summary: dict, comparison=None) -> ET.ElementTree:
         else:
             case("requirements", "requirements", "NO REQUIREMENTS: the study checks no requirement, nothing is "
                  "demonstrated", "Add [[requirement]] tables, or declare [study] exploratory = true.")
+    for key, a in (summary.get("analyses") or {}).items():     # a verdict per serial (per-unit, per-serial analyses)
+        for u in a.get("units", []) if isinstance(a, dict) else []:
+            if "reducer" not in u or "verdict" not in u:
+                continue
+            reqs_u = "\n".join(f"{r['requirement']}: {r['verdict']} (P = {_fmt(r['P'], '.4f')})"
+                                for r in u.get("requirements", []))
+            text = f"{u['verdict']}\n{reqs_u}"
+            case(f"serials.{key}", u["reducer"], None if u["verdict"] == "conforms" else u["verdict"], text)
     if comparison is not None:
         for g in comparison.gates:
             text = "\n".join(g.figures + g.reasons)

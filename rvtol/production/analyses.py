@@ -50,7 +50,8 @@ from . import texts
 from .grading import compare_grading
 from .measured_parts import FamilySource, load_measured_units
 from .msa import INTERACTION_ALPHA, Gauge, read_gauge_study
-from .per_serial import CHAINS, HIDDEN, STEPS, WALKERS, check_serials, min_samples, read_end_of_line, update_serials
+from .per_serial import (CHAINS, HIDDEN, STEPS, UPDATES, WALKERS, check_serials, min_samples, read_end_of_line,
+                         read_end_of_line_curves, update_serials)
 from .per_unit import predict_units, samples_to_demonstrate
 from .selective import Classes, ClassToClassRule, GradedPart, Supply, TargetRule, known_names
 
@@ -173,8 +174,18 @@ class PerSerialUpdate(PerUnitPrediction):
     @dataclass
     class Options(PerUnitPrediction.Options):
         KIND = "per_serial_update"
-        end_of_line: Path = option(REQUIRED, "the end-of-line test records: reducer, <output> [unit], ...; a row "
-                                             "'uncertainty' (rvtol.production.per_serial.read_end_of_line)")
+        end_of_line: Path | None = option(None, "the end-of-line test records: reducer, <output> [unit], ...; a row "
+                                                "'uncertainty' (rvtol.production.per_serial.read_end_of_line)")
+        curves: Path | None = option(None, "or a folder of hysteresis curves, <reducer>.csv (torque, angle, sigma; "
+                                           "0 → +T → −T → 0), read by the maker's definitions")
+        curve_outputs: dict[str, str] | None = option(None, "with curves: figure (lost_motion, backlash, rigidity, "
+                                                            "rigidity_50_100) -> the study output it is")
+        percent: float = option(3.0, "with curves: the lost motion's torque, % of the curve's largest", min=0.1,
+                                max=50.0)
+        update: str = option("factors", "how the test updates a unit: 'factors' infers its factors (surrogate and "
+                                        "emcee; the model at the posterior draws), 'outputs' the ensemble Kalman update "
+                                        "of its prior samples on the readings (no surrogate; linear-Gaussian)",
+                             choices=UPDATES)
         hidden: int = option(HIDDEN, "factors inferred one by one (the largest share of the readings' variance); the "
                                      "others through the directions the readings see (rvtol.production.per_serial)",
                              min=0, max=8)
@@ -186,7 +197,16 @@ class PerSerialUpdate(PerUnitPrediction):
             given_n = self.n
             super().complete(study, error)
             self.title = self.title or (f"{PerSerialUpdate.title}: {self.name}" if self.name else None)
-            self.eol = read_end_of_line(self.end_of_line, study.model)
+            if (self.end_of_line is None) == (self.curves is None):
+                raise error("end_of_line", "give the end-of-line records: end_of_line (a table of readings) or curves "
+                                           "(a folder of hysteresis curves), one of them")
+            if self.curves is not None:
+                if not self.curve_outputs:
+                    raise error("curve_outputs", "curves need curve_outputs: which study output each figure is "
+                                                 "(e.g. { lost_motion = \"reducer.lost_motion\" })")
+                self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent)
+            else:
+                self.eol = read_end_of_line(self.end_of_line, study.model)
             check_serials(self.eol, self.units)
             study.inputs[f"{self.key}:end_of_line"] = {"path": self.eol.file, "sha256": self.eol.sha256}
             extra = [o for o in self.eol.outputs if o not in self.outputs]
@@ -195,7 +215,7 @@ class PerSerialUpdate(PerUnitPrediction):
                 model = study.model
                 self.model = model.restricted(self.outputs) if hasattr(model, "restricted") else model
             d = min(self.hidden, len(study.spec)) + len(self.eol.outputs)
-            need = min_samples(d)
+            need = min_samples(d) if self.update == "factors" else len(self.eol.outputs) + 2
             if given_n is not None and given_n < need:
                 raise error("n", f"{given_n} samples per unit: the surrogate in {d} coordinates ({self.hidden} hidden "
                                  f"factors, {len(self.eol.outputs)} readings' directions) is fitted on the prior samples "
@@ -207,7 +227,8 @@ class PerSerialUpdate(PerUnitPrediction):
         return update_serials(o.model, ctx.spec, o.units, o.eol, o.n, evaluator=ctx.evaluator,
                               requirements=o.requirements, method=ctx.options.method, seed=ctx.seed,
                               interval=o.interval, probability=o.conformance_probability,
-                              coverage_factor=o.coverage_factor, hidden=o.hidden, walkers=o.walkers, steps=o.steps,
+                              coverage_factor=o.coverage_factor, update=o.update, hidden=o.hidden,
+                              walkers=o.walkers, steps=o.steps,
                               chains=o.chains, progress=ctx.evaluator.progress)
 
 

@@ -50,6 +50,14 @@ measured (as the model now reproduces them) and the ones not measured (TE at ano
 customer's test will read), with its median and interval, P(conforms) and the ISO 14253-1 decision per
 requirement (:class:`.per_unit.UnitPredictions`).  A serial without an end-of-line record keeps its prior.
 
+**The outputs' update** (``update = "outputs"``, :func:`ensemble_kalman`).  Where the readings depend on many
+factors, or not smoothly — on the RV-80E the loop's mid-points and zero crossing are set by whichever of its many
+contacts closes first — no surrogate in a few coordinates follows them (its cross-validated R² says so, and the
+factor-level posterior then stays near the prior: calibrated, not sharp).  The alternative conditions in the
+model's own outputs: the unit's prior samples of every output are moved by the stochastic ensemble Kalman analysis
+on its readings.  No surrogate, no sampler, no model evaluation beyond the prior's; exact when the unit's outputs
+are jointly normal, their linear-Gaussian approximation otherwise (the coverage script checks both methods).
+
 Why the posterior predictive can be trusted (the coverage test in ``tests/test_production_per_serial.py``): for
 units drawn from the prior with a known truth, the truth of each unmeasured output lies inside the 95 %
 posterior interval about 95 % of the time; for a linear model with normal factors the posterior is the closed
@@ -57,9 +65,10 @@ form (Kalman) update, which the sampler reproduces.
 """
 from __future__ import annotations
 
+import hashlib
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -95,12 +104,17 @@ class EndOfLine:
     outputs: tuple[str, ...]
     units: tuple[str, ...]            # the display unit of each output (the values' unit)
     serials: tuple[str, ...]
-    lines: tuple[int, ...]
+    lines: tuple[str, ...]            # where each serial's readings are ("row 5", or its curve file's name)
     value: np.ndarray                 # [serials, outputs]
     uncertainty: np.ndarray           # [outputs], standard (k = 1), display unit
+    per_serial_u: np.ndarray | None = None    # [serials, outputs]: each reducer's own (curves), else None
 
     def row(self, serial: str) -> int | None:
         return self.serials.index(serial) if serial in self.serials else None
+
+    def u(self, row: int) -> np.ndarray:
+        """The standard uncertainties of row ``row``'s readings ([outputs], display units)."""
+        return self.uncertainty if self.per_serial_u is None else self.per_serial_u[row]
 
 
 def read_end_of_line(path, model: Model) -> EndOfLine:
@@ -165,7 +179,7 @@ def read_end_of_line(path, model: Model) -> EndOfLine:
             raise t.error(f"reducer {s!r} appears twice (also on row {seen[s]})", row, 0)
         seen[s] = row
         serials.append(s)
-        lines.append(row)
+        lines.append(f"row {row}")
         for c, (i, unit) in enumerate(cols):
             if cells[i] != "":
                 value[r, c] = units.convert(t.number(row, cells, i), unit, shown[c])
@@ -173,6 +187,97 @@ def read_end_of_line(path, model: Model) -> EndOfLine:
             raise t.error("no reading on this row (leave the reducer out of the file instead)", row, 0)
     return EndOfLine(t.file, t.sha256, tuple(names[i] for i, _ in cols), tuple(shown), tuple(serials),
                      tuple(lines), value, u)
+
+
+#: the maker's figures a hysteresis curve gives (:class:`rvtol.models.torsion_curve.model.CurveMetrics`) and their
+#: dimension (base units rad, N·mm/rad)
+CURVE_FIGURES = {"lost_motion": "angle", "backlash": "angle", "rigidity": "torsional stiffness",
+                 "rigidity_50_100": "torsional stiffness"}
+FIGURE_UNITS = {"angle": "rad", "torsional stiffness": "N*mm/rad"}     # the figures' base units
+CURVE_DRAWS = 400
+
+
+def curve_branches(torque: np.ndarray) -> np.ndarray:
+    """The branch of each point of a hysteresis test in its order: 0 loading 0 → +T, 1 descending +T → −T, 2
+    ascending −T → 0 (the monotone runs of the torque; a turning point belongs to the run it ends)."""
+    step = np.sign(np.diff(torque))
+    change = np.concatenate([[False], (step[1:] != step[:-1]) & (step[1:] != 0)])
+    return np.concatenate([[0], np.cumsum(change)])
+
+
+def hysteresis_figures(path, percent: float = 3.0, draws: int = CURVE_DRAWS,
+                       seed: int = 0) -> tuple[dict[str, float], dict[str, float]]:
+    """The maker's figures (:data:`CURVE_FIGURES`, base units) of a measured hysteresis curve — the calibration's
+    file format (:func:`rvtol.models.transmission.calibration.measurements.load_measurement`: ``torque``, ``angle``,
+    ``sigma``), the torque in the test's order 0 → +T → −T → 0, T the largest |torque| — read as the 20-DOF model's
+    curve is (:meth:`TorsionCurve.metrics <rvtol.models.torsion_curve.model.TorsionCurve.metrics>`: the mid-line),
+    the backlash at zero torque itself (a measured loop crosses its play at a finite slope; the model's frictionless
+    curve jumps there and is read at ±ε) and their standard uncertainties by Monte Carlo propagation of each angle's ``sigma``
+    (GUM Supplement 1: ``draws`` copies of the curve with independent normal errors, the figures' standard
+    deviation).  The torque is taken as exact."""
+    from ..models.torsion_curve.model import TorsionCurve
+    from ..models.transmission.calibration.measurements import TORSION, load_measurement
+
+    m = load_measurement(path, exclude_below=0.0)
+    if m.kind != TORSION:
+        raise InputError("an end-of-line curve must be a hysteresis curve (columns torque, angle, sigma)", file=m.file)
+    if m.sigma is None:
+        raise InputError("no 'sigma' column: give each angle's standard uncertainty (k = 1)", file=m.file)
+    branch = curve_branches(m.x)
+    if branch.max() != 2 or m.x[branch == 0].max() <= 0 or m.x[branch == 1].min() >= 0:
+        raise InputError(f"the torque must run 0 → +T → −T → 0 once (found {branch.max() + 1} monotone runs)",
+                         file=m.file)
+    rated = float(np.abs(m.x).max())
+
+    def figures(angle):
+        c = TorsionCurve(m.x, angle, branch, rated).metrics(percent, epsilon=0.0)
+        return np.array([c.lost_motion, c.backlash, c.rigidity, c.rigidity_50_100])
+
+    value = figures(m.y)
+    if not np.all(np.isfinite(value)):
+        missing = [f for f, v in zip(CURVE_FIGURES, value) if not np.isfinite(v)]
+        raise InputError(f"the curve does not reach the points its {', '.join(missing)} is read at (±{percent:g} % "
+                         "and ±T on both branches; zero torque on the descending and the ascending one)", file=m.file)
+    rng = np.random.default_rng(seed)
+    sims = np.array([figures(m.y + m.sigma * rng.standard_normal(m.n)) for _ in range(draws)])
+    return dict(zip(CURVE_FIGURES, value)), dict(zip(CURVE_FIGURES, sims.std(axis=0, ddof=1)))
+
+
+def read_end_of_line_curves(folder, outputs: dict[str, str], model: Model, percent: float = 3.0,
+                            seed: int = 0) -> EndOfLine:
+    """The end-of-line records from one hysteresis curve per reducer: ``folder/<reducer>.csv`` (any table format
+    :func:`rvtol.inputs.sheets.read_table` reads), each read by :func:`hysteresis_figures`; ``outputs``: figure ->
+    the study output it is (``{lost_motion = "reducer.lost_motion", rigidity = "torsion.torsional_rigidity"}``).
+    Each reading's uncertainty is that curve's own (:meth:`EndOfLine.u`)."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError("not a folder of end-of-line curves (<reducer>.csv, one per reducer)", file=str(folder),
+                         key="curves")
+    bad = [f for f in outputs if f not in CURVE_FIGURES]
+    if bad:
+        raise InputError(f"no figure {bad[0]!r} of a hysteresis curve{did_you_mean(bad[0], list(CURVE_FIGURES))} "
+                         f"(known: {', '.join(CURVE_FIGURES)})", key="curve_outputs")
+    outs = [q.name for q in model.outputs]
+    for f, o in outputs.items():
+        if o not in outs:
+            raise InputError(f"no output {o!r} in the study's model{did_you_mean(o, outs)}", key=f"curve_outputs.{f}")
+        if units.dimension(model.output(o).unit) != units.dimension(FIGURE_UNITS[CURVE_FIGURES[f]]):
+            raise InputError(f"output {o!r} ({model.output(o).unit}) is not a {CURVE_FIGURES[f]}", key=f"curve_outputs.{f}")
+    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in (".csv", ".tsv", ".txt", ".xlsx")
+                   and not p.name.startswith("."))
+    if not files:
+        raise InputError("no curve files (<reducer>.csv) in the folder", file=str(folder), key="curves")
+    shown = [model.output(o).shown_unit for o in outputs.values()]
+    value = np.empty((len(files), len(outputs)))
+    u = np.empty_like(value)
+    for r, path in enumerate(files):
+        v, s = hysteresis_figures(path, percent, seed=seed + r)
+        for c, (f, o) in enumerate(outputs.items()):
+            value[r, c] = units.convert(v[f], FIGURE_UNITS[CURVE_FIGURES[f]], shown[c])
+            u[r, c] = units.convert(s[f], FIGURE_UNITS[CURVE_FIGURES[f]], shown[c])
+    digest = hashlib.sha256(b"".join(hashlib.sha256(p.read_bytes()).digest() for p in files)).hexdigest()
+    return EndOfLine(str(folder), digest, tuple(outputs.values()), tuple(shown), tuple(p.stem for p in files),
+                     tuple(p.name for p in files), value, u.max(axis=0), per_serial_u=u)
 
 
 # --------------------------------------------------------------------------- the update of one unit
@@ -368,8 +473,14 @@ class SerialUpdate:
     share: np.ndarray                 # the hidden factors' share of the readings' variance (summed over readings)
     surrogate_s: np.ndarray           # [observed] cross-validated residual standard deviation (display units)
     surrogate_r2: np.ndarray          # [observed]
-    posterior: Posterior
+    posterior: Posterior | None       # the sampler's draws and diagnostics (None: the outputs' closed-form update)
     seconds: float
+    method: str = "factors"
+
+    @property
+    def converged(self) -> bool:
+        """The sampler's diagnostics met (:attr:`Posterior.converged`); the closed-form update has none to meet."""
+        return self.posterior is None or self.posterior.converged
 
 
 def min_samples(d: int) -> int:
@@ -404,6 +515,15 @@ def update_unit(reducer: str, Z: np.ndarray, Y: np.ndarray, y_obs: np.ndarray, u
                         steps=steps, chains=chains, seed=seed, t0=t0), coords
 
 
+def _diagnostics(up: SerialUpdate) -> dict:
+    """The sampler's diagnostics of one update as table cells (NaN for the closed-form update, which has none)."""
+    p = up.posterior
+    if p is None:
+        return {"R-hat max": np.nan, "ESS min": np.nan, "acceptance": np.nan, "converged": "closed form"}
+    return {"R-hat max": float(p.r_hat.max()), "ESS min": float(p.ess.min()), "acceptance": p.acceptance,
+            "converged": "yes" if p.converged else "no"}
+
+
 # --------------------------------------------------------------------------- every unit of a study
 @dataclass
 class SerialUpdates:
@@ -423,7 +543,7 @@ class SerialUpdates:
         """Reducer -> its verdict after the update (the posterior's; undecided where the sampler did not
         converge; the prior's where the unit has no end-of-line record)."""
         post = self.posterior.verdicts()
-        return {u: (UNDECIDED if u in self.updates and not self.updates[u].posterior.converged else post[u])
+        return {u: (UNDECIDED if u in self.updates and not self.updates[u].converged else post[u])
                 for u in self.units}
 
     def counts(self) -> dict[str, int]:
@@ -463,13 +583,11 @@ class SerialUpdates:
         diagnostics and time."""
         rows = []
         for u, up in self.updates.items():
-            p = up.posterior
-            rows.append({"reducer": u, "read": ", ".join(up.observed),
-                         "surrogate s / u_obs": ", ".join(f"{s:.3g}/{uo:.3g}" for s, uo in zip(up.surrogate_s, up.u_obs)),
-                         "surrogate R²(CV)": ", ".join(f"{r:.3f}" for r in up.surrogate_r2),
-                         "coordinates": len(up.hidden), "R-hat max": float(p.r_hat.max()),
-                         "ESS min": float(p.ess.min()), "acceptance": p.acceptance,
-                         "converged": "yes" if p.converged else "no", "seconds": up.seconds})
+            sur = {} if up.method != "factors" else {
+                "surrogate s / u_obs": ", ".join(f"{s:.3g}/{uo:.3g}" for s, uo in zip(up.surrogate_s, up.u_obs)),
+                "surrogate R²(CV)": ", ".join(f"{r:.3f}" for r in up.surrogate_r2), "coordinates": len(up.hidden)}
+            rows.append({"reducer": u, "read": ", ".join(up.observed), "update": up.method, **sur, **_diagnostics(up),
+                         "seconds": up.seconds})
         return pd.DataFrame(rows)
 
     def factor_frame(self) -> pd.DataFrame:
@@ -493,9 +611,8 @@ class SerialUpdates:
             up = self.updates.get(u)
             row = {"reducer": u, "verdict": verdicts[u], "verdict before the test": prior_v[u],
                    "end-of-line record": "yes" if up else "no",
-                   "converged": ("yes" if up.posterior.converged else "no") if up else "",
-                   "R-hat max": float(up.posterior.r_hat.max()) if up else np.nan,
-                   "ESS min": float(up.posterior.ess.min()) if up else np.nan,
+                   **(_diagnostics(up) if up else {"R-hat max": np.nan, "ESS min": np.nan, "acceptance": np.nan,
+                                                   "converged": ""}),
                    "measured_factors": int(post.loc[u, "measured_factors"]), "n": int(post.loc[u, "n"])}
             row.update({c: post.loc[u, c] for c in post.columns if c.endswith((": P", ": P_lo", ": verdict"))
                         or "ISO 14253-1" in c})
@@ -538,9 +655,11 @@ class SerialUpdates:
                     "hidden_factors": list(up.hidden),
                     "surrogate": {o: {"s": float(s), "r2_cv": float(r)} for o, s, r in
                                   zip(up.observed, up.surrogate_s, up.surrogate_r2)},
-                    "r_hat": dict(zip(up.hidden, map(float, up.posterior.r_hat))),
-                    "ess": dict(zip(up.hidden, map(float, up.posterior.ess))),
-                    "acceptance": up.posterior.acceptance, "converged": up.posterior.converged,
+                    "update": up.method, "converged": up.converged,
+                    **({} if up.posterior is None else {
+                        "r_hat": dict(zip(up.hidden, map(float, up.posterior.r_hat))),
+                        "ess": dict(zip(up.hidden, map(float, up.posterior.ess))),
+                        "acceptance": up.posterior.acceptance}),
                     "seconds": up.seconds}
         post["counts"] = self.counts()
         post["end_of_line_file"] = self.eol.file
@@ -572,16 +691,49 @@ def check_serials(eol: EndOfLine, measured: MeasuredUnits) -> None:
     unknown = [s for s in eol.serials if s not in measured.units]
     if unknown:
         raise InputError(f"reducer {unknown[0]!r} is not in the kit list {Path(measured.kit_file).name!r}",
-                         file=eol.file, key=f"row {eol.lines[eol.serials.index(unknown[0])]}")
+                         file=eol.file, key=eol.lines[eol.serials.index(unknown[0])])
+
+
+UPDATES = ("factors", "outputs")      # how the test updates a unit (module docstring)
+
+
+def ensemble_kalman(Y: np.ndarray, X: np.ndarray, read, y_obs: np.ndarray, u_obs: np.ndarray,
+                    rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """The outputs' update (``update = "outputs"``): the stochastic ensemble Kalman analysis (Evensen 1994; Burgers,
+    van Leeuwen & Evensen 1998, *Mon. Wea. Rev.* 126:1719) of a unit's prior samples ``Y[n, m]`` (and its factor values
+    ``X[n, k]``) on the readings of the columns ``read``::
+
+        y_i' = y_i + K (y_obs + ε_i − d_i),   K = C_yd (C_dd + R)⁻¹,   ε_i ~ N(0, R),  R = diag(u_obs²)
+
+    with ``d_i`` the read columns and the covariances of the samples.  For jointly normal outputs the updated
+    samples are draws of the posterior given the readings (the Kalman filter's, in the model's own outputs: no
+    factor-level surrogate); otherwise its linear-Gaussian approximation.  Rows the model could not evaluate stay
+    as they are (NaN)."""
+    ok = np.all(np.isfinite(Y), axis=1)
+    D = Y[ok][:, read]
+    Dc = D - D.mean(axis=0)
+    C = Dc.T @ Dc / (len(D) - 1) + np.diag(u_obs ** 2)
+    innovation = y_obs + rng.standard_normal(D.shape) * u_obs - D
+    gain = np.linalg.solve(C, innovation.T).T                       # (C_dd + R)⁻¹ (y_obs + ε − d), per sample
+    Y1, X1 = Y.copy(), X.copy()
+    for A, A1 in ((Y, Y1), (X, X1)):
+        Ac = A[ok] - A[ok].mean(axis=0)
+        A1[ok] = A[ok] + gain @ (Dc.T @ Ac / (len(D) - 1))
+    return Y1, X1
 
 
 def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, eol: EndOfLine, n: int, *,
                    evaluator, requirements=(), method: str = "lhs", seed: int | None = None,
                    interval: float = 0.95, probability: float | None = None,
-                   coverage_factor: float = COVERAGE_FACTOR, hidden: int = HIDDEN, walkers: int = WALKERS,
-                   steps: int = STEPS, chains: int = CHAINS, progress: bool = False) -> SerialUpdates:
+                   coverage_factor: float = COVERAGE_FACTOR, update: str = "factors", hidden: int = HIDDEN,
+                   walkers: int = WALKERS, steps: int = STEPS, chains: int = CHAINS,
+                   progress: bool = False) -> SerialUpdates:
     """Every unit's prior (:func:`.per_unit.predict_units`) and, for the units with an end-of-line record, its
-    posterior (module docstring); ``progress``: a bar over the units' samplers (on a terminal)."""
+    posterior (module docstring): ``update = "factors"`` infers the unit's factors (surrogate and sampler, the
+    posterior prediction the model itself), ``"outputs"`` updates its prior samples by :func:`ensemble_kalman`;
+    ``progress``: a bar over the units (on a terminal)."""
+    if update not in UPDATES:
+        raise ValueError(f"update must be one of {UPDATES}, got {update!r}")
     check_serials(eol, measured)
     kw = dict(evaluator=evaluator, requirements=requirements, method=method, seed=seed, interval=interval,
               probability=probability, coverage_factor=coverage_factor)
@@ -589,8 +741,47 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
     cache: dict = {}
     X = [unit_values(spec, measured, i, u, cache) for i in range(len(measured))]
     prior = evaluate_units(model, spec, measured, np.concatenate(X), what="per-serial update: prior", **kw)
+    todo = [i for i, s in enumerate(measured.units) if eol.row(s) is not None]
+    bar = _progress(len(todo), "per-serial update") if progress and todo else None
+    if update == "outputs":
+        posterior, updates, rows = _update_outputs(spec, measured, eol, prior, X, todo, seed, interval, bar)
+    else:
+        X_post, updates, rows = _update_factors(spec, measured, eol, prior, X, u, cache, todo, n, seed, interval,
+                                                hidden, walkers, steps, chains, bar)
+        posterior = evaluate_units(model, spec, measured, np.concatenate(X_post),
+                                   what="per-serial update: posterior", **kw)
+    if bar is not None:
+        bar.close()
+    factors = pd.DataFrame(rows, columns=["reducer", "factor", "unit", "median prior", "lo prior", "hi prior",
+                                          "median posterior", "lo posterior", "hi posterior", "width ratio"])
+    return SerialUpdates(prior, posterior, eol, updates, factors)
+
+
+def _update_outputs(spec, measured, eol, prior, X, todo, seed, interval, bar):
+    names = [q.name for q in prior.outputs]
+    Y = prior.Y.copy()
+    updates, rows = {}, []
+    for i in todo:
+        t0 = time.perf_counter()
+        reducer = measured.units[i]
+        r = eol.row(reducer)
+        read = np.flatnonzero(np.isfinite(eol.value[r]))
+        cols = [names.index(eol.outputs[j]) for j in read]
+        Y[i], X1 = ensemble_kalman(prior.Y[i], X[i], cols, eol.value[r, read], eol.u(r)[read],
+                                   substream(seed, "per_serial", i, 2))
+        rows += _pinned_down(spec, reducer, X[i], X1, (1.0 - interval) / 2.0)
+        updates[reducer] = SerialUpdate(reducer, tuple(eol.outputs[j] for j in read), eol.value[r, read],
+                                        eol.u(r)[read], (), np.zeros(0), np.zeros(0), np.zeros(0), None,
+                                        time.perf_counter() - t0, "outputs")
+        if bar is not None:
+            bar.update(1)
+    return replace(prior, Y=Y), updates, rows
+
+
+def _update_factors(spec, measured, eol, prior, X, u, cache, todo, n, seed, interval, hidden, walkers, steps, chains,
+                    bar):
     Z = stats.norm.ppf(u)
-    names = [q.name for q in model.outputs]
+    names = [q.name for q in prior.outputs]
     # every unit's prior samples of the readings' outputs, pooled for the coordinates and their cross-validation
     Ys = [prior.Y[i][:, [names.index(o) for o in eol.outputs]] for i in range(len(measured))]
     masks = [(prior.status[i] == STATUS_OK) & np.all(np.isfinite(Y), axis=1) for i, Y in enumerate(Ys)]
@@ -599,8 +790,6 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
     coords = informed_coordinates([Z] * len(Ys), Ys, masks, hidden, spec.names, eol.outputs)
     X_post = list(X)
     updates, rows = {}, []
-    todo = [i for i, s in enumerate(measured.units) if eol.row(s) is not None]
-    bar = _progress(len(todo), "per-serial update: sampler") if progress and todo else None
     a = (1.0 - interval) / 2.0
     for i in todo:
         t0 = time.perf_counter()
@@ -611,7 +800,7 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
         if m.sum() < min_samples(coords.d):
             raise ValueError(f"{reducer}: {int(m.sum())} prior samples the model evaluated; the surrogate in "
                              f"{coords.d} coordinates needs at least {min_samples(coords.d)} (give a larger n)")
-        up = _sample_unit(reducer, coords, coords(Z[m]), Ys[i][m][:, read], eol.value[r, read], eol.uncertainty[read],
+        up = _sample_unit(reducer, coords, coords(Z[m]), Ys[i][m][:, read], eol.value[r, read], eol.u(r)[read],
                           cv_s[i][read], cv_r2[i][read], [eol.outputs[j] for j in read], walkers=walkers, steps=steps,
                           chains=chains, seed=substream_seed(seed, "per_serial", i), t0=t0)
         pick = substream(seed, "per_serial", i, 1).choice(len(up.posterior.z), n, replace=False)
@@ -621,10 +810,4 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
         rows += _pinned_down(spec, reducer, X[i], X_post[i], a)
         if bar is not None:
             bar.update(1)
-    if bar is not None:
-        bar.close()
-    posterior = evaluate_units(model, spec, measured, np.concatenate(X_post), what="per-serial update: posterior",
-                               **kw)
-    factors = pd.DataFrame(rows, columns=["reducer", "factor", "unit", "median prior", "lo prior", "hi prior",
-                                          "median posterior", "lo posterior", "hi posterior", "width ratio"])
-    return SerialUpdates(prior, posterior, eol, updates, factors)
+    return X_post, updates, rows

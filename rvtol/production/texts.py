@@ -72,17 +72,23 @@ def per_unit(res, o) -> list:
 PER_SERIAL = ("{units} reducers from the kit list {kits} ({families}); {updated} with an end-of-line record in {eol} "
               "(read: {read}). The prior of each reducer is its per-unit prediction from its measured parts ({n} "
               "samples, as in the per-unit prediction); its end-of-line readings update it by Bayes' rule "
-              "(rvtol.production.per_serial): the coordinates inferred are the {hidden} factors with the largest share "
+              "(rvtol.production.per_serial){method}\n\n"
+              "Verdicts after the test (the probability of conformance as in the per-unit prediction; ISO 14253-1 "
+              "guard bands at k = {k:g}): {conforms} conform, {not_conform} do not conform, {undecided} undecided "
+              "(before the test: {before}). One row per reducer: {file} in the report folder.")
+BY_FACTORS = (": the coordinates inferred are the {hidden} factors with the largest share "
               "of the readings' variance and the directions along which all the other factors move the readings "
               "(estimated on the batch's prior samples); a quadratic surrogate of each unit's readings in them, fitted "
               "on its prior samples, carries its cross-validated error into the likelihood beside the readings' own "
               "uncertainty; emcee's ensemble sampler ({chains} ensembles of {walkers} walkers, {steps} "
               "steps, the first half discarded). The posterior prediction is the study's model itself at {n} "
               "posterior draws (the other factors as in the prior: common random numbers). A unit is converged when "
-              "every split-R̂ ≤ {r_hat} and every effective sample size ≥ {ess}; a unit that is not is undecided.\n\n"
-              "Verdicts after the test (the probability of conformance as in the per-unit prediction; ISO 14253-1 "
-              "guard bands at k = {k:g}): {conforms} conform, {not_conform} do not conform, {undecided} undecided "
-              "(before the test: {before}). One row per reducer: {file} in the report folder.")
+              "every split-R̂ ≤ {r_hat} and every effective sample size ≥ {ess}; a unit that is not is undecided.")
+BY_OUTPUTS = (", in the model's own outputs: each reducer's prior samples are moved by the ensemble Kalman analysis "
+              "on its readings (y' = y + K(y_obs + ε − d), K = C_yd (C_dd + R)⁻¹ from its samples, ε ~ N(0, R) with "
+              "the readings' uncertainty) — no factor-level surrogate and no sampler; exact for jointly normal "
+              "outputs, their linear-Gaussian approximation otherwise. The factors are moved the same way (the table "
+              "of the factors each test narrowed most).")
 UPDATES = ("Per updated reducer: the readings, the surrogate's cross-validated residual s against the reading's "
            "uncertainty u_obs (the likelihood's σ = √(u_obs² + s²)) and its R², the sampler's diagnostics and time")
 FACTORS = ("The factors each test narrowed most: the prior and the posterior median and {interval:.0%} interval (the "
@@ -102,16 +108,17 @@ def per_serial(res, o) -> list:
     units = o.units
     fams = ", ".join(f"{f.name}: {len(f.serials)} parts" for f in units.families)
     counts, before = res.counts(), res.prior.counts()
+    method = BY_OUTPUTS if o.update == "outputs" else BY_FACTORS.format(
+        n=o.n, hidden=o.hidden, chains=o.chains, walkers=o.walkers, steps=o.steps, r_hat=R_HAT_MAX, ess=ESS_MIN)
     blocks = [Text(PER_SERIAL.format(
         units=len(units), kits=Path(units.kit_file).name, families=fams, updated=len(res.updates),
         eol=Path(res.eol.file).name, read=", ".join(f"{q} [{u}] ± {s:.3g}" for q, u, s in
                                                     zip(res.eol.outputs, res.eol.units, res.eol.uncertainty)),
-        n=o.n, hidden=o.hidden, chains=o.chains, walkers=o.walkers, steps=o.steps, r_hat=R_HAT_MAX, ess=ESS_MIN,
-        k=res.posterior.coverage_factor, conforms=counts["conforms"], not_conform=counts["does not conform"],
+        n=o.n, method=method, k=res.posterior.coverage_factor, conforms=counts["conforms"], not_conform=counts["does not conform"],
         undecided=counts["undecided"], before=", ".join(f"{v} {k}" for k, v in before.items()), file=o.file))]
     if o.n < o.needed:
         blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
-    r2 = [r for up in res.updates.values() for r in up.surrogate_r2]
+    r2 = [r for up in res.updates.values() for r in up.surrogate_r2]      # (none with update = "outputs")
     if r2 and max(r2) < 0.5:
         blocks.append(Text(WEAK_SURROGATE.format(r2=max(r2), median=float(np.median(r2)),
                                                  d=len(next(iter(res.updates.values())).hidden))))
