@@ -125,6 +125,8 @@ YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
 CPK_METHODS = ("normal", "percentile")
 #: the confidence bounds a requirement can be judged on (policy: :func:`rvtol.verdict.bound_level`)
 BOUNDS = ("one-sided", "two-sided")
+#: what a requirement's minimum is judged on: its lower confidence bound or its point estimate (rvtol.verdict.judge)
+BASES = ("lower_bound", "estimate")
 #: the population statistics a requirement can judge (policy: :func:`rvtol.verdict.judge_statistic`)
 STATISTICS = ("median", "mean")
 #: how firmly a requirement's limit is known: read in its source, remembered but not read, an engineering assumption
@@ -362,6 +364,9 @@ class Requirement:
         if self.status and self.status not in STATUSES:
             raise SpecError(f"unknown status {self.status!r} (expected one of: {', '.join(STATUSES)})",
                             file=self.file, key=key("status"))
+        if self.basis not in BASES:
+            raise SpecError(f"unknown basis {self.basis!r} (expected one of: {', '.join(BASES)})", file=self.file,
+                            key=key("basis"))
         if self.bound not in BOUNDS:
             raise SpecError(f"unknown bound {self.bound!r} (expected one of: {', '.join(BOUNDS)})", file=self.file,
                             key=f"{self.key}.bound" if self.key else "bound")
@@ -893,7 +898,7 @@ def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
         confidence = t.float("confidence", 0.95)
         if not 0.5 <= confidence < 1.0:
             raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
-        basis = t.str("basis", "lower_bound", choices=("lower_bound", "estimate"))
+        basis = t.str("basis", "lower_bound", choices=BASES)
         name = t.str("name", "", single_line=True)
         interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
         cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)

@@ -10,6 +10,7 @@ from rvtol.mc import run_monte_carlo
 from rvtol.model import FunctionModel, Quantity
 from rvtol.params import Params
 from rvtol.spec import Factor, Requirement, ToleranceSpec, requirements_from_tables
+from rvtol.stats import Shape
 from rvtol.distributions import Distribution
 
 # r = hypot(x, y) of two standard normals is Rayleigh(σ = 1)
@@ -80,3 +81,95 @@ def test_a_requirement_read_from_a_study_file_is_judged_on_the_cpk_it_names():
     z = norm.ppf(0.95)
     assert c == 1.5 and lo == pytest.approx(1.5 - z * math.sqrt(1 / (9 * n) + 1.5 ** 2 / (2 * (n - 1))), rel=1e-12)
     assert cpk_name(normal) == "Cpk"
+
+
+def _from_study_file(text: str) -> list[Requirement]:
+    """Requirements parsed from TOML text, as a study file gives them (strings built at run time)."""
+    import tomllib
+
+    return requirements_from_tables([Params(t, file="s.toml", key=f"requirement[{i}]")
+                                     for i, t in enumerate(tomllib.loads(text)["requirement"])])
+
+
+def test_the_percentile_cpk_is_looked_up_for_a_non_normal_output_judged_on_its_estimate():
+    """other_cpk for an optimiser (``judged`` given) with basis = "estimate": the normal-theory estimate 1.5 passes
+    1.33 (its bound 1.2 would not — the estimate is what is judged), the output, exponential, is demonstrably not
+    normal (scipy's Anderson–Darling p ≤ 1 %), so the percentile Cpk (the capability's, 1.2) is
+    the one returned to refute it — not Bissell's normal-theory figure."""
+    from scipy import stats
+
+    from rvtol.verdict import other_cpk
+
+    r, = _from_study_file('[[requirement]]\noutput = "r"\nupper = 10.0\nmin_cpk = 1.33\nbasis = "estimate"\n'
+                          'cpk_method = "normal"\n')
+    good = np.random.default_rng(5).exponential(size=400)
+    assert stats.anderson(good, "norm", method="interpolate").pvalue <= 0.01
+    shape, other = other_cpk(r, good, {"cpk": 1.5, "cpk_percentile": 1.2}, judged=(1.5, 1.2))
+    assert shape.non_normal and other[0] == 1.2 and other[1] is not None
+
+
+def _skewed() -> Shape:
+    return Shape(skewness=1.5, excess_kurtosis=4.0, ad_statistic=9.0, ad_pvalue=0.01)
+
+
+def test_a_non_normal_output_judged_on_its_estimate_needs_both_cpk_estimates():
+    """basis = "estimate": the rule compares the two estimates (1.5 passes 1.33, the percentile 1.0 does not): not
+    demonstrated, and the reason quotes the estimates, not the bounds (0.9 and 0.8 would agree: both fail)."""
+    from rvtol.verdict import judge
+
+    r = Requirement("r", upper=4.2, min_cpk=1.33, basis="estimate")
+    j = judge(r, cpk=1.5, cpk_lo=0.9, other_cpk=(1.0, 0.8), shape=_skewed())
+    assert not j.passed
+    assert any("its normal-theory Cpk 1.500 passes but its percentile Cpk (ISO 22514-2) 1.000 < required 1.33" in w
+               for w in j.reasons)
+
+
+def test_a_non_normal_output_from_a_study_file_is_judged_on_both_cpk_bounds():
+    """basis = "lower_bound" written in the study file: the bounds are compared — normal theory's 1.4 passes 1.33,
+    the percentile bound 1.2 does not — so it is not demonstrated, although both estimates (1.5, 1.45) pass."""
+    from rvtol.verdict import judge
+
+    r, = _from_study_file('[[requirement]]\noutput = "r"\nupper = 4.2\nmin_cpk = 1.33\nbasis = "lower_bound"\n')
+    j = judge(r, cpk=1.5, cpk_lo=1.4, other_cpk=(1.45, 1.2), shape=_skewed())
+    assert not j.passed
+    assert any("normal-theory Cpk lower bound 1.400 passes but its percentile Cpk (ISO 22514-2) lower bound 1.200"
+               in w for w in j.reasons)
+
+
+@pytest.mark.parametrize("method,shape,then", [
+    ("normal", Shape(0.1, 0.2, 0.3, 0.5), "normal theory judges it (the percentile bound is the less efficient one)"),
+    ("percentile", _skewed(), "the percentile Cpk judges it"),
+    ("percentile", Shape(0.1, 0.2, 0.3, 0.5), "the percentile Cpk judges it")])
+def test_a_disagreement_that_does_not_refute_the_verdict_says_which_cpk_judges(method, shape, then):
+    """The two Cpk bounds disagree (1.4 passes 1.33, 1.2 does not, or the reverse), and the output's shape leaves the
+    verdict to the judged Cpk: the note ends by naming it."""
+    from rvtol.verdict import judge
+
+    r = Requirement("r", upper=4.2, min_cpk=1.33, cpk_method=method)
+    judged, other = ((1.6, 1.4), (1.45, 1.2)) if method == "normal" else ((1.45, 1.2), (1.6, 1.4))
+    j = judge(r, cpk=judged[0], cpk_lo=judged[1], other_cpk=other, shape=shape)
+    assert j.passed == (method == "normal")
+    assert len(j.notes) == 1 and j.notes[0].endswith(f"; {then}")
+
+
+def test_no_percentile_bound_leaves_the_normal_theory_verdict_alone():
+    """Fewer evaluated samples than a bootstrap bound needs: the other Cpk has an estimate but no bound, so the
+    non-normal rule has nothing to compare — the normal-theory bound 1.4 ≥ 1.33 passes, with no note."""
+    from rvtol.verdict import judge
+
+    r = Requirement("r", upper=4.2, min_cpk=1.33)
+    j = judge(r, cpk=1.5, cpk_lo=1.4, other_cpk=(1.0, None), shape=_skewed())
+    assert j.passed and j.notes == [] and j.violation == 0.0
+
+
+@pytest.mark.parametrize("judged,other,passed", [((1.5, 1.33), (1.45, 1.2), False), ((1.5, 1.4), (1.45, 1.33), True)])
+def test_a_cpk_bound_exactly_at_its_minimum_passes_in_the_non_normal_rule(judged, other, passed):
+    """Either Cpk's bound equal to min_cpk reaches it (≥, as judge's own check): the normal-theory bound 1.33 passes
+    and the percentile bound 1.2 refutes it on a skewed output; a percentile bound of 1.33 agrees with a passing 1.4
+    — no disagreement, no note."""
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("r", upper=4.2, min_cpk=1.33), cpk=judged[0], cpk_lo=judged[1], other_cpk=other,
+              shape=_skewed())
+    assert j.passed == passed
+    assert (j.notes == []) and (passed or any("normal theory misstates the tail" in w for w in j.reasons))

@@ -312,15 +312,32 @@ def _bissell_dev(cpk: float, n: int) -> float:
     return stats.norm.ppf(0.95) * math.sqrt(1 / (9 * n) + cpk ** 2 / (2 * (n - 1)))
 
 
-def test_the_parts_that_would_decide_a_cpk_the_fit_keeps_undecided():
+@pytest.mark.parametrize("cpk,d_fit", [(1.6, 1.2), (1.5, 1.0)])
+def test_the_parts_that_would_decide_a_cpk_the_fit_keeps_undecided(cpk, d_fit):
     """The Cpk's margin M = Ĉ − required, d_fit ≥ M > d_MC (Bissell's deviation at n): the parts grow by
-    d_fit²/(M² − d_MC²); no n of samples is asked (Ĉ = 1.6 from 6 samples, required 0.5: Bissell's bound 0.74)."""
+    d_fit²/(M² − d_MC²); no n of samples is asked (Ĉ = 1.6 from 6 samples, required 0.5: Bissell's bound 0.74) —
+    also when d_fit = M exactly (Ĉ = 1.5, M = d_fit = 1.0): samples alone would need d_MC = 0, i.e. n = ∞."""
     from rvtol.verdict import judge
 
-    cpk, req, n, d_fit = 1.6, 0.5, 6, 1.2
+    req, n = 0.5, 6
     d_mc, margin = _bissell_dev(cpk, n), cpk - req
     assert d_mc < margin <= d_fit and cpk - d_mc < cpk / 2
     r = Requirement("y", upper=1.0, min_cpk=req)
+    j = judge(r, cpk=cpk, cpk_lo=cpk - math.hypot(d_mc, d_fit), n=n, fit=_fake_cpk_fit(d_fit))
+    assert not j.passed and j.undecided and j.n_to_demonstrate is None
+    assert j.parts_to_demonstrate == {"d": math.ceil(250 * d_fit ** 2 / (margin ** 2 - d_mc ** 2))}
+
+
+def test_two_samples_give_a_monte_carlo_deviation_at_a_low_confidence():
+    """n = 2 has a Bissell bound (n − 1 = 1): at a 60 % one-sided level its deviation z₀.₆·√(1/18 + Ĉ²/2) = 0.29 is
+    below the margin 1.1 (Ĉ = 1.6, required 0.5), the fit's 1.2 is not — the parts grow by d_fit²/(M² − d_MC²)
+    and no n of samples is asked."""
+    from rvtol.verdict import judge
+
+    cpk, req, n, d_fit = 1.6, 0.5, 2, 1.2
+    d_mc, margin = stats.norm.ppf(0.6) * math.sqrt(1 / 18 + cpk ** 2 / 2), cpk - req
+    assert d_mc < margin <= d_fit
+    r = Requirement("y", upper=1.0, min_cpk=req, confidence=0.6)
     j = judge(r, cpk=cpk, cpk_lo=cpk - math.hypot(d_mc, d_fit), n=n, fit=_fake_cpk_fit(d_fit))
     assert not j.passed and j.undecided and j.n_to_demonstrate is None
     assert j.parts_to_demonstrate == {"d": math.ceil(250 * d_fit ** 2 / (margin ** 2 - d_mc ** 2))}

@@ -295,6 +295,9 @@ def test_a_two_sided_cpk_asks_a_unit_for_the_yield_of_both_tails():
     p = 2 * stats.norm.cdf(3 * 1.33) - 1
     assert unit_probability_required(rc) == pytest.approx(p, rel=1e-12)
     assert samples_to_demonstrate([rc]) == math.ceil(math.log(0.05) / math.log(p))
+    # Cpk 3 (±9σ): 2Φ(9) − 1 = 1 − 2.3e-19, which is 1 in floating point (where Φ(9) itself is 1)
+    r9 = Requirement("y", lower=-1.0, upper=1.0, min_cpk=3.0)
+    assert unit_probability_required(r9) == pytest.approx(1.0 - 2.0 * stats.norm.sf(9.0), abs=1e-15)
 
 
 def _read(basis: str) -> Requirement:
@@ -318,6 +321,9 @@ def test_a_unit_judged_on_its_estimate_has_no_guard_band():
     assert u.state == DOES_NOT_CONFORM and u.reasons[0] == f"P(conforms) {56 / 59:.5f} < required 0.95"
     assert judge_unit(lb, conforming=56, n=59, required=0.95).state == UNDECIDED
     assert samples_to_demonstrate([est]) == 1 and judge_unit(est, conforming=1, n=1).state == CONFORMS
+    from rvtol.verdict import samples_for_unit
+
+    assert samples_for_unit(est) == 1               # one sample: P = 1/1, no bound to wait for (none has no P at all)
 
 
 def test_a_units_upper_bound_reaching_the_requirement_exactly_does_not_refute_it():

@@ -193,6 +193,8 @@ def test_the_violation_is_each_figures_shortfall_normalised():
     assert judge(ry, yield_=0.999, yield_lo=0.995).violation == 0.0
     j = judge(ry, yield_=0.999, yield_lo=0.985)
     assert not j.passed and j.violation == pytest.approx((0.99 - 0.985) / (1 - 0.99))        # 0.5
+    low = Requirement("y", upper=1.0, min_yield=0.4)        # a minimum below ½: 1 − Y_min is 0.6, not 1 mod 0.4
+    assert judge(low, yield_=0.5, yield_lo=0.3).violation == pytest.approx((0.4 - 0.3) / (1 - 0.4))   # 1/6
     for missing in (None, math.nan):
         j = judge(ry, yield_=missing, yield_lo=missing)
         assert not j.passed and j.violation == pytest.approx(1 / (1 - 0.99))                  # 100
@@ -234,6 +236,47 @@ def test_the_point_estimate_basis_is_named_so():
 
     assert describe_bound(Requirement("y", upper=1.0, basis="estimate")) == "point estimate"
     assert describe_bound(Requirement("y", upper=1.0)) == "95 % one-sided lower bound"
+
+
+def test_an_estimate_no_feasible_sample_could_demonstrate_is_not_undecided():
+    """A yield estimate 1e-12 above its minimum: no n up to N_PLAN_MAX demonstrates it (test above), so no n is
+    offered and it is not UNDECIDED — more samples will not decide it."""
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("y", upper=1.0, min_yield=0.9973), yield_=0.9973 + 1e-12, yield_lo=0.996, n=1000)
+    assert not j.passed and not j.undecided and j.n_to_demonstrate is None
+    assert j.reasons[-1].endswith("more samples will not demonstrate it")
+
+
+def test_a_percentile_bound_that_misses_where_bissells_n_suffices_says_more_samples_would_decide():
+    """cpk_method = "percentile", Ĉ = 1.6 at n = 10 000: Bissell's rule says far fewer samples demonstrate 1.33 (its
+    one-sided 95 % bound 1.6 − 1.645·√(1/(9n) + Ĉ²/(2(n − 1))) = 1.581 already does), but the bootstrap bound (1.2)
+    misses — no n is offered; the reason says the estimates meet it and more samples would decide."""
+    from scipy.stats import norm
+
+    from rvtol.spec import Requirement
+    from rvtol.verdict import judge
+
+    n, cpk = 10000, 1.6
+    assert cpk - norm.ppf(0.95) * math.sqrt(1 / (9 * n) + cpk ** 2 / (2 * (n - 1))) > 1.33
+    j = judge(Requirement("y", upper=1.0, min_cpk=1.33, cpk_method="percentile"), cpk=cpk, cpk_lo=1.2, n=n)
+    assert not j.passed and j.undecided and j.n_to_demonstrate is None
+    assert j.reasons[-1] == (f"not demonstrated at n = {n}: the estimates meet the requirement, their bounds do not — "
+                             "more samples would decide")
+
+
+def test_a_requirement_built_in_code_with_an_unknown_basis_is_refused():
+    """basis is checked as bound and cpk_method are: a misspelt basis (the loader's "lower-bound") was judged
+    silently on the point estimate — judge reads anything but "lower_bound" as the estimate."""
+    from rvtol.errors import SpecError
+    from rvtol.spec import Requirement
+
+    with pytest.raises(SpecError, match="unknown basis 'lower-bound' \\(expected one of: lower_bound, estimate\\)"):
+        Requirement("y", upper=1.0, basis="lower-bound")
+    with pytest.raises(SpecError) as e:
+        Requirement("y", upper=1.0, basis="Estimate", file="s.toml", key="requirement[0]")
+    assert (e.value.file, e.value.key) == ("s.toml", "requirement[0].basis")
 
 
 def test_a_summary_without_a_state_is_read_from_passed_and_undecided():

@@ -88,6 +88,16 @@ def test_a_position_zone_is_a_disc_in_the_worst_case():
     assert math.hypot(x, y) == pytest.approx(0.025) and y / x == pytest.approx(0.5)   # along the gradient
 
 
+def test_two_position_zones_are_two_discs_in_the_worst_case():
+    """Zones h and k (k later in the alphabet), each a disc: 0.025·√(2² + 1²) + 0.01·√(3² + 4²), plus w's 0.01."""
+    s = zone_spec().factors
+    sig = s[0].dist.std * 0.01 / 0.025
+    k = (normal("k.x", 0.0, sig, limits=(-0.01, 0.01), zone="k"), normal("k.y", 0.0, sig, limits=(-0.01, 0.01), zone="k"))
+    spec = ToleranceSpec("zk", s + k)
+    sc = stack_conventions(spec, np.array([2.0, 1.0, 1.0, 3.0, 4.0]), 0.0, np.zeros(5), out_unit="mm")
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01 + 0.01 * 5)
+
+
 def test_the_true_worst_case_finds_an_interior_extreme_and_uses_the_analytic_gradient():
     fs = (Factor("p", "1", Distribution.make("uniform", lower=1.0, upper=2.0)),
           Factor("q", "1", Distribution.make("uniform", lower=-3.0, upper=0.5)),
@@ -154,3 +164,92 @@ def test_a_limit_beyond_the_bounded_worst_case_has_no_failure_point():
     est = tail_probability(m, spec, "y", 1.5, "upper", methods=("FORM", "importance sampling"))
     assert not est.x_star and est.pf_form == 0.0 and "out of reach" in est.get("FORM").note
     assert est.get("importance sampling").pf is None
+
+
+ZONE_SPEC = """
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "w"
+unit = "mm"
+tolerance = "±0.01"
+nominal = 0
+dist = "uniform"
+"""
+
+
+def test_a_position_zone_read_from_a_spec_file_is_a_disc_and_its_coordinates_3_sigma_in_the_rss():
+    """The zone's two coordinates as a spec file gives them (their zone names two strings the parser built): the worst
+    case takes the disc, 0.025·√(2² + 1²); the RSS reads each coordinate's tolerance as its own 3σ, σ the Rayleigh σ
+    whose 99.73 % radius is 0.025 (module docstring), and the uniform w's half band 0.01 as its 3σ.  Each factor's
+    share of the RSS is its (a·s)² over their sum."""
+    import tomllib
+
+    from rvtol.spec import spec_from_table
+
+    spec = spec_from_table(tomllib.loads(ZONE_SPEC))
+    assert spec.factors[0].zone == spec.factors[1].zone and spec.factors[0].zone is not spec.factors[1].zone
+    a = np.array([2.0, 1.0, 1.0])
+    sc = stack_conventions(spec, a, 0.0, np.zeros(3), out_unit="mm")
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
+    sigma = 0.025 / math.sqrt(-2 * math.log(1 - (stats.norm.cdf(3) - stats.norm.cdf(-3))))
+    terms = np.array([(2 * 3 * sigma) ** 2, (3 * sigma) ** 2, 0.01 ** 2])
+    assert sc.row("RSS")["half_width"] == pytest.approx(math.sqrt(terms.sum()))
+    assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist())
+
+
+def test_a_row_added_to_the_table_is_centred_between_its_ends_unless_told():
+    """StackConventions.add (the comparison's rows: true worst case, second order, Monte Carlo): half width ½(high −
+    low), centre ½(low + high), or the centre given (a Monte Carlo mean need not be the middle)."""
+    import pandas as pd
+
+    from rvtol.stacking.conventions import StackConventions
+
+    sc = StackConventions("y", "mm", 0.0, pd.DataFrame(), pd.DataFrame())
+    sc.add("range", 1.0, 4.0)
+    sc.add("mean ±3σ", -2.0, 4.0, centre=0.5, sigma=2.0)
+    assert (sc.row("range")["half_width"], sc.row("range")["centre"]) == (1.5, 2.5)
+    mean = sc.row("mean ±3σ")
+    assert (mean["half_width"], mean["centre"], mean["sigma"]) == (3.0, 0.5, 2.0)
+    assert list(sc.frame.index) == [0, 1]          # each row the next of the table, as the conventions' own rows
+
+
+def test_a_mean_outside_its_band_leaves_the_dynamic_rss_undefined_unless_the_factor_has_no_effect():
+    """k = |μ − c|/t = 0.06/0.05 = 1.2 ≥ 1: Cpk ≤ 0, the inflation σ/(1 − k) has no meaning — the dynamic RSS row is
+    NaN and a note says why; the same factor with zero sensitivity leaves it defined (σ_y of the other factor,
+    3 · 0.01).  An unknown row is a KeyError."""
+    import warnings
+
+    fs = (normal("a", 10.0, 0.01, shift=0.06, limits=(9.95, 10.05)), normal("b", 5.0, 0.01))
+    spec = ToleranceSpec("k", fs)
+    x0 = np.array([10.0, 5.0])
+    sc = stack_conventions(spec, np.array([1.0, 1.0]), 15.0, x0, out_unit="mm")
+    assert sc.factors.set_index("factor").loc["a", "k"] == pytest.approx(1.2)
+    assert math.isnan(sc.row("6σ dynamic RSS ±3σ")["half_width"])
+    assert "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined" in sc.notes
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # nor a RuntimeWarning for its 0·∞ on the user's terminal
+        sc = stack_conventions(spec, np.array([0.0, 1.0]), 5.0, x0, out_unit="mm")
+    assert sc.row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * 0.01)
+    assert not any("undefined" in n for n in sc.notes)
+    with pytest.raises(KeyError):
+        sc.row("worst case (geometric)")
+
+
+def test_one_contributor_has_no_handbook_mrss_but_keeps_the_given_factor():
+    """n = 1: the handbook's C_f divides by √n − 1 = 0 — no row, a note says why; the study's own mrss_factor 1.2
+    still gives its row, 1.2 × the RSS 0.05."""
+    spec = ToleranceSpec("one", (normal("a", 1.0, 0.05 / 3),))
+    sc = stack_conventions(spec, np.array([1.0]), 1.0, np.array([1.0]), out_unit="mm", mrss_factor=1.2)
+    assert sc.row("MRSS, given factor")["half_width"] == pytest.approx(1.2 * 0.05)
+    with pytest.raises(KeyError):
+        sc.row("MRSS, handbook")
+    assert "MRSS (handbook) needs at least two contributors" in sc.notes

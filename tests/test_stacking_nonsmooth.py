@@ -66,6 +66,17 @@ def test_the_floating_fastener_gives_margin_zero_by_every_worst_case_method(modi
     # H_min − F_max − T = 6.4 − 6.0 − 0.4 = 0; the upper end: H_max − F_min with the axes aligned = 0.7
     assert wc["low"] == pytest.approx(0.0, abs=1e-9) and wc["high"] == pytest.approx(0.7, abs=1e-9)
     assert any("kink" in n for n in sc.notes)
+    assert ("zones at MMC/LMC with their bonus" in wc["note"]) == bool(modifier)
+    # the RSS: each zone as ±(radius × its larger slope 1) — radius 0.2, at MMC 0.2 + ½(6.5 − 6.4) at the holes' band
+    # centre, where a hole's size then enters with its coupled sensitivity ½ − ½·1 = 0 (the bonus pays for it) — and
+    # F's ±0.05; the shares (a·s)² of H1, H2, F and the zones' ½(r·1)² per coordinate (RFS: 0.0025 each, 0.02 each)
+    rss = sc.row("RSS")["half_width"]
+    if modifier:
+        assert rss == pytest.approx(math.sqrt(0.05 ** 2 + 2 * 0.25 ** 2), rel=1e-6)
+    else:
+        assert rss == pytest.approx(math.sqrt(3 * 0.05 ** 2 + 2 * 0.2 ** 2), rel=1e-6)
+        terms = np.array([0.0025, 0.0025, 0.0025, 0.02, 0.02, 0.02, 0.02])
+        assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
     true = true_worst_case(model, spec, "margin", gradient=g, max_evaluations=20000)
     assert true.low == pytest.approx(0.0, abs=1e-6) and true.high == pytest.approx(0.7, abs=1e-6)
     assert "not guaranteed" in true.how and not any("could not be evaluated" in n for n in true.notes)
@@ -123,6 +134,16 @@ def test_an_undefined_derivative_is_an_error_not_a_zero():
         stack_conventions(spec, g, 0.0, out_unit="mm")
 
 
+def test_many_undefined_derivatives_are_named_five_then_an_ellipsis():
+    """Six undefined derivatives and no slopes: the error names the first five and says there are more."""
+    spec = spec_from_table({"factor": [{"name": f"f{i}", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0}
+                                       for i in range(1, 7)]})
+    with pytest.raises(InputError, match="undefined \\(NaN or ∞\\) for f1, f2, f3, f4, f5 …: it cannot be read as 0"):
+        stack_conventions(spec, np.full(6, np.nan), 0.0, out_unit="mm")
+    with pytest.raises(InputError, match="undefined \\(NaN or ∞\\) for f1, f2, f3, f4, f5: it cannot be read as 0"):
+        stack_conventions(spec, np.r_[np.full(5, np.nan), 1.0], 0.0, out_unit="mm")
+
+
 def test_a_kinked_plain_factor_is_taken_by_the_side_that_hurts():
     spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0},
                                        {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}]})
@@ -177,11 +198,34 @@ def test_a_datum_feature_shift_adds_to_the_zone():
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "r"))
     assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
     assert sc.row("worst case (arithmetic)")["low"] == pytest.approx(0.0, abs=1e-12)   # a radius is never negative
+    # the handbook MRSS over n = 3 contributors (the zone's two coordinates, the datum shift): T_wc = 0.1, the RSS of
+    # the zone's radius 0.1 + ½·0.05 and the shift's ½·0.05 (each × its larger slope 1) and of D and B at their
+    # coupled sensitivity ½ over their half bands 0.05
+    t_rss = math.sqrt(0.125 ** 2 + 3 * 0.025 ** 2)
+    cf = 1 + 0.5 * (0.1 - t_rss) / (t_rss * (math.sqrt(3) - 1))
+    assert sc.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-6)
+    assert sc.row("MRSS, handbook")["half_width"] == pytest.approx(cf * t_rss, rel=1e-6)
+    # the axis's x alone (smooth: the zone and the shift each move it 1 per unit, exactly): ±0.2, and n = 2 (x and
+    # the datum shift; the zone's coordinates are the disc, not counted again), the same RSS
+    mx = FormulaModel.from_spec(spec, {"px": ("x", "mm")})
+    sc = stack_conventions(spec, mx.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(mx, spec, "px"))
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.2, abs=1e-12)
+    cf = 1 + 0.5 * (0.2 - t_rss) / (t_rss * (math.sqrt(2) - 1))
+    assert sc.row("MRSS, handbook")["half_width"] == pytest.approx(cf * t_rss, rel=1e-9)
     # an external datum feature (a boss) at MMB: its MMC is the largest size, the shift grows as it gets smaller
     spec2 = spec_from_table({"factor": [
         {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 0/-0.1", "unit": "mm"},
         {"name": "x", **common, "datum_type": "external"}, {"name": "y", **common, "datum_type": "external"}]})
     assert (datum_shifts(spec2)[0].kappa, datum_shifts(spec2)[0].reference) == (-0.5, pytest.approx(20.0))
+    # and the axis still lies up to 0.1 + 0.05 + 0.05 = 0.2 from true position, the boss at its smallest (19.9)
+    m2, x2 = FormulaModel.from_spec(spec2, {"r": ("hypot(x, y)", "mm")}), spec2.nominal_base()
+    sc2 = stack_conventions(spec2, m2.gradient(x2[None])[0, 0], 0.0, x2, out_unit="mm",
+                            slopes=one_sided_slopes(m2, spec2, "r"))
+    assert sc2.row("worst case (arithmetic)")["high"] == pytest.approx(0.2, abs=1e-9)
+    # its RSS as the internal datum's: the boss's size enters at its coupled sensitivity −½ (the shift grows as it
+    # shrinks), the hole's at +½, the radii 0.125 and 0.025 as before
+    assert sc2.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-6)
 
 
 def test_the_floating_fastener_study_from_a_spreadsheet_spec(tmp_path):
@@ -323,3 +367,330 @@ def test_one_datum_feature_has_one_type():
         spec_from_table({"factor": [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
                                     *z("h1", "internal"), *z("h2", "external")]}, file="s.toml")
     assert e.value.key == "factor.datum_type"
+
+
+def _zone_and_w():
+    """A zone ⌀0.05 and w ±0.01, read from TOML text (each coordinate's zone name a string of its own, as a study's)."""
+    import tomllib
+
+    return spec_from_table(tomllib.loads(ZONE_AND_W))
+
+
+def test_an_undefined_zone_derivative_is_the_zones_central_difference_coordinate_by_coordinate():
+    """The model's derivative is NaN for both coordinates of a smooth zone (e.g. atan2 off its cut): each is replaced
+    by its own component of the slopes' central difference (2 for hole.x, 1 for hole.y), noted; the worst case is then the
+    disc 0.025·√(2² + 1²) + 0.01."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _zone_and_w()
+    nan = math.nan
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"hole": (2.0, 1.0)},
+                    zone_max={"hole": math.sqrt(5)}, zone_min={"hole": -math.sqrt(5)})
+    sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    assert sc.factors["a"].tolist() == pytest.approx([2.0, 1.0, 1.0])
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.025 * math.sqrt(5) + 0.01)
+    assert sc.notes == [("the model's derivative is undefined (NaN/∞) for hole.x, hole.y: the central difference of "
+                         "its one-sided slopes is used instead")]
+
+
+def test_undefined_derivatives_of_two_zones_are_each_their_own_zones():
+    """A plain factor w, then two zones with undefined derivatives, the one named later in the alphabet written first:
+    each coordinate takes its own zone's central difference (zb: 2, 1; za: 3, 4) — w's 0.01 and the disc of each,
+    0.025·√5 + 0.025·5."""
+    import tomllib
+
+    from rvtol.stacking.slopes import Slopes
+
+    text = '[[factor]]\nname = "w"\nunit = "mm"\ntolerance = "±0.01"\nnominal = 0\n' + "".join(
+        f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "⌀0.05"\nzone = "{z}"\n' for z in ("zb", "za")
+        for c in "xy")
+    spec = spec_from_table(tomllib.loads(text))
+    nan = math.nan
+    slopes = Slopes(up=np.r_[1.0, np.full(4, nan)], down=np.r_[-1.0, np.full(4, nan)],
+                    zone_grad={"zb": (2.0, 1.0), "za": (3.0, 4.0)},
+                    zone_max={"zb": math.sqrt(5), "za": 5.0}, zone_min={"zb": -math.sqrt(5), "za": -5.0})
+    sc = stack_conventions(spec, np.r_[1.0, np.full(4, nan)], 0.0, out_unit="mm", slopes=slopes)
+    assert sc.factors["a"].tolist() == pytest.approx([1.0, 2.0, 1.0, 3.0, 4.0])
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.01 + 0.025 * math.sqrt(5) + 0.025 * 5)
+
+
+def test_an_undefined_derivative_of_a_kinked_zone_is_taken_by_its_sides():
+    """A cone at the zone's centre whose model gives NaN for the coordinates' derivative (the least-norm subgradient
+    not taken): the zone is kinked, so its sides decide — it rises 1 per unit radius, falls at most 0 — and the
+    output lies in [−0.01, 0.025 + 0.01]; no 'central difference used' note (none is), and no error (slopes given)."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _zone_and_w()
+    nan = math.nan
+    slopes = Slopes(up=np.array([nan, nan, 1.0]), down=np.array([nan, nan, -1.0]), zone_grad={"hole": (0.0, 0.0)},
+                    zone_max={"hole": 1.0}, zone_min={"hole": 1.0}, kinked=["hole"])
+    sc = stack_conventions(spec, np.array([nan, nan, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.01), pytest.approx(0.035))
+    assert not any("undefined" in n for n in sc.notes) and any(n.startswith("position zone hole: ") for n in sc.notes)
+
+
+def test_a_kinked_factor_in_the_rss_statistical_and_six_sigma_rows_by_hand():
+    """y = |u| + 2w (u uniform ±0.3, kinked at 0: rises 1 per unit either side, so the larger slope is 1; w normal
+    ±0.05, σ_w = 0.05/3), u and w correlated −0.5.  The rows that read u as bilateral ±(larger slope)·(its reading):
+    RSS √((2·0.05)² + (1·0.3)²), statistical and dynamic RSS σ = √((2σ_w)² + (1·σ_u)²) with σ_u = 0.3/√3 (u at its
+    zero slope contributes nothing else, k = 0: no inflation), the Six Sigma row with Cp 2 and no shift (Cpk 2) σ =
+    √((2·0.05/6)² + (1·0.3/6)²).  The one-sided u has no sign to correlate — its negative correlation too is named as
+    left out — and the dynamic RSS is defined (no mean outside its band).  Each factor's RSS share: 0.09 and 0.01
+    of 0.1."""
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.3", "unit": "mm", "nominal": 0.0,
+                                        "dist": "uniform"},
+                                       {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}],
+                            "correlation": [{"pair": ["u", "w"], "rho": -0.5}]})
+    m = FormulaModel.from_spec(spec, {"y": ("abs(u) + 2*w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "y")
+    assert sl.kinked == ["u"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl, six_sigma=(2.0, 0.0))
+    rss = sc.row("RSS")
+    assert rss["half_width"] == pytest.approx(math.hypot(2 * 0.05, 0.3), rel=1e-6)
+    assert "except for the one-sided u, taken as independent" in rss["note"]
+    sigma = math.hypot(2 * 0.05 / 3, 0.3 / math.sqrt(3))
+    assert sc.row("statistical ±3σ (the distributions)")["sigma"] == pytest.approx(sigma, rel=1e-6)
+    assert "kinked contributors as ±(largest one-sided slope)·σ" in sc.row("statistical ±3σ (the distributions)")["note"]
+    assert sc.row("6σ dynamic RSS ±3σ")["half_width"] == pytest.approx(3 * sigma, rel=1e-6)
+    assert sc.row("6σ dynamic, 0σ shift ±3σ")["sigma"] == pytest.approx(math.hypot(2 * 0.05 / 6, 0.3 / 6), rel=1e-6)
+    assert not any("dynamic RSS is undefined" in n for n in sc.notes)
+    assert sc.factors["rss_pct"].tolist() == pytest.approx([90.0, 10.0], rel=1e-6)
+
+
+def test_a_kinked_zone_read_from_a_spec_file_names_its_correlated_coordinates_as_left_out():
+    """r = |p| + w at the zone's centre (a cone: kinked), the spec read from TOML text (each coordinate's zone a string
+    of its own) with both coordinates correlated to w: the statistical rows take the kinked zone as independent and
+    say so for each of the pair."""
+    import tomllib
+
+    pairs = "".join(f'[[correlation]]\npair = ["{c}", "w"]\nrho = 0.5\n' for c in ("hole.x", "hole.y"))
+    spec = spec_from_table(tomllib.loads(ZONE_AND_W + pairs))
+    assert spec.factors[0].zone is not spec.factors[1].zone
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(hole.x, hole.y) + w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "r")
+    assert sl.kinked == ["hole"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    note = sc.row("statistical ±3σ (the distributions)")["note"]
+    assert "except for the one-sided hole.x, hole.y, taken as independent" in note
+    # both coordinates share the zone's worst-case term ½·(radius 0.025 × slope 1), w its 0.01; both are "kinked"
+    f = sc.factors
+    assert f["wc_pct"].tolist() == pytest.approx([100 * 0.0125 / 0.035, 100 * 0.0125 / 0.035, 100 * 0.01 / 0.035])
+    assert f["linearisation"].tolist() == ["kink: per unit radius up 1, down 0"] * 2 + [""]
+
+
+ZONE_AND_W = """
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.05"
+zone = "hole"
+[[factor]]
+name = "w"
+unit = "mm"
+tolerance = "±0.01"
+nominal = 0
+"""
+
+
+def _hole_and_w():
+    return spec_from_table({"factor": [
+        {"name": "x", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "y", "tolerance": "⌀0.2", "unit": "mm", "zone": "hole"},
+        {"name": "w", "tolerance": "±0.05", "unit": "mm", "nominal": 0.0}]})
+
+
+@pytest.mark.parametrize("expr,name", [("sqrt(x * L) + w", "hole"), ("sqrt(w * L) + x", "w")])
+def test_a_model_that_cannot_be_evaluated_beside_the_nominal_point_has_no_linearised_stack(expr, name):
+    """√(x·L) is undefined for x < 0: the ring of the zone's directions (or w's step below its nominal) leaves the
+    model's domain, so no one-sided slope exists there — a clear error naming the zone or the factor (a zone gave a
+    KeyError: its slopes were looked up as if it were kinked)."""
+    spec = _hole_and_w()
+    m = FormulaModel.from_spec(spec, {"r": (expr, "mm")}, definitions={"L": ("1", "mm")})
+    x0 = spec.nominal_base()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        g = m.gradient(x0[None])[0, 0]
+        sl = one_sided_slopes(m, spec, "r")
+    assert sl.undefined == [name]
+    with pytest.raises(InputError, match=f"cannot be evaluated next to the nominal point for {name}: no linearised"):
+        stack_conventions(spec, g, 0.0, x0, out_unit="mm", slopes=sl)
+
+
+def test_an_undefined_derivative_of_a_smooth_factor_is_its_central_difference():
+    """The model's derivative is ∞ for w, its one-sided slopes agree (D⁺ = 3, D⁻ = −3: smooth): w enters with the
+    central difference 3, noted — the worst case 0.1·1 (the disc ⌀0.2 of x) + 0.05·3."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = _hole_and_w()
+    slopes = Slopes(up=np.array([math.nan, math.nan, 3.0]), down=np.array([math.nan, math.nan, -3.0]),
+                    zone_grad={"hole": (1.0, 0.0)}, zone_max={"hole": 1.0}, zone_min={"hole": -1.0})
+    sc = stack_conventions(spec, np.array([1.0, 0.0, math.inf]), 0.0, out_unit="mm", slopes=slopes)
+    assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.1 + 0.15)
+    assert sc.notes == [("the model's derivative is undefined (NaN/∞) for w: the central difference of its "
+                         "one-sided slopes is used instead")]
+
+
+def test_a_kinked_zone_on_a_datum_feature_needs_the_slopes_of_its_pattern():
+    """A kinked zone located by a datum feature at MMB: the shift's effect is measured by moving the pattern; slopes
+    that do not have it (the model could not be evaluated with the pattern moved) give a clear error, not a guess."""
+    from rvtol.stacking.slopes import Slopes
+
+    common = {"tolerance": "⌀0.2 (M)", "unit": "mm", "zone": "h", "size": "D", "feature_type": "internal",
+              "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [
+        {"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"}, {"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+        {"name": "x", **common}, {"name": "y", **common}]})
+    nan = math.nan
+    slopes = Slopes(up=np.array([0.0, 0.0, nan, nan]), down=np.array([0.0, 0.0, nan, nan]), zone_grad={"h": (0, 0)},
+                    zone_max={"h": 1.0}, zone_min={"h": 1.0}, kinked=["h"])
+    with pytest.raises(InputError, match="with the pattern located by datum feature B \\(h\\) shifted"):
+        stack_conventions(spec, np.zeros(4), 0.0, out_unit="mm", slopes=slopes)
+
+
+DATUM_AND_PEG = """
+[[factor]]
+name = "D"
+unit = "mm"
+tolerance = "10.4 +0.1/0"
+[[factor]]
+name = "B"
+unit = "mm"
+tolerance = "20 +0.1/0"
+[[factor]]
+name = "hole.x"
+unit = "mm"
+tolerance = "⌀0.2 (M)"
+zone = "hole"
+size = "D"
+feature_type = "internal"
+datum_size = "B"
+datum_type = "internal"
+[[factor]]
+name = "hole.y"
+unit = "mm"
+tolerance = "⌀0.2 (M)"
+zone = "hole"
+size = "D"
+feature_type = "internal"
+datum_size = "B"
+datum_type = "internal"
+[[factor]]
+name = "peg.x"
+unit = "mm"
+tolerance = "⌀0.1"
+zone = "peg"
+[[factor]]
+name = "peg.y"
+unit = "mm"
+tolerance = "⌀0.1"
+zone = "peg"
+"""
+
+
+def test_zones_at_mmc_on_a_datum_and_a_plain_zone_read_from_a_spec_file():
+    """The spec of test_a_datum_feature_shift_adds_to_the_zone plus a plain zone "peg" ⌀0.1, read from TOML text (each
+    coordinate's zone name a string of its own): hole.x + peg.x reaches ±(0.1 + 0.05 + 0.05) from the hole, its bonus
+    and the datum shift, and ±0.05 from the peg's disc — ±0.25."""
+    import tomllib
+
+    spec = spec_from_table(tomllib.loads(DATUM_AND_PEG))
+    assert spec.factors[2].zone is not spec.factors[3].zone
+    m = FormulaModel.from_spec(spec, {"s": ("hole.x + peg.x", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "s"))
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.25, abs=1e-12), pytest.approx(0.25, abs=1e-12))
+    assert "datum-feature shift" in wc["note"] and "kinked" not in wc["note"]      # nothing here is kinked
+    assert "kinked" not in sc.row("statistical ±3σ (the distributions)")["note"]
+    # the worst-case shares: B's shift 0.025, the hole's radius 0.125 halved over its coordinates, the peg's 0.05
+    f = sc.factors
+    assert f["wc_pct"].tolist() == pytest.approx([0.0, 12.5, 31.25, 31.25, 25.0, 0.0])
+    assert f["linearisation"].tolist() == ["", "datum feature at MMB: shifts hole together (per unit up 1, down 1)",
+                                           "zone at MMC", "zone at MMC", "", ""]
+    # the RSS: D and B at their coupled sensitivity −½ over ±0.05, the hole's radius 0.125 and the shift's 0.025, and
+    # peg.x as its own 3σ (the Rayleigh σ whose 99.73 % radius is 0.05)
+    from scipy.stats import norm
+
+    sigma_peg = 0.05 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
+    t_rss = math.sqrt(2 * 0.025 ** 2 + 0.125 ** 2 + 0.025 ** 2 + (3 * sigma_peg) ** 2)
+    assert sc.row("RSS")["half_width"] == pytest.approx(t_rss, rel=1e-9)
+
+
+def test_a_kinked_zone_beside_a_plain_zone_keeps_their_rss_shares_apart():
+    """r = |hole| + w + pin.x (the hole's zone kinked, the pin's plain and written first, read from TOML): the RSS
+    shares are pin.x's (3σ)² with σ the Rayleigh σ of its ⌀0.02, pin.y's 0, the hole's ½(0.025 × slope 1)² per
+    coordinate, w's 0.01²; the worst case |hole| ∈ [0, 0.025], w ± 0.01, pin.x ± 0.01."""
+    import tomllib
+
+    from scipy.stats import norm
+
+    pin = "".join(f'[[factor]]\nname = "pin.{c}"\nunit = "mm"\ntolerance = "⌀0.02"\nzone = "pin"\n' for c in "xy")
+    spec = spec_from_table(tomllib.loads(pin + ZONE_AND_W))
+    m = FormulaModel.from_spec(spec, {"r": ("hypot(hole.x, hole.y) + w + pin.x", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "r"))
+    sigma_pin = 0.01 / math.sqrt(-2 * math.log(2 * norm.sf(3)))
+    terms = np.array([(3 * sigma_pin) ** 2, 0.0, 0.5 * 0.025 ** 2, 0.5 * 0.025 ** 2, 0.01 ** 2])
+    assert sc.factors["rss_pct"].tolist() == pytest.approx((100 * terms / terms.sum()).tolist(), rel=1e-6)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.02, rel=1e-6), pytest.approx(0.045, rel=1e-6))
+
+
+@pytest.mark.parametrize("mmc,kinked", [("amc", "zk"), ("zmc", "ak")])
+def test_only_a_kinked_zone_is_left_out_of_the_statistical_rows_correlation(mmc, kinked):
+    """A smooth zone at MMC whose x is correlated with w, beside a kinked zone (either name first in the alphabet): the
+    RSS reads the MMC zone as its disc, one-sided, and names its correlation as left out; the statistical rows describe
+    the produced parts with the MMC zone's coordinates as they are — its correlation kept, nothing named there."""
+    import tomllib
+
+    def zone(z, c, tol, extra=""):
+        return f'[[factor]]\nname = "{z}.{c}"\nunit = "mm"\ntolerance = "{tol}"\nzone = "{z}"\n{extra}'
+
+    text = ('[[factor]]\nname = "D"\nunit = "mm"\ntolerance = "10.4 +0.1/0"\n'
+            '[[factor]]\nname = "w"\nunit = "mm"\ntolerance = "±0.01"\nnominal = 0\n'
+            + "".join(zone(mmc, c, "⌀0.2 (M)", 'size = "D"\nfeature_type = "internal"\n') for c in "xy")
+            + "".join(zone(kinked, c, "⌀0.05") for c in "xy")
+            + f'[[correlation]]\npair = ["{mmc}.x", "w"]\nrho = 0.5\n')
+    spec = spec_from_table(tomllib.loads(text))
+    m = FormulaModel.from_spec(spec, {"r": (f"{mmc}.x + hypot({kinked}.x, {kinked}.y) + w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "r")
+    assert sl.kinked == [kinked]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    assert f"except for the one-sided {mmc}.x, taken as independent" in sc.row("RSS")["note"]
+    assert "except for" not in sc.row("statistical ±3σ (the distributions)")["note"]
+
+
+def test_a_kink_flat_on_one_side_is_taken_by_its_falling_side_only():
+    """½·min(u, 0) at u = 0: flat above (D⁺ = 0), falling ½ per unit below (D⁻ = −½): u adds nothing to the upper worst
+    case and ½·0.1 to the lower — y ∈ [−0.05 − 0.01, 0 + 0.01] with w's ±0.01."""
+    from rvtol.stacking.slopes import Slopes
+
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.1", "unit": "mm", "nominal": 0.0},
+                                       {"name": "w", "tolerance": "±0.01", "unit": "mm", "nominal": 0.0}]})
+    slopes = Slopes(up=np.array([0.0, 1.0]), down=np.array([-0.5, -1.0]), kinked=["u"])
+    sc = stack_conventions(spec, np.array([0.25, 1.0]), 0.0, out_unit="mm", slopes=slopes)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.06), pytest.approx(0.01))
+
+
+def test_a_kinked_factor_and_a_kinked_zone_both_take_their_sides():
+    """|w| + |hole| (both kinked at the nominal point, the factor listed among the one-sided contributors before the
+    zone): each is ≥ 0, so the worst case is [0, 0.01 + 0.025]."""
+    spec = _zone_and_w()
+    m = FormulaModel.from_spec(spec, {"r": ("abs(w) + hypot(hole.x, hole.y)", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "r")
+    assert sorted(sl.kinked) == ["hole", "w"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(0.0, abs=1e-12), pytest.approx(0.035, rel=1e-6))

@@ -190,3 +190,86 @@ def test_too_few_samples_for_a_bound_say_so_not_that_the_estimate_sits_on_a_limi
     assert not j.passed and j.undecided and j.violation == 1.0 and j.n_to_demonstrate is None
     assert j.reasons[-1] == f"the {statistic} is not bounded at n = {n} (too few samples for a bound at 95 %): more " \
                             "samples would bound it"
+
+
+@pytest.mark.parametrize("statistic", ["median", "mean"])
+def test_no_evaluated_value_gives_no_estimate_and_no_bound_without_a_warning(statistic):
+    """Every sample failed: the statistic is NaN and unbounded — said as such, not through numpy's "Mean of empty
+    slice" RuntimeWarning on the user's terminal."""
+    import warnings
+
+    r = Requirement("k", lower=5.8, upper=6.2, statistic=statistic)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        est, lo, hi = statistic_interval(r, [], n_failed=12)
+    assert math.isnan(est) and lo is None and hi is None
+
+
+@pytest.mark.parametrize("n", [6, 20])
+def test_a_median_interval_at_fifty_percent_is_the_binomial_ranks(n):
+    """confidence = 0.5, the smallest a study file admits: each end a one-sided 50 % bound, the ranks of the binomial
+    sums (no rank sits exactly on ½ for an even n), e.g. y_(3) and y_(4) of six values."""
+    r = Requirement("k", lower=0.0, statistic="median", confidence=0.5)
+    y = np.arange(1.0, n + 1.0)
+    l, u = _median_ranks(n, 0.5)
+    assert statistic_interval(r, y) == (np.median(y), y[l - 1], y[u - 1])
+    assert n != 6 or (l, u) == (3, 4)
+
+
+def test_an_interval_reaching_a_limit_exactly_lies_inside_the_band():
+    """The band is closed: an interval whose end is a limit is inside it (PASS), at either limit."""
+    r = Requirement("k", lower=156.8, upper=235.2, statistic="median")
+    assert judge_statistic(r, 200.0, 190.0, 235.2, 100).passed
+    assert judge_statistic(r, 200.0, 156.8, 210.0, 100).passed
+
+
+def test_the_samples_that_would_decide_use_the_half_width_on_the_estimates_side_of_the_limit():
+    """n (h/d)², d = |estimate − limit|, h the half-width from the estimate towards the limit: the upper one
+    (hi − estimate) when the estimate lies below the limit, the lower one (estimate − lo) when above — on an
+    asymmetric interval, with binary-exact numbers."""
+    r = Requirement("k", lower=-1.0, upper=1.0, statistic="median")
+    up = judge_statistic(r, 0.5, 0.25, 1.5, 100)               # straddles +1 from below: h = 1.0, d = 0.5
+    assert up.undecided and up.n_to_demonstrate == 100 * 4
+    down = judge_statistic(r, -0.75, -1.5, -0.625, 100)        # straddles −1 from above: h = 0.75, d = 0.25
+    assert down.undecided and down.n_to_demonstrate == 100 * 9
+    assert "PASS, if the estimate held" in down.reasons[-1]
+
+
+def test_a_one_sided_band_straddled_by_its_interval_has_the_reach_beyond_its_limit_as_violation():
+    """Only a lower limit (1.0, so the scale is |1.0|): the interval [0.5, 1.5] reaches 0.5 below it; with no upper
+    limit nothing is charged above.  Only an upper limit: likewise."""
+    lower = Requirement("k", lower=1.0, statistic="median")
+    j = judge_statistic(lower, 1.25, 0.5, 1.5, 100)
+    assert j.undecided and j.violation == pytest.approx(0.5) and j.n_to_demonstrate == 100 * 9
+    upper = Requirement("k", upper=2.0, statistic="median")
+    j = judge_statistic(upper, 1.5, 1.0, 3.0, 100)
+    assert j.undecided and j.violation == pytest.approx((3.0 - 2.0) / 2.0) and j.n_to_demonstrate == 100 * 9
+
+
+def test_an_estimate_on_a_limit_says_more_samples_will_not_decide_and_the_bound_is_described():
+    """The median 235.2 sits on the upper limit: its interval straddles the limit at every n (d = 0), so no n is
+    given; the report names the interval — each end a one-sided 95 % bound, or the two-sided 95 % interval."""
+    from rvtol.verdict import describe_bound
+
+    r = Requirement("k", lower=156.8, upper=235.2, statistic="median")
+    j = judge_statistic(r, 235.2, 230.0, 240.0, 100)
+    assert j.undecided and j.n_to_demonstrate is None
+    assert j.reasons[-1] == "the estimate sits on a limit: more samples will not decide it"
+    assert describe_bound(r) == "the median's interval, each end a 95 % one-sided bound"
+    two = Requirement("k", lower=156.8, upper=235.2, statistic="mean", bound="two-sided", confidence=0.9)
+    assert describe_bound(two) == "the mean's interval, two-sided 90 %"
+
+
+def test_an_estimate_at_a_limit_or_below_it_is_judged_if_it_held():
+    """The median 5 equal to its own lower bound and to the lower limit (values computed, as a study's are), its
+    interval crossing the upper limit 10: only the upper limit is straddled — n (6/5)², PASS if it held (on the limit
+    is inside the closed band).  An estimate 4.5 below the lower limit 5, its interval [4, 5.5] reaching in: FAIL if it
+    held, n (1.0/0.5)² — the half-width toward the limit, hi − estimate, over the distance to it."""
+    r = Requirement("k", lower=5.0, upper=10.0, statistic="median")
+    five = float(np.float64(2.5) * 2)
+    j = judge_statistic(r, five, five, 11.0, 100)
+    assert j.undecided and j.n_to_demonstrate == math.ceil(100 * (6.0 / 5.0) ** 2)
+    assert j.reasons[-1] == f"about n = {j.n_to_demonstrate} samples would decide it (PASS, if the estimate held)"
+    j = judge_statistic(r, 4.5, 4.0, 5.5, 100)
+    assert j.undecided and j.n_to_demonstrate == 100 * 4
+    assert j.reasons[-1] == "about n = 400 samples would decide it (FAIL, if the estimate held)"

@@ -52,7 +52,7 @@ and the effect per unit radius measured on the model.  The RSS and the statistic
 contributor as bilateral, ±(t/2)·(its largest one-sided slope) — the handbooks' equal-bilateral
 conversion — which is an approximation for a one-sided effect (said in the notes; the Monte Carlo and
 the second-order rows are the reference).  A derivative that is NaN or infinite is never read as 0:
-with slopes it is replaced by their central difference (noted), without them it is an error.
+with slopes it is replaced by their central difference (noted; a kinked zone's by its sides), else it is an error.
 
 Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC grows with the bonus of its
 feature's actual size (:func:`rvtol.spec.zone_bonus`: the radius r = t/2 + κ (x_s − ref_s), κ = ±½).  A
@@ -237,16 +237,16 @@ def _linear_parts(spec: ToleranceSpec, gradient: np.ndarray, slopes, notes: list
     kinked_plain: dict[int, tuple[float, float]] = {}
     kinked_zones = set()
     if slopes is not None:
-        kinked_zones = {z for z in slopes.kinked if z in zone_of} | {z for z in slopes.undefined if z in zone_of}
-        undefined = [n for n in slopes.undefined if n in names and not zone_of[names.index(n)]]
+        kinked_zones = {z for z in slopes.kinked if z in zone_of}
+        undefined = [n for n in slopes.undefined if n in names or n in zone_of]   # a plain factor or a zone
         if undefined:
             raise InputError(f"the model cannot be evaluated next to the nominal point for {', '.join(undefined)}: "
                              "no linearised stack", key="gradient")
         for i in range(len(g)):
             if zone_of[i]:
-                if not np.isfinite(g[i]) and zone_of[i] not in kinked_zones:
-                    g[i] = slopes.zone_grad[zone_of[i]][0 if spec.factors[i].name == _zone_pair(spec, zone_of[i])[0]
-                                                        else 1]
+                if not np.isfinite(g[i]):   # a kinked zone is taken by its sides (its gradient is zeroed below)
+                    g[i] = 0.0 if zone_of[i] in kinked_zones else slopes.zone_grad[zone_of[i]][
+                        0 if spec.factors[i].name == _zone_pair(spec, zone_of[i])[0] else 1]
                 continue
             if names[i] in slopes.kinked:
                 kinked_plain[i] = (float(slopes.up[i]), float(slopes.down[i]))
@@ -390,9 +390,9 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             note=N.STATISTICAL.format(correlation=stat_corr, kinked=N.STATISTICAL_KINKED if extra_sig2 else ""),
             source="Scholz 1995 §4.2")
     shift = float(np.sum(np.abs(a) * np.abs(con.mu - con.c)))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):   # 1/(1 − k) at k = 1; 0·∞ of a factor with no effect
         infl = np.where(k < 1.0, 1.0 / (1.0 - k), np.inf)
-    inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
+        inflated = np.where(a_stat != 0.0, a_stat * con.sigma * infl, 0.0)
     sig_dyn = math.sqrt(rss(inflated, P, squared=True) + extra_sig2) if np.all(np.isfinite(inflated)) else math.inf
     if not math.isfinite(sig_dyn):
         notes.append(N.DYNAMIC_UNDEFINED)
