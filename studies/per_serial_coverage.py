@@ -3,8 +3,8 @@
 A small non-linear reducer model of five factors (one of them, the housing, measured on every unit with u = 0.2 µm)
 and four outputs: two read on the end-of-line rig (u_obs = 0.3 µm each), two not.  Per unit the truth is drawn
 from the unit's own prior (its measured housing ± u, the rest from the spec), the rig's readings are the truth
-plus a normal error of u_obs, and rvtol.production.per_serial updates the unit with its defaults (5 hidden
-factors — here all five —, 4 ensembles × 32 walkers × 1000 steps).  Printed: per output and nominal level, the
+plus a normal error of u_obs, and rvtol.production.per_serial updates the unit with its defaults (2 hidden
+factors and the directions of the other three, 4 ensembles × 32 walkers × 1000 steps; or update = "outputs").  Printed: per output and nominal level, the
 fraction of units whose central posterior interval holds the truth (with its 95 % Clopper–Pearson interval), the
 prior's for comparison, the median ratio of the posterior to the prior interval width, and the time per serial.
 

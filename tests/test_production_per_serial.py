@@ -94,7 +94,7 @@ def _model():
     def f(X):
         a, b, c, d, e = (X[:, j] * 1e3 for j in range(5))         # um
         return np.column_stack([a + 0.5 * b + 0.1 * a ** 2,        # read on the rig
-                                b - 0.7 * c + 0.2 * e,              # read on the rig
+                                b - 0.7 * c + 0.2 * e + 0.8 * np.sin(6 * d),   # read on the rig; no quadratic follows d
                                 a + b + c + 0.6 * d,                # not read
                                 0.5 * a * b + e + d])               # not read
     return FunctionModel(f, SPEC.names, [Quantity(q, "um") for q in ("lm", "rig", "te", "other")], ["mm"] * 5)
@@ -123,8 +123,7 @@ def test_posterior_intervals_cover_the_truth_of_what_was_not_measured(tmp_path):
         truth[i] = model.evaluate(x)[0]
     obs = truth[:, :2] + u_obs * rng.standard_normal((40, 2))
     eol = EndOfLine("eol.csv", "", ("lm", "rig"), ("um", "um"), tuple(units_.units), tuple(range(40)), obs, u_obs)
-    res = update_serials(model, SPEC, units_, eol, n, evaluator=Evaluator(), seed=4, hidden=4, walkers=16, steps=400,
-                         chains=2)
+    res = update_serials(model, SPEC, units_, eol, n, evaluator=Evaluator(), seed=4, walkers=16, steps=400, chains=2)
     out = res.output_frame().set_index(["reducer", "output"])
     hits, ratio = 0, []
     for i, r in enumerate(units_.units):
@@ -132,7 +131,7 @@ def test_posterior_intervals_cover_the_truth_of_what_was_not_measured(tmp_path):
             row = out.loc[(r, q)]
             hits += row["lo posterior"] <= truth[i, j] <= row["hi posterior"]
             ratio.append(row["width ratio"])
-    assert 70 <= hits <= 80, hits
+    assert hits >= 70, hits
     assert np.median(ratio) < 0.8
     lm = out.xs("lm", level="output")             # the read output is pinned near its reading
     assert np.all((lm["hi posterior"] - lm["lo posterior"]) < 0.5 * (lm["hi prior"] - lm["lo prior"]))
@@ -408,3 +407,73 @@ def test_the_study_reads_each_reducers_hysteresis_curve_by_the_makers_definition
     toml.write_text(text.replace('curve_outputs = { lost_motion = "play" }\n', ''))
     with pytest.raises(InputError, match="curves need curve_outputs"):
         load_study(toml, progress=False)
+
+
+@pytest.mark.parametrize("update", ["factors", "outputs"])
+def test_a_reading_the_prior_cannot_produce_leaves_the_reducer_undecided(tmp_path, update):
+    """R1's play can only be −0.75 + 0.5h, h ~ N(2, 0.5²): a reading of 3.5 ± 0.1 µm lies beyond every prior sample by
+    more than 4 u. Before: the factor update clipped the scores at ±8σ and certified 'conforms' (P = 1, 'conformance
+    proven') against play ≤ 3 µm while the reading itself fails it. Now: undecided, the conflict named."""
+    toml = _study_files(tmp_path, "reducer, play [um]\nuncertainty, 0.1\nR1, 3.5\n")
+    toml.write_text(toml.read_text().replace('n = 400\n', f'n = 400\nupdate = "{update}"\n'))
+    out = write_outputs(run_study(load_study(toml, progress=False)), tmp_path / "report")
+    r1 = pd.read_csv(out / "per_unit.csv").set_index("reducer").loc["R1"]
+    assert r1["prior conflict"] == "play" and r1["verdict"] == "undecided"
+
+
+def test_more_posterior_draws_than_the_sampler_keeps_is_refused_at_load(tmp_path, capsys):
+    from conftest import run_cli
+
+    toml = _study_files(tmp_path)
+    toml.write_text(toml.read_text().replace('n = 400\n', 'n = 2000\nsteps = 100\nchains = 2\nwalkers = 4\n'))
+    code, lines = run_cli(["run", str(toml), "--out", str(tmp_path / "report")], capsys)
+    assert code == 2 and len(lines) == 1 and "n: 2000 posterior draws" in lines[0] and "keeps 400" in lines[0], lines
+    assert not (tmp_path / "report").exists()
+
+
+def test_two_curve_files_of_one_reducer_are_refused(tmp_path):
+    from rvtol.production.per_serial import read_end_of_line_curves
+
+    _loop(tmp_path / "curves", "R1.csv")
+    _loop(tmp_path / "curves", "R1.txt", b=3e-4)
+    model = FunctionModel(lambda X: X, ["a"], [Quantity("lm", "rad", "arcmin")])
+    with pytest.raises(InputError, match="two curves of reducer 'R1': R1.csv and R1.txt"):
+        read_end_of_line_curves(tmp_path / "curves", {"lost_motion": "lm"}, model)
+    with pytest.raises(InputError, match=r"output 'lm' \(arcmin\) does not have the dimension of the figure's "
+                                         "torsional stiffness"):
+        read_end_of_line_curves(tmp_path / "curves", {"rigidity": "lm"}, model)
+
+
+def test_setting_the_coordinates_keeps_the_rest_of_each_row():
+    """Coordinates.replace: the coordinates of the replaced rows are the ones set, and setting a row's own coordinates
+    leaves it as it was (the directions' components are replaced, not added to)."""
+    from rvtol.production.per_serial import informed_coordinates
+
+    rng = np.random.default_rng(8)
+    Z = rng.standard_normal((300, 7))
+    Y = np.column_stack([Z[:, 0] + Z[:, 2] - Z[:, 5], Z[:, 1] * Z[:, 3] + Z[:, 4]])
+    c = informed_coordinates([Z], [Y], [np.ones(300, bool)], 2, list("abcdefg"), ["y1", "y2"])
+    assert c.d == 4
+    np.testing.assert_allclose(c.replace(Z, c(Z)), Z, atol=1e-12)
+    W = rng.standard_normal((300, c.d))
+    np.testing.assert_allclose(c(c.replace(Z, W)), W, atol=1e-12)
+
+
+def test_what_the_surrogate_cannot_follow_widens_the_posterior():
+    """A reading y = a + sin(8b) that no quadratic in (a, b) follows (cross-validated s ≈ 0.7 against u = 0.05): the
+    posterior of a must keep that uncertainty — over 20 units drawn from the prior, a's 95 % interval holds the truth
+    at least 16 times (P = 0.016 of fewer at 0.95). Believing the surrogate (s left out) holds it about half the time."""
+    rng = np.random.default_rng(9)
+    Z = rng.standard_normal((210, 2))
+    f = lambda z: (z[:, 0] + np.sin(8 * z[:, 1]))[:, None]        # noqa: E731
+    hits = 0
+    for i in range(20):
+        z = rng.standard_normal((1, 2))
+        y = f(z)[0] + 0.05 * rng.standard_normal(1)
+        up, coords = update_unit("R", Z, f(Z), y, np.array([0.05]), ["a", "b"], ["y"], hidden=2, walkers=16,
+                                 steps=400, chains=2, seed=i)
+        assert up.surrogate_s[0] > 0.5
+        a = up.posterior.z[:, list(coords.cols).index(0)]
+        lo, hi = np.quantile(a, [0.025, 0.975])
+        hits += lo <= z[0, 0] <= hi
+    assert hits >= 16, hits

@@ -50,7 +50,8 @@ from . import texts
 from .grading import compare_grading
 from .measured_parts import FamilySource, load_measured_units
 from .msa import INTERACTION_ALPHA, Gauge, read_gauge_study
-from .per_serial import (CHAINS, HIDDEN, STEPS, UPDATES, WALKERS, check_serials, min_samples, read_end_of_line,
+from .per_serial import (CHAINS, HIDDEN, STEPS, UPDATES, WALKERS, check_serials, min_samples, posterior_draws,
+                         read_end_of_line,
                          read_end_of_line_curves, update_serials)
 from .per_unit import predict_units, samples_to_demonstrate
 from .selective import Classes, ClassToClassRule, GradedPart, Supply, TargetRule, known_names
@@ -221,6 +222,10 @@ class PerSerialUpdate(PerUnitPrediction):
                                  f"factors, {len(self.eol.outputs)} readings' directions) is fitted on the prior samples "
                                  f"and needs n >= {need}")
             self.n = max(self.n, need)
+            if self.update == "factors" and posterior_draws(self.walkers, self.steps, self.chains) < self.n:
+                raise error("n", f"{self.n} posterior draws per unit, the sampler keeps "
+                                 f"{posterior_draws(self.walkers, self.steps, self.chains)} (chains · walkers · "
+                                 "steps/2): give more steps or walkers, or a smaller n")
 
     def compute(self, ctx):
         o = self.options

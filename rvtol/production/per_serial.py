@@ -36,8 +36,8 @@ The model's cost is kept bounded in three steps:
    correlated scores is sampled as readily as an uncorrelated one — with the log-density of the whole ensemble
    evaluated at once (vectorised).  ``chains`` independent ensembles start from the prior (over-dispersed
    against the posterior) and the first half of every chain is discarded.  Diagnostics per hidden factor: the
-   split-R̂ (:func:`split_rhat`; Gelman et al., *Bayesian Data Analysis*, 3rd ed., §11.4 — every walker a chain,
-   each halved) and the effective sample size ``N/τ`` with ``τ`` the integrated autocorrelation time
+   split-R̂ (:func:`split_rhat`; Gelman et al., *Bayesian Data Analysis*, 3rd ed., §11.4 — every ensemble a chain,
+   its draws in step order, each halved) and the effective sample size ``N/τ`` with ``τ`` the integrated autocorrelation time
    (``emcee.autocorr.integrated_time``: Sokal's automatic window on the walkers' mean autocorrelation).  A unit
    is **converged** when every R̂ ≤ 1.01 (Vehtari et al. 2021, *Bayesian Analysis* 16:667) and every ESS ≥ 400;
    a unit that is not keeps the verdict "undecided".
@@ -262,11 +262,18 @@ def read_end_of_line_curves(folder, outputs: dict[str, str], model: Model, perce
         if o not in outs:
             raise InputError(f"no output {o!r} in the study's model{did_you_mean(o, outs)}", key=f"curve_outputs.{f}")
         if units.dimension(model.output(o).unit) != units.dimension(FIGURE_UNITS[CURVE_FIGURES[f]]):
-            raise InputError(f"output {o!r} ({model.output(o).unit}) is not a {CURVE_FIGURES[f]}", key=f"curve_outputs.{f}")
+            raise InputError(f"output {o!r} ({model.output(o).shown_unit}) does not have the dimension of the figure's "
+                             f"{CURVE_FIGURES[f]}", key=f"curve_outputs.{f}")
     files = sorted(p for p in folder.iterdir() if p.suffix.lower() in (".csv", ".tsv", ".txt", ".xlsx")
                    and not p.name.startswith("."))
     if not files:
         raise InputError("no curve files (<reducer>.csv) in the folder", file=str(folder), key="curves")
+    stems = [p.stem for p in files]
+    twice = next((p for p in files if stems.count(p.stem) > 1), None)
+    if twice is not None:
+        both = [p.name for p in files if p.stem == twice.stem]
+        raise InputError(f"two curves of reducer {twice.stem!r}: {' and '.join(both)} (keep one)", file=str(folder),
+                         key="curves")
     shown = [model.output(o).shown_unit for o in outputs.values()]
     value = np.empty((len(files), len(outputs)))
     u = np.empty_like(value)
@@ -476,11 +483,17 @@ class SerialUpdate:
     posterior: Posterior | None       # the sampler's draws and diagnostics (None: the outputs' closed-form update)
     seconds: float
     method: str = "factors"
+    conflict: tuple[str, ...] = ()    # readings the unit's prior cannot produce (:func:`prior_conflict`)
 
     @property
     def converged(self) -> bool:
         """The sampler's diagnostics met (:attr:`Posterior.converged`); the closed-form update has none to meet."""
         return self.posterior is None or self.posterior.converged
+
+
+def posterior_draws(walkers: int, steps: int, chains: int) -> int:
+    """The draws the sampler keeps: ``chains · walkers · steps//2`` (walkers as given: at least that many run)."""
+    return chains * walkers * (steps // 2)
 
 
 def min_samples(d: int) -> int:
@@ -515,6 +528,20 @@ def update_unit(reducer: str, Z: np.ndarray, Y: np.ndarray, y_obs: np.ndarray, u
                         steps=steps, chains=chains, seed=seed, t0=t0), coords
 
 
+CONFLICT_K = 4.0                      # a reading this many of its uncertainties beyond every prior sample conflicts
+
+
+def prior_conflict(Y: np.ndarray, y_obs: np.ndarray, u_obs: np.ndarray, names) -> tuple[str, ...]:
+    """The readings the unit's prior cannot produce: beyond the range of its prior samples ``Y[n, m]`` by more than
+    :data:`CONFLICT_K` standard uncertainties.  Such a unit is not what its measured parts and the spec say (a part
+    mis-measured, a serial mixed up, a fault the model does not have): the update would move it to the edge of
+    its prior and certify that (a posterior beyond about 8 standard deviations of a score is out of reach), so its
+    verdict is undecided and the conflict is named."""
+    lo, hi = np.nanmin(Y, axis=0), np.nanmax(Y, axis=0)
+    out = (y_obs < lo - CONFLICT_K * u_obs) | (y_obs > hi + CONFLICT_K * u_obs)
+    return tuple(n for n, o in zip(names, out) if o)
+
+
 def _diagnostics(up: SerialUpdate) -> dict:
     """The sampler's diagnostics of one update as table cells (NaN for the closed-form update, which has none)."""
     p = up.posterior
@@ -543,7 +570,8 @@ class SerialUpdates:
         """Reducer -> its verdict after the update (the posterior's; undecided where the sampler did not
         converge; the prior's where the unit has no end-of-line record)."""
         post = self.posterior.verdicts()
-        return {u: (UNDECIDED if u in self.updates and not self.updates[u].converged else post[u])
+        return {u: (UNDECIDED if u in self.updates and (not self.updates[u].converged or self.updates[u].conflict)
+                    else post[u])
                 for u in self.units}
 
     def counts(self) -> dict[str, int]:
@@ -587,7 +615,7 @@ class SerialUpdates:
                 "surrogate s / u_obs": ", ".join(f"{s:.3g}/{uo:.3g}" for s, uo in zip(up.surrogate_s, up.u_obs)),
                 "surrogate R²(CV)": ", ".join(f"{r:.3f}" for r in up.surrogate_r2), "coordinates": len(up.hidden)}
             rows.append({"reducer": u, "read": ", ".join(up.observed), "update": up.method, **sur, **_diagnostics(up),
-                         "seconds": up.seconds})
+                         "prior conflict": ", ".join(up.conflict), "seconds": up.seconds})
         return pd.DataFrame(rows)
 
     def factor_frame(self) -> pd.DataFrame:
@@ -611,6 +639,7 @@ class SerialUpdates:
             up = self.updates.get(u)
             row = {"reducer": u, "verdict": verdicts[u], "verdict before the test": prior_v[u],
                    "end-of-line record": "yes" if up else "no",
+                   "prior conflict": ", ".join(up.conflict) if up else "",
                    **(_diagnostics(up) if up else {"R-hat max": np.nan, "ESS min": np.nan, "acceptance": np.nan,
                                                    "converged": ""}),
                    "measured_factors": int(post.loc[u, "measured_factors"]), "n": int(post.loc[u, "n"])}
@@ -655,7 +684,7 @@ class SerialUpdates:
                     "hidden_factors": list(up.hidden),
                     "surrogate": {o: {"s": float(s), "r2_cv": float(r)} for o, s, r in
                                   zip(up.observed, up.surrogate_s, up.surrogate_r2)},
-                    "update": up.method, "converged": up.converged,
+                    "update": up.method, "converged": up.converged, "prior_conflict": list(up.conflict),
                     **({} if up.posterior is None else {
                         "r_hat": dict(zip(up.hidden, map(float, up.posterior.r_hat))),
                         "ess": dict(zip(up.hidden, map(float, up.posterior.ess))),
@@ -734,6 +763,9 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
     ``progress``: a bar over the units (on a terminal)."""
     if update not in UPDATES:
         raise ValueError(f"update must be one of {UPDATES}, got {update!r}")
+    if update == "factors" and posterior_draws(walkers, steps, chains) < n:
+        raise ValueError(f"{n} posterior draws wanted, the sampler keeps {posterior_draws(walkers, steps, chains)} "
+                         "(chains · walkers · steps/2): give more steps or walkers, or a smaller n")
     check_serials(eol, measured)
     kw = dict(evaluator=evaluator, requirements=requirements, method=method, seed=seed, interval=interval,
               probability=probability, coverage_factor=coverage_factor)
@@ -772,7 +804,9 @@ def _update_outputs(spec, measured, eol, prior, X, todo, seed, interval, bar):
         rows += _pinned_down(spec, reducer, X[i], X1, (1.0 - interval) / 2.0)
         updates[reducer] = SerialUpdate(reducer, tuple(eol.outputs[j] for j in read), eol.value[r, read],
                                         eol.u(r)[read], (), np.zeros(0), np.zeros(0), np.zeros(0), None,
-                                        time.perf_counter() - t0, "outputs")
+                                        time.perf_counter() - t0, "outputs",
+                                        prior_conflict(prior.Y[i][:, cols], eol.value[r, read], eol.u(r)[read],
+                                                       [eol.outputs[j] for j in read]))
         if bar is not None:
             bar.update(1)
     return replace(prior, Y=Y), updates, rows
@@ -803,6 +837,8 @@ def _update_factors(spec, measured, eol, prior, X, u, cache, todo, n, seed, inte
         up = _sample_unit(reducer, coords, coords(Z[m]), Ys[i][m][:, read], eol.value[r, read], eol.u(r)[read],
                           cv_s[i][read], cv_r2[i][read], [eol.outputs[j] for j in read], walkers=walkers, steps=steps,
                           chains=chains, seed=substream_seed(seed, "per_serial", i), t0=t0)
+        up = replace(up, conflict=prior_conflict(Ys[i][m][:, read], eol.value[r, read], eol.u(r)[read],
+                                                 [eol.outputs[j] for j in read]))
         pick = substream(seed, "per_serial", i, 1).choice(len(up.posterior.z), n, replace=False)
         u_post = np.clip(stats.norm.cdf(coords.replace(Z, up.posterior.z[pick])), _U_EPS, 1.0 - _U_EPS)
         X_post[i] = unit_values(spec, measured, i, u_post, cache)
