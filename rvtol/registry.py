@@ -87,6 +87,13 @@ ANALYSES: dict[str, str] = {
 }
 
 
+def curve_reader():
+    """The reader of a measured hysteresis curve by the maker's definitions (the torsion-curve model's): what the
+    per-serial update's ``curves`` use (:mod:`rvtol.production.per_serial`, which imports no model)."""
+    mod, attr = "rvtol.models.torsion_curve.measured:hysteresis_figures".split(":")
+    return getattr(importlib.import_module(mod), attr)
+
+
 def _load(table: dict[str, str], kind: str, what: str, file: str | None, key: str):
     if kind not in table:
         raise SpecError(f"unknown {what} kind {kind!r}{did_you_mean(kind, table)} (known: {', '.join(sorted(table))})",

@@ -353,7 +353,7 @@ def test_a_measured_loop_gives_the_makers_figures_by_hand(tmp_path):
     the model's, where every contact sticks at a turning point: θ(±T) = ±(T/k − b/2)), so rigidity b/a =
     2T/(2T/k − b) and the 50–100 % reading T/(T/k − b), by hand; with σ per angle the backlash (two readings at
     zero torque) has u = σ√2 (Monte Carlo propagation)."""
-    from rvtol.production.per_serial import hysteresis_figures
+    from rvtol.models.torsion_curve.measured import hysteresis_figures
 
     k, b, rated = 2.0e7, 2.0e-4, 784e3
     v, u = hysteresis_figures(_loop(tmp_path, "exact.csv", k, b, rated, sigma_arcsec=1e-9))
@@ -368,7 +368,7 @@ def test_a_measured_loop_gives_the_makers_figures_by_hand(tmp_path):
 
 
 def test_a_curve_that_misses_zero_torque_or_does_not_close_is_refused(tmp_path, root):
-    from rvtol.production.per_serial import hysteresis_figures
+    from rvtol.models.torsion_curve.measured import hysteresis_figures
 
     with pytest.raises(InputError, match="backlash is read at"):     # the calibration's curve skips |T| < 2.5 %
         hysteresis_figures(root / "data/measurements/synthetic_rv80e_torsion_curve.csv")
@@ -382,7 +382,7 @@ def test_the_study_reads_each_reducers_hysteresis_curve_by_the_makers_definition
     curve's own u (Monte Carlo from its σ); the output 'play' (arcmin here) is updated to it; a figure that is no
     study output, or curves without curve_outputs, stop the study at load time."""
     from rvtol import units
-    from rvtol.production.per_serial import hysteresis_figures
+    from rvtol.models.torsion_curve.measured import hysteresis_figures
 
     toml = _study_files(tmp_path)
     text = toml.read_text().replace('name = "play"\nunit = "um"', 'name = "play"\nunit = "arcmin"')
@@ -433,15 +433,16 @@ def test_more_posterior_draws_than_the_sampler_keeps_is_refused_at_load(tmp_path
 
 def test_two_curve_files_of_one_reducer_are_refused(tmp_path):
     from rvtol.production.per_serial import read_end_of_line_curves
+    from rvtol.registry import curve_reader
 
     _loop(tmp_path / "curves", "R1.csv")
     _loop(tmp_path / "curves", "R1.txt", b=3e-4)
     model = FunctionModel(lambda X: X, ["a"], [Quantity("lm", "rad", "arcmin")])
     with pytest.raises(InputError, match="two curves of reducer 'R1': R1.csv and R1.txt"):
-        read_end_of_line_curves(tmp_path / "curves", {"lost_motion": "lm"}, model)
+        read_end_of_line_curves(tmp_path / "curves", {"lost_motion": "lm"}, model, figures=curve_reader())
     with pytest.raises(InputError, match=r"output 'lm' \(arcmin\) does not have the dimension of the figure's "
                                          "torsional stiffness"):
-        read_end_of_line_curves(tmp_path / "curves", {"rigidity": "lm"}, model)
+        read_end_of_line_curves(tmp_path / "curves", {"rigidity": "lm"}, model, figures=curve_reader())
 
 
 def test_setting_the_coordinates_keeps_the_rest_of_each_row():

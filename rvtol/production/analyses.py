@@ -44,6 +44,7 @@ from ..design import design_numbers
 from ..errors import InputError
 from ..expressions import Expression
 from ..options import REQUIRED, option
+from ..registry import curve_reader
 from ..params import Params
 from ..spec import factor_from_params
 from . import texts
@@ -199,13 +200,12 @@ class PerSerialUpdate(PerUnitPrediction):
             super().complete(study, error)
             self.title = self.title or (f"{PerSerialUpdate.title}: {self.name}" if self.name else None)
             if (self.end_of_line is None) == (self.curves is None):
-                raise error("end_of_line", "give the end-of-line records: end_of_line (a table of readings) or curves "
-                                           "(a folder of hysteresis curves), one of them")
+                raise error("end_of_line", "give end_of_line (a table of readings) or curves (a folder of curves)")
             if self.curves is not None:
                 if not self.curve_outputs:
-                    raise error("curve_outputs", "curves need curve_outputs: which study output each figure is "
-                                                 "(e.g. { lost_motion = \"reducer.lost_motion\" })")
-                self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent)
+                    raise error("curve_outputs", "curves need curve_outputs: the study output of each figure")
+                self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent,
+                                                   figures=curve_reader())
             else:
                 self.eol = read_end_of_line(self.end_of_line, study.model)
             check_serials(self.eol, self.units)

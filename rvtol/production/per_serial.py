@@ -194,59 +194,14 @@ def read_end_of_line(path, model: Model) -> EndOfLine:
 CURVE_FIGURES = {"lost_motion": "angle", "backlash": "angle", "rigidity": "torsional stiffness",
                  "rigidity_50_100": "torsional stiffness"}
 FIGURE_UNITS = {"angle": "rad", "torsional stiffness": "N*mm/rad"}     # the figures' base units
-CURVE_DRAWS = 400
 
 
-def curve_branches(torque: np.ndarray) -> np.ndarray:
-    """The branch of each point of a hysteresis test in its order: 0 loading 0 → +T, 1 descending +T → −T, 2
-    ascending −T → 0 (the monotone runs of the torque; a turning point belongs to the run it ends)."""
-    step = np.sign(np.diff(torque))
-    change = np.concatenate([[False], (step[1:] != step[:-1]) & (step[1:] != 0)])
-    return np.concatenate([[0], np.cumsum(change)])
-
-
-def hysteresis_figures(path, percent: float = 3.0, draws: int = CURVE_DRAWS,
-                       seed: int = 0) -> tuple[dict[str, float], dict[str, float]]:
-    """The maker's figures (:data:`CURVE_FIGURES`, base units) of a measured hysteresis curve — the calibration's
-    file format (:func:`rvtol.models.transmission.calibration.measurements.load_measurement`: ``torque``, ``angle``,
-    ``sigma``), the torque in the test's order 0 → +T → −T → 0, T the largest |torque| — read as the 20-DOF model's
-    curve is (:meth:`TorsionCurve.metrics <rvtol.models.torsion_curve.model.TorsionCurve.metrics>`: the mid-line),
-    the backlash at zero torque itself (a measured loop crosses its play at a finite slope; the model's frictionless
-    curve jumps there and is read at ±ε) and their standard uncertainties by Monte Carlo propagation of each angle's ``sigma``
-    (GUM Supplement 1: ``draws`` copies of the curve with independent normal errors, the figures' standard
-    deviation).  The torque is taken as exact."""
-    from ..models.torsion_curve.model import TorsionCurve
-    from ..models.transmission.calibration.measurements import TORSION, load_measurement
-
-    m = load_measurement(path, exclude_below=0.0)
-    if m.kind != TORSION:
-        raise InputError("an end-of-line curve must be a hysteresis curve (columns torque, angle, sigma)", file=m.file)
-    if m.sigma is None:
-        raise InputError("no 'sigma' column: give each angle's standard uncertainty (k = 1)", file=m.file)
-    branch = curve_branches(m.x)
-    if branch.max() != 2 or m.x[branch == 0].max() <= 0 or m.x[branch == 1].min() >= 0:
-        raise InputError(f"the torque must run 0 → +T → −T → 0 once (found {branch.max() + 1} monotone runs)",
-                         file=m.file)
-    rated = float(np.abs(m.x).max())
-
-    def figures(angle):
-        c = TorsionCurve(m.x, angle, branch, rated).metrics(percent, epsilon=0.0)
-        return np.array([c.lost_motion, c.backlash, c.rigidity, c.rigidity_50_100])
-
-    value = figures(m.y)
-    if not np.all(np.isfinite(value)):
-        missing = [f for f, v in zip(CURVE_FIGURES, value) if not np.isfinite(v)]
-        raise InputError(f"the curve does not reach the points its {', '.join(missing)} is read at (±{percent:g} % "
-                         "and ±T on both branches; zero torque on the descending and the ascending one)", file=m.file)
-    rng = np.random.default_rng(seed)
-    sims = np.array([figures(m.y + m.sigma * rng.standard_normal(m.n)) for _ in range(draws)])
-    return dict(zip(CURVE_FIGURES, value)), dict(zip(CURVE_FIGURES, sims.std(axis=0, ddof=1)))
-
-
-def read_end_of_line_curves(folder, outputs: dict[str, str], model: Model, percent: float = 3.0,
-                            seed: int = 0) -> EndOfLine:
+def read_end_of_line_curves(folder, outputs: dict[str, str], model: Model, percent: float = 3.0, seed: int = 0, *,
+                            figures) -> EndOfLine:
     """The end-of-line records from one hysteresis curve per reducer: ``folder/<reducer>.csv`` (any table format
-    :func:`rvtol.inputs.sheets.read_table` reads), each read by :func:`hysteresis_figures`; ``outputs``: figure ->
+    :func:`rvtol.inputs.sheets.read_table` reads), each read by ``figures(path, percent, seed=...) -> (values, u)``
+    (the torsion-curve model's :func:`rvtol.models.torsion_curve.measured.hysteresis_figures`, reached through
+    :func:`rvtol.registry.curve_reader`: this package knows no model); ``outputs``: figure ->
     the study output it is (``{lost_motion = "reducer.lost_motion", rigidity = "torsion.torsional_rigidity"}``).
     Each reading's uncertainty is that curve's own (:meth:`EndOfLine.u`)."""
     folder = Path(folder)
@@ -278,7 +233,7 @@ def read_end_of_line_curves(folder, outputs: dict[str, str], model: Model, perce
     value = np.empty((len(files), len(outputs)))
     u = np.empty_like(value)
     for r, path in enumerate(files):
-        v, s = hysteresis_figures(path, percent, seed=seed + r)
+        v, s = figures(path, percent, seed=seed + r)
         for c, (f, o) in enumerate(outputs.items()):
             value[r, c] = units.convert(v[f], FIGURE_UNITS[CURVE_FIGURES[f]], shown[c])
             u[r, c] = units.convert(s[f], FIGURE_UNITS[CURVE_FIGURES[f]], shown[c])
