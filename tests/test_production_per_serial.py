@@ -402,8 +402,9 @@ def test_the_study_reads_each_reducers_hysteresis_curve_by_the_makers_definition
     r1 = pd.read_csv(out / "per_unit.csv").set_index("reducer").loc["R1"]
     assert r1["play posterior median [arcmin]"] == pytest.approx(eol.value[0, 0], abs=3 * eol.u(0)[0])
     toml.write_text(text.replace('curve_outputs = { lost_motion = "play" }', 'curve_outputs = { lost_motion = "x" }'))
-    with pytest.raises(InputError, match="no output 'x'"):
+    with pytest.raises(InputError, match="no output 'x'") as e:
         load_study(toml, progress=False)
+    assert e.value.key.endswith("curve_outputs.lost_motion") and e.value.key != "curve_outputs.lost_motion"
     toml.write_text(text.replace('curve_outputs = { lost_motion = "play" }\n', ''))
     with pytest.raises(InputError, match="curves need curve_outputs"):
         load_study(toml, progress=False)

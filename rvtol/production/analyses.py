@@ -204,8 +204,13 @@ class PerSerialUpdate(PerUnitPrediction):
             if self.curves is not None:
                 if not self.curve_outputs:
                     raise error("curve_outputs", "curves need curve_outputs: the study output of each figure")
-                self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent,
-                                                   figures=curve_reader())
+                try:
+                    self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent,
+                                                       figures=curve_reader())
+                except InputError as exc:
+                    if exc.file is not None:        # a curve file's own error names that file
+                        raise
+                    raise error(exc.key, exc.reason) from None      # a key of this analysis: located as such
             else:
                 self.eol = read_end_of_line(self.end_of_line, study.model)
             check_serials(self.eol, self.units)
