@@ -420,6 +420,14 @@ def test_a_reading_the_prior_cannot_produce_leaves_the_reducer_undecided(tmp_pat
     out = write_outputs(run_study(load_study(toml, progress=False)), tmp_path / "report")
     r1 = pd.read_csv(out / "per_unit.csv").set_index("reducer").loc["R1"]
     assert r1["prior conflict"] == "play" and r1["verdict"] == "undecided"
+    # every per-requirement verdict and ISO 14253-1 decision of the reducer is withheld too (before: 'conforms',
+    # 'conformance proven' on play <= 3 beside the overall 'undecided')
+    cells = [c for c in r1.index if c.endswith(": verdict") or "ISO 14253-1" in c]
+    assert cells and all(r1[c] == "undecided" for c in cells)
+    summary = json.loads((out / "summary.json").read_text())["analyses"]["per_serial_update"]
+    entry = next(u for u in summary["units"] if u["reducer"] == "R1")
+    assert entry["withheld"] == "prior conflict: play"
+    assert all(r["verdict"] == "undecided" and r["iso14253"]["decision"] == "undecided" for r in entry["requirements"])
 
 
 def test_more_posterior_draws_than_the_sampler_keeps_is_refused_at_load(tmp_path, capsys):
@@ -479,3 +487,24 @@ def test_what_the_surrogate_cannot_follow_widens_the_posterior():
         lo, hi = np.quantile(a, [0.025, 0.975])
         hits += lo <= z[0, 0] <= hi
     assert hits >= 16, hits
+
+
+def test_the_prior_conflict_does_not_depend_on_the_number_of_prior_samples():
+    """A prior-predictive check on the prior's mean and spread (not on its sample range): for prior samples of
+    N(0.25, 0.25²) and u = 0.01, a reading 3.6 prior-predictive standard deviations away is no conflict and one 4.6
+    away is, at n = 100 as at n = 20 000 (before, the range rule flagged 1.15 at n = 100 and not at n = 2000)."""
+    from rvtol.production.per_serial import prior_conflict
+
+    sd = np.sqrt(0.25 ** 2 + 0.01 ** 2)
+    for n in (100, 20_000):
+        y = stats.norm.ppf((np.arange(n) + 0.5) / n, 0.25, 0.25)[:, None]      # the law's quantiles: no noise
+        assert prior_conflict(y, np.array([0.25 + 3.6 * sd]), np.array([0.01]), ["play"]) == ()
+        assert prior_conflict(y, np.array([0.25 + 4.6 * sd]), np.array([0.01]), ["play"]) == ("play",)
+
+
+def test_a_repeated_torque_continues_its_branch():
+    """Two readings at zero torque at the start and a pause on a branch are one run each, not new branches."""
+    from rvtol.models.torsion_curve.measured import curve_branches
+
+    T = np.array([0, 0, 10, 20, 20, 30, 20, 10, 0, 0, -10, -20, -10, 0])
+    assert curve_branches(T).tolist() == [0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 2, 2]

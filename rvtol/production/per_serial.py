@@ -483,18 +483,21 @@ def update_unit(reducer: str, Z: np.ndarray, Y: np.ndarray, y_obs: np.ndarray, u
                         steps=steps, chains=chains, seed=seed, t0=t0), coords
 
 
-CONFLICT_K = 4.0                      # a reading this many of its uncertainties beyond every prior sample conflicts
+CONFLICT_Z = 4.0                      # a reading this many prior-predictive standard deviations away conflicts
 
 
 def prior_conflict(Y: np.ndarray, y_obs: np.ndarray, u_obs: np.ndarray, names) -> tuple[str, ...]:
-    """The readings the unit's prior cannot produce: beyond the range of its prior samples ``Y[n, m]`` by more than
-    :data:`CONFLICT_K` standard uncertainties.  Such a unit is not what its measured parts and the spec say (a part
-    mis-measured, a serial mixed up, a fault the model does not have): the update would move it to the edge of
-    its prior and certify that (a posterior beyond about 8 standard deviations of a score is out of reach), so its
-    verdict is undecided and the conflict is named."""
-    lo, hi = np.nanmin(Y, axis=0), np.nanmax(Y, axis=0)
-    out = (y_obs < lo - CONFLICT_K * u_obs) | (y_obs > hi + CONFLICT_K * u_obs)
-    return tuple(n for n, o in zip(names, out) if o)
+    """The readings the unit's prior cannot produce: a prior-predictive check (Box 1980, *J. R. Statist. Soc. A*
+    143:383) — the reading's distance from the mean of the unit's prior samples ``Y[n, m]`` in standard deviations of
+    its prior prediction, ``|y_obs − mean(Y)| / √(var(Y) + u_obs²)``, above :data:`CONFLICT_Z` (a normal prior
+    prediction gives such a reading with probability 6e-5; the estimates, not the sample's range, so the rule does
+    not depend on n).  Such a unit is not what its measured parts and the spec say (a part mis-measured, a serial
+    mixed up, a fault the model does not have): the update would move it to the edge of its prior and certify that
+    (a posterior beyond about 8 standard deviations of a score is out of reach), so its verdicts are withheld —
+    undecided — and the conflict is named."""
+    mean, var = np.nanmean(Y, axis=0), np.nanvar(Y, axis=0, ddof=1)
+    z = np.abs(y_obs - mean) / np.sqrt(var + u_obs ** 2)
+    return tuple(n for n, zz in zip(names, z) if zz > CONFLICT_Z)
 
 
 def _diagnostics(up: SerialUpdate) -> dict:
@@ -521,13 +524,21 @@ class SerialUpdates:
     def units(self) -> tuple[str, ...]:
         return self.prior.units
 
+    def withheld(self, u: str) -> str:
+        """Why unit ``u``'s verdicts are withheld (undecided): its sampler did not converge, or a reading conflicts
+        with its prior (:func:`prior_conflict`); '' when they stand."""
+        up = self.updates.get(u)
+        if up is None:
+            return ""
+        if up.conflict:
+            return f"prior conflict: {', '.join(up.conflict)}"
+        return "" if up.converged else "the sampler did not converge"
+
     def verdicts(self) -> dict[str, str]:
-        """Reducer -> its verdict after the update (the posterior's; undecided where the sampler did not
-        converge; the prior's where the unit has no end-of-line record)."""
+        """Reducer -> its verdict after the update (the posterior's; undecided where it is withheld
+        (:meth:`withheld`); the prior's where the unit has no end-of-line record)."""
         post = self.posterior.verdicts()
-        return {u: (UNDECIDED if u in self.updates and (not self.updates[u].converged or self.updates[u].conflict)
-                    else post[u])
-                for u in self.units}
+        return {u: UNDECIDED if self.withheld(u) else post[u] for u in self.units}
 
     def counts(self) -> dict[str, int]:
         v = list(self.verdicts().values())
@@ -538,6 +549,11 @@ class SerialUpdates:
         update (:meth:`verdicts`)."""
         t = self.posterior.verdict_table()
         t["verdict"] = t["reducer"].map(self.verdicts())
+        for i, u in enumerate(t["reducer"]):
+            why = self.withheld(u)
+            if why:
+                for c in [c for c in t.columns if "ISO 14253-1" in c]:
+                    t.iloc[i, t.columns.get_loc(c)] = f"undecided ({why})"
         return t
 
     @cached_property
@@ -598,8 +614,10 @@ class SerialUpdates:
                    **(_diagnostics(up) if up else {"R-hat max": np.nan, "ESS min": np.nan, "acceptance": np.nan,
                                                    "converged": ""}),
                    "measured_factors": int(post.loc[u, "measured_factors"]), "n": int(post.loc[u, "n"])}
-            row.update({c: post.loc[u, c] for c in post.columns if c.endswith((": P", ": P_lo", ": verdict"))
-                        or "ISO 14253-1" in c})
+            why = self.withheld(u)
+            row.update({c: (UNDECIDED if why and (c.endswith(": verdict") or "ISO 14253-1" in c) else post.loc[u, c])
+                        for c in post.columns if c.endswith((": P", ": P_lo", ": verdict")) or "ISO 14253-1" in c})
+            row["withheld"] = why
             for _, o in outs[outs["reducer"] == u].iterrows():
                 unit = o["unit"]
                 if np.isfinite(o["measured"]):
@@ -632,6 +650,12 @@ class SerialUpdates:
         for entry in post["units"]:
             u = entry["reducer"]
             entry["verdict"], entry["verdict_before_test"] = verdicts[u], prior_v[u]
+            why = self.withheld(u)
+            if why:
+                entry["withheld"] = why
+                for r in entry["requirements"]:
+                    r["verdict"] = UNDECIDED
+                    r["iso14253"]["decision"] = UNDECIDED
             up = self.updates.get(u)
             if up is not None:
                 entry["end_of_line"] = {

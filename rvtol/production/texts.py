@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..report.sections import Figure, Table, Text, figure_png
-from .per_serial import CONFLICT_K, ESS_MIN, R_HAT_MAX
+from .per_serial import CONFLICT_Z, ESS_MIN, R_HAT_MAX
 
 # --------------------------------------------------------------------------- per-unit prediction
 PER_UNIT = ("{units} reducers from the kit list {kits}; measured part families: {families}. Per reducer, {n} samples: "
@@ -93,8 +93,8 @@ UPDATES = ("Per updated reducer: the readings, the surrogate's cross-validated r
            "uncertainty u_obs (the likelihood's σ = √(u_obs² + s²)) and its R², the sampler's diagnostics and time")
 FACTORS = ("The factors each test narrowed most: the prior and the posterior median and {interval:.0%} interval (the "
            "factor's unit) and the ratio of the interval widths")
-CONFLICT = ("Readings the reducer's prior cannot produce — beyond every one of its prior samples by more than {k:g} "
-            "standard uncertainties: {units}. Such a reducer is not what its measured parts and the spec say (a part "
+CONFLICT = ("Readings the reducer's prior cannot produce — more than {k:g} standard deviations of its prior prediction "
+            "(the prior samples' spread and the reading's uncertainty together) from its mean: {units}. Such a reducer is not what its measured parts and the spec say (a part "
             "mis-measured, a serial mixed up, a fault the model does not have); its verdict is undecided.")
 WEAK_SURROGATE = ("Note: the surrogate explains at most {r2:.0%} of a reading's variance within a unit (cross-validated "
                   "R², median over the readings and units {median:.0%}): the readings depend on more factors, or less "
@@ -123,7 +123,7 @@ def per_serial(res, o) -> list:
         blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
     conflicts = [f"{u} ({', '.join(up.conflict)})" for u, up in res.updates.items() if up.conflict]
     if conflicts:
-        blocks.append(Text(CONFLICT.format(units="; ".join(conflicts), k=CONFLICT_K)))
+        blocks.append(Text(CONFLICT.format(units="; ".join(conflicts), k=CONFLICT_Z)))
     r2 = [r for up in res.updates.values() for r in up.surrogate_r2]      # (none with update = "outputs")
     if r2 and max(r2) < 0.5:
         blocks.append(Text(WEAK_SURROGATE.format(r2=max(r2), median=float(np.median(r2)),

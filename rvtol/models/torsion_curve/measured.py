@@ -20,9 +20,14 @@ CURVE_DRAWS = 400
 
 def curve_branches(torque: np.ndarray) -> np.ndarray:
     """The branch of each point of a hysteresis test in its order: 0 loading 0 → +T, 1 descending +T → −T, 2
-    ascending −T → 0 (the monotone runs of the torque; a turning point belongs to the run it ends)."""
+    ascending −T → 0 (the monotone runs of the torque; a turning point belongs to the run it ends; a repeated torque
+    — a pause, two readings at zero — continues the run it is in)."""
     step = np.sign(np.diff(torque))
-    change = np.concatenate([[False], (step[1:] != step[:-1]) & (step[1:] != 0)])
+    moving = np.flatnonzero(step)
+    if moving.size:                      # a repeated torque takes the direction of the last move (the first, at start)
+        last = np.maximum.accumulate(np.where(step != 0, np.arange(step.size), -1))
+        step = np.where(last >= 0, step[np.maximum(last, 0)], step[moving[0]])
+    change = np.concatenate([[False], step[1:] != step[:-1]])
     return np.concatenate([[0], np.cumsum(change)])
 
 
