@@ -85,6 +85,24 @@ def _nonnegative(t: Table, row: int, cells: list, col: int) -> float:
     return v
 
 
+def uncertainty_row(t: Table) -> tuple[tuple[int, list] | None, list[tuple[int, list]]]:
+    """``(uncertainty row, other rows)`` of a table whose first column names each row (a serial, a reducer): the
+    row named ``uncertainty`` (at most one; None without) and the others, each ``(row number, cells)``, every row
+    with as many fields as the header."""
+    u_row: tuple[int, list] | None = None
+    rows: list[tuple[int, list]] = []
+    for row, cells in t.rows:
+        if len(cells) != len(t.names):
+            raise t.error(f"{len(cells)} fields, the header has {len(t.names)}", row)
+        if _text(cells[0]).lower() == UNCERTAINTY_ROW:
+            if u_row is not None:
+                raise t.error(f"a second {UNCERTAINTY_ROW!r} row (the first on row {u_row[0]})", row, 0)
+            u_row = (row, cells)
+        else:
+            rows.append((row, cells))
+    return u_row, rows
+
+
 # --------------------------------------------------------------------------- part families
 @dataclass(frozen=True)
 class PartFamily:
@@ -187,18 +205,7 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                               f"the feature's unit {col_units[j]!r}", col=features[j])
             by_gauge[j] = g
 
-    ncols = len(names)
-    u_row: tuple[int, list] | None = None
-    parts: list[tuple[int, list]] = []
-    for row, cells in t.rows:
-        if len(cells) != ncols:
-            raise t.error(f"{len(cells)} fields, the header has {ncols}", row)
-        if _text(cells[0]).lower() == UNCERTAINTY_ROW:
-            if u_row is not None:
-                raise t.error(f"a second {UNCERTAINTY_ROW!r} row (the first on row {u_row[0]})", row, 0)
-            u_row = (row, cells)
-        else:
-            parts.append((row, cells))
+    u_row, parts = uncertainty_row(t)
     if not parts:
         raise t.error("no parts (rows) in the file")
 

@@ -83,8 +83,7 @@ from ..mc import _progress
 from ..model import STATUS_OK, Model
 from ..sampling import substream, substream_seed
 from ..spec import ToleranceSpec
-from ..verdict import UNDECIDED
-from .measured_parts import REDUCER, UNCERTAINTY_ROW, MeasuredUnits, _text
+from .measured_parts import REDUCER, UNCERTAINTY_ROW, MeasuredUnits, _text, uncertainty_row
 from .per_unit import (COVERAGE_FACTOR, STATES, UnitPredictions, evaluate_units, unit_uniforms, unit_values)
 
 #: convergence thresholds of the sampler's diagnostics (module docstring)
@@ -146,16 +145,7 @@ def read_end_of_line(path, model: Model) -> EndOfLine:
         shown.append(q.shown_unit)
     if not cols:
         raise t.error("no output columns (the outputs the test reads, e.g. 'lost_motion [arcmin]')")
-    u_row, rows = None, []
-    for row, cells in t.rows:
-        if len(cells) != len(names):
-            raise t.error(f"{len(cells)} fields, the header has {len(names)}", row)
-        if _text(cells[0]).lower() == UNCERTAINTY_ROW:
-            if u_row is not None:
-                raise t.error(f"a second {UNCERTAINTY_ROW!r} row (the first on row {u_row[0]})", row, 0)
-            u_row = (row, cells)
-        else:
-            rows.append((row, cells))
+    u_row, rows = uncertainty_row(t)
     if u_row is None:
         raise t.error(f"no {UNCERTAINTY_ROW!r} row: give each reading's standard uncertainty (k = 1)")
     u = np.empty(len(cols))
@@ -500,6 +490,15 @@ def prior_conflict(Y: np.ndarray, y_obs: np.ndarray, u_obs: np.ndarray, names) -
     return tuple(n for n, zz in zip(names, z) if zz > CONFLICT_Z)
 
 
+def _withheld(up: SerialUpdate) -> str:
+    """Why an update's verdicts are withheld: a reading conflicts with the prior (:func:`prior_conflict`) or the
+    sampler did not converge; '' when they stand (the posterior prediction's
+    :attr:`~.per_unit.UnitPredictions.withheld`)."""
+    if up.conflict:
+        return f"prior conflict: {', '.join(up.conflict)}"
+    return "" if up.converged else "the sampler did not converge"
+
+
 def _diagnostics(up: SerialUpdate) -> dict:
     """The sampler's diagnostics of one update as table cells (NaN for the closed-form update, which has none)."""
     p = up.posterior
@@ -525,36 +524,17 @@ class SerialUpdates:
         return self.prior.units
 
     def withheld(self, u: str) -> str:
-        """Why unit ``u``'s verdicts are withheld (undecided): its sampler did not converge, or a reading conflicts
-        with its prior (:func:`prior_conflict`); '' when they stand."""
-        up = self.updates.get(u)
-        if up is None:
-            return ""
-        if up.conflict:
-            return f"prior conflict: {', '.join(up.conflict)}"
-        return "" if up.converged else "the sampler did not converge"
+        """Why unit ``u``'s verdicts are withheld (undecided; :func:`_withheld`), '' when they stand."""
+        return self.posterior.withheld.get(u, "")
 
     def verdicts(self) -> dict[str, str]:
-        """Reducer -> its verdict after the update (the posterior's; undecided where it is withheld
-        (:meth:`withheld`); the prior's where the unit has no end-of-line record)."""
-        post = self.posterior.verdicts()
-        return {u: UNDECIDED if self.withheld(u) else post[u] for u in self.units}
+        """Reducer -> its verdict after the update (the posterior's, whose withheld units are undecided; the prior's
+        where the unit has no end-of-line record)."""
+        return self.posterior.verdicts()
 
     def counts(self) -> dict[str, int]:
         v = list(self.verdicts().values())
         return {s: v.count(s) for s in STATES}
-
-    def verdict_table(self) -> pd.DataFrame:
-        """The posterior's :meth:`~.per_unit.UnitPredictions.verdict_table` with each reducer's verdict after the
-        update (:meth:`verdicts`)."""
-        t = self.posterior.verdict_table()
-        t["verdict"] = t["reducer"].map(self.verdicts())
-        for i, u in enumerate(t["reducer"]):
-            why = self.withheld(u)
-            if why:
-                for c in [c for c in t.columns if "ISO 14253-1" in c]:
-                    t.iloc[i, t.columns.get_loc(c)] = f"undecided ({why})"
-        return t
 
     @cached_property
     def _outputs(self) -> pd.DataFrame:
@@ -614,10 +594,9 @@ class SerialUpdates:
                    **(_diagnostics(up) if up else {"R-hat max": np.nan, "ESS min": np.nan, "acceptance": np.nan,
                                                    "converged": ""}),
                    "measured_factors": int(post.loc[u, "measured_factors"]), "n": int(post.loc[u, "n"])}
-            why = self.withheld(u)
-            row.update({c: (UNDECIDED if why and (c.endswith(": verdict") or "ISO 14253-1" in c) else post.loc[u, c])
-                        for c in post.columns if c.endswith((": P", ": P_lo", ": verdict")) or "ISO 14253-1" in c})
-            row["withheld"] = why
+            row.update({c: post.loc[u, c] for c in post.columns if c.endswith((": P", ": P_lo", ": verdict"))
+                        or "ISO 14253-1" in c})
+            row["withheld"] = self.withheld(u)
             for _, o in outs[outs["reducer"] == u].iterrows():
                 unit = o["unit"]
                 if np.isfinite(o["measured"]):
@@ -650,12 +629,8 @@ class SerialUpdates:
         for entry in post["units"]:
             u = entry["reducer"]
             entry["verdict"], entry["verdict_before_test"] = verdicts[u], prior_v[u]
-            why = self.withheld(u)
-            if why:
-                entry["withheld"] = why
-                for r in entry["requirements"]:
-                    r["verdict"] = UNDECIDED
-                    r["iso14253"]["decision"] = UNDECIDED
+            if self.withheld(u):
+                entry["withheld"] = self.withheld(u)
             up = self.updates.get(u)
             if up is not None:
                 entry["end_of_line"] = {
@@ -765,7 +740,8 @@ def update_serials(model: Model, spec: ToleranceSpec, measured: MeasuredUnits, e
         bar.close()
     factors = pd.DataFrame(rows, columns=["reducer", "factor", "unit", "median prior", "lo prior", "hi prior",
                                           "median posterior", "lo posterior", "hi posterior", "width ratio"])
-    return SerialUpdates(prior, posterior, eol, updates, factors)
+    withheld = {u: why for u, up in updates.items() if (why := _withheld(up))}
+    return SerialUpdates(prior, replace(posterior, withheld=withheld), eol, updates, factors)
 
 
 def _update_outputs(spec, measured, eol, prior, X, todo, seed, interval, bar):

@@ -47,7 +47,7 @@ shown to conform at all.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -181,6 +181,9 @@ class UnitPredictions:
     status_reasons: dict
     probability: float | None = None   # the probability of conformance a unit must show (None: each requirement's)
     coverage_factor: float = COVERAGE_FACTOR   # k of the ISO 14253-1 guard band U = k·u
+    #: unit -> why its verdicts are withheld (every requirement's verdict and decision undecided: the per-serial
+    #: update's prior conflict or unconverged sampler, :mod:`rvtol.production.per_serial`)
+    withheld: dict = field(default_factory=dict)
 
     @property
     def n(self) -> int:
@@ -230,20 +233,25 @@ class UnitPredictions:
                 ok_y = y[ok]
                 est = float(ok_y.mean()) if ok_y.size else np.nan
                 u = float(ok_y.std(ddof=1)) if ok_y.size > 1 else np.nan     # one sample has no spread to read
+                why = self.withheld.get(unit)
                 rows.append({"reducer": unit, "requirement": r.label, "output": r.output, "P": j.p,
-                             "P_lo": j.p_lo, "P_hi": j.p_hi, "required": j.required, "verdict": j.state,
-                             "reasons": "; ".join(j.reasons), "y": est, "u": u, "U": self.coverage_factor * u,
-                             "ISO 14253-1": guard_banded(est, u, r.lower, r.upper, self.coverage_factor)})
+                             "P_lo": j.p_lo, "P_hi": j.p_hi, "required": j.required,
+                             "verdict": UNDECIDED if why else j.state,
+                             "reasons": "; ".join([*j.reasons, *([f"withheld: {why}"] if why else [])]),
+                             "y": est, "u": u, "U": self.coverage_factor * u,
+                             "ISO 14253-1": NOT_PROVEN if why else guard_banded(est, u, r.lower, r.upper,
+                                                                                self.coverage_factor)})
         return pd.DataFrame(rows, columns=["reducer", "requirement", "output", "P", "P_lo", "P_hi", "required",
                                            "verdict", "reasons", "y", "u", "U", "ISO 14253-1"])
 
     def verdicts(self) -> dict[str, str]:
-        """Reducer -> its overall verdict: the worst of its requirements' (conforms without requirements)."""
+        """Reducer -> its overall verdict: the worst of its requirements' (conforms without requirements; undecided
+        where :attr:`withheld`)."""
         req = self._requirements
         out = {}
         for u in self.units:
             states = req.loc[req["reducer"] == u, "verdict"].tolist()
-            out[u] = max(states, key=STATES.index) if states else CONFORMS
+            out[u] = UNDECIDED if u in self.withheld else max(states, key=STATES.index) if states else CONFORMS
         return out
 
     def unit_frame(self) -> pd.DataFrame:

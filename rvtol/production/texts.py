@@ -130,7 +130,7 @@ def per_serial(res, o) -> list:
                                                  d=len(next(iter(res.updates.values())).hidden))))
     blocks += [Table(res.update_frame(), UPDATES),
                Table(res.factor_frame(), FACTORS.format(interval=o.interval)),
-               Table(res.verdict_table(), VERDICTS.format(
+               Table(res.posterior.verdict_table(), VERDICTS.format(
                    confidence=res.posterior.requirements[0].confidence if res.posterior.requirements else 0.95)),
                Table(res.output_frame(), SERIAL_OUTPUTS.format(interval=o.interval))]
     blocks += [Figure(figure_png(res.plot(out)), SERIAL_PLOT.format(output=out)) for out in o.outputs]
