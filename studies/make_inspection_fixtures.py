@@ -25,6 +25,7 @@ The writers take any table (:func:`qif_document`, :func:`dfq_file`): the readers
 from __future__ import annotations
 
 import math
+import statistics
 import sys
 import uuid
 import xml.etree.ElementTree as ET
@@ -96,11 +97,15 @@ def _qif_unit(parent, tag, si_name, name, factor):
 
 
 def qif_document(characteristics=QIF_CHARACTERISTICS, parts=None, linear_units=(("inch", INCH_M),),
-                 angular_units=(("degree", DEG_RAD),)) -> bytes:
+                 angular_units=(("degree", DEG_RAD),), statistics=None) -> bytes:
     """A QIF 3.0 MeasurementResults document: ``characteristics`` as :data:`QIF_CHARACTERISTICS` (kind ``Angle``
     in an angular unit, the others in a linear one), ``parts`` as :func:`qif_parts` (each value in its
     characteristic's unit); units (UnitName, factor to m or rad, or None to write no UnitConversion), the first of
-    each the primary unit, the others OtherUnits named by the values' ``linearUnit`` / ``angularUnit``."""
+    each the primary unit, the others OtherUnits named by the values' ``linearUnit`` / ``angularUnit``.
+
+    ``statistics`` (optional): a QIF Statistics section of one study, ``(study kind, {characteristic index:
+    excluded part indices})`` — per characteristic its measurements' ids, the excluded ones as ``Exclusions``, and
+    the figures of :func:`lot_figures` of the others, in the characteristic's unit."""
     parts = qif_parts() if parts is None else parts
     ET.register_namespace("", QIF)
     ids = iter(range(1, 10_000))
@@ -152,12 +157,13 @@ def qif_document(characteristics=QIF_CHARACTERISTICS, parts=None, linear_units=(
         kinds.append((kind, unit, it.get("id")))
     results = _el(root, "Results")
     mset = _el(results, "MeasurementResultsSet", n=len(parts))
-    components = []
+    components, measurement_ids = [], {}
     for serial, readings in parts:
         mr = _el(mset, "MeasurementResults", id=next(ids))
         cms = _el(_el(mr, "MeasuredCharacteristics"), "CharacteristicMeasurements", n=len(readings))
-        for (kind, unit, item), (value, u) in zip(kinds, readings):
+        for i, ((kind, unit, item), (value, u)) in enumerate(zip(kinds, readings)):
             m = _el(cms, f"{kind}CharacteristicMeasurement", id=next(ids))
+            measurement_ids.setdefault(i, []).append(m.get("id"))
             _el(_el(m, "Status"), "CharacteristicStatusEnum", "PASS")
             _el(m, "CharacteristicItemId", item)
             if kind == "LinearCoordinate":
@@ -176,9 +182,43 @@ def qif_document(characteristics=QIF_CHARACTERISTICS, parts=None, linear_units=(
         ac = _el(_el(sets, "ActualComponentSet", n=1), "ActualComponent", id=comp)
         _el(ac, "SerialNumber", serial)
         _el(_el(ac, "Status"), "InspectionStatusEnum", "PASS")
+    if statistics is not None:
+        study_kind, chars = statistics
+        study = _el(_el(_el(root, "Statistics"), "StatisticalStudiesResults", n=1), study_kind, id=next(ids))
+        _el(_el(study, "Status"), "StatsEvalStatusEnum", "PASS")
+        stats = _el(study, "CharacteristicsStats", n=len(chars))
+        for i, excluded in chars.items():
+            kind, unit, _item = kinds[i]
+            cs = _el(stats, f"{kind}CharacteristicStats")
+            mids = _el(cs, "MeasuredIds")
+            id_list = _el(mids, "Ids", n=len(measurement_ids[i]))
+            for mid in measurement_ids[i]:
+                _el(id_list, "Id", mid)
+            if excluded:
+                ex = _el(mids, "Exclusions", n=len(excluded))
+                for j in excluded:
+                    e = _el(ex, "Exclusion")
+                    _el(e, "Id", measurement_ids[i][j])
+                    _el(_el(e, "Reason"), "ExclusionReasonEnum", "FLIER")
+            _el(_el(cs, "Status"), "StatsEvalStatusEnum", "PASS")
+            vstats = in_unit(_el(cs, "ValueStats"), kind, unit)
+            kept = [p[1][i][0] for j, p in enumerate(parts) if j not in excluded]
+            for name, value in lot_figures(kept, len(parts)).items():
+                _el(_el(vstats, name), "Value", value if isinstance(value, int) else g(value))
+        _el(study, "NumberOfSamples", len(parts))
     root.set("idMax", str(next(ids) - 1))
     ET.indent(root)
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8", xml_declaration=False) + b"\n"
+
+
+def lot_figures(values, candidates: int) -> dict:
+    """A QIF study's figures of ``values`` (the standard library's ``statistics``: the sample standard deviation,
+    n − 1, as QIF's StandardDeviation), in the schema's order of the elements."""
+    out = {"TotalNumber": candidates, "EffectiveNumber": len(values), "Average": statistics.fmean(values),
+           "Maximum": max(values), "Minimum": min(values), "Range": max(values) - min(values)}
+    if len(values) > 1:
+        out["StandardDeviation"] = statistics.stdev(values)
+    return out
 
 
 def dfq_file(characteristics=DFQ_CHARACTERISTICS, parts=None, compact: int = 2) -> bytes:
@@ -216,10 +256,34 @@ cam angle, cam.angle, value, 0.005
 """
 
 
+#: the lot fixture: 24 crankshaft bores (mm), a seeded normal rounded to 0.1 µm as a CMM prints them
+LOT_CHARACTERISTICS = (("CRANK_BORE_D", "Diameter", "mm", 40.0, 0.012),)
+LOT_SEED, LOT_N, LOT_MEAN_MM, LOT_SD_MM = 2026, 24, 40.0035, 0.0028
+LOT_EXCLUDED = (6,)      # the study's Exclusions (part indices): the 7th bore, re-measured
+
+
+def lot_values() -> list[float]:
+    import numpy as np
+
+    x = np.random.default_rng(LOT_SEED).normal(LOT_MEAN_MM, LOT_SD_MM, LOT_N)
+    return [round(float(v), 4) for v in x]
+
+
+def lot_document() -> bytes:
+    """``lot.qif``: the lot's bores in mm with a QIF CapabilityStudyResults of them (the 7th excluded)."""
+    parts = [(f"L-{j + 1:04d}", [(v, None)]) for j, v in enumerate(lot_values())]
+    return qif_document(LOT_CHARACTERISTICS, parts, linear_units=(("mm", 0.001),),
+                        statistics=("CapabilityStudyResults", {0: list(LOT_EXCLUDED)}))
+
+
 def main(argv: list[str]) -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "truth.csv").write_text(truth_csv(), encoding="utf-8")
     (OUT / "parts.qif").write_bytes(qif_document())
+    (OUT / "lot.qif").write_bytes(lot_document())
+    (OUT / "lot_truth.csv").write_text("# the lot.qif bores (studies/make_inspection_fixtures.py)\nserial, bore.d [mm]\n"
+                                       + "".join(f"L-{j + 1:04d}, {v:.4f}\n" for j, v in enumerate(lot_values())),
+                                       encoding="utf-8")
     (OUT / "parts.dfq").write_bytes(dfq_file())
     (OUT / "parts_qif_map.csv").write_text(QIF_MAP, encoding="utf-8")
     (OUT / "parts_dfq_map.csv").write_text(DFQ_MAP, encoding="utf-8")
@@ -228,10 +292,11 @@ def main(argv: list[str]) -> None:
 
         xsd = Path(argv[argv.index("--validate") + 1]) / "QIFApplications" / "QIFDocument.xsd"
         schema = xmlschema.XMLSchema(str(xsd))
-        errors = list(schema.iter_errors(str(OUT / "parts.qif")))
-        for e in errors[:5]:
-            print("invalid:", e.reason, e.path, file=sys.stderr)
-        print(f"parts.qif against {xsd}: {'valid' if not errors else f'{len(errors)} errors'}")
+        for name in ("parts.qif", "lot.qif"):
+            errors = list(schema.iter_errors(str(OUT / name)))
+            for e in errors[:5]:
+                print("invalid:", e.reason, e.path, file=sys.stderr)
+            print(f"{name} against {xsd}: {'valid' if not errors else f'{len(errors)} errors'}")
 
 
 if __name__ == "__main__":

@@ -16,8 +16,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from conftest import ROOT, run_cli, write
+from rvtol import units
 from rvtol.errors import InputError
-from rvtol.inputs.inspection import mapped_table, read_dfq
+from rvtol.inputs.inspection import characteristic_values, check_statistics, mapped_table, read_dfq, read_qif
 from rvtol.production import FamilySource, load_measured_units
 from rvtol.production.measured_parts import read_part_family
 from rvtol.spec import spec_from_table
@@ -315,8 +316,16 @@ def _write_qif(path, n_parts, chars):
     characteristics = [(f"CH{k}", "Angle" if ch["dim"] == "angle" else ("Diameter", "LinearCoordinate")[k % 2],
                         ch["unit"][0], ch["nominal"], 1.0) for k, ch in enumerate(chars)]
     parts = [(f"S-{j}", [(ch["values"][j], None) for ch in chars]) for j in range(n_parts)]
-    path.write_bytes(FIXTURES.qif_document(characteristics, parts, linear, angular))
+    # a study of every characteristic, the first part excluded from those read as deviations (when there are two)
+    study = ("SimpleStudyResults", {k: [0] if ch["deviation"] and n_parts > 1 else [] for k, ch in enumerate(chars)})
+    path.write_bytes(FIXTURES.qif_document(characteristics, parts, linear, angular, statistics=study))
     return [f"CH{k}" for k in range(len(chars))]
+
+
+def _item_ids(path) -> list[str]:
+    """The CharacteristicItem ids of a QIF file in document order (ElementTree)."""
+    ns = {"q": "http://qifstandards.org/xsd/qif3"}
+    return [it.get("id") for it in ET.parse(path).getroot().find("q:Characteristics/q:CharacteristicItems", ns)]
 
 
 def _write_dfq(path, n_parts, chars, compact):
@@ -340,8 +349,17 @@ def test_random_truth_tables_read_back_from_qif_and_dfq_as_pint_converts_them(tm
         for k, (n, ch) in enumerate(zip(names, chars))))
     spec = spec_from_table({"factor": [{"name": f"p.f{k}", "unit": "mm" if ch["dim"] == "length" else "rad",
                                         "dist": "normal", "mean": 0.0, "sigma": 1.0} for k, ch in enumerate(chars)]})
-    fam = read_part_family(path, ["p"], spec, mapping=mapping)
+    fam = read_part_family(path, ["p"], spec, mapping=mapping)     # the file's statistics agree with its values
     assert fam.serials == tuple(f"S-{j}" for j in range(n_parts))
+    if fmt == "qif":
+        f = read_qif(path)
+        for k, ch in enumerate(chars):
+            rows = {r["figure"]: r["file"] for r in check_statistics(f, f"{_item_ids(path)[k]}")}
+            kept = [_oracle(x, ch) for j, x in enumerate(ch["values"]) if not (j == 0 and ch["deviation"] and n_parts > 1)]
+            average = units.to_base(rows["Average"], f.characteristics[_item_ids(path)[k]].unit)   # in mm or rad
+            assert rows["EffectiveNumber"] == len(kept) and rows["TotalNumber"] == n_parts
+            assert math.isclose(average, math.fsum(kept) / len(kept), rel_tol=1e-12,
+                                abs_tol=1e-12 * max(abs(v) for v in kept))
     for k, ch in enumerate(chars):
         nominal = ch["nominal"] if ch["deviation"] else 0.0
         # the reader subtracts the nominal after scaling, the oracle before: they agree to the nominal's ulp
@@ -389,3 +407,130 @@ def test_a_qif_deviation_in_a_unit_rvtol_does_not_know_subtracts_the_nominal_in_
     fam = _one_characteristic_qif(tmp_path, [("foot", 0.3048)], [("degree", math.pi / 180)], 0.25, 0.5, nominal=0.1)
     np.testing.assert_allclose(fam.values[:, 0], UREG.Quantity(np.array([0.15, -0.35]), "foot").to("mm").magnitude,
                                rtol=1e-12)
+
+
+# --------------------------------------------------------------------------- QIF Statistics
+
+
+def _lot_truth() -> list[float]:
+    rows = [line.split(",") for line in (DATA / "lot_truth.csv").read_text("utf-8").splitlines()[2:]]
+    return [float(v) for _, v in rows]
+
+
+def test_a_qif_lot_reads_back_its_values_and_its_capability_study_as_the_standard_library_computes_it():
+    values, unit, rows = characteristic_values(DATA / "lot.qif", "CRANK_BORE_D", "um")
+    truth = _lot_truth()
+    assert unit == "um" and len(values) == 24
+    np.testing.assert_allclose(values, [1000.0 * v for v in truth], rtol=1e-15)
+    kept = [1000.0 * v for j, v in enumerate(truth) if j != 6]          # the study excludes the 7th bore
+    import statistics
+    want = {"TotalNumber": 24, "EffectiveNumber": 23, "Average": statistics.fmean(kept),
+            "StandardDeviation": statistics.stdev(kept), "Minimum": min(kept), "Maximum": max(kept),
+            "Range": max(kept) - min(kept)}
+    assert [r["figure"] for r in rows] == list(want)
+    for r in rows:
+        assert r["study"].startswith("CapabilityStudyResults id=")
+        assert math.isclose(r["file"], want[r["figure"]], rel_tol=1e-12), r
+        assert math.isclose(r["recomputed"], want[r["figure"]], rel_tol=1e-12), r
+
+
+def _tampered(tmp_path, figure: str, value: str):
+    text = (DATA / "lot.qif").read_text("utf-8")
+    head, tail = text.split(f"<{figure}>", 1)
+    old = tail.split("<Value>", 1)[1].split("</Value>", 1)[0]
+    path = tmp_path / "lot.qif"
+    path.write_text(head + f"<{figure}>" + tail.replace(f"<Value>{old}</Value>", f"<Value>{value}</Value>", 1),
+                    "utf-8")
+    return path, float(old)
+
+
+def test_a_qif_statistic_that_its_own_measurements_contradict_is_refused_by_study_and_figure(tmp_path):
+    path, old = _tampered(tmp_path, "Average", "40.0034")       # the mean of all 24, not of the 23 the study keeps
+    with pytest.raises(InputError) as exc:
+        characteristic_values(path, "CRANK_BORE_D", "mm")
+    assert exc.value.file == str(path)
+    assert exc.value.key.startswith("CapabilityStudyResults id=") and "DiameterCharacteristicStats (1st)" in exc.value.key
+    assert "Average 40.0034 mm of 'CRANK_BORE_D' disagrees with its 23 measurements" in exc.value.reason
+    # a figure written to fewer digits agrees to those digits: the mean rounded to 0.1 µm
+    path, _ = _tampered(tmp_path, "Average", f"{old:.4f}")
+    characteristic_values(path, "CRANK_BORE_D", "mm")
+
+
+def test_a_population_standard_deviation_is_named_as_such(tmp_path):
+    kept = [v for j, v in enumerate(_lot_truth()) if j != 6]
+    pop = float(np.std(kept, ddof=0))
+    path, _ = _tampered(tmp_path, "StandardDeviation", repr(pop))
+    with pytest.raises(InputError) as exc:
+        characteristic_values(path, "CRANK_BORE_D", "mm")
+    assert "StandardDeviation" in exc.value.reason and "population standard deviation" in exc.value.reason
+
+
+def test_a_mapped_part_family_is_checked_against_the_files_statistics_too(tmp_path):
+    path, _ = _tampered(tmp_path, "Maximum", "40.0099")
+    spec = spec_from_table({"factor": [{"name": "crank.bore", "unit": "mm", "dist": "normal", "sigma": 1.0}]})
+    mapping = write(tmp_path / "map.csv", "characteristic, feature, reading, u [um]\nCRANK_BORE_D, bore, deviation, 0.5\n")
+    with pytest.raises(InputError) as exc:
+        read_part_family(path, ["crank"], spec, mapping=mapping)
+    assert "Maximum 40.0099 mm" in exc.value.reason and exc.value.key.startswith("CapabilityStudyResults")
+    fam = read_part_family(DATA / "lot.qif", ["crank"], spec, mapping=mapping)       # the untouched file reads
+    np.testing.assert_allclose(fam.values[:, 0], np.array(_lot_truth()) - 40.0, atol=1e-12)
+
+
+def test_the_public_all_in_one_samples_statistics_do_not_all_reproduce_from_its_measurements(tmp_path):
+    # the DMSC's All-in-one.QIF (public/): a SimpleStudyResults of two spheres. As published it has no FileUnits —
+    # a value in no stated unit is refused; with the FileUnits a CMM writes (mm), its sphere diameter's Average
+    # 25.3441663869135 is the mean of its two measurements (25.008…, 25.680…), but its sphericity's Average
+    # 0.251457258827 is the first measurement itself: the mean of 0.251457258827 and 0.051042207099 is 0.151249732963
+    sample = DATA / "public" / "All-in-one.QIF"
+    with pytest.raises(InputError) as exc:
+        read_qif(sample)
+    assert "no linear unit (primary) in FileUnits" in exc.value.reason
+    text = sample.read_text("utf-8").replace("  <Characteristics>\n", (
+        "  <FileUnits><PrimaryUnits><LinearUnit><SIUnitName>meter</SIUnitName><UnitName>mm</UnitName>"
+        "<UnitConversion><Factor>0.001</Factor></UnitConversion></LinearUnit></PrimaryUnits></FileUnits>\n"
+        "  <Characteristics>\n"), 1)
+    path = write(tmp_path / "all.qif", text)
+    f = read_qif(path)
+    by_name = {c.names[0]: c.key for c in f.characteristics.values()}
+    rows = check_statistics(f, by_name["SphericalDiameter1"])
+    assert [(r["figure"], r["file"]) for r in rows] == [("Average", 25.3441663869135)]
+    assert math.isclose(rows[0]["recomputed"], (25.008279671621001 + 25.680053102205999) / 2, rel_tol=1e-15)
+    with pytest.raises(InputError) as exc:
+        check_statistics(f, by_name["Sphericity1"])
+    assert "Average 0.251457258827 mm of 'Sphericity1' disagrees with its 2 measurements (0.151249733)" \
+        in exc.value.reason
+
+
+def test_a_statistics_only_qif_is_refused_with_the_reason(tmp_path):
+    text = (DATA / "lot.qif").read_text("utf-8")
+    start, end = text.index("  <Results>"), text.index("</Results>") + len("</Results>\n")
+    path = write(tmp_path / "stats_only.qif", text[:start] + text[end:])
+    with pytest.raises(InputError) as exc:
+        read_qif(path)
+    assert "holds Statistics only" in exc.value.reason and exc.value.key == "Results"
+
+
+def test_a_measured_factor_reads_a_qif_characteristic_and_the_report_gets_its_statistics(tmp_path):
+    import shutil
+
+    from rvtol.inputs.measured import evidence
+
+    shutil.copy(DATA / "lot.qif", tmp_path / "lot.qif")
+    spec = spec_from_table({"factor": [{"name": "bore", "unit": "um", "dist": "measured", "data": "lot.qif",
+                                        "column": "CRANK_BORE_D", "families": ["normal"]}]},
+                           file=str(tmp_path / "spec.toml"))
+    f = spec.factors[0]
+    truth = 1000.0 * np.array(_lot_truth())
+    np.testing.assert_allclose(np.sort(f.measured.values), np.sort(truth), rtol=1e-15)
+    assert math.isclose(f.dist.mean, truth.mean(), rel_tol=1e-12)
+    ev = evidence(f.measured, f.dist, n_mc=19, seed=1)
+    assert list(ev["file_statistics"]["figure"]) == ["TotalNumber", "EffectiveNumber", "Average",
+                                                     "StandardDeviation", "Minimum", "Maximum", "Range"]
+    with pytest.raises(InputError) as exc:        # no characteristic named: which of the file's?
+        spec_from_table({"factor": [{"name": "bore", "unit": "um", "dist": "measured", "data": "lot.qif"}]},
+                        file=str(tmp_path / "spec.toml"))
+    assert "name one in the factor's 'column'" in exc.value.reason
+    with pytest.raises(InputError) as exc:
+        spec_from_table({"factor": [{"name": "bore", "unit": "um", "dist": "measured", "data": "lot.qif",
+                                     "column": "CRANK_BORE"}]}, file=str(tmp_path / "spec.toml"))
+    assert "no characteristic 'CRANK_BORE'" in exc.value.reason and "CRANK_BORE_D" in exc.value.reason

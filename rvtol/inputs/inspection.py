@@ -1,4 +1,4 @@
-"""Measured parts in the inspection room's formats: QIF 3.0 MeasurementResults and Q-DAS DFQ (AQDEF).
+"""Measured parts in the inspection room's formats: QIF 3.0 MeasurementResults and Statistics, Q-DAS DFQ (AQDEF).
 
 A part family's measured parts (:mod:`rvtol.production.measured_parts`) may come as a QIF or DFQ file with a
 **mapping file** instead of rvtol's own CSV.  The reader turns the file and its mapping into the very table the
@@ -39,6 +39,20 @@ kept, and the values reach the spec's unit through :mod:`rvtol.units` as a CSV c
 to mm with its factor (:func:`rvtol.units.convert`).  Angular values the same way through radians.  A unit
 without ``UnitConversion`` is the SI unit when its ``UnitName`` is the schema's ``SIUnitName`` (``meter``,
 ``radian``), else read by its ``UnitName`` (:func:`rvtol.units.canonical`).
+
+**QIF Statistics.**  A document's ``Statistics/StatisticalStudiesResults`` (a simple, capability, gauge R&R, …
+study) reports figures of each characteristic — ``ValueStats``' Average, StandardDeviation, Minimum, Maximum,
+Range, TotalNumber, EffectiveNumber, Cpk, … — over the measurements its ``MeasuredIds`` name (less its
+``Exclusions``).  They are read through the same bindings and joined to the characteristic item through those
+measurements.  rvtol fits a factor's law to the measured values themselves (the family, the tails, the fit's own
+uncertainty — which a summary does not give), so the figures are a **check**: every mapped characteristic (and a
+measured factor's, :func:`characteristic_values`) has each of TotalNumber, EffectiveNumber, Average,
+StandardDeviation (the sample one, n − 1, as the schema defines it; a population one is named as such), Minimum,
+Maximum and Range recomputed from the measurements the study names, and a figure that differs by more than half a
+unit in its last written place is an error naming the study — the file contradicts itself, and which of the two a
+verdict should rest on is not said (:func:`check_statistics`; the figures that agree are shown in the report of a
+measured factor).  A document of Statistics only is refused with that reason; a study's inline ``MeasuredValues``
+name no characteristic and are not read.
 
 **DFQ** (the Q-DAS ASCII transfer format, AQDEF).  No existing reader serves: ``aqdefreader`` (PyPI 1.3.0)
 prints to stdout, leaves a coded value such as ``K0001/1 -0.5`` or ``1.5`` as text (its number pattern has no
@@ -125,11 +139,34 @@ class Part:
 
 
 @dataclass
+class Statistic:
+    """One figure a QIF Statistics study reports of a characteristic (Average, StandardDeviation, …)."""
+
+    name: str                        # the QIF element: Average, StandardDeviation, Minimum, …
+    value: float                     # in the characteristic's unit (a count or a ratio as written)
+    half_ulp: float                  # half a unit in the last place written, in the same unit
+
+
+@dataclass
+class CharacteristicStatistics:
+    """A QIF Statistics study's figures of one characteristic and the measurements they were computed from."""
+
+    study: str                       # how an error names the study: "CapabilityStudyResults id=13"
+    where: str                       # study + ", DiameterCharacteristicStats (2nd)"
+    key: str | None                  # the characteristic item its measurements name (None: it names none we hold)
+    measured: list[str]              # the ids of the measurements it evaluates (excluded ones left out)
+    candidates: int                  # the ids it lists, the excluded ones too
+    figures: list[Statistic]
+
+
+@dataclass
 class InspectionFile:
     file: str
     sha256: str
     characteristics: dict[str, Characteristic]
     parts: list[Part]
+    measurements: dict[str, tuple[str, float]] = field(default_factory=dict)   # QIF id -> (item key, value)
+    statistics: list[CharacteristicStatistics] = field(default_factory=list)
 
     def error(self, reason: str, where: str) -> SpecError:
         return SpecError(reason, file=self.file, key=where)
@@ -282,10 +319,114 @@ def read_qif(path) -> InspectionFile:
             k /= units.to_base(1.0, c.unit)
             u = m.value.combined_uncertainty
             part.readings.setdefault(key, []).append((float(m.value.value) * k, None if u is None else float(u) * k))
+            f.measurements[str(m.id)] = (key, float(m.value.value) * k)
         f.parts.append(part)
+    f.statistics = _qif_statistics(doc, f, factors)
     if not f.parts:
-        raise f.error("no MeasurementResults in the document", "Results")
+        raise f.error("no MeasurementResults in the document" + (
+            ": it holds Statistics only — a factor's law is fitted to the measured values themselves (its family, "
+            "its tails, its own uncertainty), which a study's Average and StandardDeviation do not give"
+            if f.statistics else ""), "Results")
     return f
+
+
+#: the figures of a QIF study rvtol recomputes from the measurements it names (the rest are read, not checked)
+CHECKED = ("TotalNumber", "EffectiveNumber", "Average", "StandardDeviation", "Minimum", "Maximum", "Range")
+#: figures in the characteristic's unit (the others are counts or ratios)
+_IN_UNIT = ("Average", "Minimum", "Maximum", "Range", "AverageRange", "StandardDeviation", "RootMeanSquare",
+            "Difference", "EstimatedStandardDeviation", "ProcessVariation", "UpperControlLimit", "LowerControlLimit")
+
+
+def _element(obj) -> str:
+    """The QIF element name of a bound object (xsdata keeps it in ``Meta.name`` where it is not the class name)."""
+    return getattr(getattr(type(obj), "Meta", None), "name", type(obj).__name__)
+
+
+def _ordinal(i: int) -> str:
+    return f"{i}{'th' if 10 <= i % 100 <= 20 else {1: 'st', 2: 'nd', 3: 'rd'}.get(i % 10, 'th')}"
+
+
+def _qif_statistics(doc, f: InspectionFile, factors) -> list[CharacteristicStatistics]:
+    """Every characteristic's figures in the document's Statistics/StatisticalStudiesResults, joined to the
+    characteristic item through the measurements its ``MeasuredIds`` name (``Exclusions`` left out); the figures in
+    the characteristic's unit (the ``linearUnit`` / ``angularUnit`` of its ``ValueStats``, else the primary unit).
+    Statistics of inline ``MeasuredValues`` name no characteristic and are kept with ``key`` None."""
+    st = doc.statistics
+    out: list[CharacteristicStatistics] = []
+    for study in _members(st.statistical_studies_results if st is not None else None):
+        sname = f"{_element(study)} id={study.id}"
+        seen: dict[str, int] = {}
+        for cs in _members(study.characteristics_stats):
+            kind = _element(cs)
+            seen[kind] = seen.get(kind, 0) + 1
+            where = f"{sname}, {kind} ({_ordinal(seen[kind])})"
+            ids = [_ref(r) for r in (cs.measured_ids.ids.id if cs.measured_ids is not None else [])]
+            excluded = {_ref(e.id) for e in (cs.measured_ids.exclusions.exclusion
+                                              if cs.measured_ids is not None and cs.measured_ids.exclusions else [])}
+            measured = [i for i in ids if i not in excluded]
+            keys = {f.measurements[i][0] for i in ids if i in f.measurements}
+            if len(keys) > 1:
+                raise f.error(f"its MeasuredIds name measurements of {len(keys)} characteristics "
+                              f"({', '.join(sorted(f.characteristics[k].names[0] for k in keys))}): one per "
+                              "CharacteristicStats", where)
+            key = next(iter(keys), None)
+            unknown = [i for i in ids if i not in f.measurements]
+            if key is not None and unknown:
+                raise f.error(f"its MeasuredIds name {len(unknown)} measurement(s) the document does not hold "
+                              f"(id {unknown[0]})", where)
+            figures = []
+            vs = getattr(cs, "value_stats", None)
+            c = f.characteristics.get(key) if key is not None else None
+            k = 1.0
+            if vs is not None and c is not None and c.unit is not None:
+                dim = units.dimension(c.unit)
+                dim = "length" if dim == "length" else "angle"
+                k = _qif_unit(factors, dim, vs, f, where)[1] / units.to_base(1.0, c.unit)
+            for el in _members(vs):
+                name = _element(el)
+                raw = getattr(el, "value", None)
+                raw = getattr(raw, "value", raw)          # a MeasuredDecimalType's number
+                if raw is None or isinstance(raw, (list, tuple)):
+                    continue            # per-subgroup lists: not checked
+                exp = raw.as_tuple().exponent if hasattr(raw, "as_tuple") else 0
+                scale = k if name in _IN_UNIT else 1.0
+                figures.append(Statistic(name, float(raw) * scale, 0.5 * 10.0 ** exp * abs(scale)))
+            out.append(CharacteristicStatistics(sname, where, key, measured, len(ids), figures))
+    return out
+
+
+def check_statistics(source: InspectionFile, key: str) -> list[dict]:
+    """The file's own Statistics of characteristic ``key`` recomputed from the measurements each study names: one
+    row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's); a figure that disagrees by more
+    than half a unit in its last written place (and 1e-9 relative, the arithmetic) is an error naming the study —
+    the file contradicts itself, and which of the two a verdict should rest on is not said."""
+    rows = []
+    for s in source.statistics:
+        if s.key != key:
+            continue
+        x = [source.measurements[i][1] for i in s.measured]
+        n = len(x)
+        mean = math.fsum(x) / n if n else math.nan
+        spread = max((abs(v - mean) for v in x), default=0.0) or 1.0      # scaled: no underflow of tiny squares
+        sd = spread * math.sqrt(math.fsum(((v - mean) / spread) ** 2 for v in x) / (n - 1)) if n > 1 else math.nan
+        ours = {"TotalNumber": s.candidates, "EffectiveNumber": n, "Average": mean, "StandardDeviation": sd,
+                "Minimum": min(x, default=math.nan), "Maximum": max(x, default=math.nan),
+                "Range": (max(x) - min(x)) if x else math.nan}
+        for fig in s.figures:
+            if fig.name not in CHECKED:
+                continue
+            want = ours[fig.name]
+            if not (abs(fig.value - want) <= fig.half_ulp + 1e-9 * max(abs(want), abs(fig.value))):
+                hint = ""
+                if fig.name == "StandardDeviation" and n > 1 and math.isclose(
+                        fig.value, sd * math.sqrt((n - 1) / n), rel_tol=1e-9, abs_tol=fig.half_ulp):
+                    hint = " (the population standard deviation, n in the denominator; QIF's is the sample one, n − 1)"
+                unit = source.characteristics[key].unit if fig.name in _IN_UNIT else ""
+                raise source.error(f"{fig.name} {fig.value:.15g}{' ' + unit if unit else ''} of "
+                                   f"{source.characteristics[key].names[0]!r} disagrees with its {n} measurements "
+                                   f"({want:.10g}){hint}: the file contradicts itself", s.where)
+            rows.append({"study": s.study, "figure": fig.name, "file": fig.value, "recomputed": want})
+    return sorted(rows, key=lambda r: (r["study"], CHECKED.index(r["figure"])))
 
 
 # --------------------------------------------------------------------------- DFQ (AQDEF)
@@ -438,10 +579,59 @@ def _find(source: InspectionFile, name: str) -> list[Characteristic]:
     return []
 
 
+def read_inspection(path) -> InspectionFile:
+    """A QIF or DFQ file, by its suffix."""
+    return read_qif(path) if Path(path).suffix.lower() in QIF_SUFFIXES else read_dfq(path)
+
+
+def characteristic_values(path, name, unit: str | None = None) -> tuple[list[float], str, list[dict]]:
+    """One characteristic's measured values over a QIF or DFQ file's parts — a factor's ``data`` (``dist =
+    "measured"``, ``column`` the characteristic's name as a mapping names it): ``(values, unit, statistics)``, the
+    values in ``unit`` (the factor's; the file's own when None) and the rows of :func:`check_statistics` (a QIF
+    study's figures that disagree with the values are an error).  A part not measured on it is skipped; one
+    measured on it twice is an error (which reading is the part's is not said)."""
+    source = read_inspection(path)
+    if name is None or name == "":
+        raise source.error("a QIF or DFQ file holds many characteristics: name one in the factor's 'column'", "-")
+    name = str(name)
+    hits = _find(source, name)
+    if not hits:
+        known = [c.names[0] for c in source.characteristics.values()]
+        raise source.error(f"no characteristic {name!r}{did_you_mean(name, known)}", "-")
+    if len(hits) > 1:
+        raise source.error(f"{len(hits)} characteristics are called {name!r}: name one by its "
+                           f"{'id (id:N)' if Path(path).suffix.lower() in QIF_SUFFIXES else 'number (K2001)'}", "-")
+    c = hits[0]
+    if c.problem is not None:
+        raise source.error(c.problem[1], c.problem[0])
+    values = []
+    for part in source.parts:
+        if c.key in part.problems:
+            raise source.error(*reversed(part.problems[c.key]))
+        got = part.readings.get(c.key, [])
+        if len(got) > 1:
+            raise source.error(f"characteristic {c.names[0]!r} is measured {len(got)} times on this part: which "
+                               "reading is the part's is not said", part.where)
+        values += [x for x, _ in got]
+    if not values:
+        raise source.error(f"characteristic {c.names[0]!r} is measured on no part", c.where)
+    if c.unit is None:
+        raise source.error(f"the file gives no unit for {c.names[0]!r}", c.where)
+    rows = check_statistics(source, c.key)
+    if unit is None or units.canonical(unit) == c.unit:
+        return values, c.unit, rows
+    if units.dimension(unit) != units.dimension(c.unit):
+        raise source.error(f"{c.names[0]!r} is in {c.unit}, which does not convert to the factor's unit {unit}",
+                           c.where)
+    k = float(units.convert(1.0, c.unit, unit))
+    return [x * k for x in values], units.canonical(unit), [
+        {**r, **{v: r[v] * k for v in ("file", "recomputed") if r["figure"] in _IN_UNIT}} for r in rows]
+
+
 def mapped_table(path, mapping) -> MappedTable:
     """The part-family table of a QIF or DFQ file ``path`` through its ``mapping`` file (module docstring)."""
     suffix = Path(path).suffix.lower()
-    source = read_qif(path) if suffix in QIF_SUFFIXES else read_dfq(path)
+    source = read_inspection(path)
     t = read_table(mapping, what="characteristic, feature[, reading, unit, u [unit]]")
     unknown = [i for i, n in enumerate(t.names) if n not in MAPPING_COLUMNS]
     if unknown:
@@ -506,6 +696,7 @@ def mapped_table(path, mapping) -> MappedTable:
                 u = float(units.convert(u, u_unit, unit))
             else:
                 u *= c.scale
+        check_statistics(source, c.key)
         mapped.append(_Mapped(r, c, feature, reading == "deviation", unit, u))
     if not mapped:
         raise t.error("no characteristics mapped")

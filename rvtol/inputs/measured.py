@@ -53,6 +53,7 @@ from scipy import special, stats
 
 from ..distributions import Distribution, coverage
 from ..errors import did_you_mean, InputError, SpecError
+from .inspection import characteristic_values, is_inspection_file
 from .sheets import (CommaColumn, blank, byte_progress, col_letter, is_number, skipped, split_number_hint,
                      split_header, stream_rows)
 
@@ -855,6 +856,8 @@ class Measured:
     measurement_sigma: float | None = None
     fit: FitReport | None = None  # the ranked candidates (method fit; without the GoF test, run by the report)
     family: str | None = None     # the family used (fit)
+    file_statistics: list = field(default_factory=list)   # a QIF file's own Statistics of the values, recomputed
+                                                          # (rvtol.inputs.inspection.check_statistics)
 
     @property
     def n(self) -> int:
@@ -872,7 +875,10 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
     relative to ``base_dir``), ``column``, ``sheet``, ``method`` (fit | empirical | kde, default
     fit), ``families`` and ``family`` (fit), ``location`` (fit), ``interpolate`` (empirical),
     ``bandwidth`` (kde: scott | silverman | number), ``measurement_sigma``.  The caller reads
-    ``dist``, ``name``, ``unit``… as for any factor.
+    ``dist``, ``name``, ``unit``… as for any factor.  ``data`` may be a QIF 3.0 or DFQ file
+    (:func:`rvtol.inputs.inspection.characteristic_values`): ``column`` then names its characteristic (the QIF item's
+    Name or ``id:N``, the DFQ description K2002 or number K2001), the values are every part's reading of it in the
+    factor's unit, and a QIF file's own Statistics of them are checked and shown in the report.
     """
     path = p.path_value("data", Path(base_dir))
     col = p.raw("column", None)
@@ -883,14 +889,22 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
     u = p.float("measurement_sigma", None, positive=True)
     try:
         unit = p.data.get("unit")    # the factor's unit: a header's unit (d [um]) is converted to it
-        values = read_measurements(path, col, sheet=sheet, unit=unit if isinstance(unit, str) else None)
+        unit = unit if isinstance(unit, str) else None
+        statistics = []
+        if is_inspection_file(path):   # QIF / DFQ: ``column`` names the characteristic
+            if sheet is not None:
+                raise p.error("sheet", f"a sheet is read from an xlsx file, not from {path.name}")
+            got, _, statistics = characteristic_values(path, col, unit)
+            values = _clean(got)
+        else:
+            values = read_measurements(path, col, sheet=sheet, unit=unit)
     except InputError as exc:
         if exc.key in (None, "-"):   # the file as a whole (missing, unreadable): the spec's key
             raise p.error("data", f"{exc.reason}: {exc.file}") from None
         raise                        # a cell of the data file: that file, row and column
     origin = f"{method} of {path.name}" + (f"[{col}]" if col is not None else "")
     record = dict(values=values, data=str(p.data["data"]), column=col, sheet=sheet, method=method,
-                  measurement_sigma=u)
+                  measurement_sigma=u, file_statistics=statistics)
     try:
         if method == "empirical":
             d = empirical(values, interpolate=p.bool("interpolate", False), measurement_sigma=u, origin=origin)
@@ -929,7 +943,8 @@ def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> 
         "source": m.source, "method": m.method + (f" ({m.family})" if m.family else ""), "n": m.n,
         "mean": float(np.mean(x)), "s": float(np.std(x, ddof=1)), "min": float(np.min(x)), "max": float(np.max(x)),
         "gauge u²/s²": gauge, "distribution": dist.describe()}]),
-        "ranking": None, "gof": None, "qq": None}
+        "ranking": None, "gof": None, "qq": None,
+        "file_statistics": pd.DataFrame(m.file_statistics) if m.file_statistics else None}
     if m.fit is not None:
         c = m.fit.candidate(m.family)
         out["ranking"] = m.fit.table()

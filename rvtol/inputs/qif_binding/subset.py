@@ -28,7 +28,7 @@ ROOT = "QIFDocument"
 
 #: complex type (a full-match pattern of its name) -> the child elements (name or ref) kept in its content model
 KEEP = {
-    "QIFDocumentType": {"Version", "FileUnits", "Characteristics", "Results"},
+    "QIFDocumentType": {"Version", "FileUnits", "Characteristics", "Results", "Statistics"},
     "ResultsType": {"MeasurementResultsSet", "ActualComponentSets"},
     "MeasurementResultsType": {"MeasuredCharacteristics", "ActualComponentIds"},
     "ActualComponentType": {"SerialNumber"},
@@ -37,6 +37,15 @@ KEEP = {
     # one characteristic of any kind: its name, the links item -> nominal, measurement -> item, the values
     r"\w*Characteristic(Nominal|Item|Measurement)(Base)?Type": {
         "Name", "CharacteristicNominalId", "CharacteristicItemId", "TargetValue", "Value"},
+    # QIF Statistics: each study's per-characteristic statistics of its values (the measurements they name, or
+    # the values themselves) and what it computed of them (Average, StandardDeviation, Minimum, …)
+    "StatisticsType": {"StatisticalStudiesResults"},
+    "StatisticalStudyResultsBaseType": {"CharacteristicsStats"},
+    "MultipleProductInstanceStudyResultsBaseType": {"NumberOfSamples"},
+    r"\w*StudyResultsType": set(),
+    "CharacteristicStatsEvalBaseType": {"MeasuredIds", "MeasuredValues"},
+    r"\w*CharacteristicStatsEvalType": {"ValueStats"},
+    r"Stats(WithTol)?NumericalBaseType": {"NumericCharacteristicStatsValue", "NumericCharacteristicWithTolStatsValue"},
 }
 #: what no value is read from: annotations, identity constraints (they name paths the subset cut)
 DROPPED = ("annotation", "key", "keyref", "unique")
@@ -124,8 +133,8 @@ def subset(pool: dict[tuple[str, str], ET.Element]) -> list[ET.Element]:
             todo.extend(references(node))
             if kind == "element":
                 todo.extend(members.get(name, []))
-    order = {id(n): i for i, n in enumerate(pool.values())}
-    return sorted(written, key=lambda n: order.get(id(n), -1))
+    order = {key: i for i, key in enumerate(pool)}     # the schema's own order (not the walk's, which follows sets)
+    return sorted(written, key=lambda n: order[(n.tag.split("}")[1], n.get("name"))])
 
 
 def main(qif_dir: str, out: str) -> None:
