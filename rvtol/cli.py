@@ -64,6 +64,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="sample batches of n until every requirement is PASS or FAIL at its confidence by an "
                           "anytime-valid rule, or --max-n samples are drawn (a sequential run; random sampling)")
     run.add_argument("--max-n", type=int, help="the sample budget of --until-decided (default: 20 n)")
+    run.add_argument("--tails", action="store_true",
+                     help="decide the yield requirements the Monte Carlo leaves UNDECIDED by tail estimators "
+                          "(importance sampling, subset simulation; rvtol.tail_decision), cross-checked against it")
     run.add_argument("--chunk-size", type=int, help="samples per task (default: automatic)")
     run.add_argument("--task-log", metavar="FILE", help="write every parallel call's tasks and their CPU seconds "
                      "(JSON) with the run projected on as many dedicated cores as it had workers: run with "
@@ -189,7 +192,7 @@ def _overrides(args) -> dict:
         raise InputError(f"must be >= 0, got {args.seed}", file="<command line>", key="--seed")
     ov = dict(n=args.n, seed=args.seed, method=args.method, executor=args.executor, workers=args.workers,
               scheduler=args.scheduler, chunk_size=args.chunk_size, until_decided=args.until_decided or None,
-              max_n=args.max_n)
+              max_n=args.max_n, tails=args.tails or None)
     if args.no_pdf:
         ov["pdf"] = False
     if args.tables:

@@ -330,6 +330,8 @@ class MonteCarloResult:
     measured: object = None
     #: a sequential run's record (rvtol.sequential.Stopping): its rule, not the fixed-n bounds, gives the verdicts
     stopping: object = None
+    #: requirement label -> rvtol.tail_decision.TailDecision: what the tail estimators decided of those left undecided
+    tails: dict | None = None
 
     @property
     def n(self) -> int:
@@ -437,6 +439,10 @@ class MonteCarloResult:
                        n=self.n, constant=constant, other_cpk=other, shape=shape, fit=fit)
             out.append(Verdict(r, yr, cap, pci, jd.passed, jd.reasons, yb, cb, jd.n_to_demonstrate, jd.notes,
                                jd.parts_to_demonstrate, jd.undecided, shape, record))
+        if self.tails:
+            from .tail_decision import apply
+
+            out = [apply(v, self.tails[v.requirement.label]) if v.requirement.label in self.tails else v for v in out]
         return out if self.stopping is None else [self._sequential_verdict(v) for v in out]
 
     def _sequential_verdict(self, v: Verdict) -> Verdict:

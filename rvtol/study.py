@@ -68,7 +68,7 @@ import secrets
 import shutil
 import time
 from contextlib import nullcontext
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -109,6 +109,8 @@ class RunOptions:
     tables: tuple[str, ...] = ()       # also write samples/statistics as these table formats (csv, xlsx)
     until_decided: bool = False        # sequential run: batches of n until every requirement is decided (or max_n)
     max_n: int | None = None           # a sequential run's sample budget (default: MAX_N_PER_BATCH × n)
+    tails: bool = False                # undecided yield requirements decided by tail estimators (rvtol.tail_decision)
+    tail_samples: int = 1000           # model runs per tail estimator and limit
 
 
 @dataclass
@@ -557,6 +559,8 @@ def _options(root: Params, ov: dict) -> RunOptions:
         method=s.str("method", "random" if until else "lhs", choices=METHODS),
         until_decided=until,
         max_n=s.int("max_n", None, min=2),
+        tails=bool(ov.get("tails")) or s.bool("tails", False),
+        tail_samples=s.int("tail_samples", 1000, min=100),
         seed=s.int("seed", 12345, min=0),
         **execution_keys(e, ov),
         chunk_size=e.int("chunk_size", 0, min=0) or None,
@@ -590,6 +594,10 @@ def _sequential_options(o: RunOptions, file: str, ov: dict) -> None:
         return ({"file": "<command line>", "key": f"--{k.replace('_', '-')}"} if cli.get(k) else
                 {"file": file, "key": f"sampling.{k}"})
 
+    if o.tails and o.until_decided:
+        raise InputError("tails = true decides what a fixed-n run leaves undecided; a sequential run decides by its "
+                         "own rule: choose one", **({"file": "<command line>", "key": "--tails"} if ov.get("tails")
+                                                    else {"file": file, "key": "sampling.tails"}))
     if not o.until_decided:
         if o.max_n is not None:
             raise InputError("max_n is the budget of a sequential run: set until_decided = true (or --until-decided), "
@@ -774,6 +782,12 @@ def _phases(study: Study, ex: Executor, store, baseline, clock: "_PhaseClock") -
             mc = clock.timed("monte_carlo", lambda: run_monte_carlo(study.model, study.spec, o.n, o.method, o.seed,
                                                                     study.requirements, ex, o.chunk_size, o.progress,
                                                                     o.confidence, store=store))
+        if o.tails:
+            from .tail_decision import decide
+
+            evaluator = StudyContext(study, ex, mc, store=store).evaluator
+            mc = clock.timed("tails", lambda: replace(mc, tails=decide(mc, study.model, study.spec, evaluator,
+                                                                       seed=o.seed, samples=o.tail_samples)))
         ctx = StudyContext(study, ex, mc, store=store)
         sections: list[Section] = []
         for i, a in enumerate(study.analyses):

@@ -82,6 +82,7 @@ def build_summary(result) -> dict:
         "n": mc.n,
         "method": st.options.method,
         **({"sequential": mc.stopping.to_dict()} if mc.stopping is not None else {}),
+        **({"tails": {label: d.to_dict() for label, d in mc.tails.items()}} if mc.tails else {}),
         "executor": result.executor,
         "wall_time_s": result.elapsed,
         "timings_s": {k: round(v, 3) for k, v in result.timings.items()},

@@ -50,7 +50,8 @@ see failure regions far from it, before subset or directional simulation, which 
 space (two of those disagreeing: both).  The **reference** — the tail's best estimate — is the
 sampling estimate with the smallest coefficient of variation that is not suspect; each disagreement
 is listed.  All of them are *estimates* from the
-distributions (their tails extrapolated, not measured): **the verdict stays the Monte Carlo's**
+distributions (their tails extrapolated, not measured): **the verdict stays the Monte Carlo's** (unless the study
+asks the tails to decide what it leaves undecided, cross-checked against it: :mod:`rvtol.tail_decision`)
 (:mod:`rvtol.verdict`), which the report says beside them.
 
 Samples the model cannot evaluate count as failures (as in the yield) and are reported.
