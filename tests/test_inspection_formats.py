@@ -540,9 +540,9 @@ def test_a_measured_factor_reads_a_qif_characteristic_and_the_report_gets_its_st
 @pytest.mark.parametrize("figure,value,words", [
     ("Average", "NaN", "Average NaN is not a finite number"),              # was an internal error (exit 3)
     ("Maximum", "INF", "Maximum Infinity is not a finite number"),
-    # written more coarsely than the values it summarises (0.1 µm): the true range is 0.0092 mm
-    ("Range", "0", "Range 0 mm of 'CRANK_BORE_D' disagrees"),
-    ("Minimum", "4E1", "Minimum 4E+1 mm of 'CRANK_BORE_D' disagrees"),
+    # rounded more coarsely than the values spread (s = 2.0 µm): so rounded they would agree with anything
+    ("Range", "0", "Range 0 mm of 'CRANK_BORE_D' is written more coarsely (to ±0.5 mm) than its 23 values spread"),
+    ("Minimum", "4E1", "Minimum 4E+1 mm of 'CRANK_BORE_D' is written more coarsely (to ±5 mm)"),
 ])
 def test_a_figure_that_is_no_number_or_coarser_than_its_values_is_refused(tmp_path, capsys, figure, value, words):
     path, _ = _tampered(tmp_path, figure, value)
@@ -619,3 +619,48 @@ def test_the_standard_deviation_of_one_kept_value_is_not_checked(tmp_path):
     f = read_qif(write(tmp_path / "one.qif", text))
     rows = check_statistics(f, next(iter(f.characteristics)))
     assert keep and "StandardDeviation" not in [r["figure"] for r in rows] and len(rows) == 6
+
+
+def _rewritten(tmp_path, values_fmt: str, figures: dict, first_value: str | None = None):
+    """lot.qif with every measured value written by ``values_fmt`` (the first as ``first_value`` if given) and the
+    study's figures replaced (name -> text)."""
+    ns = "{http://qifstandards.org/xsd/qif3}"
+    ET.register_namespace("", ns[1:-1])
+    tree = ET.parse(DATA / "lot.qif")
+    root = tree.getroot()
+    for i, m in enumerate(root.iter(f"{ns}DiameterCharacteristicMeasurement")):
+        v = m.find(f"{ns}Value")
+        v.text = first_value if i == 0 and first_value is not None else format(float(v.text), values_fmt)
+    stats_el = next(root.iter(f"{ns}ValueStats"))
+    for name, text in figures.items():
+        stats_el.find(f"{ns}{name}/{ns}Value").text = text
+    path = tmp_path / "lot.qif"
+    tree.write(path, xml_declaration=True, encoding="utf-8")
+    return path
+
+
+def test_figures_rounded_to_fewer_digits_than_the_values_are_read_when_they_resolve_the_spread(tmp_path):
+    # values to 6 decimals, the study's figures to 4 (the standard deviation 0.0019765 mm written 0.0020): ordinary
+    kept = [v for j, v in enumerate(_lot_truth()) if j != 6]
+    import statistics
+    figs = {"Average": f"{statistics.fmean(kept):.4f}", "StandardDeviation": f"{statistics.stdev(kept):.4f}",
+            "Range": f"{max(kept) - min(kept):.4f}"}
+    assert figs["StandardDeviation"] == "0.0020"
+    values, _, rows = characteristic_values(_rewritten(tmp_path, ".6f", figs), "CRANK_BORE_D", "mm")
+    assert {r["figure"]: r["file"] for r in rows}["StandardDeviation"] == 0.002
+
+
+def test_one_value_written_short_does_not_let_a_coarse_figure_through(tmp_path):
+    # one kept value written "40.0" (to ±0.05 mm), every other figure exact, and Range "0": the values spread by
+    # s = 2.1 µm, which a figure rounded to ±0.5 mm cannot be checked against (it would agree with anything)
+    import statistics
+    kept = [40.0] + [v for j, v in enumerate(_lot_truth()) if j not in (0, 6)]
+    figs = {"Average": repr(statistics.fmean(kept)), "StandardDeviation": repr(statistics.stdev(kept)),
+            "Minimum": repr(min(kept)), "Maximum": repr(max(kept)), "Range": "0"}
+    path = _rewritten(tmp_path, ".4f", figs, first_value="40.0")
+    with pytest.raises(InputError) as exc:
+        characteristic_values(path, "CRANK_BORE_D", "mm")
+    assert "Range 0 mm of 'CRANK_BORE_D' is written more coarsely (to ±0.5 mm) than its 23 values spread" \
+        in exc.value.reason
+    figs["Range"] = repr(max(kept) - min(kept))           # the same file with the Range written out reads
+    characteristic_values(_rewritten(tmp_path, ".4f", figs, first_value="40.0"), "CRANK_BORE_D", "mm")

@@ -49,9 +49,9 @@ uncertainty — which a summary does not give), so the figures are a **check**: 
 measured factor's, :func:`characteristic_values`) has each of TotalNumber, EffectiveNumber, Average,
 StandardDeviation (the sample one, n − 1, as the schema defines it; a population one is named as such), Minimum,
 Maximum and Range recomputed from the measurements the study names, and a figure that differs by more than half a
-unit in its last written place — or in the values' own, when the figure is written more coarsely than the values it
-summarises (a Range written ``0`` of values written to 0.1 µm) — is an error naming the study: the file contradicts
-itself, and which of the two a verdict should rest on is not said (:func:`check_statistics`; the figures that agree
+unit in its last written place — or whose rounding step is coarser than the values' spread and their own written step
+(a Range written ``0`` of values spread by 2 µm: so rounded it agrees with anything) — is an error naming the study:
+the file contradicts itself, and which of the two a verdict should rest on is not said (:func:`check_statistics`; the figures that agree
 are shown in the report of a measured factor).  A figure or a value that is not a finite number is an error too.
 A document of Statistics only is refused with that reason; a study's inline ``MeasuredValues`` name no
 characteristic and are not read.  A study's ``Exclusions`` are the study's own choice: a factor's law is fitted to
@@ -422,12 +422,13 @@ def _qif_statistics(doc, f: InspectionFile, factors) -> list[CharacteristicStati
 
 def check_statistics(source: InspectionFile, key: str) -> list[dict]:
     """The file's own Statistics of characteristic ``key`` recomputed from the measurements each study names: one
-    row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's).  A figure may be written rounded,
-    but not more coarsely than the values it summarises are written: it must agree to half a unit in its last
-    written place or in the values' (the coarser of the values), whichever is finer (and 1e-9 relative, the
-    arithmetic) — else an error naming the study: the file contradicts itself, and which of the two a verdict
-    should rest on is not said.  A measurement the study counts must have a value; the standard deviation of one
-    value is not checked (n − 1 = 0)."""
+    row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's).  A figure may be written rounded:
+    it must agree to half a unit in its last written place (and 1e-9 relative, the arithmetic) — else an error
+    naming the study: the file contradicts itself, and which of the two a verdict should rest on is not said.  A
+    figure in the values' unit whose rounding step is coarser than both the values' spread (their sample standard
+    deviation) and the coarsest value's own written step — a Range written ``0`` of values spread by 2 µm — is refused
+    too: so rounded it agrees with anything.  A measurement the study counts must have a value; the standard
+    deviation of one value is not checked (n − 1 = 0)."""
     rows = []
     for s in source.statistics:
         if s.key != key:
@@ -447,17 +448,26 @@ def check_statistics(source: InspectionFile, key: str) -> list[dict]:
         ours = {"TotalNumber": s.candidates, "EffectiveNumber": n, "Average": mean, "StandardDeviation": sd,
                 "Minimum": min(x, default=math.nan), "Maximum": max(x, default=math.nan),
                 "Range": (max(x) - min(x)) if x else math.nan}
+        if n == 0 and any(f.name in CHECKED[2:] for f in s.figures):
+            raise source.error("it excludes every measurement it names, yet reports figures of them", s.where)
+        coarsest = max(sd if n > 1 else 0.0, resolution if math.isfinite(resolution) else 0.0)
         for fig in s.figures:
             if fig.name not in CHECKED or (fig.name == "StandardDeviation" and n < 2):
                 continue
             want = ours[fig.name]
-            tol = fig.half_ulp if fig.name not in _IN_UNIT else min(fig.half_ulp, resolution)
-            if not (abs(fig.value - want) <= tol + 1e-9 * max(abs(want), abs(fig.value))):
+            unit = source.characteristics[key].unit if fig.name in _IN_UNIT else ""
+            exact = abs(fig.value - want) <= 1e-9 * max(abs(want), abs(fig.value), 1e-300)
+            if fig.name in _IN_UNIT and fig.half_ulp > coarsest and not exact:
+                spread = f"spread (s = {sd:.4g} {unit}) or " if n > 1 else ""
+                raise source.error(f"{fig.name} {fig.written or f'{fig.value:.15g}'} of "
+                                   f"{source.characteristics[key].names[0]!r} is written more coarsely (to "
+                                   f"±{fig.half_ulp:.3g} {unit}) than its {n} values {spread}are written: it cannot "
+                                   "be checked against them — write it to their digits", s.where)
+            if not (abs(fig.value - want) <= fig.half_ulp + 1e-9 * max(abs(want), abs(fig.value))):
                 hint = ""
                 if fig.name == "StandardDeviation" and math.isclose(
-                        fig.value, sd * math.sqrt((n - 1) / n), rel_tol=1e-9, abs_tol=tol):
+                        fig.value, sd * math.sqrt((n - 1) / n), rel_tol=1e-9, abs_tol=fig.half_ulp):
                     hint = " (the population standard deviation, n in the denominator; QIF's is the sample one, n − 1)"
-                unit = source.characteristics[key].unit if fig.name in _IN_UNIT else ""
                 raise source.error(f"{fig.name} {fig.written or f'{fig.value:.15g}'} of "
                                    f"{source.characteristics[key].names[0]!r} disagrees with its {n} measurements "
                                    f"({want:.10g}{' ' + unit if unit else ''}){hint}: the file contradicts itself",

@@ -201,7 +201,7 @@ def measured_factors(sec: Section, spec, evidence: dict) -> None:
         if ev.get("file_statistics") is not None:
             sec.add_table(ev["file_statistics"], caption=f"{f.name}: the statistics its QIF file reports, recomputed "
                                                          f"from the measurements each study names ({label(f.unit)}; "
-                                                         "every one agrees to the digits written)")
+                                                         "each agrees to the digits it is written with)")
         if ev["ranking"] is not None:
             sec.add_table(ev["ranking"], caption=f"{f.name}: candidate families by maximum likelihood, ranked by "
                                                  "AIC = 2k − 2 ln L (weight: Akaike weight; KS p is naive — the "
