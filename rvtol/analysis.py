@@ -64,6 +64,10 @@ class Analysis(ABC):
     Options: ClassVar[type | None] = None
     #: ``layout(result, options) -> list of report blocks`` (in the capability's ``texts`` module)
     layout: ClassVar[Callable[[Any, Any], list] | None] = None
+    #: what it consumes: option -> the kind of the analysis whose key that option names (None: any kind); the
+    #: loader checks the key and the kind and runs that analysis first, and ``compute`` reads its result as
+    #: ``ctx.results[key]`` (e.g. ``requires = {"allocation": "allocation"}``)
+    requires: ClassVar[dict[str, str | None]] = {}
 
     def __init__(self, params: "Params", study: "Study"):
         if self.Options is None:
@@ -72,9 +76,17 @@ class Analysis(ABC):
         self.key = getattr(self.options, "key", None) or self.kind
         self.title = getattr(self.options, "title", None) or type(self).title
 
+    def required(self) -> dict[str, str]:
+        """Option -> the key of the analysis it names, for the :attr:`requires` options given."""
+        return {opt: getattr(self.options, opt) for opt in type(self).requires
+                if getattr(self.options, opt, None) is not None}
+
     def run(self, ctx: "StudyContext") -> "Section | list[Section]":
-        """Compute (one library call) and report (the generic section of the result)."""
-        return self.report(self.compute(ctx))
+        """Compute (one library call), keep the result for the analyses that require it (``ctx.results``) and
+        report (the generic section of the result)."""
+        result = self.compute(ctx)
+        ctx.results[self.key] = result
+        return self.report(result)
 
     def compute(self, ctx: "StudyContext"):
         """The capability's result for this study (one call of a library function)."""
@@ -101,6 +113,37 @@ class Analysis(ABC):
     def files(self, result) -> dict[str, "bytes | str"]:
         """Files the report folder gets beside report.html (name -> content; default none)."""
         return {}
+
+
+def in_dependency_order(analyses: list, tables: list) -> list:
+    """``analyses`` (with their ``[[analysis]]`` tables, for located errors) checked and ordered by what they
+    require (:attr:`Analysis.requires`): each named key must be another analysis of the study, of the kind
+    required; an analysis runs after those it requires, otherwise in the study's order; a cycle is an error."""
+    by_key = {}
+    for a in analyses:
+        by_key.setdefault(getattr(a, "key", None), a)
+    needs = {}
+    for a, t in zip(analyses, tables):
+        needs[id(a)] = []
+        for opt, key in (a.required() if isinstance(a, Analysis) else {}).items():
+            other = by_key.get(key)
+            if other is None or other is a:
+                known = ", ".join(repr(k) for k in by_key if by_key[k] is not a) or "none"
+                raise t.error(opt, f"no other analysis has the key {key!r} (the study's: {known})")
+            want = type(a).requires[opt]
+            if want is not None and other.kind != want:
+                raise t.error(opt, f"analysis {key!r} is a {other.kind!r} analysis, not {want!r}")
+            needs[id(a)].append(other)
+    ordered, done = [], set()
+    while len(ordered) < len(analyses):
+        ready = [a for a in analyses if id(a) not in done and all(id(o) in done for o in needs[id(a)])]
+        if not ready:
+            i, a = next((i, a) for i, a in enumerate(analyses) if id(a) not in done)
+            raise tables[i].error(next(iter(a.required())), "the analyses require each other in a cycle: "
+                                  + " → ".join(x.key for x in analyses if id(x) not in done))
+        ordered.append(ready[0])
+        done.add(id(ready[0]))
+    return ordered
 
 
 class ModelTarget:

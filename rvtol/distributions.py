@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 
 from .errors import SpecError
 
@@ -152,6 +152,12 @@ class Distribution:
 
     # -- the things the engine needs ---------------------------------------
     def ppf(self, u):
+        p = self.p
+        if self.kind == "normal" and p["sigma"] > 0:
+            # scipy's norm.ppf without its argument machinery (a frozen law per call, 0.3 ms): the same ufunc and
+            # the same arithmetic, ndtri(u)·σ + μ — bit-identical, ±inf at 0 and 1, NaN outside [0, 1]
+            out = special.ndtri(np.asarray(u, dtype=float)) * p["sigma"] + (p["mean"] + self.shift)
+            return out[()] if out.ndim == 0 else out
         return self.frozen.ppf(u)
 
     def cdf(self, x):

@@ -14,7 +14,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
+from scipy import special
 from scipy.stats import qmc
 
 from . import units
@@ -119,9 +119,9 @@ def apply_copula(u: np.ndarray, corr: np.ndarray | None) -> np.ndarray:
     """Gaussian copula: correlate uniforms through normal scores with ``corr``."""
     if corr is None:
         return u
-    z = stats.norm.ppf(u)
+    z = special.ndtri(u)
     L = np.linalg.cholesky(corr)
-    return np.clip(stats.norm.cdf(z @ L.T), _U_EPS, 1.0 - _U_EPS)
+    return np.clip(special.ndtr(z @ L.T), _U_EPS, 1.0 - _U_EPS)
 
 
 def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
@@ -138,11 +138,21 @@ def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None
 
 def from_normal_scores(spec: ToleranceSpec, Z: np.ndarray) -> np.ndarray:
     """Factor values (base units) of independent standard-normal scores ``Z`` (n×k) through the study's own
-    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF."""
+    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF — for a normal factor
+    its inverse CDF of Φ(z) directly, μ + σz (no round trip through Φ, exact in the far tails where Φ(z) rounds to
+    1 beyond z ≈ 8.3)."""
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     if spec.correlation is not None:
         Z = Z @ np.linalg.cholesky(spec.correlation).T
-    return to_factors(spec, np.clip(stats.norm.cdf(Z), _U_EPS, 1.0 - _U_EPS))
+    normal = [j for j, f in enumerate(spec.factors) if getattr(f.dist, "kind", None) == "normal" and f.dist.p["sigma"] > 0]
+    if len(normal) == Z.shape[1]:
+        X = np.empty_like(Z)
+    else:
+        X = to_factors(spec, np.clip(special.ndtr(Z), _U_EPS, 1.0 - _U_EPS))
+    for j in normal:
+        f = spec.factors[j]
+        X[:, j] = units.to_base(Z[:, j] * f.dist.p["sigma"] + (f.dist.p["mean"] + f.dist.shift), f.unit)
+    return X
 
 
 @dataclass(frozen=True)
@@ -220,7 +230,7 @@ class SampleStream:
     def _copula(self, u: np.ndarray) -> np.ndarray:
         """:func:`apply_copula`, its product taken block by block (class docstring)."""
         b = self.COPULA_BLOCK
-        z = stats.norm.ppf(u)
+        z = special.ndtri(u)
         block = np.zeros((b, u.shape[1]))
         i = 0
         while i < len(u):
@@ -229,7 +239,7 @@ class SampleStream:
             block[at:at + take] = z[i:i + take]
             z[i:i + take] = (block @ self._cholesky_t)[at:at + take]
             i += take
-        return np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)
+        return np.clip(special.ndtr(z), _U_EPS, 1.0 - _U_EPS)
 
 
 #: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
@@ -256,8 +266,8 @@ def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
     w = w / math.sqrt(2.0 * math.pi)
 
     def margin(i, u):
-        x = spec.factors[i].ppf_base(np.clip(stats.norm.cdf(u), _U_EPS, 1.0 - _U_EPS))
-        m = float(w @ spec.factors[i].ppf_base(np.clip(stats.norm.cdf(z), _U_EPS, 1.0 - _U_EPS)))
+        x = spec.factors[i].ppf_base(np.clip(special.ndtr(u), _U_EPS, 1.0 - _U_EPS))
+        m = float(w @ spec.factors[i].ppf_base(np.clip(special.ndtr(z), _U_EPS, 1.0 - _U_EPS)))
         return x - m
 
     for i, j in zip(*np.nonzero(np.triu(R, 1))):

@@ -83,6 +83,7 @@ from .mc import (EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds,
 from .model import Model
 from .params import Params, read_toml
 from .runguard import NAME_MAX_BYTES
+from .analysis import in_dependency_order
 from .registry import analysis_function, model_factory
 from .blocks import Section, deferred_figures, render_deferred
 from .sampling import METHODS
@@ -139,6 +140,7 @@ class StudyContext:
     mc: MonteCarloResult
     cache: EvaluationCache = field(default_factory=EvaluationCache)   # rows the analyses evaluated
     store: object = None  # rvtol.checkpoint.ChunkStore of the run (checkpoint / resume), or None
+    results: dict = field(default_factory=dict)   # analysis key -> what its compute returned (Analysis.requires)
 
     @property
     def design(self):
@@ -333,7 +335,8 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
     study.gates = read_gates(root.tables("gate"), model)  # [[gate]] tables (rvtol.ci: --baseline, compare)
     if not analyses:
         root.raw("analysis", None)
-    for t in (root.tables("analysis") if analyses else ()):
+    tables = list(root.tables("analysis") if analyses else ())
+    for t in tables:
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
         try:
@@ -341,6 +344,10 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
         except InputError as exc:
             raise exc.located(file=file) from None
         t.finish()
+    try:
+        study.analyses = in_dependency_order(study.analyses, tables)
+    except InputError as exc:
+        raise exc.located(file=file) from None
     root.finish()
     return study
 

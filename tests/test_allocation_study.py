@@ -89,7 +89,10 @@ def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
     ('scales = [1.0, 2.0]', 'scales = [1.0, -2.0]', "analysis[1].pareto.scales[1]", "> 0"),
     ('costs = "{root}/data/costs/bx40e_angular.toml"', 'costs = "{root}/data/costs/none.toml"', "-",
      "file not found"),
-    ('allocation = "alloc3d"', 'allocation = "alloc9"', "analysis[2].allocation", "no allocation analysis"),
+    ('allocation = "alloc3d"', 'allocation = "alloc9"', "analysis[2].allocation",
+     "no other analysis has the key 'alloc9' (the study's: 'adjustment', 'alloc3d')"),
+    ('allocation = "alloc3d"', 'allocation = "adjustment"', "analysis[2].allocation",
+     "analysis 'adjustment' is a 'adjustment' analysis, not 'allocation'"),
 ])
 def test_bad_allocation_inputs(tmp_path, root, old, new, key, reason):
     assert old in STUDY, old
@@ -97,6 +100,42 @@ def test_bad_allocation_inputs(tmp_path, root, old, new, key, reason):
         load_study(_path(tmp_path, root, STUDY.replace(old, new, 1)))
     assert ei.value.key == key, (ei.value.key, ei.value.reason)
     assert reason in ei.value.reason
+
+
+def test_an_analysis_runs_after_the_analyses_it_requires_whatever_the_files_order(tmp_path, root):
+    head, rest = STUDY.split("[[analysis]]\nkind = \"allocation\"", 1)
+    alloc, repro = rest.split("[[analysis]]\nkind = \"adjustment_reproduction\"", 1)
+    reordered = head + "[[analysis]]\nkind = \"adjustment_reproduction\"" + repro.rstrip("\n") + "\n" \
+        + "[[analysis]]\nkind = \"allocation\"" + alloc
+    study = load_study(_path(tmp_path, root, reordered), execute=False)
+    assert [a.key for a in study.analyses] == ["adjustment", "alloc3d", "adjustment_reproduction"]
+
+
+def test_analyses_that_require_each_other_are_a_located_error():
+    from dataclasses import dataclass
+
+    from rvtol.analysis import Analysis, CommonOptions, in_dependency_order
+    from rvtol.options import option
+    from rvtol.params import Params
+
+    class Reader(Analysis):
+        kind = "reader"
+        requires = {"source": None}
+
+        @dataclass
+        class Options(CommonOptions):
+            source: str | None = option(None, "the key of the analysis read")
+
+    tables = [Params({"kind": "reader", "key": k, "source": src}, file="s.toml", key=f"analysis[{i}]")
+              for i, (k, src) in enumerate([("a", "c"), ("b", "a"), ("c", "b"), ("d", None)])]
+    analyses = [Reader(t, None) for t in tables]
+    with pytest.raises(InputError) as ei:
+        in_dependency_order(analyses, tables)
+    assert ei.value.key == "analysis[0].source" and "in a cycle: a → b → c" in ei.value.reason
+    chain = [Reader(t, None) for t in tables[1:]]          # b reads a (absent), ...
+    with pytest.raises(InputError) as ei:
+        in_dependency_order(chain, tables[1:])
+    assert ei.value.key == "analysis[1].source" and "no other analysis has the key 'a'" in ei.value.reason
 
 
 def test_te_mapping_by_hand():

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from rvtol.distributions import coverage, from_params
+from rvtol.distributions import Distribution, coverage, from_params
 from rvtol.params import Params
 from rvtol.sampling import uniform_design
 
@@ -92,3 +92,14 @@ def test_normal_tolerance_band_reads_sigma_level():
     d = dist(dist="normal", tolerance=0.021)
     assert d.std == pytest.approx(0.0035)
     assert d.tolerance == pytest.approx(0.021)
+
+
+def test_the_normal_inverse_cdf_is_scipys_bit_for_bit_at_every_u():
+    # Distribution.ppf of a normal computes ndtri(u)·σ + μ itself (scipy's frozen law per call cost 0.3 ms): it must
+    # stay scipy's norm.ppf to the last bit, the edges 0 and 1 (±inf) and values outside [0, 1] (NaN) included
+    d = Distribution.make("normal", mean=40.0035, sigma=0.0028, shift=0.001)
+    u = np.concatenate([np.random.default_rng(3).random(20000), [0.0, 1.0, 2.0 ** -53, 1 - 2.0 ** -53, 0.5,
+                                                                  -0.25, 1.5, np.nan]])
+    ref = stats.norm(loc=40.0035 + 0.001, scale=0.0028).ppf(u)
+    assert np.array_equal(d.ppf(u), ref, equal_nan=True)
+    assert d.ppf(0.3) == stats.norm(loc=40.0035 + 0.001, scale=0.0028).ppf(0.3) and np.ndim(d.ppf(0.3)) == 0

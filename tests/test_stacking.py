@@ -158,6 +158,19 @@ def test_importance_sampling_and_sorm_correct_form_on_a_curved_sub_ppm_tail():
     assert 1e6 * e.pf < 1.0   # sub-ppm
 
 
+def test_sorm_holds_breitungs_value_in_fifty_dimensions():
+    # y = (x1 + … + x49)/7 + 0.05·x50² > 5: the design point at β = 5 along the first 49 axes, one curvature
+    # κ = −0.1 (along x50), Breitung: Φ(−5)/√(1 + βκ) = Φ(−5)/√0.5 whatever the dimension. SORM from the design
+    # point by Cobyla alone wandered off it in 50 dimensions and gave no result
+    k = 50
+    spec = ToleranceSpec("k50", tuple(normal(f"x{i}", 0.0, 1.0) for i in range(k)))
+    f = FunctionModel(lambda X: (X[:, :-1].sum(axis=1) / math.sqrt(k - 1) + 0.05 * X[:, -1] ** 2)[:, None],
+                      spec.names, [Quantity("y", "mm")], ["mm"] * k)
+    est = tail_probability(f, spec, "y", 5.0, "upper", methods=("FORM", "SORM"))
+    assert est.beta == pytest.approx(5.0, rel=1e-6)
+    assert est.get("SORM").pf == pytest.approx(stats.norm.sf(5.0) / math.sqrt(0.5), rel=2e-3)
+
+
 def test_a_limit_beyond_the_bounded_worst_case_has_no_failure_point():
     spec = ToleranceSpec("u", (Factor("u", "mm", Distribution.make("uniform", lower=-1.0, upper=1.0)),))
     m = LinearModel(["u"], ["mm"], [Quantity("y", "mm")], [[1.0]])

@@ -168,12 +168,11 @@ class AllocationAnalysis(Analysis):
             return reqs
 
     def compute(self, ctx):
-        """The :class:`~rvtol.allocation.Allocation` of this study, also held as ``outcome`` for analyses that
-        read it later (its ``by_method``: method -> :class:`~rvtol.allocation.AllocationResult`)."""
+        """The :class:`~rvtol.allocation.Allocation` of this study (its ``by_method``: method ->
+        :class:`~rvtol.allocation.AllocationResult`; an analysis that ``requires`` this one reads it from
+        ``ctx.results``)."""
         o = self.options
-        self.outcome = allocate(o.problem, o.plan, o.table, ctx.evaluator, ctx.executor, ctx.seed, ctx.mc,
-                                o.study_problem)
-        return self.outcome
+        return allocate(o.problem, o.plan, o.table, ctx.evaluator, ctx.executor, ctx.seed, ctx.mc, o.study_problem)
 
     def report(self, result):
         from ..report.sections import Section

@@ -78,7 +78,7 @@ from scipy import stats
 
 from .. import units
 from ..mc import Evaluator
-from ..model import Model
+from ..model import STATUS_OK, Model
 from ..sampling import from_normal_scores, substream_seed
 from ..spec import ToleranceSpec
 from . import notes as N
@@ -180,6 +180,10 @@ class _Limit:
         self.model, self.spec, self.side, self.limit = model, spec, side, limit_base
         self.j = model.output_index(output)
         self.evaluate = evaluate
+        # a serial evaluator without a store or a cache: the model is called once per batch — the evaluator's
+        # chunks, progress bar and clock cost more than the reliability methods' small batches of a cheap model
+        self.direct = (getattr(evaluate, "workers", 0) == 1 and getattr(evaluate, "store", True) is None
+                       and getattr(evaluate, "cache", True) is None)
         self.count = 0
         self.failed = 0
         # a value that lies beyond the limit: failed evaluations count as failures
@@ -188,8 +192,14 @@ class _Limit:
     def y(self, U) -> np.ndarray:
         U = np.atleast_2d(np.asarray(U, dtype=float))
         self.count += len(U)
-        ev = self.evaluate(self.model, from_normal_scores(self.spec, U), "tail estimate")
-        y = np.where(ev.ok, ev.Y[:, self.j], np.nan)
+        X = from_normal_scores(self.spec, U)
+        if self.direct:
+            Y, status = self.model.evaluate_with_status(self.model.check_input(X))
+            ok = np.asarray(status) == STATUS_OK
+        else:
+            ev = self.evaluate(self.model, X, "tail estimate")
+            Y, ok = ev.Y, ev.ok
+        y = np.where(ok, np.asarray(Y, dtype=float)[:, self.j], np.nan)
         bad = ~np.isfinite(y)
         self.failed += int(bad.sum())
         return np.where(bad, self.beyond, y)
@@ -253,8 +263,10 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             nonlocal form_result, u_star
             if beyond(y0):
                 est.notes.append(N.NOMINAL_FAILS)
-            for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.Cobyla(), [0.0] * k),
-                                  (ot.Cobyla(), [0.1] * k)):
+            # where the gradient vanishes at the origin (a radius at a centred zone), Abdo-Rackwitz from a point off
+            # it, then Cobyla, which stops on a constraint tolerance of its own (1e-4 of the limit)
+            for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.AbdoRackwitz(), [0.1] * k),
+                                  (ot.Cobyla(), [0.0] * k), (ot.Cobyla(), [0.1] * k)):
                 try:
                     algo = ot.FORM(solver, event, start)
                     algo.run()
@@ -282,9 +294,21 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
     reachable = u_star is not None
     if "SORM" in methods and reachable:
         def run_sorm():
-            algo = ot.SORM(ot.Cobyla(), event, list(u_star))
-            algo.run()
-            r = algo.getResult()
+            # from the FORM design point, by Abdo–Rackwitz (one step: u* is already the point), Cobyla where it
+            # fails; Cobyla alone wanders off the point in many dimensions (50 factors: no result)
+            r = None
+            for solver in (ot.AbdoRackwitz(), ot.Cobyla()):
+                try:
+                    algo = ot.SORM(solver, event, list(u_star))
+                    algo.run()
+                except Exception as exc:
+                    error = exc
+                    continue
+                r = algo.getResult()
+                if np.allclose(np.array(r.getStandardSpaceDesignPoint()), u_star, rtol=1e-4, atol=1e-4 * max(1.0, abs(est.beta))):
+                    break
+            if r is None:
+                raise error
             pb = float(r.getEventProbabilityBreitung())
             beta = float(r.getHasoferReliabilityIndex())
             if not math.isfinite(pb) or any(1.0 + beta * float(c) <= 0.0 for c in r.getSortedCurvatures()):

@@ -19,7 +19,9 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
 * ``bench_stackup``, ``bench_stiffness``, ``bench_sensitivity``, ``bench_allocation`` — the other models'
   building blocks;
 * ``bench_fe_cache`` — the product's finite-element seats built in a fresh process with a cold cache against a
-  warm one.
+  warm one;
+* ``bench_tail`` — the tail estimates (FORM, SORM, importance sampling, subset) against OpenTURNS called directly
+  on the same function, 2 and 50 factors.
 
 Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
 
@@ -39,7 +41,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "pce", "stackup", "stiffness", "sensitivity",
-         "allocation", "estimates", "scaling", "fe_cache")
+         "allocation", "estimates", "scaling", "fe_cache", "tail")
 
 
 def command(name: str, size: str) -> list[str]:

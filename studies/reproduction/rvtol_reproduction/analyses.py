@@ -6,7 +6,7 @@ Registered through the ``rvtol.analyses`` entry-point group (``studies/reproduct
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from rvtol.analysis import Analysis
@@ -99,8 +99,8 @@ class AdjustmentReproduction(Analysis):
         printed: str = option(REQUIRED, PRINTED)
         assembly_3d: str = option(REQUIRED, "the 3-D assembly of the linear map (P1 = 0.3069 v1x ...)")
         accuracy_weight: float = option(10.0, "the Q of the linear map (doc 002's worked value)", nonnegative=True)
-        allocation: str = option(REQUIRED, "key of an earlier allocation analysis (Table 5)")
-        allocation_unadjusted: str | None = option(None, "key of an earlier allocation analysis without adjustment")
+        allocation: str = option(REQUIRED, "key of the study's allocation analysis (Table 5; it runs first)")
+        allocation_unadjusted: str | None = option(None, "key of the study's allocation analysis without adjustment (it runs first)")
         te_design: str | None = option(None, "a 20-DOF design: the example's TE against Q through rvtol's mapping")
         te_lever_arm: float = option(6.0, "the lever arm L of the mapping", unit="mm", positive=True)
         inputs: Doc002Inputs | None = field(init=False, default=None)
@@ -118,28 +118,19 @@ class AdjustmentReproduction(Analysis):
             if "example.part_errors" not in study.design:
                 raise error("kind", "the design has no parameter 'example.part_errors' (doc 002's Table 3)")
             base = Path(study.base_dir)
-            alloc = self._allocation(study, "allocation", self.allocation, error)
-            free = self._allocation(study, "allocation_unadjusted", self.allocation_unadjusted, error)
             te = None
             if self.te_design is not None:
                 te = TransmissionErrorModel(load_design(base / self.te_design), inputs=te_inputs())
             self.inputs = Doc002Inputs(study.model, study.design, _printed(study, self.printed, DOC002_FIGURES),
-                                       load_assembly(base / self.assembly_3d), self.accuracy_weight, alloc, free, te,
+                                       load_assembly(base / self.assembly_3d), self.accuracy_weight, None, None, te,
                                        self.te_lever_arm)
 
-        @staticmethod
-        def _allocation(study, key, name, error):
-            if name is None:
-                return None
-            from rvtol.allocation.analyses import AllocationAnalysis
-
-            for a in study.analyses:
-                if getattr(a, "key", None) == name and isinstance(a, AllocationAnalysis):
-                    return a
-            raise error(key, f"no allocation analysis with key {name!r} before this one in the study")
+    requires = {"allocation": "allocation", "allocation_unadjusted": "allocation"}
 
     def compute(self, ctx):
-        return adjustment_figures(self.options.inputs)
+        o = self.options
+        return adjustment_figures(replace(o.inputs, alloc=ctx.results.get(o.allocation),
+                                          alloc_free=ctx.results.get(o.allocation_unadjusted)))
 
 
 # --------------------------------------------------------------------------- doc 003

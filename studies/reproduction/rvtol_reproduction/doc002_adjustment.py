@@ -103,8 +103,8 @@ COLUMNS = ["item", "doc 002", "printed", "rvtol", "unit", "reproduced", "why"]
 @dataclass
 class Doc002Inputs:
     """What the comparison needs: the study's adjusted-assembly ``model`` and ``design``, the ``printed``
-    figures, the 3-D assembly ``desc3`` and the Q ``q`` of its linear map, the allocation analyses that ran
-    before (``alloc``, ``alloc_free``: with and without adjustment) and the TE model of the mapping (None:
+    figures, the 3-D assembly ``desc3`` and the Q ``q`` of its linear map, the allocations the study's
+    allocation analyses computed (``alloc``, ``alloc_free``: with and without adjustment) and the TE model of the mapping (None:
     no TE) with its lever arm (mm)."""
 
     model: object
@@ -118,12 +118,10 @@ class Doc002Inputs:
     lever_arm: float = 6.0
 
 
-def allocation_results(analysis) -> dict:
-    """The results of an allocation analysis that has run (method -> :class:`rvtol.allocation.AllocationResult`):
-    the ``by_method`` of its public result, the :class:`rvtol.allocation.Allocation` its ``compute`` returned and
-    holds as ``outcome`` (empty before it has run)."""
-    outcome = getattr(analysis, "outcome", None)
-    return outcome.by_method if outcome is not None else {}
+def allocation_results(allocation) -> dict:
+    """The results of an allocation (method -> :class:`rvtol.allocation.AllocationResult`): the ``by_method`` of
+    the :class:`rvtol.allocation.Allocation` the required analysis computed (empty without one)."""
+    return allocation.by_method if allocation is not None else {}
 
 
 @dataclass
