@@ -9,7 +9,7 @@ from scipy import stats
 
 from rvtol.distributions import from_params
 from rvtol.errors import InputError
-from rvtol.inputs.notation import (NotationError, fmt, format_deviations, format_limits,
+from rvtol.inputs.notation import (NotationError, fmt, format_deviations, format_limits, zone_level,
                                    parse_tolerance)
 from rvtol.params import Params
 
@@ -295,6 +295,9 @@ def test_sigma_level_zero_is_refused():
 def test_a_symmetric_and_a_percent_tolerance_keep_their_form():
     assert parse_tolerance("±0.1 mm").form == "symmetric"
     assert parse_tolerance("100 ±5 %").form == "percent"
+    # two deviations too (rvtol.spec asks for the nominal of deviations, not of percentages, which carry it)
+    assert parse_tolerance("25 +0.1/-0.2").form == "deviations"
+    assert parse_tolerance("100 +5%/-2%").form == "percent"
 
 
 def test_two_deviations_without_a_slash_one_of_them_zero():
@@ -526,3 +529,91 @@ def test_a_single_signed_percentage_is_not_a_tolerance():
 def test_a_capability_of_zero_is_refused(name):
     with pytest.raises(NotationError, match=f"{name} must be > 0"):
         parse_tolerance(f"±0.1 {name} 0")
+
+
+# ------------------------------------------------------------------- issue 37: mutants of notation.py that survived
+@pytest.mark.parametrize("level", [0.5, 1.0, 2.0])
+def test_a_band_may_be_read_at_any_positive_sigma_level_below_three(level):
+    # T = 0.1 read at ±level·σ: σ = T / (2·level) (0.1 at half a σ, 0.05 at one)
+    d = dist(parse_tolerance("25 +0.10/-0.00").factor_table("normal", sigma_level=level))
+    assert d.std == pytest.approx(0.1 / (2.0 * level), rel=1e-12)
+
+
+def test_a_process_specs_factor_table_is_the_same_for_a_dist_read_from_a_file():
+    import tomllib
+    dist_name = tomllib.loads('dist = "normal"')["dist"]       # equal to "normal", not the same object
+    t = parse_tolerance("25 ±0.05 Cp 1.33")
+    assert t.factor_table(dist_name) == t.factor_table()
+    assert t.factor_table(dist_name)["sigma_level"] == pytest.approx(3.0 * 1.33)   # σ = T/(6·Cp)
+
+
+def test_a_magnitude_cannot_start_below_the_nominal():
+    # +0.05/-0.01 is a band about the nominal from -0.01: neither from 0 (max x) nor from the nominal (+x/0)
+    with pytest.raises(NotationError, match="a rayleigh factor is a magnitude"):
+        parse_tolerance("+0.05/-0.01").factor_table("rayleigh")
+
+
+@pytest.mark.parametrize("text", ["⌀25 ±0.1 (M)", "Ø25 H7 MMC", "⌀24.9..25.1 (L)"])
+def test_a_material_condition_on_a_diameter_that_is_not_a_position_zone_is_refused(text):
+    # the diameter sign lets the text past the first check; the condition still needs a zone (⌀t alone)
+    with pytest.raises(NotationError, match=r"a material condition \(M\)/\(L\) belongs to a position zone ⌀t"):
+        parse_tolerance(text)
+
+
+def test_deviations_in_parentheses_beside_deviations_are_refused():
+    # the parentheses pair a class with its deviations; two deviations (here even equal) pair nothing
+    with pytest.raises(NotationError, match="must pair an ISO 286 class with its deviations"):
+        parse_tolerance("25 ±0.1 (+0.1/-0.1)")
+
+
+def test_a_text_over_200_characters_is_quoted_by_its_first_40():
+    text = "".join(str(i % 10) for i in range(201))
+    with pytest.raises(NotationError, match=re.escape(f"cannot read tolerance '{text[:40]}…': longer than 200 "
+                                                      "characters")):
+        parse_tolerance(text)
+
+
+@pytest.mark.parametrize("nominal", [math.nan, math.inf, -math.inf, "25"])
+def test_a_nominal_that_is_no_finite_number_is_refused(nominal):
+    with pytest.raises(NotationError, match="nominal must be a finite number"):
+        parse_tolerance("±0.1", nominal=nominal)
+
+
+def test_a_position_zone_is_written_with_the_diameter_sign():
+    assert parse_tolerance("⌀0.05").diameter and parse_tolerance("Ø0.1 mm (M)").diameter
+
+
+def test_a_percentage_of_a_negative_nominal_is_a_band_about_it_and_of_zero_refused():
+    # 5 % of −200 is ±10 (of its magnitude): −210 … −190
+    assert parse_tolerance("5%", nominal=-200.0).limits == (pytest.approx(-210.0), pytest.approx(-190.0))
+    with pytest.raises(NotationError, match="a percentage needs a nonzero nominal"):
+        parse_tolerance("5%", nominal=0.0)
+
+
+def test_a_nominal_far_from_limits_in_a_unit_that_is_no_length_is_checked_against_the_band_alone():
+    # seconds: no ISO 286 class reaches a time (its dimension name sorts after "length")
+    with pytest.raises(NotationError, match="the nominal 10 lies 5 s above its limits 1..5, farther than the band's "
+                                            "own width"):
+        parse_tolerance("1..5 s", nominal=10)
+
+
+@pytest.mark.parametrize("level", [0.5, 1.0, 3.0])
+def test_zone_level_is_the_rayleigh_quantile_of_the_normal_coverage(level):
+    # the radial deviation of two independent N(0, σ²) coordinates is Rayleigh(σ): its quantile at the coverage
+    # c = P(|Z| ≤ level) is the zone's radius in σ (scipy's Rayleigh, an independent closed form)
+    c = stats.norm.cdf(level) - stats.norm.cdf(-level)
+    assert zone_level(level) == pytest.approx(stats.rayleigh.ppf(c), rel=1e-12)
+    d = dist(parse_tolerance("⌀0.4").factor_table(sigma_level=level))
+    assert d.std == pytest.approx(0.2 / stats.rayleigh.ppf(c), rel=1e-12)
+
+
+def test_zone_level_defaults_to_three_sigma():
+    assert zone_level() == pytest.approx(stats.rayleigh.ppf(stats.norm.cdf(3) - stats.norm.cdf(-3)), rel=1e-12)
+
+
+@pytest.mark.parametrize("x", [1 / 3, 2 / 3 * 1e-3, 123.456789012345, -0.0105 / 7])
+def test_numbers_are_written_with_twelve_significant_digits(x):
+    # Python's own '.12g' as the reference (these magnitudes print without an exponent there)
+    assert fmt(x) == format(x, ".12g")
+    assert format_limits(x, 2 * abs(x)) == f"{x:.12g}..{2 * abs(x):.12g}"
+    assert format_deviations(-abs(x), 2 * abs(x)) == f"+{2 * abs(x):.12g}/-{abs(x):.12g}"
