@@ -21,7 +21,9 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
 * ``bench_fe_cache`` — the product's finite-element seats built in a fresh process with a cold cache against a
   warm one;
 * ``bench_tail`` — the tail estimates (FORM, SORM, importance sampling, subset) against OpenTURNS called directly
-  on the same function, 2 and 50 factors.
+  on the same function, 2 and 50 factors;
+* ``bench_multifidelity`` — multi-fidelity Monte Carlo against plain Monte Carlo at the same budget (a closed form;
+  the sign-off's 20-DOF lost motion with the screening model as its cheap companion).
 
 Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
 
@@ -41,7 +43,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ORDER = ("transmission", "gsa", "mc", "scale", "dask", "openturns", "pce", "stackup", "stiffness", "sensitivity",
-         "allocation", "estimates", "scaling", "fe_cache", "tail")
+         "allocation", "estimates", "scaling", "fe_cache", "tail", "multifidelity")
 
 
 def command(name: str, size: str) -> list[str]:
