@@ -541,8 +541,8 @@ def test_a_measured_factor_reads_a_qif_characteristic_and_the_report_gets_its_st
     ("Average", "NaN", "Average NaN is not a finite number"),              # was an internal error (exit 3)
     ("Maximum", "INF", "Maximum Infinity is not a finite number"),
     # rounded more coarsely than the values spread (s = 2.0 µm): so rounded they would agree with anything
-    ("Range", "0", "Range 0 mm of 'CRANK_BORE_D' is written more coarsely (to ±0.5 mm) than its 23 values spread"),
-    ("Minimum", "4E1", "Minimum 4E+1 mm of 'CRANK_BORE_D' is written more coarsely (to ±5 mm)"),
+    ("Range", "0", "Range 0 mm of 'CRANK_BORE_D' is rounded to ±0.5 mm, more coarsely than its 23 values vary"),
+    ("Minimum", "4E1", "Minimum 4E+1 mm of 'CRANK_BORE_D' is rounded to ±5 mm"),
 ])
 def test_a_figure_that_is_no_number_or_coarser_than_its_values_is_refused(tmp_path, capsys, figure, value, words):
     path, _ = _tampered(tmp_path, figure, value)
@@ -660,7 +660,28 @@ def test_one_value_written_short_does_not_let_a_coarse_figure_through(tmp_path):
     path = _rewritten(tmp_path, ".4f", figs, first_value="40.0")
     with pytest.raises(InputError) as exc:
         characteristic_values(path, "CRANK_BORE_D", "mm")
-    assert "Range 0 mm of 'CRANK_BORE_D' is written more coarsely (to ±0.5 mm) than its 23 values spread" \
+    assert "Range 0 mm of 'CRANK_BORE_D' is rounded to ±0.5 mm, more coarsely than its 23 values vary" \
         in exc.value.reason
-    figs["Range"] = repr(max(kept) - min(kept))           # the same file with the Range written out reads
-    characteristic_values(_rewritten(tmp_path, ".4f", figs, first_value="40.0"), "CRANK_BORE_D", "mm")
+    figs["Range"] = repr(max(kept) - min(kept))
+    for name, text in (("Range", "0.0"), ("Average", "40.0")):    # nor one decimal, the short value's own step
+        bad = dict(figs, **{name: text})
+        with pytest.raises(InputError) as exc:
+            characteristic_values(_rewritten(tmp_path, ".4f", bad, first_value="40.0"), "CRANK_BORE_D", "mm")
+        assert f"{name} {text} mm of 'CRANK_BORE_D' is rounded to ±0.05 mm" in exc.value.reason
+    characteristic_values(_rewritten(tmp_path, ".4f", figs, first_value="40.0"), "CRANK_BORE_D", "mm")   # reads
+
+
+def test_a_figure_of_values_that_do_not_vary_is_held_to_its_own_digits(tmp_path):
+    ids = _measurement_ids()
+    figs = {"Average": "40.0034", "Minimum": "40.0034", "Maximum": "40.0034", "Range": "0", "StandardDeviation": "0"}
+    path = _rewritten(tmp_path, ".4f", figs)
+    text = path.read_text("utf-8")
+    import re
+    text = re.sub(r"(<DiameterCharacteristicMeasurement id=\"\d+\">.*?<Value>)[^<]*(</Value>)",
+                  lambda m: m.group(1) + "40.003412" + m.group(2), text, flags=re.S)
+    f = read_qif(write(tmp_path / "equal.qif", text))
+    rows = check_statistics(f, next(iter(f.characteristics)))
+    assert {r["figure"] for r in rows} >= {"Average", "Range"} and ids
+    text2 = text.replace("<Value>40.0034</Value>", "<Value>40.004</Value>")
+    with pytest.raises(InputError):                      # 40.004 is not 40.003412 to its own digits (40.003 is)
+        check_statistics(read_qif(write(tmp_path / "equal2.qif", text2)), next(iter(f.characteristics)))

@@ -49,8 +49,9 @@ uncertainty — which a summary does not give), so the figures are a **check**: 
 measured factor's, :func:`characteristic_values`) has each of TotalNumber, EffectiveNumber, Average,
 StandardDeviation (the sample one, n − 1, as the schema defines it; a population one is named as such), Minimum,
 Maximum and Range recomputed from the measurements the study names, and a figure that differs by more than half a
-unit in its last written place — or whose rounding step is coarser than the values' spread and their own written step
-(a Range written ``0`` of values spread by 2 µm: so rounded it agrees with anything) — is an error naming the study:
+unit in its last written place — or that is rounded (to half its last written place) more coarsely than the values
+vary and than the finest of them is written (a Range written ``0`` of values spread by 2 µm: so rounded it agrees with
+anything) — is an error naming the study:
 the file contradicts itself, and which of the two a verdict should rest on is not said (:func:`check_statistics`; the figures that agree
 are shown in the report of a measured factor).  A figure or a value that is not a finite number is an error too.
 A document of Statistics only is refused with that reason; a study's inline ``MeasuredValues`` name no
@@ -425,9 +426,10 @@ def check_statistics(source: InspectionFile, key: str) -> list[dict]:
     row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's).  A figure may be written rounded:
     it must agree to half a unit in its last written place (and 1e-9 relative, the arithmetic) — else an error
     naming the study: the file contradicts itself, and which of the two a verdict should rest on is not said.  A
-    figure in the values' unit whose rounding step is coarser than both the values' spread (their sample standard
-    deviation) and the coarsest value's own written step — a Range written ``0`` of values spread by 2 µm — is refused
-    too: so rounded it agrees with anything.  A measurement the study counts must have a value; the standard
+    figure in the values' unit rounded more coarsely — half its last written place — than both the values' spread (their
+    sample standard deviation) and the finest value's own written half-step — a Range written ``0`` of values spread
+    by 2 µm — is refused too: so rounded it agrees with anything (values that do not vary leave a figure to its own
+    digits).  A measurement the study counts must have a value; the standard
     deviation of one value is not checked (n − 1 = 0)."""
     rows = []
     for s in source.statistics:
@@ -440,7 +442,7 @@ def check_statistics(source: InspectionFile, key: str) -> list[dict]:
             if not math.isfinite(v):
                 raise source.error(f"it counts measurement id={i}, whose value is not a finite number", s.where)
         x = [v for _, v, _ in named]
-        resolution = max((h for _, _, h in named), default=math.inf)
+        finest = min((h for _, _, h in named), default=0.0)      # the values' finest written half-step
         n = len(x)
         mean = math.fsum(x) / n if n else math.nan
         spread = max((abs(v - mean) for v in x), default=0.0) or 1.0      # scaled: no underflow of tiny squares
@@ -450,19 +452,19 @@ def check_statistics(source: InspectionFile, key: str) -> list[dict]:
                 "Range": (max(x) - min(x)) if x else math.nan}
         if n == 0 and any(f.name in CHECKED[2:] for f in s.figures):
             raise source.error("it excludes every measurement it names, yet reports figures of them", s.where)
-        coarsest = max(sd if n > 1 else 0.0, resolution if math.isfinite(resolution) else 0.0)
+        coarsest = max(sd if n > 1 else 0.0, finest)
         for fig in s.figures:
             if fig.name not in CHECKED or (fig.name == "StandardDeviation" and n < 2):
                 continue
             want = ours[fig.name]
             unit = source.characteristics[key].unit if fig.name in _IN_UNIT else ""
             exact = abs(fig.value - want) <= 1e-9 * max(abs(want), abs(fig.value), 1e-300)
-            if fig.name in _IN_UNIT and fig.half_ulp > coarsest and not exact:
-                spread = f"spread (s = {sd:.4g} {unit}) or " if n > 1 else ""
+            if fig.name in _IN_UNIT and n > 1 and sd > 0 and fig.half_ulp > coarsest and not exact:
                 raise source.error(f"{fig.name} {fig.written or f'{fig.value:.15g}'} of "
-                                   f"{source.characteristics[key].names[0]!r} is written more coarsely (to "
-                                   f"±{fig.half_ulp:.3g} {unit}) than its {n} values {spread}are written: it cannot "
-                                   "be checked against them — write it to their digits", s.where)
+                                   f"{source.characteristics[key].names[0]!r} is rounded to ±{fig.half_ulp:.3g} {unit}, "
+                                   f"more coarsely than its {n} values vary (s = {sd:.4g} {unit}) and than they are "
+                                   f"written (±{finest:.3g} {unit}): so rounded it would agree with anything — write "
+                                   "it to the values' digits", s.where)
             if not (abs(fig.value - want) <= fig.half_ulp + 1e-9 * max(abs(want), abs(fig.value))):
                 hint = ""
                 if fig.name == "StandardDeviation" and math.isclose(
