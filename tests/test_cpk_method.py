@@ -173,3 +173,21 @@ def test_a_cpk_bound_exactly_at_its_minimum_passes_in_the_non_normal_rule(judged
               shape=_skewed())
     assert j.passed == passed
     assert (j.notes == []) and (passed or any("normal theory misstates the tail" in w for w in j.reasons))
+
+
+def test_a_basis_written_in_a_study_file_is_judged_on_the_bound():
+    """basis = "lower_bound" written out (a string built at run time, not the source's literal): a yield of 0.999
+    whose bound is 0.995 does not demonstrate 0.997; basis = "estimate" passes on the 0.999."""
+    from rvtol.verdict import judge
+
+    written, estimate = _from_study_file('[[requirement]]\noutput = "r"\nupper = 4.2\nmin_yield = 0.997\n'
+                                         'basis = "lower_bound"\n[[requirement]]\noutput = "r"\nupper = 4.2\n'
+                                         'min_yield = 0.997\nbasis = "estimate"\n')
+    assert not judge(written, yield_=0.999, yield_lo=0.995).passed
+    assert judge(estimate, yield_=0.999, yield_lo=0.995).passed
+
+
+def test_a_run_without_requirements_is_exploratory_only_when_declared():
+    from rvtol.verdict import EXPLORATORY, NO_REQUIREMENTS, study_verdict
+
+    assert study_verdict([]) == NO_REQUIREMENTS and study_verdict([], exploratory=True) == EXPLORATORY

@@ -161,3 +161,83 @@ def test_the_out_of_reach_test_takes_the_supports_ends():
     m = LinearModel(spec.names, ["mm"] * 2, [Quantity("y", "mm")], [[1.0, 1.0]])
     near = tail_probability(m, spec, "y", 1.9999, "upper", methods=("FORM",))
     assert near.beta != math.inf and near.pf_form != 0.0 and "out of reach" not in near.get("FORM").note
+
+
+# ----------------------------------------------------------------------------- the comparison, by hand
+def tail_of(*estimates):
+    from rvtol.stacking.tail import Estimate, TailEstimate, _compare
+
+    est = TailEstimate("y", "mm", "upper", 1.0, [Estimate(m, pf, se) for m, pf, se in estimates])
+    _compare(est)
+    return est
+
+
+def test_disagreeing_estimates_are_listed_once_each_and_the_suspect_left_out():
+    """Importance sampling 1 ppm against subset 2 ppm and directional 2.1 ppm: both differences exceed three combined
+    standard errors (1 > 3·√(0.0235² + 0.235²) = 0.71, 1.1 > 3·√(0.0235² + 0.1²) = 0.31), subset and directional
+    agree (0.1 < 3·√(0.235² + 0.1²) = 0.77).  Importance sampling is the suspect; of the two others directional has
+    the smaller c.o.v. (0.048 against 0.12): the reference.  FORM 2.05 ppm lies within 3 × 0.1 ppm of it, SORM 3 ppm
+    outside.  Each pair is compared once; the messages in ppm, standard errors to two digits (0.02349998 ppm →
+    0.023, just below the rounding point 0.0235)."""
+    est = tail_of(("FORM", 2.05e-6, None), ("SORM", 3.0e-6, None), ("importance sampling", 1.0e-6, 0.02349998e-6),
+                  ("subset", 2.0e-6, 0.235e-6), ("directional", 2.1e-6, 0.1e-6))
+    assert est.reference == "directional" and est.pf_reference == 2.1e-6
+    assert est.disagreements == [
+        "importance sampling 1 ± 0.023 ppm and subset 2 ± 0.23 ppm differ by more than 3 combined standard errors",
+        "importance sampling 1 ± 0.023 ppm and directional 2.1 ± 0.1 ppm differ by more than 3 combined standard errors",
+        "SORM 3 ppm lies outside 3 standard errors of the reference (directional 2.1 ± 0.1 ppm)"]
+
+
+def test_of_importance_and_subset_sampling_disagreeing_subset_is_the_reference():
+    # subset simulation explores the whole space, importance sampling only about one design point (ROBUSTNESS)
+    est = tail_of(("importance sampling", 1.0e-6, 0.01e-6), ("subset", 2.0e-6, 0.1e-6))
+    assert est.reference == "subset" and len(est.disagreements) == 1
+
+
+# ----------------------------------------------------------------------------- failed evaluations, corners
+@pytest.mark.parametrize("side", ["upper", "lower"])
+@pytest.mark.parametrize("limit", [0.0, 2.5, -2.5])
+def test_a_failed_evaluation_lies_beyond_the_limit_on_either_side(side, limit):
+    from rvtol.mc import Evaluator
+    from rvtol.model import FunctionModel
+    from rvtol.stacking.tail import _Limit
+
+    spec, _ = linear_normals()
+    m = FunctionModel(lambda X: np.where(X[:, 0] > 0.0, np.nan, 0.0 * X[:, 0] + limit)[:, None], spec.names,
+                      [Quantity("y", "mm")], ["mm", "mm"])
+    ls = _Limit(m, spec, "y", limit, side, Evaluator())
+    y = ls.y(np.array([[1.0, 0.0], [-1.0, 0.0]]))          # the first cannot be evaluated, the second lies on the limit
+    assert (y[0] > limit if side == "upper" else y[0] < limit) and y[1] == limit and ls.failed == 1
+
+
+@pytest.mark.parametrize("coefficients, limit, out_of_reach", [
+    ([-1.0, 1.0], 1.99, False),          # x₂ − x₁ of two U(−1, 1): 2 at one corner only, (−1, +1)
+    ([-1.0, 1.0], 2.01, True),
+    ([1.0, 1.0, 1.0], 2.99, False),      # x₁ + x₂ + x₃: 3 at the last of the 2³ corners only, (+1, +1, +1)
+    ([1.0, 1.0, 1.0], 3.01, True)])
+def test_out_of_reach_looks_at_every_corner_of_the_supports(coefficients, limit, out_of_reach):
+    from rvtol.mc import Evaluator
+    from rvtol.stacking.tail import _Limit, _out_of_reach
+
+    k = len(coefficients)
+    spec = ToleranceSpec("u", tuple(Factor(f"x{i}", "mm", Distribution.make("uniform", lower=-1.0, upper=1.0))
+                                    for i in range(k)))
+    m = LinearModel(spec.names, ["mm"] * k, [Quantity("y", "mm")], [coefficients])
+    ls = _Limit(m, spec, "y", limit, "upper", Evaluator())
+    assert _out_of_reach(spec, ls, lambda y: y > limit) is out_of_reach
+
+
+def test_multi_form_keeps_three_design_points():
+    """y = ⅓ ln Σ exp(3 xᵢ) of three standard normals (the largest of three, smoothed) beyond 4: three design points
+    near 4 on the axes (β = 4 to 1e-6: the other two terms are negligible there), the union of their half-spaces
+    1 − (1 − Φ(−4))³ = 9.50e-5; FORM, led along the diagonal by the gradient at the origin, sees one far point."""
+    from rvtol.model import FunctionModel
+
+    spec, _ = linear_normals(3)
+    m = FunctionModel(lambda X: (np.log(np.exp(3.0 * X).sum(axis=1)) / 3.0)[:, None], spec.names,
+                      [Quantity("y", "mm")], ["mm"] * 3)
+    est = tail_probability(m, spec, "y", 4.0, "upper", seed=1, methods=("FORM", "multi-FORM"))
+    e = est.get("multi-FORM")
+    assert len(est.design_points) == 3 and e.beta == pytest.approx(4.0, rel=1e-5)
+    assert e.pf == pytest.approx(1.0 - (1.0 - stats.norm.sf(4.0)) ** 3, rel=1e-3)
+

@@ -27,7 +27,7 @@ def _median_ranks(n: int, level: float) -> tuple[int, int]:
     return lo, hi
 
 
-@pytest.mark.parametrize("n", [9, 20, 101])
+@pytest.mark.parametrize("n", [4, 5, 9, 20, 101])     # 4: no lower rank (1/16 > 5 %); 5: the lowest value (1/32)
 def test_median_bounds_are_the_order_statistics_of_the_binomial_ranks(n):
     y = np.random.default_rng(n).normal(size=n)
     r = Requirement("k", lower=-1.0, upper=1.0, statistic="median")
