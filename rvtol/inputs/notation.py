@@ -330,12 +330,9 @@ def _err(text: str, why: str) -> NotationError:
 
 
 def _unit(word: str) -> str | None:
-    """The canonical unit of a word, or None if it is not a unit."""
-    w = _UNIT_ALIASES.get(word, word)
-    try:
-        return units.canonical(w)
-    except InputError:
-        return None
+    """The canonical unit of a word, or None if it is not one of the table's units (:mod:`rvtol.units`): pint would
+    read the letters of ISO classes and process specs (``H7``, ``h6``, ``e8``, ``k``) as henry, hour, a charge…"""
+    return units.in_table(_UNIT_ALIASES.get(word, word))
 
 
 # --------------------------------------------------------------------------------- parsing
