@@ -2,6 +2,8 @@
 
 References: the SI prefixes by hand (1 m² = 10⁶ mm², 1 cm² = 100 mm², 1 h = 60 min = 3600 s, 1 N/mm² = 1 MPa
 = 10⁶ Pa) and, where the hand gets tedious, pint itself on the unit as written."""
+import math
+
 import pytest
 
 from rvtol import units
@@ -56,6 +58,15 @@ def test_a_unit_of_another_dimension_is_refused():
         with pytest.raises(UnitError, match="cannot convert"):
             units.convert(1.0, a, b)
     assert units.convert(1.0, "deg/s", "rpm") == pytest.approx(60.0 / 360.0, rel=1e-14)
+
+
+def test_a_unit_of_the_table_keeps_the_tables_factor_to_the_last_bit():
+    """pint's own arithmetic differs from the table's in the last bit for some units (arcmin, nm): the table's stay
+    the hand definitions (π/10800 rad, 10⁻⁶ mm) exactly, with pint loaded or not."""
+    units.factor("cm^2")                                  # pint is loaded
+    assert units.factor("arcmin") == math.pi / 10800.0 and units.factor("′") == math.pi / 10800.0
+    assert units.factor("nm") == 1e-6 and units.factor("kg/m^3") == 1e-12
+    assert units.label("1") == "–" and units.label("kg*m^2") == "kg·m²"
 
 
 def test_a_unit_pint_does_not_know_is_the_same_error_as_before():
