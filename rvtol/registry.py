@@ -42,6 +42,7 @@ MODELS: dict[str, str] = {
     "pin_ring_preload": "rvtol.models.pin_ring.model:preload_from_study",
     "adjusted_assembly": "rvtol.models.adjustment.model:from_study",
     "formula": "rvtol.models.formula.model:from_study",
+    "vector_loop": "rvtol.models.vector_loop.model:from_study",
     "python": "rvtol.models.custom.model:from_study",
 }
 

@@ -138,11 +138,21 @@ def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None
 
 def from_normal_scores(spec: ToleranceSpec, Z: np.ndarray) -> np.ndarray:
     """Factor values (base units) of independent standard-normal scores ``Z`` (n×k) through the study's own
-    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF."""
+    transform: the Gaussian copula of the spec's correlation, then each factor's inverse CDF — for a normal factor
+    its inverse CDF of Φ(z) directly, μ + σz (no round trip through Φ, exact in the far tails where Φ(z) rounds to
+    1 beyond z ≈ 8.3)."""
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     if spec.correlation is not None:
         Z = Z @ np.linalg.cholesky(spec.correlation).T
-    return to_factors(spec, np.clip(special.ndtr(Z), _U_EPS, 1.0 - _U_EPS))
+    normal = [j for j, f in enumerate(spec.factors) if getattr(f.dist, "kind", None) == "normal" and f.dist.p["sigma"] > 0]
+    if len(normal) == Z.shape[1]:
+        X = np.empty_like(Z)
+    else:
+        X = to_factors(spec, np.clip(special.ndtr(Z), _U_EPS, 1.0 - _U_EPS))
+    for j in normal:
+        f = spec.factors[j]
+        X[:, j] = units.to_base(Z[:, j] * f.dist.p["sigma"] + (f.dist.p["mean"] + f.dist.shift), f.unit)
+    return X
 
 
 @dataclass(frozen=True)

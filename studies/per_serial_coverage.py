@@ -78,6 +78,14 @@ def main(n_units: int = 200, seed: int = 20261129, update: str = "factors") -> N
             ci = proportion_ci(cov["posterior"], n_units, 0.95)
             print(f"| {q} | {level:.0%} | {cov['posterior'] / n_units:.3f} [{ci[0]:.3f}, {ci[1]:.3f}] | "
                   f"{cov['prior'] / n_units:.3f} | {np.median(width[1] / width[0]):.2f} |")
+    print("\nThe 95 % intervals of the first three units, prior → posterior (µm), and the truth:")
+    print("| unit | output | prior | posterior | truth |")
+    print("|---|---|---|---|---|")
+    for i in range(min(3, n_units)):
+        for j, q in enumerate(OUTPUTS):
+            (plo, phi), (qlo, qhi) = (np.quantile(p.Y[i, :, j], [0.025, 0.975]) for p in (res.prior, res.posterior))
+            print(f"| R{i} | {q} | [{plo:.2f}, {phi:.2f}] (width {phi - plo:.2f}) | [{qlo:.2f}, {qhi:.2f}] "
+                  f"(width {qhi - qlo:.2f}) | {truth[i, j]:.2f} |")
     diag = res.update_frame()
     if update == "factors":
         print(f"converged: {int((diag['converged'] == 'yes').sum())} of {n_units}; R-hat max "

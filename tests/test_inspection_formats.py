@@ -450,7 +450,8 @@ def test_a_qif_statistic_that_its_own_measurements_contradict_is_refused_by_stud
         characteristic_values(path, "CRANK_BORE_D", "mm")
     assert exc.value.file == str(path)
     assert exc.value.key.startswith("CapabilityStudyResults id=") and "DiameterCharacteristicStats (1st)" in exc.value.key
-    assert "Average 40.0034 mm of 'CRANK_BORE_D' disagrees with its 23 measurements" in exc.value.reason
+    assert "Average 40.0034 mm of 'CRANK_BORE_D' disagrees with its 23 measurements (40.00328696 mm)" \
+        in exc.value.reason
     # a figure written to fewer digits agrees to those digits: the mean rounded to 0.1 µm
     path, _ = _tampered(tmp_path, "Average", f"{old:.4f}")
     characteristic_values(path, "CRANK_BORE_D", "mm")
@@ -497,7 +498,7 @@ def test_the_public_all_in_one_samples_statistics_do_not_all_reproduce_from_its_
     assert math.isclose(rows[0]["recomputed"], (25.008279671621001 + 25.680053102205999) / 2, rel_tol=1e-15)
     with pytest.raises(InputError) as exc:
         check_statistics(f, by_name["Sphericity1"])
-    assert "Average 0.251457258827 mm of 'Sphericity1' disagrees with its 2 measurements (0.151249733)" \
+    assert "Average 0.251457258827 mm of 'Sphericity1' disagrees with its 2 measurements (0.151249733 mm)" \
         in exc.value.reason
 
 
@@ -534,3 +535,87 @@ def test_a_measured_factor_reads_a_qif_characteristic_and_the_report_gets_its_st
         spec_from_table({"factor": [{"name": "bore", "unit": "um", "dist": "measured", "data": "lot.qif",
                                      "column": "CRANK_BORE"}]}, file=str(tmp_path / "spec.toml"))
     assert "no characteristic 'CRANK_BORE'" in exc.value.reason and "CRANK_BORE_D" in exc.value.reason
+
+
+@pytest.mark.parametrize("figure,value,words", [
+    ("Average", "NaN", "Average NaN is not a finite number"),              # was an internal error (exit 3)
+    ("Maximum", "INF", "Maximum Infinity is not a finite number"),
+    # written more coarsely than the values it summarises (0.1 µm): the true range is 0.0092 mm
+    ("Range", "0", "Range 0 mm of 'CRANK_BORE_D' disagrees"),
+    ("Minimum", "4E1", "Minimum 4E+1 mm of 'CRANK_BORE_D' disagrees"),
+])
+def test_a_figure_that_is_no_number_or_coarser_than_its_values_is_refused(tmp_path, capsys, figure, value, words):
+    path, _ = _tampered(tmp_path, figure, value)
+    with pytest.raises(InputError) as exc:
+        characteristic_values(path, "CRANK_BORE_D", "mm")
+    assert words in exc.value.reason and exc.value.key.startswith("CapabilityStudyResults id=")
+    study = write(tmp_path / "study.toml", '[study]\nname = "s"\n[[factor]]\nname = "bore"\nunit = "mm"\n'
+                  'dist = "measured"\ndata = "lot.qif"\ncolumn = "CRANK_BORE_D"\n[model]\nkind = "formula"\n'
+                  '[[model.output]]\nname = "y"\nformula = "bore"\nunit = "mm"\n')
+    rc, err = run_cli(["check", study], capsys)
+    assert rc == 2 and len(err) == 1 and words in err[0], err
+
+
+def _without_value(tmp_path, measurement_id: str):
+    text = (DATA / "lot.qif").read_text("utf-8")
+    head, tail = text.split(f'<DiameterCharacteristicMeasurement id="{measurement_id}">', 1)
+    block, rest = tail.split("</DiameterCharacteristicMeasurement>", 1)
+    block = block[: block.index("<Value")] + block[block.index("</Value>") + len("</Value>"):]
+    return write(tmp_path / "lot.qif", head + f'<DiameterCharacteristicMeasurement id="{measurement_id}">' + block
+                 + "</DiameterCharacteristicMeasurement>" + rest)
+
+
+def _measurement_ids():
+    root = ET.parse(DATA / "lot.qif").getroot()
+    return [m.get("id") for m in root.iter("{http://qifstandards.org/xsd/qif3}DiameterCharacteristicMeasurement")]
+
+
+def test_a_measurement_without_a_value_is_read_and_refused_only_when_the_study_counts_it(tmp_path):
+    ids = _measurement_ids()
+    # the 7th, which the study excludes: valid QIF (Value is optional); the part has no reading, the study agrees
+    f = read_qif(_without_value(tmp_path, ids[6]))
+    key = next(iter(f.characteristics))
+    assert [r["figure"] for r in check_statistics(f, key)][:2] == ["TotalNumber", "EffectiveNumber"]
+    f = read_qif(_without_value(tmp_path, ids[0]))          # one the study counts
+    with pytest.raises(InputError) as exc:
+        check_statistics(f, key)
+    assert f"it counts measurement id={ids[0]}, which has no value" in exc.value.reason
+
+
+def test_a_value_or_nominal_that_is_no_number_is_a_located_error(tmp_path):
+    ids = _measurement_ids()
+    text = (DATA / "lot.qif").read_text("utf-8")
+    head, tail = text.split(f'<DiameterCharacteristicMeasurement id="{ids[2]}">', 1)
+    old = tail.split("<Value>", 1)[1].split("</Value>", 1)[0]
+    path = write(tmp_path / "nan.qif", head + f'<DiameterCharacteristicMeasurement id="{ids[2]}">'
+                 + tail.replace(f"<Value>{old}</Value>", "<Value>NaN</Value>", 1))
+    with pytest.raises(InputError) as exc:
+        characteristic_values(path, "CRANK_BORE_D", "mm")
+    assert f"measurement id={ids[2]} of 'CRANK_BORE_D': the value NaN is not a finite number" in exc.value.reason
+    assert exc.value.key.startswith("MeasurementResults id=")
+    path = write(tmp_path / "nominal.qif", text.replace("<TargetValue>40.0</TargetValue>", "<TargetValue>NaN</TargetValue>", 1))
+    assert "<TargetValue>NaN</TargetValue>" in path.read_text("utf-8")
+    spec = spec_from_table({"factor": [{"name": "crank.bore", "unit": "mm", "dist": "normal", "sigma": 1.0}]})
+    mapping = write(tmp_path / "map.csv", "characteristic, feature, reading, u [um]\nCRANK_BORE_D, bore, deviation, 0.5\n")
+    with pytest.raises(InputError) as exc:
+        read_part_family(path, ["crank"], spec, mapping=mapping)
+    assert "its nominal (TargetValue) NaN is not a finite number" in exc.value.reason
+
+
+def test_the_standard_deviation_of_one_kept_value_is_not_checked(tmp_path):
+    text = (DATA / "lot.qif").read_text("utf-8")
+    ids = _measurement_ids()
+    keep = ids[0]
+    ex = "".join(f"<Exclusion><Id>{i}</Id><Reason><ExclusionReasonEnum>FLIER</ExclusionReasonEnum></Reason>"
+                 "</Exclusion>" for i in ids[1:])
+    start, end = text.index("<Exclusions"), text.index("</Exclusions>") + len("</Exclusions>")
+    text = text[:start] + f'<Exclusions n="{len(ids) - 1}">{ex}</Exclusions>' + text[end:]
+    first = _lot_truth()[0]
+    for fig, value in (("EffectiveNumber", "1"), ("Average", repr(first)), ("Maximum", repr(first)),
+                       ("Minimum", repr(first)), ("Range", "0"), ("StandardDeviation", "0")):
+        head, tail = text.split(f"<{fig}>", 1)
+        old = tail.split("<Value>", 1)[1].split("</Value>", 1)[0]
+        text = head + f"<{fig}>" + tail.replace(f"<Value>{old}</Value>", f"<Value>{value}</Value>", 1)
+    f = read_qif(write(tmp_path / "one.qif", text))
+    rows = check_statistics(f, next(iter(f.characteristics)))
+    assert keep and "StandardDeviation" not in [r["figure"] for r in rows] and len(rows) == 6

@@ -49,10 +49,14 @@ uncertainty — which a summary does not give), so the figures are a **check**: 
 measured factor's, :func:`characteristic_values`) has each of TotalNumber, EffectiveNumber, Average,
 StandardDeviation (the sample one, n − 1, as the schema defines it; a population one is named as such), Minimum,
 Maximum and Range recomputed from the measurements the study names, and a figure that differs by more than half a
-unit in its last written place is an error naming the study — the file contradicts itself, and which of the two a
-verdict should rest on is not said (:func:`check_statistics`; the figures that agree are shown in the report of a
-measured factor).  A document of Statistics only is refused with that reason; a study's inline ``MeasuredValues``
-name no characteristic and are not read.
+unit in its last written place — or in the values' own, when the figure is written more coarsely than the values it
+summarises (a Range written ``0`` of values written to 0.1 µm) — is an error naming the study: the file contradicts
+itself, and which of the two a verdict should rest on is not said (:func:`check_statistics`; the figures that agree
+are shown in the report of a measured factor).  A figure or a value that is not a finite number is an error too.
+A document of Statistics only is refused with that reason; a study's inline ``MeasuredValues`` name no
+characteristic and are not read.  A study's ``Exclusions`` are the study's own choice: a factor's law is fitted to
+every part's measured value (a reading the inspection room does not trust is removed from the file, or the part
+measured again).
 
 **DFQ** (the Q-DAS ASCII transfer format, AQDEF).  No existing reader serves: ``aqdefreader`` (PyPI 1.3.0)
 prints to stdout, leaves a coded value such as ``K0001/1 -0.5`` or ``1.5`` as text (its number pattern has no
@@ -145,6 +149,7 @@ class Statistic:
     name: str                        # the QIF element: Average, StandardDeviation, Minimum, …
     value: float                     # in the characteristic's unit (a count or a ratio as written)
     half_ulp: float                  # half a unit in the last place written, in the same unit
+    written: str = ""                # as the file writes it, with its unit
 
 
 @dataclass
@@ -165,7 +170,9 @@ class InspectionFile:
     sha256: str
     characteristics: dict[str, Characteristic]
     parts: list[Part]
-    measurements: dict[str, tuple[str, float]] = field(default_factory=dict)   # QIF id -> (item key, value)
+    #: QIF measurement id -> (item key, value or None — a measurement without one —, half a unit in its last
+    #: written place), in the characteristic's unit
+    measurements: dict[str, tuple[str, float | None, float]] = field(default_factory=dict)
     statistics: list[CharacteristicStatistics] = field(default_factory=list)
 
     def error(self, reason: str, where: str) -> SpecError:
@@ -303,6 +310,7 @@ def read_qif(path) -> InspectionFile:
             c = f.characteristics.get(key)
             if c is None:
                 raise f.error(f"measurement id={m.id} names no CharacteristicItem {key!r}", where)
+            f.measurements[str(m.id)] = (key, None, 0.0)
             if m.value is None:
                 continue                    # a characteristic judged without a value (an attribute's status)
             dim = "length" if hasattr(m.value, "linear_unit") else "angle" if hasattr(m.value, "angular_unit") else None
@@ -316,10 +324,16 @@ def read_qif(path) -> InspectionFile:
                 if target is not None:
                     c.nominal = (float(target.value) * _qif_unit(factors, dim, target, f, c.where)[1]
                                  / units.to_base(1.0, unit))
+                    if not math.isfinite(c.nominal):
+                        c.problem = (c.where, f"its nominal (TargetValue) {target.value} is not a finite number")
             k /= units.to_base(1.0, c.unit)
             u = m.value.combined_uncertainty
-            part.readings.setdefault(key, []).append((float(m.value.value) * k, None if u is None else float(u) * k))
-            f.measurements[str(m.id)] = (key, float(m.value.value) * k)
+            x = float(m.value.value) * k
+            if not math.isfinite(x):
+                part.problems[key] = (where, f"measurement id={m.id} of {c.names[0]!r}: the value {m.value.value} is "
+                                             "not a finite number")
+            part.readings.setdefault(key, []).append((x, None if u is None else float(u) * k))
+            f.measurements[str(m.id)] = (key, x, _half_ulp(m.value.value) * k)
         f.parts.append(part)
     f.statistics = _qif_statistics(doc, f, factors)
     if not f.parts:
@@ -335,6 +349,13 @@ CHECKED = ("TotalNumber", "EffectiveNumber", "Average", "StandardDeviation", "Mi
 #: figures in the characteristic's unit (the others are counts or ratios)
 _IN_UNIT = ("Average", "Minimum", "Maximum", "Range", "AverageRange", "StandardDeviation", "RootMeanSquare",
             "Difference", "EstimatedStandardDeviation", "ProcessVariation", "UpperControlLimit", "LowerControlLimit")
+
+
+def _half_ulp(number) -> float:
+    """Half a unit in the last place of a number as the file writes it (an ``xs:decimal`` read as ``Decimal``; 0 for
+    a float, whose written digits are not known)."""
+    exp = number.as_tuple().exponent if hasattr(number, "as_tuple") else None
+    return 0.5 * 10.0 ** exp if isinstance(exp, int) else 0.0
 
 
 def _element(obj) -> str:
@@ -377,34 +398,48 @@ def _qif_statistics(doc, f: InspectionFile, factors) -> list[CharacteristicStati
             figures = []
             vs = getattr(cs, "value_stats", None)
             c = f.characteristics.get(key) if key is not None else None
-            k = 1.0
+            k, written = 1.0, ""
             if vs is not None and c is not None and c.unit is not None:
-                dim = units.dimension(c.unit)
-                dim = "length" if dim == "length" else "angle"
-                k = _qif_unit(factors, dim, vs, f, where)[1] / units.to_base(1.0, c.unit)
+                dim = "length" if units.dimension(c.unit) == "length" else "angle"
+                unit, k = _qif_unit(factors, dim, vs, f, where)
+                written = unit if math.isclose(units.to_base(1.0, unit), k, rel_tol=1e-12) else \
+                    f"(× {k:.10g} {'mm' if dim == 'length' else 'rad'})"
+                k /= units.to_base(1.0, c.unit)
             for el in _members(vs):
                 name = _element(el)
                 raw = getattr(el, "value", None)
                 raw = getattr(raw, "value", raw)          # a MeasuredDecimalType's number
                 if raw is None or isinstance(raw, (list, tuple)):
                     continue            # per-subgroup lists: not checked
-                exp = raw.as_tuple().exponent if hasattr(raw, "as_tuple") else 0
+                if not math.isfinite(float(raw)):
+                    raise f.error(f"{name} {raw} is not a finite number", where)
                 scale = k if name in _IN_UNIT else 1.0
-                figures.append(Statistic(name, float(raw) * scale, 0.5 * 10.0 ** exp * abs(scale)))
+                figures.append(Statistic(name, float(raw) * scale, _half_ulp(raw) * abs(scale),
+                                         f"{raw}{' ' + written if name in _IN_UNIT and written else ''}"))
             out.append(CharacteristicStatistics(sname, where, key, measured, len(ids), figures))
     return out
 
 
 def check_statistics(source: InspectionFile, key: str) -> list[dict]:
     """The file's own Statistics of characteristic ``key`` recomputed from the measurements each study names: one
-    row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's); a figure that disagrees by more
-    than half a unit in its last written place (and 1e-9 relative, the arithmetic) is an error naming the study —
-    the file contradicts itself, and which of the two a verdict should rest on is not said."""
+    row per figure of :data:`CHECKED` (study, figure, the file's value, rvtol's).  A figure may be written rounded,
+    but not more coarsely than the values it summarises are written: it must agree to half a unit in its last
+    written place or in the values' (the coarser of the values), whichever is finer (and 1e-9 relative, the
+    arithmetic) — else an error naming the study: the file contradicts itself, and which of the two a verdict
+    should rest on is not said.  A measurement the study counts must have a value; the standard deviation of one
+    value is not checked (n − 1 = 0)."""
     rows = []
     for s in source.statistics:
         if s.key != key:
             continue
-        x = [source.measurements[i][1] for i in s.measured]
+        named = [source.measurements[i] for i in s.measured]
+        for i, (_, v, _) in zip(s.measured, named):
+            if v is None:
+                raise source.error(f"it counts measurement id={i}, which has no value", s.where)
+            if not math.isfinite(v):
+                raise source.error(f"it counts measurement id={i}, whose value is not a finite number", s.where)
+        x = [v for _, v, _ in named]
+        resolution = max((h for _, _, h in named), default=math.inf)
         n = len(x)
         mean = math.fsum(x) / n if n else math.nan
         spread = max((abs(v - mean) for v in x), default=0.0) or 1.0      # scaled: no underflow of tiny squares
@@ -413,18 +448,20 @@ def check_statistics(source: InspectionFile, key: str) -> list[dict]:
                 "Minimum": min(x, default=math.nan), "Maximum": max(x, default=math.nan),
                 "Range": (max(x) - min(x)) if x else math.nan}
         for fig in s.figures:
-            if fig.name not in CHECKED:
+            if fig.name not in CHECKED or (fig.name == "StandardDeviation" and n < 2):
                 continue
             want = ours[fig.name]
-            if not (abs(fig.value - want) <= fig.half_ulp + 1e-9 * max(abs(want), abs(fig.value))):
+            tol = fig.half_ulp if fig.name not in _IN_UNIT else min(fig.half_ulp, resolution)
+            if not (abs(fig.value - want) <= tol + 1e-9 * max(abs(want), abs(fig.value))):
                 hint = ""
-                if fig.name == "StandardDeviation" and n > 1 and math.isclose(
-                        fig.value, sd * math.sqrt((n - 1) / n), rel_tol=1e-9, abs_tol=fig.half_ulp):
+                if fig.name == "StandardDeviation" and math.isclose(
+                        fig.value, sd * math.sqrt((n - 1) / n), rel_tol=1e-9, abs_tol=tol):
                     hint = " (the population standard deviation, n in the denominator; QIF's is the sample one, n − 1)"
                 unit = source.characteristics[key].unit if fig.name in _IN_UNIT else ""
-                raise source.error(f"{fig.name} {fig.value:.15g}{' ' + unit if unit else ''} of "
+                raise source.error(f"{fig.name} {fig.written or f'{fig.value:.15g}'} of "
                                    f"{source.characteristics[key].names[0]!r} disagrees with its {n} measurements "
-                                   f"({want:.10g}){hint}: the file contradicts itself", s.where)
+                                   f"({want:.10g}{' ' + unit if unit else ''}){hint}: the file contradicts itself",
+                                   s.where)
             rows.append({"study": s.study, "figure": fig.name, "file": fig.value, "recomputed": want})
     return sorted(rows, key=lambda r: (r["study"], CHECKED.index(r["figure"])))
 

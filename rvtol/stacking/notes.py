@@ -49,7 +49,7 @@ SIX_SIGMA_SHIFT = "every band a ±{width:g}σ process (Cp {cp:g}) shifted {shift
 
 # ---------------------------------------------------------------- tail: the estimates' notes
 NOMINAL_FAILS = "the nominal point itself fails: β < 0"
-FORM_COBYLA = "Cobyla (derivative-free): the output's gradient vanishes at the start or Abdo-Rackwitz failed"
+FORM_COBYLA = "Cobyla (derivative-free): Abdo-Rackwitz failed from the origin and from a point off it"
 FORM_OUT_OF_REACH = ("no point of the limit state: every factor is bounded and no corner of their supports reaches the "
                      "limit — out of reach, P = 0")
 FORM_NONE = ("Abdo-Rackwitz and Cobyla found no point of the limit state (a failure domain they cannot reach from the "

@@ -263,8 +263,10 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
             nonlocal form_result, u_star
             if beyond(y0):
                 est.notes.append(N.NOMINAL_FAILS)
-            for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.Cobyla(), [0.0] * k),
-                                  (ot.Cobyla(), [0.1] * k)):
+            # where the gradient vanishes at the origin (a radius at a centred zone), Abdo-Rackwitz from a point off
+            # it, then Cobyla, which stops on a constraint tolerance of its own (1e-4 of the limit)
+            for solver, start in ((ot.AbdoRackwitz(), [0.0] * k), (ot.AbdoRackwitz(), [0.1] * k),
+                                  (ot.Cobyla(), [0.0] * k), (ot.Cobyla(), [0.1] * k)):
                 try:
                     algo = ot.FORM(solver, event, start)
                     algo.run()

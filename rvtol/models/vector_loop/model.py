@@ -1,0 +1,351 @@
+"""Closed vector loops with dependent (adjusting) variables: an assembly declared, not solved on paper.
+
+A non-linear stack whose parts *settle* — a roller seated between a hub flat and a ring, a slider pushed by a
+crank, a linkage's output angle — has dimensions the assembly decides, not the drawing: the **dependent**
+variables.  The Direct Linearization Method (Chase, Gao & Magleby; Gao, Chase & Magleby) writes the assembly as
+closed **vector loops**: vectors tip to tail, each a length and a direction, summing to zero around every loop
+of the assembly graph.  Each 2-D loop gives two scalar equations (three in 3-D), so an assembly with L loops
+determines L·2 (L·3) dependents.
+
+rvtol solves the loop equations **per Monte Carlo sample** (this model) instead of linearising them: for the
+factors x of a sample, the dependents d solve
+
+    h(x, d) = Σ_i L_i(x, d) · u(θ_i(x, d), φ_i(x, d)) = 0  for every loop,
+    u(θ, φ) = (cos φ cos θ, cos φ sin θ, sin φ)   (2-D: φ = 0, the first two components),
+
+by Newton's method, vectorised over the batch, with the exact Jacobian ∂h/∂d: every length L_i and angle θ_i,
+φ_i (the *elevation*, 3-D) is a formula of the factors, the dependents and the model's definitions
+(:mod:`rvtol.expressions`, with forward-mode derivatives; units checked as in a formula model), and
+
+    ∂h/∂v = Σ_i u_i ∂L_i/∂v + L_i (∂u/∂θ ∂θ_i/∂v + ∂u/∂φ ∂φ_i/∂v)    (v a factor or a dependent).
+
+Every sample starts from the **nominal assembly** — the dependents solved at the factors' nominal values from
+the declared ``start`` — so each sample stays on the declared branch (a linkage has two assembly modes) and
+the result of a row does not depend on the others in its batch (converged rows are frozen).  A sample whose
+equations do not converge in :data:`MAX_ITERATIONS` steps to :data:`TOLERANCE` (relative to the loop's size;
+then one more step, Newton's quadratic convergence taking the dependents to the last bits),
+or whose Jacobian is singular, is a failed sample with its reason (the parts cannot be assembled at those
+dimensions), never a silent value.
+
+**DLM sensitivities.**  :meth:`VectorLoopModel.gradient` gives the exact derivatives of the outputs with
+respect to the factors by the implicit function theorem, dd/dx = −(∂h/∂d)⁻¹ ∂h/∂x — the DLM's
+B⁻¹A — and the chain rule through the output formulas; the linearised stack conventions use them (they are
+identical in meaning to the derivatives of an explicit formula of the same assembly: ``tests``).
+
+A study declares::
+
+    [model]
+    kind = "vector_loop"
+    dimensions = 2                       # or 3 (vectors then take an elevation)
+    [[model.dependent]]                  # one per loop equation: 2 per 2-D loop
+    name = "b"                           # the roller's contact point along the hub flat
+    unit = "mm"
+    start = 4.5                          # a guess near the nominal assembly (selects the branch)
+    [[model.dependent]]
+    name = "psi"
+    unit = "deg"
+    start = 80
+    [[model.loop]]                       # vectors tip to tail, angles from the x axis (counter-clockwise)
+    name = "roller seat"
+    vectors = [
+        { length = "a", angle = "pi/2" },
+        { length = "b", angle = "0" },
+        { length = "c", angle = "pi/2" },
+        { length = "c - e", angle = "psi" },
+    ]
+    [[model.output]]                     # formulas of factors, dependents and definitions (as a formula model)
+    name = "phi"
+    formula = "pi/2 - psi"
+    unit = "deg"
+
+References.  K. W. Chase, J. Gao, S. P. Magleby, "General 2-D tolerance analysis of mechanical assemblies with
+small kinematic adjustments", J. Design and Manufacturing 5 (1995) 263–274; J. Gao, K. W. Chase, S. P. Magleby,
+"Generalized 3-D tolerance analysis of mechanical assemblies with small kinematic adjustments", IIE Trans. 30
+(1998) 367–377; the one-way clutch: E. Fortini, Quality Control and Statistics in Engineering Design (1967).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ... import units as _units
+from ...errors import InputError
+from ...expressions import ExpressionError
+from ...model import STATUS_NONFINITE, STATUS_OK, Model
+from ..formula.model import FormulaModel, FormulaOutput
+
+#: Newton steps per sample before it is declared not to close
+MAX_ITERATIONS = 50
+#: converged when every residual is below this fraction of the loop's size (the sum of its vectors' lengths)
+TOLERANCE = 1e-12
+STATUS_NO_CLOSURE = 2
+STATUS_SINGULAR = 3
+
+
+class LoopError(ExpressionError):
+    """A formula of loop ``loop`` (its index) that cannot be read."""
+
+    def __init__(self, loop: int, reason: str):
+        super().__init__(reason)
+        self.loop = loop
+
+
+@dataclass(frozen=True)
+class Dependent:
+    """A dependent variable: its name, the unit it is written in, the starting guess (in that unit)."""
+
+    name: str
+    unit: str
+    start: float
+
+
+@dataclass(frozen=True)
+class Vector:
+    """One vector of a loop: length, angle from the x axis (counter-clockwise) and, in 3-D, elevation above the
+    xy plane — each a formula of the factors, the dependents and the definitions (angles in any angle unit)."""
+
+    length: str
+    angle: str
+    elevation: str = "0"
+
+
+class VectorLoopModel(Model):
+    """Closed vector loops solved for their dependents per sample (see the module docstring)."""
+
+    status_reasons = {**Model.status_reasons,
+                      STATUS_NO_CLOSURE: "the vector loops do not close (Newton on the loop equations did not "
+                                         "converge: the parts cannot be assembled at these dimensions)",
+                      STATUS_SINGULAR: "the loop equations are singular here (a dependent is not determined by "
+                                       "the loops at this assembly)"}
+
+    def __init__(self, loops: Sequence[Sequence[Vector]], dependents: Sequence[Dependent], outputs,
+                 inputs: Sequence[str], input_units: Sequence[str], *, dimensions: int = 2,
+                 definitions: Mapping[str, str | tuple[str, str]] | None = None, loop_names: Sequence[str] = ()):
+        if dimensions not in (2, 3):
+            raise ExpressionError(f"dimensions must be 2 or 3, got {dimensions!r}")
+        self.dims = dimensions
+        self.dependents = tuple(dependents)
+        self.loops = [tuple(v) for v in loops]
+        self.loop_names = tuple(loop_names) or tuple(f"loop {i + 1}" for i in range(len(self.loops)))
+        if not self.loops or any(not v for v in self.loops):
+            raise ExpressionError("a vector-loop model needs at least one loop of at least one vector")
+        equations = dimensions * len(self.loops)
+        if len(self.dependents) != equations:
+            raise ExpressionError(f"{len(self.loops)} loop(s) in {dimensions}-D give {equations} equations: declare "
+                                  f"as many dependents (there are {len(self.dependents)})")
+        if dimensions == 2 and any(v.elevation != "0" for loop in self.loops for v in loop):
+            raise ExpressionError("an elevation needs dimensions = 3")
+        names = [d.name for d in self.dependents]
+        clash = [n for n in names if n in inputs]
+        if clash or len(set(names)) != len(names):
+            raise ExpressionError(f"dependent {(clash or names)[0]!r} is named like a factor or another dependent")
+        for d in self.dependents:
+            if _units.dimension(d.unit) not in ("length", "angle"):
+                raise ExpressionError(f"dependent {d.name!r}: a length or an angle, not {d.unit!r}")
+        self.inputs = tuple(inputs)
+        all_units = tuple(input_units) + tuple(d.unit for d in self.dependents)
+        # the loops' geometry: per vector its length (mm), angle and elevation (rad), as formulas
+        parts = []
+        for li, loop in enumerate(self.loops):
+            for vi, v in enumerate(loop):
+                for what, text, unit in (("length", v.length, "mm"), ("angle", v.angle, "rad"),
+                                         ("elevation", v.elevation, "rad"))[: 3 if dimensions == 3 else 2]:
+                    part = FormulaOutput(f"{li}.{vi}.{what}", text, unit)
+                    try:        # one formula at a time, so that an error names its loop, vector and role
+                        FormulaModel([part], self.inputs + tuple(names), all_units, definitions=definitions)
+                    except ExpressionError as exc:
+                        raise LoopError(li, f"vector {vi + 1}, {what}: "
+                                            + exc.reason.split(": ", 1)[-1]) from None
+                    parts.append(part)
+        self._geometry = FormulaModel(parts, self.inputs + tuple(names), all_units, definitions=definitions)
+        self._outputs = FormulaModel(outputs, self.inputs + tuple(names), all_units, definitions=definitions)
+        self.input_units = self._geometry.input_units[: len(self.inputs)]
+        self.outputs = self._outputs.outputs
+        self._d_factor = np.array([_units.factor(d.unit) for d in self.dependents])
+        self._sizes = [len(loop) for loop in self.loops]
+        self._nominal_start = np.array([d.start for d in self.dependents]) * self._d_factor
+        self._start = None                       # the nominal assembly (set by at_nominal)
+
+    # -- the loop equations ------------------------------------------------------------------
+    def _residual(self, X: np.ndarray, D: np.ndarray, columns: slice | None = None):
+        """``(h (n, E), J, scale (n, E))`` at factors X and dependents D (base units): the loop equations, their
+        Jacobian ``∂h/∂z (n, E, c)`` over the ``columns`` of z = [x, d] (default: the dependents; None: no
+        Jacobian) and each equation's loop size (the sum of its vectors' lengths)."""
+        Z = np.concatenate([X, D], axis=1)
+        cols = slice(len(self.inputs), None) if columns is None else columns
+        V, G = self._geometry.evaluate_with_gradient(Z)
+        V, G = V.T, G.transpose(1, 2, 0)[:, cols]      # component-major: each row below is one contiguous array
+        per = 3 if self.dims == 3 else 2
+        n, E = len(X), self.dims * len(self.loops)
+        h = np.zeros((E, n))
+        J = np.zeros((E, G.shape[1], n))
+        scale = np.zeros((E, n))
+        col = 0
+        for li, size in enumerate(self._sizes):
+            row = self.dims * li
+            for _ in range(size):
+                L, th = V[col], V[col + 1]
+                ct, st = np.cos(th), np.sin(th)
+                if self.dims == 3:
+                    cp, sp = np.cos(V[col + 2]), np.sin(V[col + 2])
+                    parts = ((cp * ct, -cp * st, -sp * ct), (cp * st, cp * ct, -sp * st), (sp, 0.0, cp))
+                else:
+                    parts = ((ct, -st, None), (st, ct, None))
+                for c, (u, du_dth, du_dph) in enumerate(parts):     # component c of L·u(θ, φ) and its derivative
+                    h[row + c] += L * u
+                    J[row + c] += u * G[col] + (L * du_dth) * G[col + 1]
+                    if du_dph is not None:
+                        J[row + c] += (L * du_dph) * G[col + 2]
+                scale[row: row + self.dims] += np.abs(L)
+                col += per
+        return h.T, J.transpose(2, 0, 1), scale.T
+
+    def solve(self, X: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(D, status)``: the dependents (base units) closing the loops at every row of ``X`` by Newton's method
+        from ``start`` (default: the nominal assembly), each row on its own (converged rows are frozen)."""
+        X = np.asarray(X, dtype=float)
+        n, m = len(X), len(self.dependents)
+        D = np.tile(self._start if start is None else start, (n, 1)).astype(float)
+        status = np.full(n, STATUS_NO_CLOSURE, dtype=np.int16)
+        active = np.arange(n)
+        with np.errstate(all="ignore"):
+            for _ in range(MAX_ITERATIONS):
+                if active.size == 0:
+                    break
+                h, Jd, scale = self._residual(X[active], D[active])
+                finite = np.isfinite(h).all(axis=1) & np.isfinite(Jd).all(axis=(1, 2))
+                det_ok = finite & (np.abs(np.linalg.det(np.where(finite[:, None, None], Jd, np.eye(m)))) > 0)
+                status[active[~finite]] = STATUS_NONFINITE
+                status[active[finite & ~det_ok]] = STATUS_SINGULAR
+                done = det_ok & (np.abs(h) <= TOLERANCE * np.maximum(scale, 1e-300)).all(axis=1)
+                status[active[done]] = STATUS_OK
+                if det_ok.any():        # a converged row takes one more step (to the last bits), then stops
+                    step = np.linalg.solve(Jd[det_ok], -h[det_ok][:, :, None])[:, :, 0]
+                    D[active[det_ok]] += step
+                active = active[det_ok & ~done]
+        D[status != STATUS_OK] = np.nan
+        return D, status
+
+    def at_nominal(self, x0: np.ndarray) -> np.ndarray:
+        """Solve the nominal assembly (the factors at ``x0``, base units) from the declared starts; every sample
+        then starts from it.  Raises :class:`InputError` when the loops do not close there."""
+        D, status = self.solve(np.asarray(x0, dtype=float)[None, :], self._nominal_start)
+        if status[0] != STATUS_OK:
+            why = {STATUS_SINGULAR: "the loop equations are singular there"}.get(
+                int(status[0]), "Newton on the loop equations did not converge")
+            raise InputError(f"the vector loops do not close at the nominal dimensions from the declared starts "
+                             f"({why}): check the loops' vectors and the dependents' start values")
+        self._start = D[0]
+        return D[0]
+
+    def nominal_dependents(self) -> dict[str, float]:
+        """The nominal assembly's dependents, each in its own unit."""
+        return {d.name: float(v / k) for d, v, k in zip(self.dependents, self._start, self._d_factor)}
+
+    # -- the Model protocol ------------------------------------------------------------------
+    def _ensure_start(self):
+        if self._start is None:
+            raise InputError("the vector-loop model has no nominal assembly: call at_nominal(x0) first")
+
+    def evaluate_with_status(self, X):
+        X = self.check_input(X)
+        self._ensure_start()
+        D, status = self.solve(X)
+        ok = status == STATUS_OK
+        Y = np.full((len(X), len(self.outputs)), np.nan)
+        if ok.any():
+            with np.errstate(all="ignore"):
+                Y[ok] = self._outputs.evaluate(np.concatenate([X[ok], D[ok]], axis=1))
+        bad = ok & ~np.all(np.isfinite(Y), axis=1)
+        status[bad] = STATUS_NONFINITE
+        return Y, status
+
+    def evaluate(self, X):
+        return self.evaluate_with_status(X)[0]
+
+    def gradient(self, X) -> np.ndarray:
+        """Exact ∂Y/∂X ``(n, outputs, inputs)`` by the DLM: dd/dx = −(∂h/∂d)⁻¹ ∂h/∂x through the output formulas
+        (NaN where the loops do not close)."""
+        X = self.check_input(X)
+        self._ensure_start()
+        k = len(self.inputs)
+        D, status = self.solve(X)
+        G = np.full((len(X), len(self.outputs), k), np.nan)
+        ok = status == STATUS_OK
+        if ok.any():
+            with np.errstate(all="ignore"):
+                _, J, _ = self._residual(X[ok], D[ok], slice(None))
+                dd_dx = -np.linalg.solve(J[:, :, k:], J[:, :, :k])
+                _, Go = self._outputs.evaluate_with_gradient(np.concatenate([X[ok], D[ok]], axis=1))
+                G[ok] = Go[:, :, :k] + Go[:, :, k:] @ dd_dx
+        return G
+
+    def dependencies(self) -> None:
+        return None           # the loops couple every factor they name to every dependent
+
+
+def from_study(params, design, spec) -> VectorLoopModel:
+    """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
+    dims = int(params.float("dimensions", 2))
+    defs_p = params.sub("define", {})
+    definitions: dict = {}
+    for name in list(defs_p.keys()):
+        if isinstance(defs_p.data[name], dict):
+            t = defs_p.sub(name)
+            definitions[name] = (t.str("formula"), t.unit("unit"))
+            t.finish()
+        else:
+            definitions[name] = defs_p.str(name)
+    deps = []
+    for t in params.tables("dependent"):
+        unit = t.unit("unit", dimension=("length", "angle"))
+        deps.append(Dependent(t.str("name"), unit, t.float("start")))
+        t.finish()
+    if not deps:
+        raise params.error("dependent", "a vector-loop model needs its dependents ([[model.dependent]]: name, unit, "
+                                        "start)")
+    loops, names, loop_tables = [], [], params.tables("loop")
+    for t in loop_tables:
+        names.append(t.str("name", f"loop {len(names) + 1}"))
+        raw = t.raw("vectors")
+        if not isinstance(raw, list) or not raw or not all(isinstance(v, dict) for v in raw):
+            raise t.error("vectors", "expected a list of tables { length = \"…\", angle = \"…\" }")
+        vectors = []
+        for i, v in enumerate(raw):
+            unknown = sorted(set(v) - {"length", "angle", "elevation"})
+            if unknown or "length" not in v or "angle" not in v:
+                raise t.error("vectors", f"vector {i + 1}: " + (f"unknown key {unknown[0]!r}" if unknown else
+                                                                "needs a length and an angle"))
+            vectors.append(Vector(*(str(v[k]) if not isinstance(v[k], str) else v[k]
+                                    for k in ("length", "angle")), str(v.get("elevation", "0"))))
+        loops.append(vectors)
+        t.finish()
+    if not loops:
+        raise params.error("loop", "a vector-loop model needs at least one [[model.loop]]")
+    outs = []
+    for t in params.tables("output"):
+        unit = t.unit("unit", "1")
+        outs.append(FormulaOutput(t.str("name"), t.str("formula"), unit,
+                                  t.unit("display_unit", unit, dimension=_units.dimension(unit)),
+                                  t.str("description", "")))
+        t.finish()
+    if not outs:
+        raise params.error("output", "a vector-loop model needs at least one [[model.output]]")
+    params.finish()
+    try:
+        model = VectorLoopModel(loops, deps, outs, spec.names, spec.units, dimensions=dims,
+                                definitions=definitions, loop_names=names)
+    except LoopError as exc:
+        raise loop_tables[exc.loop].error("vectors", exc.reason) from None
+    except ExpressionError as exc:
+        raise params.error(None, exc.reason) from None
+    try:
+        model.at_nominal(np.array([f.nominal_base for f in spec.factors]))
+    except InputError as exc:
+        raise params.error("dependent", exc.reason) from None
+    return model
+
+
+__all__ = ["Dependent", "Vector", "VectorLoopModel", "from_study"]
