@@ -28,6 +28,14 @@ File format (``data/specs/*.toml``)::
     unit = "mm"                # optional when the text has one ("25 H7" is in mm)
     direction = -1             # optional: the factor's sign/coefficient in a 1-D stack
 
+    [[factor]]                 # ISO 2768 general tolerances (rvtol.inputs.iso2768)
+    name = "flange_angle"
+    unit = "deg"
+    nominal = 30
+    tolerance = "ISO 2768-m"   # an angle: ISO 2768-1 Table 3, by the length of its shorter side
+    shorter_side = 35          # mm (required for an angle); broken_edge = true: a chamfer height or
+                               # an external radius, Table 2 (a length)
+
     [[factor]]                 # a circular position zone: two coordinates of one zone
     name = "hole.x"            # (and a second factor "hole.y" with the same zone and tolerance)
     unit = "mm"
@@ -586,16 +594,24 @@ _REFINING = ("mean", "sigma", "lower", "upper", "mode", "median", "shape", "scal
 
 def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
     """The factor's tolerance in drawing notation (``tolerance = "+0.10/-0.00"``, ``"25 H7"``…), or None
-    for a number (a band width, read by :func:`rvtol.distributions.from_params`)."""
+    for a number (a band width, read by :func:`rvtol.distributions.from_params`).  An ISO 2768 general tolerance of
+    an angle needs ``shorter_side`` (mm, or ``{value, unit}``), one of a chamfer height or an external radius
+    ``broken_edge = true`` (:func:`rvtol.inputs.notation.parse_tolerance`)."""
     text = p.data.get("tolerance") if "tolerance" in p else None   # probed: a misspelt 'tolerence' is named
+    side = p.quantity("shorter_side", "mm", None, positive=True)
+    edge = p.bool("broken_edge", False)
     if not isinstance(text, str):
+        if side is not None or edge:
+            key = "shorter_side" if side is not None else "broken_edge"
+            raise p.error(key, f"{key} belongs to an ISO 2768 general tolerance: give tolerance = \"ISO 2768-m\" (the "
+                               "class of the drawing's title block)")
         return None
     p.raw("tolerance")
     nominal = p.float("nominal", None)
     try:
-        tol = parse_tolerance(text, nominal=nominal, unit=unit)
+        tol = parse_tolerance(text, nominal=nominal, unit=unit, shorter_side=side, broken_edge=edge)
     except NotationError as exc:
-        raise p.error("tolerance", exc.reason) from None
+        raise p.error(exc.key or "tolerance", exc.reason) from None
     return tol
 
 

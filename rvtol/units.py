@@ -6,6 +6,17 @@ that N = t·mm/s², t·mm² for inertia, MPa = N/mm² for stress).  Files and
 reports use whatever unit is written next to the number; :func:`to_base`
 and :func:`from_base` convert.
 
+The table below holds the units rvtol names (each factor checked against pint in
+tests/test_units_table.py).  A unit outside it (``mm^2``, ``N/mm²``, ``h``, ``ft``, ``1/K``) is read by
+pint: its base is its root units in rvtol's (m → mm, g → tonne, s, rad, K), so ``cm^2`` is 100 mm²
+and ``N/mm²`` 1 MPa; it belongs to a table dimension when its base is that dimension's base unit
+(``N/mm²`` is a pressure, ``h`` a time), else to the dimension named by its base (``mm**2``).  Two
+units convert only within one dimension (``mm²`` never to ``mm``); an angle is a dimension of its own
+(rad ≠ 1, as in the table, where pint would call both dimensionless).  A unit pint does not read either
+is refused with the table's did-you-mean, and so is one pint reads as none of rvtol's (not a product
+of powers of mm, t, s, rad and K: an offset scale ``degC``, an ampere, ``de`` — a typo of ``deg``
+that pint reads as a deci-elementary-charge).
+
 >>> round(from_base(to_base(1.0, "um"), "mm"), 12)
 0.001
 >>> round(convert(1.0, "arcmin", "arcsec"), 9)
@@ -14,6 +25,8 @@ and :func:`from_base` convert.
 from __future__ import annotations
 
 import math
+from functools import cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -142,36 +155,101 @@ BASE_UNITS["dimensionless"] = "1"
 
 
 def canonical(unit: str, dimension: str | tuple[str, ...] | None = None) -> str:
-    """The canonical spelling of ``unit``; raises :class:`UnitError` if unknown.  ``dimension`` (one or several):
-    what the unit is expected to measure — an unknown unit's "did you mean" and list of known units then hold only
-    units of that dimension (``mils`` for a length is never answered with ``min``, a time)."""
+    """The canonical spelling of ``unit`` (the table's, else pint's: ``mm²`` → ``mm**2``); raises :class:`UnitError` if
+    unknown.  ``dimension`` (one or several): what the unit is expected to measure — an unknown unit's "did you mean"
+    and list of known units then hold only units of that dimension (``mils`` for a length is never answered with
+    ``min``, a time)."""
     if not isinstance(unit, str):
         raise UnitError(f"unit must be a string, got {type(unit).__name__}")
+    u = in_table(unit)
+    if u is not None:
+        return u
     u = unit.strip()
-    u = _ALIASES.get(u, u)
-    if u not in _TABLE:
+    read = _read_by_pint(u)
+    if read is None:
         dims = None if dimension is None else ((dimension,) if isinstance(dimension, str) else tuple(dimension))
         known = [n for n, (d, _) in _TABLE.items() if dims is None or d in dims]
         spellings = known + [a for a, n in _ALIASES.items() if n in known]
         what = "" if dims is None else f" {' or '.join(d.replace('_', ' ') for d in dims)}"
         raise UnitError(f"unknown{what} unit {unit!r}{did_you_mean(u, spellings)} "
                         f"(known: {', '.join(sorted(known))})")
-    return u
+    return read.spelling
+
+
+def in_table(unit: str) -> str | None:
+    """The table's spelling of ``unit`` (an alias resolved), None if the table does not hold it (pint is not asked)."""
+    u = _ALIASES.get(unit.strip(), unit.strip())
+    return u if u in _TABLE else None
+
+
+#: pint's root units -> rvtol's base units (mm, tonne, s, rad; K for temperature differences; cost)
+_PINT_BASE = {"meter": "mm", "gram": "t", "second": "s", "radian": "rad", "kelvin": "K", "cost_unit": "cost"}
+
+
+@cache
+def _pint():
+    """pint's default registry with rvtol's cost (loaded on the first unit outside the table: about a second) and the
+    table's dimensions by the spelling of their base unit in rvtol's root units."""
+    import pint
+
+    reg = pint.UnitRegistry()
+    reg.define("cost_unit = [cost] = cost")
+    return reg, {_base(reg.Quantity(b))[0]: d for d, b in BASE_UNITS.items()}
+
+
+def _base(q) -> tuple[str, object]:
+    """(spelling, pint unit) of the base of the dimension of the pint quantity ``q``: its root units in rvtol's.
+    Raises ValueError for a unit that is no product of their powers (an offset scale such as degC, a current)."""
+    roots = q.to_root_units().unit_items()
+    if not q._is_multiplicative or any(n not in _PINT_BASE for n, _ in roots):
+        raise ValueError(q.units)
+    base = q._REGISTRY.Unit("*".join(f"{_PINT_BASE[n]}**{e}" for n, e in roots))
+    return format(base, "~C"), base
+
+
+class _PintUnit(NamedTuple):
+    spelling: str       # the canonical spelling (pint's: mm**2)
+    dimension: str      # the table's dimension of the same base unit, else the base unit's spelling (mm**2)
+    factor: float       # to that base unit
+    label: str          # as printed (mm²)
+
+
+@cache
+def _read_by_pint(unit: str) -> _PintUnit | None:
+    """A unit outside the table as pint reads it, or None if pint does not know it or reads it as none of rvtol's
+    (``de``, a typo of ``deg``, is a deci-elementary-charge to pint)."""
+    reg, dims = _pint()
+    try:
+        q = reg.Unit(unit) * 1.0
+        name, base = _base(q)
+    except Exception:        # pint's parser raises many kinds: UndefinedUnitError, ValueError, TokenError, ...
+        return None
+    return _PintUnit(format(q.units, "~C"), dims.get(name, name), float(q.to(base).magnitude), format(q.units, "~P"))
+
+
+def _entry(unit: str) -> tuple[str, float]:
+    """(dimension, factor to its base unit) of ``unit``."""
+    u = canonical(unit)
+    if u in _TABLE:
+        return _TABLE[u]
+    read = _read_by_pint(u)
+    return read.dimension, read.factor
 
 
 def dimension(unit: str) -> str:
-    """The physical dimension of ``unit`` (``'length'``, ``'angle'``, ...)."""
-    return _TABLE[canonical(unit)][0]
+    """The physical dimension of ``unit`` (``'length'``, ``'angle'``, ... ; ``'mm**2'`` for one outside the table)."""
+    return _entry(unit)[0]
 
 
 def base_unit(unit: str) -> str:
-    """The base unit of the dimension of ``unit`` (``'um'`` → ``'mm'``)."""
-    return BASE_UNITS[dimension(unit)]
+    """The base unit of the dimension of ``unit`` (``'um'`` → ``'mm'``, ``'cm^2'`` → ``'mm**2'``)."""
+    d = dimension(unit)
+    return BASE_UNITS.get(d, d)
 
 
 def factor(unit: str) -> float:
     """Multiply a value in ``unit`` by this to get base units."""
-    return _TABLE[canonical(unit)][1]
+    return _entry(unit)[1]
 
 
 def to_base(value, unit: str):
@@ -197,8 +275,8 @@ def require_dimension(unit: str, expected: str | tuple[str, ...]) -> str:
     """Check that ``unit`` has the ``expected`` dimension; return its canonical name."""
     exp = (expected,) if isinstance(expected, str) else tuple(expected)
     u = canonical(unit, exp)
-    if _TABLE[u][0] not in exp:
-        raise UnitError(f"unit {unit!r} is a {_TABLE[u][0]}, expected {' or '.join(exp)}")
+    if dimension(u) not in exp:
+        raise UnitError(f"unit {unit!r} is a {dimension(u)}, expected {' or '.join(exp)}")
     return u
 
 
@@ -220,10 +298,11 @@ def label(unit: str) -> str:
         u = canonical(unit)
     except UnitError:
         return str(unit)
-    return _LABELS.get(u, u)
+    return _LABELS.get(u, u) if u in _TABLE else _read_by_pint(u).label
 
 
 def known_units() -> list[str]:
+    """The table's units (pint reads others)."""
     return sorted(_TABLE)
 
 

@@ -78,7 +78,7 @@ CASES = [
     ("spec is a directory", lambda s: {"study": STUDY.replace('"spec.toml"', '".."')}, "..", "-", "directory"),
     ("factor without unit", lambda s: {"spec": SPEC.replace('unit = "um"\ndist = "normal"', 'dist = "normal"')},
      "spec.toml", "factor[0].unit", "missing unit"),
-    ("unknown unit", lambda s: {"spec": SPEC.replace('"um"', '"furlong"', 1)}, "spec.toml", "factor[0].unit",
+    ("unknown unit", lambda s: {"spec": SPEC.replace('"um"', '"milimeter"', 1)}, "spec.toml", "factor[0].unit",
      "unknown unit"),
     ("unknown distribution", lambda s: {"spec": SPEC.replace('"normal"', '"gaussian"')}, "spec.toml",
      "factor[0].dist", "unknown value"),

@@ -324,7 +324,7 @@ GOOD = "# a comment\ntorque [N*m], angle [arcsec]\n10, 1.0\n20, 2.0\n-10, -1.0\n
     ("time [s], temp\n1, 2\n", "row 1", "no recognised columns"),
     ("torque [N*m]\n1\n2\n3\n", "row 1", "missing column 'angle'"),
     ("torque [N*m], angle\n1, 2\n2, 3\n3, 4\n", "row 1, column 'angle'", "no unit"),
-    ("torque [N*m], angle [furlong]\n1, 2\n", "row 1, column 'angle [furlong]'", "unknown unit"),
+    ("torque [N*m], angle [milimeter]\n1, 2\n", "row 1, column 'angle [milimeter]'", "unknown unit"),
     ("torque [N*m], angle [mm]\n1, 2\n", "row 1, column 'angle [mm]'", "angle"),
     ("torque [N*m], angle [arcsec], angle [arcmin]\n1, 2, 3\n", "row 1, column 'angle [arcmin]'", "twice"),
     (GOOD.replace("20, 2.0", "20, two"), "row 4, column 'angle [arcsec]'", "not a number: 'two'"),

@@ -162,7 +162,7 @@ def test_model_construction_errors():
     with pytest.raises(ExpressionError, match="duplicate output"):
         FormulaModel([("y", "x"), ("y", "2*x")], ["x"])
     with pytest.raises(ExpressionError, match="unknown unit"):
-        FormulaModel([("y", "x", "furlong")], ["x"])
+        FormulaModel([("y", "x", "milimeter")], ["x"])
     with pytest.raises(ExpressionError, match="definition 'x' has the name of an input"):
         FormulaModel({"y": "x"}, ["x"], definitions={"x": "1"})
     with pytest.raises(ExpressionError, match="unit 'mm' is a length, expected angle"):

@@ -177,7 +177,7 @@ def test_process_spec_combinations():
     ("25 +0.05/+0.05", {}, "zero width"),
     ("__import__('os')", {}, "unexpected"),
     ("", {}, "empty"),
-    ("±0.05", {"unit": "parsec"}, "unknown unit"),
+    ("±0.05", {"unit": "milimeter"}, "unknown unit"),
 ])
 def test_errors_say_what_is_accepted(text, kw, words):
     with pytest.raises(NotationError, match=words) as e:

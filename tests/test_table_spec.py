@@ -143,7 +143,7 @@ HEAD = ["name", "part", "nominal", "unit", "tolerance", "distribution"]
     (["a", "p", 25, "mm", 0.05, "normal"], "column 'tolerance' (E)", "bare number"),
     (["a", "p", 25, "mm", datetime.datetime(2024, 1, 2), "normal"], "column 'tolerance' (E)", "date"),
     (["a", "p", "x25", "mm", "±0.1", "normal"], "column 'nominal' (C)", "expected a number"),
-    (["a", "p", 25, "furlong", "±0.1", "normal"], "column 'unit' (D)", "unknown unit"),
+    (["a", "p", 25, "milimeter", "±0.1", "normal"], "column 'unit' (D)", "unknown unit"),
     (["a", "p", 25, None, "±0.1", "normal"], "column 'unit' (D)", "missing unit"),
     (["a", "p", 25, "mm", "±0.1", "gauss"], "column 'distribution' (F)", "unknown distribution"),
     (["a", "p", 25, "mm", "±0.1", "normal(sigma=x)"], "column 'distribution' (F)", "needs a number"),

@@ -93,7 +93,7 @@ kind = "{kind}"
     (SOURCE + QTY.format(kind="mean", body=""), "quantity[0].kind", "unknown value 'mean'"),
     (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "um"'), "quantity[0].reading_uncertainty",
      "missing required key"),
-    (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "furlong"\nreading_uncertainty = 0.1'),
+    (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "milimeter"\nreading_uncertainty = 0.1'),
      "quantity[0].unit", "unknown unit"),
     (SOURCE + QTY.format(kind="orders", body="orders = [1, 0]"), "quantity[0].orders", "integer orders"),
     (SOURCE + QTY.format(kind="order_amplitudes", body='orders = [1, 40]\namplitudes = [2.0]\nunit = "arcsec"\n'

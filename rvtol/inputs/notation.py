@@ -12,6 +12,7 @@
     50 H7 (+0.025/0)                    Ø50 H7 (+0.025/0)                   (class with its deviations)
     ⌀0.4 (M)         ⌀0.4 Ⓜ             ⌀0.4 MMC         ⌀0.4 (L)          (zone at MMC / LMC)
     50 ISO 2768-m    120 ISO 2768-mK                                        (general tolerance)
+    30 deg ISO 2768-m (with shorter_side)   2 ISO 2768-m (with broken_edge)  (ISO 2768-1 Tables 3, 2)
 
 Grammar (case-sensitive where ISO 286 is: ``H7`` is a hole, ``h7`` a shaft)::
 
@@ -51,7 +52,11 @@ stays inside the zone with the coverage c of ±``sigma_level``·σ (99.73 % at 3
 A class written with its deviations (``50 H7 (+0.025/0)``, as drawings print it) must agree with the
 standard's table to 0.5 µm, else it is refused: one of the two is mistyped.  ``ISO 2768-m`` (f, m, c,
 v; a trailing geometric class H/K/L is accepted and ignored here) gives the general tolerance of the
-nominal, ±(ISO 2768-1 Table 1), :mod:`rvtol.inputs.iso2768`.
+nominal, ±(ISO 2768-1 Table 1), :mod:`rvtol.inputs.iso2768`.  An angle (a nominal in deg, arcmin, rad…)
+goes by the length of its shorter side instead (Table 3: ``parse_tolerance(..., shorter_side=35)``, in mm;
+refused without it), and a broken edge — a chamfer height, an external radius — by its own table
+(Table 2: ``broken_edge=True``); either given where it does not belong is refused with the error's
+``key`` set to its name.
 
 Material condition of a position zone.  ``(M)``/``Ⓜ``/``MMC`` and ``(L)``/``Ⓛ``/``LMC`` after ``⌀t``
 set ``Tolerance.modifier``; ``(S)``/``RFS`` is the default.  The zone then grows with the bonus of the
@@ -330,12 +335,9 @@ def _err(text: str, why: str) -> NotationError:
 
 
 def _unit(word: str) -> str | None:
-    """The canonical unit of a word, or None if it is not a unit."""
-    w = _UNIT_ALIASES.get(word, word)
-    try:
-        return units.canonical(w)
-    except InputError:
-        return None
+    """The canonical unit of a word, or None if it is not one of the table's units (:mod:`rvtol.units`): pint would
+    read the letters of ISO classes and process specs (``H7``, ``h6``, ``e8``, ``k``) as henry, hour, a charge…"""
+    return units.in_table(_UNIT_ALIASES.get(word, word))
 
 
 # --------------------------------------------------------------------------------- parsing
@@ -384,15 +386,25 @@ _MODIFIER = re.compile(r"\s*(?:\(\s*([MLS])\s*\)|([ⓂⓁⓈ])|\b(MMC|LMC|RFS))\
 _MODIFIERS = {"M": "MMC", "Ⓜ": "MMC", "MMC": "MMC", "L": "LMC", "Ⓛ": "LMC", "LMC": "LMC", "S": "", "Ⓢ": "",
               "RFS": ""}
 _PAREN = re.compile(r"^(.*\S)\s*\(([^()]*)\)\s*$")
-_ISO2768 = re.compile(r"^\s*(.*?)\s*ISO\s*2768\s*-?\s*([fmcvFMCV])\s*([HKL])?\s*$")
+_ISO2768 = re.compile(r"^\s*(.*?)\s*ISO\s*2768\s*-?\s*([A-Za-z]+?)\s*([HKL])?\s*$")
 
 
-def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None = None) -> Tolerance:
+def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None = None,
+                    shorter_side: float | None = None, broken_edge: bool = False) -> Tolerance:
     """Read drawing tolerance notation (see the module docstring): the forms of :func:`_parse_plain`, and around
-    them a zone's material condition, a class with its deviations in parentheses, an ISO 2768 general class."""
+    them a zone's material condition, a class with its deviations in parentheses, an ISO 2768 general class — of an
+    angle by its ``shorter_side`` (mm), of a ``broken_edge`` (a chamfer height, an external radius).  Both belong to
+    an ISO 2768 class only: elsewhere they are refused with the error's key set to their name."""
     if not isinstance(text, str):
         raise NotationError(f"tolerance must be text, got {type(text).__name__}")
     s = text.strip()
+    m = _ISO2768.match(s)
+    if m:
+        return _general_tolerance(text, m, nominal, unit, shorter_side, broken_edge)
+    for key, given in (("shorter_side", shorter_side is not None), ("broken_edge", broken_edge)):
+        if given:
+            raise NotationError(f"{key} belongs to an ISO 2768 general tolerance (e.g. tolerance = \"ISO 2768-m\"), "
+                                f"not to {text!r}", key=key)
     m = _MODIFIER.search(s)
     if m and m.start() > 0 and s[:1] not in _DIAMETER:
         raise _err(text, "a material condition (M)/(L)/MMC/LMC belongs to a position zone: ⌀t (M)")
@@ -401,24 +413,6 @@ def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None
         if tol.form != "zone":
             raise _err(text, "a material condition (M)/(L) belongs to a position zone ⌀t")
         return replace(tol, text=text, modifier=_MODIFIERS[next(g for g in m.groups() if g)])
-    m = _ISO2768.match(s)
-    if m:
-        from . import iso2768
-
-        head = m.group(1)
-        nom = _parse_plain(head + " ±1", nominal=nominal, unit=unit) if head else None
-        if nom is None and nominal is None:
-            raise _err(text, "ISO 2768 needs the nominal size (e.g. 50 ISO 2768-m)")
-        base = nom if nom is not None else _parse_plain("±1", nominal=nominal, unit=unit or "mm")
-        if base.nominal is None:
-            raise _err(text, "ISO 2768 needs the nominal size (e.g. 50 ISO 2768-m)")
-        u = base.unit or "mm"
-        try:
-            dev = float(units.convert(iso2768.linear(m.group(2), float(units.convert(base.nominal, u, "mm"))),
-                                      "mm", u))
-        except InputError as exc:
-            raise _err(text, exc.reason) from None
-        return Tolerance(text, "symmetric", base.nominal, -dev, dev, u)
     m = _PAREN.match(s)
     if m:                       # "Ø50 H7 (+0.025/0)": the outer part keeps the diameter sign
         outer, inner = m.group(1), m.group(2)
@@ -437,6 +431,40 @@ def parse_tolerance(text: str, *, nominal: float | None = None, unit: str | None
                              f"({format_deviations(iso.lower, iso.upper)}): one of them is mistyped")
         return replace(iso, text=text)
     return _parse_plain(text, nominal=nominal, unit=unit)
+
+
+def _general_tolerance(text: str, m: re.Match, nominal: float | None, unit: str | None, shorter_side: float | None,
+                       broken_edge: bool) -> Tolerance:
+    """``50 ISO 2768-m``: ± ISO 2768-1's deviation (:mod:`rvtol.inputs.iso2768`) — of an angle by its shorter side
+    (Table 3), of a broken edge (Table 2), else of a linear size (Table 1)."""
+    from . import iso2768
+
+    head = m.group(1)
+    nom = _parse_plain(head + " ±1", nominal=nominal, unit=unit) if head else None
+    base = nom if nom is not None else _parse_plain("±1", nominal=nominal, unit=unit or "mm")
+    if base.nominal is None:
+        raise _err(text, "ISO 2768 needs the nominal size (e.g. 50 ISO 2768-m)")
+    u, cls = base.unit or "mm", m.group(2)
+    angle = units.dimension(u) == "angle"
+    if angle and shorter_side is None:
+        raise NotationError(f"an angle's general tolerance ({text!r}) goes by the length of its shorter side "
+                            "(ISO 2768-1 Table 3): give it in mm (e.g. shorter_side = 35; a 'shorter side' column in "
+                            "a table)", key="shorter_side")
+    if not angle and shorter_side is not None:
+        raise NotationError(f"shorter_side is for an angle (ISO 2768-1 Table 3); {text!r} is in {u}, whose general "
+                            "tolerance goes by its own size", key="shorter_side")
+    if angle and broken_edge:
+        raise NotationError(f"broken_edge marks a chamfer height or an external radius (a length, ISO 2768-1 Table 2), "
+                            f"not an angle ({text!r} is in {u})", key="broken_edge")
+    try:
+        if angle:
+            dev = units.convert(iso2768.angular(cls, shorter_side), "arcmin", u)
+        else:
+            table = iso2768.broken_edge if broken_edge else iso2768.linear
+            dev = units.convert(table(cls, float(units.convert(base.nominal, u, "mm"))), "mm", u)
+    except InputError as exc:
+        raise _err(text, exc.reason) from None
+    return Tolerance(text, "symmetric", base.nominal, -float(dev), float(dev), u)
 
 
 def _parse_plain(text: str, *, nominal: float | None = None, unit: str | None = None) -> Tolerance:

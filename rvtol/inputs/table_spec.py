@@ -22,7 +22,9 @@ The layout a quality engineer keeps in a spreadsheet::
   (an export writes them back, :func:`write_table_spec`'s ``keep``).
   ``name`` is required, and ``unit`` unless the tolerance has one (``25 H7`` is in mm).
   ``multiplicity`` (count, qty) makes a row with ``[k]`` in its name a family of N identical
-  factors (:mod:`rvtol.spec`).
+  factors (:mod:`rvtol.spec`).  ``shorter side`` (shorter leg; mm) and ``broken edge`` (yes/no, true/false,
+  blank = no) are an ISO 2768 general tolerance's ``shorter_side`` (an angle, Table 3) and ``broken_edge``
+  (a chamfer height or external radius, Table 2).
 * **Distribution cell**: a kind of :mod:`rvtol.distributions` read over the tolerance band
   (``normal`` at ±3σ, ``uniform``, ``triangular``, ``truncnorm``, ``rayleigh``/``weibull``
   for magnitudes), optionally with parameters that refine or override what the band gives:
@@ -89,6 +91,8 @@ _ALIASES = {
     "feature type": "feature_type", "feature_type": "feature_type",
     "datum size": "datum_size", "datum_size": "datum_size", "datum type": "datum_type", "datum_type": "datum_type",
     "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
+    "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
+    "broken edge": "broken_edge", "broken_edge": "broken_edge",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
@@ -341,7 +345,7 @@ def _header(cells: list, loc: Location, r: int, lettered: bool) -> list[str | No
     return out
 
 
-_LABEL = {"upper": "+tol", "lower": "-tol"}
+_LABEL = {"upper": "+tol", "lower": "-tol", "shorter_side": "shorter side", "broken_edge": "broken edge"}
 
 
 def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma: str) -> tuple[dict, dict]:
@@ -416,6 +420,15 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma
         if not blank(cell.get(h)):
             table[key] = _text(cell[h])
             keycol[key] = col[h]
+    if "shorter_side" in cell:
+        side = _number(cell["shorter_side"], where("shorter_side"), comma)
+        if side is not None:
+            table["shorter_side"] = side
+        keycol["shorter_side"] = col["shorter_side"]
+    if "broken_edge" in cell:
+        if _yes(cell["broken_edge"], where("broken_edge")):
+            table["broken_edge"] = True
+        keycol["broken_edge"] = col["broken_edge"]
     if not blank(cell.get("multiplicity")):
         m = _number(cell["multiplicity"], where("multiplicity"), comma)
         if not float(m).is_integer():
@@ -435,6 +448,16 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma
         raise loc.error(f"no 'nominal' column: the tolerance {tol!r} is a deviation from a nominal (add the column; "
                         f"{fix})", r, "nominal")
     return table, keycol
+
+
+def _yes(v, where) -> bool:
+    """A yes/no cell: yes, true (or the spreadsheet's TRUE) is True; no, false, FALSE or blank is False."""
+    if isinstance(v, bool):
+        return v
+    word = "" if blank(v) else _text(v).lower()
+    if word not in ("", "yes", "true", "no", "false"):
+        raise where(f"expected yes or no, got {_text(v)!r}")
+    return word in ("yes", "true")
 
 
 def _relative(tolerance, unit) -> bool:

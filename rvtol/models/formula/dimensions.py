@@ -44,21 +44,24 @@ _ARTICLE = {"angle": "an angle", "angular_speed": "an angular speed", "inertia":
 
 @lru_cache(maxsize=1)
 def registry():
-    """A pint registry of rvtol's base units only (mm, rad = 1, s, tonne, N = t·mm/s², cost)."""
+    """A pint registry of rvtol's base units only (mm, rad = 1, s, tonne, N = t·mm/s², K, cost)."""
     import pint
 
     reg = pint.UnitRegistry(None)
     for line in ("millimetre = [length] = mm", "radian = [] = rad", "second = [time] = s",
-                 "tonne = [mass] = t", "cost_unit = [cost] = cost", "newton = tonne * millimetre / second ** 2 = N"):
+                 "tonne = [mass] = t", "kelvin = [temperature] = K", "cost_unit = [cost] = cost",
+                 "newton = tonne * millimetre / second ** 2 = N"):
         reg.define(line)
     return reg
 
 
 def quantity(unit: str):
-    """One ``unit`` as a pint quantity in base units (``um`` → 0.001 mm, ``deg`` → π/180 rad)."""
+    """One ``unit`` as a pint quantity in base units (``um`` → 0.001 mm, ``deg`` → π/180 rad, ``cm^2`` → 100 mm²: a
+    dimension outside the table is named by its base unit, :mod:`rvtol.units`)."""
     reg = registry()
     u = _units.canonical(unit)
-    base = _BASE[_units.dimension(u)]
+    dim = _units.dimension(u)
+    base = _BASE.get(dim, dim)
     return reg.Quantity(_units.factor(u), base) if base else reg.Quantity(_units.factor(u))
 
 
