@@ -440,10 +440,22 @@ class MonteCarloResult:
             out.append(Verdict(r, yr, cap, pci, jd.passed, jd.reasons, yb, cb, jd.n_to_demonstrate, jd.notes,
                                jd.parts_to_demonstrate, jd.undecided, shape, record))
         if self.tails:
-            from .tail_decision import apply
-
-            out = [apply(v, self.tails[v.requirement.label]) if v.requirement.label in self.tails else v for v in out]
+            out = [self._tail_verdict(v, self.tails[v.requirement.label]) if v.requirement.label in self.tails else v
+                   for v in out]
         return out if self.stopping is None else [self._sequential_verdict(v) for v in out]
+
+    @staticmethod
+    def _tail_verdict(v: Verdict, d) -> Verdict:
+        """``v`` as its tail decision ``d`` (rvtol.tail_decision.TailDecision: ``state``, ``yield_bound``, ``why``)
+        judges it: PASS or FAIL with the tails' bound, else UNDECIDED with their figures among the reasons."""
+        from dataclasses import replace
+
+        if d.state in ("PASS", "FAIL"):
+            passed = d.state == "PASS"
+            return replace(v, passed=passed, undecided=False, yield_bound=d.yield_bound, n_to_demonstrate=None,
+                           parts_to_demonstrate=None, reasons=[] if passed else [d.why, *v.reasons],
+                           notes=[d.why, *v.notes] if passed else v.notes)
+        return replace(v, reasons=[*v.reasons, d.why])
 
     def _sequential_verdict(self, v: Verdict) -> Verdict:
         """A sequential run's verdict of ``v``'s requirement (:mod:`rvtol.sequential`): PASS or FAIL as its first

@@ -110,7 +110,7 @@ class RunOptions:
     until_decided: bool = False        # sequential run: batches of n until every requirement is decided (or max_n)
     max_n: int | None = None           # a sequential run's sample budget (default: MAX_N_PER_BATCH × n)
     tails: bool = False                # undecided yield requirements decided by tail estimators (rvtol.tail_decision)
-    tail_samples: int = 1000           # model runs per tail estimator and limit
+    tail_samples: int = 2000           # model runs per tail estimator and limit
 
 
 @dataclass
@@ -559,8 +559,8 @@ def _options(root: Params, ov: dict) -> RunOptions:
         method=s.str("method", "random" if until else "lhs", choices=METHODS),
         until_decided=until,
         max_n=s.int("max_n", None, min=2),
-        tails=bool(ov.get("tails")) or s.bool("tails", False),
-        tail_samples=s.int("tail_samples", 1000, min=100),
+        tails=s.bool("tails", False) or bool(ov.get("tails")),
+        tail_samples=s.int("tail_samples", 2000, min=100),
         seed=s.int("seed", 12345, min=0),
         **execution_keys(e, ov),
         chunk_size=e.int("chunk_size", 0, min=0) or None,

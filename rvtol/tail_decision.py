@@ -11,16 +11,20 @@ that shrinks much faster per model run when the probability is small.  With ``[s
   design point), importance sampling about it and subset simulation, ``tail_samples`` model runs each; the
   reference estimate is the one :mod:`rvtol.stacking.tail` names (the sampling estimate with the smallest
   coefficient of variation that no other contradicts, each at most 1/3);
-* the non-conformance p̂ = Σ p̂_side with its standard error s = √(Σ s_side²), and the interval
-  [p̂ − z s, p̂ + z s], z = Φ⁻¹(ℓ) at the requirement's one-sided level ℓ (the normal approximation of the
-  estimator, which its coefficient of variation ≤ 1/3 keeps above zero: its 3 s reach 0 at most);
+* per estimator — importance sampling and subset simulation, each a valid estimate (coefficient of variation at
+  most 1/3) beyond every limit — the non-conformance p̂ = Σ p̂_side with its standard error s = √(Σ s_side²) and
+  the interval [p̂ − z s, p̂ + z s], z = Φ⁻¹(ℓ) at the requirement's one-sided level ℓ; a limit beyond the
+  bounded supports' reach contributes exactly 0 (FORM's corner test);
 * a **cross-check with the Monte Carlo**: the Monte Carlo's own count k of n beyond the limits gives the two-sided
-  99 % Clopper–Pearson interval of the non-conformance; a tail interval that does not overlap it is not used
-  (the two disagree — a design point the estimators missed, a model that fails where they look — and the
-  requirement stays UNDECIDED with both figures in its reasons);
-* the verdict: **PASS** when 1 − (p̂ + z s) ≥ min_yield, **FAIL** when 1 − max(0, p̂ − z s) < min_yield,
-  else UNDECIDED — with the estimator, its runs and its interval in the requirement's notes and reasons, and the
-  yield bound judged the tail's.
+  99 % Clopper–Pearson interval of the non-conformance; an estimator's interval that does not overlap it means the
+  two disagree (a failure region the estimators missed, a model that fails where they look): no decision;
+* the verdict: **PASS** when *both* estimators put the yield's lower end 1 − (p̂ + z s) at or above min_yield,
+  **FAIL** when both put its upper end 1 − max(0, p̂ − z s) below it, else UNDECIDED — with the estimators, their
+  runs and intervals in the requirement's notes and reasons, and the yield bound judged the less favourable one's.
+  Both must agree because each can be wrong alone: importance sampling about one design point is blind to a
+  second failure region (a radius, hypot(x, y), fails in every direction: it sees a fifth of the tail), and subset
+  simulation's standard error ignores the correlation of its chains (its 95 % bound under-covers, about 15 % in
+  the tests); a wrong PASS needs both to err the same way.
 
 Not used for a Cpk requirement, a population statistic, factors fitted to measured parts (their laws' own
 uncertainty is not in the tail estimators) or a sequential run (its rule decides).  Failed model evaluations
@@ -29,7 +33,7 @@ count as non-conforming, as in the yield.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from scipy import stats
 
@@ -38,12 +42,14 @@ from .stacking.tail import tail_probability
 from .stats import proportion_ci
 from .verdict import bound_level
 
-#: the tail methods run (FORM gives importance sampling its centre)
+#: the tail methods run (FORM gives importance sampling its centre, and says when a limit is out of reach)
 METHODS = ("FORM", "importance sampling", "subset")
+#: the estimators that must agree on a decision
+SAMPLERS = ("importance sampling", "subset")
 #: the confidence of the Monte Carlo's interval the tail estimate is cross-checked against
 CROSS_CHECK = 0.99
 #: model runs per sampling method and limit
-DEFAULT_SAMPLES = 1000
+DEFAULT_SAMPLES = 2000
 
 
 @dataclass
@@ -57,7 +63,7 @@ class TailDecision:
     interval: tuple[float, float] | None  # of the non-conformance, at the requirement's one-sided level
     mc_interval: tuple[float, float]    # the Monte Carlo's, two-sided at CROSS_CHECK
     evaluations: int
-    methods: list[str] = field(default_factory=list)   # per side: the reference estimator
+    methods: list[str] = field(default_factory=list)   # per limit: each estimator's figure
     why: str = ""
 
     @property
@@ -83,59 +89,58 @@ def decide(mc, model, spec, evaluator, *, seed: int | None, samples: int = DEFAU
     out: dict[str, TailDecision] = {}
     for key, v in enumerate(mc.verdicts()):
         r = v.requirement
-        if not eligible(r, v, measured):
-            continue
-        sub = model.restricted([r.output]) if hasattr(model, "restricted") else model
-        search = search_evaluator(sub, spec, evaluator)
-        n = int(v.yield_.n)
-        k = n - int(v.yield_.conforming)
-        mc_ci = tuple(float(x) for x in proportion_ci(k, n, CROSS_CHECK))
-        ps, ses, methods, runs = [], [], [], 0
-        for side, lim in (("lower", r.lower), ("upper", r.upper)):
-            if lim is None:
-                continue
-            est = tail_probability(sub, spec, r.output, lim, side, search, samples=samples, seed=seed,
-                                   key=1000 + 2 * key + (side == "upper"), methods=METHODS)
-            runs += est.evaluations
-            ref = est.get(est.reference) if est.reference else None
-            if ref is None or ref.pf is None or ref.se is None:
-                why = (f"beyond the {side} limit no tail estimate holds ("
-                       + "; ".join(f"{e.method}: {e.note}" for e in est.estimates if e.pf is None) + ")")
-                out[r.label] = TailDecision(r.label, "UNDECIDED", None, None, None, mc_ci, runs, methods, why)
-                break
-            ps.append(ref.pf)
-            ses.append(ref.se)
-            methods.append(f"{side}: {ref.method}")
-        else:
-            p, se = math.fsum(ps), math.sqrt(math.fsum(s * s for s in ses))
-            z = float(stats.norm.ppf(bound_level(r)))
-            iv = (max(0.0, p - z * se), min(1.0, p + z * se))
-            what = (f"the tails' non-conformance {_ppm(p)} ± {_ppm(se)} (s.e.; {', '.join(methods)}; {runs:,} model "
-                    f"runs), {_pct(bound_level(r))} interval [{_ppm(iv[0])}, {_ppm(iv[1])}]")
-            if iv[0] > mc_ci[1] or iv[1] < mc_ci[0]:
-                state = "UNDECIDED"
-                why = (f"{what} disagrees with the Monte Carlo's {k} of {n:,} ({_pct(CROSS_CHECK)} interval "
-                       f"[{_ppm(mc_ci[0])}, {_ppm(mc_ci[1])}]): not used")
-            elif 1.0 - iv[1] >= r.min_yield:
-                state, why = "PASS", f"decided by the tails: {what}, yield ≥ {1 - iv[1]:.6g} ≥ {r.min_yield:g}"
-            elif 1.0 - iv[0] < r.min_yield:
-                state, why = "FAIL", f"decided by the tails: {what}, yield ≤ {1 - iv[0]:.6g} < {r.min_yield:g}"
-            else:
-                state, why = "UNDECIDED", f"{what}: the yield's interval [{1 - iv[1]:.6g}, {1 - iv[0]:.6g}] holds " \
-                                          f"{r.min_yield:g}"
-            out[r.label] = TailDecision(r.label, state, p, se, iv, mc_ci, runs, methods, why)
+        if eligible(r, v, measured):
+            out[r.label] = _decide_one(key, r, v, model, spec, evaluator, seed, samples)
     return out
 
 
-def apply(v, d: TailDecision):
-    """Verdict ``v`` as the tail decision ``d`` judges it (:meth:`rvtol.mc.MonteCarloResult.verdicts`)."""
-    if d.state == "PASS":
-        return replace(v, passed=True, undecided=False, yield_bound=d.yield_bound, n_to_demonstrate=None,
-                       parts_to_demonstrate=None, reasons=[], notes=[d.why, *v.notes])
-    if d.state == "FAIL":
-        return replace(v, passed=False, undecided=False, yield_bound=d.yield_bound, n_to_demonstrate=None,
-                       parts_to_demonstrate=None, reasons=[d.why, *v.reasons])
-    return replace(v, reasons=[*v.reasons, d.why])
+def _decide_one(key, r, v, model, spec, evaluator, seed, samples) -> TailDecision:
+    sub = model.restricted([r.output]) if hasattr(model, "restricted") else model
+    search = search_evaluator(sub, spec, evaluator)
+    n = int(v.yield_.n)
+    k = n - int(v.yield_.conforming)
+    mc_ci = tuple(float(x) for x in proportion_ci(k, n, CROSS_CHECK))
+    per = {m: [0.0, 0.0] for m in SAMPLERS}          # estimator -> [p, variance] summed over the limits
+    runs, notes = 0, []
+    for side, lim in (("lower", r.lower), ("upper", r.upper)):
+        if lim is None:
+            continue
+        est = tail_probability(sub, spec, r.output, lim, side, search, samples=samples, seed=seed,
+                               key=1000 + 2 * key + (side == "upper"), methods=METHODS)
+        runs += est.evaluations
+        form = est.get("FORM")
+        if form is not None and form.pf == 0.0 and est.beta == math.inf:
+            notes.append(f"{side}: out of reach (the bounded supports' corners)")
+            continue                                  # P = 0 exactly: every estimator's share is 0
+        for m in SAMPLERS:
+            e = est.get(m)
+            if e is None or e.pf is None or e.se is None:
+                why = (f"beyond the {side} limit {m} gives no estimate ({e.note if e is not None else 'not run'}): "
+                       "both importance sampling and subset simulation are needed to decide")
+                return TailDecision(r.label, "UNDECIDED", None, None, None, mc_ci, runs, notes, why)
+            per[m][0] += e.pf
+            per[m][1] += e.se ** 2
+        notes += [f"{side}: " + ", ".join(f"{m} {_ppm(est.get(m).pf)} ± {_ppm(est.get(m).se)}" for m in SAMPLERS)]
+    z = float(stats.norm.ppf(bound_level(r)))
+    ivs = {m: (max(0.0, p - z * math.sqrt(var)), min(1.0, p + z * math.sqrt(var))) for m, (p, var) in per.items()}
+    binding = max(SAMPLERS, key=lambda m: ivs[m][1])  # the estimator whose interval reaches furthest
+    p, se, iv = per[binding][0], math.sqrt(per[binding][1]), ivs[binding]
+    what = (f"the tails' non-conformance ({'; '.join(notes)}; {runs:,} model runs), {_pct(bound_level(r))} intervals "
+            + ", ".join(f"{m} [{_ppm(a)}, {_ppm(b)}]" for m, (a, b) in ivs.items()))
+    off = [m for m, (a, b) in ivs.items() if a > mc_ci[1] or b < mc_ci[0]]
+    if off:
+        why = (f"{what}: {' and '.join(off)} disagree{'s' if len(off) == 1 else ''} with the Monte Carlo's {k} of "
+               f"{n:,} ({_pct(CROSS_CHECK)} interval [{_ppm(mc_ci[0])}, {_ppm(mc_ci[1])}]): not used")
+        return TailDecision(r.label, "UNDECIDED", p, se, iv, mc_ci, runs, notes, why)
+    if all(1.0 - b >= r.min_yield for _, b in ivs.values()):
+        return TailDecision(r.label, "PASS", p, se, iv, mc_ci, runs, notes,
+                            f"decided by the tails: {what}; the yield ≥ {1 - iv[1]:.6g} ≥ {r.min_yield:g} by both")
+    if all(1.0 - a < r.min_yield for a, _ in ivs.values()):
+        low = min(ivs.values(), key=lambda ab: ab[0])
+        return TailDecision(r.label, "FAIL", p, se, low, mc_ci, runs, notes,
+                            f"decided by the tails: {what}; the yield ≤ {1 - low[0]:.6g} < {r.min_yield:g} by both")
+    return TailDecision(r.label, "UNDECIDED", p, se, iv, mc_ci, runs, notes,
+                        f"{what}: they do not both put the yield on one side of {r.min_yield:g}")
 
 
 def _ppm(p: float) -> str:

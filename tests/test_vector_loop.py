@@ -120,6 +120,9 @@ def test_a_loop_declared_wrong_is_one_located_line(tmp_path, capsys):
          "vector 1, length: cannot add or subtract a length (mm)"),
         ('{ length = "c", angle = "pi/2" }', '{ length = "c", angle = "c" }', "model.loop[0].vectors",
          "vector 3, angle:"),
+        ('{ length = "b", angle = "0" }', '{ length = "b", angle = 90 }', "model.loop[0].vectors",
+         "vector 2: the angle 90 is a bare number"),
+        ('[model]\nkind = "vector_loop"', '[model]\nkind = "vector_loop"\ndimensions = 2.5', "model.dimensions", ""),
     ]
     for old, new, key, words in cases:
         assert old in text, old

@@ -288,7 +288,7 @@ class VectorLoopModel(Model):
 
 def from_study(params, design, spec) -> VectorLoopModel:
     """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
-    dims = int(params.float("dimensions", 2))
+    dims = params.int("dimensions", 2, min=2, max=3)
     defs_p = params.sub("define", {})
     definitions: dict = {}
     for name in list(defs_p.keys()):
@@ -318,8 +318,11 @@ def from_study(params, design, spec) -> VectorLoopModel:
             if unknown or "length" not in v or "angle" not in v:
                 raise t.error("vectors", f"vector {i + 1}: " + (f"unknown key {unknown[0]!r}" if unknown else
                                                                 "needs a length and an angle"))
-            vectors.append(Vector(*(str(v[k]) if not isinstance(v[k], str) else v[k]
-                                    for k in ("length", "angle")), str(v.get("elevation", "0"))))
+            for k in ("angle", "elevation"):     # a bare number would be radians: say which unit it is in
+                if k in v and not isinstance(v[k], str):
+                    raise t.error("vectors", f"vector {i + 1}: the {k} {v[k]!r} is a bare number: write it as a "
+                                             f"formula in quotes, in radians (\"pi/2\") or of factors with their units")
+            vectors.append(Vector(str(v["length"]), v["angle"], v.get("elevation", "0")))
         loops.append(vectors)
         t.finish()
     if not loops:
