@@ -243,9 +243,8 @@ class FormulaModel(Model):
         return Y, G
 
 
-def from_study(params, design, spec) -> FormulaModel:
-    """The study factory (``[model] kind = "formula"``); errors name the file and key."""
-    u = params.str("units", "checked", choices=UNIT_MODES)
+def read_definitions(params) -> tuple[object, dict]:
+    """A ``[model.define]`` table: ``(its Params, {name: formula or (formula, unit)})`` in order."""
     defs_p = params.sub("define", {})
     definitions: dict = {}
     for name in list(defs_p.keys()):
@@ -255,6 +254,13 @@ def from_study(params, design, spec) -> FormulaModel:
             t.finish()
         else:
             definitions[name] = defs_p.str(name)
+    return defs_p, definitions
+
+
+def from_study(params, design, spec) -> FormulaModel:
+    """The study factory (``[model] kind = "formula"``); errors name the file and key."""
+    u = params.str("units", "checked", choices=UNIT_MODES)
+    defs_p, definitions = read_definitions(params)
     outs = params.tables("output")
     if not outs:
         raise params.error("output", "a formula model needs at least one [[model.output]]")
@@ -288,4 +294,4 @@ def from_study(params, design, spec) -> FormulaModel:
         raise params.error(None, exc.reason) from None
 
 
-__all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study"]
+__all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study", "read_definitions"]

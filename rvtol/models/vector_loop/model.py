@@ -74,7 +74,7 @@ from ... import units as _units
 from ...errors import InputError
 from ...expressions import ExpressionError
 from ...model import STATUS_NONFINITE, STATUS_OK, Model
-from ..formula.model import FormulaModel, FormulaOutput
+from ..formula.model import FormulaModel, FormulaOutput, read_definitions
 
 #: Newton steps per sample before it is declared not to close
 MAX_ITERATIONS = 50
@@ -289,15 +289,7 @@ class VectorLoopModel(Model):
 def from_study(params, design, spec) -> VectorLoopModel:
     """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
     dims = params.int("dimensions", 2, min=2, max=3)
-    defs_p = params.sub("define", {})
-    definitions: dict = {}
-    for name in list(defs_p.keys()):
-        if isinstance(defs_p.data[name], dict):
-            t = defs_p.sub(name)
-            definitions[name] = (t.str("formula"), t.unit("unit"))
-            t.finish()
-        else:
-            definitions[name] = defs_p.str(name)
+    _, definitions = read_definitions(params)
     deps = []
     for t in params.tables("dependent"):
         unit = t.unit("unit", dimension=("length", "angle"))
