@@ -266,3 +266,18 @@ def test_one_contributor_has_no_handbook_mrss_but_keeps_the_given_factor():
     with pytest.raises(KeyError):
         sc.row("MRSS, handbook")
     assert "MRSS (handbook) needs at least two contributors" in sc.notes
+
+
+def test_stack_conventions_is_called_by_keyword_and_takes_its_options_only_by_keyword():
+    """The public signature (rvtol.stacking, docs/api.md): spec, gradient, y0 and x0 may be named; output and the
+    options after it only by name (a positional one is refused rather than read as something else).  y = a − b,
+    a ±0.02, b ±0.01: the worst case 0.03 either way."""
+    spec = ToleranceSpec("kw", (normal("a", 1.0, 0.02 / 3), normal("b", 0.5, 0.01 / 3)))
+    g, x0 = np.array([1.0, -1.0]), np.array([1.0, 0.5])
+    by_name = stack_conventions(spec=spec, gradient=g, y0=0.5, x0=x0, output="y", out_unit="mm")
+    by_position = stack_conventions(spec, g, 0.5, x0, output="y", out_unit="mm")
+    for sc in (by_name, by_position):
+        assert sc.row("worst case (arithmetic)")["half_width"] == pytest.approx(0.03)
+    assert by_name.frame.equals(by_position.frame)
+    with pytest.raises(TypeError):
+        stack_conventions(spec, g, 0.5, x0, "y")

@@ -694,3 +694,62 @@ def test_a_kinked_factor_and_a_kinked_zone_both_take_their_sides():
     sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
     wc = sc.row("worst case (arithmetic)")
     assert (wc["low"], wc["high"]) == (pytest.approx(0.0, abs=1e-12), pytest.approx(0.035, rel=1e-6))
+
+
+def test_a_kinked_factors_worst_case_share_is_its_larger_slope_times_its_band():
+    """y = 2|u| + w, u ±0.3 kinked at 0 (rises 2 per unit either side: D⁺ = D⁻ = 2), w ±0.2: y ∈ [−0.2, 0.6 + 0.2].
+    Each factor's worst-case share: u's 2 · 0.3 = 0.6 and w's 1 · 0.2 of 0.8 — 75 % and 25 %; the RSS shares
+    0.6² and 0.2² of 0.4 — 90 % and 10 %."""
+    spec = spec_from_table({"factor": [{"name": "u", "tolerance": "±0.3", "unit": "mm", "nominal": 0.0},
+                                       {"name": "w", "tolerance": "±0.2", "unit": "mm", "nominal": 0.0}]})
+    m = FormulaModel.from_spec(spec, {"y": ("2*abs(u) + w", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "y")
+    assert sl.kinked == ["u"]
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm", slopes=sl)
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-0.2, abs=1e-9), pytest.approx(0.8, abs=1e-9))
+    f = sc.factors
+    assert f["wc_pct"].tolist() == pytest.approx([75.0, 25.0], rel=1e-6)
+    assert f["rss_pct"].tolist() == pytest.approx([90.0, 10.0], rel=1e-6)
+    assert f["linearisation"].tolist() == ["kink: per unit of band up 2, down 0", ""]
+
+
+@pytest.mark.parametrize("sign", [1, -1], ids=["lowered", "raised"])
+def test_a_datum_shift_that_moves_the_output_one_way_only_adds_nothing_the_other_way(sign):
+    """y = ±(B/2 − |p|): datum bore B 20 +0.1/0 at MMB locates a hole whose axis p lies in a ⌀0.2 zone (RFS); B's
+    departure from MMB lets the pattern shift by up to (B − 20)/2.  With +, every shift lowers y (slope −1 whichever
+    way): per unit of shift y rises at most max(0, −1) = 0 (module docstring) and falls at most 1.  By hand, y's
+    largest value is B/2 at p = 0 and B = 20.1: 10.05; its smallest B/2 − 0.1 − (B − 20)/2 = 9.9 at every B.  A
+    shift that rose by −1 per unit took the datum's whole radius off the upper end: 10.0.  With −, the mirror image:
+    every shift raises y, y ∈ [−10.05, −9.9]."""
+    common = {"tolerance": "⌀0.2", "unit": "mm", "zone": "h", "datum_size": "B", "datum_type": "internal"}
+    spec = spec_from_table({"factor": [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"},
+                                       {"name": "x", **common}, {"name": "y", **common}]})
+    m = FormulaModel.from_spec(spec, {"wall": (f"{sign}*(B/2 - hypot(x, y))", "mm")})
+    x0 = spec.nominal_base()
+    sl = one_sided_slopes(m, spec, "wall")
+    assert sl.pattern_max["B"] == pytest.approx(-sign) and sl.pattern_min["B"] == pytest.approx(-sign)
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
+                           slopes=sl)
+    wc = sc.row("worst case (arithmetic)")
+    low, high = sorted((sign * 9.9, sign * 10.05))
+    assert (wc["low"], wc["high"]) == (pytest.approx(low, abs=1e-9), pytest.approx(high, abs=1e-9))
+    up, down = (0, 1) if sign > 0 else (1, 0)
+    assert sc.factors["linearisation"][0] == f"datum feature at MMB: shifts h together (per unit up {up}, down {down})"
+
+
+def test_a_size_that_lowers_the_output_more_than_its_bonus_raises_it():
+    """y = 2x − 3D, x a coordinate of a hole's ⌀0.2 Ⓜ zone, D the hole's size 10.4 +0.1/0: the zone's radius is
+    0.1 + (D − 10.4)/2, so y's largest value is max over D of 2·(0.1 + (D − 10.4)/2) − 3D, falling with D: −31.0 at
+    D = 10.4; its smallest −2·(0.1 + (D − 10.4)/2) − 3D, lowest at D = 10.5: −31.8.  The size's net effect on the
+    upper end is −3 + 2·½ = −2 per unit: it hurts going down, not up."""
+    own = {"tolerance": "⌀0.2 (M)", "unit": "mm", "zone": "h", "size": "D", "feature_type": "internal"}
+    spec = spec_from_table({"factor": [{"name": "D", "tolerance": "10.4 +0.1/0", "unit": "mm"},
+                                       {"name": "x", **own}, {"name": "y", **own}]})
+    m = FormulaModel.from_spec(spec, {"s": ("2*x - 3*D", "mm")})
+    x0 = spec.nominal_base()
+    sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], float(m.evaluate(x0[None])[0, 0]), x0, out_unit="mm",
+                           slopes=one_sided_slopes(m, spec, "s"))
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(-31.8, abs=1e-9), pytest.approx(-31.0, abs=1e-9))
