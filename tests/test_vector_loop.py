@@ -152,3 +152,16 @@ def test_the_loop_study_gives_the_explicit_studys_conventions(tmp_path):
                 assert a[name][k] == pytest.approx(b[name][k], rel=0, abs=1e-9), (name, k)
     np.testing.assert_allclose(res["stack_clutch_loop"].mc.Y[:, 0], res["stack_clutch"].mc.Y[:, 0], rtol=0,
                                atol=1e-12)                                  # deg, the same samples
+
+
+def test_a_formula_gradient_with_respect_to_some_inputs_is_those_columns_of_the_full_one():
+    from rvtol.models.formula.model import FormulaModel
+
+    m = FormulaModel([("y", "a * b + sin(c) * a", "mm"), ("z", "d2", "mm")], ["a", "b", "c"], ["mm", "1", "rad"],
+                     definitions={"d2": ("a * c", "mm")})
+    X = np.random.default_rng(9).random((7, 3))
+    Y, G = m.evaluate_with_gradient(X)
+    Y2, G2 = m.evaluate_with_gradient(X, ["b", "c"])
+    assert np.array_equal(Y, Y2) and np.all(G2[:, :, 0] == 0)
+    np.testing.assert_allclose(G2[:, :, 1:], G[:, :, 1:], rtol=1e-15, atol=0)
+    np.testing.assert_allclose(G[:, 0, 0], X[:, 1] + np.sin(X[:, 2]), rtol=1e-15)        # ∂y/∂a by hand

@@ -175,7 +175,7 @@ class VectorLoopModel(Model):
         Jacobian) and each equation's loop size (the sum of its vectors' lengths)."""
         Z = np.concatenate([X, D], axis=1)
         cols = slice(len(self.inputs), None) if columns is None else columns
-        V, G = self._geometry.evaluate_with_gradient(Z)
+        V, G = self._geometry.evaluate_with_gradient(Z, [d.name for d in self.dependents] if columns is None else None)
         V, G = V.T, G.transpose(1, 2, 0)[:, cols]      # component-major: each row below is one contiguous array
         per = 3 if self.dims == 3 else 2
         n, E = len(X), self.dims * len(self.loops)
