@@ -361,7 +361,7 @@ class Params:
             return None
         p = Path(v)
         p = p if p.is_absolute() else (base_dir / p)
-        if existing and not p.is_file():
+        if existing and not p.exists():      # a directory or a device: the reader says what it is
             raise self.error(name, f"file not found: {p}")
         return p
 

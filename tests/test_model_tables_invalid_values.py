@@ -11,6 +11,7 @@ value that happens to be valid — load.
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
 
@@ -39,12 +40,29 @@ def _model_lines(text: str):
             yield i, m.group(1)
 
 
+def _study_lines(text: str):
+    """``(line index, section, key)`` of every one-line ``key = value`` outside ``[model]`` ([study], [sampling],
+    [[requirement]], [[analysis]], …)."""
+    section = ""
+    for i, line in enumerate(text.splitlines()):
+        if line.startswith("["):
+            section = line.strip().strip("[]")
+            continue
+        m = re.match(r"^([A-Za-z_][\w]*)\s*=\s*(.+)$", line)
+        if section and section.split(".")[0] != "model" and m and m.group(1) != "kind" \
+                and not m.group(2).rstrip().endswith(("[", "{", '"""')):
+            yield i, section, m.group(1)
+
+
 def _cases():
     for name in STUDIES:
         text = (ROOT / "studies" / f"{name}.toml").read_text("utf-8")
         for i, key in _model_lines(text):
             for rep in REPLACEMENTS:
                 yield pytest.param(name, i, key, rep, id=f"{name}.model.{key}={rep}")
+        for i, section, key in _study_lines(text):
+            for rep in REPLACEMENTS[:3]:
+                yield pytest.param(name, i, key, rep, id=f"{name}.{section}.{key}={rep}")
 
 
 CASES = list(_cases())
@@ -53,7 +71,7 @@ CASES = list(_cases())
 def test_the_check_reaches_every_studys_model_keys():
     assert {c.values[0] for c in CASES} == set(STUDIES)
     # found by it: a [[model.cycloid_factor]] factor given as a table or an array was an internal error (unhashable)
-    print(f"{len(STUDIES)} studies, {len({(c.values[0], c.values[2]) for c in CASES})} keys, {len(CASES)} values")
+    print(f"{len(STUDIES)} studies, {len({(c.values[0], c.values[1]) for c in CASES})} keys, {len(CASES)} values")
 
 
 @pytest.mark.parametrize("name,line,key,rep", CASES)
@@ -65,5 +83,6 @@ def test_a_wrong_value_in_a_model_table_is_a_located_error_or_reads(tmp_path, na
     try:
         load_study(path, execute=False)
     except InputError as e:
-        # located: the model's key, or where the changed value shows (an output renamed "ten" that a requirement names)
-        assert e.file and e.key and e.key != "-", (e.file, e.key, e.reason)
+        # located: the key, or where the changed value shows (an output renamed "ten" that a requirement names); an
+        # analysis' input file named "ten" that is not there (or not a table) is named by its own path
+        assert e.file and e.key and (e.key != "-" or Path(e.file).name == "ten"), (e.file, e.key, e.reason)
