@@ -229,6 +229,21 @@ def _read(params, key: str, tp, default, r: Rule, study):
             return default
     if raw is None and optional:
         return None
+    members = _union_members(tp)
+    if members:                                         # A | B: the first member the value reads as
+        from .errors import InputError
+
+        for m in members:
+            try:
+                return _read(params, key, m, default, r, study)
+            except InputError:
+                continue
+        raise params.error(key, "expected " + " or ".join(_type_word(m) for m in members))
+    if tp is list:
+        v = params.raw(key)
+        if not isinstance(v, list):
+            raise params.error(key, "expected an array")
+        return v
     if r.names and r.all_ok and raw == "all":
         return list(_known(r.names, study) or [])
     if r.unit is not None:
@@ -320,6 +335,22 @@ def _unoptional(tp):
         if len(args) == 1 and len(args) < len(typing.get_args(tp)):
             return True, args[0]
     return False, tp
+
+
+def _union_members(tp) -> tuple:
+    """The members of a union ``A | B`` (None left out) when more than one remain, else ()."""
+    if typing.get_origin(tp) in (typing.Union, types.UnionType):
+        args = tuple(a for a in typing.get_args(tp) if a is not type(None))
+        return args if len(args) > 1 else ()
+    return ()
+
+
+def _type_word(tp) -> str:
+    """A type in a user's words (an error's ``expected …``)."""
+    origin = typing.get_origin(tp)
+    if tp is list or origin is list:
+        return "an array"
+    return {str: "a string", int: "an integer", float: "a number", bool: "true or false"}.get(tp, "a table")
 
 
 def _int_or_none(v):

@@ -353,13 +353,17 @@ class Params:
         x = check_number(v, self.error, name, **checks)
         return float(units.to_base(x, u))
 
-    def path_value(self, name: str, base_dir: Path, default: Any = _MISSING) -> Path | None:
-        """A file path, relative to ``base_dir`` unless absolute."""
+    def path_value(self, name: str, base_dir: Path, default: Any = _MISSING, *, existing: bool = False) -> Path | None:
+        """A file path, relative to ``base_dir`` unless absolute; ``existing``: a file that is not there is an error
+        at this key (the study's key names what the missing file was to be)."""
         v = self.str(name, default)
         if v is None:
             return None
         p = Path(v)
-        return p if p.is_absolute() else (base_dir / p)
+        p = p if p.is_absolute() else (base_dir / p)
+        if existing and not p.exists():      # a directory or a device: the reader says what it is
+            raise self.error(name, f"file not found: {p}")
+        return p
 
 
 def check_number(v: Any, error, name: str, *, min: float | None = None, max: float | None = None,

@@ -152,3 +152,117 @@ def test_the_loop_study_gives_the_explicit_studys_conventions(tmp_path):
                 assert a[name][k] == pytest.approx(b[name][k], rel=0, abs=1e-9), (name, k)
     np.testing.assert_allclose(res["stack_clutch_loop"].mc.Y[:, 0], res["stack_clutch"].mc.Y[:, 0], rtol=0,
                                atol=1e-12)                                  # deg, the same samples
+
+
+def test_a_formula_gradient_with_respect_to_some_inputs_is_those_columns_of_the_full_one():
+    from rvtol.models.formula.model import FormulaModel
+
+    m = FormulaModel([("y", "a * b + sin(c) * a", "mm"), ("z", "d2", "mm")], ["a", "b", "c"], ["mm", "1", "rad"],
+                     definitions={"d2": ("a * c", "mm")})
+    X = np.random.default_rng(9).random((7, 3))
+    Y, G = m.evaluate_with_gradient(X)
+    Y2, G2 = m.evaluate_with_gradient(X, ["b", "c"])
+    assert np.array_equal(Y, Y2) and np.all(G2[:, :, 0] == 0)
+    np.testing.assert_allclose(G2[:, :, 1:], G[:, :, 1:], rtol=1e-15, atol=0)
+    np.testing.assert_allclose(G[:, 0, 0], X[:, 1] + np.sin(X[:, 2]), rtol=1e-15)        # ∂y/∂a by hand
+
+
+JOINT_CLUTCH = """[study]
+name = "clutch_joints"
+spec = "{spec}"
+[model]
+kind = "vector_loop"
+[[model.joint]]
+name = "roller on hub flat"
+type = "cylinder_on_plane"
+direction = "0"
+radius = "c"
+slide = "b"
+start = 4.5
+[[model.joint]]
+name = "roller in ring"
+type = "cylinder_in_cylinder"
+radius = "c"
+outer_radius = "e"
+angle = "chi"
+start = 260
+[[model.loop]]
+vectors = [{{ length = "a", angle = "pi/2" }}, {{ joint = "roller on hub flat" }}, {{ joint = "roller in ring" }}]
+[[model.output]]
+name = "phi"
+formula = "3*pi/2 - chi"
+unit = "deg"
+"""
+
+
+def test_the_clutch_declared_by_its_two_contacts_is_the_explicit_formula(tmp_path):
+    # the roller on the hub flat (it slides along it by b, its centre c above) and inside the ring (the line of centres
+    # at the dependent angle χ, e − c long): the joints stand for the vectors of studies/stack_clutch_loop.toml
+    path = write(tmp_path / "s.toml", JOINT_CLUTCH.format(spec=ROOT / "data/examples/one_way_clutch.csv"))
+    model = load_study(path, execute=False).model
+    X = _clutch_rows()
+    Y, status = model.evaluate_with_status(X)
+    a, c, e = X.T
+    assert np.all(status == STATUS_OK)
+    np.testing.assert_allclose(Y[:, 0], np.arccos((a + c) / (e - c)), rtol=0, atol=1e-14)
+    loop = load_study(CLUTCH, execute=False).model
+    np.testing.assert_allclose(model.gradient(X)[:, 0, :], loop.gradient(X)[:, 0, :], rtol=1e-10)
+    bad = JOINT_CLUTCH.replace('{{ joint = "roller in ring" }}', '{{ joint = "roller in rng" }}')
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "b.toml", bad.format(spec=ROOT / "data/examples/one_way_clutch.csv")), execute=False)
+    assert ei.value.key == "model.loop[0].vectors" and "no joint 'roller in rng'" in ei.value.reason \
+        and "did you mean 'roller in ring'" in ei.value.reason
+
+
+def test_a_disc_touching_another_and_resting_at_a_height_slides_to_its_closed_form(tmp_path):
+    # disc 1 (r1) fixed at the origin, disc 2 (r2) touching it outside, its centre held at height h: the line of
+    # centres at γ with sin γ = h/(r1 + r2), disc 2 at x = (r1 + r2) cos γ — a cylinder_on_cylinder and a slider
+    text = """[study]
+name = "discs"
+[[factor]]
+name = "r1"
+unit = "mm"
+nominal = 10
+tolerance = "±0.1"
+[[factor]]
+name = "r2"
+unit = "mm"
+nominal = 6
+tolerance = "±0.1"
+[[factor]]
+name = "h"
+unit = "mm"
+nominal = 9
+tolerance = "±0.2"
+[model]
+kind = "vector_loop"
+[[model.joint]]
+name = "disc on disc"
+type = "cylinder_on_cylinder"
+radius = "r1"
+outer_radius = "r2"
+angle = "gamma"
+start = 30
+[[model.joint]]
+name = "disc 2 on its rail"
+type = "slider"
+direction = "pi"
+slide = "x"
+start = 12
+[[model.loop]]
+vectors = [{ joint = "disc on disc" }, { joint = "disc 2 on its rail" }, { length = "h", angle = "-pi/2" }]
+[[model.output]]
+name = "x"
+formula = "x"
+unit = "mm"
+"""
+    model = load_study(write(tmp_path / "d.toml", text), execute=False).model
+    g = np.random.default_rng(8)
+    X = np.array([10.0, 6.0, 9.0]) + g.normal(size=(200, 3)) * np.array([0.1, 0.1, 0.2]) / 3
+    r1, r2, h = X.T
+    Y, status = model.evaluate_with_status(X)
+    assert np.all(status == STATUS_OK)
+    np.testing.assert_allclose(Y[:, 0], np.sqrt((r1 + r2) ** 2 - h ** 2), rtol=1e-13)
+    root = np.sqrt((r1 + r2) ** 2 - h ** 2)                 # dx/d(r1, r2, h) by hand
+    hand = np.stack([(r1 + r2) / root, (r1 + r2) / root, -h / root], axis=1)
+    np.testing.assert_allclose(model.gradient(X)[:, 0, :], hand, rtol=1e-10)

@@ -108,7 +108,7 @@ class AdjustedAssemblyModel(Model):
 
 def from_study(params, design, spec) -> AdjustedAssemblyModel:
     base = Path(params.file).parent if params.file else Path(".")
-    path = params.path_value("assembly", base)
+    path = params.path_value("assembly", base, existing=True)
     desc = load_assembly(path)
     accuracy = weight_value(params, "accuracy_weight", None, allow_inf=True) if "accuracy_weight" in params else None
     params.raw("accuracy_weight", None)

@@ -220,11 +220,13 @@ class FormulaModel(Model):
         """Exact ∂Y/∂X, shape ``(n, outputs, inputs)``, in base units (forward-mode AD)."""
         return self.evaluate_with_gradient(X)[1]
 
-    def evaluate_with_gradient(self, X) -> tuple[np.ndarray, np.ndarray]:
+    def evaluate_with_gradient(self, X, wrt: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(Y, ∂Y/∂X)``; with ``wrt`` (input names) only those columns of the derivative are computed (the others
+        are 0): an input left out enters as a constant."""
         X = self.check_input(X)
         n, k = X.shape
         env = self._env(X)
-        seeds: dict[str, dict] = {}
+        seeds: dict[str, dict] = {} if wrt is None else {nm: {} for nm in self.inputs if nm not in set(wrt)}
         with np.errstate(all="ignore"):
             for name, f in self.definitions:
                 v, d = f.gradient(env, seeds)

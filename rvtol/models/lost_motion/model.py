@@ -480,7 +480,7 @@ def from_study(params, design, spec) -> LostMotionModel:
     base = geometry.coefficients()["cycloid_stage"]
     extra, sources, like = {}, {}, {}
     tables = params.tables("cycloid_factor")
-    declared = {t.data.get("factor") for t in tables}
+    declared = {v for t in tables if isinstance(v := t.data.get("factor"), str)}   # a non-text one: refused below
     # spec factors no table declares: a ξ name close to one of them is a typo (blame this table, not the spec)
     undeclared = [n for n in spec.names if n not in FACTORS and n not in declared]
     for t in tables:

@@ -402,7 +402,7 @@ def from_study(params, design, spec) -> StackupModel:
     """``[model] kind = "stackup"``: assembly file, sequence, rotation, backend, floats, outputs."""
     from .graph import load_assembly
 
-    path = params.path_value("assembly", _study_dir(params))
+    path = params.path_value("assembly", _study_dir(params), existing=True)
     try:
         asm = load_assembly(path, design)
     except InputError as exc:

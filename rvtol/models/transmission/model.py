@@ -335,7 +335,7 @@ def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
     tol = params.float("tol_force", 1e-5, positive=True)
     maxit = params.int("max_iterations", 200, min=2)
     chain = params.bool("compliance_chain", True)
-    rig_path = params.path_value("rig", Path(params.file).parent if params.file else Path("."), None)
+    rig_path = params.path_value("rig", Path(params.file).parent if params.file else Path("."), None, existing=True)
     rig = None
     if rig_path is not None:
         try:

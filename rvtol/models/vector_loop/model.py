@@ -58,6 +58,11 @@ A study declares::
     formula = "pi/2 - psi"
     unit = "deg"
 
+**Joints.**  A 2-D contact can be declared instead of its vectors (``[[model.joint]]``, :data:`JOINTS`): a slider,
+a cylinder on a plane, a cylinder in a bore, two cylinders touching; each declares its dependent (the slide along
+the surface, the angle of the line of centres) and stands for its vectors where a loop names it
+(``{ joint = "roller in ring" }``).
+
 References.  K. W. Chase, J. Gao, S. P. Magleby, "General 2-D tolerance analysis of mechanical assemblies with
 small kinematic adjustments", J. Design and Manufacturing 5 (1995) 263–274; J. Gao, K. W. Chase, S. P. Magleby,
 "Generalized 3-D tolerance analysis of mechanical assemblies with small kinematic adjustments", IIE Trans. 30
@@ -71,7 +76,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ... import units as _units
-from ...errors import InputError
+from ...errors import InputError, did_you_mean
 from ...expressions import ExpressionError
 from ...model import STATUS_NONFINITE, STATUS_OK, Model
 from ..formula.model import FormulaModel, FormulaOutput, read_definitions
@@ -175,7 +180,7 @@ class VectorLoopModel(Model):
         Jacobian) and each equation's loop size (the sum of its vectors' lengths)."""
         Z = np.concatenate([X, D], axis=1)
         cols = slice(len(self.inputs), None) if columns is None else columns
-        V, G = self._geometry.evaluate_with_gradient(Z)
+        V, G = self._geometry.evaluate_with_gradient(Z, [d.name for d in self.dependents] if columns is None else None)
         V, G = V.T, G.transpose(1, 2, 0)[:, cols]      # component-major: each row below is one contiguous array
         per = 3 if self.dims == 3 else 2
         n, E = len(X), self.dims * len(self.loops)
@@ -286,6 +291,49 @@ class VectorLoopModel(Model):
         return None           # the loops couple every factor they name to every dependent
 
 
+#: the contacts a joint may declare (2-D): what the assembly leaves free at it, and the vectors that stand for it
+JOINTS = {
+    "slider": "a part sliding along a direction: {length = slide, angle = direction}; slide is dependent",
+    "cylinder_on_plane": "a cylinder (or an edge's radius) on a plane: from the contact point along the plane by the "
+                         "dependent slide, then up the plane's normal (side = left | right of the plane's direction) "
+                         "by the radius to the cylinder's centre",
+    "cylinder_in_cylinder": "a cylinder inside a bore (internal contact): from the inner centre to the outer by "
+                            "outer_radius − radius, at the dependent angle (the line of centres)",
+    "cylinder_on_cylinder": "two cylinders touching outside: from the first centre to the second by radius + "
+                            "outer_radius, at the dependent angle",
+}
+
+
+def read_joint(t, dims: int) -> tuple[list[Vector], list[Dependent]]:
+    """One ``[[model.joint]]`` table: the vectors it stands for (in the loops that name it) and the dependents it
+    declares (:data:`JOINTS`).  Its dependent is named by ``slide`` (a length along ``direction``) or ``angle`` (the
+    line of centres) and started at ``start`` (in ``unit``: mm for a slide, deg for an angle unless given)."""
+    if dims != 2:
+        raise t.error("type", "joints are declared for 2-D loops (dimensions = 2)")
+    kind = t.str("type", choices=tuple(JOINTS))
+
+    def formula(key: str) -> str:
+        v = t.raw(key)
+        if not isinstance(v, str):
+            raise t.error(key, f"expected a formula in quotes, got {v!r}")
+        return v
+
+    if kind in ("slider", "cylinder_on_plane"):
+        slide = t.str("slide")
+        dep = Dependent(slide, t.unit("unit", "mm", dimension="length"), t.float("start"))
+        along = formula("direction")
+        vectors = [Vector(slide, along)]
+        if kind == "cylinder_on_plane":
+            side = t.str("side", "left", choices=("left", "right"))
+            vectors.append(Vector(formula("radius"), f"({along}) {'+' if side == 'left' else '-'} pi/2"))
+        return vectors, [dep]
+    angle = t.str("angle")
+    dep = Dependent(angle, t.unit("unit", "deg", dimension="angle"), t.float("start"))
+    r, big = formula("radius"), formula("outer_radius")
+    length = f"({big}) - ({r})" if kind == "cylinder_in_cylinder" else f"({r}) + ({big})"
+    return [Vector(length, angle)], [dep]
+
+
 def from_study(params, design, spec) -> VectorLoopModel:
     """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
     dims = params.int("dimensions", 2, min=2, max=3)
@@ -295,9 +343,17 @@ def from_study(params, design, spec) -> VectorLoopModel:
         unit = t.unit("unit", dimension=("length", "angle"))
         deps.append(Dependent(t.str("name"), unit, t.float("start")))
         t.finish()
+    joints = {}
+    for t in params.tables("joint"):
+        name = t.str("name")
+        if name in joints:
+            raise t.error("name", f"a second joint {name!r}")
+        joints[name], new = read_joint(t, dims)
+        deps += new
+        t.finish()
     if not deps:
         raise params.error("dependent", "a vector-loop model needs its dependents ([[model.dependent]]: name, unit, "
-                                        "start)")
+                                        "start; or the joints' own)")
     loops, names, loop_tables = [], [], params.tables("loop")
     for t in loop_tables:
         names.append(t.str("name", f"loop {len(names) + 1}"))
@@ -306,6 +362,14 @@ def from_study(params, design, spec) -> VectorLoopModel:
             raise t.error("vectors", "expected a list of tables { length = \"…\", angle = \"…\" }")
         vectors = []
         for i, v in enumerate(raw):
+            if "joint" in v:                  # a declared contact: the vectors it stands for
+                if set(v) != {"joint"} or v["joint"] not in joints:
+                    raise t.error("vectors", f"vector {i + 1}: " + (
+                        "a joint entry is { joint = \"<name>\" } alone" if set(v) != {"joint"} else
+                        f"no joint {v['joint']!r}{did_you_mean(str(v['joint']), joints)} (the model's: "
+                        f"{', '.join(joints) or 'none'})"))
+                vectors += joints[v["joint"]]
+                continue
             unknown = sorted(set(v) - {"length", "angle", "elevation"})
             if unknown or "length" not in v or "angle" not in v:
                 raise t.error("vectors", f"vector {i + 1}: " + (f"unknown key {unknown[0]!r}" if unknown else
