@@ -525,6 +525,11 @@ def test_a_measured_factor_reads_a_qif_characteristic_and_the_report_gets_its_st
     np.testing.assert_allclose(np.sort(f.measured.values), np.sort(truth), rtol=1e-15)
     assert math.isclose(f.dist.mean, truth.mean(), rel_tol=1e-12)
     ev = evidence(f.measured, f.dist, n_mc=19, seed=1)
+    # the fitted law is shown to resolve its band (rvtol.precision): μ within 1/100 of the band of the mean, not
+    # "μ=4e+04" of four significant digits
+    import re
+    mu = float(re.search(r"μ=([-\d.]+)", ev["summary"]["distribution"][0]).group(1))
+    assert abs(mu - truth.mean()) <= f.dist.tolerance / 100
     assert list(ev["file_statistics"]["figure"]) == ["TotalNumber", "EffectiveNumber", "Average",
                                                      "StandardDeviation", "Minimum", "Maximum", "Range"]
     with pytest.raises(InputError) as exc:        # no characteristic named: which of the file's?

@@ -52,6 +52,7 @@ import numpy as np
 from scipy import special, stats
 
 from ..distributions import Distribution, coverage
+from ..precision import shown
 from ..errors import did_you_mean, InputError, SpecError
 from .inspection import characteristic_values, is_inspection_file
 from .sheets import (CommaColumn, blank, byte_progress, col_letter, is_number, skipped, split_number_hint,
@@ -926,6 +927,15 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
         raise p.error("family" if "was not fitted" in exc.reason else "data", exc.reason) from None
 
 
+def _band(dist) -> float | None:
+    """The band a measured factor's numbers are shown to resolve (:mod:`rvtol.precision`), where it has one."""
+    try:
+        t = float(dist.tolerance)
+    except Exception:       # a distribution without a band: four significant digits
+        return None
+    return t if t > 0 else None
+
+
 def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> dict:
     """What a report shows of a measured factor (``dist`` its distribution):
 
@@ -942,7 +952,7 @@ def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> 
     out: dict = {"summary": pd.DataFrame([{
         "source": m.source, "method": m.method + (f" ({m.family})" if m.family else ""), "n": m.n,
         "mean": float(np.mean(x)), "s": float(np.std(x, ddof=1)), "min": float(np.min(x)), "max": float(np.max(x)),
-        "gauge u²/s²": gauge, "distribution": dist.describe()}]),
+        "gauge u²/s²": gauge, "distribution": dist.describe(number=lambda v: shown(v, _band(dist)))}]),
         "ranking": None, "gof": None, "qq": None,
         "file_statistics": pd.DataFrame(m.file_statistics) if m.file_statistics else None}
     if m.fit is not None:

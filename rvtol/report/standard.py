@@ -190,16 +190,26 @@ def measured_factors(sec: Section, spec, evidence: dict) -> None:
     by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot — laid out
     from ``evidence`` (factor name -> :func:`rvtol.inputs.measured.evidence`, computed in the run)."""
     from ..plotting.inputs import qq_plot
+    from ..precision import shown
 
     for f in spec.factors:
         if f.name not in evidence:
             continue
         ev = evidence[f.name]
-        sec.add_table(ev["summary"], caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
+        # numbers in the factor's unit shown to resolve its band (rvtol.precision): 40.0033, not 40
+        scale = f.dist.tolerance if getattr(f.dist, "tolerance", None) else None
+        summary = ev["summary"].copy()
+        for col in ("mean", "s", "min", "max"):
+            summary[col] = [shown(v, scale) for v in summary[col]]
+        sec.add_table(summary, caption=f"Measured factor {f.name} ({label(f.unit)}): the values behind its "
                                               "distribution (s: sample standard deviation; gauge u²/s²: the share "
                                               "of the measurement uncertainty removed)")
         if ev.get("file_statistics") is not None:
-            sec.add_table(ev["file_statistics"], caption=f"{f.name}: the statistics its QIF file reports, recomputed "
+            stats = ev["file_statistics"].copy()
+            counts = stats["figure"].isin(["TotalNumber", "EffectiveNumber"])
+            for col in ("file", "recomputed"):
+                stats[col] = [f"{v:.0f}" if c else shown(v, scale) for v, c in zip(stats[col], counts)]
+            sec.add_table(stats, caption=f"{f.name}: the statistics its QIF file reports, recomputed "
                                                          f"from the measurements each study names ({label(f.unit)}; "
                                                          "each agrees to the digits it is written with)")
         if ev["ranking"] is not None:
