@@ -383,6 +383,9 @@ class Requirement:
         if self.cpk_method not in CPK_METHODS:
             raise SpecError(f"unknown cpk_method {self.cpk_method!r} (expected one of: {', '.join(CPK_METHODS)})",
                             file=self.file, key=f"{self.key}.cpk_method" if self.key else "cpk_method")
+        if self.interval not in YIELD_INTERVALS:
+            raise SpecError(f"unknown interval {self.interval!r} (expected one of: {', '.join(YIELD_INTERVALS)})",
+                            file=self.file, key=f"{self.key}.interval" if self.key else "interval")
 
     @property
     def label(self) -> str:

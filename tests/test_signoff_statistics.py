@@ -288,3 +288,16 @@ def test_a_summary_without_a_state_is_read_from_passed_and_undecided():
     assert state_of({"passed": False, "undecided": True, "n_to_demonstrate": None}) == "UNDECIDED"
     assert state_of({"passed": False, "undecided": False, "n_to_demonstrate": 1109}) == "FAIL"
     assert state_of({"passed": True}) == "PASS" and state_of({"state": "UNDECIDED", "passed": False}) == "UNDECIDED"
+
+
+def test_a_requirement_built_in_code_with_an_unknown_interval_is_refused():
+    """interval is checked as basis is: an unknown one (built in code; the loader checks its own) was a KeyError when
+    the yield was judged (YIELD_INTERVALS[r.interval])."""
+    from rvtol.errors import SpecError
+    from rvtol.spec import Requirement
+
+    with pytest.raises(SpecError) as e:
+        Requirement("y", upper=1.0, interval="agresti", file="s.toml", key="requirement[0]")
+    assert (e.value.file, e.value.key) == ("s.toml", "requirement[0].interval")
+    assert "unknown interval 'agresti' (expected one of: clopper-pearson, wilson)" in e.value.reason
+    assert Requirement("y", upper=1.0, interval="wilson").interval == "wilson"
