@@ -12,6 +12,7 @@ with the reason, and left out of the kill rate)::
     python tests/mutation.py --jobs 2         # two modules at a time (one mutant at a time each)
     python tests/mutation.py --report         # only the report of what has run so far
     python tests/mutation.py --rerun-survivors verdict   # after adding tests: only the survivors again
+    python tests/mutation.py --check-equivalents         # are the [[equivalent]] ids still at their lines? (no run)
 
 Each module runs in its own copy of the committed tree (``git archive HEAD``: uncommitted changes are not tested) under
 ``--work`` (default ``reports/mutation/work/<module>``): cosmic-ray writes each mutant into that copy's file, so the
@@ -436,6 +437,32 @@ def markdown(report: list[dict]) -> str:
     return "".join(out)
 
 
+def check_equivalents(cfg: dict, keys) -> int:
+    """Every ``[[equivalent]]`` of ``keys``' modules checked against cosmic-ray's own numbering of today's file: its
+    mutant id must exist at its line (ids count the operator's occurrences through the whole file, so code added above
+    an entry renumbers it).  A stale entry is printed with the mutants of its operator at its line; exit 1 if any."""
+    from cosmic_ray.commands.init import _all_work_items
+
+    bad = 0
+    for key in keys:
+        path = ROOT / cfg["module"][key]["path"]
+        at = {}
+        for item in _all_work_items([path], {}):
+            m = item.mutations[0]
+            at[f"{m.operator_name}#{m.occurrence}"] = m.start_pos[0]
+        for e in (e for e in cfg.get("equivalent", []) if e["module"] == key):
+            if at.get(e["mutant"]) == e["line"]:
+                continue
+            bad += 1
+            op = e["mutant"].split("#")[0]
+            near = [k for k, line in at.items() if k.split("#")[0] == op and line == e["line"]]
+            print(f"stale: {key} {e['mutant']} line {e['line']}: "
+                  + (f"now at line {at[e['mutant']]}" if e["mutant"] in at else "no such mutant")
+                  + (f"; at line {e['line']}: {', '.join(near)}" if near else ""))
+    print(f"{bad} stale equivalent entr{'y' if bad == 1 else 'ies'}")
+    return 1 if bad else 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("modules", nargs="*", help="module keys of tests/mutation.toml (default: all)")
@@ -445,6 +472,8 @@ def main(argv=None) -> int:
     ap.add_argument("--report", action="store_true", help="only write the report of what has run")
     ap.add_argument("--rerun-survivors", action="store_true",
                     help="a module whose tests changed (not its file): run only its survivors again")
+    ap.add_argument("--check-equivalents", action="store_true",
+                    help="only check that every [[equivalent]] id is at its line today (no run)")
     for role in ("--baseline", "--serve", "--client"):      # the test server's parts (see above)
         ap.add_argument(role, type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -455,6 +484,8 @@ def main(argv=None) -> int:
     unknown = [k for k in args.modules if k not in cfg["module"]]
     if unknown:
         ap.error(f"unknown module {unknown[0]!r} (tests/mutation.toml has: {', '.join(cfg['module'])})")
+    if args.check_equivalents:
+        return check_equivalents(cfg, args.modules or list(cfg["module"]))
     commit = git("rev-parse", "HEAD").strip()
     mods = [Module(k, cfg["module"][k], cfg["run"], args.work, commit) for k in (args.modules or cfg["module"])]
     missing = [p for m in mods for p in (m.path, *m.tests) if not (ROOT / p).is_file()]
