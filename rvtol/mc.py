@@ -13,7 +13,7 @@ import contextlib
 import math
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -448,30 +448,21 @@ class MonteCarloResult:
     def _tail_verdict(v: Verdict, d) -> Verdict:
         """``v`` as its tail decision ``d`` (rvtol.tail_decision.TailDecision: ``state``, ``yield_bound``, ``why``)
         judges it: PASS or FAIL with the tails' bound, else UNDECIDED with their figures among the reasons."""
-        from dataclasses import replace
-
         if d.state in ("PASS", "FAIL"):
-            passed = d.state == "PASS"
-            return replace(v, passed=passed, undecided=False, yield_bound=d.yield_bound, n_to_demonstrate=None,
-                           parts_to_demonstrate=None, reasons=[] if passed else [d.why, *v.reasons],
-                           notes=[d.why, *v.notes] if passed else v.notes)
+            return _decided(v, d.state == "PASS", d.why, yield_bound=d.yield_bound)
         return replace(v, reasons=[*v.reasons, d.why])
 
     def _sequential_verdict(self, v: Verdict) -> Verdict:
         """A sequential run's verdict of ``v``'s requirement (:mod:`rvtol.sequential`): PASS or FAIL as its first
         decision made it, else UNDECIDED (the budget ended first) — the fixed-n bounds stay in the tables, and their
         reasons beside it, but they hold for one look, not for the run's many."""
-        from dataclasses import replace
-
         from .sequential import PASS as SEQ_PASS
 
         stop = self.stopping
         label = v.requirement.label
         why = stop.why(label)
         if label in stop.decided:
-            passed = stop.decided[label][1].state == SEQ_PASS
-            return replace(v, passed=passed, undecided=False, n_to_demonstrate=None, parts_to_demonstrate=None,
-                           reasons=[] if passed else [why] + v.reasons, notes=[why, *v.notes] if passed else v.notes)
+            return _decided(v, stop.decided[label][1].state == SEQ_PASS, why)
         fixed = (f"the fixed-n bound would pass at n = {self.n:,}, but it holds for one look, not for "
                  f"{len(stop.looks)}" if v.passed else None)
         return replace(v, passed=False, undecided=True, n_to_demonstrate=None, parts_to_demonstrate=None,
@@ -533,6 +524,14 @@ class MonteCarloResult:
 
         name = output or self.outputs[0].name
         return histogram(self, name, ax=ax)
+
+
+def _decided(v: Verdict, passed: bool, why: str, **judged) -> Verdict:
+    """``v`` decided by another rule than the fixed-n bounds (a sequential run's, the tails'): PASS with ``why`` among
+    its notes, or FAIL with ``why`` first among its reasons; no sample size left to demonstrate it; ``judged``: the
+    figures that rule judged (its yield bound)."""
+    return replace(v, passed=passed, undecided=False, n_to_demonstrate=None, parts_to_demonstrate=None,
+                   reasons=[] if passed else [why, *v.reasons], notes=[why, *v.notes] if passed else v.notes, **judged)
 
 
 def run_monte_carlo(model: Model, spec: ToleranceSpec, n: int, method: str = "lhs", seed: int | None = None,

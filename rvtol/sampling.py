@@ -124,11 +124,13 @@ def apply_copula(u: np.ndarray, corr: np.ndarray | None) -> np.ndarray:
     return np.clip(special.ndtr(z @ L.T), _U_EPS, 1.0 - _U_EPS)
 
 
-def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+def to_factors(spec: ToleranceSpec, u: np.ndarray, out: np.ndarray | None = None, columns=None) -> np.ndarray:
     """Map a uniform design (already correlated) to factor values in base units (into ``out``, which may be
-    ``u`` itself: each column is read before it is written)."""
+    ``u`` itself: each column is read before it is written); ``columns``: only those factors (the others of ``out``
+    are left as they are)."""
     x = np.empty_like(u, dtype=float) if out is None else out
-    for j, f in enumerate(spec.factors):
+    for j in (range(len(spec.factors)) if columns is None else columns):
+        f = spec.factors[j]
         x[:, j] = f.ppf_base(u[:, j])
         if not np.all(np.isfinite(x[:, j])):
             raise InputError("distribution produced non-finite values", file=spec.file,
@@ -145,10 +147,10 @@ def from_normal_scores(spec: ToleranceSpec, Z: np.ndarray) -> np.ndarray:
     if spec.correlation is not None:
         Z = Z @ np.linalg.cholesky(spec.correlation).T
     normal = [j for j, f in enumerate(spec.factors) if getattr(f.dist, "kind", None) == "normal" and f.dist.p["sigma"] > 0]
-    if len(normal) == Z.shape[1]:
-        X = np.empty_like(Z)
-    else:
-        X = to_factors(spec, np.clip(special.ndtr(Z), _U_EPS, 1.0 - _U_EPS))
+    other = sorted(set(range(Z.shape[1])) - set(normal))
+    X = np.empty_like(Z)
+    if other:
+        to_factors(spec, np.clip(special.ndtr(Z), _U_EPS, 1.0 - _U_EPS), X, other)
     for j in normal:
         f = spec.factors[j]
         X[:, j] = units.to_base(Z[:, j] * f.dist.p["sigma"] + (f.dist.p["mean"] + f.dist.shift), f.unit)

@@ -40,7 +40,7 @@ from scipy import stats
 from .stacking.compare import search_evaluator
 from .stacking.tail import tail_probability
 from .stats import proportion_ci
-from .verdict import bound_level
+from .verdict import _pct, bound_level
 
 #: the tail methods run (FORM gives importance sampling its centre, and says when a limit is out of reach)
 METHODS = ("FORM", "importance sampling", "subset")
@@ -145,7 +145,3 @@ def _decide_one(key, r, v, model, spec, evaluator, seed, samples) -> TailDecisio
 
 def _ppm(p: float) -> str:
     return f"{1e6 * p:.4g} ppm"
-
-
-def _pct(x: float) -> str:
-    return f"{100 * x:g} %"

@@ -929,11 +929,8 @@ def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
 
 def _band(dist) -> float | None:
     """The band a measured factor's numbers are shown to resolve (:mod:`rvtol.precision`), where it has one."""
-    try:
-        t = float(dist.tolerance)
-    except Exception:       # a distribution without a band: four significant digits
-        return None
-    return t if t > 0 else None
+    t = getattr(dist, "tolerance", None)          # a distribution without a band: four significant digits
+    return float(t) if isinstance(t, (int, float)) and math.isfinite(t) and t > 0 else None
 
 
 def evidence(m: Measured, dist, *, n_mc: int = 499, seed: int | None = None) -> dict:

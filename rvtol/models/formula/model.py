@@ -259,22 +259,26 @@ def read_definitions(params) -> tuple[object, dict]:
     return defs_p, definitions
 
 
+def read_outputs(params, what: str) -> list[tuple[object, FormulaOutput]]:
+    """The ``[[model.output]]`` tables: ``(table, FormulaOutput)`` each (name, formula, unit, display_unit,
+    description); ``what`` names the model in the error when there is none."""
+    specs = []
+    for t in params.tables("output"):
+        name, formula = t.str("name"), t.str("formula")
+        unit = t.unit("unit", "1")
+        disp = t.unit("display_unit", unit, dimension=_units.dimension(unit))
+        specs.append((t, FormulaOutput(name, formula, unit, disp, t.str("description", ""))))
+        t.finish()
+    if not specs:
+        raise params.error("output", f"{what} needs at least one [[model.output]]")
+    return specs
+
+
 def from_study(params, design, spec) -> FormulaModel:
     """The study factory (``[model] kind = "formula"``); errors name the file and key."""
     u = params.str("units", "checked", choices=UNIT_MODES)
     defs_p, definitions = read_definitions(params)
-    outs = params.tables("output")
-    if not outs:
-        raise params.error("output", "a formula model needs at least one [[model.output]]")
-    specs = []
-    for t in outs:
-        name = t.str("name")
-        formula = t.str("formula")
-        unit = t.unit("unit", "1")
-        disp = t.unit("display_unit", unit, dimension=_units.dimension(unit))
-        desc = t.str("description", "")
-        t.finish()
-        specs.append((t, FormulaOutput(name, formula, unit, disp, desc)))
+    specs = read_outputs(params, "a formula model")
     params.finish()
     fu = tuple(_units.base_unit(x) for x in spec.units) if u == "base" else tuple(spec.units)
     # build one output at a time after the definitions, so that an error names its own key
@@ -296,4 +300,4 @@ def from_study(params, design, spec) -> FormulaModel:
         raise params.error(None, exc.reason) from None
 
 
-__all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study", "read_definitions"]
+__all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study", "read_definitions", "read_outputs"]

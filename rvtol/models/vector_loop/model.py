@@ -79,7 +79,7 @@ from ... import units as _units
 from ...errors import InputError, did_you_mean
 from ...expressions import ExpressionError
 from ...model import STATUS_NONFINITE, STATUS_OK, Model
-from ..formula.model import FormulaModel, FormulaOutput, read_definitions
+from ..formula.model import FormulaModel, FormulaOutput, read_definitions, read_outputs
 
 #: Newton steps per sample before it is declared not to close
 MAX_ITERATIONS = 50
@@ -383,15 +383,7 @@ def from_study(params, design, spec) -> VectorLoopModel:
         t.finish()
     if not loops:
         raise params.error("loop", "a vector-loop model needs at least one [[model.loop]]")
-    outs = []
-    for t in params.tables("output"):
-        unit = t.unit("unit", "1")
-        outs.append(FormulaOutput(t.str("name"), t.str("formula"), unit,
-                                  t.unit("display_unit", unit, dimension=_units.dimension(unit)),
-                                  t.str("description", "")))
-        t.finish()
-    if not outs:
-        raise params.error("output", "a vector-loop model needs at least one [[model.output]]")
+    outs = [o for _, o in read_outputs(params, "a vector-loop model")]
     params.finish()
     try:
         model = VectorLoopModel(loops, deps, outs, spec.names, spec.units, dimensions=dims,
