@@ -266,3 +266,247 @@ unit = "mm"
     root = np.sqrt((r1 + r2) ** 2 - h ** 2)                 # dx/d(r1, r2, h) by hand
     hand = np.stack([(r1 + r2) / root, (r1 + r2) / root, -h / root], axis=1)
     np.testing.assert_allclose(model.gradient(X)[:, 0, :], hand, rtol=1e-10)
+
+
+# -- 3-D joints ---------------------------------------------------------------------------------------------------
+
+def _factors_toml(factors) -> str:
+    """[[factor]] tables from (name, unit, nominal, ± tolerance)."""
+    return "".join(f'[[factor]]\nname = "{n}"\nunit = "{u}"\nnominal = {v}\ntolerance = "±{t}"\n'
+                   for n, u, v, t in factors)
+
+
+def _direction(angle: float, elevation: float) -> np.ndarray:
+    """u(θ, φ) = (cos φ cos θ, cos φ sin θ, sin φ) for rows of angles (rad)."""
+    return np.stack([np.cos(elevation) * np.cos(angle), np.cos(elevation) * np.sin(angle), np.sin(elevation)], axis=-1)
+
+
+def _frame(angle, elevation):
+    """The plane frame of the docs, built independently: e2 horizontal ⟂ n, e1 = e2 × n (so e1 × e2 = n)."""
+    n = _direction(angle, elevation)
+    e2 = np.stack([-np.sin(angle), np.cos(angle), 0 * angle], axis=-1)
+    return np.cross(e2, n), e2, n
+
+
+def _fd(f, X, step=1e-6):
+    """Central finite differences ∂f/∂X (n, outputs, inputs) of a closed form f: (n, k) -> (n, m)."""
+    cols = []
+    for j in range(X.shape[1]):
+        h = np.zeros(X.shape[1])
+        h[j] = step
+        cols.append((f(X + h) - f(X - h)) / (2 * step))
+    return np.stack(cols, axis=2)
+
+
+# three plane contacts locating one part: face i is the plane n_i · p = d_i (its datum point d_i n_i), the part's
+# point sits h_i above it (a sphere's radius, a face's offset, 0 for an edge), so the point c solves the linear
+# system n_i · c = d_i + h_i (closed form: numpy.linalg.solve) and the slides are e1_i · c, e2_i · c.
+PLANES_3D = [("r", "mm", 5.0, 0.02), ("t", "mm", 3.0, 0.02), ("d1", "mm", 2.0, 0.05), ("d2", "mm", 2.0, 0.05),
+             ("d3", "mm", 2.0, 0.05), ("th1", "deg", 0.0, 0.5), ("th2", "deg", 120.0, 0.5), ("th3", "deg", 240.0, 0.5),
+             ("ph1", "deg", 35.0, 0.5), ("ph2", "deg", 35.0, 0.5), ("ph3", "deg", 35.0, 0.5)]
+
+
+def _planes_study(types) -> str:
+    joints = ""
+    for i, (kind, up) in enumerate(types, 1):
+        joints += (f'[[model.joint]]\nname = "face {i}"\ntype = "{kind}"\nnormal = {{ angle = "th{i}", elevation = '
+                   f'"ph{i}" }}\nslides = ["u{i}", "v{i}"]\nstart = [-5, 0]\n' + (f'{up[0]} = "{up[1]}"\n' if up else ""))
+    loops = "".join(f'[[model.loop]]\nvectors = [{{ length = "d1", angle = "th1", elevation = "ph1" }}, '
+                    f'{{ joint = "face 1" }}, {{ joint = "face {k}", reverse = true }}, '
+                    f'{{ length = "-d{k}", angle = "th{k}", elevation = "ph{k}" }}]\n' for k in (2, 3))
+    outs = "".join(f'[[model.output]]\nname = "{s}{i}"\nformula = "{s}{i}"\nunit = "mm"\n'
+                   for i in (1, 2, 3) for s in "uv")
+    up1 = types[0][1][1] if types[0][1] else "0 * r"
+    outs += f'[[model.output]]\nname = "z"\nformula = "(d1 + {up1}) * sin(ph1) - u1 * cos(ph1)"\nunit = "mm"\n'
+    return (f'[study]\nname = "planes"\n{_factors_toml(PLANES_3D)}[model]\nkind = "vector_loop"\ndimensions = 3\n'
+            + joints + loops + outs)
+
+
+def _planes_closed_form(X, ups):
+    """(u1, v1, u2, v2, u3, v3, z) of the part located by three planes, by a linear solve (not by the loops)."""
+    r, t, d, th, ph = X[:, 0], X[:, 1], X[:, 2:5], X[:, 5:8], X[:, 8:11]
+    e1, e2, n = _frame(th, ph)                                              # (rows, 3 planes, 3)
+    h = np.stack([{"r": r, "t": t, None: 0 * r}[u] for u in ups], axis=1)
+    c = np.linalg.solve(n, (d + h)[:, :, None])[:, :, 0]
+    slides = np.stack([np.einsum("npk,nk->np", e, c) for e in (e1, e2)], axis=2).reshape(len(X), 6)
+    return np.column_stack([slides, c[:, 2]])
+
+
+@pytest.mark.parametrize("types", [
+    [("sphere_on_plane", ("radius", "r"))] * 3,                                  # a ball in a three-faced socket
+    [("cylinder_on_plane", ("radius", "r"))] * 2 + [("planar", ("offset", "t"))],  # a pin in a corner, its end on a stop
+    [("edge_on_surface", None)] * 3,                                             # a corner point on three faces
+], ids=["sphere", "cylinder_planar", "edge"])
+def test_three_plane_contacts_locate_a_part_at_the_linear_solve_of_their_planes(tmp_path, types):
+    model = load_study(write(tmp_path / "p.toml", _planes_study(types)), execute=False).model
+    g = np.random.default_rng(11)
+    nominal = np.array([v if u == "mm" else np.radians(v) for _, u, v, _ in PLANES_3D])
+    spread = np.array([t if u == "mm" else np.radians(t) for _, u, _, t in PLANES_3D])
+    X = nominal + g.uniform(-1, 1, size=(150, len(nominal))) * spread
+    ups = [u[1] if u else None for _, u in types]
+    Y, status = model.evaluate_with_status(X)
+    assert np.all(status == STATUS_OK)
+    np.testing.assert_allclose(Y, _planes_closed_form(X, ups), rtol=0, atol=1e-11)            # mm
+    fd = _fd(lambda Z: _planes_closed_form(Z, ups), X[:20])
+    np.testing.assert_allclose(model.gradient(X[:20]), fd, rtol=1e-6, atol=1e-7)
+
+
+BALL_IN_BORE_FACTORS = [("R", "mm", 10.0, 0.02), ("r", "mm", 4.0, 0.01), ("f", "mm", 8.0, 0.03),
+                        ("tb", "deg", 30.0, 1.0), ("pb", "deg", 88.0, 0.3)]
+BALL_IN_BORE_LOOPS = """[model]
+kind = "vector_loop"
+dimensions = 3
+[[model.joint]]
+name = "ball in bore"
+type = "sphere_in_cylinder"
+axis = { angle = "0", elevation = "pi/2" }
+radius = "r"
+outer_radius = "R"
+slide = "s"
+angle = "psi"
+start = [4, 50]
+[[model.joint]]
+name = "ball on flat"
+type = "sphere_on_plane"
+normal = { angle = "pi", elevation = "0" }
+radius = "r"
+slides = ["uf", "vf"]
+start = [-4, -4.5]
+[[model.joint]]
+name = "ball on bottom"
+type = "sphere_on_plane"
+normal = { angle = "tb", elevation = "pb" }
+radius = "r"
+slides = ["ub", "vb"]
+start = [5.5, 2]
+[[model.loop]]
+name = "bore to flat"
+vectors = [{ joint = "ball in bore" }, { joint = "ball on flat", reverse = true }, { length = "f", angle = "pi" }]
+[[model.loop]]
+name = "bore to bottom"
+vectors = [{ joint = "ball in bore" }, { joint = "ball on bottom", reverse = true }]
+[[model.output]]
+name = "z"
+formula = "s"
+unit = "mm"
+[[model.output]]
+name = "psi"
+formula = "psi"
+unit = "deg"
+"""
+BALL_IN_BORE_FORMULA = """[model]
+kind = "formula"
+units = "checked"
+[model.define]
+y = { formula = "sqrt((R - r)**2 - (f - r)**2)", unit = "mm" }
+[[model.output]]
+name = "z"
+formula = "(r - cos(pb) * cos(tb) * (f - r) - cos(pb) * sin(tb) * y) / sin(pb)"
+unit = "mm"
+[[model.output]]
+name = "psi"
+formula = "atan2(y, f - r)"
+unit = "deg"
+"""
+
+
+def test_a_ball_in_a_bore_on_a_flat_and_a_tilted_bottom_is_its_explicit_formula(tmp_path):
+    # a ball (r) in a vertical bore (R, axis z through the origin) against a flat x = f and on a bottom plane through
+    # the origin tilted to the normal u(tb, pb): its centre at x = f − r, y = √((R − r)² − (f − r)²) and the height
+    # z where the bottom's normal distance is r — three joints, two loops, six dependents; the same assembly as an
+    # explicit formula study, sample by sample and in the DLM derivatives
+    head = f'[study]\nname = "ball"\n{_factors_toml(BALL_IN_BORE_FACTORS)}'
+    loops = load_study(write(tmp_path / "l.toml", head + BALL_IN_BORE_LOOPS), execute=False).model
+    explicit = load_study(write(tmp_path / "f.toml", head + BALL_IN_BORE_FORMULA), execute=False).model
+    g = np.random.default_rng(3)
+    nominal = np.array([10.0, 4.0, 8.0, np.radians(30.0), np.radians(88.0)])
+    X = nominal + g.normal(size=(300, 5)) * np.array([0.02, 0.01, 0.03, np.radians(1.0), np.radians(0.3)]) / 3
+    Y, status = loops.evaluate_with_status(X)
+    assert np.all(status == STATUS_OK)
+    R, r, f, tb, pb = X.T
+    y = np.sqrt((R - r) ** 2 - (f - r) ** 2)
+    n = _direction(tb, pb)
+    np.testing.assert_allclose(Y[:, 0], (r - n[:, 0] * (f - r) - n[:, 1] * y) / n[:, 2], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(Y[:, 1], np.arctan2(y, f - r), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(Y, explicit.evaluate(X), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(loops.gradient(X), explicit.gradient(X), rtol=1e-9, atol=1e-12)
+    assert loops.nominal_dependents()["psi"] == pytest.approx(np.degrees(np.arctan2(np.sqrt(20.0), 4.0)), abs=1e-10)
+
+
+def test_a_ball_in_a_vee_groove_against_a_tilted_stop_is_its_closed_form(tmp_path):
+    # a ball (r) in a V-groove along x (included angle α, root line through the origin) rests at the height
+    # h = r / sin(α/2) and slides along it to a stop plane through (p, 0, 0) with the normal n = u(ts, ps):
+    # n · (c − p x) = r gives its slide s = p + (r − n_z h) / n_x
+    factors = [("r", "mm", 3.0, 0.005), ("alpha", "deg", 90.0, 0.25), ("p", "mm", 20.0, 0.05),
+               ("ts", "deg", 180.0, 0.5), ("ps", "deg", 0.0, 0.5)]
+    text = f"""[study]
+name = "vee"
+{_factors_toml(factors)}[model]
+kind = "vector_loop"
+dimensions = 3
+[[model.joint]]
+name = "ball in groove"
+type = "sphere_in_vee"
+axis = {{ angle = "0", elevation = "0" }}
+bisector = {{ angle = "0", elevation = "pi/2" }}
+radius = "r"
+included_angle = "alpha"
+slide = "s"
+start = 17
+[[model.joint]]
+name = "ball on stop"
+type = "sphere_on_plane"
+normal = {{ angle = "ts", elevation = "ps" }}
+radius = "r"
+slides = ["us", "vs"]
+start = [-4.2, 0]
+[[model.loop]]
+vectors = [{{ joint = "ball in groove" }}, {{ joint = "ball on stop", reverse = true }}, {{ length = "p", angle = "pi" }}]
+[[model.output]]
+name = "s"
+formula = "s"
+unit = "mm"
+"""
+    model = load_study(write(tmp_path / "v.toml", text), execute=False).model
+    g = np.random.default_rng(6)
+    nominal = np.array([3.0, np.radians(90.0), 20.0, np.pi, 0.0])
+    X = nominal + g.uniform(-1, 1, size=(200, 5)) * np.array([0.005, np.radians(0.25), 0.05, np.radians(0.5),
+                                                              np.radians(0.5)])
+
+    def closed(Z):
+        r, al, p, ts, ps = Z.T
+        n = _direction(ts, ps)
+        return (p + (r - n[:, 2] * r / np.sin(al / 2)) / n[:, 0])[:, None]
+
+    Y, status = model.evaluate_with_status(X)
+    assert np.all(status == STATUS_OK)
+    np.testing.assert_allclose(Y, closed(X), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(model.gradient(X[:30]), _fd(closed, X[:30]), rtol=1e-7, atol=1e-8)
+
+
+def test_a_three_dimensional_joint_declared_wrong_is_one_located_line(tmp_path, capsys):
+    text = f'[study]\nname = "ball"\n{_factors_toml(BALL_IN_BORE_FACTORS)}' + BALL_IN_BORE_LOOPS
+    cases = [
+        ('type = "sphere_on_plane"', 'type = "sphere_on_plain"', "model.joint[1].type",
+         "unknown value 'sphere_on_plain' (did you mean 'sphere_on_plane'"),
+        ('type = "sphere_in_cylinder"', 'type = "cylinder_in_cylinder"', "model.joint[0].type",
+         "expected one of: sphere_on_plane"),
+        ('slides = ["uf", "vf"]', 'slides = ["uf"]', "model.joint[1].slides", "two names, got 1"),
+        ('start = [4, 50]', 'start = [4]', "model.joint[0].start", "expected 2 numbers"),
+        ('normal = { angle = "pi", elevation = "0" }', 'normal = { angle = "pi" }', "model.joint[1].normal.elevation",
+         "missing required key"),
+        ('normal = { angle = "pi", elevation = "0" }', 'normal = { angle = "pi", elevation = 0 }',
+         "model.joint[1].normal.elevation", "expected a formula in quotes"),
+        ('{ joint = "ball on flat", reverse = true }', '{ joint = "ball on flat", reverse = 1 }',
+         "model.loop[0].vectors", "vector 2: a joint entry is"),
+        ('radius = "r"\nslides = ["uf"', 'radius = "r + 1"\nslides = ["uf"', "model.loop[0].vectors",
+         "vector 2 (joint 'ball on flat'), its length: cannot add or subtract"),
+    ]
+    for old, new, key, words in cases:
+        assert old in text, old
+        p = write(tmp_path / "s.toml", text.replace(old, new, 1))
+        with pytest.raises(InputError) as ei:
+            load_study(p, execute=False)
+        assert ei.value.key == key and words in ei.value.reason, (key, ei.value.key, ei.value.reason)
+        rc, err = run_cli(["check", p], capsys)
+        assert rc == 2 and len(err) == 1 and err[0].startswith("rvtol: error: ") and words in err[0], err

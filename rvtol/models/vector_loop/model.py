@@ -61,7 +61,12 @@ A study declares::
 **Joints.**  A 2-D contact can be declared instead of its vectors (``[[model.joint]]``, :data:`JOINTS`): a slider,
 a cylinder on a plane, a cylinder in a bore, two cylinders touching; each declares its dependent (the slide along
 the surface, the angle of the line of centres) and stands for its vectors where a loop names it
-(``{ joint = "roller in ring" }``).
+(``{ joint = "roller in ring" }``; ``reverse = true`` walks it backwards, from the mating part to the surface).  In
+3-D (:data:`JOINTS_3D`) a sphere, a cylinder, a face or an edge on a plane (two dependent slides in the plane, then
+the radius or offset along its normal), a sphere in a bore (a slide along the axis and an angle about it) and a
+sphere in a V-groove (a slide along it), each in its surface's frame (:func:`surface_frame`).  A 3-D loop closes the
+*position* of its parts: the joints' rotational freedoms are not dependents (the parts keep the orientations the
+vectors' formulas give them).
 
 References.  K. W. Chase, J. Gao, S. P. Magleby, "General 2-D tolerance analysis of mechanical assemblies with
 small kinematic adjustments", J. Design and Manufacturing 5 (1995) 263–274; J. Gao, K. W. Chase, S. P. Magleby,
@@ -90,11 +95,12 @@ STATUS_SINGULAR = 3
 
 
 class LoopError(ExpressionError):
-    """A formula of loop ``loop`` (its index) that cannot be read."""
+    """A formula (``what``: length, angle, elevation) of vector ``vector`` of loop ``loop`` (indices) that cannot be
+    read, for ``why``."""
 
-    def __init__(self, loop: int, reason: str):
-        super().__init__(reason)
-        self.loop = loop
+    def __init__(self, loop: int, vector: int, what: str, why: str):
+        super().__init__(f"vector {vector + 1}, {what}: {why}")
+        self.loop, self.vector, self.what, self.why = loop, vector, what, why
 
 
 @dataclass(frozen=True)
@@ -161,8 +167,7 @@ class VectorLoopModel(Model):
                     try:        # one formula at a time, so that an error names its loop, vector and role
                         FormulaModel([part], self.inputs + tuple(names), all_units, definitions=definitions)
                     except ExpressionError as exc:
-                        raise LoopError(li, f"vector {vi + 1}, {what}: "
-                                            + exc.reason.split(": ", 1)[-1]) from None
+                        raise LoopError(li, vi, what, exc.reason.split(": ", 1)[-1]) from None
                     parts.append(part)
         self._geometry = FormulaModel(parts, self.inputs + tuple(names), all_units, definitions=definitions)
         self._outputs = FormulaModel(outputs, self.inputs + tuple(names), all_units, definitions=definitions)
@@ -303,35 +308,112 @@ JOINTS = {
                             "outer_radius, at the dependent angle",
 }
 
+#: the contacts a joint may declare in 3-D (position closure: the vectors from the surface's datum point to the
+#: mating part's), each in the surface's frame (:func:`surface_frame`)
+JOINTS_3D = {
+    "sphere_on_plane": "a sphere on a plane: along the plane by the two dependent slides, then up the normal by the "
+                       "radius to the sphere's centre",
+    "cylinder_on_plane": "a cylinder lying on a plane: along the plane by the two dependent slides (to a point of its "
+                         "axis's foot), then up the normal by the radius to the axis",
+    "planar": "a face on a plane (plane on plane): along the plane by the two dependent slides, then up the normal by "
+              "the offset (the mating part's datum above its face; \"0\" if on it)",
+    "edge_on_surface": "an edge (or a point) on a plane: along the plane by the two dependent slides to the contact",
+    "sphere_in_cylinder": "a sphere in a bore: along the bore's axis by the dependent slide, then out from the axis by "
+                          "outer_radius − radius at the dependent angle about it, to the sphere's centre",
+    "sphere_in_vee": "a sphere in a V-groove: along the groove's root line by the dependent slide, then up the "
+                     "bisector by radius / sin(included_angle / 2) to the sphere's centre",
+}
+
+
+def surface_frame(angle: str, elevation: str) -> tuple[tuple[str, str], tuple[str, str], tuple[str, str]]:
+    """``(e1, e2, n)`` as (angle, elevation) formulas: the right-handed frame of a surface whose normal (a plane's; a
+    bore's or a groove's axis) is n = u(θ, φ).  e1 = u(θ, φ − π/2) is n tipped down by 90° in its own vertical
+    plane and e2 = u(θ + π/2, 0) is horizontal, so that e1 × e2 = n (u as in the module docstring: for n = z,
+    θ = 0, the frame is x, y, z)."""
+    return (f"({angle})", f"({elevation}) - pi/2"), (f"({angle}) + pi/2", "0"), (f"({angle})", f"({elevation})")
+
+
+def _formula(t, key: str, default=None) -> str:
+    v = t.raw(key) if default is None else t.raw(key, default)
+    if not isinstance(v, str):
+        raise t.error(key, f"expected a formula in quotes, got {v!r}")
+    return v
+
+
+def _direction(t, key: str) -> tuple[str, str]:
+    """A direction ``{ angle = "…", elevation = "…" }`` (formulas: the azimuth from x and the elevation above xy)."""
+    d = t.sub(key)
+    angle, elevation = _formula(d, "angle"), _formula(d, "elevation")
+    d.finish()
+    return angle, elevation
+
+
+def _read_joint_3d(t, kind: str) -> tuple[list[Vector], list[Dependent]]:
+    """A 3-D joint (:data:`JOINTS_3D`): its vectors and dependents (slides in mm, angles in deg)."""
+    if kind == "sphere_in_vee":
+        axis, bisector = _direction(t, "axis"), _direction(t, "bisector")
+        slide = t.str("slide")
+        dep = Dependent(slide, "mm", t.float("start"))
+        height = f"({_formula(t, 'radius')}) / sin(({_formula(t, 'included_angle')}) / 2)"
+        return [Vector(slide, *axis), Vector(height, *bisector)], [dep]
+    if kind == "sphere_in_cylinder":
+        e1, e2, axis = surface_frame(*_direction(t, "axis"))
+        slide, angle = t.str("slide"), t.str("angle")
+        s0, a0 = t.floats("start", length=2)
+        off = f"(({_formula(t, 'outer_radius')}) - ({_formula(t, 'radius')}))"
+        return ([Vector(slide, *axis), Vector(f"{off} * cos({angle})", *e1), Vector(f"{off} * sin({angle})", *e2)],
+                [Dependent(slide, "mm", s0), Dependent(angle, "deg", a0)])
+    e1, e2, normal = surface_frame(*_direction(t, "normal"))
+    slides = t.strs("slides")
+    if len(slides) != 2:
+        raise t.error("slides", f"a {kind} joint slides two ways in the plane: two names, got {len(slides)}")
+    starts = t.floats("start", length=2)
+    vectors = [Vector(slides[0], *e1), Vector(slides[1], *e2)]
+    up = {"sphere_on_plane": "radius", "cylinder_on_plane": "radius", "planar": "offset"}.get(kind)
+    if up is not None:
+        vectors.append(Vector(_formula(t, up), *normal))
+    return vectors, [Dependent(n, "mm", s) for n, s in zip(slides, starts)]
+
 
 def read_joint(t, dims: int) -> tuple[list[Vector], list[Dependent]]:
     """One ``[[model.joint]]`` table: the vectors it stands for (in the loops that name it) and the dependents it
-    declares (:data:`JOINTS`).  Its dependent is named by ``slide`` (a length along ``direction``) or ``angle`` (the
-    line of centres) and started at ``start`` (in ``unit``: mm for a slide, deg for an angle unless given)."""
-    if dims != 2:
-        raise t.error("type", "joints are declared for 2-D loops (dimensions = 2)")
-    kind = t.str("type", choices=tuple(JOINTS))
-
-    def formula(key: str) -> str:
-        v = t.raw(key)
-        if not isinstance(v, str):
-            raise t.error(key, f"expected a formula in quotes, got {v!r}")
-        return v
-
+    declares (:data:`JOINTS`, 2-D; :data:`JOINTS_3D`).  A 2-D joint's dependent is named by ``slide`` (a length along
+    ``direction``) or ``angle`` (the line of centres) and started at ``start`` (in ``unit``: mm for a slide, deg for
+    an angle unless given); a 3-D joint's by ``slides`` (two names) or ``slide`` and ``angle``, started at ``start``
+    (mm and deg, a list when two)."""
+    kind = t.str("type", choices=tuple(JOINTS if dims == 2 else JOINTS_3D))
+    if dims == 3:
+        return _read_joint_3d(t, kind)
     if kind in ("slider", "cylinder_on_plane"):
         slide = t.str("slide")
         dep = Dependent(slide, t.unit("unit", "mm", dimension="length"), t.float("start"))
-        along = formula("direction")
+        along = _formula(t, "direction")
         vectors = [Vector(slide, along)]
         if kind == "cylinder_on_plane":
             side = t.str("side", "left", choices=("left", "right"))
-            vectors.append(Vector(formula("radius"), f"({along}) {'+' if side == 'left' else '-'} pi/2"))
+            vectors.append(Vector(_formula(t, "radius"), f"({along}) {'+' if side == 'left' else '-'} pi/2"))
         return vectors, [dep]
     angle = t.str("angle")
     dep = Dependent(angle, t.unit("unit", "deg", dimension="angle"), t.float("start"))
-    r, big = formula("radius"), formula("outer_radius")
+    r, big = _formula(t, "radius"), _formula(t, "outer_radius")
     length = f"({big}) - ({r})" if kind == "cylinder_in_cylinder" else f"({r}) + ({big})"
     return [Vector(length, angle)], [dep]
+
+
+def _joint_vectors(t, i: int, entry: dict, joints: Mapping[str, list[Vector]]) -> list[Vector]:
+    """The vectors a loop's ``{ joint = "<name>" }`` entry stands for; ``reverse = true`` walks the joint backwards
+    (from the mating part to the surface: each vector negated, in the reverse order), as a loop that reaches a
+    part through one contact and leaves it through another does."""
+    name = entry["joint"]
+    if not set(entry) <= {"joint", "reverse"} or not isinstance(entry.get("reverse", False), bool):
+        raise t.error("vectors", f"vector {i + 1}: a joint entry is {{ joint = \"<name>\" }}, with reverse = true "
+                                 f"or false if walked backwards")
+    if name not in joints:
+        raise t.error("vectors", f"vector {i + 1}: no joint {name!r}{did_you_mean(str(name), joints)} (the model's: "
+                                 f"{', '.join(joints) or 'none'})")
+    if not entry.get("reverse", False):
+        return list(joints[name])
+    return [Vector(f"-({v.length})", v.angle, v.elevation) for v in reversed(joints[name])]
 
 
 def from_study(params, design, spec) -> VectorLoopModel:
@@ -354,22 +436,20 @@ def from_study(params, design, spec) -> VectorLoopModel:
     if not deps:
         raise params.error("dependent", "a vector-loop model needs its dependents ([[model.dependent]]: name, unit, "
                                         "start; or the joints' own)")
-    loops, names, loop_tables = [], [], params.tables("loop")
+    loops, names, origins, loop_tables = [], [], [], params.tables("loop")
     for t in loop_tables:
         names.append(t.str("name", f"loop {len(names) + 1}"))
         raw = t.raw("vectors")
         if not isinstance(raw, list) or not raw or not all(isinstance(v, dict) for v in raw):
             raise t.error("vectors", "expected a list of tables { length = \"…\", angle = \"…\" }")
-        vectors = []
+        vectors, origin = [], []          # origin: the joint each vector stands for (None: written in the loop)
         for i, v in enumerate(raw):
             if "joint" in v:                  # a declared contact: the vectors it stands for
-                if set(v) != {"joint"} or v["joint"] not in joints:
-                    raise t.error("vectors", f"vector {i + 1}: " + (
-                        "a joint entry is { joint = \"<name>\" } alone" if set(v) != {"joint"} else
-                        f"no joint {v['joint']!r}{did_you_mean(str(v['joint']), joints)} (the model's: "
-                        f"{', '.join(joints) or 'none'})"))
-                vectors += joints[v["joint"]]
+                new = _joint_vectors(t, i, v, joints)
+                vectors += new
+                origin += [(i, v["joint"])] * len(new)
                 continue
+            origin.append(None)
             unknown = sorted(set(v) - {"length", "angle", "elevation"})
             if unknown or "length" not in v or "angle" not in v:
                 raise t.error("vectors", f"vector {i + 1}: " + (f"unknown key {unknown[0]!r}" if unknown else
@@ -380,6 +460,7 @@ def from_study(params, design, spec) -> VectorLoopModel:
                                              f"formula in quotes, in radians (\"pi/2\") or of factors with their units")
             vectors.append(Vector(str(v["length"]), v["angle"], v.get("elevation", "0")))
         loops.append(vectors)
+        origins.append(origin)
         t.finish()
     if not loops:
         raise params.error("loop", "a vector-loop model needs at least one [[model.loop]]")
@@ -389,7 +470,10 @@ def from_study(params, design, spec) -> VectorLoopModel:
         model = VectorLoopModel(loops, deps, outs, spec.names, spec.units, dimensions=dims,
                                 definitions=definitions, loop_names=names)
     except LoopError as exc:
-        raise loop_tables[exc.loop].error("vectors", exc.reason) from None
+        joint = origins[exc.loop][exc.vector]
+        where = exc.reason if joint is None else (f"vector {joint[0] + 1} (joint {joint[1]!r}), its {exc.what}: "
+                                                  f"{exc.why}")
+        raise loop_tables[exc.loop].error("vectors", where) from None
     except ExpressionError as exc:
         raise params.error(None, exc.reason) from None
     try:
