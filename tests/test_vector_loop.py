@@ -510,3 +510,94 @@ def test_a_three_dimensional_joint_declared_wrong_is_one_located_line(tmp_path, 
         assert ei.value.key == key and words in ei.value.reason, (key, ei.value.key, ei.value.reason)
         rc, err = run_cli(["check", p], capsys)
         assert rc == 2 and len(err) == 1 and err[0].startswith("rvtol: error: ") and words in err[0], err
+
+
+# -- orientation closure ----------------------------------------------------------------------------------------------
+
+TURNS = [("A", "mm", 40.0, 0.05), ("ta", "deg", 25.0, 0.5), ("pa", "deg", 10.0, 0.5), ("alpha", "deg", 30.0, 0.5),
+         ("beta", "deg", 20.0, 0.5), ("gamma", "deg", 10.0, 0.5), ("B", "mm", 30.0, 0.05), ("tb", "deg", 60.0, 0.5),
+         ("pb", "deg", -15.0, 0.5)]
+TURNS_MODEL = """[model]
+kind = "vector_loop"
+dimensions = 3
+[[model.dependent]]
+name = "psi"
+unit = "deg"
+start = -28
+[[model.dependent]]
+name = "theta"
+unit = "deg"
+start = -22
+[[model.dependent]]
+name = "phi"
+unit = "deg"
+start = 1
+[[model.dependent]]
+name = "x"
+unit = "mm"
+start = -33
+[[model.dependent]]
+name = "y"
+unit = "mm"
+start = -45
+[[model.dependent]]
+name = "z"
+unit = "mm"
+start = 1
+[[model.loop]]
+name = "part 1 to part 2 and back"
+vectors = [
+    { length = "A", angle = "ta", elevation = "pa" },
+    { rotate = "alpha", about = "z" }, { rotate = "beta", about = "y" }, { rotate = "gamma", about = "x" },
+    { length = "B", angle = "tb", elevation = "pb" },
+    { rotate = "psi", about = "z" }, { rotate = "theta", about = "y" }, { rotate = "phi", about = "x" },
+    { length = "x", angle = "0" }, { length = "y", angle = "pi/2" }, { length = "z", angle = "0", elevation = "pi/2" },
+]
+"""
+TURNS_MODEL += "".join(f'[[model.output]]\nname = "{n}"\nformula = "{n}"\nunit = "{u}"\n'
+                       for n, u in (("psi", "deg"), ("theta", "deg"), ("phi", "deg"), ("x", "mm"), ("y", "mm"),
+                                    ("z", "mm")))
+
+
+def _turns_closed_form(X):
+    """The loop closes in orientation and position: Rz(ψ) Ry(θ) Rx(φ) = (Rz(α) Ry(β) Rx(γ))ᵀ — intrinsic z-y-x
+    angles by scipy.spatial.transform.Rotation — and (x, y, z) = −(a + R₁ b), a and b the vectors u(θ, φ)·L."""
+    from scipy.spatial.transform import Rotation as Rot
+
+    A, ta, pa, al, be, ga, B, tb, pb = X.T
+    R1 = Rot.from_euler("ZYX", np.column_stack([al, be, ga])).as_matrix()
+    euler = Rot.from_matrix(np.transpose(R1, (0, 2, 1))).as_euler("ZYX")
+    p = -(A[:, None] * _direction(ta, pa) + np.einsum("nij,nj->ni", R1, B[:, None] * _direction(tb, pb)))
+    return np.column_stack([euler, p])
+
+
+def test_a_loop_that_turns_its_frame_closes_its_orientation_as_scipys_rotations_do(tmp_path):
+    # part 1 reached by a (ground frame), turned by α, β, γ about its z, y, x; part 2 by b in part 1's frame, turned back
+    # by the dependent ψ, θ, φ and reached back to the ground by the dependent x, y, z along its own axes: six
+    # equations (position and orientation), six dependents; the reference is scipy's Euler angles of R₁ᵀ
+    text = f'[study]\nname = "turns"\n{_factors_toml(TURNS)}' + TURNS_MODEL
+    model = load_study(write(tmp_path / "t.toml", text), execute=False).model
+    g = np.random.default_rng(12)
+    nominal = np.array([v if u == "mm" else np.radians(v) for _, u, v, _ in TURNS])
+    spread = np.array([t if u == "mm" else np.radians(t) for _, u, _, t in TURNS])
+    X = nominal + g.uniform(-1, 1, size=(200, len(nominal))) * spread
+    Y, status = model.evaluate_with_status(X)
+    assert np.all(status == STATUS_OK)
+    np.testing.assert_allclose(Y, _turns_closed_form(X), rtol=0, atol=1e-11)            # rad and mm
+    np.testing.assert_allclose(model.gradient(X[:20]), _fd(_turns_closed_form, X[:20]), rtol=1e-6, atol=1e-8)
+    # without the turns' closure the same loop would leave ψ, θ, φ free: with three dependents fewer it is refused
+    short = text.replace('[[model.dependent]]\nname = "psi"\nunit = "deg"\nstart = -28\n', "", 1)
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "s.toml", short), execute=False)
+    assert ei.value.key == "model" and "1 loop(s) in 3-D and 1 closing their orientation give 6 equations" \
+        in ei.value.reason
+    # a rotation in 2-D is refused, one located line
+    flat = text.replace("dimensions = 3", "dimensions = 2")
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "f.toml", flat), execute=False)
+    assert ei.value.key == "model.loop[0].vectors" and "vector 2: a rotation needs dimensions = 3" in ei.value.reason
+    bad = text.replace('rotate = "gamma", about = "x"', 'rotate = "gamma", about = "w"')
+    assert bad != text
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "b.toml", bad), execute=False)
+    assert ei.value.key == "model.loop[0].vectors" and "vector 4: a rotation is" in ei.value.reason

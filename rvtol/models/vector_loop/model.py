@@ -4,8 +4,8 @@ A non-linear stack whose parts *settle* — a roller seated between a hub flat a
 crank, a linkage's output angle — has dimensions the assembly decides, not the drawing: the **dependent**
 variables.  The Direct Linearization Method (Chase, Gao & Magleby; Gao, Chase & Magleby) writes the assembly as
 closed **vector loops**: vectors tip to tail, each a length and a direction, summing to zero around every loop
-of the assembly graph.  Each 2-D loop gives two scalar equations (three in 3-D), so an assembly with L loops
-determines L·2 (L·3) dependents.
+of the assembly graph.  Each 2-D loop gives two scalar equations (three in 3-D, six when it turns its frame and so
+closes its orientation too: below), and the assembly declares as many dependents.
 
 rvtol solves the loop equations **per Monte Carlo sample** (this model) instead of linearising them: for the
 factors x of a sample, the dependents d solve
@@ -64,9 +64,15 @@ the surface, the angle of the line of centres) and stands for its vectors where 
 (``{ joint = "roller in ring" }``; ``reverse = true`` walks it backwards, from the mating part to the surface).  In
 3-D (:data:`JOINTS_3D`) a sphere, a cylinder, a face or an edge on a plane (two dependent slides in the plane, then
 the radius or offset along its normal), a sphere in a bore (a slide along the axis and an angle about it) and a
-sphere in a V-groove (a slide along it), each in its surface's frame (:func:`surface_frame`).  A 3-D loop closes the
-*position* of its parts: the joints' rotational freedoms are not dependents (the parts keep the orientations the
-vectors' formulas give them).
+sphere in a V-groove (a slide along it), each in its surface's frame (:func:`surface_frame`).
+
+**Orientation (3-D).**  A loop entry ``{ rotate = "…", about = "x" | "y" | "z" }`` (:class:`Rotation`) turns the frame
+the following vectors are written in (the next part's: R ← R·Q(α), Q the elementary rotation about the frame's own
+axis), and a loop that turns closes its orientation as well as its position (Gao, Chase & Magleby 1998: the loop's
+rotation matrices multiply to the identity) — three equations more, h = vee(½(R − Rᵀ)) = sin(angle)·axis = 0, with
+∂R by the product rule, so three dependents more.  A loop without turns writes every vector in the ground's frame
+and closes its position only: the joints' rotational freedoms are not dependents (the parts keep the orientations
+the vectors' formulas give them).
 
 References.  K. W. Chase, J. Gao, S. P. Magleby, "General 2-D tolerance analysis of mechanical assemblies with
 small kinematic adjustments", J. Design and Manufacturing 5 (1995) 263–274; J. Gao, K. W. Chase, S. P. Magleby,
@@ -122,6 +128,20 @@ class Vector:
     elevation: str = "0"
 
 
+@dataclass(frozen=True)
+class Rotation:
+    """A turn of the loop's frame (3-D) by ``angle`` (a formula) about its own ``about`` axis (x, y or z, right-handed):
+    the vectors after it are written in the turned frame — the next part's — and the loop then closes its orientation
+    too (the product of its turns is the identity)."""
+
+    angle: str
+    about: str
+
+
+#: an elementary rotation's axis and the two others in cyclic order: Q[i, i] = Q[j, j] = cos α, Q[j, i] = −Q[i, j] = sin α
+_AXES = {"x": (0, 1, 2), "y": (1, 2, 0), "z": (2, 0, 1)}
+
+
 class VectorLoopModel(Model):
     """Closed vector loops solved for their dependents per sample (see the module docstring)."""
 
@@ -131,7 +151,7 @@ class VectorLoopModel(Model):
                       STATUS_SINGULAR: "the loop equations are singular here (a dependent is not determined by "
                                        "the loops at this assembly)"}
 
-    def __init__(self, loops: Sequence[Sequence[Vector]], dependents: Sequence[Dependent], outputs,
+    def __init__(self, loops: Sequence[Sequence[Vector | Rotation]], dependents: Sequence[Dependent], outputs,
                  inputs: Sequence[str], input_units: Sequence[str], *, dimensions: int = 2,
                  definitions: Mapping[str, str | tuple[str, str]] | None = None, loop_names: Sequence[str] = ()):
         if dimensions not in (2, 3):
@@ -140,12 +160,20 @@ class VectorLoopModel(Model):
         self.dependents = tuple(dependents)
         self.loops = [tuple(v) for v in loops]
         self.loop_names = tuple(loop_names) or tuple(f"loop {i + 1}" for i in range(len(self.loops)))
-        if not self.loops or any(not v for v in self.loops):
+        if not self.loops or any(not any(isinstance(v, Vector) for v in loop) for loop in self.loops):
             raise ExpressionError("a vector-loop model needs at least one loop of at least one vector")
-        equations = dimensions * len(self.loops)
-        if len(self.dependents) != equations:
-            raise ExpressionError(f"{len(self.loops)} loop(s) in {dimensions}-D give {equations} equations: declare "
-                                  f"as many dependents (there are {len(self.dependents)})")
+        #: per loop: does it close its orientation (it turns its frame)
+        self._turns = [any(isinstance(v, Rotation) for v in loop) for loop in self.loops]
+        if dimensions == 2 and any(self._turns):
+            raise ExpressionError("a rotation needs dimensions = 3 (in 2-D every angle is from the x axis: a loop's "
+                                  "orientation closes by itself)")
+        if any(v.about not in _AXES for loop in self.loops for v in loop if isinstance(v, Rotation)):
+            raise ExpressionError("a rotation is about x, y or z")
+        self.equations = dimensions * len(self.loops) + 3 * sum(self._turns)
+        if len(self.dependents) != self.equations:
+            turning = f" and {sum(self._turns)} closing their orientation" if any(self._turns) else ""
+            raise ExpressionError(f"{len(self.loops)} loop(s) in {dimensions}-D{turning} give {self.equations} "
+                                  f"equations: declare as many dependents (there are {len(self.dependents)})")
         if dimensions == 2 and any(v.elevation != "0" for loop in self.loops for v in loop):
             raise ExpressionError("an elevation needs dimensions = 3")
         names = [d.name for d in self.dependents]
@@ -161,8 +189,10 @@ class VectorLoopModel(Model):
         parts = []
         for li, loop in enumerate(self.loops):
             for vi, v in enumerate(loop):
-                for what, text, unit in (("length", v.length, "mm"), ("angle", v.angle, "rad"),
-                                         ("elevation", v.elevation, "rad"))[: 3 if dimensions == 3 else 2]:
+                roles = ((("rotation", v.angle, "rad"),) if isinstance(v, Rotation) else
+                         (("length", v.length, "mm"), ("angle", v.angle, "rad"),
+                          ("elevation", v.elevation, "rad"))[: 3 if dimensions == 3 else 2])
+                for what, text, unit in roles:
                     part = FormulaOutput(f"{li}.{vi}.{what}", text, unit)
                     try:        # one formula at a time, so that an error names its loop, vector and role
                         FormulaModel([part], self.inputs + tuple(names), all_units, definitions=definitions)
@@ -174,7 +204,6 @@ class VectorLoopModel(Model):
         self.input_units = self._geometry.input_units[: len(self.inputs)]
         self.outputs = self._outputs.outputs
         self._d_factor = np.array([_units.factor(d.unit) for d in self.dependents])
-        self._sizes = [len(loop) for loop in self.loops]
         self._nominal_start = np.array([d.start for d in self.dependents]) * self._d_factor
         self._start = None                       # the nominal assembly (set by at_nominal)
 
@@ -182,34 +211,41 @@ class VectorLoopModel(Model):
     def _residual(self, X: np.ndarray, D: np.ndarray, columns: slice | None = None):
         """``(h (n, E), J, scale (n, E))`` at factors X and dependents D (base units): the loop equations, their
         Jacobian ``∂h/∂z (n, E, c)`` over the ``columns`` of z = [x, d] (default: the dependents; None: no
-        Jacobian) and each equation's loop size (the sum of its vectors' lengths)."""
+        Jacobian) and each equation's size (a position's: the sum of its loop's vectors' lengths; an
+        orientation's: 1 rad)."""
         Z = np.concatenate([X, D], axis=1)
         cols = slice(len(self.inputs), None) if columns is None else columns
         V, G = self._geometry.evaluate_with_gradient(Z, [d.name for d in self.dependents] if columns is None else None)
         V, G = V.T, G.transpose(1, 2, 0)[:, cols]      # component-major: each row below is one contiguous array
-        per = 3 if self.dims == 3 else 2
-        n, E = len(X), self.dims * len(self.loops)
-        h = np.zeros((E, n))
-        J = np.zeros((E, G.shape[1], n))
-        scale = np.zeros((E, n))
-        col = 0
-        for li, size in enumerate(self._sizes):
-            row = self.dims * li
-            for _ in range(size):
-                L, th = V[col], V[col + 1]
-                ct, st = np.cos(th), np.sin(th)
-                if self.dims == 3:
-                    cp, sp = np.cos(V[col + 2]), np.sin(V[col + 2])
-                    parts = ((cp * ct, -cp * st, -sp * ct), (cp * st, cp * ct, -sp * st), (sp, 0.0, cp))
-                else:
-                    parts = ((ct, -st, None), (st, ct, None))
-                for c, (u, du_dth, du_dph) in enumerate(parts):     # component c of L·u(θ, φ) and its derivative
-                    h[row + c] += L * u
-                    J[row + c] += u * G[col] + (L * du_dth) * G[col + 1]
-                    if du_dph is not None:
-                        J[row + c] += (L * du_dph) * G[col + 2]
-                scale[row: row + self.dims] += np.abs(L)
-                col += per
+        n, dims = len(X), self.dims
+        h = np.zeros((self.equations, n))
+        J = np.zeros((self.equations, G.shape[1], n))
+        scale = np.zeros((self.equations, n))
+        col = row = 0
+        for loop, turns in zip(self.loops, self._turns):
+            frame = None              # the loop's frame so far: (R (3, 3, n), ∂R (3, 3, c, n)); None: the ground's
+            for v in loop:
+                if isinstance(v, Rotation):
+                    frame = _turn(frame, v.about, V[col], G[col])
+                    col += 1
+                    continue
+                w, dw = _vector_terms(V, G, col, dims)
+                if frame is not None:                     # written in the turned frame: R w, ∂(R w) = ∂R w + R ∂w
+                    R, dR = frame
+                    w, dw = (np.einsum("ijn,jn->in", R, w),
+                             np.einsum("ijcn,jn->icn", dR, w) + np.einsum("ijn,jcn->icn", R, dw))
+                h[row: row + dims] += w
+                J[row: row + dims] += dw
+                scale[row: row + dims] += np.abs(V[col])
+                col += dims
+            row += dims
+            if turns:                 # the orientation closes: R = I, its skew part ½(R − Rᵀ) (sin of the angle) zero
+                R, dR = frame
+                for k, (i, j) in enumerate(((2, 1), (0, 2), (1, 0))):
+                    h[row + k] = (R[i, j] - R[j, i]) / 2
+                    J[row + k] = (dR[i, j] - dR[j, i]) / 2
+                scale[row: row + 3] = 1.0
+                row += 3
         return h.T, J.transpose(2, 0, 1), scale.T
 
     def solve(self, X: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -294,6 +330,44 @@ class VectorLoopModel(Model):
 
     def dependencies(self) -> None:
         return None           # the loops couple every factor they name to every dependent
+
+
+def _vector_terms(V: np.ndarray, G: np.ndarray, col: int, dims: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(w (dims, n), ∂w (dims, c, n))``: the vector L·u(θ, φ) whose length, angle (and elevation) are the rows
+    ``col…`` of V, and its derivative through their gradients G (module docstring)."""
+    L, th = V[col], V[col + 1]
+    ct, st = np.cos(th), np.sin(th)
+    if dims == 3:
+        cp, sp = np.cos(V[col + 2]), np.sin(V[col + 2])
+        parts = ((cp * ct, -cp * st, -sp * ct), (cp * st, cp * ct, -sp * st), (sp, 0.0, cp))
+    else:
+        parts = ((ct, -st, None), (st, ct, None))
+    w = np.empty((dims, len(L)))
+    dw = np.empty((dims,) + G.shape[1:])
+    for c, (u, du_dth, du_dph) in enumerate(parts):          # component c of L·u(θ, φ) and its derivative
+        w[c] = L * u
+        dw[c] = u * G[col] + (L * du_dth) * G[col + 1]
+        if du_dph is not None:
+            dw[c] += (L * du_dph) * G[col + 2]
+    return w, dw
+
+
+def _turn(frame, about: str, angle: np.ndarray, grad: np.ndarray):
+    """The frame ``(R, ∂R)`` turned by ``angle`` (n) about its own axis ``about``: R Q(α), ∂R Q + R Q'(α) ∂α (Q the
+    elementary rotation, right-handed; ``grad`` the angle's gradient (c, n); ``frame`` None: the ground's, R = I)."""
+    k, i, j = _AXES[about]
+    c, s = np.cos(angle), np.sin(angle)
+    Q, dQ = np.zeros((3, 3, len(angle))), np.zeros((3, 3, len(angle)))
+    Q[k, k] = 1.0
+    Q[i, i] = Q[j, j] = c
+    Q[j, i], Q[i, j] = s, -s
+    dQ[i, i] = dQ[j, j] = -s
+    dQ[j, i], dQ[i, j] = c, -c
+    if frame is None:
+        return Q, dQ[:, :, None, :] * grad
+    R, dR = frame
+    return (np.einsum("ijn,jkn->ikn", R, Q),
+            np.einsum("ijcn,jkn->ikcn", dR, Q) + np.einsum("ijn,jkn->ikn", R, dQ)[:, :, None, :] * grad)
 
 
 #: the contacts a joint may declare (2-D): what the assembly leaves free at it, and the vectors that stand for it
@@ -416,6 +490,17 @@ def _joint_vectors(t, i: int, entry: dict, joints: Mapping[str, list[Vector]]) -
     return [Vector(f"-({v.length})", v.angle, v.elevation) for v in reversed(joints[name])]
 
 
+def _rotation(t, i: int, entry: dict, dims: int) -> Rotation:
+    """A loop's ``{ rotate = "<angle>", about = "x" | "y" | "z" }`` entry (3-D)."""
+    if set(entry) != {"rotate", "about"} or entry["about"] not in _AXES or not isinstance(entry["rotate"], str):
+        raise t.error("vectors", f"vector {i + 1}: a rotation is {{ rotate = \"<angle formula>\", about = \"x\" | "
+                                 f"\"y\" | \"z\" }} (about the turned frame's own axis)")
+    if dims != 3:
+        raise t.error("vectors", f"vector {i + 1}: a rotation needs dimensions = 3 (in 2-D every angle is from the x "
+                                 f"axis: a loop's orientation closes by itself)")
+    return Rotation(entry["rotate"], entry["about"])
+
+
 def from_study(params, design, spec) -> VectorLoopModel:
     """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
     dims = params.int("dimensions", 2, min=2, max=3)
@@ -442,14 +527,17 @@ def from_study(params, design, spec) -> VectorLoopModel:
         raw = t.raw("vectors")
         if not isinstance(raw, list) or not raw or not all(isinstance(v, dict) for v in raw):
             raise t.error("vectors", "expected a list of tables { length = \"…\", angle = \"…\" }")
-        vectors, origin = [], []          # origin: the joint each vector stands for (None: written in the loop)
+        vectors, origin = [], []          # origin: the entry each vector comes from, and its joint (None: written)
         for i, v in enumerate(raw):
             if "joint" in v:                  # a declared contact: the vectors it stands for
                 new = _joint_vectors(t, i, v, joints)
                 vectors += new
                 origin += [(i, v["joint"])] * len(new)
                 continue
-            origin.append(None)
+            origin.append((i, None))
+            if "rotate" in v:                 # the next part's frame
+                vectors.append(_rotation(t, i, v, dims))
+                continue
             unknown = sorted(set(v) - {"length", "angle", "elevation"})
             if unknown or "length" not in v or "angle" not in v:
                 raise t.error("vectors", f"vector {i + 1}: " + (f"unknown key {unknown[0]!r}" if unknown else
@@ -470,10 +558,10 @@ def from_study(params, design, spec) -> VectorLoopModel:
         model = VectorLoopModel(loops, deps, outs, spec.names, spec.units, dimensions=dims,
                                 definitions=definitions, loop_names=names)
     except LoopError as exc:
-        joint = origins[exc.loop][exc.vector]
-        where = exc.reason if joint is None else (f"vector {joint[0] + 1} (joint {joint[1]!r}), its {exc.what}: "
-                                                  f"{exc.why}")
-        raise loop_tables[exc.loop].error("vectors", where) from None
+        entry, joint = origins[exc.loop][exc.vector]
+        where = (f"vector {entry + 1}, {exc.what}: " if joint is None else
+                 f"vector {entry + 1} (joint {joint!r}), its {exc.what}: ")
+        raise loop_tables[exc.loop].error("vectors", where + exc.why) from None
     except ExpressionError as exc:
         raise params.error(None, exc.reason) from None
     try:
@@ -483,4 +571,4 @@ def from_study(params, design, spec) -> VectorLoopModel:
     return model
 
 
-__all__ = ["Dependent", "Vector", "VectorLoopModel", "from_study"]
+__all__ = ["Dependent", "Rotation", "Vector", "VectorLoopModel", "from_study"]
