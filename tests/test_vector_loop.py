@@ -212,6 +212,16 @@ def test_the_clutch_declared_by_its_two_contacts_is_the_explicit_formula(tmp_pat
         load_study(write(tmp_path / "b.toml", bad.format(spec=ROOT / "data/examples/one_way_clutch.csv")), execute=False)
     assert ei.value.key == "model.loop[0].vectors" and "no joint 'roller in rng'" in ei.value.reason \
         and "did you mean 'roller in ring'" in ei.value.reason
+    # an error names the entry as written: the third, not the fourth vector the loop stands for (the flat's two before)
+    moved = JOINT_CLUTCH.replace('vectors = [{{ length = "a", angle = "pi/2" }}, {{ joint = "roller on hub flat" }}, '
+                                 '{{ joint = "roller in ring" }}]', 'vectors = [{{ joint = "roller on hub flat" }}, '
+                                 '{{ joint = "roller in ring" }}, {{ length = "a + 1", angle = "pi/2" }}]')
+    assert moved != JOINT_CLUTCH
+    with pytest.raises(InputError) as ei:
+        load_study(write(tmp_path / "m.toml", moved.format(spec=ROOT / "data/examples/one_way_clutch.csv")),
+                   execute=False)
+    assert ei.value.key == "model.loop[0].vectors" and ei.value.reason.startswith("vector 3, length: cannot add"), \
+        ei.value.reason
 
 
 def test_a_disc_touching_another_and_resting_at_a_height_slides_to_its_closed_form(tmp_path):
