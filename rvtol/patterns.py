@@ -173,13 +173,11 @@ class PatternModel(Model):
                 for name, shift in zip(coords, p.shift):
                     if name in pos:
                         self._add.append((pos[name], spec.index(shift)))
+        self.warnings = list(getattr(inner, "warnings", []))
         if hasattr(inner, "gradient"):
             self.gradient = self._gradient
-
-    def __getattr__(self, name):        # what else the model carries (notes, warnings, texts) is the model's
-        if name == "inner":
-            raise AttributeError(name)
-        return getattr(self.inner, name)
+        if hasattr(inner, "probe"):
+            self.probe = self._probe
 
     def positions(self, X: np.ndarray) -> np.ndarray:
         """The model's inputs (features at p_i = s + e_i) from the spec's columns ``X``."""
@@ -203,6 +201,17 @@ class PatternModel(Model):
         for j, k in self._add:
             adds.setdefault(self.inner.inputs[j], set()).add(self.inputs[k])
         return {o: frozenset(ins | {s for n in ins for s in adds.get(n, ())}) for o, ins in deps.items()}
+
+    def _probe(self, spec, seed):
+        """The model's own probe (:mod:`rvtol.models.formula.probe`) over the features' positions: each feature of a
+        pattern anywhere in its pattern-locating zone ⌀T₁ (what the translation and its own deviation reach)."""
+        located = []
+        for f in feature_spec(spec).factors:
+            if f.locating is not None:
+                lo, hi = f.limits
+                f = f.scaled(f.locating / (hi - lo))
+            located.append(f)
+        return self.inner.probe(replace(feature_spec(spec), factors=tuple(located)), seed)
 
     def _gradient(self, X) -> np.ndarray:
         """∂Y/∂X by the chain rule: a translation's column is the sum of its features' columns."""
