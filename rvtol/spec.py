@@ -125,6 +125,7 @@ from .inputs.measured import measured_factor
 from .inputs.notation import NotationError, Tolerance, parse_tolerance
 from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
+from .patterns import expand as expand_patterns
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
 YIELD_INTERVALS = {"clopper-pearson": "exact", "wilson": "wilson"}
@@ -166,6 +167,8 @@ class Factor:
     feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
     datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
     datum_type: str = ""                           # shifts the zones that name it, together; its feature type
+    pattern: str = ""                              # a composite frame's pattern (rvtol.patterns): a feature's own
+    locating: float | None = None                  # deviation in the FRTZF; the locating zone ⌀T₁ (factor unit)
 
     @property
     def base_unit(self) -> str:
@@ -470,6 +473,8 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
         if n in seen:
             raise origin[i].error("name", f"duplicate factor name {n!r}")
         seen.add(n)
+    factors = expand_patterns(factors, file)        # a composite frame's pattern translations (rvtol.patterns)
+    names = [f.name for f in factors]
     corr = correlation_from_tables(root.tables("correlation"), names)
     root.raw("rig", None)       # a test rig's description holds its parameters beside its tolerances (models.transmission.rig)
     root.finish()
@@ -560,11 +565,18 @@ def factor_from_params(p: Params) -> Factor:
     direction = stack_direction(p)
     zone = position_zone(p, drawing)
     gdt = material_condition(p, drawing, zone)
+    pattern, relating = composite_frame(p, drawing, zone, unit)
     p.finish(allow=("multiplicity",))
     _nominal_stated(p, drawing)
     limits = drawing.limits if drawing is not None else None
+    locating = None
+    if relating is not None:      # the feature's own deviation is read in the feature-relating zone
+        if measured is not None:
+            raise p.error("feature_relating", "a measured position is the feature's location from the datums, not "
+                                              "its deviation within the pattern: fit it as a plain zone")
+        dist, limits, locating = band_distribution(p, relating), relating.limits, drawing.width
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
-                  limits=limits, measured=measured, zone=zone, **gdt)
+                  limits=limits, measured=measured, zone=zone, **gdt, pattern=pattern, locating=locating)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
@@ -711,6 +723,43 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype}
 
 
+def composite_frame(p: Params, tol: Tolerance | None, zone: str, unit: str | None) -> tuple[str, Tolerance | None]:
+    """A composite position frame's second line (:mod:`rvtol.patterns`): ``pattern = NAME`` (the features one
+    frame locates) and ``feature_relating = "⌀T₂"`` (the FRTZF, smaller than the zone's ⌀T₁, the PLTZF).  Returns
+    the pattern's name and the FRTZF read in the factor's unit (None without one)."""
+    pattern = p.str("pattern", "")
+    text = p.raw("feature_relating", None)
+    if not pattern and text is None:
+        return "", None
+    key = "pattern" if pattern else "feature_relating"
+    if not zone:
+        raise p.error(key, "a composite frame locates position zones: give tolerance = \"⌀T1\" (the pattern-locating "
+                           "zone), zone = NAME, pattern = NAME and feature_relating = \"⌀T2\"")
+    if not pattern or text is None:
+        raise p.error("feature_relating" if pattern else "pattern",
+                      "a composite frame needs both pattern (the pattern's name) and feature_relating (\"⌀T2\", "
+                      "the frame's second line)")
+    if not _NAME.match(pattern):
+        raise p.error("pattern", f"invalid pattern name {pattern!r} (letters, digits, _ [ ] , . - + and spaces)")
+    if not isinstance(text, str):
+        raise p.error("feature_relating", f"expected a position zone \"⌀T2\", got {text!r}")
+    try:
+        relating = parse_tolerance(text, unit=unit)
+    except NotationError as exc:
+        raise p.error("feature_relating", exc.reason) from None
+    if relating.form != "zone":
+        raise p.error("feature_relating", f"{text!r} is not a position zone: write the frame's second line as \"⌀T2\"")
+    relating = relating.in_unit(unit or relating.unit)
+    if relating.modifier != tol.modifier:
+        raise p.error("feature_relating", f"the frame's two lines have different material conditions "
+                                          f"({tol.describe()} and {relating.describe()}): give both the same")
+    if not relating.width < tol.width:
+        raise p.error("feature_relating", f"the feature-relating zone {relating.describe()} must be smaller than the "
+                                          f"pattern-locating zone {tol.describe()} (equal zones are one position "
+                                          "tolerance: leave out pattern and feature_relating)")
+    return pattern, relating
+
+
 def zone_bonus(spec: "ToleranceSpec", zone: str) -> list[tuple[int, float, float]]:
     """How the radius of ``zone`` grows with its feature's size: ``[(factor index, κ, reference)]`` in base units (at
     most one), the radius being r = t/2 + κ (x − reference) ≥ t/2 over the band (ASME Y14.5-2018 §7.3.3 bonus;
@@ -787,10 +836,11 @@ def check_zones(factors, file: str | None) -> None:
         if a.unit != b.unit or a.limits != b.limits:
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
                             "and diameter", file=file, key="factor.zone")
-        gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type)  # noqa: E731
+        gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type, f.pattern,  # noqa: E731
+                        f.locating)
         if gd(a) != gd(b):
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same "
-                            "modifier, size, feature_type, datum_size and datum_type", file=file, key="factor.zone")
+                            "modifier, size, feature_type, datum_size, datum_type, pattern and feature_relating", file=file, key="factor.zone")
         names = {f.name: f for f in factors}
         other = next((g for g in factors if g.datum_size and g.datum_size == a.datum_size
                       and g.datum_type != a.datum_type), None)

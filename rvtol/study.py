@@ -82,6 +82,7 @@ from .mc import (EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds,
                  run_until_decided)
 from .model import Model
 from .params import Params, read_toml
+from .patterns import feature_spec, with_patterns
 from .runguard import NAME_MAX_BYTES
 from .analysis import in_dependency_order
 from .registry import analysis_function, model_factory
@@ -483,11 +484,11 @@ def build_model(mp: Params, design: Design | None, spec: ToleranceSpec, file: st
     kind = mp.str("kind")
     factory = model_factory(kind, file)
     try:
-        model = factory(mp, design, spec)
+        model = factory(mp, design, feature_spec(spec))    # a composite frame's features at their positions
         if not isinstance(model, Model):   # a plug-in's factory (the built-in ones are tested)
             raise InputError(f"the factory of model kind {kind!r} returned {type(model).__name__}, "
                              "not an rvtol.model.Model", key="kind")
-        return model
+        return with_patterns(model, spec)
     except InputError as exc:
         if exc.file is None:
             if (exc.key or "").split(".")[0].split("[")[0] == "factor":

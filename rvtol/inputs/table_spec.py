@@ -93,6 +93,8 @@ _ALIASES = {
     "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
     "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
     "broken edge": "broken_edge", "broken_edge": "broken_edge",
+    "pattern": "pattern", "feature relating": "feature_relating", "feature_relating": "feature_relating",
+    "frtzf": "feature_relating",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
@@ -106,9 +108,10 @@ _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
 _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
            "zone": "zone", "size": "size", "feature_type": "feature_type", "datum_size": "datum_size",
-           "datum_type": "datum_type"}
+           "datum_type": "datum_type", "pattern": "pattern", "feature_relating": "feature_relating"}
 #: columns written only when some factor needs them
-_OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type")
+_OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type", "pattern",
+             "feature_relating")
 
 
 @dataclass
@@ -526,7 +529,8 @@ def _band_cells(f) -> tuple[float | None, str, str]:
         if d.shift:
             extra["shift"] = d.shift
         mod = {"MMC": " (M)", "LMC": " (L)"}.get(getattr(f, "modifier", ""), "")
-        return nominal, f"⌀{fmt(hi - lo)}{mod}", "normal" + (
+        width = hi - lo if getattr(f, "locating", None) is None else f.locating   # a composite frame's first line
+        return nominal, f"⌀{fmt(width)}{mod}", "normal" + (
             "(" + ", ".join(f"{k}={fmt(v)}" for k, v in extra.items()) + ")" if extra else "")
     if d.kind in ("beta", "gamma", "gumbel", "johnsonsu", "johnsonsb", "pearson3", "pearson"):   # by parameters
         cell = d.kind + "(" + ", ".join(f"{k}={fmt(v)}" for k, v in list(p.items()) + [("shift", d.shift)] if v or
@@ -607,9 +611,11 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTabl
     body = _factor_rows(spec, coefficients)
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
-    needed = {"group": any(f.group != getattr(f, "part", "") for f in spec.factors),
-              "description": any(f.description for f in spec.factors)}
-    needed.update({c: any(getattr(f, c, "") for f in spec.factors) for c in _OPTIONAL[2:]})
+    value["feature_relating"] = _feature_relating
+    written = [f for f in spec.factors if not _generated(f)]
+    needed = {"group": any(f.group != getattr(f, "part", "") for f in written),
+              "description": any(f.description for f in written)}
+    needed.update({c: any(value[c](f) for f in written) for c in _OPTIONAL[2:]})
     extra = [c for c in _OPTIONAL if needed[c]] + (["multiplicity"] if any(n > 1 for _, _, n in body) else [])
     rows.append(list(COLUMNS) + extra + list(notes))
     value["multiplicity"] = lambda f: None
@@ -629,7 +635,7 @@ def _factor_rows(spec, coefficients: dict[str, float]) -> list[tuple[str, list, 
     families = spec.families()
     done: set[str] = set()
     for f in spec.factors:
-        if f.family in done:
+        if f.family in done or _generated(f):
             continue
         copies = families.get(f.family, (f,)) if f.family else (f,)
         cells = [_row_cells(g, coefficients) for g in copies]
@@ -639,6 +645,19 @@ def _factor_rows(spec, coefficients: dict[str, float]) -> list[tuple[str, list, 
         else:
             out.append((f.name, cells[0], 1))
     return out
+
+
+def _generated(f) -> bool:
+    """A composite frame's pattern translation (:func:`rvtol.patterns.expand`): its features' frame writes it."""
+    return bool(f.zone) and f.zone == getattr(f, "pattern", "")
+
+
+def _feature_relating(f) -> str:
+    """A composite frame's second line, ``⌀T₂`` (:mod:`rvtol.patterns`), on the pattern's features' rows."""
+    if getattr(f, "locating", None) is None:
+        return ""
+    lo, hi = f.limits
+    return f"⌀{fmt(hi - lo)}" + {"MMC": " (M)", "LMC": " (L)"}.get(f.modifier, "")
 
 
 def _row_cells(f, coefficients: dict[str, float]) -> list:

@@ -21,6 +21,7 @@ from .. import stats as st
 from .. import units
 from ..distributions import coverage
 from ..mc import Evaluator
+from ..patterns import frame_extreme, patterns
 from ..records import frame_records
 from ..sensitivity.common import model_gradient
 from ..units import label
@@ -112,6 +113,7 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
         sc = stack_conventions(spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
                                sigma_levels=sigma_levels, mrss_factor=mrss_factor, six_sigma=six_sigma,
                                slopes=one_sided_slopes(model, spec, o, evaluate=search))
+        _composite_frame_row(spec, g, q, sc)
         linearised = len(sc.frame)   # the rows so far read the output by its gradient at the nominal point
         wc = None
         if true_wc:
@@ -131,6 +133,38 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
                       for a, b in zip(sc.frame["low"], sc.frame["high"])]
         out[o] = OutputConventions(sc, how, pct, wc, limits_of(mc, o), inside)
     return ConventionsComparison(out, mc.confidence)
+
+
+def _composite_frame_row(spec, g, q, sc) -> None:
+    """Where the spec holds composite frames (:mod:`rvtol.patterns`) the output depends on, the arithmetic worst case
+    over the frames themselves beside the one over their decomposition (the first row), and the decomposition's
+    share said in every worst-case note: the frames admit patterns the decomposition does not generate.  At RFS and
+    with a smooth gradient only (a bonus or a datum shift changes the zones with the sizes: said in a note)."""
+    pats = patterns(spec.factors)
+    if not pats:
+        return
+    extra, moved, skipped = 0.0, [], []
+    for p in pats:
+        cols = [spec.index(f.name) for z in p.zones for f in spec.factors if f.zone == z]
+        a = np.asarray(g, dtype=float)[cols]
+        if not a.any():
+            continue
+        fs = [spec.factors[i] for i in cols]
+        if not np.isfinite(a).all() or any(f.modifier or f.datum_size for f in fs):
+            skipped.append(p.name)
+            continue
+        frame, decomposition = frame_extreme(p, a)
+        extra += frame - decomposition
+        moved.append(f"{p.name} {units.convert(frame, q.unit, q.shown_unit):.4g} (decomposed "
+                     f"{units.convert(decomposition, q.unit, q.shown_unit):.4g})")
+    if skipped:
+        sc.notes.append(N.COMPOSITE_SKIPPED.format(patterns=", ".join(skipped)))
+    if not moved:
+        return
+    wc = sc.row("worst case (arithmetic)")
+    d = float(units.convert(extra, q.unit, q.shown_unit))
+    sc.add("worst case (composite frames)", wc["low"] - d, wc["high"] + d, centre=wc["centre"],
+           note=N.COMPOSITE_ROW.format(patterns="; ".join(moved)), source="ASME Y14.5-2018 §10.5.1 (SOCP, cvxpy)")
 
 
 def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate, linearised: int) -> None:

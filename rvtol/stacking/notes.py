@@ -80,3 +80,10 @@ DISAGREE = ("{a} {a_ppm:.4g} ± {a_se:.2g} ppm and {b} {b_ppm:.4g} ± {b_se:.2g}
             "standard errors")
 OUTSIDE_REFERENCE = ("{method} {ppm:.4g} ppm lies outside {k:g} standard errors of the reference ({ref} {ref_ppm:.4g} ± "
                      "{ref_se:.2g} ppm)")
+COMPOSITE_ROW = ("the arithmetic worst case with each composite frame's patterns taken over the frame itself (every "
+                 "feature in its ⌀T₁ zone and in a ⌀T₂ framework anywhere, not only its decomposition s + e, "
+                 "|s| ≤ (T₁ − T₂)/2: rvtol.patterns), the other factors as in the arithmetic row; per pattern, the "
+                 "largest change: {patterns} (the true extreme searches the decomposition)")
+COMPOSITE_SKIPPED = ("the composite frame(s) {patterns} at a material condition, with a datum shift or a kinked "
+                     "output are taken by their decomposition only (s + e, |s| ≤ (T₁ − T₂)/2: rvtol.patterns) — the "
+                     "frames themselves admit patterns it does not generate (up to ≈ 15 % more in a worst case)")

@@ -1,0 +1,190 @@
+"""Composite position frames (issue 42 item 2, :mod:`rvtol.patterns`): a pattern-locating zone ⌀T₁ and a
+feature-relating zone ⌀T₂ read as the pattern's shared translation plus each feature's own deviation."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+from conftest import run_cli, write
+from rvtol.errors import InputError
+from rvtol.inputs.notation import zone_level
+from rvtol.models.formula.model import FormulaModel
+from rvtol.inputs.table_spec import write_table_spec
+from rvtol.patterns import Pattern, PatternModel, feature_spec, frame_extreme, patterns, with_patterns
+from rvtol.spec import load_spec
+from rvtol.study import load_study, run_study
+
+T1, T2 = 0.5, 0.1        # mm: the frame ⌀0.5 | A | B | C over ⌀0.1 | A
+
+
+def _feature(name, zone, extra=""):
+    return (f'[[factor]]\nname = "{name}"\nunit = "mm"\ntolerance = "⌀{T1}"\nzone = "{zone}"\npattern = "bolts"\n'
+            f'feature_relating = "⌀{T2}"\n{extra}\n')
+
+
+SPEC = "".join(_feature(f"h{k}.{a}", f"h{k}") for k in (1, 2) for a in "xy")
+STUDY = """[study]
+name = "composite"
+spec = "spec.toml"
+[sampling]
+n = 40000
+seed = 3
+[model]
+kind = "formula"
+[[model.output]]
+name = "spacing"
+unit = "mm"
+formula = "h2.x - h1.x"
+[[model.output]]
+name = "to_datum"
+unit = "mm"
+formula = "h1.x"
+[[model.output]]
+name = "mixed"
+unit = "mm"
+formula = "h1.x + 0.7 * h2.y - 0.4 * h2.x"
+[[analysis]]
+kind = "stack_conventions"
+outputs = "all"
+true_worst_case = false
+second_order = false
+"""
+
+
+def _exact_by_scipy(a, t1, t2):
+    """max Σ a_i·p_i over |p_i| ≤ t1/2, |p_i − c| ≤ t2/2 by SLSQP from several starts (independent of cvxpy)."""
+    n = len(a)
+
+    def neg(z):
+        return -float(np.sum(a * z[:2 * n].reshape(n, 2)))
+
+    cons = []
+    for i in range(n):
+        cons.append({"type": "ineq", "fun": lambda z, i=i: (t1 / 2) ** 2 - np.sum(z[2 * i:2 * i + 2] ** 2)})
+        cons.append({"type": "ineq", "fun": lambda z, i=i: (t2 / 2) ** 2 - np.sum((z[2 * i:2 * i + 2] - z[2 * n:]) ** 2)})
+    best = -np.inf
+    rng = np.random.default_rng(0)
+    for _ in range(8):
+        r = minimize(neg, rng.normal(scale=t2 / 8, size=2 * n + 2), constraints=cons, method="SLSQP",
+                     options={"ftol": 1e-12, "maxiter": 500})
+        if r.success:
+            best = max(best, -r.fun)
+    return best
+
+
+def test_a_composite_frame_is_the_patterns_translation_plus_each_features_own_zone(tmp_path):
+    spec = load_spec(write(tmp_path / "spec.toml", SPEC))
+    assert spec.names == ("h1.x", "h1.y", "h2.x", "h2.y", "bolts.x", "bolts.y")
+    own, shift = spec.factor("h1.x"), spec.factor("bolts.x")
+    assert own.limits == pytest.approx((-T2 / 2, T2 / 2)) and own.locating == T1
+    assert own.dist.std == pytest.approx(T2 / 2 / zone_level(), rel=1e-12)
+    assert shift.zone == "bolts" and shift.limits == pytest.approx((-(T1 - T2) / 2, (T1 - T2) / 2))
+    assert shift.dist.std == pytest.approx((T1 - T2) / 2 / zone_level(), rel=1e-12)
+    (p,) = patterns(spec.factors)
+    assert (p.zones, p.locating, p.relating, p.shift) == (("h1", "h2"), T1, pytest.approx(T2), ("bolts.x", "bolts.y"))
+    assert feature_spec(spec).names == spec.names[:4]
+
+
+def test_the_model_reads_each_feature_at_the_translation_plus_its_own_deviation_and_its_gradient_by_the_chain_rule(
+        tmp_path):
+    spec = load_spec(write(tmp_path / "spec.toml", SPEC))
+    inner = FormulaModel([("y", "h1.x * h2.y + 3 * h2.x", "1")], spec.names[:4], ["1"] * 4)
+    model = with_patterns(inner, spec)
+    assert isinstance(model, PatternModel) and model.inputs == spec.names
+    X = np.random.default_rng(1).normal(scale=0.05, size=(7, 6))
+    e1x, e1y, e2x, e2y, sx, sy = X.T
+    np.testing.assert_allclose(model.evaluate(X)[:, 0], (e1x + sx) * (e2y + sy) + 3 * (e2x + sx), rtol=1e-13)
+    h = 1e-6
+    fd = np.stack([(model.evaluate(X + h * np.eye(6)[j]) - model.evaluate(X - h * np.eye(6)[j]))[:, 0] / (2 * h)
+                   for j in range(6)], axis=1)
+    np.testing.assert_allclose(model.gradient(X)[:, 0, :], fd, rtol=1e-7, atol=1e-9)
+    assert model.dependencies() == {"y": frozenset({"h1.x", "h2.x", "h2.y", "bolts.x", "bolts.y"})}   # not h1.y
+    with pytest.raises(InputError, match="without the pattern's translation"):
+        with_patterns(inner, feature_spec(spec))
+
+
+def test_the_study_reproduces_the_handbook_rules_and_the_frames_own_extreme(tmp_path):
+    write(tmp_path / "spec.toml", SPEC)
+    st = load_study(write(tmp_path / "study.toml", STUDY), executor="serial", progress=False, pdf=False)
+    res = run_study(st)
+    se, ss = T2 / 2 / zone_level(), (T1 - T2) / 2 / zone_level()
+    Y = res.mc.Y
+    # Monte Carlo: two features of one pattern vary by their own zones only; a feature to the datums by both
+    assert Y[:, 0].std() == pytest.approx(math.sqrt(2) * se, rel=0.02)
+    assert Y[:, 1].std() == pytest.approx(math.hypot(se, ss), rel=0.02)
+    rows = {o: {c["convention"]: c for c in s["conventions"]}
+            for o, s in next(s for s in res.sections if s.key == "stack_conventions").summary.items()}
+    # the worst case: feature to feature ±T₂ (the FRTZF), feature to datums ±T₁/2 (the PLTZF) — Drake 1999 ch. 5
+    for out, half in (("spacing", T2), ("to_datum", T1 / 2)):
+        for conv in ("worst case (arithmetic)", "worst case (composite frames)"):
+            assert (rows[out][conv]["low"], rows[out][conv]["high"]) == pytest.approx((-half, half), abs=1e-7)
+    # a mixed combination: the frame admits more than its decomposition; the row is the frame's extreme
+    a = np.array([[1.0, 0.0], [-0.4, 0.7]])
+    exact = _exact_by_scipy(a, T1, T2)
+    decomposed = (T1 - T2) / 2 * np.linalg.norm(a.sum(0)) + T2 / 2 * np.linalg.norm(a, axis=1).sum()
+    assert exact > decomposed * 1.05
+    assert rows["mixed"]["worst case (arithmetic)"]["high"] == pytest.approx(decomposed, rel=1e-12)
+    assert rows["mixed"]["worst case (composite frames)"]["high"] == pytest.approx(exact, rel=1e-6)
+    assert rows["mixed"]["worst case (composite frames)"]["low"] == pytest.approx(-exact, rel=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_frames_extreme_is_an_independent_optimisers(seed):
+    rng = np.random.default_rng(seed)
+    n = 2 + seed % 3
+    a = rng.normal(size=(n, 2))
+    p = Pattern("p", tuple(f"z{i}" for i in range(n)), 0.8, 0.25, "mm")
+    frame, decomposition = frame_extreme(p, a)
+    assert frame == pytest.approx(_exact_by_scipy(a, 0.8, 0.25), rel=1e-6)
+    assert decomposition == pytest.approx(0.275 * np.linalg.norm(a.sum(0)) + 0.125 * np.linalg.norm(a, axis=1).sum())
+    assert frame >= decomposition
+
+
+def test_a_spreadsheets_composite_frame_is_the_tomls_and_survives_an_export(tmp_path):
+    toml = load_spec(write(tmp_path / "spec.toml", SPEC))
+    rows = ["name,unit,tolerance,zone,pattern,feature relating"] + [
+        f"h{k}.{a},mm,⌀{T1},h{k},bolts,⌀{T2}" for k in (1, 2) for a in "xy"]
+    csv = load_spec(write(tmp_path / "spec.csv", "\n".join(rows) + "\n"))
+    assert csv.factors == toml.factors
+    write_table_spec(toml, tmp_path / "out.xlsx")
+    back = load_spec(tmp_path / "out.xlsx")
+    assert back.factors == toml.factors and back.names == toml.names
+
+
+BAD = [
+    ('feature_relating = "⌀0.1"\n', "", "factor[0].feature_relating", "needs both pattern"),
+    ('pattern = "bolts"\n', "", "factor[0].pattern", "needs both pattern"),
+    ('feature_relating = "⌀0.1"', 'feature_relating = "⌀0.5"', "factor[0].feature_relating", "must be smaller"),
+    ('feature_relating = "⌀0.1"', 'feature_relating = "⌀0.1 (M)"', "factor[0].feature_relating",
+     "different material conditions"),
+    ('feature_relating = "⌀0.1"', 'feature_relating = "±0.05"', "factor[0].feature_relating", "not a position zone"),
+    ('feature_relating = "⌀0.1"', 'feature_relating = 0.1', "factor[0].feature_relating", "expected a position zone"),
+    ('pattern = "bolts"', 'pattern = "h2"', "factor.pattern", "also the name of a position zone"),
+    ('pattern = "bolts"', 'pattern = "b*lts"', "factor[0].pattern", "invalid pattern name"),
+]
+
+
+@pytest.mark.parametrize("old,new,key,words", BAD)
+def test_a_composite_frame_written_wrong_is_one_located_line(tmp_path, capsys, old, new, key, words):
+    text = SPEC.replace(old, new)      # every feature alike: the first one read is refused
+    p = write(tmp_path / "spec.toml", text)
+    with pytest.raises(InputError) as ei:
+        load_spec(p)
+    assert ei.value.key == key and words in ei.value.reason, (ei.value.key, ei.value.reason)
+    write(tmp_path / "study.toml", STUDY)
+    rc, err = run_cli(["check", tmp_path / "study.toml"], capsys)
+    assert rc == 2 and len(err) == 1 and "spec.toml" in err[0] and words in err[0], err
+
+
+def test_one_pattern_with_two_frames_and_a_clashing_translation_name_are_refused(tmp_path):
+    two = SPEC.replace('name = "h2.x"\nunit = "mm"\ntolerance = "⌀0.5"', 'name = "h2.x"\nunit = "mm"\ntolerance = "⌀0.6"')
+    two = two.replace('name = "h2.y"\nunit = "mm"\ntolerance = "⌀0.5"', 'name = "h2.y"\nunit = "mm"\ntolerance = "⌀0.6"')
+    with pytest.raises(InputError, match="carry different frames"):
+        load_spec(write(tmp_path / "a.toml", two))
+    clash = SPEC + '[[factor]]\nname = "bolts.x"\nunit = "mm"\nnominal = 0\ntolerance = "±0.1"\n'
+    with pytest.raises(InputError, match="already a factor's name") as ei:
+        load_spec(write(tmp_path / "b.toml", clash))
+    assert ei.value.key == "factor.pattern"
