@@ -617,3 +617,42 @@ def test_numbers_are_written_with_twelve_significant_digits(x):
     assert fmt(x) == format(x, ".12g")
     assert format_limits(x, 2 * abs(x)) == f"{x:.12g}..{2 * abs(x):.12g}"
     assert format_deviations(-abs(x), 2 * abs(x)) == f"+{2 * abs(x):.12g}/-{abs(x):.12g}"
+
+
+@pytest.mark.parametrize("level, sigma", [(None, 0.1), (1.5, 0.2), (4.0, 0.075)])
+def test_a_truncated_normal_reads_its_band_at_the_sigma_level(level, sigma):
+    # by hand: the band 9.7..10.3 (width 0.6) is ±level·σ, so σ = 0.6 / (2·level) — level 3 by default
+    table = parse_tolerance("10 ±0.3").factor_table("truncnorm", sigma_level=level)
+    assert table["sigma"] == pytest.approx(sigma, rel=1e-12)
+    assert dist(table).frozen.support() == pytest.approx((9.7, 10.3), rel=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["lognormal", "beta", "gamma", "gumbel", "johnsonsu", "weibull", "truncnorm"])
+def test_a_process_spec_is_refused_as_any_law_but_normal(kind):
+    # laws that sort before "normal" (lognormal, beta, …) as well as after it
+    with pytest.raises(NotationError, match=f"describes a normal process, not '{kind}'"):
+        parse_tolerance("25 ±0.05 Cp 1.33").factor_table(kind)
+
+
+@pytest.mark.parametrize("tight, spaced", [("max5", "max 5"), ("25 ±0.05 Cpk2", "25 ±0.05 Cpk 2")])
+def test_a_word_of_three_letters_before_a_digit_is_no_iso_class(tight, spaced):
+    # ISO 286 classes have one or two letters (H7, zc11): "max5" is max 5, "Cpk2" is Cpk 2
+    t, ref = parse_tolerance(tight), parse_tolerance(spaced)
+    assert (t.form, t.lower, t.upper, t.process) == (ref.form, ref.lower, ref.upper, ref.process)
+    assert t.form in ("max", "symmetric") and t.iso is None
+
+
+@pytest.mark.parametrize("given", [10.5, 9.2, 10.001])
+def test_a_nominal_given_beside_a_different_one_in_the_text_is_refused_even_within_one_unit(given):
+    with pytest.raises(NotationError, match=r"its nominal 10 differs from the nominal given with it"):
+        parse_tolerance("10 ±0.1", nominal=given)
+    # the same number (to 1e-9 of it) is the same nominal
+    assert parse_tolerance("10 ±0.1", nominal=10.0 + 1e-9).nominal == 10.0
+
+
+def test_ellipses_that_normalise_past_256_characters_are_a_notation_error():
+    # each '…' is read as '..' (two characters): 200 of them make 400, a text the tokens must still reach the end of
+    with pytest.raises(NotationError, match=r"unexpected '\.\.' at position 1, expected a tolerance"):
+        parse_tolerance("…" * 200)
+    with pytest.raises(NotationError, match=r"unexpected '\.\.'"):
+        parse_tolerance("25 " + "…" * 150 + " 26")
