@@ -102,3 +102,87 @@ def test_a_stack_of_two_lognormals_gets_its_pearson_vi_curve():
     t, law = pearson_frozen(0.0, 1.0, skew, kurt)
     m = [float(v) for v in law.stats(moments="mvsk")]
     assert t == "VI" and m[2] == pytest.approx(skew, rel=1e-7) and m[3] + 3 == pytest.approx(kurt, rel=1e-7)
+
+
+def uniform(name, lower, upper):
+    return Factor(name, "1", Distribution.make("uniform", lower=lower, upper=upper))
+
+
+def test_a_gumbel_factors_skewness_and_kurtosis_are_its_closed_forms():
+    """y = x, x Gumbel (largest value) of mode 2 and scale 0.1: skewness 12√6 ζ(3)/π³ and kurtosis 27/5, its
+    closed forms — the factor's moments integrate its unbounded lower tail (the left of the normal score read by
+    the inverse CDF: by the survival function there, 1 − Φ(s) rounds to 1 and its quantile to −∞)."""
+    from scipy.special import zeta
+
+    beta = 0.1
+    spec = ToleranceSpec("g", (Factor("x", "1", Distribution.make("gumbel", mode=2.0, scale=beta)),))
+    res = second_order(spec, 2.0 + np.euler_gamma * beta, np.array([1.0]), np.zeros((1, 1)))
+    assert res.sigma == pytest.approx(math.pi * beta / math.sqrt(6.0), rel=1e-9)
+    assert res.skewness == pytest.approx(12 * math.sqrt(6) * zeta(3) / math.pi ** 3, rel=1e-8)
+    assert res.kurtosis == pytest.approx(27 / 5, rel=1e-8)
+
+
+def test_the_curvature_of_a_micrometre_spread_is_not_taken_for_noise():
+    """y = x + ¼x², x ~ N(0, σ = 1 µm in mm): y = (σ²/4)·χ'² − 1 with χ'² non-central χ²(1, λ = (2/σ)²) — a mean shift
+    σ²/4 = 2.5e-7 and its skewness, where |H|σ² = 5e-7 is far above the differences' noise (1e-9 of the linear
+    spread, 1e-12)."""
+    s = 1e-3
+    res = run(ToleranceSpec("q", (normal("x", 0.0, s),)), "x + 0.25*x**2", "1")
+    law = stats.ncx2(1, (2 / s) ** 2, scale=s * s / 4, loc=-1.0)
+    m, v, sk, _ = (float(t) for t in law.stats(moments="mvsk"))
+    assert res.curved and res.mean_shift == pytest.approx(s * s / 4, rel=1e-6)
+    assert res.mean == pytest.approx(m, abs=1e-15) and res.sigma == pytest.approx(math.sqrt(v), rel=1e-9)
+    assert res.skewness == pytest.approx(sk, rel=1e-5)
+
+
+def test_correlated_uniforms_shift_the_mean_of_their_product_by_their_covariance():
+    """y = x₁x₂, x₁ ~ U(9, 11), x₂ ~ U(3, 5) with normal-score correlation ρ = 0.6: E y = μ₁μ₂ + Cov(x₁, x₂), and
+    two uniforms under a Gaussian copula have the Pearson correlation (6/π) asin(ρ/2) (Kruskal 1958), σᵢ = 1/√3."""
+    rho = 0.6
+    spec = ToleranceSpec("c", (uniform("a", 9.0, 11.0), uniform("b", 3.0, 5.0)),
+                         correlation=np.array([[1.0, rho], [rho, 1.0]]))
+    res = run(spec, "a*b", "1")
+    cov = 6 / math.pi * math.asin(rho / 2) / 3.0
+    assert res.mean_shift == pytest.approx(cov, rel=1e-6) and res.mean == pytest.approx(40.0 + cov, rel=1e-9)
+
+
+def test_a_uniform_factor_curving_down_from_a_flat_mean():
+    """y = −x², x ~ U(−2, 2): the gradient at the mean is 0 and the curvature negative; x²/4 is Beta(½, 1), so
+    E y = −4/3, Var y = 64/45 and the skewness is minus Beta(½, 1)'s (scipy)."""
+    res = run(ToleranceSpec("u", (uniform("x", -2.0, 2.0),)), "-x**2", "1")
+    sk = float(stats.beta(0.5, 1.0).stats(moments="s"))
+    assert res.mean == pytest.approx(-4 / 3, rel=1e-9) and res.sigma == pytest.approx(math.sqrt(64 / 45), rel=1e-9)
+    assert res.skewness == pytest.approx(-sk, rel=1e-7)
+
+
+def test_cross_curvature_between_curved_uniforms_in_the_third_moment():
+    """y = x₁ + x₂ + x₁² − x₂² + x₁x₂, x₁, x₂ ~ U(−1, 1) independent.  The cross term's third-cumulant share is
+    6 H₁₂ cᵢ c_j with cᵢ = E[gᵢ(xᵢ)(xᵢ − μᵢ)]; the terms the method leaves out are 3H₁₂²ΣE[(gᵢ − E gᵢ)dᵢ²] and
+    H₁₂³μ₃₁μ₃₂, both 0 here (symmetric factors, opposite curvatures), so mean, σ and skewness are exact: against
+    the moments of y by Gauss–Legendre quadrature over the square (exact for this polynomial)."""
+    spec = ToleranceSpec("x", (uniform("a", -1.0, 1.0), uniform("b", -1.0, 1.0)))
+    res = run(spec, "a + b + a**2 - b**2 + a*b", "1")
+    t, w = np.polynomial.legendre.leggauss(8)
+    a, b = np.meshgrid(t, t)
+    p = np.outer(w, w) / 4.0
+    y = a + b + a ** 2 - b ** 2 + a * b
+    mean = float(np.sum(p * y))
+    var, m3 = float(np.sum(p * (y - mean) ** 2)), float(np.sum(p * (y - mean) ** 3))
+    assert res.mean == pytest.approx(mean, abs=1e-12) and res.sigma == pytest.approx(math.sqrt(var), rel=1e-9)
+    assert res.skewness == pytest.approx(m3 / var ** 1.5, rel=1e-7)
+
+
+def test_a_gumbel_plus_a_normal_gets_a_johnson_su_curve_with_their_four_moments():
+    """y = x₁ + x₂, x₁ Gumbel (mode 0, scale 1), x₂ normal of the same σ = π/√6: cumulants add — skewness
+    12√6 ζ(3)/π³ / 2^1.5 and excess kurtosis (12/5)/4 (β₁ = 0.162, β₂ = 3.6: Pearson's type IV, no implementation
+    here, so a Johnson SU curve) — and the curve has them, its mean and σ those of the sum."""
+    from scipy.special import zeta
+
+    s = math.pi / math.sqrt(6.0)
+    spec = ToleranceSpec("j", (Factor("g", "1", Distribution.make("gumbel", mode=0.0, scale=1.0)), normal("n", 1.0, s)))
+    res = run(spec, "g + n", "1")
+    skew, kurt = 12 * math.sqrt(6) * zeta(3) / math.pi ** 3 / 2 ** 1.5, 3 + 12 / 5 / 4
+    assert res.law == "Johnson SU"
+    m, v, sk, ex = (float(t) for t in res.frozen.stats(moments="mvsk"))
+    assert (m, math.sqrt(v)) == (pytest.approx(np.euler_gamma + 1.0, rel=1e-9), pytest.approx(s * math.sqrt(2), rel=1e-9))
+    assert (sk, ex + 3) == (pytest.approx(skew, rel=1e-6), pytest.approx(kurt, rel=1e-6))
