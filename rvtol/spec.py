@@ -125,6 +125,7 @@ from .inputs.measured import measured_factor
 from .inputs.notation import NotationError, Tolerance, parse_tolerance
 from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
+from .inputs.geometric import is_geometric, parse_geometric
 from .patterns import expand as expand_patterns
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
@@ -167,6 +168,9 @@ class Factor:
     feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
     datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
     datum_type: str = ""                           # shifts the zones that name it, together; its feature type
+    characteristic: str = ""                       # a profile or form tolerance's (rvtol.inputs.geometric)
+    datums: tuple[str, ...] = ()                   # the datum letters of its frame
+    envelope: str = ""                             # Rule #1: the size factor its form stays within (rvtol.envelopes)
     pattern: str = ""                              # a composite frame's pattern (rvtol.patterns): a feature's own
     locating: float | None = None                  # deviation in the FRTZF; the locating zone ⌀T₁ (factor unit)
 
@@ -242,6 +246,7 @@ class ToleranceSpec:
         if dup:
             raise SpecError(f"duplicate factor name {sorted(dup)[0]!r}", file=self.file, key="factor")
         check_zones(self.factors, self.file)
+        check_envelopes(self.factors, self.file)
         if self.correlation is not None:
             c = np.asarray(self.correlation, dtype=float)
             if c.shape != (len(names), len(names)):
@@ -565,6 +570,8 @@ def factor_from_params(p: Params) -> Factor:
     direction = stack_direction(p)
     zone = position_zone(p, drawing)
     gdt = material_condition(p, drawing, zone)
+    frame = {"characteristic": getattr(drawing, "characteristic", ""), "datums": getattr(drawing, "datums", ()),
+             "envelope": envelope_of(p, drawing)}
     pattern, relating = composite_frame(p, drawing, zone, unit)
     p.finish(allow=("multiplicity",))
     _nominal_stated(p, drawing)
@@ -576,7 +583,7 @@ def factor_from_params(p: Params) -> Factor:
                                               "its deviation within the pattern: fit it as a plain zone")
         dist, limits, locating = band_distribution(p, relating), relating.limits, drawing.width
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
-                  limits=limits, measured=measured, zone=zone, **gdt, pattern=pattern, locating=locating)
+                  limits=limits, measured=measured, zone=zone, **gdt, **frame, pattern=pattern, locating=locating)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
@@ -624,6 +631,14 @@ def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
     p.raw("tolerance")
     nominal = p.float("nominal", None)
     try:
+        if is_geometric(text):
+            if nominal not in (None, 0):
+                raise p.error("nominal", f"a profile or form tolerance ({text!r}) is a deviation from the true "
+                                         "profile or a magnitude: give no nominal (or 0)")
+            if side is not None or edge:
+                raise p.error("shorter_side" if side is not None else "broken_edge",
+                              "belongs to an ISO 2768 general tolerance, not to a profile or form tolerance")
+            return parse_geometric(text, unit=unit)
         tol = parse_tolerance(text, nominal=nominal, unit=unit, shorter_side=side, broken_edge=edge)
     except NotationError as exc:
         raise p.error(exc.key or "tolerance", exc.reason) from None
@@ -645,7 +660,7 @@ def band_distribution(p: Params, tol: Tolerance) -> Distribution:
     """The distribution kind ``dist`` (default normal) read over a drawing tolerance's band
     (:meth:`rvtol.inputs.notation.Tolerance.factor_table`); distribution keys given beside it refine or
     override what the band gives (an explicit ``sigma`` replaces the band's σ)."""
-    kind = p.str("dist", "normal", choices=KINDS)
+    kind = p.str("dist", "rayleigh" if getattr(tol, "is_form", False) else "normal", choices=KINDS)
     level = p.float("sigma_level", None, positive=True)
     try:
         table = tol.factor_table(kind, sigma_level=level)
@@ -705,7 +720,7 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     ftype = p.str("feature_type", "", choices=("",) + FEATURE_TYPES)
     dsize = p.str("datum_size", "")
     dtype = p.str("datum_type", "", choices=("",) + FEATURE_TYPES)
-    if (size or ftype or dsize) and not zone:
+    if (size or (ftype and "envelope" not in p.data) or dsize) and not zone:
         raise p.error("size" if size else "feature_type" if ftype else "datum_size",
                       "a material condition belongs to a position zone (tolerance = \"⌀t (M)\", zone = NAME)")
     if modifier and not size:
@@ -721,6 +736,21 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
         raise p.error("datum_type" if dsize else "datum_size",
                       "a datum-feature shift needs both datum_size (the datum feature's size factor) and datum_type")
     return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype}
+
+
+def envelope_of(p: Params, tol: Tolerance | None) -> str:
+    """``envelope``: the size factor whose departure from MMC a form tolerance stays within (Rule #1, the envelope
+    requirement: :mod:`rvtol.envelopes`); with ``feature_type`` (internal: a hole, external: a shaft)."""
+    size = p.str("envelope", "")
+    if not size:
+        return ""
+    if not getattr(tol, "is_form", False):
+        raise p.error("envelope", "the envelope (Rule #1) bounds a form tolerance by its feature's size: give "
+                                  "tolerance = \"⏥t\" (flatness), \"⏤t\", \"○t\" or \"⌭t\"")
+    if "feature_type" not in p.data:
+        raise p.error("feature_type", "the envelope needs the feature type: \"internal\" (a hole: MMC = smallest) or "
+                                      "\"external\" (a shaft: MMC = largest)")
+    return size
 
 
 def composite_frame(p: Params, tol: Tolerance | None, zone: str, unit: str | None) -> tuple[str, Tolerance | None]:
@@ -861,6 +891,25 @@ def check_zones(factors, file: str | None) -> None:
             if units.dimension(g.unit) != units.dimension(a.unit):
                 raise SpecError(f"position zone {z!r}: {key} {ref!r} is in {g.unit}, not a length like the zone",
                                 file=file, key=f"factor.{key}")
+
+
+def check_envelopes(factors, file: str | None) -> None:
+    """Each envelope (Rule #1) names a size factor of the spec in a length, not a position zone's coordinate nor
+    another form tolerance."""
+    names = {f.name: f for f in factors}
+    for f in factors:
+        if not f.envelope:
+            continue
+        g = names.get(f.envelope)
+        if g is None:
+            raise SpecError(f"factor {f.name!r}: envelope names no factor ({f.envelope!r})"
+                            f"{did_you_mean(f.envelope, list(names))}", file=file, key="factor.envelope")
+        if g.zone or g.characteristic or g is f:
+            raise SpecError(f"factor {f.name!r}: envelope {f.envelope!r} is not a size (a position zone's "
+                            "coordinate, or a profile or form tolerance)", file=file, key="factor.envelope")
+        if units.dimension(g.unit) != units.dimension(f.unit):
+            raise SpecError(f"factor {f.name!r}: envelope {f.envelope!r} is in {g.unit}, not a length like the form",
+                            file=file, key="factor.envelope")
 
 
 def stack_direction(p: Params) -> float | None:

@@ -119,7 +119,7 @@ def test_the_study_reproduces_the_handbook_rules_and_the_frames_own_extreme(tmp_
             for o, s in next(s for s in res.sections if s.key == "stack_conventions").summary.items()}
     # the worst case: feature to feature ±T₂ (the FRTZF), feature to datums ±T₁/2 (the PLTZF) — Drake 1999 ch. 5
     for out, half in (("spacing", T2), ("to_datum", T1 / 2)):
-        for conv in ("worst case (arithmetic)", "worst case (composite frames)"):
+        for conv in ("worst case (arithmetic)", "worst case (GD&T domains)"):
             assert (rows[out][conv]["low"], rows[out][conv]["high"]) == pytest.approx((-half, half), abs=1e-7)
     # a mixed combination: the frame admits more than its decomposition; the row is the frame's extreme
     a = np.array([[1.0, 0.0], [-0.4, 0.7]])
@@ -127,8 +127,8 @@ def test_the_study_reproduces_the_handbook_rules_and_the_frames_own_extreme(tmp_
     decomposed = (T1 - T2) / 2 * np.linalg.norm(a.sum(0)) + T2 / 2 * np.linalg.norm(a, axis=1).sum()
     assert exact > decomposed * 1.05
     assert rows["mixed"]["worst case (arithmetic)"]["high"] == pytest.approx(decomposed, rel=1e-12)
-    assert rows["mixed"]["worst case (composite frames)"]["high"] == pytest.approx(exact, rel=1e-6)
-    assert rows["mixed"]["worst case (composite frames)"]["low"] == pytest.approx(-exact, rel=1e-6)
+    assert rows["mixed"]["worst case (GD&T domains)"]["high"] == pytest.approx(exact, rel=1e-6)
+    assert rows["mixed"]["worst case (GD&T domains)"]["low"] == pytest.approx(-exact, rel=1e-6)
 
 
 @pytest.mark.parametrize("seed", range(4))

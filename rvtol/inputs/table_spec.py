@@ -67,6 +67,7 @@ from pathlib import Path
 from ..distributions import KINDS
 from ..errors import InputError, SpecError
 from .notation import fmt, format_deviations, format_limits, zone_level
+from .geometric import FORMS, PROFILES
 from .sheets import (EITHER, Location, NumberFormError, blank, cell_number, col_letter, comma_role, read_rows,
                      write_rows)
 
@@ -94,7 +95,7 @@ _ALIASES = {
     "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
     "broken edge": "broken_edge", "broken_edge": "broken_edge",
     "pattern": "pattern", "feature relating": "feature_relating", "feature_relating": "feature_relating",
-    "frtzf": "feature_relating",
+    "frtzf": "feature_relating", "envelope": "envelope", "rule 1": "envelope", "rule #1": "envelope",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
 }
 #: distribution parameters a distribution cell may set (numbers)
@@ -108,10 +109,11 @@ _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 #: the [[factor]] keys the columns fill (the spec's own keys)
 _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
            "zone": "zone", "size": "size", "feature_type": "feature_type", "datum_size": "datum_size",
-           "datum_type": "datum_type", "pattern": "pattern", "feature_relating": "feature_relating"}
+           "datum_type": "datum_type", "pattern": "pattern", "feature_relating": "feature_relating",
+           "envelope": "envelope"}
 #: columns written only when some factor needs them
 _OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type", "pattern",
-             "feature_relating")
+             "feature_relating", "envelope")
 
 
 @dataclass
@@ -660,8 +662,20 @@ def _feature_relating(f) -> str:
     return f"⌀{fmt(hi - lo)}" + {"MMC": " (M)", "LMC": " (L)"}.get(f.modifier, "")
 
 
+def _frame_text(f) -> str:
+    """A profile or form tolerance written back as its frame (:mod:`rvtol.inputs.geometric`), in the factor's unit."""
+    lo, hi = f.limits
+    if f.characteristic in FORMS.values():
+        return f"{next(k for k, v in FORMS.items() if v == f.characteristic)}{fmt(hi)}"
+    symbol = next(k for k, v in PROFILES.items() if v == f.characteristic)
+    unequal = "" if math.isclose(hi, -lo, rel_tol=1e-12) else f" U {fmt(hi)}"
+    return " ".join([f"{symbol}{fmt(hi - lo)}{unequal}", *f.datums]).strip()
+
+
 def _row_cells(f, coefficients: dict[str, float]) -> list:
     nominal, tol, cell = _band_cells(f)
+    if getattr(f, "characteristic", ""):
+        tol = _frame_text(f)
     direction = coefficients.get(f.name, getattr(f, "direction", None))
     direction = {1.0: "+", -1.0: "-"}.get(direction, direction)
     return [getattr(f, "part", ""), getattr(f, "feature", ""), nominal, tol, cell, f.unit, direction, f.source]

@@ -21,6 +21,7 @@ from .. import stats as st
 from .. import units
 from ..distributions import coverage
 from ..mc import Evaluator
+from ..envelopes import envelopes, extreme, violations
 from ..patterns import frame_extreme, patterns
 from ..records import frame_records
 from ..sensitivity.common import model_gradient
@@ -113,7 +114,7 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
         sc = stack_conventions(spec, g, y0, output=o, out_unit=q.shown_unit, out_base_unit=q.unit,
                                sigma_levels=sigma_levels, mrss_factor=mrss_factor, six_sigma=six_sigma,
                                slopes=one_sided_slopes(model, spec, o, evaluate=search))
-        _composite_frame_row(spec, g, q, sc)
+        _domain_row(spec, g, q, sc, mc)
         linearised = len(sc.frame)   # the rows so far read the output by its gradient at the nominal point
         wc = None
         if true_wc:
@@ -135,36 +136,49 @@ def compare_conventions(model, spec, outputs, mc, evaluator, *, sigma_levels=(3.
     return ConventionsComparison(out, mc.confidence)
 
 
-def _composite_frame_row(spec, g, q, sc) -> None:
-    """Where the spec holds composite frames (:mod:`rvtol.patterns`) the output depends on, the arithmetic worst case
-    over the frames themselves beside the one over their decomposition (the first row), and the decomposition's
-    share said in every worst-case note: the frames admit patterns the decomposition does not generate.  At RFS and
-    with a smooth gradient only (a bonus or a datum shift changes the zones with the sizes: said in a note)."""
-    pats = patterns(spec.factors)
-    if not pats:
-        return
-    extra, moved, skipped = 0.0, [], []
-    for p in pats:
+def _domain_row(spec, g, q, sc, mc) -> None:
+    """Where the output depends on a GD&T domain that is not the box of its factors' bands — a composite frame
+    (:mod:`rvtol.patterns`: the frame admits more than its decomposition) or a form bound by its size's envelope
+    (:mod:`rvtol.envelopes`: the polygon admits less than the box) — the arithmetic worst case over those domains,
+    beside the first row; the envelopes' violations among the sampled parts in the notes.  A domain whose factors
+    also take a bonus or a datum shift, or whose gradient is not finite, is left to the first row (said)."""
+    g = np.asarray(g, dtype=float)
+    low = high = 0.0
+    parts, skipped = [], []
+    d = lambda v: float(units.convert(v, q.unit, q.shown_unit))  # noqa: E731   base → display, a difference
+    for p in patterns(spec.factors):
         cols = [spec.index(f.name) for z in p.zones for f in spec.factors if f.zone == z]
-        a = np.asarray(g, dtype=float)[cols]
+        if not g[cols].any():
+            continue
+        if not np.isfinite(g[cols]).all() or any(spec.factors[i].modifier or spec.factors[i].datum_size for i in cols):
+            skipped.append(f"pattern {p.name}")
+            continue
+        frame, decomposition = frame_extreme(p, g[cols])
+        low, high = low - (frame - decomposition), high + (frame - decomposition)
+        parts.append(f"pattern {p.name} over its frame ±{d(frame):.4g} (decomposed ±{d(decomposition):.4g})")
+    coupled = {n for f in spec.factors for n in (f.size, f.datum_size) if n}
+    for e in envelopes(spec):
+        a = g[[e.size, e.form]]
+        size, form = spec.factors[e.size], spec.factors[e.form]
         if not a.any():
             continue
-        fs = [spec.factors[i] for i in cols]
-        if not np.isfinite(a).all() or any(f.modifier or f.datum_size for f in fs):
-            skipped.append(p.name)
+        if not np.isfinite(a).all() or size.name in coupled:
+            skipped.append(f"{form.name}'s envelope")
             continue
-        frame, decomposition = frame_extreme(p, a)
-        extra += frame - decomposition
-        moved.append(f"{p.name} {units.convert(frame, q.unit, q.shown_unit):.4g} (decomposed "
-                     f"{units.convert(decomposition, q.unit, q.shown_unit):.4g})")
+        dl, dh = extreme(e, a[0], a[1], (0.5 * sum(e.size_limits), 0.5 * e.form_limit))
+        low, high = low + dl, high + dh
+        bad = violations(e, mc.samples.values) if mc is not None else 0
+        parts.append(f"{form.name} within {size.name}'s envelope: low {d(dl):+.4g}, high {d(dh):+.4g}")
+        if bad:
+            sc.notes.append(N.ENVELOPE_VIOLATED.format(n=bad, total=mc.n, form=form.name, size=size.name))
     if skipped:
-        sc.notes.append(N.COMPOSITE_SKIPPED.format(patterns=", ".join(skipped)))
-    if not moved:
+        sc.notes.append(N.DOMAIN_SKIPPED.format(domains=", ".join(skipped)))
+    if not parts:
         return
     wc = sc.row("worst case (arithmetic)")
-    d = float(units.convert(extra, q.unit, q.shown_unit))
-    sc.add("worst case (composite frames)", wc["low"] - d, wc["high"] + d, centre=wc["centre"],
-           note=N.COMPOSITE_ROW.format(patterns="; ".join(moved)), source="ASME Y14.5-2018 §10.5.1 (SOCP, cvxpy)")
+    sc.add("worst case (GD&T domains)", wc["low"] + d(low), wc["high"] + d(high),
+           note=N.DOMAIN_ROW.format(parts="; ".join(parts)),
+           source="ASME Y14.5-2018 §5.8, §10.5.1 (corners; SOCP, cvxpy)")
 
 
 def _second_order_rows(model, spec, o, sc, sigma_levels, evaluate, linearised: int) -> None:

@@ -80,10 +80,13 @@ DISAGREE = ("{a} {a_ppm:.4g} ± {a_se:.2g} ppm and {b} {b_ppm:.4g} ± {b_se:.2g}
             "standard errors")
 OUTSIDE_REFERENCE = ("{method} {ppm:.4g} ppm lies outside {k:g} standard errors of the reference ({ref} {ref_ppm:.4g} ± "
                      "{ref_se:.2g} ppm)")
-COMPOSITE_ROW = ("the arithmetic worst case with each composite frame's patterns taken over the frame itself (every "
-                 "feature in its ⌀T₁ zone and in a ⌀T₂ framework anywhere, not only its decomposition s + e, "
-                 "|s| ≤ (T₁ − T₂)/2: rvtol.patterns), the other factors as in the arithmetic row; per pattern, the "
-                 "largest change: {patterns} (the true extreme searches the decomposition)")
-COMPOSITE_SKIPPED = ("the composite frame(s) {patterns} at a material condition, with a datum shift or a kinked "
-                     "output are taken by their decomposition only (s + e, |s| ≤ (T₁ − T₂)/2: rvtol.patterns) — the "
-                     "frames themselves admit patterns it does not generate (up to ≈ 15 % more in a worst case)")
+DOMAIN_ROW = ("the arithmetic worst case with the GD&T domains the drawing gives, not the box of the factors' bands: a "
+              "composite frame's pattern over the frame itself (every feature in its ⌀T₁ zone and in a ⌀T₂ framework "
+              "anywhere, not only s + e, |s| ≤ (T₁ − T₂)/2: rvtol.patterns), a form within its size's envelope "
+              "(Rule #1: rvtol.envelopes); the other factors as in the arithmetic row — {parts} (the true extreme "
+              "searches the bands)")
+DOMAIN_SKIPPED = ("{domains}: taken by the bands only (a bonus, a datum shift or an undefined derivative on the same "
+                  "factors) — a composite frame admits patterns its decomposition does not generate (up to ≈ 15 % more "
+                  "in a worst case), an envelope fewer (sizes and forms it excludes)")
+ENVELOPE_VIOLATED = ("{n} of {total} sampled parts break Rule #1 ({form} above {size}'s departure from MMC): the Monte "
+                     "Carlo describes the parts as produced; an inspection to the drawing rejects these")
