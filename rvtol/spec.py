@@ -168,6 +168,7 @@ class Factor:
     feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
     datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
     datum_type: str = ""                           # shifts the zones that name it, together; its feature type
+    separate: bool = False                         # SEP REQT: this zone's datum shift its own, not the pattern's
     characteristic: str = ""                       # a profile or form tolerance's (rvtol.inputs.geometric)
     datums: tuple[str, ...] = ()                   # the datum letters of its frame
     envelope: str = ""                             # Rule #1: the size factor its form stays within (rvtol.envelopes)
@@ -720,6 +721,10 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     ftype = p.str("feature_type", "", choices=("",) + FEATURE_TYPES)
     dsize = p.str("datum_size", "")
     dtype = p.str("datum_type", "", choices=("",) + FEATURE_TYPES)
+    separate = p.bool("separate", False)
+    if separate and not dsize:
+        raise p.error("separate", "SEP REQT separates a zone's datum-feature shift from its pattern's: it needs "
+                                  "datum_size (a datum feature of size referenced at MMB); without one there is no shift")
     if (size or (ftype and "envelope" not in p.data) or dsize) and not zone:
         raise p.error("size" if size else "feature_type" if ftype else "datum_size",
                       "a material condition belongs to a position zone (tolerance = \"⌀t (M)\", zone = NAME)")
@@ -735,7 +740,8 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     if bool(dsize) != bool(dtype):
         raise p.error("datum_type" if dsize else "datum_size",
                       "a datum-feature shift needs both datum_size (the datum feature's size factor) and datum_type")
-    return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype}
+    return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype,
+            "separate": separate}
 
 
 def envelope_of(p: Params, tol: Tolerance | None) -> str:
@@ -817,30 +823,40 @@ class DatumShift:
     requirement, ASME Y14.5 — the default unless SEP REQT is written beneath the frames; P. J. Drake Jr. (ed.),
     *Dimensioning and Tolerancing Handbook*, McGraw-Hill 1999, ch. 5; Tec-Ease GD&T tip 223: "the pattern could
     shift as much as 0.6 total").  The shift therefore moves the pattern as a whole: the distance between two of its
-    features does not change with it.  Each zone's own tolerance (and bonus) still varies feature by feature."""
+    features does not change with it.  Each zone's own tolerance (and bonus) still varies feature by feature.
+
+    A zone marked ``separate = true`` (SEP REQT beneath its frame) is its own pattern: its shift is its own disc,
+    ``separate`` naming the zone (:attr:`label`: "B (SEP REQT h2)")."""
 
     datum: str                 # the datum feature's size factor
     index: int
     kappa: float
     reference: float           # base units
     zones: tuple[str, ...]
+    separate: str = ""         # SEP REQT: the one zone this shift moves
+
+    @property
+    def label(self) -> str:
+        """The shift's name in tables and notes: the datum feature, and the zone of a separate requirement."""
+        return f"{self.datum} (SEP REQT {self.separate})" if self.separate else self.datum
 
 
 def datum_shifts(spec: "ToleranceSpec") -> list[DatumShift]:
     """The datum-feature shifts of the spec's position zones, one per datum feature of size (``datum_size``) with the
-    zones that reference it, in the order the zones are written (:class:`DatumShift`)."""
-    groups: dict[str, list[str]] = {}
+    zones that reference it together, one per zone marked ``separate`` (SEP REQT), in the order the zones are written
+    (:class:`DatumShift`)."""
+    groups: dict[tuple[str, str], list[str]] = {}
     types: dict[str, str] = {}
     for f in spec.factors:
         if f.zone and f.datum_size:
-            zs = groups.setdefault(f.datum_size, [])
+            zs = groups.setdefault((f.datum_size, f.zone if f.separate else ""), [])
             if f.zone not in zs:
                 zs.append(f.zone)
             types[f.datum_size] = f.datum_type
     out = []
-    for name, zones in groups.items():
+    for (name, separate), zones in groups.items():
         i, kappa, ref = _departure(spec, name, types[name], "MMC")
-        out.append(DatumShift(name, i, kappa, ref, tuple(zones)))
+        out.append(DatumShift(name, i, kappa, ref, tuple(zones), separate))
     return out
 
 
@@ -866,11 +882,11 @@ def check_zones(factors, file: str | None) -> None:
         if a.unit != b.unit or a.limits != b.limits:
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
                             "and diameter", file=file, key="factor.zone")
-        gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type, f.pattern,  # noqa: E731
-                        f.locating)
+        gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type, f.separate,  # noqa: E731
+                        f.pattern, f.locating)
         if gd(a) != gd(b):
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same "
-                            "modifier, size, feature_type, datum_size, datum_type, pattern and feature_relating", file=file, key="factor.zone")
+                            "modifier, size, feature_type, datum_size, datum_type, separate, pattern and feature_relating", file=file, key="factor.zone")
         names = {f.name: f for f in factors}
         other = next((g for g in factors if g.datum_size and g.datum_size == a.datum_size
                       and g.datum_type != a.datum_type), None)

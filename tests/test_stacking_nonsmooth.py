@@ -336,6 +336,49 @@ def test_a_datum_shift_moves_the_pattern_as_one(modifier):
         assert any("shifts h1, h2 together" in n for n in true.notes)
 
 
+@pytest.mark.parametrize("modifier", ["", " (M)"], ids=["RFS", "MMC"])
+def test_a_separate_requirement_shifts_its_zone_on_its_own(modifier):
+    """Issue 42: SEP REQT beneath hole 2's frame makes its datum-feature shift its own — the two holes no longer move
+    as one pattern on B's departure from MMB.  By hand (two_hole_pattern): the spacing x₂ − x₁ now takes both shifts,
+    ±(2·own + 2·0.05); one hole from the datum axis is unchanged, ±(own + 0.05)."""
+    from dataclasses import replace
+
+    from rvtol.spec import ToleranceSpec, datum_shifts
+    base = two_hole_pattern(modifier)
+    spec = ToleranceSpec("sep", tuple(replace(f, separate=True) if f.zone == "h2" else f for f in base.factors))
+    assert [(d.label, d.zones) for d in datum_shifts(spec)] == [("B", ("h1",)), ("B (SEP REQT h2)", ("h2",))]
+    own = 0.1 + (0.05 if modifier else 0.0)
+    for formula, half in (("x2 - x1", 2 * own + 2 * 0.05), ("x1", own + 0.05), ("x2", own + 0.05)):
+        m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
+        x0 = spec.nominal_base()
+        y0 = float(m.evaluate(x0[None])[0, 0])
+        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], y0, x0, out_unit="mm",
+                               slopes=one_sided_slopes(m, spec, "y"))
+        wc = sc.row("worst case (arithmetic)")
+        assert (wc["low"], wc["high"]) == (pytest.approx(y0 - half, abs=1e-9), pytest.approx(y0 + half, abs=1e-9)), formula
+        true = true_worst_case(m, spec, "y", max_evaluations=1000, gradient=m.gradient(x0[None])[0, 0])
+        assert (true.low, true.high) == (pytest.approx(y0 - half, abs=1e-6), pytest.approx(y0 + half, abs=1e-6)), formula
+        assert any("separate requirement (SEP REQT) of h2" in n for n in sc.notes)
+        assert any("shifts h2 on its own" in n for n in true.notes)
+
+
+def test_a_separate_requirement_is_a_spreadsheet_column_and_needs_a_datum_shift(tmp_path):
+    rows = ["name,unit,tolerance,zone,datum size,datum type,sep reqt", "B,mm,20 +0.1/0,,,,",
+            "x1,mm,⌀0.2,h1,B,internal,", "y1,mm,⌀0.2,h1,B,internal,", "x2,mm,⌀0.2,h2,B,internal,yes",
+            "y2,mm,⌀0.2,h2,B,internal,yes"]
+    (tmp_path / "s.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
+    from rvtol.inputs.table_spec import write_table_spec
+    from rvtol.spec import datum_shifts, load_spec
+    spec = load_spec(tmp_path / "s.csv")
+    assert [d.label for d in datum_shifts(spec)] == ["B", "B (SEP REQT h2)"]
+    write_table_spec(spec, tmp_path / "out.xlsx")
+    assert load_spec(tmp_path / "out.xlsx").factors == spec.factors
+    with pytest.raises(InputError, match="needs datum_size") as ei:
+        spec_from_table({"factor": [{"name": "x", "tolerance": "⌀0.2", "unit": "mm", "zone": "h", "separate": True},
+                                    {"name": "y", "tolerance": "⌀0.2", "unit": "mm", "zone": "h", "separate": True}]})
+    assert ei.value.key == "factor[0].separate"
+
+
 def test_a_floating_fastener_pair_on_a_shifted_datum():
     """The floating fastener's two holes (fastener_spec, at RFS) both located from datum bore B ⌀20 +0.1/0 at MMB:
     the margin depends on |p₁ − p₂| only, which a common shift does not change — worst case 0 still (the kinked

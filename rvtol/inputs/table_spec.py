@@ -94,6 +94,7 @@ _ALIASES = {
     "multiplicity": "multiplicity", "count": "multiplicity", "qty": "multiplicity", "quantity": "multiplicity",
     "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
     "broken edge": "broken_edge", "broken_edge": "broken_edge",
+    "separate": "separate", "sep reqt": "separate", "separate requirement": "separate",
     "pattern": "pattern", "feature relating": "feature_relating", "feature_relating": "feature_relating",
     "frtzf": "feature_relating", "envelope": "envelope", "rule 1": "envelope", "rule #1": "envelope",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
@@ -113,7 +114,7 @@ _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description"
            "envelope": "envelope"}
 #: columns written only when some factor needs them
 _OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type", "pattern",
-             "feature_relating", "envelope")
+             "feature_relating", "envelope", "separate")
 
 
 @dataclass
@@ -430,10 +431,11 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma
         if side is not None:
             table["shorter_side"] = side
         keycol["shorter_side"] = col["shorter_side"]
-    if "broken_edge" in cell:
-        if _yes(cell["broken_edge"], where("broken_edge")):
-            table["broken_edge"] = True
-        keycol["broken_edge"] = col["broken_edge"]
+    for key in ("broken_edge", "separate"):     # yes/no columns
+        if key in cell:
+            if _yes(cell[key], where(key)):
+                table[key] = True
+            keycol[key] = col[key]
     if not blank(cell.get("multiplicity")):
         m = _number(cell["multiplicity"], where("multiplicity"), comma)
         if not float(m).is_integer():
@@ -614,6 +616,7 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTabl
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
     value["feature_relating"] = _feature_relating
+    value["separate"] = lambda f: "yes" if getattr(f, "separate", False) else ""
     written = [f for f in spec.factors if not _generated(f)]
     needed = {"group": any(f.group != getattr(f, "part", "") for f in written),
               "description": any(f.description for f in written)}

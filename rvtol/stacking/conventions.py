@@ -58,7 +58,8 @@ Material condition (ASME Y14.5-2018 §7.3.3, ISO 2692).  A zone at MMC or LMC gr
 feature's actual size (:func:`rvtol.spec.zone_bonus`: the radius r = t/2 + κ (x_s − ref_s), κ = ±½).  A
 datum feature of size referenced at MMB adds one more disc, shared: its departure from MMB lets the whole
 pattern of zones that reference it translate by one vector s, |s| ≤ r_d = κ (x_d − ref_d)
-(:func:`rvtol.spec.datum_shifts`, the simultaneous requirement), whose effect per unit of shift is
+(:func:`rvtol.spec.datum_shifts`, the simultaneous requirement; a zone marked ``separate``, SEP REQT, has its own
+disc), whose effect per unit of shift is
 |Σ_z ∇_z y| — the zones' gradients added (0 for a distance within the pattern) — or, where a zone is
 kinked, the model's one-sided slopes with the pattern moved as one.  The worst-case rows take these discs
 exactly for the linearised output: the lower end is y_c − Σ_z lo_z r_z(c) − Σ_i t_i · max(0, −(D⁺_i − Σ_z
@@ -416,7 +417,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     wc_terms = np.abs(a) * con.t
     for o in sided:
         if o.datum:      # the shift its departure from MMB allows, beside the datum feature's own effect
-            wc_terms[spec.names.index(o.datum)] += max(o.hi, o.lo) * o.unit
+            wc_terms[o.bonus[0][0]] += max(o.hi, o.lo) * o.unit
         elif not o.zone:
             wc_terms[spec.names.index(o.name)] = max(o.hi, o.lo) * o.unit
         else:
@@ -431,7 +432,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
             else:
                 rss_terms[spec.names.index(o.name)] = w
     side_of = {o.name: o for o in sided if o.plain}
-    side_of.update({o.datum: o for o in sided if o.datum})
+    side_of.update({spec.names[o.bonus[0][0]]: o for o in sided if o.datum})
     side_of.update({spec.names[m]: o for o in sided if o.zone for m, zz in enumerate(con.zone) if zz == o.zone})
     for i, f in enumerate(spec.factors):
         cp_i = con.t[i] / (3 * con.sigma[i]) if con.sigma[i] > 0 else math.nan
@@ -464,15 +465,15 @@ def _pattern_shifts(spec: ToleranceSpec, con: Contributors, a: np.ndarray, kinke
         pairs = [[m for m, zz in enumerate(con.zone) if zz == z] for z in ds.zones]
         r0 = ds.kappa * (float(con.c[ds.index]) - ds.reference)
         if any(z in kinked_zones for z in ds.zones):
-            if slopes is None or ds.datum not in slopes.pattern_max:
-                raise InputError(f"the model cannot be evaluated with the pattern located by datum feature {ds.datum} "
+            if slopes is None or ds.label not in slopes.pattern_max:
+                raise InputError(f"the model cannot be evaluated with the pattern located by datum feature {ds.label} "
                                  f"({', '.join(ds.zones)}) shifted: no linearised stack", key="gradient")
-            hi, lo = max(0.0, float(slopes.pattern_max[ds.datum])), max(0.0, -float(slopes.pattern_min[ds.datum]))
+            hi, lo = max(0.0, float(slopes.pattern_max[ds.label])), max(0.0, -float(slopes.pattern_min[ds.label]))
         else:
             hi = lo = float(np.hypot(sum(a[ix] for ix, _ in pairs), sum(a[iy] for _, iy in pairs)))
-        out.append(_OneSided(ds.datum, r0, hi, lo, 0.0, 0.0, datum=ds.datum, zones=ds.zones,
+        out.append(_OneSided(ds.label, r0, hi, lo, 0.0, 0.0, datum=ds.label, zones=ds.zones,
                              bonus=[(ds.index, ds.kappa)]))
-        notes.append(N.DATUM_SHIFT.format(datum=ds.datum, zones=", ".join(ds.zones), radius=d(r0), hi=hi, lo=lo))
+        notes.append((N.DATUM_SHIFT_SEPARATE if ds.separate else N.DATUM_SHIFT).format(datum=ds.label, zones=", ".join(ds.zones), radius=d(r0), hi=hi, lo=lo))
     return out
 
 

@@ -16,11 +16,16 @@ KINKED_ZONE = ("position zone {zone}: the output has a kink at the zone's centre
 ZONE_BONUS = "position zone {zone} at {modifier}: radius {radius:.6g} at the sizes' band centres, growing with " \
              "the bonus of {sizes}"
 DATUM_SHIFT = ("datum feature {datum} at MMB: its departure from MMB shifts {zones} together — one translation of the "
-               "pattern (ASME Y14.5 simultaneous requirement; SEP REQT is not modelled), radius {radius:.6g} at its band "
+               "pattern (ASME Y14.5 simultaneous requirement; a zone marked separate, SEP REQT, shifts on its own), radius {radius:.6g} at its band "
                "centre growing with that departure, not a bonus of each zone (the distances within the pattern do not "
                "change with it); per unit of shift the output rises at most {hi:.4g} and falls at most {lo:.4g}")
 PATTERN_SHIFT = ("datum feature {datum} at MMB shifts {zones} together: one translation of the pattern, anywhere within "
                  "half the datum's departure from MMB (ASME Y14.5 simultaneous requirement)")
+DATUM_SHIFT_SEPARATE = ("datum feature {datum} at MMB, a separate requirement (SEP REQT) of {zones}: its departure from "
+                        "MMB shifts that zone on its own, radius {radius:.6g} at its band centre; per unit of shift the "
+                        "output rises at most {hi:.4g} and falls at most {lo:.4g}")
+PATTERN_SHIFT_SEPARATE = ("datum feature {datum} at MMB shifts {zones} on its own (a separate requirement, SEP REQT), "
+                          "anywhere within half the datum's departure from MMB")
 MRSS_FEW = "MRSS (handbook) needs at least two contributors"
 DYNAMIC_UNDEFINED = "a factor's mean lies outside its band (k ≥ 1): the dynamic RSS is undefined"
 

@@ -93,7 +93,7 @@ def one_sided_slopes(model: Model, spec: ToleranceSpec, output: str, x0: np.ndar
         zones[z] = [m for m in range(k) if con.zone[m] == z]
     # a datum-feature shift moves every zone it locates by one vector: its ring moves them together
     rings = {z: [tuple(p)] for z, p in zones.items()}
-    patterns = {d.datum: [tuple(zones[z]) for z in d.zones] for d in datum_shifts(spec)}
+    patterns = {d.label: [tuple(zones[z]) for z in d.zones] for d in datum_shifts(spec)}
     count = [0]
 
     def y(X) -> np.ndarray:

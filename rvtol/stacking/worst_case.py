@@ -101,8 +101,11 @@ class _Box:
         return X
 
     def corner(self, a: np.ndarray, sign: float) -> np.ndarray:
-        """The linearised extreme for the gradient ``a`` (``sign`` +1: maximum, −1: minimum)."""
-        v = [1.0 if sign * a[i] > 0 else 0.0 for i in self.plain]
+        """The linearised extreme for the gradient ``a`` (``sign`` +1: maximum, −1: minimum); a size the output does
+        not read directly at the end where the zones or shifts it enlarges are largest."""
+        grows = {m: kap for _, _, _, bonus in self.zones for m, kap, _ in bonus}
+        grows.update({m: kap for m, kap, _, _ in self.shifts})
+        v = [1.0 if sign * a[i] > 0 or (a[i] == 0 and grows.get(i, 0.0) > 0) else 0.0 for i in self.plain]
         directions = [[(i, j)] for i, j, _, _ in self.zones] + [pairs for _, _, _, pairs in self.shifts]
         for pairs in directions:
             ax, ay = (sign * sum(a[i] for i, _ in pairs), sign * sum(a[j] for _, j in pairs))
@@ -180,7 +183,9 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
             undefined_grad[0] = True
         return differences(v, sign)
 
-    notes += [N.PATTERN_SHIFT.format(datum=ds.datum, zones=", ".join(ds.zones)) for ds in box.datums]
+    notes += [(N.PATTERN_SHIFT_SEPARATE if ds.separate else N.PATTERN_SHIFT).format(datum=ds.label,
+                                                                                    zones=", ".join(ds.zones))
+              for ds in box.datums]
     undefined_grad = [False]
     centre = np.array([0.5] * len(box.plain) + [0.0, 0.0] * box.discs)
     if gradient is None or not np.all(np.isfinite(gradient)):   # orient the corner by the box-variable gradient
@@ -221,8 +226,11 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
                     found["differential evolution"] = (float(de.fun), de.x)
             except ValueError as exc:       # scipy refuses the box (e.g. a degenerate bound): said, not hidden
                 notes.append(f"differential evolution not run ({exc}): corners and L-BFGS-B starts only")
-        cands = [(m + " → L-BFGS-B", v) for m, (_, v) in sorted(found.items(), key=lambda t: t[1][0])]
-        cands += [("L-BFGS-B", v) for v in [centre, box.corner(a, sgn)] + [lo_b + u * (hi_b - lo_b) for u in halton]]
+        # the linearised corner first (exact for a linear output: the budget never runs out before it), then the best
+        # points found, then the other starts
+        cands = [("L-BFGS-B", box.corner(a, sgn))]
+        cands += [(m + " → L-BFGS-B", v) for m, (_, v) in sorted(found.items(), key=lambda t: t[1][0])]
+        cands += [("L-BFGS-B", v) for v in [centre] + [lo_b + u * (hi_b - lo_b) for u in halton]]
         for origin, v0 in cands:
             if count[0] >= max_evaluations:
                 notes.append(f"stopped at the evaluation budget ({max_evaluations})")
