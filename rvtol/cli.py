@@ -215,6 +215,7 @@ def _init(args) -> int:
 
 
 def _check(args) -> int:
+    from .model import model_label
     from .study import NotRunModel, load_study
 
     st = load_study(args.study, execute=args.execute)
@@ -229,7 +230,7 @@ def _check(args) -> int:
         for key, text in failures:
             print(f"rvtol: error: {st.file}: {key}: {text}", file=sys.stderr)
         return EXIT_INPUT
-    print(f"rvtol: {st.file}: ok — model {type(st.model).__name__}, {len(st.spec)} factors, "
+    print(f"rvtol: {st.file}: ok — model {model_label(st.model)}, {len(st.spec)} factors, "
           f"{len(st.model.outputs)} outputs, {len(st.requirements)} requirements, {len(st.gates)} gates, "
           f"{len(st.analyses)} analyses")
     for note in st.notes:

@@ -152,6 +152,11 @@ class FunctionModel(Model):
         return Y.reshape(len(Y), -1)
 
 
+def model_label(model: "Model") -> str:
+    """The model as a report names it: its class, or what a wrapper says it is (``label``)."""
+    return getattr(model, "label", None) or type(model).__name__
+
+
 def dependencies(model: "Model") -> dict[str, set[str]] | None:
     """Output -> the model inputs it can depend on, where the model knows (a composed model through its
     declared mapping, a model through :meth:`Model.dependencies`); None: every output on every input."""

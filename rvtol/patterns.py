@@ -156,6 +156,7 @@ class PatternModel(Model):
 
     def __init__(self, inner: Model, spec, pats: list[Pattern]):
         self.inner = inner
+        self.patterns = tuple(pats)
         self.inputs = tuple(spec.names)
         self.outputs = inner.outputs
         self.status_reasons = inner.status_reasons
@@ -178,6 +179,11 @@ class PatternModel(Model):
             self.gradient = self._gradient
         if hasattr(inner, "probe"):
             self.probe = self._probe
+
+    @property
+    def label(self) -> str:
+        names = ", ".join(p.name for p in self.patterns)
+        return f"{type(self.inner).__name__} with composite frames ({names})"
 
     def positions(self, X: np.ndarray) -> np.ndarray:
         """The model's inputs (features at p_i = s + e_i) from the spec's columns ``X``."""

@@ -6,6 +6,7 @@ from functools import partial
 import numpy as np
 import pandas as pd
 
+from ..model import model_label
 from ..precision import requirements_scale, shown
 from ..units import label
 from ..blocks import RunTable, Section, Table
@@ -290,7 +291,7 @@ def run_table(result) -> Table:
     """The run: model, samples, executor, wall time and the time of every phase."""
     st, m, o = result.study, result.mc, result.study.options
     run = pd.DataFrame([
-        {"item": "model", "value": f"{type(st.model).__name__} ({len(st.model.inputs)} inputs, "
+        {"item": "model", "value": f"{model_label(st.model)} ({len(st.model.inputs)} inputs, "
                                    f"{len(st.model.outputs)} outputs)"},
         {"item": "samples", "value": f"{m.n} ({o.method}, seed {o.seed})"},
         {"item": "executor", "value": result.executor},
