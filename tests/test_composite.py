@@ -367,3 +367,23 @@ def test_sensitivity_matrix_takes_each_outputs_largest_tolerance_in_turn(tmp_pat
     assert sh["a"]["y1"] == pytest.approx(1 / 1.81, rel=1e-6) and sh["e"]["y2"] == pytest.approx(1.3225 / 3.3225, rel=1e-6)
     assert all(sh[t]["y3"] is None for t in "abcdefg")
     assert list(sec.summary["sobol_total"]) == ["a", "e", "f", "all other tolerances"]
+
+
+def test_a_stage_evaluates_each_distinct_row_of_its_inputs_once_with_the_same_result():
+    """Issue 40 item 6: the five-point stencils of the factors that do not reach a stage leave its inputs at the
+    centre's values — the stage is evaluated once for them (each distinct row once), and every output is the same
+    as evaluating every row (the model contract: a row does not depend on its batch)."""
+    m, lin, nonlin = _composite()
+    seen = {"one": [], "two": []}
+    for st in m.stages:
+        own = st.model.evaluate_with_status
+        st.model.evaluate_with_status = lambda X, own=own, name=st.name: (seen[name].append(len(X)), own(X))[1]
+    x0 = SPEC.nominal_base()
+    X = np.repeat(x0[None], 20, axis=0)
+    X[5:10, 3] += np.linspace(-2e-3, 2e-3, 5)     # d moves: stage two only; a moves: both (q) — four distinct values
+    X[10:15, 0] += np.linspace(-2e-3, 2e-3, 5)
+    Y, status = m.evaluate_with_status(X)
+    assert seen["one"] == [1 + 4] and seen["two"] == [1 + 4 + 4]   # the centre, a's four moves (and d's for two)
+    y1 = lin.evaluate(np.column_stack([np.hypot(X[:, 0], X[:, 1]), X[:, 2]]))
+    y2 = nonlin.evaluate(np.column_stack([y1[:, 0] - 0.5 * y1[:, 1], X[:, 3] * 1000]))
+    np.testing.assert_array_equal(Y[:, 1:], np.column_stack([y1, y2]))

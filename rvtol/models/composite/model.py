@@ -197,9 +197,7 @@ class CompositeModel(Model):
             status[(status == STATUS_OK) & ~good] = STATUS_NONFINITE
             Ys = np.full((n, len(st.model.outputs)), np.nan)
             if good.any():
-                y, ss = st.model.evaluate_with_status(Xs[good])
-                y = np.asarray(y, dtype=float)
-                ss = np.asarray(ss)
+                y, ss = _distinct_rows(st.model, Xs[good])
                 rows = np.flatnonzero(good)
                 Ys[rows] = y
                 bad = ss != STATUS_OK
@@ -322,6 +320,20 @@ class CompositeModel(Model):
 
 def _renamed(q: Quantity, name: str) -> Quantity:
     return Quantity(name, q.unit, q.display_unit, q.description)
+
+
+def _distinct_rows(model: Model, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``model.evaluate_with_status(X)``, each distinct row evaluated once: a stage whose inputs a batch leaves at the
+    same values (the five-point stencils and Sobol groups of factors that do not reach it) is not evaluated again for
+    them.  Exact: a model's row does not depend on the batch it is in (:class:`rvtol.model.Model`)."""
+    if len(X) > 1 and X.shape[1]:
+        uniq, inverse = np.unique(X, axis=0, return_inverse=True)
+        if len(uniq) < len(X):
+            y, ss = model.evaluate_with_status(uniq)
+            inverse = inverse.ravel()
+            return np.asarray(y, dtype=float)[inverse], np.asarray(ss)[inverse]
+    y, ss = model.evaluate_with_status(X)
+    return np.asarray(y, dtype=float), np.asarray(ss)
 
 
 def _column(v, n: int) -> np.ndarray:
