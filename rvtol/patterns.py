@@ -35,8 +35,14 @@ What the decomposition leaves out (it admits only conforming patterns, not every
   side of its PLTZF; such patterns conform and are not generated — the worst-case rows are those of the
   decomposition, exact for a feature to the datums and for features to each other, within a few per cent of the
   frame's own extreme for mixed combinations;
-- a FRTZF that references the primary datum only may also **rotate** about it; rvtol translates it only (write the
-  rotation as a factor of the model where it matters).
+- a FRTZF whose line references fewer than two datums (``feature_relating = "⌀0.1 A"``: orientation to the primary
+  only) may also **rotate** about the primary's axis; rvtol translates it only — exact for ``"⌀0.1 A B"`` (the
+  framework held in rotation by B), an understatement otherwise for an output that turns with the pattern, and the
+  stack-up's notes say so for every output that reads such a pattern (write the rotation as a factor of the model
+  where it matters).
+
+In ``samples.parquet`` and the factor tables a feature's coordinate (``hole1.x``) is its own deviation within the
+framework; the model's ``hole1.x`` is the feature's position, the translation added.
 
 The material condition is the zones': a frame at MMC on both lines gives each feature's own zone ⌀T₂ its bonus
 (:func:`rvtol.spec.zone_bonus`) and the difference T₁ − T₂, the translation's zone, stays; a datum feature of size
@@ -68,6 +74,12 @@ class Pattern:
     locating: float
     relating: float
     unit: str
+    datums: tuple[str, ...] = ()       # the feature-relating line's datums
+
+    @property
+    def may_rotate(self) -> bool:
+        """A feature-relating framework that references fewer than two datums may rotate about the primary's axis."""
+        return len(self.datums) < 2
 
     @property
     def shift(self) -> tuple[str, str]:
@@ -84,7 +96,7 @@ def patterns(factors) -> list[Pattern]:
     for name, fs in out.items():
         zones = tuple(dict.fromkeys(f.zone for f in fs))
         lo, hi = fs[0].limits
-        result.append(Pattern(name, zones, float(fs[0].locating), float(hi - lo), fs[0].unit))
+        result.append(Pattern(name, zones, float(fs[0].locating), float(hi - lo), fs[0].unit, tuple(fs[0].datums)))
     return result
 
 
@@ -96,9 +108,13 @@ def expand(factors: list, file: str | None) -> list:
     zones = {f.zone for f in factors if f.zone}
     for pat in patterns(factors):
         fs = [f for f in factors if f.pattern == pat.name]
+        def frame_of(f):    # in base units: the same frame may be written in mm on one row, in µm on another
+            lo, hi = f.limits
+            return (units.dimension(f.unit), round(float(units.to_base(f.locating, f.unit)), 12),
+                    round(float(units.to_base(hi - lo, f.unit)), 12), f.modifier, f.datums)
+
         for f in fs:
-            if (f.unit, f.locating, f.limits, f.modifier) != (fs[0].unit, fs[0].locating, fs[0].limits,
-                                                               fs[0].modifier):
+            if frame_of(f) != frame_of(fs[0]):
                 raise SpecError(f"pattern {pat.name!r}: {f.name} and {fs[0].name} carry different frames (one "
                                 "composite frame locates a pattern: the same unit, zones and modifier on every "
                                 "feature)", file=file, key="factor.pattern")
@@ -114,9 +130,12 @@ def expand(factors: list, file: str | None) -> list:
         dist = from_params(Params(table, file=file, key="factor.pattern"))
         first = fs[0]
         where = max(factors.index(f) for f in fs) + 1
+        # the translation carries no bonus and no datum shift of its own: a datum feature at MMB shifts the pattern
+        # through its features (one shift, every feature alike), which the translation would count a second time
         shift = [replace(first, name=n, dist=dist, nominal=0.0, limits=(-width / 2, width / 2), zone=pat.name,
                          feature="pattern translation", size="", feature_type="", modifier="", locating=None,
-                         direction=None, family="",
+                         datum_size="", datum_type="", separate=False, frame="", datums=(), direction=None,
+                         family="",
                          description=f"translation of pattern {pat.name}'s feature-relating framework within the "
                                      f"pattern-locating zone (composite frame ⌀{pat.locating:g}/⌀{pat.relating:g} "
                                      f"{units.label(pat.unit)}: ⌀{width:g})")

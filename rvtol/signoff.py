@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
 from scipy import stats
 
 from . import signoff_texts as T
@@ -142,8 +143,11 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
                 d.change, d.fixes = statistic_fixes(r, v, d)
             else:
                 d.change = what_to_change(r, row, d.drivers, mc)
-                d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
-                                            v.parts_to_demonstrate)
+                failures = _failures_decide(r, row, mc)
+                d.fixes = ([Fix(r.label, "model failures", *(t.format(**failures) for t in T.FAILURES))]
+                           if failures is not None else
+                           first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
+                                             v.parts_to_demonstrate))
         out.append(d)
     return out
 
@@ -260,9 +264,24 @@ def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> T
     return t
 
 
+def _failures_decide(r, row, mc) -> dict | None:
+    """Where the samples the model could not evaluate (each a failure of every requirement on the output) alone exceed
+    the share of units the requirement lets fail: their share, the allowed one (percent) and the reasons."""
+    failed, n = int(row.get("failed") or 0), int(row.get("n") or 0) + int(row.get("failed") or 0)
+    allowed = 1.0 - (r.min_yield if r.min_yield is not None else 0.0)
+    if not failed or r.min_yield is None or failed / n <= allowed:
+        return None
+    codes = [int(c) for c in np.unique(mc.status[~mc.ok])]
+    why = "; ".join(mc.status_reasons.get(c, f"status {c}") for c in codes[:3])
+    return {"share": 100 * failed / n, "allowed": 100 * allowed, "why": why}
+
+
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     """A first-order estimate of the tightening that would make ``r`` pass (a sentence of :mod:`.signoff_texts`)."""
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
+    failures = _failures_decide(r, row, mc)
+    if failures is not None:
+        return T.FAILURES_CHANGE.format(**failures)
     if mean is None or sigma is None:
         return T.NOTHING_EVALUATED
     unit = r.unit or ""

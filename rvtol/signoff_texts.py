@@ -28,6 +28,13 @@ MORE_SAMPLES = ("run n = {n:,} samples",
 MORE_PARTS = ("measure about {parts}",
               "the fitted laws of the measured factors are too uncertain to demonstrate it — more Monte Carlo samples "
               "cannot; these would, if the fitted laws held (the fit's deviation shrinks as 1/√parts)")
+FAILURES = ("make the model evaluable for more units: {share:.3g} % of the samples could not be evaluated ({why}) and "
+            "count as failing the requirement",
+            "they alone exceed the {allowed:.3g} % it allows; the mean and σ of the evaluated units say nothing of them "
+            "— find the factors that drive the failures (the samples' status in samples.parquet) and tighten or "
+            "re-centre those")
+FAILURES_CHANGE = ("{share:.3g} % of the samples could not be evaluated ({why}): they alone exceed the {allowed:.3g} % "
+                   "the requirement allows — the evaluated units' mean and σ are not what fails it.")
 REDESIGN = ("move the mean ({mean:.4g} {unit}) {side} the limit {limit:g} {unit}: a nominal of the design",
             "tightening cannot help: as tolerances shrink, every unit approaches the nominal one")
 RECENTRE = ("move the mean from {mean:.4g} to {mid:.4g} {unit} (shift {shift:+.3g} {unit}: a nominal, no tolerance "

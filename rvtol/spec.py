@@ -168,7 +168,8 @@ class Factor:
     feature_type: str = ""                         # "internal" (a hole) | "external" (a pin) feature of size
     datum_size: str = ""                           # a datum feature of size referenced at MMB: its departure
     datum_type: str = ""                           # shifts the zones that name it, together; its feature type
-    separate: bool = False                         # SEP REQT: this zone's datum shift its own, not the pattern's
+    separate: bool = False                         # SEP REQT: this frame's datum shift its own, not the pattern's
+    frame: str = ""                                # the feature control frame (an nX pattern's zones share one)
     characteristic: str = ""                       # a profile or form tolerance's (rvtol.inputs.geometric)
     datums: tuple[str, ...] = ()                   # the datum letters of its frame
     envelope: str = ""                             # Rule #1: the size factor its form stays within (rvtol.envelopes)
@@ -573,7 +574,7 @@ def factor_from_params(p: Params) -> Factor:
     gdt = material_condition(p, drawing, zone)
     frame = {"characteristic": getattr(drawing, "characteristic", ""), "datums": getattr(drawing, "datums", ()),
              "envelope": envelope_of(p, drawing)}
-    pattern, relating = composite_frame(p, drawing, zone, unit)
+    pattern, relating, relating_datums = composite_frame(p, drawing, zone, unit)
     p.finish(allow=("multiplicity",))
     _nominal_stated(p, drawing)
     limits = drawing.limits if drawing is not None else None
@@ -583,6 +584,9 @@ def factor_from_params(p: Params) -> Factor:
             raise p.error("feature_relating", "a measured position is the feature's location from the datums, not "
                                               "its deviation within the pattern: fit it as a plain zone")
         dist, limits, locating = band_distribution(p, relating), relating.limits, drawing.width
+        frame["datums"] = relating_datums     # the lower line's: whether the framework may rotate
+    if pattern and not gdt["frame"]:      # a composite frame's features share its frame
+        gdt["frame"] = pattern
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
                   limits=limits, measured=measured, zone=zone, **gdt, **frame, pattern=pattern, locating=locating)
 
@@ -722,6 +726,9 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
     dsize = p.str("datum_size", "")
     dtype = p.str("datum_type", "", choices=("",) + FEATURE_TYPES)
     separate = p.bool("separate", False)
+    frame = p.str("frame", "")
+    if frame and not zone:
+        raise p.error("frame", "a feature control frame's name groups position zones (an nX pattern): give zone = NAME")
     if separate and not dsize:
         raise p.error("separate", "SEP REQT separates a zone's datum-feature shift from its pattern's: it needs "
                                   "datum_size (a datum feature of size referenced at MMB); without one there is no shift")
@@ -741,7 +748,7 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
         raise p.error("datum_type" if dsize else "datum_size",
                       "a datum-feature shift needs both datum_size (the datum feature's size factor) and datum_type")
     return {"modifier": modifier, "size": size, "feature_type": ftype, "datum_size": dsize, "datum_type": dtype,
-            "separate": separate}
+            "separate": separate, "frame": frame}
 
 
 def envelope_of(p: Params, tol: Tolerance | None) -> str:
@@ -759,14 +766,16 @@ def envelope_of(p: Params, tol: Tolerance | None) -> str:
     return size
 
 
-def composite_frame(p: Params, tol: Tolerance | None, zone: str, unit: str | None) -> tuple[str, Tolerance | None]:
+def composite_frame(p: Params, tol: Tolerance | None, zone: str,
+                    unit: str | None) -> tuple[str, Tolerance | None, tuple[str, ...]]:
     """A composite position frame's second line (:mod:`rvtol.patterns`): ``pattern = NAME`` (the features one
-    frame locates) and ``feature_relating = "⌀T₂"`` (the FRTZF, smaller than the zone's ⌀T₁, the PLTZF).  Returns
-    the pattern's name and the FRTZF read in the factor's unit (None without one)."""
+    frame locates) and ``feature_relating = "⌀T₂ A B"`` (the FRTZF, smaller than the zone's ⌀T₁, the PLTZF, and the
+    datums it references: orientation only).  Returns the pattern's name, the FRTZF read in the factor's unit (None
+    without one) and its datum letters."""
     pattern = p.str("pattern", "")
     text = p.raw("feature_relating", None)
     if not pattern and text is None:
-        return "", None
+        return "", None, ()
     key = "pattern" if pattern else "feature_relating"
     if not zone:
         raise p.error(key, "a composite frame locates position zones: give tolerance = \"⌀T1\" (the pattern-locating "
@@ -779,8 +788,12 @@ def composite_frame(p: Params, tol: Tolerance | None, zone: str, unit: str | Non
         raise p.error("pattern", f"invalid pattern name {pattern!r} (letters, digits, _ [ ] , . - + and spaces)")
     if not isinstance(text, str):
         raise p.error("feature_relating", f"expected a position zone \"⌀T2\", got {text!r}")
+    m = _FRAME_DATUMS.search(text)
+    datums = tuple(m.group(1).replace("|", " ").split()) if m else ()
+    if len(set(datums)) < len(datums):
+        raise p.error("feature_relating", f"{text!r} names a datum twice")
     try:
-        relating = parse_tolerance(text, unit=unit)
+        relating = parse_tolerance(text[:m.start()] if m else text, unit=unit)
     except NotationError as exc:
         raise p.error("feature_relating", exc.reason) from None
     if relating.form != "zone":
@@ -793,7 +806,11 @@ def composite_frame(p: Params, tol: Tolerance | None, zone: str, unit: str | Non
         raise p.error("feature_relating", f"the feature-relating zone {relating.describe()} must be smaller than the "
                                           f"pattern-locating zone {tol.describe()} (equal zones are one position "
                                           "tolerance: leave out pattern and feature_relating)")
-    return pattern, relating
+    return pattern, relating, datums
+
+
+#: a frame line's datum letters after its tolerance: "⌀0.1 A B", "⌀0.1 (M) | A"
+_FRAME_DATUMS = re.compile(r"((?:[\s|]+[A-Z](?![A-Za-z]))+)\s*$")
 
 
 def zone_bonus(spec: "ToleranceSpec", zone: str) -> list[tuple[int, float, float]]:
@@ -825,15 +842,16 @@ class DatumShift:
     shift as much as 0.6 total").  The shift therefore moves the pattern as a whole: the distance between two of its
     features does not change with it.  Each zone's own tolerance (and bonus) still varies feature by feature.
 
-    A zone marked ``separate = true`` (SEP REQT beneath its frame) is its own pattern: its shift is its own disc,
-    ``separate`` naming the zone (:attr:`label`: "B (SEP REQT h2)")."""
+    A frame marked ``separate = true`` (SEP REQT beneath it) is its own pattern: its zones (those sharing its
+    ``frame``, or the one zone without a frame name) shift together, by a disc of their own, ``separate`` naming the
+    frame (:attr:`label`: "B (SEP REQT 2X holes)")."""
 
     datum: str                 # the datum feature's size factor
     index: int
     kappa: float
     reference: float           # base units
     zones: tuple[str, ...]
-    separate: str = ""         # SEP REQT: the one zone this shift moves
+    separate: str = ""         # SEP REQT: the frame (or the one zone) this shift moves
 
     @property
     def label(self) -> str:
@@ -849,7 +867,7 @@ def datum_shifts(spec: "ToleranceSpec") -> list[DatumShift]:
     types: dict[str, str] = {}
     for f in spec.factors:
         if f.zone and f.datum_size:
-            zs = groups.setdefault((f.datum_size, f.zone if f.separate else ""), [])
+            zs = groups.setdefault((f.datum_size, (f.frame or f.zone) if f.separate else ""), [])
             if f.zone not in zs:
                 zs.append(f.zone)
             types[f.datum_size] = f.datum_type
@@ -883,10 +901,10 @@ def check_zones(factors, file: str | None) -> None:
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same unit "
                             "and diameter", file=file, key="factor.zone")
         gd = lambda f: (f.modifier, f.size, f.feature_type, f.datum_size, f.datum_type, f.separate,  # noqa: E731
-                        f.pattern, f.locating)
+                        f.frame, f.pattern, f.locating)
         if gd(a) != gd(b):
             raise SpecError(f"the two coordinates of position zone {z!r} ({a.name}, {b.name}) need the same "
-                            "modifier, size, feature_type, datum_size, datum_type, separate, pattern and feature_relating", file=file, key="factor.zone")
+                            "modifier, size, feature_type, datum_size, datum_type, separate, frame, pattern and feature_relating", file=file, key="factor.zone")
         names = {f.name: f for f in factors}
         other = next((g for g in factors if g.datum_size and g.datum_size == a.datum_size
                       and g.datum_type != a.datum_type), None)
@@ -907,6 +925,20 @@ def check_zones(factors, file: str | None) -> None:
             if units.dimension(g.unit) != units.dimension(a.unit):
                 raise SpecError(f"position zone {z!r}: {key} {ref!r} is in {g.unit}, not a length like the zone",
                                 file=file, key=f"factor.{key}")
+    check_frames(factors, file)
+
+
+def check_frames(factors, file: str | None) -> None:
+    """The zones of one feature control frame (``frame``, an nX pattern) reference the same datum feature and are all
+    a separate requirement or none: SEP REQT is written beneath a frame, not beside one of its features."""
+    first: dict[str, object] = {}
+    for f in factors:
+        if not (f.zone and f.frame):
+            continue
+        g = first.setdefault(f.frame, f)
+        if (g.separate, g.datum_size) != (f.separate, f.datum_size):
+            raise SpecError(f"frame {f.frame!r}: zones {g.zone!r} and {f.zone!r} differ in separate or datum_size — the "
+                            "zones of one frame share its datums and its SEP REQT", file=file, key="factor.frame")
 
 
 def check_envelopes(factors, file: str | None) -> None:
@@ -923,9 +955,13 @@ def check_envelopes(factors, file: str | None) -> None:
         if g.zone or g.characteristic or g is f:
             raise SpecError(f"factor {f.name!r}: envelope {f.envelope!r} is not a size (a position zone's "
                             "coordinate, or a profile or form tolerance)", file=file, key="factor.envelope")
-        if units.dimension(g.unit) != units.dimension(f.unit):
-            raise SpecError(f"factor {f.name!r}: envelope {f.envelope!r} is in {g.unit}, not a length like the form",
-                            file=file, key="factor.envelope")
+        if units.dimension(g.unit) != "length" or units.dimension(f.unit) != "length":
+            raise SpecError(f"factor {f.name!r} ({f.unit}) and its envelope {f.envelope!r} ({g.unit}): a form and its "
+                            "size are both lengths", file=file, key="factor.envelope")
+        other = next((h for h in factors if h.envelope == f.envelope and h.feature_type != f.feature_type), None)
+        if other is not None:
+            raise SpecError(f"size {f.envelope!r} is {f.feature_type} for {f.name!r} and {other.feature_type} for "
+                            f"{other.name!r}: one feature has one type", file=file, key="factor.feature_type")
 
 
 def stack_direction(p: Params) -> float | None:

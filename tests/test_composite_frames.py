@@ -188,3 +188,69 @@ def test_one_pattern_with_two_frames_and_a_clashing_translation_name_are_refused
     with pytest.raises(InputError, match="already a factor's name") as ei:
         load_spec(write(tmp_path / "b.toml", clash))
     assert ei.value.key == "factor.pattern"
+
+
+def _mmc_pattern(extra=""):
+    """The independent audit's case: two holes ⌀10 +0.1/0 under ⌀0.5 (M) | A | B (M) | C over ⌀0.1 (M) A B, datum bore
+    B ⌀20 +0.2/0 at MMB (its departure shifts the pattern by up to 0.1)."""
+    rows = ['[[factor]]\nname = "B.d"\nunit = "mm"\ntolerance = "20 +0.2/0"\n']
+    for k in (1, 2):
+        rows.append(f'[[factor]]\nname = "h{k}.d"\nunit = "mm"\ntolerance = "10 +0.1/0"\n')
+        for a in "xy":
+            rows.append(f'[[factor]]\nname = "h{k}.{a}"\nunit = "mm"\ntolerance = "⌀0.5 (M)"\nzone = "h{k}"\n'
+                        f'pattern = "P"\nfeature_relating = "⌀0.1 (M) A B"\nsize = "h{k}.d"\nfeature_type = "internal"\n'
+                        f'datum_size = "B.d"\ndatum_type = "internal"\n{extra}')
+    return "".join(rows)
+
+
+@pytest.mark.parametrize("extra", ["", "separate = true\n"], ids=["simultaneous", "SEP REQT"])
+def test_a_composite_frame_on_a_datum_at_mmb_takes_the_shift_once(tmp_path, extra):
+    """The audit's D1: the pattern's translation carried the datum shift a second time (h1.x ±0.5). By hand: a hole to
+    the datums moves by its locating zone's radius with its bonus, 0.25 + 0.05, plus the shift 0.1 — ±0.4, what the
+    same zone without a pattern gives; two holes of the frame to each other by 2 × (0.05 + 0.05) — the shift moves the
+    frame as one, a separate requirement of the whole frame too."""
+    from rvtol.spec import datum_shifts
+    from rvtol.stacking import stack_conventions
+    from rvtol.stacking.slopes import one_sided_slopes
+
+    spec = load_spec(write(tmp_path / "s.toml", _mmc_pattern(extra)))
+    assert [(d.zones, d.separate) for d in datum_shifts(spec)] == [(("h1", "h2"), "P" if extra else "")]
+    x0 = spec.nominal_base()
+    for formula, half in (("h1.x", 0.4), ("h2.x - h1.x", 0.2)):
+        inner = FormulaModel.from_spec(feature_spec(spec), {"y": (formula, "mm")})
+        m = with_patterns(inner, spec)
+        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                               slopes=one_sided_slopes(m, spec, "y"))
+        wc = sc.row("worst case (arithmetic)")
+        assert (wc["low"], wc["high"]) == (pytest.approx(-half, abs=1e-9), pytest.approx(half, abs=1e-9)), formula
+
+
+def test_the_frames_lower_line_keeps_its_datums_and_a_framework_free_to_rotate_is_said(tmp_path):
+    held = SPEC.replace('feature_relating = "⌀0.1"', 'feature_relating = "⌀0.1 A|B"')
+    spec = load_spec(write(tmp_path / "held.toml", held))
+    assert spec.factor("h1.x").datums == ("A", "B") and not patterns(spec.factors)[0].may_rotate
+    write_table_spec(spec, tmp_path / "held.csv")
+    assert load_spec(tmp_path / "held.csv").factors == spec.factors
+    write(tmp_path / "spec.toml", SPEC.replace('feature_relating = "⌀0.1"', 'feature_relating = "⌀0.1 A"'))
+    res = run_study(load_study(write(tmp_path / "study.toml", STUDY.replace("n = 40000", "n = 500")),
+                               executor="serial", progress=False, pdf=False))
+    notes = next(s for s in res.sections if s.key == "stack_conventions").summary["mixed"]["notes"]
+    assert any("pattern bolts's feature-relating line references A: its framework may also rotate" in n for n in notes)
+    write(tmp_path / "spec.toml", held)
+    res = run_study(load_study(tmp_path / "study.toml", executor="serial", progress=False, pdf=False))
+    notes = next(s for s in res.sections if s.key == "stack_conventions").summary["mixed"]["notes"]
+    assert not any("may also rotate" in n for n in notes)
+
+
+def test_one_frame_written_in_mm_and_in_micrometres_is_one_frame(tmp_path):
+    """The audit's test 10: the same frame, ⌀500/⌀100 µm on one hole's rows, ⌀0.5/⌀0.1 mm on the other's."""
+    rows = ["name,unit,tolerance,zone,pattern,feature relating", "h1.x,mm,⌀0.5,h1,P,⌀0.1 A B",
+            "h1.y,mm,⌀0.5,h1,P,⌀0.1 A B", "h2.x,um,⌀500,h2,P,⌀100 A B", "h2.y,um,⌀500,h2,P,⌀100 A B"]
+    spec = load_spec(write(tmp_path / "s.csv", "\n".join(rows) + "\n"))
+    (p,) = patterns(spec.factors)
+    assert p.zones == ("h1", "h2") and spec.factor("P.x").unit == "mm"
+    m = with_patterns(FormulaModel.from_spec(feature_spec(spec), {"y": ("h2.x - h1.x", "mm")}), spec)
+    X = np.zeros((1, len(spec)))
+    X[0, spec.index("P.x")] = 0.02               # the translation moves both holes alike (base units, mm)
+    X[0, spec.index("h2.x")] = 0.003
+    assert m.evaluate(X)[0, 0] == pytest.approx(0.003, abs=1e-15)

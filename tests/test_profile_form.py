@@ -27,6 +27,9 @@ CASES = [   # written, in mm: characteristic, lower, upper, datums — by hand f
     ("straightness 0.01", "straightness", 0.0, 0.01, ()),
     ("○5 um", "circularity", 0.0, 0.005, ()),
     ("cylindricity 0.0004\"", "cylindricity", 0.0, (0.0004 * UREG.inch).to("mm").magnitude, ()),
+    # the amount after U is in the width's unit unless it writes its own (the audit's D3: it took the factor's)
+    ("⌓100 um U 30 A", "profile of a surface", -0.07, 0.03, ("A",)),
+    ("⌓0.1mm U 30 um A", "profile of a surface", -0.07, 0.03, ("A",)),
 ]
 
 
@@ -37,6 +40,11 @@ def test_a_profile_or_form_frame_reads_as_its_band(text, characteristic, lower, 
     assert (g.lower_limit, g.upper_limit) == pytest.approx((lower, upper), abs=1e-15)
 
 
+def test_a_profiles_amount_after_u_takes_the_widths_unit_on_a_factor_in_another():
+    g = parse_geometric("⌓0.1 mm U 0.03 A", unit="um")          # the audit's D3: −99.97 … +0.03 µm before
+    assert (g.lower_limit, g.upper_limit) == pytest.approx((-70.0, 30.0), abs=1e-9)
+
+
 @pytest.mark.parametrize("text,words", [
     ("⌓0.1 U 0.2 A", "must lie between 0 and the zone's width"),
     ("⌓0.1 A (M)", "is not a datum letter"),
@@ -44,6 +52,7 @@ def test_a_profile_or_form_frame_reads_as_its_band(text, characteristic, lower, 
     ("⏥0.02 U 0.01", "belongs to a profile tolerance"),
     ("⌓ A B", "expected the tolerance"),
     ("⌓0 A", "positive width"),
+    ("⌓0.1 A A", "datum A is named twice"),
     ("flatness 0.02 furlongs", "the tolerance (the zone's width)"),
 ])
 def test_a_frame_written_wrong_says_why(text, words):
@@ -181,6 +190,10 @@ BAD = [
     ('envelope = "D"\nfeature_type = "internal"', 'envelope = "form_shaft"\nfeature_type = "internal"',
      "factor.envelope", "is not a size"),
     ('tolerance = "⌭0.015"', 'tolerance = "⌭0.015 A"', "factor[1].tolerance", "relates to no datum"),
+    ('unit = "um"\ntolerance = "⌭10 um"', 'unit = "deg"\ntolerance = "⌭0.1 deg"', "factor.envelope",
+     "a form and its size are both lengths"),
+    ('envelope = "d"\nfeature_type = "external"', 'envelope = "D"\nfeature_type = "external"', "factor.feature_type",
+     "one feature has one type"),
 ]
 
 

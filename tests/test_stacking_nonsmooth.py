@@ -379,6 +379,34 @@ def test_a_separate_requirement_is_a_spreadsheet_column_and_needs_a_datum_shift(
     assert ei.value.key == "factor[0].separate"
 
 
+def test_a_separate_requirement_belongs_to_a_frame_whose_zones_move_together(tmp_path):
+    """The audit's D2: SEP REQT is written beneath a frame; an nX frame's zones (``frame``) still move as one. Four
+    holes ⌀0.2 RFS to datum bore B ⌀20 +0.1/0 at MMB (shift ≤ 0.05); holes 2 and 3 under their own 2X frame with SEP
+    REQT. By hand: x₃ − x₂ ±0.2 (their own zones: one frame, one shift); x₂ − x₁ ±(0.2 + 2 × 0.05) (two shifts);
+    x₄ − x₁ ±0.2 (the simultaneous frames)."""
+    from rvtol.spec import datum_shifts
+
+    def zone(z, frame=None):
+        own = {"frame": frame, "separate": True} if frame else {}
+        return {"tolerance": "⌀0.2", "unit": "mm", "zone": z, "datum_size": "B", "datum_type": "internal", **own}
+    rows = [{"name": "B", "tolerance": "20 +0.1/0", "unit": "mm"}]
+    for k in (1, 2, 3, 4):
+        frame = "2X" if k in (2, 3) else None
+        rows += [{"name": f"x{k}", **zone(f"h{k}", frame)}, {"name": f"y{k}", **zone(f"h{k}", frame)}]
+    spec = spec_from_table({"factor": rows})
+    assert [(d.label, d.zones) for d in datum_shifts(spec)] == [("B", ("h1", "h4")), ("B (SEP REQT 2X)", ("h2", "h3"))]
+    x0 = spec.nominal_base()
+    for formula, half in (("x3 - x2", 0.2), ("x2 - x1", 0.3), ("x4 - x1", 0.2)):
+        m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
+        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], 0.0, x0, out_unit="mm",
+                               slopes=one_sided_slopes(m, spec, "y"))
+        assert sc.row("worst case (arithmetic)")["high"] == pytest.approx(half, abs=1e-9), formula
+    with pytest.raises(InputError, match="share its datums and its SEP REQT") as ei:   # h2 without its frame's SEP REQT
+        spec_from_table({"factor": rows[:3] + [dict(rows[3], separate=False), dict(rows[4], separate=False)]
+                         + rows[5:]})
+    assert ei.value.key == "factor.frame"
+
+
 def test_a_floating_fastener_pair_on_a_shifted_datum():
     """The floating fastener's two holes (fastener_spec, at RFS) both located from datum bore B ⌀20 +0.1/0 at MMB:
     the margin depends on |p₁ − p₂| only, which a common shift does not change — worst case 0 still (the kinked

@@ -72,13 +72,17 @@ def parse_geometric(text: str, *, unit: str | None = None) -> GeometricTolerance
     head, rest = m.group(1), m.group(2).replace("|", " ")
     characteristic = PROFILES.get(head) or FORMS.get(head) or _WORDS[head.lower()]
     words = rest.split()
-    width, written, words = _magnitude(words, text, "the tolerance (the zone's width)", unit)
+    width, written, word, words = _magnitude(words, text, "the tolerance (the zone's width)", unit)
     u = None
     if words and words[0] in _UNEQUAL:
         if characteristic not in PROFILES.values():
             raise NotationError(f"{text!r}: an unequally disposed zone (U) belongs to a profile tolerance")
-        u, _, words = _magnitude(words[1:], text, "the amount toward added material after U", unit or written)
+        # the amount after U is in the width's unit unless it writes its own (⌓0.1 mm U 0.03: 0.03 mm)
+        u, _, _, words = _magnitude(words[1:], text, "the amount toward added material after U", unit, word)
     bad = [w for w in words if not _DATUM.match(w)]
+    twice = next((w for i, w in enumerate(words) if w in words[:i]), None)
+    if twice is not None and not bad:
+        raise NotationError(f"{text!r}: datum {twice} is named twice (a frame names each datum once)")
     if bad:
         raise NotationError(f"{text!r}: {bad[0]!r} is not a datum letter (the frame reads: tolerance, optional "
                             "U and its amount, datum letters; datum modifiers are not read)")
@@ -96,18 +100,24 @@ def parse_geometric(text: str, *, unit: str | None = None) -> GeometricTolerance
                               datums=tuple(words))
 
 
-def _magnitude(words: list[str], text: str, what: str, unit: str | None) -> tuple[float, str | None, list[str]]:
-    """A number with its optional unit (the next word, or glued: ``0.1mm``, ``0.0004"``) read by the drawing
-    notation's own reader, in ``unit`` (0 is a number too: ``U 0``); its unit; the words after it."""
-    if not words or not _NUMBER.match(words[0]):
+def _magnitude(words: list[str], text: str, what: str, unit: str | None,
+               default_word: str | None = None) -> tuple[float, str | None, str | None, list[str]]:
+    """A number with its optional unit (the next word, or glued: ``0.1mm``, ``0.0004"``; else ``default_word``) read by
+    the drawing notation's own reader, in ``unit`` (0 is a number too: ``U 0``); its unit, the unit word it was read
+    with, and the words after it."""
+    m = _NUMBER.match(words[0]) if words else None
+    if m is None:
         raise NotationError(f"{text!r}: expected {what}")
-    number, after = words[0], words[1:]
-    if after and after[0] not in _UNEQUAL and not _DATUM.match(after[0]):   # a unit word
-        number, after = f"{number} {after[0]}", after[1:]
-    if _ZERO.match(number):
-        return 0.0, unit, after
+    number, after, word = words[0], words[1:], words[0][m.end():] or None
+    if word is None and after and after[0] not in _UNEQUAL and not _DATUM.match(after[0]):   # a unit word
+        word, after = after[0], after[1:]
+    if word is None:
+        word = default_word
+    written = number if number[m.end():] else f"{number} {word}" if word else number
+    if _ZERO.match(number[:m.end()]):
+        return 0.0, unit, word, after
     try:
-        t = parse_tolerance(f"max {number}", unit=unit)
+        t = parse_tolerance(f"max {written}", unit=unit)
     except NotationError as exc:
         raise NotationError(f"{text!r}: {what}: {exc.reason}") from None
-    return t.upper, t.unit, after
+    return t.upper, t.unit, word, after

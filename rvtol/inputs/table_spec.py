@@ -95,6 +95,7 @@ _ALIASES = {
     "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
     "broken edge": "broken_edge", "broken_edge": "broken_edge",
     "separate": "separate", "sep reqt": "separate", "separate requirement": "separate",
+    "frame": "frame", "feature control frame": "frame",
     "pattern": "pattern", "feature relating": "feature_relating", "feature_relating": "feature_relating",
     "frtzf": "feature_relating", "envelope": "envelope", "rule 1": "envelope", "rule #1": "envelope",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
@@ -111,10 +112,10 @@ _NUMBER = re.compile(r"^[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)$")
 _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description": "description", "source": "source",
            "zone": "zone", "size": "size", "feature_type": "feature_type", "datum_size": "datum_size",
            "datum_type": "datum_type", "pattern": "pattern", "feature_relating": "feature_relating",
-           "envelope": "envelope"}
+           "envelope": "envelope", "frame": "frame"}
 #: columns written only when some factor needs them
 _OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type", "pattern",
-             "feature_relating", "envelope", "separate")
+             "feature_relating", "envelope", "separate", "frame")
 
 
 @dataclass
@@ -615,6 +616,7 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTabl
     body = _factor_rows(spec, coefficients)
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
+    value["frame"] = lambda f: "" if f.frame == getattr(f, "pattern", "") else f.frame   # a pattern's: its own
     value["feature_relating"] = _feature_relating
     value["separate"] = lambda f: "yes" if getattr(f, "separate", False) else ""
     written = [f for f in spec.factors if not _generated(f)]
@@ -662,7 +664,7 @@ def _feature_relating(f) -> str:
     if getattr(f, "locating", None) is None:
         return ""
     lo, hi = f.limits
-    return f"⌀{fmt(hi - lo)}" + {"MMC": " (M)", "LMC": " (L)"}.get(f.modifier, "")
+    return " ".join([f"⌀{fmt(hi - lo)}" + {"MMC": " (M)", "LMC": " (L)"}.get(f.modifier, ""), *f.datums])
 
 
 def _frame_text(f) -> str:

@@ -152,7 +152,11 @@ def _domain_row(spec, g, q, sc, mc) -> None:
             continue
         if not np.isfinite(g[cols]).all() or any(spec.factors[i].modifier or spec.factors[i].datum_size for i in cols):
             skipped.append(f"pattern {p.name}")
+            if p.may_rotate:
+                sc.notes.append(N.FRAMEWORK_ROTATES.format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
             continue
+        if p.may_rotate:
+            sc.notes.append(N.FRAMEWORK_ROTATES.format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
         frame, decomposition = frame_extreme(p, g[cols])
         low, high = low - (frame - decomposition), high + (frame - decomposition)
         parts.append(f"pattern {p.name} over its frame ±{d(frame):.4g} (decomposed ±{d(decomposition):.4g})")

@@ -95,3 +95,7 @@ DOMAIN_SKIPPED = ("{domains}: taken by the bands only (a bonus, a datum shift or
                   "in a worst case), an envelope fewer (sizes and forms it excludes)")
 ENVELOPE_VIOLATED = ("{n} of {total} sampled parts break Rule #1 ({form} above {size}'s departure from MMC): the Monte "
                      "Carlo describes the parts as produced; an inspection to the drawing rejects these")
+FRAMEWORK_ROTATES = ("pattern {pattern}'s feature-relating line references {datums}: its framework may also rotate about "
+                     "the primary datum's axis, which rvtol does not model (a translation only) — every row "
+                     "understates an output that turns with the pattern; give the line its secondary datum "
+                     "(⌀T₂ A B) if the drawing has one, or model the rotation as a factor")
