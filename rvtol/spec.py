@@ -175,6 +175,7 @@ class Factor:
     envelope: str = ""                             # Rule #1: the size factor its form stays within (rvtol.envelopes)
     pattern: str = ""                              # a composite frame's pattern (rvtol.patterns): a feature's own
     locating: float | None = None                  # deviation in the FRTZF; the locating zone ⌀T₁ (factor unit)
+    basic: float | None = None                     # a composite feature coordinate's basic value (factor unit)
 
     @property
     def base_unit(self) -> str:
@@ -575,6 +576,10 @@ def factor_from_params(p: Params) -> Factor:
     frame = {"characteristic": getattr(drawing, "characteristic", ""), "datums": getattr(drawing, "datums", ()),
              "envelope": envelope_of(p, drawing)}
     pattern, relating, relating_datums = composite_frame(p, drawing, zone, unit)
+    basic = p.float("basic", None)
+    if basic is not None and not pattern:
+        raise p.error("basic", "basic places a composite frame's feature in its pattern (for the framework's rotation): "
+                               "give pattern and feature_relating")
     p.finish(allow=("multiplicity",))
     _nominal_stated(p, drawing)
     limits = drawing.limits if drawing is not None else None
@@ -588,7 +593,8 @@ def factor_from_params(p: Params) -> Factor:
     if pattern and not gdt["frame"]:      # a composite frame's features share its frame
         gdt["frame"] = pattern
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
-                  limits=limits, measured=measured, zone=zone, **gdt, **frame, pattern=pattern, locating=locating)
+                  limits=limits, measured=measured, zone=zone, **gdt, **frame, pattern=pattern, locating=locating,
+                  basic=basic)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it

@@ -254,3 +254,53 @@ def test_one_frame_written_in_mm_and_in_micrometres_is_one_frame(tmp_path):
     X[0, spec.index("P.x")] = 0.02               # the translation moves both holes alike (base units, mm)
     X[0, spec.index("h2.x")] = 0.003
     assert m.evaluate(X)[0, 0] == pytest.approx(0.003, abs=1e-15)
+
+
+def _rotation_by_scipy(a, basic, t1, t2):
+    """max Σ a_i·p_i over |p_i| ≤ t1/2, |p_i − c − θ J r_i| ≤ t2/2 by SLSQP from several starts (independent)."""
+    n = len(a)
+    r = basic - basic.mean(axis=0)
+    turn = np.column_stack([-r[:, 1], r[:, 0]])
+
+    def neg(z):
+        return -float(np.sum(a * z[:2 * n].reshape(n, 2)))
+
+    cons = []
+    for i in range(n):
+        cons.append({"type": "ineq", "fun": lambda z, i=i: (t1 / 2) ** 2 - np.sum(z[2 * i:2 * i + 2] ** 2)})
+        cons.append({"type": "ineq", "fun": lambda z, i=i: (t2 / 2) ** 2 - np.sum(
+            (z[2 * i:2 * i + 2] - z[2 * n:2 * n + 2] - z[-1] * turn[i]) ** 2)})
+    best = -np.inf
+    rng = np.random.default_rng(0)
+    for _ in range(12):
+        res = minimize(neg, rng.normal(scale=t2 / 8, size=2 * n + 3) * np.r_[np.ones(2 * n + 2), 1e-3],
+                       constraints=cons, method="SLSQP", options={"ftol": 1e-14, "maxiter": 1000})
+        if res.success:
+            best = max(best, -res.fun)
+    return best
+
+
+def test_a_framework_free_to_rotate_turns_in_the_worst_case_over_the_frame(tmp_path):
+    """The audit's D4: the cover's frame ⌀0.5 | A | B | C over ⌀0.1 | A lets the framework rotate about A. With the
+    holes' basic positions (the 80 mm square) the GD&T-domains row takes a small rotation about the pattern's centre
+    too: the tilt h2.y − h1.y reaches far more than the translation alone allows — checked against SLSQP."""
+    rows = ["name,unit,tolerance,zone,pattern,feature relating,basic"]
+    square = {1: (-40, -40), 2: (40, -40), 3: (40, 40), 4: (-40, 40)}
+    for k, (bx, by) in square.items():
+        rows += [f"h{k}.x,mm,⌀0.5,h{k},P,⌀0.1 A,{bx}", f"h{k}.y,mm,⌀0.5,h{k},P,⌀0.1 A,{by}"]
+    spec = load_spec(write(tmp_path / "s.csv", "\n".join(rows) + "\n"))
+    (p,) = patterns(spec.factors)
+    assert p.may_rotate and p.basic == tuple(square[k] for k in (1, 2, 3, 4))
+    write_table_spec(spec, tmp_path / "out.xlsx")
+    assert load_spec(tmp_path / "out.xlsx").factors == spec.factors
+    a = np.zeros((4, 2))
+    a[0] = (0.25, -1.0)
+    a[1] = (0.25, 1.0)
+    a[2:, 0] = 0.25                                      # the study's centre_offset: mean x plus the tilt
+    frame, decomposition = frame_extreme(p, a)
+    assert frame == pytest.approx(_rotation_by_scipy(a, np.array(list(square.values()), float), T1, T2), rel=1e-6)
+    held = Pattern("P", p.zones, T1, T2, "mm", ("A", "B"), p.basic)
+    assert frame > frame_extreme(held, a)[0] * 1.2      # the rotation: 0.434 against the translation's 0.347
+    with pytest.raises(InputError, match="basic is given for some features") as ei:
+        load_spec(write(tmp_path / "t.csv", "\n".join(rows[:-1] + ["h4.y,mm,⌀0.5,h4,P,⌀0.1 A,"]) + "\n"))
+    assert ei.value.key == "factor.basic"

@@ -95,7 +95,7 @@ _ALIASES = {
     "shorter side": "shorter_side", "shorter_side": "shorter_side", "shorter leg": "shorter_side",
     "broken edge": "broken_edge", "broken_edge": "broken_edge",
     "separate": "separate", "sep reqt": "separate", "separate requirement": "separate",
-    "frame": "frame", "feature control frame": "frame",
+    "frame": "frame", "feature control frame": "frame", "basic": "basic", "true position": "basic",
     "pattern": "pattern", "feature relating": "feature_relating", "feature_relating": "feature_relating",
     "frtzf": "feature_relating", "envelope": "envelope", "rule 1": "envelope", "rule #1": "envelope",
     "notes": None, "note": None, "comment": None, "comments": None, "remarks": None,
@@ -115,7 +115,7 @@ _KEY_OF = {"part": "part", "feature": "feature", "group": "group", "description"
            "envelope": "envelope", "frame": "frame"}
 #: columns written only when some factor needs them
 _OPTIONAL = ("group", "description", "zone", "size", "feature_type", "datum_size", "datum_type", "pattern",
-             "feature_relating", "envelope", "separate", "frame")
+             "feature_relating", "envelope", "separate", "frame", "basic")
 
 
 @dataclass
@@ -427,6 +427,11 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma
         if not blank(cell.get(h)):
             table[key] = _text(cell[h])
             keycol[key] = col[h]
+    if "basic" in cell:
+        b = _number(cell["basic"], where("basic"), comma)
+        if b is not None:
+            table["basic"] = b
+        keycol["basic"] = col["basic"]
     if "shorter_side" in cell:
         side = _number(cell["shorter_side"], where("shorter_side"), comma)
         if side is not None:
@@ -616,6 +621,7 @@ def spec_rows(spec, coefficients: dict[str, float] | None = None, keep: SpecTabl
     body = _factor_rows(spec, coefficients)
     value = {"group": lambda f: f.group, "description": lambda f: f.description}
     value.update({c: (lambda f, c=c: getattr(f, c, "")) for c in _OPTIONAL[2:]})
+    value["basic"] = lambda f: "" if getattr(f, "basic", None) is None else fmt(f.basic)   # 0 is a value
     value["frame"] = lambda f: "" if f.frame == getattr(f, "pattern", "") else f.frame   # a pattern's: its own
     value["feature_relating"] = _feature_relating
     value["separate"] = lambda f: "yes" if getattr(f, "separate", False) else ""

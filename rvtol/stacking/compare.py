@@ -156,7 +156,8 @@ def _domain_row(spec, g, q, sc, mc) -> None:
                 sc.notes.append(N.FRAMEWORK_ROTATES.format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
             continue
         if p.may_rotate:
-            sc.notes.append(N.FRAMEWORK_ROTATES.format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
+            sc.notes.append((N.FRAMEWORK_ROTATES if p.basic is None else N.FRAMEWORK_ROTATION_IN_ROW)
+                            .format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
         frame, decomposition = frame_extreme(p, g[cols])
         low, high = low - (frame - decomposition), high + (frame - decomposition)
         parts.append(f"pattern {p.name} over its frame ±{d(frame):.4g} (decomposed ±{d(decomposition):.4g})")

@@ -98,4 +98,9 @@ ENVELOPE_VIOLATED = ("{n} of {total} sampled parts break Rule #1 ({form} above {
 FRAMEWORK_ROTATES = ("pattern {pattern}'s feature-relating line references {datums}: its framework may also rotate about "
                      "the primary datum's axis, which rvtol does not model (a translation only) — every row "
                      "understates an output that turns with the pattern; give the line its secondary datum "
-                     "(⌀T₂ A B) if the drawing has one, or model the rotation as a factor")
+                     "(⌀T₂ A B) if the drawing has one, or each feature's basic position (basic = …) for the worst case "
+                     "over the frame to include it")
+FRAMEWORK_ROTATION_IN_ROW = ("pattern {pattern}'s feature-relating line references {datums}: its framework may also "
+                             "rotate about the primary datum's axis — the worst case (GD&T domains) row includes a small "
+                             "rotation about the pattern's centre (from the features' basic positions); the Monte Carlo "
+                             "and the other rows translate it only")
