@@ -9,7 +9,7 @@ from scipy import stats
 from rvtol.distributions import Distribution
 from rvtol.models.formula.model import FormulaModel
 from rvtol.spec import Factor, ToleranceSpec
-from rvtol.stacking.second_order import curvature, second_order
+from rvtol.stacking.second_order import SecondOrder, _tail_law, curvature, second_order
 
 
 def normal(name, mean, sigma):
@@ -187,3 +187,133 @@ def test_a_gumbel_plus_a_normal_gets_a_johnson_su_curve_with_their_four_moments(
     assert m == pytest.approx(np.euler_gamma + 1.0, rel=1e-9)
     assert math.sqrt(v) == pytest.approx(s * math.sqrt(2), rel=1e-9)
     assert (sk, ex + 3) == (pytest.approx(skew, rel=1e-6), pytest.approx(kurt, rel=1e-6))
+
+
+def test_beyond_adds_both_tails_of_the_fitted_law():
+    """y = x, x ~ N(1, 0.5): the fitted law is that normal, so P(y < 0) + P(y > 2.5) = Φ(−2) + Φ(−3) (scipy); a
+    law with a CDF but no survival function (any scipy-like object) gets its upper tail as 1 − F."""
+    spec = ToleranceSpec("n", (normal("x", 1.0, 0.5),))
+    res = second_order(spec, 1.0, np.array([1.0]), np.zeros((1, 1)))
+    lo, hi = stats.norm.cdf(-2.0), stats.norm.cdf(-3.0)
+    assert res.beyond(lower=0.0) == pytest.approx(lo, rel=1e-12)
+    assert res.beyond(upper=2.5) == pytest.approx(hi, rel=1e-12)
+    assert res.beyond(lower=0.0, upper=2.5) == pytest.approx(lo + hi, rel=1e-12)
+
+    class CdfOnly:                      # a law with ppf and cdf only
+        def __init__(self, law):
+            self.ppf, self.cdf = law.ppf, law.cdf
+
+    bare = SecondOrder(1.0, 1.0, 0.5, 0.0, 3.0, "normal", CdfOnly(stats.norm(1.0, 0.5)))
+    assert bare.beyond(upper=0.5) == pytest.approx(stats.norm.cdf(1.0), rel=1e-12)   # P(y > μ − σ) = Φ(1)
+
+
+def test_the_hessian_by_central_differences_of_a_quartic():
+    """y = a⁴ + b, a, b ~ N(0, 1): steps h = σ/2, so H_aa = (h⁴ − 0 + h⁴)/h² = 2h² = 0.5 (the central difference by
+    hand, not the true 0 of y'' at 0), H_bb = H_ab = 0, from 1 + 2·2 + 4·1 = 9 evaluations (one per pair of factors)."""
+    spec = ToleranceSpec("q", (normal("a", 0.0, 1.0), normal("b", 0.0, 1.0)))
+    m = FormulaModel.from_spec(spec, {"y": ("a**4 + b", "1")})
+    y0, g, H, n = curvature(m, spec, "y")
+    assert n == 9 and y0 == 0.0
+    assert g == pytest.approx([0.0, 1.0], abs=1e-12)
+    assert H == pytest.approx(np.array([[0.5, 0.0], [0.0, 0.0]]), abs=1e-12)
+
+
+def test_the_noise_threshold_scales_with_the_output():
+    """The rule 'curvature below 1e-9 of the linear spread is noise' is relative: y = c(x + 10⁻⁸x²) (x ~ N(0, 1),
+    ½Hσ² = 10⁻⁸c, 2·10⁻⁸ of the linear spread c) is curved for every c, and y = c(x + 10⁻¹⁰x²) (2·10⁻¹⁰ of it) for
+    none, whatever the unit makes of c."""
+    spec = ToleranceSpec("n", (normal("x", 0.0, 1.0),))
+    for c in (1e-6, 1.0, 1e6):
+        res = second_order(spec, 0.0, np.array([c]), np.array([[2e-8 * c]]))
+        assert res.curved and res.mean_shift == pytest.approx(1e-8 * c, rel=1e-9), c
+        res = second_order(spec, 0.0, np.array([c]), np.array([[2e-10 * c]]))
+        assert not res.curved and res.mean_shift == 0.0, c
+
+
+def test_a_product_of_normals_read_from_toml_gets_the_exact_kurtosis():
+    """y = a·b, a, b ~ N(0, 0.1) read from a spec's TOML text (the kind a parsed string, not the literal): the product
+    of two centred normals has variance σ⁴, skewness 0 and kurtosis 9 (E(ab)⁴ = 9σ⁸): the exact quadratic form of
+    normals, cross term included, with no note of a left-out term (σ_y = 0.01 mm²)."""
+    import tomllib
+
+    from rvtol.spec import spec_from_table
+
+    text = "".join(f'[[factor]]\nname = "{n}"\ntolerance = "0 ±0.3"\nunit = "mm"\ndist = "normal"\n' for n in "ab")
+    spec = spec_from_table(tomllib.loads(text))
+    res = run(spec, "a*b", "mm^2")
+    assert res.sigma == pytest.approx(0.01, rel=1e-9) and res.skewness == pytest.approx(0.0, abs=1e-9)
+    assert res.kurtosis == pytest.approx(9.0, rel=1e-9) and res.notes == []
+
+
+def test_a_curved_normal_beside_a_uniform_gets_the_chi2_skewness():
+    """y = x₁² + x₂, x₁ ~ N(0, 0.5), x₂ ~ U(−1, 1): x₁² = σ²χ²(1), whose third cumulant 8σ⁶ and fourth 48σ⁸ (scipy's
+    χ²(1)) add to the uniform's (0 and −1.2·(1/3)²); separable, so exact and without the cross-term note."""
+    s = 0.5
+    spec = ToleranceSpec("m", (normal("a", 0.0, s), uniform("b", -1.0, 1.0)))
+    res = run(spec, "a**2 + b", "1")
+    m, v, sk, ex = (float(t) for t in stats.chi2(1, scale=s * s).stats(moments="mvsk"))
+    var = v + 1 / 3
+    assert res.mean == pytest.approx(m, rel=1e-9) and res.sigma == pytest.approx(math.sqrt(var), rel=1e-9)
+    assert res.skewness == pytest.approx(sk * v ** 1.5 / var ** 1.5, rel=1e-9)
+    assert res.kurtosis == pytest.approx(3 + (ex * v * v - 1.2 / 9) / var ** 2, rel=1e-9)
+    assert res.notes == []
+
+
+def test_cross_curvature_with_a_skewed_curved_factor_in_the_third_moment():
+    """y = A z₁ + B z₁² + z₂ + M z₁z₂ in the standardised factors of x₁ ~ triangular(0, 0.2, 1) (skewed) and
+    x₂ ~ U(−1, 1): the cross term's third-cumulant share 6M c₁c₂ with c₁ = E[g₁z₁] = A + Bμ₃.  With A = −B(μ₄ − 1)/μ₃
+    the terms the method leaves out (3M²E[(g₁ − E g₁)z₁²], 3M²E[(g₂ − E g₂)z₂²], M³μ₃₁μ₃₂) are 0, so the skewness
+    is exact: against the moments of y by Gauss–Legendre quadrature over the triangle's two linear pieces and the
+    square (exact for this polynomial)."""
+    tri = stats.triang(0.2)
+    m1, v1, s3, ex = (float(t) for t in tri.stats(moments="mvsk"))
+    s1 = math.sqrt(v1)
+    B, M = 0.3, 0.4
+    A = -B * (ex + 2.0) / s3                       # μ₄ − 1 = excess + 2
+    spec = ToleranceSpec("t", (Factor("a", "1", Distribution.make("triangular", lower=0.0, mode=0.2, upper=1.0)),
+                               uniform("b", -1.0, 1.0)))
+    z1, z2 = f"((a - {m1!r})/{s1!r})", f"(b*{math.sqrt(3.0)!r})"
+    res = run(spec, f"{A!r}*{z1} + {B!r}*{z1}**2 + {z2} + {M!r}*{z1}*{z2}", "1")
+    t, w = np.polynomial.legendre.leggauss(8)
+    x1, p1 = [], []
+    for lo, hi in ((0.0, 0.2), (0.2, 1.0)):        # the triangle's pdf is linear on each piece
+        x = lo + (hi - lo) * (t + 1) / 2
+        x1.append(x), p1.append(w * (hi - lo) / 2 * tri.pdf(x))
+    x1, p1 = np.concatenate(x1), np.concatenate(p1)
+    u1, u2 = np.meshgrid((x1 - m1) / s1, t * math.sqrt(3.0), indexing="ij")
+    p = np.outer(p1, w / 2)
+    y = A * u1 + B * u1 ** 2 + u2 + M * u1 * u2
+    mean = float(np.sum(p * y))
+    var, m3 = float(np.sum(p * (y - mean) ** 2)), float(np.sum(p * (y - mean) ** 3))
+    assert res.mean == pytest.approx(mean, abs=1e-10) and res.sigma == pytest.approx(math.sqrt(var), rel=1e-9)
+    assert res.skewness == pytest.approx(m3 / var ** 1.5, rel=1e-7)
+
+
+def test_moments_on_or_below_pearsons_bound_are_raised_to_it():
+    """β₂ ≥ β₁ + 1 for every law, with equality only for a two-point one (Pearson 1916): a truncated expansion's
+    kurtosis on or below the bound is raised to just above it (1e-6), said in a note, and the curve has the
+    skewness and the raised kurtosis (scipy's moments of the fitted law)."""
+    for skew, kurt in ((0.5, 1.25), (2.0, 4.0), (-1.0, 1.5)):    # on the bound (exact in binary), below it
+        notes = []
+        law, frozen = _tail_law(0.0, 1.0, skew, kurt, notes)
+        assert law.startswith("Pearson") and notes == [
+            f"the expansion's kurtosis {kurt:.4g} is below skewness² + 1: raised to the bound"]
+        m, v, s, ex = (float(t) for t in frozen.stats(moments="mvsk"))
+        assert (m, v) == (pytest.approx(0.0, abs=1e-9), pytest.approx(1.0, rel=1e-9))
+        assert s == pytest.approx(skew, rel=1e-6) and ex + 3 == pytest.approx(skew * skew + 1 + 1e-6, rel=1e-6)
+
+
+def test_a_slightly_curved_uniform_keeps_its_low_kurtosis():
+    """y = x + 0.01x², x ~ U(−1, 1): skewness 0.0139 and kurtosis 1.8002 (moments by Gauss–Legendre quadrature, exact
+    for this polynomial) — admissible (above skewness² + 1), so the Pearson curve has them unchanged, no note."""
+    res = run(ToleranceSpec("u", (uniform("x", -1.0, 1.0),)), "x + 0.01*x**2", "1")
+    t, w = np.polynomial.legendre.leggauss(8)
+    y, p = t + 0.01 * t ** 2, w / 2
+    d = y - float(np.sum(p * y))
+    var = float(np.sum(p * d ** 2))
+    skew, kurt = float(np.sum(p * d ** 3)) / var ** 1.5, float(np.sum(p * d ** 4)) / var ** 2
+    assert 0.0138 < skew < 0.0139 and 1.8 < kurt < 1.8003
+    assert res.skewness == pytest.approx(skew, rel=1e-7) and res.kurtosis == pytest.approx(kurt, rel=1e-9)
+    assert res.tail_notes == [] and res.law == "Pearson I"
+    _, _, s, ex = (float(x) for x in res.frozen.stats(moments="mvsk"))
+    assert s == pytest.approx(skew, rel=1e-7) and ex + 3 == pytest.approx(kurt, rel=1e-9)
