@@ -656,3 +656,56 @@ def test_ellipses_that_normalise_past_256_characters_are_a_notation_error():
         parse_tolerance("…" * 200)
     with pytest.raises(NotationError, match=r"unexpected '\.\.'"):
         parse_tolerance("25 " + "…" * 150 + " 26")
+
+
+# ------------------------------------------------------------------------------------------------ mutation run (issue 37)
+@pytest.mark.parametrize("text, nominal, lower, upper", [
+    ("10 js6", 10.0, -0.0045, 0.0045),        # 6–10 mm: IT6 = 9 µm, js = ±IT/2 (ISO 286-1 Table 1)
+    ("50 JS7", 50.0, -0.0125, 0.0125),        # 30–50 mm: IT7 = 25 µm
+    ("50 zc11", 50.0, 0.325, 0.485),          # 40–50 mm: ei = +325 µm (ISO 286-2 Table 12), IT11 = 160 µm
+])
+def test_an_iso_class_of_two_letters_is_read(text, nominal, lower, upper):
+    t = parse_tolerance(text)
+    assert (t.form, t.nominal, t.unit) == ("iso", nominal, "mm")
+    assert (t.lower, t.upper) == (pytest.approx(lower, abs=1e-12), pytest.approx(upper, abs=1e-12))
+
+
+def test_a_fit_is_refused_as_a_law_that_sorts_before_normal():
+    # a fit's clearance is normal (or any band kind): lognormal, beta, gumbel sort before "normal"
+    t = parse_tolerance("25 H7/g6")
+    for kind in ("lognormal", "beta", "gumbel"):
+        with pytest.raises(NotationError, match=f"cannot be read as '{kind}'"):
+            t.factor_table(kind)
+
+
+def test_a_tolerance_in_its_own_unit_is_unchanged_to_the_last_bit():
+    # the unit read from the text is a new string (not the literal "in"): same unit, no conversion — 0.375 in
+    # through mm and back is 0.37499999999999994
+    t = parse_tolerance("10 ±0.375 in")
+    assert t.in_unit("in") == t and (t.lower, t.upper) == (-0.375, 0.375)
+
+
+def test_the_class_after_the_deviations_takes_their_unit():
+    """2 in +0.00118/0 (H7): the class is H7 at 2 in = 50.8 mm (50–80 mm: IT7 = 30 µm, 0.0011811 in), whose
+    deviations are the ones written to 0.5 µm — not H7 at 2 mm (IT7 = 10 µm)."""
+    t = parse_tolerance("2 in +0.00118/0 (H7)")
+    assert (t.form, t.nominal, t.unit, t.lower) == ("iso", 2.0, "in", 0.0)
+    assert t.upper == pytest.approx(0.030 / 25.4, rel=1e-12) and t.iso.it == 30.0
+
+
+def test_a_minus_zero_upper_deviation_is_stored_as_zero():
+    t = parse_tolerance("50 -0.00/-0.1")
+    assert math.copysign(1.0, t.upper) == 1.0 and (t.lower, t.upper) == (-0.1, 0.0)
+
+
+def test_a_general_tolerance_has_no_diameter_sign():
+    t = parse_tolerance("50 ISO 2768-m")        # 30–120 mm, class m: ±0.3 (ISO 2768-1 Table 1)
+    assert (t.lower, t.upper, t.diameter) == (-0.3, 0.3, False)
+
+
+def test_cpk_above_cp_by_the_rounding_allowance_is_accepted():
+    # Cpk may exceed Cp by 1e-9 of it (rounding of the two figures): 1.000000001 = 1·(1 + 1e-9) in binary
+    t = parse_tolerance("10 ±0.1 Cp 1 Cpk 1.000000001")
+    assert t.process.cpk == 1.000000001 and t.process.k == pytest.approx(-1e-9, rel=1e-6)
+    with pytest.raises(NotationError, match="cannot exceed Cp"):
+        parse_tolerance("10 ±0.1 Cp 1 Cpk 1.000000002")
