@@ -241,3 +241,42 @@ def test_multi_form_keeps_three_design_points():
     assert len(est.design_points) == 3 and e.beta == pytest.approx(4.0, rel=1e-5)
     assert e.pf == pytest.approx(1.0 - (1.0 - stats.norm.sf(4.0)) ** 3, rel=1e-3)
 
+
+
+# ----------------------------------------------------------------------------- mutation run (issue 37)
+def test_the_more_robust_of_two_disagreeing_methods_is_kept_whichever_comes_first():
+    """Subset 3 ± 0.1 ppm listed before importance sampling 1 ± 0.1 ppm: 2 > 3·√2·0.1 = 0.42, they disagree; importance
+    sampling (one design point) is the suspect, subset the reference; FORM 2.5e-6 is 2.5 ppm."""
+    est = tail_of(("FORM", 2.5e-6, None), ("subset", 3.0e-6, 0.1e-6), ("importance sampling", 1.0e-6, 0.1e-6))
+    assert est.reference == "subset" and est.ppm_form == pytest.approx(2.5, rel=1e-12)
+    assert est.disagreements[0] == ("subset 3 ± 0.1 ppm and importance sampling 1 ± 0.1 ppm differ by more than 3 "
+                                    "combined standard errors")
+
+
+def test_two_equally_robust_methods_disagreeing_are_both_left_out():
+    """Subset 2 ± 0.1 and directional 4 ± 0.1 ppm disagree (2 > 0.42) and are equally robust: both suspect.  Importance
+    sampling 3 ± 0.5 ppm agrees with each (1 ≤ 3·√(0.1² + 0.5²) = 1.53), so it is the reference — not subset, whose
+    c.o.v. (0.05) is the smaller."""
+    est = tail_of(("subset", 2.0e-6, 0.1e-6), ("directional", 4.0e-6, 0.1e-6), ("importance sampling", 3.0e-6, 0.5e-6))
+    assert est.reference == "importance sampling" and len(est.disagreements) == 1
+
+
+def test_a_number_that_is_no_probability_is_shown_in_ppm():
+    from rvtol.stacking.tail import Estimate, _not_an_estimate
+
+    why = _not_an_estimate(Estimate("importance sampling", 1.5, 0.1), 2, 5.0)
+    assert why == "the method returned 1.5e+06 ± 1e+05 ppm, not a probability"
+
+
+@pytest.mark.parametrize("k, out_of_reach", [(12, True), (13, False)])
+def test_out_of_reach_looks_at_the_corners_of_at_most_twelve_factors(k, out_of_reach):
+    """y = Σ xᵢ of k U(−1, 1) beyond k + 0.5 (above the worst case k): out of reach by its 2¹² corners for 12
+    factors; for 13 the corners are not tried (not out of reach: the methods run and say what they find)."""
+    from rvtol.mc import Evaluator
+    from rvtol.stacking.tail import _Limit, _out_of_reach
+
+    spec = ToleranceSpec("u", tuple(Factor(f"x{i}", "mm", Distribution.make("uniform", lower=-1.0, upper=1.0))
+                                    for i in range(k)))
+    m = LinearModel(spec.names, ["mm"] * k, [Quantity("y", "mm")], [[1.0] * k])
+    ls = _Limit(m, spec, "y", k + 0.5, "upper", Evaluator())
+    assert _out_of_reach(spec, ls, lambda y: y > k + 0.5) is out_of_reach
