@@ -867,7 +867,7 @@ class DatumShift:
 
 def datum_shifts(spec: "ToleranceSpec") -> list[DatumShift]:
     """The datum-feature shifts of the spec's position zones, one per datum feature of size (``datum_size``) with the
-    zones that reference it together, one per zone marked ``separate`` (SEP REQT), in the order the zones are written
+    zones that reference it together, one per frame marked ``separate`` (SEP REQT), in the order the zones are written
     (:class:`DatumShift`)."""
     groups: dict[tuple[str, str], list[str]] = {}
     types: dict[str, str] = {}

@@ -62,6 +62,19 @@ def run_cli(args, capsys) -> tuple[int, list[str]]:
     return rc, capsys.readouterr().err.strip().splitlines()
 
 
+def assert_refused(spec_path: Path, study_path: Path, capsys, key: str, words: str) -> None:
+    """The spec at ``spec_path`` is refused at ``key`` with ``words`` in the reason, and ``rvtol check`` of the study
+    that reads it says so in one located line with exit code 2."""
+    from rvtol.errors import InputError
+    from rvtol.spec import load_spec
+
+    with pytest.raises(InputError) as ei:
+        load_spec(spec_path)
+    assert ei.value.key == key and words in ei.value.reason, (ei.value.key, ei.value.reason)
+    rc, err = run_cli(["check", study_path], capsys)
+    assert rc == 2 and len(err) == 1 and spec_path.name in err[0] and words in err[0], err
+
+
 @pytest.fixture
 def root() -> Path:
     return ROOT
