@@ -53,6 +53,7 @@ def test_a_profiles_amount_after_u_takes_the_widths_unit_on_a_factor_in_another(
     ("⌓0 A", "positive width"),
     ("⌓0.1 A A", "datum A is named twice"),
     ("flatness 0.02 furlongs", "the tolerance (the zone's width)"),
+    ("⌓0.1 U -0.03 A", "must not be negative"),
 ])
 def test_a_frame_written_wrong_says_why(text, words):
     with pytest.raises(NotationError, match=words.replace("(", r"\(").replace(")", r"\)")):
@@ -190,7 +191,7 @@ BAD = [
      "factor.envelope", "is not a size"),
     ('tolerance = "⌭0.015"', 'tolerance = "⌭0.015 A"', "factor[1].tolerance", "relates to no datum"),
     ('unit = "um"\ntolerance = "⌭10 um"', 'unit = "deg"\ntolerance = "⌭0.1 deg"', "factor.envelope",
-     "a form and its size are both lengths"),
+     "a form and its size must both be lengths"),
     ('envelope = "d"\nfeature_type = "external"', 'envelope = "D"\nfeature_type = "external"', "factor.feature_type",
      "one feature has one type"),
 ]
