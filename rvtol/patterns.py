@@ -127,6 +127,10 @@ def expand(factors: list, file: str | None) -> list:
                 raise SpecError(f"pattern {pat.name!r}: {f.name} and {fs[0].name} carry different frames (one "
                                 "composite frame locates a pattern: the same unit, zones and modifier on every "
                                 "feature)", file=file, key="factor.pattern")
+        if len({f.frame for f in fs}) > 1:
+            raise SpecError(f"pattern {pat.name!r}: its features name different frames ({', '.join(sorted({f.frame for f in fs}))}) "
+                            "— a composite frame is one frame: leave frame out (the pattern's) or give them one",
+                            file=file, key="factor.frame")
         if any(f.basic is None for f in fs) and any(f.basic is not None for f in fs):
             raise SpecError(f"pattern {pat.name!r}: basic is given for some features and not for others — every "
                             "feature's two coordinates, or none", file=file, key="factor.basic")

@@ -143,11 +143,10 @@ def digest(mc: MonteCarloResult, model: Model, spec: ToleranceSpec, seed: int | 
                 d.change, d.fixes = statistic_fixes(r, v, d)
             else:
                 d.change = what_to_change(r, row, d.drivers, mc)
-                failures = _failures_decide(r, row, mc)
-                d.fixes = ([Fix(r.label, "model failures", *(t.format(**failures) for t in T.FAILURES))]
-                           if failures is not None else
-                           first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
-                                             v.parts_to_demonstrate))
+                failures = _failures_matter(r, row, mc)
+                d.fixes = first_order_fixes(r, row, d, v.n_to_demonstrate, _evaluated(mc, r.output),
+                                            v.parts_to_demonstrate) if failures is None else [
+                    Fix(r.label, "model failures", *(t.format(**failures) for t in T.FAILURES))]
         out.append(d)
     return out
 
@@ -264,24 +263,32 @@ def tightening(r, mean: float, sigma: float, drivers: list[Driver], y=None) -> T
     return t
 
 
-def _failures_decide(r, row, mc) -> dict | None:
-    """Where the samples the model could not evaluate (each a failure of every requirement on the output) alone exceed
-    the share of units the requirement lets fail: their share, the allowed one (percent) and the reasons."""
-    failed, n = int(row.get("failed") or 0), int(row.get("n") or 0) + int(row.get("failed") or 0)
+def _failures_matter(r, row, mc) -> dict | None:
+    """Where the samples the model could not evaluate (each a failure of every requirement on the output) are a
+    sizeable part of what the requirement lets fail — more than half of it: their share, the allowed one (percent),
+    the reasons, and whether the evaluated units alone would meet it (``alone``: the failures are what fails it).
+    The evaluated units' mean and σ are then those of the units that could be evaluated (a selection), so no advice
+    is read from them alone."""
+    failed = int(row.get("failed") or 0)
+    n = int(row.get("n") or 0) + failed
     allowed = 1.0 - (r.min_yield if r.min_yield is not None else 0.0)
-    if not failed or r.min_yield is None or failed / n <= allowed:
+    if not failed or r.min_yield is None or failed / n <= 0.5 * allowed:
         return None
+    y = _evaluated(mc, r.output)
+    outside = np.count_nonzero((y < r.lower) if r.lower is not None else np.zeros(len(y), bool)) + np.count_nonzero(
+        (y > r.upper) if r.upper is not None else np.zeros(len(y), bool))
     codes = [int(c) for c in np.unique(mc.status[~mc.ok])]
     why = "; ".join(mc.status_reasons.get(c, f"status {c}") for c in codes[:3])
-    return {"share": 100 * failed / n, "allowed": 100 * allowed, "why": why}
+    return {"share": 100 * failed / n, "allowed": 100 * allowed, "why": why, "outside": 100 * outside / n,
+            "alone": outside / n <= allowed}
 
 
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:
     """A first-order estimate of the tightening that would make ``r`` pass (a sentence of :mod:`.signoff_texts`)."""
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
-    failures = _failures_decide(r, row, mc)
+    failures = _failures_matter(r, row, mc)
     if failures is not None:
-        return T.FAILURES_CHANGE.format(**failures)
+        return (T.FAILURES_ALONE if failures["alone"] else T.FAILURES_AND_SPREAD).format(**failures)
     if mean is None or sigma is None:
         return T.NOTHING_EVALUATED
     unit = r.unit or ""

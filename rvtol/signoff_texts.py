@@ -28,13 +28,16 @@ MORE_SAMPLES = ("run n = {n:,} samples",
 MORE_PARTS = ("measure about {parts}",
               "the fitted laws of the measured factors are too uncertain to demonstrate it — more Monte Carlo samples "
               "cannot; these would, if the fitted laws held (the fit's deviation shrinks as 1/√parts)")
-FAILURES = ("make the model evaluable for more units: {share:.3g} % of the samples could not be evaluated ({why}) and "
-            "count as failing the requirement",
-            "they alone exceed the {allowed:.3g} % it allows; the mean and σ of the evaluated units say nothing of them "
-            "— find the factors that drive the failures (the samples' status in samples.parquet) and tighten or "
-            "re-centre those")
-FAILURES_CHANGE = ("{share:.3g} % of the samples could not be evaluated ({why}): they alone exceed the {allowed:.3g} % "
-                   "the requirement allows — the evaluated units' mean and σ are not what fails it.")
+FAILURES = ("find what makes {share:.3g} % of the samples fail to evaluate — {why} — and tighten or re-centre the "
+            "factors that drive it (each sample's status is in samples.parquet)",
+            "they count as failing the requirement, which allows {allowed:.3g} %; the evaluated units are a selection "
+            "(those that could be evaluated), so no fix is read from their mean and σ alone — a nominal inside the "
+            "limits is not ruled out")
+FAILURES_ALONE = ("{share:.3g} % of the samples could not be evaluated — {why} — and count as failing: more than the "
+                  "{allowed:.3g} % the requirement allows; the evaluated units meet it ({outside:.3g} % outside).")
+FAILURES_AND_SPREAD = ("{share:.3g} % of the samples could not be evaluated — {why} — and count as failing, beside "
+                       "{outside:.3g} % evaluated outside the limits (the requirement allows {allowed:.3g} %): both the "
+                       "failures and the spread of the evaluated units fail it.")
 REDESIGN = ("move the mean ({mean:.4g} {unit}) {side} the limit {limit:g} {unit}: a nominal of the design",
             "tightening cannot help: as tolerances shrink, every unit approaches the nominal one")
 RECENTRE = ("move the mean from {mean:.4g} to {mid:.4g} {unit} (shift {shift:+.3g} {unit}: a nominal, no tolerance "

@@ -650,6 +650,9 @@ def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
                 raise p.error("shorter_side" if side is not None else "broken_edge",
                               "belongs to an ISO 2768 general tolerance, not to a profile or form tolerance")
             return parse_geometric(text, unit=unit)
+        m = _FRAME_DATUMS.search(text) if text.lstrip()[:1] in "⌀Øø∅" else None
+        if m is not None:           # a position frame's datum letters (⌀0.5 A B C): what locates the zone, read from
+            text = text[:m.start()]  # datum_size for a datum feature of size at MMB
         tol = parse_tolerance(text, nominal=nominal, unit=unit, shorter_side=side, broken_edge=edge)
     except NotationError as exc:
         raise p.error(exc.key or "tolerance", exc.reason) from None
@@ -867,7 +870,7 @@ class DatumShift:
 
 def datum_shifts(spec: "ToleranceSpec") -> list[DatumShift]:
     """The datum-feature shifts of the spec's position zones, one per datum feature of size (``datum_size``) with the
-    zones that reference it together, one per zone marked ``separate`` (SEP REQT), in the order the zones are written
+    zones that reference it together, one per frame marked ``separate`` (SEP REQT), in the order the zones are written
     (:class:`DatumShift`)."""
     groups: dict[tuple[str, str], list[str]] = {}
     types: dict[str, str] = {}
@@ -938,6 +941,11 @@ def check_frames(factors, file: str | None) -> None:
     """The zones of one feature control frame (``frame``, an nX pattern) reference the same datum feature and are all
     a separate requirement or none: SEP REQT is written beneath a frame, not beside one of its features."""
     first: dict[str, object] = {}
+
+    def zone_of(f):     # the frame's zone, in base units (one frame may be written in mm and in µm)
+        lo, hi = f.limits
+        return units.dimension(f.unit), round(float(units.to_base(hi - lo, f.unit)), 12), f.modifier
+
     for f in factors:
         if not (f.zone and f.frame):
             continue
@@ -945,6 +953,25 @@ def check_frames(factors, file: str | None) -> None:
         if (g.separate, g.datum_size) != (f.separate, f.datum_size):
             raise SpecError(f"frame {f.frame!r}: zones {g.zone!r} and {f.zone!r} differ in separate or datum_size — the "
                             "zones of one frame share its datums and its SEP REQT", file=file, key="factor.frame")
+        if zone_of(g) != zone_of(f):
+            raise SpecError(f"frame {f.frame!r}: zones {g.zone!r} and {f.zone!r} differ in diameter or modifier — one "
+                            "frame gives its features one zone", file=file, key="factor.frame")
+    check_feature_types(factors, file)
+
+
+def check_feature_types(factors, file: str | None) -> None:
+    """A feature of size has one type wherever the spec names it: as a zone's ``size``, a ``datum_size`` or a form's
+    ``envelope`` (internal: a hole, external: a shaft or boss)."""
+    seen: dict[str, tuple[str, str]] = {}
+    for f in factors:
+        for ref, kind, key in ((f.size, f.feature_type, "feature_type"), (f.datum_size, f.datum_type, "datum_type"),
+                               (f.envelope, f.feature_type, "feature_type")):
+            if not ref or not kind:
+                continue
+            prev = seen.setdefault(ref, (kind, f.name))
+            if prev[0] != kind:
+                raise SpecError(f"feature of size {ref!r} is {prev[0]} for {prev[1]!r} and {kind} for {f.name!r}: one "
+                                "feature has one type", file=file, key=f"factor.{key}")
 
 
 def check_envelopes(factors, file: str | None) -> None:
@@ -963,11 +990,7 @@ def check_envelopes(factors, file: str | None) -> None:
                             "coordinate, or a profile or form tolerance)", file=file, key="factor.envelope")
         if units.dimension(g.unit) != "length" or units.dimension(f.unit) != "length":
             raise SpecError(f"factor {f.name!r} ({f.unit}) and its envelope {f.envelope!r} ({g.unit}): a form and its "
-                            "size are both lengths", file=file, key="factor.envelope")
-        other = next((h for h in factors if h.envelope == f.envelope and h.feature_type != f.feature_type), None)
-        if other is not None:
-            raise SpecError(f"size {f.envelope!r} is {f.feature_type} for {f.name!r} and {other.feature_type} for "
-                            f"{other.name!r}: one feature has one type", file=file, key="factor.feature_type")
+                            "size must both be lengths", file=file, key="factor.envelope")
 
 
 def stack_direction(p: Params) -> float | None:

@@ -1,10 +1,65 @@
+import importlib.metadata
+import importlib.util
 import os
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# --------------------------------------------------------------------------- the reproduction wing
+# The core suite passes without the wing (studies/reproduction, a plug-in distribution; its own tests are in
+# studies/reproduction/tests): what needs it skips with a reason when it is not installed.  RVTOL_TESTS_WITHOUT_WING=1
+# runs the suite as if it were not installed, in this process and its xdist workers (the studies' subprocesses load
+# no conftest and still see it).
+
+#: the wing's package and the analysis kinds it registers (rvtol.analyses entry points)
+WING_PACKAGE = "rvtol_reproduction"
+WING_KINDS = frozenset({"transmission_error_reproduction", "lost_motion_reproduction", "adjustment_reproduction",
+                        "stackup_shaft_hole", "stiffness_reproduction"})
+WITHOUT_WING = "the reproduction wing is not installed (python -m pip install -e studies/reproduction)"
+
+
+def hide_the_wing() -> None:
+    """Make this process see an environment without the wing: its package cannot be imported (``sys.modules``
+    holds None for it) and :func:`importlib.metadata.entry_points` selects none of its entry points (the registry
+    selects by group; the unselected form, Python 3.11's dict of groups, is passed through)."""
+    sys.modules[WING_PACKAGE] = None
+    listed = importlib.metadata.entry_points
+
+    def entry_points(**selection):
+        if not selection:
+            return listed()
+        return importlib.metadata.EntryPoints(ep for ep in listed(**selection)
+                                              if ep.module.split(".")[0] != WING_PACKAGE)
+
+    importlib.metadata.entry_points = entry_points
+
+
+if os.environ.get("RVTOL_TESTS_WITHOUT_WING"):
+    hide_the_wing()
+
+
+def wing_installed() -> bool:
+    return importlib.util.find_spec(WING_PACKAGE) is not None
+
+
+def names_a_wing_kind(study: Path) -> bool:
+    """Whether a study file's ``[[analysis]]`` tables name a kind of the wing."""
+    data = tomllib.loads(study.read_text(encoding="utf-8"))
+    return any(t.get("kind") in WING_KINDS for t in data.get("analysis", []))
+
+
+#: the mark of a test that needs the wing installed
+needs_wing = pytest.mark.skipif(not wing_installed(), reason=WITHOUT_WING)
+
+
+def study_param(study: Path, id: str | None = None):
+    """``study`` as a pytest parameter, skipped with the reason when it names a wing kind and the wing is absent."""
+    skip = pytest.mark.skipif(not wing_installed() and names_a_wing_kind(study), reason=WITHOUT_WING)
+    return pytest.param(study, marks=skip, id=id or study.stem)
 
 # keep BLAS single-threaded in tests: results are compared bit for bit across executors
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -60,6 +115,19 @@ def run_cli(args, capsys) -> tuple[int, list[str]]:
 
     rc = main([str(a) for a in args])
     return rc, capsys.readouterr().err.strip().splitlines()
+
+
+def assert_refused(spec_path: Path, study_path: Path, capsys, key: str, words: str) -> None:
+    """The spec at ``spec_path`` is refused at ``key`` with ``words`` in the reason, and ``rvtol check`` of the study
+    that reads it says so in one located line with exit code 2."""
+    from rvtol.errors import InputError
+    from rvtol.spec import load_spec
+
+    with pytest.raises(InputError) as ei:
+        load_spec(spec_path)
+    assert ei.value.key == key and words in ei.value.reason, (ei.value.key, ei.value.reason)
+    rc, err = run_cli(["check", study_path], capsys)
+    assert rc == 2 and len(err) == 1 and spec_path.name in err[0] and words in err[0], err
 
 
 @pytest.fixture

@@ -7,11 +7,10 @@ import numpy as np
 import pytest
 
 from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
-from rvtol_reproduction.doc002_adjustment import CRANK_ANGLES, te_inputs, te_values
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
-from conftest import write
+from conftest import needs_wing, write
 from test_adjustment_inputs import STUDY_HEAD
 
 STUDY = STUDY_HEAD + textwrap.dedent("""
@@ -52,10 +51,15 @@ STUDY = STUDY_HEAD + textwrap.dedent("""
 """)
 
 
+#: the study without the wing's analysis (adjustment_reproduction): what the allocation's own checks need
+CORE_STUDY = STUDY[:STUDY.index('[[analysis]]\nkind = "adjustment_reproduction"')]
+
+
 def _path(tmp_path, root, text):
     return write(tmp_path / "s.toml", text.replace("{root}", str(root)))
 
 
+@needs_wing
 def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
     study = load_study(_path(tmp_path, root, STUDY), executor="serial", progress=False)
     res = run_study(study)
@@ -89,19 +93,22 @@ def test_small_study_runs_and_its_summary_is_json(tmp_path, root):
     ('scales = [1.0, 2.0]', 'scales = [1.0, -2.0]', "analysis[1].pareto.scales[1]", "> 0"),
     ('costs = "{root}/data/costs/bx40e_angular.toml"', 'costs = "{root}/data/costs/none.toml"', "-",
      "file not found"),
-    ('allocation = "alloc3d"', 'allocation = "alloc9"', "analysis[2].allocation",
-     "no other analysis has the key 'alloc9' (the study's: 'adjustment', 'alloc3d')"),
-    ('allocation = "alloc3d"', 'allocation = "adjustment"', "analysis[2].allocation",
-     "analysis 'adjustment' is a 'adjustment' analysis, not 'allocation'"),
+    # the reproduction's requires = {"allocation": "allocation"}: the key it names is checked
+    pytest.param('allocation = "alloc3d"', 'allocation = "alloc9"', "analysis[2].allocation",
+                 "no other analysis has the key 'alloc9' (the study's: 'adjustment', 'alloc3d')", marks=needs_wing),
+    pytest.param('allocation = "alloc3d"', 'allocation = "adjustment"', "analysis[2].allocation",
+                 "analysis 'adjustment' is a 'adjustment' analysis, not 'allocation'", marks=needs_wing),
 ])
 def test_bad_allocation_inputs(tmp_path, root, old, new, key, reason):
-    assert old in STUDY, old
+    text = STUDY if key.startswith("analysis[2]") else CORE_STUDY
+    assert old in text, old
     with pytest.raises(InputError) as ei:
-        load_study(_path(tmp_path, root, STUDY.replace(old, new, 1)))
+        load_study(_path(tmp_path, root, text.replace(old, new, 1)))
     assert ei.value.key == key, (ei.value.key, ei.value.reason)
     assert reason in ei.value.reason
 
 
+@needs_wing
 def test_an_analysis_runs_after_the_analyses_it_requires_whatever_the_files_order(tmp_path, root):
     head, rest = STUDY.split("[[analysis]]\nkind = \"allocation\"", 1)
     alloc, repro = rest.split("[[analysis]]\nkind = \"adjustment_reproduction\"", 1)
@@ -136,36 +143,6 @@ def test_analyses_that_require_each_other_are_a_located_error():
     with pytest.raises(InputError) as ei:
         in_dependency_order(chain, tables[1:])
     assert ei.value.key == "analysis[1].source" and "no other analysis has the key 'a'" in ei.value.reason
-
-
-def test_te_mapping_by_hand():
-    """KC1 tilted by δ: crank 1 moves by (0, −δL); disc 1 moves relative to it by (0, +δL) (KC2 = 0)."""
-    d, L = 1e-3, 6.0
-    v = dict(zip(te_inputs(), te_values({"KC1": d, "KC2": 0.0, "KC3": 0.0, "KC4": 0.0}, L)))
-    assert v["E_ca[1]"] == pytest.approx(d * L) and v["beta_ca[1]"] == pytest.approx(-math.pi / 2)
-    for h in (1, 2, 3):  # the same carrier-frame vector seen from each hole's radial direction
-        assert v[f"E_h[1,{h}]"] == pytest.approx(d * L)
-        assert v[f"beta_h[1,{h}]"] == pytest.approx(math.pi / 2 - CRANK_ANGLES[h - 1])
-    assert v["E_ca[2]"] == 0.0 and v["E_h[2,1]"] == 0.0
-    # a gear tilted with its crank (δ_gear = δ_crank) sits exactly on it
-    v = dict(zip(te_inputs(), te_values({"KC1": 0.0, "KC2": 0.0, "KC3": d, "KC4": d}, L)))
-    assert v["E_h[2,1]"] == 0.0 and v["E_ca[2]"] == pytest.approx(d * L)
-
-
-def test_te_of_the_mapped_example_scales_with_the_lever_arm(root):
-    """Small offsets: TE is kinematic, proportional to L; at Q = ∞ the mapped reducer is error-free."""
-    from rvtol.design import load_design
-    from rvtol.models.transmission.model import TransmissionErrorModel
-    from rvtol_reproduction.doc002_adjustment import te_against_q
-
-    te = TransmissionErrorModel(load_design(root / "data/designs/rv80e_te.toml"), inputs=te_inputs())
-    m = AdjustedAssemblyModel(load_assembly(root / "data/assemblies/bx40e_2d.toml"))
-    w = np.array([-1.6, 5.3, 5.8, 3.2]) * 1e-3
-    a = te_against_q(m, te, w, [5.0, math.inf], 3.0)
-    b = te_against_q(m, te, w, [5.0, math.inf], 6.0)
-    free = te.evaluate(np.zeros((1, len(te.inputs))))[0, te.output_index("te_pp")]
-    assert b["te_pp [arcsec]"][0] == pytest.approx(2 * a["te_pp [arcsec]"][0], rel=0.02)
-    assert a["te_pp [arcsec]"][1] == pytest.approx(free * 206264.806, rel=1e-6)
 
 
 #: the allocation analysis of the small studies below (one cost curve for every factor)

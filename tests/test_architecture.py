@@ -8,15 +8,18 @@ from pathlib import Path
 
 import pytest
 
+import rvtol
+import rvtol.plugin
 from rvtol.analysis import Analysis
 from rvtol.registry import ANALYSES, MODELS, plugin_analyses, plugin_models
 
+from conftest import WING_KINDS
+
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "rvtol"
-#: the reproduction wing: a distribution of its own (studies/reproduction), installed by the test command
+#: the reproduction wing: a distribution of its own (studies/reproduction, its tests in studies/reproduction/tests),
+#: installed by the test command; the core suite passes without it (tests/conftest.py)
 WING = ROOT / "studies" / "reproduction"
-WING_KINDS = {"transmission_error_reproduction", "lost_motion_reproduction", "adjustment_reproduction",
-              "stackup_shaft_hole", "stiffness_reproduction"}
 
 
 def all_analyses() -> dict[str, str]:
@@ -136,6 +139,69 @@ def test_the_library_does_not_import_the_reproduction_wing():
     assert bad == []
 
 
+# --------------------------------------------------------------------------- the plug-in API (issue 38)
+def _rvtol_imports(path: Path) -> list[tuple[int, str, list[str]]]:
+    """``(line, module, names)`` of each import of rvtol in a file (``names``: what ``from module import`` takes)."""
+    out = []
+    for n in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(n, ast.ImportFrom) and n.module and not n.level and n.module.split(".")[0] == "rvtol":
+            out.append((n.lineno, n.module, [a.name for a in n.names]))
+        elif isinstance(n, ast.Import):
+            out += [(n.lineno, a.name, []) for a in n.names if a.name.split(".")[0] == "rvtol"]
+    return out
+
+
+def test_the_wing_imports_rvtol_only_through_the_plugin_api():
+    """Every import of rvtol in the wing's package (function-level ones too) is ``rvtol.plugin`` or a public name
+    of the top-level ``rvtol`` (its ``__all__``; not a submodule such as ``from rvtol import units``)."""
+    files = sorted((WING / "rvtol_reproduction").rglob("*.py"))
+    assert files
+    bad = [f"{p.relative_to(ROOT)}:{line}: {module} {names}" for p in files for line, module, names in _rvtol_imports(p)
+           if not (module == "rvtol.plugin" or module == "rvtol" and set(names) <= set(rvtol.__all__))]
+    assert bad == []
+
+
+def test_the_import_check_finds_a_private_import(tmp_path):
+    p = tmp_path / "m.py"
+    p.write_text("from rvtol.plugin import units\nfrom rvtol import units\n\ndef f():\n    import rvtol.stats\n")
+    assert [(line, m) for line, m, _ in _rvtol_imports(p)] == [(1, "rvtol.plugin"), (2, "rvtol"), (5, "rvtol.stats")]
+    assert not {"units"} <= set(rvtol.__all__)
+
+
+def test_no_library_module_imports_the_plugin_api():
+    """The plug-in API is the boundary seen from outside: nothing of the library depends on it."""
+    bad = [m for m, ts in import_graph().items() if "rvtol.plugin" in ts]
+    assert bad == []
+
+
+def test_the_plugin_api_exports_exactly_its_documented_names():
+    """Every name of ``__all__`` resolves and has its one line in the module docstring (``- ``name`` — what it is``);
+    the module holds no other public name, so a new export is a deliberate, documented one."""
+    api = rvtol.plugin
+    for name in api.__all__:
+        assert getattr(api, name) is not None, name
+        assert re.search(rf"^- ``{re.escape(name)}`` — \S", api.__doc__, re.M), f"{name}: no line in the docstring"
+    documented = re.findall(r"^- ``(\w+)`` — ", api.__doc__, re.M)
+    assert sorted(documented) == sorted(api.__all__) and len(set(api.__all__)) == len(api.__all__)
+    public = {n for n in vars(api) if not n.startswith("_")} - {"annotations", "TYPE_CHECKING"}
+    assert public <= set(api.__all__), public - set(api.__all__)
+
+
+def test_importing_the_plugin_api_does_not_import_matplotlib():
+    import subprocess
+    import sys
+
+    code = "import sys, rvtol.plugin; print('matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
+
+
+def test_the_wing_registers_its_kinds_in_the_plugin_apis_entry_point_group():
+    project = tomllib.loads((WING / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert set(project["entry-points"][rvtol.plugin.ANALYSIS_ENTRY_POINT_GROUP]) == WING_KINDS
+    assert project["dependencies"] == ["rvtol"]
+
+
 #: what only the reproduction wing may say: it reads a document's printed figures
 PRINTED_FIGURES = re.compile(r"data/reproduction|load_printed|printed figure|printed box|printed value", re.I)
 
@@ -144,16 +210,6 @@ def test_no_library_module_mentions_a_documents_printed_figures():
     bad = [f"{p.relative_to(ROOT)}:{i}" for p in PKG.rglob("*.py")
            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if PRINTED_FIGURES.search(line)]
     assert bad == []
-
-
-def test_the_reproduction_wing_is_an_installed_plug_in():
-    """The test command installs studies/reproduction; its kinds come from the rvtol.analyses entry points."""
-    eps = plugin_analyses()
-    assert WING_KINDS <= set(eps), "install the wing: python -m pip install -e studies/reproduction"
-    for k in WING_KINDS:
-        assert eps[k].value.startswith("rvtol_reproduction.analyses:") and k not in ANALYSES
-        assert Path(inspect.getfile(eps[k].load())).resolve().is_relative_to(WING.resolve()), \
-            "the installed wing is not this checkout's"
 
 
 def test_plotting_imports_no_computation():
@@ -222,8 +278,8 @@ def test_every_registered_kind_is_used_by_a_study_or_a_test():
 
 def test_every_kind_a_study_names_is_registered():
     for p in (ROOT / "studies").glob("*.toml"):
-        for k in _kinds_named_by(p):
-            assert k in MODELS or k in all_analyses(), (p.name, k)
+        for k in _kinds_named_by(p):       # the wing's kinds: registered when it is installed (its test_plugin.py)
+            assert k in MODELS or k in all_analyses() or k in WING_KINDS, (p.name, k)
 
 
 # --------------------------------------------------------------------------- the analysis shape (issue 26)
@@ -256,7 +312,7 @@ def test_an_analysis_is_a_thin_adapter(kind):
 
 
 def test_several_sections_list_names_only_registered_kinds():
-    assert set(SEVERAL_SECTIONS) <= set(all_analyses())
+    assert set(SEVERAL_SECTIONS) <= set(all_analyses()) | WING_KINDS
 
 
 #: words a string literal of an analyses.py may hold before it counts as report prose (prose lives in texts.py)
@@ -307,9 +363,9 @@ def test_packages_form_no_cycle():
     assert strongly_connected(package_graph()) == PACKAGE_CYCLES_LEFT
 
 
-#: modules outside rvtol/models that may import a model package: the loader composing a study's models and the
-#: registry; physics-specific code lives beside its physics
-MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study)$")
+#: modules outside rvtol/models that may import a model package: the loader composing a study's models, the
+#: registry and the plug-in API (its model entry points); physics-specific code lives beside its physics
+MODEL_IMPORTS_ALLOWED = re.compile(r"^rvtol\.(models\..*|registry|study|plugin)$")
 
 
 def test_model_agnostic_packages_import_no_model():

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from conftest import run_cli, write
+from conftest import assert_refused, write
 from rvtol.errors import InputError
 from rvtol.inputs.notation import zone_level
 from rvtol.models.formula.model import FormulaModel
@@ -169,14 +169,8 @@ BAD = [
 
 @pytest.mark.parametrize("old,new,key,words", BAD)
 def test_a_composite_frame_written_wrong_is_one_located_line(tmp_path, capsys, old, new, key, words):
-    text = SPEC.replace(old, new)      # every feature alike: the first one read is refused
-    p = write(tmp_path / "spec.toml", text)
-    with pytest.raises(InputError) as ei:
-        load_spec(p)
-    assert ei.value.key == key and words in ei.value.reason, (ei.value.key, ei.value.reason)
-    write(tmp_path / "study.toml", STUDY)
-    rc, err = run_cli(["check", tmp_path / "study.toml"], capsys)
-    assert rc == 2 and len(err) == 1 and "spec.toml" in err[0] and words in err[0], err
+    p = write(tmp_path / "spec.toml", SPEC.replace(old, new))      # every feature alike: the first one read is refused
+    assert_refused(p, write(tmp_path / "study.toml", STUDY), capsys, key, words)
 
 
 def test_one_pattern_with_two_frames_and_a_clashing_translation_name_are_refused(tmp_path):
@@ -304,3 +298,42 @@ def test_a_framework_free_to_rotate_turns_in_the_worst_case_over_the_frame(tmp_p
     with pytest.raises(InputError, match="basic is given for some features") as ei:
         load_spec(write(tmp_path / "t.csv", "\n".join(rows[:-1] + ["h4.y,mm,⌀0.5,h4,P,⌀0.1 A,"]) + "\n"))
     assert ei.value.key == "factor.basic"
+
+
+def test_one_composite_pattern_is_one_frame_and_one_frames_zones_are_alike(tmp_path):
+    """The second audit's N3 and N1: a composite pattern split over two SEP REQT frames (its spacing then took two
+    shifts, ±0.3 for ±0.1) and two zones of one frame with different diameters were accepted."""
+    from rvtol.spec import spec_from_table
+
+    split = SPEC.replace('zone = "h1"\npattern = "bolts"', 'zone = "h1"\npattern = "bolts"\nframe = "X"')
+    with pytest.raises(InputError, match="its features name different frames") as ei:
+        load_spec(write(tmp_path / "split.toml", split))
+    assert ei.value.key == "factor.frame"
+    zone = lambda n, z, t: {"name": n, "unit": "mm", "tolerance": t, "zone": z, "frame": "F"}  # noqa: E731
+    with pytest.raises(InputError, match="differ in diameter or modifier") as ei:
+        spec_from_table({"factor": [zone("x1", "h1", "⌀0.5"), zone("y1", "h1", "⌀0.5"), zone("x2", "h2", "⌀0.3"),
+                                    zone("y2", "h2", "⌀0.3")]})
+    assert ei.value.key == "factor.frame"
+    # one frame in mm on one zone, in µm on the other: one frame
+    um = {"name": "x2", "unit": "um", "tolerance": "⌀500", "zone": "h2", "frame": "F"}
+    spec_from_table({"factor": [zone("x1", "h1", "⌀0.5"), zone("y1", "h1", "⌀0.5"), um, dict(um, name="y2")]})
+    # the upper line's datum letters are read and left to datum_size
+    assert spec_from_table({"factor": [zone("x", "h", "⌀0.5 A B C"), zone("y", "h", "⌀0.5 A|B|C")]}).factor(
+        "x").limits == pytest.approx((-0.25, 0.25))
+
+
+def test_a_feature_of_size_has_one_type_wherever_it_is_named():
+    """The second audit: a size internal for one zone and external for another, or for a zone and an envelope, was
+    accepted."""
+    from rvtol.spec import spec_from_table
+
+    def zone(n, z, ftype):
+        return {"name": n, "unit": "mm", "tolerance": "⌀0.2 (M)", "zone": z, "size": "D", "feature_type": ftype}
+    base = [{"name": "D", "unit": "mm", "tolerance": "10 +0.1/0"}]
+    with pytest.raises(InputError, match="one feature has one type") as ei:
+        spec_from_table({"factor": base + [zone("x1", "h1", "internal"), zone("y1", "h1", "internal"),
+                                           zone("x2", "h2", "external"), zone("y2", "h2", "external")]})
+    assert ei.value.key == "factor.feature_type"
+    form = {"name": "f", "unit": "mm", "tolerance": "⌭0.01", "envelope": "D", "feature_type": "external"}
+    with pytest.raises(InputError, match="one feature has one type"):
+        spec_from_table({"factor": base + [zone("x1", "h1", "internal"), zone("y1", "h1", "internal"), form]})

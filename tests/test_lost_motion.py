@@ -14,7 +14,7 @@ from rvtol.sensitivity import five_point
 from rvtol.spec import load_spec
 from rvtol.study import load_study, run_study
 
-from conftest import ROOT, write
+from conftest import ROOT, needs_wing, study_param, write
 
 DOC_DESIGN = ROOT / "data/designs/lost_motion_doc_example.toml"
 DOC_SPEC = ROOT / "data/specs/lost_motion_doc_example.toml"
@@ -162,12 +162,14 @@ def test_bad_design_or_spec_names_the_file_and_key(tmp_path):
     assert e.value.file == str(spec) and "Delta_B" in e.value.reason
 
 
-def test_both_studies_load():
-    for name in ("lost_motion_doc_example", "lost_motion_rv80e"):
-        st = load_study(ROOT / "studies" / f"{name}.toml")
-        assert st.model.output_names[0] == "lost_motion" and st.options.n == 5000
+@pytest.mark.parametrize("path", [study_param(ROOT / "studies" / f"{name}.toml")
+                                  for name in ("lost_motion_doc_example", "lost_motion_rv80e")])
+def test_both_studies_load(path):
+    st = load_study(path)
+    assert st.model.output_names[0] == "lost_motion" and st.options.n == 5000
 
 
+@needs_wing
 def test_breakdown_and_reproduction_sections(tmp_path):
     text = f"""
 [study]

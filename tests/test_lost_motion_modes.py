@@ -17,7 +17,7 @@ from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 from rvtol.study import load_study, run_study
 
-from conftest import ROOT, write
+from conftest import ROOT, needs_wing, write
 
 RV = load_design(ROOT / "data/designs/rv80e_te.toml")
 G20 = geometry_from_design(RV)
@@ -271,6 +271,7 @@ kind = "lost_motion_screening"
     assert e.value.key.endswith("percent")
 
 
+@needs_wing
 def test_mode_and_reproduction_inputs_are_checked(tmp_path):
     with pytest.raises(InputError) as e:
         load_study(_lm_study(tmp_path, mode='mode = "printed"'))

@@ -6,6 +6,8 @@ import pytest
 from rvtol.cli import main
 from rvtol.spec import load_requirements, load_spec
 
+from conftest import study_param
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -22,7 +24,7 @@ def test_every_requirements_file_loads(path):
     assert load_requirements(path)
 
 
-@pytest.mark.parametrize("path", sorted((ROOT / "studies").glob("*.toml")), ids=lambda p: p.name)
+@pytest.mark.parametrize("path", [study_param(p, p.name) for p in sorted((ROOT / "studies").glob("*.toml"))])
 def test_every_study_validates(path, capsys):
     assert main(["check", str(path)]) == 0
     assert ": ok" in capsys.readouterr().out

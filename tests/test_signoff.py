@@ -88,3 +88,22 @@ def test_drivers_the_spec_correlates_are_flagged_as_overlapping():
     assert s1["p: a"] == pytest.approx(expected, abs=0.03) and s1["p: b"] == pytest.approx(expected, abs=0.03)
     assert d.overlaps == ["p: a and p: b (|ρ| = 0.8)"]
     assert d.to_dict()["correlated_drivers"] == d.overlaps
+
+
+def test_a_requirement_failed_only_by_samples_the_model_cannot_evaluate_says_the_evaluated_units_meet_it():
+    """y = x, x uniform on [0, 1], the model failing (non-finite) for x > 0.97: 3 % of the samples count as failing a
+    requirement 0 ≤ y ≤ 1 that allows 0.27 %, the evaluated units all inside — the failures alone fail it, and no fix is
+    read from the evaluated units (whose mean, 0.485, is that of a selection)."""
+    from rvtol.model import FunctionModel
+
+    spec = ToleranceSpec("f", (Factor("x", "mm", Distribution.make("uniform", lower=0.0, upper=1.0)),))
+    model = FunctionModel(lambda X: np.where(X[:, :1] > 0.97, np.inf, X[:, :1]), ["x"], [Quantity("y", "mm")], ["mm"])
+    with make_executor("serial") as ex:
+        mc = run_monte_carlo(model, spec, 2000, "random", 1, [Requirement("y", lower=0.0, upper=1.0, unit="mm")],
+                             ex, progress=False)
+    (d,) = digest(mc, model, spec, seed=1)
+    share = 100 * np.mean(~mc.ok)
+    assert 2.0 < share < 4.0
+    assert d.change.startswith(f"{share:.3g} % of the samples could not be evaluated")
+    assert "the evaluated units meet it (0 % outside)" in d.change
+    assert [f.kind for f in d.fixes] == ["model failures"]

@@ -310,6 +310,21 @@ def two_hole_pattern(modifier=""):
         {"name": "x2", **zone("h2", "D2")}, {"name": "y2", **zone("h2", "D2")}]})
 
 
+def _both_worst_cases(spec, formula: str, half: float, oriented: bool = False):
+    """The linearised and the true worst case of ``formula`` (mm) are its nominal ± ``half``; both results (the true
+    search's corner start oriented by the model's gradient when ``oriented``, as the stack-up analysis does)."""
+    m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
+    x0 = spec.nominal_base()
+    y0 = float(m.evaluate(x0[None])[0, 0])
+    g = m.gradient(x0[None])[0, 0]
+    sc = stack_conventions(spec, g, y0, x0, out_unit="mm", slopes=one_sided_slopes(m, spec, "y"))
+    wc = sc.row("worst case (arithmetic)")
+    assert (wc["low"], wc["high"]) == (pytest.approx(y0 - half, abs=1e-9), pytest.approx(y0 + half, abs=1e-9)), formula
+    true = true_worst_case(m, spec, "y", max_evaluations=1000, gradient=g if oriented else None)
+    assert (true.low, true.high) == (pytest.approx(y0 - half, abs=1e-6), pytest.approx(y0 + half, abs=1e-6)), formula
+    return sc, true
+
+
 @pytest.mark.parametrize("modifier", ["", " (M)"], ids=["RFS", "MMC"])
 def test_a_datum_shift_moves_the_pattern_as_one(modifier):
     """Issue 37: the distance between two holes of a pattern located from datum bore B at MMB does not change with
@@ -322,15 +337,7 @@ def test_a_datum_shift_moves_the_pattern_as_one(modifier):
     spec = two_hole_pattern(modifier)
     own = 0.1 + (0.05 if modifier else 0.0)
     for formula, half in (("x2 - x1", 2 * own), ("x1", own + 0.05), ("x1 + x2", 2 * own + 2 * 0.05)):
-        m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
-        x0 = spec.nominal_base()
-        y0 = float(m.evaluate(x0[None])[0, 0])
-        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], y0, x0, out_unit="mm",
-                               slopes=one_sided_slopes(m, spec, "y"))
-        wc = sc.row("worst case (arithmetic)")
-        assert (wc["low"], wc["high"]) == (pytest.approx(y0 - half, abs=1e-9), pytest.approx(y0 + half, abs=1e-9)), formula
-        true = true_worst_case(m, spec, "y", max_evaluations=1000)
-        assert (true.low, true.high) == (pytest.approx(y0 - half, abs=1e-6), pytest.approx(y0 + half, abs=1e-6)), formula
+        sc, true = _both_worst_cases(spec, formula, half)
         # the run's notes say how the datum shift was applied
         assert any("shifts h1, h2 together" in n and "one translation of the pattern" in n for n in sc.notes)
         assert any("shifts h1, h2 together" in n for n in true.notes)
@@ -349,15 +356,7 @@ def test_a_separate_requirement_shifts_its_zone_on_its_own(modifier):
     assert [(d.label, d.zones) for d in datum_shifts(spec)] == [("B", ("h1",)), ("B (SEP REQT h2)", ("h2",))]
     own = 0.1 + (0.05 if modifier else 0.0)
     for formula, half in (("x2 - x1", 2 * own + 2 * 0.05), ("x1", own + 0.05), ("x2", own + 0.05)):
-        m = FormulaModel.from_spec(spec, {"y": (formula, "mm")})
-        x0 = spec.nominal_base()
-        y0 = float(m.evaluate(x0[None])[0, 0])
-        sc = stack_conventions(spec, m.gradient(x0[None])[0, 0], y0, x0, out_unit="mm",
-                               slopes=one_sided_slopes(m, spec, "y"))
-        wc = sc.row("worst case (arithmetic)")
-        assert (wc["low"], wc["high"]) == (pytest.approx(y0 - half, abs=1e-9), pytest.approx(y0 + half, abs=1e-9)), formula
-        true = true_worst_case(m, spec, "y", max_evaluations=1000, gradient=m.gradient(x0[None])[0, 0])
-        assert (true.low, true.high) == (pytest.approx(y0 - half, abs=1e-6), pytest.approx(y0 + half, abs=1e-6)), formula
+        sc, true = _both_worst_cases(spec, formula, half, oriented=True)
         assert any("separate requirement (SEP REQT) of h2" in n for n in sc.notes)
         assert any("shifts h2 on its own" in n for n in true.notes)
 

@@ -92,20 +92,6 @@ def test_planar_truncnorm_variance_by_independent_integration():
     assert z.scaled_variance("truncnorm") == pytest.approx(num / den, rel=1e-6)
 
 
-def test_planar_record_states_the_documents_formulas():
-    from rvtol_reproduction.doc003_stackup import planar_record   # the reproduction wing (studies/reproduction)
-
-    z = dm.ParallelPlaneZone(0.0, 0.02, 40.0, 25.0)
-    rec = planar_record(z).set_index("quantity")
-    doc = rec["document (printed formula)"]
-    assert doc["mean Δw"] == pytest.approx(0.01) and doc["mean Δα"] == pytest.approx(0.02 / 80)
-    assert doc["σ²(Δw)"] == pytest.approx(0.02**2 / 12) and doc["σ²(Δα)"] == pytest.approx(0.02**2 / (3 * 40**2))
-    assert doc["bound |Δα|"] == pytest.approx(2 * 0.02 / 40)
-    # the printed variances are those of the tight box, not of the printed bounds
-    assert rec.loc["σ²(Δw)", "box (derived)"] == pytest.approx(doc["σ²(Δw)"])
-    assert rec.loc["σ34 = cov(Δw, Δα)", "exact domain (derived)"] == 0.0
-
-
 @pytest.mark.parametrize("dist", dm.DISTRIBUTIONS)
 def test_cylindrical_zone_moments(dist):
     z = dm.CylindricalZone(0.012, 46.0)

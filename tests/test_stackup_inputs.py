@@ -10,6 +10,8 @@ import pytest
 
 from rvtol.cli import main
 
+from conftest import needs_wing
+
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = {
     "assembly.toml": ROOT / "data/assemblies/rv_crank_chain.toml",
@@ -154,6 +156,7 @@ SHAFT_HOLE = (ROOT / "studies/stackup_shaft_hole.toml").read_text(encoding="utf-
     ('length = 40.0, width', 'length = -40.0, width', r"analysis\[0\]\.planar_zone\.length", "> 0"),
     ('width = 25.0 }', 'width = 25.0, widht = 3 }', r"analysis\[0\]\.planar_zone\.widht", "unknown key"),
 ])
+@needs_wing
 def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason):
     """Errors found by the analyses' own checks still name the study file and the full key."""
     assert old in SHAFT_HOLE
@@ -165,6 +168,7 @@ def test_bad_shaft_hole_analysis_tables(tmp_path, capsys, old, new, key, reason)
     assert m and m.group(1).endswith("study.toml") and re.fullmatch(key, m.group(2)) and reason in m.group(3), err
 
 
+@needs_wing
 def test_bad_printed_figure_names_the_data_file(tmp_path, capsys):
     """A printed figure whose unit does not fit its comparison: the data file and the figure's key."""
     data = (ROOT / "data/reproduction/doc003_stackup.toml").read_text(encoding="utf-8")

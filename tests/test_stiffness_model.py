@@ -159,20 +159,6 @@ def test_moved_distance_beyond_the_pin_circle_is_a_geometry_failure():
     assert list(status) == [0, STATUS_GEOMETRY, STATUS_GEOMETRY] and np.isnan(Y[1:]).all()
 
 
-def test_study_runs_and_reproduces_table3_ordering(tmp_path):
-    from rvtol.study import load_study, run_study
-
-    study = load_study(ROOT / "studies/stiffness_rv80e.toml", n=64, executor="serial", progress=False)
-    study.analyses = [a for a in study.analyses if type(a).__name__ == "StiffnessReproduction"]
-    res = run_study(study)
-    keys = [s.key for s in res.sections]
-    assert keys[:2] == ["stiffness_breakdown", "stiffness_contact"] and keys[-1] == "stiffness_reproduction"
-    rows = {r["figure"]: r for r in res.sections[-1].summary["rows"]}
-    assert rows["Table 3: force ranking (lowest → highest)"]["reproduced"] == "yes"
-    assert all(rows[k]["reproduced"] == "yes" for k in rows if k.startswith("Table 3: j_C1"))
-    assert res.mc.statistics().loc["theta_total", "failed"] == 0
-
-
 def test_stiffness_breakdown_analysis_components_sum_to_the_total(tmp_path):
     """The generic breakdown (kind = "stiffness_breakdown"): θ1…θ5 add up to θ_Σ, no document column."""
     from conftest import write

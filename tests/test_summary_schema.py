@@ -11,6 +11,8 @@ from rvtol.cli import main
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
+from conftest import study_param
+
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = sorted((ROOT / "studies").glob("*.toml"))
 
@@ -23,7 +25,7 @@ def test_the_schema_is_a_valid_draft_2020_12_schema():
     assert schema["properties"]["format"] == {"const": "rvtol-summary/1"}
 
 
-@pytest.mark.parametrize("path", STUDIES, ids=[p.stem for p in STUDIES])
+@pytest.mark.parametrize("path", [study_param(p) for p in STUDIES])
 def test_every_studys_summary_validates(path):
     """Each study at a small n: its Monte Carlo, requirements and verdict (the analyses' own tables are free-form
     objects in the schema and are exercised by the studies' own tests)."""

@@ -6,7 +6,7 @@ import pytest
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
-from conftest import write
+from conftest import needs_wing, write
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGN = (ROOT / "data/designs/rv80e_te.toml").as_posix()
@@ -49,13 +49,6 @@ executor = "serial"
 """
 
 
-def test_the_rv80e_study_loads():
-    st = load_study(ROOT / "studies/transmission_error_rv80e.toml")
-    assert st.model.inputs == st.spec.names and len(st.spec.names) == 35
-    kinds = [type(a).__name__ for a in st.analyses]
-    assert "TEReproduction" in kinds and "TECurve" in kinds   # doc 000's §3–4 study (a TESensitivity)
-
-
 @pytest.mark.parametrize("model, factors, key", [
     ('mode = "explicit"', None, "model.mode"),
     ("harmonic = 9", None, "model.harmonic"),
@@ -96,6 +89,7 @@ def test_bad_design_numbers_name_the_design_file_and_key(kind, key, value, optio
     assert exc.value.key == key and exc.value.file == DESIGN
 
 
+@needs_wing
 def test_sensitivity_and_curve_analyses_small(tmp_path):
     analyses = """
 [[analysis]]

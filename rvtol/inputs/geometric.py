@@ -116,8 +116,11 @@ def _magnitude(words: list[str], text: str, what: str, unit: str | None,
     written = number if number[m.end():] else f"{number} {word}" if word else number
     if _ZERO.match(number[:m.end()]):
         return 0.0, unit, word, after
+    if number.startswith("-"):
+        raise NotationError(f"{text!r}: {what} is a width: {number!r} must not be negative")
     try:
         t = parse_tolerance(f"max {written}", unit=unit)
-    except NotationError as exc:
-        raise NotationError(f"{text!r}: {what}: {exc.reason}") from None
+    except NotationError:
+        raise NotationError(f"{text!r}: {what}: {written!r} is not a number with a length unit (0.1, 0.1 mm, "
+                            "100 um, 0.004\")") from None
     return t.upper, t.unit, word, after

@@ -18,7 +18,9 @@ ZONE_BONUS = "position zone {zone} at {modifier}: radius {radius:.6g} at the siz
 DATUM_SHIFT = ("datum feature {datum} at MMB: its departure from MMB shifts {zones} together — one translation of the "
                "pattern (ASME Y14.5 simultaneous requirement; a zone marked separate, SEP REQT, shifts on its own), radius {radius:.6g} at its band "
                "centre growing with that departure, not a bonus of each zone (the distances within the pattern do not "
-               "change with it); per unit of shift the output rises at most {hi:.4g} and falls at most {lo:.4g}")
+               "change with it); per unit of shift the output rises at most {hi:.4g} and falls at most {lo:.4g}; the "
+               "worst-case rows take it, the Monte Carlo does not sample it (how the parts are made, not where they "
+               "sit on the datum's simulator)")
 PATTERN_SHIFT = ("datum feature {datum} at MMB shifts {zones} together: one translation of the pattern, anywhere within "
                  "half the datum's departure from MMB (ASME Y14.5 simultaneous requirement)")
 DATUM_SHIFT_SEPARATE = ("datum feature {datum} at MMB, a separate requirement (SEP REQT) of {zones}: its departure from "

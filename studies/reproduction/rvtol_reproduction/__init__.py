@@ -2,7 +2,8 @@
 
 A distribution of its own (``rvtol-reproduction``, ``studies/reproduction/pyproject.toml``), outside the
 ``rvtol`` package and its wheel: it registers its study analyses through the ``rvtol.analyses``
-entry-point group like any plug-in, and uses the library only through its public modules.  One module per
+entry-point group like any plug-in, and uses the library only through its plug-in API, :mod:`rvtol.plugin`
+(``tests/test_architecture.py`` checks every import); its tests are in ``studies/reproduction/tests``.  One module per
 document computes the comparison (a plain function returning a result dataclass), :mod:`.analyses` holds
 the thin analyses, :mod:`.texts` their prose and layout:
 

@@ -9,16 +9,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from rvtol.analysis import Analysis
-from rvtol.errors import InputError, SpecError
-from rvtol.models.adjustment.analyses import AdjustmentOptions
-from rvtol.models.lost_motion.analyses import LostMotionOptions
-from rvtol.models.stackup.analyses import StackupOptions
-from rvtol.models.stiffness.analyses import StiffnessOptions
-from rvtol.models.transmission.analyses import TESensitivityOptions, TESensitivity
-from rvtol.models.transmission.sensitivity import te_sensitivity
-from rvtol.options import REQUIRED, option
-from rvtol.blocks import Section
+from rvtol.plugin import (REQUIRED, AdjustmentOptions, Analysis, InputError, LostMotionOptions, ParallelPlaneZone,
+                          Params, Section, SpecError, StackupOptions, StiffnessOptions, TESensitivity,
+                          TESensitivityOptions, TransmissionErrorModel, load_assembly, load_design, option,
+                          te_sensitivity, units)
 
 from . import texts
 from .doc000_transmission_error import SENSITIVITIES, te_against_document
@@ -106,10 +100,6 @@ class AdjustmentReproduction(Analysis):
         inputs: Doc002Inputs | None = field(init=False, default=None)
 
         def complete(self, study, error):
-            from rvtol.design import load_design
-            from rvtol.models.adjustment.description import load_assembly
-            from rvtol.models.transmission.model import TransmissionErrorModel
-
             from .doc002_adjustment import te_inputs
 
             super().complete(study, error)
@@ -172,8 +162,6 @@ class StackupShaftHole(Analysis):
                 self.planar_name, self.zone = self._zone(self.planar_zone, error)
 
         def _figure(self, m, P, key, fig, error):
-            from rvtol import units
-
             if key not in COMPARE:
                 raise SpecError(f"unknown comparison (expected one of: {', '.join(COMPARE)})", file=P.path,
                                 key=f"figure.{key}")
@@ -186,9 +174,6 @@ class StackupShaftHole(Analysis):
 
         @staticmethod
         def _zone(table: dict, error):
-            from rvtol.models.stackup.domains import ParallelPlaneZone
-            from rvtol.params import Params
-
             t = Params(table)
             try:
                 name = t.str("name", "parallel-plane zone")

@@ -12,8 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from rvtol.models.transmission.sensitivity import TESensitivityResult
-from rvtol.records import frame_records
+from rvtol.plugin import TESensitivityResult, frame_records
 
 from .printed import PrintedFigures
 

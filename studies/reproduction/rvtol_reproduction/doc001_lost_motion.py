@@ -13,12 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from rvtol import stats as st
-from rvtol.models.lost_motion.breakdown import analytic_frame
-from rvtol.models.lost_motion.model import ARCMIN_PER_RAD, factor_moments
-from rvtol.records import frame_records
-from rvtol.sensitivity.local import five_point
-from rvtol.units import convert
+from rvtol.plugin import ARCMIN_PER_RAD, analytic_frame, factor_moments, five_point, frame_records
+from rvtol.plugin import stats as st
+from rvtol.plugin import units
 
 from .printed import PrintedFigures
 
@@ -63,7 +60,7 @@ def lost_motion_figures(model, spec, mc, printed: PrintedFigures, evaluate=None,
     s_fp = float("nan")
     if "Delta_r_p" in spec.names:
         loc = five_point(model, spec, ["Delta_r_p"], ["lost_motion"], evaluate=evaluate)
-        s_fp = float(convert(loc.frame["S_base"].iloc[0], "rad/mm", "arcmin/mm"))
+        s_fp = float(units.convert(loc.frame["S_base"].iloc[0], "rad/mm", "arcmin/mm"))
     mom = factor_moments(spec, model)
     coef = g.coefficients(model.extra)
     part = {n: K * c * mom[n].mean for n, c in coef["cycloid_stage"].items()}  # arcmin

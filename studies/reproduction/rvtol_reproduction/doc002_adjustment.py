@@ -16,9 +16,7 @@ import numpy as np
 import pandas as pd
 from scipy import optimize
 
-from rvtol import units
-from rvtol.models.adjustment.adjuster import Adjuster
-from rvtol.records import frame_records
+from rvtol.plugin import Adjuster, frame_records, units
 
 from .printed import PrintedFigures, ordering_verdict
 
@@ -162,7 +160,7 @@ def adjustment_figures(inp: Doc002Inputs) -> AdjustmentFigures:
 
 def plot_te_against_q(sweep, points, printed, ax=None):
     """TE peak-to-peak against Q: rvtol's sweep and points, doc 002's Table 4 (``printed``: Q = 0, 5, 10, ∞)."""
-    from rvtol.plotting import COLORS, new_axes
+    from rvtol.plugin import COLORS, new_axes
 
     fig, ax = new_axes(ax)
     ax.plot(sweep["Q"], sweep["te_pp [arcsec]"], "-", color=COLORS["data"], label="rvtol (RV-80E TE model, mapped KCs)")

@@ -14,12 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from rvtol import units
-from rvtol.models.stackup.domains import ParallelPlaneZone
-from rvtol.models.stackup.model import StackupModel
-from rvtol.records import frame_records
-from rvtol.stats import percentile_ci
-from rvtol.units import label
+from rvtol.plugin import ParallelPlaneZone, StackupModel, frame_records, stats, units
 
 from .printed import PrintedFigures
 
@@ -76,8 +71,7 @@ class PlanarZoneRecord:
 
     def plot(self):
         """The library's picture of the zone (samples, exact domain, its box) with the document's printed box."""
-        from rvtol.plotting import COLORS
-        from rvtol.plotting.stackup import planar_domain
+        from rvtol.plugin import COLORS, planar_domain
 
         fig = planar_domain(self.zone, self.samples)
         ax = fig.axes[0]
@@ -161,11 +155,11 @@ def shaft_hole_figures(m: StackupModel, spec, mc, fit, kc: str, figures, printed
             y = units.convert(mc.column(name), q.shown_unit, fig.unit)
             y = np.sort(y[np.isfinite(y)])
             vals = {"WC": units.from_base(wc[name], fig.unit), "MC mean": float(y.mean()),
-                    "MC P99.73": percentile_ci(y, 0.9973)[0], "MC max": float(y[-1])}
+                    "MC P99.73": stats.percentile_ci(y, 0.9973)[0], "MC max": float(y[-1])}
         verdicts = {k: fig.verdict(v) for k, v in vals.items()}
         best = next((lev for lev in ("yes", "partly") if lev in verdicts.values()), "no")
         which = [k for k, v in verdicts.items() if v == best]
-        rows.append({"figure": fig.label, "printed": fig.value, "unit": label(fig.unit),
+        rows.append({"figure": fig.label, "printed": fig.value, "unit": units.label(fig.unit),
                      **{f"rvtol {k}": v for k, v in vals.items()},
                      "reproduced": f"{best} ({', '.join(which)})" if best != "no" else "no", "why": fig.why})
     rec = None

@@ -14,11 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from rvtol import units
-from rvtol.models.stiffness.breakdown import StiffnessAtTorque, stiffness_breakdown
-from rvtol.models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
-from rvtol.models.stiffness.torsion_angle import COMPONENTS, LABELS, ReducerStiffness, TorsionAngles
-from rvtol.records import frame_records
+from rvtol.plugin import TORSION_ANGLE_COMPONENTS as COMPONENTS
+from rvtol.plugin import TORSION_ANGLE_LABELS as LABELS
+from rvtol.plugin import (ReducerStiffness, StiffnessAtTorque, TorsionAngles, angular_backlash, frame_records,
+                          initial_clearance, normal_clearance, pin_angles, stiffness_breakdown, units)
 
 from .printed import PrintedFigures, ordering_verdict
 
@@ -269,7 +268,7 @@ class GeometrySweeps:
     frames: dict[str, pd.DataFrame]
 
     def plot(self, param: str, what: str = "force"):
-        from rvtol.plotting.stiffness import plot_sweep
+        from rvtol.plugin import plot_sweep
 
         df, x = self.frames[param], f"{param} (mm)"
         if what == "force":
@@ -311,7 +310,7 @@ class ModificationStudy:
                              "θ2 (arcsec)": df["θ2 (arcsec)"], "θ_Σ (arcsec)": df["θ_Σ (arcsec)"]})
 
     def plot(self, which: str = "equidistance"):
-        from rvtol.plotting.stiffness import plot_sweep
+        from rvtol.plugin import plot_sweep
 
         sw, x = (self.sweep_equidistance, "Δr_p (µm)") if which == "equidistance" else (self.sweep_moved, "ΔR_p (µm)")
         return plot_sweep(sw, x, ["θ_Σ (arcsec)", f"{LABELS['cycloid_pin']} (arcsec)"], ylabel="torsion angle [arcsec]",
@@ -342,7 +341,7 @@ class ErrorSweeps:
                              "δR_p: θ_Σ (arcsec)": e_R["θ_Σ (arcsec)"], "δr_p: θ_Σ (arcsec)": e_r["θ_Σ (arcsec)"]})
 
     def plot(self, what: str = "force"):
-        from rvtol.plotting.stiffness import plot_sweep
+        from rvtol.plugin import plot_sweep
 
         m = self.merged()
         if what == "force":

@@ -27,8 +27,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from rvtol.errors import SpecError
-from rvtol.params import Params, read_toml
+from rvtol.plugin import Params, SpecError, read_toml
 
 RULE = ("'yes': rvtol's number lies within the figure's tolerance of the printed value — half a unit of the "
         "last printed digit, unless the data file states a wider tolerance with its reason (inputs the document "

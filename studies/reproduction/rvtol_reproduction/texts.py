@@ -5,9 +5,7 @@
 """
 from __future__ import annotations
 
-from rvtol.models.stiffness import texts as stiffness_texts
-from rvtol.models.transmission import texts as te_texts
-from rvtol.blocks import Figure, Table, Text, figure_png
+from rvtol.plugin import Figure, Table, Text, figure_png, stiffness_texts, transmission_texts
 
 from .printed import RULE
 
@@ -30,10 +28,10 @@ PRINTED_TE = ("Printed sensitivities (doc 000 §4) against rvtol's over the same
 
 
 def transmission_error(res, o) -> list:
-    blocks = te_texts.sensitivity(res.sensitivity, o, res.ranking, "the document's class")
+    blocks = transmission_texts.sensitivity(res.sensitivity, o, res.ranking, "the document's class")
     if len(res.printed):
         blocks.append(Table(res.printed, PRINTED_TE, "{:.4g}"))
-    return blocks + te_texts.linearity_and_notes(res.sensitivity)
+    return blocks + transmission_texts.linearity_and_notes(res.sensitivity)
 
 
 # --------------------------------------------------------------------------- doc 001
