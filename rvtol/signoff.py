@@ -271,8 +271,13 @@ def _failures_matter(r, row, mc) -> dict | None:
     is read from them alone."""
     failed = int(row.get("failed") or 0)
     n = int(row.get("n") or 0) + failed
-    allowed = 1.0 - (r.min_yield if r.min_yield is not None else 0.0)
-    if not failed or r.min_yield is None or failed / n <= 0.5 * allowed:
+    if r.min_yield is not None:
+        allowed = 1.0 - r.min_yield
+    elif r.min_cpk is not None:          # a Cpk requirement: the share a centred normal process at that Cpk leaves out
+        allowed = 2.0 * float(stats.norm.sf(3.0 * r.min_cpk))
+    else:
+        return None
+    if not failed or failed / n <= 0.5 * allowed:
         return None
     y = _evaluated(mc, r.output)
     outside = np.count_nonzero((y < r.lower) if r.lower is not None else np.zeros(len(y), bool)) + np.count_nonzero(
@@ -280,7 +285,7 @@ def _failures_matter(r, row, mc) -> dict | None:
     codes = [int(c) for c in np.unique(mc.status[~mc.ok])]
     why = "; ".join(mc.status_reasons.get(c, f"status {c}") for c in codes[:3])
     return {"share": 100 * failed / n, "allowed": 100 * allowed, "why": why, "outside": 100 * outside / n,
-            "alone": outside / n <= allowed}
+            "alone": failed / n > allowed and outside / n <= allowed}
 
 
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:

@@ -34,10 +34,11 @@ FAILURES = ("find what makes {share:.3g} % of the samples fail to evaluate — {
             "(those that could be evaluated), so no fix is read from their mean and σ alone — a nominal inside the "
             "limits is not ruled out")
 FAILURES_ALONE = ("{share:.3g} % of the samples could not be evaluated — {why} — and count as failing: more than the "
-                  "{allowed:.3g} % the requirement allows; the evaluated units meet it ({outside:.3g} % outside).")
+                  "{allowed:.3g} % the requirement allows; the evaluated units meet it ({outside:.3g} % of all samples "
+                  "outside the limits).")
 FAILURES_AND_SPREAD = ("{share:.3g} % of the samples could not be evaluated — {why} — and count as failing, beside "
-                       "{outside:.3g} % evaluated outside the limits (the requirement allows {allowed:.3g} %): both the "
-                       "failures and the spread of the evaluated units fail it.")
+                       "{outside:.3g} % of all samples evaluated outside the limits (the requirement allows "
+                       "{allowed:.3g} %): together they fail it.")
 REDESIGN = ("move the mean ({mean:.4g} {unit}) {side} the limit {limit:g} {unit}: a nominal of the design",
             "tightening cannot help: as tolerances shrink, every unit approaches the nominal one")
 RECENTRE = ("move the mean from {mean:.4g} to {mid:.4g} {unit} (shift {shift:+.3g} {unit}: a nominal, no tolerance "

@@ -650,9 +650,8 @@ def drawing_tolerance(p: Params, unit: str | None) -> Tolerance | None:
                 raise p.error("shorter_side" if side is not None else "broken_edge",
                               "belongs to an ISO 2768 general tolerance, not to a profile or form tolerance")
             return parse_geometric(text, unit=unit)
-        m = _FRAME_DATUMS.search(text) if text.lstrip()[:1] in "⌀Øø∅" else None
-        if m is not None:           # a position frame's datum letters (⌀0.5 A B C): what locates the zone, read from
-            text = text[:m.start()]  # datum_size for a datum feature of size at MMB
+        if text.lstrip()[:1] in "⌀Øø∅":   # a position frame's datum letters (⌀0.5 A B C): what locates the zone
+            text, _ = frame_datums(p, "tolerance", text)     # (a datum feature of size at MMB: datum_size)
         tol = parse_tolerance(text, nominal=nominal, unit=unit, shorter_side=side, broken_edge=edge)
     except NotationError as exc:
         raise p.error(exc.key or "tolerance", exc.reason) from None
@@ -797,12 +796,9 @@ def composite_frame(p: Params, tol: Tolerance | None, zone: str,
         raise p.error("pattern", f"invalid pattern name {pattern!r} (letters, digits, _ [ ] , . - + and spaces)")
     if not isinstance(text, str):
         raise p.error("feature_relating", f"expected a position zone \"⌀T2\", got {text!r}")
-    m = _FRAME_DATUMS.search(text)
-    datums = tuple(m.group(1).replace("|", " ").split()) if m else ()
-    if len(set(datums)) < len(datums):
-        raise p.error("feature_relating", f"{text!r} names a datum twice")
+    zone_text, datums = frame_datums(p, "feature_relating", text)
     try:
-        relating = parse_tolerance(text[:m.start()] if m else text, unit=unit)
+        relating = parse_tolerance(zone_text, unit=unit)
     except NotationError as exc:
         raise p.error("feature_relating", exc.reason) from None
     if relating.form != "zone":
@@ -820,6 +816,27 @@ def composite_frame(p: Params, tol: Tolerance | None, zone: str,
 
 #: a frame line's datum letters after its tolerance: "⌀0.1 A B", "⌀0.1 (M) | A"
 _FRAME_DATUMS = re.compile(r"((?:[\s|]+[A-Z](?![A-Za-z]))+)\s*$")
+#: a datum letter with a modifier of its own: "A (M)", "B(L)"
+_DATUM_MODIFIER = re.compile(r"[\s|][A-Z]\s*(?:\(\s*[MLS]\s*\)|[ⓂⓁⓈ])")
+
+
+def frame_datums(p: Params, key: str, text: str) -> tuple[str, tuple[str, ...]]:
+    """A position frame line's tolerance and its datum letters (``"⌀0.5 (M) A B C"`` → ``"⌀0.5 (M)"``, A B C).  A
+    datum letter may not repeat, a datum's own modifier is not read (a datum feature of size at MMB is
+    ``datum_size``), and a lone M, L or S is refused: a material condition written without its brackets would read as a
+    datum letter."""
+    if _DATUM_MODIFIER.search(text):
+        raise p.error(key, f"{text!r}: a datum's material condition is not read from the frame — a datum feature of "
+                           "size referenced at MMB is datum_size (and datum_type) beside the zone")
+    m = _FRAME_DATUMS.search(text)
+    datums = tuple(m.group(1).replace("|", " ").split()) if m else ()
+    if len(set(datums)) < len(datums):
+        raise p.error(key, f"{text!r} names a datum twice")
+    odd = [d for d in datums if d in "MLS"]
+    if odd:
+        raise p.error(key, f"{text!r}: {odd[0]!r} after the zone reads as a datum letter or as a material condition — "
+                           "write the condition as (M), (L) or Ⓜ, Ⓛ")
+    return (text[:m.start()] if m else text), datums
 
 
 def zone_bonus(spec: "ToleranceSpec", zone: str) -> list[tuple[int, float, float]]:
@@ -942,9 +959,10 @@ def check_frames(factors, file: str | None) -> None:
     a separate requirement or none: SEP REQT is written beneath a frame, not beside one of its features."""
     first: dict[str, object] = {}
 
-    def zone_of(f):     # the frame's zone, in base units (one frame may be written in mm and in µm)
+    def zone_of(f):     # the frame's zone as drawn (a composite feature's: its locating zone), in base units
         lo, hi = f.limits
-        return units.dimension(f.unit), round(float(units.to_base(hi - lo, f.unit)), 12), f.modifier
+        width = hi - lo if f.locating is None else f.locating
+        return units.dimension(f.unit), round(float(units.to_base(width, f.unit)), 12), f.modifier
 
     for f in factors:
         if not (f.zone and f.frame):

@@ -337,3 +337,21 @@ def test_a_feature_of_size_has_one_type_wherever_it_is_named():
     form = {"name": "f", "unit": "mm", "tolerance": "⌭0.01", "envelope": "D", "feature_type": "external"}
     with pytest.raises(InputError, match="one feature has one type"):
         spec_from_table({"factor": base + [zone("x1", "h1", "internal"), zone("y1", "h1", "internal"), form]})
+
+
+def test_a_plain_zone_in_a_composite_patterns_frame_and_modifiers_without_brackets(tmp_path):
+    """The third audit: N-a, a plain ⌀0.5 zone in the frame of a composite pattern ⌀0.5/⌀0.1 was refused as 'a different
+    diameter' (compared with the features' ⌀0.1); N-b, '⌀0.5 M' read M as a datum letter and dropped the bonus."""
+    from rvtol.spec import spec_from_table
+
+    g = ('[[factor]]\nname = "g.x"\nunit = "mm"\ntolerance = "⌀0.5"\nzone = "g"\nframe = "bolts"\n'
+         '[[factor]]\nname = "g.y"\nunit = "mm"\ntolerance = "⌀0.5"\nzone = "g"\nframe = "bolts"\n')
+    assert "g.x" in load_spec(write(tmp_path / "s.toml", SPEC + g)).names
+    zone = lambda t: [{"name": c, "unit": "mm", "tolerance": t, "zone": "h"} for c in "xy"]  # noqa: E731
+    for text, words in (("⌀0.5 M", "reads as a datum letter or as a material condition"),
+                        ("⌀0.5 M A B", "reads as a datum letter or as a material condition"),
+                        ("⌀0.5 A A", "names a datum twice"),
+                        ("⌀0.5 (M) A (M) B", "a datum's material condition is not read")):
+        with pytest.raises(InputError, match=words.replace("(", r"\(")) as ei:
+            spec_from_table({"factor": zone(text)})
+        assert ei.value.key == "factor[0].tolerance", text
