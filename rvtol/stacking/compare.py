@@ -150,14 +150,14 @@ def _domain_row(spec, g, q, sc, mc) -> None:
         cols = [spec.index(f.name) for z in p.zones for f in spec.factors if f.zone == z]
         if not g[cols].any():
             continue
-        if not np.isfinite(g[cols]).all() or any(spec.factors[i].modifier or spec.factors[i].datum_size for i in cols):
-            skipped.append(f"pattern {p.name}")
-            if p.may_rotate:
-                sc.notes.append(N.FRAMEWORK_ROTATES.format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
-            continue
-        if p.may_rotate:
-            sc.notes.append((N.FRAMEWORK_ROTATES if p.basic is None else N.FRAMEWORK_ROTATION_IN_ROW)
+        skip = not np.isfinite(g[cols]).all() or any(spec.factors[i].modifier or spec.factors[i].datum_size
+                                                      for i in cols)
+        if p.may_rotate:      # turned in this row only where the features' basic positions are given
+            sc.notes.append((N.FRAMEWORK_ROTATION_IN_ROW if p.basic is not None and not skip else N.FRAMEWORK_ROTATES)
                             .format(pattern=p.name, datums=" ".join(p.datums) or "no datum"))
+        if skip:
+            skipped.append(f"pattern {p.name}")
+            continue
         frame, decomposition = frame_extreme(p, g[cols])
         low, high = low - (frame - decomposition), high + (frame - decomposition)
         parts.append(f"pattern {p.name} over its frame ±{d(frame):.4g} (decomposed ±{d(decomposition):.4g})")
