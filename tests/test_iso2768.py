@@ -95,7 +95,7 @@ def sizes_in(above: float, up_to: float, first_included: bool = False) -> list[f
     return [first, 0.5 * (above + up_to), up_to]
 
 
-@pytest.mark.parametrize("k, cls", enumerate(LINEAR_CLASSES))
+@pytest.mark.parametrize("k, cls", list(enumerate(LINEAR_CLASSES)))
 def test_every_cell_of_iso_2768_1_table_1(k, cls):
     for (above, up_to), row in TABLE_1.items():
         for size in sizes_in(above, up_to, first_included=above == 0.5):
@@ -124,7 +124,7 @@ def test_an_unknown_linear_class_is_refused():
 
 @pytest.mark.parametrize("kind, table", [("straightness", STRAIGHTNESS), ("flatness", STRAIGHTNESS),
                                          ("perpendicularity", PERPENDICULARITY), ("symmetry", SYMMETRY)])
-@pytest.mark.parametrize("k, cls", enumerate(GEOMETRIC_CLASSES))
+@pytest.mark.parametrize("k, cls", list(enumerate(GEOMETRIC_CLASSES)))
 def test_every_cell_of_iso_2768_2_tables_1_to_3(kind, table, k, cls):
     for (above, up_to), row in table.items():
         for size in sizes_in(above, up_to):
@@ -150,7 +150,7 @@ def test_an_unknown_geometric_class_or_tolerance_is_refused():
         iso2768.geometric("roundness", "K", 50)
 
 
-@pytest.mark.parametrize("k, cls", enumerate(LINEAR_CLASSES))
+@pytest.mark.parametrize("k, cls", list(enumerate(LINEAR_CLASSES)))
 def test_every_cell_of_iso_2768_1_table_2_broken_edges(k, cls):
     for (above, up_to), row in TABLE_2.items():
         for size in sizes_in(above, up_to, first_included=above == 0.5):
@@ -163,7 +163,7 @@ def test_every_cell_of_iso_2768_1_table_2_broken_edges(k, cls):
             iso2768.broken_edge(cls, size)
 
 
-@pytest.mark.parametrize("k, cls", enumerate(LINEAR_CLASSES))
+@pytest.mark.parametrize("k, cls", list(enumerate(LINEAR_CLASSES)))
 def test_every_cell_of_iso_2768_1_table_3_angles_by_the_shorter_side(k, cls):
     for (above, up_to), row in TABLE_3.items():
         for side in sizes_in(above, up_to):
