@@ -280,3 +280,75 @@ def test_out_of_reach_looks_at_the_corners_of_at_most_twelve_factors(k, out_of_r
     m = LinearModel(spec.names, ["mm"] * k, [Quantity("y", "mm")], [[1.0] * k])
     ls = _Limit(m, spec, "y", k + 0.5, "upper", Evaluator())
     assert _out_of_reach(spec, ls, lambda y: y > k + 0.5) is out_of_reach
+
+
+def test_a_side_read_from_a_file_is_the_same_side():
+    """``side`` read from a TOML file is a string equal to "upper" but not the interned literal: still the upper tail.
+    y = x₁ + x₂ of standard normals above −√2: the nominal 0 already fails, β = −1 and P = Φ(1) = 0.841."""
+    import sys
+    import tomllib
+
+    side = tomllib.loads('side = "upper"')["side"]
+    assert side == "upper" and side is not sys.intern("upper")      # the premise: an equal, distinct string
+    spec, m = linear_normals()
+    est = tail_probability(m, spec, "y", -math.sqrt(2), side, methods=("FORM",))
+    assert est.beta == pytest.approx(-1.0, rel=1e-6) and est.pf_form == pytest.approx(stats.norm.cdf(1.0), rel=1e-9)
+    assert any("nominal point itself fails" in n for n in est.notes)
+
+
+def test_each_methods_evaluations_are_its_own():
+    """The model counts the rows it is given: one for the nominal point, then each method's own; their sum is the
+    model's count (an estimate's count is what the model evaluated while that method ran, not a running total)."""
+    from rvtol.model import FunctionModel
+
+    spec, _ = linear_normals()
+    rows = []
+    m = FunctionModel(lambda X: (rows.append(len(X)) or X.sum(axis=1))[:, None], spec.names, [Quantity("y", "mm")],
+                      ["mm", "mm"])
+    est = tail_probability(m, spec, "y", 3.0 * math.sqrt(2), "upper", seed=1, samples=1000,
+                           methods=("FORM", "SORM", "subset", "directional"))
+    assert all(e.evaluations > 0 for e in est.estimates) and len(est.estimates) == 4
+    assert 1 + sum(e.evaluations for e in est.estimates) == sum(rows) == est.evaluations
+
+
+def test_form_accepts_a_point_within_a_millionth_of_the_scale_from_the_nominal_to_the_limit():
+    """y = x − 1 ± 1.4e-6 (x ~ N(0, 1); the output jumps by 2.8e-6 at x = 2, never equal to the limit 1): FORM's point
+    x = 2 + 1.4e-6 misses the limit by 2.8e-6, within 1e-6 of the scale |limit| + |nominal − limit| = 1 + 2 = 3
+    (the nominal −1 two below the limit): accepted, β = 2, P = Φ(−2)."""
+    from rvtol.model import FunctionModel
+
+    spec = ToleranceSpec("n", (Factor("x", "mm", Distribution.make("normal", mean=0.0, sigma=1.0)),))
+    m = FunctionModel(lambda X: (X[:, 0] - 1.0 + np.where(X[:, 0] >= 2.0, 1.4e-6, -1.4e-6))[:, None], spec.names,
+                      [Quantity("y", "mm")], ["mm"])
+    est = tail_probability(m, spec, "y", 1.0, "upper", methods=("FORM",))
+    assert est.converged and est.beta == pytest.approx(2.0, rel=1e-5)
+    assert est.pf_form == pytest.approx(stats.norm.sf(2.0), rel=1e-5)
+
+
+def test_sorm_notes_tvedt_and_hohenbichler_in_ppm():
+    """A plane limit state (y = x₁ + x₂ of standard normals beyond 3√2, β = 3, every curvature 0): Tvedt's and
+    Hohenbichler's corrections are Φ(−3) = 1350 ppm, as the note says."""
+    import re
+
+    spec, m = linear_normals()
+    est = tail_probability(m, spec, "y", 3.0 * math.sqrt(2), "upper", methods=("FORM", "SORM"))
+    note = est.get("SORM").note
+    for name in ("Tvedt", "Hohenbichler"):
+        ppm = float(re.search(rf"{name} (\S+) ppm", note).group(1))
+        assert ppm == pytest.approx(1e6 * stats.norm.sf(3.0), rel=5e-4), note
+
+
+def test_directional_sampling_runs_the_directions_its_note_says():
+    """samples / 20 directions in whole blocks of 50: 4000 samples → 200 directions; 1960 → 98 asked, one block of 50
+    run — the very estimate (same seed) of 1000 samples, which ask exactly 50."""
+    spec, m = linear_normals()
+
+    def directional(samples):
+        est = tail_probability(m, spec, "y", 3.0 * math.sqrt(2), "upper", seed=1, samples=samples,
+                               methods=("directional",))
+        return est.get("directional")
+
+    assert directional(4000).note.startswith("200 directions")
+    fifty, asked_98 = directional(1000), directional(1960)
+    assert fifty.note.startswith("50 directions") and asked_98.note.startswith("50 directions")
+    assert (asked_98.pf, asked_98.se, asked_98.evaluations) == (fifty.pf, fifty.se, fifty.evaluations)
