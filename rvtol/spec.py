@@ -575,26 +575,16 @@ def factor_from_params(p: Params) -> Factor:
     gdt = material_condition(p, drawing, zone)
     frame = {"characteristic": getattr(drawing, "characteristic", ""), "datums": getattr(drawing, "datums", ()),
              "envelope": envelope_of(p, drawing)}
-    pattern, relating, relating_datums = composite_frame(p, drawing, zone, unit)
-    basic = p.float("basic", None)
-    if basic is not None and not pattern:
-        raise p.error("basic", "basic places a composite frame's feature in its pattern (for the framework's rotation): "
-                               "give pattern and feature_relating")
+    composite, relating = composite_position(p, drawing, zone, unit, measured)
+    frame.update(composite)
+    gdt["frame"] = gdt["frame"] or composite["pattern"]     # a composite frame's features share its frame
     p.finish(allow=("multiplicity",))
     _nominal_stated(p, drawing)
     limits = drawing.limits if drawing is not None else None
-    locating = None
     if relating is not None:      # the feature's own deviation is read in the feature-relating zone
-        if measured is not None:
-            raise p.error("feature_relating", "a measured position is the feature's location from the datums, not "
-                                              "its deviation within the pattern: fit it as a plain zone")
-        dist, limits, locating = band_distribution(p, relating), relating.limits, drawing.width
-        frame["datums"] = relating_datums     # the lower line's: whether the framework may rotate
-    if pattern and not gdt["frame"]:      # a composite frame's features share its frame
-        gdt["frame"] = pattern
+        dist, limits = band_distribution(p, relating), relating.limits
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
-                  limits=limits, measured=measured, zone=zone, **gdt, **frame, pattern=pattern, locating=locating,
-                  basic=basic)
+                  limits=limits, measured=measured, zone=zone, **gdt, **frame)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
@@ -772,6 +762,25 @@ def envelope_of(p: Params, tol: Tolerance | None) -> str:
         raise p.error("feature_type", "the envelope needs the feature type: \"internal\" (a hole: MMC = smallest) or "
                                       "\"external\" (a shaft: MMC = largest)")
     return size
+
+
+def composite_position(p: Params, drawing: Tolerance | None, zone: str, unit: str | None,
+                       measured) -> tuple[dict, Tolerance | None]:
+    """A composite frame's keys of a zone coordinate (:func:`composite_frame`; ``basic``, its true position for the
+    framework's rotation) as :class:`Factor` fields, and the feature-relating zone its own deviation is read in (None
+    for a plain factor)."""
+    pattern, relating, datums = composite_frame(p, drawing, zone, unit)
+    basic = p.float("basic", None)
+    if basic is not None and not pattern:
+        raise p.error("basic", "basic places a composite frame's feature in its pattern (for the framework's rotation): "
+                               "give pattern and feature_relating")
+    keys = {"pattern": pattern, "basic": basic}
+    if relating is not None:
+        if measured is not None:
+            raise p.error("feature_relating", "a measured position is the feature's location from the datums, not "
+                                              "its deviation within the pattern: fit it as a plain zone")
+        keys.update(locating=drawing.width, datums=datums)    # the lower line's datums: may the framework rotate
+    return keys, relating
 
 
 def composite_frame(p: Params, tol: Tolerance | None, zone: str,
