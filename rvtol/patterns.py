@@ -89,6 +89,14 @@ class Pattern:
         return tuple(f"{self.name}.{a}" for a in AXES)
 
 
+def drawn_zone(f) -> tuple:
+    """A zone coordinate's zone as the frame draws it — dimension, diameter in base units (a composite feature's: its
+    locating zone) and modifier — to compare frames written in different units (⌀0.5 mm is ⌀500 µm)."""
+    lo, hi = f.limits
+    width = hi - lo if f.locating is None else f.locating
+    return units.dimension(f.unit), round(float(units.to_base(width, f.unit)), 12), f.modifier
+
+
 def patterns(factors) -> list[Pattern]:
     """The composite frames' patterns among ``factors`` (each feature coordinate carries ``pattern``)."""
     out: dict[str, list] = {}
@@ -117,10 +125,9 @@ def expand(factors: list, file: str | None) -> list:
     zones = {f.zone for f in factors if f.zone}
     for pat in patterns(factors):
         fs = [f for f in factors if f.pattern == pat.name]
-        def frame_of(f):    # in base units: the same frame may be written in mm on one row, in µm on another
+        def frame_of(f):    # both lines in base units: one frame may be written in mm on one row, in µm on another
             lo, hi = f.limits
-            return (units.dimension(f.unit), round(float(units.to_base(f.locating, f.unit)), 12),
-                    round(float(units.to_base(hi - lo, f.unit)), 12), f.modifier, f.datums)
+            return drawn_zone(f), round(float(units.to_base(hi - lo, f.unit)), 12), f.datums
 
         for f in fs:
             if frame_of(f) != frame_of(fs[0]):

@@ -280,8 +280,8 @@ def _failures_matter(r, row, mc) -> dict | None:
     if not failed or failed / n <= 0.5 * allowed:
         return None
     y = _evaluated(mc, r.output)
-    outside = np.count_nonzero((y < r.lower) if r.lower is not None else np.zeros(len(y), bool)) + np.count_nonzero(
-        (y > r.upper) if r.upper is not None else np.zeros(len(y), bool))
+    lo, hi = (-np.inf if r.lower is None else r.lower), (np.inf if r.upper is None else r.upper)
+    outside = np.count_nonzero((y < lo) | (y > hi))
     codes = [int(c) for c in np.unique(mc.status[~mc.ok])]
     why = "; ".join(mc.status_reasons.get(c, f"status {c}") for c in codes[:3])
     return {"share": 100 * failed / n, "allowed": 100 * allowed, "why": why, "outside": 100 * outside / n,

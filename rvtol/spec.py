@@ -126,6 +126,7 @@ from .inputs.notation import NotationError, Tolerance, parse_tolerance
 from .inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from .params import Params, read_toml
 from .inputs.geometric import is_geometric, parse_geometric
+from .patterns import drawn_zone
 from .patterns import expand as expand_patterns
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
@@ -967,12 +968,6 @@ def check_frames(factors, file: str | None) -> None:
     """The zones of one feature control frame (``frame``, an nX pattern) reference the same datum feature and are all
     a separate requirement or none: SEP REQT is written beneath a frame, not beside one of its features."""
     first: dict[str, object] = {}
-
-    def zone_of(f):     # the frame's zone as drawn (a composite feature's: its locating zone), in base units
-        lo, hi = f.limits
-        width = hi - lo if f.locating is None else f.locating
-        return units.dimension(f.unit), round(float(units.to_base(width, f.unit)), 12), f.modifier
-
     for f in factors:
         if not (f.zone and f.frame):
             continue
@@ -980,7 +975,7 @@ def check_frames(factors, file: str | None) -> None:
         if (g.separate, g.datum_size) != (f.separate, f.datum_size):
             raise SpecError(f"frame {f.frame!r}: zones {g.zone!r} and {f.zone!r} differ in separate or datum_size — the "
                             "zones of one frame share its datums and its SEP REQT", file=file, key="factor.frame")
-        if zone_of(g) != zone_of(f):
+        if drawn_zone(g) != drawn_zone(f):
             raise SpecError(f"frame {f.frame!r}: zones {g.zone!r} and {f.zone!r} differ in diameter or modifier — one "
                             "frame gives its features one zone", file=file, key="factor.frame")
     check_feature_types(factors, file)

@@ -427,16 +427,12 @@ def _row(cells: list, header: list, loc: Location, r: int, lettered: bool, comma
         if not blank(cell.get(h)):
             table[key] = _text(cell[h])
             keycol[key] = col[h]
-    if "basic" in cell:
-        b = _number(cell["basic"], where("basic"), comma)
-        if b is not None:
-            table["basic"] = b
-        keycol["basic"] = col["basic"]
-    if "shorter_side" in cell:
-        side = _number(cell["shorter_side"], where("shorter_side"), comma)
-        if side is not None:
-            table["shorter_side"] = side
-        keycol["shorter_side"] = col["shorter_side"]
+    for key in ("basic", "shorter_side"):      # number columns
+        if key in cell:
+            v = _number(cell[key], where(key), comma)
+            if v is not None:
+                table[key] = v
+            keycol[key] = col[key]
     for key in ("broken_edge", "separate"):     # yes/no columns
         if key in cell:
             if _yes(cell[key], where(key)):
