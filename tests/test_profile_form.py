@@ -22,6 +22,8 @@ CASES = [   # written, in mm: characteristic, lower, upper, datums — by hand f
     ("profile of a surface 0.2 A|B", "profile of a surface", -0.1, 0.1, ("A", "B")),
     ("⌓0.1 U 0.03 A", "profile of a surface", -0.07, 0.03, ("A",)),          # Ⓤ: 0.03 toward added material
     ("⌓0,1 Ⓤ 0 A", "profile of a surface", -0.1, 0.0, ("A",)),               # all of it removing material
+    ("⌓ 100,1 mm U 1,001", "profile of a surface", 1.001 - 100.1, 1.001, ()),  # 100,1 says the commas are decimal
+    ("⌓ 1,000 mm U 0,250", "profile of a surface", 0.25 - 1.0, 0.25, ()),     # 0,250 cannot be a thousands separator
     ("⏥0.02", "flatness", 0.0, 0.02, ()),
     ("straightness 0.01", "straightness", 0.0, 0.01, ()),
     ("○5 um", "circularity", 0.0, 0.005, ()),
@@ -54,6 +56,7 @@ def test_a_profiles_amount_after_u_takes_the_widths_unit_on_a_factor_in_another(
     ("⌓0.1 A A", "datum A is named twice"),
     ("flatness 0.02 furlongs", "the tolerance (the zone's width)"),
     ("⌓0.1 U -0.03 A", "must not be negative"),
+    ("⏥ 1,000 cm", "'1,000' is ambiguous"),
 ])
 def test_a_frame_written_wrong_says_why(text, words):
     with pytest.raises(NotationError, match=words.replace("(", r"\(").replace(")", r"\)")):
@@ -208,3 +211,54 @@ def test_violations_count_a_size_beyond_mmc_with_any_form():
     env = Envelope(1, 0, True, (9.98, 10.0), 0.01)
     X = np.array([[9.99, 0.005], [9.99, 0.011], [10.001, 0.0], [10.001, 1e-6], [9.995, 0.005]])
     assert violations(env, X) == 2
+
+
+# ---- every form × every length unit pair against pint (issue 42 item 3; the notation properties' oracle) ----------
+from decimal import Decimal  # noqa: E402
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+LENGTH = {"mm": "millimeter", "um": "micrometer", "in": "inch", "mil": "mil_length", "m": "meter", "cm": "centimeter"}
+SPELLED = {"um": ("um", "µm"), "in": ("in", '"')}
+HEADS = {"profile": ("⌓", "⌒", "profile", "profile of a surface", "line profile"),
+         "form": ("⏥", "⏤", "○", "⌭", "flatness", "straightness", "roundness", "cylindricity")}
+number = st.builds(lambda k, d: Decimal(k).scaleb(-d), st.integers(1, 9999), st.integers(0, 4))
+
+
+def _len(v, src, dst):
+    return UREG.Quantity(float(v), LENGTH[src]).to(LENGTH[dst]).magnitude
+
+
+@st.composite
+def frames(draw):
+    kind = draw(st.sampled_from(sorted(HEADS)))
+    head = draw(st.sampled_from(HEADS[kind]))
+    factor, wu = draw(st.sampled_from(sorted(LENGTH))), draw(st.sampled_from(sorted(LENGTH)))
+    width = draw(number)
+    comma = draw(st.booleans()) and width.as_tuple().exponent != -3    # 1,000: ambiguous, refused (above)
+    num = lambda d: str(d).replace(".", ",") if comma else str(d)  # noqa: E731
+    text = f"{head} {num(width)} {draw(st.sampled_from(SPELLED.get(wu, (wu,))))}"
+    lo, hi = (0.0, _len(width, wu, factor)) if kind == "form" else (-_len(width, wu, factor) / 2,
+                                                                     _len(width, wu, factor) / 2)
+    if kind == "profile":
+        if draw(st.booleans()):                          # unequally disposed: u toward added material
+            u = width * Decimal(draw(st.integers(0, 100))) / 100
+            uu = draw(st.sampled_from([None, wu] + (["um"] if wu == "mm" else [])))   # the width's unit, or its own
+            written = u * 1000 if uu == "um" and wu == "mm" else u
+            text += f" {draw(st.sampled_from(('U', 'Ⓤ')))} {num(format(written.normalize(), 'f'))}" + (f" {uu}" if uu else "")
+            hi = _len(written, uu or wu, factor)
+            lo = hi - _len(width, wu, factor)
+        letters = draw(st.lists(st.sampled_from("ABCDEFGH"), unique=True, max_size=3))
+        text += "".join(f" {d}" for d in letters)
+    return text, factor, lo, hi
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(frames())
+def test_every_profile_and_form_frame_in_every_unit_pair_is_pints_band(case):
+    text, factor, lo, hi = case
+    g = parse_geometric(text, unit=factor)
+    scale = max(abs(lo), abs(hi))
+    assert g.lower_limit == pytest.approx(lo, rel=1e-9, abs=1e-12 * scale), text
+    assert g.upper_limit == pytest.approx(hi, rel=1e-9, abs=1e-12 * scale), text

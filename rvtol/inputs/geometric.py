@@ -27,7 +27,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .notation import NotationError, Tolerance, fmt, parse_tolerance
+from .notation import NotationError, Tolerance, _decimal_points, fmt, parse_tolerance
 
 PROFILES = {"⌓": "profile of a surface", "⌒": "profile of a line"}
 FORMS = {"⏥": "flatness", "⏤": "straightness", "○": "circularity", "◯": "circularity", "⌭": "cylindricity"}
@@ -69,7 +69,8 @@ def parse_geometric(text: str, *, unit: str | None = None) -> GeometricTolerance
     m = _HEAD.match(text)
     if m is None:
         raise NotationError(f"{text!r}: not a profile or form tolerance (⌓0.1 A B, ⌒0.05, ⏥0.02, flatness 0.02, …)")
-    head, rest = m.group(1), m.group(2).replace("|", " ")
+    head = m.group(1)
+    rest = _decimal_points(m.group(2), text).replace("|", " ")   # decimal commas decided by all the frame's numbers
     characteristic = PROFILES.get(head) or FORMS.get(head) or _WORDS[head.lower()]
     words = rest.split()
     width, written, word, words = _magnitude(words, text, "the tolerance (the zone's width)", unit)
@@ -120,7 +121,8 @@ def _magnitude(words: list[str], text: str, what: str, unit: str | None,
         raise NotationError(f"{text!r}: {what} is a width: {number!r} must not be negative")
     try:
         t = parse_tolerance(f"max {written}", unit=unit)
-    except NotationError:
+    except NotationError as exc:       # the reader's own reason (an ambiguous 1,000, an unknown unit) without its
+        why = re.sub(r"^cannot read tolerance '[^']*':\s*", "", exc.reason.split(" (accepted:")[0])   # 'max …'
         raise NotationError(f"{text!r}: {what}: {written!r} is not a number with a length unit (0.1, 0.1 mm, "
-                            "100 um, 0.004\")") from None
+                            f"100 um, 0.004\"){': ' + why if why != exc.reason else ''}") from None
     return t.upper, t.unit, word, after
