@@ -305,6 +305,11 @@ def _refuse_spec_inputs(out: Path, spec, source: Path) -> None:
 def _kinds(kind: str | None = None) -> int:
     from .registry import ANALYSES, MODELS, analysis_function, model_factory, plugin_analyses, plugin_models
 
+    from .run_options import TABLES
+
+    if kind in TABLES:
+        _keys(f"[{kind}]: {TABLES[kind].__doc__.split(': ', 1)[1]}", TABLES[kind])
+        return EXIT_PASS
     if kind is not None:
         is_model = kind in MODELS or kind in plugin_models()
         if is_model:
@@ -322,7 +327,8 @@ def _kinds(kind: str | None = None) -> int:
     if plugins:
         print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
                                                                 sorted(plugins.items())))
-    print("rvtol kinds KIND lists the keys of a model or an analysis kind")
+    print("tables:   " + ", ".join(TABLES))
+    print("rvtol kinds KIND lists the keys of a model or an analysis kind, or of a table")
     return EXIT_PASS
 
 
@@ -384,12 +390,12 @@ def _start_workers_early(args) -> None:
     from .executors import start_early
     from .params import Params
     from .runguard import workers_problem
-    from .study import execution_keys
+    from .study import execution_keys, read_table_options
 
     try:
-        e = tomllib.loads(Path(args.study).read_text(encoding="utf-8")).get("execution", {})
-        v = execution_keys(Params(e if isinstance(e, dict) else {}, file=args.study, key="execution"),
-                           {k: getattr(args, k) for k in ("executor", "workers", "scheduler")})
+        root = Params(tomllib.loads(Path(args.study).read_text(encoding="utf-8")), file=args.study)
+        v = execution_keys(read_table_options(root, "execution"),
+                           {k: getattr(args, k) for k in ("executor", "workers", "scheduler")}, root.error)
     except (OSError, ValueError, RecursionError):    # the study's loading says what is wrong (InputError included)
         return
     kind, workers, scheduler = v["executor"], v["workers"], v["scheduler"]

@@ -22,9 +22,12 @@ from rvtol.options import REQUIRED, key_of, read_options, rule_of
 from rvtol.params import Params
 from rvtol.model_kind import Where
 from rvtol.registry import MODELS, analysis_function, ANALYSES, model_factory, plugin_analyses
+from rvtol.run_options import TABLES
 
 KINDS = sorted(set(ANALYSES) | set(plugin_analyses()))
 MODEL_KINDS = sorted(MODELS)
+#: what a kind is, the kinds, and the key its table is read at
+GROUPS = (("analysis", KINDS, "analysis[0]"), ("model", MODEL_KINDS, "model"), ("table", sorted(TABLES), None))
 
 
 def _base(tp):
@@ -93,11 +96,13 @@ def _keys(opts, path: tuple = ()):
 
 
 def _options(what: str, kind: str):
+    if what == "table":
+        return TABLES[kind]
     return (analysis_function(kind, "s.toml", "kind") if what == "analysis" else model_factory(kind, "s.toml")).Options
 
 
 def _cases():
-    for what, kinds in (("analysis", KINDS), ("model", MODEL_KINDS)):
+    for what, kinds, _ in GROUPS:
         for kind in kinds:
             for path, tp, rule, first_required in _keys(_options(what, kind)):
                 for bad in _invalid(tp, rule):
@@ -117,7 +122,7 @@ def study(tmp_path_factory):
 
 
 def test_the_common_test_covers_every_kind():
-    for what, kinds in (("analysis", KINDS), ("model", MODEL_KINDS)):
+    for what, kinds, _ in GROUPS:
         cases = [c for c in CASES if c.values[0] == what]
         covered = {c.values[1] for c in cases}
         assert covered == set(kinds), set(kinds) - covered
@@ -128,12 +133,12 @@ def test_the_common_test_covers_every_kind():
 
 @pytest.mark.parametrize("what,kind,path,bad,first_required", CASES)
 def test_an_invalid_value_is_one_located_error(study, what, kind, path, bad, first_required):
-    table: dict = {"kind": kind}
+    table: dict = {} if what == "table" else {"kind": kind}
     inner = table
     for k in path[:-1]:
         inner = inner.setdefault(k[:-3], [{}])[0] if k.endswith("[0]") else inner.setdefault(k, {})
     inner[path[-1]] = bad
-    where = "analysis[0]" if what == "analysis" else "model"
+    where = next(w for g, _, w in GROUPS if g == what) or kind
     with pytest.raises(InputError) as ei:
         read_options(_options(what, kind), Params(table, file="s.toml", key=where),
                      study if what == "analysis" else Where(Path(".")))
