@@ -65,6 +65,8 @@ figures, by document:
 - ``ParallelPlaneZone`` — doc 003: a planar face between two parallel planes and its deviation domain
 - ``planar_domain`` — doc 003: the plot of a parallel-plane zone's samples and domain; imports matplotlib
 - ``StiffnessOptions`` — doc 004: the keys of an analysis of the torsional-stiffness model
+- ``StiffnessPlan`` — doc 004: the reducer such an analysis evaluates (torsion-angle model, torque, modifications)
+- ``stiffness_plan`` — doc 004: that plan for a study's options (``prepare``'s)
 - ``ReducerStiffness`` — doc 004: the torsion-angle model of one reducer (base units)
 - ``TorsionAngles`` — doc 004: the torsion-angle components θ1…θ5 of a ``ReducerStiffness`` evaluation
 - ``TORSION_ANGLE_COMPONENTS`` — doc 004: the names of the torsion-angle components, in order
@@ -100,7 +102,7 @@ from .models.stackup.analyses import StackupOptions
 from .models.stackup.domains import ParallelPlaneZone
 from .models.stackup.model import StackupModel
 from .models.stiffness import texts as stiffness_texts
-from .models.stiffness.analyses import StiffnessOptions
+from .models.stiffness.analyses import StiffnessOptions, StiffnessPlan, stiffness_plan
 from .models.stiffness.breakdown import StiffnessAtTorque, stiffness_breakdown
 from .models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
 from .models.stiffness.torsion_angle import COMPONENTS as TORSION_ANGLE_COMPONENTS
@@ -149,7 +151,7 @@ __all__ = [
     # doc 003
     "StackupOptions", "StackupModel", "ParallelPlaneZone", "planar_domain",
     # doc 004
-    "StiffnessOptions", "ReducerStiffness", "TorsionAngles", "TORSION_ANGLE_COMPONENTS", "TORSION_ANGLE_LABELS",
+    "StiffnessOptions", "StiffnessPlan", "stiffness_plan", "ReducerStiffness", "TorsionAngles", "TORSION_ANGLE_COMPONENTS", "TORSION_ANGLE_LABELS",
     "stiffness_breakdown", "StiffnessAtTorque", "pin_angles", "initial_clearance", "normal_clearance",
     "angular_backlash", "stiffness_texts", "plot_sweep",
 ]
