@@ -233,11 +233,15 @@ def _read(params, key: str, tp, default, r: Rule, study):
     if members:                                         # A | B: the first member the value reads as
         from .errors import InputError
 
+        errors = []
         for m in members:
             try:
                 return _read(params, key, m, default, r, study)
-            except InputError:
-                continue
+            except InputError as exc:
+                errors.append((m, exc))
+        own = [exc for m, exc in errors if _holds(m, raw)]
+        if len(own) == 1:                               # the member of the value's own form: its reason
+            raise own[0]
         raise params.error(key, "expected " + " or ".join(_type_word(m) for m in members))
     if tp is list:
         v = params.raw(key)
@@ -350,7 +354,26 @@ def _type_word(tp) -> str:
     origin = typing.get_origin(tp)
     if tp is list or origin is list:
         return "an array"
+    if origin is Literal:
+        return " or ".join(repr(a) for a in typing.get_args(tp))
+    if tp is Path:
+        return "a file name"
     return {str: "a string", int: "an integer", float: "a number", bool: "true or false"}.get(tp, "a table")
+
+
+def _holds(tp, value) -> bool:
+    """Whether ``value`` has the TOML form of a union member ``tp`` (a string for text, a number for a number, an
+    array for a list, a table for a table): that member's own reason is the one to give."""
+    origin = typing.get_origin(tp)
+    if tp is bool:
+        return isinstance(value, bool)
+    if tp in (int, float):
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if tp in (str, Path) or origin is Literal:
+        return isinstance(value, str)
+    if tp is list or origin is list:
+        return isinstance(value, list)
+    return isinstance(value, dict)
 
 
 def _int_or_none(v):

@@ -49,12 +49,10 @@ class ReportOptions:
 
     pdf: bool = option(True, "report.pdf beside report.html")
     confidence: float = option(0.95, "the confidence of the intervals shown", min=0.5, max=0.999999)
-    tables: object = option([], 'samples and statistics also as "csv" and/or "xlsx" (a list, or one format)')
+    tables: list[str] | str = option([], 'samples and statistics also as "csv" and/or "xlsx" (a list, or one format)')
 
     def complete(self, study, error):
         v = [self.tables] if isinstance(self.tables, str) else self.tables
-        if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-            raise error("tables", "expected a list of table formats, e.g. [\"csv\", \"xlsx\"]")
         bad = [x for x in v if x not in TABLE_FORMATS]
         if bad:
             raise error("tables", f"unknown table format {bad[0]!r} (expected one of: {', '.join(TABLE_FORMATS)})")

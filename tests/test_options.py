@@ -417,3 +417,34 @@ def test_a_names_kind_built_at_run_time_names_the_same_things(kind, value):
     assert read(Built, {"name": value}).name == value
     with pytest.raises(InputError, match=f"unknown {'model' if kind == 'stage' else kind} name 'zz'"):
         read(Built, {"name": "zz"})
+
+
+@dataclass
+class Unions:
+    weights: dict[str, float] | str | None = option(None, "a table of numbers, or the name of a scheme", positive=True)
+    part: list[str] | str | None = option(None, "a list of names, or one")
+    side: Literal["upper", "lower"] | float | None = option(None, "a side, or a level")
+
+
+@pytest.mark.parametrize("value, reason", [
+    ({"a": "x"}, "weights.a: expected a number, got the string 'x'"),      # a table: the table's own reason
+    ({"a": -1.0}, "weights.a: must be > 0, got -1.0"),
+    (3, "weights: expected a table or a string"),                        # no member of a number's form
+])
+def test_a_union_gives_the_reason_of_the_member_of_the_value_s_own_form(value, reason):
+    with pytest.raises(InputError) as e:
+        read(Unions, {"weights": value})
+    assert str(e.value) == f"s.toml: analysis[0].{reason}", str(e.value)
+
+
+def test_a_union_s_expected_forms_are_said_in_a_user_s_words():
+    with pytest.raises(InputError) as e:
+        read(Unions, {"part": [3]})
+    assert str(e.value) == "s.toml: analysis[0].part: expected an array of strings", str(e.value)
+    with pytest.raises(InputError) as e:
+        read(Unions, {"side": "middle"})
+    assert "unknown value 'middle'" in str(e.value) and "upper" in str(e.value), str(e.value)
+    with pytest.raises(InputError) as e:
+        read(Unions, {"side": [1]})
+    assert str(e.value).endswith("side: expected 'upper' or 'lower' or a number"), str(e.value)
+    assert read(Unions, {"side": 0.5}).side == 0.5 and read(Unions, {"side": "lower"}).side == "lower"

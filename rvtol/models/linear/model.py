@@ -25,7 +25,6 @@ from ...errors import InputError, did_you_mean
 from ...model import LinearModel, Quantity
 from ...model_kind import ModelKind
 from ...options import REQUIRED, option
-from ...params import check_number
 
 
 def spec_directions(spec) -> list[float]:
@@ -58,7 +57,7 @@ class OutputOptions:
     unit: str = option("1", "the output's unit (its dimension fixes the base unit the coefficients give)")
     display_unit: str | None = option(None, "the unit to report in (default: unit)")
     constant: float = option(0.0, "the constant term, in unit")
-    coefficients: object = option(
+    coefficients: dict[str, float] | str = option(
         REQUIRED, 'factor -> coefficient in base-unit ratios (absent factors: 0), or "spec": each factor\'s direction')
 
 
@@ -93,7 +92,7 @@ def build(o: Options, design, spec, error) -> LinearModel:
                 raise error(f"{where}.coefficients.{unknown[0]}", f"unknown factor name {unknown[0]!r}"
                                                                    f"{did_you_mean(unknown[0], spec.names)} "
                                                                    f"(spec has: {', '.join(spec.names)})")
-            row = [check_number(t.coefficients.get(f, 0.0), error, f"{where}.coefficients.{f}") for f in spec.names]
+            row = [t.coefficients.get(f, 0.0) for f in spec.names]
         else:
             raise error(f"{where}.coefficients", f'expected "spec" or a table of coefficients, got {t.coefficients!r}')
         quantities.append(Quantity(t.name, units.base_unit(unit), disp))
