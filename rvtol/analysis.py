@@ -3,9 +3,14 @@
 An analysis is a thin adapter between a study and one capability of the library:
 
 * **declarative options** — a dataclass ``Options`` (:mod:`rvtol.options`): every key the
-  ``[[analysis]]`` table may hold, with its type, default, constraints and meaning; the table is
-  read and checked when the study *loads* (``Analysis(params, study)``), so a study fails
-  before anything is computed, and ``rvtol kinds KIND`` lists the keys;
+  ``[[analysis]]`` table may hold, with its type, default, constraints and meaning — a schema only
+  (its ``complete`` checks keys against each other and the study; it reads no file and builds
+  nothing); the table is read and checked when the study *loads* (``Analysis(params, study)``), so a
+  study fails before anything is computed, and ``rvtol kinds KIND`` lists the keys;
+* **a plan** — what the capability loads or builds from the options (a measured curve, the model it
+  runs, a design's stiffness chain): :meth:`Analysis.prepare` returns it once, when the study loads
+  (a frozen dataclass; bad input found there is a located error too), and ``compute`` reads it as
+  ``self.plan``;
 * **one library call** — ``compute(ctx)`` calls the capability's plain function, which returns a
   result dataclass (``to_frame()``, ``plot()``, ``summary()``); ``ctx`` is the
   :class:`rvtol.study.StudyContext` (the study, its Monte Carlo result ``ctx.mc`` and
@@ -73,8 +78,15 @@ class Analysis(ABC):
         if self.Options is None:
             raise TypeError(f"{type(self).__name__} declares no Options (the keys of its [[analysis]] table)")
         self.options = read_options(self.Options, params, study)
+        self.plan = self.prepare(self.options, study, params.error)
         self.key = getattr(self.options, "key", None) or self.kind
         self.title = getattr(self.options, "title", None) or type(self).title
+
+    def prepare(self, options, study: "Study", error):
+        """What the capability loads or builds from ``options``, made once when the study loads: a frozen
+        dataclass (the plan), or None when the options are all it needs.  ``error(key, reason)`` is the table's
+        located one-line error."""
+        return None
 
     def required(self) -> dict[str, str]:
         """Option -> the key of the analysis it names, for the :attr:`requires` options given."""

@@ -14,7 +14,10 @@ commit.  Nothing of the library imports this module (``tests/test_architecture.p
 - ``option`` — one declared key of an ``Options`` dataclass: default, meaning, unit and constraints
 - ``REQUIRED`` — the default of a key a study must give
 - ``ANALYSIS_ENTRY_POINT_GROUP`` — ``"rvtol.analyses"``: the entry-point group a plug-in registers its analyses in
-- ``MODEL_ENTRY_POINT_GROUP`` — ``"rvtol.models"``: the entry-point group of model factories ``(params, design, spec)``
+- ``MODEL_ENTRY_POINT_GROUP`` — ``"rvtol.models"``: the entry-point group of model kinds (a ``ModelKind``, or a plain
+  factory ``(params, design, spec)``)
+- ``ModelKind`` — a model kind: its ``[model]`` table's ``Options`` (a schema), ``build(options, design, spec, error)``
+  and title; ``rvtol kinds KIND`` lists its keys
 
 **Errors** (one located line and exit code 2 for bad input)
 
@@ -62,6 +65,8 @@ figures, by document:
 - ``ParallelPlaneZone`` — doc 003: a planar face between two parallel planes and its deviation domain
 - ``planar_domain`` — doc 003: the plot of a parallel-plane zone's samples and domain; imports matplotlib
 - ``StiffnessOptions`` — doc 004: the keys of an analysis of the torsional-stiffness model
+- ``StiffnessPlan`` — doc 004: the reducer such an analysis evaluates (torsion-angle model, torque, modifications)
+- ``stiffness_plan`` — doc 004: that plan for a study's options (``prepare``'s)
 - ``ReducerStiffness`` — doc 004: the torsion-angle model of one reducer (base units)
 - ``TorsionAngles`` — doc 004: the torsion-angle components θ1…θ5 of a ``ReducerStiffness`` evaluation
 - ``TORSION_ANGLE_COMPONENTS`` — doc 004: the names of the torsion-angle components, in order
@@ -97,7 +102,7 @@ from .models.stackup.analyses import StackupOptions
 from .models.stackup.domains import ParallelPlaneZone
 from .models.stackup.model import StackupModel
 from .models.stiffness import texts as stiffness_texts
-from .models.stiffness.analyses import StiffnessOptions
+from .models.stiffness.analyses import StiffnessOptions, StiffnessPlan, stiffness_plan
 from .models.stiffness.breakdown import StiffnessAtTorque, stiffness_breakdown
 from .models.stiffness.cycloid_contact import angular_backlash, initial_clearance, normal_clearance, pin_angles
 from .models.stiffness.torsion_angle import COMPONENTS as TORSION_ANGLE_COMPONENTS
@@ -107,6 +112,7 @@ from .models.transmission import texts as transmission_texts
 from .models.transmission.analyses import TESensitivity, TESensitivityOptions
 from .models.transmission.model import TransmissionErrorModel
 from .models.transmission.sensitivity import TESensitivityResult, te_sensitivity
+from .model_kind import ModelKind
 from .options import REQUIRED, option
 from .params import Params, read_toml
 from .records import frame_records
@@ -130,6 +136,7 @@ _PLOTS = {
 __all__ = [
     # the analysis contract and the registry's entry-point groups
     "Analysis", "CommonOptions", "option", "REQUIRED", "ANALYSIS_ENTRY_POINT_GROUP", "MODEL_ENTRY_POINT_GROUP",
+    "ModelKind",
     # errors; inputs, units and statistics
     "InputError", "SpecError", "Params", "read_toml", "load_design", "units", "stats",
     # results and reports
@@ -144,7 +151,7 @@ __all__ = [
     # doc 003
     "StackupOptions", "StackupModel", "ParallelPlaneZone", "planar_domain",
     # doc 004
-    "StiffnessOptions", "ReducerStiffness", "TorsionAngles", "TORSION_ANGLE_COMPONENTS", "TORSION_ANGLE_LABELS",
+    "StiffnessOptions", "StiffnessPlan", "stiffness_plan", "ReducerStiffness", "TorsionAngles", "TORSION_ANGLE_COMPONENTS", "TORSION_ANGLE_LABELS",
     "stiffness_breakdown", "StiffnessAtTorque", "pin_angles", "initial_clearance", "normal_clearance",
     "angular_backlash", "stiffness_texts", "plot_sweep",
 ]

@@ -76,12 +76,14 @@ from pathlib import Path
 from .ci.gates import read_gates
 from .design import Design, load_design
 from .errors import InputError, SpecError, did_you_mean
-from .executors import KINDS as EXECUTOR_KINDS
 from .executors import Executor, make_executor
 from .mc import (EvaluationCache, Evaluator, MonteCarloResult, parallel_seconds, recording_calls, run_monte_carlo,
                  run_until_decided)
 from .model import Model
+from .options import read_options
 from .params import Params, read_toml
+from .run_options import TABLES as RUN_TABLES
+from .run_options import ExecutionOptions, SamplingOptions, default
 from .patterns import feature_spec, with_patterns
 from .runguard import NAME_MAX_BYTES
 from .analysis import in_dependency_order
@@ -97,9 +99,12 @@ MAX_FOLDER_NAME_BYTES = NAME_MAX_BYTES - len(".") - len(".tmp-") - 12
 
 @dataclass
 class RunOptions:
-    n: int = 10000
+    """What a run does: the study's run tables (:mod:`rvtol.run_options`, whose declared defaults these are) with
+    the command line's values over them."""
+
+    n: int = default(SamplingOptions, "n")
     method: str = "lhs"
-    seed: int | None = 12345
+    seed: int | None = default(SamplingOptions, "seed")
     executor: str = "process"
     workers: int | None = None
     scheduler: str | None = None
@@ -551,26 +556,24 @@ MAX_N_PER_BATCH = 20
 
 
 def _options(root: Params, ov: dict) -> RunOptions:
-    s = root.sub("sampling", {})
-    e = root.sub("execution", {})
-    r = root.sub("report", {})
-    until = bool(ov.get("until_decided")) or s.bool("until_decided", False)
+    """The run's options: the study's ``[sampling]``, ``[execution]`` and ``[report]`` (:mod:`rvtol.run_options`)
+    with the command line's values ``ov`` over them."""
+    s, e, r = (read_table_options(root, name) for name in ("sampling", "execution", "report"))
+    until = bool(ov.get("until_decided")) or s.until_decided
     o = RunOptions(
-        n=s.int("n", 10000, min=2),
-        method=s.str("method", "random" if until else "lhs", choices=METHODS),
+        n=s.n,
+        method=s.method or ("random" if until else "lhs"),
         until_decided=until,
-        max_n=s.int("max_n", None, min=2),
-        tails=s.bool("tails", False) or bool(ov.get("tails")),
-        tail_samples=s.int("tail_samples", 2000, min=100),
-        seed=s.int("seed", 12345, min=0),
-        **execution_keys(e, ov),
-        chunk_size=e.int("chunk_size", 0, min=0) or None,
-        pdf=r.bool("pdf", True),
-        confidence=r.float("confidence", 0.95, min=0.5, max=0.999999),
-        tables=_table_formats(r),
+        max_n=s.max_n,
+        tails=s.tails or bool(ov.get("tails")),
+        tail_samples=s.tail_samples,
+        seed=s.seed,
+        **execution_keys(e, ov, lambda key, why: root.error(f"execution.{key}", why)),
+        chunk_size=e.chunk_size or None,
+        pdf=r.pdf,
+        confidence=r.confidence,
+        tables=r.formats(),
     )
-    for p in (s, e, r):
-        p.finish()
     for k, v in ov.items():
         if v is None or k in _EXECUTION:
             continue
@@ -585,6 +588,15 @@ def _options(root: Params, ov: dict) -> RunOptions:
     if "xlsx" in o.tables and o.n + 1 > XLSX_MAX_ROWS:
         raise InputError(f"{o.n} samples do not fit an XLSX sheet ({XLSX_MAX_ROWS - 1} rows): write them as csv",
                          file=root.file, key="report.tables")
+    return o
+
+
+def read_table_options(root: Params, name: str):
+    """A run table of the study (``sampling``, ``execution``, ``report``) read by its declared options: every key
+    checked, an unknown one refused."""
+    p = root.sub(name, {})
+    o = read_options(RUN_TABLES[name], p)
+    p.finish()
     return o
 
 
@@ -652,13 +664,13 @@ def _contradiction(v: dict) -> tuple[str, str, str] | None:
     return None
 
 
-def execution_keys(e: Params, ov: dict) -> dict:
-    """``executor``, ``workers``, ``scheduler``: the command line's values over ``[execution]``'s.  Two that contradict
-    each other (:func:`_contradiction`) are refused when one source gives both; when the command line gives one and
-    the study file the other, the command line's wins and the file's is dropped (``--workers 4`` runs a study written
-    serial on a process pool; ``--scheduler`` one written for a process pool on Dask, as ``--executor`` would)."""
-    given = {"file": {"executor": e.str("executor", None, choices=EXECUTOR_KINDS),
-                      "workers": e.int("workers", None, min=1), "scheduler": e.str("scheduler", None)},
+def execution_keys(e: ExecutionOptions, ov: dict, error) -> dict:
+    """``executor``, ``workers``, ``scheduler``: the command line's values over ``[execution]``'s (``e``; ``error``:
+    its table's located error).  Two that contradict each other (:func:`_contradiction`) are refused when one source
+    gives both; when the command line gives one and the study file the other, the command line's wins and the file's
+    is dropped (``--workers 4`` runs a study written serial on a process pool; ``--scheduler`` one written for a
+    process pool on Dask, as ``--executor`` would)."""
+    given = {"file": {"executor": e.executor, "workers": e.workers, "scheduler": e.scheduler},
              "cli": {k: ov.get(k) for k in _EXECUTION}}
     src = {k: "cli" if given["cli"][k] is not None else "file" for k in _EXECUTION}
     v = {k: given[src[k]][k] for k in _EXECUTION}
@@ -669,24 +681,9 @@ def execution_keys(e: Params, ov: dict) -> dict:
             continue
         if src[key] == "cli":
             raise InputError(why.format(other=f"--{other} {v[other]}"), file="<command line>", key=f"--{key}")
-        raise e.error(key, why.format(other=f"{other} = {v[other]!r}"))
+        raise error(key, why.format(other=f"{other} = {v[other]!r}"))
     v["executor"] = v["executor"] or ("dask" if v["scheduler"] else "process")
     return v
-
-
-#: table formats a report folder can hold beside samples.parquet
-TABLE_FORMATS = ("csv", "xlsx")
-
-
-def _table_formats(r: Params) -> tuple[str, ...]:
-    v = r.raw("tables", [])
-    v = [v] if isinstance(v, str) else v
-    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-        raise r.error("tables", "expected a list of table formats, e.g. [\"csv\", \"xlsx\"]")
-    bad = [x for x in v if x not in TABLE_FORMATS]
-    if bad:
-        raise r.error("tables", f"unknown table format {bad[0]!r} (expected one of: {', '.join(TABLE_FORMATS)})")
-    return tuple(dict.fromkeys(v))
 
 
 def written_files(folder: Path) -> list[str]:

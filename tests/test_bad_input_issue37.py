@@ -77,10 +77,11 @@ def test_serial_with_workers_is_a_contradiction(tmp_path, capsys):
 def test_the_command_line_overrides_the_file_s_execution_keys_it_contradicts():
     """One source contradicting itself is refused (above); the command line over the study file is an override."""
     from rvtol.params import Params
-    from rvtol.study import execution_keys
+    from rvtol.study import execution_keys, read_table_options
 
     def ex(file, **cli):
-        return execution_keys(Params(file, file="s.toml", key="execution"), cli)
+        root = Params({"execution": file}, file="s.toml")
+        return execution_keys(read_table_options(root, "execution"), cli, root.error)
 
     assert ex({"executor": "serial"}, workers=4) == {"executor": "process", "workers": 4, "scheduler": None}
     assert ex({"workers": 4}, executor="serial") == {"executor": "serial", "workers": None, "scheduler": None}

@@ -22,8 +22,9 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
   warm one;
 * ``bench_tail`` — the tail estimates (FORM, SORM, importance sampling, subset) against OpenTURNS called directly
   on the same function, 2 and 50 factors;
-* ``bench_multifidelity`` — multi-fidelity Monte Carlo against plain Monte Carlo at the same budget (a closed form;
-  the sign-off's 20-DOF lost motion with the screening model as its cheap companion).
+* ``bench_multifidelity`` — multi-fidelity Monte Carlo against plain Monte Carlo at equal interval width (a closed
+  form; the sign-off's 20-DOF lost motion and TE with a surrogate learned from 20-DOF runs, the lost motion also with
+  the frictionless torsion curve; training and pilot runs charged).
 
 Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
 

@@ -13,7 +13,7 @@ load distribution.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ...analysis import Analysis, CommonOptions
 from ...options import option
@@ -32,21 +32,31 @@ class StiffnessOptions(CommonOptions):
                                   unit="N*m", positive=True)
     torque_fractions: list[float] = option([0.25, 0.5, 0.75, 1.0], "fractions of the torque, for the curves against "
                                            "load", positive=True, min_length=1)
-    stiffness: ReducerStiffness | None = field(init=False, default=None)
-    modifications: tuple | None = field(init=False, default=None)
 
     def complete(self, study, error):
         if study.design is None:
             raise error("kind", "this analysis needs a design ([study] design = ...)")
-        model = study.model
-        if isinstance(model, TorsionalStiffnessModel):
-            self.stiffness = model.stiffness
-            self.torque = self.torque or model.torque
-        else:
-            self.stiffness = ReducerStiffness.from_design(study.design)
-        self.torque = self.torque or study.design["reducer.rated_torque"]
-        d = study.design
-        self.modifications = (d["cycloid.equidistance_modification"], d["cycloid.moved_distance_modification"])
+
+
+@dataclass(frozen=True)
+class StiffnessPlan:
+    """The reducer whose stiffness is broken down: its torsion-angle model, the torque and the profile
+    modifications (equidistance, moved distance)."""
+
+    stiffness: ReducerStiffness
+    torque: float
+    modifications: tuple[float, float]
+
+
+def stiffness_plan(o: StiffnessOptions, study) -> StiffnessPlan:
+    """The study's reducer for a stiffness analysis: the study model's torsion-angle model (else the design's), the
+    torque (given, else the model's, else rated) and the design's profile modifications."""
+    model, d = study.model, study.design
+    own = isinstance(model, TorsionalStiffnessModel)
+    stiffness = model.stiffness if own else ReducerStiffness.from_design(d)
+    torque = o.torque or (model.torque if own else None) or d["reducer.rated_torque"]
+    return StiffnessPlan(stiffness, torque, (d["cycloid.equidistance_modification"],
+                                             d["cycloid.moved_distance_modification"]))
 
 
 class StiffnessBreakdown(Analysis):
@@ -54,9 +64,12 @@ class StiffnessBreakdown(Analysis):
     layout = texts.angles
     Options = StiffnessOptions
 
+    def prepare(self, o, study, error) -> StiffnessPlan:
+        return stiffness_plan(o, study)
+
     def compute(self, ctx):
-        o = self.options
-        return stiffness_breakdown(o.stiffness, o.torque, o.modifications, o.torque_fractions)
+        p = self.plan
+        return stiffness_breakdown(p.stiffness, p.torque, p.modifications, self.options.torque_fractions)
 
     def report(self, res):
         """Two sections, each with its summary.json entry (``<key>`` and ``stiffness_contact``)."""

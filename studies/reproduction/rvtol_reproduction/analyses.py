@@ -10,9 +10,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from rvtol.plugin import (REQUIRED, AdjustmentOptions, Analysis, InputError, LostMotionOptions, ParallelPlaneZone,
-                          Params, Section, SpecError, StackupOptions, StiffnessOptions, TESensitivity,
+                          Params, Section, SpecError, StackupOptions, StiffnessOptions, StiffnessPlan, TESensitivity,
                           TESensitivityOptions, TransmissionErrorModel, load_assembly, load_design, option,
-                          te_sensitivity, units)
+                          stiffness_plan, te_sensitivity, units)
 
 from . import texts
 from .doc000_transmission_error import SENSITIVITIES, te_against_document
@@ -210,25 +210,32 @@ class StiffnessReproduction(Analysis):
         sweep_points: int = option(5, "points of the modification and error sweeps", min=3, max=101)
         error_range: float = option(0.010, "the errors are swept over ±error_range (default 10 µm)", unit="um",
                                     positive=True)
-        figures: object = field(init=False, default=None)
+    @dataclass(frozen=True)
+    class Plan:
+        """The reducer (the library's stiffness plan), the printed figures and the pin circle radii swept."""
 
-        def complete(self, study, error):
-            super().complete(study, error)
-            self.figures = _printed(study, self.printed, DOC004_FIGURES)
-            if self.pin_circle_radii is None:
-                self.pin_circle_radii = self.figures["table2_R_p"].value
-            pins = self.stiffness.pins
-            for name, vals in (("pin_circle_radii", self.pin_circle_radii), ("eccentricities", self.eccentricities)):
-                for v in vals:
-                    K1 = (v if name == "eccentricities" else pins.a) * pins.z_p / (
-                        v if name == "pin_circle_radii" else pins.R_p)
-                    if K1 >= 1.0:
-                        raise error(name, f"value {v:g} mm gives K1 = a z_p / R_p = {K1:.3f} >= 1")
+        reducer: StiffnessPlan
+        figures: dict
+        radii: list
+
+    def prepare(self, o, study, error) -> "StiffnessReproduction.Plan":
+        reducer = stiffness_plan(o, study)
+        figures = _printed(study, o.printed, DOC004_FIGURES)
+        radii = o.pin_circle_radii if o.pin_circle_radii is not None else figures["table2_R_p"].value
+        pins = reducer.stiffness.pins
+        for name, vals in (("pin_circle_radii", radii), ("eccentricities", o.eccentricities)):
+            for v in vals:
+                K1 = (v if name == "eccentricities" else pins.a) * pins.z_p / (v if name == "pin_circle_radii"
+                                                                               else pins.R_p)
+                if K1 >= 1.0:
+                    raise error(name, f"value {v:g} mm gives K1 = a z_p / R_p = {K1:.3f} >= 1")
+        return self.Plan(reducer, figures, radii)
 
     def compute(self, ctx):
-        o = self.options
-        return stiffness_document(o.stiffness, o.torque, o.modifications, o.torque_fractions, o.figures,
-                                  radii=o.pin_circle_radii, eccentricities=o.eccentricities, widths=o.widths,
+        o, p = self.options, self.plan
+        r = p.reducer
+        return stiffness_document(r.stiffness, r.torque, r.modifications, o.torque_fractions, p.figures,
+                                  radii=p.radii, eccentricities=o.eccentricities, widths=o.widths,
                                   points=o.sweep_points, error_range=o.error_range)
 
     def report(self, r):
