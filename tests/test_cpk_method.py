@@ -191,3 +191,24 @@ def test_a_run_without_requirements_is_exploratory_only_when_declared():
     from rvtol.verdict import EXPLORATORY, NO_REQUIREMENTS, study_verdict
 
     assert study_verdict([]) == NO_REQUIREMENTS and study_verdict([], exploratory=True) == EXPLORATORY
+
+
+@pytest.mark.parametrize("percentile_estimate", [1.45, None])
+def test_a_pass_the_percentile_cpk_refutes_is_planned_on_the_smaller_estimate_or_not_at_all(percentile_estimate):
+    """Normal theory passes (bound 1.4 ≥ 1.33), the percentile bound 1.2 refutes it on a skewed output, at n = 150.
+    With a percentile estimate of 1.45 the n offered is the one that demonstrates the smaller estimate: the smallest
+    n with Bissell's bound 1.45 − z·√(1/(9n) + 1.45²/(2(n − 1))) ≥ 1.33 (z = Φ⁻¹(0.95), counted up by hand).  With no
+    percentile estimate (its bound alone) no estimate can be held: no n is offered and it is not UNDECIDED."""
+    from scipy.stats import norm
+
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("r", upper=4.2, min_cpk=1.33), cpk=1.5, cpk_lo=1.4, other_cpk=(percentile_estimate, 1.2),
+              shape=_skewed(), n=150)
+    assert not j.passed and any("normal theory misstates the tail" in w for w in j.reasons)
+    if percentile_estimate is None:
+        assert not j.undecided and j.n_to_demonstrate is None
+        return
+    z, c = norm.ppf(0.95), percentile_estimate
+    need = next(m for m in range(2, 10_000) if c - z * math.sqrt(1 / (9 * m) + c * c / (2 * (m - 1))) >= 1.33)
+    assert j.undecided and j.n_to_demonstrate == need > 150

@@ -307,3 +307,55 @@ def test_no_normality_from_a_sample_holding_a_nan():
     y = np.random.default_rng(13).normal(size=20)
     y[4] = np.nan
     assert st.normality(y) is None
+
+
+def test_the_mean_interval_of_two_values_is_students_t_with_one_degree_of_freedom():
+    # n = 2: s = |y₂ − y₁|/√2 and t with 1 degree of freedom is Cauchy, its quantile tan(π(p − ½)) — for 1 and 3,
+    # 2 ± tan(0.475π)·√2/√2 = 2 ± 12.706; one value has no interval
+    m, lo, hi = st.mean_ci(np.array([1.0, 3.0]), 0.95)
+    t = math.tan(math.pi * 0.475)
+    assert (m, lo, hi) == (2.0, pytest.approx(2.0 - t, rel=1e-12), pytest.approx(2.0 + t, rel=1e-12))
+    m1, lo1, hi1 = st.mean_ci(np.array([5.0]))
+    assert m1 == 5.0 and math.isnan(lo1) and math.isnan(hi1)
+
+
+def test_a_proportion_of_a_negative_count_is_refused_not_a_nan_interval():
+    # no samples: no interval (NaN, NaN); a negative sample count is no sample count at all
+    assert all(math.isnan(v) for v in st.proportion_ci(0, 0))
+    with pytest.raises(ValueError):
+        st.proportion_ci(0, -1)
+
+
+def test_an_anderson_darling_p_at_the_top_of_stephens_table_reads_at_least():
+    # Stephens' (1974) table stops at 15 %: scipy's interpolated p is 0.15 for any A² below that level's critical
+    # value, which means p ≥ 0.15; below 0.15 the interpolated value is shown as it is
+    normal_scores = stats.norm.ppf((np.arange(1, 201) - 0.5) / 200)       # the most normal sample of 200
+    shape = st.normality(normal_scores)
+    assert shape.ad_pvalue == 0.15 and shape.describe().endswith("(p ≥ 0.15)")
+    assert st.Shape(0.1, 0.2, 0.5, 0.1).describe().endswith("(p = 0.1)")
+
+
+def test_the_default_percentile_cpk_interval_cuts_95_percent_of_the_default_resamples():
+    # the interval's defaults (95 %, the resamples bootstrap_quantiles draws by default: 200, its fixed seed) by
+    # hand: each resample's percentile Cpk min((U − median)/(p99.865 − median), (median − L)/(median − p0.135))
+    y = np.sort(np.random.default_rng(14).gamma(5.0, size=300))
+    q = st.bootstrap_quantiles(y, st.CPK_QUANTILES)
+    cpk = np.minimum((20.0 - q[:, 1]) / (q[:, 2] - q[:, 1]), (q[:, 1] - 0.0) / (q[:, 1] - q[:, 0]))
+    assert st.percentile_cpk_ci(y, 0.0, 20.0) == (pytest.approx(np.quantile(cpk, 0.025), rel=1e-12),
+                                                  pytest.approx(np.quantile(cpk, 0.975), rel=1e-12))
+
+
+def test_a_bootstrap_interval_needs_its_statistic_on_half_the_resamples():
+    # resamples of size 3 from {0, 1, 2}: one holding both 0 and 1 has probability 1 − 2·(2/3)³ + (1/3)³ = 12/27 = 0.44
+    # (under half: no interval, as percentile_cpk_ci), one holding a 0 has 1 − (2/3)³ = 19/27 = 0.70 (an interval)
+    y = np.array([0.0, 1.0, 2.0])
+    assert st.bootstrap_ci(y, lambda r: r.mean() if 0.0 in r and 1.0 in r else None, n_boot=2000) == (None, None)
+    lo, hi = st.bootstrap_ci(y, lambda r: r.mean() if 0.0 in r else None, n_boot=2000)
+    assert 0.0 <= lo < hi <= 4 / 3                  # a resample holding a 0 has a mean of at most (0 + 2 + 2)/3
+
+
+@pytest.mark.parametrize("method", ["exact", "wilson"])
+def test_no_samples_give_no_lower_bound_of_a_proportion(method):
+    # n = 0 carries no evidence: NaN (neither the 0 of Clopper–Pearson's k = 0 nor Wilson's 0/0)
+    assert math.isnan(st.proportion_lower_bound(0, 0, 0.95, method))
+    assert st.proportion_lower_bound(0, 1, 0.95, method) == 0.0       # one sample, not conforming: bound 0
