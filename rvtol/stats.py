@@ -395,17 +395,21 @@ def yield_of(y: np.ndarray, ok: np.ndarray, lower: float | None, upper: float | 
 
 def convergence_trace(y: np.ndarray, ok: np.ndarray, limits: list[tuple[float | None, float | None]],
                       points: int = 60, confidence: float = 0.95) -> dict[str, np.ndarray]:
-    """Running mean (with its CI) and running yields at log-spaced sample counts."""
+    """Running mean (with its CI) and running yields at log-spaced sample counts.  At a count with no evaluated
+    sample the mean is NaN (not 0), and its interval is NaN until two are evaluated (one value has no spread to
+    show, not a zero one)."""
     n = len(y)
     ns = np.unique(np.geomspace(min(10, n), n, points).astype(int))
     yv = np.where(ok, y, 0.0)
     c1 = np.cumsum(yv)
     c2 = np.cumsum(yv * yv)
     cn = np.cumsum(ok)
-    m = c1[ns - 1] / np.maximum(cn[ns - 1], 1)
-    var = np.maximum(c2[ns - 1] / np.maximum(cn[ns - 1], 1) - m * m, 0) * cn[ns - 1] / np.maximum(cn[ns - 1] - 1, 1)
+    k = cn[ns - 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m = np.where(k > 0, c1[ns - 1] / np.maximum(k, 1), np.nan)
+        var = np.where(k > 1, np.maximum(c2[ns - 1] / np.maximum(k, 1) - m * m, 0) * k / np.maximum(k - 1, 1), np.nan)
     z = stats.norm.ppf(0.5 + confidence / 2)
-    half = z * np.sqrt(var / np.maximum(cn[ns - 1], 1))
+    half = z * np.sqrt(var / np.maximum(k, 1))
     out = {"n": ns, "mean": m, "mean_lo": m - half, "mean_hi": m + half}
     for i, (lo, hi) in enumerate(limits):
         inside = ok.copy()

@@ -142,6 +142,15 @@ class Module:
                                f'excluded-modules = []\ntest-command = "{command}"\n\n'
                                '[cosmic-ray.distributor]\nname = "local"\n', encoding="utf-8")
 
+    def forget_unverified(self) -> int:
+        """Delete the results recorded as killed that are neither a test's failure nor a timeout — recorded before
+        the client said how (a test server that had stopped made every later mutant 'killed'), or an error (no
+        answer from the server, pytest's own failure): they are pending again."""
+        import sqlite3
+        with sqlite3.connect(self.session) as db:
+            return db.execute("DELETE FROM work_results WHERE worker_outcome = 'NORMAL' AND test_outcome = 'KILLED' "
+                              "AND NOT (output LIKE 'killed:%' OR output = 'timeout')").rowcount
+
     def forget_survivors(self) -> int:
         """Delete the survivors' results from the session: they are pending again."""
         import sqlite3
@@ -173,6 +182,9 @@ class Module:
         """Run every pending mutant (the module's file restored first: a killed run may have left a mutant in it),
         through the test server."""
         self.restore()
+        unverified = self.forget_unverified()
+        if unverified:
+            print(f"{self.key}: {unverified} results recorded as killed without how run again", flush=True)
         socket_path = self.dir / "server.sock"
         socket_path.unlink(missing_ok=True)
         with open(self.dir / "exec.log", "a", encoding="utf-8") as log:
@@ -209,7 +221,8 @@ class Module:
                 elif r.worker_outcome != WorkerOutcome.NORMAL or r.test_outcome == TestOutcome.INCOMPETENT:
                     kind = "errors"
                 elif r.test_outcome == TestOutcome.KILLED:
-                    kind = "timeout" if r.output == "timeout" else "killed"
+                    out = (r.output or "").strip()
+                    kind = "timeout" if out == "timeout" else "killed" if out.startswith("killed:") else "errors"
                 elif equivalent.get(mid, {}).get("line") == line:
                     kind = "equivalent"
                     stale.pop(mid)
@@ -400,22 +413,38 @@ def serve(work: Path) -> int:
     while True:
         conn, _ = server.accept()
         with conn:
-            conn.recv(16)
-            conn.sendall(judge().encode())
+            try:
+                conn.recv(16)
+                conn.sendall(judge().encode())
+            except OSError as exc:      # the client is gone (cosmic-ray's timeout stopped it): serve the next one
+                print(f"a client left before its answer ({exc})", flush=True)
+
+
+#: pytest's exit codes that mean the tests found the mutant: a test failed (1), or collecting them failed (2: the
+#: mutant breaks an import)
+DETECTED = ("1", "2")
 
 
 def client(work: Path) -> int:
-    """cosmic-ray's test command: exit 0 if the tests pass on the mutant, 1 if one fails (``timeout`` printed if
-    they took too long)."""
+    """cosmic-ray's test command: exit 0 if the tests pass on the mutant, else 1 — and what it was, as the result's
+    output: ``killed: pytest exit N`` (a test failed, or the collection), ``timeout``, or ``error: …`` (pytest's own
+    failure, a crashed test process, no answer from the test server): only the first two count as detected
+    (:meth:`Module.results`; cosmic-ray records every non-zero exit as killed)."""
     import socket
 
-    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
-        conn.connect(str(work / "server.sock"))
-        conn.sendall(b"run")
-        answer = conn.recv(64).decode()
-    if answer == "timeout":
-        print("timeout", end="")
-    return 0 if answer == "0" else 1
+    try:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
+            conn.connect(str(work / "server.sock"))
+            conn.sendall(b"run")
+            answer = conn.recv(64).decode()
+    except OSError as exc:
+        print(f"error: no answer from the test server ({exc})", end="")
+        return 1
+    if answer == "0":
+        return 0
+    print("timeout" if answer == "timeout" else f"killed: pytest exit {answer}" if answer in DETECTED else
+          f"error: pytest exit {answer}" if answer.isdigit() else f"error: the test server answered {answer!r}", end="")
+    return 1
 
 
 def _rate(r: dict) -> str:

@@ -1,5 +1,7 @@
 """The mutation harness's own rule (tests/mutation.py): the mutants it skips as annotations are those in
 annotations a module never evaluates, and no others (spans counted by hand)."""
+import pytest
+
 from mutation import annotation_spans
 
 SOURCE = ("x: int | None = 1\n"
@@ -37,3 +39,67 @@ def test_only_lines_inside_a_function_body_count_as_run_when_called():
               "        return self.size\n"        # 12 body
               "def h(y=5): return y\n")           # 13 a one-line def: its default is evaluated at import
     assert function_body_lines(source) == {5, 7, 8, 12}
+
+
+def _answering(tmp_path, answer: bytes | None):
+    """A stand-in test server on ``tmp_path/server.sock`` that answers one client with ``answer`` (None: no server)."""
+    import socket
+    import threading
+
+    if answer is None:
+        return None
+    srv = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    srv.bind(str(tmp_path / "server.sock"))
+    srv.listen(1)
+
+    def one():
+        conn, _ = srv.accept()
+        with conn:
+            conn.recv(16)
+            conn.sendall(answer)
+        srv.close()
+
+    t = threading.Thread(target=one, daemon=True)
+    t.start()
+    return t
+
+
+@pytest.mark.parametrize("answer, code, output", [
+    (b"0", 0, ""),                                         # the tests pass on the mutant: a survivor
+    (b"1", 1, "killed: pytest exit 1"),                    # a test failed
+    (b"2", 1, "killed: pytest exit 2"),                    # collecting the tests failed (the mutant breaks an import)
+    (b"timeout", 1, "timeout"),
+    (b"3", 1, "error: pytest exit 3"),                     # pytest's own internal error: not the tests' verdict
+    (b"139", 1, "error: pytest exit 139"),                 # the test process crashed (a signal)
+    (None, 1, "error: no answer from the test server"),    # the server had stopped: never 'killed'
+])
+def test_the_client_says_how_a_mutant_ended_and_only_a_failing_test_kills_it(tmp_path, capsys, answer, code,
+                                                                               output):
+    from mutation import client
+
+    t = _answering(tmp_path, answer)
+    assert client(tmp_path) == code
+    assert capsys.readouterr().out.startswith(output)
+    if t is not None:
+        t.join(5)
+
+
+def test_only_a_said_kill_or_a_timeout_counts_as_detected(tmp_path):
+    """A result cosmic-ray recorded as KILLED counts as killed only when the client said a test failed; one recorded
+    without saying how (before the client said it) is run again, an error is neither kill nor survivor."""
+    import sqlite3
+
+    from mutation import Module
+
+    db_path = tmp_path / "session.sqlite"
+    with sqlite3.connect(db_path) as db:
+        db.execute("CREATE TABLE work_results (worker_outcome VARCHAR(9), output TEXT, test_outcome VARCHAR(11), "
+                   "diff TEXT, job_id VARCHAR NOT NULL PRIMARY KEY)")
+        db.executemany("INSERT INTO work_results VALUES ('NORMAL', ?, ?, '', ?)", [
+            ("killed: pytest exit 1", "KILLED", "a"), ("timeout", "KILLED", "b"), ("", "KILLED", "c"),
+            ("error: no answer from the test server", "KILLED", "d"), ("", "SURVIVED", "e")])
+    m = Module.__new__(Module)
+    m.session = db_path
+    assert m.forget_unverified() == 2
+    with sqlite3.connect(db_path) as db:
+        assert sorted(r[0] for r in db.execute("SELECT job_id FROM work_results")) == ["a", "b", "e"]

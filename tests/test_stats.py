@@ -359,3 +359,17 @@ def test_no_samples_give_no_lower_bound_of_a_proportion(method):
     # n = 0 carries no evidence: NaN (neither the 0 of Clopper–Pearson's k = 0 nor Wilson's 0/0)
     assert math.isnan(st.proportion_lower_bound(0, 0, 0.95, method))
     assert st.proportion_lower_bound(0, 1, 0.95, method) == 0.0       # one sample, not conforming: bound 0
+
+
+def test_convergence_trace_shows_no_mean_before_a_sample_is_evaluated_and_no_interval_before_two():
+    """The first ten samples failed: at n = 10 there is no mean (NaN, not 0 ± 0); at the count where one value is
+    evaluated, the mean is that value and its interval unknown (NaN, not zero width); later the normal interval."""
+    y = np.arange(20.0) + 5
+    ok = np.arange(20) >= 10
+    tr = st.convergence_trace(y, ok, [], points=20)
+    at = {int(n): i for i, n in enumerate(tr["n"])}
+    assert np.isnan(tr["mean"][at[10]]) and np.isnan(tr["mean_lo"][at[10]]) and np.isnan(tr["mean_hi"][at[10]])
+    assert tr["mean"][at[11]] == 15.0 and np.isnan(tr["mean_lo"][at[11]])
+    vals = y[10:20]
+    half = st.stats.norm.ppf(0.975) * vals.std(ddof=1) / np.sqrt(10)
+    assert tr["mean"][at[20]] == pytest.approx(vals.mean()) and tr["mean_lo"][at[20]] == pytest.approx(vals.mean() - half)
