@@ -392,6 +392,10 @@ class Requirement:
                             key=f"{self.key}.bound" if self.key else "bound")
         if self.lower is None and self.upper is None:
             raise SpecError("a requirement needs a lower and/or an upper limit", file=self.file, key=self.key)
+        if self.lower is not None and self.upper is not None and not self.lower < self.upper:
+            # the study loader says it at the file's key; a requirement made in code is held to the same rule
+            raise SpecError(f"limits in the wrong order: lower {self.lower} >= upper {self.upper}", file=self.file,
+                            key=key("upper"))
         if self.cpk_method not in CPK_METHODS:
             raise SpecError(f"unknown cpk_method {self.cpk_method!r} (expected one of: {', '.join(CPK_METHODS)})",
                             file=self.file, key=f"{self.key}.cpk_method" if self.key else "cpk_method")

@@ -57,6 +57,14 @@ def test_requirement_defaults():
         Requirement("y")
 
 
+@pytest.mark.parametrize("lower, upper", [(2.0, 1.0), (1.0, 1.0)])
+def test_a_requirement_made_in_code_refuses_limits_in_the_wrong_order(lower, upper):
+    """The study loader refuses them at the file's key; a Requirement built in code (the API) is held to the same
+    rule — a band that conforms nowhere would judge every unit non-conforming."""
+    with pytest.raises(SpecError, match=f"limits in the wrong order: lower {lower} >= upper {upper}"):
+        Requirement("y", lower=lower, upper=upper, key="requirement[0]")
+
+
 def test_unit_labels():
     assert units.label("um") == "µm" and units.label("N*m/arcmin") == "N·m/arcmin"
 
