@@ -168,6 +168,29 @@ def test_the_import_check_finds_a_private_import(tmp_path):
     assert not {"units"} <= set(rvtol.__all__)
 
 
+def _is_shim(path: Path) -> bool:
+    """A module that only imports names from elsewhere (a docstring and imports, nothing defined): a second path to
+    something that lives in another module.  A package's ``__init__`` gathering its own modules' names is not one."""
+    body = ast.parse(path.read_text(encoding="utf-8")).body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        body = body[1:]
+    return bool(body) and all(isinstance(n, (ast.Import, ast.ImportFrom)) for n in body)
+
+
+def test_no_module_is_a_shim_of_another():
+    """Every name has one import path: a module that only re-exports another's names is gone, not kept as an alias."""
+    bad = [str(p.relative_to(ROOT)) for p in PKG.rglob("*.py") if p.name != "__init__.py" and _is_shim(p)]
+    assert bad == []
+
+
+def test_the_shim_check_finds_a_shim(tmp_path):
+    p = tmp_path / "sections.py"
+    p.write_text('"""Moved."""\nfrom ..blocks import Figure, Table  # noqa: F401\n')
+    assert _is_shim(p)
+    p.write_text('"""Not moved."""\nfrom ..blocks import Figure\n\nCAPTION = "x"\n')
+    assert not _is_shim(p)
+
+
 def test_no_library_module_imports_the_plugin_api():
     """The plug-in API is the boundary seen from outside: nothing of the library depends on it."""
     bad = [m for m, ts in import_graph().items() if "rvtol.plugin" in ts]

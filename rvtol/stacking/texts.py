@@ -5,7 +5,7 @@
 """
 from __future__ import annotations
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 from ..units import label
 
 CONVENTIONS = ("The conventions engineers and peer tools quote, beside this study's Monte Carlo. Linearised rows use the "

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .... import units
-from ....report.sections import Figure, Table, Text, figure_png
+from ....blocks import Figure, Table, Text, figure_png
 from .measurements import TORSION
 
 FAILED = "The fit failed: {why}. No calibrated design was written."
