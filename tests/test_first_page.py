@@ -233,7 +233,7 @@ def test_a_drawing_tolerance_reads_short_in_a_cell():
 def test_requirements_more_samples_would_decide_share_one_row():
     """Eleven undecided requirements are one line of the first page, with the largest n (each is demonstrated by it
     if its figures hold), not eleven."""
-    from rvtol.report.signoff import _one_more_samples_row
+    from rvtol.signoff import _one_more_samples_row
 
     rows = [{"requirement": "a", "fix": "more samples", "what to do": "run n = 2,000 samples", "what it gives": "",
              "evidence": "estimate"},
