@@ -8,7 +8,7 @@ the report and ``summary.json``'s ``requirements`` list:
   from the Monte Carlo samples themselves (:func:`rvtol.sensitivity.given_data.given_data`, the
   correlation ratio with Kelley's bias correction).  Factors that stand for one drawing tolerance
   (the x1, y1, x2, y2 end points of one position zone, the copies of a per-pin family) are summed
-  into that tolerance (:func:`rvtol.callouts.drawing_tolerance`): the share of the output's variance the
+  into that tolerance (:func:`rvtol.callouts.callout_of`): the share of the output's variance the
   tolerance explains on its own (first order; interactions are in a study's Sobol section).  The
   estimates are summed unclipped (each is unbiased; clipped at 0 the 40 copies of a family would
   add 40 positive halves of their noise) and only over the factors the output can depend on where
