@@ -468,7 +468,7 @@ def test_the_pin_flank_law_is_palmgrens_line_contact_for_the_disc_face():
     approach between 0.3 and 4 kN on the product's ⌀6 pin and flank radii of 10–100 mm (the logarithm's datum
     depth: the radii)."""
     from rvtol.elements import hertz
-    from rvtol.elements.bearings import PALMGREN_LINE
+    from rvtol.elements.rolling_bearings import PALMGREN_LINE
 
     l = PRODUCT["cycloid.face_width"]
     assert l == 12.0 and G.k0_pin == 1.93e5

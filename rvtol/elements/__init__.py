@@ -7,10 +7,9 @@ module states its formulas, symbols, units and literature sources:
 * :mod:`.contacts` — pin in a housing groove (conforming line contact), in
   series with the disc–pin contact;
 * :mod:`.involute` — involute mesh stiffness (ISO 6336-1);
-* :mod:`.bearings` — roller-bearing deflection (Palmgren), as doc 004's model uses it;
-* :mod:`.rolling_bearings` — tapered roller bearing pair with preload and
-  needle roller bearing with clearance (Palmgren line contact, roller load
-  distribution solved for equilibrium);
+* :mod:`.rolling_bearings` — roller-bearing deflection (Palmgren, Stribeck's most loaded roller) as doc 004's
+  model uses it; tapered roller bearing pair with preload and needle roller bearing with clearance (Palmgren
+  line contact, roller load distribution solved for equilibrium);
 * :mod:`.crankshaft` — Timoshenko beam of the crankshaft between its supports (doc 004's model);
 * :mod:`.shafts` — Timoshenko beam (stepped, hollow) on elastic supports, shaft torsion;
 * :mod:`.carrier` — carrier pillars (doc 004's model);
