@@ -11,7 +11,6 @@ from scipy.integrate import quad
 
 from rvtol.design import load_design
 from rvtol.elements import chain as springs
-from rvtol.elements import contacts
 from rvtol.elements.reducer_chain import FAMILIES, ChainElements
 from rvtol.errors import InputError, SpecError
 from rvtol.models.torsion_curve.model import compliance_breakdown
@@ -99,7 +98,7 @@ def test_bad_element_data_names_its_key():
 def test_pin_law_is_the_disc_pin_contact_in_series_with_the_groove_element():
     """Kernel force of a pin contact at the deflection of doc 000's law plus the groove element's tabulated
     approach plus the linear terms (housing ring, contact roughness) returns that force; tangent and energy follow.  The table
-    itself is the conforming groove element (rvtol.elements.conforming) at its knots and within 0.2 % between."""
+    itself is the conforming groove element (rvtol.elements.pin_groove) at its knots and within 0.2 % between."""
     gr = G.chain.elements.groove
     p = G.force_exponent
     ch = G.chain

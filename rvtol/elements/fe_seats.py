@@ -29,7 +29,7 @@ crank resultant, tangential ``ρ T/(3 a)`` (the two discs' radial resultants can
 ``cos^(10/9)`` roller-load distribution over ±90°.
 
 **Housing ring** (:func:`housing_ring_work`).  The annulus from the groove contact's reference depth
-(``R_p + r_p + r_g``: the groove contact, :mod:`.conforming`, carries the approach down to one groove
+(``R_p + r_p + r_g``: the groove contact, :mod:`.pin_groove`, carries the approach down to one groove
 radius behind the contact) to the radius where the housing is held (``r_o``, its bolt circle: clamped), in
 plane stress, thickness = pin length, loaded by both discs' pin forces (the classical sharing above, the two
 discs half a turn apart), each spread over one pin pitch.

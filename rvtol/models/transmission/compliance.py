@@ -62,7 +62,7 @@ on its own force (``w_j = F_12 (P_1 + P_2) + (F_jj − F_12) P_j``).  So:
   torques and equal tangential crank resultants.
 
 **Pins** (``pin_groove``): the groove contact carries the pin's force, so
-``δ = δ_pin(f) + f (a − b ln f)`` — the log form is :func:`rvtol.elements.contacts.groove_approach`
+``δ = δ_pin(f) + f (a − b ln f)`` — the log form is :func:`rvtol.elements.pin_groove.groove_approach`
 exactly (its half-width is ``√(κ f)``).
 
 Every term is multiplied by its family's ``compliance_scale.<family>`` (default 1).
