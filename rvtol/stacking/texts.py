@@ -1,7 +1,7 @@
 """What the stack-up sections say: their prose and the layout of each result as report blocks.
 
-``conventions`` lays out a :class:`~rvtol.stacking.compare.ConventionsComparison`, ``tails`` a
-:class:`~rvtol.stacking.compare.TailProbabilities`; the analyses (:mod:`rvtol.stacking.analyses`) name them.
+``conventions`` lays out a :class:`~rvtol.stacking.beside_monte_carlo.ConventionsComparison`, ``tails`` a
+:class:`~rvtol.stacking.beside_monte_carlo.TailProbabilities`; the analyses (:mod:`rvtol.stacking.analyses`) name them.
 """
 from __future__ import annotations
 
