@@ -1,4 +1,4 @@
-"""How one published figure is compared with the model's prediction of it.
+"""How far one published figure agrees with the model's prediction of it.
 
 A prediction is a distribution: the model evaluated on a Monte Carlo sample of the tolerance spec (the
 reducers the drawing admits) plus its nominal point.  The measured unit is one draw from what the maker
