@@ -23,7 +23,7 @@ import product_rv80e_mapping_check as pm  # noqa: E402  (the declared mapping of
 
 from rvtol.elements.reducer_chain import FAMILIES  # noqa: E402
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness  # noqa: E402
-from rvtol.models.torsion_curve.comparison import breakdown_at  # noqa: E402
+from rvtol.models.torsion_curve.beside_analytical_models import breakdown_at  # noqa: E402
 from rvtol.models.torsion_curve.model import TorsionCurveModel  # noqa: E402
 from rvtol.models.transmission.geometry import geometry_from_design  # noqa: E402
 from rvtol.models.transmission.model import TransmissionErrorModel, order_spectrum  # noqa: E402

@@ -8,7 +8,7 @@ from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.models.torsion_curve.model import (EPSILON, TorsionCurve, TorsionCurveModel, compliance_breakdown, from_study,
                                         torque_schedule)
-from rvtol.models.torsion_curve.comparison import CAMS, analytic_lost_motion, output_ratio
+from rvtol.models.torsion_curve.beside_analytical_models import CAMS, analytic_lost_motion, output_ratio
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.compliance import GROUPS
 from rvtol.models.transmission.geometry import geometry_from_design

@@ -1,4 +1,5 @@
-"""What the torsion-curve sections say: their prose and the layout of each result of :mod:`.comparison`.
+"""What the torsion-curve sections say: their prose and the layout of each result of
+:mod:`.beside_analytical_models`.
 
 ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.torsion_curve.analyses`.
