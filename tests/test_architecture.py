@@ -427,3 +427,15 @@ def test_every_result_has_to_frame_summary_and_the_reports_figure(kind):
     shown = inspect.getsource(cls.layout) + (inspect.getsource(cls.report) if "report" in vars(cls) else "")
     if "Figure(" in shown:
         assert callable(getattr(res, "plot", None)), f"{res.__name__}: the report shows a figure, it has no plot()"
+
+
+#: the analyses that set stack-up conventions (worst case, RSS, …) beside the Monte Carlo, each computed in one home
+STACK_CONVENTION_KINDS = ("stack_conventions", "stackup_linear")
+
+
+@pytest.mark.parametrize("kind", STACK_CONVENTION_KINDS)
+def test_every_stack_up_convention_is_computed_in_rvtol_stacking(kind):
+    """One home for the stacking conventions: whichever package an analysis of them belongs to, the capability it
+    calls (and its result) lives in rvtol.stacking."""
+    res = _result_class(_resolve(all_analyses()[kind]))
+    assert res.__module__.startswith("rvtol.stacking."), (kind, res.__module__)
