@@ -12,7 +12,7 @@ from rvtol.models.torsion_curve.beside_analytical_models import CAMS, analytic_l
 from rvtol.models.transmission import layout as L
 from rvtol.models.transmission.compliance import GROUPS
 from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.model import ST_BAD_CLEARANCE
+from rvtol.models.transmission.layout import ST_BAD_CLEARANCE
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 from numpy_twin import ReferenceModel
 from rvtol.params import Params

@@ -15,7 +15,8 @@ from rvtol.models.transmission.contacts import pin_cos_sin
 from rvtol.models.transmission.geometry import geometry_from_design
 from rvtol.models.transmission.model import TransmissionErrorModel
 from numpy_twin import ReferenceModel
-from rvtol.models.transmission.orders import MIN_PER_CRANK_REV, order_spectrum, positions_for_order
+from rvtol.models.transmission.orders import order_spectrum, positions_for_order
+from rvtol.models.transmission.quasistatic import MIN_PER_CRANK_REV
 from rvtol.models.transmission.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec

@@ -47,12 +47,10 @@ from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
 from ..transmission import _kernels as K
 from ..transmission import layout as L
-from ..transmission.factors import ErrorFactors
+from ..transmission.factors import ErrorFactors, negative_clearance
 from ..transmission.friction import crank_support_p0
 from ..transmission.geometry import RVGeometry, geometry_from_design
-from ..transmission.model import ST_BAD_CLEARANCE, negative_clearance
-from ..transmission.orders import MIN_PER_CRANK_REV
-from ..transmission.quasistatic import QuasiStaticSolver, SweepResult
+from ..transmission.quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
 from ._kernels import noload_contacts
 
 #: positions per crank revolution of the no-load sweep (the TE sweep's default is 36, the sign-off's 24)
@@ -76,7 +74,7 @@ class PinRingPreloadModel(Model):
     model's error factors (a study maps them as for the torsion curve: ``same_inputs_as``)."""
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                      ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+                      L.ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def __init__(self, design: Design | RVGeometry, inputs, *, per_crank_rev: int = DEFAULT_PER_CRANK_REV,
                  harmonic: int = 2, tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True):
@@ -137,7 +135,7 @@ class PinRingPreloadModel(Model):
             return y, STATUS_NONFINITE
         s = self.solver(x)
         if negative_clearance(s.errors):
-            return y, ST_BAD_CLEARANCE
+            return y, L.ST_BAD_CLEARANCE
         r = s.rotation(0.0, self.per_crank_rev)
         if not r.ok:
             return y, r.failure

@@ -95,7 +95,6 @@ from ...model import STATUS_NONFINITE, Model, Quantity
 from ..transmission import layout as L
 from ..transmission.factors import ErrorFactors, ErrorState
 from ..transmission.geometry import RVGeometry, geometry_from_design
-from ..transmission.model import ST_BAD_CLEARANCE
 from ..transmission.quasistatic import QuasiStaticSolver
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
@@ -342,7 +341,7 @@ class TorsionCurveModel(Model):
         self.solver_options = dict(tol_f=float(tol_f), maxit=int(maxit))
         self.friction = bool(friction) and self.geometry.friction is not None and self.geometry.friction.active
         self.status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                               ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+                               L.ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def state(self, x) -> ErrorState:
         return self.factors.state(np.asarray(x, dtype=float))
@@ -359,8 +358,8 @@ class TorsionCurveModel(Model):
         clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
                                 st.err[L.DELTA_CA:L.DELTA_CA + 1]])
         if np.any(clear < 0):
-            return TorsionCurve(torque, empty, branch, self.torque, ST_BAD_CLEARANCE,
-                                self.status_reasons[ST_BAD_CLEARANCE])
+            return TorsionCurve(torque, empty, branch, self.torque, L.ST_BAD_CLEARANCE,
+                                self.status_reasons[L.ST_BAD_CLEARANCE])
         solver = QuasiStaticSolver(self.geometry, st, friction=self.friction, **self.solver_options)
         r = solver.torsion(torque)
         if not r.ok:

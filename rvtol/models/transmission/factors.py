@@ -198,6 +198,14 @@ class ErrorState:
         return bool(np.any(np.isfinite(self.preload)))
 
 
+def negative_clearance(st: ErrorState) -> bool:
+    """True when a bearing clearance of the error state is negative (the needle rows δ_b, the crank supports
+    δ_oc, the main bearing δ_ca): the 20-DOF contacts take clearances ≥ 0 (a preload is a zero clearance)."""
+    clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
+                            st.err[L.DELTA_CA:L.DELTA_CA + 1]])
+    return bool(np.any(clear < 0))
+
+
 @dataclass(frozen=True)
 class _Binding:
     name: str

@@ -91,7 +91,8 @@ ST_LOST_CONTACT = 3
 ST_DIVERGED = 4
 ST_SINGULAR = 5
 ST_NONFINITE = 6
-ST_UNRESOLVED = 8          # (7 is the model's negative-clearance code)
+ST_BAD_CLEARANCE = 7       # a sample with a negative bearing clearance: refused by the models before solving
+ST_UNRESOLVED = 8
 
 # friction table `fr[nc, NFR]` (see .friction): per contact the kind of its sliding motion, the friction
 # coefficient, the arm turning μ·P into a moment (1 for a force), a load-independent normal load P0 (N: a

@@ -50,17 +50,16 @@ from ...model import STATUS_NONFINITE, Model, Quantity
 from . import _kernels as K
 from . import layout as L
 from .extremes import Extremes, te_extremes
-from .factors import ErrorFactors, ErrorState
+from .factors import ErrorFactors, ErrorState, negative_clearance
 from .geometry import RVGeometry, geometry_from_design
 from .newmark import NewmarkSolver
-from .orders import MIN_PER_CRANK_REV, order_spectrum, order_table, positions_for_order
-from .quasistatic import QuasiStaticSolver, SweepResult
+from .orders import order_spectrum, order_table, positions_for_order
+from .quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
 from .rig import INPUTS as RIG_INPUTS
 from .rig import Rig, load_rig, measurement_terms
 
 MODES = ("quasistatic", "newmark")
 DEFAULT_PER_CRANK_REV = 36
-ST_BAD_CLEARANCE = 7
 
 OUTPUTS = (
     Quantity("te_pp", "rad", "arcsec", "transmission error peak-to-peak Δθ_er over one output revolution"),
@@ -71,14 +70,6 @@ OUTPUTS = (
     Quantity("loaded_pins_mean", "1", "1", "mean number of loaded pins per disc"),
 )
 RIG_OUTPUT = Quantity("te_pp_rig", "rad", "arcsec", "TE peak-to-peak the test rig reads (reducer + measurement chain)")
-
-
-def negative_clearance(st: ErrorState) -> bool:
-    """True when a bearing clearance of the error state is negative (the needle rows δ_b, the crank supports
-    δ_oc, the main bearing δ_ca): the 20-DOF contacts take clearances ≥ 0 (a preload is a zero clearance)."""
-    clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
-                            st.err[L.DELTA_CA:L.DELTA_CA + 1]])
-    return bool(np.any(clear < 0))
 
 
 @dataclass
@@ -145,7 +136,7 @@ class TransmissionErrorModel(Model):
     """
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                      ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+                      L.ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def __init__(self, design: Design | RVGeometry, inputs=(), mode: str = "quasistatic", *,
                  load_torque: float | None = None, load_fraction: float = 0.03, per_crank_rev: int | None = None,
@@ -246,7 +237,7 @@ class TransmissionErrorModel(Model):
             return y, STATUS_NONFINITE, None, None, None
         st = self.state(x)
         if negative_clearance(st):
-            return y, ST_BAD_CLEARANCE, None, None, None
+            return y, L.ST_BAD_CLEARANCE, None, None, None
         terms = self.rig_terms(x) if self.rig is not None else None
         r, ext, ext_rig = self._sweep(st, terms)
         if not r.ok:

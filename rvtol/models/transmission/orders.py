@@ -61,6 +61,7 @@ import pandas as pd
 from ...errors import InputError
 from . import layout as L
 from .geometry import RVGeometry
+from .quasistatic import MIN_PER_CRANK_REV
 
 
 @dataclass(frozen=True)
@@ -138,10 +139,6 @@ def order_spectrum(te: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if n % 2 == 0:
         amp[-1] /= 2.0
     return np.arange(amp.size), amp
-
-
-#: fewest positions per crank revolution a sweep takes (the model's lower bound on ``per_crank_rev``)
-MIN_PER_CRANK_REV = 8
 
 
 def positions_for_order(max_order: int, z_b: int) -> int:

@@ -34,6 +34,9 @@ from .factors import ErrorState
 from .friction import friction_table
 from .geometry import RVGeometry
 
+#: fewest positions per crank revolution a sweep takes (the models' lower bound on ``per_crank_rev``)
+MIN_PER_CRANK_REV = 8
+
 
 @dataclass
 class SweepResult:

@@ -46,7 +46,6 @@ from .. import layout as L
 from ..factors import ErrorFactors
 from ..friction import friction_from_design
 from ..geometry import geometry_from_design
-from ..model import ST_BAD_CLEARANCE
 from ..quasistatic import QuasiStaticSolver
 from .measurements import TORSION, Measurement
 from ....elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
@@ -63,7 +62,7 @@ class CurveModel(Model):
     """
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                      ST_BAD_CLEARANCE: "negative bearing clearance (clearances must be >= 0)"}
+                      L.ST_BAD_CLEARANCE: "negative bearing clearance (clearances must be >= 0)"}
 
     def __init__(self, design: Design, measurements, parameters=(), fixed_factors: dict | None = None, *,
                  tol_f: float = 1e-6, maxit: int = 200):
@@ -128,7 +127,7 @@ class CurveModel(Model):
             return nan, STATUS_NONFINITE
         st = self.factors.state(self._factor_row(x))
         if np.any(self._clearances(st) < 0):
-            return nan, ST_BAD_CLEARANCE
+            return nan, L.ST_BAD_CLEARANCE
         has_scale = any(p.kind == "compliance" for p in self.parameters)
         g = geometry_from_design(self.design_at(x)) if has_scale else self.geometry
         if not has_scale and any(p.kind == "friction" for p in self.parameters):
