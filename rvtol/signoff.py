@@ -367,7 +367,7 @@ def _failures_matter(r, row, mc) -> dict | None:
 
 
 def what_to_change(r, row, drivers: list[Driver], mc) -> str:
-    """A first-order estimate of the tightening that would make ``r`` pass (a sentence of :data:`SCALE` and its siblings)."""
+    """A first-order estimate of the tightening that would make ``r`` pass (one of the digest's sentences)."""
     mean, sigma = _f(row.get("mean")), _f(row.get("std"))
     failures = _failures_matter(r, row, mc)
     if failures is not None:

@@ -25,7 +25,7 @@ from rvtol.design import load_design
 from rvtol.elements.reducer_chain import FAMILIES
 from rvtol.models.torsion_curve.beside_analytical_models import breakdown_at
 from rvtol.models.torsion_curve.model import RIGIDITY_READINGS, TorsionCurveModel
-from rvtol.models.transmission.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
 
 ARCSEC = 648000 / math.pi
 NM_ARCMIN = math.pi / 10800 / 1e3

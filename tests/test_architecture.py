@@ -439,3 +439,20 @@ def test_every_stack_up_convention_is_computed_in_rvtol_stacking(kind):
     calls (and its result) lives in rvtol.stacking."""
     res = _result_class(_resolve(all_analyses()[kind]))
     assert res.__module__.startswith("rvtol.stacking."), (kind, res.__module__)
+
+
+#: the 20-DOF reducer of doc 000: a core with no model of its own, and the model packages built on it
+CORE_20DOF = "rvtol.models.reducer_20dof"
+BUILT_ON_20DOF = {"transmission_error", "torsion_curve", "pin_ring", "calibration", "screening", "lost_motion"}
+
+
+def test_the_20dof_core_is_named_for_itself_and_the_models_build_on_it_alone():
+    """The 20-DOF core imports no other model package and registers no kind; the packages that use the 20-DOF model
+    import its core, never the transmission-error capability (one capability built on the core among others)."""
+    g = package_graph()
+    assert {t for t in g[CORE_20DOF] if t.startswith("rvtol.models.")} == set()
+    assert not any(v.startswith(CORE_20DOF + ".") for v in {**MODELS, **ANALYSES}.values())
+    assert {p.split(".")[2] for p, ts in g.items() if CORE_20DOF in ts and p.startswith("rvtol.models.")} \
+        == BUILT_ON_20DOF
+    assert {p for p, ts in g.items() if "rvtol.models.transmission_error" in ts and p.startswith("rvtol.models.")} \
+        == set()

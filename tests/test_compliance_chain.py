@@ -14,15 +14,15 @@ from rvtol.elements import chain as springs
 from rvtol.elements.reducer_chain import FAMILIES, ChainElements
 from rvtol.errors import InputError, SpecError
 from rvtol.models.torsion_curve.model import compliance_breakdown
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.compliance import (GROUPS, TABLE_RANGE, hermite_integrals, reduce_chain,
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.compliance import (GROUPS, TABLE_RANGE, hermite_integrals, reduce_chain,
                                                   table_law)
-from rvtol.models.transmission.contacts import pin_cos_sin, static_table
-from rvtol.models.transmission.factors import ErrorState
-from rvtol.models.transmission.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin, static_table
+from rvtol.models.reducer_20dof.factors import ErrorState
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
 from numpy_twin import ReferenceModel
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]
 PRODUCT = load_design(ROOT / "data/products/rv80e/design.toml")
@@ -449,7 +449,7 @@ def test_compliance_breakdown_checks_its_design_when_the_study_loads(tmp_path):
 
 def test_models_switch_the_chain_off_from_the_study():
     from rvtol.models.torsion_curve.model import from_study as tc_study
-    from rvtol.models.transmission.model import from_study as te_study
+    from rvtol.models.transmission_error.model import from_study as te_study
     from rvtol.params import Params
     from rvtol.spec import spec_from_table
 

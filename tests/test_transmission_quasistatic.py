@@ -7,10 +7,11 @@ import pytest
 from rvtol import units
 from rvtol.errors import InputError
 from rvtol.mc import evaluate
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.factors import ErrorFactors
-from rvtol.models.transmission.model import TransmissionErrorModel, order_spectrum
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.factors import ErrorFactors
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.transmission_error.orders import order_spectrum
 
 ROOT = Path(__file__).resolve().parents[1]
 ARCSEC = units.to_base(1.0, "arcsec")

@@ -5,7 +5,7 @@ their bearing cups, the housing ring behind the pin grooves.
 Each model is loaded by the element's **statics at the given output torque** and returns the work
 ``W = Σ F·u`` of its loads (twice the strain energy, N·mm) and ``Σ|F|²`` of the loads the 20-DOF model
 puts the element in series with, so that the **energy-equivalent compliance** ``c = W / Σ|F|²`` (mm/N)
-stores the same energy there (:mod:`rvtol.models.transmission.compliance`).  The loads are averaged over
+stores the same energy there (:mod:`rvtol.models.reducer_20dof.compliance`).  The loads are averaged over
 the crank angle (``angles`` positions over one third of a crank turn: the three cranks repeat after 120°).
 
 **Disc** (:func:`disc_work`).  The disc (root circle ``r_o``, centre bore, three crank holes on the crank

@@ -44,14 +44,14 @@ contact.
 approaches add (:func:`pin_path_approach`); the force for a given total
 approach is found numerically (:func:`rvtol.elements.chain.series_force`).
 
-**The pin in its groove as a conforming contact (Persson).**  At the product's fit (radial clearance ``ΔR`` of
-a few µm) the Hertz half-width of the pin–groove contact is a large fraction of the pin radius (half-angle ≈
-0.6–0.8 rad at rated load): Hertz's half-space and parabolic-gap assumptions fail.  The plane-strain problem of a pin of radius ``a`` in a hole of radius
-``a + ΔR`` in a large plate, both of the same material, frictionless, was solved by Persson (A. Persson,
-*On the stress distribution of cylindrical elastic bodies in contact*, Diss., Chalmers, Göteborg 1964; see
-K. L. Johnson, *Contact Mechanics*, CUP 1985, §5.6 "conforming surfaces"; M. Ciavarella & P. Decuzzi,
-*Int. J. Solids Struct.* 38 (2001) 4507).  Two of its published results are this module's tests: the
-Hertz limit at small loads and, for a neat fit (``ΔR = 0``), a contact arc of ±90° at any load.
+**The pin in its groove as a conforming contact (Persson).**  At the product's fit (radial clearance ``ΔR`` of a few
+µm) the Hertz half-width of the pin–groove contact is a large fraction of the pin radius (half-angle ≈ 0.6–0.8 rad at
+rated load): Hertz's half-space and parabolic-gap assumptions fail.  The plane-strain problem of a pin of radius ``a``
+in a hole of radius ``a + ΔR`` in a large plate, both of the same material, frictionless, was solved by Persson (A.
+Persson, *On the stress distribution of cylindrical elastic bodies in contact*, Diss., Chalmers, Göteborg 1964; see K.
+L. Johnson, *Contact Mechanics*, CUP 1985, §5.6 "conforming surfaces"; M. Ciavarella & P. Decuzzi, *Int. J. Solids
+Struct.* 38 (2001) 4507).  Two of its published results are this module's tests: the Hertz limit at small loads and,
+for a neat fit (``ΔR = 0``), a contact arc of ±90° at any load.
 
 **Method (exact plane elasticity, solved numerically).**  A normal boundary pressure
 ``p(θ) = Σ p_n cos nθ`` on a circle of radius ``a`` (no shear) displaces the boundary radially by

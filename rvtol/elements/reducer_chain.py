@@ -1,6 +1,6 @@
 """The RV reducer's compliance chain from a design: element families, their design keys, each element built
 from the closed-form elements of this package.  Both reducer models read it (the 20-DOF model of
-:mod:`rvtol.models.transmission` reduces the elements to its contacts, the torsion-angle model of
+:mod:`rvtol.models.reducer_20dof` reduces the elements to its contacts, the torsion-angle model of
 :mod:`rvtol.models.stiffness` adds them as components), so the two see the same elements.
 
 **Families.**  Every compliance of the torque path belongs to one family with a stable name

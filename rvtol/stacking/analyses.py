@@ -1,9 +1,9 @@
 """Study analyses of the stack-up conventions (``[[analysis]] kind = ...``), for any model.
 
 Thin adapters (:mod:`rvtol.analysis`): their options, one call of
-:func:`rvtol.stacking.beside_monte_carlo.compare_conventions` or :func:`rvtol.stacking.beside_monte_carlo.tail_probabilities`,
-the layout in :mod:`rvtol.stacking.texts`.  ``rvtol kinds stack_conventions`` (``tail_probability``) lists
-every key with its default and meaning.
+:func:`rvtol.stacking.beside_monte_carlo.compare_conventions` or
+:func:`rvtol.stacking.beside_monte_carlo.tail_probabilities`, the layout in :mod:`rvtol.stacking.texts`.
+``rvtol kinds stack_conventions`` (``tail_probability``) lists every key with its default and meaning.
 """
 from __future__ import annotations
 

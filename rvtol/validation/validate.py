@@ -28,7 +28,7 @@
    (at nominal tolerances, and designs × units where computed), whether the measured figure lies within the
    estimates' reach, by how much it misses otherwise, and the estimated numbers that drive it most (first-order
    index) — which of them could explain a miss.  Nothing is fitted by it.  A curve measurement (torsion or TE curve) would be calibrated with
-   :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
+   :mod:`rvtol.models.calibration` instead; none was readable in the published sources found.
 
    A hold-out must be able to fail.  A figure of the same reducer and quantity as the calibration figure
    (another unit of the same design, e.g. a second prototype) is predicted by the *same* distribution the

@@ -27,7 +27,7 @@ from ...records import frame_records
 from ...units import convert
 from ..lost_motion.model import FACTORS, LostMotionGeometry
 from ..torsion_curve.model import TorsionCurveModel
-from ..transmission.geometry import geometry_from_design
+from ..reducer_20dof.geometry import geometry_from_design
 from .bridge import ScreeningInputs, backlash_rates, screening_inputs, screening_models
 
 SOURCES = ("lost_motion", "torsion_curve", "composed", "own")

@@ -26,7 +26,7 @@ from ...analysis import Analysis, CommonOptions, target_model
 from ...options import option
 from ...blocks import Section
 from ..stiffness.torsion_angle import ReducerStiffness
-from ..transmission.geometry import geometry_from_design
+from ..reducer_20dof.geometry import geometry_from_design
 from . import texts
 from .beside_analytical_models import compliance_comparison, torsion_curve_study
 from .model import TorsionCurveModel
@@ -98,7 +98,7 @@ class ComplianceBreakdown(Analysis):
     ``compliance_scale.<family>``).  The 20-DOF split is :meth:`QuasiStaticSolver.contact_work` at the
     clearance-free, error-free equilibrium (input locked); the torsion-angle model's is its components,
     θ4 split into crankshaft bending and torsion.  A second table lists how each element is reduced to
-    the 20-DOF contacts (:mod:`rvtol.models.transmission.compliance`).
+    the 20-DOF contacts (:mod:`rvtol.models.reducer_20dof.compliance`).
     """
 
     kind, title = "compliance_breakdown", "Compliance chain: output angle per element"

@@ -37,8 +37,8 @@ from ...records import frame_records
 from ..lost_motion.model import LostMotionGeometry, LostMotionModel
 from ..stiffness.cycloid_contact import PinGear
 from ..stiffness.torsion_angle import LABELS, ReducerStiffness
-from ..transmission import layout as L
-from ..transmission.quasistatic import QuasiStaticSolver
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.quasistatic import QuasiStaticSolver
 from .model import CAMS, RIGIDITY_READINGS, TorsionCurve, TorsionCurveModel, compliance_breakdown
 
 BREAKDOWN_LABELS = {**FAMILIES, "sun_planet_mesh": "sun–planet meshes (≈ θ1)", "cycloid_pin": "cycloid–pin contacts (≈ θ2)",

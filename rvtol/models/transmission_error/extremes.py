@@ -20,13 +20,12 @@ up to the 28th.  Refining the sampled
 extreme (Brent or parabolic steps from its neighbours) finds *a* local extreme, not the global one.
 
 **What is refined: every interval that could hold a larger extreme** (branch and bound,
-:func:`._kernels.qs_extreme`).  Over an interval [θ_k, θ_k+1] of width w the curve's slope is taken to be
-at most S = κ·c, c the steepest chord |ΔTE|/Δθ of the interval and its two neighbours; through both
-ends, such a curve stays above (TE_k + TE_k+1)/2 − S·w/2 (:func:`._kernels.interval_bound`; for the
-largest TE the same with the sign turned).  Every interval whose bound lies beyond the best value found
-(by more than ``tol_te``) is halved and its midpoint's equilibrium solved, level by level, until no bound
-does: the result is then the curve's extreme within ``tol_te`` and the solver's tolerance — *if* the
-slope bound holds.  When it does:
+:func:`rvtol.models.reducer_20dof._kernels.qs_extreme`).  Over an interval [θ_k, θ_k+1] of width w the curve's slope
+is taken to be at most S = κ·c, c the steepest chord |ΔTE|/Δθ of the interval and its two neighbours; through both
+ends, such a curve stays above (TE_k + TE_k+1)/2 − S·w/2 (:func:`rvtol.models.reducer_20dof._kernels.interval_bound`;
+for the largest TE the same with the sign turned).  Every interval whose bound lies beyond the best value found (by
+more than ``tol_te``) is halved and its midpoint's equilibrium solved, level by level, until no bound does: the result
+is then the curve's extreme within ``tol_te`` and the solver's tolerance — *if* the slope bound holds.  When it does:
 
 * a smooth stretch: an interval's chord is the slope at one of its points; the bound fails only where the
   slope peaks inside an interval above κ times every neighbouring chord.  For a sinusoid of order n
@@ -61,8 +60,8 @@ import numpy as np
 
 from ... import units
 from ...errors import InputError
-from . import layout as L
-from .quasistatic import QuasiStaticSolver, SweepResult
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.quasistatic import QuasiStaticSolver, SweepResult
 
 #: slope bound over an interval in units of its steepest neighbouring chord (module doc: π/2 for a
 #: sinusoid with at least 4 positions per period; a pin's kink inside an interval needed up to 2.05)
@@ -85,7 +84,7 @@ class Extremes:
     theta_min: float
     evaluations: int          # equilibria solved besides the sweep's
     iterations: int           # their Newton iterations
-    status: int               # kernel status (0 = ok; codes in :mod:`.layout`)
+    status: int               # kernel status (0 = ok; codes in :mod:`rvtol.models.reducer_20dof.layout`)
 
     @property
     def ok(self) -> bool:
@@ -99,11 +98,11 @@ class Extremes:
 
 def te_extremes(solver: QuasiStaticSolver, sweep: SweepResult, kappa: float = KAPPA,
                 tol_te: float = TOL_TE, meas=None) -> Extremes:
-    """The extremes of the TE curve of ``solver``'s reducer, refined from ``sweep``: a full output revolution
-    of :meth:`.QuasiStaticSolver.rotation` (positions uniform over [0, 2π), one carrier torque), all
-    converged.  ``kappa`` and ``tol_te``: the slope bound and tolerance of the module doc.  ``meas``: rows
-    ``(n, a, b)`` of a test rig's measurement chain added to the curve (:mod:`.rig`): the extremes of the TE
-    the rig reads."""
+    """The extremes of the TE curve of ``solver``'s reducer, refined from ``sweep``: a full output revolution of
+    :meth:`~rvtol.models.reducer_20dof.quasistatic.QuasiStaticSolver.rotation` (positions uniform over [0, 2π), one
+    carrier torque), all converged.  ``kappa`` and ``tol_te``: the slope bound and tolerance of the module doc.
+    ``meas``: rows ``(n, a, b)`` of a test rig's measurement chain added to the curve (:mod:`.rig`): the extremes of
+    the TE the rig reads."""
     th = sweep.theta_c
     n = th.size
     if n < 3 or not sweep.ok:

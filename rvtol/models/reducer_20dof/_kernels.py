@@ -1066,7 +1066,7 @@ def interval_bound(ta, tb, ga, gb, chord_before, chord_after, kappa):
     slope |Δg|/Δθ of the interval and of its two neighbours (``chord_before``, ``chord_after``): a local
     Lipschitz constant estimated from the samples.  A curve of slope ≤ S through both ends stays above
     ``(ga + gb)/2 − S·w/2`` (w = tb − ta).  Why the chords bound the slope and when they do not:
-    :mod:`..transmission.extremes`."""
+    :mod:`rvtol.models.transmission_error.extremes`."""
     w = tb - ta
     c = max(abs(gb - ga) / w, chord_before, chord_after)
     return 0.5 * (ga + gb) - 0.5 * kappa * c * w
@@ -1125,18 +1125,18 @@ def qs_extreme_curve(sign, theta_c, q_sweep, dth_s, torque, load, prm, err, pin_
     """The smallest value of ``sign·Δθ_ca`` over one output revolution, refined from a rotation sweep
     (``theta_c`` increasing over [0, 2π), its equilibria ``q_sweep``; ``sign`` −1: the largest TE).
 
-    Branch and bound (:mod:`..transmission.extremes`): every interval whose lower bound
-    (:func:`interval_bound`) lies below the best value found less ``tol_te`` is halved — its midpoint's
-    equilibrium solved from a guess interpolated between its neighbours' —, level by level, until no interval
-    can hold a value more than ``tol_te`` below the best.  The points form a ring (``nxt``/``prv``); a level rechecks only the
-    intervals whose bound can have changed — the halves and the neighbours of a halved interval (the best
-    value only falls, so an interval that was not a candidate stays one only through its neighbours' chords).
-    Input deviation ``dth_s`` and carrier torque ``torque`` are those of the sweep.  ``meas[k] = (n, a, b)``: terms
-    ``a cos(n θ_c) + b sin(n θ_c)`` added to Δθ_ca — the measurement chain of a test rig (:mod:`.rig`): the curve
-    refined is then the TE the rig reads (no rows: Δθ_ca itself, bit for bit).  Returns (status, θ_c of the
-    extreme, the curve's value there, equilibria solved, Newton iterations); status ≠ ST_OK: an equilibrium
-    between the sweep's positions failed, or ``max_levels`` halvings left an interval whose bound is still below
-    the best (ST_UNRESOLVED).
+    Branch and bound (:mod:`rvtol.models.transmission_error.extremes`): every interval whose lower bound
+    (:func:`interval_bound`) lies below the best value found less ``tol_te`` is halved — its midpoint's equilibrium
+    solved from a guess interpolated between its neighbours' —, level by level, until no interval can hold a value
+    more than ``tol_te`` below the best.  The points form a ring (``nxt``/``prv``); a level rechecks only the
+    intervals whose bound can have changed — the halves and the neighbours of a halved interval (the best value only
+    falls, so an interval that was not a candidate stays one only through its neighbours' chords). Input deviation
+    ``dth_s`` and carrier torque ``torque`` are those of the sweep.  ``meas[k] = (n, a, b)``: terms
+    ``a cos(n θ_c) + b sin(n θ_c)`` added to Δθ_ca — the measurement chain of a test rig
+    (:mod:`rvtol.models.transmission_error.rig`): the curve refined is then the TE the rig reads (no rows: Δθ_ca
+    itself, bit for bit).  Returns (status, θ_c of the extreme, the curve's value there, equilibria solved, Newton
+    iterations); status ≠ ST_OK: an equilibrium between the sweep's positions failed, or ``max_levels`` halvings left
+    an interval whose bound is still below the best (ST_UNRESOLVED).
     """
     n, nd = q_sweep.shape
     nc = kind.size

@@ -18,8 +18,8 @@ import re
 import secrets
 from pathlib import Path
 
-from ....design import Design, load_design
-from ....errors import InputError
+from ...design import Design, load_design
+from ...errors import InputError
 from .parameters import CLEARANCES
 
 CALIBRATION = "calibration"

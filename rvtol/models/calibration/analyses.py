@@ -1,8 +1,8 @@
 """``[[analysis]] kind = "calibration"``: fit the study's 20-DOF design to measured curves.
 
 A thin adapter (:mod:`rvtol.analysis`): its options, one call of
-:func:`rvtol.models.transmission.calibration.calibrate.calibrate_study`, the layout in
-:mod:`rvtol.models.transmission.calibration.texts`; ``rvtol kinds calibration`` lists every key.
+:func:`rvtol.models.calibration.calibrate.calibrate_study`, the layout in
+:mod:`rvtol.models.calibration.texts`; ``rvtol kinds calibration`` lists every key.
 
 ::
 
@@ -17,7 +17,7 @@ A thin adapter (:mod:`rvtol.analysis`): its options, one call of
     fixed_factors = { E_c = 5.0 }     # error factors held at known values (µm / deg, or {value, unit})
     tol_force = 1e-6                  # N, equilibrium tolerance of the 20-DOF solver
 
-    [[analysis.measurement]]          # one or more measured curves (rvtol.models.transmission.calibration.measurements)
+    [[analysis.measurement]]          # one or more measured curves (rvtol.models.calibration.measurements)
     file = "../data/measurements/synthetic_rv80e_torsion_curve.csv"
     name = "tc"                       # optional (default: the file's stem)
     units = { angle = "arcsec" }      # units of columns whose header has none
@@ -26,7 +26,7 @@ A thin adapter (:mod:`rvtol.analysis`): its options, one call of
     load_torque = 23.52               # N·m (or {value, unit}), TE curve; default 3 % of rated
     offset = true                     # fit an angle offset for this curve
 
-    [[analysis.parameter]]            # the fitted parameters (rvtol.models.transmission.calibration.parameters)
+    [[analysis.parameter]]            # the fitted parameters (rvtol.models.calibration.parameters)
     name = "compliance.crank_support_bearings"
     start = 1.0                       # default: 1 (scales), 1 µm (clearances), 0 (factors, offsets)
     bounds = [0.2, 5.0]               # default: [0.1, 10], [0, 50] µm, [−50, 50] µm, [−3600, 3600] arcsec
@@ -46,11 +46,11 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from .... import units
-from ....analysis import Analysis, CommonOptions
-from ....errors import InputError
-from ....options import REQUIRED, option
-from ....params import Params, read_toml
+from ... import units
+from ...analysis import Analysis, CommonOptions
+from ...errors import InputError
+from ...options import REQUIRED, option
+from ...params import Params, read_toml
 from . import texts
 from .calibrate import calibrate_study
 from .measurements import TORSION, load_measurement
@@ -198,7 +198,7 @@ def _check_output(path: Path, study, error) -> None:
 
 def _fixed(p: Params, design) -> dict[str, float]:
     """The error factors a ``fixed_factors`` table holds at known values (base units)."""
-    from ..factors import ErrorFactors
+    from ..reducer_20dof.factors import ErrorFactors
 
     out = {}
     names = list(p.keys())

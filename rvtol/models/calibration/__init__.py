@@ -12,7 +12,7 @@ hidden factor: the design file says which numbers were fitted, to what, when, an
 
 ::
 
-    from rvtol.models.transmission.calibration import calibrate, load_measurement
+    from rvtol.models.calibration import calibrate, load_measurement
     cal = calibrate(design, [load_measurement(csv)], ["compliance.all", "clearance.crank_bearing"])
     cal.fit.to_frame(); cal.fit.identifiability.messages; cal.write_design(path)
 

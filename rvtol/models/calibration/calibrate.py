@@ -2,7 +2,7 @@
 
 ::
 
-    from rvtol.models.transmission.calibration import calibrate, load_measurement
+    from rvtol.models.calibration import calibrate, load_measurement
     from rvtol.design import load_design
 
     design = load_design("data/designs/rv80e_te.toml")
@@ -26,12 +26,12 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .... import units
-from ....design import Design, DesignParam
-from ....errors import InputError, SolverError
-from ....mc import Evaluator
-from ....model import Model, Quantity
-from ....records import frame_records
+from ... import units
+from ...design import Design, DesignParam
+from ...errors import InputError, SolverError
+from ...mc import Evaluator
+from ...model import Model, Quantity
+from ...records import frame_records
 from .curves import CurveModel, defined
 from .design_file import CALIBRATION, calibrated_factors, write_design
 from .fit import FitResult, least_squares_fit
@@ -174,11 +174,12 @@ class Calibration:
     def write_design(self, path: str | Path) -> Design:
         """Write :meth:`calibrated_design` to ``path`` (atomically; read back and checked)."""
         src = os.path.normpath(self.design.file) if self.design.file else "<design>"
-        comments = [f"Calibrated design written by rvtol.models.transmission.calibration on {self.date}.",
+        comments = [f"Calibrated design written by rvtol.models.calibration on {self.date}.",
                     f"From {src} (sha256 {self.design.sha256 or 'unknown'})",
                     *[f"against {os.path.normpath(m.file)} (sha256 {m.sha256})" for m in self.measurements],
                     f"Fitted: {', '.join(self.fit.names)}. Changed entries carry source = \"calibrated: ...\".",
-                    "Fitted clearances/factors are under [calibration.*]: rvtol.models.transmission.calibration.calibrated_factors(design)."]
+                    "Fitted clearances/factors are under [calibration.*]: "
+                    "rvtol.models.calibration.calibrated_factors(design)."]
         return write_design(self.calibrated_design(), path, comments=comments,
                             source=f"rvtol calibration of {src} against "
                                    f"{', '.join(Path(m.file).name for m in self.measurements)}")
@@ -286,7 +287,7 @@ class CalibrationRun:
     def plot(self, which: str = "correlation", i: int = 0):
         """``correlation`` of the estimates, or ``curve`` ``i``: the measured curve beside the calibrated model
         with its residuals."""
-        from ....plotting.calibration import plot_correlation, plot_overlay
+        from ...plotting.calibration import plot_correlation, plot_overlay
 
         if which == "correlation":
             return plot_correlation(self.fit.correlation_frame())

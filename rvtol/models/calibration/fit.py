@@ -45,9 +45,9 @@ import numpy as np
 import pandas as pd
 from scipy import optimize, stats
 
-from ....errors import InputError, SolverError
-from ....mc import Evaluator
-from ....model import Model
+from ...errors import InputError, SolverError
+from ...mc import Evaluator
+from ...model import Model
 from .parameters import Parameter, separation_advice
 
 STEP = 1e-3          # finite-difference step, fraction of a parameter's typical size

@@ -34,9 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .... import units
-from ....errors import InputError
-from ....inputs.sheets import Table, read_table
+from ... import units
+from ...errors import InputError
+from ...inputs.sheets import Table, read_table
 
 TORSION = "torsion"
 TE = "transmission_error"

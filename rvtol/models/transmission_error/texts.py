@@ -1,7 +1,7 @@
 """What the transmission-error sections say: their prose and the layout of :mod:`.curve` and :mod:`.sensitivity`.
 
 ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
-:mod:`rvtol.models.transmission.analyses`.
+:mod:`rvtol.models.transmission_error.analyses`.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ SPECTRUM = ("Order spectrum of the {mode} TE (orders per output revolution; {z_b
             "carrier, {z_c} = absolute crank/eccentric rotation; {mesh})")
 ORDERS = ("Largest orders of the TE spectrum (≥ 1 % of the largest) and the error families expected there: active "
           "families (non-zero factors) whose orders contain it, or, where none does, products of two families' base "
-          "orders (z_b = {z_b}, z_c = {z_c}, Z = z_b·z_c = {Z}; derivation in rvtol/models/transmission/orders.py)")
+          "orders (z_b = {z_b}, z_c = {z_c}, Z = z_b·z_c = {Z}; derivation in rvtol/models/transmission_error/orders.py)")
 
 SENSITIVITY = ("As in the document: each factor of Table 3 in turn has magnitude e (with the Table 3 phase angles and "
                "patterns), every other error is zero; the five points span ±{percent:g} % of e and S is the five-point "

@@ -305,7 +305,7 @@ class ErrorFactors:
                                      f"order n = 1..{L.NH - 1})", key="factor")
                 return _Binding(name, base, (a - 1, int(b)), unit)
         raise InputError(f"unknown error factor {name!r} for the transmission-error model "
-                         f"(see rvtol.models.transmission.factors)", key="factor")
+                         f"(see rvtol.models.reducer_20dof.factors)", key="factor")
 
     # -- building the state ----------------------------------------------------------------
     def state(self, x) -> ErrorState:

@@ -9,7 +9,7 @@ factors; :mod:`.parameters`) into the 20-DOF model's values **at the measured ab
   (:mod:`rvtol.models.torsion_curve.model`): the positive torques are solved in increasing order
   from zero and the negative ones in decreasing order, each equilibrium warm-started from the
   previous one, and the results put back in the file's order.  **With friction** (the design's
-  ``[friction]`` coefficients, :mod:`rvtol.models.transmission.friction`) the file's order is the
+  ``[friction]`` coefficients, :mod:`rvtol.models.reducer_20dof.friction`) the file's order is the
   test's loading path: each point's branch moves the way the torque moved to it (d = ±1), and the model's
   angle there is the frictionless angle at the elastic torque ``T_e`` with ``T_e + d T_f(T_e) = T``
   (passes of the fixed point, each a frictionless solve of all points, until ``T_e`` moves by less than 1e-9
@@ -18,7 +18,7 @@ factors; :mod:`.parameters`) into the 20-DOF model's values **at the measured ab
   fit sees the loop's width where the measured loop has it and does not read it as clearance.
 * **TE curve** — the input turned to each measured position under the measurement's resisting
   load torque (:meth:`QuasiStaticSolver.sweep`, the quasi-static TE of
-  :mod:`rvtol.models.transmission`), positions solved in increasing order.
+  :mod:`rvtol.models.reducer_20dof`), positions solved in increasing order.
 
 Why the model goes to the measured points and not the reverse: interpolating a noisy measured curve
 onto model points would smooth and correlate its noise, change its weights and hide how many
@@ -39,16 +39,16 @@ from types import MappingProxyType
 
 import numpy as np
 
-from ....design import Design
-from ....errors import InputError
-from ....model import STATUS_NONFINITE, Model, Quantity
-from .. import layout as L
-from ..factors import ErrorFactors
-from ..friction import friction_from_design
-from ..geometry import geometry_from_design
-from ..quasistatic import QuasiStaticSolver
+from ...design import Design
+from ...errors import InputError
+from ...model import STATUS_NONFINITE, Model, Quantity
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.factors import ErrorFactors
+from ..reducer_20dof.friction import friction_from_design
+from ..reducer_20dof.geometry import geometry_from_design
+from ..reducer_20dof.quasistatic import QuasiStaticSolver
 from .measurements import TORSION, Measurement
-from ....elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
+from ...elements.reducer_chain import SCALE_PREFIX, with_compliance_scales
 from .parameters import factor_values, scaled_design_values
 
 LOAD_FRACTION = 0.03     # default resisting torque of a TE measurement (× rated): as TransmissionErrorModel
@@ -58,7 +58,7 @@ class CurveModel(Model):
     """Predicted measured curves of one reducer per row of physical calibration parameters.
 
     ``fixed_factors``: error factors held at known values (base units; e.g. measured part errors,
-    or a calibrated design's clearances, :func:`rvtol.models.transmission.calibration.calibrated_factors`).
+    or a calibrated design's clearances, :func:`rvtol.models.calibration.calibrated_factors`).
     """
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,

@@ -363,7 +363,7 @@ def crank_tilt(el: ChainElements, tangential: float, radial: float) -> float:
     """Slope (rad) of the crank at its eccentrics relative to the disc under the rated crank loads: each disc's
     tangential crank-hole load ``tangential`` (N, the same at both eccentrics) and radial ``±radial`` (the two
     discs' pin resultants are opposite), on the stepped beam with rigid supports (its section rotation,
-    :meth:`.shafts.SteppedShaft.flexibility`) plus the support pair's tilt (tangent at the rated crank
+    :meth:`rvtol.elements.shafts.SteppedShaft.flexibility`) plus the support pair's tilt (tangent at the rated crank
     resultant); mean of the two eccentrics of the magnitude over both planes."""
     cr = el.crank
     z = list(cr.eccentrics)

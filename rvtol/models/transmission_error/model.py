@@ -1,6 +1,6 @@
 """``TransmissionErrorModel``: the 20-DOF model as a :class:`rvtol.model.Model` over error factors.
 
-Inputs are error factors (names and Table 3 patterns in :mod:`.factors`);
+Inputs are error factors (names and Table 3 patterns in :mod:`rvtol.models.reducer_20dof.factors`);
 each row is one reducer, run over one full output revolution, either
 quasi-static (prescribed input angle + light load torque: the test-rig TE
 measurement; default) or Newmark-β at constant input speed (doc 000's method).
@@ -47,14 +47,14 @@ from ... import units
 from ...design import Design
 from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
-from . import _kernels as K
-from . import layout as L
+from ..reducer_20dof import _kernels as K
+from ..reducer_20dof import layout as L
 from .extremes import Extremes, te_extremes
-from .factors import ErrorFactors, ErrorState, negative_clearance
-from .geometry import RVGeometry, geometry_from_design
-from .newmark import NewmarkSolver
+from ..reducer_20dof.factors import ErrorFactors, ErrorState, negative_clearance
+from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
+from ..reducer_20dof.newmark import NewmarkSolver
 from .orders import order_spectrum, order_table, positions_for_order
-from .quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
 from .rig import INPUTS as RIG_INPUTS
 from .rig import Rig, load_rig, measurement_terms
 
@@ -301,13 +301,13 @@ class TransmissionErrorModel(Model):
 
 
 def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
-    """``[model] kind = "transmission_error"``; keys: ``mode`` ("quasistatic" | "newmark"),
-    ``load_torque`` (N·m or {value, unit}; default ``load_fraction`` × rated, 0.03),
-    ``per_crank_rev`` (36) or ``max_order`` (the highest order of the TE spectrum the study needs: the
-    fewest positions that resolve it, :func:`.orders.positions_for_order`), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
-    ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true),
-    ``tol_force`` (N, 1e-5), ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance
-    elements in series with the contacts, :mod:`.compliance`; false: doc 000's rigid chain), ``rig`` (a test rig's
+    """``[model] kind = "transmission_error"``; keys: ``mode`` ("quasistatic" | "newmark"), ``load_torque`` (N·m or
+    {value, unit}; default ``load_fraction`` × rated, 0.03), ``per_crank_rev`` (36) or ``max_order`` (the highest
+    order of the TE spectrum the study needs: the fewest positions that resolve it,
+    :func:`.orders.positions_for_order`), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
+    ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true), ``tol_force`` (N, 1e-5),
+    ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance elements in series with the
+    contacts, :mod:`rvtol.models.reducer_20dof.compliance`; false: doc 000's rigid chain), ``rig`` (a test rig's
     description, :mod:`.rig`: the measurement chain's inputs and the output ``te_pp_rig``)."""
     if design is None:
         raise params.error("kind", "the transmission-error model needs [study] design = ...")

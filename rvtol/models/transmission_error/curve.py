@@ -131,6 +131,6 @@ def reducer_curve(model: TransmissionErrorModel, x, how: str, names, shown_units
         first = next(iter(good.values()))
         out.top = first.top_orders(8)
         out.attributed = model.order_table(first, top=12, min_fraction=0.01, orders=orders)
-        if first.te_rig is not None:          # the TE its test rig reads (rvtol/models/transmission/rig.py)
+        if first.te_rig is not None:          # the TE its test rig reads (rvtol/models/transmission_error/rig.py)
             out.on_rig = model.order_table(first, top=12, min_fraction=0.01, rig=True, orders=orders)
     return out

@@ -1,5 +1,5 @@
 """What the calibration section says: its prose and the layout of a
-:class:`~rvtol.models.transmission.calibration.calibrate.CalibrationRun` as report blocks.
+:class:`~rvtol.models.calibration.calibrate.CalibrationRun` as report blocks.
 """
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .... import units
-from ....blocks import Figure, Table, Text, figure_png
+from ... import units
+from ...blocks import Figure, Table, Text, figure_png
 from .measurements import TORSION
 
 FAILED = "The fit failed: {why}. No calibrated design was written."

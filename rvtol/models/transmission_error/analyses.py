@@ -24,7 +24,7 @@ from ...analysis import Analysis, CommonOptions, target_model
 from ...options import option
 from . import texts
 from .curve import CONFIGURATIONS, chosen_reducer, reducer_curve
-from .factors import TABLE3_GROUPS
+from ..reducer_20dof.factors import TABLE3_GROUPS
 from .model import TransmissionErrorModel
 from .sensitivity import DEFAULT_MAGNITUDES, table3_spec, te_sensitivity
 

@@ -19,10 +19,10 @@ Four kinds, named by a prefix:
     cycloid–crank bearings, not doc 000's Table 3 pattern).
 ``factor.<name>``
     any single error factor of the 20-DOF model as it is named in a spec
-    (:mod:`rvtol.models.transmission.factors`, e.g. ``factor.E_c`` or ``factor.delta_b[1,2]``).
+    (:mod:`rvtol.models.reducer_20dof.factors`, e.g. ``factor.E_c`` or ``factor.delta_b[1,2]``).
 ``friction.<group>``
     a **friction scale** ``c`` (dimensionless, ≥ 0) of one friction group of the torsion curve
-    (:data:`rvtol.models.transmission.friction.KEYS`: ``pin``, ``needle``, ``crank_support``): it multiplies
+    (:data:`rvtol.models.reducer_20dof.friction.KEYS`: ``pin``, ``needle``, ``crank_support``): it multiplies
     the design's coefficient (``friction.pin_sliding`` …; the design must give it).  ``friction.all`` scales
     every coefficient the design gives.  Friction widens the hysteresis loop in proportion to the torque (the
     mid-line stays), a clearance opens it at zero torque only, a compliance changes the mid-line's slope: a
@@ -41,14 +41,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .... import units
-from ....design import Design
-from ....errors import InputError
-from ....elements.reducer_chain import BASE_FAMILIES, scale_key
-from ....elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
-from ..factors import ErrorFactors
-from ..friction import KEYS as FRICTION_KEYS
-from ..friction import LABELS as FRICTION_LABELS
+from ... import units
+from ...design import Design
+from ...errors import InputError
+from ...elements.reducer_chain import BASE_FAMILIES, scale_key
+from ...elements.reducer_chain import FAMILIES as CHAIN_FAMILIES
+from ..reducer_20dof.factors import ErrorFactors
+from ..reducer_20dof.friction import KEYS as FRICTION_KEYS
+from ..reducer_20dof.friction import LABELS as FRICTION_LABELS
 from . import advice
 
 STIFFNESS = "stiffness"     # the design key is a stiffness or k0: key / c
@@ -75,7 +75,7 @@ FAMILIES: dict[str, Family] = {name: Family(scale_key(name), COMPLIANCE, label,
 
 def families_in(design: Design) -> tuple[str, ...]:
     """The families the design's 20-DOF model has: doc 000's contact laws and the chain's elements it gives."""
-    from ..geometry import geometry_from_design
+    from ..reducer_20dof.geometry import geometry_from_design
 
     chain = geometry_from_design(design).chain
     present = set(BASE_FAMILIES) | set(chain.families if chain is not None else ())

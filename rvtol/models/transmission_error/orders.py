@@ -3,7 +3,7 @@
 Orders are per output revolution (the carrier angle θ_c).  Over one output
 revolution the bodies turn, absolutely: housing 0, carrier and discs 1,
 cranks and their eccentrics 1 − z_b = −z_c, sun i (doc 000's nominal motion,
-:mod:`.geometry`).  Two exact symmetries of the 20-DOF model fix the orders
+:mod:`rvtol.models.reducer_20dof.geometry`).  Two exact symmetries of the 20-DOF model fix the orders
 (a shift of θ_c that maps the reducer onto itself leaves the TE unchanged):
 
 * **carrier side** — errors of the discs, cranks, planets and carrier, with a
@@ -59,9 +59,9 @@ import numpy as np
 import pandas as pd
 
 from ...errors import InputError
-from . import layout as L
-from .geometry import RVGeometry
-from .quasistatic import MIN_PER_CRANK_REV
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.geometry import RVGeometry
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV
 
 
 @dataclass(frozen=True)
@@ -117,7 +117,8 @@ FAMILY_OF = {
 
 
 def family_of(binding) -> str | None:
-    """The family key of a factor binding (:class:`.factors.ErrorFactors`), or None (phases, directions).
+    """The family key of a factor binding (:class:`rvtol.models.reducer_20dof.factors.ErrorFactors`), or None
+    (phases, directions).
 
     ``delta_pin``/``delta_th`` belong to the pin ring with an index (one pin) and are uniform without.
     """
