@@ -456,3 +456,17 @@ def test_the_20dof_core_is_named_for_itself_and_the_models_build_on_it_alone():
         == BUILT_ON_20DOF
     assert {p for p, ts in g.items() if "rvtol.models.transmission_error" in ts and p.startswith("rvtol.models.")} \
         == set()
+
+
+#: a concept the package listing shows once: the word in a module's name -> the one module named with it
+ONE_MODULE_PER_CONCEPT = {
+    "signoff": "rvtol.signoff",                          # the digest and the first page (not three modules)
+    "bearing": "rvtol.elements.rolling_bearings",        # doc 004's closed form and the load distributions
+    "compar": "rvtol.ci.compare",                        # two runs compared; results set beside others say so
+}
+
+
+@pytest.mark.parametrize("word", sorted(ONE_MODULE_PER_CONCEPT))
+def test_one_module_per_concept(word):
+    named = sorted(m for m in _modules() if word in m.rsplit(".", 1)[-1])
+    assert named == [ONE_MODULE_PER_CONCEPT[word]]
