@@ -33,6 +33,8 @@ from . import __version__
 from .errors import InputError, ModelCodeError
 
 EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL, EXIT_NO_REQUIREMENTS = 0, 1, 2, 3, 4
+#: the reader of standard output closed it (a shell's 128 + SIGPIPE)
+EXIT_BROKEN_PIPE = 141
 
 #: exit code of each study verdict (rvtol.verdict.study_verdict)
 VERDICT_EXIT = {"PASS": EXIT_PASS, "FAIL": EXIT_FAIL, "NO REQUIREMENTS": EXIT_NO_REQUIREMENTS, "EXPLORATORY": EXIT_PASS}
@@ -165,6 +167,9 @@ def main(argv: list[str] | None = None) -> int:
     except MemoryError:
         print("rvtol: error: <command line>: --n: out of memory during the run; lower n", file=sys.stderr)
         return EXIT_INPUT
+    except BrokenPipeError:         # the reader of the output stopped reading (rvtol kinds | head): not a bug
+        _quiet_stdout()
+        return EXIT_BROKEN_PIPE
     except OSError as exc:
         if exc.errno not in _ENVIRONMENT_ERRNOS or getattr(args, "debug", False):
             return _internal(args, exc)
@@ -172,6 +177,13 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_INPUT
     except Exception as exc:  # a bug, not bad input
         return _internal(args, exc)
+
+
+def _quiet_stdout() -> None:
+    """Standard output whose reader has gone: what is still buffered goes nowhere (else Python's exit flush
+    fails again and prints its own traceback)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 def _internal(args, exc: BaseException) -> int:
@@ -291,10 +303,16 @@ def _refuse_spec_inputs(out: Path, spec, source: Path) -> None:
 
 
 def _kinds(kind: str | None = None) -> int:
-    from .registry import ANALYSES, MODELS, analysis_function, plugin_analyses, plugin_models
+    from .registry import ANALYSES, MODELS, analysis_function, model_factory, plugin_analyses, plugin_models
 
     if kind is not None:
-        return _analysis_keys(analysis_function(kind, "<command line>", "kind"), kind)
+        is_model = kind in MODELS or kind in plugin_models()
+        if is_model:
+            _model_keys(model_factory(kind, "<command line>"), kind)
+        if not is_model or kind in ANALYSES or kind in plugin_analyses():   # a name both kinds use: both
+            cls = analysis_function(kind, "<command line>", "kind")
+            _keys(f"{kind} (analysis): {cls.title}", cls.Options)
+        return EXIT_PASS
     print("models:   " + ", ".join(sorted(MODELS)))
     plugins = plugin_models()
     if plugins:
@@ -304,8 +322,18 @@ def _kinds(kind: str | None = None) -> int:
     if plugins:
         print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
                                                                 sorted(plugins.items())))
-    print("rvtol kinds KIND lists the keys of an analysis kind")
+    print("rvtol kinds KIND lists the keys of a model or an analysis kind")
     return EXIT_PASS
+
+
+def _model_keys(factory, kind: str) -> None:
+    """The keys of one model kind's ``[model]`` table: from its declared options (a plug-in's plain factory reads
+    its own)."""
+    options = getattr(factory, "Options", None)
+    if options is None:
+        print(f"{kind} (model): its factory reads its own keys (none declared)")
+        return
+    _keys(f"{kind} (model): {factory.title}", options)
 
 
 def _docs(name: str | None) -> int:
@@ -323,18 +351,17 @@ def _docs(name: str | None) -> int:
     return EXIT_PASS
 
 
-def _analysis_keys(cls, kind: str) -> int:
-    """The keys of one analysis kind: from its declared options."""
+def _keys(heading: str, options) -> None:
+    """A kind's keys from its declared options: type, default, rule and meaning."""
     from .options import describe
 
-    print(f"{kind}: {cls.title}")
-    for o in describe(cls.Options):
+    print(heading)
+    for o in describe(options):
         default = "required" if o.required else f"default {o.default!r}"
         rule = f"; {o.constraint}" if o.constraint else ""
         print(f"  {o.key} ({o.type}; {default}{rule})")
         if o.help:
             print(f"      {o.help}")
-    return EXIT_PASS
 
 
 def _run(args) -> int:

@@ -14,7 +14,10 @@ commit.  Nothing of the library imports this module (``tests/test_architecture.p
 - ``option`` — one declared key of an ``Options`` dataclass: default, meaning, unit and constraints
 - ``REQUIRED`` — the default of a key a study must give
 - ``ANALYSIS_ENTRY_POINT_GROUP`` — ``"rvtol.analyses"``: the entry-point group a plug-in registers its analyses in
-- ``MODEL_ENTRY_POINT_GROUP`` — ``"rvtol.models"``: the entry-point group of model factories ``(params, design, spec)``
+- ``MODEL_ENTRY_POINT_GROUP`` — ``"rvtol.models"``: the entry-point group of model kinds (a ``ModelKind``, or a plain
+  factory ``(params, design, spec)``)
+- ``ModelKind`` — a model kind: its ``[model]`` table's ``Options`` (a schema), ``build(options, design, spec, error)``
+  and title; ``rvtol kinds KIND`` lists its keys
 
 **Errors** (one located line and exit code 2 for bad input)
 
@@ -107,6 +110,7 @@ from .models.transmission_error import texts as transmission_texts
 from .models.transmission_error.analyses import TESensitivity, TESensitivityOptions
 from .models.transmission_error.model import TransmissionErrorModel
 from .models.transmission_error.sensitivity import TESensitivityResult, te_sensitivity
+from .model_kind import ModelKind
 from .options import REQUIRED, option
 from .params import Params, read_toml
 from .records import frame_records
@@ -130,6 +134,7 @@ _PLOTS = {
 __all__ = [
     # the analysis contract and the registry's entry-point groups
     "Analysis", "CommonOptions", "option", "REQUIRED", "ANALYSIS_ENTRY_POINT_GROUP", "MODEL_ENTRY_POINT_GROUP",
+    "ModelKind",
     # errors; inputs, units and statistics
     "InputError", "SpecError", "Params", "read_toml", "load_design", "units", "stats",
     # results and reports

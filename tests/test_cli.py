@@ -96,6 +96,26 @@ def test_version_and_kinds():
     assert r.returncode == 0 and "linear" in r.stdout
 
 
+def test_a_reader_that_stops_reading_is_no_internal_error():
+    """``rvtol kinds | head -1``: the pipe's reader closed before rvtol wrote — a shell's SIGPIPE exit (141), no
+    'internal error' and no traceback (the read end is closed before the child has imported rvtol)."""
+    p = subprocess.Popen([sys.executable, "-m", "rvtol", "kinds", "transmission_error"], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    p.stdout.close()
+    err = p.stderr.read()
+    assert p.wait(timeout=120) == 141 and err == "", err
+
+
+def test_model_kinds_list_their_keys(capsys):
+    """``rvtol kinds KIND`` lists a model kind's keys from its declared options, and both kinds of a name two use."""
+    assert main(["kinds", "stackup"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("stackup (model):") and "  assembly (file; required)" in out and "  rotation (str; " in out
+    assert main(["kinds", "torsion_curve"]) == 0
+    out = capsys.readouterr().out
+    assert "torsion_curve (model):" in out and "torsion_curve (analysis):" in out and "  friction (bool; " in out
+
+
 def test_check_validates_without_running(root, capsys):
     assert main(["check", str(root / "studies" / "linear_stackup.toml")]) == 0
     assert "ok" in capsys.readouterr().out

@@ -1,6 +1,7 @@
-"""Every analysis kind refuses every invalid value of every key with one located error (issue 38 item 1).
+"""Every analysis and model kind refuses every invalid value of every key with one located error (issue 38 item 1).
 
-For each registered kind (built in and from installed plug-ins), each key of its declarative ``Options`` gets values
+For each registered kind (built in and from installed plug-ins; a model kind's ``[model]`` table as an analysis
+kind's ``[[analysis]]`` table), each key of its declarative ``Options`` gets values
 its type or rule forbids — a word for a number, a fraction for an integer, a number for text or a list, a value off its
 ``choices``, a number below ``min`` / ``positive`` / ``nonnegative``, a list shorter than ``min_length``, a table for a
 scalar — read alone from an ``[[analysis]]`` table (as scikit-learn's common test feeds every estimator invalid
@@ -19,9 +20,11 @@ from conftest import ab_study, write
 from rvtol.errors import InputError
 from rvtol.options import REQUIRED, key_of, read_options, rule_of
 from rvtol.params import Params
-from rvtol.registry import analysis_function, ANALYSES, plugin_analyses
+from rvtol.model_kind import Where
+from rvtol.registry import MODELS, analysis_function, ANALYSES, model_factory, plugin_analyses
 
 KINDS = sorted(set(ANALYSES) | set(plugin_analyses()))
+MODEL_KINDS = sorted(MODELS)
 
 
 def _base(tp):
@@ -75,23 +78,31 @@ def _keys(opts, path: tuple = ()):
     order = [f for f in dataclasses.fields(opts) if f.init]
     for i, f in enumerate(order):
         tp = _base(hints[f.name])
-        if "Params" in str(tp) or tp is dict or typing.get_origin(tp) is dict:
-            continue          # handed on unread; free tables
+        if "Params" in str(tp) or tp is dict or typing.get_origin(tp) is dict or tp is object:
+            continue          # handed on unread; free tables; a value of several forms the build reads
         required = [key_of(g) for g in order[:i] if g.default is REQUIRED and g.default_factory is dataclasses.MISSING]
         if dataclasses.is_dataclass(tp):
             if not required:  # a sub-table read only once every required key before it is given
                 yield from _keys(tp, path + (key_of(f),))
             continue
         if typing.get_origin(tp) is list and typing.get_args(tp) and dataclasses.is_dataclass(typing.get_args(tp)[0]):
-            continue          # arrays of tables
+            if not required:  # an array of tables: the keys of its first table
+                yield from _keys(typing.get_args(tp)[0], path + (key_of(f) + "[0]",))
+            continue
         yield path + (key_of(f),), hints[f.name], rule_of(f), (required[0] if required else None)
 
 
+def _options(what: str, kind: str):
+    return (analysis_function(kind, "s.toml", "kind") if what == "analysis" else model_factory(kind, "s.toml")).Options
+
+
 def _cases():
-    for kind in KINDS:
-        for path, tp, rule, first_required in _keys(analysis_function(kind, "s.toml", "kind").Options):
-            for bad in _invalid(tp, rule):
-                yield pytest.param(kind, path, bad, first_required, id=f"{kind}.{'.'.join(path)}={bad!r}"[:90])
+    for what, kinds in (("analysis", KINDS), ("model", MODEL_KINDS)):
+        for kind in kinds:
+            for path, tp, rule, first_required in _keys(_options(what, kind)):
+                for bad in _invalid(tp, rule):
+                    yield pytest.param(what, kind, path, bad, first_required,
+                                       id=f"{what}:{kind}.{'.'.join(path)}={bad!r}"[:90])
 
 
 CASES = list(_cases())
@@ -106,24 +117,29 @@ def study(tmp_path_factory):
 
 
 def test_the_common_test_covers_every_kind():
-    covered = {c.values[0] for c in CASES}
-    assert len(KINDS) >= 30 and covered == set(KINDS)
-    print(f"{len(KINDS)} kinds, {len({(c.values[0], c.values[1]) for c in CASES})} keys, {len(CASES)} invalid values")
+    for what, kinds in (("analysis", KINDS), ("model", MODEL_KINDS)):
+        cases = [c for c in CASES if c.values[0] == what]
+        covered = {c.values[1] for c in cases}
+        assert covered == set(kinds), set(kinds) - covered
+        print(f"{what}: {len(kinds)} kinds, {len({(c.values[1], c.values[2]) for c in cases})} keys, {len(cases)} "
+              "invalid values")
+    assert len(KINDS) >= 30 and len(MODEL_KINDS) >= 12
 
 
-@pytest.mark.parametrize("kind,path,bad,first_required", CASES)
-def test_an_invalid_value_is_one_located_error(study, kind, path, bad, first_required):
-    cls = analysis_function(kind, "s.toml", "kind")
+@pytest.mark.parametrize("what,kind,path,bad,first_required", CASES)
+def test_an_invalid_value_is_one_located_error(study, what, kind, path, bad, first_required):
     table: dict = {"kind": kind}
     inner = table
     for k in path[:-1]:
-        inner = inner.setdefault(k, {})
+        inner = inner.setdefault(k[:-3], [{}])[0] if k.endswith("[0]") else inner.setdefault(k, {})
     inner[path[-1]] = bad
+    where = "analysis[0]" if what == "analysis" else "model"
     with pytest.raises(InputError) as ei:
-        read_options(cls.Options, Params(table, file="s.toml", key="analysis[0]"), study)
+        read_options(_options(what, kind), Params(table, file="s.toml", key=where),
+                     study if what == "analysis" else Where(Path(".")))
     e = ei.value
-    assert e.file == "s.toml" and e.key and e.key.startswith("analysis[0]."), (e.key, e.reason)
-    blamed = e.key[len("analysis[0]."):]
+    assert e.file == "s.toml" and e.key and e.key.startswith(where + "."), (e.key, e.reason)
+    blamed = e.key[len(where) + 1:]
     key = ".".join(path)
     outer_required = f"{'.'.join(path[:-1]) + '.' if path[:-1] else ''}{first_required}" if first_required else None
     # the key itself (or a place inside the value: an entry of a list, a key of a table given for a quantity), or a

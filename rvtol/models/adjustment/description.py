@@ -221,12 +221,18 @@ def weight_value(p: Params, name: str, default=None, allow_inf: bool = False) ->
     v = p.raw(name, default)
     if v is default and default is not None:
         return v
+    return weight_of(v, p.error, name, allow_inf)
+
+
+def weight_of(v, error, name: str, allow_inf: bool = False) -> float:
+    """The value ``v`` of the weight ``name`` checked: a number >= 0, or ``"inf"`` (or TOML ``inf``) where
+    ``allow_inf``; ``error(name, reason)`` raises the located error."""
     if allow_inf and (v == "inf" or (isinstance(v, float) and v == math.inf)):
         return math.inf
     if isinstance(v, str):
         what = 'a number or "inf"' if allow_inf else "a number"
-        raise p.error(name, f"expected {what}, got the string {v!r}")
-    return check_number(v, p.error, name, nonnegative=True)
+        raise error(name, f"expected {what}, got the string {v!r}")
+    return check_number(v, error, name, nonnegative=True)
 
 
 def assembly_from_table(data: dict, *, file: str | None = None) -> AssemblyDescription:

@@ -18,14 +18,18 @@ mrad).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ... import units
 from ...errors import InputError
 from ...model import Model, Quantity
+from ...model_kind import ModelKind, existing
+from ...options import REQUIRED, option
 from .adjuster import Adjuster
-from .description import AssemblyDescription, load_assembly, weight_value
+from .description import AssemblyDescription, load_assembly, weight_of
 
 
 class AdjustedAssemblyModel(Model):
@@ -106,13 +110,27 @@ class AdjustedAssemblyModel(Model):
                                      self.outputs[0].display_unit)
 
 
-def from_study(params, design, spec) -> AdjustedAssemblyModel:
-    base = Path(params.file).parent if params.file else Path(".")
-    path = params.path_value("assembly", base, existing=True)
-    desc = load_assembly(path)
-    accuracy = weight_value(params, "accuracy_weight", None, allow_inf=True) if "accuracy_weight" in params else None
-    params.raw("accuracy_weight", None)
-    adjust = params.bool("adjust", True)
-    disp = params.unit("display_unit", "mrad", dimension="angle")
-    params.finish()
-    return AdjustedAssemblyModel(desc, spec.names, accuracy, adjust, disp)
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "adjusted_assembly"``."""
+
+    assembly: Path = option(REQUIRED, "the assembly's state-space description (TOML: stations, parts, adjusters)")
+    accuracy_weight: object = option(None, 'the LQR accuracy weight Q: a number >= 0 or "inf" (default: the '
+                                           "assembly file's)")
+    adjust: bool = option(True, "apply the finite-horizon LQR adjustments (false: the unadjusted assembly)")
+    display_unit: str = option("mrad", "the angle unit the report shows the deviations in")
+
+
+def build(o: Options, design, spec, error) -> AdjustedAssemblyModel:
+    desc = load_assembly(existing(o.assembly, "assembly", error))
+    accuracy = None if o.accuracy_weight is None else weight_of(o.accuracy_weight, error, "accuracy_weight",
+                                                                allow_inf=True)
+    try:
+        disp = units.canonical(o.display_unit, "angle")
+        units.require_dimension(disp, "angle")
+    except InputError as exc:
+        raise error("display_unit", exc.reason) from None
+    return AdjustedAssemblyModel(desc, spec.names, accuracy, o.adjust, disp)
+
+
+from_study = ModelKind(Options, build, "an assembly adjusted station by station (state space, finite-horizon LQR)")

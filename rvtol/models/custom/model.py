@@ -25,10 +25,13 @@ from __future__ import annotations
 import importlib
 import pickle
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 from ...errors import InputError, ModelCodeError, describe_exception
 from ...model import Model
+from ...model_kind import ModelKind
+from ...options import REQUIRED, option
 
 
 def resolve(reference: str, path: Path | None = None):
@@ -119,11 +122,18 @@ def _restore(path: str | None, blob: bytes, factory: str = "") -> ImportedModel:
     return ImportedModel(pickle.loads(blob), path, factory)
 
 
-def from_study(params, design, spec) -> Model:
+@dataclass
+class Options:
+    """The keys rvtol reads of ``[model] kind = "python"``; the table's other keys are the factory's own."""
+
+    factory: str = option(REQUIRED, '"module:function", called as function(params, design, spec) -> rvtol.model.Model '
+                                    "(params: this table, its other keys the factory's to read)")
+    path: Path | None = option(None, "the folder the module is imported from (default: the study's folder)")
+
+
+def build(o: Options, design, spec, params) -> Model:
     """The study factory of ``kind = "python"`` (see the module docstring)."""
-    ref = params.str("factory")
-    base = Path(params.file).parent if params.file else Path(".")
-    path = params.path_value("path", base, None)
+    ref, path = o.factory, o.path
     try:
         fn = resolve(ref, path)
     except InputError as exc:
@@ -142,6 +152,10 @@ def from_study(params, design, spec) -> Model:
                              key=params.path("factory")) from None
     model = check_model(made, f"factory {ref!r}")
     return ImportedModel(model, str(path.resolve()) if path is not None else None, ref)
+
+
+from_study = ModelKind(Options, build, "a model written in Python: a factory function of the study's folder",
+                       open=True)
 
 
 def check_without_running(params) -> str:

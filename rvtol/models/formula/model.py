@@ -49,6 +49,9 @@ from ... import units as _units
 from ...errors import InputError
 from ...expressions import CONSTANTS, Expression, ExpressionError
 from ...model import Model, Quantity
+from ...model_kind import ModelKind
+from ...options import option
+from ...params import Params
 from . import dimensions as _dim
 
 #: how the factors' units enter the formulas (module docstring)
@@ -245,59 +248,73 @@ class FormulaModel(Model):
         return Y, G
 
 
-def read_definitions(params) -> tuple[object, dict]:
-    """A ``[model.define]`` table: ``(its Params, {name: formula or (formula, unit)})`` in order."""
-    defs_p = params.sub("define", {})
+def read_definitions(defs_p) -> dict:
+    """A ``[model.define]`` table (:class:`rvtol.params.Params`, or None): ``{name: formula or (formula, unit)}``
+    in order."""
     definitions: dict = {}
-    for name in list(defs_p.keys()):
+    for name in list(defs_p.keys()) if defs_p is not None else ():
         if isinstance(defs_p.data[name], dict):     # L = { formula = "25", unit = "mm" }
             t = defs_p.sub(name)
             definitions[name] = (t.str("formula"), t.unit("unit"))
             t.finish()
         else:
             definitions[name] = defs_p.str(name)
-    return defs_p, definitions
+    return definitions
 
 
-def read_outputs(params, what: str) -> list[tuple[object, FormulaOutput]]:
+def read_outputs(tables, error, what: str) -> list[tuple[object, FormulaOutput]]:
     """The ``[[model.output]]`` tables: ``(table, FormulaOutput)`` each (name, formula, unit, display_unit,
-    description); ``what`` names the model in the error when there is none."""
+    description); ``what`` names the model in the error (``error(key, reason)``) when there is none."""
     specs = []
-    for t in params.tables("output"):
+    for t in tables:
         name, formula = t.str("name"), t.str("formula")
         unit = t.unit("unit", "1")
         disp = t.unit("display_unit", unit, dimension=_units.dimension(unit))
         specs.append((t, FormulaOutput(name, formula, unit, disp, t.str("description", ""))))
         t.finish()
     if not specs:
-        raise params.error("output", f"{what} needs at least one [[model.output]]")
+        raise error("output", f"{what} needs at least one [[model.output]]")
     return specs
 
 
-def from_study(params, design, spec) -> FormulaModel:
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "formula"``."""
+
+    units: str = option("checked", "how the factors' units enter the formulas: checked (dimensional analysis, "
+                                   "converted), factor (each factor's number in its own unit, unchecked) or base "
+                                   "(in base units, unchecked)", choices=UNIT_MODES)
+    define: Params | None = option(None, 'intermediate quantities in order: name = "formula" or {formula, unit}')
+    output: list[Params] = option([], "each [[model.output]]: name, formula, unit (default \"1\"), display_unit, "
+                                      "description")
+
+
+def build(o: Options, design, spec, error) -> FormulaModel:
     """The study factory (``[model] kind = "formula"``); errors name the file and key."""
-    u = params.str("units", "checked", choices=UNIT_MODES)
-    defs_p, definitions = read_definitions(params)
-    specs = read_outputs(params, "a formula model")
-    params.finish()
-    fu = tuple(_units.base_unit(x) for x in spec.units) if u == "base" else tuple(spec.units)
+    definitions = read_definitions(o.define)
+    specs = read_outputs(o.output, error, "a formula model")
+    checked = o.units == "checked"
+    fu = tuple(_units.base_unit(x) for x in spec.units) if o.units == "base" else tuple(spec.units)
     # build one output at a time after the definitions, so that an error names its own key
     defined: dict = {}
     for name, value in definitions.items():
         defined[name] = value
         try:
-            FormulaModel([("_", "0")], spec.names, fu, definitions=defined, checked=u == "checked")
+            FormulaModel([("_", "0")], spec.names, fu, definitions=defined, checked=checked)
         except ExpressionError as exc:
-            raise defs_p.error(name, exc.reason) from None
-    for t, o in specs:
+            raise o.define.error(name, exc.reason) from None
+    for t, out in specs:
         try:
-            FormulaModel([o], spec.names, fu, definitions=definitions, checked=u == "checked")
+            FormulaModel([out], spec.names, fu, definitions=definitions, checked=checked)
         except ExpressionError as exc:
-            raise t.error("formula" if exc.reason.startswith(f"output {o.name!r}:") else None, exc.reason) from None
+            raise t.error("formula" if exc.reason.startswith(f"output {out.name!r}:") else None, exc.reason) from None
     try:
-        return FormulaModel([o for _, o in specs], spec.names, fu, definitions=definitions, checked=u == "checked")
+        return FormulaModel([out for _, out in specs], spec.names, fu, definitions=definitions, checked=checked)
     except ExpressionError as exc:
-        raise params.error(None, exc.reason) from None
+        raise error(None, exc.reason) from None
+
+
+from_study = ModelKind(Options, build, "outputs as formulas of the factors, written in the study (no Python)")
 
 
 __all__ = ["FormulaModel", "FormulaOutput", "UNIT_MODES", "from_study", "read_definitions", "read_outputs"]

@@ -18,9 +18,14 @@ uses ±1; an angle from a length at radius R uses 1/R (rad/mm).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from ... import units
 from ...errors import InputError, did_you_mean
 from ...model import LinearModel, Quantity
+from ...model_kind import ModelKind
+from ...options import REQUIRED, option
+from ...params import check_number
 
 
 def spec_directions(spec) -> list[float]:
@@ -45,36 +50,57 @@ def stack_model(spec, output: str = "stack", unit: str | None = None, display_un
                        [float(units.to_base(constant, u))])
 
 
-def from_study(params, design, spec) -> LinearModel:
-    outs = params.tables("output")
-    if not outs:
-        raise params.error("output", "a linear model needs at least one [[model.output]]")
+@dataclass
+class OutputOptions:
+    """One ``[[model.output]]`` of a linear model."""
+
+    name: str = option(REQUIRED, "the output's name")
+    unit: str = option("1", "the output's unit (its dimension fixes the base unit the coefficients give)")
+    display_unit: str | None = option(None, "the unit to report in (default: unit)")
+    constant: float = option(0.0, "the constant term, in unit")
+    coefficients: object = option(
+        REQUIRED, 'factor -> coefficient in base-unit ratios (absent factors: 0), or "spec": each factor\'s direction')
+
+
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "linear"``."""
+
+    output: list[OutputOptions] = option(REQUIRED, "the outputs: a constant plus coefficients times the factors",
+                                         min_length=1)
+
+
+def build(o: Options, design, spec, error) -> LinearModel:
     quantities, rows, consts = [], [], []
-    for t in outs:
-        name = t.str("name")
-        unit = t.unit("unit", "1")
-        disp = t.unit("display_unit", unit, dimension=units.dimension(unit))
-        base = units.base_unit(unit)
-        consts.append(float(units.to_base(t.float("constant", 0.0), unit)))
-        if t.raw("coefficients") == "spec":
+    for i, t in enumerate(o.output):
+        where = f"output[{i}]"
+        try:
+            unit = units.canonical(t.unit)
+            disp = units.canonical(t.display_unit or unit, units.dimension(unit))
+            units.require_dimension(disp, units.dimension(unit))
+        except InputError as exc:
+            key = "unit" if t.display_unit is None or exc.key == "unit" else "display_unit"
+            raise error(f"{where}.{key}", exc.reason) from None
+        consts.append(float(units.to_base(t.constant, unit)))
+        if t.coefficients == "spec":
             try:
                 row = spec_directions(spec)
             except InputError as exc:
-                raise t.error("coefficients", exc.reason) from None
-        else:
-            coefs = t.sub("coefficients")
-            row = []
-            for f in spec.names:
-                row.append(coefs.float(f, 0.0))
-            unknown = sorted(set(coefs.keys()) - set(spec.names))
+                raise error(f"{where}.coefficients", exc.reason) from None
+        elif isinstance(t.coefficients, dict):
+            unknown = sorted(set(t.coefficients) - set(spec.names))
             if unknown:
-                raise coefs.error(unknown[0], f"unknown factor name {unknown[0]!r}"
-                                                  f"{did_you_mean(unknown[0], spec.names)} "
-                                                  f"(spec has: {', '.join(spec.names)})")
-        t.finish()
-        quantities.append(Quantity(name, base, disp))
+                raise error(f"{where}.coefficients.{unknown[0]}", f"unknown factor name {unknown[0]!r}"
+                                                                   f"{did_you_mean(unknown[0], spec.names)} "
+                                                                   f"(spec has: {', '.join(spec.names)})")
+            row = [check_number(t.coefficients.get(f, 0.0), error, f"{where}.coefficients.{f}") for f in spec.names]
+        else:
+            raise error(f"{where}.coefficients", f'expected "spec" or a table of coefficients, got {t.coefficients!r}')
+        quantities.append(Quantity(t.name, units.base_unit(unit), disp))
         rows.append(row)
     if len({q.name for q in quantities}) != len(quantities):
-        raise params.error("output", "duplicate output name")
-    params.finish()
+        raise error("output", "duplicate output name")
     return LinearModel(spec.names, [units.base_unit(u) for u in spec.units], quantities, rows, consts)
+
+
+from_study = ModelKind(Options, build, "a linear stack: outputs = constant + Σ coefficient × factor")

@@ -140,6 +140,9 @@ import pandas as pd
 from ... import units
 from ...errors import InputError, SpecError, did_you_mean
 from ...model import Model, Quantity
+from ...model_kind import ModelKind
+from ...options import option
+from ...params import Params
 from ...stats import rss
 from ..reducer_20dof.geometry import involute, inverse_involute
 
@@ -467,19 +470,31 @@ def analytic(geometry: LostMotionGeometry, moments: dict[str, FactorMoments],
 
 
 # --------------------------------------------------------------------------- study factory
-def from_study(params, design, spec) -> LostMotionModel:
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "lost_motion"``."""
+
+    mode: str = option(DEFAULT_MODE, "every coefficient from the kinematics (consistent), or doc 001 as printed",
+                       choices=MODES)
+    cycloid_factor: list[Params] = option([], "further factors of the cycloid stage, each [[model.cycloid_factor]] "
+                                              'with factor, derivative ("cycloid_radius" | "pin_radius" | {value, '
+                                              'unit = "arcmin/um"}) and source')
+    nominal: Params | None = option(None, "factor -> nominal value (mm or {value, unit}) of the model's own factors "
+                                          "the spec does not give")
+
+
+def build(o: Options, design, spec, error) -> LostMotionModel:
     """``[model] kind = "lost_motion"``: ``mode`` = "consistent" (default) | "document"; geometry from
     the design; optional ``[model.nominal]`` and ``[[model.cycloid_factor]]`` (``factor``,
     ``derivative`` = "cycloid_radius" | "pin_radius" | {value, unit = "arcmin/um"}, ``source``).
     A "…_radius" derivative takes the mode's coefficient of Δr_c / Δr_p; an explicit value is
     ∂Δφ34/∂ξ at the disc (referred to the output like the rest of the cycloid stage)."""
     if design is None:
-        raise params.error(None, "the lost-motion model needs a design (study.design)")
-    mode = params.str("mode", DEFAULT_MODE, choices=MODES)
-    geometry = LostMotionGeometry.from_design(design, mode)
+        raise error(None, "the lost-motion model needs a design (study.design)")
+    geometry = LostMotionGeometry.from_design(design, o.mode)
     base = geometry.coefficients()["cycloid_stage"]
     extra, sources, like = {}, {}, {}
-    tables = params.tables("cycloid_factor")
+    tables = o.cycloid_factor
     declared = {v for t in tables if isinstance(v := t.data.get("factor"), str)}   # a non-text one: refused below
     # spec factors no table declares: a ξ name close to one of them is a typo (blame this table, not the spec)
     undeclared = [n for n in spec.names if n not in FACTORS and n not in declared]
@@ -500,7 +515,7 @@ def from_study(params, design, spec) -> LostMotionModel:
             extra[name] = t.quantity("derivative", "arcmin/mm")
         sources[name] = t.str("source")
         t.finish()
-    nom = params.sub("nominal", {})
+    nom = o.nominal if o.nominal is not None else Params({})
     nominal = {}
     for k in list(nom.keys()):
         if k not in FACTORS and k not in extra:
@@ -511,5 +526,7 @@ def from_study(params, design, spec) -> LostMotionModel:
             raise nom.error(k, f"{k!r} is a factor of the spec: its nominal comes from there")
         nominal[k] = nom.quantity(k, "mm")
     nom.finish()
-    params.finish()
     return LostMotionModel(geometry, spec.names, nominal, extra, sources, like)
+
+
+from_study = ModelKind(Options, build, "doc 001's per-stage statistical geometric lost motion")

@@ -29,15 +29,21 @@ import re
 
 import numpy as np
 
+from dataclasses import dataclass
+
 from ...design import Design
 from ...errors import InputError
 from ...model import Model, Quantity
+from ...model_kind import ModelKind, require_design
+from ...options import option
 from ..stackup.domains import ends_from_axis
 from ..reducer_20dof import layout as L
 from ..reducer_20dof.contacts import PinContacts, pin_contacts
 from ..reducer_20dof.factors import ErrorFactors
 from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, ContactSolveOptions
 from .fit import disc_fit_margin
+from .preload import DEFAULT_PER_CRANK_REV
 
 OFFSET = re.compile(r"^disc_(u|v|alpha|beta)\[([12])\]$")
 _OFFSET_UNIT = {"u": "mm", "v": "mm", "alpha": "rad", "beta": "rad"}
@@ -158,36 +164,47 @@ class PinRingFitModel(Model):
         return deps
 
 
-def from_study(params, design, spec) -> PinRingFitModel:
-    """``[[model]] kind = "pin_ring_fit"``; keys: ``width`` (the discs' face width, mm or {value, unit}; default
-    the design's ``cycloid.face_width``), ``harmonic`` (the Table 3 pattern order of the 20-DOF factors, 2)."""
-    if design is None:
-        raise params.error("kind", "the pin-ring fit needs the reducer's design ([study] design = ...)")
-    width = params.quantity("width", "mm", None, positive=True)
+@dataclass
+class FitOptions:
+    """The keys of ``[[model]] kind = "pin_ring_fit"``."""
+
+    width: float | None = option(None, "the discs' face width (default: the design's cycloid.face_width)", unit="mm",
+                                 positive=True)
+    harmonic: int = option(2, "the largest harmonic of the profile and pin error patterns (the Table 3 factors)",
+                           min=1, max=L.NH - 1)
+
+
+def build_fit(o: FitOptions, design, spec, error) -> PinRingFitModel:
+    require_design(design, error, "the pin-ring fit needs the reducer's design")
+    width = o.width
     if width is None:
         if "cycloid.face_width" not in design:
-            raise params.error("width", "give the discs' face width (the design has no cycloid.face_width)")
+            raise error("width", "give the discs' face width (the design has no cycloid.face_width)")
         width = float(design["cycloid.face_width"])
-    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
-    params.finish()
-    return PinRingFitModel(design, spec.names, width, harmonic)
+    return PinRingFitModel(design, spec.names, width, o.harmonic)
 
 
-def preload_from_study(params, design, spec):
-    """``[[model]] kind = "pin_ring_preload"``; keys: ``per_crank_rev`` (positions per crank revolution of the no-load
-    sweep, 12), ``harmonic`` (2), ``compliance_chain`` (true), ``tol_force`` (N, 1e-5), ``max_iterations`` (200)."""
-    from .preload import DEFAULT_PER_CRANK_REV, MIN_PER_CRANK_REV, PinRingPreloadModel
+from_study = ModelKind(FitOptions, build_fit, "the pin ring's fit: each disc's smallest clearance and margin")
 
-    if design is None:
-        raise params.error("kind", "the pin-ring preload needs the reducer's design ([study] design = ...)")
-    per = params.int("per_crank_rev", DEFAULT_PER_CRANK_REV, min=MIN_PER_CRANK_REV)
-    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
-    chain = params.bool("compliance_chain", True)
-    tol = params.float("tol_force", 1e-5, positive=True)
-    maxit = params.int("max_iterations", 200, min=2)
-    params.finish()
+
+@dataclass
+class PreloadOptions(ContactSolveOptions):
+    """The keys of ``[[model]] kind = "pin_ring_preload"``."""
+
+    per_crank_rev: int = option(DEFAULT_PER_CRANK_REV, "positions per crank revolution of the no-load sweep",
+                                min=MIN_PER_CRANK_REV)
+
+
+def build_preload(o: PreloadOptions, design, spec, error):
+    from .preload import PinRingPreloadModel
+
+    require_design(design, error, "the pin-ring preload needs the reducer's design")
     try:
-        return PinRingPreloadModel(design, spec.names, per_crank_rev=per, harmonic=harmonic, tol_f=tol, maxit=maxit,
-                                   compliance_chain=chain)
+        return PinRingPreloadModel(design, spec.names, per_crank_rev=o.per_crank_rev, harmonic=o.harmonic,
+                                   tol_f=o.tol_force, maxit=o.max_iterations, compliance_chain=o.compliance_chain)
     except InputError as exc:
-        raise params.error(exc.key or "kind", exc.reason) from None
+        raise error(exc.key or "kind", exc.reason) from None
+
+
+preload_from_study = ModelKind(PreloadOptions, build_preload,
+                               "the pin ring's no-load turn: preloaded pins and drag torque (20-DOF contacts)")

@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ...errors import InputError
+from ...options import option
 from . import _kernels as K
 from . import layout as L
 from .compliance import family_work
@@ -83,6 +84,20 @@ class SweepResult:
             "input torque [N*m]": r[:, K.R_TORQUE_IN] / 1e3,
             "status": self.status,
         })
+
+
+@dataclass
+class ContactSolveOptions:
+    """The ``[model]`` keys every 20-DOF model kind shares: the error patterns' order and the static contact solve
+    (:class:`QuasiStaticSolver`)."""
+
+    harmonic: int = option(2, "the largest harmonic of the profile and pin error patterns (the Table 3 factors)",
+                           min=1, max=L.NH - 1)
+    tol_force: float = option(1e-5, "N: the largest residual force at convergence, and the force above which a pin "
+                                    "counts as loaded (keep it far below the pin forces)", positive=True)
+    max_iterations: int = option(200, "Newton iterations per position", min=2)
+    compliance_chain: bool = option(True, "the design's compliance elements in series with the contacts (false: "
+                                          "doc 000's rigid chain)")
 
 
 class QuasiStaticSolver:

@@ -32,12 +32,15 @@ own derivative is taken by a central difference of that (explicit) map.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ... import units
-from ...errors import InputError
+from ...errors import InputError, did_you_mean
 from ...model import Model, Quantity
+from ...model_kind import ModelKind, existing
+from ...options import REQUIRED, option
 from . import _kernels as K
 from .deviation import linear_magnitude, rotational_magnitude
 from .domains import axis_from_ends, concentric_disk, ends_from_axis
@@ -398,34 +401,43 @@ def linearise_program(program: Program) -> np.ndarray:
 
 
 # =========================================================================== study factory
-def from_study(params, design, spec) -> StackupModel:
-    """``[model] kind = "stackup"``: assembly file, sequence, rotation, backend, floats, outputs."""
+#: how a float (a fit's free play) is taken when the assembly's fit does not say
+FLOATS = ("uniform", "worst_tilt", "worst_offset", "centred")
+
+
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "stackup"``."""
+
+    assembly: Path = option(REQUIRED, "the assembly file (parts, features, fits, sequences, KCs)")
+    sequence: str | None = option(None, "the assembly sequence (default: the assembly's first)")
+    rotation: str = option("exact", "rotations composed exactly or to first order", choices=MODES)
+    backend: str = option("numba", "the compiled or the NumPy kernels (the same equations)", choices=BACKENDS)
+    floats: dict[str, str] = option({}, "fit name -> how its float is taken: " + ", ".join(FLOATS))
+    outputs: list[str] | None = option(None, "the KC outputs kept (default: every one)")
+
+
+def build(o: Options, design, spec, error) -> StackupModel:
     from .graph import load_assembly
 
-    path = params.path_value("assembly", _study_dir(params), existing=True)
+    path = existing(o.assembly, "assembly", error)
     try:
         asm = load_assembly(path, design)
     except InputError as exc:
         raise exc.located(file=str(path)) from None
-    seq = params.str("sequence", None)
-    if seq is not None and seq not in asm.sequences:
-        raise params.error("sequence", f"unknown sequence {seq!r} (assembly has: {', '.join(asm.sequences)})")
-    rotation = params.str("rotation", "exact", choices=MODES)
-    backend = params.str("backend", "numba", choices=BACKENDS)
-    fl = params.sub("floats", {})
-    floats = {k: fl.str(k, choices=("uniform", "worst_tilt", "worst_offset", "centred")) for k in list(fl.keys())}
-    fl.finish()
-    outs = params.strs("outputs", None)
-    params.finish()
-    model = StackupModel(asm, seq, spec.names, None, rotation, backend, floats, outs)
+    if o.sequence is not None and o.sequence not in asm.sequences:
+        raise error("sequence", f"unknown sequence {o.sequence!r} (assembly has: {', '.join(asm.sequences)})")
+    for k, v in o.floats.items():
+        if v not in FLOATS:
+            hint = did_you_mean(v, FLOATS).strip(" ()")
+            raise error(f"floats.{k}", f"unknown value {v!r} ({hint + '; ' if hint else ''}expected one of: "
+                                       f"{', '.join(FLOATS)})")
+    model = StackupModel(asm, o.sequence, spec.names, None, o.rotation, o.backend, o.floats, o.outputs)
     _check_zones(model, spec)
     return model
 
 
-def _study_dir(params):
-    from pathlib import Path
-
-    return Path(params.file).parent if params.file else Path(".")
+from_study = ModelKind(Options, build, "the 6-DOF stack-up of an assembly: part and fit deviations to its KCs")
 
 
 def _check_zones(model: StackupModel, spec) -> None:

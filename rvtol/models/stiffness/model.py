@@ -17,8 +17,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from dataclasses import dataclass
+
 from ...errors import InputError, did_you_mean
 from ...model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
+from ...model_kind import ModelKind
+from ...options import option
 from .torsion_angle import BEARING_KINEMATICS, COMPONENTS, ReducerStiffness
 
 FACTORS = {
@@ -108,15 +112,24 @@ def nominal_factors(design) -> dict[str, float]:
             "pin_circle_error": 0.0, "pin_radius_error": 0.0}
 
 
-def from_study(params, design, spec) -> TorsionalStiffnessModel:
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "torsional_stiffness"``."""
+
+    torque: float | None = option(None, "the output torque (default: the design's rated torque)", unit="N*m",
+                                  positive=True)
+    pin_phase: float = option(0.0, "the pins' angular phase, as a fraction of the pin pitch", min=-1.0, max=1.0)
+    crank_angle: float = option(0.0, "the crank angle of the evaluated position", unit="deg")
+    bearing_kinematics: str = option("virtual_work", "how the crank bearings' compliance is referred to the output",
+                                     choices=BEARING_KINEMATICS)
+
+
+def build(o: Options, design, spec, error) -> TorsionalStiffnessModel:
     if design is None:
-        raise params.error(None, "the torsional_stiffness model needs a design ([study] design = ...)")
-    torque = params.quantity("torque", "N*m", None, positive=True)
-    if torque is None:
-        torque = design["reducer.rated_torque"]
-    phase = params.float("pin_phase", 0.0, min=-1.0, max=1.0)
-    crank = params.quantity("crank_angle", "deg", 0.0)
-    kin = params.str("bearing_kinematics", "virtual_work", choices=BEARING_KINEMATICS)
-    params.finish()
-    rs = ReducerStiffness.from_design(design, bearing_kinematics=kin)
-    return TorsionalStiffnessModel(rs, spec.names, torque, nominal_factors(design), phase, crank)
+        raise error(None, "the torsional_stiffness model needs a design ([study] design = ...)")
+    torque = o.torque if o.torque is not None else design["reducer.rated_torque"]
+    rs = ReducerStiffness.from_design(design, bearing_kinematics=o.bearing_kinematics)
+    return TorsionalStiffnessModel(rs, spec.names, torque, nominal_factors(design), o.pin_phase, o.crank_angle)
+
+
+from_study = ModelKind(Options, build, "doc 004's elastic torsion angles: torsional stiffness by element")

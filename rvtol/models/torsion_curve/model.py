@@ -92,10 +92,12 @@ from scipy import optimize
 from ... import units
 from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
+from ...model_kind import ModelKind, require_design
+from ...options import option
 from ..reducer_20dof import layout as L
 from ..reducer_20dof.factors import ErrorFactors, ErrorState
 from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
-from ..reducer_20dof.quasistatic import QuasiStaticSolver
+from ..reducer_20dof.quasistatic import ContactSolveOptions, QuasiStaticSolver
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
 #: fixed-point steps and tolerance (fraction of rated torque) of a reading point on a loop with friction; the elastic
@@ -471,17 +473,24 @@ class TorsionCurveModel(Model):
         return self.evaluate_with_status(X)[0]
 
 
-def from_study(params, design, spec) -> TorsionCurveModel:
-    if design is None:
-        raise params.error("kind", "the torsion_curve model needs a 20-DOF design ([study] design = ...)")
-    percent = params.float("percent", 3.0, min=0.01, max=50.0)
-    points = params.int("points", 20, min=4, max=1000)
-    torque = params.quantity("torque", "N*m", None, positive=True)
-    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
-    tol = params.float("tol_force", 1e-6, positive=True)
-    maxit = params.int("max_iterations", 200, min=2)
-    chain = params.bool("compliance_chain", True)
-    friction = params.bool("friction", True)
-    params.finish()
-    return TorsionCurveModel(design, spec.names, percent=percent, points=points, torque=torque,
-                             harmonic=harmonic, tol_f=tol, maxit=maxit, compliance_chain=chain, friction=friction)
+@dataclass
+class Options(ContactSolveOptions):
+    """The keys of ``[model] kind = "torsion_curve"``."""
+
+    percent: float = option(3.0, "the maker's lost-motion torque band ±percent of rated torque", min=0.01, max=50.0)
+    points: int = option(20, "load steps of each branch of the curve", min=4, max=1000)
+    torque: float | None = option(None, "the curve's end torque (default: the design's rated torque)", unit="N*m",
+                                  positive=True)
+    tol_force: float = option(1e-6, "N: the largest residual force at convergence, and the force above which a pin "
+                                    "counts as loaded (keep it far below the pin forces)", positive=True)
+    friction: bool = option(True, "the design's contact friction: the loop's width (rvtol.models.reducer_20dof.friction)")
+
+
+def build(o: Options, design, spec, error) -> TorsionCurveModel:
+    require_design(design, error, "the torsion_curve model needs a 20-DOF design")
+    return TorsionCurveModel(design, spec.names, percent=o.percent, points=o.points, torque=o.torque,
+                             harmonic=o.harmonic, tol_f=o.tol_force, maxit=o.max_iterations,
+                             compliance_chain=o.compliance_chain, friction=o.friction)
+
+
+from_study = ModelKind(Options, build, "the 20-DOF torsion (hysteresis) curve: lost motion, backlash, rigidity")

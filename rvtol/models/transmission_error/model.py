@@ -47,14 +47,16 @@ from ... import units
 from ...design import Design
 from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
+from ...model_kind import ModelKind, existing
+from ...options import option
 from ..reducer_20dof import _kernels as K
 from ..reducer_20dof import layout as L
-from .extremes import Extremes, te_extremes
 from ..reducer_20dof.factors import ErrorFactors, ErrorState, negative_clearance
 from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
 from ..reducer_20dof.newmark import NewmarkSolver
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, ContactSolveOptions, QuasiStaticSolver, SweepResult
+from .extremes import Extremes, te_extremes
 from .orders import order_spectrum, order_table, positions_for_order
-from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
 from .rig import INPUTS as RIG_INPUTS
 from .rig import Rig, load_rig, measurement_terms
 
@@ -300,41 +302,51 @@ class TransmissionErrorModel(Model):
                         ext_rig, terms)
 
 
-def from_study(params, design: Design | None, spec) -> TransmissionErrorModel:
-    """``[model] kind = "transmission_error"``; keys: ``mode`` ("quasistatic" | "newmark"), ``load_torque`` (N·m or
-    {value, unit}; default ``load_fraction`` × rated, 0.03), ``per_crank_rev`` (36) or ``max_order`` (the highest
-    order of the TE spectrum the study needs: the fewest positions that resolve it,
-    :func:`.orders.positions_for_order`), ``harmonic`` (2), ``output_speed`` (rpm or {value, unit}; 15 rpm),
-    ``steps_per_crank_rev`` (automatic), ``settle_periods`` (50), ``centrifugal`` (true), ``tol_force`` (N, 1e-5),
-    ``max_iterations`` (200), ``compliance_chain`` (true: the design's compliance elements in series with the
-    contacts, :mod:`rvtol.models.reducer_20dof.compliance`; false: doc 000's rigid chain), ``rig`` (a test rig's
-    description, :mod:`.rig`: the measurement chain's inputs and the output ``te_pp_rig``)."""
+@dataclass
+class Options(ContactSolveOptions):
+    """The keys of ``[model] kind = "transmission_error"``."""
+
+    mode: str = option("quasistatic", "quasi-static sweep of static equilibria, or Newmark-β dynamics", choices=MODES)
+    load_torque: float | None = option(None, "the output load torque (default: load_fraction × rated)", unit="N*m",
+                                       positive=True)
+    load_fraction: float = option(0.03, "the load torque as a fraction of rated torque, when load_torque is not "
+                                        "given", positive=True, max=2.0)
+    per_crank_rev: int | None = option(None, "positions per crank revolution (default 36, or what max_order needs)",
+                                       min=MIN_PER_CRANK_REV)
+    max_order: int | None = option(None, "the highest order of the TE spectrum the study needs: the fewest positions "
+                                         "that resolve it (rvtol.models.transmission_error.orders.positions_for_order)",
+                                   min=1)
+    output_speed: float = option(15 * 2 * math.pi / 60, "the output speed of the dynamic run (default 15 rpm)",
+                                 unit="rpm", positive=True)
+    steps_per_crank_rev: int | None = option(None, "Newmark time steps per crank revolution (default: automatic)",
+                                             min=4)
+    settle_periods: float = option(50.0, "periods of the lowest mode run before the dynamic TE is recorded (transients "
+                                          "decay)", nonnegative=True)
+    centrifugal: bool = option(True, "the discs' centrifugal force m_d e ω_p² in the dynamics")
+    rig: Path | None = option(None, "a test rig's description (rvtol.models.transmission_error.rig): the measurement "
+                                    "chain's inputs and the output te_pp_rig")
+
+    def complete(self, study, error):
+        if self.per_crank_rev is not None and self.max_order is not None:
+            raise error("max_order", "give per_crank_rev or max_order, not both (max_order sets per_crank_rev)")
+
+
+def build(o: Options, design: Design | None, spec, error) -> TransmissionErrorModel:
     if design is None:
-        raise params.error("kind", "the transmission-error model needs [study] design = ...")
-    mode = params.str("mode", "quasistatic", choices=MODES)
-    load = params.quantity("load_torque", "N*m", None, positive=True)
-    frac = params.float("load_fraction", 0.03, positive=True, max=2.0)
-    per = params.int("per_crank_rev", None, min=MIN_PER_CRANK_REV)
-    max_order = params.int("max_order", None, min=1)
-    if per is not None and max_order is not None:
-        raise params.error("max_order", "give per_crank_rev or max_order, not both (max_order sets per_crank_rev)")
-    harmonic = params.int("harmonic", 2, min=1, max=L.NH - 1)
-    speed = params.quantity("output_speed", "rpm", 15 * 2 * math.pi / 60, positive=True)
-    steps = params.int("steps_per_crank_rev", None, min=4)
-    settle = params.float("settle_periods", 50.0, nonnegative=True)
-    centrifugal = params.bool("centrifugal", True)
-    tol = params.float("tol_force", 1e-5, positive=True)
-    maxit = params.int("max_iterations", 200, min=2)
-    chain = params.bool("compliance_chain", True)
-    rig_path = params.path_value("rig", Path(params.file).parent if params.file else Path("."), None, existing=True)
+        raise error("kind", "the transmission-error model needs [study] design = ...")
     rig = None
-    if rig_path is not None:
+    if o.rig is not None:
         try:
-            rig = load_rig(rig_path)
+            rig = load_rig(existing(o.rig, "rig", error))
         except InputError as exc:
-            raise exc.located(file=str(rig_path)) from None
-    params.finish()
-    return TransmissionErrorModel(design, spec.names, mode, load_torque=load, load_fraction=frac,
-                                  per_crank_rev=per, max_order=max_order, harmonic=harmonic, output_speed=speed,
-                                  steps_per_crank_rev=steps, settle_periods=settle, centrifugal=centrifugal,
-                                  tol_f=tol, maxit=maxit, compliance_chain=chain, rig=rig)
+            raise exc.located(file=str(o.rig)) from None
+    return TransmissionErrorModel(design, spec.names, o.mode, load_torque=o.load_torque,
+                                  load_fraction=o.load_fraction, per_crank_rev=o.per_crank_rev,
+                                  max_order=o.max_order, harmonic=o.harmonic, output_speed=o.output_speed,
+                                  steps_per_crank_rev=o.steps_per_crank_rev, settle_periods=o.settle_periods,
+                                  centrifugal=o.centrifugal, tol_f=o.tol_force, maxit=o.max_iterations,
+                                  compliance_chain=o.compliance_chain, rig=rig)
+
+
+from_study = ModelKind(Options, build, "the 20-DOF transmission error over one output revolution (quasi-static "
+                                       "or Newmark-β)")

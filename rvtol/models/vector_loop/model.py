@@ -90,6 +90,9 @@ from ... import units as _units
 from ...errors import InputError, did_you_mean
 from ...expressions import ExpressionError
 from ...model import STATUS_NONFINITE, STATUS_OK, Model
+from ...model_kind import ModelKind
+from ...options import option
+from ...params import Params
 from ..formula.model import FormulaModel, FormulaOutput, read_definitions, read_outputs
 
 #: Newton steps per sample before it is declared not to close
@@ -501,17 +504,34 @@ def _rotation(t, i: int, entry: dict, dims: int) -> Rotation:
     return Rotation(entry["rotate"], entry["about"])
 
 
-def from_study(params, design, spec) -> VectorLoopModel:
+@dataclass
+class Options:
+    """The keys of ``[model] kind = "vector_loop"``."""
+
+    dimensions: int = option(2, "a planar (2) or a spatial (3) loop", min=2, max=3)
+    define: Params | None = option(None, 'intermediate quantities in order: name = "formula" or {formula, unit}')
+    dependent: list[Params] = option([], "each [[model.dependent]]: name, unit (a length or an angle), start (the "
+                                         "nominal assembly's value: the branch solved)")
+    joint: list[Params] = option([], "each [[model.joint]]: name, type (a contact of JOINTS in 2-D, JOINTS_3D in "
+                                     "3-D: slider, sphere_on_plane, ...) and that type's keys; it declares its own "
+                                     "dependents")
+    loop: list[Params] = option([], 'each [[model.loop]]: name, vectors = [{ length, angle, elevation }, '
+                                    '{ joint }, { rotate, about }, ...] (closed)')
+    output: list[Params] = option([], "each [[model.output]]: name, formula, unit (default \"1\"), display_unit, "
+                                      "description")
+
+
+def build(o: Options, design, spec, error) -> VectorLoopModel:
     """The study factory (``[model] kind = "vector_loop"``); errors name the file and key."""
-    dims = params.int("dimensions", 2, min=2, max=3)
-    _, definitions = read_definitions(params)
+    dims = o.dimensions
+    definitions = read_definitions(o.define)
     deps = []
-    for t in params.tables("dependent"):
+    for t in o.dependent:
         unit = t.unit("unit", dimension=("length", "angle"))
         deps.append(Dependent(t.str("name"), unit, t.float("start")))
         t.finish()
     joints = {}
-    for t in params.tables("joint"):
+    for t in o.joint:
         name = t.str("name")
         if name in joints:
             raise t.error("name", f"a second joint {name!r}")
@@ -519,9 +539,9 @@ def from_study(params, design, spec) -> VectorLoopModel:
         deps += new
         t.finish()
     if not deps:
-        raise params.error("dependent", "a vector-loop model needs its dependents ([[model.dependent]]: name, unit, "
+        raise error("dependent", "a vector-loop model needs its dependents ([[model.dependent]]: name, unit, "
                                         "start; or the joints' own)")
-    loops, names, origins, loop_tables = [], [], [], params.tables("loop")
+    loops, names, origins, loop_tables = [], [], [], o.loop
     for t in loop_tables:
         names.append(t.str("name", f"loop {len(names) + 1}"))
         raw = t.raw("vectors")
@@ -551,9 +571,8 @@ def from_study(params, design, spec) -> VectorLoopModel:
         origins.append(origin)
         t.finish()
     if not loops:
-        raise params.error("loop", "a vector-loop model needs at least one [[model.loop]]")
-    outs = [o for _, o in read_outputs(params, "a vector-loop model")]
-    params.finish()
+        raise error("loop", "a vector-loop model needs at least one [[model.loop]]")
+    outs = [out for _, out in read_outputs(o.output, error, "a vector-loop model")]
     try:
         model = VectorLoopModel(loops, deps, outs, spec.names, spec.units, dimensions=dims,
                                 definitions=definitions, loop_names=names)
@@ -563,12 +582,15 @@ def from_study(params, design, spec) -> VectorLoopModel:
                  f"vector {entry + 1} (joint {joint!r}), its {exc.what}: ")
         raise loop_tables[exc.loop].error("vectors", where + exc.why) from None
     except ExpressionError as exc:
-        raise params.error(None, exc.reason) from None
+        raise error(None, exc.reason) from None
     try:
         model.at_nominal(np.array([f.nominal_base for f in spec.factors]))
     except InputError as exc:
-        raise params.error("dependent", exc.reason) from None
+        raise error("dependent", exc.reason) from None
     return model
+
+
+from_study = ModelKind(Options, build, "closed loops of vectors (2-D or 3-D) with joints: dependents solved per sample")
 
 
 __all__ = ["Dependent", "Rotation", "Vector", "VectorLoopModel", "from_study"]
