@@ -2,7 +2,7 @@
 
 A drawing callout can be several factors: the x1, y1, x2, y2 end-point coordinates of one position
 zone, the copies of a per-pin or per-groove family.  Sign-off drivers, the sensitivity matrix and the
-allocation's "one ±t per callout" group factors by :func:`drawing_tolerance`.
+allocation's "one ±t per callout" group factors by :func:`callout_of`.
 """
 from __future__ import annotations
 
@@ -13,9 +13,11 @@ _COORDINATE = re.compile(r"\.(x1|y1|x2|y2|x|y|z|u|v|w)$")
 _INDEX = re.compile(r"\[[^\]]*\]")
 
 
-def drawing_tolerance(factor) -> str:
-    """The drawing tolerance a factor belongs to: its ``feature`` (with its part) when the spec says, else
-    its name without a coordinate suffix (``.x1`` … ``.y``) and without a family index (``[k]``)."""
+def callout_of(factor) -> str:
+    """The callout a factor belongs to — the name of the one tolerance on the drawing it stands for: its ``feature``
+    (with its part) when the spec says, else its name without a coordinate suffix (``.x1`` … ``.y``) and without a
+    family index (``[k]``).  (A factor's tolerance as written in drawing notation is another thing:
+    :func:`rvtol.spec.drawing_tolerance`.)"""
     feat = getattr(factor, "feature", "") or ""
     part = getattr(factor, "part", "") or ""
     if feat:

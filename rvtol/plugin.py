@@ -108,10 +108,10 @@ from .models.stiffness.cycloid_contact import angular_backlash, initial_clearanc
 from .models.stiffness.torsion_angle import COMPONENTS as TORSION_ANGLE_COMPONENTS
 from .models.stiffness.torsion_angle import LABELS as TORSION_ANGLE_LABELS
 from .models.stiffness.torsion_angle import ReducerStiffness, TorsionAngles
-from .models.transmission import texts as transmission_texts
-from .models.transmission.analyses import TESensitivity, TESensitivityOptions
-from .models.transmission.model import TransmissionErrorModel
-from .models.transmission.sensitivity import TESensitivityResult, te_sensitivity
+from .models.transmission_error import texts as transmission_texts
+from .models.transmission_error.analyses import TESensitivity, TESensitivityOptions
+from .models.transmission_error.model import TransmissionErrorModel
+from .models.transmission_error.sensitivity import TESensitivityResult, te_sensitivity
 from .model_kind import ModelKind
 from .options import REQUIRED, option
 from .params import Params, read_toml

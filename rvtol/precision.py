@@ -71,7 +71,7 @@ def summary_scale(entry: dict) -> float | None:
 class Scaled(float):
     """A number in a unit that formats itself resolving its scale: ``format(x, ".4g")`` is :func:`shown` with at
     least 4 significant digits, ``"+.3g"`` signs it, ``"g"`` means 6 — so a sentence written ``{mean:.4g}``
-    (:mod:`rvtol.signoff_texts`) shows the mean to the band's resolution.  Any other format is a float's."""
+    (:mod:`rvtol.signoff`) shows the mean to the band's resolution.  Any other format is a float's."""
 
     def __new__(cls, value: float, scale: float | None):
         x = super().__new__(cls, value)

@@ -34,7 +34,7 @@ from .errors import SpecError, did_you_mean
 MODELS: dict[str, str] = {
     "linear": "rvtol.models.linear.model:from_study",
     "lost_motion": "rvtol.models.lost_motion.model:from_study",
-    "transmission_error": "rvtol.models.transmission.model:from_study",
+    "transmission_error": "rvtol.models.transmission_error.model:from_study",
     "torsional_stiffness": "rvtol.models.stiffness.model:from_study",
     "torsion_curve": "rvtol.models.torsion_curve.model:from_study",
     "stackup": "rvtol.models.stackup.model:from_study",
@@ -55,8 +55,8 @@ ANALYSES: dict[str, str] = {
     # model-specific
     "lost_motion_breakdown": "rvtol.models.lost_motion.analyses:LostMotionBreakdown",
     "lost_motion_screening": "rvtol.models.screening.analyses:LostMotionScreening",
-    "transmission_error_curve": "rvtol.models.transmission.analyses:TECurve",
-    "transmission_error_sensitivity": "rvtol.models.transmission.analyses:TESensitivity",
+    "transmission_error_curve": "rvtol.models.transmission_error.analyses:TECurve",
+    "transmission_error_sensitivity": "rvtol.models.transmission_error.analyses:TESensitivity",
     "stiffness_breakdown": "rvtol.models.stiffness.analyses:StiffnessBreakdown",
     "torsion_curve": "rvtol.models.torsion_curve.analyses:TorsionCurveAnalysis",
     "compliance_breakdown": "rvtol.models.torsion_curve.analyses:ComplianceBreakdown",
@@ -79,7 +79,7 @@ ANALYSES: dict[str, str] = {
     "allocation": "rvtol.allocation.analyses:AllocationAnalysis",
     "stack_conventions": "rvtol.stacking.analyses:StackConventionsAnalysis",
     "tail_probability": "rvtol.stacking.analyses:TailProbabilityAnalysis",
-    "calibration": "rvtol.models.transmission.calibration.analyses:CalibrationAnalysis",
+    "calibration": "rvtol.models.calibration.analyses:CalibrationAnalysis",
     "validation": "rvtol.validation.analyses:ValidationAnalysis",
     "epistemic_band": "rvtol.epistemic.analyses:EpistemicBand",
     "per_unit_prediction": "rvtol.production.analyses:PerUnitPrediction",

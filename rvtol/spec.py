@@ -489,7 +489,7 @@ def spec_from_table(data: dict, *, file: str | None = None, name: str | None = N
     factors = expand_patterns(factors, file)        # a composite frame's pattern translations (rvtol.patterns)
     names = [f.name for f in factors]
     corr = correlation_from_tables(root.tables("correlation"), names)
-    root.raw("rig", None)       # a test rig's description holds its parameters beside its tolerances (models.transmission.rig)
+    root.raw("rig", None)       # a test rig's description: its parameters beside its tolerances (transmission_error.rig)
     root.finish()
     return ToleranceSpec(spec_name, tuple(factors), corr, desc, file)
 

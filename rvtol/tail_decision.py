@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 
 from scipy import stats
 
-from .stacking.compare import search_evaluator
+from .stacking.beside_monte_carlo import search_evaluator
 from .stacking.tail import tail_probability
 from .stats import proportion_ci
 from .verdict import _pct, bound_level

@@ -16,7 +16,7 @@ import numpy as np
 
 from rvtol import units
 from rvtol.design import load_design
-from rvtol.models.transmission.calibration import calibrate
+from rvtol.models.calibration import calibrate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))   # the test oracle synthetic_curves.py
 from synthetic_curves import synthetic_measurement  # noqa: E402

@@ -23,10 +23,11 @@ import product_rv80e_mapping_check as pm  # noqa: E402  (the declared mapping of
 
 from rvtol.elements.reducer_chain import FAMILIES  # noqa: E402
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness  # noqa: E402
-from rvtol.models.torsion_curve.comparison import breakdown_at  # noqa: E402
+from rvtol.models.torsion_curve.beside_analytical_models import breakdown_at  # noqa: E402
 from rvtol.models.torsion_curve.model import TorsionCurveModel  # noqa: E402
-from rvtol.models.transmission.geometry import geometry_from_design  # noqa: E402
-from rvtol.models.transmission.model import TransmissionErrorModel, order_spectrum  # noqa: E402
+from rvtol.models.reducer_20dof.geometry import geometry_from_design  # noqa: E402
+from rvtol.models.transmission_error.model import TransmissionErrorModel  # noqa: E402
+from rvtol.models.transmission_error.orders import order_spectrum  # noqa: E402
 from rvtol.sampling import sample  # noqa: E402
 
 D = pm.D

@@ -18,7 +18,7 @@ import numpy as np
 
 from rvtol.design import load_design
 from rvtol.elements import carrier_structure as cs
-from rvtol.elements import chain, contacts, disc_web, shafts
+from rvtol.elements import chain, disc_web, pin_groove, shafts
 from rvtol.elements.rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 
@@ -111,8 +111,8 @@ def main() -> list[tuple]:
     # 4. pin in housing groove, in series with the disc–pin contact (both discs)
     Fk = contact.force[0][contact.force[0] > 0]
     for c in GROOVE_CLEARANCES:
-        w = contacts.groove_approach(Fk, GROOVE_LENGTH, rs.pins.r_p, rs.pins.r_p + c, E, nu)
-        ang = contacts.groove_half_angle(Fk.max(), GROOVE_LENGTH, rs.pins.r_p, rs.pins.r_p + c, E, nu)
+        w = pin_groove.groove_approach(Fk, GROOVE_LENGTH, rs.pins.r_p, rs.pins.r_p + c, E, nu)
+        ang = pin_groove.groove_half_angle(Fk.max(), GROOVE_LENGTH, rs.pins.r_p, rs.pins.r_p + c, E, nu)
         add(f"pin–groove contact, clearance {c * 1e3:g} µm", 2 * float((Fk * w).sum()) / T,
             f"secant {Fk.max() / w.max() / 1e3:.0f} N/µm at {Fk.max():.0f} N; half-angle {math.degrees(ang):.0f}°",
             "new" + ("" if ang < 0.3 else " (contact arc > 0.3 rad: indicative)"), nominal=c == 0.010)

@@ -6,8 +6,8 @@ spread).  Nothing is fitted: every number comes from the design file given.
         [--preloads 500,750,1000,1250] [--json out.json]
 
 Prints markdown tables: the output angle per element at the rated 784 N·m (clearance- and error-free reducer,
-:func:`rvtol.models.torsion_curve.comparison.breakdown_at`) and the rigidity under each reading of the maker's
-b/a (:data:`rvtol.models.torsion_curve.model.RIGIDITY_READINGS`) of the clearance-free reducer and of the
+:func:`rvtol.models.torsion_curve.beside_analytical_models.breakdown_at`) and the rigidity under each reading of the
+maker's b/a (:data:`rvtol.models.torsion_curve.model.RIGIDITY_READINGS`) of the clearance-free reducer and of the
 reducer at the mean as-built clearances of the sign-off's nominal unit (needle sets 0 µm — the build fits them
 to zero two-point clearance and the form deviations close the rest —, pins 1.5 µm at φ0: build.toml), for the
 design preload and each preload of ``--preloads`` (N).  About 1 minute per design on one core.
@@ -23,9 +23,9 @@ import numpy as np
 
 from rvtol.design import load_design
 from rvtol.elements.reducer_chain import FAMILIES
-from rvtol.models.torsion_curve.comparison import breakdown_at
+from rvtol.models.torsion_curve.beside_analytical_models import breakdown_at
 from rvtol.models.torsion_curve.model import RIGIDITY_READINGS, TorsionCurveModel
-from rvtol.models.transmission.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
 
 ARCSEC = 648000 / math.pi
 NM_ARCMIN = math.pi / 10800 / 1e3

@@ -151,5 +151,5 @@ def te_design():
 @pytest.fixture(scope="session")
 def te_geom(te_design):
     """Its solver geometry."""
-    from rvtol.models.transmission.geometry import geometry_from_design
+    from rvtol.models.reducer_20dof.geometry import geometry_from_design
     return geometry_from_design(te_design)

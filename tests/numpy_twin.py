@@ -1,4 +1,4 @@
-"""NumPy implementation of the 20-DOF model: the same equations as :mod:`rvtol.models.transmission._kernels`,
+"""NumPy implementation of the 20-DOF model: the same equations as :mod:`rvtol.models.reducer_20dof._kernels`,
 written apart — a test oracle, kept out of the package (the library never runs it).
 
 Used by the tests (the numba kernels must agree with it to 1e-9 relative) and
@@ -32,12 +32,12 @@ contact undeformed — where the printed formulas differ, see the notes):
    (as printed);
 6. carrier–housing ``d = (X_ca − A_c cos γ_c, Y_ca − A_c sin γ_c)``.
 
-Coulomb friction (:mod:`rvtol.models.transmission.friction`, the torsion curve) — the friction torque at the output ``Σ m_c |J_c v|/|v_θ|`` (:meth:`ReferenceModel.friction_torque`) from the
-twin's own slip rows: a pin's tangential slip ``−sin α η + e cos α θ_do + (R_d cos α + R_p √S − r_rp) θ_d``
-(α, φ and S from the pin angles, as in 4.), a bearing's relative rotation (crank − disc for the needles,
-crank − carrier for the tapered pair), and its own tangent.
+Coulomb friction (:mod:`rvtol.models.reducer_20dof.friction`, the torsion curve) — the friction torque at the output
+``Σ m_c |J_c v|/|v_θ|`` (:meth:`ReferenceModel.friction_torque`) from the twin's own slip rows: a pin's tangential
+slip ``−sin α η + e cos α θ_do + (R_d cos α + R_p √S − r_rp) θ_d`` (α, φ and S from the pin angles, as in 4.), a
+bearing's relative rotation (crank − disc for the needles, crank − carrier for the tapered pair), and its own tangent.
 
-With a compliance chain (:mod:`rvtol.models.transmission.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
+With a compliance chain (:mod:`rvtol.models.reducer_20dof.compliance`) a contact's force is the root of ``Σ δ_i(f) = s``
 (:func:`scipy.optimize.brentq`), each ``δ_i`` evaluated here apart from the kernels: the kind's power
 law, linear springs, the pin–groove log law, the crank-support pair's table by SciPy's
 :class:`~scipy.interpolate.CubicHermiteSpline`; the meshes' linear terms combined by
@@ -49,11 +49,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from rvtol.elements import chain as springs
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.compliance import log_law, table_law
-from rvtol.models.transmission.factors import ErrorState
-from rvtol.models.transmission.friction import Friction
-from rvtol.models.transmission.geometry import RVGeometry
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.compliance import log_law, table_law
+from rvtol.models.reducer_20dof.factors import ErrorState
+from rvtol.models.reducer_20dof.friction import Friction
+from rvtol.models.reducer_20dof.geometry import RVGeometry
 
 
 def _u(a):
@@ -345,8 +345,9 @@ class ReferenceModel:
 
     def friction_torque(self, theta_c: float, q, fric: Friction) -> tuple[float, dict]:
         """The friction torque at the output of the equilibrium ``q``
-        (:func:`rvtol.models.transmission._kernels.friction_torque`, written apart): ``Σ m_c |J_c v| / |v_θ|`` with ``m_c`` the contact's friction force or moment at its normal force
-        here and ``v`` the solution of the regularised tangent ``K v = e_θ``.  Returns ``(T_f, {group: share})``."""
+        (:func:`rvtol.models.reducer_20dof._kernels.friction_torque`, written apart): ``Σ m_c |J_c v| / |v_θ|`` with
+        ``m_c`` the contact's friction force or moment at its normal force here and ``v`` the solution of the
+        regularised tangent ``K v = e_θ``.  Returns ``(T_f, {group: share})``."""
         _, K, parts = self.forces(theta_c, q)
         xs = self.g.arc_radii()
         e = np.zeros(L.NDOF)

@@ -143,8 +143,8 @@ def te_state(v, design, row: int, te: bool = False):
     own profile modification (Δr_j, ΔR_j: the kernel's n_j(φ)) and its own 2-lobe profile patterns; each crank's
     phase from its planet's clocking, φ_i = −c_i/(m z_p/2) (issue 39), and (``te``: the TE stage, which drives one
     way) each planet's tooth thickness on its driving flank, s_i."""
-    from rvtol.models.transmission import layout as L
-    from rvtol.models.transmission.factors import ErrorState
+    from rvtol.models.reducer_20dof import layout as L
+    from rvtol.models.reducer_20dof.factors import ErrorState
 
     s = ErrorState.zero(ZB)
     e = s.err

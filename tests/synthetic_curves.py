@@ -3,7 +3,7 @@ oracle, kept out of the package; ``studies/calibration_synthetic_data.py`` makes
 with it).
 
 ``synthetic_measurement`` evaluates the 20-DOF model
-(:class:`rvtol.models.transmission.calibration.curves.CurveModel`) with the true parameter values, adds an angle
+(:class:`rvtol.models.calibration.curves.CurveModel`) with the true parameter values, adds an angle
 offset and independent normal noise of standard deviation ``sigma`` drawn from the named sub-stream
 ``"calibration_noise"`` of ``seed`` (:func:`rvtol.sampling.substream`), and returns it as a :class:`Measurement`;
 ``write_synthetic_csv`` writes the same as a CSV file whose header says, in words, that it is
@@ -21,9 +21,9 @@ import numpy as np
 
 from rvtol import units
 from rvtol.design import Design
-from rvtol.models.transmission.calibration.curves import LOAD_FRACTION, CurveModel
-from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
-from rvtol.models.transmission.calibration.parameters import make_parameter
+from rvtol.models.calibration.curves import LOAD_FRACTION, CurveModel
+from rvtol.models.calibration.measurements import TE, TORSION, Measurement
+from rvtol.models.calibration.parameters import make_parameter
 from rvtol.sampling import substream
 
 

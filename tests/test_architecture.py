@@ -168,6 +168,29 @@ def test_the_import_check_finds_a_private_import(tmp_path):
     assert not {"units"} <= set(rvtol.__all__)
 
 
+def _is_shim(path: Path) -> bool:
+    """A module that only imports names from elsewhere (a docstring and imports, nothing defined): a second path to
+    something that lives in another module.  A package's ``__init__`` gathering its own modules' names is not one."""
+    body = ast.parse(path.read_text(encoding="utf-8")).body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        body = body[1:]
+    return bool(body) and all(isinstance(n, (ast.Import, ast.ImportFrom)) for n in body)
+
+
+def test_no_module_is_a_shim_of_another():
+    """Every name has one import path: a module that only re-exports another's names is gone, not kept as an alias."""
+    bad = [str(p.relative_to(ROOT)) for p in PKG.rglob("*.py") if p.name != "__init__.py" and _is_shim(p)]
+    assert bad == []
+
+
+def test_the_shim_check_finds_a_shim(tmp_path):
+    p = tmp_path / "sections.py"
+    p.write_text('"""Moved."""\nfrom ..blocks import Figure, Table  # noqa: F401\n')
+    assert _is_shim(p)
+    p.write_text('"""Not moved."""\nfrom ..blocks import Figure\n\nCAPTION = "x"\n')
+    assert not _is_shim(p)
+
+
 def test_no_library_module_imports_the_plugin_api():
     """The plug-in API is the boundary seen from outside: nothing of the library depends on it."""
     bad = [m for m, ts in import_graph().items() if "rvtol.plugin" in ts]
@@ -404,3 +427,46 @@ def test_every_result_has_to_frame_summary_and_the_reports_figure(kind):
     shown = inspect.getsource(cls.layout) + (inspect.getsource(cls.report) if "report" in vars(cls) else "")
     if "Figure(" in shown:
         assert callable(getattr(res, "plot", None)), f"{res.__name__}: the report shows a figure, it has no plot()"
+
+
+#: the analyses that set stack-up conventions (worst case, RSS, …) beside the Monte Carlo, each computed in one home
+STACK_CONVENTION_KINDS = ("stack_conventions", "stackup_linear")
+
+
+@pytest.mark.parametrize("kind", STACK_CONVENTION_KINDS)
+def test_every_stack_up_convention_is_computed_in_rvtol_stacking(kind):
+    """One home for the stacking conventions: whichever package an analysis of them belongs to, the capability it
+    calls (and its result) lives in rvtol.stacking."""
+    res = _result_class(_resolve(all_analyses()[kind]))
+    assert res.__module__.startswith("rvtol.stacking."), (kind, res.__module__)
+
+
+#: the 20-DOF reducer of doc 000: a core with no model of its own, and the model packages built on it
+CORE_20DOF = "rvtol.models.reducer_20dof"
+BUILT_ON_20DOF = {"transmission_error", "torsion_curve", "pin_ring", "calibration", "screening", "lost_motion"}
+
+
+def test_the_20dof_core_is_named_for_itself_and_the_models_build_on_it_alone():
+    """The 20-DOF core imports no other model package and registers no kind; the packages that use the 20-DOF model
+    import its core, never the transmission-error capability (one capability built on the core among others)."""
+    g = package_graph()
+    assert {t for t in g[CORE_20DOF] if t.startswith("rvtol.models.")} == set()
+    assert not any(v.startswith(CORE_20DOF + ".") for v in {**MODELS, **ANALYSES}.values())
+    assert {p.split(".")[2] for p, ts in g.items() if CORE_20DOF in ts and p.startswith("rvtol.models.")} \
+        == BUILT_ON_20DOF
+    assert {p for p, ts in g.items() if "rvtol.models.transmission_error" in ts and p.startswith("rvtol.models.")} \
+        == set()
+
+
+#: a concept the package listing shows once: the word in a module's name -> the one module named with it
+ONE_MODULE_PER_CONCEPT = {
+    "signoff": "rvtol.signoff",                          # the digest and the first page (not three modules)
+    "bearing": "rvtol.elements.rolling_bearings",        # doc 004's closed form and the load distributions
+    "compar": "rvtol.ci.compare",                        # two runs compared; results set beside others say so
+}
+
+
+@pytest.mark.parametrize("word", sorted(ONE_MODULE_PER_CONCEPT))
+def test_one_module_per_concept(word):
+    named = sorted(m for m in _modules() if word in m.rsplit(".", 1)[-1])
+    assert named == [ONE_MODULE_PER_CONCEPT[word]]

@@ -1,4 +1,4 @@
-"""Calibration against measured curves (rvtol.models.transmission.calibration): the fit and its uncertainty against closed
+"""Calibration against measured curves (rvtol.models.calibration): the fit and its uncertainty against closed
 forms and SciPy, recovery of known parameters from synthetic measurements (with interval coverage over
 seeds), identifiability warnings, CSV errors, the written design, and the study analysis."""
 from pathlib import Path
@@ -9,12 +9,12 @@ from scipy import optimize, stats
 
 from rvtol import units
 from rvtol.elements.reducer_chain import with_compliance_scales
-from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.calibration import calibrate, calibrated_factors, load_measurement, reproduce
-from rvtol.models.transmission.calibration.curves import CurveModel
-from rvtol.models.transmission.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
-from rvtol.models.transmission.calibration.measurements import TE, TORSION, Measurement
-from rvtol.models.transmission.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
+from rvtol.models.calibration import calibrate, calibrated_factors, load_measurement, reproduce
+from rvtol.models.calibration.curves import CurveModel
+from rvtol.models.calibration.fit import collinear_groups, condition_indices, identifiability, least_squares_fit
+from rvtol.models.calibration.measurements import TE, TORSION, Measurement
+from rvtol.models.calibration.parameters import (FAMILIES, Parameter, families_in, make_parameter,
                                           scaled_design_values)
 from synthetic_curves import synthetic_measurement
 from rvtol.cli import main
@@ -23,7 +23,7 @@ from rvtol.errors import InputError
 from rvtol.model import FunctionModel
 from rvtol.models.torsion_curve.model import CAMS
 from rvtol.models.torsion_curve.model import TorsionCurveModel
-from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.transmission_error.model import TransmissionErrorModel
 from rvtol.study import load_study, run_study
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,19 +11,18 @@ from scipy.integrate import quad
 
 from rvtol.design import load_design
 from rvtol.elements import chain as springs
-from rvtol.elements import contacts
 from rvtol.elements.reducer_chain import FAMILIES, ChainElements
 from rvtol.errors import InputError, SpecError
 from rvtol.models.torsion_curve.model import compliance_breakdown
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.compliance import (GROUPS, TABLE_RANGE, hermite_integrals, reduce_chain,
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.compliance import (GROUPS, TABLE_RANGE, hermite_integrals, reduce_chain,
                                                   table_law)
-from rvtol.models.transmission.contacts import pin_cos_sin, static_table
-from rvtol.models.transmission.factors import ErrorState
-from rvtol.models.transmission.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin, static_table
+from rvtol.models.reducer_20dof.factors import ErrorState
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
 from numpy_twin import ReferenceModel
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]
 PRODUCT = load_design(ROOT / "data/products/rv80e/design.toml")
@@ -99,7 +98,7 @@ def test_bad_element_data_names_its_key():
 def test_pin_law_is_the_disc_pin_contact_in_series_with_the_groove_element():
     """Kernel force of a pin contact at the deflection of doc 000's law plus the groove element's tabulated
     approach plus the linear terms (housing ring, contact roughness) returns that force; tangent and energy follow.  The table
-    itself is the conforming groove element (rvtol.elements.conforming) at its knots and within 0.2 % between."""
+    itself is the conforming groove element (rvtol.elements.pin_groove) at its knots and within 0.2 % between."""
     gr = G.chain.elements.groove
     p = G.force_exponent
     ch = G.chain
@@ -450,7 +449,7 @@ def test_compliance_breakdown_checks_its_design_when_the_study_loads(tmp_path):
 
 def test_models_switch_the_chain_off_from_the_study():
     from rvtol.models.torsion_curve.model import from_study as tc_study
-    from rvtol.models.transmission.model import from_study as te_study
+    from rvtol.models.transmission_error.model import from_study as te_study
     from rvtol.params import Params
     from rvtol.spec import spec_from_table
 
@@ -468,7 +467,7 @@ def test_the_pin_flank_law_is_palmgrens_line_contact_for_the_disc_face():
     approach between 0.3 and 4 kN on the product's ⌀6 pin and flank radii of 10–100 mm (the logarithm's datum
     depth: the radii)."""
     from rvtol.elements import hertz
-    from rvtol.elements.bearings import PALMGREN_LINE
+    from rvtol.elements.rolling_bearings import PALMGREN_LINE
 
     l = PRODUCT["cycloid.face_width"]
     assert l == 12.0 and G.k0_pin == 1.93e5

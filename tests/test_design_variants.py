@@ -8,7 +8,7 @@ import pytest
 
 from rvtol.design import load_design
 from rvtol.errors import InputError, SpecError
-from rvtol.models.transmission.geometry import geometry_from_design, involute, inverse_involute
+from rvtol.models.reducer_20dof.geometry import geometry_from_design, involute, inverse_involute
 
 ROOT = Path(__file__).resolve().parents[1]
 PRODUCT = ROOT / "data/products/rv80e/design.toml"

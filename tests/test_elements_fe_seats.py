@@ -1,11 +1,11 @@
 """The plane-stress finite-element elements (rvtol.elements.plane_fe, fe_seats) and the conforming pin-in-groove
-contact (rvtol.elements.conforming), each against a closed form or a mesh-convergence study."""
+contact (rvtol.elements.pin_groove), each against a closed form or a mesh-convergence study."""
 import math
 
 import numpy as np
 import pytest
 
-from rvtol.elements import conforming, contacts, disc_web, fe_seats
+from rvtol.elements import disc_web, fe_seats, pin_groove
 from rvtol.elements import plane_fe as P
 from rvtol.errors import SpecError
 
@@ -94,13 +94,13 @@ def test_fourier_kernels_against_finite_elements(n):
     arc = 2 * math.pi * a * p if n == 0 else math.pi * a * p     # work = arc × amplitude of u_r
     u_disk = disk.solve([P.Traction(hole, radial=lambda s: -p * np.cos(n * s))]).work / arc
     u_hole = ring.solve([P.Traction(hole, radial=lambda s: p * np.cos(n * s))]).work / arc
-    assert u_disk == pytest.approx(p * conforming.kernel_pin(n, a, G, NU), rel=1e-3)
+    assert u_disk == pytest.approx(p * pin_groove.kernel_pin(n, a, G, NU), rel=1e-3)
     if n == 0:
         B = p / (2 * G / a ** 2 + 2 * G / (1 - 2 * NU) / ro ** 2)
         assert u_hole == pytest.approx(B * (1 / a - a / ro ** 2), rel=1e-3)
-        assert p * conforming.kernel_hole(0, a, G, NU) == pytest.approx(B * (1 / a - a / ro ** 2), rel=3e-3)
+        assert p * pin_groove.kernel_hole(0, a, G, NU) == pytest.approx(B * (1 / a - a / ro ** 2), rel=3e-3)
     else:
-        assert u_hole == pytest.approx(p * conforming.kernel_hole(n, a, G, NU), rel=5e-3)
+        assert u_hole == pytest.approx(p * pin_groove.kernel_hole(n, a, G, NU), rel=5e-3)
 
 
 def test_conforming_contact_has_hertz_limit_and_a_load_free_neat_fit_angle():
@@ -108,14 +108,14 @@ def test_conforming_contact_has_hertz_limit_and_a_load_free_neat_fit_angle():
     004's approach vanishes in Hertz's range and lowers the approach of the tight product groove (−5 % at
     1 kN over 12 mm).  Neat fit (ΔR = 0): no length scale, so the angle does not depend on the load nor on ν
     (the kernels are ∝ (κ+1)/G)."""
-    m = conforming.PinInHole(3.0, 0.002, E, NU, nodes=241, modes=2000)
-    hz = contacts.half_width(10.0, 12.0, 3.0, -3.002, E, NU) / 3.0
+    m = pin_groove.PinInHole(3.0, 0.002, E, NU, nodes=241, modes=2000)
+    hz = pin_groove.half_width(10.0, 12.0, 3.0, -3.002, E, NU) / 3.0
     assert m.solve(10.0 / 12.0).angle == pytest.approx(hz, rel=0.02)
-    corr = conforming.conforming_correction(np.array([5.0, 1000.0]), 12.0, 3.0, 3.002, E, NU)
-    hertz = contacts.groove_approach(np.array([5.0, 1000.0]), 12.0, 3.0, 3.002, E, NU)
+    corr = pin_groove.conforming_correction(np.array([5.0, 1000.0]), 12.0, 3.0, 3.002, E, NU)
+    hertz = pin_groove.groove_approach(np.array([5.0, 1000.0]), 12.0, 3.0, 3.002, E, NU)
     assert corr[0] == 0.0
     assert -0.10 < corr[1] / hertz[1] < -0.02
-    angles = [conforming.PinInHole(3.0, 0.0, E, nu, nodes=161, modes=1200).solve(P_).angle
+    angles = [pin_groove.PinInHole(3.0, 0.0, E, nu, nodes=161, modes=1200).solve(P_).angle
               for nu, P_ in ((0.3, 1.0), (0.3, 300.0), (0.45, 30.0))]
     assert max(angles) - min(angles) < 1e-6
     assert 1.3 < angles[0] < 0.5 * math.pi

@@ -224,7 +224,7 @@ def test_needle_row_converges_below_the_energy_rounding(length):
     each solve warm-started from the last). Armijo's test on the potential energy stalls once a step's decrease is
     below Π's rounding: the residual stopped near 1e-7 N, above the 1e-10 × load the solver asks. Checked against
     the roller statics solved independently: the load on the ψ = 0 axis of 18 rollers (symmetric, one unknown)."""
-    from rvtol.models.transmission.compliance import _knots
+    from rvtol.models.reducer_20dof.compliance import _knots
 
     brg = NeedleRollerBearing(rollers=18, length=length)
     f = _knots(1528.69311904)       # the chain's load sequence for the product's row at rated (8-mm design)

@@ -115,7 +115,7 @@ def test_every_model_of_the_product_puts_the_crank_on_one_circle():
     from rvtol.design import load_design
     from rvtol.elements import fe_seats
     from rvtol.models.stiffness.torsion_angle import ReducerStiffness
-    from rvtol.models.transmission.geometry import geometry_from_design
+    from rvtol.models.reducer_20dof.geometry import geometry_from_design
 
     d = load_design("data/products/rv80e/design.toml")
     fe_seats.disc_work.cache_clear()

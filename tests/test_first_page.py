@@ -230,10 +230,25 @@ def test_a_drawing_tolerance_reads_short_in_a_cell():
     assert short_label("x" * 80, width=10) == "x" * 9 + "…"
 
 
+def test_the_factors_of_one_callout_share_its_name():
+    """A callout's name, by hand: the spec's feature (with its part), else the factor's name without its coordinate
+    suffix and its family index — the x1 … y2 of one zone and the copies of a family are one callout."""
+    from types import SimpleNamespace as F
+
+    from rvtol.callouts import callout_of
+
+    assert {callout_of(F(name=f"cam.{c}")) for c in ("x1", "y1", "x2", "y2")} == {"cam"}
+    assert {callout_of(F(name=f"R_pin[{k}]")) for k in (1, 2, 40)} == {"R_pin[k]"}
+    assert callout_of(F(name="hole[3].x")) == "hole[k]"
+    assert callout_of(F(name="carrier.width")) == "carrier.width"          # not a coordinate: its own callout
+    assert callout_of(F(name="c.x1", feature="bore", part="carrier")) == "carrier: bore"
+    assert callout_of(F(name="c.x1", feature="bore", part="")) == "bore"
+
+
 def test_requirements_more_samples_would_decide_share_one_row():
     """Eleven undecided requirements are one line of the first page, with the largest n (each is demonstrated by it
     if its figures hold), not eleven."""
-    from rvtol.report.signoff import _one_more_samples_row
+    from rvtol.signoff import _one_more_samples_row
 
     rows = [{"requirement": "a", "fix": "more samples", "what to do": "run n = 2,000 samples", "what it gives": "",
              "evidence": "estimate"},

@@ -1,4 +1,4 @@
-"""Coulomb friction in the torsion (hysteresis) curve (issue 23 item 4; rvtol.models.transmission.friction).
+"""Coulomb friction in the torsion (hysteresis) curve (issue 23 item 4; rvtol.models.reducer_20dof.friction).
 
 The loop against the closed forms of a spring with Coulomb friction (with and without free play, friction
 constant or proportional to the load); the output friction torque of the 20-DOF kernels against the NumPy
@@ -16,12 +16,12 @@ from rvtol.design import load_design
 from rvtol.errors import SpecError
 from rvtol.models.torsion_curve.model import (DIRECTION, TorsionCurve, TorsionCurveModel, friction_loop,
                                               reading_points, torque_schedule)
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin
-from rvtol.models.transmission.friction import Friction, friction_from_design, friction_table
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin
+from rvtol.models.reducer_20dof.friction import Friction, friction_from_design, friction_table
 from numpy_twin import ReferenceModel
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]
 PRODUCT = ROOT / "data/products/rv80e/design.toml"
@@ -91,7 +91,7 @@ def test_spring_with_friction_proportional_to_the_load():
 # --------------------------------------------------------------------------- the 20-DOF friction torque
 @pytest.fixture(scope="module")
 def product():
-    from rvtol.models.transmission.geometry import geometry_from_design
+    from rvtol.models.reducer_20dof.geometry import geometry_from_design
 
     return geometry_from_design(load_design(PRODUCT))
 
@@ -116,7 +116,7 @@ def test_friction_coefficients_are_checked(tmp_path):
 
 
 def _state(g, rng):
-    from rvtol.models.transmission.factors import ErrorFactors
+    from rvtol.models.reducer_20dof.factors import ErrorFactors
 
     names = ["E_c", "E_h", "delta_b", "delta_pin", "R_pin_h[2]", "equidistance_mod", "moved_distance_mod"]
     x = np.array([2e-3, 2e-3, 1e-3, 2e-3, 1e-3, -15e-3, -30e-3]) * rng.uniform(0.5, 1.5, 7)
@@ -252,7 +252,7 @@ def friction_design(tmp_path_factory):
 def test_calibration_curve_follows_the_measured_path_through_the_loop(friction_design):
     """The calibration's model of a measured loop (in file order: the test's path) is the torsion-curve model's
     loop with friction at every point the latter solves exactly (both solve T_e + d T_f(T_e) = T)."""
-    from rvtol.models.transmission.calibration.curves import CurveModel
+    from rvtol.models.calibration.curves import CurveModel
     from synthetic_curves import _grid
 
     T = float(friction_design["reducer.rated_torque"])
@@ -276,7 +276,7 @@ def test_calibration_separates_the_friction_loop_from_the_clearance(friction_des
     compliance: the fit with a friction parameter recovers all three within their intervals, each separable
     (the width grows with the torque, the clearance opens the loop at zero torque, the compliance sets the
     mid-line's slope); without it the loop's width is left in the residuals."""
-    from rvtol.models.transmission.calibration import calibrate
+    from rvtol.models.calibration import calibrate
     from synthetic_curves import synthetic_measurement
 
     truth = {"compliance.all": 1.2, "clearance.crank_bearing": 2.0, "friction.pin": 1.5}

@@ -14,7 +14,7 @@ import pytest
 
 from rvtol.design import load_design
 from rvtol.mc import run_monte_carlo
-from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.transmission_error.model import TransmissionErrorModel
 from rvtol.sensitivity import sobol
 from rvtol.sensitivity.given_data import given_data
 from rvtol.sensitivity.surrogate import pce

@@ -106,7 +106,7 @@ def test_rv80e_geometry_is_derived_from_the_design():
     assert g.K1 == pytest.approx(1.5 * 40 / 76.5)                 # a z_p / r_p
     # the crank circle is the operating centre distance a' (profile shifts x = 0.519, −0.555): the
     # 20-DOF geometry's a' from the same design
-    from rvtol.models.transmission.geometry import geometry_from_design
+    from rvtol.models.reducer_20dof.geometry import geometry_from_design
     a_w = geometry_from_design(load_design(RV_DESIGN)).a_w
     assert g.bearing_radius == pytest.approx(a_w, rel=1e-12) and a_w == pytest.approx(41.9366, abs=1e-4)
     assert g.ratio == 81 and g.bearing_K == 1.5 and g.z_p == 40

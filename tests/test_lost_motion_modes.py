@@ -13,8 +13,8 @@ from rvtol.model import Model, Quantity
 from rvtol.models.lost_motion.model import LostMotionGeometry, LostMotionModel
 from rvtol.models.screening import bridge as S
 from rvtol.models.torsion_curve.model import TorsionCurveModel
-from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.study import load_study, run_study
 
 from conftest import ROOT, needs_wing, write

@@ -15,7 +15,7 @@ from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.models.pin_ring.fit import disc_fit_margin, turn_free_margin
 from rvtol.models.pin_ring.model import PinRingFitModel, from_study
-from rvtol.models.transmission.contacts import pin_contacts
+from rvtol.models.reducer_20dof.contacts import pin_contacts
 from rvtol.params import Params
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,8 +11,8 @@ from conftest import ROOT
 from rvtol.design import load_design
 from rvtol.models.pin_ring._kernels import noload_contacts_py
 from rvtol.models.pin_ring.preload import PinRingPreloadModel
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission.friction import friction_from_design
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof.friction import friction_from_design
 
 DESIGN = ROOT / "data" / "products" / "rv80e" / "design.toml"
 UM = 1e-3

@@ -14,9 +14,9 @@ from rvtol.mc import run_monte_carlo
 from rvtol.models.composite.model import CompositeModel
 from rvtol.models.pin_ring.preload import PinRingPreloadModel
 from rvtol.models.torsion_curve.model import TorsionCurveModel
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.rig import INPUTS as RIG_INPUTS
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.transmission_error.rig import INPUTS as RIG_INPUTS
 from rvtol.sampling import sample
 from rvtol.study import load_study
 

@@ -2,7 +2,7 @@
 import pandas as pd
 
 from rvtol.report.render import PDF_MAX_ROWS, _block_view
-from rvtol.report.sections import Table
+from rvtol.blocks import Table
 
 
 def _rows(html: str) -> int:

@@ -1,4 +1,4 @@
-"""The measurement chain of a TE test rig (issue 23 item 5; rvtol.models.transmission.rig): the eccentric
+"""The measurement chain of a TE test rig (issue 23 item 5; rvtol.models.transmission_error.rig): the eccentric
 graduation's reading against its exact geometry, the TE a rig reads on an error-free reducer against the closed
 form, the order table's attribution, the rig file's errors, a study's spec made of several files."""
 import math
@@ -9,9 +9,9 @@ import pytest
 
 from rvtol import units
 from rvtol.errors import InputError, SpecError
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.orders import order_spectrum
-from rvtol.models.transmission.rig import INPUTS, Encoder, Rig, load_rig, measurement_terms
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.transmission_error.orders import order_spectrum
+from rvtol.models.transmission_error.rig import INPUTS, Encoder, Rig, load_rig, measurement_terms
 from rvtol.spec import load_spec, merge_specs
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -43,7 +43,7 @@ from rvtol.distributions import Distribution, coverage
 from rvtol.mc import Evaluator, run_monte_carlo
 from rvtol.models.formula.model import FormulaModel
 from rvtol.spec import Factor, ToleranceSpec
-from rvtol.stacking.compare import compare_conventions
+from rvtol.stacking.beside_monte_carlo import compare_conventions
 
 Z = 4.5
 N_REF = 40_000

@@ -63,7 +63,7 @@ def test_the_linearised_rows_say_they_leave_a_curvature_out():
     """y = x + 0.2 x², x ~ N(0, 0.5): every row read from the gradient at the nominal point misses the mean shift
     0.2σ² = 0.05 and says so in its own note (issue 37); the second-order and Monte Carlo rows do not need to."""
     from rvtol.mc import Evaluator, run_monte_carlo
-    from rvtol.stacking.compare import compare_conventions
+    from rvtol.stacking.beside_monte_carlo import compare_conventions
 
     spec = ToleranceSpec("q", (normal("x", 0.0, 0.5),))
     m = FormulaModel.from_spec(spec, {"y": ("x + 0.2*x**2", "1")})

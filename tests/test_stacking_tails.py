@@ -132,7 +132,7 @@ def test_failed_evaluations_count_as_failures_in_the_tails():
     from rvtol.mc import run_monte_carlo
     from rvtol.model import FunctionModel
     from rvtol.spec import Requirement
-    from rvtol.stacking.compare import tail_probabilities
+    from rvtol.stacking.beside_monte_carlo import tail_probabilities
 
     spec, _ = linear_normals()
     m = FunctionModel(lambda X: np.where(X[:, 0] > 3.0, np.nan, X[:, 0] + 0.0 * X[:, 1])[:, None], spec.names,

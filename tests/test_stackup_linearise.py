@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from rvtol.models.stackup.linearise import loop_sign, norm_cdf_2d, norm_mean_2d, norm_quantile_2d, zonotope_max_norm
+from rvtol.stacking.chain_conventions import loop_sign, norm_cdf_2d, norm_mean_2d, norm_quantile_2d, zonotope_max_norm
 
 
 def test_zonotope_maximum_equals_brute_force_over_the_box_vertices():

@@ -14,7 +14,7 @@ from rvtol.sensitivity import five_point
 from rvtol.spec import load_spec, spec_from_table
 from rvtol.models.stackup import domains as dm
 from rvtol.models.stackup.graph import assembly_from_table, load_assembly
-from rvtol.models.stackup.linearise import Factors, linearise_output
+from rvtol.stacking.chain_conventions import Factors, linearise_output
 from rvtol.models.stackup.model import StackupModel
 
 Z = 4.5

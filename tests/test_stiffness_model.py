@@ -8,7 +8,7 @@ import pytest
 from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.elements import bearings, carrier, crankshaft, involute
+from rvtol.elements import carrier, crankshaft, involute, rolling_bearings
 from rvtol.models.stiffness.model import STATUS_GEOMETRY, STATUS_INTERFERENCE, from_study
 from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 from rvtol.params import Params
@@ -24,7 +24,7 @@ RATED = 784e3
 def test_palmgren_bearing_deflection_by_hand():
     # Q_max = 4.08 * 1000 / 18 = 226.667 N; δ = 2 * 3.84e-5 * 226.667^0.9 / 8^0.8
     #       = 7.68e-5 * 131.78 / 5.2780 = 1.91751e-3 mm
-    assert bearings.radial_deflection(1000.0, 18, 8.0) == pytest.approx(1.91751e-3, rel=1e-5)
+    assert rolling_bearings.radial_deflection(1000.0, 18, 8.0) == pytest.approx(1.91751e-3, rel=1e-5)
 
 
 def test_iso6336_single_stiffness_by_hand():
@@ -95,7 +95,7 @@ def test_tangential_bearing_kinematics_is_doc004_theta3():
     res = rs.evaluate(RATED, *MODS)
     _, cs = res.contacts[0]
     ld = rs.crank_loads(cs)
-    delta = bearings.radial_deflection(ld.bearing_force, rs.bearing_rollers, rs.bearing_length)
+    delta = rolling_bearings.radial_deflection(ld.bearing_force, rs.bearing_rollers, rs.bearing_length)
     doc = 39 / 40 * (1 - 1 / 81) * delta.mean() / rs.crank_radius
     assert res.component("crank_bearings")[0] == pytest.approx(doc, rel=1e-12)
 

@@ -8,12 +8,12 @@ from rvtol.design import load_design
 from rvtol.errors import InputError
 from rvtol.models.torsion_curve.model import (EPSILON, TorsionCurve, TorsionCurveModel, compliance_breakdown, from_study,
                                         torque_schedule)
-from rvtol.models.torsion_curve.comparison import CAMS, analytic_lost_motion, output_ratio
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.compliance import GROUPS
-from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.model import ST_BAD_CLEARANCE
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.torsion_curve.beside_analytical_models import CAMS, analytic_lost_motion, output_ratio
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.compliance import GROUPS
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.layout import ST_BAD_CLEARANCE
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from numpy_twin import ReferenceModel
 from rvtol.params import Params
 from rvtol.spec import spec_from_table

@@ -10,11 +10,11 @@ import pytest
 from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.extremes import KAPPA, MAX_LEVELS, TOL_TE, te_extremes
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.transmission_error.extremes import KAPPA, MAX_LEVELS, TOL_TE, te_extremes
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 

@@ -7,11 +7,11 @@ import pytest
 
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin, static_table
-from rvtol.models.transmission.factors import ErrorFactors, ErrorState
-from rvtol.models.transmission.geometry import geometry_from_design, inverse_involute, involute
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin, static_table
+from rvtol.models.reducer_20dof.factors import ErrorFactors, ErrorState
+from rvtol.models.reducer_20dof.geometry import geometry_from_design, inverse_involute, involute
 from numpy_twin import ReferenceModel
 
 ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "gamma_c", "R_pin", "R_pin_phase",

@@ -7,11 +7,11 @@ from scipy.integrate import solve_ivp
 
 from rvtol import units
 from rvtol.design import load_design
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.factors import ErrorFactors
-from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.newmark import NewmarkSolver, integrate_small_system
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.factors import ErrorFactors
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
+from rvtol.models.reducer_20dof.newmark import NewmarkSolver, integrate_small_system
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[1]
 # 1 kg, 1000 N/mm: ω = 1000 rad/s; base units t, N, mm, s

@@ -1,4 +1,4 @@
-"""Order attribution of the TE spectrum (rvtol.models.transmission.orders): each error family alone gives
+"""Order attribution of the TE spectrum (rvtol.models.transmission_error.orders): each error family alone gives
 orders on its lattice only (exact symmetries of the model, to the solver's tolerance) and its strongest
 order where the kinematics says; two families together give their beats."""
 from pathlib import Path
@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.orders import (active_families, alias, expected_orders, families_frame,
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.transmission_error.orders import (active_families, alias, expected_orders, families_frame,
                                               lattice_step, order_spectrum)
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -51,7 +51,7 @@ def test_lattices_of_the_rv80e(te_geom):
     assert len(families_frame(te_geom)) == 11          # with the crank phase (issue 39)
 
 
-# values, family, strongest order, derivation (module doc of rvtol.models.transmission.orders)
+# values, family, strongest order, derivation (module doc of rvtol.models.transmission_error.orders)
 SINGLE = [
     ({"R_cyc_h[1,1]": 5 * UM}, "disc_profile", 40, "disc 1, order 1: n·z_b"),
     ({"AP_cyc_h[2,2]": 3 * UM}, "disc_profile", 80, "disc 2 pitch, order 2"),

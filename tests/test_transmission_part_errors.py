@@ -9,11 +9,11 @@ import pytest
 
 from rvtol import units
 from rvtol.errors import InputError
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin, static_table
-from rvtol.models.transmission.factors import TABLE3_GROUPS, ErrorFactors
-from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin, static_table
+from rvtol.models.reducer_20dof.factors import TABLE3_GROUPS, ErrorFactors
+from rvtol.models.transmission_error.model import TransmissionErrorModel
 
 ROOT = Path(__file__).resolve().parents[1]
 ARCSEC = units.to_base(1.0, "arcsec")

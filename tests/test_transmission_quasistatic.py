@@ -7,10 +7,11 @@ import pytest
 from rvtol import units
 from rvtol.errors import InputError
 from rvtol.mc import evaluate
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.factors import ErrorFactors
-from rvtol.models.transmission.model import ST_BAD_CLEARANCE, TransmissionErrorModel, order_spectrum
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.factors import ErrorFactors
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.transmission_error.orders import order_spectrum
 
 ROOT = Path(__file__).resolve().parents[1]
 ARCSEC = units.to_base(1.0, "arcsec")
@@ -65,7 +66,7 @@ def test_failures_are_reported_per_sample_never_as_numbers(te_design):
                   [0.0, 1.5, 0.0],           # every pin 1.5 mm away: no equilibrium within the model's range
                   [0.002, 0.0, np.nan]])     # not a number
     ev = evaluate(m, X, progress=False)
-    assert list(ev.status) == [0, ST_BAD_CLEARANCE, L.ST_DIVERGED, 1]
+    assert list(ev.status) == [0, L.ST_BAD_CLEARANCE, L.ST_DIVERGED, 1]
     assert np.all(np.isfinite(ev.Y[0])) and np.all(np.isnan(ev.Y[1:]))
     for s in ev.status[1:]:
         assert m.status_reasons[int(s)]

@@ -9,14 +9,15 @@ import pytest
 from rvtol import units
 from rvtol.design import load_design
 from rvtol.errors import InputError
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin
-from rvtol.models.transmission.geometry import geometry_from_design
-from rvtol.models.transmission.model import TransmissionErrorModel
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin
+from rvtol.models.reducer_20dof.geometry import geometry_from_design
+from rvtol.models.transmission_error.model import TransmissionErrorModel
 from numpy_twin import ReferenceModel
-from rvtol.models.transmission.orders import MIN_PER_CRANK_REV, order_spectrum, positions_for_order
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.transmission_error.orders import order_spectrum, positions_for_order
+from rvtol.models.reducer_20dof.quasistatic import MIN_PER_CRANK_REV
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 

@@ -12,7 +12,7 @@ from rvtol.sampling import sample
 from rvtol.spec import spec_from_table
 from rvtol.validation import (STATUSES, compare_limit, compare_orders, compare_value, load_published,
                               load_published_files, median_interval, validate)
-from rvtol.validation.compare import compare_shape
+from rvtol.validation.agreement import compare_shape
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = sorted((ROOT / "data" / "measurements" / "published").glob("*.toml"))

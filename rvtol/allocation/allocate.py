@@ -133,14 +133,14 @@ def allocation_problem(model, spec, names: list[str] | None, requirements, outpu
 
 
 def drawing_ties(spec, names: list[str]) -> tuple[tuple[str, ...], ...]:
-    """The allocated factors that stand for one drawing tolerance (:func:`rvtol.callouts.drawing_tolerance`:
+    """The allocated factors that stand for one drawing tolerance (:func:`rvtol.callouts.callout_of`:
     the coordinates of one position zone, the copies of a per-part family), as groups to tie: a drawing
     gives one ±t per callout, not one per coordinate or per pin."""
-    from ..callouts import drawing_tolerance
+    from ..callouts import callout_of
 
     groups: dict[str, list[str]] = {}
     for n in names:
-        groups.setdefault(drawing_tolerance(spec.factor(n)), []).append(n)
+        groups.setdefault(callout_of(spec.factor(n)), []).append(n)
     return tuple(tuple(g) for g in groups.values() if len(g) > 1)
 
 

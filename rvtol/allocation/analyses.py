@@ -175,7 +175,7 @@ class AllocationAnalysis(Analysis):
         return allocate(o.problem, o.plan, o.table, ctx.evaluator, ctx.executor, ctx.seed, ctx.mc, o.study_problem)
 
     def report(self, result):
-        from ..report.sections import Section
+        from ..blocks import Section
 
         costs = Section(f"{self.key}_costs", f"{self.title}: cost–tolerance models", texts.costs(result, self.options),
                         result.costs_summary())

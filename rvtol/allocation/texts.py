@@ -1,12 +1,12 @@
 """What the allocation sections say: their prose and the layout of an :class:`~rvtol.allocation.allocate.Allocation`
-as report blocks (:mod:`rvtol.report.sections`: Text, Table, Figure).
+as report blocks (:mod:`rvtol.blocks`: Text, Table, Figure).
 
 ``costs`` lays out the cost–tolerance models section, ``allocation`` the allocation itself; the analysis
 (:mod:`rvtol.allocation.analyses`) names them.
 """
 from __future__ import annotations
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 
 INTRO = ("Minimise Σ C_i(t_i) over {n} tolerances ±t_i of model {model} subject to the requirements below and the "
          "cost curves' ranges t_min ≤ t ≤ t_max. Changing t_i rescales factor i's distribution about its centre. "

@@ -5,7 +5,7 @@ their bearing cups, the housing ring behind the pin grooves.
 Each model is loaded by the element's **statics at the given output torque** and returns the work
 ``W = Σ F·u`` of its loads (twice the strain energy, N·mm) and ``Σ|F|²`` of the loads the 20-DOF model
 puts the element in series with, so that the **energy-equivalent compliance** ``c = W / Σ|F|²`` (mm/N)
-stores the same energy there (:mod:`rvtol.models.transmission.compliance`).  The loads are averaged over
+stores the same energy there (:mod:`rvtol.models.reducer_20dof.compliance`).  The loads are averaged over
 the crank angle (``angles`` positions over one third of a crank turn: the three cranks repeat after 120°).
 
 **Disc** (:func:`disc_work`).  The disc (root circle ``r_o``, centre bore, three crank holes on the crank
@@ -29,7 +29,7 @@ crank resultant, tangential ``ρ T/(3 a)`` (the two discs' radial resultants can
 ``cos^(10/9)`` roller-load distribution over ±90°.
 
 **Housing ring** (:func:`housing_ring_work`).  The annulus from the groove contact's reference depth
-(``R_p + r_p + r_g``: the groove contact, :mod:`.conforming`, carries the approach down to one groove
+(``R_p + r_p + r_g``: the groove contact, :mod:`.pin_groove`, carries the approach down to one groove
 radius behind the contact) to the radius where the housing is held (``r_o``, its bolt circle: clamped), in
 plane stress, thickness = pin length, loaded by both discs' pin forces (the classical sharing above, the two
 discs half a turn apart), each spread over one pin pitch.

@@ -1,6 +1,6 @@
 """The RV reducer's compliance chain from a design: element families, their design keys, each element built
 from the closed-form elements of this package.  Both reducer models read it (the 20-DOF model of
-:mod:`rvtol.models.transmission` reduces the elements to its contacts, the torsion-angle model of
+:mod:`rvtol.models.reducer_20dof` reduces the elements to its contacts, the torsion-angle model of
 :mod:`rvtol.models.stiffness` adds them as components), so the two see the same elements.
 
 **Families.**  Every compliance of the torque path belongs to one family with a stable name
@@ -23,7 +23,7 @@ laws doc 000's 20-DOF model always has; the others are present only when the des
 * ``carrier``: pillars with flexible end plates (:mod:`.carrier_structure`; ``carrier.*`` with
   ``flange_thickness``, ``end_plate_thickness``, ``plate_clamp_radius``);
 * ``pin_groove``: pin in its housing groove, in series with the disc–pin contact, a **conforming** contact
-  (:func:`.conforming.conforming_groove_approach`: doc 004's Hertz approach corrected by the exact
+  (:func:`.pin_groove.conforming_groove_approach`: doc 004's Hertz approach corrected by the exact
   pin-in-hole solution; ``pin.groove_radius``, ``pin.groove_contact_length``);
 * ``housing_ring``: the housing ring between the groove contacts' reference depth and its bolt circle,
   plane-stress finite elements (:func:`.fe_seats.housing_ring_work`; ``housing.clamp_radius``, ``pin.length``);
@@ -67,7 +67,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import SpecError
-from . import _checks, carrier_structure, conforming, contacts, disc_web, fe_seats, shafts
+from . import _checks, carrier_structure, disc_web, fe_seats, pin_groove, shafts
 from .bolted_joint import BoltedJoint
 from .roughness import GreenwoodWilliamson
 from .rolling_bearings import BearingPair, NeedleRollerBearing, TaperedRollerBearing
@@ -218,16 +218,16 @@ class GrooveContact:
 
     def approach(self, F):
         """Pin centre to the housing point one groove radius deep (mm): the conforming pin-in-hole contact
-        (:func:`.conforming.conforming_groove_approach`)."""
-        return conforming.conforming_groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
+        (:func:`.pin_groove.conforming_groove_approach`)."""
+        return pin_groove.conforming_groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
     def hertz_approach(self, F):
-        """doc 004's Hertz formula alone (:func:`.contacts.groove_approach`), outside its validity here."""
-        return contacts.groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
+        """doc 004's Hertz formula alone (:func:`.pin_groove.groove_approach`), outside its validity here."""
+        return pin_groove.groove_approach(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
     def half_angle(self, F):
         """Half-angle of the contact arc (rad) of the conforming solution."""
-        return conforming.contact_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
+        return pin_groove.contact_half_angle(F, self.length, self.r_pin, self.r_groove, self.E, self.nu)
 
 
 # ------------------------------------------------------------------------------------------------ all
@@ -491,7 +491,7 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         _, F = fe_seats.pin_forces(Tc, zp, zc, Rp, e)
         F = np.hypot(*F.T)
         F = F[F > 0]
-        ang = conforming.contact_half_angle(F, gr.length, gr.r_pin, gr.r_groove, E, nu)
+        ang = pin_groove.contact_half_angle(F, gr.length, gr.r_pin, gr.r_groove, E, nu)
         area = 2.0 * ang * gr.r_pin * gr.length
         c = np.array([gw.layer_compliance(f / a, a) for f, a in zip(F, area)])
         kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))

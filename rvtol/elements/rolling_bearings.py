@@ -1,5 +1,6 @@
-"""Rolling bearings with their roller load distribution: a preloaded pair of tapered roller bearings
-(the crank support bearings) and a needle roller bearing with radial clearance (the turning-arm bearing).
+"""Rolling bearings: doc 004's closed-form roller bearing deflection, and bearings with their roller load
+distribution — a preloaded pair of tapered roller bearings (the crank support bearings) and a needle roller bearing
+with radial clearance (the turning-arm bearing).
 
 **Roller–raceway contact (Palmgren).**  The normal approach of one roller and one
 raceway in line contact, for steel (Palmgren 1959, as given by Harris & Kotzalas,
@@ -27,6 +28,11 @@ The net force on the cone (raceway + rib) equals ``Q_o`` along the cup normal,
 so the rings exchange ``Q_o`` at the contact angle ``α = α_o``.  The roller's
 approach is measured along the cup normal: ``δ = δ_o + δ_i`` (the cone contact
 is inclined by ``α_o − α_i`` ≈ 2–4°, a projection error below 0.3 %).
+
+**Doc 004's turning-arm bearing (closed form).**  :func:`radial_deflection` is the needle roller bearing on the
+eccentric as doc 004's model takes it: the most loaded roller carries Stribeck's ``Q_max = 4.08 F_r / Z`` (line
+contact, zero clearance; Harris & Kotzalas, the load integral ``J_r(0.5)`` below) and its two contacts (eccentric
+and cycloid bore) are in series, so the bearing's radial deflection is ``δ_r = 2 · 3.84·10⁻⁵ · Q_max^0.9 / l^0.8``.
 
 **Load distribution (rigid rings, Jones/Harris).**  Roller ``k`` at azimuth
 ``ψ_k`` of a bearing centred at ``z_j`` on a shaft with small displacements
@@ -73,6 +79,7 @@ from . import _checks
 
 PALMGREN_LINE = 3.84e-5      # mm · N^-0.9 · mm^0.8, one roller–raceway line contact, steel
 LOAD_EXPONENT = 10.0 / 9.0   # Q = K δ^(10/9), line contact
+STRIBECK_LINE = 4.08         # Q_max Z / F_r for line contact and zero clearance
 
 
 # ------------------------------------------------------------------------------------------------
@@ -83,6 +90,12 @@ def palmgren_approach(Q, length, constant: float = PALMGREN_LINE):
     """``δ_c = c Q^0.9 / l^0.8`` (mm): approach of one roller–raceway line contact under ``Q`` (N)."""
     Q = _checks.nonnegative("Q", Q)
     return constant * Q ** 0.9 / _checks.positive("length", length) ** 0.8
+
+
+def radial_deflection(F_r, rollers: int, length: float):
+    """Radial deflection (mm) of a roller bearing under radial load ``F_r`` (N), doc 004's closed form (module doc)."""
+    q = STRIBECK_LINE * np.abs(np.asarray(F_r, dtype=float)) / rollers
+    return 2.0 * PALMGREN_LINE * q ** 0.9 / length ** 0.8
 
 
 def roller_constant(length_outer, length_inner=None, inner_ratio=1.0, constant: float = PALMGREN_LINE):

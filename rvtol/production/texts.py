@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 from .per_serial import CONFLICT_Z, ESS_MIN, R_HAT_MAX
 
 # --------------------------------------------------------------------------- per-unit prediction

@@ -1,4 +1,5 @@
-"""Report: Sections (tables, figures, text) → one view model → HTML (Jinja2) → PDF (WeasyPrint)."""
-from ..blocks import Figure, Section, Table, Text, figure_png, frame_records
+"""Report: Sections (tables, figures, text) → one view model → HTML (Jinja2) → PDF (WeasyPrint).
 
-__all__ = ["Figure", "Section", "Table", "Text", "figure_png", "frame_records"]
+The blocks a section holds are :mod:`rvtol.blocks` (a base module the capabilities lay their results out with);
+this package renders them.
+"""

@@ -87,7 +87,7 @@ def _table_html(t: Table, max_rows: int | None = None, omit: list[str] = (), pdf
     return Markup(_LIGHT.sub(r'<td class="light light-\1">● \1', html)), len(parts), lead
 
 
-#: a requirement's traffic light in a table cell (rvtol.report.signoff): coloured by the template's CSS
+#: a requirement's traffic light in a table cell (rvtol.signoff.signoff_section): coloured by the template's CSS
 _LIGHT = re.compile(r"<td>● (PASS|UNDECIDED|FAIL)")
 
 

@@ -274,7 +274,7 @@ def failures_section(result) -> Section | None:
 
 
 def standard_sections(result) -> list[Section]:
-    from .signoff import signoff_section
+    from ..signoff import signoff_section
 
     out = [signoff_section(result), verdict_section(result), inputs_section(result), results_section(result)]
     f = failures_section(result)

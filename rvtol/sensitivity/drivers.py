@@ -2,7 +2,7 @@
 
 The first-order index S1 of every factor (:func:`rvtol.sensitivity.given_data.given_data`, the
 correlation ratio with Kelley's bias correction) summed over the factors of one drawing callout
-(:func:`rvtol.callouts.drawing_tolerance`): the share of the output's variance the tolerance explains
+(:func:`rvtol.callouts.callout_of`): the share of the output's variance the tolerance explains
 on its own.  The estimates are summed unclipped (each is unbiased; clipped at 0 the 40 copies of a
 family would add 40 positive halves of their noise) and only over the factors the output can depend
 on where the model knows its structure (:func:`rvtol.model.dependencies`).
@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..callouts import drawing_tolerance
+from ..callouts import callout_of
 from ..model import dependencies
 from .given_data import default_classes, given_data
 
@@ -39,7 +39,7 @@ def first_order_drivers(mc, model, spec, outputs, seed) -> dict[str, list[Driver
     n = int(ok.sum())
     M = default_classes(n)
     se1 = math.sqrt(2.0 * (M - 1)) / n      # one null estimate's standard error (M classes; Kelley-corrected η²)
-    group = {f.name: drawing_tolerance(f) for f in spec.factors}
+    group = {f.name: callout_of(f) for f in spec.factors}
     deps = dependencies(model)
     out = {}
     for o in outputs:

@@ -1,7 +1,7 @@
 """The sensitivity matrix: drawing tolerance × output, five-point variance shares and Sobol total indices.
 
 A drawing tolerance is a factor, or the factors that stand for one callout (the end-point
-coordinates of a position zone, the copies of a per-pin family): :func:`rvtol.callouts.drawing_tolerance`.
+coordinates of a position zone, the copies of a per-pin family): :func:`rvtol.callouts.callout_of`.
 Five-point: each factor's linearised variance contribution ``(S_i σ_i)²`` as a share of the output's
 linearised variance (correlation ignored), summed per tolerance.  Sobol: ``top`` tolerances, taken from
 every output in turn (:func:`top_tolerances`), are groups of their own, every other factor is one group
@@ -17,7 +17,7 @@ from typing import Sequence
 import numpy as np
 import pandas as pd
 
-from ..callouts import drawing_tolerance
+from ..callouts import callout_of
 from ..mc import Evaluator
 from ..model import Model
 from ..spec import ToleranceSpec
@@ -96,7 +96,7 @@ def sensitivity_matrix(model: Model, spec: ToleranceSpec, outputs: Sequence[str]
     outputs = list(outputs)
     idx = [spec.index(f) for f in factors] if factors else list(range(len(spec)))
     names = [spec.names[i] for i in idx]
-    tol = {spec.names[i]: drawing_tolerance(spec.factors[i]) for i in idx}
+    tol = {spec.names[i]: callout_of(spec.factors[i]) for i in idx}
     order = list(dict.fromkeys(tol[n_] for n_ in names))
     fp = five_point(model, spec, names, outputs, percent, None, evaluate)
     sd = spec.std_base()[idx]

@@ -1,18 +1,23 @@
-"""Tolerance stack-up conventions beside the Monte Carlo, for any :class:`rvtol.model.Model`.
+"""Tolerance stack-up conventions beside the Monte Carlo, for any :class:`rvtol.model.Model` — every one of rvtol's.
 
-================================  ===============================================================
-module                            what it gives
-================================  ===============================================================
-:mod:`rvtol.stacking.conventions` worst case, RSS, MRSS (Bender, handbook, a given factor), the
-                                  distributions' statistical stack, 6σ static and dynamic RSS (and
-                                  the 1.5σ-shift convention); position zones as discs
-:mod:`rvtol.stacking.worst_case`  the true extreme of a non-linear output over the bands (bounded
-                                  optimisation, corners)
-:mod:`rvtol.stacking.tail`        sub-ppm tail probabilities: FORM (β, Φ(−β)) and importance
-                                  sampling about the most probable failure point
-:mod:`rvtol.stacking.compare`     a study's conventions and tails beside its Monte Carlo (one result each)
-:mod:`rvtol.stacking.analyses`    the study analyses ``stack_conventions`` and ``tail_probability``
-================================  ===============================================================
+=======================================  ===============================================================
+module                                   what it gives
+=======================================  ===============================================================
+:mod:`rvtol.stacking.conventions`        worst case, RSS, MRSS (Bender, handbook, a given factor), the
+                                         distributions' statistical stack, 6σ static and dynamic RSS (and
+                                         the 1.5σ-shift convention); position zones as discs
+:mod:`rvtol.stacking.slopes`             one-sided slopes of a kinked output (the side that hurts)
+:mod:`rvtol.stacking.second_order`       the second-order moments of a curved output and its Pearson tails
+:mod:`rvtol.stacking.worst_case`         the true extreme of a non-linear output over the bands (bounded
+                                         optimisation, corners)
+:mod:`rvtol.stacking.chain_conventions`  worst case, RSS and loop-method signs of a deviation chain's key
+                                         characteristics (the stack-up model's ``stackup_linear``)
+:mod:`rvtol.stacking.tail`               sub-ppm tail probabilities: FORM (β, Φ(−β)) and importance
+                                         sampling about the most probable failure point
+:mod:`rvtol.stacking.beside_monte_carlo` a study's conventions and tails beside its Monte Carlo (one result each)
+:mod:`rvtol.stacking.analyses`           the study analyses ``stack_conventions`` and ``tail_probability``
+                                         (laid out by :mod:`rvtol.stacking.texts`)
+=======================================  ===============================================================
 
 ::
 

@@ -1,9 +1,9 @@
 """Study analyses of the stack-up conventions (``[[analysis]] kind = ...``), for any model.
 
 Thin adapters (:mod:`rvtol.analysis`): their options, one call of
-:func:`rvtol.stacking.compare.compare_conventions` or :func:`rvtol.stacking.compare.tail_probabilities`,
-the layout in :mod:`rvtol.stacking.texts`.  ``rvtol kinds stack_conventions`` (``tail_probability``) lists
-every key with its default and meaning.
+:func:`rvtol.stacking.beside_monte_carlo.compare_conventions` or
+:func:`rvtol.stacking.beside_monte_carlo.tail_probabilities`, the layout in :mod:`rvtol.stacking.texts`.
+``rvtol kinds stack_conventions`` (``tail_probability``) lists every key with its default and meaning.
 """
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from ..analysis import Analysis, CommonOptions
 from ..options import option
 from . import texts
-from .compare import compare_conventions, tail_probabilities
+from .beside_monte_carlo import compare_conventions, tail_probabilities
 from .conventions import SIX_SIGMA_CP, SIX_SIGMA_SHIFT
 from .tail import APPROXIMATIONS, METHODS
 

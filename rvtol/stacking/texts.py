@@ -1,11 +1,11 @@
 """What the stack-up sections say: their prose and the layout of each result as report blocks.
 
-``conventions`` lays out a :class:`~rvtol.stacking.compare.ConventionsComparison`, ``tails`` a
-:class:`~rvtol.stacking.compare.TailProbabilities`; the analyses (:mod:`rvtol.stacking.analyses`) name them.
+``conventions`` lays out a :class:`~rvtol.stacking.beside_monte_carlo.ConventionsComparison`, ``tails`` a
+:class:`~rvtol.stacking.beside_monte_carlo.TailProbabilities`; the analyses (:mod:`rvtol.stacking.analyses`) name them.
 """
 from __future__ import annotations
 
-from ..report.sections import Figure, Table, Text, figure_png
+from ..blocks import Figure, Table, Text, figure_png
 from ..units import label
 
 CONVENTIONS = ("The conventions engineers and peer tools quote, beside this study's Monte Carlo. Linearised rows use the "

@@ -4,7 +4,7 @@ Published figures of real reducers (a measured TE peak-to-peak, the orders of it
 lost-motion bound, ...) are stored one source per TOML file with the full citation, the figure or table each
 number came from and how it was read (:mod:`.published`; ``data/measurements/published/``).  :func:`validate`
 predicts each figure of the study's reducer with the model as it is — the nominal point and a Monte Carlo
-sample of the tolerance spec — and compares them (:mod:`.compare`: ratio, the measured value's percentile among
+sample of the tolerance spec — and compares them (:mod:`.agreement`: ratio, the measured value's percentile among
 the predicted units, inside or outside the central interval; catalogue bounds as bounds); then fits one
 parameter to one figure and predicts the others (hold-out)::
 
@@ -15,7 +15,7 @@ parameter to one figure and predicts the others (hold-out)::
 
 The study analysis is ``[[analysis]] kind = "validation"`` (:mod:`.analyses`); notes: ``studies/validation.md``.
 """
-from .compare import compare_limit, compare_orders, compare_value, median_interval
+from .agreement import compare_limit, compare_orders, compare_value, median_interval
 from .published import (KINDS, STATUSES, MissingItem, PublishedQuantity, PublishedSource, load_published,
                         load_published_files)
 from .validate import ScaleFit, ValidationResult, validate

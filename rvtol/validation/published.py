@@ -62,7 +62,7 @@ from .. import units
 from ..errors import InputError
 from ..params import Params, read_toml
 
-#: how a published figure is compared with a prediction (:mod:`.compare`)
+#: how a published figure is compared with a prediction (:mod:`.agreement`)
 KINDS = ("value", "range", "upper_limit", "lower_limit", "orders", "order_amplitudes")
 #: where a published figure comes from: a measurement, or a published model's result (listed beside the prediction)
 ORIGINS = ("measurement", "model")

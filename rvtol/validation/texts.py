@@ -1,5 +1,5 @@
 """What a validation section says: its prose and the layout of a :class:`.validate.ValidationResult` as report
-blocks (:mod:`rvtol.report.sections`); the analysis (:mod:`.analyses`) names :func:`layout`."""
+blocks (:mod:`rvtol.blocks`); the analysis (:mod:`.analyses`) names :func:`layout`."""
 from __future__ import annotations
 
 import numpy as np

@@ -13,7 +13,7 @@
 1. **Prediction, no calibration.**  Every published figure of the study's reducer whose quantity the study
    maps to a model output is predicted by the model as it is: its nominal point and a Monte Carlo sample of
    the tolerance spec (``n``, ``method``, ``seed``: the study's own sample when ``known`` is given), and
-   compared (:mod:`.compare`).  A figure of another reducer, or of a quantity no output is mapped to, is
+   compared (:mod:`.agreement`).  A figure of another reducer, or of a quantity no output is mapped to, is
    listed with the reason it is not predicted.
 2. **Calibration on one figure, the others predicted (hold-out).**  The published figures read are
    scalars (a TE peak-to-peak, catalogue bounds), not curves: what one scalar can fix is one parameter.
@@ -28,7 +28,7 @@
    (at nominal tolerances, and designs × units where computed), whether the measured figure lies within the
    estimates' reach, by how much it misses otherwise, and the estimated numbers that drive it most (first-order
    index) — which of them could explain a miss.  Nothing is fitted by it.  A curve measurement (torsion or TE curve) would be calibrated with
-   :mod:`rvtol.models.transmission.calibration` instead; none was readable in the published sources found.
+   :mod:`rvtol.models.calibration` instead; none was readable in the published sources found.
 
    A hold-out must be able to fail.  A figure of the same reducer and quantity as the calibration figure
    (another unit of the same design, e.g. a second prototype) is predicted by the *same* distribution the
@@ -46,7 +46,7 @@ Beside the prediction, never judged:
   their prototypes), role "published model result";
 * ``shape_of`` — measured spectra (``order_amplitudes``) of another reducer with the same order lattice
   (``lattice`` = the design's pins and ratio), compared with the predicted spectra in shape
-  (:func:`.compare.compare_shape`, relative to ``reference_order``: default the pin count, the mesh order).
+  (:func:`.agreement.compare_shape`, relative to ``reference_order``: default the pin count, the mesh order).
 
 ``stands_for``: other reducer names whose figures the study's design predicts (e.g. the "RV-E series" of a
 catalogue bound).
@@ -63,7 +63,7 @@ from ..errors import InputError
 from ..mc import EvaluationCache, Evaluator
 from ..records import frame_records
 from ..sampling import sample
-from .compare import compare_limit, compare_orders, compare_shape, compare_value, largest_orders
+from .agreement import compare_limit, compare_orders, compare_shape, compare_value, largest_orders
 from .published import PublishedQuantity, PublishedSource, display_value
 
 PARAMETERS = ("tolerance_scale",)

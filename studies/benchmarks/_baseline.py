@@ -1,12 +1,12 @@
 """The 20-DOF kernels of an earlier commit, run beside today's in one process (the "before" columns).
 
-The machines are shared and noisy: a speed-up is only worth quoting when the old and the new code run
-side by side on the same inputs in one run.  :func:`kernels` extracts ``layout.py`` and ``_kernels.py`` of
-``rvtol/models/transmission`` at a git revision (default :data:`BASELINE_REV`, the starting point of
-issue 15) into ``reports/.bench-baseline/<rev>/`` as a package of its own and imports it (numba caches
-its compilation there); :class:`BaselineTEModel` is the TE model on those kernels (picklable: process
-pool workers load the same package).  The call signatures are today's except ``qs_sequence``'s predictor
-``period`` (issue 15), which :class:`_Kernels` drops: the baseline extrapolates linearly, as it did.
+The machines are shared and noisy: a speed-up is only worth quoting when the old and the new code run side by side on
+the same inputs in one run.  :func:`kernels` extracts ``layout.py`` and ``_kernels.py`` of
+``rvtol/models/transmission`` (where the 20-DOF kernels lived before ``rvtol/models/reducer_20dof``) at a git revision
+(default :data:`BASELINE_REV`, the starting point of issue 15) into ``reports/.bench-baseline/<rev>/`` as a package of
+its own and imports it (numba caches its compilation there); :class:`BaselineTEModel` is the TE model on those kernels
+(picklable: process pool workers load the same package).  The call signatures are today's except ``qs_sequence``'s
+predictor ``period`` (issue 15), which :class:`_Kernels` drops: the baseline extrapolates linearly, as it did.
 
 When git or the revision is not available the benchmarks skip the "before" rows and say so.
 """
@@ -17,9 +17,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.newmark import NewmarkSolver
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.reducer_20dof.newmark import NewmarkSolver
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
 ROOT = Path(__file__).resolve().parents[2]
 #: the commit issue 15 started from

@@ -6,7 +6,7 @@ issue 15 started from (:mod:`_baseline`), run on the same reducers; "NumPy" is t
 (``tests/numpy_twin.py``).  One output revolution = z_b = 40 crank revolutions
 relative to the carrier; at 36 positions per crank revolution that is 1440 static equilibria.
 
-Δθ_er after issue 24 is the curve's, refined between the positions (:mod:`rvtol.models.transmission.extremes`);
+Δθ_er after issue 24 is the curve's, refined between the positions (:mod:`rvtol.models.transmission_error.extremes`);
 "before" is the sampled one of the baseline.  The Monte Carlo rows compare before, after at the study's 36
 positions per crank revolution and after at :data:`COARSE` (the same Δθ_er within the refinement's tolerance); the
 extremes rows check the refinement against a dense reference on spec samples.
@@ -35,13 +35,13 @@ from _timing import add_size_options, by_size, print_table
 from rvtol.design import load_design
 from rvtol.executors import make_executor
 from rvtol.mc import evaluate
-from rvtol.models.transmission import _kernels as K
-from rvtol.models.transmission import layout as L
-from rvtol.models.transmission.contacts import pin_cos_sin
-from rvtol.models.transmission.extremes import KAPPA, TOL_TE, te_extremes
-from rvtol.models.transmission.model import TransmissionErrorModel
-from rvtol.models.transmission.newmark import NewmarkSolver
-from rvtol.models.transmission.quasistatic import QuasiStaticSolver
+from rvtol.models.reducer_20dof import _kernels as K
+from rvtol.models.reducer_20dof import layout as L
+from rvtol.models.reducer_20dof.contacts import pin_cos_sin
+from rvtol.models.transmission_error.extremes import KAPPA, TOL_TE, te_extremes
+from rvtol.models.transmission_error.model import TransmissionErrorModel
+from rvtol.models.reducer_20dof.newmark import NewmarkSolver
+from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 

@@ -29,7 +29,7 @@ Each coefficient is the zero-load, flank-to-flank play of the reducer with the
 input locked, which is what the 20-DOF torsion curve's backlash measures;
 ``tests/test_lost_motion_modes.py`` holds them to the 20-DOF model's backlash
 rates, factor by factor.  Kinematics (doc 000's nominal motion,
-:mod:`rvtol.models.transmission.geometry`; pins fixed, carrier = output θ_c):
+:mod:`rvtol.models.reducer_20dof.geometry`; pins fixed, carrier = output θ_c):
 the sun turns θ_s = i θ_c with i = 1 + z_p z_pl / z_s; a crank (planet) turns
 θ_p − θ_c = −(z_s/z_pl)(θ_s − θ_c) relative to the carrier (external mesh on
 the carrier as arm); a disc spins with the carrier and its eccentric direction
@@ -144,7 +144,7 @@ from ...model_kind import ModelKind
 from ...options import option
 from ...params import Params
 from ...stats import rss
-from ..transmission.geometry import involute, inverse_involute
+from ..reducer_20dof.geometry import involute, inverse_involute
 
 #: the document's 180·60/π: arcmin per radian
 ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi

@@ -1,8 +1,8 @@
 """The no-load sweep's contacts, position by position (numba; :mod:`.preload`).
 
 :func:`noload_contacts` reads, at every equilibrium of a sweep, what the pin-ring preload needs from the 20-DOF
-kernel's contact table (:func:`rvtol.models.transmission._kernels.update_table_fast`) and force laws
-(:func:`~rvtol.models.transmission._kernels.contact_forces`): each pin's force, its approach ``G q + offset`` and
+kernel's contact table (:func:`rvtol.models.reducer_20dof._kernels.update_table_fast`) and force laws
+(:func:`~rvtol.models.reducer_20dof._kernels.contact_forces`): each pin's force, its approach ``G q + offset`` and
 its normal's ``cos α``, ``sin α`` (eccentric frame), and the needle rows' and crank supports' resultants.  The
 arithmetic on them is NumPy's (:meth:`.preload.PinRingPreloadModel.drag`); :func:`noload_contacts_py` is the same
 loop in Python over the kernel's public functions, for the test that holds one to the other.
@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..transmission import _kernels as K
-from ..transmission.layout import C_CAM, C_CRANK, C_PIN, N_CRANK, N_DISC
+from ..reducer_20dof import _kernels as K
+from ..reducer_20dof.layout import C_CAM, C_CRANK, C_PIN, N_CRANK, N_DISC
 
 _JIT = dict(cache=True, nogil=True, error_model="numpy")
 
@@ -53,7 +53,7 @@ def noload_contacts(theta_c, q_path, prm, err, pin_err, disc_h, pin_cs, kind, id
 
 def noload_contacts_py(theta_c, q_path, prm, err, pin_err, disc_h, pin_cs, kind, idx, k0, pw, gap, ser, tab, ecc,
                        force, approach, cos_a, sin_a, cams, cranks):
-    """:func:`noload_contacts` in Python, on :func:`~rvtol.models.transmission._kernels.update_table` (the
+    """:func:`noload_contacts` in Python, on :func:`~rvtol.models.reducer_20dof._kernels.update_table` (the
     reference implementation of the table, not the fast one)."""
     nc = kind.size
     npin = force.shape[1]

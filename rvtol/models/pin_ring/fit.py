@@ -9,7 +9,7 @@ pin k is
 
 with d the disc centre's offset (mm, in the disc's eccentric frame), ψ its turn (rad), n_k the contact
 normal and ρ_k its moment arm about the disc centre — the 20-DOF model's own contact geometry
-(:func:`rvtol.models.transmission.contacts.pin_contacts`: n_k = (cos α_k, sin α_k) from the pitch point P to
+(:func:`rvtol.models.reducer_20dof.contacts.pin_contacts`: n_k = (cos α_k, sin α_k) from the pitch point P to
 the pin centre, ρ_k = R_d sin α_k, doc 000 §1.3 contact 4).  Pin k lets the disc in while δ_k ≤ c_k, its
 normal clearance (the profile modification's n(φ_k), the pin's clearance in its groove, the pin's position
 errors and the disc's profile errors, as the kernel writes them).  A disc whose axis is tilted has a

@@ -5,7 +5,7 @@ Inputs:
 * the disc's deviation from its ideal place in the pin ring (the stack-up's KC of the disc centre relative
   to the pin ring's place for it, housing axes, at the disc's mid-plane): ``disc_u[j]``, ``disc_v[j]`` (mm),
   ``disc_alpha[j]``, ``disc_beta[j]`` (rad, tilts about x and y), j = 1, 2; an input not given is 0;
-* the 20-DOF model's error factors (:mod:`rvtol.models.transmission.factors`; a study passes the torsion
+* the 20-DOF model's error factors (:mod:`rvtol.models.reducer_20dof.factors`; a study passes the torsion
   curve's mapping, ``same_inputs_as``): the ones that reach the cycloid–pin contacts — pin positions and
   clearances, the profile modifications, the discs' profile fields — set each pin's normal clearance; the
   others (cams, bearings, first stage) do not reach the fit and are not read.
@@ -17,7 +17,7 @@ turn).
 
 The position is the assembly's reference position (carrier and crank angle 0, mapping.md §0), where the
 stack-up gives the disc's place.  The contact geometry is the 20-DOF kernel's contact table at that position
-(:func:`rvtol.models.transmission.contacts.pin_contacts`).  Each pin's clearance is affine in the error
+(:func:`rvtol.models.reducer_20dof.contacts.pin_contacts`).  Each pin's clearance is affine in the error
 state, and the error state in the factors (a pattern's amplitude a and phase p through a·cos p and a·sin p),
 so the model reads the kernel once per factor when it is built and evaluates a sample as a sum of those
 columns (vectorised; a test holds it to the kernel sample by sample).
@@ -37,12 +37,11 @@ from ...model import Model, Quantity
 from ...model_kind import ModelKind, require_design
 from ...options import option
 from ..stackup.domains import ends_from_axis
-from ..transmission import layout as L
-from ..transmission.contacts import PinContacts, pin_contacts
-from ..transmission.factors import ErrorFactors
-from ..transmission.geometry import RVGeometry, geometry_from_design
-from ..transmission.orders import MIN_PER_CRANK_REV
-from ..transmission.quasistatic import ContactSolveOptions
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.contacts import PinContacts, pin_contacts
+from ..reducer_20dof.factors import ErrorFactors
+from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, ContactSolveOptions
 from .fit import disc_fit_margin
 from .preload import DEFAULT_PER_CRANK_REV
 

@@ -7,8 +7,8 @@ how tight the ring is where they do — the preload the interfering pins carry a
 running torque, over a whole turn of the output (every pin meets every part of the disc's profile once a crank
 revolution, the ring's and the profile's patterns move against each other once an output revolution).
 
-The reducer here is the 20-DOF model's (:mod:`rvtol.models.transmission`), turned by its input through one output
-revolution **with no load on the output** (:meth:`~rvtol.models.transmission.quasistatic.QuasiStaticSolver.rotation`
+The reducer here is the 20-DOF model's (:mod:`rvtol.models.reducer_20dof`), turned by its input through one output
+revolution **with no load on the output** (:meth:`~rvtol.models.reducer_20dof.quasistatic.QuasiStaticSolver.rotation`
 at zero torque): each disc is located by its three crank eccentrics through their needle rows (with each row's
 clearance), the cranks by their tapered-roller pairs, the carrier by the main bearing, and the output turns freely
 (the carrier finds its own angle). A pin whose normal clearance the disc's place closes is compressed; the elastic
@@ -20,11 +20,11 @@ the pin in its groove, the needle rows, the crank supports, the carrier). Per po
 * the **interference** of the most loaded pin — its contact's approach beyond its clearance, the overlap the
   rigid parts would have (the pin contact's deflection with everything in series with it, µm);
 * the **pin drag** — the friction torque the preloaded pins put on the output as it turns: the disc rolls about
-  the pitch point P (its instantaneous centre relative to the pin ring: the eccentric turns at −z_c times the
-  disc's rate), so the disc's point at pin k's contact moves tangentially by λ_k = |PC| per radian of the output,
-  and the free pin between flank and groove rolls on one and slides on the other (its moment balance makes the
-  two tangential forces equal): it dissipates μ_pin F_k λ_k per radian, T_pins = μ_pin Σ F_k λ_k (first order in
-  μ: the equilibria are frictionless; μ_pin the design's boundary coefficient, :mod:`rvtol.models.transmission.friction`);
+  the pitch point P (its instantaneous centre relative to the pin ring: the eccentric turns at −z_c times the disc's
+  rate), so the disc's point at pin k's contact moves tangentially by λ_k = |PC| per radian of the output, and the
+  free pin between flank and groove rolls on one and slides on the other (its moment balance makes the two tangential
+  forces equal): it dissipates μ_pin F_k λ_k per radian, T_pins = μ_pin Σ F_k λ_k (first order in μ: the equilibria
+  are frictionless; μ_pin the design's boundary coefficient, :mod:`rvtol.models.reducer_20dof.friction`);
 * the **no-load torque** — the pins' drag plus the needle rows' and the crank supports' moments μ P d/2 (the same
   module's estimates; the preloaded pairs drag with no load at all), each turning z_b radians per output radian,
   referred to the input (÷ i). Churning, seals and the main bearing are not modelled: it is a lower bound of
@@ -45,14 +45,12 @@ import numpy as np
 from ...design import Design
 from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
-from ..transmission import _kernels as K
-from ..transmission import layout as L
-from ..transmission.factors import ErrorFactors
-from ..transmission.friction import crank_support_p0
-from ..transmission.geometry import RVGeometry, geometry_from_design
-from ..transmission.model import ST_BAD_CLEARANCE, negative_clearance
-from ..transmission.orders import MIN_PER_CRANK_REV
-from ..transmission.quasistatic import QuasiStaticSolver, SweepResult
+from ..reducer_20dof import _kernels as K
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.factors import ErrorFactors, negative_clearance
+from ..reducer_20dof.friction import crank_support_p0
+from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
+from ..reducer_20dof.quasistatic import MIN_PER_CRANK_REV, QuasiStaticSolver, SweepResult
 from ._kernels import noload_contacts
 
 #: positions per crank revolution of the no-load sweep (the TE sweep's default is 36, the sign-off's 24)
@@ -76,7 +74,7 @@ class PinRingPreloadModel(Model):
     model's error factors (a study maps them as for the torsion curve: ``same_inputs_as``)."""
 
     status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                      ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+                      L.ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def __init__(self, design: Design | RVGeometry, inputs, *, per_crank_rev: int = DEFAULT_PER_CRANK_REV,
                  harmonic: int = 2, tol_f: float = 1e-5, maxit: int = 200, compliance_chain: bool = True):
@@ -121,9 +119,10 @@ class PinRingPreloadModel(Model):
         (:meth:`contacts`) as the unloaded reducer turns (module docstring). The disc rolls about the pitch point P,
         so pin k slides by λ_k per radian of the output (at the flank or in its groove: the free pin rolls on one,
         slides on the other) against μ_pin F_k; each eccentric and each crank turns by z_b radians against its disc
-        and the carrier (the crank's rate relative to the carrier, (i − 1) z_s/z_p = z_b) against the bearing
-        moments μ P d/2 (the needle row's radial load; the crank resultant plus the preload's equivalent load P0:
-        :mod:`rvtol.models.transmission.friction`'s estimates; each crank's P0 from its own ``preload``, N, where given)."""
+        and the carrier (the crank's rate relative to the carrier, (i − 1) z_s/z_p = z_b) against the bearing moments
+        μ P d/2 (the needle row's radial load; the crank resultant plus the preload's equivalent load P0:
+        :mod:`rvtol.models.reducer_20dof.friction`'s estimates; each crank's P0 from its own ``preload``, N, where
+        given)."""
         fr, zb = self.geometry.friction, self.geometry.z_b
         pins = fr.pin * np.sum(np.maximum(c["force"], 0.0) * c["lam"], axis=1)
         bearings = zb * (fr.needle * 0.5 * fr.needle_bore * np.abs(c["cams"]).sum(axis=1)
@@ -137,7 +136,7 @@ class PinRingPreloadModel(Model):
             return y, STATUS_NONFINITE
         s = self.solver(x)
         if negative_clearance(s.errors):
-            return y, ST_BAD_CLEARANCE
+            return y, L.ST_BAD_CLEARANCE
         r = s.rotation(0.0, self.per_crank_rev)
         if not r.ok:
             return y, r.failure

@@ -12,7 +12,8 @@
     model = "torsion"   # composed study: the torsion-curve stage (default: the only one)
     screening = "screening"   # composed study: the lost-motion stage (default: the only one)
 
-Which models it works on: :mod:`.comparison`; what it computes: :func:`.comparison.screening_comparison`
+Which models it works on: :mod:`.beside_torsion_curve`; what it computes:
+:func:`.beside_torsion_curve.screening_comparison`
 (per-factor rates, the two screening modes beside the torsion-curve lost motion, backlash and elastic
 part on the same reducers, reducers at quantiles of the screening estimate, a scatter plot), laid
 out by :mod:`.texts`.
@@ -28,7 +29,7 @@ from ...options import option
 from ..lost_motion.model import LostMotionModel
 from ..torsion_curve.model import TorsionCurveModel
 from . import texts
-from .comparison import screening_comparison, screening_plan
+from .beside_torsion_curve import screening_comparison, screening_plan
 
 
 class LostMotionScreening(Analysis):

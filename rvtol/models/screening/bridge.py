@@ -8,7 +8,7 @@ geometric part.  To set the two side by side on the *same* reducers, one
 sample's factors must drive both models; this module translates them.
 
 **Doc 001 → 20-DOF** (per sample, linear; every 20-DOF name exists in
-:mod:`rvtol.models.transmission.factors`):
+:mod:`rvtol.models.reducer_20dof.factors`):
 
 ========================  ===============================================  ==========================================
 doc 001 factor            20-DOF factors                                   why
@@ -60,7 +60,7 @@ import numpy as np
 from ...errors import InputError
 from ..lost_motion.model import FACTORS, LostMotionGeometry, LostMotionModel
 from ..torsion_curve.model import CAMS, TorsionCurveModel
-from ..transmission.factors import TABLE3_DELTA_B
+from ..reducer_20dof.factors import TABLE3_DELTA_B
 INVOLUTE = ("E_w", "Delta_a", "Delta_F_r")
 #: reference state and step of the finite differences (mm): clearance-dominated, first order
 RATE_REFERENCE = 0.002

@@ -1,4 +1,5 @@
-"""What the screening comparison says: its prose and the layout of a :class:`.comparison.ScreeningComparison`.
+"""What the screening section says: its prose and the layout of a
+:class:`.beside_torsion_curve.ScreeningComparison`.
 
 ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.screening.analyses`.

@@ -3,7 +3,8 @@
 ==================  ===========================================================================
 kind                what (capability, laid out by :mod:`.texts`)
 ==================  ===========================================================================
-stackup_linear      worst case, RSS and loop signs beside the Monte Carlo (:func:`.linear.linear_stackup`)
+stackup_linear      worst case, RSS and loop signs beside the Monte Carlo
+                    (:func:`rvtol.stacking.chain_conventions.linear_stackup`)
 stackup_graph       picture of the assembly graph, flows, fits, dimensions with sources
                     (:func:`.overview.assembly_overview`)
 stackup_sequences   the same samples through each assembly sequence, side by side
@@ -24,7 +25,7 @@ from ...options import option
 from ...params import Params
 from . import texts
 from .domain_check import check_domains, domain_from_table
-from .linear import check_linearisable, linear_stackup
+from ...stacking.chain_conventions import check_linearisable, linear_stackup
 from .model import StackupModel
 from .overview import assembly_overview
 from .sequences import compare_sequences, sequence_models

@@ -9,7 +9,7 @@ import numpy as np
 
 from ...blocks import Figure, Table, Text, figure_png
 from ...units import label
-from .linear import BASIS
+from ...stacking.chain_conventions import BASIS
 
 GRAPH = "{description}\n\nModel: {model}. Transform T = Trans × Rot ({rotation})."
 EXACT, SMALL = "exact rotation Rz(γ)·Ry(β)·Rx(α)", "small-angle I + [ω]×"

@@ -29,7 +29,7 @@ errors, ``Δr`` stands for ``Δr_p - δr_p`` and ``ΔR`` for ``ΔR_p + δR_p``
 approach at pin ``k`` is ``Δδ_k = l_k β`` with ``β = Δδ_max / r_c'`` and
 ``Δδ_max = w(F_max)``, the Hertz approach (:mod:`.hertz`) of the pin and the
 cycloid at ``φ0`` under ``F_max`` (plus, where the design gives the pin grooves, the
-pin's approach in its groove: :mod:`rvtol.elements.contacts`, in series).  Pins with ``Δδ_k > Δ(φ_k)`` carry::
+pin's approach in its groove: :mod:`rvtol.elements.pin_groove`, in series).  Pins with ``Δδ_k > Δ(φ_k)`` carry::
 
     F_k = F_max (Δδ_k - Δ(φ_k)) / Δδ_max
 

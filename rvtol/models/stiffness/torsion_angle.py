@@ -37,7 +37,7 @@ document's formulas with their ratios made explicit:
 * ``θ2 = i_b Δθ_b`` with ``Δθ_b = β`` the cycloid's elastic rotation and
   ``i_b = 2 T_c / T = (1 - 1/i) z_c / z_p``;
 * ``θ3 = Σ |f_s| δ_s(|f_s|) / T`` over the six turning-arm bearings
-  (:mod:`.bearings`, Palmgren).  ``bearing_kinematics = "tangential"``
+  (:func:`rvtol.elements.rolling_bearings.radial_deflection`, Palmgren).  ``bearing_kinematics = "tangential"``
   instead counts only the rotation of the disc relative to the carrier,
   ``Σ (T_c/(3 a_0)) δ_s / T`` — doc 004's ``θ3 = z_c Δδ_s i_b / (z_p a_0)``
   with the same ``i_b``; equal when the bearing forces are purely tangential;
@@ -88,7 +88,7 @@ import pandas as pd
 
 from ... import units
 from ...errors import SpecError
-from ...elements import bearings, carrier, crankshaft, involute
+from ...elements import carrier, crankshaft, involute, rolling_bearings
 from ...elements.reducer_chain import ChainElements
 from .cycloid_contact import ContactSolution, PinGear, angular_backlash, design_number, first_key, solve_contact
 
@@ -289,7 +289,7 @@ class ReducerStiffness:
             th2 = th2 - th_groove
 
         ld = self.crank_loads(cs, crank_angle)
-        delta = bearings.radial_deflection(ld.bearing_force, self.bearing_rollers, self.bearing_length)
+        delta = rolling_bearings.radial_deflection(ld.bearing_force, self.bearing_rollers, self.bearing_length)
         if self.bearing_kinematics == "tangential":
             th3 = (ld.tangential[:, None] * delta).sum(axis=1) / Tsafe
         else:

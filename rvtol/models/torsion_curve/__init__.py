@@ -3,7 +3,7 @@
 * :mod:`.model` — :class:`TorsionCurve` (one curve and its metrics: rigidity,
   lost motion at ±p % of rated, backlash) and :class:`TorsionCurveModel`
   (``MODELS["torsion_curve"]``);
-* :mod:`.comparison` — curves, clearance sweeps, rigidity and compliance: the 20-DOF
+* :mod:`.beside_analytical_models` — curves, clearance sweeps, rigidity and compliance: the 20-DOF
   curve beside the analytical models;
 * :mod:`.analyses` — ``ANALYSES["torsion_curve"]`` and ``["compliance_breakdown"]``, laid out
   by :mod:`.texts`.

@@ -11,8 +11,8 @@
     clearance_coefficient = 1.5            # doc 001's K (crank-bearing clearance -> circumferential play)
     stiffness_design = "../data/designs/rv80e_stiffness.toml"   # optional: the torsion-angle model beside
 
-Three sections (:func:`.comparison.torsion_curve_study`): the curves (clearance-free and at the spec's
-mean errors) with the maker's figures; lost motion against the crank-bearing and pin clearances beside
+Three sections (:func:`.beside_analytical_models.torsion_curve_study`): the curves (clearance-free and at the
+spec's mean errors) with the maker's figures; lost motion against the crank-bearing and pin clearances beside
 the lost-motion model in both modes; rigidity beside the elastic torsion-angle model with the 20-DOF
 angle split by virtual work.  Laid out by :mod:`.texts`.
 """
@@ -26,9 +26,9 @@ from ...analysis import Analysis, CommonOptions, target_model
 from ...options import option
 from ...blocks import Section
 from ..stiffness.torsion_angle import ReducerStiffness
-from ..transmission.geometry import geometry_from_design
+from ..reducer_20dof.geometry import geometry_from_design
 from . import texts
-from .comparison import compliance_comparison, torsion_curve_study
+from .beside_analytical_models import compliance_comparison, torsion_curve_study
 from .model import TorsionCurveModel
 
 
@@ -92,13 +92,13 @@ class ComplianceBreakdown(Analysis):
     """``[[analysis]] kind = "compliance_breakdown"``: the output angle at a torque split per compliance
     family by virtual work — the 20-DOF model with the design's compliance chain, doc 000's rigid chain
     (its contact laws only) and the elastic torsion-angle model side by side
-    (:func:`.comparison.compliance_comparison`).
+    (:func:`.beside_analytical_models.compliance_comparison`).
 
     Families: :data:`rvtol.elements.reducer_chain.FAMILIES` (stable names; a design scales one with
     ``compliance_scale.<family>``).  The 20-DOF split is :meth:`QuasiStaticSolver.contact_work` at the
     clearance-free, error-free equilibrium (input locked); the torsion-angle model's is its components,
     θ4 split into crankshaft bending and torsion.  A second table lists how each element is reduced to
-    the 20-DOF contacts (:mod:`rvtol.models.transmission.compliance`).
+    the 20-DOF contacts (:mod:`rvtol.models.reducer_20dof.compliance`).
     """
 
     kind, title = "compliance_breakdown", "Compliance chain: output angle per element"

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
-from ..transmission.calibration.measurements import TORSION, load_measurement
+from ..calibration.measurements import TORSION, load_measurement
 from .model import TorsionCurve
 
 #: the figures, in the order :func:`hysteresis_figures` reads them
@@ -34,7 +34,7 @@ def curve_branches(torque: np.ndarray) -> np.ndarray:
 def hysteresis_figures(path, percent: float = 3.0, draws: int = CURVE_DRAWS,
                        seed: int = 0) -> tuple[dict[str, float], dict[str, float]]:
     """The maker's figures (:data:`CURVE_FIGURES`, base units) of a measured hysteresis curve — the calibration's
-    file format (:func:`rvtol.models.transmission.calibration.measurements.load_measurement`: ``torque``, ``angle``,
+    file format (:func:`rvtol.models.calibration.measurements.load_measurement`: ``torque``, ``angle``,
     ``sigma``), the torque in the test's order 0 → +T → −T → 0, T the largest |torque| — read as the 20-DOF model's
     curve is (:meth:`TorsionCurve.metrics <rvtol.models.torsion_curve.model.TorsionCurve.metrics>`: the mid-line),
     the backlash at zero torque itself (a measured loop crosses its play at a finite slope; the model's frictionless

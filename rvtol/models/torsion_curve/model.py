@@ -1,7 +1,7 @@
 """Torsion (hysteresis) curve of the 20-DOF model: input locked, output torque swept.
 
 The test-rig hysteresis measurement, simulated on doc 000's 20-DOF model
-(:mod:`rvtol.models.transmission`, :meth:`QuasiStaticSolver.torsion`): the
+(:mod:`rvtol.models.reducer_20dof`, :meth:`QuasiStaticSolver.torsion`): the
 input is locked at its nominal position and the carrier torque runs
 ``0 → +T_r → −T_r → 0`` quasi-statically (each equilibrium warm-started from
 the previous one), with the clearances and errors of the sample.  From the
@@ -22,11 +22,11 @@ curve, by the maker's definitions (``../shared/REFERENCE.md``):
 * **backlash**: the hysteresis width at zero torque, ``θ_desc(0) − θ_asc(0)`` (REFERENCE's
   "torsion angle at zero torque": the angle between the two branches' zero-torque points).
 
-**Friction** (issue 23; :mod:`rvtol.models.transmission.friction`).  Where the design gives friction
+**Friction** (issue 23; :mod:`rvtol.models.reducer_20dof.friction`).  Where the design gives friction
 coefficients (``[friction]``: pins sliding in their grooves, needle rows, tapered crank-support pairs) the
 loop has a friction width beside its free play: each contact's Coulomb friction, from the normal force the
 model solves, is referred to the output through the reducer's kinematics as the friction torque ``T_f``
-(:func:`rvtol.models.transmission._kernels.friction_torque`), opposing the motion of the branch — rising
+(:func:`rvtol.models.reducer_20dof._kernels.friction_torque`), opposing the motion of the branch — rising
 torque on the loading branches, falling on the unloading one.  The frictionless curve θ₀ is solved as before;
 a point of a branch moving in direction d (+1, −1) at elastic torque ``T_e`` lies at output torque
 ``T = T_e + d T_f(T_e)`` (:func:`friction_loop`: first order, the friction forces' redistribution of the
@@ -64,12 +64,12 @@ support, sun–planet meshes, pins, cycloid–crank bearings, crank–carrier
 bearings, carrier–housing bearing), a contact with elements in series split
 into ``f·δ_i(f)`` per element (crankshaft bending and torsion, the tapered
 crank-support pair, carrier, pin grooves, disc webs, input shaft: the
-design's compliance chain, :mod:`rvtol.models.transmission.compliance`),
+design's compliance chain, :mod:`rvtol.models.reducer_20dof.compliance`),
 exact at equilibrium — the 20-DOF counterpart of doc 004's θ1 … θ5.
 
 ``[model] kind = "torsion_curve"`` (design: a 20-DOF design such as
 ``data/designs/rv80e_te.toml``; factors: those of the transmission-error
-model, :mod:`rvtol.models.transmission.factors`)::
+model, :mod:`rvtol.models.reducer_20dof.factors`)::
 
     percent = 3.0          # lost motion within ±percent % of rated torque
     points = 20            # torque steps per quarter cycle
@@ -94,11 +94,10 @@ from ...errors import InputError
 from ...model import STATUS_NONFINITE, Model, Quantity
 from ...model_kind import ModelKind, require_design
 from ...options import option
-from ..transmission import layout as L
-from ..transmission.factors import ErrorFactors, ErrorState
-from ..transmission.geometry import RVGeometry, geometry_from_design
-from ..transmission.model import ST_BAD_CLEARANCE
-from ..transmission.quasistatic import ContactSolveOptions, QuasiStaticSolver
+from ..reducer_20dof import layout as L
+from ..reducer_20dof.factors import ErrorFactors, ErrorState
+from ..reducer_20dof.geometry import RVGeometry, geometry_from_design
+from ..reducer_20dof.quasistatic import ContactSolveOptions, QuasiStaticSolver
 
 EPSILON = 1e-4           # fraction of rated torque at which the branches are read around zero
 #: fixed-point steps and tolerance (fraction of rated torque) of a reading point on a loop with friction; the elastic
@@ -344,7 +343,7 @@ class TorsionCurveModel(Model):
         self.solver_options = dict(tol_f=float(tol_f), maxit=int(maxit))
         self.friction = bool(friction) and self.geometry.friction is not None and self.geometry.friction.active
         self.status_reasons = {**Model.status_reasons, **L.STATUS_REASONS,
-                               ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
+                               L.ST_BAD_CLEARANCE: "negative bearing clearance in the sample (clearances must be >= 0)"}
 
     def state(self, x) -> ErrorState:
         return self.factors.state(np.asarray(x, dtype=float))
@@ -361,8 +360,8 @@ class TorsionCurveModel(Model):
         clear = np.concatenate([st.err[L.DELTA_B:L.DELTA_B + 6], st.err[L.DELTA_OC:L.DELTA_OC + 3],
                                 st.err[L.DELTA_CA:L.DELTA_CA + 1]])
         if np.any(clear < 0):
-            return TorsionCurve(torque, empty, branch, self.torque, ST_BAD_CLEARANCE,
-                                self.status_reasons[ST_BAD_CLEARANCE])
+            return TorsionCurve(torque, empty, branch, self.torque, L.ST_BAD_CLEARANCE,
+                                self.status_reasons[L.ST_BAD_CLEARANCE])
         solver = QuasiStaticSolver(self.geometry, st, friction=self.friction, **self.solver_options)
         r = solver.torsion(torque)
         if not r.ok:
@@ -484,7 +483,7 @@ class Options(ContactSolveOptions):
                                   positive=True)
     tol_force: float = option(1e-6, "N: the largest residual force at convergence, and the force above which a pin "
                                     "counts as loaded (keep it far below the pin forces)", positive=True)
-    friction: bool = option(True, "the design's contact friction: the loop's width (rvtol.models.transmission.friction)")
+    friction: bool = option(True, "the design's contact friction: the loop's width (rvtol.models.reducer_20dof.friction)")
 
 
 def build(o: Options, design, spec, error) -> TorsionCurveModel:

@@ -1,4 +1,5 @@
-"""What the torsion-curve sections say: their prose and the layout of each result of :mod:`.comparison`.
+"""What the torsion-curve sections say: their prose and the layout of each result of
+:mod:`.beside_analytical_models`.
 
 ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`), named by
 :mod:`rvtol.models.torsion_curve.analyses`.
@@ -13,7 +14,7 @@ CURVES = ("Carrier torque 0 → +{torque:g} → −… → 0 N·m in {points} st
           "(REFERENCE): rigidity b/a between the rated-torque end points, lost motion between the mid-points at "
           "±{percent:g} % rated, backlash = width at zero torque. ")
 FRICTION = ("Coulomb friction of the design's [friction] coefficients opens the loop (friction width at ±{percent:g} %, "
-            "rvtol/models/transmission/friction.py): lost motion reads the mid-points, backlash the width at zero "
+            "rvtol/models/reducer_20dof/friction.py): lost motion reads the mid-points, backlash the width at zero "
             "torque, free play and friction together.")
 NO_FRICTION = ("The model has no friction, so the branches coincide away from zero (hysteresis width ~0) and the curve "
                "jumps across the clearances at zero torque.")
@@ -106,7 +107,7 @@ def compliance(res, o) -> list:
               Figure(figure_png(res.plot()), f"Output angle per element at {Tnm:g} N·m")]
     if res.reductions is not None:
         blocks += [Table(res.reductions, "The compliance elements reduced to the 20-DOF contacts (module "
-                                         "rvtol.models.transmission.compliance)", "{:.4g}"),
+                                         "rvtol.models.reducer_20dof.compliance)", "{:.4g}"),
                    Table(res.sources, "Elements from the design")]
     return blocks
 

@@ -1,7 +1,7 @@
 """Doc 000 (20-DOF transmission error, RV-80E): the sensitivity classes and printed sensitivities.
 
 :func:`te_against_document` sets the document beside rvtol's five-point sensitivities of Δθ_er
-(:func:`rvtol.models.transmission.sensitivity.te_sensitivity`): each factor's class as the document
+(:func:`rvtol.models.transmission_error.sensitivity.te_sensitivity`): each factor's class as the document
 states it against rvtol's class, and the two sensitivities it prints against rvtol's five-point values
 over the same e range (verdicts by :mod:`.printed`).
 """

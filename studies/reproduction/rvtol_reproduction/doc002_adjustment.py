@@ -26,7 +26,7 @@ from .printed import PrintedFigures, ordering_verdict
 # Doc 002 simulates TE "for different Q values" without saying how its final
 # KC errors enter the dynamic model; rvtol's mapping (stated in the report):
 #
-# * the TE model is the RV-80E of doc 000 (``rvtol.models.transmission``; the
+# * the TE model is the RV-80E of doc 000 (``rvtol.models.transmission_error``; the
 #   only RV geometry with a TE model here) standing in for the BX40E;
 # * doc 002's 2-D angles are tilts about the datum x axis (perpendicular to the
 #   reducer axis z).  A tilt δ moves an axis point at axial distance L from the
