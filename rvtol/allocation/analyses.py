@@ -185,8 +185,8 @@ class AllocationAnalysis(Analysis):
         :class:`~rvtol.allocation.AllocationResult`; an analysis that ``requires`` this one reads it from
         ``ctx.results``)."""
         p = self.plan
-        return allocate(p.problem, p.methods, p.costs, ctx.evaluator, ctx.executor, ctx.seed, mc=ctx.mc,
-                        study_problem=p.study_problem)
+        return allocate(p.problem, plan=p.methods, costs=p.costs, evaluate=ctx.evaluator, executor=ctx.executor,
+                        seed=ctx.seed, mc=ctx.mc, study_problem=p.study_problem)
 
     def report(self, result):
         from ..report.sections import Section

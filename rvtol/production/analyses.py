@@ -428,9 +428,9 @@ class SelectiveAssembly(Analysis):
     def compute(self, ctx):
         o, p = self.options, self.plan
         opt = None if o.optimise is None else vars(o.optimise)
-        return compare_grading(ctx.model, p.model, ctx.spec, p.part, o.classes, ctx.mc, ctx.evaluator, ctx.seed,
-                               outputs=p.outputs, requirements=p.requirements, constants=p.constants,
-                               limits=p.grading, stock_ratio=o.stock_ratio, optimise=opt)
+        return compare_grading(ctx.model, model=p.model, spec=ctx.spec, part=p.part, classes=o.classes, mc=ctx.mc,
+                               evaluator=ctx.evaluator, seed=ctx.seed, outputs=p.outputs, requirements=p.requirements,
+                               constants=p.constants, limits=p.grading, stock_ratio=o.stock_ratio, optimise=opt)
 
 
 def _one_or_many(one, many, one_key: str, many_key: str, error) -> list[str] | None:
