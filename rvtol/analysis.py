@@ -10,13 +10,15 @@ An analysis is a thin adapter between a study and one capability of the library:
 * **a plan** — what the capability loads or builds from the options (a measured curve, the model it
   runs, a design's stiffness chain): :meth:`Analysis.prepare` returns it once, when the study loads
   (a frozen dataclass; bad input found there is a located error too), and ``compute`` reads it as
-  ``self.plan``;
+  ``self.plan`` (a ``title`` field of the plan is the section's default title; an ``inputs`` field, role ->
+  ``{"path", "sha256"}``, names the files it read, which the loader records in the study's inputs);
 * **one library call** — ``compute(ctx)`` calls the capability's plain function, which returns a
   result dataclass (``to_frame()``, ``plot()``, ``summary()``); ``ctx`` is the
   :class:`rvtol.study.StudyContext` (the study, its Monte Carlo result ``ctx.mc`` and
   ``ctx.evaluator``, the one way to evaluate a model);
 * **one generic report** — :meth:`Analysis.report` puts the blocks of the capability's layout
-  (``layout(result, options)``, in the capability's ``texts`` module, where its prose lives)
+  (``layout(result, options)``, in the capability's ``texts`` module, where its prose lives;
+  :meth:`Analysis.blocks` calls it, and an analysis whose layout also reads the plan overrides that)
   into a :class:`rvtol.blocks.Section`, and ``result.summary()`` into ``summary.json`` under
   ``analyses.<key>``.
 
@@ -80,7 +82,7 @@ class Analysis(ABC):
         self.options = read_options(self.Options, params, study)
         self.plan = self.prepare(self.options, study, params.error)
         self.key = getattr(self.options, "key", None) or self.kind
-        self.title = getattr(self.options, "title", None) or type(self).title
+        self.title = getattr(self.options, "title", None) or getattr(self.plan, "title", None) or type(self).title
 
     def prepare(self, options, study: "Study", error):
         """What the capability loads or builds from ``options``, made once when the study loads: a frozen
@@ -108,15 +110,20 @@ class Analysis(ABC):
         """The generic report: the capability's layout of ``result`` and its summary."""
         from .blocks import Section
 
-        layout = type(self).layout
-        if layout is None:
-            raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
-        blocks = layout(result, self.options)
+        blocks = self.blocks(result)
         fixes = result.fixes(self.key) if hasattr(result, "fixes") else []
-        sec = Section(self.key, self.title, list(blocks), self.summary(result), fixes=fixes)
+        sec = Section(self.key, self.title, blocks, self.summary(result), fixes=fixes)
         for name, content in self.files(result).items():
             sec.add_file(name, content)
         return sec
+
+    def blocks(self, result) -> list:
+        """The report blocks of ``result``: the capability's layout, ``layout(result, options)`` (an analysis whose
+        layout also reads its plan overrides this, e.g. ``layout(result, self.options, self.plan)``)."""
+        layout = type(self).layout
+        if layout is None:
+            raise TypeError(f"{type(self).__name__} has no layout (set layout = texts.<function>)")
+        return list(layout(result, self.options))
 
     def summary(self, result) -> dict:
         """What summary.json records under ``analyses.<key>`` (default: ``result.summary()``)."""

@@ -348,9 +348,11 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
         akind = t.str("kind")
         cls = analysis_function(akind, file, t.path("kind"))
         try:
-            study.analyses.append(cls(t, study))
+            analysis = cls(t, study)
         except InputError as exc:
             raise exc.located(file=file) from None
+        study.analyses.append(analysis)
+        study.inputs.update(getattr(analysis.plan, "inputs", None) or {})     # the files its plan read
         t.finish()
     try:
         study.analyses = in_dependency_order(study.analyses, tables)

@@ -201,9 +201,9 @@ def test_a_study_names_the_gauge_study_and_reports_it(tmp_path, monkeypatch):
     study = load_study(write(tmp_path / "s.toml", STUDY), progress=False)
     assert any(k.startswith("per_unit_prediction:gauge:") for k in study.inputs)
     (a,) = study.analyses
-    o = a.options
+    o, p = a.options, a.plan
     assert o.coverage_factor == 2.0
-    pred = predict_units(o.model, study.spec, o.units, o.n, evaluator=Evaluator(), requirements=o.requirements,
+    pred = predict_units(p.model, study.spec, p.units, p.n, evaluator=Evaluator(), requirements=p.requirements,
                          seed=9, coverage_factor=o.coverage_factor)
     table = pd.read_csv(io.StringIO(a.files(pred)["per_unit.csv"]))
     # u_play = √2·√(σ²_GRR + 0.09) = 1.178 µm, U = 2.355: R1 play −0.75 within [−3.645, 3.645] -> proven;
@@ -215,7 +215,7 @@ def test_a_study_names_the_gauge_study_and_reports_it(tmp_path, monkeypatch):
     json.dumps(summary)
     assert summary["units"][0]["requirements"][0]["iso14253"]["decision"] == CONFORMANCE_PROVEN
     monkeypatch.setattr(texts, "figure_png", lambda fig: b"")     # the layout, not the rendering of its figures
-    captions = [getattr(b, "caption", "") for b in texts.per_unit(pred, o)]
+    captions = [getattr(b, "caption", "") for b in texts.per_unit(pred, o, p)]
     assert any(c.startswith("Gauge studies") for c in captions)
 
 

@@ -394,7 +394,7 @@ def test_the_study_reads_each_reducers_hysteresis_curve_by_the_makers_definition
                   seed=5)
     v, u = hysteresis_figures(curve)
     study = load_study(toml, progress=False)
-    eol = study.analyses[0].options.eol
+    eol = study.analyses[0].plan.eol
     assert eol.serials == ("R1",) and eol.outputs == ("play",)
     assert eol.value[0, 0] == pytest.approx(units.from_base(v["lost_motion"], "arcmin"), rel=1e-12)
     assert eol.u(0)[0] == pytest.approx(units.from_base(u["lost_motion"], "arcmin"), rel=1e-12)

@@ -25,7 +25,7 @@ and meaning; an example::
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..analysis import Analysis, CommonOptions
@@ -53,17 +53,20 @@ class GAOptions:
     mutation_probability: float = option(0.15, "probability of mutating a gene", min=0.0, max=1.0)
     handling: str = option("feasibility", "constraint handling (Deb's rules or a penalty)", choices=HANDLING)
     penalty: float = option(10.0, "penalty factor (handling = penalty)", positive=True)
-    settings: GASettings = field(init=False)
 
     def complete(self, study, error):
         if self.confirm and self.constraint != "monte_carlo":
             raise error("confirm", "a confirmation sample needs the Monte Carlo constraint (constraint = \"monte_carlo\")")
         try:
-            self.settings = GASettings(population=self.population, generations=self.generations, parents=self.parents,
-                                       elitism=self.elitism, mutation_probability=self.mutation_probability,
-                                       handling=self.handling, penalty=self.penalty, seed=0)
+            ga_settings(self)                       # GASettings checks the keys against each other
         except InputError as exc:
             raise error(exc.key, exc.reason) from None
+
+
+def ga_settings(g: GAOptions) -> GASettings:
+    """The GA's settings of the ``[analysis.ga]`` table (seed 0: :func:`.allocate.allocate` seeds each run)."""
+    return GASettings(population=g.population, generations=g.generations, parents=g.parents, elitism=g.elitism,
+                      mutation_probability=g.mutation_probability, handling=g.handling, penalty=g.penalty, seed=0)
 
 
 @dataclass
@@ -79,6 +82,62 @@ class ParetoOptions:
     scales: list[float] = option([0.5, 0.75, 1.0, 1.5, 2.0], "requirement limits × f about the nominal output",
                                  positive=True)
     ga: bool = option(False, "also run the GA at each scale (expensive)")
+
+
+@dataclass(frozen=True)
+class AllocationPlan:
+    """What an allocation analysis allocates: the problem (``study_problem``: the same with every requirement of the
+    study, when it runs on the study's own model and spec; else None), what :func:`.allocate.allocate` runs
+    (``methods``) and the cost–tolerance curves (``costs``)."""
+
+    problem: object
+    study_problem: object
+    methods: Plan
+    costs: object
+
+
+def allocation_plan(o, study, error) -> AllocationPlan:
+    """The cost curves, the model and spec (the study's or the table's own), the allocated factors and the
+    requirements of an ``allocation`` table ``o``, made into the allocation problem."""
+    from ..spec import requirements_from_tables
+
+    table = load_costs(o.costs)
+    spec, model = _model(o, study)
+    names = None if o.factors == "dependencies" else allocated_factors(spec, o.factors, o.groups, error)
+    reqs = requirements_from_tables(o.requirement) or list(study.requirements)
+    if not reqs:
+        raise error("requirement", "no requirement: give [[analysis.requirement]] or study requirements")
+    try:
+        problem = allocation_problem(model, spec, names, reqs, o.outputs, o.assign, table, o.tie, error)
+        study_problem = (problem.with_requirements(list(study.requirements))
+                         if model is study.model and spec is study.spec and study.requirements else None)
+    except InputError as exc:     # a requirement's error carries its full key; the problem's get ours
+        if exc.key and "[" in exc.key:
+            raise
+        raise error(exc.key, exc.reason) from None
+    g, v = o.ga, o.verify
+    if g.constraint == "monte_carlo":
+        check_requirements_demonstrable(problem.requirements, g.n, lambda why: error("ga.n", why))
+    if v.all_requirements and study_problem is None:
+        raise error("verify.all_requirements", "needs the study's own model, spec and requirements")
+    methods = Plan(o.convex, g.constraint, g.n, g.method, g.confirm, ga_settings(g), v.n, v.all_requirements,
+                   v.all_requirements_n, tuple(o.pareto.scales), o.pareto.ga)
+    return AllocationPlan(problem, study_problem, methods, table)
+
+
+def _model(o, study):
+    """The spec and model the allocation works on: the study's, or the table's own ([analysis.model], spec)."""
+    from ..registry import model_factory
+    from ..spec import load_spec
+
+    spec = load_spec(o.spec) if o.spec is not None else study.spec
+    if o.model is None:
+        return spec, study.model
+    mp = o.model
+    model = model_factory(mp.str("kind"), mp.file)(mp, study.design, spec)
+    mp.finish()
+    model.check_spec(spec)
+    return spec, model
 
 
 class AllocationAnalysis(Analysis):
@@ -105,74 +164,29 @@ class AllocationAnalysis(Analysis):
         ga: GAOptions = option(GAOptions, "the general optimiser (pygad)")
         verify: VerifyOptions = option(VerifyOptions, "the independent Monte Carlo check")
         pareto: ParetoOptions = option(ParetoOptions, "minimum cost against the requirement scale")
-        problem: object = field(init=False)
-        study_problem: object = field(init=False)
-        plan: Plan = field(init=False)
-        table: object = field(init=False)
 
         def complete(self, study, error):
-            table = load_costs(self.costs)
-            spec, model = self._model(study, error)
-            names = None if self.factors == "dependencies" else allocated_factors(spec, self._factors(error),
-                                                                                 self.groups, error)
-            reqs = self._requirements(study, error)
-            try:
-                self.problem = allocation_problem(model, spec, names, reqs, self.outputs, self.assign, table, self.tie,
-                                                  error)
-                self.study_problem = (self.problem.with_requirements(list(study.requirements))
-                                      if model is study.model and spec is study.spec and study.requirements else None)
-            except InputError as exc:     # a requirement's error carries its full key; the problem's get ours
-                if exc.key and "[" in exc.key:
-                    raise
-                raise error(exc.key, exc.reason) from None
-            g, v = self.ga, self.verify
-            if g.constraint == "monte_carlo":
-                check_requirements_demonstrable(self.problem.requirements, g.n, lambda why: error("ga.n", why))
-            if v.all_requirements and self.study_problem is None:
-                raise error("verify.all_requirements", "needs the study's own model, spec and requirements")
-            if self.convex == "none" and g.constraint == "none":
+            if self.spec is not None and self.model is None:
+                raise error("spec", "a spec of its own needs a model of its own ([analysis.model])")
+            f = self.factors
+            if f is not None and f != "dependencies":
+                if not (isinstance(f, list) and all(isinstance(x, str) for x in f)):
+                    raise error("factors", "expected an array of strings (or \"dependencies\")")
+                if not f:
+                    raise error("factors", "expected at least 1 strings, got 0")
+            if self.convex == "none" and self.ga.constraint == "none":
                 raise error("convex", "both optimisers are switched off")
-            self.plan = Plan(self.convex, g.constraint, g.n, g.method, g.confirm, g.settings, v.n, v.all_requirements,
-                             v.all_requirements_n, tuple(self.pareto.scales), self.pareto.ga)
-            self.table = table
 
-        def _model(self, study, error):
-            from ..registry import model_factory
-            from ..spec import load_spec
-
-            spec = load_spec(self.spec) if self.spec is not None else study.spec
-            if self.model is None:
-                if self.spec is not None:
-                    raise error("spec", "a spec of its own needs a model of its own ([analysis.model])")
-                return spec, study.model
-            mp = self.model
-            model = model_factory(mp.str("kind"), mp.file)(mp, study.design, spec)
-            mp.finish()
-            model.check_spec(spec)
-            return spec, model
-
-        def _factors(self, error):
-            if self.factors is not None and not (isinstance(self.factors, list)
-                                                 and all(isinstance(x, str) for x in self.factors)):
-                raise error("factors", "expected an array of strings (or \"dependencies\")")
-            if self.factors is not None and not self.factors:
-                raise error("factors", "expected at least 1 strings, got 0")
-            return self.factors
-
-        def _requirements(self, study, error):
-            from ..spec import requirements_from_tables
-
-            reqs = requirements_from_tables(self.requirement) or list(study.requirements)
-            if not reqs:
-                raise error("requirement", "no requirement: give [[analysis.requirement]] or study requirements")
-            return reqs
+    def prepare(self, o, study, error) -> AllocationPlan:
+        return allocation_plan(o, study, error)
 
     def compute(self, ctx):
         """The :class:`~rvtol.allocation.Allocation` of this study (its ``by_method``: method ->
         :class:`~rvtol.allocation.AllocationResult`; an analysis that ``requires`` this one reads it from
         ``ctx.results``)."""
-        o = self.options
-        return allocate(o.problem, o.plan, o.table, ctx.evaluator, ctx.executor, ctx.seed, ctx.mc, o.study_problem)
+        p = self.plan
+        return allocate(p.problem, plan=p.methods, costs=p.costs, evaluate=ctx.evaluator, executor=ctx.executor,
+                        seed=ctx.seed, mc=ctx.mc, study_problem=p.study_problem)
 
     def report(self, result):
         from ..blocks import Section

@@ -74,16 +74,26 @@ class ProductionOptions(CommonOptions):
         self.key = self.key or (f"{kind}_{self.name}" if self.name else kind)
         if any(getattr(a, "key", None) == self.key for a in study.analyses):
             raise error("name", f"two analyses with the key {self.key!r}: give each a name")
-        if self.outputs is None:
-            self.outputs = (list(dict.fromkeys(r.output for r in study.requirements))
-                            or list(study.model.output_names))
-        # the study's model restricted to the outputs (a composed study evaluates only the stages they need)
-        model = study.model
-        if hasattr(model, "restricted") and set(self.outputs) != set(model.output_names):
-            model = model.restricted(self.outputs)
-        self.model = model
-        # a population statistic's band (a catalogue's typical value) judges no single unit: not here
-        self.requirements = [r for r in study.requirements if r.output in self.outputs and r.per_unit]
+
+
+@dataclass(frozen=True)
+class ProductionPlan:
+    """The outputs shown (the table's, else those the requirements name, else all), the study's model restricted to
+    them (a composed study evaluates only the stages they need) and the requirements on them that judge a single
+    unit (a population statistic's band, a catalogue's typical value, judges none)."""
+
+    outputs: list[str]
+    model: object
+    requirements: list
+
+
+def _shown(o: ProductionOptions, study) -> tuple[list[str], object, list]:
+    """:class:`ProductionPlan`'s fields for the table ``o``."""
+    outputs = o.outputs or list(dict.fromkeys(r.output for r in study.requirements)) or list(study.model.output_names)
+    model = study.model
+    if hasattr(model, "restricted") and set(outputs) != set(model.output_names):
+        model = model.restricted(outputs)
+    return outputs, model, [r for r in study.requirements if r.output in outputs and r.per_unit]
 
 
 @dataclass
@@ -99,10 +109,11 @@ class GaugeOptions:
                                                          "repeatability when its p-value exceeds this", min=0.001,
                                       max=0.999)
 
-    def complete(self, study, error):
-        self.gauge = Gauge(read_gauge_study(self.file, tolerance=self.tolerance,
-                                            interaction_alpha=self.interaction_alpha),
-                           tuple(self.features), self.calibration_u)
+
+def gauge_of(g: GaugeOptions) -> Gauge:
+    """The gauge a ``[[analysis.parts.gauge]]`` table names: its gauge R&R study read and analysed."""
+    return Gauge(read_gauge_study(g.file, tolerance=g.tolerance, interaction_alpha=g.interaction_alpha),
+                 tuple(g.features), g.calibration_u)
 
 
 @dataclass
@@ -117,6 +128,34 @@ class PartsOptions:
 
 
 # --------------------------------------------------------------------------- per-unit prediction
+@dataclass(frozen=True)
+class PerUnitPlan(ProductionPlan):
+    """And the measured units (kits and part families read), the samples per unit that can show a unit conforms
+    (``needed``) and those drawn (``n``: the table's, else ``needed``), the file of one row per unit and the files
+    read (``inputs``, recorded in summary.json)."""
+
+    units: object
+    needed: int
+    n: int
+    file: str
+    inputs: dict
+
+
+def per_unit_plan(o, study, error) -> PerUnitPlan:
+    """The :class:`PerUnitPlan` of a ``per_unit_prediction`` table ``o``."""
+    outputs, model, requirements = _shown(o, study)
+    units = load_measured_units(study.spec, o.kits, [
+        FamilySource(p.file, tuple(p.slots), p.name, tuple(gauge_of(g) for g in p.gauge or ()), p.mapping)
+        for p in o.parts])
+    try:
+        needed = samples_to_demonstrate(requirements, o.conformance_probability)
+    except ValueError as exc:       # a requirement that asks for P = 1 of one unit
+        raise error("conformance_probability", f"{exc}: give a conformance_probability < 1") from None
+    return PerUnitPlan(outputs, model, requirements, units, needed, o.n if o.n is not None else needed,
+                       f"per_unit_{o.name}.csv" if o.name else "per_unit.csv",
+                       {f"{o.key}:{k}": v for k, v in units.files().items()})
+
+
 class PerUnitPrediction(Analysis):
     kind, title = "per_unit_prediction", "Per-unit prediction from measured parts"
     layout = texts.per_unit
@@ -141,34 +180,73 @@ class PerUnitPrediction(Analysis):
         def complete(self, study, error):
             super().complete(study, error)
             self.title = self.title or (f"{PerUnitPrediction.title}: {self.name}" if self.name else None)
-            self.units = load_measured_units(study.spec, self.kits, [
-                FamilySource(p.file, tuple(p.slots), p.name, tuple(g.gauge for g in p.gauge or ()), p.mapping)
-                for p in self.parts])
-            study.inputs.update({f"{self.key}:{k}": v for k, v in self.units.files().items()})
-            try:
-                self.needed = samples_to_demonstrate(self.requirements, self.conformance_probability)
-            except ValueError as exc:       # a requirement that asks for P = 1 of one unit
-                raise error("conformance_probability", f"{exc}: give a conformance_probability < 1") from None
-            self.n = self.n if self.n is not None else self.needed
-            self.file = f"per_unit_{self.name}.csv" if self.name else "per_unit.csv"
+
+    def prepare(self, o, study, error) -> PerUnitPlan:
+        return per_unit_plan(o, study, error)
 
     def compute(self, ctx):
-        o = self.options
-        return predict_units(o.model, ctx.spec, o.units, o.n, evaluator=ctx.evaluator, requirements=o.requirements,
+        o, p = self.options, self.plan
+        return predict_units(p.model, ctx.spec, p.units, p.n, evaluator=ctx.evaluator, requirements=p.requirements,
                              method=ctx.options.method, seed=ctx.seed, interval=o.interval,
                              probability=o.conformance_probability, coverage_factor=o.coverage_factor)
 
+    def blocks(self, result) -> list:
+        return type(self).layout(result, self.options, self.plan)
+
     def summary(self, result):
+        p = self.plan
         gauges = [{"family": f.name, "features": list(g.features), "u": g.u, "calibration_u": g.calibration_u,
-                   **g.result.summary()} for f in self.options.units.families for g in f.gauges]
-        return {**result.summary(), "n_to_demonstrate": self.options.needed, "file": self.options.file,
+                   **g.result.summary()} for f in p.units.families for g in f.gauges]
+        return {**result.summary(), "n_to_demonstrate": p.needed, "file": p.file,
                 **({"gauges": gauges} if gauges else {})}
 
     def files(self, result):
-        return {self.options.file: result.unit_frame().to_csv(index=False)}
+        return {self.plan.file: result.unit_frame().to_csv(index=False)}
 
 
 # --------------------------------------------------------------------------- per-serial update
+@dataclass(frozen=True)
+class PerSerialPlan(PerUnitPlan):
+    """And the end-of-line records read (its outputs are among ``outputs``: the readings' outputs are evaluated
+    too)."""
+
+    eol: object
+
+
+def per_serial_plan(o, study, error) -> PerSerialPlan:
+    """The :class:`PerSerialPlan` of a ``per_serial_update`` table ``o``: the per-unit plan, the end-of-line
+    records (a table or a folder of curves) checked against the units, and the samples per unit the update needs."""
+    unit = per_unit_plan(o, study, error)
+    if o.curves is not None:
+        try:
+            eol = read_end_of_line_curves(o.curves, o.curve_outputs, study.model, o.percent, figures=curve_reader())
+        except InputError as exc:
+            if exc.file is not None:        # a curve file's own error names that file
+                raise
+            raise error(exc.key, exc.reason) from None      # a key of this analysis: located as such
+    else:
+        eol = read_end_of_line(o.end_of_line, study.model)
+    check_serials(eol, unit.units)
+    outputs, model = unit.outputs, unit.model
+    extra = [out for out in eol.outputs if out not in outputs]
+    if extra:                                   # the readings' outputs are evaluated too
+        outputs = outputs + extra
+        model = study.model.restricted(outputs) if hasattr(study.model, "restricted") else study.model
+    d = min(o.hidden, len(study.spec)) + len(eol.outputs)
+    need = min_samples(d) if o.update == "factors" else len(eol.outputs) + 2
+    if o.n is not None and o.n < need:
+        raise error("n", f"{o.n} samples per unit: the surrogate in {d} coordinates ({o.hidden} hidden "
+                         f"factors, {len(eol.outputs)} readings' directions) is fitted on the prior samples "
+                         f"and needs n >= {need}")
+    n = max(unit.n, need)
+    if o.update == "factors" and posterior_draws(o.walkers, o.steps, o.chains) < n:
+        raise error("n", f"{n} posterior draws per unit, the sampler keeps "
+                         f"{posterior_draws(o.walkers, o.steps, o.chains)} (chains · walkers · "
+                         "steps/2): give more steps or walkers, or a smaller n")
+    inputs = {**unit.inputs, f"{o.key}:end_of_line": {"path": eol.file, "sha256": eol.sha256}}
+    return PerSerialPlan(outputs, model, unit.requirements, unit.units, unit.needed, n, unit.file, inputs, eol)
+
+
 class PerSerialUpdate(PerUnitPrediction):
     kind, title = "per_serial_update", "Per-serial update from the end-of-line test"
     layout = texts.per_serial
@@ -196,46 +274,20 @@ class PerSerialUpdate(PerUnitPrediction):
         chains: int = option(CHAINS, "independent ensembles (the split-R̂ compares them)", min=2, max=16)
 
         def complete(self, study, error):
-            given_n = self.n
             super().complete(study, error)
             self.title = self.title or (f"{PerSerialUpdate.title}: {self.name}" if self.name else None)
             if (self.end_of_line is None) == (self.curves is None):
                 raise error("end_of_line", "give end_of_line (a table of readings) or curves (a folder of curves)")
-            if self.curves is not None:
-                if not self.curve_outputs:
-                    raise error("curve_outputs", "curves need curve_outputs: the study output of each figure")
-                try:
-                    self.eol = read_end_of_line_curves(self.curves, self.curve_outputs, study.model, self.percent,
-                                                       figures=curve_reader())
-                except InputError as exc:
-                    if exc.file is not None:        # a curve file's own error names that file
-                        raise
-                    raise error(exc.key, exc.reason) from None      # a key of this analysis: located as such
-            else:
-                self.eol = read_end_of_line(self.end_of_line, study.model)
-            check_serials(self.eol, self.units)
-            study.inputs[f"{self.key}:end_of_line"] = {"path": self.eol.file, "sha256": self.eol.sha256}
-            extra = [o for o in self.eol.outputs if o not in self.outputs]
-            if extra:                                   # the readings' outputs are evaluated too
-                self.outputs = self.outputs + extra
-                model = study.model
-                self.model = model.restricted(self.outputs) if hasattr(model, "restricted") else model
-            d = min(self.hidden, len(study.spec)) + len(self.eol.outputs)
-            need = min_samples(d) if self.update == "factors" else len(self.eol.outputs) + 2
-            if given_n is not None and given_n < need:
-                raise error("n", f"{given_n} samples per unit: the surrogate in {d} coordinates ({self.hidden} hidden "
-                                 f"factors, {len(self.eol.outputs)} readings' directions) is fitted on the prior samples "
-                                 f"and needs n >= {need}")
-            self.n = max(self.n, need)
-            if self.update == "factors" and posterior_draws(self.walkers, self.steps, self.chains) < self.n:
-                raise error("n", f"{self.n} posterior draws per unit, the sampler keeps "
-                                 f"{posterior_draws(self.walkers, self.steps, self.chains)} (chains · walkers · "
-                                 "steps/2): give more steps or walkers, or a smaller n")
+            if self.curves is not None and not self.curve_outputs:
+                raise error("curve_outputs", "curves need curve_outputs: the study output of each figure")
+
+    def prepare(self, o, study, error) -> PerSerialPlan:
+        return per_serial_plan(o, study, error)
 
     def compute(self, ctx):
-        o = self.options
-        return update_serials(o.model, ctx.spec, o.units, o.eol, o.n, evaluator=ctx.evaluator,
-                              requirements=o.requirements, method=ctx.options.method, seed=ctx.seed,
+        o, p = self.options, self.plan
+        return update_serials(p.model, ctx.spec, p.units, p.eol, p.n, evaluator=ctx.evaluator,
+                              requirements=p.requirements, method=ctx.options.method, seed=ctx.seed,
                               interval=o.interval, probability=o.conformance_probability,
                               coverage_factor=o.coverage_factor, update=o.update, hidden=o.hidden,
                               walkers=o.walkers, steps=o.steps,
@@ -248,6 +300,86 @@ class OptimiseOptions:
     classes: int = option(3, "the number of classes whose limits are searched", min=2, max=20)
     n: int = option(300, "size of the search's own design (sub-stream selective_optimise)", min=20)
     max_evaluations: int = option(40, "model evaluations of the search (Nelder–Mead)", min=2)
+
+
+@dataclass(frozen=True)
+class SelectivePlan(ProductionPlan):
+    """And the graded part (factors, supply, matching rules), the design numbers its target expressions name
+    (``constants``) and the proposed grading of ``limits`` (None: none)."""
+
+    part: GradedPart
+    constants: dict
+    grading: Classes | None
+
+
+def selective_plan(o, study, error) -> SelectivePlan:
+    """The :class:`SelectivePlan` of a ``selective_assembly`` table ``o`` (its keys checked by ``complete``)."""
+    outputs, model, requirements = _shown(o, study)
+    spec = study.spec
+    names = _one_or_many(o.factor, o.factors, "factor", "factors", error)
+    supply = Supply(spec.factor(names[0]))
+    if o.supply is not None:
+        o.supply.data.setdefault("name", names[0])
+        supply = Supply(factor_from_params(o.supply))
+    for f in names:
+        if units.dimension(spec.factor(f).unit) != units.dimension(supply.factor.unit):
+            raise error("supply", f"the supply's unit {supply.factor.unit!r} does not fit factor {f!r}")
+    targets = _one_or_many(o.target, o.targets, "target", "targets", error)
+    constants = {}
+    if targets is not None:
+        rules = _target_rules(o, study, names, targets, constants, error)
+    else:
+        rules = _match_rules(o, spec, names, _one_or_many(o.match, o.match_factors, "match", "match_factors", error),
+                             error)
+    try:
+        part = GradedPart(tuple(names), supply, tuple(rules))
+    except ValueError as exc:
+        raise error("target" if targets is not None else "match", str(exc)) from None
+    grading = None
+    if o.limits is not None:
+        try:
+            grading = Classes.from_limits(units.to_base(np.asarray(o.limits), supply.factor.unit))
+        except ValueError:
+            raise error("limits", f"class limits must increase strictly, got {o.limits}") from None
+        p = grading.probabilities(supply)
+        if np.any(p <= 0):
+            raise error("limits", f"class {int(np.argmin(p)) + 1} holds no part of the supply "
+                                  f"({supply.factor.describe()})")
+    if o.optimise is not None and not requirements:
+        raise error("optimise", "optimising the class limits needs requirements on the outputs (the yield)")
+    return SelectivePlan(outputs, model, requirements, part, constants, grading)
+
+
+def _target_rules(o, study, names, targets, constants: dict, error) -> list:
+    """The target rule of each graded factor; the design numbers the expressions name go into ``constants``."""
+    key = "targets" if o.targets is not None else "target"
+    if len(targets) != len(names):
+        raise error(key, f"{len(targets)} targets for {len(names)} graded factors")
+    known = known_names(study.model, study.spec)
+    rules = []
+    for t in targets:
+        try:
+            e = Expression.parse(t)
+            constants.update(design_numbers([m for m in e.names if m not in known], study.design))
+        except InputError as exc:
+            raise error(key, exc.reason) from None
+        bad = [m for m in e.names if m not in known and m not in constants]
+        if bad:
+            raise error(key, f"unknown name {bad[0]!r} in {t!r} (a factor of the spec, a mapped quantity or "
+                             "a design number design.<key>)")
+        rules.append(TargetRule(e))
+    return rules
+
+
+def _match_rules(o, spec, names, match, error) -> list:
+    """The class-to-class rule of each graded factor with its mating part."""
+    key = "match_factors" if o.match_factors is not None else "match"
+    if len(match) != len(names):
+        raise error(key, f"{len(match)} mating parts for {len(names)} graded factors")
+    for m in match:
+        if m not in spec.names:
+            raise error(key, f"unknown factor {m!r}")
+    return [ClassToClassRule(m, Supply(spec.factor(m))) for m in match]
 
 
 class SelectiveAssembly(Analysis):
@@ -279,80 +411,26 @@ class SelectiveAssembly(Analysis):
         def complete(self, study, error):
             super().complete(study, error)
             self.title = self.title or (f"{SelectiveAssembly.title}: {self.name}" if self.name else None)
-            spec = study.spec
             names = _one_or_many(self.factor, self.factors, "factor", "factors", error)
             if not names:
                 raise error("factor", "missing required key (the graded part's size: a factor of the spec)")
             if len(set(names)) != len(names):
                 raise error("factors", "a factor is named twice")
-            supply = Supply(spec.factor(names[0]))
-            if self.supply is not None:
-                self.supply.data.setdefault("name", names[0])
-                supply = Supply(factor_from_params(self.supply))
-            for f in names:
-                if units.dimension(spec.factor(f).unit) != units.dimension(supply.factor.unit):
-                    raise error("supply", f"the supply's unit {supply.factor.unit!r} does not fit factor {f!r}")
             targets = _one_or_many(self.target, self.targets, "target", "targets", error)
             match = _one_or_many(self.match, self.match_factors, "match", "match_factors", error)
             if (targets is None) == (match is None):
                 raise error("target", "give the matching rule: target (a target size) or match (class to class)")
-            self.constants = {}
-            if targets is not None:
-                rules = self._target_rules(study, names, targets, error)
-            else:
-                rules = self._match_rules(spec, names, match, error)
-            try:
-                self.part = GradedPart(tuple(names), supply, tuple(rules))
-            except ValueError as exc:
-                raise error("target" if targets is not None else "match", str(exc)) from None
             self.classes = sorted(set(self.classes))
-            self.grading = None
-            if self.limits is not None:
-                try:
-                    self.grading = Classes.from_limits(units.to_base(np.asarray(self.limits), supply.factor.unit))
-                except ValueError:
-                    raise error("limits", f"class limits must increase strictly, got {self.limits}") from None
-                p = self.grading.probabilities(supply)
-                if np.any(p <= 0):
-                    raise error("limits", f"class {int(np.argmin(p)) + 1} holds no part of the supply "
-                                          f"({supply.factor.describe()})")
-            if self.optimise is not None and not self.requirements:
-                raise error("optimise", "optimising the class limits needs requirements on the outputs (the yield)")
 
-        def _target_rules(self, study, names, targets, error):
-            key = "targets" if self.targets is not None else "target"
-            if len(targets) != len(names):
-                raise error(key, f"{len(targets)} targets for {len(names)} graded factors")
-            known = known_names(study.model, study.spec)
-            rules = []
-            for t in targets:
-                try:
-                    e = Expression.parse(t)
-                    self.constants.update(design_numbers([m for m in e.names if m not in known], study.design))
-                except InputError as exc:
-                    raise error(key, exc.reason) from None
-                bad = [m for m in e.names if m not in known and m not in self.constants]
-                if bad:
-                    raise error(key, f"unknown name {bad[0]!r} in {t!r} (a factor of the spec, a mapped quantity or "
-                                     "a design number design.<key>)")
-                rules.append(TargetRule(e))
-            return rules
-
-        def _match_rules(self, spec, names, match, error):
-            key = "match_factors" if self.match_factors is not None else "match"
-            if len(match) != len(names):
-                raise error(key, f"{len(match)} mating parts for {len(names)} graded factors")
-            for m in match:
-                if m not in spec.names:
-                    raise error(key, f"unknown factor {m!r}")
-            return [ClassToClassRule(m, Supply(spec.factor(m))) for m in match]
+    def prepare(self, o, study, error) -> SelectivePlan:
+        return selective_plan(o, study, error)
 
     def compute(self, ctx):
-        o = self.options
+        o, p = self.options, self.plan
         opt = None if o.optimise is None else vars(o.optimise)
-        return compare_grading(ctx.model, o.model, ctx.spec, o.part, o.classes, ctx.mc, ctx.evaluator, ctx.seed,
-                               outputs=o.outputs, requirements=o.requirements, constants=o.constants,
-                               limits=o.grading, stock_ratio=o.stock_ratio, optimise=opt)
+        return compare_grading(ctx.model, model=p.model, spec=ctx.spec, part=p.part, classes=o.classes, mc=ctx.mc,
+                               evaluator=ctx.evaluator, seed=ctx.seed, outputs=p.outputs, requirements=p.requirements,
+                               constants=p.constants, limits=p.grading, stock_ratio=o.stock_ratio, optimise=opt)
 
 
 def _one_or_many(one, many, one_key: str, many_key: str, error) -> list[str] | None:

@@ -1,8 +1,10 @@
 """What the production sections say: their prose and the layout of each result as report blocks.
 
 ``per_unit`` lays out a :class:`~rvtol.production.per_unit.UnitPredictions` (the per-unit prediction from
-measured parts), ``selective`` a :class:`~rvtol.production.grading.Grading` (selective assembly); the
-analyses (:mod:`rvtol.production.analyses`) name them.
+measured parts) with the analysis' options and plan (``per_unit(result, options, plan)``: the measured units, the
+samples per unit, the outputs shown; ``per_serial`` likewise), ``selective`` a
+:class:`~rvtol.production.grading.Grading` (selective assembly); the analyses (:mod:`rvtol.production.analyses`)
+name them.
 """
 from __future__ import annotations
 
@@ -42,20 +44,20 @@ UNIT_PLOT = ("{output}: per-unit median and {interval:.0%} prediction interval, 
              "output's requirement(s)")
 
 
-def per_unit(res, o) -> list:
-    units = o.units
+def per_unit(res, o, p) -> list:
+    units = p.units
     fams = ", ".join(f"{f.name} ({len(f.serials)} parts, {len(f.columns)} features, slots {', '.join(f.slots)})"
                      for f in units.families)
     counts = res.counts()
     blocks = [Text(PER_UNIT.format(
-        units=len(units), kits=Path(units.kit_file).name, families=fams, n=o.n,
+        units=len(units), kits=Path(units.kit_file).name, families=fams, n=p.n,
         probability=POPULATION if o.conformance_probability is None else ONE_UNIT.format(p=o.conformance_probability),
         conforms=counts["conforms"], not_conform=counts["does not conform"], undecided=counts["undecided"],
-        k=res.coverage_factor, file=o.file))]
-    if o.n < o.needed:
-        blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
+        k=res.coverage_factor, file=p.file))]
+    if p.n < p.needed:
+        blocks.append(Text(TOO_FEW.format(n=p.n, needed=p.needed)))
     outs = res.output_frame()
-    outs = outs[outs["output"].isin(o.outputs)]
+    outs = outs[outs["output"].isin(p.outputs)]
     gauges = units.gauge_frame()
     if gauges is not None:
         blocks.append(Table(gauges, GAUGES))
@@ -64,7 +66,7 @@ def per_unit(res, o) -> list:
                    confidence=res.requirements[0].confidence if res.requirements else 0.95)),
                Table(outs, PREDICTIONS.format(interval=o.interval))]
     blocks += [Figure(figure_png(res.plot(out)), UNIT_PLOT.format(output=out, interval=o.interval))
-               for out in o.outputs]
+               for out in p.outputs]
     return blocks
 
 
@@ -107,20 +109,20 @@ SERIAL_PLOT = ("{output}: per reducer the prior interval (from its measured part
                "test and the reading")
 
 
-def per_serial(res, o) -> list:
-    units = o.units
+def per_serial(res, o, p) -> list:
+    units = p.units
     fams = ", ".join(f"{f.name}: {len(f.serials)} parts" for f in units.families)
     counts, before = res.counts(), res.prior.counts()
     method = BY_OUTPUTS if o.update == "outputs" else BY_FACTORS.format(
-        n=o.n, hidden=o.hidden, chains=o.chains, walkers=o.walkers, steps=o.steps, r_hat=R_HAT_MAX, ess=ESS_MIN)
+        n=p.n, hidden=o.hidden, chains=o.chains, walkers=o.walkers, steps=o.steps, r_hat=R_HAT_MAX, ess=ESS_MIN)
     blocks = [Text(PER_SERIAL.format(
         units=len(units), kits=Path(units.kit_file).name, families=fams, updated=len(res.updates),
         eol=Path(res.eol.file).name, read=", ".join(f"{q} [{u}] ± {s:.3g}" for q, u, s in
                                                     zip(res.eol.outputs, res.eol.units, res.eol.uncertainty)),
-        n=o.n, method=method, k=res.posterior.coverage_factor, conforms=counts["conforms"], not_conform=counts["does not conform"],
-        undecided=counts["undecided"], before=", ".join(f"{v} {k}" for k, v in before.items()), file=o.file))]
-    if o.n < o.needed:
-        blocks.append(Text(TOO_FEW.format(n=o.n, needed=o.needed)))
+        n=p.n, method=method, k=res.posterior.coverage_factor, conforms=counts["conforms"], not_conform=counts["does not conform"],
+        undecided=counts["undecided"], before=", ".join(f"{v} {k}" for k, v in before.items()), file=p.file))]
+    if p.n < p.needed:
+        blocks.append(Text(TOO_FEW.format(n=p.n, needed=p.needed)))
     conflicts = [f"{u} ({', '.join(up.conflict)})" for u, up in res.updates.items() if up.conflict]
     if conflicts:
         blocks.append(Text(CONFLICT.format(units="; ".join(conflicts), k=CONFLICT_Z)))
@@ -133,7 +135,7 @@ def per_serial(res, o) -> list:
                Table(res.posterior.verdict_table(), VERDICTS.format(
                    confidence=res.posterior.requirements[0].confidence if res.posterior.requirements else 0.95)),
                Table(res.output_frame(), SERIAL_OUTPUTS.format(interval=o.interval))]
-    blocks += [Figure(figure_png(res.plot(out)), SERIAL_PLOT.format(output=out)) for out in o.outputs]
+    blocks += [Figure(figure_png(res.plot(out)), SERIAL_PLOT.format(output=out)) for out in p.outputs]
     return blocks
 
 

@@ -32,13 +32,28 @@ class SensitivityOptions(CommonOptions):
     confidence: float | None = option(None, "confidence level of the intervals (default: the report's)", min=0.5,
                                       max=0.999999)
 
-    def complete(self, study, error):
-        if self.outputs is None:
-            self.outputs = [study.model.outputs[0].name]
+
+@dataclass(frozen=True)
+class SensitivityPlan:
+    """The outputs a sensitivity analysis works on: the table's, else its default from the study's model."""
+
+    outputs: list[str]
 
 
 class _Sensitivity(Analysis):
-    """The study-dependent defaults every sensitivity analysis shares."""
+    """The study-dependent defaults every sensitivity analysis shares; its layouts read the plan
+    (``layout(result, options, plan)``)."""
+
+    def prepare(self, o, study, error) -> SensitivityPlan:
+        return SensitivityPlan(o.outputs if o.outputs is not None else self.default_outputs(study))
+
+    @staticmethod
+    def default_outputs(study) -> list[str]:
+        """The outputs when the table names none: the model's first."""
+        return [study.model.outputs[0].name]
+
+    def blocks(self, result) -> list:
+        return list(type(self).layout(result, self.options, self.plan))
 
     def seed(self, ctx):
         return ctx.seed if self.options.seed is None else self.options.seed
@@ -61,7 +76,8 @@ class LocalSensitivity(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return five_point(ctx.model, ctx.spec, o.factors, o.outputs, o.percent, o.abs_step or None, ctx.evaluator)
+        return five_point(ctx.model, ctx.spec, factors=o.factors, outputs=self.plan.outputs, percent=o.percent,
+                          abs_step=o.abs_step or None, evaluate=ctx.evaluator)
 
 
 class SensitivityCurve(_Sensitivity):
@@ -77,7 +93,6 @@ class SensitivityCurve(_Sensitivity):
         together: bool = option(False, "set every listed factor to e at once (else one at a time)")
 
         def complete(self, study, error):
-            super().complete(study, error)
             if self.factors is None:
                 raise error("factors", "missing required key (the factors whose curve to draw)")
             if any(m == 0 for m in self.magnitudes):
@@ -96,8 +111,9 @@ class SensitivityCurve(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return sensitivity_curve(ctx.model, ctx.spec, o.factors, o.magnitudes, o.unit, o.outputs, o.percent, o.together,
-                                 ctx.evaluator)
+        return sensitivity_curve(ctx.model, ctx.spec, factors=o.factors, magnitudes=o.magnitudes, unit=o.unit,
+                                 outputs=self.plan.outputs, percent=o.percent, together=o.together,
+                                 evaluate=ctx.evaluator)
 
 
 class Contributions(_Sensitivity):
@@ -110,8 +126,8 @@ class Contributions(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return linearised_contributions(ctx.model, ctx.spec, o.outputs, o.factors, o.percent, ctx.evaluator,
-                                        ctx.mc.statistics())
+        return linearised_contributions(ctx.model, ctx.spec, outputs=self.plan.outputs, factors=o.factors,
+                                        percent=o.percent, evaluate=ctx.evaluator, mc_statistics=ctx.mc.statistics())
 
 
 # --------------------------------------------------------------------------- global
@@ -128,8 +144,9 @@ class Sobol(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return gs.sobol(ctx.model, ctx.spec, o.n, o.factors, o.outputs, o.second_order, self.seed(ctx),
-                        o.num_resamples, self.confidence(ctx), ctx.evaluator)
+        return gs.sobol(ctx.model, ctx.spec, n=o.n, factors=o.factors, outputs=self.plan.outputs,
+                        second_order=o.second_order, seed=self.seed(ctx), num_resamples=o.num_resamples,
+                        confidence=self.confidence(ctx), evaluate=ctx.evaluator)
 
 
 class Morris(_Sensitivity):
@@ -144,8 +161,9 @@ class Morris(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return gs.morris(ctx.model, ctx.spec, o.trajectories, o.levels, o.factors, o.outputs, self.seed(ctx),
-                         o.num_resamples, self.confidence(ctx), ctx.evaluator)
+        return gs.morris(ctx.model, ctx.spec, trajectories=o.trajectories, levels=o.levels, factors=o.factors,
+                         outputs=self.plan.outputs, seed=self.seed(ctx), num_resamples=o.num_resamples,
+                         confidence=self.confidence(ctx), evaluate=ctx.evaluator)
 
 
 class Fast(_Sensitivity):
@@ -164,7 +182,6 @@ class Fast(_Sensitivity):
         num_resamples: int = option(100, "bootstrap resamples of the intervals", min=10)
 
         def complete(self, study, error):
-            super().complete(study, error)
             efast = self.method == "efast"
             self.M = self.M if self.M is not None else (4 if efast else 10)
             self.n = self.n if self.n is not None else (1024 if efast else 2048)
@@ -172,12 +189,14 @@ class Fast(_Sensitivity):
                 raise error("n", f"must be > 4·M² = {4 * self.M ** 2}, got {self.n}")
 
     def compute(self, ctx):
-        o, ev, seed, conf = self.options, ctx.evaluator, self.seed(ctx), self.confidence(ctx)
+        o = self.options
+        args = dict(n=o.n, M=o.M, factors=o.factors, outputs=self.plan.outputs, seed=self.seed(ctx),
+                    num_resamples=o.num_resamples, confidence=self.confidence(ctx), evaluate=ctx.evaluator)
         if o.method == "efast":
-            return gs.fast(ctx.model, ctx.spec, o.n, o.M, o.factors, o.outputs, seed, o.num_resamples, conf, ev)
+            return gs.fast(ctx.model, ctx.spec, **args)
         given = o.samples == "monte_carlo"
-        return gs.rbd_fast(ctx.model, ctx.spec, o.n, o.M, o.factors, o.outputs, seed,
-                           ctx.mc.samples if given else None, ctx.mc.Y if given else None, o.num_resamples, conf, ev)
+        return gs.rbd_fast(ctx.model, ctx.spec, samples=ctx.mc.samples if given else None,
+                           Y=ctx.mc.Y if given else None, **args)
 
 
 class Delta(_Sensitivity):
@@ -194,7 +213,6 @@ class Delta(_Sensitivity):
         num_resamples: int = option(50, "bootstrap resamples of the intervals", min=10)
 
         def complete(self, study, error):
-            super().complete(study, error)
             given = self.samples == "monte_carlo"
             if self.n is None:
                 self.n = DELTA_DEFAULT_N if given else 2048
@@ -205,7 +223,7 @@ class Delta(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        args = dict(factors=o.factors, outputs=o.outputs, seed=self.seed(ctx), num_resamples=o.num_resamples,
+        args = dict(factors=o.factors, outputs=self.plan.outputs, seed=self.seed(ctx), num_resamples=o.num_resamples,
                     confidence=self.confidence(ctx), evaluate=ctx.evaluator, executor=ctx.executor)
         if o.samples == "fresh":
             return gs.delta(ctx.model, ctx.spec, o.n, **args)
@@ -223,8 +241,9 @@ class GivenData(_Sensitivity):
 
     def compute(self, ctx):
         o = self.options
-        return given_data(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, o.factors, o.outputs, self.seed(ctx),
-                          o.classes, o.num_resamples, self.confidence(ctx))
+        return given_data(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, factors=o.factors, outputs=self.plan.outputs,
+                          seed=self.seed(ctx), classes=o.classes, num_resamples=o.num_resamples,
+                          confidence=self.confidence(ctx))
 
 
 class PCE(_Sensitivity):
@@ -252,8 +271,8 @@ class PCE(_Sensitivity):
         o = self.options
         fit = {k: getattr(o, k) for k in ("max_degree", "q", "max_interaction", "method") if getattr(o, k) is not None}
         fit.update(map=ctx.evaluator.map, workers=ctx.evaluator.workers)     # the degrees side by side
-        return pce_given(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, o.n or None, o.factors, o.outputs,
-                         self.seed(ctx), germs=o.germs, holdout=o.holdout, ci=o.ci, num_resamples=o.num_resamples,
+        return pce_given(ctx.model, ctx.spec, ctx.mc.samples, ctx.mc.Y, n=o.n or None, factors=o.factors,
+                         outputs=self.plan.outputs, seed=self.seed(ctx), germs=o.germs, holdout=o.holdout, ci=o.ci, num_resamples=o.num_resamples,
                          confidence=self.confidence(ctx), min_q2=o.min_q2, on_poor_fit=o.on_poor_fit,
                          second_order=o.second_order, **fit)
 
@@ -275,12 +294,13 @@ class SensitivityMatrix(_Sensitivity):
         n: int = option(64, "Sobol base samples", min=2, power_of_two=True)
         num_resamples: int = option(100, "bootstrap resamples of the intervals", min=10)
 
-        def complete(self, study, error):
-            if self.outputs is None:
-                req = [r.output for r in study.requirements]
-                self.outputs = list(dict.fromkeys(req)) or list(study.model.output_names)
+    @staticmethod
+    def default_outputs(study) -> list[str]:
+        """Every output a requirement names, else every output."""
+        return list(dict.fromkeys(r.output for r in study.requirements)) or list(study.model.output_names)
 
     def compute(self, ctx):
         o = self.options
-        return sensitivity_matrix(ctx.model, ctx.spec, o.outputs, o.factors, o.percent, o.top, o.n, self.seed(ctx),
-                                  o.num_resamples, self.confidence(ctx), ctx.evaluator, ctx.mc)
+        return sensitivity_matrix(ctx.model, ctx.spec, outputs=self.plan.outputs, factors=o.factors, percent=o.percent,
+                                  top=o.top, n=o.n, seed=self.seed(ctx), num_resamples=o.num_resamples,
+                                  confidence=self.confidence(ctx), evaluate=ctx.evaluator, mc=ctx.mc)

@@ -1,7 +1,7 @@
 """What the sensitivity sections say: their prose and the layout of each result as report blocks.
 
-One function per analysis kind, ``layout(result, options) -> list of blocks`` (:mod:`rvtol.blocks`:
-Text, Table, Figure); the analyses (:mod:`rvtol.sensitivity.analyses`) name them, the generic report
+One function per analysis kind, ``layout(result, options, plan) -> list of blocks`` (:mod:`rvtol.blocks`:
+Text, Table, Figure; ``plan``: the analysis' :class:`~rvtol.sensitivity.analyses.SensitivityPlan`); the analyses (:mod:`rvtol.sensitivity.analyses`) name them, the generic report
 (:meth:`rvtol.analysis.Analysis.report`) puts the blocks into a section.
 """
 from __future__ import annotations
@@ -66,19 +66,19 @@ def notes(items) -> list[Text]:
 
 
 # --------------------------------------------------------------------------- local
-def local(res, o) -> list:
+def local(res, o, p) -> list:
     blocks = [Text(LOCAL.format(percent=o.percent))]
-    for out in o.outputs:
+    for out in p.outputs:
         blocks += [Table(res.table(out), f"Five-point sensitivities of {out} (sign: + the output grows with the "
                                          "factor)", "{:.4g}"),
                    Figure(figure_png(res.plot(out)), f"Tornado chart of {out} from the local sensitivities")]
     return blocks + notes(res.notes)
 
 
-def curve(res, o) -> list:
+def curve(res, o, p) -> list:
     how = "every listed factor set to e at once" if o.together else "one factor at a time set to e"
     blocks = [Text(CURVE.format(how=how, percent=o.percent))]
-    for out in o.outputs:
+    for out in p.outputs:
         d = res.frame[res.frame["output"] == out]
         table = d.pivot_table(index="magnitude", columns="factor", values="S", sort=False).reset_index()
         table = table.rename(columns={"magnitude": f"e [{label(d['magnitude_unit'].iloc[0])}]"})
@@ -89,7 +89,7 @@ def curve(res, o) -> list:
     return blocks + notes(res.notes)
 
 
-def contributions(res, o) -> list:
+def contributions(res, o, p) -> list:
     blocks = [Text(CONTRIBUTIONS)]
     stats = res.mc_statistics
     for out in res.outputs:
@@ -151,10 +151,10 @@ def index_table(res, output: str) -> pd.DataFrame:
     return out.sort_values(gs.INDEX_COLUMNS[res.method][-1][0], ascending=False)
 
 
-def global_indices(res, o) -> list:
+def global_indices(res, o, p) -> list:
     blocks = [Text(EXPLAIN[res.method] + f" {res.n_evaluations} model evaluations"
                    + (f" ({res.n_failed} failed)" if res.n_failed else "") + ".")]
-    for out in o.outputs:
+    for out in p.outputs:
         blocks.append(Table(index_table(res, out), f"{gs.TITLES[res.method]} of {out} (CI: {res.confidence:.0%})"))
         if res.second_order is not None:
             s2 = res.second_order[res.second_order["output"] == out].drop(columns="output")
@@ -169,8 +169,8 @@ PCE_VALIDATION = ("output", "reliable", "Q2_loo", "Q2_holdout", "rel_rmse_holdou
                   "n_candidates", "n_samples", "n_holdout")
 
 
-def pce(res, o) -> list:
-    blocks = global_indices(res, o)
+def pce(res, o, p) -> list:
+    blocks = global_indices(res, o, p)
     v = res.validation
     cols = [c for c in PCE_VALIDATION if c in v.columns]
     blocks.insert(1, Table(v[cols], f"Validation of the surrogate (indices withheld below Q² = {o.min_q2:g})"))
@@ -178,7 +178,7 @@ def pce(res, o) -> list:
 
 
 # --------------------------------------------------------------------------- cross-model matrix
-def matrix(res, o) -> list:
+def matrix(res, o, p) -> list:
     intro = MATRIX.format(percent=res.percent, n_five_point=res.n_five_point, n=res.n, n_sobol=res.n_sobol,
                           n_top=len(res.top), by_mc=f" ({', '.join(res.ranked_by_mc)})" if res.ranked_by_mc else "")
     return [

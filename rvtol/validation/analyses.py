@@ -8,7 +8,7 @@ seed); the calibration draws the same uniform design with the spec's tolerances 
 from __future__ import annotations
 
 import glob
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..analysis import Analysis, CommonOptions, ModelTarget
@@ -60,17 +60,8 @@ class ValidationOptions(CommonOptions):
                                               "each reading)", names="outputs")
     epistemic_sensitivity: str = option("given_data", "how the estimated numbers' indices are estimated (given_data "
                                                       "or pce)", choices=("given_data", "pce"))
-    sources: list = field(default_factory=list, init=False)
-    te: ModelTarget | None = field(default=None, init=False)
 
     def complete(self, study, error):
-        paths = []
-        for pattern in self.published:
-            hits = sorted(glob.glob(pattern if Path(pattern).is_absolute() else str(study.base_dir / pattern)))
-            if not hits:
-                raise error("published", f"{pattern!r} matches no file")
-            paths += [h for h in hits if h not in paths]
-        self.sources = load_published_files(paths)
         for name, out in self.outputs.items():
             if not isinstance(out, str):
                 raise error("outputs", f"{name}: expected the name of a model output (a string), got {out!r}")
@@ -90,31 +81,51 @@ class ValidationOptions(CommonOptions):
                     raise error("sensitivity_outputs", f"{name}: {exc.reason}") from None
         if len(self.bounds) != 2 or not self.bounds[0] < self.bounds[1]:
             raise error("bounds", f"expected [low, high] with low < high, got {self.bounds}")
-        if self.te_model is not None:
-            self.te = _te_target(study, self.te_model, error)
-        known_shapes = {q.key for s in self.sources if s.status == "read" for q in s.quantities
-                        if q.kind == "order_amplitudes"}
-        for key in self.shape_of:
-            if key not in known_shapes:
-                raise error("shape_of", f"unknown measured spectrum {key!r} (order_amplitudes figures: "
-                                        f"{', '.join(sorted(known_shapes)) or 'none'})")
-        if self.shape_of and self.te is None:
-            raise error("shape_of", "a spectrum's shape needs the study's TE model (te_model)")
         if self.epistemic_n:
             if self.epistemic_n < 4:
                 raise error("epistemic_n", f"must be 0 (no band) or >= 4 designs, got {self.epistemic_n}")
             if study.design is None or not study.design.uncertain():
                 raise error("epistemic_n", "the study's design states no range for any number (range, basis)")
-        if self.calibrate_on is not None:
-            known = {q.key: q for s in self.sources if s.status == "read" for q in s.quantities}
-            q = known.get(self.calibrate_on)
-            if q is None:
-                raise error("calibrate_on", f"unknown published figure {self.calibrate_on!r} (known: "
-                                            f"{', '.join(known) or 'none'})")
-            if q.reducer != self.reducer or q.kind not in ("value", "range") or q.quantity not in self.outputs:
-                raise error("calibrate_on", f"{self.calibrate_on!r} cannot be calibrated on: a measured value (kind "
-                                            f"value or range) of the {self.reducer} whose quantity {q.quantity!r} "
-                                            "outputs maps to a model output")
+
+
+@dataclass(frozen=True)
+class ValidationPlan:
+    """The published sources read (:func:`.published.load_published_files`) and the TE stage whose curves give the
+    predicted spectra (None: no ``te_model``)."""
+
+    sources: list
+    te: ModelTarget | None
+
+
+def validation_plan(o: ValidationOptions, study, error) -> ValidationPlan:
+    """The published files ``o.published`` names, read, and the TE stage; the keys that name a published figure
+    (``shape_of``, ``calibrate_on``) checked against them."""
+    paths = []
+    for pattern in o.published:
+        hits = sorted(glob.glob(pattern if Path(pattern).is_absolute() else str(study.base_dir / pattern)))
+        if not hits:
+            raise error("published", f"{pattern!r} matches no file")
+        paths += [h for h in hits if h not in paths]
+    sources = load_published_files(paths)
+    te = _te_target(study, o.te_model, error) if o.te_model is not None else None
+    known_shapes = {q.key for s in sources if s.status == "read" for q in s.quantities if q.kind == "order_amplitudes"}
+    for key in o.shape_of:
+        if key not in known_shapes:
+            raise error("shape_of", f"unknown measured spectrum {key!r} (order_amplitudes figures: "
+                                    f"{', '.join(sorted(known_shapes)) or 'none'})")
+    if o.shape_of and te is None:
+        raise error("shape_of", "a spectrum's shape needs the study's TE model (te_model)")
+    if o.calibrate_on is not None:
+        known = {q.key: q for s in sources if s.status == "read" for q in s.quantities}
+        q = known.get(o.calibrate_on)
+        if q is None:
+            raise error("calibrate_on", f"unknown published figure {o.calibrate_on!r} (known: "
+                                        f"{', '.join(known) or 'none'})")
+        if q.reducer != o.reducer or q.kind not in ("value", "range") or q.quantity not in o.outputs:
+            raise error("calibrate_on", f"{o.calibrate_on!r} cannot be calibrated on: a measured value (kind "
+                                        f"value or range) of the {o.reducer} whose quantity {q.quantity!r} "
+                                        "outputs maps to a model output")
+    return ValidationPlan(sources, te)
 
 
 def _te_target(study, name: str, error) -> ModelTarget:
@@ -139,14 +150,17 @@ class ValidationAnalysis(Analysis):
     layout = texts.layout
     Options = ValidationOptions
 
+    def prepare(self, o, study, error) -> ValidationPlan:
+        return validation_plan(o, study, error)
+
     def compute(self, ctx):
-        o, mc = self.options, ctx.mc
+        o, p, mc = self.options, self.plan, ctx.mc
         outs = set(o.outputs.values()) | {x for v in o.sensitivity_outputs.values() for x in v}
         known = (mc.samples.values, {out: mc.column(out) for out in outs}, mc.ok)
-        g = getattr(o.te.model, "geometry", None) if o.te is not None else None
-        return validate(ctx.model, ctx.spec, o.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
+        g = getattr(p.te.model, "geometry", None) if p.te is not None else None
+        return validate(ctx.model, ctx.spec, p.sources, o.outputs, reducer=o.reducer, n=len(mc.samples),
                         method=mc.samples.method, seed=mc.samples.seed, evaluator=ctx.evaluator, known=known,
-                        te_spectra=te_spectra(o.te, o.spectrum_on_rig) if o.te is not None else None,
+                        te_spectra=te_spectra(p.te, o.spectrum_on_rig) if p.te is not None else None,
                         calibrate_on=o.calibrate_on, parameter=o.parameter, bounds=tuple(o.bounds),
                         interval=o.interval, confidence=o.confidence, order_threshold=o.order_threshold,
                         spectrum_samples=o.spectrum_samples, stands_for=tuple(o.stands_for),

@@ -19,7 +19,7 @@ errors at the study's Q.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -51,6 +51,13 @@ class AdjustmentOptions(CommonOptions):
             raise error("kind", f"needs the study model kind 'adjusted_assembly', got {type(study.model).__name__}")
 
 
+@dataclass(frozen=True)
+class AdjustmentPlan:
+    """The example's part errors (rad, step order): the design parameter's or the numbers given."""
+
+    part_errors: np.ndarray
+
+
 class AdjustmentAnalysis(Analysis):
     kind, title = "adjustment", "Assembly adjustment (state space, finite-horizon LQR)"
     layout = texts.adjustment
@@ -65,8 +72,6 @@ class AdjustmentAnalysis(Analysis):
                                     min_length=2)
         sweep_points: int = option(41, "Q values of the sweep", min=3)
         batch: bool = option(True, "also sweep the study's Monte Carlo samples")
-        w: np.ndarray | None = field(init=False, default=None)
-        weights: list[float] = field(init=False, default_factory=list)
 
         def complete(self, study, error):
             super().complete(study, error)
@@ -75,20 +80,23 @@ class AdjustmentAnalysis(Analysis):
                 units.require_dimension(self.unit, "angle")
             except InputError as exc:
                 raise error("unit", exc.reason) from None
-            try:
-                self.w = part_errors_from(self.part_errors, self.unit, study.design, study.model)
-            except InputError as exc:
-                raise error("part_errors", exc.reason) from None
             if not isinstance(self.accuracy_weights, list) or not self.accuracy_weights:
                 raise error("accuracy_weights", "expected a non-empty array of weights (numbers or \"inf\")")
-            self.weights = [accuracy_weight(v, error, f"accuracy_weights.{i}")
-                            for i, v in enumerate(self.accuracy_weights)]
+            self.accuracy_weights = [accuracy_weight(v, error, f"accuracy_weights.{i}")
+                                     for i, v in enumerate(self.accuracy_weights)]
             lo, hi = self.sweep[:2]
             if len(self.sweep) != 2 or not lo < hi:
                 raise error("sweep", f"expected [low, high] with low < high, got {self.sweep}")
+
+    def prepare(self, o, study, error) -> AdjustmentPlan:
+        try:
+            return AdjustmentPlan(part_errors_from(o.part_errors, o.unit, study.design, study.model))
+        except InputError as exc:
+            raise error("part_errors", exc.reason) from None
 
     def compute(self, ctx):
         o = self.options
         X = ctx.mc.samples.values if o.batch else None
         Q = np.geomspace(o.sweep[0], o.sweep[1], o.sweep_points)
-        return adjustment_assessment(ctx.model, o.w, o.weights, Q, X, ctx.evaluator)
+        return adjustment_assessment(ctx.model, w=self.plan.part_errors, weights=o.accuracy_weights, Q=Q, X=X,
+                                     evaluate=ctx.evaluator)

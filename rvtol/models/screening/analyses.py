@@ -20,7 +20,7 @@ out by :mod:`.texts`.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from ...analysis import Analysis, CommonOptions, target_model
@@ -29,7 +29,7 @@ from ...options import option
 from ..lost_motion.model import LostMotionModel
 from ..torsion_curve.model import TorsionCurveModel
 from . import texts
-from .beside_torsion_curve import screening_comparison, screening_plan
+from .beside_torsion_curve import ScreeningPlan, screening_comparison, screening_plan
 
 
 class LostMotionScreening(Analysis):
@@ -46,35 +46,36 @@ class LostMotionScreening(Analysis):
                                            "else the design's reducer.lost_motion_limit)", unit="arcmin", positive=True)
         model: str | None = option(None, "composed study: the torsion-curve stage (default: the only one)")
         screening: str | None = option(None, "composed study: the lost-motion stage (default: the only one)")
-        plan: object = field(init=False, default=None)
 
-        def complete(self, study, error):
-            from ...design import load_design
+    def prepare(self, o, study, error) -> ScreeningPlan:
+        """Where both sides come from (:func:`.comparison.screening_plan`): the study's stages or model, the
+        20-DOF design of the torsion curve (``design``, else the study's)."""
+        from ...design import load_design
 
-            m, tc, lm = study.model, None, None
-            if getattr(m, "stages", None):              # a composed study: its torsion-curve and screening stages
-                source = "composed"
-                tc = target_model(study, TorsionCurveModel, "torsion_curve", self.model, error)
-                lm = target_model(study, LostMotionModel, "lost_motion", self.screening, error, key="screening")
-            elif isinstance(m, LostMotionModel):
-                source = "lost_motion"
-            elif isinstance(m, TorsionCurveModel):
-                source = "torsion_curve"
-            elif hasattr(m, "screening_inputs"):
-                source = "own"
-            else:
-                raise error("kind", "this analysis needs the lost-motion or the torsion-curve model, or a model with "
-                                    "screening_inputs(X) (rvtol.models.screening.bridge)")
-            design20 = load_design(Path(study.base_dir) / self.design) if self.design is not None else study.design
-            if design20 is None:
-                raise error("design", "the torsion curve needs a 20-DOF design ([study] design or design = ...)")
-            try:
-                self.plan = screening_plan(study, design20, source, tc, lm, design_given=self.design is not None,
-                                           percent=self.percent, samples=self.samples, limit=self.limit)
-            except InputError as exc:
-                if exc.file is not None:                # located already (e.g. a key the 20-DOF design lacks)
-                    raise
-                raise error(exc.key, exc.reason) from None
+        m, tc, lm = study.model, None, None
+        if getattr(m, "stages", None):              # a composed study: its torsion-curve and screening stages
+            source = "composed"
+            tc = target_model(study, TorsionCurveModel, "torsion_curve", o.model, error)
+            lm = target_model(study, LostMotionModel, "lost_motion", o.screening, error, key="screening")
+        elif isinstance(m, LostMotionModel):
+            source = "lost_motion"
+        elif isinstance(m, TorsionCurveModel):
+            source = "torsion_curve"
+        elif hasattr(m, "screening_inputs"):
+            source = "own"
+        else:
+            raise error("kind", "this analysis needs the lost-motion or the torsion-curve model, or a model with "
+                                "screening_inputs(X) (rvtol.models.screening.bridge)")
+        design20 = load_design(Path(study.base_dir) / o.design) if o.design is not None else study.design
+        if design20 is None:
+            raise error("design", "the torsion curve needs a 20-DOF design ([study] design or design = ...)")
+        try:
+            return screening_plan(study, design20, source, tc, lm, design_given=o.design is not None,
+                                  percent=o.percent, samples=o.samples, limit=o.limit)
+        except InputError as exc:
+            if exc.file is not None:                # located already (e.g. a key the 20-DOF design lacks)
+                raise
+            raise error(exc.key, exc.reason) from None
 
     def compute(self, ctx):
-        return screening_comparison(self.options.plan, ctx.model, ctx.spec, ctx.mc, ctx.seed, ctx.evaluator)
+        return screening_comparison(self.plan, ctx.model, ctx.spec, ctx.mc, seed=ctx.seed, evaluate=ctx.evaluator)

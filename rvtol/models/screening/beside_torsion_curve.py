@@ -47,7 +47,7 @@ RATE_FACTOR = {"Delta_b": "δ_b = Δ/2, all six bearings", "Delta_r_c": "delta_p
 BILATERAL = "— (bilateral mesh: played in series, ÷ i)"
 
 
-@dataclass
+@dataclass(frozen=True)
 class ScreeningPlan:
     """Where the comparison's two sides come from (settled when the study loads).
 

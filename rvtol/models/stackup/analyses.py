@@ -17,7 +17,7 @@ stackup_domains     ``[[analysis.domain]]`` tables with ``kind`` = "plane" (``t1
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ...analysis import Analysis, CommonOptions
 from ...errors import InputError
@@ -41,22 +41,35 @@ class StackupOptions(CommonOptions):
 
 
 # --------------------------------------------------------------------------- graph
+@dataclass(frozen=True)
+class GraphPlan:
+    """The section's title: the assembly's name."""
+
+    title: str
+
+
 class StackupGraph(Analysis):
     kind, title = "stackup_graph", "Stack-up: assembly graph"
     layout = texts.graph
+    Options = StackupOptions
 
-    @dataclass
-    class Options(StackupOptions):
-        def complete(self, study, error):
-            super().complete(study, error)
-            if self.title is None:
-                self.title = f"Stack-up: assembly graph of {study.model.assembly.name}"
+    def prepare(self, o, study, error) -> GraphPlan:
+        return GraphPlan(f"{type(self).title} of {study.model.assembly.name}")
 
     def compute(self, ctx):
         return assembly_overview(ctx.model)
 
 
 # --------------------------------------------------------------------------- sequences
+@dataclass(frozen=True)
+class SequencesPlan:
+    """The assembly sequences compared (the table's, else every one of the assembly's), the model of each and the
+    outputs the figure shows (the table's, else those all sequences share)."""
+
+    models: dict
+    outputs: list[str]
+
+
 class StackupSequences(Analysis):
     kind, title = "stackup_sequences", "Stack-up: assembly sequences compared on the same samples"
     layout = texts.sequences
@@ -67,36 +80,44 @@ class StackupSequences(Analysis):
                                              min_length=2)
         outputs: list[str] | None = option(None, "the outputs the figure shows (default: those all sequences share)",
                                            min_length=1)
-        models: dict = field(init=False, default_factory=dict)
 
         def complete(self, study, error):
             super().complete(study, error)
-            m = study.model
-            asm = m.assembly
-            self.sequences = self.sequences or list(asm.sequences)
-            for s in self.sequences:
+            asm = study.model.assembly
+            for s in self.sequences or ():
                 if s not in asm.sequences:
                     raise error("sequences", f"unknown sequence {s!r} (assembly has: {', '.join(asm.sequences)})")
-            if len(set(self.sequences)) != len(self.sequences):
+            if self.sequences and len(set(self.sequences)) != len(self.sequences):
                 raise error("sequences", "a sequence is named twice")
-            try:
-                self.models = sequence_models(m, self.sequences)
-            except InputError as exc:  # e.g. a fit that locates only in another sequence needs float factors
-                if exc.key == "factor":
-                    raise exc.located(file=study.spec.file) from None
-                raise error("sequences", exc.reason) from None
-            common = [n for n in self.models[self.sequences[0]].output_names
-                      if all(n in mm.output_names for mm in self.models.values())]
-            self.outputs = self.outputs or common
-            for o in self.outputs:
-                if o not in common:
-                    raise error("outputs", f"{o!r} is not an output of every sequence (common: {', '.join(common)})")
+
+    def prepare(self, o, study, error) -> SequencesPlan:
+        m = study.model
+        sequences = o.sequences or list(m.assembly.sequences)
+        try:
+            models = sequence_models(m, sequences)
+        except InputError as exc:  # e.g. a fit that locates only in another sequence needs float factors
+            if exc.key == "factor":
+                raise exc.located(file=study.spec.file) from None
+            raise error("sequences", exc.reason) from None
+        common = [n for n in models[sequences[0]].output_names if all(n in mm.output_names for mm in models.values())]
+        for out in o.outputs or ():
+            if out not in common:
+                raise error("outputs", f"{out!r} is not an output of every sequence (common: {', '.join(common)})")
+        return SequencesPlan(models, o.outputs or common)
 
     def compute(self, ctx):
-        return compare_sequences(self.options.models, ctx.mc.samples.values, ctx.evaluator, self.options.outputs)
+        p = self.plan
+        return compare_sequences(p.models, ctx.mc.samples.values, evaluate=ctx.evaluator, shown=p.outputs)
 
 
 # --------------------------------------------------------------------------- domains
+@dataclass(frozen=True)
+class DomainsPlan:
+    """The deviation domains checked: ``(name, domain)`` of each ``[[analysis.domain]]`` table."""
+
+    domains: list
+
+
 class StackupDomains(Analysis):
     kind, title = "stackup_domains", "Stack-up: deviation domains — derived moments against sampling"
     layout = texts.domains
@@ -107,18 +128,28 @@ class StackupDomains(Analysis):
         domain: list[Params] = option([], "[[analysis.domain]] tables: kind = \"plane\" (t1, t2, length, width), "
                                         "\"cylinder\" (t, length) or \"clearance\" (clearance, length, hole, shaft); "
                                         "k (3), name")
-        domains: list = field(init=False, default_factory=list)
 
         def complete(self, study, error):
             if not self.domain:
                 raise error("domain", "give at least one [[analysis.domain]]")
-            self.domains = [domain_from_table(t) for t in self.domain]
+
+    def prepare(self, o, study, error) -> DomainsPlan:
+        return DomainsPlan([domain_from_table(t) for t in o.domain])
 
     def compute(self, ctx):
-        return check_domains(self.options.domains, self.options.n, ctx.seed)
+        return check_domains(self.plan.domains, n=self.options.n, seed=ctx.seed)
 
 
 # --------------------------------------------------------------------------- linearised chain vs Monte Carlo
+@dataclass(frozen=True)
+class LinearPlan:
+    """The outputs analysed (the table's, else every output of the model) and those charted (the table's, else the
+    first 4)."""
+
+    outputs: list[str]
+    figures: list[str]
+
+
 class StackupLinear(Analysis):
     """``[[analysis]] kind = "stackup_linear"``: worst case, RSS and loop signs beside the Monte Carlo."""
 
@@ -133,17 +164,19 @@ class StackupLinear(Analysis):
 
         def complete(self, study, error):
             super().complete(study, error)
-            model = study.model
-            self.outputs = self.outputs or list(model.output_names)
-            self.figures = self.outputs[:4] if self.figures is None else self.figures
-            for o in self.figures:
-                if o not in self.outputs:
-                    raise error("figures", f"{o!r} is not among the analysed outputs")
             try:
-                check_linearisable(model)
+                check_linearisable(study.model)
             except InputError as exc:
                 raise error("kind", exc.reason) from None
 
+    def prepare(self, o, study, error) -> LinearPlan:
+        outputs = o.outputs or list(study.model.output_names)
+        figures = outputs[:4] if o.figures is None else o.figures
+        for out in figures:
+            if out not in outputs:
+                raise error("figures", f"{out!r} is not among the analysed outputs")
+        return LinearPlan(outputs, figures)
+
     def compute(self, ctx):
-        o = self.options
-        return linear_stackup(ctx.model, ctx.spec, ctx.mc, o.outputs, o.top, o.figures)
+        p = self.plan
+        return linear_stackup(ctx.model, ctx.spec, ctx.mc, outputs=p.outputs, top=self.options.top, figures=p.figures)

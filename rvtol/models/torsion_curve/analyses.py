@@ -18,11 +18,11 @@ angle split by virtual work.  Laid out by :mod:`.texts`.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from ... import units
-from ...analysis import Analysis, CommonOptions, target_model
+from ...analysis import Analysis, CommonOptions, ModelTarget, target_model
 from ...options import option
 from ...blocks import Section
 from ..stiffness.torsion_angle import ReducerStiffness
@@ -36,6 +36,16 @@ def _stiffness_of(design) -> tuple:
     """The elastic torsion-angle model of a design and its profile modifications (fails at load time)."""
     return (ReducerStiffness.from_design(design),
             (design["cycloid.equidistance_modification"], design["cycloid.moved_distance_modification"]))
+
+
+@dataclass(frozen=True)
+class TorsionCurvePlan:
+    """The torsion-curve model of the study (its stage in a composed study; None: the design's, built at run time) and
+    ``part1``: the elastic torsion-angle model shown beside the rigidity, its profile modifications and the face width
+    (None: no stiffness design)."""
+
+    target: ModelTarget | None
+    part1: tuple | None
 
 
 class TorsionCurveAnalysis(Analysis):
@@ -53,30 +63,33 @@ class TorsionCurveAnalysis(Analysis):
         stiffness_design: str | None = option(None, "a design of the elastic torsion-angle model, shown beside the "
                                                     "rigidity")
         model: str | None = option(None, "composed study: the torsion-curve stage (default: the only one)")
-        target: object = field(init=False, default=None)
-        part1: tuple | None = field(init=False, default=None)
 
         def complete(self, study, error):
-            from ...design import load_design
-
             if study.design is None:
                 raise error("kind", "torsion_curve needs a 20-DOF design ([study] design = ...)")
             m = study.model
-            if isinstance(m, TorsionCurveModel) or getattr(m, "stages", None):
-                self.target = target_model(study, TorsionCurveModel, "torsion_curve", self.model, error)
-            elif self.model is not None:
+            if not (isinstance(m, TorsionCurveModel) or getattr(m, "stages", None)) and self.model is not None:
                 raise error("model", "a one-model study has no stages to choose from")
-            if self.stiffness_design is not None:       # a bad stiffness design fails here, before any computation
-                rs, mods = _stiffness_of(load_design(Path(study.base_dir) / self.stiffness_design))
-                self.part1 = (rs, mods, float(study.design.get("cycloid.face_width", rs.pins.b)))
+
+    def prepare(self, o, study, error) -> TorsionCurvePlan:
+        from ...design import load_design
+
+        m, target, part1 = study.model, None, None
+        if isinstance(m, TorsionCurveModel) or getattr(m, "stages", None):
+            target = target_model(study, TorsionCurveModel, "torsion_curve", o.model, error)
+        if o.stiffness_design is not None:       # a bad stiffness design fails here, before any computation
+            rs, mods = _stiffness_of(load_design(Path(study.base_dir) / o.stiffness_design))
+            part1 = (rs, mods, float(study.design.get("cycloid.face_width", rs.pins.b)))
+        return TorsionCurvePlan(target, part1)
 
     def compute(self, ctx):
-        o, t = self.options, self.options.target
+        o, t = self.options, self.plan.target
         model = t.model if t is not None else TorsionCurveModel(ctx.design, ())
         mean = t.inputs(ctx.spec.mean_base())[0] if t is not None and len(model.inputs) else None
         um = 1e-3   # mm per µm
-        return torsion_curve_study(model, mean, [c * um for c in o.clearances], [c * um for c in o.pin_clearances],
-                                   o.clearance_coefficient, o.part1)
+        return torsion_curve_study(model, mean, clearances=[c * um for c in o.clearances],
+                                   pin_clearances=[c * um for c in o.pin_clearances], K=o.clearance_coefficient,
+                                   part1=self.plan.part1)
 
     def report(self, res):
         """Three sections, each with its summary.json entry (``<key>``, ``<key>_lost_motion``, ``<key>_rigidity``)."""
@@ -86,6 +99,18 @@ class TorsionCurveAnalysis(Analysis):
                         res.clearances.summary()),
                 Section(f"{self.key}_rigidity", texts.RIGIDITY_TITLE, texts.rigidity(res.rigidity, o),
                         res.rigidity.summary())]
+
+
+@dataclass(frozen=True)
+class CompliancePlan:
+    """The 20-DOF reducer (the study's torsion-curve stage's, else the design's geometry), the torque (given, else
+    its rated), the section's title at that torque and the elastic torsion-angle model with its profile modifications
+    (None: not beside)."""
+
+    geometry: object
+    torque: float
+    title: str
+    stiffness: tuple | None
 
 
 class ComplianceBreakdown(Analysis):
@@ -111,26 +136,24 @@ class ComplianceBreakdown(Analysis):
         rigid_chain: bool = option(True, "the 20-DOF model without the design's compliance chain beside")
         stiffness_model: bool = option(True, "the elastic torsion-angle model beside (needs a design it can read)")
         model: str | None = option(None, "composed study: the torsion-curve stage (default: the only one)")
-        geometry: object = field(init=False, default=None)
-        stiffness: tuple | None = field(init=False, default=None)
 
         def complete(self, study, error):
             if study.design is None:
                 raise error("kind", "compliance_breakdown needs a 20-DOF design ([study] design = ...)")
-            m = study.model
-            if isinstance(m, TorsionCurveModel) or self.model is not None or any(
-                    isinstance(s.model, TorsionCurveModel) for s in getattr(m, "stages", None) or ()):
-                self.geometry = target_model(study, TorsionCurveModel, "torsion_curve", self.model, error).model.geometry
-            else:
-                self.geometry = geometry_from_design(study.design)
-            if self.torque is None:
-                self.torque = self.geometry.rated_torque
-            if self.title is None:
-                self.title = texts.compliance_title(units.from_base(self.torque, "N*m"))
-            if self.stiffness_model:                   # a design the torsion-angle model cannot read fails here
-                self.stiffness = _stiffness_of(study.design)
+
+    def prepare(self, o, study, error) -> CompliancePlan:
+        m = study.model
+        if isinstance(m, TorsionCurveModel) or o.model is not None or any(
+                isinstance(s.model, TorsionCurveModel) for s in getattr(m, "stages", None) or ()):
+            geometry = target_model(study, TorsionCurveModel, "torsion_curve", o.model, error).model.geometry
+        else:
+            geometry = geometry_from_design(study.design)
+        torque = o.torque if o.torque is not None else geometry.rated_torque
+        # a design the torsion-angle model cannot read fails here
+        stiffness = _stiffness_of(study.design) if o.stiffness_model else None
+        return CompliancePlan(geometry, torque, texts.compliance_title(units.from_base(torque, "N*m")), stiffness)
 
     def compute(self, ctx):
-        o = self.options
-        rigid = geometry_from_design(ctx.design, chain=False) if o.rigid_chain else None
-        return compliance_comparison(o.geometry, o.torque, rigid, o.stiffness)
+        p = self.plan
+        rigid = geometry_from_design(ctx.design, chain=False) if self.options.rigid_chain else None
+        return compliance_comparison(p.geometry, p.torque, rigid=rigid, stiffness=p.stiffness)

@@ -6,7 +6,7 @@ Registered through the ``rvtol.analyses`` entry-point group (``studies/reproduct
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from rvtol.plugin import (REQUIRED, AdjustmentOptions, Analysis, InputError, LostMotionOptions, ParallelPlaneZone,
@@ -46,16 +46,20 @@ class TEReproduction(Analysis):
         key: str | None = option("transmission_error_sensitivity", "summary.json key and report anchor (the "
                                  "section of transmission_error_sensitivity, with the document beside it)")
         printed: str = option(REQUIRED, PRINTED)
-        figures: object = field(init=False, default=None)
 
-        def complete(self, study, error):
-            super().complete(study, error)
-            self.figures = _printed(study, self.printed, SENSITIVITIES)
+    @dataclass(frozen=True)
+    class Plan:
+        """The document's printed classes and sensitivities."""
+
+        figures: object
+
+    def prepare(self, o, study, error) -> "TEReproduction.Plan":
+        return self.Plan(_printed(study, o.printed, SENSITIVITIES))
 
     def compute(self, ctx):
         o = self.options
-        res = te_sensitivity(o.te_model, o.spec, o.factors, o.magnitudes, o.percent, ctx.evaluator)
-        return te_against_document(res, o.figures)
+        res = te_sensitivity(o.te_model, o.spec, o.factors, o.magnitudes, percent=o.percent, evaluate=ctx.evaluator)
+        return te_against_document(res, self.plan.figures)
 
 
 # --------------------------------------------------------------------------- doc 001
@@ -68,17 +72,25 @@ class LostMotionReproduction(Analysis):
     @dataclass
     class Options(LostMotionOptions):
         printed: str = option(REQUIRED, PRINTED)
-        figures: object = field(init=False, default=None)
 
         def complete(self, study, error):
             super().complete(study, error)
             if study.model.mode != "document":
                 raise error("kind", "the reproduction compares doc 001's formulas as printed: the study needs "
                                     "[model] mode = \"document\"")
-            self.figures = _printed(study, self.printed, DOC001_FIGURES)
+
+    @dataclass(frozen=True)
+    class Plan:
+        """The document's printed figures."""
+
+        figures: object
+
+    def prepare(self, o, study, error) -> "LostMotionReproduction.Plan":
+        return self.Plan(_printed(study, o.printed, DOC001_FIGURES))
 
     def compute(self, ctx):
-        return lost_motion_figures(ctx.model, ctx.spec, ctx.mc, self.options.figures, ctx.evaluator, ctx.design)
+        return lost_motion_figures(ctx.model, ctx.spec, ctx.mc, self.plan.figures, evaluate=ctx.evaluator,
+                                   design=ctx.design)
 
 
 # --------------------------------------------------------------------------- doc 002
@@ -97,29 +109,30 @@ class AdjustmentReproduction(Analysis):
         allocation_unadjusted: str | None = option(None, "key of the study's allocation analysis without adjustment (it runs first)")
         te_design: str | None = option(None, "a 20-DOF design: the example's TE against Q through rvtol's mapping")
         te_lever_arm: float = option(6.0, "the lever arm L of the mapping", unit="mm", positive=True)
-        inputs: Doc002Inputs | None = field(init=False, default=None)
 
         def complete(self, study, error):
-            from .doc002_adjustment import te_inputs
-
             super().complete(study, error)
             if study.design is None:
                 raise error("kind", "needs the BX40E design (study design = data/designs/bx40e.toml)")
             if "example.part_errors" not in study.design:
                 raise error("kind", "the design has no parameter 'example.part_errors' (doc 002's Table 3)")
-            base = Path(study.base_dir)
-            te = None
-            if self.te_design is not None:
-                te = TransmissionErrorModel(load_design(base / self.te_design), inputs=te_inputs())
-            self.inputs = Doc002Inputs(study.model, study.design, _printed(study, self.printed, DOC002_FIGURES),
-                                       load_assembly(base / self.assembly_3d), self.accuracy_weight, None, None, te,
-                                       self.te_lever_arm)
 
     requires = {"allocation": "allocation", "allocation_unadjusted": "allocation"}
 
+    def prepare(self, o, study, error) -> Doc002Inputs:
+        """The comparison's inputs but the allocations (their analyses run first: ``compute`` adds them)."""
+        from .doc002_adjustment import te_inputs
+
+        base = Path(study.base_dir)
+        te = None
+        if o.te_design is not None:
+            te = TransmissionErrorModel(load_design(base / o.te_design), inputs=te_inputs())
+        return Doc002Inputs(study.model, study.design, _printed(study, o.printed, DOC002_FIGURES),
+                            load_assembly(base / o.assembly_3d), o.accuracy_weight, None, None, te, o.te_lever_arm)
+
     def compute(self, ctx):
         o = self.options
-        return adjustment_figures(replace(o.inputs, alloc=ctx.results.get(o.allocation),
+        return adjustment_figures(replace(self.plan, alloc=ctx.results.get(o.allocation),
                                           alloc_free=ctx.results.get(o.allocation_unadjusted)))
 
 
@@ -137,58 +150,72 @@ class StackupShaftHole(Analysis):
         kc: str | None = option(None, "the KC whose ‖e‖, ‖ε‖ and tilt are compared (default: the first)")
         planar_zone: dict | None = option(None, "{t1, t2, length, width (mm), name}: a parallel-plane zone whose "
                                                 "printed formulas (doc 003) are set against the derivation")
-        figures: list = field(init=False, default_factory=list)
-        printed_figures: object = field(init=False, default=None)
-        clearance_fit: object = field(init=False, default=None)
-        zone: object = field(init=False, default=None)
-        planar_name: str = field(init=False, default="")
 
         def complete(self, study, error):
             super().complete(study, error)
-            m = study.model
-            self.printed_figures = P = _printed(study, self.printed)
-            fits = [f for f in m.assembly.fits.values() if f.is_clearance]
-            self.clearance_fit = m.assembly.fits.get(self.fit if self.fit is not None else
-                                                     (fits[0].name if fits else ""))
-            if self.clearance_fit is None or not self.clearance_fit.is_clearance:
-                raise error("fit", "name a clearance fit of the assembly")
-            self.kc = self.kc if self.kc is not None else m.kcs[0].name
-            if self.kc not in {k.name for k in m.kcs}:
+            if self.kc is not None and self.kc not in {k.name for k in study.model.kcs}:
                 raise error("kc", f"unknown KC {self.kc!r}")
-            self.figures = [self._figure(m, P, key, fig, error) for key, fig in P.figures.items()]
-            if not self.figures:
-                raise SpecError("no figures", file=P.path, key="figure")
-            if self.planar_zone is not None:
-                self.planar_name, self.zone = self._zone(self.planar_zone, error)
 
-        def _figure(self, m, P, key, fig, error):
-            if key not in COMPARE:
-                raise SpecError(f"unknown comparison (expected one of: {', '.join(COMPARE)})", file=P.path,
-                                key=f"figure.{key}")
-            if key != "max_clearance" and f"{self.kc}.{key}" not in m.output_names:
-                raise error("kc", f"the model has no output {self.kc}.{key}")
-            if units.dimension(fig.unit) != DIMENSION[key]:
-                raise SpecError(f"expected a {DIMENSION[key]} unit, got {fig.unit!r}", file=P.path,
-                                key=f"figure.{key}.unit")
-            return fig
+    @dataclass(frozen=True)
+    class Plan:
+        """The printed file and its figures (checked against the model), the clearance fit and the KC compared (the
+        table's, else the assembly's first), and the planar zone with its name (None, "": none)."""
 
-        @staticmethod
-        def _zone(table: dict, error):
-            t = Params(table)
-            try:
-                name = t.str("name", "parallel-plane zone")
-                zone = ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
-                                         t.quantity("length", "mm", positive=True),
-                                         t.quantity("width", "mm", positive=True))
-                t.finish()
-            except InputError as exc:
-                raise error("planar_zone" + (f".{exc.key}" if exc.key else ""), exc.reason) from None
-            return name, zone
+        printed: object
+        figures: list
+        fit: object
+        kc: str
+        zone: object
+        zone_name: str
+
+    def prepare(self, o, study, error) -> "StackupShaftHole.Plan":
+        m = study.model
+        P = _printed(study, o.printed)
+        fits = [f for f in m.assembly.fits.values() if f.is_clearance]
+        fit = m.assembly.fits.get(o.fit if o.fit is not None else (fits[0].name if fits else ""))
+        if fit is None or not fit.is_clearance:
+            raise error("fit", "name a clearance fit of the assembly")
+        kc = o.kc if o.kc is not None else m.kcs[0].name
+        figures = [_figure(m, P, kc, key, fig, error) for key, fig in P.figures.items()]
+        if not figures:
+            raise SpecError("no figures", file=P.path, key="figure")
+        name, zone = _zone(o.planar_zone, error) if o.planar_zone is not None else ("", None)
+        return self.Plan(P, figures, fit, kc, zone, name)
 
     def compute(self, ctx):
-        o = self.options
-        return shaft_hole_figures(ctx.model, ctx.spec, ctx.mc, o.clearance_fit, o.kc, o.figures, o.printed_figures,
-                                  o.zone, ctx.seed)
+        p = self.plan
+        return shaft_hole_figures(ctx.model, ctx.spec, ctx.mc, p.fit, p.kc, p.figures, p.printed, planar=p.zone,
+                                  seed=ctx.seed)
+
+    def blocks(self, result) -> list:
+        return texts.shaft_hole(result, self.options, self.plan)
+
+
+def _figure(m, P, kc: str, key, fig, error):
+    """A printed figure of doc 003 whose comparison, output and unit the model has."""
+    if key not in COMPARE:
+        raise SpecError(f"unknown comparison (expected one of: {', '.join(COMPARE)})", file=P.path,
+                        key=f"figure.{key}")
+    if key != "max_clearance" and f"{kc}.{key}" not in m.output_names:
+        raise error("kc", f"the model has no output {kc}.{key}")
+    if units.dimension(fig.unit) != DIMENSION[key]:
+        raise SpecError(f"expected a {DIMENSION[key]} unit, got {fig.unit!r}", file=P.path,
+                        key=f"figure.{key}.unit")
+    return fig
+
+
+def _zone(table: dict, error):
+    """``(name, zone)`` of the ``planar_zone`` table."""
+    t = Params(table)
+    try:
+        name = t.str("name", "parallel-plane zone")
+        zone = ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
+                                 t.quantity("length", "mm", positive=True),
+                                 t.quantity("width", "mm", positive=True))
+        t.finish()
+    except InputError as exc:
+        raise error("planar_zone" + (f".{exc.key}" if exc.key else ""), exc.reason) from None
+    return name, zone
 
 
 # --------------------------------------------------------------------------- doc 004

@@ -98,7 +98,7 @@ FIGURES = ("te_pp", "te_reduction", "max_mesh_force", "P1_v1x", "P2_v1y", "P4_v1
 COLUMNS = ["item", "doc 002", "printed", "rvtol", "unit", "reproduced", "why"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class Doc002Inputs:
     """What the comparison needs: the study's adjusted-assembly ``model`` and ``design``, the ``printed``
     figures, the 3-D assembly ``desc3`` and the Q ``q`` of its linear map, the allocations the study's

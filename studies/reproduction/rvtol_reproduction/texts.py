@@ -85,11 +85,11 @@ SHAFT_HOLE = ("Fit {fit!r}: largest clearance over the size bands {cmax:.4g} mm,
               "{rule}")
 
 
-def shaft_hole(res, o) -> list:
+def shaft_hole(res, o, p) -> list:
     blocks = [Text(SHAFT_HOLE.format(fit=res.fit.name, cmax=res.max_clearance, length=res.fit.length, rule=RULE)),
               Table(res.table, "Printed figures and what rvtol computes", "{:.4g}")]
     if res.planar is not None:
-        name = o.planar_name
+        name = p.zone_name
         blocks += [Table(res.planar.record, f"{name}: the document's printed planar-zone formulas against the "
                                             "derivation (lengths mm, angles rad)", "{:.4g}"),
                    Figure(figure_png(res.planar.plot()), f"{name}: uniform samples, exact domain, its box and the "
