@@ -222,7 +222,8 @@ class Module:
                     kind = "errors"
                 elif r.test_outcome == TestOutcome.KILLED:
                     out = (r.output or "").strip()
-                    kind = "timeout" if out == "timeout" else "killed" if out.startswith("killed:") else "errors"
+                    kind = ("timeout" if out == "timeout" else "killed" if out.startswith("killed:") else
+                            "errors" if out.startswith("error:") else "pending")   # unsaid: run again (forget_unverified)
                 elif equivalent.get(mid, {}).get("line") == line:
                     kind = "equivalent"
                     stale.pop(mid)
