@@ -405,9 +405,8 @@ def convergence_trace(y: np.ndarray, ok: np.ndarray, limits: list[tuple[float | 
     c2 = np.cumsum(yv * yv)
     cn = np.cumsum(ok)
     k = cn[ns - 1]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        m = np.where(k > 0, c1[ns - 1] / np.maximum(k, 1), np.nan)
-        var = np.where(k > 1, np.maximum(c2[ns - 1] / np.maximum(k, 1) - m * m, 0) * k / np.maximum(k - 1, 1), np.nan)
+    m = np.where(k > 0, c1[ns - 1] / np.maximum(k, 1), np.nan)
+    var = np.where(k > 1, np.maximum(c2[ns - 1] / np.maximum(k, 1) - m * m, 0) * k / np.maximum(k - 1, 1), np.nan)
     z = stats.norm.ppf(0.5 + confidence / 2)
     half = z * np.sqrt(var / np.maximum(k, 1))
     out = {"n": ns, "mean": m, "mean_lo": m - half, "mean_hi": m + half}
