@@ -259,12 +259,25 @@ def annotation_spans(source: str) -> list[tuple[tuple[int, int], tuple[int, int]
     return [((n.lineno, n.col_offset), (n.end_lineno, n.end_col_offset)) for n in found if n is not None]
 
 
+#: decorators that keep a function's result for the process: coverage records its lines only in the first test that
+#: called it, yet every later test reads what it returned
+MEMOISING = {"cache", "lru_cache", "cached_property"}
+
+
 def function_body_lines(source: str) -> set[int]:
     """The lines inside a function's body: run when the function is called, never when the module is imported (a
-    mutant anywhere else — a constant, a default, a decorator, a class attribute — may change what every test sees)."""
+    mutant anywhere else — a constant, a default, a decorator, a class attribute — may change what every test sees).
+    None in a module that memoises a function (``@cache``, ``@lru_cache``, ``@cached_property``): the tests recorded
+    as running a line are then only the first caller's, and neither the memoised function's lines nor those of what
+    it calls can be told apart from a static reading."""
+    tree = ast.parse(source)
     found: set[int] = set()
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(tree):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            for d in node.decorator_list:
+                d = d.func if isinstance(d, ast.Call) else d
+                if (d.attr if isinstance(d, ast.Attribute) else getattr(d, "id", None)) in MEMOISING:
+                    return set()
             found.update(range(node.body[0].lineno, node.end_lineno + 1))
             found.discard(node.lineno)          # a one-line def: its defaults are evaluated at import
     return found

@@ -41,6 +41,18 @@ def test_only_lines_inside_a_function_body_count_as_run_when_called():
     assert function_body_lines(source) == {5, 7, 8, 12}
 
 
+@pytest.mark.parametrize("decorator", ["@cache", "@functools.lru_cache(maxsize=8)", "@cached_property"])
+def test_a_module_that_memoises_has_no_line_judged_by_its_first_callers_alone(decorator):
+    """rvtol.units's ``_pint`` is ``@cache``d: its line 197 was recorded only in the first test that read a unit by
+    pint, that test passed on a mutant which every later unit test depends on, and the mutant was called a survivor
+    (it fails tests/test_units_open.py). In such a module every mutant is judged by all the module's test files."""
+    from mutation import function_body_lines
+
+    plain = "def f(a):\n    return a + 1\ndef g(b):\n    return f(b) * 2\n"
+    assert function_body_lines(plain) == {2, 4}
+    assert function_body_lines(decorator + "\n" + plain) == set()
+
+
 def _answering(tmp_path, answer: bytes | None):
     """A stand-in test server on ``tmp_path/server.sock`` that answers one client with ``answer`` (None: no server)."""
     import socket
