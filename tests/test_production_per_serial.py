@@ -275,6 +275,15 @@ def test_the_study_updates_the_tested_reducer_as_the_kalman_filter_does(tmp_path
             assert failed.get("message") == table.loc[name, "verdict"] and failed.get("type") == "serial"
 
 
+def test_a_named_update_is_titled_as_an_update_not_as_the_prediction_it_extends(tmp_path):
+    study = load_study(_study_files(tmp_path), progress=False)
+    assert study.analyses[0].options.title is None          # unnamed: the kind's title
+    toml = tmp_path / "s.toml"
+    toml.write_text(toml.read_text().replace('kind = "per_serial_update"', 'kind = "per_serial_update"\nname = "line 3"'))
+    study = load_study(toml, progress=False)
+    assert study.analyses[0].options.title == "Per-serial update from the end-of-line test: line 3"
+
+
 def test_an_end_of_line_record_of_an_unknown_reducer_stops_the_cli_with_exit_2(tmp_path, capsys):
     from conftest import run_cli
 

@@ -274,8 +274,8 @@ class PerSerialUpdate(PerUnitPrediction):
         chains: int = option(CHAINS, "independent ensembles (the split-R̂ compares them)", min=2, max=16)
 
         def complete(self, study, error):
-            super().complete(study, error)
             self.title = self.title or (f"{PerSerialUpdate.title}: {self.name}" if self.name else None)
+            super().complete(study, error)          # after: the prediction's own default title would come first
             if (self.end_of_line is None) == (self.curves is None):
                 raise error("end_of_line", "give end_of_line (a table of readings) or curves (a folder of curves)")
             if self.curves is not None and not self.curve_outputs:
