@@ -48,6 +48,8 @@ figures, by document:
 
 - ``TESensitivity`` — doc 000: the ``transmission_error_sensitivity`` analysis (its title and options)
 - ``TESensitivityOptions`` — doc 000: the keys of the TE sensitivity analysis (model, factors, magnitudes)
+- ``TESensitivityPlan`` — doc 000: what the TE sensitivity analysis builds (its model over the factors, their spec)
+- ``te_sensitivity_plan`` — doc 000: that plan of the analysis' options (``prepare``)
 - ``te_sensitivity`` — doc 000: the TE sensitivity curves of factors over magnitudes (``TESensitivityResult``)
 - ``TESensitivityResult`` — doc 000: the sensitivity curves, their ranking and linearity
 - ``TransmissionErrorModel`` — doc 000: the 20-DOF transmission-error model of a design
@@ -109,7 +111,8 @@ from .models.stiffness.torsion_angle import COMPONENTS as TORSION_ANGLE_COMPONEN
 from .models.stiffness.torsion_angle import LABELS as TORSION_ANGLE_LABELS
 from .models.stiffness.torsion_angle import ReducerStiffness, TorsionAngles
 from .models.transmission_error import texts as transmission_texts
-from .models.transmission_error.analyses import TESensitivity, TESensitivityOptions
+from .models.transmission_error.analyses import (TESensitivity, TESensitivityOptions, TESensitivityPlan,
+                                                 te_sensitivity_plan)
 from .models.transmission_error.model import TransmissionErrorModel
 from .models.transmission_error.sensitivity import TESensitivityResult, te_sensitivity
 from .model_kind import ModelKind
@@ -142,7 +145,7 @@ __all__ = [
     # results and reports
     "Section", "Table", "Figure", "Text", "figure_png", "frame_records", "COLORS", "new_axes",
     # model entry points: doc 000
-    "TESensitivity", "TESensitivityOptions", "te_sensitivity", "TESensitivityResult", "TransmissionErrorModel",
+    "TESensitivity", "TESensitivityOptions", "TESensitivityPlan", "te_sensitivity_plan", "te_sensitivity", "TESensitivityResult", "TransmissionErrorModel",
     "transmission_texts",
     # doc 001
     "LostMotionOptions", "analytic_frame", "factor_moments", "ARCMIN_PER_RAD", "five_point",

@@ -17,10 +17,10 @@ options as the study's model), so it does not depend on the study's spec.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ... import units
-from ...analysis import Analysis, CommonOptions, target_model
+from ...analysis import Analysis, CommonOptions, ModelTarget, target_model
 from ...options import option
 from . import texts
 from .curve import CONFIGURATIONS, chosen_reducer, reducer_curve
@@ -34,10 +34,17 @@ class TEOptions(CommonOptions):
     """The keys of an analysis of the transmission-error model."""
 
     model: str | None = option(None, "composed study: the transmission-error stage (default: the only one)")
-    target: object = field(init=False, default=None)
 
-    def complete(self, study, error):
-        self.target = target_model(study, TransmissionErrorModel, "transmission_error", self.model, error)
+
+@dataclass(frozen=True)
+class TEPlan:
+    """The transmission-error model an analysis reads: the study's, or a stage of a composed study."""
+
+    target: ModelTarget
+
+
+def te_plan(o: TEOptions, study, error) -> TEPlan:
+    return TEPlan(target_model(study, TransmissionErrorModel, "transmission_error", o.model, error))
 
 
 def shown_units(model_units) -> list[str]:
@@ -63,13 +70,15 @@ class TECurve(Analysis):
                                        "spectrum shows)", min=1)
 
         def complete(self, study, error):
-            super().complete(study, error)
             self.values = {n: float(units.to_base(v, study.spec.factor(n).unit)) for n, v in self.values.items()}
             if self.values and self.configuration != "values":
                 raise error("values", 'values are used only with configuration = "values"')
 
+    def prepare(self, o, study, error) -> TEPlan:
+        return te_plan(o, study, error)
+
     def compute(self, ctx):
-        o, t = self.options, self.options.target
+        o, t = self.options, self.plan.target
         x, how = chosen_reducer(o.configuration, ctx.spec, ctx.mc, t.output("te_pp"), o.values)
         if t.stage is None:
             names, shown = ctx.spec.names, [f.unit for f in ctx.spec.factors]
@@ -84,18 +93,25 @@ class TESensitivityOptions(TEOptions):
     factors: list[str] = option(list(TABLE3_GROUPS), "the error factors (default: the Table 3 groups)", min_length=1)
     magnitudes: list[float] = option(list(DEFAULT_MAGNITUDES), "µm: the magnitudes e", positive=True, min_length=1)
     percent: float = option(10.0, "the five points span ±percent % of e", positive=True, max=50.0)
-    te_model: object = field(init=False, default=None)
-    spec: object = field(init=False, default=None)
 
-    def complete(self, study, error):
-        super().complete(study, error)
-        try:
-            self.te_model = self.target.model.variant(inputs=self.factors)
-        except Exception as exc:  # unknown factor names: say where
-            raise error("factors", getattr(exc, "reason", str(exc))) from None
-        if any(u != "mm" for u in self.te_model.input_units):
-            raise error("factors", "only magnitude factors (lengths) have an S-versus-e curve")
-        self.spec = table3_spec(self.factors, self.magnitudes)
+
+@dataclass(frozen=True)
+class TESensitivityPlan(TEPlan):
+    """And the model over the chosen error factors (same reducer and solver options) with their spec."""
+
+    te_model: object
+    spec: object
+
+
+def te_sensitivity_plan(o: TESensitivityOptions, study, error) -> TESensitivityPlan:
+    target = te_plan(o, study, error).target
+    try:
+        te_model = target.model.variant(inputs=o.factors)
+    except Exception as exc:  # unknown factor names: say where
+        raise error("factors", getattr(exc, "reason", str(exc))) from None
+    if any(u != "mm" for u in te_model.input_units):
+        raise error("factors", "only magnitude factors (lengths) have an S-versus-e curve")
+    return TESensitivityPlan(target, te_model, table3_spec(o.factors, o.magnitudes))
 
 
 class TESensitivity(Analysis):
@@ -106,6 +122,9 @@ class TESensitivity(Analysis):
     layout = texts.te_sensitivity
     Options = TESensitivityOptions
 
+    def prepare(self, o, study, error) -> TESensitivityPlan:
+        return te_sensitivity_plan(o, study, error)
+
     def compute(self, ctx):
-        o = self.options
-        return te_sensitivity(o.te_model, o.spec, o.factors, o.magnitudes, o.percent, ctx.evaluator)
+        o, p = self.options, self.plan
+        return te_sensitivity(p.te_model, p.spec, o.factors, o.magnitudes, o.percent, ctx.evaluator)

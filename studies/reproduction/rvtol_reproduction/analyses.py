@@ -11,8 +11,8 @@ from pathlib import Path
 
 from rvtol.plugin import (REQUIRED, AdjustmentOptions, Analysis, InputError, LostMotionOptions, ParallelPlaneZone,
                           Params, Section, SpecError, StackupOptions, StiffnessOptions, StiffnessPlan, TESensitivity,
-                          TESensitivityOptions, TransmissionErrorModel, load_assembly, load_design, option,
-                          stiffness_plan, te_sensitivity, units)
+                          TESensitivityOptions, TESensitivityPlan, TransmissionErrorModel, load_assembly,
+                          load_design, option, stiffness_plan, te_sensitivity, te_sensitivity_plan, units)
 
 from . import texts
 from .doc000_transmission_error import SENSITIVITIES, te_against_document
@@ -48,17 +48,18 @@ class TEReproduction(Analysis):
         printed: str = option(REQUIRED, PRINTED)
 
     @dataclass(frozen=True)
-    class Plan:
-        """The document's printed classes and sensitivities."""
+    class Plan(TESensitivityPlan):
+        """And the document's printed classes and sensitivities."""
 
         figures: object
 
     def prepare(self, o, study, error) -> "TEReproduction.Plan":
-        return self.Plan(_printed(study, o.printed, SENSITIVITIES))
+        p = te_sensitivity_plan(o, study, error)
+        return self.Plan(p.target, p.te_model, p.spec, _printed(study, o.printed, SENSITIVITIES))
 
     def compute(self, ctx):
-        o = self.options
-        res = te_sensitivity(o.te_model, o.spec, o.factors, o.magnitudes, percent=o.percent, evaluate=ctx.evaluator)
+        o, p = self.options, self.plan
+        res = te_sensitivity(p.te_model, p.spec, o.factors, o.magnitudes, percent=o.percent, evaluate=ctx.evaluator)
         return te_against_document(res, self.plan.figures)
 
 
