@@ -475,7 +475,6 @@ def test_one_module_per_concept(word):
 # --------------------------------------------------------------------------- options a schema, the plan what is built
 #: analyses whose options still hold what they load or build (issue 38 item 1): kind -> why they wait
 OPTIONS_NOT_YET_A_SCHEMA = {
-    "calibration": "rvtol/models/calibration: converted next (it was being moved this stop)",
     "stack_conventions": "rvtol/stacking is held still for a mutation run",
     "tail_probability": "rvtol/stacking is held still for a mutation run",
 }

@@ -72,14 +72,15 @@ class MeasurementOptions:
                                        unit="N*m", positive=True)
     offset: bool = option(True, "fit an angle offset for this curve")
 
-    def complete(self, study, error):
-        design = study.design
-        ratio = float(design["reducer.ratio"]) if design is not None and "reducer.ratio" in design else None
-        self.curve = load_measurement(self.file, column_units=self.units, sigma=self.sigma,
-                                      exclude_below=self.exclude_below, load_torque=self.load_torque, ratio=ratio,
-                                      name=self.name)
-        if self.curve.kind == TORSION and self.load_torque is not None:
-            raise error("load_torque", "a torsion curve has no load torque (its torques are in the file)")
+
+def load_curve(m: MeasurementOptions, design, error):
+    """The measured curve of one ``[[analysis.measurement]]`` table ``m`` (``error``: located in that table)."""
+    ratio = float(design["reducer.ratio"]) if design is not None and "reducer.ratio" in design else None
+    curve = load_measurement(m.file, column_units=m.units, sigma=m.sigma, exclude_below=m.exclude_below,
+                             load_torque=m.load_torque, ratio=ratio, name=m.name)
+    if curve.kind == TORSION and m.load_torque is not None:
+        raise error("load_torque", "a torsion curve has no load torque (its torques are in the file)")
+    return curve
 
 
 @dataclass
@@ -125,60 +126,85 @@ class CalibrationAnalysis(Analysis):
         def complete(self, study, error):
             if study.design is None:
                 raise error("kind", "calibration needs a 20-DOF design ([study] design = ...)")
-            self.design = study.design
             self.key = self.key or (f"calibration_{self.name}" if self.name else "calibration")
             self.title = self.title or (f"{CalibrationAnalysis.title}: {self.name}" if self.name else None)
             if any(getattr(a, "key", None) == self.key for a in study.analyses):
                 raise error("name", f"two calibration analyses with the key {self.key!r}: give each a name")
             if self.output is not None:
                 self.output = Path(os.path.normpath(self.output))
-                _check_output(self.output, study, error)
-            self.curves = [m.curve for m in self.measurement]
-            self.offsets = {m.curve.name: m.offset for m in self.measurement}
-            names = [c.name for c in self.curves]
-            if len(set(names)) != len(names):
-                raise error("measurement", "two measurements have the same name: give each a name")
-            if len(self.curves) > 1 and any(c.sigma is None for c in self.curves):
-                raise error("measurement", "a joint fit of several curves needs each curve's uncertainty (a sigma "
-                                           "column or key)")
-            self.fixed = _fixed(self.fixed_factors, self.design) if self.fixed_factors is not None else {}
-            self.parameters = [self._parameter(i, t, error) for i, t in enumerate(self.parameter)]
-            self._check(error)
 
-        def _parameter(self, i, t, error):
-            try:
-                return make_parameter(t.name, self.design, start=t.start, bounds=t.bounds, unit=t.unit,
-                                      measurements=self.curves)
-            except InputError as exc:
-                if exc.file is not None:
-                    raise
-                key = exc.key if exc.key in ("name", "unit", "start", "bounds") else "name"
-                raise error(f"parameter[{i}].{key}", exc.reason) from None
-
-        def _check(self, error):
-            fitted = {p.name for p in self.parameters}
-            offsets = [make_parameter(f"offset.{c.name}", self.design, measurements=self.curves)
-                       for c in self.curves if self.offsets[c.name] and f"offset.{c.name}" not in fitted]
-            try:
-                check_parameters(self.parameters + offsets, int(self.design.get("pin.count", 40)))
-            except InputError as exc:
-                raise error("parameter", exc.reason) from None
-            n_used = sum(int(c.used.sum()) for c in self.curves)
-            n_par = len(self.parameters) + len(offsets)
-            if n_used <= n_par:
-                raise error("parameter", f"{n_par} parameters (offsets included) for {n_used} measured points: need "
-                                         "more points than parameters")
-            clash = sorted(set(self.fixed) & {f for p in self.parameters if p.kind in ("clearance", "factor")
-                                              for f in p.targets})
-            if clash:
-                raise error("fixed_factors", f"factor {clash[0]!r} is both fixed and fitted")
+    def prepare(self, o, study, error) -> CalibrationPlan:
+        return calibration_plan(o, study, error)
 
     def compute(self, ctx):
-        o = self.options
-        return calibrate_study(o.design, o.curves, o.parameters, output=o.output,
-                               allow_unidentifiable=o.allow_unidentifiable, fixed_factors=o.fixed or None,
-                               offsets=o.offsets, confidence=o.confidence, max_correlation=o.max_correlation,
+        o, p = self.options, self.plan
+        return calibrate_study(p.design, p.curves, p.parameters, output=o.output,
+                               allow_unidentifiable=o.allow_unidentifiable, fixed_factors=p.fixed or None,
+                               offsets=p.offsets, confidence=o.confidence, max_correlation=o.max_correlation,
                                max_condition_index=o.max_condition_index, evaluator=ctx.evaluator, tol_f=o.tol_force)
+
+
+@dataclass(frozen=True)
+class CalibrationPlan:
+    """What a calibration reads when the study loads: the design, the measured curves, which of them get an
+    angle offset, the error factors held fixed (base units) and the fitted parameters."""
+
+    design: object
+    curves: list
+    offsets: dict[str, bool]
+    fixed: dict[str, float]
+    parameters: list
+
+
+def calibration_plan(o, study, error) -> CalibrationPlan:
+    """The :class:`CalibrationPlan` of a ``calibration`` table ``o``: every file read and every parameter checked
+    against the design and the curves (the output checked to be new or an earlier calibrated design)."""
+    design = study.design
+    if o.output is not None:
+        _check_output(o.output, study, error)
+    curves = [load_curve(m, design, lambda key, reason, i=i: error(f"measurement[{i}].{key}", reason))
+              for i, m in enumerate(o.measurement)]
+    offsets = {m_curve.name: m.offset for m, m_curve in zip(o.measurement, curves)}
+    names = [c.name for c in curves]
+    if len(set(names)) != len(names):
+        raise error("measurement", "two measurements have the same name: give each a name")
+    if len(curves) > 1 and any(c.sigma is None for c in curves):
+        raise error("measurement", "a joint fit of several curves needs each curve's uncertainty (a sigma "
+                                   "column or key)")
+    fixed = _fixed(o.fixed_factors, design) if o.fixed_factors is not None else {}
+    parameters = [_parameter(i, t, design, curves, error) for i, t in enumerate(o.parameter)]
+    _check_parameters(parameters, curves, offsets, fixed, design, error)
+    return CalibrationPlan(design, curves, offsets, fixed, parameters)
+
+
+def _parameter(i, t, design, curves, error):
+    try:
+        return make_parameter(t.name, design, start=t.start, bounds=t.bounds, unit=t.unit, measurements=curves)
+    except InputError as exc:
+        if exc.file is not None:
+            raise
+        key = exc.key if exc.key in ("name", "unit", "start", "bounds") else "name"
+        raise error(f"parameter[{i}].{key}", exc.reason) from None
+
+
+def _check_parameters(parameters, curves, offsets, fixed, design, error) -> None:
+    """Parameters the curves can separate: no two of one thing, more points than parameters (offsets included),
+    no factor both fixed and fitted."""
+    fitted = {p.name for p in parameters}
+    extra = [make_parameter(f"offset.{c.name}", design, measurements=curves)
+             for c in curves if offsets[c.name] and f"offset.{c.name}" not in fitted]
+    try:
+        check_parameters(parameters + extra, int(design.get("pin.count", 40)))
+    except InputError as exc:
+        raise error("parameter", exc.reason) from None
+    n_used = sum(int(c.used.sum()) for c in curves)
+    n_par = len(parameters) + len(extra)
+    if n_used <= n_par:
+        raise error("parameter", f"{n_par} parameters (offsets included) for {n_used} measured points: need "
+                                 "more points than parameters")
+    clash = sorted(set(fixed) & {f for p in parameters if p.kind in ("clearance", "factor") for f in p.targets})
+    if clash:
+        raise error("fixed_factors", f"factor {clash[0]!r} is both fixed and fitted")
 
 
 def _check_output(path: Path, study, error) -> None:
