@@ -473,13 +473,6 @@ def test_one_module_per_concept(word):
 
 
 # --------------------------------------------------------------------------- options a schema, the plan what is built
-#: analyses whose options still hold what they load or build (issue 38 item 1): kind -> why they wait
-OPTIONS_NOT_YET_A_SCHEMA = {
-    "stack_conventions": "rvtol/stacking is held still for a mutation run",
-    "tail_probability": "rvtol/stacking is held still for a mutation run",
-}
-
-
 def _option_classes(opts) -> list:
     """The options dataclass, its bases and the dataclasses of its sub-tables (``[analysis.<key>]``)."""
     import dataclasses
@@ -532,14 +525,13 @@ def test_options_are_a_schema_and_the_plan_is_frozen(kind):
     import typing
 
     cls = _resolve(all_analyses()[kind])
-    if kind not in OPTIONS_NOT_YET_A_SCHEMA:
-        for c in _option_classes(cls.Options):
-            keys = {f.name for f in dataclasses.fields(c) if f.init}
-            derived = [f.name for f in dataclasses.fields(c) if not f.init]
-            assert derived == [], f"{c.__qualname__} declares derived state {derived}: it is the plan's (prepare)"
-            if "complete" in vars(c):
-                bad = [w for w in _writes(c.complete) if w not in keys]
-                assert bad == [], f"{c.__qualname__}.complete writes {bad}: what is loaded or built is the plan's"
+    for c in _option_classes(cls.Options):
+        keys = {f.name for f in dataclasses.fields(c) if f.init}
+        derived = [f.name for f in dataclasses.fields(c) if not f.init]
+        assert derived == [], f"{c.__qualname__} declares derived state {derived}: it is the plan's (prepare)"
+        if "complete" in vars(c):
+            bad = [w for w in _writes(c.complete) if w not in keys]
+            assert bad == [], f"{c.__qualname__}.complete writes {bad}: what is loaded or built is the plan's"
     owner = next(c for c in cls.__mro__ if "prepare" in vars(c))
     if owner is not Analysis:
         plan = typing.get_type_hints(cls.prepare)["return"]

@@ -63,14 +63,14 @@ class StackConventionsAnalysis(Analysis):
             for p in self.percentiles:
                 if not 0.0 < p < 100.0:
                     raise error("percentiles", f"percentiles lie in (0, 100), got {p:g}")
-            self.six = None if self.six_sigma is None else (self.six_sigma.cp, self.six_sigma.shift)
 
     def compute(self, ctx):
         o = self.options
+        six = None if o.six_sigma is None else (o.six_sigma.cp, o.six_sigma.shift)
         return compare_conventions(ctx.model, ctx.spec, o.outputs, ctx.mc, ctx.evaluator, sigma_levels=o.sigma_levels,
-                                   percentiles=o.percentiles, mrss_factor=o.mrss_factor, six_sigma=o.six,
-                                   true_wc=o.true_worst_case, second_order=o.second_order, starts=o.starts, max_evaluations=o.max_evaluations,
-                                   gradient=o.gradient, percent=o.percent)
+                                   percentiles=o.percentiles, mrss_factor=o.mrss_factor, six_sigma=six,
+                                   true_wc=o.true_worst_case, second_order=o.second_order, starts=o.starts,
+                                   max_evaluations=o.max_evaluations, gradient=o.gradient, percent=o.percent)
 
 
 class TailProbabilityAnalysis(Analysis):
@@ -103,4 +103,5 @@ class TailProbabilityAnalysis(Analysis):
     def compute(self, ctx):
         o = self.options
         return tail_probabilities(ctx.model, ctx.spec, ctx.mc, o.outputs, ctx.evaluator, samples=o.samples,
-                                  methods=tuple(o.methods), design_points=o.design_points, seed=ctx.seed if o.seed is None else o.seed)
+                                  methods=tuple(o.methods), design_points=o.design_points,
+                                  seed=ctx.seed if o.seed is None else o.seed)
