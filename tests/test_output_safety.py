@@ -131,7 +131,7 @@ def test_tables_xlsx_too_wide_or_too_large_for_memory_is_refused_before_computin
     import rvtol.study
 
     p = study(tmp_path)
-    monkeypatch.setattr(rvtol.study, "XLSX_MAX_COLUMNS", 3)           # a, b, y, status: 4 columns
+    monkeypatch.setattr(rvtol.study.load, "XLSX_MAX_COLUMNS", 3)           # a, b, y, status: 4 columns
     rc, err = run(["run", p, "--out", tmp_path / "r", "--quiet", "--tables", "xlsx"], capsys)
     assert rc == 2 and err == [f"rvtol: error: {p}: report.tables: 4 columns (factors, outputs, status) do not fit an "
                                "XLSX sheet (3): write the samples as csv"]
