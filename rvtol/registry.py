@@ -94,6 +94,7 @@ TABLES: dict[str, str] = {
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
+    "gate": "rvtol.ci.gates:GateTable",
 }
 
 

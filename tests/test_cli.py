@@ -120,7 +120,7 @@ def test_the_study_tables_list_their_keys(capsys):
     """``rvtol kinds`` names the study's own tables; ``rvtol kinds requirement`` lists [[requirement]]'s keys with
     their rules, as ``rvtol kinds sampling`` does [sampling]'s."""
     assert main(["kinds"]) == 0
-    assert "tables:   sampling, execution, report, requirement" in capsys.readouterr().out
+    assert "tables:   sampling, execution, report, requirement, gate" in capsys.readouterr().out
     assert main(["kinds", "requirement"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("[[requirement]]: a limit on one output") and "  output (str; required)" in out
