@@ -212,3 +212,62 @@ def test_a_pass_the_percentile_cpk_refutes_is_planned_on_the_smaller_estimate_or
     z, c = norm.ppf(0.95), percentile_estimate
     need = next(m for m in range(2, 10_000) if c - z * math.sqrt(1 / (9 * m) + c * c / (2 * (m - 1))) >= 1.33)
     assert j.undecided and j.n_to_demonstrate == need > 150
+
+
+def test_a_basis_of_estimate_written_in_a_study_file_is_described_as_the_point_estimate():
+    """basis = "estimate" parsed from TOML (a string built at run time, not the source's literal): the report says
+    the point estimate is judged, not a lower bound."""
+    from rvtol.verdict import describe_bound
+
+    r, = _from_study_file('[[requirement]]\noutput = "r"\nupper = 4.2\nmin_yield = 0.997\nbasis = "estimate"\n')
+    assert describe_bound(r) == "point estimate"
+
+
+def _exponential_output() -> np.ndarray:
+    """400 exponential values: demonstrably not normal (scipy's Anderson–Darling p ≤ 1 %)."""
+    from scipy import stats
+
+    good = np.random.default_rng(5).exponential(size=400)
+    assert stats.anderson(good, "norm", method="interpolate").pvalue <= 0.01
+    return good
+
+
+def test_an_optimiser_looks_nothing_up_for_a_passing_percentile_requirement():
+    """cpk_method = "percentile", its bound 1.4 passing 1.33, on a non-normal output: the non-normal rule fails only a
+    normal-theory pass, so other_cpk given the judged figures computes nothing — (None, None) — and judge's verdict is
+    the one the full look-up (the sign-off's) gives: a pass."""
+    from rvtol import stats as st
+    from rvtol.verdict import judge, other_cpk
+
+    r, = _from_study_file('[[requirement]]\noutput = "r"\nupper = 10.0\nmin_cpk = 1.33\ncpk_method = "percentile"\n')
+    good = _exponential_output()
+    cap = st.capability(good, None, 10.0)
+    assert other_cpk(r, good, cap, judged=(1.5, 1.4)) == (None, None)
+    shape, other = other_cpk(r, good, cap)
+    assert judge(r, cpk=1.5, cpk_lo=1.4, other_cpk=other, shape=shape).passed
+    assert judge(r, cpk=1.5, cpk_lo=1.4).passed
+
+
+def test_an_optimisers_candidate_whose_bound_is_exactly_its_minimum_is_put_to_the_non_normal_rule():
+    """A normal-theory bound equal to min_cpk passes (≥, judge's own check), so other_cpk given the judged figures
+    looks up the shape and the percentile bound of a non-normal output — the figures that can refute the pass."""
+    from rvtol import stats as st
+    from rvtol.verdict import other_cpk
+
+    r = Requirement("r", upper=10.0, min_cpk=1.33)
+    good = _exponential_output()
+    shape, other = other_cpk(r, good, st.capability(good, None, 10.0), judged=(1.5, 1.33))
+    assert shape is not None and shape.non_normal and other is not None and other[1] is not None
+
+
+@pytest.mark.parametrize("judged,other", [((np.float64(1.5), np.float64(1.4)), (1.45, 1.35)),
+                                          ((1.5, 1.4), (np.float64(1.45), np.float64(1.35)))])
+def test_two_passing_cpk_bounds_pass_the_non_normal_rule_whatever_float_type_carries_them(judged, other):
+    """np.float64 is a float (an optimiser's figures come as NumPy scalars): both bounds, 1.4 and 1.35, pass 1.33 on a
+    skewed output — the two Cpk agree, so the requirement passes with no note (their comparisons give a NumPy and a
+    Python bool: equal, not one object)."""
+    from rvtol.verdict import judge
+
+    j = judge(Requirement("r", upper=4.2, min_cpk=1.33), cpk=judged[0], cpk_lo=judged[1], other_cpk=other,
+              shape=_skewed())
+    assert j.passed and j.notes == [] and j.violation == 0.0

@@ -358,3 +358,22 @@ def test_a_cpk_whose_monte_carlo_and_fit_deviations_both_reach_the_margin_needs_
     assert not j.passed and j.undecided
     assert j.n_to_demonstrate == need > n
     assert j.parts_to_demonstrate == {"d": math.ceil(250 * 2 * d_fit ** 2 / margin ** 2)}
+
+
+def test_a_cpk_whose_monte_carlo_deviation_is_exactly_its_margin_needs_both():
+    """The requirement is Bissell's own bound at n = 40, so d_MC = M exactly, and d_fit = 0.4 ≥ M: the parts alone
+    would need M² − d_MC² = 0 (no count) — both deviations are brought to M/√2: the n whose Bissell bound reaches
+    Ĉ − M/√2 (stepping n, by hand) and the parts × 2 d_fit²/M²."""
+    from rvtol.stats import cpk_lower_bound
+    from rvtol.verdict import judge
+
+    cpk, n, d_fit = 1.6, 40, 0.4
+    req = cpk_lower_bound(cpk, n, 0.95)
+    margin = cpk - req
+    assert margin == pytest.approx(_bissell_dev(cpk, n), rel=1e-12) and margin < d_fit
+    need = next(m for m in range(2, 10 ** 5) if cpk - _bissell_dev(cpk, m) >= cpk - margin / math.sqrt(2))
+    j = judge(Requirement("y", upper=1.0, min_cpk=req), cpk=cpk, cpk_lo=cpk - math.hypot(margin, d_fit), n=n,
+              fit=_fake_cpk_fit(d_fit))
+    assert not j.passed and j.undecided
+    assert j.n_to_demonstrate == need > n
+    assert j.parts_to_demonstrate == {"d": math.ceil(250 * 2 * d_fit ** 2 / margin ** 2)}

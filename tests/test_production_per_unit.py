@@ -351,3 +351,16 @@ def test_a_unit_that_does_not_conform_says_why_once():
     assert u.state == DOES_NOT_CONFORM
     assert u.reasons == [f"P(conforms) upper bound {beta.ppf(0.95, 46, 14):.5f} < required 0.95",
                          "the estimate itself misses the requirement: more samples will not demonstrate it"]
+
+
+def test_an_undecided_unit_says_how_many_samples_would_decide_it():
+    """20 of 20 conform, required 0.95: lower bound 0.05^(1/20) = 0.861 < 0.95 ≤ upper bound 1 — undecided; the
+    reasons: the lower bound, the upper bound, and the samples that would decide it — the success-run size
+    ⌈ln 0.05 / ln 0.95⌉ = 59."""
+    from rvtol.verdict import judge_unit
+
+    u = judge_unit(Requirement("y", upper=1.0), conforming=20, n=20, required=0.95)
+    assert u.state == UNDECIDED and len(u.reasons) == 3
+    assert u.reasons[0] == f"yield lower bound {0.05 ** (1 / 20):.5f} < required 0.95"
+    assert u.reasons[1].startswith(f"upper bound {1.0:.5f} ≥ 0.95")
+    assert f"about n = {math.ceil(math.log(0.05) / math.log(0.95))} samples would demonstrate it" in u.reasons[2]

@@ -273,3 +273,42 @@ def test_an_estimate_at_a_limit_or_below_it_is_judged_if_it_held():
     j = judge_statistic(r, 4.5, 4.0, 5.5, 100)
     assert j.undecided and j.n_to_demonstrate == 100 * 4
     assert j.reasons[-1] == "about n = 400 samples would decide it (FAIL, if the estimate held)"
+
+
+def test_a_mean_requirement_read_from_a_study_file_is_judged_on_students_t():
+    """statistic = "mean" parsed from TOML (a string built at run time, not the source's literal): Student's t
+    interval of the mean, not the median's order statistics."""
+    import tomllib
+
+    t = tomllib.loads('output = "k"\nlower = 250.0\nupper = 350.0\nstatistic = "mean"\n')
+    r, = requirements_from_tables([Params(t, file="s.toml", key="requirement[0]")])
+    y = np.random.default_rng(2).normal(300.0, 20.0, 50)
+    a, b = stats.t.interval(0.90, 49, loc=y.mean(), scale=stats.sem(y))      # each end one-sided 95 %
+    assert statistic_interval(r, y) == pytest.approx((y.mean(), a, b), rel=1e-12)
+
+
+def test_two_values_bound_a_mean_by_students_t_with_one_degree_of_freedom():
+    """5.75 and 6.25: mean 6, s.e. s/√2 = 0.25 — the interval t(0.95; 1) = 6.31 s.e. either side."""
+    r = Requirement("k", lower=5.8, upper=6.2, statistic="mean")
+    a, b = stats.t.interval(0.90, 1, loc=6.0, scale=0.25)
+    assert statistic_interval(r, [5.75, 6.25]) == pytest.approx((6.0, a, b), rel=1e-12)
+
+
+def test_an_interval_touching_a_limit_from_outside_is_not_wholly_outside_the_band():
+    """The band is closed: an interval whose lower end is the upper limit (or whose upper end is the lower limit) still
+    holds a value of the band — UNDECIDED, not FAIL — and its violation is its reach beyond the limit over the band's
+    width 2, not 1 + a gap."""
+    r = Requirement("k", lower=-1.0, upper=1.0, statistic="median")
+    above = judge_statistic(r, 1.5, 1.0, 2.0, 100)
+    assert not above.passed and above.undecided and above.violation == 0.5
+    below = judge_statistic(r, -1.5, -2.0, -1.0, 100)
+    assert not below.passed and below.undecided and below.violation == 0.5
+
+
+def test_a_one_sided_band_at_zero_charges_the_gap_itself():
+    """|limit| = 0 cannot scale a one-sided band's violation: the gap is charged as it is (scale 1) — [0.5, 0.75]
+    wholly above the upper limit 0: 1 + 0.5; [−0.25, 0.5] across the lower limit 0: 0.25."""
+    above = Requirement("k", upper=0.0, statistic="median")
+    assert judge_statistic(above, 0.625, 0.5, 0.75, 100).violation == 1.5
+    across = Requirement("k", lower=0.0, statistic="median")
+    assert judge_statistic(across, 0.25, -0.25, 0.5, 100).violation == 0.25

@@ -373,3 +373,78 @@ def test_convergence_trace_shows_no_mean_before_a_sample_is_evaluated_and_no_int
     vals = y[10:20]
     half = st.stats.norm.ppf(0.975) * vals.std(ddof=1) / np.sqrt(10)
     assert tr["mean"][at[20]] == pytest.approx(vals.mean()) and tr["mean_lo"][at[20]] == pytest.approx(vals.mean() - half)
+
+
+def test_rss_takes_its_correlation_by_keyword_and_every_other_option_only_by_keyword():
+    # √(cᵀRc) = √(1 + 4 + 2·0.5·1·2) = √7 with the correlation named; a third positional argument is refused, not read
+    # as the weights (weights, variances, axis, ... are keyword-only)
+    assert st.rss([1.0, 2.0], correlation=[[1.0, 0.5], [0.5, 1.0]]) == pytest.approx(math.sqrt(7.0))
+    assert st.rss(terms=[3.0, 4.0]) == 5.0
+    with pytest.raises(TypeError):
+        st.rss([3.0, 4.0], None, np.array([1.0, 0.25]))
+
+
+def test_a_negative_deviation_adds_no_error_to_a_lower_bound():
+    # a one-sided deviation below 0 (the other error's quantile above the estimate, as FitEffect clips it) lowers
+    # nothing: the bound stays 0.99 − √(0.02² + 0²) = 0.97, for −0.01 as for −2
+    for deviation in (-0.01, -2.0):
+        assert st.combined_lower_bound(0.99, 0.97, deviation) == pytest.approx(0.97, rel=1e-14)
+
+
+@pytest.mark.parametrize("d", [1e-14, 3e-14, 1e-13])
+def test_n_for_yield_of_a_requirement_reached_just_past_one_sample_is_two(d):
+    # no failures (Clopper–Pearson): the bound at n is (1 − c)^(1/n), so a requirement (1 − c)^(1/n*) with
+    # n* = 1 + d (d below the search's 1e-12 resolution in ln n, where it lands on n = 1) takes the success-run
+    # size ⌈ln(1 − c) / ln(required)⌉ = ⌈n*⌉ = 2 samples
+    level = 0.95
+    required = (1.0 - level) ** (1.0 / (1.0 + d))
+    assert math.ceil(math.log(1.0 - level) / math.log(required)) == 2
+    assert st.n_for_yield(1.0, required, level) == 2
+
+
+@pytest.mark.parametrize("estimate,method", [(1e-9, "exact"), (3e-9, "exact"), (3e-10, "wilson")])
+def test_n_for_yield_reaches_a_requirement_the_largest_plan_meets_exactly(estimate, method):
+    # the requirement is the bound of the largest plan itself: it reaches it (≥), so there is a plan — at the top of
+    # the range (the bound grows with n at a fixed rate; at 1e15 it moves by less than an ulp over a few samples)
+    required = st.proportion_lower_bound(estimate * st.N_PLAN_MAX, st.N_PLAN_MAX, 0.95, method)
+    n = st.n_for_yield(estimate, required, 0.95, method)
+    assert n is not None and 0.999 * st.N_PLAN_MAX < n <= st.N_PLAN_MAX
+
+
+@pytest.mark.parametrize("method", ["exact", "wilson"])
+@pytest.mark.parametrize("level", [0.5, 0.95])
+def test_no_plan_for_a_yield_estimate_that_only_equals_its_requirement(level, method):
+    # 45 of 50 conform against a requirement of 0.9 (read from a file: equal values, not one object): the estimate
+    # does not exceed the requirement, so no n is offered — also at level 0.5, where Wilson's bound is the estimate
+    conforming, n = 45, 50
+    assert st.n_for_yield(conforming / n, float("0.9"), level, method) is None
+
+
+def test_one_value_has_no_capability_and_raises_no_warning():
+    # one value has no spread: no Cp, Cpk or percentile Cpk — said by None, not by NumPy's "Degrees of freedom <= 0"
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        c = st.capability(np.array([2.0]), 0.0, 4.0)
+    assert c == {"cp": None, "cpk": None, "cpk_lo": None, "cpk_hi": None, "cpk_percentile": None}
+
+
+def test_the_resampling_bootstrap_draws_as_many_resamples_by_default_as_the_order_statistic_one():
+    # bootstrap_ci is the reference percentile_cpk_ci is checked against, and the sign-off judges a percentile Cpk with
+    # it: by default it draws the 200 resamples bootstrap_quantiles draws (its [200, 3], test above) — one call each
+    calls = []
+    st.bootstrap_ci(np.arange(10.0), lambda r: calls.append(1) or float(r.mean()))
+    assert len(calls) == 200 == st.bootstrap_quantiles(np.arange(10.0), st.CPK_QUANTILES).shape[0]
+
+
+def test_the_running_mean_interval_of_two_evaluated_values_divides_by_n_minus_1():
+    # only samples 5 and 8 evaluated (values 5, 8): mean 6.5, s² = (1.5² + 1.5²)/(2 − 1) = 4.5, half-width
+    # z·√(4.5/2) = 1.5 z at every count from 10 on
+    y = np.arange(12.0)
+    ok = np.isin(np.arange(12), [5, 8])
+    tr = st.convergence_trace(y, ok, [], confidence=0.95)
+    z = stats.norm.ppf(0.975)
+    assert list(tr["n"]) == [10, 11, 12]
+    assert np.all(tr["mean"] == 6.5)
+    assert tr["mean_lo"] == pytest.approx(6.5 - 1.5 * z, rel=1e-12) and tr["mean_hi"] == pytest.approx(6.5 + 1.5 * z)
