@@ -10,10 +10,9 @@ from rvtol.models.adjustment import AdjustedAssemblyModel, load_assembly
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
-from conftest import needs_wing, write
-from test_adjustment_inputs import STUDY_HEAD
+from conftest import BX40E_STUDY_HEAD, needs_wing, write
 
-STUDY = STUDY_HEAD + textwrap.dedent("""
+STUDY = BX40E_STUDY_HEAD + textwrap.dedent("""
     [[analysis]]
     kind = "adjustment"
     part_errors = "example.part_errors"

@@ -13,9 +13,8 @@ import rvtol.plugin
 from rvtol.analysis import Analysis
 from rvtol.registry import ANALYSES, MODELS, plugin_analyses, plugin_models
 
-from conftest import WING_KINDS
+from conftest import ROOT, WING_KINDS
 
-ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "rvtol"
 #: the reproduction wing: a distribution of its own (studies/reproduction, its tests in studies/reproduction/tests),
 #: installed by the test command; the core suite passes without it (tests/conftest.py)
@@ -264,7 +263,7 @@ def test_every_model_factory_resolves_with_the_documented_signature(kind):
 
 
 @pytest.mark.parametrize("kind", sorted(plugin_models()) or [pytest.param(None, marks=pytest.mark.skip(
-    reason="no package in this environment registers an rvtol.models entry point (tests/test_model_kinds.py "
+    reason="no package in this environment registers an rvtol.models entry point (tests/models/test_model_kinds.py "
            "installs one)"))])
 def test_every_installed_model_plugin_has_the_documented_signature(kind):
     f = plugin_models()[kind].load()
@@ -293,7 +292,7 @@ def test_every_registered_kind_is_used_by_a_study_or_a_test():
     used = set()
     for p in (ROOT / "studies").glob("*.toml"):
         used |= _kinds_named_by(p)
-    tests = " ".join(p.read_text(encoding="utf-8") for p in (ROOT / "tests").glob("test_*.py"))
+    tests = " ".join(p.read_text(encoding="utf-8") for p in (ROOT / "tests").rglob("test_*.py"))
     used |= set(re.findall(r'kind = "(\w+)"', tests))
     missing = sorted((set(MODELS) | set(all_analyses())) - used)
     assert missing == []
@@ -301,7 +300,7 @@ def test_every_registered_kind_is_used_by_a_study_or_a_test():
 
 def test_every_kind_a_study_names_is_registered():
     for p in (ROOT / "studies").glob("*.toml"):
-        for k in _kinds_named_by(p):       # the wing's kinds: registered when it is installed (its test_plugin.py)
+        for k in _kinds_named_by(p):       # the wing's kinds: registered when it is installed (its test_reproduction_plugin.py)
             assert k in MODELS or k in all_analyses() or k in WING_KINDS, (p.name, k)
 
 

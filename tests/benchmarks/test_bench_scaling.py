@@ -1,10 +1,11 @@
 """The scaling benchmark's Amdahl fit against Amdahl's law itself (no timing: made-up times)."""
 import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies" / "benchmarks"))
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "studies" / "benchmarks"))
 from bench_scaling import amdahl  # noqa: E402
 
 

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 BENCH = ROOT / "studies" / "benchmarks"
 SCRIPTS = sorted(p.name for p in BENCH.glob("bench_*.py"))
 #: run by ``run_all.py --smoke``, not by the suite: each starts several processes of its own (≈ 10–40 s at the smoke

@@ -11,9 +11,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from conftest import GAP_MODEL, gap_factors
+from conftest import GAP_MODEL, ROOT, gap_factors
 
-ROOT = Path(__file__).resolve().parents[1]
 CI = ROOT / "studies" / "ci"
 
 

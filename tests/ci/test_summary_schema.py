@@ -2,7 +2,6 @@
 summary, and it rejects what is not one (a schema that accepts anything would prove nothing)."""
 import copy
 import json
-from pathlib import Path
 
 import pytest
 
@@ -11,9 +10,8 @@ from rvtol.cli import main
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
-from conftest import study_param
+from conftest import ROOT, study_param
 
-ROOT = Path(__file__).resolve().parents[1]
 STUDIES = sorted((ROOT / "studies").glob("*.toml"))
 
 

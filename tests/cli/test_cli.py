@@ -11,12 +11,12 @@ import pytest
 from rvtol import __version__
 from rvtol.cli import main
 
+from conftest import ROOT
+
 
 @pytest.fixture(scope="module")
 def linear_run(tmp_path_factory):
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
+    root = ROOT
     out = tmp_path_factory.mktemp("rep") / "linear"
     rc = main(["run", str(root / "studies" / "linear_stackup.toml"), "--out", str(out), "--n", "4000",
                "--executor", "process", "--workers", "2", "--quiet"])

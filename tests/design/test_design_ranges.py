@@ -4,7 +4,6 @@ estimate."""
 import math
 import re
 import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,7 +11,8 @@ import pytest
 from rvtol.design import STATUSES, design_from_table, load_design
 from rvtol.errors import SpecError
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 PRODUCT = ROOT / "data/products/rv80e/design.toml"
 
 

@@ -10,7 +10,8 @@ from rvtol.design import load_design
 from rvtol.errors import InputError, SpecError
 from rvtol.models.reducer_20dof.geometry import geometry_from_design, involute, inverse_involute
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 PRODUCT = ROOT / "data/products/rv80e/design.toml"
 VARIANT = ROOT / "data/products/rv80e_153/design.toml"
 RHO = 7850e-12          # steel, t/mm^3 (base units)

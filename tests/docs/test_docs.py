@@ -3,7 +3,7 @@
 The reference check reads README.md, the shipped guides (``rvtol/docs/``) and every Markdown document of the
 repository they reach by relative links or by naming its path: every relative link must reach a file or folder of
 the repository (and its ``#anchor`` a heading of that file, as GitHub names it), and every code span that is a
-repository path (``studies/build.md``, ``data/products/rv80e/``, ``tests/test_cli.py``) must exist — relative to
+repository path (``studies/build.md``, ``data/products/rv80e/``, ``tests/cli/test_cli.py``) must exist — relative to
 the repository or to the document's folder.  Illustrative paths (a user's own files, a run's output) are listed in
 :data:`ILLUSTRATIVE`; the reference documents themselves are outside the repository (``../shared/``: the project's
 folder beside the checkout, which the write-ups cite the seeds and REFERENCE.md from).
@@ -20,7 +20,8 @@ import pytest
 from rvtol import docs
 from rvtol.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 DOCS = ROOT / "rvtol" / "docs"
 
 #: code spans that name files a user or a run makes, not files of the repository
@@ -99,7 +100,7 @@ def test_the_link_check_finds_what_it_should(tmp_path):
     """The checker itself: a dead link, a dead anchor and a dead path are found; live ones are not."""
     (tmp_path / "b.md").write_text("# Sign-off in CI\n")
     doc = tmp_path / "a.md"
-    doc.write_text("[ok](b.md#sign-off-in-ci) [gone](c.md) [anchor](b.md#nope) `tests/test_docs.py` "
+    doc.write_text("[ok](b.md#sign-off-in-ci) [gone](c.md) [anchor](b.md#nope) `tests/docs/test_docs.py` "
                    "<img src=\"d.png\"> "
                    "`studies/no_such.toml` `reports/x/summary.json` `b.md`\n```\n[in code](zzz.md)\n```\n")
     assert broken(doc) == ["link c.md: no such file", "link b.md#nope: no heading #nope", "link d.png: no such file",

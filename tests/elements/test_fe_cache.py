@@ -14,7 +14,8 @@ import pytest
 
 from rvtol.elements import fe_cache, fe_seats
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 ring = fe_seats.housing_ring_work
 #: a coarse housing ring of 12 pins at one crank angle (≈ 0.1 s): the seat these tests compute
 KW = dict(r_inner=45.0, r_outer=50.0, thickness=24.0, z_p=12, z_c=11, R_p=40.0, ecc=1.5, E=210e3, nu=0.3, angles=1,

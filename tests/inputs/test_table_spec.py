@@ -3,7 +3,6 @@ that name the sheet, row and column."""
 import datetime
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +13,8 @@ from rvtol.inputs.table_spec import spec_rows, write_table_spec
 from rvtol.models.linear.model import stack_model
 from rvtol.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 SPECS = sorted((ROOT / "data" / "specs").glob("*.toml")) + sorted((ROOT / "data" / "products").glob("*/tolerances.toml"))
 
 

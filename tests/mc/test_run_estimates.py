@@ -9,7 +9,7 @@ from rvtol.cli import main
 from rvtol.runguard import estimate_run
 from rvtol.study import load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
 
 
 def _folder_bytes(folder: Path) -> int:

@@ -21,7 +21,7 @@ import pytest
 
 from rvtol.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
 
 STUDY = f"""
 [study]

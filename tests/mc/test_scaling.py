@@ -5,7 +5,6 @@ assertions: what is checked is what a clock cannot make flaky (a busy loop's own
 counts and sums)."""
 import json
 import time
-from pathlib import Path
 
 import pytest
 
@@ -13,7 +12,7 @@ from rvtol.cli import main
 from rvtol.executors import make_executor, recording_task_cpu
 from rvtol.scaling import makespan, projected
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
 
 
 @pytest.mark.parametrize("workers, expected", [(1, 12.0), (2, 7.0), (3, 5.0), (5, 3.0), (16, 3.0)])

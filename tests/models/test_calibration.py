@@ -1,7 +1,6 @@
 """Calibration against measured curves (rvtol.models.calibration): the fit and its uncertainty against closed
 forms and SciPy, recovery of known parameters from synthetic measurements (with interval coverage over
 seeds), identifiability warnings, CSV errors, the written design, and the study analysis."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,7 +25,8 @@ from rvtol.models.torsion_curve.model import TorsionCurveModel
 from rvtol.models.transmission_error.model import TransmissionErrorModel
 from rvtol.study import load_study, run_study
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 DESIGN = load_design(ROOT / "data/designs/rv80e_te.toml")
 TORSION_CSV = ROOT / "data/measurements/synthetic_rv80e_torsion_curve.csv"
 TE_CSV = ROOT / "data/measurements/synthetic_rv80e_te.csv"
@@ -199,7 +199,7 @@ def test_every_element_family_of_the_chain_is_a_calibration_parameter():
     from rvtol.elements.reducer_chain import FAMILIES as CHAIN
 
     assert set(FAMILIES) == set(CHAIN)
-    product = load_design(Path(__file__).resolve().parents[1] / "data/products/rv80e/design.toml")
+    product = load_design(ROOT / "data/products/rv80e/design.toml")
     assert set(families_in(product)) == set(CHAIN)                         # the product gives every element
     assert set(families_in(DESIGN)) == {"sun_support", "sun_planet_mesh", "cycloid_pin", "turning_arm_bearings",
                                         "crank_support_bearings", "carrier_housing_bearing"}   # doc 000's laws

@@ -1,5 +1,4 @@
 """Torsion (hysteresis) curve of the 20-DOF model: metrics, linearity, clearance rates, virtual work."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,7 +17,8 @@ from numpy_twin import ReferenceModel
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 DESIGN = load_design(ROOT / "data/designs/rv80e_te.toml")
 G = geometry_from_design(DESIGN)
 T = G.rated_torque

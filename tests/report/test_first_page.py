@@ -2,7 +2,6 @@
 hand computations), links that exist, the baseline comparison, and the one-page summary.pdf."""
 import math
 import re
-from pathlib import Path
 
 import pytest
 from scipy.stats import norm
@@ -14,7 +13,7 @@ from rvtol.signoff import FIX_KINDS, Fix, digest, first_order_fixes, required_si
 from rvtol.spec import Factor, Requirement, ToleranceSpec
 from rvtol.distributions import Distribution
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
 
 
 def _row(mean, std):

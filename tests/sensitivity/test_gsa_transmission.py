@@ -7,7 +7,6 @@ run, the given-data first-order indices and a polynomial chaos surrogate.  The d
 independent estimates lies within √(c_a² + c_b²) (+ the surrogate's bias bound), each half-width at the
 Bonferroni level of the family of comparisons (tests/gsa_reference.py).
 """
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +21,8 @@ from rvtol.spec import load_spec
 
 from gsa_reference import bonferroni
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 FACTORS = ["E_c[1,1]", "beta_c[1,1]", "delta_b[1,1]", "E_h", "R_pin"]
 
 

@@ -1,14 +1,11 @@
 """Every data file and study in the repository loads and validates (no physics is run)."""
-from pathlib import Path
 
 import pytest
 
 from rvtol.cli import main
 from rvtol.spec import load_requirements, load_spec
 
-from conftest import study_param
-
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT, study_param
 
 
 @pytest.mark.parametrize("path", sorted((ROOT / "data" / "specs").glob("*.toml")), ids=lambda p: p.name)

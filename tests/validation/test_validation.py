@@ -1,11 +1,10 @@
 """Validation against published measurements (rvtol.validation): the stored files, the comparison rules against
 hand-computed numbers, the tolerance-scale calibration against its closed form, the study analysis end to end."""
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import write
+from conftest import ROOT, write
 from rvtol.errors import InputError
 from rvtol.model import Model, Quantity
 from rvtol.sampling import sample
@@ -14,7 +13,6 @@ from rvtol.validation import (STATUSES, compare_limit, compare_orders, compare_v
                               load_published_files, median_interval, validate)
 from rvtol.validation.agreement import compare_shape
 
-ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = sorted((ROOT / "data" / "measurements" / "published").glob("*.toml"))
 
 

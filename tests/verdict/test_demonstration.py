@@ -19,7 +19,7 @@ from rvtol.model import FunctionModel, Quantity
 from rvtol.spec import Factor, Requirement, ToleranceSpec
 from rvtol.verdict import judge
 
-from test_bad_input import REQ, run, setup
+from bad_input_study import REQ, run, setup
 
 
 # --------------------------------------------------------------------------- min_yield that cannot be demonstrated

@@ -8,7 +8,7 @@ from rvtol.models.adjustment import load_assembly
 from rvtol.errors import InputError
 from rvtol.study import load_study
 
-from conftest import write
+from conftest import BX40E_STUDY_HEAD, write
 
 GOOD = textwrap.dedent("""
     [assembly]
@@ -91,20 +91,7 @@ def test_inf_accuracy_accepted(tmp_path):
         assert d.accuracy == float("inf")
 
 
-#: a BX40E study head ({root}: the repository), shared with tests/test_allocation_study.py
-STUDY_HEAD = textwrap.dedent("""
-    [study]
-    name = "adj"
-    design = "{root}/data/designs/bx40e.toml"
-    spec = "{root}/data/specs/bx40e_assembly_2d.toml"
-    [model]
-    kind = "adjusted_assembly"
-    assembly = "{root}/data/assemblies/bx40e_2d.toml"
-    [sampling]
-    n = 100
-    seed = 3
-""")
-STUDY = STUDY_HEAD + textwrap.dedent("""
+STUDY = BX40E_STUDY_HEAD + textwrap.dedent("""
     [[analysis]]
     kind = "adjustment"
     part_errors = "example.part_errors"

@@ -5,7 +5,6 @@ the pitch point and its arm R_d sin α, doc 000 §1.3), scipy.optimize.linprog f
 isotropic reading the per-pin criterion replaces.
 """
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,7 +17,8 @@ from rvtol.models.pin_ring.model import PinRingFitModel, from_study
 from rvtol.models.reducer_20dof.contacts import pin_contacts
 from rvtol.params import Params
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 UM = 1e-3
 DR, DRM, G = -22.11 * UM, -30.0 * UM, 5.0 * UM        # the RV-80E as built: Δr_p, ΔR_p, the pin's clearance g
 

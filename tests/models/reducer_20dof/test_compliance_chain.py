@@ -3,7 +3,6 @@ closed form, the reductions to the contacts, and the whole chain against series/
 element stiffnesses (linearised, clearance-free)."""
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,7 +23,8 @@ from rvtol.models.reducer_20dof.geometry import geometry_from_design
 from numpy_twin import ReferenceModel
 from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 PRODUCT = load_design(ROOT / "data/products/rv80e/design.toml")
 G = geometry_from_design(PRODUCT)
 T = G.rated_torque

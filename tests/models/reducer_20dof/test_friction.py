@@ -7,7 +7,6 @@ rigid-body motion of the disc; the maker's readings of a loop with friction on t
 import dataclasses
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,7 +22,8 @@ from rvtol.models.reducer_20dof.friction import Friction, friction_from_design, 
 from numpy_twin import ReferenceModel
 from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 PRODUCT = ROOT / "data/products/rv80e/design.toml"
 
 
@@ -105,7 +105,7 @@ def test_product_friction_coefficients_and_preload_load(product):
 
 
 def test_friction_coefficients_are_checked(tmp_path):
-    # the coefficient without its plausible range (a range would refuse 1.2 first: test_design_ranges.py)
+    # the coefficient without its plausible range (a range would refuse 1.2 first: tests/design/test_design_ranges.py)
     text = re.sub(r'(pin_sliding = \{ value = )0\.15(.*?), status = "document", range = \[[^]]*\]', r'\g<1>1.2\2',
                   PRODUCT.read_text(encoding="utf-8"), count=1)
     assert "value = 1.2" in text

@@ -14,6 +14,8 @@ from rvtol.models.reducer_20dof.factors import ErrorFactors, ErrorState
 from rvtol.models.reducer_20dof.geometry import geometry_from_design, inverse_involute, involute
 from numpy_twin import ReferenceModel
 
+from conftest import ROOT
+
 ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "gamma_c", "R_pin", "R_pin_phase",
        "AP_pin", "R_cyc", "R_cyc_phase", "AP_cyc", "delta_b", "delta_oc", "delta_ca", "delta_pin[3]", "delta_th[5]",
        # part errors of issue 12: pin circle, pin-ring and per-disc harmonics, per-disc profile modification
@@ -25,9 +27,7 @@ ALL = ["E_s", "beta_s", "A_s", "gamma_s", "E_p", "E_h", "E_c", "E_ca", "A_c", "g
 
 @pytest.fixture(scope="module")
 def geom(root=None):
-    from pathlib import Path
-
-    return geometry_from_design(load_design(Path(__file__).resolve().parents[1] / "data/designs/rv80e_te.toml"))
+    return geometry_from_design(load_design(ROOT / "data/designs/rv80e_te.toml"))
 
 
 def random_errors(g, rng, scale=0.005):
@@ -79,9 +79,7 @@ def test_numba_and_numpy_agree_on_random_states(geom):
 @pytest.fixture(scope="module")
 def product():
     """The RV-80E product design: doc 000's laws with the compliance chain in series (series laws)."""
-    from pathlib import Path
-
-    return geometry_from_design(load_design(Path(__file__).resolve().parents[1] / "data/products/rv80e/design.toml"))
+    return geometry_from_design(load_design(ROOT / "data/products/rv80e/design.toml"))
 
 
 def test_numba_and_numpy_agree_with_the_compliance_chain(product):

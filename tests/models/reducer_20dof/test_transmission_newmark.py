@@ -1,5 +1,4 @@
 """Newmark-β loop (the numba kernel the reducer uses) on 1-DOF oscillators, and on the reducer."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +12,8 @@ from rvtol.models.reducer_20dof.geometry import geometry_from_design
 from rvtol.models.reducer_20dof.newmark import NewmarkSolver, integrate_small_system
 from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 # 1 kg, 1000 N/mm: ω = 1000 rad/s; base units t, N, mm, s
 M_, K_, ZETA = 1e-3, 1e3, 0.02
 W = np.sqrt(K_ / M_)

@@ -2,7 +2,6 @@
 modification against the exactly generated modified profile, the two discs' profile errors against
 rigid-body closed forms, and the existing factors' numbers unchanged."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +14,8 @@ from rvtol.models.reducer_20dof.contacts import pin_cos_sin, static_table
 from rvtol.models.reducer_20dof.factors import TABLE3_GROUPS, ErrorFactors
 from rvtol.models.transmission_error.model import TransmissionErrorModel
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 ARCSEC = units.to_base(1.0, "arcsec")
 UM = 1e-3
 
@@ -218,11 +218,11 @@ def test_existing_factors_keep_their_numbers(te_design):
     assert np.all(status == 0)
     # the equilibria are those of eb6ac72's solver to its tolerance; Newton's path to them has changed since
     # (issue 15's predictors and unloading slope), and two paths that both meet the 1e-5 N residual differ by
-    # far less than the linearised worst case of that residual (< 1e-4″, tests/test_transmission_resolution.py):
-    # measured up to 9.1e-7″ in the TE of one position (te_pp up to 2e-7″) and 3.2e-5 N in the largest pin and
-    # bearing forces between the predictors of issue 15, over 1440-position sweeps of 48 spec samples (3.9e-8″
-    # and 3.5e-7 N here).  So: TE within 2e-6″ (50× under that bound) and forces within 1e-4 N (ten times the
-    # residual a DOF may keep, shared by the contacts on it) — a changed law or
+    # far less than the linearised worst case of that residual (< 1e-4″,
+    # tests/models/transmission_error/test_transmission_resolution.py): measured up to 9.1e-7″ in the TE of one position
+    # (te_pp up to 2e-7″) and 3.2e-5 N in the largest pin and bearing forces between the predictors of issue 15, over
+    # 1440-position sweeps of 48 spec samples (3.9e-8″ and 3.5e-7 N here).  So: TE within 2e-6″ (50× under that bound)
+    # and forces within 1e-4 N (ten times the residual a DOF may keep, shared by the contacts on it) — a changed law or
     # kinematics moves them by orders of magnitude more; the fewest loaded pins exactly, their mean within two
     # of the 2 × 480 pin counts of the sweep (a pin whose force lies near the 1e-5 N resolution can count on
     # one path and not on another: one did when the predictor changed, see _kernels.record)

@@ -1,5 +1,4 @@
 """Quasi-static solver and TransmissionErrorModel: error-free TE, torque ratio, linearity, failures."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +12,8 @@ from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.models.transmission_error.model import TransmissionErrorModel
 from rvtol.models.transmission_error.orders import order_spectrum
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 ARCSEC = units.to_base(1.0, "arcsec")
 
 

@@ -4,15 +4,13 @@ Each case copies the real RV crank-chain study (assembly, spec, design, study) i
 breaks one thing and runs `rvtol check` on it.
 """
 import re
-from pathlib import Path
 
 import pytest
 
 from rvtol.cli import main
 
-from conftest import needs_wing
+from conftest import ROOT, needs_wing
 
-ROOT = Path(__file__).resolve().parents[1]
 SOURCES = {
     "assembly.toml": ROOT / "data/assemblies/rv_crank_chain.toml",
     "spec.toml": ROOT / "data/specs/stackup_rv_crank_chain.toml",

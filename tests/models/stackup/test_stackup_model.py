@@ -17,6 +17,8 @@ from rvtol.models.stackup.graph import assembly_from_table, load_assembly
 from rvtol.stacking.chain_conventions import Factors, linearise_output
 from rvtol.models.stackup.model import StackupModel
 
+from conftest import ROOT
+
 Z = 4.5
 
 GAP_CHAIN = """
@@ -117,9 +119,7 @@ def rv(root):
 
 @pytest.fixture(scope="module")
 def root():
-    from pathlib import Path
-
-    return Path(__file__).resolve().parents[1]
+    return ROOT
 
 
 def test_linear_chain_monte_carlo_converges_to_analytic_rss(gap):

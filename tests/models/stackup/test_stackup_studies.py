@@ -1,14 +1,12 @@
 """Both stack-up studies end to end (small n): sections, the shaft–hole record, the CLI and summary.json."""
 import json
-from pathlib import Path
 
 import pytest
 
 from rvtol.cli import main
 from rvtol.study import load_study, run_study
 
-ROOT = Path(__file__).resolve().parents[1]
-
+from conftest import ROOT
 
 
 def test_rv_crank_chain_study_end_to_end(tmp_path, capsys):

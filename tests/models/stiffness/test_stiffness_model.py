@@ -1,6 +1,5 @@
 """Doc 004 torsion-angle model: components, statics, the Model over tolerance factors, the study."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +13,8 @@ from rvtol.models.stiffness.torsion_angle import ReducerStiffness
 from rvtol.params import Params
 from rvtol.spec import spec_from_table
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 DESIGN = load_design(ROOT / "data/designs/rv80e_stiffness.toml")
 RS = ReducerStiffness.from_design(DESIGN)
 MODS = (-0.015, -0.030)

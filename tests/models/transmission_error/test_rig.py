@@ -2,7 +2,6 @@
 graduation's reading against its exact geometry, the TE a rig reads on an error-free reducer against the closed
 form, the order table's attribution, the rig file's errors, a study's spec made of several files."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +13,8 @@ from rvtol.models.transmission_error.orders import order_spectrum
 from rvtol.models.transmission_error.rig import INPUTS, Encoder, Rig, load_rig, measurement_terms
 from rvtol.spec import load_spec, merge_specs
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 RIG = ROOT / "data/rigs/te_rig_single_head.toml"
 
 

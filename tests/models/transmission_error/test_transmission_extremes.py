@@ -2,7 +2,6 @@
 forms, the refined extremes of spec reducers against a dense sweep and a fine local sweep at each extreme,
 the same extremes from coarser sweeps, the model's te_pp, bad input, an unresolved search of either extreme
 reported (the extremes' status and the model's row)."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,7 +19,8 @@ from rvtol.spec import load_spec
 
 from test_transmission_resolution import te_bound
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 ARCSEC = units.to_base(1.0, "arcsec")
 
 

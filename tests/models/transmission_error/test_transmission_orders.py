@@ -1,7 +1,6 @@
 """Order attribution of the TE spectrum (rvtol.models.transmission_error.orders): each error family alone gives
 orders on its lattice only (exact symmetries of the model, to the solver's tolerance) and its strongest
 order where the kinematics says; two families together give their beats."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,7 +9,8 @@ from rvtol.models.transmission_error.model import TransmissionErrorModel
 from rvtol.models.transmission_error.orders import (active_families, alias, expected_orders, families_frame,
                                               lattice_step, order_spectrum)
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 UM = 1e-3
 #: positions per crank revolution: N = 81·40 = 3240 per output revolution, a multiple of 3, 40 and 120 (no
 #: alias leaves its lattice) with the mesh order z_b·z_c = 1560 below N/2

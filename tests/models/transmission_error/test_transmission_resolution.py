@@ -1,7 +1,6 @@
 """How many positions a TE sweep needs (issue 15): the fast solver against the NumPy twin, a coarse sweep
 against a fine one (the quasi-static equilibrium at an angle does not depend on the path to it), and the
 order spectrum of fewer positions against the fine spectrum folded onto it (exact DFT identity)."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,7 +20,8 @@ from rvtol.models.reducer_20dof.quasistatic import QuasiStaticSolver
 from rvtol.sampling import sample
 from rvtol.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT
+
 ARCSEC = units.to_base(1.0, "arcsec")
 
 

@@ -1,14 +1,12 @@
 """The transmission-error study: loading, bad input, the analyses on a small configuration."""
-from pathlib import Path
 
 import pytest
 
 from rvtol.errors import InputError
 from rvtol.study import load_study, run_study
 
-from conftest import needs_wing, write
+from conftest import ROOT, needs_wing, write
 
-ROOT = Path(__file__).resolve().parents[1]
 DESIGN = (ROOT / "data/designs/rv80e_te.toml").as_posix()
 
 
