@@ -1,4 +1,4 @@
-"""Analytic sensitivity test functions shared by ``tests/test_gsa_*.py`` (closed-form Sobol indices).
+"""Analytic sensitivity test functions shared by ``tests/sensitivity/test_gsa_*.py`` (closed-form Sobol indices).
 
 * Ishigami (a = 7, b = 0.1) on U(−π, π)³: S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424, 0.2437),
   S13 = 0.2437 (Ishigami & Homma 1990; Sobol' & Levitan 1999);

@@ -5,7 +5,7 @@ The expected numbers are typed here; each reader is checked on a ``;`` file and 
 (:func:`comma_role`: a ``25,011`` is decided by the file's other numbers), the cell reader (:func:`cell_number`),
 the header-row table (:meth:`Table.number`) and a reader built on it (a measured part family,
 :mod:`rvtol.production.measured_parts`).  Comma-separated files and thousands separators are
-tests/test_sheet_numbers.py's."""
+tests/inputs/test_sheet_numbers.py's."""
 import numpy as np
 import pytest
 

@@ -180,7 +180,7 @@ def test_run_until_decided_ends_undecided_at_the_budget():
 
 def test_run_until_decided_is_bit_identical_across_chunkings_and_resumes_from_its_chunks(tmp_path):
     """Another chunking (as another executor or worker count makes: :func:`rvtol.mc.evaluate` reassembles chunks by
-    index, ``tests/test_mc_engine.py``) gives the same bits and looks; a rerun on the same checkpoint folder redraws
+    index, ``tests/mc/test_mc_engine.py``) gives the same bits and looks; a rerun on the same checkpoint folder redraws
     the same batches and evaluates nothing."""
     from rvtol.checkpoint import ChunkStore
     from rvtol.mc import run_until_decided

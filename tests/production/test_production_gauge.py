@@ -29,7 +29,7 @@ SPEC = spec_from_table({"factor": [
     {"name": "crank_1.cam.y", "unit": "um", "dist": "normal", "mean": 0.0, "sigma": 1.0},
     {"name": "crank_2.cam.y", "unit": "um", "dist": "normal", "mean": 0.0, "sigma": 1.0},
 ]})
-# 3 parts × 2 appraisers × 2 trials built from chosen effects (tests/test_msa.py::_constructed, d = 0.1):
+# 3 parts × 2 appraisers × 2 trials built from chosen effects (tests/production/test_msa.py::_constructed, d = 0.1):
 # σ²_GRR = 0.02 + 0.13 + 2.72/6 = 0.603333 µm² (interaction kept, p = 0.0055)
 GAUGE_ROWS = [(p, a, t, 10.0 + pe + ae + ie + (-0.1 if t == 1 else 0.1))
               for p, pe, ie_row in ((1, -2.0, (0.3, -0.3)), (2, 0.0, (-0.1, 0.1)), (3, 2.0, (-0.2, 0.2)))

@@ -76,7 +76,7 @@ def test_the_linearised_rows_say_they_leave_a_curvature_out():
 
 
 def test_a_stack_of_two_lognormals_gets_its_pearson_vi_curve():
-    """Found by the property test (tests/test_stacking_property.py): y = −0.2 x₁ − 1.046875 x₂, lognormals of
+    """Found by the property test (tests/stacking/test_stacking_property.py): y = −0.2 x₁ − 1.046875 x₂, lognormals of
     median 0.95 and 0.3113, log-σ 0.1565 and 0.3042 — skewness −0.8675, kurtosis 4.4546, Pearson VI.  The beta
     prime's search stepped to β − 4 = e⁻⁶⁸, 0 in floating point, and the second order (and a spec's
     ``dist = "pearson"`` with those moments) stopped on a ZeroDivisionError; now the curve has the four moments

@@ -153,7 +153,7 @@ def test_the_out_of_reach_test_takes_the_supports_ends():
     """Two U(−1, 1), y = x₁ + x₂: P(y > 1.9999) = (0.0001/2)²/2 = 1.25e-9 is reachable only within 1e-4 of the
     supports' ends (normal scores beyond 3.7); FORM finds no point there, and that is what it must say — not
     "out of reach, P = 0", which a box of corners at ±3 (x = ±0.9973) would conclude (beyond the worst case: out of
-    reach, ``tests/test_stacking.py``)."""
+    reach, ``tests/stacking/test_stacking.py``)."""
     from rvtol.stacking.tail import REACH
 
     assert stats.norm.sf(REACH) < 1e-16

@@ -1,6 +1,6 @@
 """Every key of every example study's ``[model]`` table, given a value of the wrong kind, is refused with one located
 error — never a traceback (the bad-input contract for the model tables, which are read by hand-written code: issue
-38's common invalid-value check, as tests/test_options_invalid_values.py makes it for the analyses' declared
+38's common invalid-value check, as tests/options/test_options_invalid_values.py makes it for the analyses' declared
 options).
 
 For each single-model study in ``studies/`` that loads in well under a second, each ``key = value`` line of its

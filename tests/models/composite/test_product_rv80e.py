@@ -144,7 +144,7 @@ def _state_vectors(err):
 
 def test_torsion_te_and_screening_inputs_equal_the_direct_computation(drawn, study):
     """The declared mapping on the parts as drawn (the build, which only replaces the values of the factors it
-    sets, is tested in test_build.py)."""
+    sets, is tested in tests/production/test_build.py)."""
     X, v = drawn
     m, design = study.model.without_build(), study.design
     Xt = m.stage_inputs("torsion", X)
