@@ -17,7 +17,7 @@ def callout_of(factor) -> str:
     """The callout a factor belongs to — the name of the one tolerance on the drawing it stands for: its ``feature``
     (with its part) when the spec says, else its name without a coordinate suffix (``.x1`` … ``.y``) and without a
     family index (``[k]``).  (A factor's tolerance as written in drawing notation is another thing:
-    :func:`rvtol.spec.drawing_tolerance`.)"""
+    :func:`rvtol.spec.forms.drawing_tolerance`.)"""
     feat = getattr(factor, "feature", "") or ""
     part = getattr(factor, "part", "") or ""
     if feat:
