@@ -305,10 +305,11 @@ def _refuse_spec_inputs(out: Path, spec, source: Path) -> None:
 def _kinds(kind: str | None = None) -> int:
     from .registry import ANALYSES, MODELS, analysis_function, model_factory, plugin_analyses, plugin_models
 
-    from .run_options import TABLES
+    from .registry import TABLES, table_options
 
     if kind in TABLES:
-        _keys(f"[{kind}]: {TABLES[kind].__doc__.split(': ', 1)[1]}", TABLES[kind])
+        options = table_options(kind)
+        _keys(f"{options.__doc__.split(': ', 1)[0].strip('`')}: {options.__doc__.split(': ', 1)[1]}", options)
         return EXIT_PASS
     if kind is not None:
         is_model = kind in MODELS or kind in plugin_models()

@@ -55,7 +55,7 @@ from .errors import did_you_mean
 REQUIRED = MISSING
 
 _RULES = ("choices", "min", "max", "positive", "nonnegative", "power_of_two", "even", "zero_or_min", "min_length",
-          "unit", "names", "all_ok", "key")
+          "unit", "names", "all_ok", "key", "single_line")
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,7 @@ class Rule:
     names: str | None = None
     all_ok: bool = False
     key: str | None = None
+    single_line: bool = False
 
     def constraint(self) -> str:
         """The constraints in words, for ``rvtol kinds``."""
@@ -102,6 +103,8 @@ class Rule:
             out.append(f"in {self.unit} (or {{value, unit}})")
         if self.names:
             out.append(f"names of the study's {self.names}" + (' or "all"' if self.all_ok else ""))
+        if self.single_line:
+            out.append("one line")
         return ", ".join(out)
 
 
@@ -268,7 +271,7 @@ def _read(params, key: str, tp, default, r: Rule, study):
     if origin is Literal:
         return params.str(key, choices=[str(a) for a in typing.get_args(tp)])
     if tp is str:
-        v = params.str(key, choices=r.choices)
+        v = params.str(key, choices=r.choices, single_line=r.single_line)
         if r.names:
             _check_names(params, key, [v], r.names, study)
         return v

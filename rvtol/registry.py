@@ -88,6 +88,21 @@ ANALYSES: dict[str, str] = {
 }
 
 
+#: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
+TABLES: dict[str, str] = {
+    "sampling": "rvtol.run_options:SamplingOptions",
+    "execution": "rvtol.run_options:ExecutionOptions",
+    "report": "rvtol.run_options:ReportOptions",
+    "requirement": "rvtol.spec.requirements:RequirementTable",
+    "gate": "rvtol.ci.gates:GateTable",
+}
+
+
+def table_options(name: str):
+    """The options class of the study's table ``name`` (:data:`TABLES`)."""
+    return _load(TABLES, name, "table", None, name)
+
+
 def curve_reader():
     """The reader of a measured hysteresis curve by the maker's definitions (the torsion-curve model's): what the
     per-serial update's ``curves`` use (:mod:`rvtol.production.per_serial`, which imports no model)."""

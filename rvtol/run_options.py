@@ -62,9 +62,6 @@ class ReportOptions:
         return tuple(dict.fromkeys([self.tables] if isinstance(self.tables, str) else self.tables))
 
 
-#: the run tables by their TOML name
-TABLES = {"sampling": SamplingOptions, "execution": ExecutionOptions, "report": ReportOptions}
-
 
 def default(cls, name: str):
     """The declared default of the key ``name`` of a run table (what the programmatic ``RunOptions`` also

@@ -2,11 +2,12 @@
 judged, and their reading from ``[[requirement]]`` tables and requirement files."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 from .. import units
 from ..errors import InputError, SpecError
+from ..options import REQUIRED, option, read_options
 from ..params import Params, read_toml
 
 #: yield interval methods a requirement can name -> scipy's binomtest method
@@ -145,41 +146,66 @@ YIELD_OF_ONE = ("a yield of exactly 1 cannot be demonstrated by any finite sampl
                 "0.999999 (1 ppm out)")
 
 
+@dataclass
+class RequirementTable:
+    """``[[requirement]]``: a limit on one output and the yield or Cpk it must reach, or the band a population
+    statistic of the output must lie in (:class:`Requirement`; ``rvtol docs writing-a-study``)."""
+
+    output: str = option(REQUIRED, "the output the limits apply to (a name the model gives)")
+    lower: float | None = option(None, "the lower limit, in unit (lower and/or upper)")
+    upper: float | None = option(None, "the upper limit, in unit")
+    unit: str | None = option(None, "the unit of the limits (default: the output's display unit)")
+    min_yield: float | None = option(None, "the yield the output must reach, in (0, 1) (neither it nor min_cpk: "
+                                           f"{Requirement.DEFAULT_MIN_YIELD})")
+    min_cpk: float | None = option(None, "the Cpk the output must reach", positive=True)
+    confidence: float = option(0.95, "the confidence of the bound the verdict uses, in [0.5, 1)")
+    basis: str | None = option(None, "what the minimum is judged on: its lower confidence bound (default "
+                                     "lower_bound) or the estimate", choices=BASES)
+    name: str = option("", "the requirement's name (default: the output and its limits)", single_line=True)
+    interval: str | None = option(None, "the yield's interval (default clopper-pearson, exact)",
+                                  choices=tuple(YIELD_INTERVALS))
+    cpk_method: str | None = option(None, "the Cpk min_cpk judges (default normal: normal theory, Bissell's bound; "
+                                          "percentile: ISO 22514-2)", choices=CPK_METHODS)
+    bound: str = option("one-sided", "the bound: one-sided at confidence, or the lower end of the two-sided "
+                                     "interval", choices=BOUNDS)
+    statistic: str | None = option(None, "a population statistic judged within [lower, upper] instead of a "
+                                         "per-unit limit", choices=STATISTICS)
+    reading: str = option("", "how the figure is read (the maker's definition the output follows)")
+    source: str = option("", "where the limit comes from")
+    status: str = option("", "how firmly the limit is known: confirmed (read in its source), recalled, assumed",
+                         choices=STATUSES)
+
+    def complete(self, study, error):
+        if self.lower is None and self.upper is None:
+            raise error("upper", "a requirement needs 'lower' and/or 'upper'")
+        if self.lower is not None and self.upper is not None and not self.lower < self.upper:
+            raise error("upper", f"limits in the wrong order: lower {self.lower} >= upper {self.upper}")
+        if self.unit is not None:
+            try:
+                self.unit = units.canonical(self.unit)
+            except InputError as exc:
+                raise error("unit", exc.reason) from None
+        if self.min_yield == 1.0:
+            raise error("min_yield", YIELD_OF_ONE)
+        if self.min_yield is not None and not 0.0 < self.min_yield < 1.0:
+            raise error("min_yield", f"must lie in (0, 1), got {self.min_yield}")
+        if not 0.5 <= self.confidence < 1.0:
+            raise error("confidence", f"must lie in [0.5, 1), got {self.confidence}")
+        if self.statistic is not None:
+            for k in ("interval", "cpk_method", "basis"):
+                if getattr(self, k) is not None:
+                    raise error(k, f"a requirement on the {self.statistic} is judged on its confidence interval: "
+                                   f"{k!r} does not apply")
+        self.basis = self.basis or "lower_bound"
+        self.interval = self.interval or "clopper-pearson"
+        self.cpk_method = self.cpk_method or "normal"
+
+
 def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
+    """The requirements of ``[[requirement]]`` tables, each read by :class:`RequirementTable`."""
     out = []
     for t in tables:
-        output = t.str("output")
-        lower = t.float("lower", None)
-        upper = t.float("upper", None)
-        if lower is None and upper is None:
-            raise t.error("upper", "a requirement needs 'lower' and/or 'upper'")
-        if lower is not None and upper is not None and not lower < upper:
-            raise t.error("upper", f"limits in the wrong order: lower {lower} >= upper {upper}")
-        unit = t.unit("unit", None)
-        min_yield = t.float("min_yield", None)
-        if min_yield == 1.0:
-            raise t.error("min_yield", YIELD_OF_ONE)
-        if min_yield is not None and not 0.0 < min_yield < 1.0:
-            raise t.error("min_yield", f"must lie in (0, 1), got {min_yield}")
-        min_cpk = t.float("min_cpk", None, positive=True)
-        confidence = t.float("confidence", 0.95)
-        if not 0.5 <= confidence < 1.0:
-            raise t.error("confidence", f"must lie in [0.5, 1), got {confidence}")
-        basis = t.str("basis", "lower_bound", choices=BASES)
-        name = t.str("name", "", single_line=True)
-        interval = t.str("interval", "clopper-pearson", choices=YIELD_INTERVALS)
-        cpk_method = t.str("cpk_method", "normal", choices=CPK_METHODS)
-        bound = t.str("bound", "one-sided", choices=BOUNDS)
-        statistic = t.str("statistic", None, choices=STATISTICS)
-        if statistic is not None:
-            for k in ("interval", "cpk_method", "basis"):
-                if k in t.data:
-                    raise t.error(k, f"a requirement on the {statistic} is judged on its confidence interval: "
-                                     f"{k!r} does not apply")
-        reading, source = t.str("reading", ""), t.str("source", "")
-        status = t.str("status", "", choices=STATUSES)
+        o = read_options(RequirementTable, t)
         t.finish()
-        out.append(Requirement(output, lower, upper, unit, min_yield, min_cpk, confidence, basis, name,
-                               interval=interval, file=t.file, key=t.key, cpk_method=cpk_method, bound=bound,
-                               statistic=statistic, reading=reading, source=source, status=status))
+        out.append(Requirement(**{f.name: getattr(o, f.name) for f in fields(o)}, file=t.file, key=t.key))
     return out

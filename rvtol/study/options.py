@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..options import read_options
 from ..params import Params
-from ..run_options import TABLES as RUN_TABLES
+from ..registry import table_options
 from ..run_options import ExecutionOptions, SamplingOptions, default
 from ..sampling import METHODS
 
@@ -82,7 +82,7 @@ def read_table_options(root: Params, name: str):
     """A run table of the study (``sampling``, ``execution``, ``report``) read by its declared options: every key
     checked, an unknown one refused."""
     p = root.sub(name, {})
-    o = read_options(RUN_TABLES[name], p)
+    o = read_options(table_options(name), p)
     p.finish()
     return o
 

@@ -203,6 +203,13 @@ def test_different_seeds_are_compared_unpaired(runs, tmp_path):
     ('[[gate]]\nkind = "output"\noutput = "gap"\nstatistic = "mean"\nmax_increase = 1.0\nunit = "arcmin"\n',
      "gate[0].unit", "does not fit output 'gap'"),
     ('[[gate]]\nkind = "requirement"\n', "gate[0].kind", "did you mean 'requirements'?"),
+    ('[[gate]]\nkind = "requirements"\noutput = "gap"\n', "gate[0].output",
+     "belongs to a kind = 'output' gate, not to a 'requirements' one"),
+    ('[[gate]]\nkind = "output"\noutput = "gap"\nmax_ppm_increase = 5\nmax_increase = 1.0\n', "gate[0].max_ppm_increase",
+     "belongs to a kind = 'requirements' gate"),
+    ('[[gate]]\nkind = "output"\noutput = "gap"\nmax_increase = 1.0\n', "gate[0].statistic", "missing required key"),
+    ('[[gate]]\nkind = "output"\noutput = "gap"\nstatistic = "mean"\nmax_increase = 1.0\nunit = "furlongz"\n',
+     "gate[0].unit", "unknown unit"),
 ])
 def test_bad_gates_are_reported_when_the_study_loads(tmp_path, capsys, gate, key, reason):
     study = make(tmp_path, "g", 30.0, gates=gate)

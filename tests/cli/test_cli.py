@@ -116,6 +116,19 @@ def test_model_kinds_list_their_keys(capsys):
     assert "torsion_curve (model):" in out and "torsion_curve (analysis):" in out and "  friction (bool; " in out
 
 
+def test_the_study_tables_list_their_keys(capsys):
+    """``rvtol kinds`` names the study's own tables; ``rvtol kinds requirement`` lists [[requirement]]'s keys with
+    their rules, as ``rvtol kinds sampling`` does [sampling]'s."""
+    assert main(["kinds"]) == 0
+    assert "tables:   sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    assert main(["kinds", "requirement"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("[[requirement]]: a limit on one output") and "  output (str; required)" in out
+    assert "  name (str; default ''; one line)" in out and "  min_cpk (float, optional; default None; > 0)" in out
+    assert main(["kinds", "sampling"]) == 0
+    assert capsys.readouterr().out.startswith("[sampling]: how many samples")
+
+
 def test_check_validates_without_running(root, capsys):
     assert main(["check", str(root / "studies" / "linear_stackup.toml")]) == 0
     assert "ok" in capsys.readouterr().out

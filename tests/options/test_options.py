@@ -448,3 +448,24 @@ def test_a_union_s_expected_forms_are_said_in_a_user_s_words():
         read(Unions, {"side": [1]})
     assert str(e.value).endswith("side: expected 'upper' or 'lower' or a number"), str(e.value)
     assert read(Unions, {"side": 0.5}).side == 0.5 and read(Unions, {"side": "lower"}).side == "lower"
+
+
+def test_a_single_line_option_refuses_a_line_break_that_text_may_hold():
+    """``single_line`` (a name: one line, one cell): a line break or a tab is refused at its key; the same option
+    without the rule reads it (free text may span lines)."""
+    from dataclasses import dataclass
+
+    from rvtol.errors import InputError
+    from rvtol.options import option, read_options
+    from rvtol.params import Params
+
+    @dataclass
+    class Named:
+        name: str = option("", "a name", single_line=True)
+        note: str = option("", "free text")
+
+    o = read_options(Named, Params({"note": "two\nlines"}, file="s.toml", key="t"))
+    assert o.note == "two\nlines" and o.name == ""
+    with pytest.raises(InputError) as ei:
+        read_options(Named, Params({"name": "gap\nplay"}, file="s.toml", key="t"))
+    assert ei.value.key == "t.name" and ei.value.reason.endswith("a name may hold none")

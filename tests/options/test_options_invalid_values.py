@@ -21,8 +21,7 @@ from rvtol.errors import InputError
 from rvtol.options import REQUIRED, key_of, read_options, rule_of
 from rvtol.params import Params
 from rvtol.model_kind import Where
-from rvtol.registry import MODELS, analysis_function, ANALYSES, model_factory, plugin_analyses
-from rvtol.run_options import TABLES
+from rvtol.registry import MODELS, TABLES, analysis_function, ANALYSES, model_factory, plugin_analyses, table_options
 
 KINDS = sorted(set(ANALYSES) | set(plugin_analyses()))
 MODEL_KINDS = sorted(MODELS)
@@ -97,7 +96,7 @@ def _keys(opts, path: tuple = ()):
 
 def _options(what: str, kind: str):
     if what == "table":
-        return TABLES[kind]
+        return table_options(kind)
     return (analysis_function(kind, "s.toml", "kind") if what == "analysis" else model_factory(kind, "s.toml")).Options
 
 
