@@ -1,12 +1,8 @@
-"""The scaling benchmark's Amdahl fit against Amdahl's law itself (no timing: made-up times)."""
-import sys
-
+"""The scaling benchmark's Amdahl fit against Amdahl's law itself (no timing: made-up times).  Beside the benchmark
+it tests: pytest puts this folder on ``sys.path``, so the script imports as a module."""
 import pytest
 
-from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "studies" / "benchmarks"))
-from bench_scaling import amdahl  # noqa: E402
+from bench_scaling import amdahl
 
 
 @pytest.mark.parametrize("s", [0.0, 0.1, 0.3, 1.0])
