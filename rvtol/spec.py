@@ -162,7 +162,7 @@ class Factor:
     family: str = ""          # the family template ("pins[k].diameter_in_lot") of an expanded copy
     direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
     limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
-    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
+    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.factor.Measured: data behind dist
     zone: str = ""                                 # the circular position zone this factor is a coordinate of
     modifier: str = ""                             # a zone's material condition: "" (RFS), "MMC", "LMC"
     size: str = ""                                 # the feature-of-size factor whose departure gives the bonus
@@ -696,8 +696,9 @@ def band_distribution(p: Params, tol: Tolerance) -> Distribution:
 
 
 def measured_distribution(p: Params):
-    """``dist = "measured"``: the distribution of measured values (:func:`rvtol.inputs.measured.measured_factor`;
-    files relative to the spec file) and the record of the data behind it."""
+    """``dist = "measured"``: the distribution of measured values
+    (:func:`rvtol.inputs.measured.factor.measured_factor`; files relative to the spec file) and the record of the data
+    behind it."""
     p.str("dist")
     return measured_factor(p, Path(p.file).parent if p.file else Path("."))
 
