@@ -10,7 +10,7 @@ Tolerances.  An estimate passes when it lies within its own interval of the anal
 m comparisons in one test the interval is taken at 1 − 0.05/m (Bonferroni), so the whole test
 has at most a 5 % false-alarm rate for calibrated intervals.  PCE intervals cover the sampling
 of the design only; the surrogate's truncation error is bounded by ``bias_bound`` = 1 − Q²
-(see rvtol.sensitivity.surrogate), which the PCE comparisons add to the interval.
+(see rvtol.sensitivity.surrogate.indices), which the PCE comparisons add to the interval.
 """
 from __future__ import annotations
 

@@ -33,7 +33,7 @@ def test_the_float32_scan_picks_the_float64_maximum_even_among_near_ties():
     """OMP's candidate scan in float32 plus a float64 look at what its error bound cannot separate: the column
     is the plain float64 argmax (first of ties), including columns that differ below float32's resolution —
     where a float32 argmax alone does pick another column (checked, so the float64 look is what decides)."""
-    from rvtol.sensitivity.surrogate import _most_correlated
+    from rvtol.sensitivity.surrogate.fit import _most_correlated
 
     rng = np.random.default_rng(11)
     n, P = 400, 300
@@ -190,9 +190,9 @@ def test_degrees_fitted_side_by_side_on_workers_give_the_serial_selection(method
     same selection table, terms and coefficients bit for bit (the serial run is the reference)."""
     from rvtol.executors import make_executor
     from rvtol.mc import Evaluator
-    from rvtol.sensitivity import surrogate
+    from rvtol.sensitivity.surrogate import fit as surrogate_fit
 
-    monkeypatch.setattr(surrogate, "_blas_threads", lambda: 1)     # side by side whatever this machine's BLAS
+    monkeypatch.setattr(surrogate_fit, "_blas_threads", lambda: 1)     # side by side whatever this machine's BLAS
 
     s = sample(ISH_SPEC, 400, "lhs", 7)
     U = uniform_design(400, 3, "lhs", 7)
@@ -359,12 +359,12 @@ def test_correlated_copula_sample_helper_consistency():
 def test_degrees_are_fitted_one_by_one_when_blas_threads_already_cover_the_workers(monkeypatch):
     """With no more workers than this process's BLAS threads the serial search is as fast (its least squares use
     those threads) and never fits a degree for nothing: the map is not used."""
-    from rvtol.sensitivity import surrogate
+    from rvtol.sensitivity.surrogate import fit as surrogate_fit
 
     def refuse(fn, tasks):
         raise AssertionError("the degrees were sent to workers")
 
-    monkeypatch.setattr(surrogate, "_blas_threads", lambda: 2)
+    monkeypatch.setattr(surrogate_fit, "_blas_threads", lambda: 2)
     U = uniform_design(300, 3, "lhs", 5)
     y = evaluate_display(ISH, sample(ISH_SPEC, 300, "lhs", 5))[:, 0]
     got = fit_pce(U, y, "legendre", max_degree=6, map=refuse, workers=2)

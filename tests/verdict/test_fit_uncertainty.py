@@ -12,6 +12,7 @@ import pytest
 from scipy import optimize, stats
 
 from rvtol.distributions import Distribution
+from rvtol.errors import InputError
 from rvtol import fit_uncertainty as FU
 from rvtol.inputs import measured as M
 from rvtol.mc import run_monte_carlo
@@ -184,7 +185,7 @@ def test_the_bound_covers_the_true_yield_at_its_confidence(monkeypatch):
                                         ("weibull", stats.weibull_min(1.7, scale=2.0))])
 def test_the_fast_refits_are_the_fits_own_maximum_likelihood(family, law):
     """The bootstrap refits (closed forms for all draws at once; a Weibull as the extreme-value law of ln x) give
-    what :func:`rvtol.inputs.measured.fit_family` — scipy's ``fit`` — gives on the same samples."""
+    what :func:`rvtol.inputs.measured.parametric.fit_family` — scipy's ``fit`` — gives on the same samples."""
     sims = law.rvs(size=(3, 120), random_state=np.random.default_rng(1))
     fast = FU._closed_form_refits(sims, family, 0.0) or [FU._refit(x, family, 0.0, M.fit_family(x, family)[0])
                                                          for x in sims]
@@ -213,7 +214,7 @@ def test_a_resampled_factor_says_its_data_uncertainty_is_not_in_the_bound():
 
 def test_a_fit_whose_uncertainty_cannot_be_estimated_demonstrates_nothing(monkeypatch):
     def fail(*a, **k):
-        raise M.InputError("fit failed (no convergence)")
+        raise InputError("fit failed (no convergence)")
 
     f = measured("d", np.random.default_rng(3).gamma(4.0, 1.0, 100), "gamma")
     monkeypatch.setattr(FU, "fit_family", fail)
