@@ -1,6 +1,6 @@
 """The uncertainty of a law fitted to measured parts, carried into a requirement's verdict.
 
-A factor with ``dist = "measured"`` and ``method = "fit"`` (:func:`rvtol.inputs.measured.fit`) is sampled
+A factor with ``dist = "measured"`` and ``method = "fit"`` (:func:`rvtol.inputs.measured.parametric.fit`) is sampled
 from the law fitted to its n measured values, θ̂.  Treated as known, that law would let a Monte Carlo of any
 size "demonstrate" a yield the data cannot support: fitted to 250 parts a lognormal's 99.2 % point is known
 only to within a factor of about 1.5 in ppm, and the requirement's limit may lie beyond every measured value,
@@ -158,7 +158,8 @@ class Laws:
 
 def law_draws(factor: str, measured, draws: int = DRAWS, rng: np.random.Generator | None = None) -> Laws:
     """The :class:`Laws` of a measured factor fitted by family (``measured``: its
-    :class:`rvtol.inputs.measured.Measured` record, ``method = "fit"``), from ``draws`` parametric bootstrap refits."""
+    :class:`rvtol.inputs.measured.factor.Measured` record, ``method = "fit"``), from ``draws`` parametric bootstrap
+    refits."""
     rep = measured.fit
     c = rep.candidate(measured.family)
     family, fitted = c.family, dict(c.params)
@@ -213,7 +214,7 @@ def law_draws(factor: str, measured, draws: int = DRAWS, rng: np.random.Generato
 def _closed_form_refits(sims: np.ndarray, family: str, location: float | None) -> list[dict] | None:
     """The maximum-likelihood refits of every bootstrap sample (rows of ``sims``) at once where the MLE has a closed
     form — normal: (x̄, √(Σ(x − x̄)²/n)); lognormal with its location x₀ fixed: the same of ln(x − x₀) — as
-    ``scipy.stats`` ``fit`` computes them (:func:`rvtol.inputs.measured.fit_family`); None for other families."""
+    ``scipy.stats`` ``fit`` computes them (:func:`rvtol.inputs.measured.parametric.fit_family`); None for other families."""
     if family == "normal":
         return [{"loc": float(m), "scale": float(s)} for m, s in zip(sims.mean(axis=1), sims.std(axis=1))]
     if family == "lognormal" and location is not None and np.all(sims > location):
@@ -224,7 +225,7 @@ def _closed_form_refits(sims: np.ndarray, family: str, location: float | None) -
 
 
 def _refit(x: np.ndarray, family: str, location: float | None, start: dict) -> dict:
-    """The fit's own maximum likelihood (:func:`rvtol.inputs.measured.fit_family`) on a bootstrap sample — for a
+    """The fit's own maximum likelihood (:func:`rvtol.inputs.measured.parametric.fit_family`) on a bootstrap sample — for a
     Weibull with its location fixed, as the smallest-extreme-value law of ln(x − x₀) (``scipy.stats.gumbel_l``:
     the two likelihoods differ by the Jacobian Σ ln(x − x₀), free of the parameters, so the maxima coincide; ten
     times faster than scipy's Weibull fit)."""

@@ -4,8 +4,8 @@ A plug-in is a distribution of its own that registers its :class:`Analysis` subc
 :data:`ANALYSIS_ENTRY_POINT_GROUP` (``rvtol.analyses``; model factories under :data:`MODEL_ENTRY_POINT_GROUP`,
 ``rvtol.models``) and imports rvtol through this module alone (and the top-level :mod:`rvtol`): every name below
 keeps its meaning and signature from release to release; a change to one is a change of this module, said in its
-commit.  Nothing of the library imports this module (``tests/test_architecture.py``), and the reproduction wing
-(``studies/reproduction``) imports nothing else of rvtol (checked there too).  The names, each what it is:
+commit.  Nothing of the library imports this module (``tests/architecture/test_architecture.py``), and the reproduction
+wing (``studies/reproduction``) imports nothing else of rvtol (checked there too).  The names, each what it is:
 
 **The analysis contract** (``rvtol docs api``, "Adding a capability")
 

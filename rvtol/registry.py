@@ -2,7 +2,7 @@
 
 Entries are ``"module:attribute"`` strings, imported only when a study uses
 them (so a study does not pay for numba or cvxpy it does not need).  The
-contract (tested over every entry by ``tests/test_registry.py``):
+contract (tested over every entry by ``tests/architecture/test_architecture.py``):
 
 * a **model factory** is ``factory(params, design, spec) -> Model``: ``params``
   is the study's ``[model]`` table (:class:`rvtol.params.Params`, ``kind``

@@ -104,7 +104,7 @@ def latin_hypercube(n: int, k: int, g: np.random.Generator) -> np.ndarray:
     place: the same draws in the same order (scipy's engine draws from a child of ``g``'s seed sequence:
     n × k uniforms, then one shuffle of 1 … n per column) and the same arithmetic, a column at a time —
     memory n × k values instead of scipy's four (its permutation matrix and temporaries).
-    ``tests/test_sampling.py`` holds it to scipy's bit for bit."""
+    ``tests/spec/test_sampling.py`` holds it to scipy's bit for bit."""
     g = g.spawn(1)[0]
     u = g.uniform(size=(n, k))
     perm = np.empty(n, dtype=np.int64)
@@ -245,8 +245,8 @@ class SampleStream:
 
 
 #: Gauss–Hermite nodes per dimension of the copula's Pearson correlation (the closed forms of two uniforms and of
-#: two lognormals to 1e-10, ``tests/test_stacking_correlation.py``); the quadrature clips the copula's uniforms as
-#: the sampling does (``_U_EPS``)
+#: two lognormals to 1e-10, ``tests/stacking/test_stacking_correlation.py``); the quadrature clips the copula's uniforms
+#: as the sampling does (``_U_EPS``)
 HERMITE_NODES = 64
 def factor_correlation(spec: ToleranceSpec) -> np.ndarray | None:
     """The Pearson correlation of the factors under the spec's Gaussian copula (None: independent factors).

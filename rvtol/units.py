@@ -7,7 +7,7 @@ reports use whatever unit is written next to the number; :func:`to_base`
 and :func:`from_base` convert.
 
 The table below holds the units rvtol names (each factor checked against pint in
-tests/test_units_table.py).  A unit outside it (``mm^2``, ``N/mm²``, ``h``, ``ft``, ``1/K``) is read by
+tests/units/test_units_table.py).  A unit outside it (``mm^2``, ``N/mm²``, ``h``, ``ft``, ``1/K``) is read by
 pint: its base is its root units in rvtol's (m → mm, g → tonne, s, rad, K), so ``cm^2`` is 100 mm²
 and ``N/mm²`` 1 MPa; it belongs to a table dimension when its base is that dimension's base unit
 (``N/mm²`` is a pressure, ``h`` a time), else to the dimension named by its base (``mm**2``).  Two

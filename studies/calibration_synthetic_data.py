@@ -2,7 +2,7 @@
 
 They are made by the 20-DOF model of data/designs/rv80e_te.toml with the known parameters below plus
 seeded normal noise (tests/synthetic_curves.py); they are NOT measurements of any reducer.  The
-calibration study (studies/calibration_rv80e_synthetic.toml) and tests/test_calibration.py fit them
+calibration study (studies/calibration_rv80e_synthetic.toml) and tests/models/test_calibration.py fit them
 and check that the fit finds these values within its intervals.
 
     PYTHONPATH=. python studies/calibration_synthetic_data.py        # a few seconds

@@ -16,11 +16,11 @@ The same parts are written
   (``parts_dfq_map.csv``, each u in its characteristic's unit).
 
 The values are written with 17 significant digits, so reading a file back and converting to the truth's units
-gives the truth to a few units in the last place (``tests/test_inspection_formats.py``).  The QIF document is
+gives the truth to a few units in the last place (``tests/inputs/test_inspection_formats.py``).  The QIF document is
 built with the standard library's ElementTree — the writer is independent of the reader's xsdata bindings — and,
 with ``--validate``, checked against the complete official QIF 3.0 schema (xmlschema; about 30 s to load).
 The writers take any table (:func:`qif_document`, :func:`dfq_file`): the readers' property-based round trip in
-``tests/test_inspection_formats.py`` writes random tables in random units with them.
+``tests/inputs/test_inspection_formats.py`` writes random tables in random units with them.
 """
 from __future__ import annotations
 

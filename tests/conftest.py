@@ -2,6 +2,7 @@ import importlib.metadata
 import importlib.util
 import os
 import sys
+import textwrap
 import tomllib
 from pathlib import Path
 
@@ -107,6 +108,22 @@ def ab_study(name: str = "s", *, head: str = "", spec: str | None = None, output
     return (study + ("" if spec else AB_FACTORS)
             + f'[model]\nkind = "formula"\n[[model.output]]\nname = "{output}"\nformula = "a - b"\nunit = "mm"\n'
             + requirements + sampling + '[execution]\nexecutor = "serial"\n[report]\npdf = false\n')
+
+
+#: a BX40E study head ({root}: the repository), shared by the adjusted-assembly tests
+#: (tests/models/adjustment/test_adjustment_inputs.py, tests/allocation/test_allocation_study.py)
+BX40E_STUDY_HEAD = textwrap.dedent("""
+    [study]
+    name = "adj"
+    design = "{root}/data/designs/bx40e.toml"
+    spec = "{root}/data/specs/bx40e_assembly_2d.toml"
+    [model]
+    kind = "adjusted_assembly"
+    assembly = "{root}/data/assemblies/bx40e_2d.toml"
+    [sampling]
+    n = 100
+    seed = 3
+""")
 
 
 def run_cli(args, capsys) -> tuple[int, list[str]]:

@@ -1,4 +1,4 @@
-"""Analytic sensitivity test functions shared by ``tests/test_gsa_*.py`` (closed-form Sobol indices).
+"""Analytic sensitivity test functions shared by ``tests/sensitivity/test_gsa_*.py`` (closed-form Sobol indices).
 
 * Ishigami (a = 7, b = 0.1) on U(−π, π)³: S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424, 0.2437),
   S13 = 0.2437 (Ishigami & Homma 1990; Sobol' & Levitan 1999);
@@ -10,7 +10,7 @@ Tolerances.  An estimate passes when it lies within its own interval of the anal
 m comparisons in one test the interval is taken at 1 − 0.05/m (Bonferroni), so the whole test
 has at most a 5 % false-alarm rate for calibrated intervals.  PCE intervals cover the sampling
 of the design only; the surrogate's truncation error is bounded by ``bias_bound`` = 1 − Q²
-(see rvtol.sensitivity.surrogate), which the PCE comparisons add to the interval.
+(see rvtol.sensitivity.surrogate.indices), which the PCE comparisons add to the interval.
 """
 from __future__ import annotations
 

@@ -45,7 +45,8 @@ def test_only_lines_inside_a_function_body_count_as_run_when_called():
 def test_a_module_that_memoises_has_no_line_judged_by_its_first_callers_alone(decorator):
     """rvtol.units's ``_pint`` is ``@cache``d: its line 197 was recorded only in the first test that read a unit by
     pint, that test passed on a mutant which every later unit test depends on, and the mutant was called a survivor
-    (it fails tests/test_units_open.py). In such a module every mutant is judged by all the module's test files."""
+    (it fails tests/units/test_units_open.py). In such a module every mutant is judged by all the module's test
+    files."""
     from mutation import function_body_lines
 
     plain = "def f(a):\n    return a + 1\ndef g(b):\n    return f(b) * 2\n"

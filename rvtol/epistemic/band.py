@@ -28,7 +28,7 @@ Each estimated number carries a plausible range and its basis (:mod:`rvtol.desig
    each design and the combined band of design × units;
 4. the first-order index of each estimated number on each output from those same ``n`` designs
    (:func:`rvtol.sensitivity.given_data.first_order_given_data`: the Kelley-corrected correlation ratio over classes of
-   at least 4 designs, bootstrap intervals — with a few dozen designs a ranking, not a measurement; or a sparse PCE, :func:`rvtol.sensitivity.surrogate.pce_indices`, with its Q² check) — no further
+   at least 4 designs, bootstrap intervals — with a few dozen designs a ranking, not a measurement; or a sparse PCE, :func:`rvtol.sensitivity.surrogate.indices.pce_indices`, with its Q² check) — no further
    model run: which estimated numbers could move an output, i.e. explain a validation miss.
 
 Nothing is fitted: the ranges come with the design file, each with its basis; the band is what they give.  A

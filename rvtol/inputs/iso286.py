@@ -3,7 +3,7 @@
 Every number here is the standard's *tabulated* value (ISO 286-1:2010, Tables 1–3; the same
 values as ISO 286-2 and DIN EN ISO 286), not the value of the formulas the tables were
 derived from: the standard rounds its formulas and then adjusts some rows, and a drawing
-means the table.  ``tests/test_iso286.py`` holds the tables to published limit deviations
+means the table.  ``tests/inputs/test_iso286.py`` holds the tables to published limit deviations
 and to the standard's formulas within their rounding.
 
 Coverage

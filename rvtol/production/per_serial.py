@@ -58,8 +58,8 @@ model's own outputs: the unit's prior samples of every output are moved by the s
 on its readings.  No surrogate, no sampler, no model evaluation beyond the prior's; exact when the unit's outputs
 are jointly normal, their linear-Gaussian approximation otherwise (the coverage script checks both methods).
 
-Why the posterior predictive can be trusted (the coverage test in ``tests/test_production_per_serial.py``): for
-units drawn from the prior with a known truth, the truth of each unmeasured output lies inside the 95 %
+Why the posterior predictive can be trusted (the coverage test in ``tests/production/test_production_per_serial.py``):
+for units drawn from the prior with a known truth, the truth of each unmeasured output lies inside the 95 %
 posterior interval about 95 % of the time; for a linear model with normal factors the posterior is the closed
 form (Kalman) update, which the sampler reproduces.
 """

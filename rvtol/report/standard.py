@@ -189,7 +189,7 @@ def build_tables(sec: Section, rules, used) -> None:
 def measured_factors(sec: Section, spec, evidence: dict) -> None:
     """Factors whose distribution comes from measured values: the data, the fitted families ranked
     by AIC, the Anderson–Darling test of the family used (parametric bootstrap) and a Q-Q plot — laid out
-    from ``evidence`` (factor name -> :func:`rvtol.inputs.measured.evidence`, computed in the run)."""
+    from ``evidence`` (factor name -> :func:`rvtol.inputs.measured.report_tables.evidence`, computed in the run)."""
     from ..plotting.inputs import qq_plot
     from ..precision import shown
 

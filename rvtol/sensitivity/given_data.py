@@ -42,7 +42,7 @@ Delta on a subsample
     random subsample of :data:`DELTA_DEFAULT_N` = 2000 rows (without replacement, its own seed
     stream) and :func:`delta_given` runs delta on it and states n in the result.  At n = 2000
     the kernel estimator's sampling scatter is about ±0.015 on δ (measured on the correlated
-    linear case of ``tests/test_sensitivity_global.py``: σ ≈ 0.011–0.018 at n = 4000), smaller
+    linear case of ``tests/sensitivity/test_sensitivity_global.py``: σ ≈ 0.011–0.018 at n = 4000), smaller
     than the differences that matter when ranking tolerances.
 
 References

@@ -7,7 +7,7 @@ summary.json and some are raised as warnings); the layout of the results is :mod
 
 CONSTANT_OUTPUT = "{output}: the output does not vary; its indices are 0."
 
-# ---------------------------------------------------------------- polynomial chaos (surrogate.py)
+# ---------------------------------------------------------------- polynomial chaos (surrogate/monte_carlo.py)
 PCE_DEPENDENT = ("The inputs are dependent: {pairs}. PCE Sobol indices assume independent factors: these are the "
                  "indices of a surrogate fitted on the dependent sample and read with independent margins, not a valid "
                  "variance decomposition. The delta index (moment-independent, computed on the dependent sample) is "

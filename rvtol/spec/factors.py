@@ -30,7 +30,7 @@ class Factor:
     family: str = ""          # the family template ("pins[k].diameter_in_lot") of an expanded copy
     direction: float | None = None                 # sign/coefficient in a 1-D stack (a table's direction)
     limits: tuple[float, float] | None = None      # the drawing's worst-case limits, when written in notation
-    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.Measured: the data behind dist
+    measured: object = field(default=None, compare=False)   # rvtol.inputs.measured.factor.Measured: data behind dist
     zone: str = ""                                 # the circular position zone this factor is a coordinate of
     modifier: str = ""                             # a zone's material condition: "" (RFS), "MMC", "LMC"
     size: str = ""                                 # the feature-of-size factor whose departure gives the bonus

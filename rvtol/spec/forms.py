@@ -92,7 +92,8 @@ def band_distribution(p: Params, tol: Tolerance) -> Distribution:
 
 
 def measured_distribution(p: Params):
-    """``dist = "measured"``: the distribution of measured values (:func:`rvtol.inputs.measured.measured_factor`;
-    files relative to the spec file) and the record of the data behind it."""
+    """``dist = "measured"``: the distribution of measured values
+    (:func:`rvtol.inputs.measured.factor.measured_factor`; files relative to the spec file) and the record of the data
+    behind it."""
     p.str("dist")
     return measured_factor(p, Path(p.file).parent if p.file else Path("."))

@@ -68,7 +68,7 @@ class StudyResult:
     comparison: object = None                     # rvtol.ci.compare.Comparison with the baseline, if one was given
     build_usage: object = None    # pandas.DataFrame: per build rule, what it did on the Monte Carlo's reducers
     parallel: dict = field(default_factory=dict)  # per phase of ``timings``: the wall time (s) spent in parallel evaluation
-    measured_evidence: dict = field(default_factory=dict)   # measured factor -> rvtol.inputs.measured.evidence
+    measured_evidence: dict = field(default_factory=dict)   # measured factor -> rvtol.inputs.measured.report_tables.evidence
     calls: dict | None = None     # per phase of ``timings``, when recorded: its parallel calls (rvtol.mc.recording_calls)
     workers: int = 1              # the executor's workers
 

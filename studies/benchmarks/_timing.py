@@ -4,8 +4,8 @@ The scripts are run from the repository root as ``python studies/benchmarks/benc
 Python puts this folder on ``sys.path``, so they import these helpers as ``_timing``.
 
 Every script runs at one of :data:`SIZES`: ``--smoke`` (seconds: the smallest sizes that still run every code
-path; ``tests/test_benchmarks_smoke.py`` runs each script so, so a change that breaks one fails the tests — its
-figures mean nothing), ``--quick`` (minutes, what ``run_all.py`` runs by default) or the full sizes (no option).
+path; ``tests/benchmarks/test_benchmarks_smoke.py`` runs each script so, so a change that breaks one fails the tests —
+its figures mean nothing), ``--quick`` (minutes, what ``run_all.py`` runs by default) or the full sizes (no option).
 """
 from __future__ import annotations
 

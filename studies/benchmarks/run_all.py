@@ -26,7 +26,8 @@ own process (the machines are shared and noisy: compare ratios, not seconds):
   form; the sign-off's 20-DOF lost motion and TE with a surrogate learned from 20-DOF runs, the lost motion also with
   the frictionless torsion curve; training and pilot runs charged).
 
-Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/test_benchmarks_smoke.py`` runs each so.
+Every script also takes ``--smoke`` (seconds, figures meaningless): ``tests/benchmarks/test_benchmarks_smoke.py`` runs
+each so.
 
     python studies/benchmarks/run_all.py            # quick sizes (about 10 minutes on 2 cores)
     python studies/benchmarks/run_all.py --full     # the sizes quoted in the notes (10⁶ samples: longer)

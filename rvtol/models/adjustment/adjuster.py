@@ -30,7 +30,7 @@ def _mv(M: np.ndarray, x: np.ndarray) -> np.ndarray:
 
     ``np.einsum`` without ``optimize`` runs its own loops (no BLAS), so each
     row's sum is taken in the same order whatever the batch size
-    (tests/test_adjustment.py checks chunk invariance bit for bit).
+    (tests/models/adjustment/test_adjustment.py checks chunk invariance bit for bit).
     """
     return np.einsum("nc,rc->nr", x, M)
 

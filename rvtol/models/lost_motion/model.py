@@ -27,7 +27,7 @@ The formula has two **modes** (``[model] mode``):
 -------------------------------------------------------------------------------
 Each coefficient is the zero-load, flank-to-flank play of the reducer with the
 input locked, which is what the 20-DOF torsion curve's backlash measures;
-``tests/test_lost_motion_modes.py`` holds them to the 20-DOF model's backlash
+``tests/models/lost_motion/test_lost_motion_modes.py`` holds them to the 20-DOF model's backlash
 rates, factor by factor.  Kinematics (doc 000's nominal motion,
 :mod:`rvtol.models.reducer_20dof.geometry`; pins fixed, carrier = output θ_c):
 the sun turns θ_s = i θ_c with i = 1 + z_p z_pl / z_s; a crank (planet) turns

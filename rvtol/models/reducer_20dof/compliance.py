@@ -45,8 +45,8 @@ on its own force (``w_j = F_12 (P_1 + P_2) + (F_jj − F_12) P_j``).  So:
   ``P_max = max(PRELOAD_RANGE × the design preload, PRELOAD_FLOOR)`` and at the design preload itself; a crank's law at preload ``P`` is the
   linear interpolation in ``P`` of the two neighbouring laws (values, tangents and ``∫δ`` alike, so the
   Hermite law, its tangent and its energy stay consistent); above the grid's top (a shim the supply could not
-  match) the pair is solved at ``P`` itself.  ``tests/test_compliance_chain.py`` holds the interpolated law to the
-  pair re-solved at ``P``.
+  match) the pair is solved at ``P`` itself.  ``tests/models/reducer_20dof/test_compliance_chain.py`` holds the
+  interpolated law to the pair re-solved at ``P``.
 
 **Carrier and disc webs** (torque-path springs, in series with C_CRANK, isotropic)::
 

@@ -60,12 +60,12 @@ contact loads (a fraction μ of them) is not carried — with μ ≤ 0.15 a corr
 friction width, far inside the uncertainty of the coefficients.
 
 **What the loop shows.**  For a spring k with a friction torque T_f and a free play 2c, the loop's width is
-``2c + 2 T_f/k`` at zero torque and ``2 T_f/k`` where the play is closed (``tests/test_friction.py`` holds
-the loop to it); with friction proportional to the contact load (μ F, T_f = μ T_e) the width at torque T is
-``2 μ T/(k (1 − μ²))``: it vanishes at zero torque.  So in a reducer the pins' and needles' friction widens
-the loop in proportion to the torque, and only the preloaded pairs' friction (P0) leaves a width at zero
-torque.  The maker's figures read on such a loop (:mod:`rvtol.models.torsion_curve.model`): lost motion —
-the angle between the mid-points of the loop's width at ±p % rated: friction shifts the two branches nearly
+``2c + 2 T_f/k`` at zero torque and ``2 T_f/k`` where the play is closed
+(``tests/models/reducer_20dof/test_friction.py`` holds the loop to it); with friction proportional to the contact load
+(μ F, T_f = μ T_e) the width at torque T is ``2 μ T/(k (1 − μ²))``: it vanishes at zero torque.  So in a reducer the
+pins' and needles' friction widens the loop in proportion to the torque, and only the preloaded pairs' friction (P0)
+leaves a width at zero torque.  The maker's figures read on such a loop (:mod:`rvtol.models.torsion_curve.model`): lost
+motion — the angle between the mid-points of the loop's width at ±p % rated: friction shifts the two branches nearly
 symmetrically and cancels in the mid-points to first order; backlash — the loop's width at zero torque: free
 play plus the width the load-independent friction holds there; rigidity b/a — the loop's tips, which lie on
 the loading branches.  The width of the loop at ±p % (``friction_width``) is the friction's own figure

@@ -44,7 +44,7 @@ formula can see of a 20-DOF sample):
 20-DOF torsion curve's backlash (and lost motion) per doc-001 factor, from a
 reference state with clearances (δ_b = 2 µm on all six bearings, 2 µm pin
 clearance) so that each step is clearance-dominated; the consistent mode's
-coefficients are held to them (``tests/test_lost_motion_modes.py``).
+coefficients are held to them (``tests/models/lost_motion/test_lost_motion_modes.py``).
 
 A model that is neither a :class:`LostMotionModel` nor a
 :class:`rvtol.models.torsion_curve.model.TorsionCurveModel` can still be screened: it implements

@@ -67,7 +67,7 @@ from ..reducer_20dof.quasistatic import QuasiStaticSolver, SweepResult
 #: sinusoid with at least 4 positions per period; a pin's kink inside an interval needed up to 2.05)
 KAPPA = 3.0
 #: tolerance on each extreme (rad): 1e-5″, a tenth of the TE an equilibrium's own force tolerance can
-#: move (< 1e-4″ at tol_f = 1e-5 N, ``tests/test_transmission_resolution.py``)
+#: move (< 1e-4″ at tol_f = 1e-5 N, ``tests/models/transmission_error/test_transmission_resolution.py``)
 TOL_TE = units.to_base(1e-5, "arcsec")
 #: halvings after which an interval still admitting a larger extreme makes the result unresolved (an interval
 #: of a sweep of 8 positions per crank revolution is then 2^-60 of it: far below the solver's resolution)

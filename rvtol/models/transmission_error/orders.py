@@ -150,9 +150,9 @@ def positions_for_order(max_order: int, z_b: int) -> int:
     The orders up to ``max_order`` are then free of their own aliases, not of the curve's content
     above N/2, which folds onto them (the TE of a reducer with clearances has kinks where contacts
     change, and a spectrum that decays slowly): subsampling a finer sweep by an integer factor gives
-    exactly the fine spectrum summed over each alias set — what ``tests/test_transmission_resolution.py``
-    checks.  The positions' own peak-to-peak reads lower the fewer they are; the model's Δθ_er is the
-    curve's, refined between them (:mod:`.extremes`).
+    exactly the fine spectrum summed over each alias set — what
+    ``tests/models/transmission_error/test_transmission_resolution.py`` checks.  The positions' own peak-to-peak reads
+    lower the fewer they are; the model's Δθ_er is the curve's, refined between them (:mod:`.extremes`).
     """
     if max_order < 1:
         raise InputError(f"max_order must be >= 1, got {max_order}", key="max_order")

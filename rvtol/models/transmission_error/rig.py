@@ -18,8 +18,8 @@ the graduation that passes it: in the graduation's own frame the head sits at
 graduation is ``Δφ = ±412 e/D`` arcsec with e in µm and D the graduation diameter in mm — the same ``e/r``
 rad; "the equation … is also valid for radial deviation of the bearing if e is replaced with the eccentricity,
 half of the radial deviation").  Two heads 180° apart, averaged, cancel it (the term turns sign with ψ_h + π):
-``read_heads = 2`` gives no first-order error.  ``tests/test_rig.py`` holds the formula to the exact
-geometry.
+``read_heads = 2`` gives no first-order error.  ``tests/models/transmission_error/test_rig.py`` holds the formula to the
+exact geometry.
 
 **Output side — orders 1 (and only 1) per output revolution.**  The output encoder's graduation turns once per
 output revolution; its eccentricity about the carrier's rotation axis is the sum of carrier-fixed vectors:

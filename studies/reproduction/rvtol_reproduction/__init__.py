@@ -3,8 +3,8 @@
 A distribution of its own (``rvtol-reproduction``, ``studies/reproduction/pyproject.toml``), outside the
 ``rvtol`` package and its wheel: it registers its study analyses through the ``rvtol.analyses``
 entry-point group like any plug-in, and uses the library only through its plug-in API, :mod:`rvtol.plugin`
-(``tests/test_architecture.py`` checks every import); its tests are in ``studies/reproduction/tests``.  One module per
-document computes the comparison (a plain function returning a result dataclass), :mod:`.analyses` holds
+(``tests/architecture/test_architecture.py`` checks every import); its tests are in ``studies/reproduction/tests``.  One
+module per document computes the comparison (a plain function returning a result dataclass), :mod:`.analyses` holds
 the thin analyses, :mod:`.texts` their prose and layout:
 
 =================================  ================================================  ===================================
@@ -20,5 +20,5 @@ module                             document                                     
 
 The printed numbers live in ``data/reproduction/docNNN_*.toml`` (each with its place in the document and a
 quotation), read by :func:`.printed.load_printed`; every verdict comes from the one rule
-:data:`.printed.RULE`.  The library never imports this package (``tests/test_architecture.py``).
+:data:`.printed.RULE`.  The library never imports this package (``tests/architecture/test_architecture.py``).
 """
