@@ -404,12 +404,15 @@ def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float
         j.violation = 1.0
         return j
     needs = []
-    for lim in (r.lower, r.upper):
-        if lim is None or lo is None or hi is None or not lo < lim < hi:
+    for lim, beyond in ((r.lower, lo), (r.upper, hi)):
+        # a limit in question: the interval reaches beyond it and holds it (the band is closed: an end on the limit
+        # from outside still holds a value of the band)
+        if lim is None or lo is None or hi is None or not lo <= lim <= hi or beyond == lim:
             continue
         d = abs(estimate - lim)
         half = (estimate - lo) if estimate > lim else (hi - estimate)
-        needs.append(None if d == 0 else math.ceil(n * (half / d) ** 2))
+        # the half-width shrinks as 1/√n: n (half/d)² samples, and at least one more than now (undecided at n)
+        needs.append(None if d == 0 else max(math.ceil(n * (half / d) ** 2), n + 1))
     j.violation = max([0.0] + [(r.lower - lo) / scale if r.lower is not None and lo is not None else 0.0,
                                (hi - r.upper) / scale if r.upper is not None and hi is not None else 0.0])
     if needs and None not in needs:

@@ -305,6 +305,21 @@ def test_an_interval_touching_a_limit_from_outside_is_not_wholly_outside_the_ban
     assert not below.passed and below.undecided and below.violation == 0.5
 
 
+def test_an_interval_touching_a_limit_from_outside_says_how_many_samples_would_decide_it():
+    """[1, 2] with the estimate 1.5 against the band [−1, 1]: the estimate is 0.5 beyond the limit, not on it, so more
+    samples decide it (FAIL if the estimate held).  The half-width 0.5 at n = 100 shrinks as 1/√n: n (0.5/0.5)² = 100
+    is the n it has, undecided, so one more — 101 — makes the interval's end leave the limit.  The estimate on the
+    limit (1.0 in [0.5, 1.5]) stays the case more samples cannot decide."""
+    r = Requirement("k", lower=-1.0, upper=1.0, statistic="median")
+    above = judge_statistic(r, 1.5, 1.0, 2.0, 100)
+    assert above.n_to_demonstrate == 101 and above.reasons[-1] == ("about n = 101 samples would decide it (FAIL, if "
+                                                                   "the estimate held)")
+    assert judge_statistic(r, -1.5, -2.0, -1.0, 100).n_to_demonstrate == 101
+    on_it = judge_statistic(r, 1.0, 0.5, 1.5, 100)
+    assert on_it.n_to_demonstrate is None and on_it.reasons[-1] == ("the estimate sits on a limit: more samples will "
+                                                                    "not decide it")
+
+
 def test_a_one_sided_band_at_zero_charges_the_gap_itself():
     """|limit| = 0 cannot scale a one-sided band's violation: the gap is charged as it is (scale 1) — [0.5, 0.75]
     wholly above the upper limit 0: 1 + 0.5; [−0.25, 0.5] across the lower limit 0: 0.25."""
