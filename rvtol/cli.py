@@ -309,7 +309,8 @@ def _kinds(kind: str | None = None) -> int:
 
     if kind in TABLES:
         options = table_options(kind)
-        _keys(f"{options.__doc__.split(': ', 1)[0].strip('`')}: {options.__doc__.split(': ', 1)[1]}", options)
+        table, meaning = options.__doc__.split(": ", 1)          # "``[sampling]``: how many samples ..."
+        _keys(f"{table.strip('`')}: {meaning}", options)
         return EXIT_PASS
     if kind is not None:
         is_model = kind in MODELS or kind in plugin_models()

@@ -407,7 +407,7 @@ def judge_statistic(r: Requirement, estimate: float, lo: float | None, hi: float
     for lim, beyond in ((r.lower, lo), (r.upper, hi)):
         # a limit in question: the interval reaches beyond it and holds it (the band is closed: an end on the limit
         # from outside still holds a value of the band)
-        if lim is None or lo is None or hi is None or not lo <= lim <= hi or beyond == lim:
+        if lim is None or not lo <= lim <= hi or beyond == lim:       # lo and hi are bounds here (returned above)
             continue
         d = abs(estimate - lim)
         half = (estimate - lo) if estimate > lim else (hi - estimate)
