@@ -90,6 +90,7 @@ ANALYSES: dict[str, str] = {
 
 #: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
+    "study": "rvtol.study.head:StudyHead",
     "sampling": "rvtol.run_options:SamplingOptions",
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
