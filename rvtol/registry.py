@@ -96,6 +96,8 @@ TABLES: dict[str, str] = {
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    "quantity": "rvtol.models.composite.tables:QuantityTable",
+    "mapping": "rvtol.models.composite.tables:MappingHead",
 }
 
 
