@@ -98,6 +98,10 @@ TABLES: dict[str, str] = {
     "gate": "rvtol.ci.gates:GateTable",
     "quantity": "rvtol.models.composite.tables:QuantityTable",
     "mapping": "rvtol.models.composite.tables:MappingHead",
+    "build": "rvtol.production.build_tables:BuildHead",
+    "fit": "rvtol.production.build_tables:FitTable",
+    "shim": "rvtol.production.build_tables:ShimTable",
+    "choice": "rvtol.production.build_tables:ChoiceTable",
 }
 
 

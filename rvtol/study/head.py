@@ -39,8 +39,8 @@ class StudyHead:
             raise error("spec_sheet", "names the worksheet of [study] spec, and there is no spec file")
 
     def spec_paths(self, base: Path) -> list[Path]:
-        """The spec files, relative to ``base`` (none: the study's own ``[[factor]]`` tables; one file was read as a path from
-        there already)."""
+        """The spec files, relative to ``base`` (none: the study's own ``[[factor]]`` tables; one file was read as a
+        path from there already)."""
         if isinstance(self.spec, list):
             return [p if p.is_absolute() else base / p for p in map(Path, self.spec)]
         return [] if self.spec is None else [self.spec]

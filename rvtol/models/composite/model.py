@@ -380,24 +380,16 @@ def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:
             e = Expression.parse(q.value)
         except InputError as exc:
             raise t.error("value", exc.reason) from None
-        unit = _unit(t, "unit", q.unit)
+        unit = t.canonical_unit("unit", q.unit)
         base = units.base_unit(unit)
         if base != unit:
             raise t.error("unit", f"a quantity's value is in base units: write {base!r} (and display_unit = "
                                   f"{unit!r} to show it in {unit})")
-        disp = None if q.display_unit is None else _unit(t, "display_unit", q.display_unit)
+        disp = None if q.display_unit is None else t.canonical_unit("display_unit", q.display_unit)
         if disp is not None and units.dimension(disp) != units.dimension(unit):
             raise t.error("display_unit", f"{disp!r} is not a {units.dimension(unit)}")
         out.append(MappedQuantity(q.name, e, unit, disp, q.output, q.description))
     return out
-
-
-def _unit(t: Params, key: str, text: str) -> str:
-    """The unit ``text`` of the key ``key`` of ``t`` in its canonical spelling, or the located error."""
-    try:
-        return units.canonical(text)
-    except InputError as exc:
-        raise t.error(key, exc.reason) from None
 
 
 def from_study_tables(model_tables: list[Params], quantities: list[MappedQuantity], design, spec,

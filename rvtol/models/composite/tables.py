@@ -24,7 +24,7 @@ class QuantityTable:
 
 @dataclass
 class MappingHead:
-    """``[mapping]``: the head of a mapping file (its ``[[quantity]]`` tables hold what it maps)."""
+    """``[mapping]``: the head of a mapping file, whose [[quantity]] tables hold what it maps."""
 
     name: str = option("", "the mapping's name")
     description: str = option("", "what it maps, and why")
