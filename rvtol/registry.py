@@ -102,6 +102,8 @@ TABLES: dict[str, str] = {
     "fit": "rvtol.production.build_tables:FitTable",
     "shim": "rvtol.production.build_tables:ShimTable",
     "choice": "rvtol.production.build_tables:ChoiceTable",
+    "costs": "rvtol.allocation.cost:CostsHead",
+    "curve": "rvtol.allocation.cost:CurveTable",
 }
 
 
