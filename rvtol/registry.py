@@ -104,6 +104,9 @@ TABLES: dict[str, str] = {
     "choice": "rvtol.production.build_tables:ChoiceTable",
     "costs": "rvtol.allocation.cost:CostsHead",
     "curve": "rvtol.allocation.cost:CurveTable",
+    "source": "rvtol.validation.published:SourceTable",
+    "figure": "rvtol.validation.published:FigureTable",
+    "missing": "rvtol.validation.published:MissingTable",
 }
 
 
