@@ -102,6 +102,16 @@ TABLES: dict[str, str] = {
     "fit": "rvtol.production.build_tables:FitTable",
     "shim": "rvtol.production.build_tables:ShimTable",
     "choice": "rvtol.production.build_tables:ChoiceTable",
+    # a 6-DOF stack-up's assembly file (rvtol.models.stackup.graph) and its study's [[analysis.domain]]
+    "assembly": "rvtol.models.stackup.assembly_tables:AssemblyHead",
+    "dimension": "rvtol.models.stackup.assembly_tables:DimensionTable",
+    "part": "rvtol.models.stackup.assembly_tables:PartTable",
+    "feature": "rvtol.models.stackup.assembly_tables:FeatureTable",
+    "deviation": "rvtol.models.stackup.assembly_tables:DeviationTable",
+    "assembly_fit": "rvtol.models.stackup.assembly_tables:AssemblyFitTable",
+    "sequence": "rvtol.models.stackup.assembly_tables:SequenceTable",
+    "kc": "rvtol.models.stackup.assembly_tables:KCTable",
+    "domain": "rvtol.models.stackup.assembly_tables:DomainTable",
 }
 
 
