@@ -112,6 +112,14 @@ TABLES: dict[str, str] = {
     "sequence": "rvtol.models.stackup.assembly_tables:SequenceTable",
     "kc": "rvtol.models.stackup.assembly_tables:KCTable",
     "domain": "rvtol.models.stackup.assembly_tables:DomainTable",
+    # an adjusted assembly's description (rvtol.models.adjustment.description)
+    "adjustment_assembly": "rvtol.models.adjustment.description_tables:AdjustmentHead",
+    "adjustment_weights": "rvtol.models.adjustment.description_tables:WeightsTable",
+    "adjustment_measurement": "rvtol.models.adjustment.description_tables:MeasurementTable",
+    "adjustment_chain": "rvtol.models.adjustment.description_tables:ChainTable",
+    "adjustment_kc": "rvtol.models.adjustment.description_tables:AdjustmentKCTable",
+    "adjustment_step": "rvtol.models.adjustment.description_tables:AdjustmentStepTable",
+    "adjustment_observation": "rvtol.models.adjustment.description_tables:ObservationTable",
 }
 
 

@@ -13,6 +13,8 @@ from rvtol.options import describe
 from rvtol.params import Params
 from rvtol.registry import table_options
 
+from conftest import ROOT
+
 TWO_PARTS = """
 [assembly]
 name = "two"
@@ -120,3 +122,26 @@ def test_rvtol_kinds_lists_the_files_keys_as_written():
                                     "description"]
     assert keys["sequence"] == ["name", "description", "steps", "steps[].part", "steps[].by"]
     assert {"radius", "angle", "x", "y", "z", "rotation", "size", "form", "deviation"} <= set(keys["feature"])
+
+
+ASSEMBLY_TABLES = {"assembly": "assembly", "part": "part", "fit": "assembly_fit", "sequence": "sequence", "kc": "kc"}
+
+
+@pytest.mark.parametrize("file", ["data/assemblies/rv_crank_chain.toml", "data/assemblies/shaft_hole_doc003.toml",
+                                  "data/products/rv80e/assembly.toml"])
+def test_every_key_of_the_assembly_files_is_declared(file):
+    """rvtol kinds lists every key the repository's assembly files write, in every table and sub-table."""
+    data = tomllib.loads((ROOT / file).read_text(encoding="utf-8"))
+
+    def declared(name):
+        return {o.key for o in describe(table_options(name))}
+
+    for entry in data.get("dimensions", {}).values():
+        assert set(entry) <= declared("dimension")
+    for table, name in ASSEMBLY_TABLES.items():
+        for t in data[table] if isinstance(data[table], list) else [data[table]]:
+            assert set(t) <= declared(name), (table, set(t) - declared(name))
+    for feature in (f for p in data["part"] for f in p.get("feature", [])):
+        assert set(feature) <= declared("feature")
+        for term in feature.get("deviation", []):
+            assert set(term) <= declared("deviation")
