@@ -102,6 +102,11 @@ TABLES: dict[str, str] = {
     "fit": "rvtol.production.build_tables:FitTable",
     "shim": "rvtol.production.build_tables:ShimTable",
     "choice": "rvtol.production.build_tables:ChoiceTable",
+    "costs": "rvtol.allocation.cost:CostsHead",
+    "curve": "rvtol.allocation.cost:CurveTable",
+    "source": "rvtol.validation.published:SourceTable",
+    "figure": "rvtol.validation.published:FigureTable",
+    "missing": "rvtol.validation.published:MissingTable",
     # a 6-DOF stack-up's assembly file (rvtol.models.stackup.graph) and its study's [[analysis.domain]]
     "assembly": "rvtol.models.stackup.assembly_tables:AssemblyHead",
     "dimension": "rvtol.models.stackup.assembly_tables:DimensionTable",
