@@ -28,7 +28,8 @@ takes it reads and finishes it; ``list[Params]``: an array of such tables), and 
 ``zero_or_min``       0 (meaning "all"/"off") or at least this value
 ``min_length``        a list with at least this many entries
 ``unit``              a quantity: a bare number in this unit or ``{value = x, unit = "..."}``,
-                      held in base units (mm, N, rad, s)
+                      held in base units (mm, N, rad, s); typed ``float | str``, a string is
+                      left as written (a name the loader resolves)
 ``names``             a list (or a string) whose entries name the study's ``"outputs"``,
                       ``"factors"``, ``"requirements"`` or the model's ``"stages"``;
                       ``"all"`` stands for every output when ``all_ok``
@@ -253,7 +254,7 @@ def _read(params, key: str, tp, default, r: Rule, study):
         return v
     if r.names and r.all_ok and raw == "all":
         return list(_known(r.names, study) or [])
-    if r.unit is not None:
+    if r.unit is not None and tp is float:      # a quantity (in a union ``float | str``, the text is the str's)
         return params.quantity(key, r.unit, **_number_checks(r))
     origin = typing.get_origin(tp)
     if tp is Path:

@@ -107,6 +107,24 @@ TABLES: dict[str, str] = {
     "source": "rvtol.validation.published:SourceTable",
     "figure": "rvtol.validation.published:FigureTable",
     "missing": "rvtol.validation.published:MissingTable",
+    # a 6-DOF stack-up's assembly file (rvtol.models.stackup.graph) and its study's [[analysis.domain]]
+    "assembly": "rvtol.models.stackup.assembly_tables:AssemblyHead",
+    "dimension": "rvtol.models.stackup.assembly_tables:DimensionTable",
+    "part": "rvtol.models.stackup.assembly_tables:PartTable",
+    "feature": "rvtol.models.stackup.assembly_tables:FeatureTable",
+    "deviation": "rvtol.models.stackup.assembly_tables:DeviationTable",
+    "assembly_fit": "rvtol.models.stackup.assembly_tables:AssemblyFitTable",
+    "sequence": "rvtol.models.stackup.assembly_tables:SequenceTable",
+    "kc": "rvtol.models.stackup.assembly_tables:KCTable",
+    "domain": "rvtol.models.stackup.assembly_tables:DomainTable",
+    # an adjusted assembly's description (rvtol.models.adjustment.description)
+    "adjustment_assembly": "rvtol.models.adjustment.description_tables:AdjustmentHead",
+    "adjustment_weights": "rvtol.models.adjustment.description_tables:WeightsTable",
+    "adjustment_measurement": "rvtol.models.adjustment.description_tables:MeasurementTable",
+    "adjustment_chain": "rvtol.models.adjustment.description_tables:ChainTable",
+    "adjustment_kc": "rvtol.models.adjustment.description_tables:AdjustmentKCTable",
+    "adjustment_step": "rvtol.models.adjustment.description_tables:AdjustmentStepTable",
+    "adjustment_observation": "rvtol.models.adjustment.description_tables:ObservationTable",
 }
 
 
