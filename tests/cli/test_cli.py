@@ -203,3 +203,12 @@ def test_script_without_main_guard_gets_a_clear_message(tmp_path):
     r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert r.returncode != 0
     assert 'if __name__ == "__main__":' in r.stderr
+
+
+def test_a_table_whose_docstring_wraps_or_quotes_its_name_is_listed_on_one_clean_line(capsys):
+    """``rvtol kinds part``: the first paragraph of the table's docstring on one line, without reST's quotes (it
+    printed ``[[part]]`` followed by two backquotes, and a wrapped first sentence cut at its line end)."""
+    assert main(["kinds", "feature"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("[[part.feature]] of a stack-up's assembly file: ") and "`" not in first
+    assert first.endswith("(origin as radius/angle or x/y, not both).")
