@@ -474,8 +474,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         return
     T, i, zc, zp, Rp, rp, e, w = st
     Tc = T * (1.0 - 1.0 / i) * zc / zp / 2.0               # one disc's torque, T i_b / 2
-    if kw.get("web_stiffness") is not None and _has(design, "cycloid.centre_bore_diameter", "cycloid.pillar_hole_diameter",
-                                                    "carrier.pillar_radius"):
+    if kw.get("web_stiffness") is not None and _has(design, "cycloid.centre_bore_diameter",
+                                                    "cycloid.pillar_hole_diameter", "carrier.pillar_radius"):
         with _located(design, "cycloid.crank_hole_diameter"):
             res = fe_seats.disc_work(Tc, r_root=Rp - rp - e, bore=_num(design, "cycloid.centre_bore_diameter"),
                                      crank_radius=a, crank_hole=_num(design, "cycloid.crank_hole_diameter"),
@@ -511,7 +511,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
                                            thickness=_num(design, "pin.length"), z_p=zp, z_c=zc, R_p=Rp, ecc=e, E=E,
                                            nu=nu)
         kw["housing_ring_compliance"] = r.compliance
-    if kw.get("groove") is not None and _has(design, "pin.roughness_ra", "pin.groove_roughness_ra", "roughness.summit_radius"):
+    if kw.get("groove") is not None and _has(design, "pin.roughness_ra", "pin.groove_roughness_ra",
+                                             "roughness.summit_radius"):
         gr = kw["groove"]
         with _located(design, "pin.roughness_ra"):
             gw = GreenwoodWilliamson.from_ra(_num(design, "pin.roughness_ra"), _num(design, "pin.groove_roughness_ra"),
@@ -525,5 +526,5 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))
         src["contact_roughness"] = S.CONTACT_ROUGHNESS.format(sigma_um=gw.sigma * 1e3, beta_um=gw.beta * 1e3,
                                                               compliance=kw["roughness_compliance"] * 1e6)
-        src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove,
-                                                    ro=_num(design, "housing.clamp_radius"), compliance=r.compliance * 1e6)
+        src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove, ro=_num(design, "housing.clamp_radius"),
+                                                    compliance=r.compliance * 1e6)
