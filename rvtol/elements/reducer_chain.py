@@ -526,5 +526,6 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         kw["roughness_compliance"] = float(np.sum(F ** 2 * c) / np.sum(F ** 2))
         src["contact_roughness"] = S.CONTACT_ROUGHNESS.format(sigma_um=gw.sigma * 1e3, beta_um=gw.beta * 1e3,
                                                               compliance=kw["roughness_compliance"] * 1e6)
-        src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove, ro=_num(design, "housing.clamp_radius"),
+        src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove,
+                                                    ro=_num(design, "housing.clamp_radius"),
                                                     compliance=r.compliance * 1e6)
