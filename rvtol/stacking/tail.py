@@ -294,100 +294,120 @@ def tail_probability(model: Model, spec: ToleranceSpec, output: str, limit: floa
         est.x_star = {f.name: float(units.from_base(xs[i], f.unit)) for i, f in enumerate(spec.factors)}
     reachable = u_star is not None
     if "SORM" in methods and reachable:
-        def run_sorm():
-            # from the FORM design point, by Abdo–Rackwitz (one step: u* is already the point), Cobyla where it
-            # fails; Cobyla alone wanders off the point in many dimensions (50 factors: no result)
-            r = None
-            for solver in (ot.AbdoRackwitz(), ot.Cobyla()):
-                try:
-                    algo = ot.SORM(solver, event, list(u_star))
-                    algo.run()
-                except Exception as exc:
-                    error = exc
-                    continue
-                r = algo.getResult()
-                if np.allclose(np.array(r.getStandardSpaceDesignPoint()), u_star, rtol=1e-4, atol=1e-4 * max(1.0, abs(est.beta))):
-                    break
-            if r is None:
-                raise error
-            pb = float(r.getEventProbabilityBreitung())
-            beta = float(r.getHasoferReliabilityIndex())
-            if not math.isfinite(pb) or any(1.0 + beta * float(c) <= 0.0 for c in r.getSortedCurvatures()):
-                return Estimate("SORM", None, note=N.SORM_UNDEFINED)
-            extra = []
-            for name, get in (("Tvedt", r.getEventProbabilityTvedt), ("Hohenbichler", r.getEventProbabilityHohenbichler)):
-                try:
-                    extra.append(N.SORM_OTHER.format(name=name, ppm=1e6 * float(get())))
-                except Exception:
-                    extra.append(N.SORM_OTHER_UNDEFINED.format(name=name))
-            return Estimate("SORM", pb, note=N.SORM.format(others=", ".join(extra)))
-        counted("SORM", run_sorm)
+        counted("SORM", lambda: _sorm(ot, event, u_star, est.beta))
     if "multi-FORM" in methods and reachable:
-        def run_multi():
-            algo = ot.MultiFORM(ot.Cobyla(), event, list(u_star))
-            algo.setMaximumDesignPointsNumber(design_points)
-            algo.run()
-            r = algo.getResult()
-            pts = [np.array(x.getStandardSpaceDesignPoint()) for x in r.getFORMResultCollection()]
-            pf = float(r.getEventProbability())
-            if not (0.0 <= pf <= 1.0) or len(pts) < 2:
-                return Estimate("multi-FORM", None, note=N.MULTI_FORM_ONE.format(n=len(pts)))
-            X = from_normal_scores(spec, np.array(pts))
-            est.design_points = [{f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)}
-                                 for x in X]
-            return Estimate("multi-FORM", pf, beta=min(float(np.linalg.norm(p)) for p in pts),
-                            note=N.MULTI_FORM.format(n=len(pts), betas=", ".join(f"{np.linalg.norm(p):.4g}" for p in pts)))
-        counted("multi-FORM", run_multi)
+        counted("multi-FORM", lambda: _multi_form(ot, event, u_star, spec, design_points, est))
     block = 100
     outer = max(1, samples // block)
     if "importance sampling" in methods:
-        def run_is():
-            if not reachable:
-                return Estimate("importance sampling", None, note=N.IS_NO_POINT)
-            seed_for(1)
-            exp = ot.ImportanceSamplingExperiment(ot.Normal(list(u_star), [1.0] * k, ot.CorrelationMatrix(k)))
-            algo = ot.ProbabilitySimulationAlgorithm(event, exp)
-            algo.setMaximumOuterSampling(outer)
-            algo.setBlockSize(block)
-            algo.setMaximumCoefficientOfVariation(-1.0)
-            algo.run()
-            r = algo.getResult()
-            return Estimate("importance sampling", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=N.IS.format(n=outer * block))
-        counted("importance sampling", run_is)
+        counted("importance sampling", lambda: _importance(ot, event, u_star if reachable else None, k, outer, block,
+                                                           lambda: seed_for(1)))
     if "subset" in methods:
-        def run_subset():
-            seed_for(2)
-            algo = ot.SubsetSampling(event)
-            n_level = max(block, samples)
-            algo.setMaximumOuterSampling(max(1, n_level // block))
-            algo.setBlockSize(block)
-            algo.setConditionalProbability(0.1)
-            algo.run()
-            r = algo.getResult()
-            levels = algo.getStepsNumber() if hasattr(algo, "getStepsNumber") else None
-            return Estimate("subset", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=N.SUBSET.format(n=n_level, levels=N.SUBSET_LEVELS.format(levels=levels) if levels else ""))
-        counted("subset", run_subset)
+        counted("subset", lambda: _subset(ot, event, samples, block, lambda: seed_for(2)))
     if "directional" in methods:
-        def run_directional():
-            seed_for(3)
-            algo = ot.DirectionalSampling(event)
-            n_dir = max(block // 2, samples // 20)
-            algo.setBlockSize(50)
-            algo.setMaximumOuterSampling(max(1, n_dir // 50))
-            algo.setMaximumCoefficientOfVariation(-1.0)
-            algo.run()
-            r = algo.getResult()
-            return Estimate("directional", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
-                            note=N.DIRECTIONAL.format(n=max(1, n_dir // 50) * 50))
-        counted("directional", run_directional)
+        counted("directional", lambda: _directional(ot, event, samples, block, lambda: seed_for(3)))
     _compare(est)
     est.failed_samples = ls.failed
     est.evaluations = ls.count
     if ls.failed:
         est.notes.append(N.FAILED_EVALUATIONS.format(n=ls.failed))
     return est
+
+
+def _sorm(ot, event, u_star: np.ndarray, beta_form: float) -> Estimate:
+    """SORM (Breitung) from the FORM design point ``u_star`` (Hasofer-Lind index ``beta_form``), Tvedt's and
+    Hohenbichler's beside it."""
+    # from the FORM design point, by Abdo–Rackwitz (one step: u* is already the point), Cobyla where it
+    # fails; Cobyla alone wanders off the point in many dimensions (50 factors: no result)
+    r = None
+    for solver in (ot.AbdoRackwitz(), ot.Cobyla()):
+        try:
+            algo = ot.SORM(solver, event, list(u_star))
+            algo.run()
+        except Exception as exc:
+            error = exc
+            continue
+        r = algo.getResult()
+        if np.allclose(np.array(r.getStandardSpaceDesignPoint()), u_star, rtol=1e-4,
+                       atol=1e-4 * max(1.0, abs(beta_form))):
+            break
+    if r is None:
+        raise error
+    pb = float(r.getEventProbabilityBreitung())
+    beta = float(r.getHasoferReliabilityIndex())
+    if not math.isfinite(pb) or any(1.0 + beta * float(c) <= 0.0 for c in r.getSortedCurvatures()):
+        return Estimate("SORM", None, note=N.SORM_UNDEFINED)
+    extra = []
+    for name, get in (("Tvedt", r.getEventProbabilityTvedt), ("Hohenbichler", r.getEventProbabilityHohenbichler)):
+        try:
+            extra.append(N.SORM_OTHER.format(name=name, ppm=1e6 * float(get())))
+        except Exception:
+            extra.append(N.SORM_OTHER_UNDEFINED.format(name=name))
+    return Estimate("SORM", pb, note=N.SORM.format(others=", ".join(extra)))
+
+
+def _multi_form(ot, event, u_star: np.ndarray, spec: ToleranceSpec, design_points: int,
+                est: TailEstimate) -> Estimate:
+    """Multi-FORM from ``u_star``: up to ``design_points`` design points (recorded in ``est``)."""
+    algo = ot.MultiFORM(ot.Cobyla(), event, list(u_star))
+    algo.setMaximumDesignPointsNumber(design_points)
+    algo.run()
+    r = algo.getResult()
+    pts = [np.array(x.getStandardSpaceDesignPoint()) for x in r.getFORMResultCollection()]
+    pf = float(r.getEventProbability())
+    if not (0.0 <= pf <= 1.0) or len(pts) < 2:
+        return Estimate("multi-FORM", None, note=N.MULTI_FORM_ONE.format(n=len(pts)))
+    X = from_normal_scores(spec, np.array(pts))
+    est.design_points = [{f.name: float(units.from_base(x[i], f.unit)) for i, f in enumerate(spec.factors)}
+                         for x in X]
+    return Estimate("multi-FORM", pf, beta=min(float(np.linalg.norm(p)) for p in pts),
+                    note=N.MULTI_FORM.format(n=len(pts), betas=", ".join(f"{np.linalg.norm(p):.4g}" for p in pts)))
+
+
+def _importance(ot, event, u_star, k: int, outer: int, block: int, seed) -> Estimate:
+    """Importance sampling about the FORM design point ``u_star`` (None: none found), ``outer`` blocks of
+    ``block``; ``seed()`` seeds OpenTURNS' generator."""
+    if u_star is None:
+        return Estimate("importance sampling", None, note=N.IS_NO_POINT)
+    seed()
+    exp = ot.ImportanceSamplingExperiment(ot.Normal(list(u_star), [1.0] * k, ot.CorrelationMatrix(k)))
+    algo = ot.ProbabilitySimulationAlgorithm(event, exp)
+    algo.setMaximumOuterSampling(outer)
+    algo.setBlockSize(block)
+    algo.setMaximumCoefficientOfVariation(-1.0)
+    algo.run()
+    r = algo.getResult()
+    return Estimate("importance sampling", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                    note=N.IS.format(n=outer * block))
+
+
+def _subset(ot, event, samples: int, block: int, seed) -> Estimate:
+    """Subset simulation, about ``samples`` evaluations per level."""
+    seed()
+    algo = ot.SubsetSampling(event)
+    n_level = max(block, samples)
+    algo.setMaximumOuterSampling(max(1, n_level // block))
+    algo.setBlockSize(block)
+    algo.setConditionalProbability(0.1)
+    algo.run()
+    r = algo.getResult()
+    levels = algo.getStepsNumber() if hasattr(algo, "getStepsNumber") else None
+    return Estimate("subset", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                    note=N.SUBSET.format(n=n_level, levels=N.SUBSET_LEVELS.format(levels=levels) if levels else ""))
+
+
+def _directional(ot, event, samples: int, block: int, seed) -> Estimate:
+    """Directional sampling, ``samples``/20 directions."""
+    seed()
+    algo = ot.DirectionalSampling(event)
+    n_dir = max(block // 2, samples // 20)
+    algo.setBlockSize(50)
+    algo.setMaximumOuterSampling(max(1, n_dir // 50))
+    algo.setMaximumCoefficientOfVariation(-1.0)
+    algo.run()
+    r = algo.getResult()
+    return Estimate("directional", float(r.getProbabilityEstimate()), float(r.getStandardDeviation()),
+                    note=N.DIRECTIONAL.format(n=max(1, n_dir // 50) * 50))
 
 
 def _out_of_reach(spec: ToleranceSpec, ls: _Limit, beyond) -> bool:
