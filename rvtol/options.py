@@ -210,6 +210,31 @@ def read_options(cls, params, study=None):
     return obj
 
 
+class Given:
+    """The values of a read options dataclass as the code that works from them takes them, recording which keys it
+    took (:attr:`used`): of keys that apply only in some cases (a distribution's parameters, read by its law), those a
+    table gives but its reading never took are the ones that do not apply to it.  ``key in given``: the table gives
+    it (an optional key, absent as None); ``get``: its value or ``default``; ``need``: its value, or the located
+    "missing required key" (``error`` is the table's, :meth:`rvtol.params.Params.error`)."""
+
+    def __init__(self, opts, error):
+        self.opts, self.error, self.used = opts, error, set()
+
+    def __contains__(self, key: str) -> bool:
+        return getattr(self.opts, key) is not None
+
+    def get(self, key: str, default: Any = None) -> Any:
+        self.used.add(key)
+        v = getattr(self.opts, key)
+        return default if v is None else v
+
+    def need(self, key: str) -> Any:
+        v = self.get(key)
+        if v is None:
+            raise self.error(key, "missing required key")
+        return v
+
+
 # --------------------------------------------------------------------------- reading one key
 def _read(params, key: str, tp, default, r: Rule, study):
     optional, tp = _unoptional(tp)

@@ -95,6 +95,9 @@ TABLES: dict[str, str] = {
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    "spec": "rvtol.spec.tables:SpecHead",
+    "factor": "rvtol.spec.tables:FactorTable",
+    "correlation": "rvtol.spec.tables:CorrelationTable",
 }
 
 
