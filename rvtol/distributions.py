@@ -342,7 +342,7 @@ def from_params(p) -> Distribution:
     o = read_options(LawKeys, view)
     if o.dist is None:
         raise view.error("dist", "missing required key")
-    given = Given(o, view.error)
+    given = Given(o, view)
     d = law(o.dist, given, origin_of(p.data))
     for k in ("dist", *given.used):
         p.raw(k, None)

@@ -13,15 +13,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..distributions import KINDS, LawKeys
-from ..inputs.measured.factor import METHODS
-from ..inputs.measured.parametric import DEFAULT_FAMILIES
+from ..inputs.measured.factor import MeasuredKeys
 from ..options import REQUIRED, option
 from .gdt import FEATURE_TYPES
 
 #: a ``[[factor]]``'s ``dist``: a law, or values measured
 FACTOR_KINDS = KINDS + ("measured",)
-#: a key of a factor with ``dist = "measured"`` only
-MEASURED = " (dist = \"measured\")"
 
 
 @dataclass
@@ -34,7 +31,7 @@ class SpecHead:
 
 
 @dataclass
-class FactorTable(LawKeys):
+class FactorTable(MeasuredKeys, LawKeys):
     """``[[factor]]``: one tolerance factor — its name, unit, nominal, and its distribution, given as a law and its
     parameters, as a tolerance in drawing notation read over its band, or as measured values; with a position zone's
     geometric tolerancing or a family's multiplicity (``rvtol docs inputs``)."""
@@ -76,24 +73,12 @@ class FactorTable(LawKeys):
     frame: str = option("", "the feature control frame (an nX pattern) whose zones this zone is one of")
     pattern: str = option("", "a composite frame: the pattern the zone belongs to (with feature_relating)")
     feature_relating: str | None = option(None, "a composite frame's second line: the feature-relating zone "
-                                                "\"⌀T2 A\" (with pattern)")
+                                                "\"⌀T2 A\" (with pattern)",
+                                          expected="a position zone \"⌀T2\"")
     basic: float | None = option(None, "a composite frame's feature: its true position in the pattern (for the "
                                        "framework's rotation)")
     envelope: str = option("", "a form tolerance bounded by its feature's size (Rule #1): the size factor's name "
                                "(with feature_type)")
-    data: str | None = option(None, "the file of measured values, relative to the spec file (csv, xlsx, QIF, DFQ)"
-                              + MEASURED)
-    column: str | int | None = option(None, "the data's column (a name or a 1-based number; a QIF/DFQ file: its "
-                                            "characteristic)" + MEASURED)
-    sheet: str | None = option(None, "the data's worksheet (an xlsx file)" + MEASURED)
-    method: str = option("fit", "how the values become a distribution" + MEASURED, choices=METHODS)
-    families: list[str] = option(list(DEFAULT_FAMILIES), "the families fitted (method fit)" + MEASURED)
-    family: str | None = option(None, "the fitted family used (method fit; default: the best)" + MEASURED)
-    interpolate: bool = option(False, "interpolate between the values (method empirical)" + MEASURED)
-    bandwidth: float | str = option("scott", "the kernel's bandwidth: scott, silverman or a number (method kde)"
-                                    + MEASURED)
-    measurement_sigma: float | None = option(None, "the measurement's standard uncertainty, taken out of the "
-                                                   "values' spread" + MEASURED, positive=True)
     name: str = option(REQUIRED, "the factor's name (letters, digits, _ [ ] , . - + and spaces)")
 
 
