@@ -465,6 +465,10 @@ def _check_names(params, key, values, what: str, study) -> None:
 def _type_name(tp) -> str:
     optional, tp = _unoptional(tp)
     origin = typing.get_origin(tp)
+    members = _union_members(tp)
+    if members:                 # A | B (| None): each member's name
+        return " or ".join(_type_name(m) for m in members) + (", optional" if type(None) in typing.get_args(tp)
+                                                               else "")
     if origin is Literal:
         name = " | ".join(repr(a) for a in typing.get_args(tp))
     elif origin is list:

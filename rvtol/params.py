@@ -324,10 +324,13 @@ class Params:
 
     def unit(self, name: str, default: Any = _MISSING, *, dimension: str | tuple[str, ...] | None = None) -> str:
         v = self.str(name, default)
-        if v is None:
-            return None
+        return None if v is None else self.canonical_unit(name, v, dimension=dimension)
+
+    def canonical_unit(self, name: str, text: str, *, dimension: str | tuple[str, ...] | None = None) -> str:
+        """The unit ``text`` of the key ``name`` (read already, e.g. by a declared schema) in its canonical
+        spelling, of ``dimension`` if given; or the located error."""
         try:
-            u = units.canonical(v, dimension)
+            u = units.canonical(text, dimension)
             if dimension is not None:
                 units.require_dimension(u, dimension)
         except InputError as exc:

@@ -90,11 +90,20 @@ ANALYSES: dict[str, str] = {
 
 #: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
+    "study": "rvtol.study.head:StudyHead",
     "sampling": "rvtol.run_options:SamplingOptions",
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    "quantity": "rvtol.models.composite.tables:QuantityTable",
+    "mapping": "rvtol.models.composite.tables:MappingHead",
+    "build": "rvtol.production.build_tables:BuildHead",
+    "fit": "rvtol.production.build_tables:FitTable",
+    "shim": "rvtol.production.build_tables:ShimTable",
+    "choice": "rvtol.production.build_tables:ChoiceTable",
+    "costs": "rvtol.allocation.cost:CostsHead",
+    "curve": "rvtol.allocation.cost:CurveTable",
     "spec": "rvtol.spec.tables:SpecHead",
     "factor": "rvtol.spec.tables:FactorTable",
     "correlation": "rvtol.spec.tables:CorrelationTable",

@@ -120,7 +120,11 @@ def test_the_study_tables_list_their_keys(capsys):
     """``rvtol kinds`` names the study's own tables; ``rvtol kinds requirement`` lists [[requirement]]'s keys with
     their rules, as ``rvtol kinds sampling`` does [sampling]'s."""
     assert main(["kinds"]) == 0
-    assert "tables:   sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    assert "tables:   study, sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    assert main(["kinds", "study"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("[study]: the study's name and the files it reads") and "  design (file, optional" in out
+    assert "  spec (list of str or file, optional; default None; at least 1)" in out
     assert main(["kinds", "requirement"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("[[requirement]]: a limit on one output") and "  output (str; required)" in out

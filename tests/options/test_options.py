@@ -342,7 +342,7 @@ def test_types_rvtol_does_not_read_are_handed_on_as_written():
     assert (o.foreign, o.lib, o.either, o.kind) == ({"k": 1}, 3, "many", float)
     assert read(Others, {"either": 4}).either == 4
     d = {o.key: o.type for o in describe(Others)}
-    assert d == {"foreign": "Params, optional", "lib": "Params, optional", "either": "int | str | None",
+    assert d == {"foreign": "Params, optional", "lib": "Params, optional", "either": "int or str, optional",
                  "kind": "type"}
 
 
