@@ -54,6 +54,8 @@ import numpy as np
 from scipy import special, stats
 
 from .errors import SpecError
+from .options import Given, option, read_options
+from .params import Params
 
 KINDS = ("normal", "uniform", "truncnorm", "triangular", "rayleigh", "lognormal", "weibull", "beta", "gamma",
          "gumbel", "johnsonsu", "johnsonsb", "pearson3", "pearson")
@@ -274,124 +276,200 @@ class Distribution:
         return f"{s} {unit}".strip()
 
 
+#: a law's parameter: (the laws that read it, the rules of its value)
+_LAW_KEYS = {
+    "mean": ("normal, uniform, truncnorm, triangular (with tolerance); lognormal, gamma (> 0), beta, gumbel (with "
+             "sigma); pearson3, pearson", {}),
+    "sigma": ("the standard deviation: normal, truncnorm, rayleigh; lognormal, beta, gamma, gumbel (with mean); "
+              "pearson3, pearson", {"positive": True}),
+    "tolerance": ("the band width T: normal, truncnorm (±T/2 at sigma_level σ), uniform, triangular (mean ± T/2); "
+                  "rayleigh, weibull (the coverage quantile)", {"positive": True}),
+    "lower": ("the band's lower end: normal, uniform, triangular, truncnorm (truncation), beta", {}),
+    "upper": ("the band's upper end: normal, uniform, triangular, truncnorm (truncation), beta", {}),
+    "mode": ("triangular (default mid-band); gumbel (its location)", {}),
+    "median": ("lognormal (with shape)", {"positive": True}),
+    "shape": ("lognormal (σ of the log), weibull k, gamma k", {"positive": True}),
+    "scale": ("weibull λ, gamma θ, gumbel β, johnsonsu/johnsonsb λ", {"positive": True}),
+    "alpha": ("beta's first shape", {"positive": True}),
+    "beta": ("beta's second shape", {"positive": True}),
+    "gamma": ("johnsonsu/johnsonsb shape γ", {}),
+    "delta": ("johnsonsu/johnsonsb shape δ", {"positive": True}),
+    "location": ("johnsonsu/johnsonsb location ξ", {}),
+    "skewness": ("pearson3, pearson", {}),
+    "kurtosis": ("pearson: β₂ (3 for a normal)", {"positive": True}),
+    "shift": ("every law: a mean shift added to the value (a one-sided law: where its values start); default 0", {}),
+    "sigma_level": ("every law read from a tolerance: the σ multiple T/2 stands for; default 3", {"positive": True}),
+}
+
+
+@dataclass
+class LawKeys:
+    """The keys of a distribution: its kind ``dist`` and the parameters its law reads (module docstring), each
+    optional — which of them a law needs, and in which combinations, is :func:`law`'s to say."""
+
+    dist: str | None = option(None, "the distribution: " + ", ".join(KINDS), choices=KINDS)
+    mean: float | None = option(None, _LAW_KEYS["mean"][0])
+    sigma: float | None = option(None, _LAW_KEYS["sigma"][0], **_LAW_KEYS["sigma"][1])
+    tolerance: float | None = option(None, _LAW_KEYS["tolerance"][0], **_LAW_KEYS["tolerance"][1])
+    lower: float | None = option(None, _LAW_KEYS["lower"][0])
+    upper: float | None = option(None, _LAW_KEYS["upper"][0])
+    mode: float | None = option(None, _LAW_KEYS["mode"][0])
+    median: float | None = option(None, _LAW_KEYS["median"][0], **_LAW_KEYS["median"][1])
+    shape: float | None = option(None, _LAW_KEYS["shape"][0], **_LAW_KEYS["shape"][1])
+    scale: float | None = option(None, _LAW_KEYS["scale"][0], **_LAW_KEYS["scale"][1])
+    alpha: float | None = option(None, _LAW_KEYS["alpha"][0], **_LAW_KEYS["alpha"][1])
+    beta: float | None = option(None, _LAW_KEYS["beta"][0], **_LAW_KEYS["beta"][1])
+    gamma: float | None = option(None, _LAW_KEYS["gamma"][0])
+    delta: float | None = option(None, _LAW_KEYS["delta"][0], **_LAW_KEYS["delta"][1])
+    location: float | None = option(None, _LAW_KEYS["location"][0])
+    skewness: float | None = option(None, _LAW_KEYS["skewness"][0])
+    kurtosis: float | None = option(None, _LAW_KEYS["kurtosis"][0], **_LAW_KEYS["kurtosis"][1])
+    shift: float | None = option(None, _LAW_KEYS["shift"][0])
+    sigma_level: float | None = option(None, _LAW_KEYS["sigma_level"][0], **_LAW_KEYS["sigma_level"][1])
+
+
+#: the parameters a law may read (the keys of :class:`LawKeys` but ``dist``)
+PARAMETERS = tuple(_LAW_KEYS)
+#: the parameters :attr:`Distribution.origin` records, in this order, as written
+_ORIGIN_KEYS = ("dist", "mean", "sigma", "tolerance", "lower", "upper", "mode", "median", "shape", "scale", "alpha",
+                "beta", "gamma", "delta", "location", "skewness", "kurtosis")
+
+
 def from_params(p) -> Distribution:
-    """Read a distribution from a factor table (a :class:`rvtol.params.Params`)."""
-    kind = p.str("dist", choices=KINDS)
-    shift = p.float("shift", 0.0)
-    level = p.float("sigma_level", 3.0, positive=True)
-    origin = ", ".join(f"{k}={p.data[k]}" for k in ("dist", "mean", "sigma", "tolerance", "lower", "upper",
-                                                     "mode", "median", "shape", "scale", "alpha", "beta", "gamma",
-                                                     "delta", "location", "skewness", "kurtosis") if k in p.data)
+    """Read a distribution from a table of :class:`LawKeys` (a :class:`rvtol.params.Params`): the keys its law
+    reads are marked read on ``p`` (a caller's ``p.finish()`` names a parameter of another law as unknown)."""
+    view = Params(p.data, file=p.file, key=p.key)     # every key read: its errors know them all (a typo's hint)
+    o = read_options(LawKeys, view)
+    if o.dist is None:
+        raise view.error("dist", "missing required key")
+    given = Given(o, view)
+    d = law(o.dist, given, origin_of(p.data))
+    for k in ("dist", *given.used):
+        p.raw(k, None)
+    return d
+
+
+def origin_of(data: dict) -> str:
+    """How a distribution was written (:attr:`Distribution.origin`): its parameters as the table gives them."""
+    return ", ".join(f"{k}={data[k]}" for k in _ORIGIN_KEYS if k in data)
+
+
+def law(kind: str, g: Given, origin: str = "") -> Distribution:
+    """The distribution ``kind`` from its parameters (:class:`LawKeys`, as :class:`rvtol.options.Given`: what it
+    takes is recorded in ``g.used``; errors at the key, ``g.error``)."""
+    shift = g.get("shift", 0.0)
+    level = g.get("sigma_level", 3.0)
 
     def make(**kw) -> Distribution:
         return Distribution.make(kind, shift=shift, sigma_level=level, origin=origin, **kw)
 
     def band_order(lo: float, hi: float) -> None:
         if not lo < hi:
-            raise p.error("upper", f"upper ({hi}) must be greater than lower ({lo})")
+            raise g.error("upper", f"upper ({hi}) must be greater than lower ({lo})")
 
-    has = lambda *ks: any(k in p for k in ks)  # noqa: E731
+    def band() -> tuple[float, float]:
+        return g.need("lower"), g.need("upper")
+
+    def positive(key: str) -> float:
+        v = g.need(key)
+        if not v > 0:
+            raise g.error(key, f"must be > 0, got {v:g}")
+        return v
+
+    has = lambda *ks: any(k in g for k in ks)  # noqa: E731
 
     if kind == "normal":
         if has("lower", "upper"):
-            lo, hi = p.float("lower"), p.float("upper")
+            lo, hi = band()
             band_order(lo, hi)
             return make(mean=0.5 * (lo + hi), sigma=0.5 * (hi - lo) / level)
-        mean = p.float("mean", 0.0)
-        if "sigma" in p:
-            return make(mean=mean, sigma=p.float("sigma", positive=True))
-        if "tolerance" in p:
-            return make(mean=mean, sigma=0.5 * p.float("tolerance", positive=True) / level)
-        raise p.error("sigma", "normal needs 'sigma', 'tolerance' or 'lower'/'upper'")
-    if kind == "uniform":
+        mean = g.get("mean", 0.0)
+        if "sigma" in g:
+            return make(mean=mean, sigma=g.get("sigma"))
+        if "tolerance" in g:
+            return make(mean=mean, sigma=0.5 * g.get("tolerance") / level)
+        raise g.error("sigma", "normal needs 'sigma', 'tolerance' or 'lower'/'upper'")
+    if kind in ("uniform", "triangular"):
         if has("lower", "upper"):
-            lo, hi = p.float("lower"), p.float("upper")
+            lo, hi = band()
         else:
-            mean, t = p.float("mean", 0.0), p.float("tolerance", positive=True)
+            mean, t = g.get("mean", 0.0), g.need("tolerance")
             lo, hi = mean - t / 2, mean + t / 2
         band_order(lo, hi)
-        return make(lower=lo, upper=hi)
+        if kind == "uniform":
+            return make(lower=lo, upper=hi)
+        mode = g.get("mode", 0.5 * (lo + hi))
+        if not lo <= mode <= hi:
+            raise g.error("mode", f"mode {mode} is outside [{lo}, {hi}]")
+        return make(lower=lo, upper=hi, mode=mode)
     if kind == "truncnorm":
-        mean = p.float("mean", 0.0)
-        t = p.float("tolerance", None, positive=True)
-        sigma = p.float("sigma", None, positive=True)
+        mean = g.get("mean", 0.0)
+        t = g.get("tolerance")
+        sigma = g.get("sigma")
         if sigma is None:
             if t is None:
-                raise p.error("sigma", "truncnorm needs 'sigma' or 'tolerance'")
+                raise g.error("sigma", "truncnorm needs 'sigma' or 'tolerance'")
             sigma = 0.5 * t / level
         if has("lower", "upper") or t is None:
-            lo, hi = p.float("lower"), p.float("upper")
+            lo, hi = band()
         else:
             lo, hi = mean - t / 2, mean + t / 2
         band_order(lo, hi)
         if not lo <= mean <= hi:
-            raise p.error("mean", f"mean {mean} is outside the truncation [{lo}, {hi}]")
+            raise g.error("mean", f"mean {mean} is outside the truncation [{lo}, {hi}]")
         return make(mean=mean, sigma=sigma, lower=lo, upper=hi)
-    if kind == "triangular":
-        if has("lower", "upper"):
-            lo, hi = p.float("lower"), p.float("upper")
-        else:
-            mean, t = p.float("mean", 0.0), p.float("tolerance", positive=True)
-            lo, hi = mean - t / 2, mean + t / 2
-        band_order(lo, hi)
-        mode = p.float("mode", 0.5 * (lo + hi))
-        if not lo <= mode <= hi:
-            raise p.error("mode", f"mode {mode} is outside [{lo}, {hi}]")
-        return make(lower=lo, upper=hi, mode=mode)
     if kind == "rayleigh":
-        if "sigma" in p:
-            return make(sigma=p.float("sigma", positive=True))
-        t = p.float("tolerance", positive=True)
+        if "sigma" in g:
+            return make(sigma=g.get("sigma"))
+        t = g.need("tolerance")
         return make(sigma=t / math.sqrt(-2.0 * math.log(1.0 - coverage(level))))
     if kind == "lognormal":
-        if "median" in p or "shape" in p:
-            return make(median=p.float("median", positive=True), shape=p.float("shape", positive=True))
-        m, s = p.float("mean", positive=True), p.float("sigma", positive=True)
+        if has("median", "shape"):
+            return make(median=g.need("median"), shape=g.need("shape"))
+        m, s = positive("mean"), g.need("sigma")
         shape = math.sqrt(math.log1p((s / m) ** 2))
         return make(median=m / math.sqrt(1.0 + (s / m) ** 2), shape=shape)
     if kind == "beta":
-        lo, hi = p.float("lower"), p.float("upper")
+        lo, hi = band()
         band_order(lo, hi)
-        if "alpha" in p or "beta" in p:
-            return make(lower=lo, upper=hi, alpha=p.float("alpha", positive=True), beta=p.float("beta", positive=True))
-        m, sd = p.float("mean"), p.float("sigma", positive=True)
+        if has("alpha", "beta"):
+            return make(lower=lo, upper=hi, alpha=g.need("alpha"), beta=g.need("beta"))
+        m, sd = g.need("mean"), g.need("sigma")
         if not lo < m < hi:
-            raise p.error("mean", f"mean {m} is outside [{lo}, {hi}]")
+            raise g.error("mean", f"mean {m} is outside [{lo}, {hi}]")
         u, v = (m - lo) / (hi - lo), (sd / (hi - lo)) ** 2
         if not v < u * (1 - u):
-            raise p.error("sigma", f"sigma {sd} is too large for a beta on [{lo}, {hi}] with mean {m} "
-                                   f"(at most {(hi - lo) * math.sqrt(u * (1 - u)):.6g})")
+            raise g.error("sigma", f"sigma {sd} is too large for a beta on [{lo}, {hi}] with mean "
+                                   f"{m} (at most {(hi - lo) * math.sqrt(u * (1 - u)):.6g})")
         c = u * (1 - u) / v - 1
         return make(lower=lo, upper=hi, alpha=u * c, beta=(1 - u) * c)
     if kind == "gamma":
-        if "shape" in p:
-            return make(shape=p.float("shape", positive=True), scale=p.float("scale", positive=True))
-        m, sd = p.float("mean", positive=True), p.float("sigma", positive=True)
+        if "shape" in g:
+            return make(shape=g.get("shape"), scale=g.need("scale"))
+        m, sd = positive("mean"), g.need("sigma")
         return make(shape=(m / sd) ** 2, scale=sd * sd / m)
     if kind == "gumbel":
-        if "mode" in p:
-            return make(mode=p.float("mode"), scale=p.float("scale", positive=True))
-        m, sd = p.float("mean"), p.float("sigma", positive=True)
+        if "mode" in g:
+            return make(mode=g.get("mode"), scale=g.need("scale"))
+        m, sd = g.need("mean"), g.need("sigma")
         b = sd * math.sqrt(6.0) / math.pi
         return make(mode=m - EULER_GAMMA * b, scale=b)
     if kind in ("johnsonsu", "johnsonsb"):
-        return make(gamma=p.float("gamma"), delta=p.float("delta", positive=True), location=p.float("location"),
-                    scale=p.float("scale", positive=True))
+        return make(gamma=g.need("gamma"), delta=g.need("delta"), location=g.need("location"), scale=g.need("scale"))
     if kind == "pearson3":
-        return make(mean=p.float("mean"), sigma=p.float("sigma", positive=True), skewness=p.float("skewness"))
+        return make(mean=g.need("mean"), sigma=g.need("sigma"), skewness=g.need("skewness"))
     if kind == "pearson":
-        m, sd = p.float("mean"), p.float("sigma", positive=True)
-        sk, ku = p.float("skewness"), p.float("kurtosis", positive=True)
+        m, sd, sk, ku = g.need("mean"), g.need("sigma"), g.need("skewness"), g.need("kurtosis")
         try:
             pearson_frozen(m, sd, sk, ku)
         except ValueError as exc:
-            raise p.error("kurtosis", str(exc)) from None
+            raise g.error("kurtosis", str(exc)) from None
         return make(mean=m, sigma=sd, skewness=sk, kurtosis=ku)
     # weibull
-    k = p.float("shape", positive=True)
-    if "scale" in p:
-        return make(shape=k, scale=p.float("scale", positive=True))
-    t = p.float("tolerance", positive=True)
+    k = g.need("shape")
+    if "scale" in g:
+        return make(shape=k, scale=g.get("scale"))
+    t = g.need("tolerance")
     return make(shape=k, scale=t / (-math.log(1.0 - coverage(level))) ** (1.0 / k))
 
 

@@ -34,6 +34,8 @@ takes it reads and finishes it; ``list[Params]``: an array of such tables), and 
                       ``"factors"``, ``"requirements"`` or the model's ``"stages"``;
                       ``"all"`` stands for every output when ``all_ok``
 ``key``               the TOML key, when it is not a Python identifier
+``expected``          what a text must be, in words, for the error of a value of another type
+                      (``expected a position zone "⌀T2", got 0.1``)
 ====================  =====================================================================
 
 Checks that involve several keys or the study (a default that depends on another key, a count
@@ -56,7 +58,7 @@ from .errors import did_you_mean
 REQUIRED = MISSING
 
 _RULES = ("choices", "min", "max", "positive", "nonnegative", "power_of_two", "even", "zero_or_min", "min_length",
-          "unit", "names", "all_ok", "key", "single_line")
+          "unit", "names", "all_ok", "key", "single_line", "expected")
 
 
 @dataclass(frozen=True)
@@ -78,6 +80,7 @@ class Rule:
     all_ok: bool = False
     key: str | None = None
     single_line: bool = False
+    expected: str | None = None
 
     def constraint(self) -> str:
         """The constraints in words, for ``rvtol kinds``."""
@@ -211,6 +214,33 @@ def read_options(cls, params, study=None):
     return obj
 
 
+class Given:
+    """The values of a read options dataclass as the code that works from them takes them, recording which keys it
+    took (:attr:`used`): of keys that apply only in some cases (a distribution's parameters, read by its law), those a
+    table gives but its reading never took are the ones that do not apply to it.  ``key in given``: the table gives
+    it (an optional key, absent as None); ``get``: its value or ``default``; ``need``: its value, or the located
+    "missing required key".  ``table`` is the :class:`rvtol.params.Params` the options were read from (``error``:
+    its located errors; ``data``: the values as written, for messages)."""
+
+    def __init__(self, opts, table):
+        self.opts, self.table, self.used = opts, table, set()
+        self.error, self.data = table.error, table.data
+
+    def __contains__(self, key: str) -> bool:
+        return getattr(self.opts, key) is not None
+
+    def get(self, key: str, default: Any = None) -> Any:
+        self.used.add(key)
+        v = getattr(self.opts, key)
+        return default if v is None else v
+
+    def need(self, key: str) -> Any:
+        v = self.get(key)
+        if v is None:
+            raise self.error(key, "missing required key")
+        return v
+
+
 # --------------------------------------------------------------------------- reading one key
 def _read(params, key: str, tp, default, r: Rule, study):
     optional, tp = _unoptional(tp)
@@ -272,6 +302,8 @@ def _read(params, key: str, tp, default, r: Rule, study):
     if origin is Literal:
         return params.str(key, choices=[str(a) for a in typing.get_args(tp)])
     if tp is str:
+        if r.expected and not isinstance(raw, str):
+            raise params.error(key, f"expected {r.expected}, got {raw!r}")
         v = params.str(key, choices=r.choices, single_line=r.single_line)
         if r.names:
             _check_names(params, key, [v], r.names, study)

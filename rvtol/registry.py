@@ -90,20 +90,29 @@ ANALYSES: dict[str, str] = {
 
 #: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
+    # the study file's own tables
     "study": "rvtol.study.head:StudyHead",
     "sampling": "rvtol.run_options:SamplingOptions",
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    # a spec (TOML, or a table's rows) and a study's own [[factor]] tables (rvtol.spec)
+    "spec": "rvtol.spec.tables:SpecHead",
+    "factor": "rvtol.spec.tables:FactorTable",
+    "correlation": "rvtol.spec.tables:CorrelationTable",
+    # a composed study's [[quantity]] tables and its mapping file (rvtol.models.composite)
     "quantity": "rvtol.models.composite.tables:QuantityTable",
     "mapping": "rvtol.models.composite.tables:MappingHead",
+    # a build file (rvtol.production.build)
     "build": "rvtol.production.build_tables:BuildHead",
     "fit": "rvtol.production.build_tables:FitTable",
     "shim": "rvtol.production.build_tables:ShimTable",
     "choice": "rvtol.production.build_tables:ChoiceTable",
+    # a cost file (rvtol.allocation.cost)
     "costs": "rvtol.allocation.cost:CostsHead",
     "curve": "rvtol.allocation.cost:CurveTable",
+    # a published-data file (rvtol.validation.published)
     "source": "rvtol.validation.published:SourceTable",
     "figure": "rvtol.validation.published:FigureTable",
     "missing": "rvtol.validation.published:MissingTable",

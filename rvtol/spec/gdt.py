@@ -9,16 +9,16 @@ from dataclasses import dataclass
 from .. import units
 from ..errors import SpecError, did_you_mean
 from ..inputs.notation import NotationError, Tolerance, parse_tolerance
-from ..params import Params
+from ..options import Given
 from ..patterns import drawn_zone
 
 #: a factor's or a pattern's name: letters, digits, _ [ ] , . - + and spaces, not starting with a digit
 NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\[\],.\-+ ]*$")
 
 
-def position_zone(p: Params, tol: Tolerance | None) -> str:
+def position_zone(p: Given, tol: Tolerance | None) -> str:
     """``zone``: the circular position zone (``tolerance = "⌀t"``) this factor is one coordinate of."""
-    zone = p.str("zone", "")
+    zone = p.get("zone", "")
     is_zone = tol is not None and tol.form == "zone"
     if is_zone and not zone:
         raise p.error("tolerance", f"a position zone {tol.text!r} has two coordinates: give zone = NAME on both "
@@ -31,19 +31,19 @@ def position_zone(p: Params, tol: Tolerance | None) -> str:
 FEATURE_TYPES = ("internal", "external")
 
 
-def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
+def material_condition(p: Given, tol: Tolerance | None, zone: str) -> dict:
     """A position zone's material condition (``⌀0.4 (M)``: MMC, ``(L)``: LMC) and the features of size it
     depends on: ``size`` (the toleranced feature's size factor; its departure from MMC/LMC is the bonus) with
     ``feature_type`` (internal: a hole, external: a pin), and ``datum_size``/``datum_type`` (a datum feature of
     size referenced at MMB: its departure from MMB shifts every zone that references it together, one pattern,
     :func:`datum_shifts`)."""
     modifier = tol.modifier if tol is not None and tol.form == "zone" else ""
-    size = p.str("size", "")
-    ftype = p.str("feature_type", "", choices=("",) + FEATURE_TYPES)
-    dsize = p.str("datum_size", "")
-    dtype = p.str("datum_type", "", choices=("",) + FEATURE_TYPES)
-    separate = p.bool("separate", False)
-    frame = p.str("frame", "")
+    size = p.get("size", "")
+    ftype = p.get("feature_type", "")
+    dsize = p.get("datum_size", "")
+    dtype = p.get("datum_type", "")
+    separate = p.get("separate", False)
+    frame = p.get("frame", "")
     if frame and not zone:
         raise p.error("frame", "a feature control frame's name groups position zones (an nX pattern): give zone = NAME")
     if separate and not dsize:
@@ -68,10 +68,10 @@ def material_condition(p: Params, tol: Tolerance | None, zone: str) -> dict:
             "separate": separate, "frame": frame}
 
 
-def envelope_of(p: Params, tol: Tolerance | None) -> str:
+def envelope_of(p: Given, tol: Tolerance | None) -> str:
     """``envelope``: the size factor whose departure from MMC a form tolerance stays within (Rule #1, the envelope
     requirement: :mod:`rvtol.envelopes`); with ``feature_type`` (internal: a hole, external: a shaft)."""
-    size = p.str("envelope", "")
+    size = p.get("envelope", "")
     if not size:
         return ""
     if not getattr(tol, "is_form", False):
@@ -83,13 +83,13 @@ def envelope_of(p: Params, tol: Tolerance | None) -> str:
     return size
 
 
-def composite_position(p: Params, drawing: Tolerance | None, zone: str, unit: str | None,
+def composite_position(p: Given, drawing: Tolerance | None, zone: str, unit: str | None,
                        measured) -> tuple[dict, Tolerance | None]:
     """A composite frame's keys of a zone coordinate (:func:`composite_frame`; ``basic``, its true position for the
     framework's rotation) as :class:`Factor` fields, and the feature-relating zone its own deviation is read in (None
     for a plain factor)."""
     pattern, relating, datums = composite_frame(p, drawing, zone, unit)
-    basic = p.float("basic", None)
+    basic = p.get("basic")
     if basic is not None and not pattern:
         raise p.error("basic", "basic places a composite frame's feature in its pattern (for the framework's rotation): "
                                "give pattern and feature_relating")
@@ -102,14 +102,14 @@ def composite_position(p: Params, drawing: Tolerance | None, zone: str, unit: st
     return keys, relating
 
 
-def composite_frame(p: Params, tol: Tolerance | None, zone: str,
+def composite_frame(p: Given, tol: Tolerance | None, zone: str,
                     unit: str | None) -> tuple[str, Tolerance | None, tuple[str, ...]]:
     """A composite position frame's second line (:mod:`rvtol.patterns`): ``pattern = NAME`` (the features one
     frame locates) and ``feature_relating = "⌀T₂ A B"`` (the FRTZF, smaller than the zone's ⌀T₁, the PLTZF, and the
     datums it references: orientation only).  Returns the pattern's name, the FRTZF read in the factor's unit (None
     without one) and its datum letters."""
-    pattern = p.str("pattern", "")
-    text = p.raw("feature_relating", None)
+    pattern = p.get("pattern", "")
+    text = p.get("feature_relating")
     if not pattern and text is None:
         return "", None, ()
     key = "pattern" if pattern else "feature_relating"
@@ -122,8 +122,6 @@ def composite_frame(p: Params, tol: Tolerance | None, zone: str,
                       "the frame's second line)")
     if not NAME.match(pattern):
         raise p.error("pattern", f"invalid pattern name {pattern!r} (letters, digits, _ [ ] , . - + and spaces)")
-    if not isinstance(text, str):
-        raise p.error("feature_relating", f"expected a position zone \"⌀T2\", got {text!r}")
     zone_text, datums = frame_datums(p, "feature_relating", text)
     try:
         relating = parse_tolerance(zone_text, unit=unit)
@@ -148,7 +146,7 @@ _FRAME_DATUMS = re.compile(r"((?:[\s|]+[A-Z](?![A-Za-z]))+)\s*$")
 _DATUM_MODIFIER = re.compile(r"[\s|][A-Z]\s*(?:\(\s*[MLS]\s*\)|[ⓂⓁⓈ])")
 
 
-def frame_datums(p: Params, key: str, text: str) -> tuple[str, tuple[str, ...]]:
+def frame_datums(p: Given, key: str, text: str) -> tuple[str, tuple[str, ...]]:
     """A position frame line's tolerance and its datum letters (``"⌀0.5 (M) A B C"`` → ``"⌀0.5 (M)"``, A B C).  A
     datum letter may not repeat, a datum's own modifier is not read (a datum feature of size at MMB is
     ``datum_size``), and a lone M, L or S is refused: a material condition written without its brackets would read as a

@@ -7,12 +7,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..distributions import ONE_SIDED, from_params
+from .. import units
+from ..distributions import ONE_SIDED, PARAMETERS, Distribution, law, origin_of
+from ..inputs.measured.factor import MEASURED_KEYS
+from ..options import Given, read_options
 from ..errors import InputError, SpecError, did_you_mean
 from ..inputs.sheets import READ_SUFFIXES as TABLE_SUFFIXES
 from ..params import Params, read_toml
 from ..patterns import expand as expand_patterns
 from .factors import Factor, ToleranceSpec
+from .tables import CorrelationTable, FactorTable, SpecHead
 from .forms import (
     band_distribution,
     drawing_tolerance,
@@ -60,11 +64,11 @@ def load_table_spec(path: str | Path, *, sheet: str | None = None) -> ToleranceS
 def spec_from_table(data: dict, *, file: str | None = None, name: str | None = None) -> ToleranceSpec:
     """Build a spec from a parsed TOML document (``[spec]``, ``[[factor]]``, ``[[correlation]]``)."""
     root = Params(data, file=file)
-    head = root.sub("spec", {})
-    spec_name = head.str("name", name or (Path(file).stem if file else "spec"))
-    desc = head.str("description", "")
-    head.finish(allow=("source",))
-    head.raw("source", None)
+    head_table = root.sub("spec", {})
+    head = read_options(SpecHead, head_table)
+    head_table.finish()
+    spec_name = head.name if head.name is not None else name or (Path(file).stem if file else "spec")
+    desc = head.description
     tables = root.tables("factor")
     if not tables:
         raise root.error("factor", "a spec needs at least one [[factor]]")
@@ -142,75 +146,116 @@ def factors_from_params(p: Params) -> list[Factor]:
 
 def factor_from_params(p: Params) -> Factor:
     """One factor from a ``[[factor]]`` table (a family's template; ``multiplicity`` is read by
-    :func:`factors_from_params`)."""
-    name = p.str("name")
+    :func:`factors_from_params`): its declared keys (:class:`rvtol.spec.tables.FactorTable`) read once, then its form
+    — a law, a drawing tolerance read over its band, measured values — works from them; a key the table gives that
+    its form does not read is refused (:func:`_refuse_unread`)."""
+    view = Params(p.data, file=p.file, key=p.key)      # every declared key read: its errors know them all (a typo)
+    g = Given(read_options(FactorTable, view), view)
+    name = g.need("name")
     if not name or not NAME.match(name):
-        raise p.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
-    unit = p.unit("unit", None)
-    drawing = drawing_tolerance(p, unit)
+        raise g.error("name", f"invalid factor name {name!r} (letters, digits, _ [ ] , . - + and spaces)")
+    unit = _unit(g)
+    drawing = drawing_tolerance(g, unit)
     if unit is None:
         if drawing is None or drawing.unit is None:
-            raise p.error("unit", "missing unit (the unit of the nominal and the tolerance, e.g. mm, um, in)")
+            raise g.error("unit", "missing unit (the unit of the nominal and the tolerance, e.g. mm, um, in)")
         unit = drawing.unit
     measured = None
-    if p.data.get("dist") == "measured":
-        dist, measured = measured_distribution(p)
+    if g.data.get("dist") == "measured":
+        dist, measured = measured_distribution(g)
     elif drawing is not None:
-        dist = band_distribution(p, drawing)
+        dist = band_distribution(g, drawing)
     else:
-        dist = from_params(_located_on_nominal(p))
-    nominal = p.float("nominal", None) if drawing is None else drawing.nominal
-    desc = p.str("description", "")
-    part = p.str("part", "")
-    feature = p.str("feature", "")
-    group = p.str("group", part)
-    source = p.str("source", "")
-    direction = stack_direction(p)
-    zone = position_zone(p, drawing)
-    gdt = material_condition(p, drawing, zone)
+        dist = _law_on_nominal(g)
+    nominal = g.get("nominal") if drawing is None else drawing.nominal
+    desc = g.get("description")
+    part = g.get("part")
+    feature = g.get("feature")
+    group = g.get("group", part)
+    source = g.get("source")
+    direction = stack_direction(g)
+    zone = position_zone(g, drawing)
+    gdt = material_condition(g, drawing, zone)
     frame = {"characteristic": getattr(drawing, "characteristic", ""), "datums": getattr(drawing, "datums", ()),
-             "envelope": envelope_of(p, drawing)}
-    composite, relating = composite_position(p, drawing, zone, unit, measured)
+             "envelope": envelope_of(g, drawing)}
+    composite, relating = composite_position(g, drawing, zone, unit, measured)
     frame.update(composite)
     gdt["frame"] = gdt["frame"] or composite["pattern"]     # a composite frame's features share its frame
-    p.finish(allow=("multiplicity",))
-    nominal_stated(p, drawing)
+    _refuse_unread(p, g, "a measured factor" if measured is not None else
+                   f"a tolerance in drawing notation ({g.data['tolerance']!r})" if drawing is not None else
+                   f"dist = {dist.kind!r}")
+    nominal_stated(g, drawing)
     limits = drawing.limits if drawing is not None else None
     if relating is not None:      # the feature's own deviation is read in the feature-relating zone
-        dist, limits = band_distribution(p, relating), relating.limits
+        dist, limits = band_distribution(g, relating), relating.limits
     return Factor(name, unit, dist, nominal, desc, group, source, part=part, feature=feature, direction=direction,
                   limits=limits, measured=measured, zone=zone, **gdt, **frame)
+
+
+def _unit(g: Given) -> str | None:
+    """``unit``, canonical (:func:`rvtol.units.canonical`), or None when the table gives none."""
+    u = g.get("unit")
+    if u is None:
+        return None
+    try:
+        return units.canonical(u)
+    except InputError as exc:
+        raise g.error("unit", exc.reason) from None
+
+
+#: keys a factor's form may leave unread and the table still hold: a family's size (:func:`factors_from_params`)
+_ALWAYS = ("multiplicity",)
+#: the keys a factor's form reads only in some forms (a law's parameters, the measured data's)
+_FORM_KEYS = tuple(dict.fromkeys(("dist", "tolerance") + PARAMETERS + MEASURED_KEYS))
+
+
+def _refuse_unread(p: Params, g: Given, form: str) -> None:
+    """A key the table gives that is not a factor's (a typo: named with the key it resembles), then one its form did
+    not read (``alpha`` beside ``dist = "normal"``, ``bandwidth`` of a fit): one located error.  Every key is then
+    marked read on ``p``."""
+    g.table.finish()                   # the view read every declared key: what is left is no factor's key
+    unread = sorted(k for k in p.data if k not in g.used and k not in _ALWAYS)
+    if unread:
+        k = unread[0]
+        reads = [k for k in _FORM_KEYS if k in g.used]
+        raise g.error(k, f"does not apply to {form} (it reads {', '.join(reads) or 'none of the law keys'})")
+    for k in p.data:
+        p.raw(k)
 
 
 #: keys that place a factor's distribution; without any, a non-zero ``nominal`` places it
 _LOCATION_KEYS = ("mean", "lower", "upper", "median", "mode", "shift")
 
 
-def _located_on_nominal(p: Params) -> Params:
-    """The factor's table with ``mean = nominal`` when it gives a non-zero nominal and nothing that places the
-    distribution: ``nominal = 10.0, dist = "normal", tolerance = 0.06`` is 10 ± 0.03, never 0 ± 0.03 (a distribution
-    left at its default mean 0 beside a nominal of 10 is a silent wrong answer).  A one-sided (magnitude) kind has
-    no mean to place: it must say where its values start (``shift``)."""
-    nominal = p.data.get("nominal")
-    if not isinstance(nominal, (int, float)) or isinstance(nominal, bool) or nominal == 0 \
-            or any(k in p.data for k in _LOCATION_KEYS):
-        return p
-    kind = p.data.get("dist")
-    if kind in ONE_SIDED:
-        raise p.error("nominal", f"a {kind} factor is a magnitude (its values start at 0): with nominal = {nominal} "
-                                 "say where they start ('shift'), or give the nominal as 0")
-    placed = Params({**p.data, "mean": nominal}, file=p.file, key=p.key)
-    placed._probed = p._probed          # one table: what either reads counts as read (p.finish sees it)
-    placed._read = p._read
-    return placed
+def _law_on_nominal(g: Given) -> Distribution:
+    """The factor's law (:func:`rvtol.distributions.law`), with ``mean = nominal`` when the table gives a non-zero
+    nominal and nothing that places the distribution: ``nominal = 10.0, dist = "normal", tolerance = 0.06`` is
+    10 ± 0.03, never 0 ± 0.03 (a distribution left at its default mean 0 beside a nominal of 10 is a silent wrong
+    answer).  A one-sided (magnitude) kind has no mean to place: it must say where its values start (``shift``)."""
+    kind = g.get("dist")
+    if kind is None:
+        raise g.error("dist", "missing required key")
+    nominal = g.opts.nominal
+    data = g.data
+    if nominal is not None and nominal != 0 and not any(k in g for k in _LOCATION_KEYS):
+        if kind in ONE_SIDED:
+            raise g.error("nominal", f"a {kind} factor is a magnitude (its values start at 0): with nominal = "
+                                     f"{data['nominal']} say where they start ('shift'), or give the nominal as 0")
+        placed = Given(replace(g.opts, mean=nominal), g.table)
+        placed.used = g.used                 # one table: what either takes counts as taken
+        data = {**data, "mean": data["nominal"]}
+        g = placed
+    return law(kind, g, origin_of(data))
 
 
-def stack_direction(p: Params) -> float | None:
+def stack_direction(g: Given) -> float | None:
     """``direction``: the factor's sign or coefficient in a one-dimensional stack (``+``, ``-`` or a number)."""
-    v = p.raw("direction", None)
-    if isinstance(v, str) and v.strip().replace("\u2212", "-") in ("+", "-"):
-        return 1.0 if v.strip() == "+" else -1.0
-    return None if v is None else p.float("direction")
+    v = g.get("direction")
+    if isinstance(v, str):
+        if v.strip().replace("\u2212", "-") in ("+", "-"):
+            return 1.0 if v.strip() == "+" else -1.0
+        raise g.error("direction", f"expected a number (or + or -), got the string {v!r}")
+    return v
 
 
 def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarray | None:
@@ -220,16 +265,22 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
     c = np.eye(k)
     given: dict[tuple[int, int], str] = {}   # pair -> the table that gave it: a second one contradicts or repeats
     for t in tables:
-        if "pair" in t:
-            fs = t.strs("pair")
-            if len(fs) != 2:
+        o = read_options(CorrelationTable, t)
+        if o.pair is not None:
+            if len(o.pair) != 2:
                 raise t.error("pair", "a pair names exactly two factors")
-            rho = t.float("rho", min=-1.0, max=1.0)
+            for key in ("factors", "matrix"):
+                if getattr(o, key) is not None:
+                    raise t.error(key, "a pair's correlation is rho: give pair and rho, or factors and matrix")
+            fs = o.pair
+            rho = Given(o, t).need("rho")
             m = np.array([[1.0, rho], [rho, 1.0]])
         else:
-            fs = t.strs("factors", min_length=2)
-            rows = t.raw("matrix")
-            if not isinstance(rows, list) or len(rows) != len(fs):
+            if o.rho is not None:
+                raise t.error("rho", "rho is a pair's correlation: give pair = [a, b] with it (or factors and matrix)")
+            fs = Given(o, t).need("factors")
+            rows = Given(o, t).need("matrix")
+            if len(rows) != len(fs):
                 raise t.error("matrix", f"expected a {len(fs)}×{len(fs)} matrix")
             m = np.array([Params({"r": r}, file=t.file, key=t.path("matrix")).floats("r", length=len(fs))
                           for r in rows])
@@ -242,7 +293,7 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
         idx = []
         for f in fs:
             if f not in names:
-                raise t.error("factors" if "factors" in t else "pair",
+                raise t.error("pair" if o.pair is not None else "factors",
                               f"unknown factor name {f!r}{did_you_mean(f, names)}")
             idx.append(names.index(f))
         if len(set(idx)) != len(idx):
@@ -255,7 +306,7 @@ def correlation_from_tables(tables: list[Params], names: list[str]) -> np.ndarra
                     if pair in given:
                         prev = c[ia, ib]
                         same = "the same" if prev == m[a, b] else f"{prev:g} there, {m[a, b]:g} here"
-                        raise t.error("factors" if "factors" in t.data else "pair",
+                        raise t.error("pair" if o.pair is not None else "factors",
                                       f"the correlation of {names[pair[0]]!r} and {names[pair[1]]!r} is given twice "
                                       f"(first in {given[pair]}; {same}): give each pair once")
                     given[pair] = t.key

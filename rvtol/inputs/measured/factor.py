@@ -8,12 +8,14 @@ a file of measured values (:mod:`rvtol.inputs.measured.read`) or a QIF / DFQ ins
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
 from ...errors import InputError, SpecError
+from ...options import Given, option, read_options
+from ...params import Params
 from ..inspection import characteristic_values, is_inspection_file
 from .parametric import DEFAULT_FAMILIES, FitReport, fit
 from .nonparametric import empirical, kde
@@ -41,9 +43,33 @@ def from_measurements(values, method: str = "fit", **kw):
 
 
 # ----------------------------------------------------------------------------- a spec's [[factor]] table
+#: a key of a factor with ``dist = "measured"`` only
+_ONLY = " (dist = \"measured\")"
+
+
+@dataclass
+class MeasuredKeys:
+    """The keys of a ``[[factor]]`` table with ``dist = "measured"`` (besides name, unit, …), declared
+    (:mod:`rvtol.options`; a part of :class:`rvtol.spec.tables.FactorTable`)."""
+
+    data: str | None = option(None, "the file of measured values, relative to the spec file (csv, xlsx, QIF, DFQ)"
+                              + _ONLY)
+    column: str | int | None = option(None, "the data's column (a name or a 1-based number; a QIF/DFQ file: its "
+                                            "characteristic)" + _ONLY)
+    sheet: str | None = option(None, "the data's worksheet (an xlsx file)" + _ONLY)
+    method: str = option("fit", "how the values become a distribution" + _ONLY, choices=METHODS)
+    families: list[str] = option(list(DEFAULT_FAMILIES), "the families fitted (method fit)" + _ONLY)
+    family: str | None = option(None, "the fitted family used (method fit; default: the best)" + _ONLY)
+    location: float | None = option(None, "the fitted families' location (method fit; default 0)" + _ONLY)
+    interpolate: bool = option(False, "interpolate between the values (method empirical)" + _ONLY)
+    bandwidth: float | str = option("scott", "the kernel's bandwidth: scott, silverman or a number (method kde)"
+                                    + _ONLY)
+    measurement_sigma: float | None = option(None, "the measurement's standard uncertainty, taken out of the "
+                                                   "values' spread" + _ONLY, positive=True)
+
+
 #: the keys of a ``[[factor]]`` table with ``dist = "measured"`` (besides name, unit, …)
-MEASURED_KEYS = ("data", "column", "sheet", "method", "families", "family", "location", "interpolate", "bandwidth",
-                 "measurement_sigma")
+MEASURED_KEYS = tuple(f.name for f in fields(MeasuredKeys))
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,62 +96,62 @@ class Measured:
         return self.data + (f"[{self.column}]" if self.column is not None else "")
 
 
-def measured_factor(p, base_dir: Path | str = ".") -> tuple[object, Measured]:
+def measured_factor(g, base_dir: Path | str = ".") -> tuple[object, Measured]:
     """The spec-loader hook: a ``[[factor]]`` table's measured-data keys → ``(distribution, Measured)``.
 
-    Keys (read through :class:`rvtol.params.Params`, so typos are reported): ``data`` (file,
-    relative to ``base_dir``), ``column``, ``sheet``, ``method`` (fit | empirical | kde, default
-    fit), ``families`` and ``family`` (fit), ``location`` (fit), ``interpolate`` (empirical),
-    ``bandwidth`` (kde: scott | silverman | number), ``measurement_sigma``.  The caller reads
-    ``dist``, ``name``, ``unit``… as for any factor.  ``data`` may be a QIF 3.0 or DFQ file
+    ``g``: the table's declared keys (:class:`MeasuredKeys`, read once: a spec's factor reads them with the rest of
+    :class:`rvtol.spec.tables.FactorTable`) as :class:`rvtol.options.Given` (what this takes is recorded; a key of
+    another method is refused by the spec reader), or a :class:`rvtol.params.Params` of the table: ``data`` (file, relative to ``base_dir``), ``column``, ``sheet``, ``method`` (fit | empirical | kde,
+    default fit), ``families`` and ``family`` (fit), ``location`` (fit), ``interpolate`` (empirical), ``bandwidth``
+    (kde: scott | silverman | number), ``measurement_sigma``.  The caller reads ``dist``, ``name``, ``unit``… as for
+    any factor.  ``data`` may be a QIF 3.0 or DFQ file
     (:func:`rvtol.inputs.inspection.characteristic_values`): ``column`` then names its characteristic (the QIF item's
     Name or ``id:N``, the DFQ description K2002 or number K2001), the values are every part's reading of it in the
     factor's unit, and a QIF file's own Statistics of them are checked and shown in the report.
     """
-    path = p.path_value("data", Path(base_dir))
-    col = p.raw("column", None)
-    if col is not None and not isinstance(col, (str, int)) or isinstance(col, bool):
-        raise p.error("column", "expected a column name or a 1-based number")
-    sheet = p.str("sheet", None)
-    method = p.str("method", "fit", choices=METHODS)
-    u = p.float("measurement_sigma", None, positive=True)
+    if isinstance(g, Params):
+        g = Given(read_options(MeasuredKeys, g), g)
+    path = Path(g.need("data"))
+    path = path if path.is_absolute() else Path(base_dir) / path
+    col = g.get("column")
+    sheet = g.get("sheet")
+    method = g.get("method", "fit")
+    u = g.get("measurement_sigma")
     try:
-        unit = p.data.get("unit")    # the factor's unit: a header's unit (d [um]) is converted to it
+        unit = g.data.get("unit")    # the factor's unit: a header's unit (d [um]) is converted to it
         unit = unit if isinstance(unit, str) else None
         statistics = []
         if is_inspection_file(path):   # QIF / DFQ: ``column`` names the characteristic
             if sheet is not None:
-                raise p.error("sheet", f"a sheet is read from an xlsx file, not from {path.name}")
+                raise g.error("sheet", f"a sheet is read from an xlsx file, not from {path.name}")
             got, _, statistics = characteristic_values(path, col, unit)
             values = clean_values(got)
         else:
             values = read_measurements(path, col, sheet=sheet, unit=unit)
     except InputError as exc:
         if exc.key in (None, "-"):   # the file as a whole (missing, unreadable): the spec's key
-            raise p.error("data", f"{exc.reason}: {exc.file}") from None
+            raise g.error("data", f"{exc.reason}: {exc.file}") from None
         raise                        # a cell of the data file: that file, row and column
     origin = f"{method} of {path.name}" + (f"[{col}]" if col is not None else "")
-    record = dict(values=values, data=str(p.data["data"]), column=col, sheet=sheet, method=method,
+    record = dict(values=values, data=str(g.data["data"]), column=col, sheet=sheet, method=method,
                   measurement_sigma=u, file_statistics=statistics)
     try:
         if method == "empirical":
-            d = empirical(values, interpolate=p.bool("interpolate", False), measurement_sigma=u, origin=origin)
+            d = empirical(values, interpolate=g.get("interpolate", False), measurement_sigma=u, origin=origin)
             return d, Measured(**record)
         if method == "kde":
-            bw = p.raw("bandwidth", "scott")
-            if not isinstance(bw, (str, int, float)) or isinstance(bw, bool):
-                raise p.error("bandwidth", "expected scott, silverman or a number")
+            bw = g.get("bandwidth", "scott")
             return kde(values, bandwidth=bw, measurement_sigma=u, origin=origin), Measured(**record)
-        fams = p.strs("families", list(DEFAULT_FAMILIES))
-        family = p.str("family", None)
-        loc = p.float("location", 0.0)
+        fams = g.get("families", list(DEFAULT_FAMILIES))
+        family = g.get("family")
+        loc = g.get("location", 0.0)
         rep = fit(values, families=fams, location=loc, measurement_sigma=u, gof=None, origin=origin)
         d = rep.distribution(family)
         return d, Measured(**record, fit=rep, family=rep.candidate(family).family)
     except SpecError:
         raise
     except InputError as exc:
-        raise p.error("family" if "was not fitted" in exc.reason else "data", exc.reason) from None
+        raise g.error("family" if "was not fitted" in exc.reason else "data", exc.reason) from None
 
 
 def measured_from_params(p, base_dir: Path | str = ".") -> object:
