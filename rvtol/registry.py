@@ -88,13 +88,16 @@ ANALYSES: dict[str, str] = {
 }
 
 
-#: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
+#: the tables of the study file, and of the input files read by a declared schema (a design file's head and its
+#: numbers), that are no kinds: name -> their declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
     "sampling": "rvtol.run_options:SamplingOptions",
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    "design": "rvtol.design:DesignHead",
+    "design_parameter": "rvtol.design:DesignEntry",
 }
 
 
