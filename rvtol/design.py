@@ -14,7 +14,9 @@ parameter::
 
 The parameter is addressed as ``"sun.teeth"``; ``design["sun.module"]``
 returns it in base units (mm).  ``source`` is required; ``note`` says how a
-number was estimated when the source does not give it directly.
+number was estimated when the source does not give it directly.  The keys of the head and of a number are
+declared (:class:`DesignHead`, :class:`DesignEntry`) and listed by ``rvtol kinds design`` and
+``rvtol kinds design_parameter``.
 
 **Derived numbers** are written as a formula of other design numbers instead of a value, so that they follow
 the numbers they derive from (in a variant too)::
