@@ -26,6 +26,7 @@ import json
 import os
 import secrets
 import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -309,8 +310,8 @@ def _kinds(kind: str | None = None) -> int:
 
     if kind in TABLES:
         options = table_options(kind)
-        table, meaning = options.__doc__.split(": ", 1)          # "``[sampling]``: how many samples ..."
-        _keys(f"{table.strip('`')}: {meaning}", options)
+        head = " ".join(options.__doc__.split("\n\n")[0].replace("``", "").split())   # "[sampling]: how many ..."
+        _keys(head, options)
         return EXIT_PASS
     if kind is not None:
         is_model = kind in MODELS or kind in plugin_models()
@@ -329,7 +330,7 @@ def _kinds(kind: str | None = None) -> int:
     if plugins:
         print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
                                                                 sorted(plugins.items())))
-    print("tables:   " + ", ".join(TABLES))
+    print(textwrap.fill(", ".join(TABLES), width=110, initial_indent="tables:   ", subsequent_indent=" " * 10))
     print("rvtol kinds KIND lists the keys of a model or an analysis kind, or of a table")
     return EXIT_PASS
 

@@ -28,7 +28,8 @@ takes it reads and finishes it; ``list[Params]``: an array of such tables), and 
 ``zero_or_min``       0 (meaning "all"/"off") or at least this value
 ``min_length``        a list with at least this many entries
 ``unit``              a quantity: a bare number in this unit or ``{value = x, unit = "..."}``,
-                      held in base units (mm, N, rad, s)
+                      held in base units (mm, N, rad, s); typed ``float | str``, a string is
+                      left as written (a name the loader resolves)
 ``names``             a list (or a string) whose entries name the study's ``"outputs"``,
                       ``"factors"``, ``"requirements"`` or the model's ``"stages"``;
                       ``"all"`` stands for every output when ``all_ok``
@@ -253,7 +254,7 @@ def _read(params, key: str, tp, default, r: Rule, study):
         return v
     if r.names and r.all_ok and raw == "all":
         return list(_known(r.names, study) or [])
-    if r.unit is not None:
+    if r.unit is not None and tp is float:      # a quantity (in a union ``float | str``, the text is the str's)
         return params.quantity(key, r.unit, **_number_checks(r))
     origin = typing.get_origin(tp)
     if tp is Path:
@@ -433,6 +434,10 @@ def _check_names(params, key, values, what: str, study) -> None:
 def _type_name(tp) -> str:
     optional, tp = _unoptional(tp)
     origin = typing.get_origin(tp)
+    members = _union_members(tp)
+    if members:                 # A | B (| None): each member's name
+        return " or ".join(_type_name(m) for m in members) + (", optional" if type(None) in typing.get_args(tp)
+                                                               else "")
     if origin is Literal:
         name = " | ".join(repr(a) for a in typing.get_args(tp))
     elif origin is list:

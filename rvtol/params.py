@@ -324,15 +324,12 @@ class Params:
 
     def unit(self, name: str, default: Any = _MISSING, *, dimension: str | tuple[str, ...] | None = None) -> str:
         v = self.str(name, default)
-        if v is None:
-            return None
-        try:
-            u = units.canonical(v, dimension)
-            if dimension is not None:
-                units.require_dimension(u, dimension)
-        except InputError as exc:
-            raise self.error(name, exc.reason) from None
-        return u
+        return None if v is None else self.canonical_unit(name, v, dimension=dimension)
+
+    def canonical_unit(self, name: str, text: str, *, dimension: str | tuple[str, ...] | None = None) -> str:
+        """The unit ``text`` of the key ``name`` (read already, e.g. by a declared schema) in its canonical
+        spelling, of ``dimension`` if given; or the located error."""
+        return located_unit(text, self.error, name, dimension)
 
     def quantity(self, name: str, unit: str, default: Any = _MISSING, **checks) -> float:
         """A number in base units, written as ``x`` (in ``unit``) or ``{value = x, unit = "..."}``.
@@ -364,6 +361,18 @@ class Params:
         if existing and not p.exists():      # a directory or a device: the reader says what it is
             raise self.error(name, f"file not found: {p}")
         return p
+
+
+def located_unit(text: str, error, key: str, dimension: str | tuple[str, ...] | None = None) -> str:
+    """The unit ``text`` in its canonical spelling, of ``dimension`` if given; or ``error(key, reason)`` (a table's
+    located error) raised."""
+    try:
+        u = units.canonical(text, dimension)
+        if dimension is not None:
+            units.require_dimension(u, dimension)
+    except InputError as exc:
+        raise error(key, exc.reason) from None
+    return u
 
 
 def check_number(v: Any, error, name: str, *, min: float | None = None, max: float | None = None,

@@ -88,14 +88,45 @@ ANALYSES: dict[str, str] = {
 }
 
 
-#: the tables of the study file, and of the input files read by a declared schema (a design file's head and its
-#: numbers), that are no kinds: name -> their declared options (``rvtol kinds NAME`` lists the keys)
+#: the tables of the study file and of the input files it names, read by a declared schema (not kinds): name -> their
+#: declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
+    "study": "rvtol.study.head:StudyHead",
     "sampling": "rvtol.run_options:SamplingOptions",
     "execution": "rvtol.run_options:ExecutionOptions",
     "report": "rvtol.run_options:ReportOptions",
     "requirement": "rvtol.spec.requirements:RequirementTable",
     "gate": "rvtol.ci.gates:GateTable",
+    "quantity": "rvtol.models.composite.tables:QuantityTable",
+    "mapping": "rvtol.models.composite.tables:MappingHead",
+    "build": "rvtol.production.build_tables:BuildHead",
+    "fit": "rvtol.production.build_tables:FitTable",
+    "shim": "rvtol.production.build_tables:ShimTable",
+    "choice": "rvtol.production.build_tables:ChoiceTable",
+    "costs": "rvtol.allocation.cost:CostsHead",
+    "curve": "rvtol.allocation.cost:CurveTable",
+    "source": "rvtol.validation.published:SourceTable",
+    "figure": "rvtol.validation.published:FigureTable",
+    "missing": "rvtol.validation.published:MissingTable",
+    # a 6-DOF stack-up's assembly file (rvtol.models.stackup.graph) and its study's [[analysis.domain]]
+    "assembly": "rvtol.models.stackup.assembly_tables:AssemblyHead",
+    "dimension": "rvtol.models.stackup.assembly_tables:DimensionTable",
+    "part": "rvtol.models.stackup.assembly_tables:PartTable",
+    "feature": "rvtol.models.stackup.assembly_tables:FeatureTable",
+    "deviation": "rvtol.models.stackup.assembly_tables:DeviationTable",
+    "assembly_fit": "rvtol.models.stackup.assembly_tables:AssemblyFitTable",
+    "sequence": "rvtol.models.stackup.assembly_tables:SequenceTable",
+    "kc": "rvtol.models.stackup.assembly_tables:KCTable",
+    "domain": "rvtol.models.stackup.assembly_tables:DomainTable",
+    # an adjusted assembly's description (rvtol.models.adjustment.description)
+    "adjustment_assembly": "rvtol.models.adjustment.description_tables:AdjustmentHead",
+    "adjustment_weights": "rvtol.models.adjustment.description_tables:WeightsTable",
+    "adjustment_measurement": "rvtol.models.adjustment.description_tables:MeasurementTable",
+    "adjustment_chain": "rvtol.models.adjustment.description_tables:ChainTable",
+    "adjustment_kc": "rvtol.models.adjustment.description_tables:AdjustmentKCTable",
+    "adjustment_step": "rvtol.models.adjustment.description_tables:AdjustmentStepTable",
+    "adjustment_observation": "rvtol.models.adjustment.description_tables:ObservationTable",
+    # a design file (rvtol.design): its [design] head and each number
     "design": "rvtol.design:DesignHead",
     "design_parameter": "rvtol.design:DesignEntry",
 }

@@ -35,7 +35,6 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 
 from .checkpoint import ChunkStore
 from .errors import InputError, RvtolError

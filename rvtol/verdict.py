@@ -297,11 +297,15 @@ def _plan(r: Requirement, j: Judgement, yield_: float | None, cpk: float | None,
         cases.append((yield_, r.min_yield, mc_dev, fit.yield_dev if fit is not None else 0.0,
                       lambda est, req: st.n_for_yield(est, req, level, YIELD_INTERVALS[r.interval])))
     if r.min_cpk is not None:
-        mc_dev = None if cpk is None or n_failed else cpk - (cpk_bound(r, cpk, n) if n > 1 else -math.inf)
+        b = cpk_bound(r, cpk, n) if n > 1 else -math.inf
+        mc_dev = None if cpk is None or b is None or n_failed else cpk - b
         cases.append((None if n_failed else cpk, r.min_cpk, mc_dev, fit.cpk_dev if fit is not None else 0.0,
                       lambda est, req: st.n_for_cpk(est, req, level)))
     for est, req, mc_dev, fit_dev, n_for in cases:
-        if est is None or not math.isfinite(est) or not est > req:
+        if est is not None and not math.isfinite(est):
+            j.reasons.append(f"the estimate is {est}: no sample size can be planned from it")
+            return
+        if est is None or not est > req:
             j.reasons.append("the estimate itself misses the requirement: more samples will not demonstrate it")
             return
         margin = est - req

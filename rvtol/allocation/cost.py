@@ -37,6 +37,7 @@ from scipy import optimize
 
 from .. import units
 from ..errors import InputError
+from ..options import REQUIRED, option, read_options
 from ..params import Params, read_toml
 
 KINDS = ("reciprocal_power", "exponential")
@@ -191,14 +192,64 @@ def load_costs(path: str | Path) -> CostTable:
     return costs_from_table(data, file=str(path))
 
 
+@dataclass
+class CostsHead:
+    """``[costs]``: a cost file's name and where its curves come from."""
+
+    name: str | None = option(None, "the table's name (default: the file's name)")
+    description: str = option("", "what the costs are")
+    source: str = option("", "where they come from")
+    cost_unit: str = option("relative", "a label for the cost (rvtol gives cost no physical unit)")
+
+
+@dataclass
+class CostData:
+    """``data``: (tolerance, cost) pairs a curve is fitted to."""
+
+    tolerance: list[float] = option(REQUIRED, "the tolerances (±t, the curve's unit)", min_length=1, positive=True)
+    cost: list[float] = option(REQUIRED, "the cost of each tolerance", min_length=1, positive=True)
+
+
+@dataclass
+class CurveTable:
+    """``[[curve]]``: one cost–tolerance curve, fitted to data or given by its parameters a, b, c."""
+
+    name: str = option(REQUIRED, "the curve's name, as an allocation names it")
+    kind: str = option(REQUIRED, "C(t) = a + b / t^c, or a + b · exp(−c t)", choices=KINDS)
+    unit: str = option(REQUIRED, "the unit of the tolerances (written and in the formula)")
+    source: str = option("", "where the curve comes from")
+    note: str = option("", "a remark for the report")
+    data: CostData | None = option(None, "{ tolerance = [...], cost = [...] } to fit the curve to (scipy), instead "
+                                         "of a, b, c")
+    fix_c: float | None = option(None, "with data: c held at this value while fitting", positive=True)
+    a: float | None = option(None, "the fixed cost (without data)", nonnegative=True)
+    b: float | None = option(None, "the scale (without data)", positive=True)
+    c: float | None = option(None, "the exponent or rate (without data)", positive=True)
+    bounds: list[float] | None = option(None, "[low, high]: the t range the curve holds on (default: the data's)",
+                                        positive=True)
+
+    def complete(self, study, error):
+        given = [k for k in ("a", "b", "c") if getattr(self, k) is not None]
+        if self.data is not None and given:
+            raise error("data", "give either data (to fit) or the parameters a, b, c, not both")
+        if self.data is None:
+            for k in ("a", "b", "c"):
+                if getattr(self, k) is None:
+                    raise error(k, "missing required key")
+            if self.fix_c is not None:
+                raise error("fix_c", "holds c while fitting data: give data, or c itself")
+            if self.bounds is None:
+                raise error("bounds", "missing required key")
+        if self.bounds is not None and len(self.bounds) != 2:
+            raise error("bounds", f"expected 2 numbers [low, high], got {len(self.bounds)}")
+
+
 def costs_from_table(data: dict, *, file: str | None = None) -> CostTable:
     root = Params(data, file=file)
     head = root.sub("costs")
-    name = head.str("name", Path(file).stem if file else "costs")
-    desc = head.str("description", "")
-    source = head.str("source", "")
-    cost_unit = head.str("cost_unit", "relative")
+    h = read_options(CostsHead, head)
     head.finish()
+    name = h.name if h.name is not None else (Path(file).stem if file else "costs")
     curves: dict[str, CostModel] = {}
     for t in root.tables("curve"):
         cm = curve_from_params(t)
@@ -208,41 +259,27 @@ def costs_from_table(data: dict, *, file: str | None = None) -> CostTable:
     if not curves:
         raise root.error("curve", "a cost file needs at least one [[curve]]")
     root.finish()
-    return CostTable(name, curves, cost_unit, desc, source, file)
+    return CostTable(name, curves, h.cost_unit, h.description, h.source, file)
 
 
 def curve_from_params(t: Params) -> CostModel:
-    name = t.str("name")
-    kind = t.str("kind", choices=KINDS)
-    unit = t.unit("unit")
-    source = t.str("source", "")
-    note = t.str("note", "")
+    o = read_options(CurveTable, t)
+    t.finish()
+    unit = t.canonical_unit("unit", o.unit)
     fit = None
-    if "data" in t:
-        if any(k in t for k in ("a", "b", "c")):
-            raise t.error("data", "give either data (to fit) or the parameters a, b, c, not both")
-        d = t.sub("data")
-        ts = d.floats("tolerance", min_length=1, positive=True)
-        cs = d.floats("cost", min_length=1, positive=True)
-        d.finish()
+    if o.data is not None:
+        ts, cs = o.data.tolerance, o.data.cost
         if len(ts) != len(cs):
-            raise d.error("cost", f"expected {len(ts)} costs (one per tolerance), got {len(cs)}")
-        fix_c = t.float("fix_c", None, positive=True)
+            raise t.error("data.cost", f"expected {len(ts)} costs (one per tolerance), got {len(cs)}")
         try:
-            a, b, c, fit = fit_cost_model(kind, ts, cs, fix_c)
+            a, b, c, fit = fit_cost_model(o.kind, ts, cs, o.fix_c)
         except InputError as exc:
             raise t.error("data", exc.reason) from None
-        lo_default, hi_default = min(ts), max(ts)
+        lo, hi = (min(ts), max(ts)) if o.bounds is None else o.bounds
     else:
-        a = t.float("a", nonnegative=True)
-        b = t.float("b", positive=True)
-        c = t.float("c", positive=True)
-        lo_default = hi_default = None
-    if "bounds" in t or lo_default is None:
-        lo, hi = t.floats("bounds", length=2, positive=True)
-    else:
-        lo, hi = lo_default, hi_default
+        a, b, c = o.a, o.b, o.c
+        lo, hi = o.bounds
     if not lo < hi:
         raise t.error("bounds", f"expected [low, high] with low < high, got [{lo}, {hi}]")
-    t.finish()
+    name, kind, source, note = o.name, o.kind, o.source, o.note
     return CostModel(name, kind, a, b, c, unit, lo, hi, source, note, fit)

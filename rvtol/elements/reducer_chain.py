@@ -312,8 +312,7 @@ class ChainElements:
     def _from_design(cls, design, crank_radius: float) -> "ChainElements":
         _check_scales(design)
         scales = {f: compliance_scale(design, f) for f in FAMILIES}
-        has = lambda *keys: all(k in design for k in keys)   # noqa: E731
-        if not has("material.youngs_modulus", "material.poisson_ratio"):
+        if not _has(design, "material.youngs_modulus", "material.poisson_ratio"):
             return cls(None, None, float(crank_radius), scales=scales)
         E = _num(design, "material.youngs_modulus")
         nu = float(design["material.poisson_ratio"])
@@ -324,106 +323,136 @@ class ChainElements:
         kw: dict = {}
         src: dict = {}
         crank = None
-        if has("crank.support_span", "crank.disc_pitch", "crank.gear_overhang", "crank.journal_diameter",
+        if _has(design, "crank.support_span", "crank.disc_pitch", "crank.gear_overhang", "crank.journal_diameter",
                "crank.eccentric_diameter"):
             crank = CrankGeometry.from_design(design, E, nu)
             kw["crank"] = crank
             src["crank_bending"] = src["crank_torsion"] = S.CRANK.format(
                 journal=design.value("crank.journal_diameter", "mm"),
                 eccentric=design.value("crank.eccentric_diameter", "mm"), span=crank.span)
-        keys = [f"crank_support_bearing.{k}" for k in ("rollers", "roller_length", "pitch_diameter", "cup_angle",
-                                                        "cone_angle", "preload")]
-        if has(*keys):
-            if crank is None:
-                raise SpecError("the crank support pair needs the crank layout (crank.support_span, disc_pitch, "
-                                "gear_overhang, journal_diameter, eccentric_diameter)",
-                                file=design.where("crank_support_bearing.preload"),
-                                key="crank_support_bearing.preload")
-            arrangement = design.get("crank_support_bearing.arrangement", "X")
-            if arrangement not in ("X", "O"):
-                raise SpecError(f"must be 'X' (face-to-face) or 'O' (back-to-back), got {arrangement!r}",
-
-                                file=design.where("crank_support_bearing.arrangement"),
-                                key="crank_support_bearing.arrangement")
-            with _located(design, "crank_support_bearing.cup_angle"):
-                brg = TaperedRollerBearing(
-                    rollers=_num(design, keys[0]), alpha=_num(design, keys[3]),
-                    length=_num(design, keys[1]), pitch_diameter=_num(design, keys[2]),
-                    alpha_inner=_num(design, keys[4]))
-            pre = _num(design, keys[5], nonnegative=True)
-            pair = BearingPair(brg, brg, crank.support, arrangement)
-            with _located(design, keys[5]):
-                pair = pair.with_preload_force(pre) if pre > 0 else pair
-            kw.update(pair=pair, pair_preload=pre)
-            src["crank_support_bearings"] = S.CRANK_SUPPORT.format(
-                arrangement=arrangement, rollers=brg.rollers, length=brg.length, alpha_deg=math.degrees(brg.alpha),
-                preload=pre, interference_um=pair.interference * 1e3)
-        if has("pin.groove_radius", "pin.groove_contact_length", "pin.radius"):
-            rp, rg = _num(design, "pin.radius"), _num(design, "pin.groove_radius")
-            if not rg > rp:
-                raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
-                                "outside Hertz theory)",
-                                file=design.where("pin.groove_radius"), key="pin.groove_radius")
-            kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
-            src["pin_groove"] = S.PIN_GROOVE.format(rp=rp, rg=rg, clearance_um=(rg - rp) * 1e3)
-        if has("input_shaft.diameter", "input_shaft.length"):
+        _crank_support(design, crank, kw, src)
+        _pin_groove(design, E, nu, kw, src)
+        if _has(design, "input_shaft.diameter", "input_shaft.length"):
             d, Ls = _num(design, "input_shaft.diameter"), _num(design, "input_shaft.length")
             kw["input_shaft_stiffness"] = float(G * shafts.circle_section(d)[2] / Ls)
             src["input_shaft"] = S.INPUT_SHAFT.format(d=d, length=Ls)
-        ckeys = [f"carrier.{k}" for k in ("pillars", "pillar_radius", "pillar_width", "pillar_thickness",
-                                          "pillar_length", "flange_thickness", "end_plate_thickness",
-                                          "plate_clamp_radius")]
-        if has(*ckeys):
-            n, R, w, t, h, tf, te, a = (_num(design, k) for k in ckeys)
-            with _located(design, "carrier.pillar_width"):
-                sec = carrier_structure.rectangle(w, t, nu)
-                b0 = carrier_structure.equivalent_boss_radius(sec)
-            with _located(design, "carrier.plate_clamp_radius"):
-                kphi = (carrier_structure.boss_rotational_stiffness(b0, a, te, E, nu),
-                        carrier_structure.boss_rotational_stiffness(b0, a, tf, E, nu))
-            k = carrier_structure.pillar_stiffness(sec, h, E, nu, kphi)
-            kw["carrier_stiffness"] = float(carrier_structure.carrier_torsional_stiffness(
-                n, R, k, section=sec, length=h, G=G))
-            jkeys = ("carrier.joint_bolts", "carrier.joint_bolt_diameter", "carrier.joint_roughness_ra",
-                     "roughness.summit_radius", "reducer.rated_torque", "crank.support_span")
-            if has(*jkeys) and crank is not None:
-                nb, db, ra, beta, T, _ = (_num(design, k) for k in jkeys)
-                with _located(design, "carrier.joint_bolt_diameter"):
-                    joint = BoltedJoint(db, te, w, t, E, bolts=int(round(nb)))
-                with _located(design, "carrier.joint_roughness_ra"):
-                    gw = GreenwoodWilliamson.from_ra(ra, ra, beta, E / (2.0 * (1.0 - nu * nu)))
-                    c_tilt, c_shear = joint.tilt_compliance(gw), joint.shear_compliance(gw, nu)
-                zA, zB = crank.support
-                FQ = zB / (zB - zA) * T / (n * R)                    # pillar shear at rated (end-plate share)
-                chk = joint.opening_and_slip(0.5 * FQ * h, FQ)
-                if chk["opens"] or chk["slips"]:
-                    raise SpecError(f"the end plate's bolted joint {'opens' if chk['opens'] else 'slips'} at rated "
-                                    f"torque (VDI 2230: preload {joint.preload():.4g} N, pillar shear {FQ:.4g} N)",
-                                    file=design.where("carrier.joint_bolts"), key="carrier.joint_bolts")
-                k_j = 1.0 / (1.0 / carrier_structure.pillar_stiffness(
-                    sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
-                K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))
-                kw["carrier_joint_compliance"] = 1.0 / K_j - 1.0 / kw["carrier_stiffness"]
-                src["carrier_joints"] = S.CARRIER_JOINTS.format(
-                    bolts=int(round(nb)), d=db, preload=joint.preload(), open=chk["margin_open"],
-                    slip=chk["margin_slip"], ra_um=ra * 1e3, tilt=c_tilt, shear=c_shear * 1e6)
-            src["carrier"] = S.CARRIER.format(pillars=int(round(n)), w=w, t=t, h=h, R=R, te=te, tf=tf, a=a)
-        if has("cycloid.crank_hole_diameter", "pin.circle_radius", "pin.radius", "cycloid.eccentricity") and (
-                "cycloid.face_width" in design or "cycloid.width" in design):
-            wkey = "cycloid.face_width" if "cycloid.face_width" in design else "cycloid.width"
-            ri = float(crank_radius) + 0.5 * _num(design, "cycloid.crank_hole_diameter")
-            ro = _num(design, "pin.circle_radius") - _num(design, "pin.radius") - _num(design, "cycloid.eccentricity")
-            with _located(design, "cycloid.crank_hole_diameter"):
-                kw["web_stiffness"] = float(disc_web.annular_web_stiffness(ri, ro, _num(design, wkey), G))
-            kw["web_radii"] = (ri, ro)
-            src["disc_web"] = S.DISC_WEB.format(ri=ri, ro=ro)
-        if has("crank_bearing.rollers", "crank_bearing.roller_length"):
-            with _located(design, "crank_bearing.rollers"):
-                rollers = _checks.whole("rollers", design["crank_bearing.rollers"])
-            kw["needle"] = NeedleRollerBearing(rollers, _num(design, "crank_bearing.roller_length"))
-            src["turning_arm_bearings"] = S.NEEDLE.format(rollers=kw["needle"].rollers, length=kw["needle"].length)
+        _carrier(design, E, nu, G, crank, kw, src)
+        _disc_web(design, float(crank_radius), G, kw, src)
+        _needles(design, kw, src)
         _fe_elements(design, float(crank_radius), E, nu, G, kw, src)
         return cls(E, nu, float(crank_radius), scales=scales, sources=src, **kw)
+
+
+def _crank_support(design, crank, kw: dict, src: dict) -> None:
+    """The crank support pair of tapered roller bearings and its preload, given the crank layout."""
+    keys = [f"crank_support_bearing.{k}" for k in ("rollers", "roller_length", "pitch_diameter", "cup_angle",
+                                                    "cone_angle", "preload")]
+    if _has(design, *keys):
+        if crank is None:
+            raise SpecError("the crank support pair needs the crank layout (crank.support_span, disc_pitch, "
+                            "gear_overhang, journal_diameter, eccentric_diameter)",
+                            file=design.where("crank_support_bearing.preload"),
+                            key="crank_support_bearing.preload")
+        arrangement = design.get("crank_support_bearing.arrangement", "X")
+        if arrangement not in ("X", "O"):
+            raise SpecError(f"must be 'X' (face-to-face) or 'O' (back-to-back), got {arrangement!r}",
+
+                            file=design.where("crank_support_bearing.arrangement"),
+                            key="crank_support_bearing.arrangement")
+        with _located(design, "crank_support_bearing.cup_angle"):
+            brg = TaperedRollerBearing(
+                rollers=_num(design, keys[0]), alpha=_num(design, keys[3]),
+                length=_num(design, keys[1]), pitch_diameter=_num(design, keys[2]),
+                alpha_inner=_num(design, keys[4]))
+        pre = _num(design, keys[5], nonnegative=True)
+        pair = BearingPair(brg, brg, crank.support, arrangement)
+        with _located(design, keys[5]):
+            pair = pair.with_preload_force(pre) if pre > 0 else pair
+        kw.update(pair=pair, pair_preload=pre)
+        src["crank_support_bearings"] = S.CRANK_SUPPORT.format(
+            arrangement=arrangement, rollers=brg.rollers, length=brg.length, alpha_deg=math.degrees(brg.alpha),
+            preload=pre, interference_um=pair.interference * 1e3)
+
+
+def _pin_groove(design, E: float, nu: float, kw: dict, src: dict) -> None:
+    """The pins in their housing grooves: a conforming line contact."""
+    if _has(design, "pin.groove_radius", "pin.groove_contact_length", "pin.radius"):
+        rp, rg = _num(design, "pin.radius"), _num(design, "pin.groove_radius")
+        if not rg > rp:
+            raise SpecError(f"must exceed the pin radius {rp:g} mm (zero clearance is a conforming contact "
+                            "outside Hertz theory)",
+                            file=design.where("pin.groove_radius"), key="pin.groove_radius")
+        kw["groove"] = GrooveContact(rp, rg, _num(design, "pin.groove_contact_length"), E, nu)
+        src["pin_groove"] = S.PIN_GROOVE.format(rp=rp, rg=rg, clearance_um=(rg - rp) * 1e3)
+
+
+def _carrier(design, E: float, nu: float, G: float, crank, kw: dict, src: dict) -> None:
+    """The carrier's pillars and plates, and its bolted end-plate joint."""
+    ckeys = [f"carrier.{k}" for k in ("pillars", "pillar_radius", "pillar_width", "pillar_thickness",
+                                      "pillar_length", "flange_thickness", "end_plate_thickness",
+                                      "plate_clamp_radius")]
+    if _has(design, *ckeys):
+        n, R, w, t, h, tf, te, a = (_num(design, k) for k in ckeys)
+        with _located(design, "carrier.pillar_width"):
+            sec = carrier_structure.rectangle(w, t, nu)
+            b0 = carrier_structure.equivalent_boss_radius(sec)
+        with _located(design, "carrier.plate_clamp_radius"):
+            kphi = (carrier_structure.boss_rotational_stiffness(b0, a, te, E, nu),
+                    carrier_structure.boss_rotational_stiffness(b0, a, tf, E, nu))
+        k = carrier_structure.pillar_stiffness(sec, h, E, nu, kphi)
+        kw["carrier_stiffness"] = float(carrier_structure.carrier_torsional_stiffness(
+            n, R, k, section=sec, length=h, G=G))
+        jkeys = ("carrier.joint_bolts", "carrier.joint_bolt_diameter", "carrier.joint_roughness_ra",
+                 "roughness.summit_radius", "reducer.rated_torque", "crank.support_span")
+        if _has(design, *jkeys) and crank is not None:
+            nb, db, ra, beta, T, _ = (_num(design, k) for k in jkeys)
+            with _located(design, "carrier.joint_bolt_diameter"):
+                joint = BoltedJoint(db, te, w, t, E, bolts=int(round(nb)))
+            with _located(design, "carrier.joint_roughness_ra"):
+                gw = GreenwoodWilliamson.from_ra(ra, ra, beta, E / (2.0 * (1.0 - nu * nu)))
+                c_tilt, c_shear = joint.tilt_compliance(gw), joint.shear_compliance(gw, nu)
+            zA, zB = crank.support
+            FQ = zB / (zB - zA) * T / (n * R)                    # pillar shear at rated (end-plate share)
+            chk = joint.opening_and_slip(0.5 * FQ * h, FQ)
+            if chk["opens"] or chk["slips"]:
+                raise SpecError(f"the end plate's bolted joint {'opens' if chk['opens'] else 'slips'} at rated "
+                                f"torque (VDI 2230: preload {joint.preload():.4g} N, pillar shear {FQ:.4g} N)",
+                                file=design.where("carrier.joint_bolts"), key="carrier.joint_bolts")
+            k_j = 1.0 / (1.0 / carrier_structure.pillar_stiffness(
+                sec, h, E, nu, (1.0 / (1.0 / kphi[0] + c_tilt), kphi[1])) + c_shear)
+            K_j = float(carrier_structure.carrier_torsional_stiffness(n, R, k_j, section=sec, length=h, G=G))
+            kw["carrier_joint_compliance"] = 1.0 / K_j - 1.0 / kw["carrier_stiffness"]
+            src["carrier_joints"] = S.CARRIER_JOINTS.format(
+                bolts=int(round(nb)), d=db, preload=joint.preload(), open=chk["margin_open"],
+                slip=chk["margin_slip"], ra_um=ra * 1e3, tilt=c_tilt, shear=c_shear * 1e6)
+        src["carrier"] = S.CARRIER.format(pillars=int(round(n)), w=w, t=t, h=h, R=R, te=te, tf=tf, a=a)
+
+
+def _disc_web(design, crank_radius: float, G: float, kw: dict, src: dict) -> None:
+    """The disc's annular web between its crank holes and its lobes."""
+    if _has(design, "cycloid.crank_hole_diameter", "pin.circle_radius", "pin.radius", "cycloid.eccentricity") and (
+            "cycloid.face_width" in design or "cycloid.width" in design):
+        wkey = "cycloid.face_width" if "cycloid.face_width" in design else "cycloid.width"
+        ri = float(crank_radius) + 0.5 * _num(design, "cycloid.crank_hole_diameter")
+        ro = _num(design, "pin.circle_radius") - _num(design, "pin.radius") - _num(design, "cycloid.eccentricity")
+        with _located(design, "cycloid.crank_hole_diameter"):
+            kw["web_stiffness"] = float(disc_web.annular_web_stiffness(ri, ro, _num(design, wkey), G))
+        kw["web_radii"] = (ri, ro)
+        src["disc_web"] = S.DISC_WEB.format(ri=ri, ro=ro)
+
+
+def _needles(design, kw: dict, src: dict) -> None:
+    """The needle rollers of the crank's eccentric (turning-arm) bearings."""
+    if _has(design, "crank_bearing.rollers", "crank_bearing.roller_length"):
+        with _located(design, "crank_bearing.rollers"):
+            rollers = _checks.whole("rollers", design["crank_bearing.rollers"])
+        kw["needle"] = NeedleRollerBearing(rollers, _num(design, "crank_bearing.roller_length"))
+        src["turning_arm_bearings"] = S.NEEDLE.format(rollers=kw["needle"].rollers, length=kw["needle"].length)
+
+
+def _has(design, *keys: str) -> bool:
+    """Whether the design gives every one of ``keys`` (an element is built only from all its numbers)."""
+    return all(k in design for k in keys)
 
 
 def _statics(design):
@@ -445,9 +474,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         return
     T, i, zc, zp, Rp, rp, e, w = st
     Tc = T * (1.0 - 1.0 / i) * zc / zp / 2.0               # one disc's torque, T i_b / 2
-    has = lambda *keys: all(k in design for k in keys)   # noqa: E731
-    if kw.get("web_stiffness") is not None and has("cycloid.centre_bore_diameter", "cycloid.pillar_hole_diameter",
-                                                    "carrier.pillar_radius"):
+    if kw.get("web_stiffness") is not None and _has(design, "cycloid.centre_bore_diameter",
+                                                    "cycloid.pillar_hole_diameter", "carrier.pillar_radius"):
         with _located(design, "cycloid.crank_hole_diameter"):
             res = fe_seats.disc_work(Tc, r_root=Rp - rp - e, bore=_num(design, "cycloid.centre_bore_diameter"),
                                      crank_radius=a, crank_hole=_num(design, "cycloid.crank_hole_diameter"),
@@ -460,7 +488,7 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
     ckeys = ("carrier.outer_radius", "carrier.bore_diameter", "crank_support_bearing.outside_diameter",
              "carrier.pillar_radius", "carrier.pillar_width", "carrier.pillar_thickness", "carrier.end_plate_thickness",
              "carrier.flange_thickness", "crank.support_span")
-    if kw.get("crank") is not None and has(*ckeys):
+    if kw.get("crank") is not None and _has(design, *ckeys):
         ro, bore, D, Rpil, pw, pt, te, tf, _ = (_num(design, k) for k in ckeys)
         zA, zB = kw["crank"].support
         rhoA = zB / (zB - zA)
@@ -475,7 +503,7 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         kw["carrier_seat_compliance"] = tuple(cups)
         src["carrier_seats"] = S.CARRIER_SEATS.format(te=te, tf=tf, D=D, a=a, end_plate=cups[0] * 1e6,
                                                       flange=cups[1] * 1e6)
-    if kw.get("groove") is not None and has("housing.clamp_radius", "pin.length"):
+    if kw.get("groove") is not None and _has(design, "housing.clamp_radius", "pin.length"):
         gr = kw["groove"]
         with _located(design, "housing.clamp_radius"):
             r = fe_seats.housing_ring_work(Tc, r_inner=Rp + gr.r_pin + gr.r_groove,
@@ -483,7 +511,8 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
                                            thickness=_num(design, "pin.length"), z_p=zp, z_c=zc, R_p=Rp, ecc=e, E=E,
                                            nu=nu)
         kw["housing_ring_compliance"] = r.compliance
-    if kw.get("groove") is not None and has("pin.roughness_ra", "pin.groove_roughness_ra", "roughness.summit_radius"):
+    if kw.get("groove") is not None and _has(design, "pin.roughness_ra", "pin.groove_roughness_ra",
+                                             "roughness.summit_radius"):
         gr = kw["groove"]
         with _located(design, "pin.roughness_ra"):
             gw = GreenwoodWilliamson.from_ra(_num(design, "pin.roughness_ra"), _num(design, "pin.groove_roughness_ra"),
@@ -498,4 +527,5 @@ def _fe_elements(design, a: float, E: float, nu: float, G: float, kw: dict, src:
         src["contact_roughness"] = S.CONTACT_ROUGHNESS.format(sigma_um=gw.sigma * 1e3, beta_um=gw.beta * 1e3,
                                                               compliance=kw["roughness_compliance"] * 1e6)
         src["housing_ring"] = S.HOUSING_RING.format(ri=Rp + gr.r_pin + gr.r_groove,
-                                                    ro=_num(design, "housing.clamp_radius"), compliance=r.compliance * 1e6)
+                                                    ro=_num(design, "housing.clamp_radius"),
+                                                    compliance=r.compliance * 1e6)

@@ -64,7 +64,9 @@ from .. import units
 from ..errors import InputError
 from ..expressions import Expression
 from ..model import Quantity
+from ..options import read_options
 from ..params import Params, read_toml
+from .build_tables import BuildHead, ChoiceTable, FitTable, ShimTable, Steps
 from ..spec import Factor, ToleranceSpec, factors_from_params
 from .selective import Classes, TargetRule
 
@@ -391,9 +393,9 @@ def load_build(path, spec: ToleranceSpec, design=None, quantities=()) -> BuildRu
     file = str(path)
     root = Params(data, file=file)
     head = root.sub("build", {})
-    name = head.str("name", "build")
-    desc = head.str("description", "")
+    h = read_options(BuildHead, head)
     head.finish()
+    name, desc = h.name, h.description
     gauges = [g for t in root.tables("gauge") for g in factors_from_params(t)]
     process = [f for t in root.tables("process") for f in factors_from_params(t)]
     for kind, added in (("gauge", gauges), ("process", process)):
@@ -463,9 +465,10 @@ def extended_spec(spec: ToleranceSpec, rules: BuildRules) -> ToleranceSpec:
     return replace(spec, factors=spec.factors + added, correlation=corr)
 
 
-def _expression(p: Params, key: str, known: set[str], local: tuple[str, ...]) -> Expression:
+def _expression(p: Params, key: str, text, known: set[str], local: tuple[str, ...]) -> Expression:
+    """The expression ``text`` of the key ``key`` of ``p``: names only what the rule may read, or the located error."""
     try:
-        e = Expression.parse(p.raw(key), what=key)
+        e = Expression.parse(text, what=key)
     except InputError as exc:
         raise p.error(key, exc.reason) from None
     unknown = [m for m in e.names if m not in known and m not in local]
@@ -475,12 +478,10 @@ def _expression(p: Params, key: str, known: set[str], local: tuple[str, ...]) ->
     return e
 
 
-def _sizes(p: Params, key: str, unit: str) -> np.ndarray:
-    raw = p.raw(key)
-    if isinstance(raw, dict):
-        sub = p.sub(key)
-        lo, hi, step = sub.float("from"), sub.float("to"), sub.float("step", positive=True)
-        sub.finish()
+def _sizes(p: Params, key: str, given: list[float] | Steps, unit: str) -> np.ndarray:
+    """The sizes of the key ``key`` (a list, or from/to/step) in base units."""
+    if isinstance(given, Steps):
+        lo, hi, step = given.start, given.stop, given.step
         if not hi > lo:
             raise p.error(key, f"'to' ({hi:g}) must exceed 'from' ({lo:g})")
         k = int(round((hi - lo) / step))
@@ -488,26 +489,25 @@ def _sizes(p: Params, key: str, unit: str) -> np.ndarray:
             raise p.error(key, f"'to' − 'from' ({hi - lo:g}) is not a whole number of steps of {step:g}")
         vals = lo + step * np.arange(k + 1)
     else:
-        vals = np.asarray(p.floats(key, min_length=2), dtype=float)
+        vals = np.asarray(given, dtype=float)
         if not np.all(np.diff(vals) > 0):
             raise p.error(key, "the sizes must increase strictly")
     return units.to_base(vals, unit)
 
 
 def _fit(p: Params, spec: ToleranceSpec, known: set[str], nominal: dict) -> SelectiveFit:
-    name = p.str("name")
-    title = p.str("title", name)
-    sets = p.str("sets")
+    o = read_options(FitTable, p)
+    p.finish()
+    name, title, sets = o.name, o.name if o.title is None else o.title, o.sets
     if sets not in spec.names:
         raise p.error("sets", f"{sets!r} is not a factor of the spec")
-    unit = p.unit("unit", dimension="length")
-    sizes = _sizes(p, "sizes", unit)
-    minimum = float(units.to_base(p.float("minimum"), unit))
-    target = _expression(p, "target", known, ("minimum",))
-    clearance = _expression(p, "clearance", known, ("part",))
-    value = _expression(p, "value", known, ("part", "clearance"))
-    rule, source = p.str("rule"), p.str("source")
-    p.finish()
+    unit = p.canonical_unit("unit", o.unit, dimension="length")
+    sizes = _sizes(p, "sizes", o.sizes, unit)
+    minimum = float(units.to_base(o.minimum, unit))
+    target = _expression(p, "target", o.target, known, ("minimum",))
+    clearance = _expression(p, "clearance", o.clearance, known, ("part",))
+    value = _expression(p, "value", o.value, known, ("part", "clearance"))
+    rule, source = o.rule, o.source
     # the target and the clearance must state one rule: at the spec's means (gauge errors 0) the clearance
     # with a part of size ``target`` is ``minimum``, and it falls as the part grows
     t = target.evaluate({**nominal, "minimum": minimum})
@@ -523,20 +523,19 @@ def _fit(p: Params, spec: ToleranceSpec, known: set[str], nominal: dict) -> Sele
 
 
 def _shim(p: Params, known: set[str], design) -> ShimPreload:
-    name = p.str("name")
-    title = p.str("title", name)
-    unit = p.unit("unit", dimension="length")
-    end_play = _expression(p, "end_play", known, ())
-    measured = _expression(p, "measured_end_play", known, ())
-    shims = _sizes(p, "shims", unit)
+    o = read_options(ShimTable, p)
+    name, title = o.name, o.name if o.title is None else o.title
+    unit = p.canonical_unit("unit", o.unit, dimension="length")
+    end_play = _expression(p, "end_play", o.end_play, known, ())
+    measured = _expression(p, "measured_end_play", o.measured_end_play, known, ())
+    shims = _sizes(p, "shims", o.shims, unit)
     steps = np.diff(shims)
     if not np.allclose(steps, steps[0], rtol=1e-9, atol=0.0):
         raise p.error("shims", "a shim rule needs shims in equal steps (give from, to, step)")
     preload = _preload_target(p, design)
-    settling = _expression(p, "settling", known, ()) if "settling" in p else None
-    rule, source = p.str("rule"), p.str("source")
-    key = p.str("bearing", "crank_support_bearing")
     p.finish()
+    settling = _expression(p, "settling", o.settling, known, ()) if o.settling is not None else None
+    rule, source, key = o.rule, o.source, o.bearing
     try:
         law = PreloadLaw.from_design(design, key)
     except InputError as exc:
@@ -571,12 +570,11 @@ def _nominal_build(fits, nominal: dict) -> dict[str, np.ndarray]:
     return out
 
 
-def _choice_value(p: Params, unit: str, built: dict) -> tuple[float, str]:
+def _choice_value(p: Params, given: float | str, unit: str, built: dict) -> tuple[float, str]:
     """A choice's value in ``unit``: the number written, or its expression of the nominal build (base units)."""
-    raw = p.raw("value")
-    if not isinstance(raw, str):
-        return p.float("value"), ""
-    e = _expression(p, "value", set(built), ())
+    if not isinstance(given, str):
+        return given, ""
+    e = _expression(p, "value", given, set(built), ())
     try:
         v = float(np.ravel(e.evaluate(built))[0])
         return float(units.from_base(v, unit)), e.text
@@ -585,13 +583,12 @@ def _choice_value(p: Params, unit: str, built: dict) -> tuple[float, str]:
 
 
 def _choice(p: Params, spec: ToleranceSpec, design, built: dict) -> DesignChoice:
-    name = p.str("name")
-    unit = p.unit("unit")
-    value, formula = _choice_value(p, unit, built)
-    factors = tuple(p.strs("factors", []))
-    keys = tuple(p.strs("design", []))
-    rule, source = p.str("rule"), p.str("source")
+    o = read_options(ChoiceTable, p)
     p.finish()
+    name, unit = o.name, p.canonical_unit("unit", o.unit)
+    value, formula = _choice_value(p, o.value, unit, built)
+    factors, keys = tuple(o.factors), tuple(o.design)
+    rule, source = o.rule, o.source
     what = f" = {formula}, the nominal build's" if formula else ""
     if not factors and not keys:
         raise p.error("factors", "a choice names the spec factors and/or design keys that hold its value")

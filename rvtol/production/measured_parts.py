@@ -162,6 +162,23 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
     features = [i for i, n in enumerate(names) if i > 0 and not n.endswith(U_SUFFIX)]
     if not features:
         raise t.error("no feature columns")
+    col_units = _feature_units(t, names, features, slots, spec)
+    u_cols = _uncertainty_columns(t, names, features, col_units)
+    by_gauge = _gauged_features(t, names, features, col_units, gauges)
+    u_row, parts = uncertainty_row(t)
+    if not parts:
+        raise t.error("no parts (rows) in the file")
+    row_u = _row_uncertainties(t, names, features, col_units, u_cols, by_gauge, u_row)
+    serials, lines, values, unc = _parts(t, parts, features, col_units, u_cols, row_u)
+    m = getattr(t, "mapping", None)
+    return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
+                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges),
+                      (m.file, m.sha256) if m is not None else None)
+
+
+def _feature_units(t, names: list[str], features: list[int], slots: tuple[str, ...], spec) -> list[str]:
+    """Each feature column's unit (its header's, else its factors'): the factor of every slot in the spec, of one
+    dimension."""
     col_units: list[str] = []
     for i in features:
         fnames = [factor_name(s, names[i]) for s in slots]
@@ -177,6 +194,11 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
         if units.dimension(unit) != units.dimension(fu):
             raise t.error(f"unit {unit!r} does not fit the factor's unit {fu!r}", col=i)
         col_units.append(unit)
+    return col_units
+
+
+def _uncertainty_columns(t, names: list[str], features: list[int], col_units: list[str]) -> dict[int, tuple[int, str]]:
+    """feature index -> (column, unit) of its per-part uncertainty column ``<feature> u``."""
     u_cols: dict[int, tuple[int, str]] = {}
     for i, n in enumerate(names):
         if i == 0 or not n.endswith(U_SUFFIX):
@@ -189,8 +211,12 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
         if units.dimension(unit) != units.dimension(col_units[j]):
             raise t.error(f"unit {unit!r} does not fit the feature's unit {col_units[j]!r}", col=i)
         u_cols[j] = (i, unit)
+    return u_cols
 
-    by_gauge: dict[int, Gauge] = {}                    # feature index -> the gauge study measuring it
+
+def _gauged_features(t, names: list[str], features: list[int], col_units: list[str], gauges) -> dict[int, Gauge]:
+    """feature index -> the gauge study measuring it (one at most, reading in the feature's dimension)."""
+    by_gauge: dict[int, Gauge] = {}
     for g in gauges:
         for f in g.features:
             if f not in names or names.index(f) not in features:
@@ -204,11 +230,12 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                 raise t.error(f"the gauge study {Path(g.result.file).name!r} reads in {g.unit!r}, which does not fit "
                               f"the feature's unit {col_units[j]!r}", col=features[j])
             by_gauge[j] = g
+    return by_gauge
 
-    u_row, parts = uncertainty_row(t)
-    if not parts:
-        raise t.error("no parts (rows) in the file")
 
+def _row_uncertainties(t, names, features, col_units, u_cols, by_gauge, u_row) -> np.ndarray:
+    """Each feature's uncertainty for every part (base units): its gauge study's or the uncertainty row's — NaN
+    where a per-part column gives it; exactly one of the three per feature."""
     row_u = np.full(len(features), np.nan)
     for j, i in enumerate(features):
         cell = u_row[1][i] if u_row else ""
@@ -232,7 +259,11 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
         for i, cell in enumerate(u_row[1]):
             if i > 0 and i not in features and cell != "":
                 raise t.error(f"the {UNCERTAINTY_ROW!r} row has no entry for an uncertainty column", u_row[0], i)
+    return row_u
 
+
+def _parts(t, parts, features, col_units, u_cols, row_u):
+    """``(serials, file lines, values, uncertainties)`` of the measured parts (base units), each serial once."""
     serials, lines = [], []
     values = np.empty((len(parts), len(features)))
     unc = np.empty_like(values)
@@ -256,10 +287,7 @@ def read_part_family(path, slots: Sequence[str], spec, name: str | None = None, 
                 unc[r, j] = units.to_base(_nonnegative(t, row, cells, ui), uunit)
             else:
                 unc[r, j] = row_u[j]
-    m = getattr(t, "mapping", None)
-    return PartFamily(name or Path(t.file).stem, t.file, t.sha256, slots, tuple(names[i] for i in features),
-                      tuple(col_units), tuple(serials), tuple(lines), values, unc, tuple(gauges),
-                      (m.file, m.sha256) if m is not None else None)
+    return serials, lines, values, unc
 
 
 # --------------------------------------------------------------------------- kit list

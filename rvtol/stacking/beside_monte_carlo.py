@@ -10,7 +10,6 @@ directional sampling) beside the Monte Carlo's count.  Only the Monte Carlo ente
 """
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 

@@ -285,31 +285,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
     a = con.a
     ob = out_base_unit or units.base_unit(out_unit)
     d = lambda v: float(units.convert(v, ob, out_unit))  # noqa: E731
-    # the one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC, datum-feature shifts
-    a_smooth = a.copy()   # the zones' gradients before the kinked ones are taken by their sides
-    sided: list[_OneSided] = []
-    for i, (up, dn) in kinked_plain.items():
-        sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
-                               float(con.sigma[i]), float(con.t[i]), kinked=True))
-        notes.append(N.KINKED_FACTOR.format(name=spec.names[i], up=up, down=dn))
-    for z in dict.fromkeys(zz for zz in con.zone if zz):
-        ix, iy = [m for m, zz in enumerate(con.zone) if zz == z]
-        bonus = zone_bonus(spec, z)
-        if z not in kinked_zones and not bonus:
-            continue
-        r0 = float(con.t[ix]) + sum(kap * (float(con.c[m]) - ref) for m, kap, ref in bonus)
-        if z in kinked_zones:
-            hi, lo = max(0.0, float(slopes.zone_max[z])), max(0.0, -float(slopes.zone_min[z]))
-            a[ix] = a[iy] = 0.0
-            notes.append(N.KINKED_ZONE.format(zone=z, hi=hi, lo=lo))
-        else:
-            hi = lo = float(np.hypot(a[ix], a[iy]))
-        sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
-                               kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
-        if bonus:
-            notes.append(N.ZONE_BONUS.format(zone=z, modifier=spec.factors[ix].modifier, radius=d(r0),
-                                             sizes=", ".join(spec.names[m] for m, _, _ in bonus)))
-    sided += _pattern_shifts(spec, con, a_smooth, kinked_zones, slopes, notes, d)
+    sided = _one_sided(spec, con, a, kinked_plain, kinked_zones, slopes, notes, d)
     bonus_zone = {o.zone for o in sided if o.bonus and o.zone}
     plain_in_sided = {spec.names.index(o.name) for o in sided if o.plain}
     yc = y0 + float(a @ (con.c - x0))
@@ -412,7 +388,46 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                 note=N.SIX_SIGMA_SHIFT.format(width=3 * cp, cp=cp, shift=sh, cpk=cpk)
                 + correlation_note(N.CORRELATION_OF_NORMALS, stat_uncorrelated), source="Harry & Stewart 1988")
     frame = pd.DataFrame(rows)
-    # per factor
+    fac = _factor_rows(spec, con, a, sided, out_unit, ob)
+    return StackConventions(output, out_unit, d(yc), frame, pd.DataFrame(fac), notes)
+
+
+def _one_sided(spec: ToleranceSpec, con: Contributors, a: np.ndarray, kinked_plain: dict, kinked_zones, slopes,
+               notes: list, d) -> list[_OneSided]:
+    """The one-sided contributors: kinked plain factors, kinked zones, zones at MMC/LMC, datum-feature shifts (a kinked
+    zone's coordinates in ``a`` are set to 0: its sides take it)."""
+    a_smooth = a.copy()   # the zones' gradients before the kinked ones are taken by their sides
+    sided: list[_OneSided] = []
+    for i, (up, dn) in kinked_plain.items():
+        sided.append(_OneSided(spec.names[i], float(con.t[i]), max(0.0, up, dn), max(0.0, -up, -dn),
+                               float(con.sigma[i]), float(con.t[i]), kinked=True))
+        notes.append(N.KINKED_FACTOR.format(name=spec.names[i], up=up, down=dn))
+    for z in dict.fromkeys(zz for zz in con.zone if zz):
+        ix, iy = [m for m, zz in enumerate(con.zone) if zz == z]
+        bonus = zone_bonus(spec, z)
+        if z not in kinked_zones and not bonus:
+            continue
+        r0 = float(con.t[ix]) + sum(kap * (float(con.c[m]) - ref) for m, kap, ref in bonus)
+        if z in kinked_zones:
+            hi, lo = max(0.0, float(slopes.zone_max[z])), max(0.0, -float(slopes.zone_min[z]))
+            a[ix] = a[iy] = 0.0
+            notes.append(N.KINKED_ZONE.format(zone=z, hi=hi, lo=lo))
+        else:
+            hi = lo = float(np.hypot(a[ix], a[iy]))
+        sided.append(_OneSided(z, r0, hi, lo, float(con.sigma[ix]), float(con.s[ix]), zone=z,
+                               kinked=z in kinked_zones, bonus=[(m, kap) for m, kap, _ in bonus]))
+        if bonus:
+            notes.append(N.ZONE_BONUS.format(zone=z, modifier=spec.factors[ix].modifier, radius=d(r0),
+                                             sizes=", ".join(spec.names[m] for m, _, _ in bonus)))
+    sided += _pattern_shifts(spec, con, a_smooth, kinked_zones, slopes, notes, d)
+    return sided
+
+
+def _factor_rows(spec: ToleranceSpec, con: Contributors, a: np.ndarray, sided: list, out_unit: str,
+                 ob: str) -> list[dict]:
+    """Per factor: its coefficient, band, σ, k, Cp, Cpk, zone, its share of the worst case and of the RSS, and how a
+    one-sided contributor was linearised."""
+    k = con.k
     fac = []
     wc_terms = np.abs(a) * con.t
     for o in sided:
@@ -450,7 +465,7 @@ def stack_conventions(spec: ToleranceSpec, gradient: np.ndarray, y0: float, x0: 
                     "zone": con.zone[i], "wc_pct": 100 * wc_terms[i] / wc_terms.sum() if wc_terms.sum() else 0.0,
                     "rss_pct": 100 * rss_terms[i] / rss_terms.sum() if rss_terms.sum() else 0.0,
                     **({"linearisation": how} if sided else {})})
-    return StackConventions(output, out_unit, d(yc), frame, pd.DataFrame(fac), notes)
+    return fac
 
 
 def _pattern_shifts(spec: ToleranceSpec, con: Contributors, a: np.ndarray, kinked_zones, slopes, notes: list,

@@ -127,6 +127,100 @@ class _Box:
         return out
 
 
+class _Search:
+    """The evaluations of one worst-case search: ``output`` of ``model`` at points ``v`` of the box's variables,
+    counted (:attr:`count`), and their derivatives — the model's own where it has them (chain rule through the
+    box map), else central differences."""
+
+    H = 1e-5
+
+    def __init__(self, model: Model, box: _Box, j: int, evaluate: Evaluator):
+        self.model, self.box, self.j, self.evaluate = model, box, j, evaluate
+        self.analytic = hasattr(model, "gradient")
+        self.count = 0
+        self.undefined_grad = False
+
+    def values(self, V) -> np.ndarray:
+        X = self.box.to_x(V)
+        self.count += len(X)
+        ev = self.evaluate(self.model, X, "true worst case")
+        return np.where(ev.ok, ev.Y[:, self.j], np.nan)
+
+    def differences(self, v, sign):
+        box, h = self.box, self.H
+        pts = [v]
+        for m in range(box.dim):
+            e = np.zeros(box.dim)
+            e[m] = h
+            pts += [_clip(v + e, box.bounds), _clip(v - e, box.bounds)]
+        y = self.values(np.array(pts))
+        g = np.array([(y[1 + 2 * m] - y[2 + 2 * m]) / max(pts[1 + 2 * m][m] - pts[2 + 2 * m][m], 1e-300)
+                      for m in range(box.dim)])
+        return sign * y[0], sign * g
+
+    def value_and_grad(self, v, sign):
+        """(sign·y, sign·∂y/∂v) at v: analytic where the model's gradient is defined, else central differences."""
+        box, h = self.box, self.H
+        if self.analytic:
+            X = box.to_x(v)
+            y = float(self.values(v)[0])
+            G = np.asarray(self.model.gradient(X), float)[0, self.j]
+            if np.isfinite(y) and np.all(np.isfinite(G)):
+                Jv = np.empty(box.dim)
+                for m in range(box.dim):   # chain rule through the box map, by differences of the (cheap) map
+                    e = np.zeros(box.dim)
+                    e[m] = h
+                    lo_v, hi_v = _clip(v - e, box.bounds), _clip(v + e, box.bounds)
+                    Jv[m] = G @ ((box.to_x(hi_v) - box.to_x(lo_v))[0]) / max(hi_v[m] - lo_v[m], 1e-300)
+                return sign * y, sign * Jv
+            self.undefined_grad = True
+        return self.differences(v, sign)
+
+    def evolve(self, sign: float, budget: int, seed: int, notes: list[str]):
+        """Differential evolution — derivative-free, global, the population in one batch per generation — of
+        sign·y within ``budget`` evaluations: ``(sign·y, v)`` of its best point, or None (not run, or nothing
+        finite)."""
+        box = self.box
+        pop = max(5, min(15, budget // (2 * max(box.dim, 1) * 20)))
+        if not budget > 4 * pop * box.dim:
+            return None
+
+        def batch(V):
+            y = self.values(np.asarray(V).T)
+            return np.where(np.isfinite(y), sign * y, np.inf)
+
+        gens = max(1, (budget // 2) // (pop * box.dim) - 1)
+        init = "sobol" if box.dim > 1 else "latinhypercube"
+        try:
+            de = optimize.differential_evolution(batch, box.bounds, popsize=pop, maxiter=gens, tol=0.0, atol=0.0,
+                                                 seed=seed, polish=False, vectorized=True, updating="deferred",
+                                                 init=init)
+        except ValueError as exc:       # scipy refuses the box (e.g. a degenerate bound): said, not hidden
+            notes.append(f"differential evolution not run ({exc}): corners and L-BFGS-B starts only")
+            return None
+        return (float(de.fun), de.x) if np.isfinite(de.fun) else None
+
+    def polish(self, cands, sign: float, found: dict, max_evaluations: int, notes: list[str]) -> None:
+        """L-BFGS-B from each candidate start ``(origin, v0)`` while the budget lasts; each origin's best into
+        ``found``."""
+        for origin, v0 in cands:
+            if self.count >= max_evaluations:
+                notes.append(f"stopped at the evaluation budget ({max_evaluations})")
+                break
+            per_call = 1 if self.analytic else 2 * self.box.dim + 1
+            try:
+                res = optimize.minimize(lambda v: _finite(self.value_and_grad(v, sign)), v0, jac=True,
+                                        method="L-BFGS-B", bounds=self.box.bounds,
+                                        options={"maxiter": 200, "ftol": 1e-13, "gtol": 1e-12,
+                                                 "maxfun": max(2, (max_evaluations - self.count) // per_call)})
+            except _Failed:
+                notes.append("the model could not be evaluated at some points inside the bands (NaN): those "
+                             "L-BFGS-B starts were abandoned")
+                continue
+            if origin not in found or res.fun < found[origin][0]:
+                found[origin] = (float(res.fun), res.x)
+
+
 def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Evaluator | None = None, *,
                     starts: int = 4, corner_limit: int = 4096, max_evaluations: int = 5000,
                     gradient: np.ndarray | None = None, zone_directions: int = 16, seed: int = 0,
@@ -138,58 +232,17 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
     searches (the best point found so far is reported, and the cap noted); ``corner_limit`` the corners
     enumerated; ``seed`` the differential evolution (the result is deterministic for a seed).
     """
-    evaluate = evaluate or Evaluator()
     q = model.output(output)
-    j = model.output_index(output)
     box = _Box(spec)
-    analytic = hasattr(model, "gradient")
-    count = [0]
-    notes: list[str] = []
-    h = 1e-5
+    search = _Search(model, box, model.output_index(output), evaluate or Evaluator())
     lo_b = np.array([b[0] for b in box.bounds])
     hi_b = np.array([b[1] for b in box.bounds])
-
-    def values(V) -> np.ndarray:
-        X = box.to_x(V)
-        count[0] += len(X)
-        ev = evaluate(model, X, "true worst case")
-        return np.where(ev.ok, ev.Y[:, j], np.nan)
-
-    def differences(v, sign):
-        pts = [v]
-        for m in range(box.dim):
-            e = np.zeros(box.dim)
-            e[m] = h
-            pts += [_clip(v + e, box.bounds), _clip(v - e, box.bounds)]
-        y = values(np.array(pts))
-        g = np.array([(y[1 + 2 * m] - y[2 + 2 * m]) / max(pts[1 + 2 * m][m] - pts[2 + 2 * m][m], 1e-300)
-                      for m in range(box.dim)])
-        return sign * y[0], sign * g
-
-    def value_and_grad(v, sign):
-        """(sign·y, sign·∂y/∂v) at v: analytic where the model's gradient is defined, else central differences."""
-        if analytic:
-            X = box.to_x(v)
-            y = float(values(v)[0])
-            G = np.asarray(model.gradient(X), float)[0, j]
-            if np.isfinite(y) and np.all(np.isfinite(G)):
-                Jv = np.empty(box.dim)
-                for m in range(box.dim):   # chain rule through the box map, by differences of the (cheap) map
-                    e = np.zeros(box.dim)
-                    e[m] = h
-                    lo_v, hi_v = _clip(v - e, box.bounds), _clip(v + e, box.bounds)
-                    Jv[m] = G @ ((box.to_x(hi_v) - box.to_x(lo_v))[0]) / max(hi_v[m] - lo_v[m], 1e-300)
-                return sign * y, sign * Jv
-            undefined_grad[0] = True
-        return differences(v, sign)
-
-    notes += [(N.PATTERN_SHIFT_SEPARATE if ds.separate else N.PATTERN_SHIFT).format(datum=ds.label,
+    notes = [(N.PATTERN_SHIFT_SEPARATE if ds.separate else N.PATTERN_SHIFT).format(datum=ds.label,
                                                                                     zones=", ".join(ds.zones))
-              for ds in box.datums]
-    undefined_grad = [False]
+             for ds in box.datums]
     centre = np.array([0.5] * len(box.plain) + [0.0, 0.0] * box.discs)
     if gradient is None or not np.all(np.isfinite(gradient)):   # orient the corner by the box-variable gradient
-        _, g0 = differences(centre, 1.0)
+        _, g0 = search.differences(centre, 1.0)
         a = np.zeros(box.k)
         a[box.plain] = g0[:len(box.plain)]
     else:
@@ -197,9 +250,9 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
     linear = isinstance(model, LinearModel)
     monotone = None
     if box.plain and monotone_samples:
-        monotone = _monotone(values, box, monotone_samples, seed)
+        monotone = _monotone(search.values, box, monotone_samples, seed)
     cs = box.corners(zone_directions, corner_limit)
-    ys_corner = values(cs) if cs is not None else None
+    ys_corner = search.values(cs) if cs is not None else None
     halton = qmc.Halton(d=box.dim, scramble=False).random(max(starts - 2, 0) + 1)[1:]   # skip the origin
     result, methods = {}, {}
     for sign, key in ((-1.0, "high"), (1.0, "low")):
@@ -208,45 +261,15 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
         if ys_corner is not None and np.any(np.isfinite(ys_corner)):
             m = int(np.nanargmin(sign * ys_corner))
             found["corners"] = (float(sign * ys_corner[m]), cs[m])
-        # differential evolution: derivative-free, global, the population in one batch per generation
-        budget = max_evaluations - count[0]
-        pop = max(5, min(15, budget // (2 * max(box.dim, 1) * 20)))
-        if budget > 4 * pop * box.dim:
-            def batch(V, sign=sign):
-                y = values(np.asarray(V).T)
-                return np.where(np.isfinite(y), sign * y, np.inf)
-
-            gens = max(1, (budget // 2) // (pop * box.dim) - 1)
-            init = "sobol" if box.dim > 1 else "latinhypercube"
-            try:
-                de = optimize.differential_evolution(batch, box.bounds, popsize=pop, maxiter=gens, tol=0.0,
-                                                     atol=0.0, seed=seed, polish=False, vectorized=True,
-                                                     updating="deferred", init=init)
-                if np.isfinite(de.fun):
-                    found["differential evolution"] = (float(de.fun), de.x)
-            except ValueError as exc:       # scipy refuses the box (e.g. a degenerate bound): said, not hidden
-                notes.append(f"differential evolution not run ({exc}): corners and L-BFGS-B starts only")
+        de = search.evolve(sign, max_evaluations - search.count, seed, notes)
+        if de is not None:
+            found["differential evolution"] = de
         # the linearised corner first (exact for a linear output: the budget never runs out before it), then the best
         # points found, then the other starts
         cands = [("L-BFGS-B", box.corner(a, sgn))]
         cands += [(m + " → L-BFGS-B", v) for m, (_, v) in sorted(found.items(), key=lambda t: t[1][0])]
         cands += [("L-BFGS-B", v) for v in [centre] + [lo_b + u * (hi_b - lo_b) for u in halton]]
-        for origin, v0 in cands:
-            if count[0] >= max_evaluations:
-                notes.append(f"stopped at the evaluation budget ({max_evaluations})")
-                break
-            per_call = 1 if analytic else 2 * box.dim + 1
-            try:
-                res = optimize.minimize(lambda v: _finite(value_and_grad(v, sign)), v0, jac=True, method="L-BFGS-B",
-                                        bounds=box.bounds,
-                                        options={"maxiter": 200, "ftol": 1e-13, "gtol": 1e-12,
-                                                 "maxfun": max(2, (max_evaluations - count[0]) // per_call)})
-            except _Failed:
-                notes.append("the model could not be evaluated at some points inside the bands (NaN): those "
-                             "L-BFGS-B starts were abandoned")
-                continue
-            if origin not in found or res.fun < found[origin][0]:
-                found[origin] = (float(res.fun), res.x)
+        search.polish(cands, sign, found, max_evaluations, notes)
         if not found:
             result[key] = (math.nan, {})
             methods[key] = {}
@@ -263,20 +286,25 @@ def true_worst_case(model: Model, spec: ToleranceSpec, output: str, evaluate: Ev
         ms = {m: disp(v) for m, v in methods.get(key, {}).items()}
         methods[key] = ms
         agree[key] = [m for m, v in ms.items() if abs(v - val) <= 1e-9 * max(span, abs(val), 1e-300)]
+    how = _how(zone_directions, cs, len(halton), search, agree, linear, monotone)
+    return WorstCase(output, q.shown_unit, lo, hi, result["low"][1], result["high"][1], search.count, how,
+                     list(dict.fromkeys(notes)), guaranteed=linear, monotone=monotone, methods=methods)
+
+
+def _how(zone_directions: int, cs, halton: int, search: _Search, agree: dict, linear: bool, monotone) -> str:
+    """How the extremes were found, which methods reached them, and whether they are guaranteed."""
     how = (f"best of: every corner × zone boundary at {zone_directions} angles"
            + (f" ({len(cs)} points)" if cs is not None else " (skipped: too many)")
            + ", differential evolution (scipy, derivative-free), L-BFGS-B from their best points and from "
-           + f"{len(halton) + 2} starts (centre, linearised corner, Halton)" + ("; analytic gradient" if analytic else "; central differences")
-           + (" (central differences where it is undefined)" if undefined_grad[0] else ""))
+           + f"{halton + 2} starts (centre, linearised corner, Halton)"
+           + ("; analytic gradient" if search.analytic else "; central differences")
+           + (" (central differences where it is undefined)" if search.undefined_grad else ""))
     how += f"; low reached by {', '.join(agree['low']) or '—'}, high by {', '.join(agree['high']) or '—'}"
     if linear:
-        how += "; a linear model: the extreme is the corner/disc (guaranteed)"
-    else:
-        how += ("; not guaranteed (a global search over a non-linear output)"
-                + ("; the output is monotone in each plain factor over a sampled box (evidence, not proof): its "
-                   "extreme lies on the corners enumerated" if monotone else ""))
-    return WorstCase(output, q.shown_unit, lo, hi, result["low"][1], result["high"][1], count[0], how,
-                     list(dict.fromkeys(notes)), guaranteed=linear, monotone=monotone, methods=methods)
+        return how + "; a linear model: the extreme is the corner/disc (guaranteed)"
+    return how + ("; not guaranteed (a global search over a non-linear output)"
+                  + ("; the output is monotone in each plain factor over a sampled box (evidence, not proof): its "
+                     "extreme lies on the corners enumerated" if monotone else ""))
 
 
 def _monotone(values, box: _Box, n: int, seed: int) -> bool:

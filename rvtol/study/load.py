@@ -10,12 +10,15 @@ from ..ci.gates import read_gates
 from ..design import Design, load_design
 from ..errors import InputError, SpecError, did_you_mean
 from ..model import Model
+from ..model_kind import Where
+from ..options import read_options
 from ..params import Params, read_toml
 from ..registry import analysis_function
 from ..runguard import NAME_MAX_BYTES
 from ..spec import (Requirement, ToleranceSpec, load_spec, merge_specs, read_requirements_file,
                     requirements_from_tables, spec_from_table)
 from .folder import MAX_FOLDER_NAME_BYTES
+from .head import StudyHead
 from .model import build_model, composed_model
 from .options import XLSX_MAX_COLUMNS, RunOptions, run_options
 
@@ -86,15 +89,14 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
     data, parent = _extended(data, path)
     root = Params(data, file=file)
     head = root.sub("study")
-    name, title, desc = _names(head, path)
-    inputs = {"study": {"path": file, "sha256": sha}, **({"extends": parent} if parent is not None else {})}
-    design = _design(head.path_value("design", base, None), design, inputs)
-    spec = _spec(root, head, base, name, inputs)
-    reqs = _requirements(root, head, base, inputs)
-    mapping = head.path_value("mapping", base, None)
-    build_path = None if head.raw("build", False) is False else head.path_value("build", base)
-    exploratory = head.bool("exploratory", False)
+    h = read_options(StudyHead, head, Where(base))
     head.finish()
+    name, title, desc = _names(h, head, path)
+    inputs = {"study": {"path": file, "sha256": sha}, **({"extends": parent} if parent is not None else {})}
+    design = _design(h.design, design, inputs)
+    spec = _spec(root, h, head, base, name, inputs)
+    reqs = _requirements(root, h.requirements, inputs)
+    mapping, build_path, exploratory = h.mapping, h.build_path(), h.exploratory
     options = run_options(root, overrides)
 
     notes = None if execute else _user_code(root)
@@ -128,17 +130,17 @@ def load_study(path: str | Path, *, execute: bool = True, design: Design | None 
     return study
 
 
-def _names(head: Params, path: Path) -> tuple[str, str, str]:
+def _names(h: StudyHead, head: Params, path: Path) -> tuple[str, str, str]:
     """``[study]``'s name (it names the report folder: one path component, short enough for the temporary names
     beside it), title and description."""
-    name = head.str("name", path.stem, single_line=True)
+    name = path.stem if h.name is None else h.name
     if not name or any(c in name for c in "/\\") or name.startswith("."):
         raise head.error("name", f"invalid study name {name!r} (used as a folder name)")
     if len(name.encode()) > MAX_FOLDER_NAME_BYTES:
         raise head.error("name", f"the study name is {len(name.encode())} bytes long, and it names the report folder: "
                                  f"at most {MAX_FOLDER_NAME_BYTES} (a file name's {NAME_MAX_BYTES}, less the temporary "
                                  "names rvtol gives beside it); give a shorter name")
-    return name, head.str("title", name, single_line=True), head.str("description", "")
+    return name, name if h.title is None else h.title, h.description
 
 
 def _design(dpath: Path | None, variant: Design | None, inputs: dict) -> Design | None:
@@ -156,14 +158,12 @@ def _design(dpath: Path | None, variant: Design | None, inputs: dict) -> Design 
     return design
 
 
-def _spec(root: Params, head: Params, base: Path, name: str, inputs: dict) -> ToleranceSpec:
+def _spec(root: Params, h: StudyHead, head: Params, base: Path, name: str, inputs: dict) -> ToleranceSpec:
     """The tolerance spec: ``[study] spec`` (one file or several read as one, a workbook's ``spec_sheet``) or the
     study's own ``[[factor]]`` tables (recorded in ``inputs``)."""
     file, data = root.file, root.data
-    spaths = _spec_paths(head, base)
+    spaths = h.spec_paths(base)
     if not spaths:
-        if "spec_sheet" in head.data:
-            raise head.error("spec_sheet", "names the worksheet of [study] spec, and there is no spec file")
         if "factor" not in root:
             raise head.error("spec", "missing required key (or give [[factor]] tables in the study file)")
         spec = spec_from_table({k: data[k] for k in ("factor", "correlation") if k in data}, file=file, name=name)
@@ -173,7 +173,7 @@ def _spec(root: Params, head: Params, base: Path, name: str, inputs: dict) -> To
     if "factor" in root:
         raise root.error("factor", "give the factors either in the spec file or here, not both")
     parts = []
-    for sp, sheet in zip(spaths, _spec_sheets(head, spaths)):
+    for sp, sheet in zip(spaths, _spec_sheets(h, head, spaths)):
         try:
             parts.append(load_spec(sp, sheet=sheet))
         except InputError as exc:
@@ -189,10 +189,9 @@ def _spec(root: Params, head: Params, base: Path, name: str, inputs: dict) -> To
         raise exc.located(file=file) from None
 
 
-def _requirements(root: Params, head: Params, base: Path, inputs: dict) -> list[Requirement]:
+def _requirements(root: Params, rpath: Path | None, inputs: dict) -> list[Requirement]:
     """``[study] requirements`` (a file, recorded in ``inputs``) and the study's ``[[requirement]]`` tables."""
     reqs: list[Requirement] = []
-    rpath = head.path_value("requirements", base, None)
     if rpath is not None:
         rfile, rsha = read_requirements_file(rpath)
         reqs += rfile
@@ -262,19 +261,6 @@ def model_warnings(model) -> list[str]:
     return out
 
 
-def _spec_paths(head: Params, base: Path) -> list[Path]:
-    """``[study] spec``: one file, or a list of files read as one spec (e.g. the product's drawing tolerances and
-    a test rig's, :func:`rvtol.spec.merge_specs`)."""
-    v = head.raw("spec", None)
-    if v is None:
-        return []
-    if isinstance(v, list):
-        if not v or not all(isinstance(x, str) and x for x in v):
-            raise head.error("spec", "expected a file name or a list of file names")
-        return [Path(x) if Path(x).is_absolute() else base / x for x in v]
-    return [head.path_value("spec", base)]
-
-
 def check_output_names(model: Model, spec: ToleranceSpec, data: dict, file: str) -> None:
     """Every output's name is one line without control characters (a model made by code names its own), and no
     output shares its name with a factor: samples.parquet, the statistics and the report could not tell the two
@@ -294,15 +280,15 @@ def check_output_names(model: Model, spec: ToleranceSpec, data: dict, file: str)
                             "could not tell them apart; rename the output", file=file, key=key)
 
 
-def _spec_sheets(head: Params, spaths: list[Path]) -> list[str | None]:
+def _spec_sheets(h: StudyHead, head: Params, spaths: list[Path]) -> list[str | None]:
     """``[study] spec_sheet``: the worksheet of a workbook spec (a list beside a list of specs, ``""`` for a file
     read as by default); without it each workbook is read from the sheet :func:`rvtol.inputs.sheets.read_rows`
     can tell without guessing."""
-    v = head.raw("spec_sheet", None)
-    if v is None:
+    if h.spec_sheet is None:
         return [None] * len(spaths)
-    listed = isinstance(head.data.get("spec"), list)
-    sheets = head.strs("spec_sheet") if listed else [head.str("spec_sheet")]
+    if isinstance(h.spec, list) != isinstance(h.spec_sheet, list):
+        raise head.error("spec_sheet", "a list of sheets goes beside a list of spec files, one sheet beside one file")
+    sheets = h.spec_sheet if isinstance(h.spec_sheet, list) else [h.spec_sheet]
     if len(sheets) != len(spaths):
         raise head.error("spec_sheet", f"{len(spaths)} spec files but {len(sheets)} sheets: give one per file (\"\" "
                                        "for a file read as by default)")

@@ -7,6 +7,7 @@ from pathlib import Path
 from ..design import Design
 from ..errors import InputError
 from ..model import Model
+from ..options import read_options
 from ..params import Params, read_toml
 from ..patterns import feature_spec, with_patterns
 from ..registry import model_factory
@@ -45,16 +46,15 @@ def composed_model(root: Params, mpath: Path | None, design, spec, file: str, in
     of the base study that a study with ``build = false`` does not apply — the values its models read from it
     take their value as drawn (:meth:`rvtol.production.build.BuildRules.as_drawn`: a shim's preload, its target)."""
     from ..models.composite.model import design_quantities, from_study_tables, quantities_from_tables
+    from ..models.composite.tables import MappingHead
 
     tables = root.tables("quantity")
     if mpath is not None:
         mdata, msha = read_toml(mpath)
         mroot = Params(mdata, file=str(mpath))
         head_m = mroot.sub("mapping", {})
-        head_m.str("name", "")
-        head_m.str("description", "")
-        head_m.finish(allow=("source",))
-        head_m.raw("source", None)
+        read_options(MappingHead, head_m)
+        head_m.finish()
         tables = mroot.tables("quantity") + tables
         mroot.finish()
         inputs["mapping"] = {"path": str(mpath), "sha256": msha}

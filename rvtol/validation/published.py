@@ -60,6 +60,7 @@ from types import MappingProxyType
 
 from .. import units
 from ..errors import InputError
+from ..options import REQUIRED, option, read_options
 from ..params import Params, read_toml
 
 #: how a published figure is compared with a prediction (:mod:`.agreement`)
@@ -149,15 +150,105 @@ class PublishedSource:
         return f"{self.authors}. {self.title}. {self.publication}. {where}"
 
 
-def _text(p: Params, name: str, default=None) -> str:
-    v = p.str(name) if default is None else p.str(name, default)
-    if default is None and not v.strip():
-        raise p.error(name, "must not be empty")
-    return v.strip()
+def _stripped(opts, error, required: tuple[str, ...], optional: tuple[str, ...]) -> None:
+    """Each text key of ``opts`` without its surrounding blanks; a required one that is nothing else: the located
+    error."""
+    for k in required + optional:
+        setattr(opts, k, getattr(opts, k).strip())
+        if k in required and not getattr(opts, k):
+            raise error(k, "must not be empty")
 
 
-def _orders(t: Params) -> tuple[int, ...]:
-    orders = t.raw("orders")
+@dataclass
+class SourceTable:
+    """``[source]``: a published source — its citation, whether and how it was read."""
+
+    id: str = option(REQUIRED, "unique among the files a study reads")
+    status: str = option(REQUIRED, "what became of the source", choices=STATUSES)
+    title: str = option(REQUIRED, "the citation's title")
+    authors: str = option(REQUIRED, "the citation's authors")
+    publication: str = option(REQUIRED, "journal, volume, year, pages")
+    read_from: str = option(REQUIRED, "the source itself, or a transcription of it", choices=READ_FROM)
+    how_read: str = option(REQUIRED, "copied from a table or digitised from a figure, and the reading's uncertainty")
+    accessed: str = option(REQUIRED, "when it was read (a date)")
+    reducer: str = option(REQUIRED, "the reducer the source measured")
+    doi: str = option("", "the DOI (at least one of doi, url, document)")
+    doi_note: str = option("", "how the DOI was obtained, when not from the source itself")
+    url: str = option("", "where the source is")
+    document: str = option("", "the document, when it has neither DOI nor URL")
+    test_conditions: str = option("", "the test's conditions")
+    notes: str = option("", "anything else a reader should know")
+    year: int | None = option(None, "the year of publication", min=1900, max=2100)
+    estimated: dict[str, str] = option({}, "what rvtol had to assume to predict this reducer: topic -> text")
+
+    def complete(self, study, error):
+        _stripped(self, error, ("id", "title", "authors", "publication", "how_read", "accessed", "reducer"),
+                  ("doi", "doi_note", "url", "document", "test_conditions", "notes"))
+        if not (self.doi or self.url or self.document):
+            raise error("doi", "give at least one of doi, url, document: where the source can be found")
+
+
+#: the keys each kind of figure takes beyond the common ones: required, and allowed as well
+_KIND_KEYS = {
+    "orders": (("orders",), ("unit",)),             # "1/rev" may be written; orders carry no unit of rvtol's
+    "order_amplitudes": (("orders", "unit", "amplitudes", "relative_uncertainty", "pins", "ratio"), ()),
+    "range": (("unit", "reading_uncertainty", "min", "max"), ()),
+    **{k: (("unit", "reading_uncertainty", "value"), ()) for k in ("value", "upper_limit", "lower_limit")},
+}
+
+
+@dataclass
+class FigureTable:
+    """``[[quantity]]`` of a published-data file: one published figure, the keys its kind takes."""
+
+    id: str = option(REQUIRED, "unique in the file (a study names it <source id>:<id>)")
+    kind: str = option(REQUIRED, "how it is compared with a prediction", choices=KINDS)
+    quantity: str = option(REQUIRED, "what it is: a study maps these names to its model's outputs")
+    description: str = option(REQUIRED, "what was measured")
+    reducer: str = option(REQUIRED, "the model of the reducer measured")
+    unit_under_test: str = option(REQUIRED, "which unit (e.g. prototype #1)")
+    figure: str = option(REQUIRED, "the figure or table it came from")
+    origin: str = option("measurement", "a measurement, or a published model's result (listed beside, never judged)",
+                         choices=ORIGINS)
+    orders: object = option(None, "orders, order_amplitudes: the orders per output revolution (integers >= 1)")
+    unit: str | None = option(None, "the figure's unit (not for orders)")
+    reading_uncertainty: float | None = option(None, "value, range, limits: half the printed digit or the "
+                                                     "digitising error, in unit", nonnegative=True)
+    min: float | None = option(None, "range: the printed minimum")
+    max: float | None = option(None, "range: the printed maximum (the compared value is max - min)")
+    value: float | None = option(None, "value, upper_limit, lower_limit: the printed number")
+    amplitudes: object = option(None, "order_amplitudes: the amplitude at each order, in unit (> 0)")
+    relative_uncertainty: object = option(None, "order_amplitudes: each amplitude's relative reading uncertainty "
+                                                "(one per order, or one number)")
+    pins: int | None = option(None, "order_amplitudes: the measured reducer's pin count (its order lattice)", min=2)
+    ratio: float | None = option(None, "order_amplitudes: the measured reducer's ratio", positive=True)
+
+    def complete(self, study, error):
+        _stripped(self, error, ("id", "quantity", "description", "reducer", "unit_under_test", "figure"), ())
+        need, also = _KIND_KEYS[self.kind]
+        for k in need:
+            if getattr(self, k) is None:
+                raise error(k, "missing required key")
+        for k in ("orders", "unit", "reading_uncertainty", "min", "max", "value", "amplitudes",
+                  "relative_uncertainty", "pins", "ratio"):
+            if getattr(self, k) is not None and k not in need + also:
+                raise error(k, f"does not apply to a figure of kind {self.kind!r} (it takes "
+                               f"{', '.join(need)})")
+
+
+@dataclass
+class MissingTable:
+    """``[[missing]]`` of a published-data file: what was looked for and not found or not read."""
+
+    what: str = option(REQUIRED, "what was looked for")
+    status: str = option(REQUIRED, "why it is missing", choices=STATUSES[1:])
+    tried: str = option(REQUIRED, "where and how it was looked for")
+
+    def complete(self, study, error):
+        _stripped(self, error, ("what", "tried"), ())
+
+
+def _orders(t: Params, orders) -> tuple[int, ...]:
     if not isinstance(orders, list) or not orders or not all(
             isinstance(o, int) and not isinstance(o, bool) and o >= 1 for o in orders):
         raise t.error("orders", "expected a non-empty array of integer orders ≥ 1 (per output revolution)")
@@ -166,9 +257,8 @@ def _orders(t: Params) -> tuple[int, ...]:
     return tuple(orders)
 
 
-def _per_order(t: Params, name: str, n: int, *, positive: bool) -> tuple[float, ...]:
+def _per_order(t: Params, name: str, raw, n: int, *, positive: bool) -> tuple[float, ...]:
     """An array of ``n`` numbers (one per order), or one number for every order."""
-    raw = t.raw(name)
     vals = raw if isinstance(raw, list) else [raw] * n
     if len(vals) != n:
         raise t.error(name, f"expected one number per order ({n}), got {len(vals)}")
@@ -183,37 +273,25 @@ def _per_order(t: Params, name: str, n: int, *, positive: bool) -> tuple[float, 
 
 
 def _quantity(t: Params, source: str) -> PublishedQuantity:
-    qid = _text(t, "id")
-    kind = t.str("kind", choices=KINDS)
-    common = dict(source=source, id=qid, quantity=_text(t, "quantity"), description=_text(t, "description"),
-                  reducer=_text(t, "reducer"), unit_under_test=_text(t, "unit_under_test"),
-                  figure=_text(t, "figure"), kind=kind, origin=t.str("origin", "measurement", choices=ORIGINS))
-    if kind == "orders":
-        orders = _orders(t)
-        t.str("unit", "")                 # "1/rev" may be written; orders carry no unit of rvtol's
-        t.finish()
-        return PublishedQuantity(**common, orders=orders)
-    if kind == "order_amplitudes":
-        orders = _orders(t)
-        unit = t.unit("unit")
-        amps = _per_order(t, "amplitudes", len(orders), positive=True)
-        rel = _per_order(t, "relative_uncertainty", len(orders), positive=False)
-        pins = t.int("pins", min=2)
-        ratio = t.float("ratio", positive=True)
-        t.finish()
-        return PublishedQuantity(**common, unit=unit, orders=orders, amplitudes=amps, relative_uncertainty=rel,
-                                 pins=pins, ratio=ratio)
-    unit = t.unit("unit")
-    unc = t.float("reading_uncertainty", nonnegative=True)
-    if kind == "range":
-        lo, hi = t.float("min"), t.float("max")
-        if not hi > lo:
-            raise t.error("max", f"must be greater than min ({lo:g}), got {hi:g}")
-        t.finish()
-        return PublishedQuantity(**common, unit=unit, value=hi - lo, low=lo, high=hi, reading_uncertainty=unc)
-    value = t.float("value")
+    o = read_options(FigureTable, t)
     t.finish()
-    return PublishedQuantity(**common, unit=unit, value=value, reading_uncertainty=unc)
+    common = dict(source=source, id=o.id, quantity=o.quantity, description=o.description, reducer=o.reducer,
+                  unit_under_test=o.unit_under_test, figure=o.figure, kind=o.kind, origin=o.origin)
+    if o.kind == "orders":
+        return PublishedQuantity(**common, orders=_orders(t, o.orders))
+    unit = t.canonical_unit("unit", o.unit)
+    if o.kind == "order_amplitudes":
+        orders = _orders(t, o.orders)
+        amps = _per_order(t, "amplitudes", o.amplitudes, len(orders), positive=True)
+        rel = _per_order(t, "relative_uncertainty", o.relative_uncertainty, len(orders), positive=False)
+        return PublishedQuantity(**common, unit=unit, orders=orders, amplitudes=amps, relative_uncertainty=rel,
+                                 pins=o.pins, ratio=o.ratio)
+    if o.kind == "range":
+        if not o.max > o.min:
+            raise t.error("max", f"must be greater than min ({o.min:g}), got {o.max:g}")
+        return PublishedQuantity(**common, unit=unit, value=o.max - o.min, low=o.min, high=o.max,
+                                 reading_uncertainty=o.reading_uncertainty)
+    return PublishedQuantity(**common, unit=unit, value=o.value, reading_uncertainty=o.reading_uncertainty)
 
 
 def load_published(path: str | Path) -> PublishedSource:
@@ -222,32 +300,23 @@ def load_published(path: str | Path) -> PublishedSource:
     data, sha = read_toml(path)
     top = Params(data, file=file)
     s = top.sub("source")
-    sid = _text(s, "id")
-    status = s.str("status", choices=STATUSES)
-    fields = dict(id=sid, title=_text(s, "title"), authors=_text(s, "authors"), publication=_text(s, "publication"),
-                  status=status, read_from=s.str("read_from", choices=READ_FROM), how_read=_text(s, "how_read"),
-                  accessed=_text(s, "accessed"), reducer=_text(s, "reducer"), file=file, sha256=sha,
-                  doi=_text(s, "doi", ""), doi_note=_text(s, "doi_note", ""), url=_text(s, "url", ""), document=_text(s, "document", ""),
-                  test_conditions=_text(s, "test_conditions", ""), notes=_text(s, "notes", ""))
-    if not (fields["doi"] or fields["url"] or fields["document"]):
-        raise s.error("doi", "give at least one of doi, url, document: where the source can be found")
-    year = s.raw("year", None)
-    if year is not None and (isinstance(year, bool) or not isinstance(year, int) or not 1900 <= year <= 2100):
-        raise s.error("year", f"expected a year (integer), got {year!r}")
-    est = s.sub("estimated", {})
-    estimated = {k: est.str(k) for k in list(est.keys())}
-    est.finish()
+    h = read_options(SourceTable, s)
     s.finish()
-    quantities = tuple(_quantity(t, sid) for t in top.tables("quantity"))
+    fields = {k: getattr(h, k) for k in ("id", "title", "authors", "publication", "status", "read_from", "how_read",
+                                         "accessed", "reducer", "doi", "doi_note", "url", "document",
+                                         "test_conditions", "notes", "year")}
+    quantities = tuple(_quantity(t, h.id) for t in top.tables("quantity"))
     ids = [q.id for q in quantities]
     dup = sorted({i for i in ids if ids.count(i) > 1})
     if dup:
         raise top.error("quantity", f"two quantities have the id {dup[0]!r}")
     missing = []
     for t in top.tables("missing"):
-        missing.append(MissingItem(_text(t, "what"), t.str("status", choices=STATUSES[1:]), _text(t, "tried")))
+        m = read_options(MissingTable, t)
         t.finish()
+        missing.append(MissingItem(m.what, m.status, m.tried))
     top.finish()
+    status = h.status
     if status == "read" and not quantities:
         raise top.error("quantity", "a source that was read gives at least one [[quantity]] (else status = "
                                     "\"not read\" with a [[missing]] table saying what could not be read)")
@@ -257,8 +326,8 @@ def load_published(path: str | Path) -> PublishedSource:
         if not missing:
             raise top.error("missing", f"a source with status {status!r} says in a [[missing]] table what was "
                                        "looked for and why it could not be read")
-    return PublishedSource(**fields, year=year, estimated=MappingProxyType(estimated), quantities=quantities,
-                           missing=tuple(missing))
+    return PublishedSource(**fields, file=file, sha256=sha, estimated=MappingProxyType(dict(h.estimated)),
+                           quantities=quantities, missing=tuple(missing))
 
 
 def load_published_files(paths) -> list[PublishedSource]:

@@ -263,16 +263,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
     """
     sources = tuple(sources)
     sens = {q: list(v) for q, v in (sensitivity_outputs or {}).items()}
-    for qname, out in outputs.items():
-        model.output(out)                       # InputError naming the output
-    for qname, outs in sens.items():
-        for out in outs:
-            model.output(out)
-    if parameter not in PARAMETERS:
-        raise InputError(f"unknown calibration parameter {parameter!r} (known: {', '.join(PARAMETERS)})",
-                         key="calibration.parameter")
-    if not (0 < bounds[0] < bounds[1]):
-        raise InputError(f"bounds must satisfy 0 < low < high, got {list(bounds)}", key="calibration.bounds")
+    _check_arguments(model, outputs, sens, parameter, bounds)
     quantities = [(src, q) for src in sources if src.status == "read" for q in src.quantities]
     by_key = {q.key: (src, q) for src, q in quantities}
     spectra_known = [k for k, (_, q) in by_key.items() if q.kind == "order_amplitudes"]
@@ -288,19 +279,7 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
     shape_qs = [(src, q) for src, q in quantities if q.kind == "order_amplitudes" and not reason[q.key]]
     needed = tuple(dict.fromkeys(outputs[q.quantity] for _, q in numeric))
     extra = tuple(dict.fromkeys(o for _, q in numeric for o in sens.get(q.quantity, ()) if o not in needed))
-    target = None
-    if calibrate_on is not None:
-        if calibrate_on not in by_key:
-            raise InputError(f"unknown published figure {calibrate_on!r}"
-                             f" (known: {', '.join(by_key) or 'none'})", key="calibration.on")
-        src, q = by_key[calibrate_on]
-        if reason[q.key]:
-            raise InputError(f"cannot calibrate on {calibrate_on!r}: {reason[q.key]}", key="calibration.on")
-        if q.kind not in ("value", "range") or not q.measured:
-            raise InputError(f"cannot calibrate on {calibrate_on!r}: a {q.kind} "
-                             f"{'' if q.measured else 'of a published model '}is not a measured value",
-                             key="calibration.on")
-        target = (src, q)
+    target = None if calibrate_on is None else _calibration_target(calibrate_on, by_key, reason)
     pred = _Predictor(model, spec, n, method, seed, evaluator, known)
     rows, order_rows, shape_rows, largest = [], [], [], {}
 
@@ -337,27 +316,11 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
             idx = np.flatnonzero(ok)[:spectrum_samples]
             spectra = te_spectra(X[idx]) if idx.size else []
             largest[stage] = largest_orders(spectra)
-            for src, q in order_qs:
-                for r in compare_orders(q.orders, spectra, order_threshold):
-                    order_rows.append({"stage": stage, "source": src.id, "quantity": q.id, "reducer": q.reducer,
-                                       "order [1/rev]": r["order"], "measured": "strong",
-                                       "predicted amplitude [arcsec]": r["amplitude"],
-                                       "of the largest predicted order [%]": 100.0 * r["share"],
-                                       "reducers": len([a for a in spectra if a is not None]),
-                                       "verdict": r["verdict"],
-                                       "role": "" if target is None or stage == BEFORE else HOLD_OUT})
+            role = "" if target is None or stage == BEFORE else HOLD_OUT
+            order_rows.extend(_order_rows(stage, order_qs, spectra, order_threshold, role))
             for src, q in shape_qs:
                 ref = reference_order if reference_order is not None else (lattice[0] if lattice else q.pins)
-                unit = q.unit
-                for r in compare_shape(q.orders, q.amplitudes, q.relative_uncertainty, spectra, ref, interval):
-                    shape_rows.append({
-                        "stage": stage, "source": src.id, "quantity": q.id, "measured reducer": q.reducer,
-                        "order [1/rev]": r["order"], f"measured [{unit}]": r["measured"],
-                        "± reading [%]": 100.0 * r["relative uncertainty"],
-                        f"measured / order {ref}": r["measured ratio"], "± ratio [%]": 100.0 * r["ratio uncertainty"],
-                        "predicted median [arcsec]": r["predicted"], f"predicted / order {ref}": r["predicted ratio"],
-                        "P low": r["low"], "P high": r["high"], "predicted / measured ratio": r["predicted / measured"],
-                        "reducers": r["n"], "verdict": r["verdict"]})
+                shape_rows.extend(_shape_rows(stage, src, q, spectra, ref, interval))
 
     wanted = needed + extra
     values, X, ok = pred.predict(1.0, wanted, "validation: prediction") if wanted else ({}, pred.samples(1.0),
@@ -377,22 +340,79 @@ def validate(model, spec, sources, outputs: dict[str, str], *, reducer: str, n: 
         meas, _ = display_value(q, unit)
         fit = _fit_scale(pred, out, meas, unit, q.key, parameter, bounds, values[out], rtol)
         if fit.success:
-            s = fit.value
-            # the fitted output's sample was evaluated by the fit (the evaluator's cache has it); the rest now
-            v2, X2, ok2 = pred.predict(s, (out,), "validation: after calibration")
-            rest = tuple(o for o in needed if o != out)
-            if rest:
-                v3, _, ok3 = pred.predict(s, rest, "validation: after calibration")
-                v2, ok2 = {**v2, **v3}, ok2 & ok3
-            stage_rows(fit.stage, s, v2, ok2, X2)
+            stage_rows(fit.stage, fit.value, *_predicted_after(pred, fit.value, out, needed))
     comparison = pd.DataFrame(rows)
     if epistemic is not None and len(comparison):
         comparison = _with_epistemic(comparison, epistemic, outputs)
     orders = pd.DataFrame(order_rows)
-    missing = pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
-                             "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
-    return ValidationResult(sources, comparison, orders, missing, fit, n, interval, largest, pd.DataFrame(shape_rows),
-                            epistemic)
+    return ValidationResult(sources, comparison, orders, _missing_frame(sources), fit, n, interval, largest,
+                            pd.DataFrame(shape_rows), epistemic)
+
+
+def _missing_frame(sources) -> pd.DataFrame:
+    """What each source looked for and did not find or read."""
+    return pd.DataFrame([{"source": s.id, "citation": s.citation, "source status": s.status, "what": m.what,
+                          "status": m.status, "tried": m.tried} for s in sources for m in s.missing])
+
+
+def _predicted_after(pred: _Predictor, s: float, fitted: str, needed: tuple[str, ...]):
+    """``(values, ok, X)`` of the outputs ``needed`` at the fitted scale ``s``: the fitted output's sample was
+    evaluated by the fit (the evaluator's cache has it), the rest now."""
+    values, X, ok = pred.predict(s, (fitted,), "validation: after calibration")
+    rest = tuple(o for o in needed if o != fitted)
+    if rest:
+        more, _, ok_more = pred.predict(s, rest, "validation: after calibration")
+        values, ok = {**values, **more}, ok & ok_more
+    return values, ok, X
+
+
+def _check_arguments(model, outputs: dict, sens: dict, parameter: str, bounds) -> None:
+    """Every mapped output is the model's (InputError naming it), the calibration's parameter and bounds are valid."""
+    for out in list(outputs.values()) + [o for outs in sens.values() for o in outs]:
+        model.output(out)
+    if parameter not in PARAMETERS:
+        raise InputError(f"unknown calibration parameter {parameter!r} (known: {', '.join(PARAMETERS)})",
+                         key="calibration.parameter")
+    if not (0 < bounds[0] < bounds[1]):
+        raise InputError(f"bounds must satisfy 0 < low < high, got {list(bounds)}", key="calibration.bounds")
+
+
+def _calibration_target(calibrate_on: str, by_key: dict, reason: dict):
+    """``(source, figure)`` the calibration is fitted to: a measured value or range the study predicts."""
+    if calibrate_on not in by_key:
+        raise InputError(f"unknown published figure {calibrate_on!r}"
+                         f" (known: {', '.join(by_key) or 'none'})", key="calibration.on")
+    src, q = by_key[calibrate_on]
+    if reason[q.key]:
+        raise InputError(f"cannot calibrate on {calibrate_on!r}: {reason[q.key]}", key="calibration.on")
+    if q.kind not in ("value", "range") or not q.measured:
+        raise InputError(f"cannot calibrate on {calibrate_on!r}: a {q.kind} "
+                         f"{'' if q.measured else 'of a published model '}is not a measured value",
+                         key="calibration.on")
+    return src, q
+
+
+def _order_rows(stage: str, order_qs, spectra, threshold: float, role: str) -> list[dict]:
+    """The measured strong orders of each figure against the predicted spectra (:func:`.agreement.compare_orders`)."""
+    return [{"stage": stage, "source": src.id, "quantity": q.id, "reducer": q.reducer, "order [1/rev]": r["order"],
+             "measured": "strong", "predicted amplitude [arcsec]": r["amplitude"],
+             "of the largest predicted order [%]": 100.0 * r["share"],
+             "reducers": len([a for a in spectra if a is not None]), "verdict": r["verdict"], "role": role}
+            for src, q in order_qs for r in compare_orders(q.orders, spectra, threshold)]
+
+
+def _shape_rows(stage: str, src, q, spectra, ref: int, interval: float) -> list[dict]:
+    """A measured spectrum against the predicted ones in shape, relative to order ``ref``
+    (:func:`.agreement.compare_shape`)."""
+    unit = q.unit
+    return [{"stage": stage, "source": src.id, "quantity": q.id, "measured reducer": q.reducer,
+             "order [1/rev]": r["order"], f"measured [{unit}]": r["measured"],
+             "± reading [%]": 100.0 * r["relative uncertainty"],
+             f"measured / order {ref}": r["measured ratio"], "± ratio [%]": 100.0 * r["ratio uncertainty"],
+             "predicted median [arcsec]": r["predicted"], f"predicted / order {ref}": r["predicted ratio"],
+             "P low": r["low"], "P high": r["high"], "predicted / measured ratio": r["predicted / measured"],
+             "reducers": r["n"], "verdict": r["verdict"]}
+            for r in compare_shape(q.orders, q.amplitudes, q.relative_uncertainty, spectra, ref, interval)]
 
 
 #: the columns the estimated design's band adds to the prediction's rows (module doc, item 3)

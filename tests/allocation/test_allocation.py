@@ -67,6 +67,9 @@ def _cost_file(tmp_path, curve: str):
     ('kind = "exponential"\na = 1\nb = 1\nc = 1\nbounds = [1, 2]\ndata = { tolerance = [1], cost = [1] }',
      "curve[0].data", "not both"),
     ('kind = "exponential"\na = 1\nb = 1\nc = 1\nbounds = [1, 2]\nfix = 1', "curve[0].fix", "unknown key"),
+    ('kind = "exponential"\na = 1\nb = 1\nc = 1\nbounds = [1, 2]\nfix_c = 1', "curve[0].fix_c", "give data, or c"),
+    ('kind = "exponential"\na = 1\nb = 1\nc = 1\nbounds = [1, 2, 3]', "curve[0].bounds", "expected 2 numbers"),
+    ('kind = "exponential"\nb = 1\nc = 1\nbounds = [1, 2]', "curve[0].a", "missing required key"),
 ])
 def test_bad_cost_file(tmp_path, curve, key, reason):
     p = _cost_file(tmp_path, curve)

@@ -120,7 +120,11 @@ def test_the_study_tables_list_their_keys(capsys):
     """``rvtol kinds`` names the study's own tables; ``rvtol kinds requirement`` lists [[requirement]]'s keys with
     their rules, as ``rvtol kinds sampling`` does [sampling]'s."""
     assert main(["kinds"]) == 0
-    assert "tables:   sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    assert "tables:   study, sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    assert main(["kinds", "study"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("[study]: the study's name and the files it reads") and "  design (file, optional" in out
+    assert "  spec (list of str or file, optional; default None; at least 1)" in out
     assert main(["kinds", "requirement"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("[[requirement]]: a limit on one output") and "  output (str; required)" in out
@@ -199,3 +203,12 @@ def test_script_without_main_guard_gets_a_clear_message(tmp_path):
     r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert r.returncode != 0
     assert 'if __name__ == "__main__":' in r.stderr
+
+
+def test_a_table_whose_docstring_wraps_or_quotes_its_name_is_listed_on_one_clean_line(capsys):
+    """``rvtol kinds part``: the first paragraph of the table's docstring on one line, without reST's quotes (it
+    printed ``[[part]]`` followed by two backquotes, and a wrapped first sentence cut at its line end)."""
+    assert main(["kinds", "feature"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("[[part.feature]] of a stack-up's assembly file: ") and "`" not in first
+    assert first.endswith("(origin as radius/angle or x/y, not both).")

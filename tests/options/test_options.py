@@ -255,6 +255,20 @@ def test_a_quantity_is_held_in_base_units():
     refused(Numbers, {"n": 8, "length": 0}, "length", "> 0")
 
 
+
+@dataclass
+class QuantityOrName:
+    length: float | str = option(REQUIRED, "a length or a name the loader resolves", unit="mm", positive=True)
+
+
+def test_a_quantity_or_a_name_keeps_the_name_as_written():
+    """``float | str`` with a unit: a number or ``{value, unit}`` in base units, a string as written."""
+    assert read(QuantityOrName, {"length": 2.5}).length == pytest.approx(2.5)
+    assert read(QuantityOrName, {"length": {"value": 2, "unit": "cm"}}).length == pytest.approx(20.0)
+    assert read(QuantityOrName, {"length": "-crank_radius"}).length == "-crank_radius"
+    refused(QuantityOrName, {"length": 0}, "length", "> 0")
+    refused(QuantityOrName, {"length": True}, "length", "expected a number or a string")
+
 # ---------------------------------------------------------------------------------------------- the class' own checks
 @dataclass
 class Related:
@@ -342,7 +356,7 @@ def test_types_rvtol_does_not_read_are_handed_on_as_written():
     assert (o.foreign, o.lib, o.either, o.kind) == ({"k": 1}, 3, "many", float)
     assert read(Others, {"either": 4}).either == 4
     d = {o.key: o.type for o in describe(Others)}
-    assert d == {"foreign": "Params, optional", "lib": "Params, optional", "either": "int | str | None",
+    assert d == {"foreign": "Params, optional", "lib": "Params, optional", "either": "int or str, optional",
                  "kind": "type"}
 
 

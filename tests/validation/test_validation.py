@@ -102,6 +102,12 @@ kind = "{kind}"
      "quantity[0].amplitudes", "entry 2: must be > 0"),
     (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "um"\nreading_uncertainty = 0.1\norigin = "guess"'),
      "quantity[0].origin", "unknown value 'guess'"),
+    (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "um"\nreading_uncertainty = 0.1\npins = 40'),
+     "quantity[0].pins", "does not apply to a figure of kind 'value'"),
+    (SOURCE + QTY.format(kind="range", body='min = 1.0\nunit = "um"\nreading_uncertainty = 0.1'),
+     "quantity[0].max", "missing required key"),
+    (SOURCE + QTY.format(kind="value", body='value = 1.0\nunit = "um"\nreading_uncertainty = 0.1').replace(
+        'figure = "Table 2"', 'figure = "  "'), "quantity[0].figure", "must not be empty"),
 ])
 def test_a_bad_published_file_is_one_error_naming_file_and_key(tmp_path, text, key, reason):
     p = write(tmp_path / "bad.toml", text)

@@ -216,3 +216,15 @@ def test_the_second_cpk_needs_a_hundred_samples_and_is_computed_only_when_it_can
     assert other_cpk(r, y, cap, (2.0, 1.0)) == (None, None)       # the estimate passes, the bound judged does not
     shape, other = other_cpk(r, y, cap, (2.0, 1.5))
     assert shape.non_normal and other[0] == cap["cpk_percentile"]
+
+
+@pytest.mark.parametrize("cpk", [math.nan, math.inf])
+def test_a_cpk_estimate_that_is_no_finite_number_plans_no_samples(cpk):
+    """judge() with a Cpk of nan or inf (and any bound) is a FAIL that says no sample size can be planned from it —
+    it raised TypeError subtracting the bound Bissell's rule does not give for such an estimate."""
+    from rvtol.verdict import judge
+
+    r = Requirement("y", lower=0.0, upper=1.0, min_cpk=1.33)
+    j = judge(r, cpk=cpk, cpk_lo=1.0, n=100)
+    assert not j.passed and j.n_to_demonstrate is None
+    assert j.reasons[-1] == f"the estimate is {cpk}: no sample size can be planned from it"

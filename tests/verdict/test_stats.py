@@ -448,3 +448,44 @@ def test_the_running_mean_interval_of_two_evaluated_values_divides_by_n_minus_1(
     assert list(tr["n"]) == [10, 11, 12]
     assert np.all(tr["mean"] == 6.5)
     assert tr["mean_lo"] == pytest.approx(6.5 - 1.5 * z, rel=1e-12) and tr["mean_hi"] == pytest.approx(6.5 + 1.5 * z)
+
+
+@pytest.mark.parametrize("first", [1, 2, 3, 57, 1000, 10**12 + 7])
+@pytest.mark.parametrize("guess", [1, 2, 56, 57, 58, 999, 10**12, 10**15])
+def test_smallest_integer_finds_the_first_true_from_any_guess(first, guess):
+    """Against the definition: ok(n) and not ok(n - 1), whatever side of the answer the guess lies."""
+    calls = []
+
+    def ok(n):
+        calls.append(n)
+        return n >= first
+
+    assert st.smallest_integer(ok, guess, 1, 10**15) == first
+    assert len(calls) <= 2 + 52          # two looks, then bisection over at most 10^15 integers
+    assert st.smallest_integer(lambda n: n >= first, guess, first, 10**15) == first   # the answer at the low end
+
+
+def test_n_for_yield_of_a_plan_near_a_trillion_samples_looks_a_few_dozen_times(monkeypatch):
+    """A requirement 5e-13 below its estimate needs about 1.2e13 samples; neighbouring plans' bounds then differ by
+    less than rounding, and stepping one integer at a time from the rounded root made millions of bound evaluations
+    (minutes).  The plan is the smallest n whose bound meets the requirement, within rounding."""
+    calls = []
+    bound = st.proportion_lower_bound
+
+    def counted(*a, **k):
+        calls.append(1)
+        if len(calls) > 10_000:
+            raise AssertionError("more than 10 000 bound evaluations")
+        return bound(*a, **k)
+
+    monkeypatch.setattr(st, "proportion_lower_bound", counted)
+    est, req = 0.9999999999995, 0.999999999999
+    n = st.n_for_yield(est, req, 0.95)
+    assert len(calls) < 200
+    assert bound(est * n, n, 0.95, "exact") >= req
+    # in the Poisson limit (about six failures among 10^13), Clopper-Pearson's upper failure rate with F failures is
+    # chi2(0.95; 2F + 2) / 2n: the plan solves chi2(0.95; 2(1 - est)n + 2) / 2n = 1 - req
+    from scipy.optimize import brentq
+
+    poisson = brentq(lambda m: stats.chi2.ppf(0.95, 2 * (1 - est) * m + 2) / (2 * m) - (1 - req), 1e10, 1e15)
+    assert n == pytest.approx(poisson, rel=1e-3)

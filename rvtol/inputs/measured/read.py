@@ -13,6 +13,33 @@ from ..sheets import (CommaColumn, blank, byte_progress, col_letter, is_number, 
                       split_header, stream_rows)
 
 
+def _label(header: list[str] | None, i: int) -> str:
+    """Column ``i`` as its header names it, else by its 1-based number."""
+    return header[i] if header and i < len(header) and header[i] else f"{i + 1}"
+
+
+def _column_index(column: str | int | None, header, names, file: str, at: str) -> int | None:
+    """The 0-based index of ``column`` (a 1-based number, or a header cell: as written, its name, then its name in
+    any case); None when no column is named.  ``at``: the header row's place, for the error."""
+    if isinstance(column, int) and not isinstance(column, bool):
+        return column - 1
+    if column is None:
+        return None
+    if header is None:
+        raise SpecError(f"the file has no header row to find column {column!r} in; give its number",
+                        file=file, key="column")
+    want = str(column).strip()
+    hits = ([i for i, h in enumerate(header) if h == want] or [i for i, n in enumerate(names) if n == want]
+            or [i for i, n in enumerate(names) if n.lower() == want.lower()])
+    if not hits:
+        # the header's cells are not echoed (a file's first line may hold anything): a close name only
+        raise SpecError(f"no column {column!r} in the header row"
+                        f"{did_you_mean(str(column), [n for n in names if n and len(n) <= 64])}", file=file, key=at)
+    if len(hits) > 1:
+        raise SpecError(f"column {column!r} appears {len(hits)} times", file=file, key=at)
+    return hits[0]
+
+
 def read_measurements(path: str | Path, column: str | int | None = None, *, sheet: str | None = None,
                       unit: str | None = None) -> np.ndarray:
     """Measured values from a CSV/TSV/TXT or XLSX file: one column by header name or 1-based number.
@@ -53,24 +80,7 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
     body = rows if has_header else itertools.chain([first_row], rows)
     width = len(first)
     ncols = len(first) - next((k for k, v in enumerate(reversed(first)) if not blank(v)), len(first))
-    j = None
-    if isinstance(column, int) and not isinstance(column, bool):
-        j = column - 1
-    elif column is not None:
-        if header is None:
-            raise SpecError(f"the file has no header row to find column {column!r} in; give its number",
-                            file=file, key="column")
-        want = str(column).strip()
-        hits = ([i for i, h in enumerate(header) if h == want] or [i for i, n in enumerate(names) if n == want]
-                or [i for i, n in enumerate(names) if n.lower() == want.lower()])
-        if not hits:
-            # the header's cells are not echoed (a file's first line may hold anything): a close name only
-            raise SpecError(f"no column {column!r} in the header row"
-                            f"{did_you_mean(str(column), [n for n in names if n and len(n) <= 64])}",
-                            file=file, key=f"{where_sheet}row {r0}")
-        if len(hits) > 1:
-            raise SpecError(f"column {column!r} appears {len(hits)} times", file=file, key=f"{where_sheet}row {r0}")
-        j = hits[0]
+    j = _column_index(column, header, names, file, f"{where_sheet}row {r0}")
     # the values of column j — or, without a column, of every column (exactly one may be used)
     vals: dict[int, array.array] = {}
     commas: dict[int, CommaColumn] = {}     # per column: a 1,250 decided by the column's other numbers
@@ -92,12 +102,12 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
                     col = vals.setdefault(i, array.array("d"))
                     x = commas.setdefault(i, CommaColumn(rs.delimiter)).read(v, len(col), r)
                 except ValueError as exc:
-                    label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
+                    label = _label(header, i)
                     why = str(exc) if getattr(exc, "advice", False) and len(str(v)) <= 24 else (
                         "expected a number" + (f", got {str(v).strip()!r}" if len(str(v)) <= 24 else ""))
                     raise SpecError(why, file=file, key=f"{where_sheet}row {r}, column {label!r}") from None
                 if not math.isfinite(x):
-                    label = header[i] if header and i < len(header) and header[i] else f"{i + 1}"
+                    label = _label(header, i)
                     raise SpecError(f"not a finite number: {v!r}", file=file,
                                     key=f"{where_sheet}row {r}, column {label!r}")
                 col.append(x)
@@ -113,7 +123,7 @@ def read_measurements(path: str | Path, column: str | int | None = None, *, shee
             raise SpecError(f"the file has several columns{f' ({shown})' if shown else ''}: say which one "
                             "(column = ...)", file=file, key=f"{where_sheet}row {r0}")
         j = next(iter(vals))
-    label = header[j] if header and j < len(header) and header[j] else f"{j + 1}"
+    label = _label(header, j)
     got = vals.get(j, array.array("d"))
     undecided = commas[j].settle(got) if j in commas else None
     if undecided is not None:

@@ -37,7 +37,8 @@ File format (``data/assemblies/*.toml``)::
     name = "KC1"
     terms = { KC1 = 1.0 }
 
-The propagation along a chain is doc 002's δ_n = δ_{n-1} + W_n Δθ_n: the
+Each table is read by its declared schema (:mod:`.description_tables`; ``rvtol kinds adjustment_kc`` lists a
+table's keys).  The propagation along a chain is doc 002's δ_n = δ_{n-1} + W_n Δθ_n: the
 error of part n reaches its own KC and every KC after it in the chain
 through W_n, which makes F block lower-triangular per chain.  The
 adjustment of a KC moves the state the way its part's error does (doc 002:
@@ -52,7 +53,10 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...options import read_options
 from ...params import Params, check_number, read_toml
+from .description_tables import (AdjustmentHead, AdjustmentKCTable, AdjustmentStepTable, ChainTable,
+                                 MeasurementTable, ObservationTable, WeightsTable)
 
 COMPONENT_NAMES = ("x", "y", "z")
 
@@ -216,14 +220,6 @@ def load_assembly(path: str | Path) -> AssemblyDescription:
     return assembly_from_table(data, file=str(path))
 
 
-def weight_value(p: Params, name: str, default=None, allow_inf: bool = False) -> float:
-    """A non-negative weight; ``"inf"`` (or TOML ``inf``) only where ``allow_inf``."""
-    v = p.raw(name, default)
-    if v is default and default is not None:
-        return v
-    return weight_of(v, p.error, name, allow_inf)
-
-
 def weight_of(v, error, name: str, allow_inf: bool = False) -> float:
     """The value ``v`` of the weight ``name`` checked: a number >= 0, or ``"inf"`` (or TOML ``inf``) where
     ``allow_inf``; ``error(name, reason)`` raises the located error."""
@@ -235,91 +231,98 @@ def weight_of(v, error, name: str, allow_inf: bool = False) -> float:
     return check_number(v, error, name, nonnegative=True)
 
 
+def _read(cls, p: Params):
+    """The table ``p`` read by its declared schema ``cls`` (:mod:`.description_tables`); no key left unread."""
+    o = read_options(cls, p)
+    p.finish()
+    return o
+
+
 def assembly_from_table(data: dict, *, file: str | None = None) -> AssemblyDescription:
     root = Params(data, file=file)
     head = root.sub("assembly")
-    name = head.str("name")
-    title = head.str("title", name)
-    source = head.str("source", "")
-    head.str("description", "")
-    comps = tuple(head.strs("components", ["x"], min_length=1))
+    h = _read(AdjustmentHead, head)
+    comps = tuple(h.components)
     if len(set(comps)) != len(comps) or not set(comps) <= set(COMPONENT_NAMES):
         raise head.error("components", f"components must be distinct names out of {', '.join(COMPONENT_NAMES)}")
-    aunit = head.unit("angle_unit", "mrad", dimension="angle")
-    head.finish()
+    aunit = head.canonical_unit("angle_unit", h.angle_unit, dimension="angle")
     d = len(comps)
 
     w = root.sub("weights")
-    accuracy = weight_value(w, "accuracy", allow_inf=True)
-    r_adj = w.float("effort_adjustable", positive=True)
-    r_lock = w.float("effort_locked", positive=True)
-    w.str("source", "")
-    w.str("note", "")
-    w.finish()
+    weights = _read(WeightsTable, w)
+    accuracy = weight_of(weights.accuracy, w.error, "accuracy", allow_inf=True)
+    m = _read(MeasurementTable, root.sub("measurement", {}))
 
-    m = root.sub("measurement", {})
-    noise = m.float("noise_sigma", 0.0, nonnegative=True)
-    prior = m.float("prior_sigma", 1.0, positive=True)
-    m.str("source", "")
-    m.str("note", "")
-    m.finish()
+    chains = _chains(root)
+    kc_chain = {k: cname for cname, kcs in chains for k in kcs}
+    kcs = _kcs(root, kc_chain, d, m.prior_sigma, aunit)
+    names = [k.name for k in kcs]        # the state vector's KC order: the [[kc]] order
+    steps = _steps(root, names, dict(chains), kc_chain)
+    obs = _observations(root, names)
+    root.finish()
+    return AssemblyDescription(h.name, h.name if h.title is None else h.title, comps, tuple(kcs), tuple(chains),
+                               tuple(steps), tuple(obs), accuracy, weights.effort_adjustable, weights.effort_locked,
+                               float(units.to_base(m.noise_sigma, aunit)), h.source, file)
 
+
+def _chains(root: Params) -> list[tuple[str, tuple[str, ...]]]:
+    """The ``[[chain]]`` tables: ``(name, KCs)``, each KC in one chain."""
     chains: list[tuple[str, tuple[str, ...]]] = []
     kc_chain: dict[str, str] = {}
     for t in root.tables("chain"):
-        cname = t.str("name")
-        kcs = tuple(t.strs("kcs", min_length=1))
-        t.str("source", "")
-        t.str("note", "")
-        t.finish()
-        for k in kcs:
+        c = _read(ChainTable, t)
+        for k in c.kcs:
             if k in kc_chain:
                 raise t.error("kcs", f"KC {k!r} is already in chain {kc_chain[k]!r} (a KC belongs to one chain)")
-            kc_chain[k] = cname
-        chains.append((cname, kcs))
+            kc_chain[k] = c.name
+        chains.append((c.name, tuple(c.kcs)))
     if not chains:
         raise root.error("chain", "an assembly needs at least one [[chain]]")
+    return chains
 
+
+def _kcs(root: Params, kc_chain: dict[str, str], d: int, prior: float, aunit: str) -> list[KC]:
+    """The ``[[kc]]`` tables, each of a chain's KCs once, with distinct error factors."""
     kcs: list[KC] = []
     errors_seen: set[str] = set()
     for t in root.tables("kc"):
-        kname = t.str("name")
-        if kname in [k.name for k in kcs]:
-            raise t.error("name", f"duplicate KC name {kname!r}")
-        if kname not in kc_chain:
-            raise t.error("name", f"KC {kname!r} is in no [[chain]]")
-        err = t.str("error")
-        if err in errors_seen:
-            raise t.error("error", f"duplicate error factor name {err!r}")
-        errors_seen.add(err)
-        W = _matrix(t, "W", d)
-        ps = t.float("prior_sigma", prior, positive=True)
-        kcs.append(KC(kname, t.str("part", kname), err, W, float(units.to_base(ps, aunit)), kc_chain[kname],
-                      t.str("source", "")))
-        t.str("note", "")
-        t.finish()
+        o = _read(AdjustmentKCTable, t)
+        if o.name in [k.name for k in kcs]:
+            raise t.error("name", f"duplicate KC name {o.name!r}")
+        if o.name not in kc_chain:
+            raise t.error("name", f"KC {o.name!r} is in no [[chain]]")
+        if o.error in errors_seen:
+            raise t.error("error", f"duplicate error factor name {o.error!r}")
+        errors_seen.add(o.error)
+        W = _matrix(t, "W", o.W, d)
+        ps = prior if o.prior_sigma is None else o.prior_sigma
+        kcs.append(KC(o.name, o.name if o.part is None else o.part, o.error, W, float(units.to_base(ps, aunit)),
+                      kc_chain[o.name], o.source))
     missing = [k for k in kc_chain if k not in [c.name for c in kcs]]
     if missing:
         raise root.error("kc", f"chain KC {missing[0]!r} has no [[kc]] table")
-    # keep the chains' KC order = the [[kc]] order for the state vector
-    names = [k.name for k in kcs]
+    return kcs
 
+
+def _steps(root: Params, names: list[str], chains: dict[str, tuple[str, ...]], kc_chain: dict[str, str]) -> list[Step]:
+    """The ``[[step]]`` tables in assembly order: every KC installed once, after the KC before it in its chain."""
     steps: list[Step] = []
     installed: list[str] = []
     for t in root.tables("step"):
-        inst = t.str("install")
+        o = _read(AdjustmentStepTable, t)
+        inst = o.install
         if inst not in names:
             raise t.error("install", f"unknown KC {inst!r} (known: {', '.join(names)})")
         if inst in installed:
             raise t.error("install", f"KC {inst!r} is installed twice")
-        chain = dict(chains)[kc_chain[inst]]
+        chain = chains[kc_chain[inst]]
         pos = chain.index(inst)
         if pos > 0 and chain[pos - 1] not in installed:
             raise t.error("install", f"KC {inst!r} is installed before {chain[pos - 1]!r}, which precedes it "
                                      f"in chain {kc_chain[inst]!r}")
         installed.append(inst)
-        meas = tuple(t.strs("measure", [inst], min_length=1))
-        adj = tuple(t.strs("adjust", list(installed)))
+        meas = (inst,) if o.measure is None else tuple(o.measure)
+        adj = tuple(installed) if o.adjust is None else tuple(o.adjust)
         for key, group in (("measure", meas), ("adjust", adj)):
             for k in group:
                 if k not in names:
@@ -328,49 +331,39 @@ def assembly_from_table(data: dict, *, file: str | None = None) -> AssemblyDescr
                     raise t.error(key, f"KC {k!r} is not installed yet at this step")
             if len(set(group)) != len(group):
                 raise t.error(key, "a KC is named twice")
-        t.str("note", "")
-        t.finish()
         steps.append(Step(inst, meas, adj))
     if not steps:
         raise root.error("step", "an assembly needs at least one [[step]]")
     if set(installed) != set(names):
         left = [n for n in names if n not in installed]
         raise root.error("step", f"KC {left[0]!r} is never installed")
+    return steps
 
+
+def _observations(root: Params, names: list[str]) -> list[Observation]:
+    """The ``[[observation]]`` tables (default: each KC against the datum)."""
     obs: list[Observation] = []
     for t in root.tables("observation"):
-        oname = t.str("name")
-        terms = t.sub("terms")
-        tl = []
-        for k in list(terms.keys()):
+        o = _read(ObservationTable, t)
+        for k in o.terms:
             if k not in names:
-                raise terms.error(k, f"unknown KC {k!r} (known: {', '.join(names)})")
-            tl.append((k, terms.float(k)))
-        terms.finish()
-        if not tl or all(c == 0 for _, c in tl):
+                raise t.error(f"terms.{k}", f"unknown KC {k!r} (known: {', '.join(names)})")
+        if not o.terms or all(c == 0 for c in o.terms.values()):
             raise t.error("terms", "an observation needs at least one non-zero term")
-        if oname in [o.name for o in obs]:
-            raise t.error("name", f"duplicate observation name {oname!r}")
-        t.str("note", "")
-        t.finish()
-        obs.append(Observation(oname, tuple(tl)))
-    if not obs:
-        obs = [Observation(n, ((n, 1.0),)) for n in names]
-    root.finish()
-    return AssemblyDescription(name, title, comps, tuple(kcs), tuple(chains), tuple(steps), tuple(obs),
-                               accuracy, r_adj, r_lock, float(units.to_base(noise, aunit)), source, file)
+        if o.name in [x.name for x in obs]:
+            raise t.error("name", f"duplicate observation name {o.name!r}")
+        obs.append(Observation(o.name, tuple(o.terms.items())))
+    return obs or [Observation(n, ((n, 1.0),)) for n in names]
 
 
-def _matrix(t: Params, key: str, d: int) -> np.ndarray:
-    if key not in t:
-        t.raw(key, None)
+def _matrix(t: Params, key: str, rows: list | None, d: int) -> np.ndarray:
+    """The d×d matrix ``rows`` of the key ``key`` (default: identity), non-singular."""
+    if rows is None:
         return np.eye(d)
-    rows = t.raw(key)
-    if not isinstance(rows, list) or len(rows) != d:
+    if len(rows) != d:
         raise t.error(key, f"expected a {d}×{d} matrix (list of {d} rows)")
     W = np.array([Params({f"{key}[{i}]": r}, file=t.file, key=t.key).floats(f"{key}[{i}]", length=d)
                   for i, r in enumerate(rows)])
     if abs(np.linalg.det(W)) < 1e-9:
         raise t.error(key, "W is singular (a part's error must reach its KC)")
     return W
-

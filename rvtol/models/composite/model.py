@@ -65,6 +65,8 @@ from ...design import DESIGN_PREFIX, design_numbers
 from ...errors import InputError
 from ...params import Params
 from ...expressions import Expression
+from .tables import QuantityTable
+from ...options import read_options
 from ...model import STATUS_NONFINITE, STATUS_OK, Model, Quantity
 
 #: status codes of stage s are STAGE_CODES * (s + 1) + the stage model's own code
@@ -372,21 +374,21 @@ def quantities_from_tables(tables: list[Params]) -> list[MappedQuantity]:
     """``[[quantity]]`` tables (name, value, unit, display_unit, output, description)."""
     out = []
     for t in tables:
-        name = t.str("name")
+        q = read_options(QuantityTable, t)
+        t.finish()
         try:
-            e = Expression.parse(t.raw("value"))
+            e = Expression.parse(q.value)
         except InputError as exc:
             raise t.error("value", exc.reason) from None
-        unit = t.unit("unit", "1")
+        unit = t.canonical_unit("unit", q.unit)
         base = units.base_unit(unit)
         if base != unit:
             raise t.error("unit", f"a quantity's value is in base units: write {base!r} (and display_unit = "
                                   f"{unit!r} to show it in {unit})")
-        disp = t.unit("display_unit", None)
+        disp = None if q.display_unit is None else t.canonical_unit("display_unit", q.display_unit)
         if disp is not None and units.dimension(disp) != units.dimension(unit):
             raise t.error("display_unit", f"{disp!r} is not a {units.dimension(unit)}")
-        out.append(MappedQuantity(name, e, unit, disp, t.bool("output", False), t.str("description", "")))
-        t.finish()
+        out.append(MappedQuantity(q.name, e, unit, disp, q.output, q.description))
     return out
 
 

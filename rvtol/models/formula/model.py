@@ -50,8 +50,8 @@ from ...errors import InputError
 from ...expressions import CONSTANTS, Expression, ExpressionError
 from ...model import Model, Quantity
 from ...model_kind import ModelKind
-from ...options import option
-from ...params import Params
+from ...options import REQUIRED, option
+from ...params import Params, located_unit
 from . import dimensions as _dim
 
 #: how the factors' units enter the formulas (module docstring)
@@ -262,16 +262,27 @@ def read_definitions(defs_p) -> dict:
     return definitions
 
 
-def read_outputs(tables, error, what: str) -> list[tuple[object, FormulaOutput]]:
-    """The ``[[model.output]]`` tables: ``(table, FormulaOutput)`` each (name, formula, unit, display_unit,
-    description); ``what`` names the model in the error (``error(key, reason)``) when there is none."""
+@dataclass
+class OutputTable:
+    """``[[model.output]]``: one output of a formula (or vector-loop) model."""
+
+    name: str = option(REQUIRED, "the output's name")
+    formula: str = option(REQUIRED, "its expression of the factors and the definitions")
+    unit: str = option("1", "the formula's unit (checked against the factors' under units = \"checked\")")
+    display_unit: str | None = option(None, "the unit the report shows it in (default: unit; the same dimension)")
+    description: str = option("", "what it is, for the report")
+
+
+def read_outputs(tables: list[OutputTable], error, what: str) -> list[tuple[int, FormulaOutput]]:
+    """The ``[[model.output]]`` tables: ``(index, FormulaOutput)`` each, their units checked (``error(key, reason)``:
+    the model table's located error, e.g. at ``output[1].unit``); ``what`` names the model in the error when there
+    is none."""
     specs = []
-    for t in tables:
-        name, formula = t.str("name"), t.str("formula")
-        unit = t.unit("unit", "1")
-        disp = t.unit("display_unit", unit, dimension=_units.dimension(unit))
-        specs.append((t, FormulaOutput(name, formula, unit, disp, t.str("description", ""))))
-        t.finish()
+    for i, o in enumerate(tables):
+        unit = located_unit(o.unit, error, f"output[{i}].unit")
+        disp = unit if o.display_unit is None else located_unit(o.display_unit, error, f"output[{i}].display_unit",
+                                                                _units.dimension(unit))
+        specs.append((i, FormulaOutput(o.name, o.formula, unit, disp, o.description)))
     if not specs:
         raise error("output", f"{what} needs at least one [[model.output]]")
     return specs
@@ -285,8 +296,7 @@ class Options:
                                    "converted), factor (each factor's number in its own unit, unchecked) or base "
                                    "(in base units, unchecked)", choices=UNIT_MODES)
     define: Params | None = option(None, 'intermediate quantities in order: name = "formula" or {formula, unit}')
-    output: list[Params] = option([], "each [[model.output]]: name, formula, unit (default \"1\"), display_unit, "
-                                      "description")
+    output: list[OutputTable] = option([], "the model's outputs, each a [[model.output]] table")
 
 
 def build(o: Options, design, spec, error) -> FormulaModel:
@@ -303,11 +313,12 @@ def build(o: Options, design, spec, error) -> FormulaModel:
             FormulaModel([("_", "0")], spec.names, fu, definitions=defined, checked=checked)
         except ExpressionError as exc:
             raise o.define.error(name, exc.reason) from None
-    for t, out in specs:
+    for i, out in specs:
         try:
             FormulaModel([out], spec.names, fu, definitions=definitions, checked=checked)
         except ExpressionError as exc:
-            raise t.error("formula" if exc.reason.startswith(f"output {out.name!r}:") else None, exc.reason) from None
+            raise error(f"output[{i}].formula" if exc.reason.startswith(f"output {out.name!r}:") else f"output[{i}]",
+                        exc.reason) from None
     try:
         return FormulaModel([out for _, out in specs], spec.names, fu, definitions=definitions, checked=checked)
     except ExpressionError as exc:

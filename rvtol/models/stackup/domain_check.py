@@ -14,11 +14,13 @@ import pandas as pd
 
 from ...distributions import from_params
 from ...errors import InputError
+from ...options import read_options
 from ...records import frame_records
 from ...sampling import substream_seed
 from . import domains as dm
+from .assembly_tables import DOMAIN_KEYS, DomainTable
 
-KINDS = ("plane", "cylinder", "clearance")
+KINDS = tuple(DOMAIN_KEYS)
 MIN_MOVING = 1000  # samples that must deviate from zero before a z test of the sampled moments means anything
 
 
@@ -29,23 +31,26 @@ def _mm_dist(p):
 
 
 def domain_from_table(t) -> tuple[str, object]:
-    """``(name, domain)`` of one ``[[analysis.domain]]`` table (:class:`rvtol.params.Params`)."""
-    kind = t.str("kind", choices=KINDS)
-    name = t.str("name", kind)
-    k = t.float("k", 3.0, positive=True)
+    """``(name, domain)`` of one ``[[analysis.domain]]`` table (:class:`rvtol.params.Params`), read by its declared
+    schema (:class:`.assembly_tables.DomainTable`: ``rvtol kinds domain``)."""
+    o = read_options(DomainTable, t)
+    t.finish()
+    for k in ("t1", "t2", "t", "clearance", "length", "width", "hole", "shaft"):
+        if getattr(o, k) is not None and k not in DOMAIN_KEYS[o.kind]:
+            raise t.error(k, f"a domain of kind {o.kind!r} takes no {k!r} (it takes: {', '.join(DOMAIN_KEYS[o.kind])})")
+    for k in DOMAIN_KEYS[o.kind]:
+        if getattr(o, k) is None:
+            raise t.error(k, "missing required key")
+    name = o.kind if o.name is None else o.name
     try:
-        if kind == "plane":
-            d = dm.ParallelPlaneZone(t.quantity("t1", "mm"), t.quantity("t2", "mm"),
-                                     t.quantity("length", "mm", positive=True), t.quantity("width", "mm", positive=True),
-                                     k)
-        elif kind == "cylinder":
-            d = dm.CylindricalZone(t.quantity("t", "mm", positive=True), t.quantity("length", "mm", positive=True), k)
+        if o.kind == "plane":
+            d = dm.ParallelPlaneZone(o.t1, o.t2, o.length, o.width, o.k)
+        elif o.kind == "cylinder":
+            d = dm.CylindricalZone(o.t, o.length, o.k)
         else:
-            d = dm.ClearanceFit(t.quantity("clearance", "mm"), _mm_dist(t.sub("hole")), _mm_dist(t.sub("shaft")),
-                                t.quantity("length", "mm", positive=True), k)
+            d = dm.ClearanceFit(o.clearance, _mm_dist(o.hole), _mm_dist(o.shaft), o.length, o.k)
     except InputError as exc:  # a domain's own check (e.g. t1 < t2): name the table it came from
         raise exc.located(file=t.file, key=t.key) from None
-    t.finish()
     return name, d
 
 

@@ -3,7 +3,8 @@
 An assembly description file (``data/assemblies/*.toml``) lists the parts
 and their features, the deviations each feature carries, the fits that join
 features of different parts, one or more assembly sequences and the key
-characteristics (KCs) to report.  Format::
+characteristics (KCs) to report.  Each table is read by its declared schema (:mod:`.assembly_tables`;
+``rvtol kinds part`` lists a table's keys).  Format::
 
     [assembly]
     name = "..."
@@ -74,13 +75,12 @@ import numpy as np
 from ... import units
 from ...design import Design
 from ...errors import InputError, SpecError
+from ...options import read_options
 from ...params import Params, read_toml
+from .assembly_tables import (COMPONENTS, DEVIATION_KEYS, AssemblyFitTable, AssemblyHead, DeviationTable,
+                              DimensionTable, FeatureTable, KCTable, PartTable, SequenceTable)
 from .transforms import DOF, homogeneous, inverse, rotation_exact
 
-COMPONENTS = ("u", "v", "w", "alpha", "beta", "gamma", "radial", "tilt", "e_norm", "eps_norm", "margin")
-FLOAT_MODES = ("uniform", "worst_tilt", "worst_offset", "centred")
-TERM_KINDS = ("axis", "dof", "plane")
-FIT_TYPES = ("MDD", "MgD", "Mgg")
 FLOW_TYPES = {
     "f1": "same-part geometric position deviation (datum → feature)",
     "f2": "geometric shape (form) deviation, through a fit's clearance",
@@ -299,14 +299,17 @@ def load_assembly(path: str | Path, design: Design | None = None) -> Assembly:
     return Assembly(**{**a.__dict__, "sha256": sha})
 
 
+def _read(cls, p: Params):
+    """The table ``p`` read by its declared schema ``cls`` (:mod:`.assembly_tables`); no key left unread."""
+    o = read_options(cls, p)
+    p.finish()
+    return o
+
+
 def assembly_from_table(data: dict, *, file: str | None = None, design: Design | None = None) -> Assembly:
     root = Params(data, file=file)
     head = root.sub("assembly")
-    name = head.str("name")
-    desc = head.str("description", "")
-    ground = head.str("ground")
-    head.raw("source", None)
-    head.finish()
+    h = _read(AssemblyHead, head)
 
     dims = _dimensions(root.sub("dimensions", {}), design)
     num = _Numbers(dims)
@@ -314,12 +317,13 @@ def assembly_from_table(data: dict, *, file: str | None = None, design: Design |
     parts: dict[str, str] = {}
     features: dict[str, Feature] = {}
     for pt in root.tables("part"):
-        pname = _name(pt, "name")
+        o = _read(PartTable, pt)
+        pname = _name(pt, "name", o.name)
         if pname in parts:
             raise pt.error("name", f"duplicate part name {pname!r}")
-        parts[pname] = pt.str("description", "")
+        parts[pname] = o.description
         n_datum = 0
-        for ft in pt.tables("feature"):
+        for ft in o.feature:
             f = _feature(ft, pname, num)
             if f.id in features:
                 raise ft.error("name", f"duplicate feature name {f.name!r} in part {pname!r}")
@@ -327,11 +331,10 @@ def assembly_from_table(data: dict, *, file: str | None = None, design: Design |
             if n_datum > 1:
                 raise ft.error("datum", f"part {pname!r} has more than one datum feature")
             features[f.id] = f
-        pt.finish()
     if not parts:
         raise root.error("part", "an assembly needs at least one [[part]]")
-    if ground not in parts:
-        raise head.error("ground", f"unknown part {ground!r} (parts: {', '.join(parts)})")
+    if h.ground not in parts:
+        raise head.error("ground", f"unknown part {h.ground!r} (parts: {', '.join(parts)})")
 
     fits: dict[str, Fit] = {}
     for t in root.tables("fit"):
@@ -342,7 +345,7 @@ def assembly_from_table(data: dict, *, file: str | None = None, design: Design |
 
     seqs: dict[str, Sequence] = {}
     for t in root.tables("sequence"):
-        s = _sequence(t, parts, ground, fits)
+        s = _sequence(t, parts, h.ground, fits)
         if s.name in seqs:
             raise t.error("name", f"duplicate sequence name {s.name!r}")
         seqs[s.name] = s
@@ -355,7 +358,7 @@ def assembly_from_table(data: dict, *, file: str | None = None, design: Design |
     root.finish()
 
     _check_factor_names(features, fits, file)
-    asm = Assembly(name, desc, ground, parts, features, fits, seqs, kcs, dims, file)
+    asm = Assembly(h.name, h.description, h.ground, parts, features, fits, seqs, kcs, dims, file)
     for s in seqs.values():
         _check_closure(asm, s)
         names = {k.name for k in asm.kcs_for(s)}
@@ -364,8 +367,8 @@ def assembly_from_table(data: dict, *, file: str | None = None, design: Design |
     return asm
 
 
-def _name(p: Params, key: str) -> str:
-    v = p.str(key)
+def _name(p: Params, key: str, v: str) -> str:
+    """The name ``v`` of the key ``key``: letters, digits and _ only, or the located error."""
     if not _NAME.match(v):
         raise p.error(key, f"invalid name {v!r} (letters, digits and _ only)")
     return v
@@ -377,100 +380,109 @@ def _dimensions(p: Params, design: Design | None) -> dict[str, Dimension]:
         t = p.sub(key)
         if not _NAME.match(key):
             raise p.error(key, f"invalid dimension name {key!r}")
-        source = t.str("source")
-        if not source.strip():
+        o = _read(DimensionTable, t)
+        if not o.source.strip():
             raise t.error("source", "every dimension needs its source")
-        note = t.str("note", "")
-        if "design" in t:
-            ref = t.str("design")
-            if design is None:
-                raise t.error("design", f"refers to design parameter {ref!r} but the study names no design")
-            if ref not in design:
-                raise t.error("design", f"design {design.name!r} has no parameter {ref!r}")
-            dp = design.param(ref)
-            if isinstance(dp.value, (str, tuple)):
-                raise t.error("design", f"design parameter {ref!r} is not a single number")
-            unit = units.canonical(dp.unit)
-            value = float(dp.base)
-            t.finish(allow=())
+        if o.design is not None:
+            for k in ("value", "unit"):
+                if getattr(o, k) is not None:
+                    raise t.error(k, "a dimension is either the design's (design) or written (value, unit), "
+                                     "not both")
+            unit, value = _design_number(t, o.design, design)
         else:
-            unit = t.unit("unit")
-            value = t.quantity("value", unit)
-            t.finish()
+            for k in ("unit", "value"):
+                if getattr(o, k) is None:
+                    raise t.error(k, "missing required key (or give design)")
+            unit = t.canonical_unit("unit", o.unit)
+            value = float(units.to_base(o.value, unit))
         if units.dimension(unit) not in ("length", "angle", "dimensionless"):
             raise t.error("unit", f"a dimension must be a length or an angle, got {unit!r}")
-        out[key] = Dimension(key, value, unit, source, note)
+        out[key] = Dimension(key, value, unit, o.source, o.note)
     return out
 
 
+def _design_number(t: Params, ref: str, design: Design | None) -> tuple[str, float]:
+    """``(unit, value in base units)`` of the design parameter ``ref`` a dimension names."""
+    if design is None:
+        raise t.error("design", f"refers to design parameter {ref!r} but the study names no design")
+    if ref not in design:
+        raise t.error("design", f"design {design.name!r} has no parameter {ref!r}")
+    dp = design.param(ref)
+    if isinstance(dp.value, (str, tuple)):
+        raise t.error("design", f"design parameter {ref!r} is not a single number")
+    return units.canonical(dp.unit), float(dp.base)
+
+
 class _Numbers:
-    """Reads a length or angle written as a number, ``{value, unit}`` or a dimension name (``"-name"``)."""
+    """Resolves a length or angle a schema read (:mod:`.assembly_tables`): a number already in base units, or a
+    dimension's name (``"-name"``: its negative)."""
 
     def __init__(self, dims: dict[str, Dimension]):
         self.dims = dims
 
-    def get(self, p: Params, key: str, unit: str, default=_REQUIRED, **checks):
-        if default is not _REQUIRED and key not in p:
-            p.raw(key, None)
+    def get(self, p: Params, key: str, v: float | str | None, unit: str, default=_REQUIRED,
+            positive: bool = False) -> float | None:
+        if v is None:
+            if default is _REQUIRED:
+                raise p.error(key, "missing required key")
             return default
-        v = p.raw(key)
-        if isinstance(v, str):
-            sign, name = (-1.0, v[1:]) if v.startswith("-") else (1.0, v)
-            if name not in self.dims:
-                raise p.error(key, f"unknown dimension {name!r} (known: {', '.join(self.dims) or 'none'})")
-            d = self.dims[name]
-            if units.dimension(d.unit) != units.dimension(unit):
-                raise p.error(key, f"dimension {name!r} is a {units.dimension(d.unit)}, expected a "
-                                   f"{units.dimension(unit)}")
-            x = sign * d.value
-            written = units.from_base(x, unit)
-            if checks.get("positive") and not written > 0:
-                raise p.error(key, f"must be > 0, got {written:g} {unit} (from {v!r})")
-            return x
-        return p.quantity(key, unit, **checks)
+        if not isinstance(v, str):
+            return v
+        sign, name = (-1.0, v[1:]) if v.startswith("-") else (1.0, v)
+        if name not in self.dims:
+            raise p.error(key, f"unknown dimension {name!r} (known: {', '.join(self.dims) or 'none'})")
+        d = self.dims[name]
+        if units.dimension(d.unit) != units.dimension(unit):
+            raise p.error(key, f"dimension {name!r} is a {units.dimension(d.unit)}, expected a "
+                               f"{units.dimension(unit)}")
+        x = sign * d.value
+        written = units.from_base(x, unit)
+        if positive and not written > 0:
+            raise p.error(key, f"must be > 0, got {written:g} {unit} (from {v!r})")
+        return x
 
 
 def _feature(p: Params, part: str, num: _Numbers) -> Feature:
-    name = _name(p, "name")
-    datum = p.bool("datum", False)
-    if "radius" in p or "angle" in p:
-        if "x" in p or "y" in p:
+    o = _read(FeatureTable, p)
+    name = _name(p, "name", o.name)
+    if o.radius is not None or o.angle is not None:
+        if o.x is not None or o.y is not None:
             raise p.error("x", "give the origin either as radius/angle or as x/y, not both")
-        r = num.get(p, "radius", "mm", 0.0)
-        th = num.get(p, "angle", "deg", 0.0)
+        r = num.get(p, "radius", o.radius, "mm", 0.0)
+        th = num.get(p, "angle", o.angle, "deg", 0.0)
         x, y = r * math.cos(th), r * math.sin(th)
     else:
-        x, y = num.get(p, "x", "mm", 0.0), num.get(p, "y", "mm", 0.0)
-    z = num.get(p, "z", "mm", 0.0)
-    rot = num.get(p, "rotation", "deg", 0.0)
+        x, y = num.get(p, "x", o.x, "mm", 0.0), num.get(p, "y", o.y, "mm", 0.0)
+    z = num.get(p, "z", o.z, "mm")
+    rot = num.get(p, "rotation", o.rotation, "deg")
     frame = homogeneous(rotation_exact(np.array([0.0, 0.0, rot])), np.array([x, y, z]))
     frame[np.abs(frame) < 1e-15] = 0.0
-    if datum and not np.allclose(frame, np.eye(4), atol=1e-12):
+    if o.datum and not np.allclose(frame, np.eye(4), atol=1e-12):
         raise p.error("datum", "a datum feature defines its part's frame: its origin and rotation must be zero")
     fid = f"{part}.{name}"
     terms = []
-    for t in p.tables("deviation"):
+    for t in o.deviation:
         term = _term(t, fid, num)
-        if any(term.name == o.name for o in terms):
+        if any(term.name == other.name for other in terms):
             raise t.error("name", f"duplicate deviation name {term.name!r}")
         terms.append(term)
-    if datum and terms:
+    if o.datum and terms:
         raise p.error("deviation", "a datum feature cannot carry pose deviations (it is the part frame); "
                                    "put the deviations on the features toleranced against it")
-    size = p.str("size", None)
-    form = p.str("form", None)
-    desc = p.str("description", "")
-    p.finish()
-    return Feature(part, name, datum, frame, tuple(terms), size, form, desc, p.key)
+    return Feature(part, name, o.datum, frame, tuple(terms), o.size, o.form, o.description, p.key)
 
 
 def _term(p: Params, fid: str, num: _Numbers) -> Term:
-    name = _name(p, "name")
-    kind = p.str("kind", choices=TERM_KINDS)
-    prefix = p.str("prefix", f"{fid}.{name}")
+    o = _read(DeviationTable, p)
+    name, kind = _name(p, "name", o.name), o.kind
+    for k in ("length", "zone", "width", "dofs"):
+        if getattr(o, k) is not None and k not in DEVIATION_KEYS[kind]:
+            raise p.error(k, f"a deviation of kind {kind!r} takes no {k!r} (it takes: "
+                             f"{', '.join(DEVIATION_KEYS[kind])})")
+    prefix = f"{fid}.{name}" if o.prefix is None else o.prefix
     zone: dict = {}
     if kind == "axis":
-        L = num.get(p, "length", "mm", positive=True)
+        L = num.get(p, "length", o.length, "mm", positive=True)
         coords = ("x1", "y1", "x2", "y2")
         A = np.zeros((6, 4))
         # end 1 at z = +L/2, end 2 at z = -L/2 (see rvtol.models.stackup.domains.axis_from_ends)
@@ -480,18 +492,25 @@ def _term(p: Params, fid: str, num: _Numbers) -> Term:
         A[3, 1], A[3, 3] = -1.0 / L, 1.0 / L
         us = ("mm",) * 4
         zone = {"L": L}
-        if "zone" in p:
-            zone["t"] = num.get(p, "zone", "mm", positive=True)
+        if o.zone is not None:
+            zone["t"] = num.get(p, "zone", o.zone, "mm", positive=True)
     elif kind == "plane":
         coords = ("w", "alpha", "beta")
         A = np.zeros((6, 3))
         A[[2, 3, 4], [0, 1, 2]] = 1.0
         us = ("mm", "rad", "rad")
-        if "zone" in p:
-            zone = {"t": num.get(p, "zone", "mm", positive=True), "L": num.get(p, "length", "mm", positive=True),
-                    "W": num.get(p, "width", "mm", positive=True)}
+        if o.zone is not None:
+            zone = {"t": num.get(p, "zone", o.zone, "mm", positive=True),
+                    "L": num.get(p, "length", o.length, "mm", positive=True),
+                    "W": num.get(p, "width", o.width, "mm", positive=True)}
+        else:
+            for k in ("length", "width"):
+                if getattr(o, k) is not None:
+                    raise p.error(k, "a plane's length and width size its zone: give zone too (or neither)")
     else:
-        coords = tuple(p.strs("dofs", min_length=1))
+        if o.dofs is None:
+            raise p.error("dofs", "missing required key")
+        coords = tuple(o.dofs)
         for c in coords:
             if c not in DOF:
                 raise p.error("dofs", f"unknown DOF {c!r} (expected: {', '.join(DOF)})")
@@ -501,15 +520,15 @@ def _term(p: Params, fid: str, num: _Numbers) -> Term:
         for j, c in enumerate(coords):
             A[DOF.index(c), j] = 1.0
         us = tuple("mm" if DOF.index(c) < 3 else "rad" for c in coords)
-    p.finish()
     return Term(name, kind, tuple(f"{prefix}.{c}" for c in coords), us, A, zone, p.key)
 
 
 def _fit(p: Params, features: dict[str, Feature], num: _Numbers) -> Fit:
-    name = _name(p, "name")
+    o = _read(AssemblyFitTable, p)
+    name = _name(p, "name", o.name)
     ends = []
     for side in ("base", "mate"):
-        fid = p.str(side)
+        fid = getattr(o, side)
         if fid not in features:
             raise p.error(side, f"unknown feature {fid!r} (write part.feature)")
         ends.append(features[fid])
@@ -517,42 +536,37 @@ def _fit(p: Params, features: dict[str, Feature], num: _Numbers) -> Fit:
         raise p.error("mate", "a fit joins features of two different parts")
     letters = "".join(sorted(e.letter for e in ends))  # 'DD', 'Dg' or 'gg'
     derived = {"DD": "MDD", "Dg": "MgD", "gg": "Mgg"}[letters]
-    declared = p.str("type", derived, choices=FIT_TYPES)
-    if declared != derived:
-        raise p.error("type", f"declared {declared} but the features make it {derived} "
+    if o.fit_type is not None and o.fit_type != derived:
+        raise p.error("type", f"declared {o.fit_type} but the features make it {derived} "
                               f"({ends[0].id}: {ends[0].letter}, {ends[1].id}: {ends[1].letter})")
-    clearance = num.get(p, "clearance", "mm", None)
+    clearance = num.get(p, "clearance", o.clearance, "mm", None)
     if clearance is not None:
-        length = num.get(p, "length", "mm", positive=True)
-        hole = p.str("hole", choices=("base", "mate"))
-        mode = p.str("float", "uniform", choices=FLOAT_MODES)
+        length = num.get(p, "length", o.length, "mm", positive=True)
+        if o.hole is None:
+            raise p.error("hole", "missing required key")
+        hole = o.hole
+        mode = "uniform" if o.float_mode is None else o.float_mode
     else:
-        for k in ("length", "hole", "float"):
-            if k in p:
+        for k, v in (("length", o.length), ("hole", o.hole), ("float", o.float_mode)):
+            if v is not None:
                 raise p.error(k, "only a clearance fit (with 'clearance') takes this key")
         length, hole, mode = None, "mate", "centred"
         for e in ends:
             if e.form:
                 raise p.error("clearance", f"feature {e.id} has a form deviation, which acts only through "
                                            "the clearance of a clearance fit")
-    desc = p.str("description", "")
-    p.finish()
-    return Fit(name, ends[0].id, ends[1].id, clearance, length, hole, mode, derived, desc, p.key)
+    return Fit(name, ends[0].id, ends[1].id, clearance, length, hole, mode, derived, o.description, p.key)
 
 
 def _sequence(p: Params, parts: dict, ground: str, fits: dict[str, Fit]) -> Sequence:
-    name = _name(p, "name")
-    desc = p.str("description", "")
-    raw = p.raw("steps")
-    if not isinstance(raw, list) or not all(isinstance(s, dict) for s in raw):
-        raise p.error("steps", "expected an array of {part = ..., by = ...} tables")
+    o = read_options(SequenceTable, p)      # the steps read, their tables kept to blame a step
+    steps_at = p.tables("steps")
+    p.finish()
+    name = _name(p, "name", o.name)
     placed = {ground}
     steps = []
-    for i, s in enumerate(raw):
-        sp = Params(s, file=p.file, key=f"{p.path('steps')}[{i}]")
-        part = sp.str("part")
-        by = sp.str("by")
-        sp.finish()
+    for sp, s in zip(steps_at, o.steps):
+        part, by = s.part, s.by
         if part not in parts:
             raise sp.error("part", f"unknown part {part!r}")
         if part in placed:
@@ -571,30 +585,31 @@ def _sequence(p: Params, parts: dict, ground: str, fits: dict[str, Fit]) -> Sequ
     missing = [q for q in parts if q not in placed]
     if missing:
         raise p.error("steps", f"part {missing[0]!r} is never placed")
-    p.finish()
-    return Sequence(name, tuple(steps), desc)
+    return Sequence(name, tuple(steps), o.description)
 
 
 def _kc(p: Params, features: dict[str, Feature]) -> KC:
-    name = _name(p, "name")
-    f, r = p.str("feature"), p.str("relative_to")
-    for k, v in (("feature", f), ("relative_to", r)):
-        if v not in features:
-            raise p.error(k, f"unknown feature {v!r} (write part.feature)")
-    comps = tuple(p.strs("components", min_length=1))
+    o = _read(KCTable, p)
+    name = _name(p, "name", o.name)
+    for k in ("feature", "relative_to"):
+        if getattr(o, k) not in features:
+            raise p.error(k, f"unknown feature {getattr(o, k)!r} (write part.feature)")
+    comps = tuple(o.components)
     for c in comps:
         if c not in COMPONENTS or c == "margin":
             raise p.error("components", f"unknown component {c!r} (expected: {', '.join(COMPONENTS[:-1])})")
     if len(set(comps)) != len(comps):
         raise p.error("components", "a component is named twice")
-    lu = p.unit("length_unit", "um", dimension="length")
-    au = p.unit("angle_unit", "arcmin", dimension="angle")
+    lu = p.canonical_unit("length_unit", o.length_unit, dimension="length")
+    au = p.canonical_unit("angle_unit", o.angle_unit, dimension="angle")
     radii = None
-    if "radii" in p or {"e_norm", "eps_norm"} & set(comps):
-        radii = tuple(p.floats("radii", length=3, positive=True))
-    desc = p.str("description", "")
-    p.finish()
-    return KC(name, f, r, comps, lu, au, radii, desc)
+    if o.radii is not None or {"e_norm", "eps_norm"} & set(comps):
+        if o.radii is None:
+            raise p.error("radii", "missing required key (e_norm and eps_norm need three effective radii)")
+        if len(o.radii) != 3:
+            raise p.error("radii", f"expected 3 numbers, got {len(o.radii)}")
+        radii = tuple(o.radii)
+    return KC(name, o.feature, o.relative_to, comps, lu, au, radii, o.description)
 
 
 def _check_factor_names(features: dict[str, Feature], fits: dict[str, Fit], file) -> None:

@@ -320,7 +320,6 @@ def solve_contact(g: PinGear, torque, dr_p, dR_p, eR_p=0.0, er_p=0.0, phase: flo
     """Solve doc 004's loaded contact for disc torque ``torque`` (N·mm, ≥ 0), vectorised over samples."""
     torque, dr_p, dR_p, eR_p, er_p = np.broadcast_arrays(
         *(np.atleast_1d(np.asarray(v, float)) for v in (torque, dr_p, dR_p, eR_p, er_p)))
-    n = torque.shape[0]
     phi = pin_angles(g.z_p, phase)
     l = arm(g, phi)
     side = l > 1e-9 * g.r_c                      # pins that can carry this torque direction

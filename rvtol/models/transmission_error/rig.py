@@ -80,7 +80,6 @@ the peak-to-peak of the TE the rig reads, refined like Δθ_er (:func:`.extremes
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 

@@ -93,7 +93,7 @@ from ...model import STATUS_NONFINITE, STATUS_OK, Model
 from ...model_kind import ModelKind
 from ...options import option
 from ...params import Params
-from ..formula.model import FormulaModel, FormulaOutput, read_definitions, read_outputs
+from ..formula.model import FormulaModel, FormulaOutput, OutputTable, read_definitions, read_outputs
 
 #: Newton steps per sample before it is declared not to close
 MAX_ITERATIONS = 50
@@ -517,8 +517,7 @@ class Options:
                                      "dependents")
     loop: list[Params] = option([], 'each [[model.loop]]: name, vectors = [{ length, angle, elevation }, '
                                     '{ joint }, { rotate, about }, ...] (closed)')
-    output: list[Params] = option([], "each [[model.output]]: name, formula, unit (default \"1\"), display_unit, "
-                                      "description")
+    output: list[OutputTable] = option([], "the model's outputs, each a [[model.output]] table")
 
 
 def build(o: Options, design, spec, error) -> VectorLoopModel:

@@ -133,3 +133,18 @@ def test_adjustment_analysis_needs_the_adjusted_model(tmp_path, root):
                          'coefficients = { dtheta_1 = 1.0 }')
     with pytest.raises(InputError, match=re.escape("needs the study model kind 'adjusted_assembly'")):
         load_study(_study(tmp_path, root, text))
+
+
+@pytest.mark.parametrize("file", ["bx40e_2d.toml", "bx40e_3d.toml"])
+def test_every_key_of_the_descriptions_is_declared(root, file):
+    """rvtol kinds adjustment_<table> lists every key the BX40E descriptions write (issue 38 item 1)."""
+    import tomllib
+
+    from rvtol.options import describe
+    from rvtol.registry import table_options
+
+    data = tomllib.loads((root / "data/assemblies" / file).read_text(encoding="utf-8"))
+    for table, value in data.items():
+        declared = {o.key for o in describe(table_options(f"adjustment_{table}"))}
+        for t in value if isinstance(value, list) else [value]:
+            assert set(t) <= declared, (table, set(t) - declared)
