@@ -14,7 +14,9 @@ parameter::
 
 The parameter is addressed as ``"sun.teeth"``; ``design["sun.module"]``
 returns it in base units (mm).  ``source`` is required; ``note`` says how a
-number was estimated when the source does not give it directly.
+number was estimated when the source does not give it directly.  The keys of the head and of a number are
+declared (:class:`DesignHead`, :class:`DesignEntry`) and listed by ``rvtol kinds design`` and
+``rvtol kinds design_parameter``.
 
 **Derived numbers** are written as a formula of other design numbers instead of a value, so that they follow
 the numbers they derive from (in a variant too)::
@@ -71,7 +73,9 @@ import numpy as np
 
 from . import units
 from .errors import InputError, SpecError, did_you_mean
-from .params import Params, check_number, read_toml
+from .model_kind import Where
+from .options import REQUIRED, option, read_options
+from .params import Params, read_toml
 
 #: what is known of a design number (the ``status`` key; module docstring)
 STATUSES = {
@@ -229,6 +233,86 @@ def design_numbers(names, design: "Design | None") -> dict[str, float]:
     return out
 
 
+@dataclass
+class DesignHead:
+    """``[design]``: the head of a design file: its name, what it is, where its numbers come from, and the design a
+    variant changes (the format: the docstring of rvtol.design)."""
+
+    name: str = option(REQUIRED, "the design's name (the report's title of it)")
+    description: str = option("", "what the design is")
+    source: str = option("", "where its numbers come from, in general (each number names its own source)")
+    extends: Path | None = option(None, "a variant: the design file it changes, relative to this file (that file "
+                                        "extends nothing itself)")
+
+
+@dataclass
+class DesignEntry:
+    """``[group] key = { value, unit, source, ... }``: one number of a design (``group.key``), written as a value or
+    as a formula of other design numbers, with what is known of it (the docstring of rvtol.design)."""
+
+    value: float | list[float] | str | None = option(None, "the number in unit (or a list of numbers, or a text); "
+                                                           "either it or formula")
+    formula: str | None = option(None, "a derived number: an expression of other design numbers (dotted keys), "
+                                       "evaluated in base units")
+    unit: str = option("1", "the unit the value (and range, step) is written in")
+    source: str = option(REQUIRED, "where the number comes from (a document, a catalogue, the rule it follows)")
+    note: str = option("", "how the number was estimated when the source does not give it directly")
+    status: str | None = option(None, "what is known of the number (default: computed for a formula, else unstated)",
+                                choices=tuple(STATUSES))
+    basis: str = option("", "why the number may lie in its range (required with a range)")
+    range: list[float] | None = option(None, "[low, high]: the plausible range, in unit (a single number only)")
+    step: float | None = option(None, "the number takes the values low + k·step only (needs a range; a formula's "
+                                      "value is rounded to the nearest k·step)", positive=True)
+
+    def complete(self, study, error):
+        """The checks across keys (module docstring): a value or a formula, a known unit, a source, and what is
+        known of the number consistent with it."""
+        formula = self.formula is not None
+        if formula and self.value is not None:
+            raise error("formula", "give a number either as a value or as a formula, not both")
+        if not formula and self.value is None:
+            raise error("value", "missing required key (or a formula)")
+        try:
+            self.unit = units.canonical(self.unit)
+        except InputError as exc:
+            raise error("unit", exc.reason) from None
+        if not self.source.strip():
+            raise error("source", "every design number needs its source")
+        if isinstance(self.value, list):
+            self.value = tuple(self.value)
+        if formula and self.status not in (None, "computed"):
+            raise error("status", "a number given by a formula is computed: status = \"computed\" (or leave it out)")
+        if formula and self.range is not None:
+            raise error("range", "a formula's number follows the numbers it names: give their ranges instead")
+        if self.range is not None:
+            self._check_range(error)
+        elif self.step is not None and not formula:
+            raise error("step", "a step needs the range it divides (range = [lo, hi])")
+        if self.range is not None and not self.basis.strip():
+            raise error("basis", "a range needs its basis: why the number may lie there")
+        if self.status == "estimate" and self.range is None:
+            raise error("range", "an estimate needs its plausible range (range = [lo, hi], in the value's unit) "
+                                 "and its basis")
+        if self.step is not None and self.range is not None and not all(
+                _on_grid(x, self.range[0], self.step) for x in (self.value, self.range[1])):
+            raise error("step", f"the value {self.value:g} and the range's high end must be lo + k·step (lo "
+                                f"{self.range[0]:g}, step {self.step:g})")
+        self.status = self.status or ("computed" if formula else "")
+
+    def _check_range(self, error) -> None:
+        """``range = [lo, hi]`` in the value's unit: two numbers, lo < hi, lo ≤ value ≤ hi, a single number."""
+        if len(self.range) != 2:
+            raise error("range", f"expected 2 numbers, got {len(self.range)}")
+        lo, hi = self.range = tuple(self.range)
+        if isinstance(self.value, (str, tuple)):
+            raise error("range", "a range is given for a single number only")
+        if not lo < hi:
+            raise error("range", f"expected [low, high] with low < high, got [{lo:g}, {hi:g}]")
+        if not lo <= self.value <= hi:
+            raise error("range", f"the value {self.value:g} {self.unit} lies outside its range [{lo:g}, {hi:g}] "
+                                 f"{self.unit}")
+
+
 def load_design(path: str | Path) -> Design:
     """A design file, or a variant of one (``[design] extends``: module docstring)."""
     data, sha = read_toml(path)
@@ -240,37 +324,47 @@ def load_design(path: str | Path) -> Design:
 
 
 def design_from_table(data: dict, *, file: str | None = None) -> Design:
+    """The design of a table as a design file holds it (a variant is read from its file: :func:`load_design`)."""
     root = Params(data, file=file)
-    head = root.sub("design")
-    name = head.str("name")
-    desc = head.str("description", "")
-    head.raw("source", None)
-    head.finish()
+    head, params = _head(root, Path(file).parent if file else Path("."))
+    if head.extends is not None:
+        raise params.error("extends", "a variant is read from its file (rvtol.design.load_design), its base "
+                                      "relative to it")
+    return _design(root, head)
+
+
+def _head(root: Params, folder: Path) -> tuple[DesignHead, Params]:
+    """The ``[design]`` head (:class:`DesignHead`) and its table; ``extends`` relative to ``folder``."""
+    params = root.sub("design")
+    head = read_options(DesignHead, params, Where(folder))
+    params.finish()
+    if head.extends is not None:
+        head.extends = Path(os.path.normpath(head.extends))
+    return head, params
+
+
+def _design(root: Params, head: DesignHead) -> Design:
     params: dict[str, DesignParam] = {}
     _collect(root, "", params, skip={"design"})
     if not params:
         raise root.error(None, "a design needs at least one parameter table with a 'value'")
-    return Design(name, MappingProxyType(_evaluated(params)), desc, file)
+    return Design(head.name, MappingProxyType(_evaluated(params)), head.description, root.file)
 
 
 def _variant(data: dict, path: Path, sha: str) -> Design:
     """A variant: its base design with the variant's numbers over the base's (module docstring)."""
     file = str(path)
     root = Params(data, file=file)
-    head = root.sub("design")
-    name = head.str("name")
-    desc = head.str("description", "")
-    head.raw("source", None)
-    bpath = Path(os.path.normpath(head.path_value("extends", path.parent)))
-    head.finish()
+    head, hp = _head(root, path.parent)
+    bpath = head.extends
     if bpath.resolve() == path.resolve():
-        raise head.error("extends", "a design cannot extend itself")
+        raise hp.error("extends", "a design cannot extend itself")
     if not bpath.is_file():
-        raise head.error("extends", f"base design {str(bpath)!r} not found")
+        raise hp.error("extends", f"base design {str(bpath)!r} not found")
     bdata, bsha = read_toml(bpath)
     if isinstance(bdata.get("design"), dict) and "extends" in bdata["design"]:
-        raise head.error("extends", f"{bpath.name} extends another design itself (one level only: give the "
-                                    "variant's numbers over the design it changes)")
+        raise hp.error("extends", f"{bpath.name} extends another design itself (one level only: give the "
+                                  "variant's numbers over the design it changes)")
     base = design_from_table(bdata, file=str(bpath))
     own: dict[str, DesignParam] = {}
     _collect(root, "", own, skip={"design"})
@@ -283,7 +377,7 @@ def _variant(data: dict, path: Path, sha: str) -> Design:
             raise SpecError(f"the base design {bpath.name} has no number {key!r}{did_you_mean(key, params)}: a "
                             "variant changes its base's numbers, it does not add to them", file=file, key=key)
         params[key] = p
-    return Design(name, MappingProxyType(_evaluated(params)), desc, file, sha, (str(bpath), bsha))
+    return Design(head.name, MappingProxyType(_evaluated(params)), head.description, file, sha, (str(bpath), bsha))
 
 
 def _collect(p: Params, prefix: str, out: dict, skip=()) -> None:
@@ -302,92 +396,26 @@ def _collect(p: Params, prefix: str, out: dict, skip=()) -> None:
 
 
 def _param(p: Params, name: str) -> DesignParam:
-    if "formula" in p.data:
-        if "value" in p.data:
-            raise p.error("formula", "give a number either as a value or as a formula, not both")
-        return _formula_param(p, name)
-    raw = p.raw("value")
-    unit = p.unit("unit", "1")
-    source = p.str("source")
-    if not source.strip():
-        raise p.error("source", "every design number needs its source")
-    note = p.str("note", "")
-    if isinstance(raw, str):
-        value: Any = raw
-    elif isinstance(raw, list):
-        value = tuple(check_number(x, p.error, f"value[{i}]") for i, x in enumerate(raw))
-    else:
-        value = check_number(raw, p.error, "value")
-    status, rng, basis, step = _knowledge(p, value, unit, formula=False)
+    """One number (:class:`DesignEntry`); a formula is parsed here, evaluated by :func:`_evaluated`."""
+    from .expressions import Expression
+
+    e = read_options(DesignEntry, p)
     p.finish()
-    return DesignParam(name, value, unit, source, note, file=p.file, status=status, range=rng, basis=basis,
-                       step=step)
-
-
-def _knowledge(p: Params, value, unit: str, *, formula: bool):
-    """What is known of a number (module docstring): ``status``, ``range``, ``basis``, ``step``, checked."""
-    status = p.str("status", "")
-    if status:
-        status = p.str("status", choices=STATUSES)
-    if formula and status not in ("", "computed"):
-        raise p.error("status", "a number given by a formula is computed: status = \"computed\" (or leave it out)")
-    basis = p.str("basis", "")
-    rng = None if formula else _range(p, value, unit)
-    if formula and "range" in p:
-        raise p.error("range", "a formula's number follows the numbers it names: give their ranges instead")
-    step = None
-    if "step" in p:
-        step = p.float("step", positive=True)
-        if rng is None and not formula:
-            raise p.error("step", "a step needs the range it divides (range = [lo, hi])")
-    if rng is not None and not basis.strip():
-        raise p.error("basis", "a range needs its basis: why the number may lie there")
-    if status == "estimate" and rng is None:
-        raise p.error("range", "an estimate needs its plausible range (range = [lo, hi], in the value's unit) "
-                               "and its basis")
-    if step is not None and rng is not None and not all(_on_grid(x, rng[0], step) for x in (value, rng[1])):
-        raise p.error("step", f"the value {value:g} and the range's high end must be lo + k·step (lo {rng[0]:g}, "
-                              f"step {step:g})")
-    return status or ("computed" if formula else ""), rng, basis, step
+    rng = tuple(e.range) if e.range is not None else None
+    if e.formula is None:
+        return DesignParam(name, e.value, e.unit, e.source, e.note, file=p.file, status=e.status, range=rng,
+                           basis=e.basis, step=e.step)
+    try:
+        Expression.parse(e.formula, what=f"formula of {name}")
+    except InputError as exc:
+        raise p.error("formula", exc.reason) from None
+    return DesignParam(name, float("nan"), e.unit, e.source, e.note, formula=e.formula.strip(), file=p.file,
+                       status=e.status, basis=e.basis, step=e.step)
 
 
 def _on_grid(x: float, lo: float, step: float) -> bool:
     k = (x - lo) / step
     return abs(k - round(k)) <= 1e-9 * max(1.0, abs(k))
-
-
-def _range(p: Params, value, unit: str) -> tuple[float, float] | None:
-    """``range = [lo, hi]`` in the value's unit, checked: lo < hi, lo ≤ value ≤ hi, a single number."""
-    if "range" not in p:
-        return None
-    lo, hi = p.floats("range", length=2)
-    if isinstance(value, (str, tuple)):
-        raise p.error("range", "a range is given for a single number only")
-    if not lo < hi:
-        raise p.error("range", f"expected [low, high] with low < high, got [{lo:g}, {hi:g}]")
-    if not lo <= value <= hi:
-        raise p.error("range", f"the value {value:g} {unit} lies outside its range [{lo:g}, {hi:g}] {unit}")
-    return (lo, hi)
-
-
-def _formula_param(p: Params, name: str) -> DesignParam:
-    """A derived number ``{ formula, unit, source, note }``: parsed here, evaluated by :func:`_evaluated`."""
-    from .expressions import Expression
-
-    text = p.str("formula")
-    try:
-        Expression.parse(text, what=f"formula of {name}")
-    except InputError as exc:
-        raise p.error("formula", exc.reason) from None
-    unit = p.unit("unit", "1")
-    source = p.str("source")
-    if not source.strip():
-        raise p.error("source", "every design number needs its source")
-    note = p.str("note", "")
-    status, _, basis, step = _knowledge(p, None, unit, formula=True)
-    p.finish()
-    return DesignParam(name, float("nan"), unit, source, note, formula=text.strip(), file=p.file, status=status,
-                       basis=basis, step=step)
 
 
 def _evaluated(params: dict[str, DesignParam]) -> dict[str, DesignParam]:

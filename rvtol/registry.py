@@ -88,7 +88,8 @@ ANALYSES: dict[str, str] = {
 }
 
 
-#: the study file's own tables (not kinds): name -> their declared options (``rvtol kinds NAME`` lists the keys)
+#: the tables of the study file and of the input files it names, read by a declared schema (not kinds): name -> their
+#: declared options (``rvtol kinds NAME`` lists the keys)
 TABLES: dict[str, str] = {
     # the study file's own tables
     "study": "rvtol.study.head:StudyHead",
@@ -101,6 +102,9 @@ TABLES: dict[str, str] = {
     "spec": "rvtol.spec.tables:SpecHead",
     "factor": "rvtol.spec.tables:FactorTable",
     "correlation": "rvtol.spec.tables:CorrelationTable",
+    # a design file (rvtol.design): its [design] head and each number
+    "design": "rvtol.design:DesignHead",
+    "design_parameter": "rvtol.design:DesignEntry",
     # a composed study's [[quantity]] tables and its mapping file (rvtol.models.composite)
     "quantity": "rvtol.models.composite.tables:QuantityTable",
     "mapping": "rvtol.models.composite.tables:MappingHead",

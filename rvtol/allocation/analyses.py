@@ -33,6 +33,7 @@ from ..errors import InputError
 from ..options import REQUIRED, option
 from ..params import Params
 from ..sampling import METHODS
+from ..spec.requirements import RequirementTable, requirement_of
 from . import texts
 from .allocate import Plan, allocate, allocated_factors, allocation_problem, check_requirements_demonstrable
 from .cost import load_costs
@@ -99,12 +100,10 @@ class AllocationPlan:
 def allocation_plan(o, study, error) -> AllocationPlan:
     """The cost curves, the model and spec (the study's or the table's own), the allocated factors and the
     requirements of an ``allocation`` table ``o``, made into the allocation problem."""
-    from ..spec import requirements_from_tables
-
     table = load_costs(o.costs)
     spec, model = _model(o, study)
     names = None if o.factors == "dependencies" else allocated_factors(spec, o.factors, o.groups, error)
-    reqs = requirements_from_tables(o.requirement) or list(study.requirements)
+    reqs = _requirements(o.requirement, error) or list(study.requirements)
     if not reqs:
         raise error("requirement", "no requirement: give [[analysis.requirement]] or study requirements")
     try:
@@ -123,6 +122,15 @@ def allocation_plan(o, study, error) -> AllocationPlan:
     methods = Plan(o.convex, g.constraint, g.n, g.method, g.confirm, ga_settings(g), v.n, v.all_requirements,
                    v.all_requirements_n, tuple(o.pareto.scales), o.pareto.ga)
     return AllocationPlan(problem, study_problem, methods, table)
+
+
+def _requirements(tables, error) -> list:
+    """The requirements of the ``[[analysis.requirement]]`` tables (read by :class:`RequirementTable`), each
+    located at its table: ``analysis[i].requirement[j]`` (the key the located error of ``requirement`` names)."""
+    if not tables:
+        return []
+    where = error("requirement", "")
+    return [requirement_of(t, where.file, f"{where.key}[{j}]") for j, t in enumerate(tables)]
 
 
 def _model(o, study):
@@ -155,7 +163,8 @@ class AllocationAnalysis(Analysis):
                                                        "or shell patterns, or \"dependencies\" (every factor a "
                                                        "required output depends on); default: every factor")
         groups: list[str] | None = option(None, "or the factors of these spec groups", min_length=1)
-        requirement: list[Params] = option([], "[[analysis.requirement]] tables (default: the study's requirements)")
+        requirement: list[RequirementTable] = option([], "[[analysis.requirement]] tables (default: the study's "
+                                                         "requirements)")
         outputs: list[str] | None = option(None, "only the requirements on outputs matching these patterns",
                                            min_length=1)
         convex: str = option("rss", "the linearised global optimum (cvxpy)", choices=("rss", "worst_case", "none"))

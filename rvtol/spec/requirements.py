@@ -201,11 +201,16 @@ class RequirementTable:
         self.cpk_method = self.cpk_method or "normal"
 
 
+def requirement_of(table: RequirementTable, file: str | None, key: str) -> Requirement:
+    """The requirement a read ``[[requirement]]`` table states; its errors name ``file`` and ``key`` (the table's)."""
+    return Requirement(**{f.name: getattr(table, f.name) for f in fields(table)}, file=file, key=key)
+
+
 def requirements_from_tables(tables: list[Params]) -> list[Requirement]:
     """The requirements of ``[[requirement]]`` tables, each read by :class:`RequirementTable`."""
     out = []
     for t in tables:
         o = read_options(RequirementTable, t)
         t.finish()
-        out.append(Requirement(**{f.name: getattr(o, f.name) for f in fields(o)}, file=t.file, key=t.key))
+        out.append(requirement_of(o, t.file, t.key))
     return out
