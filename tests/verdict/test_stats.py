@@ -489,3 +489,28 @@ def test_n_for_yield_of_a_plan_near_a_trillion_samples_looks_a_few_dozen_times(m
 
     poisson = brentq(lambda m: stats.chi2.ppf(0.95, 2 * (1 - est) * m + 2) / (2 * m) - (1 - req), 1e10, 1e15)
     assert n == pytest.approx(poisson, rel=1e-3)
+
+
+def test_a_bootstrap_interval_needs_at_least_half_the_resamples_finite(monkeypatch):
+    """The rule of both bootstrap intervals: an interval from at least half the resamples (n_boot // 2 of them, an odd
+    n_boot rounding the half down), None from fewer.  Exactly at the half (mutation survivors: < read as <=, // as /)."""
+    calls = []
+
+    def every_other(sample):           # finite on even calls: 100 of 201 resamples, 100 = 201 // 2
+        calls.append(1)
+        return float(np.mean(sample)) if len(calls) % 2 == 0 else math.nan
+
+    y = np.linspace(0.0, 1.0, 20)
+    lo, hi = st.bootstrap_ci(y, every_other, n_boot=201)
+    assert lo is not None and lo <= hi and len(calls) == 201
+    calls.clear()
+    assert st.bootstrap_ci(y, lambda s: (calls.append(1), math.nan if len(calls) > 99 else 0.5)[1], n_boot=201) \
+        == (None, None)               # 99 finite of 201: fewer than the half
+
+    def half_finite(*_):               # the Cpk of each of 200 resamples: the first 100 undefined
+        return np.concatenate([np.full(100, np.nan), np.linspace(1.0, 2.0, 100)])
+
+    monkeypatch.setattr(st, "_cpk_from_quantiles", half_finite)
+    lo, hi = st.percentile_cpk_ci(np.sort(y), 0.0, 1.0, n_boot=200)
+    assert (lo, hi) == pytest.approx((float(np.quantile(np.linspace(1.0, 2.0, 100), 0.025)),
+                                      float(np.quantile(np.linspace(1.0, 2.0, 100), 0.975))))
