@@ -306,7 +306,7 @@ def _refuse_spec_inputs(out: Path, spec, source: Path) -> None:
 def _kinds(kind: str | None = None) -> int:
     from .registry import ANALYSES, MODELS, analysis_function, model_factory, plugin_analyses, plugin_models
 
-    from .registry import TABLES, table_options
+    from .registry import TABLE_FILES, TABLES, table_options
 
     if kind in TABLES:
         options = table_options(kind)
@@ -330,7 +330,11 @@ def _kinds(kind: str | None = None) -> int:
     if plugins:
         print("analyses from installed packages: " + ", ".join(f"{k} ({ep.value})" for k, ep in
                                                                 sorted(plugins.items())))
-    print(textwrap.fill(", ".join(TABLES), width=110, initial_indent="tables:   ", subsequent_indent=" " * 10))
+    print("tables, by the file they are in:")
+    width = max(len(f) for f in TABLE_FILES) + 4
+    for f, names in TABLE_FILES.items():
+        print(textwrap.fill(", ".join(names), width=110, initial_indent=f"  {f + ':':{width - 2}}",
+                            subsequent_indent=" " * width))
     print("rvtol kinds KIND lists the keys of a model or an analysis kind, or of a table")
     return EXIT_PASS
 

@@ -141,6 +141,22 @@ TABLES: dict[str, str] = {
 }
 
 
+#: the tables of :data:`TABLES` by the file they belong to, as ``rvtol kinds`` lists them
+TABLE_FILES: dict[str, tuple[str, ...]] = {
+    "the study": ("study", "sampling", "execution", "report", "requirement", "gate"),
+    "a spec": ("spec", "factor", "correlation"),
+    "a design file": ("design", "design_parameter"),
+    "a composed study's mapping": ("quantity", "mapping"),
+    "a build file": ("build", "fit", "shim", "choice"),
+    "a cost file": ("costs", "curve"),
+    "a published-data file": ("source", "figure", "missing"),
+    "an assembly file": ("assembly", "dimension", "part", "feature", "deviation", "assembly_fit", "sequence", "kc",
+                         "domain"),
+    "an adjusted assembly": ("adjustment_assembly", "adjustment_weights", "adjustment_measurement", "adjustment_chain",
+                             "adjustment_kc", "adjustment_step", "adjustment_observation"),
+}
+
+
 def table_options(name: str):
     """The options class of the study's table ``name`` (:data:`TABLES`)."""
     return _load(TABLES, name, "table", None, name)

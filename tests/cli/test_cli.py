@@ -120,7 +120,9 @@ def test_the_study_tables_list_their_keys(capsys):
     """``rvtol kinds`` names the study's own tables; ``rvtol kinds requirement`` lists [[requirement]]'s keys with
     their rules, as ``rvtol kinds sampling`` does [sampling]'s."""
     assert main(["kinds"]) == 0
-    assert "tables:   study, sampling, execution, report, requirement, gate" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "  the study:" in out and "study, sampling, execution, report, requirement, gate\n" in out
+    assert "  a build file:" in out and "build, fit, shim, choice\n" in out
     assert main(["kinds", "study"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("[study]: the study's name and the files it reads") and "  design (file, optional" in out
@@ -212,3 +214,12 @@ def test_a_table_whose_docstring_wraps_or_quotes_its_name_is_listed_on_one_clean
     first = capsys.readouterr().out.splitlines()[0]
     assert first.startswith("[[part.feature]] of a stack-up's assembly file: ") and "`" not in first
     assert first.endswith("(origin as radius/angle or x/y, not both).")
+
+
+def test_every_table_is_listed_under_exactly_one_file():
+    """``rvtol kinds`` groups the tables by the file they are in (:data:`rvtol.registry.TABLE_FILES`): each registered
+    table once, nothing that is not registered."""
+    from rvtol.registry import TABLE_FILES, TABLES
+
+    listed = [t for names in TABLE_FILES.values() for t in names]
+    assert sorted(listed) == sorted(TABLES) and len(listed) == len(set(listed))
