@@ -24,9 +24,11 @@ most the chunks in flight, never leaves a torn one.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
+import signal
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +37,26 @@ import numpy as np
 FORMAT = "rvtol-checkpoint/1"
 #: compute time above which a chunk of an analysis' evaluation is persisted (s)
 COSTLY_SECONDS = 1.0
+
+
+#: a stop signal that arrived while a checkpoint file was being written (:func:`signals_held`): ``depth`` of the
+#: held sections, the ``pending`` signal.  :func:`rvtol.runguard.stopping_on_signals`' handler reads it.
+HELD = {"depth": 0, "pending": None}
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Within the block, a SIGTERM/SIGINT that stops the run waits for the block's end, then stops it: a chunk file is
+    written whole.  (Raised inside :func:`numpy.savez`, the stop left a ZIP member half written, and closing the
+    archive then failed with its own error: the run ended as an internal error instead of stopped, exit 3 for 143.)"""
+    HELD["depth"] += 1
+    try:
+        yield
+    finally:
+        HELD["depth"] -= 1
+        if HELD["depth"] == 0 and HELD["pending"] is not None:
+            signum, HELD["pending"] = HELD["pending"], None
+            signal.raise_signal(signum)       # the handler runs now, outside the block, and stops the run
 
 
 def run_key(material: dict) -> str:
@@ -109,7 +131,8 @@ class ChunkCall:
             return
         p = self._path(a, b, X)
         tmp = p.with_name(p.name + f".{os.getpid()}.tmp")
-        with open(tmp, "wb") as f:
-            np.savez(f, Y=np.asarray(Y, dtype=float), status=np.asarray(status, dtype=np.int16))
-        os.replace(tmp, p)
-        self.store.saved += 1
+        with signals_held():
+            with open(tmp, "wb") as f:
+                np.savez(f, Y=np.asarray(Y, dtype=float), status=np.asarray(status, dtype=np.int16))
+            os.replace(tmp, p)
+            self.store.saved += 1

@@ -158,10 +158,7 @@ def main(argv: list[str] | None = None) -> int:
               file=sys.stderr)
         return EXIT_INTERNAL
     except Interrupted as exc:
-        kept = (f"; {exc.kept_chunks} finished chunks kept: rerun with --resume to continue"
-                if exc.kept_chunks else "")
-        print(f"rvtol: stopped by {exc.name}: workers stopped, nothing written{kept}", file=sys.stderr)
-        return exc.exit_code
+        return _stopped(exc)
     except KeyboardInterrupt:
         print("rvtol: interrupted (nothing written)", file=sys.stderr)
         return 130
@@ -176,8 +173,31 @@ def main(argv: list[str] | None = None) -> int:
             return _internal(args, exc)
         print(f"rvtol: error: {exc.filename or '<output>'}: -: cannot write ({exc.strerror})", file=sys.stderr)
         return EXIT_INPUT
-    except Exception as exc:  # a bug, not bad input
-        return _internal(args, exc)
+    except Exception as exc:  # a bug, not bad input — unless it came from code unwinding a stop signal
+        stop = _interruption(exc)
+        return _stopped(stop) if stop is not None else _internal(args, exc)
+
+
+def _stopped(exc) -> int:
+    """A run stopped by a signal: what was kept, and the signal's exit code (130, 143)."""
+    kept = f"; {exc.kept_chunks} finished chunks kept: rerun with --resume to continue" if exc.kept_chunks else ""
+    print(f"rvtol: stopped by {exc.name}: workers stopped, nothing written{kept}", file=sys.stderr)
+    return exc.exit_code
+
+
+def _interruption(exc: BaseException | None):
+    """The stop signal (:class:`rvtol.runguard.Interrupted`) an exception was raised while handling, if any: a library
+    interrupted mid-write may fail again as it unwinds (a ZIP archive closed over a half-written member), and the run
+    was still stopped, not broken."""
+    from .runguard import Interrupted
+
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, Interrupted):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__context__
+    return None
 
 
 def _quiet_stdout() -> None:

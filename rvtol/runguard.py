@@ -36,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 
-from .checkpoint import ChunkStore
+from .checkpoint import HELD, ChunkStore
 from .errors import InputError, RvtolError
 
 
@@ -69,6 +69,9 @@ def stopping_on_signals(signals=(signal.SIGTERM, signal.SIGINT)):
     state = {"stopping": False}
 
     def handler(signum, frame):
+        if HELD["depth"]:       # a chunk file is being written: the stop waits for it to be whole (signals_held)
+            HELD["pending"] = signum
+            return
         stop_workers()
         if state["stopping"]:  # asked twice: do not wait for the clean-up
             os._exit(128 + signum)

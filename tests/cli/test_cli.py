@@ -223,3 +223,23 @@ def test_every_table_is_listed_under_exactly_one_file():
 
     listed = [t for names in TABLE_FILES.values() for t in names]
     assert sorted(listed) == sorted(TABLES) and len(listed) == len(set(listed))
+
+
+def test_an_error_raised_while_a_stop_signal_unwinds_is_still_the_stop(monkeypatch, capsys):
+    """A library interrupted mid-write can fail again as it unwinds (zipfile: "Can't close the ZIP file while there is
+    an open writing handle"): the run was stopped by the signal — exit 143 and the stop's message, not an internal
+    error (exit 3)."""
+    import rvtol.cli as cli
+    from rvtol.runguard import Interrupted
+
+    def stopped_mid_write(args):
+        try:
+            raise Interrupted(15)
+        except Interrupted:
+            raise ValueError("Can't close the ZIP file while there is an open writing handle on it")
+
+    monkeypatch.setattr(cli, "_run", stopped_mid_write)
+    assert main(["run", "study.toml"]) == 143
+    assert capsys.readouterr().err.startswith("rvtol: stopped by SIGTERM")
+    monkeypatch.setattr(cli, "_run", lambda args: 1 / 0)        # a bug with no signal: still an internal error
+    assert main(["run", "study.toml"]) == 3

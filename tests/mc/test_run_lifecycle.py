@@ -222,3 +222,42 @@ def test_the_checkpoint_keeps_every_monte_carlo_chunk_and_only_costly_analysis_c
     other = cp.ChunkStore(tmp_path / "chunks")
     c = evaluate(model, X[::-1].copy(), chunk_size=100, progress=False, store=other, persist="all")
     assert other.reused == 0 and c.Y.tobytes() == ref.Y[::-1].tobytes()
+
+
+def test_a_stop_signal_while_a_chunk_is_written_stops_the_run_after_the_file_is_whole(tmp_path, monkeypatch):
+    """SIGTERM arriving inside numpy.savez (a CI cancel at the wrong moment, seen once under load): the run stops with
+    Interrupted once the chunk file is whole — it ended as an internal error, the ZIP archive refusing to close over
+    its half-written member ("Can't close the ZIP file while there is an open writing handle")."""
+    import signal
+
+    import numpy as np
+
+    import rvtol.checkpoint as cp
+    from rvtol.runguard import Interrupted, stopping_on_signals
+
+    savez = np.savez
+
+    class SignalOnFirstWrite:               # the file savez writes into: SIGTERM to this process at its first write
+        def __init__(self, f):
+            self.f, self.sent = f, False
+
+        def write(self, b):
+            if not self.sent:
+                self.sent = True
+                os.kill(os.getpid(), signal.SIGTERM)
+            return self.f.write(b)
+
+        def __getattr__(self, name):
+            return getattr(self.f, name)
+
+    monkeypatch.setattr(np, "savez", lambda f, **arrays: savez(SignalOnFirstWrite(f), **arrays))
+    store = cp.ChunkStore(tmp_path / "chunks")
+    call = store.begin("all")
+    X, Y, status = np.zeros((3, 2)), np.arange(6.0).reshape(3, 2), np.zeros(3, dtype=np.int16)
+    with pytest.raises(Interrupted) as ei:
+        with stopping_on_signals():
+            call.put(0, 3, X, Y, status)
+    assert ei.value.signum == signal.SIGTERM and cp.HELD == {"depth": 0, "pending": None}
+    monkeypatch.undo()
+    got = cp.ChunkStore(tmp_path / "chunks").begin("all").get(0, 3, X)      # the chunk was kept whole
+    assert got is not None and got[0].tobytes() == Y.tobytes() and store.count() == 1
