@@ -196,6 +196,9 @@ _KIND_KEYS = {
     **{k: (("unit", "reading_uncertainty", "value"), ()) for k in ("value", "upper_limit", "lower_limit")},
 }
 
+#: every key that only some kinds take, in the order they are checked
+_KIND_SPECIFIC = tuple(dict.fromkeys(k for need, also in _KIND_KEYS.values() for k in need + also))
+
 
 @dataclass
 class FigureTable:
@@ -229,8 +232,7 @@ class FigureTable:
         for k in need:
             if getattr(self, k) is None:
                 raise error(k, "missing required key")
-        for k in ("orders", "unit", "reading_uncertainty", "min", "max", "value", "amplitudes",
-                  "relative_uncertainty", "pins", "ratio"):
+        for k in _KIND_SPECIFIC:
             if getattr(self, k) is not None and k not in need + also:
                 raise error(k, f"does not apply to a figure of kind {self.kind!r} (it takes "
                                f"{', '.join(need)})")
